@@ -1,0 +1,200 @@
+"""Direct elasto-geometric model DEGM_E (Paty et al. 2021, section 2.2.3).
+
+Given commanded total lengths L (by default L_TS from the standard inverse model at the desired
+point), find the actual platform position P* such that, for each of the three taut cables j,
+
+    L_TE,j(P*) = L_j (1 + t_j(P*) / (E S))
+
+with t(P*) the tensions that hold the platform at P* (eq. 11-13). Two solvers behind one interface
+(``method``): ``"newton"`` (batched Newton, default) and ``"fixed_point"`` (the paper's nested
+scheme: sphere intersections, eq. 8-9, inside updates of the tensions). Both are vectorised over
+points and report iterations and convergence per point.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .inverse import L_TS
+from .pulleys import pulley_state, total_length_and_direction
+from .statics import solve3, stretched_length, tensions
+
+#: Newton defaults: step tolerance [m], iteration cap, finite-difference step [m], largest step [m].
+NEWTON_DEFAULTS = {"tol": 1e-11, "maxiter": 40, "fd_step": 1e-7, "max_step": 0.5}
+#: Fixed-point defaults: stop criterion eps_P [m] (paper: 1e-5 m), caps of inner and outer loops.
+FIXED_POINT_DEFAULTS = {"tol": 1e-5, "max_inner": 200, "max_outer": 100}
+
+
+@dataclass
+class DirectResult:
+    """Solution of DEGM_E for one 3-cable subset over N points.
+
+    P: (N, 3) solved position [m]; t: (N, 3) tensions [N] of the subset's cables; iterations (N,);
+    converged (N,) bool; exists (N,) bool (False where no geometric solution: spheres that do not
+    meet, coplanar cables, P* inside a sheave).
+    """
+
+    P: np.ndarray
+    t: np.ndarray
+    iterations: np.ndarray
+    converged: np.ndarray
+    exists: np.ndarray
+
+
+class _Subset:
+    """Per-cable parameters of a fixed 3-cable subset, ready for the kernels."""
+
+    def __init__(self, robot, subset):
+        s = np.asarray(subset, dtype=np.intp)
+        self.args = (robot.A[s], robot.kind[s], robot.h[s], robot.r_p[s], robot.d[s], robot.inward[s])
+        self.r_p = robot.r_p[s]
+        self.A = robot.A[s]
+        self.ES = robot.ES
+        self.w_ext = robot.platform.w_ext
+
+    def geometry(self, P):
+        return total_length_and_direction(P, *self.args)
+
+    def residual(self, P, L):
+        """F = L_TE(P) - L (1 + t(P)/(E S)), its tensions and a validity flag."""
+        L_TE, u, inside = self.geometry(P)
+        t, _ = tensions(u, self.w_ext)
+        F = L_TE - stretched_length(L, t, self.ES)
+        valid = ~inside.any(axis=-1) & np.isfinite(F).all(axis=-1) & (P[:, None, 2] < self.A[:, 2]).all(axis=-1)
+        return F, t, valid
+
+
+def _newton(sub, P0, L, tol, maxiter, fd_step, max_step):
+    n = P0.shape[0]
+    P = P0.copy()
+    iters = np.zeros(n, dtype=np.int32)
+    conv = np.zeros(n, dtype=bool)
+    exists = np.ones(n, dtype=bool)
+    active = np.arange(n)
+    eye = np.eye(3) * fd_step
+    for _ in range(maxiter):
+        if active.size == 0:
+            break
+        Pa, La = P[active], L[active]
+        F, _, valid = sub.residual(Pa, La)
+        J = np.empty((active.size, 3, 3))
+        for k in range(3):
+            Fk, _, _ = sub.residual(Pa + eye[k], La)
+            J[:, :, k] = (Fk - F) / fd_step
+        step, _ = solve3(J, -F)
+        bad = ~valid | ~np.isfinite(step).all(axis=1)
+        norm = np.linalg.norm(np.where(bad[:, None], 0.0, step), axis=1)
+        scale = np.minimum(1.0, max_step / np.maximum(norm, 1e-300))
+        P[active] = np.where(bad[:, None], Pa, Pa + step * scale[:, None])
+        iters[active] += 1
+        exists[active[bad]] = False
+        done = (norm < tol) & ~bad
+        conv[active[done]] = True
+        active = active[~(done | bad)]
+    return P, iters, conv, exists
+
+
+def trilaterate_low(c, R):
+    """Lower intersection of three spheres with centres c (N, 3, 3) and radii R (N, 3), eq. (9).
+
+    Returns (P (N, 3), exists (N,)). ``exists`` is False where the spheres do not meet.
+    """
+    c1, c2, c3 = c[:, 0], c[:, 1], c[:, 2]
+    v12 = c2 - c1
+    dd = np.linalg.norm(v12, axis=1)
+    ex = v12 / dd[:, None]
+    v13 = c3 - c1
+    i = np.einsum("ij,ij->i", ex, v13)
+    ey = v13 - i[:, None] * ex
+    ey_n = np.linalg.norm(ey, axis=1)
+    ey = ey / ey_n[:, None]
+    ez = np.cross(ex, ey)
+    j = np.einsum("ij,ij->i", ey, v13)
+    r1, r2, r3 = R[:, 0], R[:, 1], R[:, 2]
+    x = (r1**2 - r2**2 + dd**2) / (2 * dd)
+    y = (r1**2 - r3**2 + i**2 + j**2) / (2 * j) - i * x / j
+    z2 = r1**2 - x**2 - y**2
+    exists = z2 >= 0
+    z = np.sqrt(np.maximum(z2, 0.0))
+    base = c1 + x[:, None] * ex + y[:, None] * ey
+    # the lower of base +/- z ez
+    sign = np.where(ez[:, 2] > 0, -1.0, 1.0)
+    return base + (sign * z)[:, None] * ez, exists
+
+
+def _fixed_point(sub, P0, L0, tol, max_inner, max_outer):
+    """The paper's nested scheme (Fig. 6): an inner DGM_E loop of sphere intersections (eq. 8-9)
+    updating the pulleys at fixed lengths, and an outer loop updating tensions and stretched
+    lengths (eq. 11-13). Both stop when the position moves less than ``tol``. ``iterations`` counts
+    sphere intersections."""
+    A, kind, h, r_p, d, inward = sub.args
+    n = P0.shape[0]
+    P = P0.copy()
+    L = L0.copy()
+    iters = np.zeros(n, dtype=np.int32)
+    conv = np.zeros(n, dtype=bool)
+    exists = np.ones(n, dtype=bool)
+    active = np.arange(n)
+    for _outer in range(max_outer):
+        if active.size == 0:
+            break
+        P_prev = P[active].copy()
+        inner = active
+        for _inner in range(max_inner):
+            if inner.size == 0:
+                break
+            st = pulley_state(P[inner], A, kind, h, r_p, d, inward)
+            arm = L[inner] - st.l_d - st.gamma * r_p
+            R = np.sqrt(arm**2 + r_p**2)
+            Pn, ok = trilaterate_low(st.H, R)
+            ok &= ~st.inside.any(axis=1) & (arm > 0).all(axis=1)
+            iters[inner] += 1
+            exists[inner[~ok]] = False
+            step = np.linalg.norm(Pn - P[inner], axis=1)
+            P[inner[ok]] = Pn[ok]
+            inner = inner[ok & (step >= tol)]
+        keep = exists[active]
+        active, P_prev = active[keep], P_prev[keep]
+        _, u, _ = sub.geometry(P[active])
+        t, _ = tensions(u, sub.w_ext)
+        L[active] = stretched_length(L0[active], t, sub.ES)
+        done = np.linalg.norm(P[active] - P_prev, axis=1) < tol
+        conv[active[done]] = True
+        active = active[~done]
+    return P, iters, conv, exists
+
+
+def degm_e(robot, p, subset=(0, 1, 2), L=None, method="newton", P0=None, **options):
+    """Solve DEGM_E for one 3-cable subset at N points.
+
+    Parameters
+    ----------
+    robot : Robot
+    p : (N, 3) desired positions [m]; the commanded lengths default to L_TS(p) (eq. 2).
+    subset : three 0-based cable indices that hold the platform; the others are slack.
+    L : (N, 3) commanded rest lengths of the subset's cables [m], default L_TS(p)[:, subset].
+    method : "newton" (default) or "fixed_point".
+    P0 : (N, 3) starting point, default p.
+    options : tolerances, see NEWTON_DEFAULTS and FIXED_POINT_DEFAULTS.
+
+    Returns a DirectResult; tensions are evaluated at the returned P.
+    """
+    p = np.atleast_2d(np.asarray(p, dtype=float))
+    s = np.asarray(subset, dtype=np.intp)
+    sub = _Subset(robot, s)
+    if L is None:
+        L = L_TS(robot, p)[:, s]
+    P0 = p if P0 is None else np.atleast_2d(np.asarray(P0, dtype=float))
+    if method == "newton":
+        opts = {**NEWTON_DEFAULTS, **options}
+        P, iters, conv, exists = _newton(sub, P0, L, **opts)
+    elif method == "fixed_point":
+        opts = {**FIXED_POINT_DEFAULTS, **options}
+        P, iters, conv, exists = _fixed_point(sub, P0, L, **opts)
+    else:
+        raise ValueError(f"unknown DEGM_E method {method!r}; allowed: 'newton', 'fixed_point'")
+    F, t, valid = sub.residual(P, L)
+    exists &= valid
+    conv &= exists
+    return DirectResult(P=P, t=t, iterations=iters, converged=conv, exists=exists)
