@@ -109,3 +109,15 @@ def to_frame(robot, res):
     df["iterations"] = res["iterations"]
     df["status"] = pd.Categorical(res["status"], categories=list(STATUSES))
     return df
+
+
+#: Points solved per batch: bounds memory (about 2 kB per point and subset) and keeps arrays in cache.
+CHUNK = 20000
+
+
+def solve_table(robot, p, method="newton", chunk=CHUNK, **options):
+    """solve_points over p in chunks, as a DataFrame (see ``to_frame``)."""
+    p = np.atleast_2d(np.asarray(p, dtype=float))
+    starts = range(0, len(p), chunk) if len(p) else [0]
+    frames = [to_frame(robot, solve_points(robot, p[i:i + chunk], method=method, **options)) for i in starts]
+    return pd.concat(frames, ignore_index=True)

@@ -19,7 +19,7 @@ UNITS = {
     "rad": {"rad": 1.0, "deg": math.pi / 180.0},
 }
 
-_QUANTITY = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*([A-Za-z/^0-9]+)\s*$")
+_QUANTITY = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*([A-Za-z/^0-9]*)\s*$")
 
 
 def quantity(value, dimension, source, key):
@@ -38,6 +38,7 @@ def quantity(value, dimension, source, key):
         if not match:
             raise ConfigError(source, key, f"cannot read {value!r} as a quantity; write a number in {dimension} or a number with one of the units {allowed}")
         number, unit = match.groups()
+        unit = unit or dimension  # a bare number written as a string (PyYAML reads 102.2e9 so)
         if unit not in UNITS[dimension]:
             raise ConfigError(source, key, f"unit '{unit}' is not a unit of {dimension}; allowed units: {allowed}")
         out = float(number) * UNITS[dimension][unit]

@@ -1,0 +1,186 @@
+"""Geometric model of a single-layer CDPR winch (Metillon et al. 2022, the "winch seed").
+
+The drum exit point E slides along the segment E1E2 as the drum turns (eq. 12), so the cable
+length between E and the pulley entry point A varies with the joint angle q. Substituting into the
+length balance gives a quadratic in q (eq. 23). Corrections to the printed equations (see
+shared/design/models.md):
+
+* eq. (19): the uncoiled length decreases when q grows (eq. 17), so |e - a| = X - k_w q with
+  X = l_u0 + k_w q0 - l_pm (the printed "+ k_w (q - q0)" has the wrong sign);
+* eq. (27): a = l_E1E2^2 / q_max^2 - k_w^2 = -r_w^2 (the printed form drops the squares);
+* eq. (29)-(30): the roots are (-b +/- sqrt(Delta)) / (2a), not / (2c); the physical root is the
+  one through (l_pm0, q0): q1 = (-b + sqrt(Delta)) / (2a) with a < 0.
+* eq. (5): the tangent from A to the drum circle is taken in the plane of the circle, so xi uses
+  the distance from D1 to A projected on that plane (equal to |D1A| when A lies in it).
+
+Reference: M. Metillon, C. Charron, K. Subrin, S. Caro, "Geometrical modelling of a Cable-Driven
+Parallel Robot Winch", 25e Congres Francais de Mecanique, 2022, hal-03758222.
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from .errors import ConfigError
+from .robot import read_yaml
+from .units import quantity
+
+
+@dataclasses.dataclass(frozen=True)
+class WinchParams:
+    """Parameters of the quadratic (Table 1 of the winch seed), SI units.
+
+    k_w coiling coefficient [m/rad]; l_u0 initial uncoiled length [m]; q0 initial joint angle [rad];
+    q_max drum angle at full coiling [rad]; l_AE1 |A E1| [m]; l_E1E2 coiling length [m];
+    alpha_E1 angle between AE1 and E1E2 [rad].
+    """
+
+    k_w: float
+    l_u0: float
+    q0: float
+    q_max: float
+    l_AE1: float
+    l_E1E2: float
+    alpha_E1: float
+
+
+#: Table 1 of the winch seed.
+TABLE1 = WinchParams(k_w=0.07460068, l_u0=5.9261, q0=94.2478, q_max=188.4956,
+                     l_AE1=2.6848, l_E1E2=0.06, alpha_E1=1.6906)
+
+_PARAM_KEYS = {"k_w_m": ("k_w", "m"), "l_u0_m": ("l_u0", "m"), "q0_rad": ("q0", "rad"),
+               "q_max_rad": ("q_max", "rad"), "l_AE1_m": ("l_AE1", "m"), "l_E1E2_m": ("l_E1E2", "m"),
+               "alpha_E1_rad": ("alpha_E1", "rad")}
+
+
+def load_params(path):
+    """Read WinchParams from YAML (keys k_w_m, l_u0_m, q0_rad, q_max_rad, l_AE1_m, l_E1E2_m,
+    alpha_E1_rad; missing keys take Table 1 values)."""
+    data = read_yaml(path)
+    if not isinstance(data, dict):
+        raise ConfigError(path, None, "expected a mapping of winch parameters")
+    values = dataclasses.asdict(TABLE1)
+    for key, val in data.items():
+        if key not in _PARAM_KEYS:
+            raise ConfigError(path, key, f"unknown key; allowed: {', '.join(_PARAM_KEYS)}")
+        field, dim = _PARAM_KEYS[key]
+        v = quantity(val, dim, path, key)
+        if v <= 0 and field != "alpha_E1":
+            raise ConfigError(path, key, f"must be strictly positive, got {val!r}")
+        values[field] = v
+    p = WinchParams(**values)
+    if not 0 <= p.q0 <= p.q_max:
+        raise ConfigError(path, "q0_rad", f"must lie in [0, q_max_rad] = [0, {p.q_max:g}], got {p.q0:g}")
+    return p
+
+
+# ---- winch geometry (eq. 1-13, 18) ---------------------------------------------------------
+def coiling_radius(r_d, r_g, r_c):
+    """Coiling radius r_w = r_d - r_g + r_c / 2 (eq. 7) [m]."""
+    return r_d - r_g + r_c / 2.0
+
+
+def coiling_coefficient(r_w, mu):
+    """k_w = sqrt(r_w^2 + (mu / 2 pi)^2) (eq. 18) [m/rad]; mu is the drum pitch [m]."""
+    return math.sqrt(r_w**2 + (mu / (2 * math.pi)) ** 2)
+
+
+def max_angle(l_E1E2, mu):
+    """q_max = 2 pi l_E1E2 / mu (eq. 13) [rad]."""
+    return 2 * math.pi * l_E1E2 / mu
+
+
+def tangent_angle(D1A_w, r_w):
+    """kappa = chi - xi (eq. 3-5): direction of D1E1 in the winch frame [rad]."""
+    x, z = D1A_w[0], D1A_w[2]
+    chi = math.atan2(z, x)
+    xi = math.acos(r_w / math.hypot(x, z))
+    return chi - xi
+
+
+def exit_points(R_wb, d1, a, r_w, l_E1E2):
+    """Exit points e1, e2 in the base frame (eq. 6-11).
+
+    R_wb: rotation from the base to the winch frame (3x3); d1: drum origin D1 in the base frame;
+    a: pulley entry point A in the base frame.
+    """
+    R_wb = np.asarray(R_wb, dtype=float)
+    d1 = np.asarray(d1, dtype=float)
+    D1A_w = R_wb @ (np.asarray(a, dtype=float) - d1)
+    kappa = tangent_angle(D1A_w, r_w)
+    R_bw = R_wb.T
+    e1 = d1 + R_bw @ np.array([r_w * math.cos(kappa), 0.0, r_w * math.sin(kappa)])
+    e2 = d1 + R_bw @ np.array([r_w * math.cos(kappa), l_E1E2, r_w * math.sin(kappa)])
+    return e1, e2
+
+
+def exit_point(e1, e2, q, q_max):
+    """Drum exit point e(q) = e1 + (e2 - e1) q / q_max (eq. 12); q may be an array."""
+    q = np.asarray(q, dtype=float)[..., None]
+    return np.asarray(e1) + (np.asarray(e2) - np.asarray(e1)) * q / q_max
+
+
+def params_from_geometry(R_wb, d1, a, r_w, mu, l_E1E2, q0, l_u0):
+    """WinchParams from the winch geometry and the initial state (q0, l_u0)."""
+    e1, e2 = exit_points(R_wb, d1, a, r_w, l_E1E2)
+    v1 = e1 - np.asarray(a, dtype=float)
+    v12 = e2 - e1
+    l_AE1 = float(np.linalg.norm(v1))
+    cos_a = float(v1 @ v12) / (l_AE1 * l_E1E2)
+    return WinchParams(k_w=coiling_coefficient(r_w, mu), l_u0=l_u0, q0=q0, q_max=max_angle(l_E1E2, mu),
+                       l_AE1=l_AE1, l_E1E2=l_E1E2, alpha_E1=math.acos(max(-1.0, min(1.0, cos_a))))
+
+
+# ---- the quadratic (eq. 19-32, corrected) --------------------------------------------------
+def l_AE(p, q):
+    """|e(q) - a| from the law of cosines on triangle A E1 E (left side of eq. 22) [m]."""
+    s = np.asarray(q, dtype=float) / p.q_max * p.l_E1E2
+    return np.sqrt(p.l_AE1**2 + 2 * s * p.l_AE1 * math.cos(p.alpha_E1) + s**2)
+
+
+def l_pm0(p):
+    """Initial pulley-to-platform length from |e(q0) - a| = l_u0 - l_pm0 (eq. 15-16) [m]."""
+    return p.l_u0 - float(l_AE(p, p.q0))
+
+
+def coefficients(p, l_pm):
+    """Coefficients a, b, c of a q^2 + b q + c = 0 (eq. 23-26 with the eq. 19 sign corrected)."""
+    X = p.l_u0 + p.k_w * p.q0 - np.asarray(l_pm, dtype=float)
+    a = p.l_E1E2**2 / p.q_max**2 - p.k_w**2
+    b = 2.0 / p.q_max * p.l_AE1 * p.l_E1E2 * math.cos(p.alpha_E1) + 2.0 * p.k_w * X
+    c = p.l_AE1**2 - X**2
+    return np.broadcast_to(a, X.shape).astype(float), b, c
+
+
+def roots(p, l_pm):
+    """Both roots (q1, q2) = (-b +/- sqrt(Delta)) / (2a) (eq. 28-30 corrected) [rad].
+
+    q1 is the physical root (through (l_pm0, q0)); NaN where Delta < 0.
+    """
+    a, b, c = coefficients(p, l_pm)
+    disc = b**2 - 4 * a * c
+    sq = np.sqrt(np.where(disc >= 0, disc, np.nan))
+    return (-b + sq) / (2 * a), (-b - sq) / (2 * a)
+
+
+def q_no_winch(p, l_pm):
+    """Joint angle of the model that neglects the winch geometry, eq. (32) [rad]."""
+    return p.q0 + (l_pm0(p) - np.asarray(l_pm, dtype=float)) / p.k_w
+
+
+def length_error(p, l_pm):
+    """Uncoiled length error dl = k_w (q1 - q_nw) (eq. 31) [m]."""
+    q1, _ = roots(p, l_pm)
+    return p.k_w * (q1 - q_no_winch(p, l_pm))
+
+
+def winch_table(p=TABLE1, lpm_from=0.0, lpm_to=5.0, steps=101):
+    """q1, q2, q_nw and dl over l_pm in [lpm_from, lpm_to] as a DataFrame (SI units)."""
+    import pandas as pd
+
+    l_pm = np.linspace(lpm_from, lpm_to, steps)
+    q1, q2 = roots(p, l_pm)
+    q_nw = q_no_winch(p, l_pm)
+    return pd.DataFrame({"l_pm": l_pm, "q1": q1, "q2": q2, "q_nw": q_nw, "dl": p.k_w * (q1 - q_nw)})
