@@ -6,7 +6,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: venv test reproduce clean-venv
+.PHONY: venv test reproduce reproduce-quick clean-venv
 
 # Re-install whenever pyproject.toml changes (the stamp is older than it).
 $(STAMP): pyproject.toml
@@ -22,6 +22,10 @@ test: $(STAMP)
 
 reproduce: $(STAMP)
 	$(BIN)/snakemake --cores all reproduce_paper
+
+# The same DAG on the small CI study (config/studies/quick.yaml), written under results/quick/.
+reproduce-quick: $(STAMP)
+	$(BIN)/snakemake --cores all reproduce_paper --config study=config/studies/quick.yaml results=results/quick
 
 clean-venv:
 	rm -rf $(VENV)

@@ -12,7 +12,7 @@ import time
 
 import numpy as np
 
-from . import io, winch
+from . import io, study, winch
 from .errors import CdprError
 from .inverse import L_TS, igm_e
 from .redundancy import solve_points, solve_table, subset_label
@@ -120,12 +120,45 @@ def cmd_winch(args):
     if args.steps < 2:
         raise CdprError(f"--steps must be at least 2, got {args.steps}")
     df = winch.winch_table(p, args.lpm_from, args.lpm_to, args.steps)
+    if args.out:
+        io.write_table(df, args.out)
     if args.json:
         print(json.dumps(io.clean_json(df.to_dict(orient="records")), indent=2))
         return
     print(f"winch (l_pm0 = {winch.l_pm0(p):.6f} m, q0 = {p.q0:g} rad)")
     rows = [[f"{r.l_pm:.4f}", f"{r.q1:.6f}", f"{r.q2:.6f}", f"{r.q_nw:.6f}", f"{r.dl * 1e3:.4f}"] for r in df.itertuples()]
     print(_table(rows, ["l_pm [m]", "q1 [rad]", "q2 [rad]", "q_nw [rad]", "dl [mm]"]))
+
+
+def _report(df, out, args, dt):
+    counts = {k: int(v) for k, v in df["status"].value_counts().items() if v}
+    lo, hi = study.ok_extremes(df)
+    summary = {"out": out, "points": int(len(df)), "seconds": dt, "status": counts, "dp_min": lo, "dp_max": hi}
+    if args.json:
+        print(json.dumps(io.clean_json(summary), indent=2))
+    else:
+        print(f"wrote {len(df)} points to {out} in {dt:.2f} s; status: " + ", ".join(f"{k} {v}" for k, v in counts.items())
+              + f"; |dp| over ok points: min {lo:.6f} m, max {hi:.6f} m")
+
+
+def cmd_plane(args):
+    robot = _load(args)
+    if args.n < 2:
+        raise CdprError(f"--n must be at least 2, got {args.n}")
+    t0 = time.perf_counter()
+    df = study.plane(robot, args.z, args.n, method=args.method)
+    io.write_table(df, args.out)
+    _report(df, args.out, args, time.perf_counter() - t0)
+
+
+def cmd_trajectory(args):
+    robot = _load(args)
+    if args.n < 2:
+        raise CdprError(f"--n must be at least 2, got {args.n}")
+    t0 = time.perf_counter()
+    df = study.trajectory(robot, args.start, args.end, args.n, method=args.method)
+    io.write_table(df, args.out)
+    _report(df, args.out, args, time.perf_counter() - t0)
 
 
 def build_parser():
@@ -154,8 +187,27 @@ def build_parser():
     sp.add_argument("--lpm-from", type=float, default=0.0)
     sp.add_argument("--lpm-to", type=float, default=5.0)
     sp.add_argument("--steps", type=int, default=101)
+    sp.add_argument("--out", metavar="FILE", help="also write the table (.csv or .parquet)")
     sp.add_argument("--json", action="store_true")
     sp.set_defaults(func=cmd_winch)
+    sp = sub.add_parser("plane", help="DEGM_E over a horizontal plane (Fig. 9, 12); writes a table")
+    _robot_options(sp)
+    _solver_options(sp)
+    sp.add_argument("--z", type=float, required=True, metavar="M", help="plane height [m]")
+    sp.add_argument("--n", type=int, required=True, help="points per side over the anchors' bounding box")
+    sp.add_argument("--out", required=True, metavar="FILE")
+    sp.set_defaults(func=cmd_plane)
+    sp = sub.add_parser("trajectory", help="DEGM_E along a straight path (Fig. 10, 19); writes a table with arc length s")
+    _robot_options(sp)
+    _solver_options(sp)
+    sp.add_argument("--start", nargs=3, type=float, required=True, metavar=("X", "Y", "Z"))
+    sp.add_argument("--end", nargs=3, type=float, required=True, metavar=("X", "Y", "Z"))
+    sp.add_argument("--n", type=int, required=True, help="points along the path")
+    sp.add_argument("--out", required=True, metavar="FILE")
+    sp.set_defaults(func=cmd_trajectory)
+    from .figures import add_plot_parser
+
+    add_plot_parser(sub)
     return ap
 
 

@@ -1,0 +1,23 @@
+# cdpr study workflow: a study is a YAML file; a point is a row; a figure is an aggregation of rows.
+# Layout: workflow/rules/*.smk hold the wiring, the cdpr library holds the physics.
+from snakemake.utils import min_version, validate
+
+min_version("9.0")
+
+
+configfile: "config/config.yaml"
+
+
+validate(config, "workflow/schemas/config.schema.yaml")
+
+
+include: "workflow/rules/common.smk"
+include: "workflow/rules/winch.smk"
+include: "workflow/rules/planes.smk"
+include: "workflow/rules/trajectories.smk"
+
+
+rule reproduce_paper:
+    default_target: True
+    input:
+        all_targets(),

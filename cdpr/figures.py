@@ -1,0 +1,46 @@
+"""``cdpr plot KIND``: draw a figure from the table(s) a rule produced (the table stays beside it)."""
+from __future__ import annotations
+
+from .io import read_table
+from . import plots
+
+
+def _plot_plane(args):
+    df = read_table(args.table[0])
+    plots.plane_contours(df, args.title or "", args.out)
+
+
+def _plot_subsets(args):
+    df = read_table(args.table[0])
+    plots.subset_map(df, args.title or "", args.out)
+
+
+def _plot_winch(args):
+    df = read_table(args.table[0])
+    base = args.out
+    plots.curves([(df.l_pm, df.q1, "q1 (physical root)"), (df.l_pm, df.q2, "q2"), (df.l_pm, df.q_nw, "q_nw (winch neglected)")],
+                 "l_pm [m]", "q [rad]", args.title or "Winch joint angle (winch seed Fig. 7a)", base)
+    plots.curves([(df.l_pm, df.dl * 1e3, "dl = k_w (q1 - q_nw)")], "l_pm [m]", "dl [mm]",
+                 "Uncoiled length error (winch seed Fig. 7b)", base.replace(".png", "_dl.png"))
+
+
+def _plot_trajectories(args):
+    series = []
+    for path, label in zip(args.table, args.labels or args.table):
+        df = read_table(path)
+        ok = df.status == "ok"
+        series.append((df.s.where(ok), df.dp.where(ok), label))
+    plots.curves(series, "position along the path s [m]", "|dp| [m]", args.title or "", args.out)
+
+
+KINDS = {"plane": _plot_plane, "subsets": _plot_subsets, "winch": _plot_winch, "trajectories": _plot_trajectories}
+
+
+def add_plot_parser(sub):
+    sp = sub.add_parser("plot", help="draw a figure (PNG + PDF) from result tables")
+    sp.add_argument("kind", choices=sorted(KINDS))
+    sp.add_argument("--table", nargs="+", required=True, metavar="FILE")
+    sp.add_argument("--labels", nargs="+")
+    sp.add_argument("--title")
+    sp.add_argument("--out", required=True, metavar="FILE.png")
+    sp.set_defaults(func=lambda args: KINDS[args.kind](args))
