@@ -15,6 +15,11 @@ include: "workflow/rules/common.smk"
 include: "workflow/rules/winch.smk"
 include: "workflow/rules/planes.smk"
 include: "workflow/rules/trajectories.smk"
+include: "workflow/rules/volumes.smk"
+include: "workflow/rules/doe.smk"
+include: "workflow/rules/maps.smk"
+include: "workflow/rules/elasticity.smk"
+include: "workflow/rules/summary.smk"
 
 
 rule reproduce_paper:

@@ -92,7 +92,18 @@ def cmd_point(args):
 
 def cmd_grid(args):
     robot = _load(args)
-    box = check_box(args.box)
+    if args.box_file:
+        from .jobs import read_box
+
+        box = check_box(read_box(args.box_file))
+    elif args.frame:
+        from .jobs import frame_box
+
+        box = check_box(frame_box(robot))
+    elif args.box:
+        box = check_box(args.box)
+    else:
+        raise CdprError("give the grid box with --box, --box-file or --frame")
     if args.n < 1:
         raise CdprError(f"--n must be a positive integer, got {args.n}")
     start, stop = shard_range(args.n**3, args.shard, args.shards)
@@ -161,6 +172,48 @@ def cmd_trajectory(args):
     _report(df, args.out, args, time.perf_counter() - t0)
 
 
+def _groups(items, size):
+    return [items[i:i + size] for i in range(0, len(items), size)]
+
+
+def cmd_job(args):
+    from . import jobs
+
+    st = jobs.load_study(args.study)
+    i, o = args.inputs or [], args.outputs or []
+    name = args.name
+    if name == "volumes":
+        jobs.volumes(st, args.labels, _groups(i, args.shards), *o)
+    elif name == "volume-view":
+        jobs.volume_views(st, args.labels[0], i, *o)
+    elif name == "rw":
+        jobs.regular_workspace(st, i, *o)
+    elif name == "doe":
+        jobs.doe_results(st, _groups(i, args.shards), *o)
+    elif name == "map-row":
+        jobs.map_row(st, args.kind, args.h, args.box_file, *o)
+    elif name == "maps":
+        jobs.maps(st, i, args.box_file, *o)
+    elif name == "elasticity":
+        designs = list(st["optimal"])
+        E_values = [float(e) for e in args.E_values]
+        n_idx = len(designs) * len(E_values) * args.shards
+        jobs.elasticity(st, designs, E_values, _groups(i[:n_idx], args.shards), i[n_idx:], *o)
+    elif name == "dead-length-point":
+        jobs.dead_length_point(st, args.d, args.box_file, *o)
+    elif name == "dead-length":
+        jobs.dead_length(st, i, *o)
+    elif name == "summary":
+        from . import summary
+
+        summary.write_summary(st, args.results, *o)
+    else:
+        raise CdprError(f"unknown job {name!r}")
+
+
+JOBS = ("volumes", "volume-view", "rw", "doe", "map-row", "maps", "elasticity", "dead-length-point", "dead-length", "summary")
+
+
 def build_parser():
     ap = argparse.ArgumentParser(prog="cdpr", description="Pose errors of cable-driven parallel robots from pulleys, cable elasticity and winch geometry.")
     sub = ap.add_subparsers(dest="command", required=True)
@@ -176,7 +229,9 @@ def build_parser():
     sp = sub.add_parser("grid", help="DEGM_E over the n^3 cell-centred grid of a box; writes parquet or CSV")
     _robot_options(sp)
     _solver_options(sp)
-    sp.add_argument("--box", nargs=6, type=float, required=True, metavar=("XMIN", "XMAX", "YMIN", "YMAX", "ZMIN", "ZMAX"))
+    sp.add_argument("--box", nargs=6, type=float, metavar=("XMIN", "XMAX", "YMIN", "YMAX", "ZMIN", "ZMAX"))
+    sp.add_argument("--box-file", metavar="FILE", help="JSON file whose key 'box' holds the six numbers (e.g. rw_c.json)")
+    sp.add_argument("--frame", action="store_true", help="the frame's bounding box (anchors' extent, z from 0 to the pulleys)")
     sp.add_argument("--n", type=int, required=True, help="points per axis")
     sp.add_argument("--out", required=True, metavar="FILE", help="output .parquet or .csv")
     sp.add_argument("--shard", type=int, default=0, help="0-based shard index (default 0)")
@@ -205,6 +260,20 @@ def build_parser():
     sp.add_argument("--n", type=int, required=True, help="points along the path")
     sp.add_argument("--out", required=True, metavar="FILE")
     sp.set_defaults(func=cmd_trajectory)
+    sp = sub.add_parser("job", help="a pipeline task: aggregate tables into tables and figures")
+    sp.add_argument("name", choices=JOBS)
+    sp.add_argument("--study", required=True, metavar="FILE")
+    sp.add_argument("--inputs", nargs="*", metavar="FILE")
+    sp.add_argument("--outputs", nargs="*", metavar="FILE")
+    sp.add_argument("--labels", nargs="*")
+    sp.add_argument("--shards", type=int, default=1)
+    sp.add_argument("--kind", choices=("SR", "DR"))
+    sp.add_argument("--h", type=float)
+    sp.add_argument("--d", type=float)
+    sp.add_argument("--E-values", nargs="*")
+    sp.add_argument("--box-file")
+    sp.add_argument("--results", help="results folder (summary)")
+    sp.set_defaults(func=cmd_job)
     from .figures import add_plot_parser
 
     add_plot_parser(sub)

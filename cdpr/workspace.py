@@ -40,3 +40,104 @@ def shard_range(total, shard, shards):
     if not (shards >= 1 and 0 <= shard < shards):
         raise CdprError(f"shard must satisfy 0 <= shard < shards, got shard={shard}, shards={shards}")
     return total * shard // shards, total * (shard + 1) // shards
+
+
+def voxel_mask(df, n, value=None):
+    """Boolean (n, n, n) array of a grid table in C order (x, y, z); True where status is ok and,
+    if given, ``value`` (a boolean Series/array over rows) holds."""
+    if len(df) != n**3:
+        raise CdprError(f"a grid table of n = {n} must have {n**3} rows, got {len(df)}")
+    ok = (df["status"] == "ok").to_numpy().copy()
+    if value is not None:
+        ok &= np.asarray(value)
+    return ok.reshape(n, n, n)
+
+
+def error_limited_volume(df, n, box, limit, envelope_volume):
+    """Error-limited volume V_L (section 3.3.3) by voxel counting on the n^3 cell-centred grid.
+
+    Returns dict V_L [m^3], R_V = V_L / V_T, and ``V_L_err`` [m^3]: half the volume of the counted
+    voxels that touch an uncounted one, an estimate of the voxel-counting error.
+    """
+    b = check_box(box)
+    voxel = np.prod((b[1::2] - b[0::2]) / n)
+    m = voxel_mask(df, n, df["dp"].to_numpy() <= limit)
+    count = int(m.sum())
+    pad = np.pad(m, 1, constant_values=False)
+    interior = m.copy()
+    for ax in range(3):
+        for sh in (1, -1):
+            interior &= np.roll(pad, sh, axis=ax)[1:-1, 1:-1, 1:-1]
+    boundary = count - int(interior.sum())
+    V = count * voxel
+    return {"V_L": V, "R_V": V / envelope_volume, "V_L_err": 0.5 * boundary * voxel}
+
+
+def _largest_rectangle(mask2d):
+    """Largest all-True axis-aligned rectangle of a 2-D mask by area: (area, i0, i1, j0, j1), inclusive
+    indices, or (0, ...) when empty. Histogram-stack method, O(n^2)."""
+    nx, ny = mask2d.shape
+    heights = np.zeros(ny, dtype=int)
+    best = (0, 0, -1, 0, -1)
+    for i in range(nx):
+        heights = np.where(mask2d[i], heights + 1, 0)
+        stack = []
+        for j in range(ny + 1):
+            hgt = heights[j] if j < ny else 0
+            start = j
+            while stack and stack[-1][1] >= hgt:
+                s, hs = stack.pop()
+                area = hs * (j - s)
+                if area > best[0]:
+                    best = (area, i - hs + 1, i, s, j - 1)
+                start = s
+            stack.append((start, hgt))
+    return best
+
+
+def largest_box(mask):
+    """Largest axis-aligned box of True voxels in a (nx, ny, nz) mask: (count, (i0, i1, j0, j1, k0, k1)).
+
+    For every z-range [k0, k1] the admissible columns are AND-ed and the largest rectangle found;
+    the box of largest voxel count wins (ties: the lowest k0, then k1, in scan order).
+    """
+    nz = mask.shape[2]
+    best = (0, None)
+    for k0 in range(nz):
+        col = np.ones(mask.shape[:2], dtype=bool)
+        for k1 in range(k0, nz):
+            col &= mask[:, :, k1]
+            if not col.any():
+                break
+            # upper bound: even the full column area can't beat the best
+            if col.sum() * (k1 - k0 + 1) <= best[0]:
+                continue
+            area, i0, i1, j0, j1 = _largest_rectangle(col)
+            if area * (k1 - k0 + 1) > best[0]:
+                best = (area * (k1 - k0 + 1), (i0, i1, j0, j1, k0, k1))
+    return best
+
+
+def box_from_cells(box, n, cells):
+    """Physical box [xmin, xmax, ymin, ymax, zmin, zmax] covered by inclusive cell ranges."""
+    b = check_box(box)
+    step = (b[1::2] - b[0::2]) / n
+    out = []
+    for a in range(3):
+        lo, hi = cells[2 * a], cells[2 * a + 1]
+        out += [b[2 * a] + lo * step[a], b[2 * a] + (hi + 1) * step[a]]
+    return out
+
+
+def intersect_boxes(boxes):
+    """Intersection of boxes [xmin, xmax, ymin, ymax, zmin, zmax] (RW_C from the RW_max)."""
+    b = np.asarray(boxes, dtype=float)
+    out = np.empty(6)
+    out[0::2] = b[:, 0::2].max(axis=0)
+    out[1::2] = b[:, 1::2].min(axis=0)
+    return out.tolist()
+
+
+def box_volume(box):
+    b = np.asarray(box, dtype=float)
+    return float(np.prod(np.maximum(b[1::2] - b[0::2], 0.0)))

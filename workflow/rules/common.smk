@@ -36,4 +36,7 @@ def all_targets():
     t += expand(f"{RES}/plane/{{robot}}_{{pulley}}.png", robot=ROBOTS, pulley=PULLEYS)
     t += expand(f"{RES}/plane/{{robot}}_{{pulley}}_subsets.png", robot=[r for r in ROBOTS if r != "CDPR3"], pulley=PULLEYS)
     t += [f"{RES}/trajectories/trajectories.png"]
+    t += [f"{RES}/volumes/volumes.csv"] + expand(f"{RES}/volumes/{{label}}_VL.png", label=VOL_LABELS)
+    t += [f"{RES}/doe/doe.csv", f"{RES}/maps/lines.csv", f"{RES}/elasticity/bands.csv", f"{RES}/dead_length/dead_length.csv"]
+    t += [f"{RES}/summary.md", f"{RES}/summary.csv"]
     return t

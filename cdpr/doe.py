@@ -1,0 +1,78 @@
+"""Full factorial designs, effects and interactions (section 4.2), optimal lines (section 4.3)."""
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+import pandas as pd
+
+
+def full_factorial(k):
+    """Coded 2^k design in the paper's standard order (Table 2: first factor slowest), shape (2^k, k)."""
+    return np.array(list(itertools.product((-1, 1), repeat=k)), dtype=float)
+
+
+def model_matrix(X, names):
+    """Saturated coded model: intercept, main effects, all interactions. Returns (M, term names)."""
+    cols, terms = [np.ones(len(X))], ["mean"]
+    k = X.shape[1]
+    for order in range(1, k + 1):
+        for combo in itertools.combinations(range(k), order):
+            cols.append(np.prod(X[:, combo], axis=1))
+            terms.append(":".join(names[i] for i in combo))
+    return np.column_stack(cols), terms
+
+
+def effects(X, y, names):
+    """Coded coefficients (half-effects) by the orthogonal contrasts, classical effects (2x), and an
+    OLS fit of the saturated model as a cross-check. One row per term."""
+    M, terms = model_matrix(np.asarray(X, dtype=float), names)
+    y = np.asarray(y, dtype=float)
+    coef = M.T @ y / len(y)
+    ols, *_ = np.linalg.lstsq(M, y, rcond=None)
+    eff = 2 * coef
+    eff[0] = coef[0]
+    return pd.DataFrame({"term": terms, "coefficient": coef, "effect": eff, "ols_coefficient": ols,
+                         "abs_effect_rank": pd.Series(np.abs(coef)).rank(ascending=False, method="first").astype(int)})
+
+
+def valley(r_p, h, index):
+    """For each h, the r_p minimising the index (the valley r_p*(h) of Fig. 17), refined by a
+    parabola through the grid minimum and its two neighbours when both exist.
+
+    Inputs are 1-D arrays over map cells (missing cells allowed). Returns a DataFrame h, r_p_star,
+    index_min, refined (bool).
+    """
+    df = pd.DataFrame({"r_p": r_p, "h": h, "index": index}).dropna()
+    rows = []
+    for hv, g in df.groupby("h", sort=True):
+        g = g.sort_values("r_p")
+        i = int(np.argmin(g["index"].to_numpy()))
+        x, y = g["r_p"].to_numpy(), g["index"].to_numpy()
+        r_star, refined = x[i], False
+        if 0 < i < len(g) - 1:
+            x0, x1, x2 = x[i - 1:i + 2]
+            y0, y1, y2 = y[i - 1:i + 2]
+            denom = (x0 - x1) * (x0 - x2) * (x1 - x2)
+            A = (x2 * (y1 - y0) + x1 * (y0 - y2) + x0 * (y2 - y1)) / denom
+            B = (x2**2 * (y0 - y1) + x1**2 * (y2 - y0) + x0**2 * (y1 - y2)) / denom
+            if A > 0:
+                r_star, refined = -B / (2 * A), True
+        rows.append({"h": hv, "r_p_star": r_star, "index_min": y[i], "interior": 0 < i < len(g) - 1, "refined": refined})
+    return pd.DataFrame(rows)
+
+
+def line_through_origin(r_p, h):
+    """Least-squares slope k of h = k r_p through the origin."""
+    r_p, h = np.asarray(r_p, dtype=float), np.asarray(h, dtype=float)
+    return float(np.sum(r_p * h) / np.sum(r_p * r_p))
+
+
+def line_field_point(k, r_p_range, h_range):
+    """Point of the line h = k r_p inside the study field [r_p_range] x [h_range] nearest the
+    origin (I_SR, I_DR of Fig. 17), or None when the line misses the field."""
+    lo = max(r_p_range[0], h_range[0] / k)
+    hi = min(r_p_range[1], h_range[1] / k)
+    if lo > hi:
+        return None
+    return float(lo), float(k * lo)
