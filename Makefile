@@ -6,7 +6,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: venv test reproduce reproduce-quick clean-venv
+.PHONY: venv test reproduce reproduce-quick update-references clean-venv
 
 # Re-install whenever pyproject.toml changes (the stamp is older than it).
 $(STAMP): pyproject.toml
@@ -26,6 +26,11 @@ reproduce: $(STAMP)
 # The same DAG on the small CI study (config/studies/quick.yaml), written under results/quick/.
 reproduce-quick: $(STAMP)
 	$(BIN)/snakemake --cores all reproduce_paper --config study=config/studies/quick.yaml results=results/quick
+
+# Accept the current quick-study tables as the new regression references (review the diff!).
+update-references: reproduce-quick
+	$(BIN)/python -c "import shutil, pathlib; from tests.test_workflow import TABLES; \
+	[(pathlib.Path('tests/reference/quick', t).parent.mkdir(parents=True, exist_ok=True), shutil.copy(pathlib.Path('results/quick', t), pathlib.Path('tests/reference/quick', t))) for t in TABLES]"
 
 clean-venv:
 	rm -rf $(VENV)

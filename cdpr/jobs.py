@@ -250,14 +250,14 @@ def dead_length_point(st, d, box_file, out_csv):
     box = read_box(box_file)
     P = workspace.grid_points(box, st["dead_length"]["index_n"])
     row = {"d_m": d}
-    for pk in ("SR", "DR"):
-        robot = design_robot(st, "CDPR4", st["pulleys"][pk], dead_length=d)
+    for pk in st["pulleys"]:
+        robot = design_robot(st, st["doe"]["robot"], st["pulleys"][pk], dead_length=d)
         lo, hi = study.ok_extremes(study.plane(robot, st["plane"]["z_m"], st["dead_length"]["plane_n"], method=st["solver"]))
         row[f"plane_{pk}_min_m"], row[f"plane_{pk}_max_m"] = lo, hi
     E_path = st["elasticity"]["E_path_Pa"]
     for dk, spec in st["optimal"].items():
         for tag, E in zip(("Emin", "Emean", "Emax"), E_path):
-            robot = design_robot(st, "CDPR4", spec, E=E, dead_length=d)
+            robot = design_robot(st, st["doe"]["robot"], spec, E=E, dead_length=d)
             row[f"{dk}_{tag}_index_m"], _ = global_index(solve_table(robot, P, method=st["solver"]))
     io.write_table(pd.DataFrame([row]), out_csv)
 

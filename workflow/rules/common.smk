@@ -14,6 +14,18 @@ except Exception as exc:  # the schema error, prefixed with the file it came fro
 RES = config["results"]
 CDPR = f"{sys.executable} -m cdpr"
 ROBOTS = STUDY["robots"]
+for _key, _path in ROBOTS.items():
+    _robot = yaml.safe_load(open(_path))
+    if not isinstance(_robot, dict) or not isinstance(_robot.get("cables"), list):
+        raise WorkflowError(f"{STUDY_FILE}: key 'robots.{_key}': {_path} is not a robot file with a 'cables' list")
+# robots with more cables than degrees of freedom: the subset map (Fig. 9) applies to them
+REDUNDANT = [k for k, p in ROBOTS.items() if len(yaml.safe_load(open(p))["cables"]) > 3]
+for _sec in ("trajectories",):
+    for _key in STUDY[_sec]["paths"]:
+        if _key not in ROBOTS:
+            raise WorkflowError(f"{STUDY_FILE}: key '{_sec}.paths.{_key}': unknown robot; allowed: {', '.join(ROBOTS)}")
+if STUDY["doe"]["robot"] not in ROBOTS:
+    raise WorkflowError(f"{STUDY_FILE}: key 'doe.robot': unknown robot {STUDY['doe']['robot']!r}; allowed: {', '.join(ROBOTS)}")
 PULLEYS = STUDY["pulleys"]
 
 
@@ -34,7 +46,7 @@ def design_args(pulley):
 def all_targets():
     t = [f"{RES}/winch/winch.csv", f"{RES}/winch/winch.png"]
     t += expand(f"{RES}/plane/{{robot}}_{{pulley}}.png", robot=ROBOTS, pulley=PULLEYS)
-    t += expand(f"{RES}/plane/{{robot}}_{{pulley}}_subsets.png", robot=[r for r in ROBOTS if r != "CDPR3"], pulley=PULLEYS)
+    t += expand(f"{RES}/plane/{{robot}}_{{pulley}}_subsets.png", robot=REDUNDANT, pulley=PULLEYS)
     t += [f"{RES}/trajectories/trajectories.png"]
     t += [f"{RES}/volumes/volumes.csv"] + expand(f"{RES}/volumes/{{label}}_VL.png", label=VOL_LABELS)
     t += [f"{RES}/doe/doe.csv", f"{RES}/maps/lines.csv", f"{RES}/elasticity/bands.csv", f"{RES}/dead_length/dead_length.csv"]

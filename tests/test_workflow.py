@@ -1,0 +1,73 @@
+"""The whole DAG on small studies: the quick study against committed reference tables, and an
+end-to-end run of a user's own design. Regenerate the references with `make update-references`."""
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from .conftest import ROOT
+
+REF = ROOT / "tests" / "reference" / "quick"
+#: Tables compared with the references (paths under results/quick/).
+TABLES = ["summary.csv", "doe/doe.csv", "doe/effects.csv", "doe/rw_max.csv", "volumes/volumes.csv", "maps/map.csv",
+          "maps/lines.csv", "elasticity/index_vs_E.csv", "elasticity/bands.csv", "elasticity/crossings.csv",
+          "dead_length/dead_length.csv", "trajectories/CDPR4_SR.csv", "trajectories/CDPR3_DR.csv", "winch/winch.csv"]
+RTOL, ATOL = 1e-6, 1e-9
+
+
+def snakemake(target, *config, cwd=ROOT, quiet=True):
+    """Run the workflow on `target` with `--config key=value ...` (option order matters: both take lists)."""
+    exe = Path(sys.executable).with_name("snakemake")
+    q = ["--quiet", "all"] if quiet else []
+    return subprocess.run([str(exe), target, "--cores", "2", *q, "--config", *config], cwd=cwd, capture_output=True, text=True)
+
+
+@pytest.fixture(scope="module")
+def quick():
+    p = snakemake("reproduce_paper", "study=config/studies/quick.yaml", "results=results/quick")
+    assert p.returncode == 0, p.stderr[-3000:]
+    return ROOT / "results" / "quick"
+
+
+@pytest.mark.parametrize("table", TABLES)
+def test_quick_study_matches_references(quick, table):
+    ours, ref = pd.read_csv(quick / table), pd.read_csv(REF / table)
+    assert list(ours.columns) == list(ref.columns) and len(ours) == len(ref), f"{table}: shape or columns changed"
+    for col in ref.columns:
+        if pd.api.types.is_numeric_dtype(ref[col]) and pd.api.types.is_numeric_dtype(ours[col]):
+            np.testing.assert_allclose(ours[col], ref[col], rtol=RTOL, atol=ATOL, err_msg=f"{table}: column {col}")
+        else:
+            assert ours[col].fillna("").astype(str).tolist() == ref[col].fillna("").astype(str).tolist(), f"{table}: column {col}"
+
+
+def test_quick_study_writes_every_figure_and_the_summary(quick):
+    for fig in ["winch/winch.png", "plane/CDPR4_SR.png", "plane/CDPR4_DR_subsets.png", "trajectories/trajectories.png",
+                "volumes/R_V.png", "volumes/CDPR3_SR_VL.png", "doe/responses.png", "doe/effects.png", "maps/maps.png",
+                "elasticity/index_vs_E.png", "elasticity/paths.png", "dead_length/dead_length.png"]:
+        assert (quick / fig).stat().st_size > 0 and (quick / fig).with_suffix(".pdf").exists() or fig.endswith("_VL.png"), fig
+    text = (quick / "summary.md").read_text()
+    assert "| winch dl at l_pm = 0 | Metillon Fig. 7b | 1.46 |" in text
+
+
+def test_own_design_end_to_end(tmp_path):
+    out = tmp_path / "example"
+    p = snakemake("reproduce_paper", "study=config/studies/example.yaml", f"results={out}")
+    assert p.returncode == 0, p.stderr[-3000:]
+    doe = pd.read_csv(out / "doe" / "doe.csv")
+    assert len(doe) == 8 and doe.index_m.notna().all() and (doe.index_m > 0).all()
+    plane = pd.read_csv(out / "plane" / "FRAME_DR50.csv")
+    assert (plane.status == "ok").mean() > 0.8
+    assert (out / "summary.md").exists()
+
+
+def test_bad_study_value_stops_before_any_job(tmp_path):
+    bad = tmp_path / "bad.yaml"
+    bad.write_text((ROOT / "config" / "studies" / "quick.yaml").read_text().replace("solver: newton", "solver: magic"))
+    p = snakemake("reproduce_paper", f"study={bad}", f"results={tmp_path / 'r'}", quiet=False)
+    assert p.returncode != 0
+    assert "bad.yaml: invalid study configuration" in p.stdout + p.stderr and "solver" in p.stdout + p.stderr
+    assert not (tmp_path / "r").exists()
