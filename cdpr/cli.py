@@ -33,6 +33,9 @@ def _solver_options(sp):
     sp.add_argument("--E", type=float, metavar="PA", help="Young's modulus E [Pa]")
     sp.add_argument("--mass", type=float, metavar="KG", help="platform mass M [kg]")
     sp.add_argument("--method", choices=("newton", "fixed_point"), default="newton", help="DEGM_E solver (default newton)")
+    sp.add_argument("--engine", choices=("compiled", "numpy"), default="compiled",
+                    help="compiled numba kernel (default, Newton only) or the numpy reference implementation")
+    sp.add_argument("--threads", type=int, help="threads of the compiled engine (default: all cores)")
 
 
 def _load(args):
@@ -66,7 +69,7 @@ def cmd_inverse(args):
 
 def cmd_point(args):
     robot = _load(args)
-    res = solve_points(robot, np.array([args.at], dtype=float), method=args.method)
+    res = solve_points(robot, np.array([args.at], dtype=float), method=args.method)  # one point: the reference path
     t = res["t"][0]
     out = {
         "desired": list(map(float, args.at)),
@@ -109,7 +112,7 @@ def cmd_grid(args):
     start, stop = shard_range(args.n**3, args.shard, args.shards)
     t0 = time.perf_counter()
     P = grid_points(box, args.n, start, stop)
-    df = solve_table(robot, P, method=args.method)
+    df = solve_table(robot, P, method=args.method, engine=args.engine, threads=args.threads)
     io.write_table(df, args.out)
     dt = time.perf_counter() - t0
     counts = df["status"].value_counts().to_dict()
@@ -157,7 +160,7 @@ def cmd_plane(args):
     if args.n < 2:
         raise CdprError(f"--n must be at least 2, got {args.n}")
     t0 = time.perf_counter()
-    df = study.plane(robot, args.z, args.n, method=args.method)
+    df = study.plane(robot, args.z, args.n, method=args.method, engine=args.engine, threads=args.threads)
     io.write_table(df, args.out)
     _report(df, args.out, args, time.perf_counter() - t0)
 
@@ -167,7 +170,7 @@ def cmd_trajectory(args):
     if args.n < 2:
         raise CdprError(f"--n must be at least 2, got {args.n}")
     t0 = time.perf_counter()
-    df = study.trajectory(robot, args.start, args.end, args.n, method=args.method)
+    df = study.trajectory(robot, args.start, args.end, args.n, method=args.method, engine=args.engine, threads=args.threads)
     io.write_table(df, args.out)
     _report(df, args.out, args, time.perf_counter() - t0)
 
@@ -191,7 +194,7 @@ def cmd_job(args):
     elif name == "doe":
         jobs.doe_results(st, _groups(i, args.shards), *o)
     elif name == "map-row":
-        jobs.map_row(st, args.kind, args.h, args.box_file, *o)
+        jobs.map_row(st, args.kind, args.h, args.box_file, *o, threads=args.threads)
     elif name == "maps":
         jobs.maps(st, i, args.box_file, *o)
     elif name == "elasticity":
@@ -200,7 +203,7 @@ def cmd_job(args):
         n_idx = len(designs) * len(E_values) * args.shards
         jobs.elasticity(st, designs, E_values, _groups(i[:n_idx], args.shards), i[n_idx:], *o)
     elif name == "dead-length-point":
-        jobs.dead_length_point(st, args.d, args.box_file, *o)
+        jobs.dead_length_point(st, args.d, args.box_file, *o, threads=args.threads)
     elif name == "dead-length":
         jobs.dead_length(st, i, *o)
     elif name == "summary":
@@ -273,6 +276,7 @@ def build_parser():
     sp.add_argument("--E-values", nargs="*")
     sp.add_argument("--box-file")
     sp.add_argument("--results", help="results folder (summary)")
+    sp.add_argument("--threads", type=int, help="threads of the compiled solver")
     sp.set_defaults(func=cmd_job)
     from .figures import add_plot_parser
 

@@ -18,10 +18,10 @@ import numpy as np
 
 from .inverse import L_TS
 from .pulleys import pulley_state, total_length_and_direction
-from .statics import solve3, stretched_length, tensions
+from .statics import solve3, stretched_length, tension_gradient, tensions
 
-#: Newton defaults: step tolerance [m], iteration cap, finite-difference step [m], largest step [m].
-NEWTON_DEFAULTS = {"tol": 1e-11, "maxiter": 40, "fd_step": 1e-7, "max_step": 0.5}
+#: Newton defaults: step tolerance [m], iteration cap, largest step [m].
+NEWTON_DEFAULTS = {"tol": 1e-11, "maxiter": 40, "max_step": 0.5}
 #: Fixed-point defaults: stop criterion eps_P [m] (paper: 1e-5 m), caps of inner and outer loops.
 FIXED_POINT_DEFAULTS = {"tol": 1e-5, "max_inner": 200, "max_outer": 100}
 
@@ -56,32 +56,32 @@ class _Subset:
     def geometry(self, P):
         return total_length_and_direction(P, *self.args)
 
-    def residual(self, P, L):
-        """F = L_TE(P) - L (1 + t(P)/(E S)), its tensions and a validity flag."""
-        L_TE, u, inside = self.geometry(P)
-        t, _ = tensions(u, self.w_ext)
+    def residual(self, P, L, jacobian=False):
+        """F = L_TE(P) - L (1 + t(P)/(E S)), its tensions, a validity flag and, if asked, the
+        Jacobian dF/dP = -U + diag(L / E S) M^-1 G (``jacobian``; dL_TE/dP = -u_j)."""
+        L_TE, u, l_E, inside = self.geometry(P)
+        t, M_inv = tensions(u, self.w_ext)
         F = L_TE - stretched_length(L, t, self.ES)
         valid = ~inside.any(axis=-1) & np.isfinite(F).all(axis=-1) & (P[:, None, 2] < self.A[:, 2]).all(axis=-1)
-        return F, t, valid
+        if not jacobian:
+            return F, t, valid
+        J = -u - (L / self.ES)[..., None] * tension_gradient(u, l_E, t, M_inv)
+        return F, t, valid, J
 
 
-def _newton(sub, P0, L, tol, maxiter, fd_step, max_step):
+def _newton(sub, P0, L, tol, maxiter, max_step):
+    """Batched Newton on F(P) = 0 with the analytic Jacobian; steps capped at ``max_step``."""
     n = P0.shape[0]
     P = P0.copy()
     iters = np.zeros(n, dtype=np.int32)
     conv = np.zeros(n, dtype=bool)
     exists = np.ones(n, dtype=bool)
     active = np.arange(n)
-    eye = np.eye(3) * fd_step
     for _ in range(maxiter):
         if active.size == 0:
             break
         Pa, La = P[active], L[active]
-        F, _, valid = sub.residual(Pa, La)
-        J = np.empty((active.size, 3, 3))
-        for k in range(3):
-            Fk, _, _ = sub.residual(Pa + eye[k], La)
-            J[:, :, k] = (Fk - F) / fd_step
+        F, _, valid, J = sub.residual(Pa, La, jacobian=True)
         step, _ = solve3(J, -F)
         bad = ~valid | ~np.isfinite(step).all(axis=1)
         norm = np.linalg.norm(np.where(bad[:, None], 0.0, step), axis=1)
@@ -156,7 +156,7 @@ def _fixed_point(sub, P0, L0, tol, max_inner, max_outer):
             inner = inner[ok & (step >= tol)]
         keep = exists[active]
         active, P_prev = active[keep], P_prev[keep]
-        _, u, _ = sub.geometry(P[active])
+        _, u, _, _ = sub.geometry(P[active])
         t, _ = tensions(u, sub.w_ext)
         L[active] = stretched_length(L0[active], t, sub.ES)
         done = np.linalg.norm(P[active] - P_prev, axis=1) < tol

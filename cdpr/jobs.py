@@ -154,7 +154,7 @@ def doe_results(st, shard_lists, out_csv, out_effects, out_fig15, out_fig16):
 
 
 # ---- h-r_p maps (Fig. 17, Table 3) -------------------------------------------------------------
-def map_row(st, kind, h, box_file, out_csv):
+def map_row(st, kind, h, box_file, out_csv, threads=None):
     """Index at fixed h over the r_p values of the map with r_p < h (one map row)."""
     box = read_box(box_file)
     n = st["maps"]["index_n"]
@@ -164,7 +164,7 @@ def map_row(st, kind, h, box_file, out_csv):
         if r_p >= h - 1e-12:
             continue
         robot = design_robot(st, st["doe"]["robot"], {"kind": kind, "h_m": float(h), "r_p_m": float(r_p)})
-        ix, bad = global_index(solve_table(robot, P, method=st["solver"]))
+        ix, bad = global_index(solve_table(robot, P, method=st["solver"], threads=threads))
         rows.append({"kind": kind, "h_m": float(h), "r_p_m": float(r_p), "index_m": ix, "not_ok_points": bad, "N": n**3})
     io.write_table(pd.DataFrame(rows, columns=["kind", "h_m", "r_p_m", "index_m", "not_ok_points", "N"]), out_csv)
 
@@ -245,20 +245,20 @@ def elasticity(st, designs, E_values, shard_lists, path_tables, out_csv, out_ban
 
 
 # ---- dead-length calibration -------------------------------------------------------------------
-def dead_length_point(st, d, box_file, out_csv):
+def dead_length_point(st, d, box_file, out_csv, threads=None):
     """Paper-comparable numbers at dead length d: CDPR4 plane extremes and SR*/DR* index at E_min, E_mean, E_max."""
     box = read_box(box_file)
     P = workspace.grid_points(box, st["dead_length"]["index_n"])
     row = {"d_m": d}
     for pk in st["pulleys"]:
         robot = design_robot(st, st["doe"]["robot"], st["pulleys"][pk], dead_length=d)
-        lo, hi = study.ok_extremes(study.plane(robot, st["plane"]["z_m"], st["dead_length"]["plane_n"], method=st["solver"]))
+        lo, hi = study.ok_extremes(study.plane(robot, st["plane"]["z_m"], st["dead_length"]["plane_n"], method=st["solver"], threads=threads))
         row[f"plane_{pk}_min_m"], row[f"plane_{pk}_max_m"] = lo, hi
     E_path = st["elasticity"]["E_path_Pa"]
     for dk, spec in st["optimal"].items():
         for tag, E in zip(("Emin", "Emean", "Emax"), E_path):
             robot = design_robot(st, st["doe"]["robot"], spec, E=E, dead_length=d)
-            row[f"{dk}_{tag}_index_m"], _ = global_index(solve_table(robot, P, method=st["solver"]))
+            row[f"{dk}_{tag}_index_m"], _ = global_index(solve_table(robot, P, method=st["solver"], threads=threads))
     io.write_table(pd.DataFrame([row]), out_csv)
 
 

@@ -118,10 +118,11 @@ def pulley_state(P, A, kind, h, r_p, d, inward):
 
 
 def total_length_and_direction(P, A, kind, h, r_p, d, inward):
-    """Only what the direct solvers need: L_TE (..., m) and the unit vectors u = (D - P)/|D - P|
-    (..., m, 3) along each cable from P toward its exit point (eq. 12), plus the inside flag."""
+    """Only what the direct solvers need: L_TE (..., m), the unit vectors u = (D - P)/|D - P|
+    (..., m, 3) along each cable from P toward its exit point (eq. 12), |D - P| (..., m) and the
+    inside flag."""
     st = pulley_state(P, A, kind, h, r_p, d, inward)
     v = st.D - np.asarray(P, dtype=float)[..., None, :]
     n = np.linalg.norm(v, axis=-1, keepdims=True)
-    u = v / np.where(n > 0, n, 1.0)
-    return st.L_TE, u, st.inside
+    n = np.where(n > 0, n, 1.0)
+    return st.L_TE, v / n, n[..., 0], st.inside

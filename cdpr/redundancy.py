@@ -95,6 +95,20 @@ def subset_label(subset_row):
     return "-".join(str(int(i) + 1) for i in subset_row)
 
 
+def subset_labels(robot, subset):
+    """Labels of an (N, 3) array of 0-based subsets (-1 rows -> ''), by lookup, not per point."""
+    subs = robot.subsets
+    table = np.array([subset_label(s) for s in subs] + [""], dtype=object)
+    code = np.full(len(subset), len(subs))
+    if len(subset):
+        key = subset @ np.array([robot.m * robot.m, robot.m, 1])
+        skey = subs @ np.array([robot.m * robot.m, robot.m, 1])
+        pos = np.searchsorted(skey, key)
+        pos = np.minimum(pos, len(subs) - 1)
+        code = np.where((subset[:, 0] >= 0) & (skey[pos] == key), pos, len(subs))
+    return table[code]
+
+
 def to_frame(robot, res):
     """One row per point with stable column names: x, y, z, x_s, y_s, z_s, dp, t1..tm, subset,
     iterations, status (SI units)."""
@@ -105,7 +119,7 @@ def to_frame(robot, res):
     })
     for i in range(robot.m):
         df[f"t{i + 1}"] = res["t"][:, i]
-    df["subset"] = [subset_label(s) for s in res["subset"]]
+    df["subset"] = subset_labels(robot, res["subset"])
     df["iterations"] = res["iterations"]
     df["status"] = pd.Categorical(res["status"], categories=list(STATUSES))
     return df
@@ -115,9 +129,20 @@ def to_frame(robot, res):
 CHUNK = 20000
 
 
-def solve_table(robot, p, method="newton", chunk=CHUNK, **options):
-    """solve_points over p in chunks, as a DataFrame (see ``to_frame``)."""
+def solve_table(robot, p, method="newton", chunk=CHUNK, engine="compiled", threads=None, **options):
+    """Solve DEGM_E at points p with the paper-mode subset choice, as a DataFrame (``to_frame``).
+
+    ``engine="compiled"`` (default, Newton only) runs the numba kernel of ``cdpr.fast`` over all
+    points in parallel (``threads`` caps the threads); ``engine="numpy"`` runs ``solve_points`` in
+    chunks of ``chunk`` points: the reference implementation, and the only one for the fixed point.
+    Both give the same table (tested)."""
     p = np.atleast_2d(np.asarray(p, dtype=float))
+    if engine == "compiled" and method == "newton":
+        from .fast import solve_points_fast
+
+        return to_frame(robot, solve_points_fast(robot, p, threads=threads, **options))
+    if engine not in ("compiled", "numpy"):
+        raise ValueError(f"unknown engine {engine!r}; allowed: 'compiled', 'numpy'")
     starts = range(0, len(p), chunk) if len(p) else [0]
     frames = [to_frame(robot, solve_points(robot, p[i:i + chunk], method=method, **options)) for i in starts]
     return pd.concat(frames, ignore_index=True)

@@ -7,32 +7,40 @@ import numpy as np
 DET_EPS = 1e-12
 
 
-def solve3(M, b):
-    """Batched solve of M x = b for 3x3 systems by cofactors; M (..., 3, 3), b (..., 3).
-
-    Returns (x, det). Where |det| < DET_EPS, x is NaN (the caller flags it); no exception is
-    raised for a singular member of the batch.
-    """
+def inverse3(M):
+    """Batched inverse of 3x3 matrices by cofactors; M (..., 3, 3). Returns (M^-1, det); NaN where
+    |det| < DET_EPS (the caller flags it); no exception for a singular member of the batch."""
     c0, c1, c2 = M[..., :, 0], M[..., :, 1], M[..., :, 2]
-    r0 = np.cross(c1, c2)
-    r1 = np.cross(c2, c0)
-    r2 = np.cross(c0, c1)
-    det = np.einsum("...i,...i->...", c0, r0)
+    rows = np.stack([np.cross(c1, c2), np.cross(c2, c0), np.cross(c0, c1)], axis=-2)
+    det = np.einsum("...i,...i->...", c0, rows[..., 0, :])
     ok = np.abs(det) >= DET_EPS
     inv_det = np.divide(1.0, det, out=np.full_like(det, np.nan), where=ok)
-    x = np.stack([np.einsum("...i,...i->...", r, b) for r in (r0, r1, r2)], axis=-1) * inv_det[..., None]
-    return x, det
+    return rows * inv_det[..., None, None], det
+
+
+def solve3(M, b):
+    """Batched solve of M x = b for 3x3 systems; M (..., 3, 3), b (..., 3). Returns (x, det);
+    x is NaN where |det| < DET_EPS."""
+    inv, det = inverse3(M)
+    return np.einsum("...ij,...j->...i", inv, b), det
 
 
 def tensions(u, w_ext):
     """Cable tensions t from the equilibrium sum_j t_j u_j + w_ext = 0 (eq. 11-12).
 
     u (..., 3, 3): unit vectors along the three cables, from P toward their exit points, one per
-    row; w_ext (3,) [N]. Returns (t (..., 3) [N], det): t is NaN where the cables are coplanar.
-    """
-    M = np.swapaxes(u, -1, -2)  # columns u_j
-    b = np.broadcast_to(-np.asarray(w_ext, dtype=float), u.shape[:-1])
-    return solve3(M, b)
+    row; w_ext (3,) [N]. Returns (t (..., 3) [N], M^-1 (..., 3, 3)): t is NaN where the cables are
+    coplanar. M = [u_1 u_2 u_3] (columns)."""
+    inv, _ = inverse3(np.swapaxes(u, -1, -2))
+    return np.einsum("...ij,j->...i", inv, -np.asarray(w_ext, dtype=float)), inv
+
+
+def tension_gradient(u, l_E, t, M_inv):
+    """dt/dP (..., 3, 3) from differentiating M t = -w_ext with du_j/dP = -(I - u_j u_j^T)/|l_E,j|
+    (the exit point D_j held fixed, its motion being second order)."""
+    w = t / l_E
+    G = np.einsum("...j,...ja,...jb->...ab", w, u, u) - w.sum(axis=-1)[..., None, None] * np.eye(3)
+    return -M_inv @ G
 
 
 def stretched_length(L0, t, ES):

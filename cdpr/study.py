@@ -17,10 +17,10 @@ def trajectory_points(start, end, n):
     return start + f[:, None] * (end - start), f * np.linalg.norm(end - start)
 
 
-def trajectory(robot, start, end, n, method="newton"):
+def trajectory(robot, start, end, n, method="newton", **solver):
     """|dp| along a straight path (Fig. 10, 19): the point table plus the arc length ``s``."""
     P, s = trajectory_points(start, end, n)
-    df = solve_table(robot, P, method=method)
+    df = solve_table(robot, P, method=method, **solver)
     df.insert(0, "s", s)
     return df
 
@@ -32,9 +32,9 @@ def plane_points(robot, z, n):
     return np.column_stack([X.ravel(), Y.ravel(), np.full(X.size, float(z))])
 
 
-def plane(robot, z, n, method="newton"):
+def plane(robot, z, n, method="newton", **solver):
     """|dp| over the horizontal plane at height z (Fig. 12) with the chosen subsets (Fig. 9)."""
-    return solve_table(robot, plane_points(robot, z, n), method=method)
+    return solve_table(robot, plane_points(robot, z, n), method=method, **solver)
 
 
 def ok_extremes(df):

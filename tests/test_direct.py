@@ -41,7 +41,7 @@ def test_equilibrium_and_round_trip(cdpr4, kind):
     res = degm_e(r, PTS, SUB)
     assert res.converged.all()
     A, kd, h, rp, d, inward = (r.A[list(SUB)], r.kind[list(SUB)], r.h[list(SUB)], r.r_p[list(SUB)], r.d[list(SUB)], r.inward[list(SUB)])
-    L_TE, u, _ = total_length_and_direction(res.P, A, kd, h, rp, d, inward)
+    L_TE, u, _, _ = total_length_and_direction(res.P, A, kd, h, rp, d, inward)
     assert equilibrium_residual(u, res.t, r.platform.w_ext).max() < 1e-6  # N
     stretched = L_TS(r, PTS)[:, SUB] * (1 + res.t / r.ES)
     assert np.abs(L_TE - stretched).max() < 1e-9  # L_TE(P*) = stretched L_TS

@@ -27,6 +27,8 @@ for _sec in ("trajectories",):
 if STUDY["doe"]["robot"] not in ROBOTS:
     raise WorkflowError(f"{STUDY_FILE}: key 'doe.robot': unknown robot {STUDY['doe']['robot']!r}; allowed: {', '.join(ROBOTS)}")
 PULLEYS = STUDY["pulleys"]
+# threads of one solver job (the compiled engine runs points in parallel); many small jobs: use 1
+SOLVER_THREADS = STUDY.get("solver_threads", 2)
 
 
 wildcard_constraints:

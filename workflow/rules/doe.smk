@@ -20,8 +20,9 @@ rule workspace_grid:
         design=lambda w: test_args(int(w.test)),
     log:
         f"{RES}/logs/workspace_test{{test}}.log",
+    threads: SOLVER_THREADS
     shell:
-        "{CDPR} grid --robot {input.robot} {params.design} --frame --n {DOE[workspace_n]} --out {output} > {log} 2>&1"
+        "{CDPR} grid --threads {threads} --robot {input.robot} {params.design} --frame --n {DOE[workspace_n]} --out {output} > {log} 2>&1"
 
 
 rule regular_workspace:
@@ -44,8 +45,9 @@ rule index_shard:
         design=lambda w: test_args(int(w.test)),
     log:
         f"{RES}/logs/doe_test{{test}}_{{shard}}.log",
+    threads: SOLVER_THREADS
     shell:
-        "{CDPR} grid --robot {input.robot} {params.design} --box-file {input.box} --n {DOE[index_n]}"
+        "{CDPR} grid --threads {threads} --robot {input.robot} {params.design} --box-file {input.box} --n {DOE[index_n]}"
         " --shard {wildcards.shard} --shards {DOE[shards]} --out {output} > {log} 2>&1"
 
 

@@ -22,8 +22,9 @@ rule elasticity_shard:
         design=lambda w: opt_args(w.design, w.E),
     log:
         f"{RES}/logs/elasticity_{{design}}_E{{E}}_{{shard}}.log",
+    threads: SOLVER_THREADS
     shell:
-        "{CDPR} grid --robot {input.robot} {params.design} --box-file {input.box} --n {EL[index_n]}"
+        "{CDPR} grid --threads {threads} --robot {input.robot} {params.design} --box-file {input.box} --n {EL[index_n]}"
         " --shard {wildcards.shard} --shards {EL[shards]} --out {output} > {log} 2>&1"
 
 
@@ -36,8 +37,9 @@ rule elasticity_path:
         design=lambda w: opt_args(w.design, w.E),
     log:
         f"{RES}/logs/elasticity_path_{{design}}_E{{E}}.log",
+    threads: SOLVER_THREADS
     shell:
-        "{CDPR} trajectory --robot {input.robot} {params.design} --start {EL[path][start_m]} --end {EL[path][end_m]}"
+        "{CDPR} trajectory --threads {threads} --robot {input.robot} {params.design} --start {EL[path][start_m]} --end {EL[path][end_m]}"
         " --n {EL[path][points]} --out {output} > {log} 2>&1"
 
 
@@ -64,8 +66,9 @@ rule dead_length_point:
         f"{RES}/shards/dead_length/d{{d}}.csv",
     log:
         f"{RES}/logs/dead_length_{{d}}.log",
+    threads: SOLVER_THREADS
     shell:
-        "{CDPR} job dead-length-point --study {STUDY_FILE} --d {wildcards.d} --box-file {input.box} --outputs {output} > {log} 2>&1"
+        "{CDPR} job dead-length-point --threads {threads} --study {STUDY_FILE} --d {wildcards.d} --box-file {input.box} --outputs {output} > {log} 2>&1"
 
 
 rule dead_length:

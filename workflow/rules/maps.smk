@@ -14,8 +14,9 @@ rule map_row:
         f"{RES}/shards/maps/{{kind}}_h{{h}}.csv",
     log:
         f"{RES}/logs/map_{{kind}}_h{{h}}.log",
+    threads: SOLVER_THREADS
     shell:
-        "{CDPR} job map-row --study {STUDY_FILE} --kind {wildcards.kind} --h {wildcards.h} --box-file {input.box} --outputs {output} > {log} 2>&1"
+        "{CDPR} job map-row --threads {threads} --study {STUDY_FILE} --kind {wildcards.kind} --h {wildcards.h} --box-file {input.box} --outputs {output} > {log} 2>&1"
 
 
 rule maps:

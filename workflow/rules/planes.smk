@@ -8,8 +8,9 @@ rule plane_table:
         p=STUDY["plane"],
     log:
         f"{RES}/logs/plane_{{robot}}_{{pulley}}.log",
+    threads: SOLVER_THREADS
     shell:
-        "{CDPR} plane --robot {input.robot} {params.design} --z {params.p[z_m]} --n {params.p[n]} --out {output} > {log} 2>&1"
+        "{CDPR} plane --threads {threads} --robot {input.robot} {params.design} --z {params.p[z_m]} --n {params.p[n]} --out {output} > {log} 2>&1"
 
 
 rule plane_figure:

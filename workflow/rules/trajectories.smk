@@ -9,8 +9,9 @@ rule trajectory_table:
         n=STUDY["trajectories"]["points"],
     log:
         f"{RES}/logs/trajectory_{{robot}}_{{pulley}}.log",
+    threads: SOLVER_THREADS
     shell:
-        "{CDPR} trajectory --robot {input.robot} {params.design} --start {params.path[start_m]} --end {params.path[end_m]}"
+        "{CDPR} trajectory --threads {threads} --robot {input.robot} {params.design} --start {params.path[start_m]} --end {params.path[end_m]}"
         " --n {params.n} --out {output} > {log} 2>&1"
 
 

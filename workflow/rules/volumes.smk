@@ -12,8 +12,9 @@ rule volume_shard:
         design=lambda w: design_args(w.pulley),
     log:
         f"{RES}/logs/volume_{{robot}}_{{pulley}}_{{shard}}.log",
+    threads: SOLVER_THREADS
     shell:
-        "{CDPR} grid --robot {input.robot} {params.design} --frame --n {VOL[n]} --shard {wildcards.shard} --shards {VOL[shards]}"
+        "{CDPR} grid --threads {threads} --robot {input.robot} {params.design} --frame --n {VOL[n]} --shard {wildcards.shard} --shards {VOL[shards]}"
         " --out {output} > {log} 2>&1"
 
 

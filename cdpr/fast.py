@@ -1,0 +1,310 @@
+"""Compiled DEGM_E over many points: the batched-Newton solver and the paper-mode subset choice
+of ``redundancy.solve_points``, fused into one numba kernel that runs in parallel over points.
+
+Same equations, same finite-difference Newton, same tolerances, tie-break and status rules as the
+numpy path (``direct._newton`` + ``redundancy.solve_points``); a test checks that both give the same
+table. The numpy path stays the reference; this one is what the CLI and pipeline use.
+"""
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+from numba import njit, prange
+
+from .direct import NEWTON_DEFAULTS
+from .pulleys import RHO_EPS
+from .redundancy import STATUSES, TIE_TOL
+from .statics import DET_EPS
+
+TWO_PI = 2.0 * math.pi
+ST_OK, ST_SLACK, ST_OVER, ST_INACC, ST_NOCONV = (STATUSES.index(s) for s in ("ok", "slack", "over_tension", "inaccessible", "not_converged"))
+
+
+@njit(cache=True, inline="always")
+def _cable(px, py, pz, Ax, Ay, Az, kind, h, rp, d, inx, iny):
+    """L_TE and the unit vector u = (D - P)/|D - P| of one cable (pulleys.pulley_state)."""
+    dx, dy = px - Ax, py - Ay
+    rho = math.hypot(dx, dy)
+    if rho < RHO_EPS:
+        esx, esy = inx, iny
+    else:
+        esx, esy = dx / rho, dy / rho
+    wP = pz - Az
+    if kind == 2:
+        nP = math.hypot(rho, wP)
+        if nP == 0.0:
+            nP = 1.0
+        bs, bw = rho / nP, wP / nP - 1.0
+        nb = math.hypot(bs, bw)
+        if nb == 0.0:
+            nb = 1.0
+        Hs, Hw = h * bs / nb, h * bw / nb
+    else:
+        Hs, Hw = h, 0.0
+    rs, rw = rho - Hs, wP - Hw
+    RP = math.hypot(rs, rw)
+    phiP = math.atan2(rw, rs)
+    ratio = rp / RP if RP > 0.0 else 0.0
+    inside = ratio > 1.0
+    dP = math.acos(min(ratio, 1.0))
+    cs, cw = -Hs, -d - Hw
+    RC = math.hypot(cs, cw)
+    phiC = math.atan2(cw, cs)
+    ratio = rp / RC if RC > 0.0 else 0.0
+    inside = inside or ratio > 1.0
+    dC = math.acos(min(ratio, 1.0))
+    thD = phiP + dP
+    thK = phiC - dC
+    gamma = (thK - thD) % TWO_PI
+    L = math.sqrt(max(RC * RC - rp * rp, 0.0)) + rp * gamma + math.sqrt(max(RP * RP - rp * rp, 0.0))
+    Ds, Dw = Hs + rp * math.cos(thD), Hw + rp * math.sin(thD)
+    vx, vy, vz = Ax + Ds * esx - px, Ay + Ds * esy - py, Az + Dw - pz
+    n = math.sqrt(vx * vx + vy * vy + vz * vz)
+    if n <= 0.0:
+        n = 1.0
+    return L, vx / n, vy / n, vz / n, n, inside
+
+
+@njit(cache=True, inline="always")
+def _residual(px, py, pz, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES, bx, by, bz):
+    """F = L_TE(P) - Lc (1 + t/ES) for subset (s0, s1, s2), t from equilibrium (statics.tensions),
+    and the Jacobian dF/dP (direct.jacobian). Scalars only: no allocation in the hot loop.
+
+    Returns (F (3), t (3), J (9, row-major), valid)."""
+    La, ax, ay, az, la, ia = _cable(px, py, pz, A[s0, 0], A[s0, 1], A[s0, 2], kind[s0], h[s0], rp[s0], d[s0], inward[s0, 0], inward[s0, 1])
+    Lb, bx_, by_, bz_, lb, ib = _cable(px, py, pz, A[s1, 0], A[s1, 1], A[s1, 2], kind[s1], h[s1], rp[s1], d[s1], inward[s1, 0], inward[s1, 1])
+    Lg, cx, cy, cz, lg, ig = _cable(px, py, pz, A[s2, 0], A[s2, 1], A[s2, 2], kind[s2], h[s2], rp[s2], d[s2], inward[s2, 0], inward[s2, 1])
+    valid = not (ia or ib or ig) and pz < A[s0, 2] and pz < A[s1, 2] and pz < A[s2, 2]
+    # cofactor rows of M = [u_a u_b u_c]: M^{-1} = [r0; r1; r2] / det
+    r0x, r0y, r0z = by_ * cz - bz_ * cy, bz_ * cx - bx_ * cz, bx_ * cy - by_ * cx
+    r1x, r1y, r1z = cy * az - cz * ay, cz * ax - cx * az, cx * ay - cy * ax
+    r2x, r2y, r2z = ay * bz_ - az * by_, az * bx_ - ax * bz_, ax * by_ - ay * bx_
+    det = ax * r0x + ay * r0y + az * r0z
+    if abs(det) < DET_EPS:
+        nan = np.nan
+        return nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, False
+    t0 = (r0x * bx + r0y * by + r0z * bz) / det
+    t1 = (r1x * bx + r1y * by + r1z * bz) / det
+    t2 = (r2x * bx + r2y * by + r2z * bz) / det
+    F0 = La - L0 * (1.0 + t0 / ES)
+    F1 = Lb - L1 * (1.0 + t1 / ES)
+    F2 = Lg - L2 * (1.0 + t2 / ES)
+    valid = valid and math.isfinite(F0) and math.isfinite(F1) and math.isfinite(F2)
+    # G = sum_j t_j du_j/dP = -sum_j (t_j / l_j)(I - u_j u_j^T); dt/dP = -M^{-1} G; J = -U - diag(L/ES) dt/dP
+    wa, wb, wg = t0 / la, t1 / lb, t2 / lg
+    ws = wa + wb + wg
+    Gxx = -ws + wa * ax * ax + wb * bx_ * bx_ + wg * cx * cx
+    Gxy = wa * ax * ay + wb * bx_ * by_ + wg * cx * cy
+    Gxz = wa * ax * az + wb * bx_ * bz_ + wg * cx * cz
+    Gyy = -ws + wa * ay * ay + wb * by_ * by_ + wg * cy * cy
+    Gyz = wa * ay * az + wb * by_ * bz_ + wg * cy * cz
+    Gzz = -ws + wa * az * az + wb * bz_ * bz_ + wg * cz * cz
+    k0, k1, k2 = L0 / (ES * det), L1 / (ES * det), L2 / (ES * det)
+    # row j of M^{-1} G times -(-1): J_j = -u_j + (L_j/ES) (r_j G)/det
+    J00 = -ax + k0 * (r0x * Gxx + r0y * Gxy + r0z * Gxz)
+    J01 = -ay + k0 * (r0x * Gxy + r0y * Gyy + r0z * Gyz)
+    J02 = -az + k0 * (r0x * Gxz + r0y * Gyz + r0z * Gzz)
+    J10 = -bx_ + k1 * (r1x * Gxx + r1y * Gxy + r1z * Gxz)
+    J11 = -by_ + k1 * (r1x * Gxy + r1y * Gyy + r1z * Gyz)
+    J12 = -bz_ + k1 * (r1x * Gxz + r1y * Gyz + r1z * Gzz)
+    J20 = -cx + k2 * (r2x * Gxx + r2y * Gxy + r2z * Gxz)
+    J21 = -cy + k2 * (r2x * Gxy + r2y * Gyy + r2z * Gyz)
+    J22 = -cz + k2 * (r2x * Gxz + r2y * Gyz + r2z * Gzz)
+    return F0, F1, F2, t0, t1, t2, J00, J01, J02, J10, J11, J12, J20, J21, J22, valid
+
+
+@njit(cache=True)
+def _newton(p0x, p0y, p0z, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES, bx, by, bz, tol, maxiter, max_step):
+    """direct._newton (analytic Jacobian) for one point and one subset.
+
+    Returns (Px, Py, Pz, t0, t1, t2, iterations, converged, exists)."""
+    px, py, pz = p0x, p0y, p0z
+    conv = False
+    exists = True
+    it = 0
+    for _ in range(maxiter):
+        (F0, F1, F2, t0, t1, t2, jx0, jy0, jz0, jx1, jy1, jz1, jx2, jy2, jz2,
+         valid) = _residual(px, py, pz, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES, bx, by, bz)
+        # solve J step = -F by cofactors (statics.solve3); columns (jx., jy., jz.)
+        q0x, q0y, q0z = jy1 * jz2 - jy2 * jz1, jy2 * jz0 - jy0 * jz2, jy0 * jz1 - jy1 * jz0
+        q1x, q1y, q1z = jz1 * jx2 - jz2 * jx1, jz2 * jx0 - jz0 * jx2, jz0 * jx1 - jz1 * jx0
+        q2x, q2y, q2z = jx1 * jy2 - jx2 * jy1, jx2 * jy0 - jx0 * jy2, jx0 * jy1 - jx1 * jy0
+        det = jx0 * q0x + jx1 * q0y + jx2 * q0z
+        it += 1
+        ok = abs(det) >= DET_EPS
+        sx = sy = sz = 0.0
+        if ok:
+            sx = -(q0x * F0 + q0y * F1 + q0z * F2) / det
+            sy = -(q1x * F0 + q1y * F1 + q1z * F2) / det
+            sz = -(q2x * F0 + q2y * F1 + q2z * F2) / det
+            ok = math.isfinite(sx) and math.isfinite(sy) and math.isfinite(sz)
+        if not valid or not ok:
+            exists = False
+            break
+        norm = math.sqrt(sx * sx + sy * sy + sz * sz)
+        scale = min(1.0, max_step / max(norm, 1e-300))
+        px += sx * scale
+        py += sy * scale
+        pz += sz * scale
+        if norm < tol:
+            conv = True
+            break
+    out = _residual(px, py, pz, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES, bx, by, bz)
+    exists = exists and out[15]
+    return px, py, pz, out[3], out[4], out[5], it, conv and exists, exists
+
+
+@njit(cache=True)
+def _solve_subset(k, i, p, A, kind, h, rp, d, inward, subsets, Lall, ES, b, tol, maxiter, max_step, Ps, ts, its, conv, exi, dps):
+    s0, s1, s2 = subsets[k, 0], subsets[k, 1], subsets[k, 2]
+    px, py, pz, t0, t1, t2, it, cv, ex = _newton(p[i, 0], p[i, 1], p[i, 2], s0, s1, s2, A, kind, h, rp, d, inward,
+                                                 Lall[s0], Lall[s1], Lall[s2], ES, b[0], b[1], b[2], tol, maxiter, max_step)
+    Ps[k, 0], Ps[k, 1], Ps[k, 2] = px, py, pz
+    ts[k, 0], ts[k, 1], ts[k, 2] = t0, t1, t2
+    its[k], conv[k], exi[k] = it, cv, ex
+    dps[k] = math.sqrt((px - p[i, 0]) ** 2 + (py - p[i, 1]) ** 2 + (pz - p[i, 2]) ** 2)
+
+
+@njit(cache=True, parallel=True)
+def _solve_points(p, A, kind, h, rp, d, inward, subsets, edges, margin, ES, b, T_a, tol, maxiter, max_step, prune,
+                  P_s, dp_out, t_out, sub_out, it_out, st_out, work):
+    n = p.shape[0]
+    ns = subsets.shape[0]
+    m = A.shape[0]
+    for i in prange(n):
+        Lall = np.empty(m)
+        for c in range(m):
+            Lall[c] = math.sqrt((p[i, 0] - A[c, 0]) ** 2 + (p[i, 1] - A[c, 1]) ** 2 + (p[i, 2] - A[c, 2]) ** 2) + d[c]
+        Ps = np.full((ns, 3), np.nan)
+        ts = np.full((ns, 3), np.nan)
+        its = np.zeros(ns, np.int32)
+        conv = np.zeros(ns, np.bool_)
+        exi = np.zeros(ns, np.bool_)
+        dps = np.full(ns, np.inf)
+        solved = np.zeros(ns, np.bool_)
+        # lower bound of |dp| of any admissible solution of subset k (see fast_solve docstring)
+        gap = np.empty(ns)
+        for k in range(ns):
+            g = -np.inf
+            for e in range(3):
+                g = max(g, edges[k, e, 0] * p[i, 0] + edges[k, e, 1] * p[i, 1] - edges[k, e, 2])
+            gap[k] = g - margin[k]
+        best = np.inf
+        order = np.argsort(gap)
+        for kk in range(ns):
+            k = order[kk]
+            if prune and gap[k] > 0.0 and gap[k] > best + TIE_TOL:
+                continue
+            _solve_subset(k, i, p, A, kind, h, rp, d, inward, subsets, Lall, ES, b, tol, maxiter, max_step, Ps, ts, its, conv, exi, dps)
+            solved[k] = True
+            if conv[k] and ts[k, 0] >= 0 and ts[k, 1] >= 0 and ts[k, 2] >= 0 and ts[k, 0] <= T_a and ts[k, 1] <= T_a and ts[k, 2] <= T_a:
+                best = min(best, dps[k])
+        if best == np.inf:  # nothing admissible: solve every subset so the status and report match the full search
+            for k in range(ns):
+                if not solved[k]:
+                    _solve_subset(k, i, p, A, kind, h, rp, d, inward, subsets, Lall, ES, b, tol, maxiter, max_step, Ps, ts, its, conv, exi, dps)
+                    solved[k] = True
+        nsolved = 0
+        for k in range(ns):
+            nsolved += solved[k]
+        work[i] = nsolved
+        # paper-mode choice, as redundancy.solve_points
+        any_adm, any_conv, any_low, any_nc = False, False, False, False
+        adm = np.zeros(ns, np.bool_)
+        for k in range(ns):
+            if not solved[k]:
+                continue
+            low = ts[k, 0] >= 0 and ts[k, 1] >= 0 and ts[k, 2] >= 0
+            high = ts[k, 0] <= T_a and ts[k, 1] <= T_a and ts[k, 2] <= T_a
+            adm[k] = conv[k] and low and high
+            any_adm = any_adm or adm[k]
+            any_conv = any_conv or conv[k]
+            any_low = any_low or (conv[k] and low)
+            any_nc = any_nc or ((not conv[k]) and exi[k])
+        best = np.inf
+        for k in range(ns):
+            key = dps[k] if (adm[k] if any_adm else conv[k]) else np.inf
+            if key < best:
+                best = key
+        choice = -1
+        if best < np.inf:
+            for k in range(ns):
+                key = dps[k] if (adm[k] if any_adm else conv[k]) else np.inf
+                if key <= best + TIE_TOL:
+                    choice = k
+                    break
+        if any_adm:
+            st_out[i] = ST_OK
+        elif any_low:
+            st_out[i] = ST_OVER
+        elif any_conv:
+            st_out[i] = ST_SLACK
+        elif any_nc:
+            st_out[i] = ST_NOCONV
+        else:
+            st_out[i] = ST_INACC
+        for c in range(m):
+            t_out[i, c] = np.nan
+        if choice >= 0:
+            P_s[i] = Ps[choice]
+            dp_out[i] = dps[choice]
+            for j in range(3):
+                t_out[i, subsets[choice, j]] = ts[choice, j]
+                sub_out[i, j] = subsets[choice, j]
+            it_out[i] = its[choice]
+        else:
+            P_s[i, 0] = P_s[i, 1] = P_s[i, 2] = np.nan
+            dp_out[i] = np.nan
+            sub_out[i, 0] = sub_out[i, 1] = sub_out[i, 2] = -1
+            it_out[i] = its[0]
+
+
+def subset_edges(robot):
+    """Outward edge lines (n_x, n_y, c) of each subset's anchor triangle seen from above, so that
+    n . p - c is the signed distance of p outside that edge; and the margin max(h + r_p)."""
+    subs = robot.subsets
+    edges = np.empty((len(subs), 3, 3))
+    margin = np.empty(len(subs))
+    for k, s in enumerate(subs):
+        xy = robot.A[s, :2]
+        e1, e2 = xy[1] - xy[0], xy[2] - xy[0]
+        area2 = e1[0] * e2[1] - e1[1] * e2[0]
+        for e in range(3):
+            a, b = xy[e], xy[(e + 1) % 3]
+            v = b - a
+            nrm = np.array([v[1], -v[0]]) * (1.0 if area2 > 0 else -1.0)
+            ln = np.linalg.norm(nrm)
+            nrm = nrm / ln if ln > 0 else nrm
+            edges[k, e] = (nrm[0], nrm[1], nrm @ a)
+        if abs(area2) < 1e-12:  # degenerate triangle: never prune it on geometry
+            edges[k, :, :] = 0.0
+            edges[k, :, 2] = np.inf
+        margin[k] = float(np.max(robot.h[s] + robot.r_p[s]))
+    return edges, margin
+
+
+def solve_points_fast(robot, p, tol=None, maxiter=None, threads=None, prune=True):
+    """Fast equivalent of ``redundancy.solve_points(robot, p, method="newton")`` (same keys except
+    the per-subset arrays). ``threads`` caps numba's threads (default: all cores)."""
+    o = NEWTON_DEFAULTS
+    p = np.ascontiguousarray(np.atleast_2d(np.asarray(p, dtype=float)))
+    n, m = len(p), robot.m
+    if threads:
+        numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
+    P_s = np.empty((n, 3))
+    dp = np.empty(n)
+    t = np.empty((n, m))
+    sub = np.empty((n, 3), dtype=np.intp)
+    it = np.empty(n, dtype=np.int32)
+    st = np.empty(n, dtype=np.int8)
+    work = np.empty(n, dtype=np.int32)
+    if n:
+        edges, margin = subset_edges(robot)
+        _solve_points(p, robot.A, robot.kind.astype(np.int64), robot.h, robot.r_p, robot.d, np.ascontiguousarray(robot.inward),
+                      robot.subsets.astype(np.int64), edges, margin, float(robot.ES), -robot.platform.w_ext, float(robot.material.T_a),
+                      o["tol"] if tol is None else tol, o["maxiter"] if maxiter is None else maxiter, o["max_step"], prune,
+                      P_s, dp, t, sub, it, st, work)
+    return {"p": p, "P_s": P_s, "dp": dp, "t": t, "subset": sub, "iterations": it, "status_code": st,
+            "status": np.asarray(STATUSES)[st], "subset_solves": work}
