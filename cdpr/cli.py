@@ -175,6 +175,12 @@ def cmd_trajectory(args):
     _report(df, args.out, args, time.perf_counter() - t0)
 
 
+def cmd_plot(args):
+    from .figures import KINDS  # matplotlib is imported only by the commands that draw
+
+    KINDS[args.kind](args)
+
+
 def _groups(items, size):
     return [items[i:i + size] for i in range(0, len(items), size)]
 
@@ -278,9 +284,13 @@ def build_parser():
     sp.add_argument("--results", help="results folder (summary)")
     sp.add_argument("--threads", type=int, help="threads of the compiled solver")
     sp.set_defaults(func=cmd_job)
-    from .figures import add_plot_parser
-
-    add_plot_parser(sub)
+    sp = sub.add_parser("plot", help="draw a figure (PNG + PDF) from result tables")
+    sp.add_argument("kind", choices=("plane", "subsets", "trajectories", "winch"))
+    sp.add_argument("--table", nargs="+", required=True, metavar="FILE")
+    sp.add_argument("--labels", nargs="+")
+    sp.add_argument("--title")
+    sp.add_argument("--out", required=True, metavar="FILE.png")
+    sp.set_defaults(func=cmd_plot)
     return ap
 
 

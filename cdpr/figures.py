@@ -34,13 +34,3 @@ def _plot_trajectories(args):
 
 
 KINDS = {"plane": _plot_plane, "subsets": _plot_subsets, "winch": _plot_winch, "trajectories": _plot_trajectories}
-
-
-def add_plot_parser(sub):
-    sp = sub.add_parser("plot", help="draw a figure (PNG + PDF) from result tables")
-    sp.add_argument("kind", choices=sorted(KINDS))
-    sp.add_argument("--table", nargs="+", required=True, metavar="FILE")
-    sp.add_argument("--labels", nargs="+")
-    sp.add_argument("--title")
-    sp.add_argument("--out", required=True, metavar="FILE.png")
-    sp.set_defaults(func=lambda args: KINDS[args.kind](args))

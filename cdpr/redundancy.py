@@ -96,17 +96,16 @@ def subset_label(subset_row):
 
 
 def subset_labels(robot, subset):
-    """Labels of an (N, 3) array of 0-based subsets (-1 rows -> ''), by lookup, not per point."""
+    """Categorical labels ('1-2-3', ..., '' when none) of an (N, 3) array of 0-based subsets, built
+    from integer codes (no Python loop per point; parquet stores it dictionary-encoded)."""
     subs = robot.subsets
-    table = np.array([subset_label(s) for s in subs] + [""], dtype=object)
-    code = np.full(len(subset), len(subs))
-    if len(subset):
-        key = subset @ np.array([robot.m * robot.m, robot.m, 1])
-        skey = subs @ np.array([robot.m * robot.m, robot.m, 1])
-        pos = np.searchsorted(skey, key)
-        pos = np.minimum(pos, len(subs) - 1)
-        code = np.where((subset[:, 0] >= 0) & (skey[pos] == key), pos, len(subs))
-    return table[code]
+    labels = [subset_label(s) for s in subs] + [""]
+    weights = np.array([robot.m * robot.m, robot.m, 1])
+    skey = subs @ weights  # lexicographic order -> sorted keys
+    key = np.asarray(subset).reshape(-1, 3) @ weights
+    pos = np.minimum(np.searchsorted(skey, key), len(subs) - 1)
+    code = np.where((np.asarray(subset).reshape(-1, 3)[:, 0] >= 0) & (skey[pos] == key), pos, len(subs))
+    return pd.Categorical.from_codes(code, categories=labels)
 
 
 def to_frame(robot, res):
@@ -121,7 +120,8 @@ def to_frame(robot, res):
         df[f"t{i + 1}"] = res["t"][:, i]
     df["subset"] = subset_labels(robot, res["subset"])
     df["iterations"] = res["iterations"]
-    df["status"] = pd.Categorical(res["status"], categories=list(STATUSES))
+    codes = res["status_code"] if "status_code" in res else pd.Categorical(res["status"], categories=list(STATUSES)).codes
+    df["status"] = pd.Categorical.from_codes(codes, categories=list(STATUSES))
     return df
 
 
