@@ -70,29 +70,40 @@ class _Subset:
 
 
 def _newton(sub, P0, L, tol, maxiter, max_step):
-    """Batched Newton on F(P) = 0 with the analytic Jacobian; steps capped at ``max_step``."""
+    """Batched Newton on F(P) = 0 with the analytic Jacobian; steps capped at ``max_step``.
+
+    A point stops when its next step would be shorter than ``tol`` (it keeps the current P, where
+    its tensions were just evaluated) or when no step exists. Returns P, iterations, converged,
+    exists, the tensions and validity at the returned P, and ``fresh`` (False where the iteration
+    cap left P moved after its last evaluation)."""
     n = P0.shape[0]
     P = P0.copy()
     iters = np.zeros(n, dtype=np.int32)
     conv = np.zeros(n, dtype=bool)
     exists = np.ones(n, dtype=bool)
+    t_at = np.full((n, 3), np.nan)
+    valid_at = np.zeros(n, dtype=bool)
+    fresh = np.zeros(n, dtype=bool)
     active = np.arange(n)
     for _ in range(maxiter):
         if active.size == 0:
             break
         Pa, La = P[active], L[active]
-        F, _, valid, J = sub.residual(Pa, La, jacobian=True)
+        F, t, valid, J = sub.residual(Pa, La, jacobian=True)
+        t_at[active], valid_at[active] = t, valid
         step, _ = solve3(J, -F)
         bad = ~valid | ~np.isfinite(step).all(axis=1)
         norm = np.linalg.norm(np.where(bad[:, None], 0.0, step), axis=1)
+        done = (norm < tol) & ~bad
+        move = ~(bad | done)
         scale = np.minimum(1.0, max_step / np.maximum(norm, 1e-300))
-        P[active] = np.where(bad[:, None], Pa, Pa + step * scale[:, None])
+        P[active] = np.where(move[:, None], Pa + step * scale[:, None], Pa)
+        fresh[active] = ~move
         iters[active] += 1
         exists[active[bad]] = False
-        done = (norm < tol) & ~bad
         conv[active[done]] = True
-        active = active[~(done | bad)]
-    return P, iters, conv, exists
+        active = active[move]
+    return P, iters, conv, exists, t_at, valid_at, fresh
 
 
 def trilaterate_low(c, R):
@@ -188,13 +199,16 @@ def degm_e(robot, p, subset=(0, 1, 2), L=None, method="newton", P0=None, **optio
     P0 = p if P0 is None else np.atleast_2d(np.asarray(P0, dtype=float))
     if method == "newton":
         opts = {**NEWTON_DEFAULTS, **options}
-        P, iters, conv, exists = _newton(sub, P0, L, **opts)
+        P, iters, conv, exists, t, valid, fresh = _newton(sub, P0, L, **opts)
+        if not fresh.all():  # iteration cap reached: evaluate where P moved last
+            stale = ~fresh
+            _, t[stale], valid[stale] = sub.residual(P[stale], L[stale])
     elif method == "fixed_point":
         opts = {**FIXED_POINT_DEFAULTS, **options}
         P, iters, conv, exists = _fixed_point(sub, P0, L, **opts)
+        _, t, valid = sub.residual(P, L)
     else:
         raise ValueError(f"unknown DEGM_E method {method!r}; allowed: 'newton', 'fixed_point'")
-    F, t, valid = sub.residual(P, L)
     exists &= valid
     conv &= exists
     return DirectResult(P=P, t=t, iterations=iters, converged=conv, exists=exists)

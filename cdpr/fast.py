@@ -22,7 +22,7 @@ TWO_PI = 2.0 * math.pi
 ST_OK, ST_SLACK, ST_OVER, ST_INACC, ST_NOCONV = (STATUSES.index(s) for s in ("ok", "slack", "over_tension", "inaccessible", "not_converged"))
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def _cable(px, py, pz, Ax, Ay, Az, kind, h, rp, d, inx, iny):
     """L_TE, the unit vector u = (D - P)/|D - P| and |D - P| of one cable (pulleys.pulley_state).
 
@@ -76,7 +76,7 @@ def _cable(px, py, pz, Ax, Ay, Az, kind, h, rp, d, inx, iny):
     return L, vx / n, vy / n, vz / n, n, inside
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def _residual(px, py, pz, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES, bx, by, bz):
     """F = L_TE(P) - Lc (1 + t/ES) for subset (s0, s1, s2), t from equilibrium (statics.tensions),
     and the Jacobian dF/dP (direct.jacobian). Scalars only: no allocation in the hot loop.
@@ -124,7 +124,7 @@ def _residual(px, py, pz, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES,
     return F0, F1, F2, t0, t1, t2, J00, J01, J02, J10, J11, J12, J20, J21, J22, valid
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _newton(p0x, p0y, p0z, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES, bx, by, bz, tol, maxiter, max_step):
     """direct._newton (analytic Jacobian) for one point and one subset.
 
@@ -153,19 +153,21 @@ def _newton(p0x, p0y, p0z, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES
             exists = False
             break
         norm = math.sqrt(sx * sx + sy * sy + sz * sz)
+        if norm < tol:  # converged: keep P, where t was just evaluated (direct._newton)
+            conv = True
+            break
         scale = min(1.0, max_step / max(norm, 1e-300))
         px += sx * scale
         py += sy * scale
         pz += sz * scale
-        if norm < tol:
-            conv = True
-            break
-    out = _residual(px, py, pz, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES, bx, by, bz)
-    exists = exists and out[15]
-    return px, py, pz, out[3], out[4], out[5], it, conv and exists, exists
+    else:  # iteration cap: evaluate at the last P
+        out = _residual(px, py, pz, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES, bx, by, bz)
+        t0, t1, t2, valid = out[3], out[4], out[5], out[15]
+    exists = exists and valid
+    return px, py, pz, t0, t1, t2, it, conv and exists, exists
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _solve_subset(k, i, p0x, p0y, p0z, p, A, kind, h, rp, d, inward, subsets, Lall, ES, b, tol, maxiter, max_step, Ps, ts, its, conv, exi, dps):
     s0, s1, s2 = subsets[k, 0], subsets[k, 1], subsets[k, 2]
     px, py, pz, t0, t1, t2, it, cv, ex = _newton(p0x, p0y, p0z, s0, s1, s2, A, kind, h, rp, d, inward,
@@ -183,7 +185,7 @@ CHUNK = 256
 WARM_DIST = 0.25
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True, parallel=True, error_model="numpy")
 def _solve_points(p, A, kind, h, rp, d, inward, subsets, edges, margin, ES, b, T_a, tol, maxiter, max_step, prune, warm_start,
                   P_s, dp_out, t_out, sub_out, it_out, st_out, work):
     n = p.shape[0]
@@ -212,7 +214,7 @@ def _solve_points(p, A, kind, h, rp, d, inward, subsets, edges, margin, ES, b, T
                        warm, warm_ok)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _solve_one(i, p, A, kind, h, rp, d, inward, subsets, edges, margin, ES, b, T_a, tol, maxiter, max_step, prune,
                P_s, dp_out, t_out, sub_out, it_out, st_out, work, Lall, Ps, ts, its, conv, exi, dps, solved, adm, gap,
                warm, warm_ok):
