@@ -5,12 +5,14 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 make venv >/dev/null
+EXTRA=${EXTRA:-}
 STUDY=${STUDY:-config/studies/paper.yaml}
 OUT=${OUT:-results/bench}
 rm -rf "$OUT"
+mkdir -p "$(dirname "$OUT")"
 start=$(date +%s.%N)
-/usr/bin/time -v .venv/bin/snakemake reproduce_paper --cores all --quiet all --config study="$STUDY" results="$OUT" 2> "$OUT.time.log" || { tail -30 "$OUT.time.log"; exit 1; }
+/usr/bin/time -v .venv/bin/snakemake reproduce_paper --cores all --forceall $EXTRA --config study="$STUDY" results="$OUT" 2> "$OUT.time.log" || { tail -30 "$OUT.time.log"; exit 1; }
 end=$(date +%s.%N)
 jobs=$(ls "$OUT"/logs | wc -l)
-echo "study $STUDY: wall $(echo "$end - $start" | bc) s; $(grep -c . /dev/null || true)logged solver jobs: $jobs"
+echo "study $STUDY: wall $(echo "$end - $start" | bc) s; jobs run: $(grep -c "Finished job" "$OUT.time.log" || true) (solver jobs with logs: $jobs)"
 grep -E "Maximum resident set size" "$OUT.time.log" | sed 's/^\s*/snakemake process /'
