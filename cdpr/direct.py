@@ -59,13 +59,13 @@ class _Subset:
     def residual(self, P, L, jacobian=False):
         """F = L_TE(P) - L (1 + t(P)/(E S)), its tensions, a validity flag and, if asked, the
         Jacobian dF/dP = -U + diag(L / E S) M^-1 G (``jacobian``; dL_TE/dP = -u_j)."""
-        L_TE, u, l_E, inside = self.geometry(P)
+        L_TE, u, l_E, inside, swivel, e_perp = self.geometry(P)
         t, M_inv = tensions(u, self.w_ext)
         F = L_TE - stretched_length(L, t, self.ES)
         valid = ~inside.any(axis=-1) & np.isfinite(F).all(axis=-1) & (P[:, None, 2] < self.A[:, 2]).all(axis=-1)
         if not jacobian:
             return F, t, valid
-        J = -u - (L / self.ES)[..., None] * tension_gradient(u, l_E, t, M_inv)
+        J = -u - (L / self.ES)[..., None] * tension_gradient(u, l_E, t, M_inv, swivel, e_perp)
         return F, t, valid, J
 
 
@@ -167,7 +167,7 @@ def _fixed_point(sub, P0, L0, tol, max_inner, max_outer):
             inner = inner[ok & (step >= tol)]
         keep = exists[active]
         active, P_prev = active[keep], P_prev[keep]
-        _, u, _, _ = sub.geometry(P[active])
+        u = sub.geometry(P[active])[1]
         t, _ = tensions(u, sub.w_ext)
         L[active] = stretched_length(L0[active], t, sub.ES)
         done = np.linalg.norm(P[active] - P_prev, axis=1) < tol

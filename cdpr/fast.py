@@ -14,7 +14,7 @@ import numpy as np
 from numba import njit, prange
 
 from .direct import NEWTON_DEFAULTS
-from .pulleys import RHO_EPS
+from .pulleys import RHO_EPS, SWIVEL_RHO_MIN
 from .redundancy import STATUSES, TIE_TOL
 from .statics import DET_EPS
 
@@ -73,7 +73,8 @@ def _cable(px, py, pz, Ax, Ay, Az, kind, h, rp, d, inx, iny):
     n = math.sqrt(vx * vx + vy * vy + vz * vz)
     if n <= 0.0:
         n = 1.0
-    return L, vx / n, vy / n, vz / n, n, inside
+    swivel = Ds / rho if rho > SWIVEL_RHO_MIN else 0.0  # pulleys.total_length_and_direction
+    return L, vx / n, vy / n, vz / n, n, inside, swivel, -esy, esx
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -82,9 +83,9 @@ def _residual(px, py, pz, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES,
     and the Jacobian dF/dP (direct.jacobian). Scalars only: no allocation in the hot loop.
 
     Returns (F (3), t (3), J (9, row-major), valid)."""
-    La, ax, ay, az, la, ia = _cable(px, py, pz, A[s0, 0], A[s0, 1], A[s0, 2], kind[s0], h[s0], rp[s0], d[s0], inward[s0, 0], inward[s0, 1])
-    Lb, bx_, by_, bz_, lb, ib = _cable(px, py, pz, A[s1, 0], A[s1, 1], A[s1, 2], kind[s1], h[s1], rp[s1], d[s1], inward[s1, 0], inward[s1, 1])
-    Lg, cx, cy, cz, lg, ig = _cable(px, py, pz, A[s2, 0], A[s2, 1], A[s2, 2], kind[s2], h[s2], rp[s2], d[s2], inward[s2, 0], inward[s2, 1])
+    La, ax, ay, az, la, ia, sa, pax, pay = _cable(px, py, pz, A[s0, 0], A[s0, 1], A[s0, 2], kind[s0], h[s0], rp[s0], d[s0], inward[s0, 0], inward[s0, 1])
+    Lb, bx_, by_, bz_, lb, ib, sb, pbx, pby = _cable(px, py, pz, A[s1, 0], A[s1, 1], A[s1, 2], kind[s1], h[s1], rp[s1], d[s1], inward[s1, 0], inward[s1, 1])
+    Lg, cx, cy, cz, lg, ig, sg, pgx, pgy = _cable(px, py, pz, A[s2, 0], A[s2, 1], A[s2, 2], kind[s2], h[s2], rp[s2], d[s2], inward[s2, 0], inward[s2, 1])
     valid = not (ia or ib or ig) and pz < A[s0, 2] and pz < A[s1, 2] and pz < A[s2, 2]
     # cofactor rows of M = [u_a u_b u_c]: M^{-1} = [r0; r1; r2] / det
     r0x, r0y, r0z = by_ * cz - bz_ * cy, bz_ * cx - bx_ * cz, bx_ * cy - by_ * cx
@@ -101,13 +102,15 @@ def _residual(px, py, pz, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES,
     F1 = Lb - L1 * (1.0 + t1 / ES)
     F2 = Lg - L2 * (1.0 + t2 / ES)
     valid = valid and math.isfinite(F0) and math.isfinite(F1) and math.isfinite(F2)
-    # G = sum_j t_j du_j/dP = -sum_j (t_j / l_j)(I - u_j u_j^T); dt/dP = -M^{-1} G; J = -U - diag(L/ES) dt/dP
+    # G = sum_j t_j du_j/dP (statics.tension_gradient, with the swivel term in the horizontal
+    # normal e_perp of each cable plane); dt/dP = -M^{-1} G; J = -U - diag(L/ES) dt/dP
     wa, wb, wg = t0 / la, t1 / lb, t2 / lg
     ws = wa + wb + wg
-    Gxx = -ws + wa * ax * ax + wb * bx_ * bx_ + wg * cx * cx
-    Gxy = wa * ax * ay + wb * bx_ * by_ + wg * cx * cy
+    qa, qb, qg = wa * sa, wb * sb, wg * sg
+    Gxx = -ws + wa * ax * ax + wb * bx_ * bx_ + wg * cx * cx + qa * pax * pax + qb * pbx * pbx + qg * pgx * pgx
+    Gxy = wa * ax * ay + wb * bx_ * by_ + wg * cx * cy + qa * pax * pay + qb * pbx * pby + qg * pgx * pgy
     Gxz = wa * ax * az + wb * bx_ * bz_ + wg * cx * cz
-    Gyy = -ws + wa * ay * ay + wb * by_ * by_ + wg * cy * cy
+    Gyy = -ws + wa * ay * ay + wb * by_ * by_ + wg * cy * cy + qa * pay * pay + qb * pby * pby + qg * pgy * pgy
     Gyz = wa * ay * az + wb * by_ * bz_ + wg * cy * cz
     Gzz = -ws + wa * az * az + wb * bz_ * bz_ + wg * cz * cz
     k0, k1, k2 = L0 / (ES * det), L1 / (ES * det), L2 / (ES * det)

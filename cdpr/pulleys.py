@@ -27,7 +27,8 @@ class PulleyState:
     Attributes: H, K, D (points, shape (..., m, 3)) [m]; gamma wrap angle [rad]; l_d = |K - C| [m];
     l_E = |D - P| [m]; L_TE = l_d + r_p gamma + l_E [m] (eq. 5); alpha swivel angle [rad] (eq. 4);
     beta angle of the arm A->H below the horizontal [rad] (DR); inside: P or C inside the sheave
-    circle (no tangent exists, lengths clipped).
+    circle (no tangent exists, lengths clipped); e_s (..., m, 2) horizontal unit vector of the cable
+    plane and rho (..., m) horizontal distance A_i -> P [m].
     """
 
     H: np.ndarray
@@ -40,6 +41,8 @@ class PulleyState:
     alpha: np.ndarray
     beta: np.ndarray
     inside: np.ndarray
+    e_s: np.ndarray
+    rho: np.ndarray
 
 
 def plane_frame(P, A, inward):
@@ -114,15 +117,24 @@ def pulley_state(P, A, kind, h, r_p, d, inward):
     K = lift(H_s + r_p * np.cos(theta_K), H_w + r_p * np.sin(theta_K))
     alpha = np.arctan2(-e_s[..., 1], e_s[..., 0])
     beta = np.arctan2(H_w, np.where((H_s == 0) & (H_w == 0), 1.0, H_s))
-    return PulleyState(H=H, K=K, D=D, gamma=gamma, l_d=l_d, l_E=l_E, L_TE=L_TE, alpha=alpha, beta=beta, inside=in_P | in_C)
+    return PulleyState(H=H, K=K, D=D, gamma=gamma, l_d=l_d, l_E=l_E, L_TE=L_TE, alpha=alpha, beta=beta, inside=in_P | in_C,
+                       e_s=e_s, rho=rho)
+
+
+#: Horizontal distance [m] under which the swivel term of du/dP is left out (it is singular on the axis).
+SWIVEL_RHO_MIN = 1e-9
 
 
 def total_length_and_direction(P, A, kind, h, r_p, d, inward):
     """Only what the direct solvers need: L_TE (..., m), the unit vectors u = (D - P)/|D - P|
-    (..., m, 3) along each cable from P toward its exit point (eq. 12), |D - P| (..., m) and the
-    inside flag."""
+    (..., m, 3) along each cable from P toward its exit point (eq. 12), |D - P| (..., m), the
+    inside flag, and the swivel ratio D_s / rho (..., m) with the horizontal normal e_perp
+    (..., m, 3) of the cable plane, used by ``cable_direction_gradient``."""
     st = pulley_state(P, A, kind, h, r_p, d, inward)
     v = st.D - np.asarray(P, dtype=float)[..., None, :]
     n = np.linalg.norm(v, axis=-1, keepdims=True)
     n = np.where(n > 0, n, 1.0)
-    return st.L_TE, v / n, n[..., 0], st.inside
+    D_s = np.einsum("...i,...i->...", (st.D - A)[..., :2], st.e_s)
+    swivel = np.divide(D_s, st.rho, out=np.zeros_like(D_s), where=st.rho > SWIVEL_RHO_MIN)
+    e_perp = np.stack([-st.e_s[..., 1], st.e_s[..., 0], np.zeros_like(st.rho)], axis=-1)
+    return st.L_TE, v / n, n[..., 0], st.inside, swivel, e_perp

@@ -35,11 +35,16 @@ def tensions(u, w_ext):
     return np.einsum("...ij,j->...i", inv, -np.asarray(w_ext, dtype=float)), inv
 
 
-def tension_gradient(u, l_E, t, M_inv):
-    """dt/dP (..., 3, 3) from differentiating M t = -w_ext with du_j/dP = -(I - u_j u_j^T)/|l_E,j|
-    (the exit point D_j held fixed, its motion being second order)."""
+def tension_gradient(u, l_E, t, M_inv, swivel, e_perp):
+    """dt/dP (..., 3, 3) from differentiating M t = -w_ext with
+    du_j/dP = -[(I - u_j u_j^T) - (D_s/rho)_j e_perp,j e_perp,j^T] / |l_E,j|.
+
+    In the cable plane the exit point slides along the cable, so u turns as if D were fixed; out of
+    the plane the swivel carries D round the joint axis by D_s/rho of P's displacement (exact for
+    SR pulleys; for DR the arm's own rotation is left out, ~2 % of du/dP)."""
     w = t / l_E
-    G = np.einsum("...j,...ja,...jb->...ab", w, u, u) - w.sum(axis=-1)[..., None, None] * np.eye(3)
+    G = (np.einsum("...j,...ja,...jb->...ab", w, u, u) - w.sum(axis=-1)[..., None, None] * np.eye(3)
+         + np.einsum("...j,...ja,...jb->...ab", w * swivel, e_perp, e_perp))
     return -M_inv @ G
 
 

@@ -19,11 +19,13 @@ TABLES = ["summary.csv", "doe/doe.csv", "doe/effects.csv", "doe/rw_max.csv", "vo
 RTOL, ATOL = 1e-6, 1e-9
 
 
-def snakemake(target, *config, cwd=ROOT, quiet=True):
-    """Run the workflow on `target` with `--config key=value ...` (option order matters: both take lists)."""
+def snakemake(target, *config, cwd=ROOT, quiet=True, force=True):
+    """Run the workflow on `target` with `--config key=value ...` (option order matters: both take
+    lists). ``force``: recompute every job, since Snakemake does not see changes of the library."""
     exe = Path(sys.executable).with_name("snakemake")
     q = ["--quiet", "all"] if quiet else []
-    return subprocess.run([str(exe), target, "--cores", "2", *q, "--config", *config], cwd=cwd, capture_output=True, text=True)
+    f = ["--forceall"] if force else []
+    return subprocess.run([str(exe), target, "--cores", "2", *q, *f, "--config", *config], cwd=cwd, capture_output=True, text=True)
 
 
 @pytest.fixture(scope="module")
