@@ -31,8 +31,7 @@ reproduce-quick: $(STAMP)
 # (review the diff!).
 update-references: $(STAMP)
 	$(BIN)/snakemake --cores all --forceall reproduce_paper --config study=config/studies/quick.yaml results=results/quick
-	$(BIN)/python -c "import shutil, pathlib; from tests.test_workflow import TABLES; \
-	[(pathlib.Path('tests/reference/quick', t).parent.mkdir(parents=True, exist_ok=True), shutil.copy(pathlib.Path('results/quick', t), pathlib.Path('tests/reference/quick', t))) for t in TABLES]"
+	$(BIN)/python -m tests.update_references
 
 clean-venv:
 	rm -rf $(VENV)

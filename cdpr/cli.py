@@ -69,7 +69,13 @@ def cmd_inverse(args):
 
 def cmd_point(args):
     robot = _load(args)
-    res = solve_points(robot, np.array([args.at], dtype=float), method=args.method)  # one point: the reference path
+    P = np.array([args.at], dtype=float)
+    if args.engine == "compiled" and args.method == "newton":
+        from .fast import solve_points_fast
+
+        res = solve_points_fast(robot, P, threads=args.threads)
+    else:
+        res = solve_points(robot, P, method=args.method)
     t = res["t"][0]
     out = {
         "desired": list(map(float, args.at)),

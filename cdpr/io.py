@@ -10,7 +10,8 @@ from pathlib import Path
 from .errors import CdprError
 
 
-def _atomic(path, write):
+def atomic(path, write):
+    """Run write(tmp) on a temporary file beside ``path``, then rename it onto ``path``."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
@@ -29,9 +30,9 @@ def write_table(df, path):
     suffix = Path(path).suffix
     if suffix == ".parquet":
         # uncompressed: float columns barely compress and snappy triples the write time
-        _atomic(path, lambda tmp: df.to_parquet(tmp, index=False, compression=None))
+        atomic(path, lambda tmp: df.to_parquet(tmp, index=False, compression=None))
     elif suffix == ".csv":
-        _atomic(path, lambda tmp: df.to_csv(tmp, index=False))
+        atomic(path, lambda tmp: df.to_csv(tmp, index=False))
     else:
         raise CdprError(f"{path}: unknown table format '{suffix}'; allowed: .parquet, .csv")
 
@@ -59,8 +60,8 @@ def clean_json(obj):
 
 
 def write_json(obj, path):
-    _atomic(path, lambda tmp: Path(tmp).write_text(json.dumps(clean_json(obj), indent=2) + "\n"))
+    atomic(path, lambda tmp: Path(tmp).write_text(json.dumps(clean_json(obj), indent=2) + "\n"))
 
 
 def write_text(text, path):
-    _atomic(path, lambda tmp: Path(tmp).write_text(text))
+    atomic(path, lambda tmp: Path(tmp).write_text(text))

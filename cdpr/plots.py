@@ -9,7 +9,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from .io import _atomic  # noqa: E402
+from .io import atomic  # noqa: E402
 
 
 def save(fig, out):
@@ -17,7 +17,7 @@ def save(fig, out):
     out = Path(out)
     paths = [out, out.with_suffix(".pdf")]
     for p in paths:
-        _atomic(p, lambda tmp, p=p: fig.savefig(tmp, format=p.suffix[1:], dpi=150, bbox_inches="tight"))
+        atomic(p, lambda tmp, p=p: fig.savefig(tmp, format=p.suffix[1:], dpi=150, bbox_inches="tight"))
     plt.close(fig)
     return paths
 
