@@ -205,8 +205,8 @@ def cmd_job(args):
         jobs.regular_workspace(st, i, *o)
     elif name == "doe":
         jobs.doe_results(st, _groups(i, args.shards), *o)
-    elif name == "map-row":
-        jobs.map_row(st, args.kind, args.h, args.box_file, *o, threads=args.threads)
+    elif name == "map":
+        jobs.map_rows(st, args.kind, args.box_file, *o, threads=args.threads)
     elif name == "maps":
         jobs.maps(st, i, args.box_file, *o)
     elif name == "elasticity":
@@ -226,7 +226,7 @@ def cmd_job(args):
         raise CdprError(f"unknown job {name!r}")
 
 
-JOBS = ("volumes", "volume-view", "rw", "doe", "map-row", "maps", "elasticity", "dead-length-point", "dead-length", "summary")
+JOBS = ("volumes", "volume-view", "rw", "doe", "map", "maps", "elasticity", "dead-length-point", "dead-length", "summary")
 
 
 def build_parser():
@@ -283,7 +283,6 @@ def build_parser():
     sp.add_argument("--labels", nargs="*")
     sp.add_argument("--shards", type=int, default=1)
     sp.add_argument("--kind", choices=("SR", "DR"))
-    sp.add_argument("--h", type=float)
     sp.add_argument("--d", type=float)
     sp.add_argument("--E-values", nargs="*")
     sp.add_argument("--box-file")

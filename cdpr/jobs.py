@@ -154,15 +154,14 @@ def doe_results(st, shard_lists, out_csv, out_effects, out_fig15, out_fig16):
 
 
 # ---- h-r_p maps (Fig. 17, Table 3) -------------------------------------------------------------
-def map_row(st, kind, h, box_file, out_csv, threads=None):
-    """Index at fixed h over the r_p values of the map with r_p < h (one map row)."""
+def map_rows(st, kind, box_file, out_csv, threads=None):
+    """Index over every map cell (r_p, h) with r_p < h for one pulley kind (Fig. 17)."""
     box = read_box(box_file)
     n = st["maps"]["index_n"]
     P = workspace.grid_points(box, n)
     rows = []
-    for r_p in arange_incl(st["maps"]["r_p_m"]):
-        if r_p >= h - 1e-12:
-            continue
+    cells = [(h, r_p) for h in arange_incl(st["maps"]["h_m"]) for r_p in arange_incl(st["maps"]["r_p_m"]) if r_p < h - 1e-12]
+    for h, r_p in cells:
         robot = design_robot(st, st["doe"]["robot"], {"kind": kind, "h_m": float(h), "r_p_m": float(r_p)})
         ix, bad = global_index(solve_table(robot, P, method=st["solver"], threads=threads))
         rows.append({"kind": kind, "h_m": float(h), "r_p_m": float(r_p), "index_m": ix, "not_ok_points": bad, "N": n**3})

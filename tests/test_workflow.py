@@ -14,7 +14,7 @@ from .conftest import ROOT
 REF = ROOT / "tests" / "reference" / "quick"
 #: Tables compared with the references (paths under results/quick/).
 TABLES = ["summary.csv", "doe/doe.csv", "doe/effects.csv", "doe/rw_max.csv", "volumes/volumes.csv", "maps/map.csv",
-          "maps/lines.csv", "elasticity/index_vs_E.csv", "elasticity/bands.csv", "elasticity/crossings.csv",
+          "maps/lines.csv", "trajectories/trajectories_minmax.csv", "elasticity/index_vs_E.csv", "elasticity/bands.csv", "elasticity/crossings.csv",
           "dead_length/dead_length.csv", "trajectories/CDPR4_SR.csv", "trajectories/CDPR3_DR.csv", "winch/winch.csv"]
 RTOL, ATOL = 1e-6, 1e-9
 

@@ -21,6 +21,8 @@ rule trajectory_figure:
     output:
         report(f"{RES}/trajectories/trajectories.png", caption="../report/trajectories.rst", category="Trajectories"),
         f"{RES}/trajectories/trajectories.pdf",
+        f"{RES}/trajectories/trajectories_minmax.csv",
+        report(f"{RES}/trajectories/trajectories_minmax.png", caption="../report/trajectories_minmax.rst", category="Trajectories"),
     params:
         labels=expand("{robot}_{pulley}", robot=STUDY["trajectories"]["paths"], pulley=PULLEYS),
     shell:
