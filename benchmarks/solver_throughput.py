@@ -55,8 +55,8 @@ def main():
         for kind in ("SR", "DR"):
             r = with_pulleys(base, kind=kind)
             solve_points_fast(r, P[:10])  # load the compiled kernel
-            tf, a = best_of(lambda: solve_points_fast(r, P), args.repeat)
-            tx, b = best_of(lambda: solve_points(r, P, method="fixed_point"), 1)
+            tf, a = best_of(lambda r=r: solve_points_fast(r, P), args.repeat)
+            tx, b = best_of(lambda r=r: solve_points(r, P, method="fixed_point"), 1)
             ok = (a["status"] == "ok") & (b["status"] == "ok")
             diff = np.abs(a["dp"][ok] - b["dp"][ok]).max()
             print(f"{base.name + '_' + kind:<9} {len(P) / tf:>11.0f} {a['subset_solves'].sum() / tf:>14.0f} {len(P) / tx:>12.0f} "

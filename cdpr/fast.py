@@ -171,9 +171,9 @@ def _newton(p0x, p0y, p0z, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES
 
 
 @njit(cache=True, error_model="numpy")
-def _solve_subset(k, i, p0x, p0y, p0z, p, A, kind, h, rp, d, inward, subsets, Lall, ES, b, tol, maxiter, max_step, Ps, ts, its, conv, exi, dps):
+def _solve_subset(k, i, p, A, kind, h, rp, d, inward, subsets, Lall, ES, b, tol, maxiter, max_step, Ps, ts, its, conv, exi, dps):
     s0, s1, s2 = subsets[k, 0], subsets[k, 1], subsets[k, 2]
-    px, py, pz, t0, t1, t2, it, cv, ex = _newton(p0x, p0y, p0z, s0, s1, s2, A, kind, h, rp, d, inward,
+    px, py, pz, t0, t1, t2, it, cv, ex = _newton(p[i, 0], p[i, 1], p[i, 2], s0, s1, s2, A, kind, h, rp, d, inward,
                                                  Lall[s0], Lall[s1], Lall[s2], ES, b[0], b[1], b[2], tol, maxiter, max_step)
     Ps[k, 0], Ps[k, 1], Ps[k, 2] = px, py, pz
     ts[k, 0], ts[k, 1], ts[k, 2] = t0, t1, t2
@@ -183,13 +183,10 @@ def _solve_subset(k, i, p0x, p0y, p0z, p, A, kind, h, rp, d, inward, subsets, La
 
 #: Points per parallel work item: per-point scratch arrays are allocated once per chunk.
 CHUNK = 256
-#: Warm start: a subset's Newton solve starts from p + dp of the previous point of the chunk when
-#: that point is closer than WARM_DIST [m] and the subset was admissible there; else from p.
-WARM_DIST = 0.25
 
 
 @njit(cache=True, parallel=True, error_model="numpy")
-def _solve_points(p, A, kind, h, rp, d, inward, subsets, edges, margin, ES, b, T_a, tol, maxiter, max_step, prune, warm_start,
+def _solve_points(p, A, kind, h, rp, d, inward, subsets, edges, margin, ES, b, T_a, tol, maxiter, max_step, prune,
                   P_s, dp_out, t_out, sub_out, it_out, st_out, work):
     n = p.shape[0]
     ns = subsets.shape[0]
@@ -206,23 +203,15 @@ def _solve_points(p, A, kind, h, rp, d, inward, subsets, edges, margin, ES, b, T
         solved = np.empty(ns, np.bool_)
         adm = np.empty(ns, np.bool_)
         gap = np.empty(ns)
-        warm = np.empty((ns, 3))
-        warm_ok = np.zeros(ns, np.bool_)
-        lo = ch * CHUNK
-        for i in range(lo, min(n, lo + CHUNK)):
-            if not warm_start or i > lo and ((p[i, 0] - p[i - 1, 0]) ** 2 + (p[i, 1] - p[i - 1, 1]) ** 2 + (p[i, 2] - p[i - 1, 2]) ** 2) > WARM_DIST**2:
-                warm_ok[:] = False
+        for i in range(ch * CHUNK, min(n, (ch + 1) * CHUNK)):
             _solve_one(i, p, A, kind, h, rp, d, inward, subsets, edges, margin, ES, b, T_a, tol, maxiter, max_step, prune,
-                       P_s, dp_out, t_out, sub_out, it_out, st_out, work, Lall, Ps, ts, its, conv, exi, dps, solved, adm, gap,
-                       warm, warm_ok)
+                       P_s, dp_out, t_out, sub_out, it_out, st_out, work, Lall, Ps, ts, its, conv, exi, dps, solved, adm, gap)
 
 
 @njit(cache=True, error_model="numpy")
 def _solve_one(i, p, A, kind, h, rp, d, inward, subsets, edges, margin, ES, b, T_a, tol, maxiter, max_step, prune,
-               P_s, dp_out, t_out, sub_out, it_out, st_out, work, Lall, Ps, ts, its, conv, exi, dps, solved, adm, gap,
-               warm, warm_ok):
-    """Point i: solve the subsets (pruned, see solve_points_fast) and choose as redundancy.solve_points.
-    ``warm``/``warm_ok``: the previous point's dp per admissible subset (starting guesses), updated here."""
+               P_s, dp_out, t_out, sub_out, it_out, st_out, work, Lall, Ps, ts, its, conv, exi, dps, solved, adm, gap):
+    """Point i: solve the subsets (pruned, see solve_points_fast) and choose as redundancy.solve_points."""
     ns = subsets.shape[0]
     m = A.shape[0]
     for c in range(m):
@@ -250,11 +239,7 @@ def _solve_one(i, p, A, kind, h, rp, d, inward, subsets, edges, margin, ES, b, T
                 continue
             if pss == 2 and best < np.inf:
                 break
-            if warm_ok[k]:
-                x0, y0, z0 = p[i, 0] + warm[k, 0], p[i, 1] + warm[k, 1], p[i, 2] + warm[k, 2]
-            else:
-                x0, y0, z0 = p[i, 0], p[i, 1], p[i, 2]
-            _solve_subset(k, i, x0, y0, z0, p, A, kind, h, rp, d, inward, subsets, Lall, ES, b, tol, maxiter, max_step, Ps, ts, its, conv, exi, dps)
+            _solve_subset(k, i, p, A, kind, h, rp, d, inward, subsets, Lall, ES, b, tol, maxiter, max_step, Ps, ts, its, conv, exi, dps)
             solved[k] = True
             if conv[k] and ts[k, 0] >= 0 and ts[k, 1] >= 0 and ts[k, 2] >= 0 and ts[k, 0] <= T_a and ts[k, 1] <= T_a and ts[k, 2] <= T_a:
                 best = min(best, dps[k])
@@ -274,10 +259,6 @@ def _solve_one(i, p, A, kind, h, rp, d, inward, subsets, edges, margin, ES, b, T
         any_conv = any_conv or conv[k]
         any_low = any_low or (conv[k] and low)
         any_nc = any_nc or ((not conv[k]) and exi[k])
-    for k in range(ns):
-        warm_ok[k] = adm[k]
-        if adm[k]:
-            warm[k, 0], warm[k, 1], warm[k, 2] = Ps[k, 0] - p[i, 0], Ps[k, 1] - p[i, 1], Ps[k, 2] - p[i, 2]
     best = np.inf
     for k in range(ns):
         key = dps[k] if (adm[k] if any_adm else conv[k]) else np.inf
@@ -340,14 +321,9 @@ def subset_edges(robot):
     return edges, margin
 
 
-def solve_points_fast(robot, p, tol=None, maxiter=None, threads=None, prune=True, warm_start=False):
+def solve_points_fast(robot, p, tol=None, maxiter=None, threads=None, prune=True):
     """Fast equivalent of ``redundancy.solve_points(robot, p, method="newton")`` (same keys except
-    the per-subset arrays). ``threads`` caps numba's threads (default: all cores).
-
-    ``warm_start`` (off by default) starts each subset's Newton solve from the previous point's dp.
-    It saves ~20 % of the iterations but is NOT equivalent: near the top corners Newton can then land
-    on another root than the one reached from the desired point, which is the model's definition
-    (tests/test_fast.py shows it)."""
+    the per-subset arrays). ``threads`` caps numba's threads (default: all cores)."""
     o = NEWTON_DEFAULTS
     p = np.ascontiguousarray(np.atleast_2d(np.asarray(p, dtype=float)))
     n, m = len(p), robot.m
@@ -364,7 +340,7 @@ def solve_points_fast(robot, p, tol=None, maxiter=None, threads=None, prune=True
         edges, margin = subset_edges(robot)
         _solve_points(p, robot.A, robot.kind.astype(np.int64), robot.h, robot.r_p, robot.d, np.ascontiguousarray(robot.inward),
                       robot.subsets.astype(np.int64), edges, margin, float(robot.ES), -robot.platform.w_ext, float(robot.material.T_a),
-                      o["tol"] if tol is None else tol, o["maxiter"] if maxiter is None else maxiter, o["max_step"], prune, warm_start,
+                      o["tol"] if tol is None else tol, o["maxiter"] if maxiter is None else maxiter, o["max_step"], prune,
                       P_s, dp, t, sub, it, st, work)
     return {"p": p, "P_s": P_s, "dp": dp, "t": t, "subset": sub, "iterations": it, "status_code": st,
             "status": np.asarray(STATUSES)[st], "subset_solves": work}

@@ -4,7 +4,6 @@ error-limited volumes (3.3.3), regular workspaces and the global index (4.1), fa
 from __future__ import annotations
 
 import numpy as np
-import pandas as pd
 
 from .redundancy import solve_table
 from .workspace import cell_centres

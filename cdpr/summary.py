@@ -55,7 +55,7 @@ def build_rows(st, res):
                 _row(rows, f"{rk}_{pk} path max |dp|", "Paty Fig. 11", None, hi, "m", 0)
     plane_targets = {("CDPR3", "SR"): ("centre", 0.13, "max", 0.21), ("CDPR4", "SR"): ("min", 0.09, "max", 0.19),
                      ("CDPR4", "DR"): ("min", 0.035, "max", 0.08), ("CDPR3", "DR"): ("min", None, "max", None)}
-    for (rk, pk), (k1, v1, k2, v2) in plane_targets.items():
+    for (rk, pk), (k1, v1, _k2, v2) in plane_targets.items():
         df = _read(res / "plane" / f"{rk}_{pk}.csv")
         if df is None:
             continue

@@ -48,17 +48,3 @@ def test_thread_count_does_not_change_results(cdpr4):
     c = solve_table(cdpr4, P, engine="numpy")
     assert (a.status == c.status).all() and (a.subset == c.subset).all()
     np.testing.assert_allclose(a.dp, c.dp, atol=1e-9)
-
-
-def test_warm_start_is_opt_in_because_it_can_change_the_root(cdpr4):
-    """Documented limitation: starting from the neighbour's dp saves iterations but, near the top
-    corners, Newton can land on another root than from the desired point (the model's definition)."""
-    r = with_pulleys(cdpr4, kind="SR")
-    P = grid_points(BOX, 54)
-    default, cold, warm = solve_points_fast(r, P), solve_points_fast(r, P, warm_start=False), solve_points_fast(r, P, warm_start=True)
-    assert np.array_equal(default["dp"], cold["dp"], equal_nan=True)
-    assert (default["status"] == cold["status"]).all() and (default["iterations"] == cold["iterations"]).all()
-    assert warm["iterations"].mean() < cold["iterations"].mean() - 0.3
-    both_ok = (cold["status"] == "ok") & (warm["status"] == "ok")
-    np.testing.assert_allclose(warm["dp"][both_ok], cold["dp"][both_ok], atol=1e-9)
-    assert (cold["status"] != warm["status"]).any()  # the reason it is not the default

@@ -1,6 +1,5 @@
 """The whole DAG on small studies: the quick study against committed reference tables, and an
 end-to-end run of a user's own design. Regenerate the references with `make update-references`."""
-import shutil
 import subprocess
 import sys
 from pathlib import Path

@@ -36,13 +36,18 @@ wildcard_constraints:
     pulley="|".join(PULLEYS),
 
 
-def design_args(pulley):
-    """Command-line overrides for a pulley design of the study (same as editing the robot file)."""
-    p = PULLEYS[pulley]
-    args = f"--pulley {p['kind']} --dead-length {STUDY['dead_length_m']}"
+def pulley_args(p, E=None):
+    """Command-line overrides for a pulley design {kind, h_m, r_p_m} (same as editing the robot
+    file), with the study's dead length and solver, and optionally E [Pa]."""
+    args = f"--pulley {p['kind']} --dead-length {STUDY['dead_length_m']} --method {STUDY['solver']}"
     if p["kind"] != "fixed":
         args += f" --h {p.get('h_m', 0)} --rp {p.get('r_p_m', 0)}"
-    return args + f" --method {STUDY['solver']}"
+    return args if E is None else f"{args} --E {E}"
+
+
+def design_args(pulley):
+    """Overrides for the pulley design labelled `pulley` in the study."""
+    return pulley_args(PULLEYS[pulley])
 
 
 def all_targets():

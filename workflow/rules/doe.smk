@@ -1,14 +1,14 @@
 # DOE of section 4.2: RW_max of each test, RW_C, the global index per test (shards), effects.
+from cdpr.jobs import doe_tests
+
 DOE = STUDY["doe"]
-TESTS = list(range(1, 9))
+DOE_TESTS = doe_tests(STUDY).set_index("test")  # Table 2: number -> kind, h_m, r_p_m
+TESTS = list(DOE_TESTS.index)
 
 
 def test_args(test):
-    """Overrides of DOE test `test` (Table 2 order: joint slowest, r_p fastest)."""
-    lv = DOE["levels"]
-    i = test - 1
-    kind, h, rp = lv["joint"][(i >> 2) & 1], lv["h_m"][(i >> 1) & 1], lv["r_p_m"][i & 1]
-    return f"--pulley {kind} --h {h} --rp {rp} --dead-length {STUDY['dead_length_m']} --method {STUDY['solver']}"
+    """Overrides of DOE test `test` (Table 2)."""
+    return pulley_args(DOE_TESTS.loc[int(test)].to_dict())
 
 
 rule workspace_grid:

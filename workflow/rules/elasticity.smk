@@ -8,8 +8,7 @@ E_PATH = [f"{float(e):.6g}" for e in EL["E_path_Pa"]]
 
 
 def opt_args(design, E):
-    p = OPT[design]
-    return f"--pulley {p['kind']} --h {p['h_m']} --rp {p['r_p_m']} --dead-length {STUDY['dead_length_m']} --E {E} --method {STUDY['solver']}"
+    return pulley_args(OPT[design], E=E)
 
 
 rule elasticity_shard:
