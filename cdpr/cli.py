@@ -121,18 +121,7 @@ def cmd_grid(args):
     df = solve_table(robot, P, method=args.method, engine=args.engine, threads=args.threads)
     io.write_table(df, args.out)
     dt = time.perf_counter() - t0
-    counts = df["status"].value_counts().to_dict()
-    summary = {"out": args.out, "points": int(len(df)), "seconds": dt, "points_per_second": len(df) / dt if dt > 0 else None,
-               "status": {k: int(v) for k, v in counts.items()},
-               "dp_min": float(df.loc[df.status == "ok", "dp"].min()) if counts.get("ok") else None,
-               "dp_max": float(df.loc[df.status == "ok", "dp"].max()) if counts.get("ok") else None}
-    if args.json:
-        print(json.dumps(io.clean_json(summary), indent=2))
-    else:
-        print(f"wrote {summary['points']} points to {args.out} in {dt:.2f} s ({summary['points_per_second']:.0f} points/s)")
-        print("status: " + ", ".join(f"{k} {v}" for k, v in summary["status"].items()))
-        if summary["dp_min"] is not None:
-            print(f"|dp| over ok points: min {summary['dp_min']:.6f} m, max {summary['dp_max']:.6f} m")
+    _report(df, args.out, args, dt)
 
 
 def cmd_winch(args):
@@ -151,14 +140,16 @@ def cmd_winch(args):
 
 
 def _report(df, out, args, dt):
+    """What a solver command wrote: points, time, statuses and the |dp| range of the ok points."""
     counts = {k: int(v) for k, v in df["status"].value_counts().items() if v}
     lo, hi = study.ok_extremes(df)
-    summary = {"out": out, "points": int(len(df)), "seconds": dt, "status": counts, "dp_min": lo, "dp_max": hi}
+    rate = len(df) / dt if dt > 0 else None
+    summary = {"out": out, "points": int(len(df)), "seconds": dt, "points_per_second": rate, "status": counts, "dp_min": lo, "dp_max": hi}
     if args.json:
         print(json.dumps(io.clean_json(summary), indent=2))
     else:
-        print(f"wrote {len(df)} points to {out} in {dt:.2f} s; status: " + ", ".join(f"{k} {v}" for k, v in counts.items())
-              + f"; |dp| over ok points: min {lo:.6f} m, max {hi:.6f} m")
+        print(f"wrote {len(df)} points to {out} in {dt:.2f} s ({rate:.0f} points/s)")
+        print("status: " + ", ".join(f"{k} {v}" for k, v in counts.items()) + f"; |dp| over ok points: min {lo:.6f} m, max {hi:.6f} m")
 
 
 def cmd_plane(args):

@@ -72,8 +72,7 @@ def solve_points(robot, p, method="newton", **options):
     t_full = np.full((n, robot.m), np.nan)
     chosen = np.where(has[:, None], subsets[choice], -1)
     for j in range(3):
-        sel = has
-        t_full[cols[sel], chosen[sel, j]] = ts[choice[sel], cols[sel], j]
+        t_full[cols[has], chosen[has, j]] = ts[choice[has], cols[has], j]
     P_s = np.where(has[:, None], Ps[choice, cols], np.nan)
     return {
         "p": p,
