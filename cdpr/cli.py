@@ -17,7 +17,7 @@ from .errors import CdprError
 from .inverse import L_TS, igm_e
 from .redundancy import solve_points, solve_table, subset_label
 from .robot import PULLEY_KINDS, load_robot
-from .workspace import check_box, grid_points, shard_range
+from .workspace import check_box, frame_box, grid_points, shard_range
 
 
 def _robot_options(sp):
@@ -106,8 +106,6 @@ def cmd_grid(args):
 
         box = check_box(read_box(args.box_file))
     elif args.frame:
-        from .jobs import frame_box
-
         box = check_box(frame_box(robot))
     elif args.box:
         box = check_box(args.box)

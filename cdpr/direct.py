@@ -48,8 +48,7 @@ class _Subset:
     def __init__(self, robot, subset):
         s = np.asarray(subset, dtype=np.intp)
         self.args = (robot.A[s], robot.kind[s], robot.h[s], robot.r_p[s], robot.d[s], robot.inward[s])
-        self.r_p = robot.r_p[s]
-        self.A = robot.A[s]
+        self.A = self.args[0]
         self.ES = robot.ES
         self.w_ext = robot.platform.w_ext
 

@@ -41,12 +41,6 @@ def doe_tests(st):
     return pd.DataFrame(rows)
 
 
-def frame_box(robot):
-    """Bounding box of the frame: anchors' horizontal extent, z from 0 to the lowest anchor."""
-    lo, hi = robot.A[:, :2].min(axis=0), robot.A[:, :2].max(axis=0)
-    return [lo[0], hi[0], lo[1], hi[1], 0.0, float(robot.A[:, 2].min())]
-
-
 def read_box(path):
     return json.loads(Path(path).read_text())["box"]
 
@@ -77,13 +71,14 @@ def volumes(st, labels, shard_lists, out_csv, out_fig):
         rk, pk = label.split("_", 1)
         robot = design_robot(st, rk, st["pulleys"][pk])
         df = concat(paths)
-        box = frame_box(robot)
+        box = workspace.frame_box(robot)
+        mine = []
         for lim in lims:
             v = workspace.error_limited_volume(df, n, box, lim, robot.envelope_volume)
-            rows.append({"robot": rk, "pulley": pk, "limit_m": lim, "V_T_m3": robot.envelope_volume, **{k + ("_m3" if k != "R_V" else ""): val for k, val in v.items()},
+            mine.append({"robot": rk, "pulley": pk, "limit_m": lim, "V_T_m3": robot.envelope_volume, **{k + ("_m3" if k != "R_V" else ""): val for k, val in v.items()},
                          "paper_limit": lim in st["volumes"]["limits_m"]})
-        r = pd.DataFrame([x for x in rows if x["robot"] == rk and x["pulley"] == pk])
-        series.append((r.limit_m, r.R_V, label))
+        rows += mine
+        series.append(([r["limit_m"] for r in mine], [r["R_V"] for r in mine], label))
     tab = pd.DataFrame(rows)
     io.write_table(tab, out_csv)
     plots.curves(series, "error limit |dp|_lim [m]", "R_V = V_L / V_T", "Error-limited volume ratio (Fig. 14)", out_fig)
@@ -104,7 +99,7 @@ def volume_views(st, label, paths, out_fig):
         sel = (df.status == "ok") & (df.dp <= lim)
         stride = max(1, int(sel.sum() // 6000))
         d = df[sel].iloc[::stride]
-        v = workspace.error_limited_volume(df, n, frame_box(robot), lim, robot.envelope_volume)
+        v = workspace.error_limited_volume(df, n, workspace.frame_box(robot), lim, robot.envelope_volume)
         ax.scatter(d.x, d.y, d.z, c=d.dp, s=2, cmap="viridis", vmin=0, vmax=max(lims))
         ax.set(xlabel="x [m]", ylabel="y [m]", zlabel="z [m]", title=f"{label}, |dp| <= {lim} m: R_V = {v['R_V']:.2f}")
     plots.save(fig, out_fig)
@@ -118,7 +113,7 @@ def regular_workspace(st, grid_paths, out_csv, out_json):
     rows, boxes = [], []
     for (_, t), path in zip(tests.iterrows(), grid_paths):
         robot = design_robot(st, st["doe"]["robot"], {"kind": t.kind, "h_m": t.h_m, "r_p_m": t.r_p_m})
-        fbox = frame_box(robot)
+        fbox = workspace.frame_box(robot)
         df = io.read_table(path)
         count, cells = workspace.largest_box(workspace.voxel_mask(df, n))
         box = workspace.box_from_cells(fbox, n, cells)

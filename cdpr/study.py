@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from .redundancy import solve_table
-from .workspace import cell_centres
+from .workspace import cell_centres, frame_box
 
 
 def trajectory_points(start, end, n):
@@ -26,8 +26,8 @@ def trajectory(robot, start, end, n, method="newton", **solver):
 
 def plane_points(robot, z, n):
     """n x n cell centres over the anchors' horizontal bounding box at height z (Fig. 9, 12)."""
-    lo, hi = robot.A[:, :2].min(axis=0), robot.A[:, :2].max(axis=0)
-    X, Y = np.meshgrid(cell_centres(lo[0], hi[0], n), cell_centres(lo[1], hi[1], n), indexing="ij")
+    x0, x1, y0, y1, _, _ = frame_box(robot)
+    X, Y = np.meshgrid(cell_centres(x0, x1, n), cell_centres(y0, y1, n), indexing="ij")
     return np.column_stack([X.ravel(), Y.ravel(), np.full(X.size, float(z))])
 
 

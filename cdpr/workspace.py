@@ -17,6 +17,12 @@ def check_box(box):
     return b
 
 
+def frame_box(robot):
+    """Bounding box of the frame [m]: the anchors' horizontal extent, z from 0 to the lowest anchor."""
+    lo, hi = robot.A[:, :2].min(axis=0), robot.A[:, :2].max(axis=0)
+    return [float(lo[0]), float(hi[0]), float(lo[1]), float(hi[1]), 0.0, float(robot.A[:, 2].min())]
+
+
 def cell_centres(lo, hi, n):
     """n cell centres of [lo, hi]: lo + (i + 1/2)(hi - lo)/n."""
     return lo + (np.arange(n) + 0.5) * (hi - lo) / n
