@@ -18,10 +18,10 @@ import numpy as np
 
 from .inverse import L_TS
 from .pulleys import pulley_state, total_length_and_direction
-from .statics import solve3, stretched_length, tension_gradient, tensions
+from .statics import length_gradient, solve3, stretched_length, tension_gradient, tensions
 
-#: Newton defaults: step tolerance [m], iteration cap, largest step [m].
-NEWTON_DEFAULTS = {"tol": 1e-11, "maxiter": 40, "max_step": 0.5}
+#: Newton defaults: position tolerance [m] (see _newton), iteration cap, largest step [m].
+NEWTON_DEFAULTS = {"tol": 1e-10, "maxiter": 40, "max_step": 0.5}
 #: Fixed-point defaults: stop criterion eps_P [m] (paper: 1e-5 m), caps of inner and outer loops.
 FIXED_POINT_DEFAULTS = {"tol": 1e-5, "max_inner": 200, "max_outer": 100}
 
@@ -56,25 +56,29 @@ class _Subset:
         return total_length_and_direction(P, *self.args)
 
     def residual(self, P, L, jacobian=False):
-        """F = L_TE(P) - L (1 + t(P)/(E S)), its tensions, a validity flag and, if asked, the
-        Jacobian dF/dP = -U + diag(L / E S) M^-1 G (``jacobian``; dL_TE/dP = -u_j)."""
-        L_TE, u, l_E, inside, swivel, e_perp = self.geometry(P)
-        t, M_inv = tensions(u, self.w_ext)
-        F = L_TE - stretched_length(L, t, self.ES)
-        valid = ~inside.any(axis=-1) & np.isfinite(F).all(axis=-1) & (P[:, None, 2] < self.A[:, 2]).all(axis=-1)
+        """F = L_TE(P) - L (1 + t(P)/(E S)), its tensions, a validity flag and, if asked
+        (``jacobian``), the Jacobian dF/dP = dL_TE/dP - diag(L / E S) dt/dP and dt/dP."""
+        g = self.geometry(P)
+        t, M_inv = tensions(g.u, self.w_ext)
+        F = g.L_TE - stretched_length(L, t, self.ES)
+        valid = ~g.inside.any(axis=-1) & np.isfinite(F).all(axis=-1) & (P[:, None, 2] < self.A[:, 2]).all(axis=-1)
         if not jacobian:
             return F, t, valid
-        J = -u - (L / self.ES)[..., None] * tension_gradient(u, l_E, t, M_inv, swivel, e_perp)
-        return F, t, valid, J
+        dt = tension_gradient(t, M_inv, g)
+        return F, t, valid, length_gradient(g) - (L / self.ES)[..., None] * dt, dt
 
 
 def _newton(sub, P0, L, tol, maxiter, max_step):
     """Batched Newton on F(P) = 0 with the analytic Jacobian; steps capped at ``max_step``.
 
-    A point stops when its next step would be shorter than ``tol`` (it keeps the current P, where
-    its tensions were just evaluated) or when no step exists. Returns P, iterations, converged,
-    exists, the tensions and validity at the returned P, and ``fresh`` (False where the iteration
-    cap left P moved after its last evaluation)."""
+    A point converges when the step s_k just computed is shorter than ``tol``, or when the error
+    left after taking it, estimated from the observed contraction as |s_k|^2 / |s_(k-1)|, is below
+    ``tol`` (this bounds the error for linear convergence and over-estimates it for quadratic
+    convergence). That last step is taken and the tensions are carried to the new P to first order
+    (t + dt/dP s_k); this saves the evaluation that would only confirm convergence. A point also
+    stops when no step exists. Returns P, iterations, converged, exists, the tensions and validity
+    at the returned P, and ``fresh`` (False where the iteration cap left P moved after its last
+    evaluation)."""
     n = P0.shape[0]
     P = P0.copy()
     iters = np.zeros(n, dtype=np.int32)
@@ -83,25 +87,28 @@ def _newton(sub, P0, L, tol, maxiter, max_step):
     t_at = np.full((n, 3), np.nan)
     valid_at = np.zeros(n, dtype=bool)
     fresh = np.zeros(n, dtype=bool)
+    prev = np.zeros(n)  # length of each point's previous step (0: none yet)
     active = np.arange(n)
     for _ in range(maxiter):
         if active.size == 0:
             break
         Pa, La = P[active], L[active]
-        F, t, valid, J = sub.residual(Pa, La, jacobian=True)
-        t_at[active], valid_at[active] = t, valid
+        F, t, valid, J, dt = sub.residual(Pa, La, jacobian=True)
         step, _ = solve3(J, -F)
         bad = ~valid | ~np.isfinite(step).all(axis=1)
-        norm = np.linalg.norm(np.where(bad[:, None], 0.0, step), axis=1)
-        done = (norm < tol) & ~bad
-        move = ~(bad | done)
-        scale = np.minimum(1.0, max_step / np.maximum(norm, 1e-300))
-        P[active] = np.where(move[:, None], Pa + step * scale[:, None], Pa)
-        fresh[active] = ~move
+        step = np.where(bad[:, None], 0.0, step)
+        norm = np.linalg.norm(step, axis=1)
+        done = ((norm < tol) | (norm * norm < tol * prev[active])) & ~bad
+        scale = np.where(done, 1.0, np.minimum(1.0, max_step / np.maximum(norm, 1e-300)))
+        P[active] = Pa + step * scale[:, None]
+        t_at[active] = np.where(done[:, None], t + np.einsum("...ij,...j->...i", dt, step), t)
+        valid_at[active] = valid
+        fresh[active] = bad | done
         iters[active] += 1
         exists[active[bad]] = False
         conv[active[done]] = True
-        active = active[move]
+        prev[active] = norm
+        active = active[~(bad | done)]
     return P, iters, conv, exists, t_at, valid_at, fresh
 
 

@@ -24,7 +24,8 @@ ST_OK, ST_SLACK, ST_OVER, ST_INACC, ST_NOCONV = (STATUSES.index(s) for s in ("ok
 
 @njit(cache=True, inline="always", error_model="numpy")
 def _cable(px, py, pz, Ax, Ay, Az, kind, h, rp, d, inx, iny):
-    """L_TE, the unit vector u = (D - P)/|D - P| and |D - P| of one cable (pulleys.pulley_state).
+    """One cable's pulleys.CableGeometry at P: L_TE, u = (D - P)/|D - P|, |D - P|, inside,
+    swivel, e_perp (x, y), and the DR arm terms arm, beta, eps, uC_beta (zero for SR and fixed).
 
     Same geometry as pulleys.pulley_state without its angles: with cos(delta) = r_p/R and
     sin(delta) = l/R, the tangent directions follow from angle-sum identities, and the wrap angle
@@ -36,15 +37,21 @@ def _cable(px, py, pz, Ax, Ay, Az, kind, h, rp, d, inx, iny):
     else:
         esx, esy = dx / rho, dy / rho
     wP = pz - Az
+    arm = bhs = bhw = ens = enw = 0.0
     if kind == 2:
         nP = math.sqrt(rho * rho + wP * wP)
-        if nP == 0.0:
+        okP = nP > 0.0
+        if not okP:
             nP = 1.0
         bs, bw = rho / nP, wP / nP - 1.0
         nb = math.sqrt(bs * bs + bw * bw)
+        if okP and nb > 0.0:
+            arm = h / (2.0 * nP)
         if nb == 0.0:
             nb = 1.0
-        Hs, Hw = h * bs / nb, h * bw / nb
+        bhs, bhw = bs / nb, bw / nb
+        Hs, Hw = h * bhs, h * bhw
+        ens, enw = -wP / nP, rho / nP  # in-plane normal of the strand A -> P
     else:
         Hs, Hw = h, 0.0
     rp2 = rp * rp
@@ -74,18 +81,24 @@ def _cable(px, py, pz, Ax, Ay, Az, kind, h, rp, d, inx, iny):
     if n <= 0.0:
         n = 1.0
     swivel = Ds / rho if rho > SWIVEL_RHO_MIN else 0.0  # pulleys.total_length_and_direction
-    return L, vx / n, vy / n, vz / n, n, inside, swivel, -esy, esx
+    # u_C . beta, u_C = (K - C)/l_d in the plane, beta = (-bhw, bhs) the arm's in-plane normal
+    uCb = ((Hs + rp * cK) * -bhw + (Hw + rp * sK + d) * bhs) / (ld if ld > 0.0 else 1.0)
+    return (L, vx / n, vy / n, vz / n, n, inside, swivel, -esy, esx,
+            arm, -bhw * esx, -bhw * esy, bhs, ens * esx, ens * esy, enw, uCb)
 
 
 @njit(cache=True, inline="always", error_model="numpy")
 def _residual(px, py, pz, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES, bx, by, bz):
     """F = L_TE(P) - Lc (1 + t/ES) for subset (s0, s1, s2), t from equilibrium (statics.tensions),
-    and the Jacobian dF/dP (direct.jacobian). Scalars only: no allocation in the hot loop.
+    the Jacobian dF/dP and dt/dP (direct._Subset.residual). Scalars only: no allocation in the hot loop.
 
-    Returns (F (3), t (3), J (9, row-major), valid)."""
-    La, ax, ay, az, la, ia, sa, pax, pay = _cable(px, py, pz, A[s0, 0], A[s0, 1], A[s0, 2], kind[s0], h[s0], rp[s0], d[s0], inward[s0, 0], inward[s0, 1])
-    Lb, bx_, by_, bz_, lb, ib, sb, pbx, pby = _cable(px, py, pz, A[s1, 0], A[s1, 1], A[s1, 2], kind[s1], h[s1], rp[s1], d[s1], inward[s1, 0], inward[s1, 1])
-    Lg, cx, cy, cz, lg, ig, sg, pgx, pgy = _cable(px, py, pz, A[s2, 0], A[s2, 1], A[s2, 2], kind[s2], h[s2], rp[s2], d[s2], inward[s2, 0], inward[s2, 1])
+    Returns (F (3), t (3), J (9, row-major), dt/dP (9, row-major), valid)."""
+    (La, ax, ay, az, la, ia, sa, pax, pay,
+     qa, bax, bay, baz, eax, eay, eaz, ca) = _cable(px, py, pz, A[s0, 0], A[s0, 1], A[s0, 2], kind[s0], h[s0], rp[s0], d[s0], inward[s0, 0], inward[s0, 1])
+    (Lb, bx_, by_, bz_, lb, ib, sb, pbx, pby,
+     qb, bbx, bby, bbz, ebx, eby, ebz, cb) = _cable(px, py, pz, A[s1, 0], A[s1, 1], A[s1, 2], kind[s1], h[s1], rp[s1], d[s1], inward[s1, 0], inward[s1, 1])
+    (Lg, cx, cy, cz, lg, ig, sg, pgx, pgy,
+     qg, bgx, bgy, bgz, egx, egy, egz, cg) = _cable(px, py, pz, A[s2, 0], A[s2, 1], A[s2, 2], kind[s2], h[s2], rp[s2], d[s2], inward[s2, 0], inward[s2, 1])
     valid = not (ia or ib or ig) and pz < A[s0, 2] and pz < A[s1, 2] and pz < A[s2, 2]
     # cofactor rows of M = [u_a u_b u_c]: M^{-1} = [r0; r1; r2] / det
     r0x, r0y, r0z = by_ * cz - bz_ * cy, bz_ * cx - bx_ * cz, bx_ * cy - by_ * cx
@@ -94,7 +107,8 @@ def _residual(px, py, pz, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES,
     det = ax * r0x + ay * r0y + az * r0z
     if abs(det) < DET_EPS:
         nan = np.nan
-        return nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, False
+        return (nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan,
+                nan, nan, nan, nan, nan, nan, nan, nan, nan, False)
     t0 = (r0x * bx + r0y * by + r0z * bz) / det
     t1 = (r1x * bx + r1y * by + r1z * bz) / det
     t2 = (r2x * bx + r2y * by + r2z * bz) / det
@@ -102,42 +116,65 @@ def _residual(px, py, pz, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES,
     F1 = Lb - L1 * (1.0 + t1 / ES)
     F2 = Lg - L2 * (1.0 + t2 / ES)
     valid = valid and math.isfinite(F0) and math.isfinite(F1) and math.isfinite(F2)
-    # G = sum_j t_j du_j/dP (statics.tension_gradient, with the swivel term in the horizontal
-    # normal e_perp of each cable plane); dt/dP = -M^{-1} G; J = -U - diag(L/ES) dt/dP
+    # G = sum_j t_j du_j/dP (statics.tension_gradient): the symmetric part, the swivel term in the
+    # horizontal normal e_perp of each cable plane, and the DR arm term v_j eps_j^T
     wa, wb, wg = t0 / la, t1 / lb, t2 / lg
     ws = wa + wb + wg
-    qa, qb, qg = wa * sa, wb * sb, wg * sg
-    Gxx = -ws + wa * ax * ax + wb * bx_ * bx_ + wg * cx * cx + qa * pax * pax + qb * pbx * pbx + qg * pgx * pgx
-    Gxy = wa * ax * ay + wb * bx_ * by_ + wg * cx * cy + qa * pax * pay + qb * pbx * pby + qg * pgx * pgy
-    Gxz = wa * ax * az + wb * bx_ * bz_ + wg * cx * cz
-    Gyy = -ws + wa * ay * ay + wb * by_ * by_ + wg * cy * cy + qa * pay * pay + qb * pby * pby + qg * pgy * pgy
-    Gyz = wa * ay * az + wb * by_ * bz_ + wg * cy * cz
-    Gzz = -ws + wa * az * az + wb * bz_ * bz_ + wg * cz * cz
-    k0, k1, k2 = L0 / (ES * det), L1 / (ES * det), L2 / (ES * det)
-    # row j of M^{-1} G times -(-1): J_j = -u_j + (L_j/ES) (r_j G)/det
-    J00 = -ax + k0 * (r0x * Gxx + r0y * Gxy + r0z * Gxz)
-    J01 = -ay + k0 * (r0x * Gxy + r0y * Gyy + r0z * Gyz)
-    J02 = -az + k0 * (r0x * Gxz + r0y * Gyz + r0z * Gzz)
-    J10 = -bx_ + k1 * (r1x * Gxx + r1y * Gxy + r1z * Gxz)
-    J11 = -by_ + k1 * (r1x * Gxy + r1y * Gyy + r1z * Gyz)
-    J12 = -bz_ + k1 * (r1x * Gxz + r1y * Gyz + r1z * Gzz)
-    J20 = -cx + k2 * (r2x * Gxx + r2y * Gxy + r2z * Gxz)
-    J21 = -cy + k2 * (r2x * Gxy + r2y * Gyy + r2z * Gyz)
-    J22 = -cz + k2 * (r2x * Gxz + r2y * Gyz + r2z * Gzz)
-    return F0, F1, F2, t0, t1, t2, J00, J01, J02, J10, J11, J12, J20, J21, J22, valid
+    qsa, qsb, qsg = wa * sa, wb * sb, wg * sg
+    uba, ubb, ubg = ax * bax + ay * bay + az * baz, bx_ * bbx + by_ * bby + bz_ * bbz, cx * bgx + cy * bgy + cz * bgz
+    ka, kb, kg = wa * qa, wb * qb, wg * qg
+    vax, vay, vaz = ka * (bax - uba * ax), ka * (bay - uba * ay), ka * (baz - uba * az)
+    vbx, vby, vbz = kb * (bbx - ubb * bx_), kb * (bby - ubb * by_), kb * (bbz - ubb * bz_)
+    vgx, vgy, vgz = kg * (bgx - ubg * cx), kg * (bgy - ubg * cy), kg * (bgz - ubg * cz)
+    Sxx = -ws + wa * ax * ax + wb * bx_ * bx_ + wg * cx * cx + qsa * pax * pax + qsb * pbx * pbx + qsg * pgx * pgx
+    Sxy = wa * ax * ay + wb * bx_ * by_ + wg * cx * cy + qsa * pax * pay + qsb * pbx * pby + qsg * pgx * pgy
+    Sxz = wa * ax * az + wb * bx_ * bz_ + wg * cx * cz
+    Syy = -ws + wa * ay * ay + wb * by_ * by_ + wg * cy * cy + qsa * pay * pay + qsb * pby * pby + qsg * pgy * pgy
+    Syz = wa * ay * az + wb * by_ * bz_ + wg * cy * cz
+    Szz = -ws + wa * az * az + wb * bz_ * bz_ + wg * cz * cz
+    Gxx = Sxx + vax * eax + vbx * ebx + vgx * egx
+    Gxy = Sxy + vax * eay + vbx * eby + vgx * egy
+    Gxz = Sxz + vax * eaz + vbx * ebz + vgx * egz
+    Gyx = Sxy + vay * eax + vby * ebx + vgy * egx
+    Gyy = Syy + vay * eay + vby * eby + vgy * egy
+    Gyz = Syz + vay * eaz + vby * ebz + vgy * egz
+    Gzx = Sxz + vaz * eax + vbz * ebx + vgz * egx
+    Gzy = Syz + vaz * eay + vbz * eby + vgz * egy
+    Gzz = Szz + vaz * eaz + vbz * ebz + vgz * egz
+    # dt/dP = -M^{-1} G (row j: -(r_j G)/det)
+    T00 = -(r0x * Gxx + r0y * Gyx + r0z * Gzx) / det
+    T01 = -(r0x * Gxy + r0y * Gyy + r0z * Gzy) / det
+    T02 = -(r0x * Gxz + r0y * Gyz + r0z * Gzz) / det
+    T10 = -(r1x * Gxx + r1y * Gyx + r1z * Gzx) / det
+    T11 = -(r1x * Gxy + r1y * Gyy + r1z * Gzy) / det
+    T12 = -(r1x * Gxz + r1y * Gyz + r1z * Gzz) / det
+    T20 = -(r2x * Gxx + r2y * Gyx + r2z * Gzx) / det
+    T21 = -(r2x * Gxy + r2y * Gyy + r2z * Gzy) / det
+    T22 = -(r2x * Gxz + r2y * Gyz + r2z * Gzz) / det
+    # J = dL_TE/dP - diag(L/ES) dt/dP, dL_TE/dP = -u + arm ((u + u_C) . beta) eps (statics.length_gradient)
+    k0, k1, k2 = L0 / ES, L1 / ES, L2 / ES
+    ma, mb, mg = qa * (uba + ca), qb * (ubb + cb), qg * (ubg + cg)
+    J00, J01, J02 = -ax + ma * eax - k0 * T00, -ay + ma * eay - k0 * T01, -az + ma * eaz - k0 * T02
+    J10, J11, J12 = -bx_ + mb * ebx - k1 * T10, -by_ + mb * eby - k1 * T11, -bz_ + mb * ebz - k1 * T12
+    J20, J21, J22 = -cx + mg * egx - k2 * T20, -cy + mg * egy - k2 * T21, -cz + mg * egz - k2 * T22
+    return (F0, F1, F2, t0, t1, t2, J00, J01, J02, J10, J11, J12, J20, J21, J22,
+            T00, T01, T02, T10, T11, T12, T20, T21, T22, valid)
 
 
 @njit(cache=True, error_model="numpy")
 def _newton(p0x, p0y, p0z, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES, bx, by, bz, tol, maxiter, max_step):
-    """direct._newton (analytic Jacobian) for one point and one subset.
+    """direct._newton (analytic Jacobian, same stop rule) for one point and one subset.
 
     Returns (Px, Py, Pz, t0, t1, t2, iterations, converged, exists)."""
     px, py, pz = p0x, p0y, p0z
     conv = False
     exists = True
+    fresh = False
     it = 0
+    prev = 0.0
     for _ in range(maxiter):
         (F0, F1, F2, t0, t1, t2, jx0, jy0, jz0, jx1, jy1, jz1, jx2, jy2, jz2,
+         T00, T01, T02, T10, T11, T12, T20, T21, T22,
          valid) = _residual(px, py, pz, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES, bx, by, bz)
         # solve J step = -F by cofactors (statics.solve3); columns (jx., jy., jz.)
         q0x, q0y, q0z = jy1 * jz2 - jy2 * jz1, jy2 * jz0 - jy0 * jz2, jy0 * jz1 - jy1 * jz0
@@ -154,18 +191,27 @@ def _newton(p0x, p0y, p0z, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES
             ok = math.isfinite(sx) and math.isfinite(sy) and math.isfinite(sz)
         if not valid or not ok:
             exists = False
+            fresh = True
             break
         norm = math.sqrt(sx * sx + sy * sy + sz * sz)
-        if norm < tol:  # converged: keep P, where t was just evaluated (direct._newton)
+        if norm < tol or norm * norm < tol * prev:  # converged: take this last step (direct._newton)
+            px += sx
+            py += sy
+            pz += sz
+            t0 += T00 * sx + T01 * sy + T02 * sz
+            t1 += T10 * sx + T11 * sy + T12 * sz
+            t2 += T20 * sx + T21 * sy + T22 * sz
             conv = True
+            fresh = True
             break
         scale = min(1.0, max_step / max(norm, 1e-300))
         px += sx * scale
         py += sy * scale
         pz += sz * scale
-    else:  # iteration cap: evaluate at the last P
+        prev = norm
+    if not fresh:  # iteration cap: evaluate at the last P
         out = _residual(px, py, pz, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES, bx, by, bz)
-        t0, t1, t2, valid = out[3], out[4], out[5], out[15]
+        t0, t1, t2, valid = out[3], out[4], out[5], out[24]
     exists = exists and valid
     return px, py, pz, t0, t1, t2, it, conv and exists, exists
 

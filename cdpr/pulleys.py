@@ -12,6 +12,7 @@ against (..., m). Results have shape (..., m) or (..., m, 3).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -125,16 +126,58 @@ def pulley_state(P, A, kind, h, r_p, d, inward):
 SWIVEL_RHO_MIN = 1e-9
 
 
+class CableGeometry(NamedTuple):
+    """What the direct solvers need of every cable at P (``total_length_and_direction``); shapes
+    (..., m) or (..., m, 3).
+
+    L_TE [m]; u = (D - P)/|D - P| unit vector from P toward the exit point (eq. 12); l_E = |D - P|
+    [m]; inside flag; swivel = D_s / rho and e_perp, the horizontal normal of the cable plane (the
+    swivel carries D round the joint axis when P leaves the plane); and, for DR pulleys, the arm's
+    rotation: P's in-plane motion dP turns the strand direction A -> P by (eps . dP)/|AP| and the
+    arm (the bisector) by half of it, so dH/dP = arm beta eps^T with arm = h / (2 |AP|), beta the
+    arm's in-plane normal and eps the strand's (0 for SR and fixed pulleys); uC_beta = u_C . beta
+    with u_C the unit vector from the winch exit C toward K.
+    """
+
+    L_TE: np.ndarray
+    u: np.ndarray
+    l_E: np.ndarray
+    inside: np.ndarray
+    swivel: np.ndarray
+    e_perp: np.ndarray
+    arm: np.ndarray
+    beta: np.ndarray
+    eps: np.ndarray
+    uC_beta: np.ndarray
+
+
 def total_length_and_direction(P, A, kind, h, r_p, d, inward):
-    """Only what the direct solvers need: L_TE (..., m), the unit vectors u = (D - P)/|D - P|
-    (..., m, 3) along each cable from P toward its exit point (eq. 12), |D - P| (..., m), the
-    inside flag, and the swivel ratio D_s / rho (..., m) with the horizontal normal e_perp
-    (..., m, 3) of the cable plane, used by ``cable_direction_gradient``."""
+    """The extended inverse model reduced to what the direct solvers need: a CableGeometry."""
+    P = np.asarray(P, dtype=float)
     st = pulley_state(P, A, kind, h, r_p, d, inward)
-    v = st.D - np.asarray(P, dtype=float)[..., None, :]
+    v = st.D - P[..., None, :]
     n = np.linalg.norm(v, axis=-1, keepdims=True)
     n = np.where(n > 0, n, 1.0)
     D_s = np.einsum("...i,...i->...", (st.D - A)[..., :2], st.e_s)
     swivel = np.divide(D_s, st.rho, out=np.zeros_like(D_s), where=st.rho > SWIVEL_RHO_MIN)
-    e_perp = np.stack([-st.e_s[..., 1], st.e_s[..., 0], np.zeros_like(st.rho)], axis=-1)
-    return st.L_TE, v / n, n[..., 0], st.inside, swivel, e_perp
+    zero = np.zeros_like(st.rho)
+    e_perp = np.stack([-st.e_s[..., 1], st.e_s[..., 0], zero], axis=-1)
+    # DR arm: in-plane unit normals of the strand A -> P (eps) and of the bisector (beta), lifted to 3D
+    w_P = P[..., None, 2] - A[:, 2]
+    n_P = np.hypot(st.rho, w_P)
+    ok_P = n_P > 0
+    n_P = np.where(ok_P, n_P, 1.0)
+    b_s, b_w = st.rho / n_P, w_P / n_P - 1.0
+    n_b = np.hypot(b_s, b_w)
+    arm = np.where((kind == 2) & ok_P & (n_b > 0), h / (2.0 * n_P), 0.0)
+    n_b = np.where(n_b > 0, n_b, 1.0)
+
+    def lift(s, w):
+        return np.stack([s * st.e_s[..., 0], s * st.e_s[..., 1], w], axis=-1)
+
+    beta = lift(-b_w / n_b, b_s / n_b)
+    eps = lift(-w_P / n_P, st.rho / n_P)
+    C = A + np.stack([zero, zero, -np.broadcast_to(d, zero.shape)], axis=-1)
+    l_d = np.where(st.l_d > 0, st.l_d, 1.0)
+    uC_beta = np.einsum("...i,...i->...", st.K - C, beta) / l_d
+    return CableGeometry(st.L_TE, v / n, n[..., 0], st.inside, swivel, e_perp, arm, beta, eps, uC_beta)

@@ -35,17 +35,29 @@ def tensions(u, w_ext):
     return np.einsum("...ij,j->...i", inv, -np.asarray(w_ext, dtype=float)), inv
 
 
-def tension_gradient(u, l_E, t, M_inv, swivel, e_perp):
-    """dt/dP (..., 3, 3) from differentiating M t = -w_ext with
-    du_j/dP = -[(I - u_j u_j^T) - (D_s/rho)_j e_perp,j e_perp,j^T] / |l_E,j|.
+def tension_gradient(t, M_inv, g):
+    """dt/dP (..., 3, 3) from differentiating M t = -w_ext, with g the CableGeometry at P and
 
-    In the cable plane the exit point slides along the cable, so u turns as if D were fixed; out of
-    the plane the swivel carries D round the joint axis by D_s/rho of P's displacement (exact for
-    SR pulleys; for DR the arm's own rotation is left out, ~2 % of du/dP)."""
-    w = t / l_E
+        du_j/dP = -[(I - u_j u_j^T) - (D_s/rho)_j e_perp,j e_perp,j^T - arm_j (I - u_j u_j^T) beta_j eps_j^T] / |l_E,j|
+
+    In the cable plane the exit point slides along the cable, so u turns only as D's pulley
+    centre moves (the DR arm's rotation); out of the plane the swivel carries D round the joint
+    axis by D_s/rho of P's displacement."""
+    w, u = t / g.l_E, g.u
+    u_beta = np.einsum("...ja,...ja->...j", u, g.beta)
+    lever = (w * g.arm)[..., None] * (g.beta - u_beta[..., None] * u)
     G = (np.einsum("...j,...ja,...jb->...ab", w, u, u) - w.sum(axis=-1)[..., None, None] * np.eye(3)
-         + np.einsum("...j,...ja,...jb->...ab", w * swivel, e_perp, e_perp))
+         + np.einsum("...j,...ja,...jb->...ab", w * g.swivel, g.e_perp, g.e_perp)
+         + np.einsum("...ja,...jb->...ab", lever, g.eps))
     return -M_inv @ G
+
+
+def length_gradient(g):
+    """dL_TE/dP (..., m, 3) = -u + arm ((u + u_C) . beta) eps: moving P shortens the cable along u
+    (eq. 5 is a tangent length plus an arc), and the DR arm's rotation moves the sheave by dH, which
+    lengthens it by (u + u_C) . dH."""
+    u_beta = np.einsum("...ja,...ja->...j", g.u, g.beta)
+    return -g.u + (g.arm * (u_beta + g.uC_beta))[..., None] * g.eps
 
 
 def stretched_length(L0, t, ES):

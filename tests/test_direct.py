@@ -77,20 +77,42 @@ def test_unknown_method(cdpr4):
         degm_e(cdpr4, PTS[:2], SUB, method="magic")
 
 
-@pytest.mark.parametrize("kind,rel", [("SR", 1e-6), ("fixed", 1e-6), ("DR", 5e-3)])
-def test_analytic_jacobian_against_finite_differences(cdpr4, kind, rel):
-    """dF/dP = -U + diag(L/ES) M^-1 G: exact for SR and fixed pulleys; for DR the arm's own rotation
-    is left out (it only slows Newton's last digits, never the root)."""
+@pytest.mark.parametrize("kind", ["SR", "fixed", "DR"])
+def test_analytic_jacobian_against_finite_differences(cdpr4, kind):
+    """dF/dP = dL_TE/dP - diag(L/ES) dt/dP and dt/dP, exact for every pulley kind (for DR with the
+    arm's rotation)."""
+    rel = 1e-6
     from cdpr.direct import _Subset
 
     r = with_pulleys(cdpr4, kind=kind)
     sub = _Subset(r, SUB)
     L = L_TS(r, PTS)[:, SUB]
     P = PTS + np.array([0.01, -0.02, -0.05])
-    _, _, _, J = sub.residual(P, L, jacobian=True)
-    fd = np.empty_like(J)
+    _, _, _, J, dt = sub.residual(P, L, jacobian=True)
+    fd, fd_t = np.empty_like(J), np.empty_like(dt)
     for k in range(3):
         e = np.zeros(3)
         e[k] = 1e-6
-        fd[..., k] = (sub.residual(P + e, L)[0] - sub.residual(P - e, L)[0]) / 2e-6
+        hi, lo = sub.residual(P + e, L), sub.residual(P - e, L)
+        fd[..., k] = (hi[0] - lo[0]) / 2e-6
+        fd_t[..., k] = (hi[1] - lo[1]) / 2e-6
     assert np.abs(J - fd).max() < rel * np.abs(fd).max()
+    assert np.abs(dt - fd_t).max() < rel * np.abs(fd_t).max()
+
+
+@pytest.mark.parametrize("kind", ["SR", "DR"])
+def test_newton_stop_rule_keeps_root_and_tensions_at_returned_point(cdpr4, kind):
+    """The default stop takes the last step and carries t to first order: the root equals a much
+    tighter solve, and the reported tensions equal a fresh evaluation at the returned P."""
+    from cdpr.direct import _Subset
+
+    r = with_pulleys(cdpr4, kind=kind)
+    a = degm_e(r, PTS, SUB)
+    b = degm_e(r, PTS, SUB, tol=1e-14)
+    ok = a.converged & b.converged
+    assert ok.sum() >= len(PTS) - 1
+    assert np.abs(a.P[ok] - b.P[ok]).max() < 1e-9
+    assert (a.iterations[ok] < b.iterations[ok]).any()
+    L = L_TS(r, PTS)[:, SUB]
+    _, t_fresh, _ = _Subset(r, SUB).residual(a.P[ok], L[ok])
+    np.testing.assert_allclose(a.t[ok], t_fresh, rtol=0, atol=1e-5)
