@@ -61,7 +61,8 @@ def _cable(px, py, pz, Ax, Ay, Az, kind, h, rp, d, inx, iny):
     inside = R2 <= rp2 and rp > 0.0
     lE = math.sqrt(max(R2 - rp2, 0.0))
     if R2 > 0.0:
-        cD, sD = (rs * rp - rw * lE) / R2, (rw * rp + rs * lE) / R2
+        iR2 = 1.0 / R2
+        cD, sD = (rs * rp - rw * lE) * iR2, (rw * rp + rs * lE) * iR2
     else:
         cD, sD = 0.0, 1.0
     # C side (C = (0, -d)): theta_K = phi_C - delta_C
@@ -70,10 +71,13 @@ def _cable(px, py, pz, Ax, Ay, Az, kind, h, rp, d, inx, iny):
     inside = inside or (RC2 <= rp2 and rp > 0.0)
     ld = math.sqrt(max(RC2 - rp2, 0.0))
     if RC2 > 0.0:
-        cK, sK = (cs * rp + cw * ld) / RC2, (cw * rp - cs * ld) / RC2
+        iRC2 = 1.0 / RC2
+        cK, sK = (cs * rp + cw * ld) * iRC2, (cw * rp - cs * ld) * iRC2
     else:
         cK, sK = 0.0, -1.0
-    gamma = math.atan2(sK * cD - cK * sD, cK * cD + sK * sD) % TWO_PI
+    gamma = math.atan2(sK * cD - cK * sD, cK * cD + sK * sD)  # in (-pi, pi]; gamma mod 2 pi:
+    if gamma < 0.0:
+        gamma += TWO_PI
     L = ld + rp * gamma + lE
     Ds, Dw = Hs + rp * cD, Hw + rp * sD
     vx, vy, vz = Ax + Ds * esx - px, Ay + Ds * esy - py, Az + Dw - pz
@@ -83,7 +87,8 @@ def _cable(px, py, pz, Ax, Ay, Az, kind, h, rp, d, inx, iny):
     swivel = Ds / rho if rho > SWIVEL_RHO_MIN else 0.0  # pulleys.total_length_and_direction
     # u_C . beta, u_C = (K - C)/l_d in the plane, beta = (-bhw, bhs) the arm's in-plane normal
     uCb = ((Hs + rp * cK) * -bhw + (Hw + rp * sK + d) * bhs) / (ld if ld > 0.0 else 1.0)
-    return (L, vx / n, vy / n, vz / n, n, inside, swivel, -esy, esx,
+    i_n = 1.0 / n
+    return (L, vx * i_n, vy * i_n, vz * i_n, n, inside, swivel, -esy, esx,
             arm, -bhw * esx, -bhw * esy, bhs, ens * esx, ens * esy, enw, uCb)
 
 
@@ -109,9 +114,10 @@ def _residual(px, py, pz, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES,
         nan = np.nan
         return (nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan,
                 nan, nan, nan, nan, nan, nan, nan, nan, nan, False)
-    t0 = (r0x * bx + r0y * by + r0z * bz) / det
-    t1 = (r1x * bx + r1y * by + r1z * bz) / det
-    t2 = (r2x * bx + r2y * by + r2z * bz) / det
+    idet = 1.0 / det
+    t0 = (r0x * bx + r0y * by + r0z * bz) * idet
+    t1 = (r1x * bx + r1y * by + r1z * bz) * idet
+    t2 = (r2x * bx + r2y * by + r2z * bz) * idet
     F0 = La - L0 * (1.0 + t0 / ES)
     F1 = Lb - L1 * (1.0 + t1 / ES)
     F2 = Lg - L2 * (1.0 + t2 / ES)
@@ -142,15 +148,15 @@ def _residual(px, py, pz, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES,
     Gzy = Syz + vaz * eay + vbz * eby + vgz * egy
     Gzz = Szz + vaz * eaz + vbz * ebz + vgz * egz
     # dt/dP = -M^{-1} G (row j: -(r_j G)/det)
-    T00 = -(r0x * Gxx + r0y * Gyx + r0z * Gzx) / det
-    T01 = -(r0x * Gxy + r0y * Gyy + r0z * Gzy) / det
-    T02 = -(r0x * Gxz + r0y * Gyz + r0z * Gzz) / det
-    T10 = -(r1x * Gxx + r1y * Gyx + r1z * Gzx) / det
-    T11 = -(r1x * Gxy + r1y * Gyy + r1z * Gzy) / det
-    T12 = -(r1x * Gxz + r1y * Gyz + r1z * Gzz) / det
-    T20 = -(r2x * Gxx + r2y * Gyx + r2z * Gzx) / det
-    T21 = -(r2x * Gxy + r2y * Gyy + r2z * Gzy) / det
-    T22 = -(r2x * Gxz + r2y * Gyz + r2z * Gzz) / det
+    T00 = -(r0x * Gxx + r0y * Gyx + r0z * Gzx) * idet
+    T01 = -(r0x * Gxy + r0y * Gyy + r0z * Gzy) * idet
+    T02 = -(r0x * Gxz + r0y * Gyz + r0z * Gzz) * idet
+    T10 = -(r1x * Gxx + r1y * Gyx + r1z * Gzx) * idet
+    T11 = -(r1x * Gxy + r1y * Gyy + r1z * Gzy) * idet
+    T12 = -(r1x * Gxz + r1y * Gyz + r1z * Gzz) * idet
+    T20 = -(r2x * Gxx + r2y * Gyx + r2z * Gzx) * idet
+    T21 = -(r2x * Gxy + r2y * Gyy + r2z * Gzy) * idet
+    T22 = -(r2x * Gxz + r2y * Gyz + r2z * Gzz) * idet
     # J = dL_TE/dP - diag(L/ES) dt/dP, dL_TE/dP = -u + arm ((u + u_C) . beta) eps (statics.length_gradient)
     k0, k1, k2 = L0 / ES, L1 / ES, L2 / ES
     ma, mb, mg = qa * (uba + ca), qb * (ubb + cb), qg * (ubg + cg)
@@ -185,9 +191,10 @@ def _newton(p0x, p0y, p0z, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES
         ok = abs(det) >= DET_EPS
         sx = sy = sz = 0.0
         if ok:
-            sx = -(q0x * F0 + q0y * F1 + q0z * F2) / det
-            sy = -(q1x * F0 + q1y * F1 + q1z * F2) / det
-            sz = -(q2x * F0 + q2y * F1 + q2z * F2) / det
+            idet = -1.0 / det
+            sx = (q0x * F0 + q0y * F1 + q0z * F2) * idet
+            sy = (q1x * F0 + q1y * F1 + q1z * F2) * idet
+            sz = (q2x * F0 + q2y * F1 + q2z * F2) * idet
             ok = math.isfinite(sx) and math.isfinite(sy) and math.isfinite(sz)
         if not valid or not ok:
             exists = False
