@@ -65,7 +65,7 @@ def main():
         cmd = [sys.executable, "-m", "cdpr", "grid", "--robot", str(ROOT / "config/robots/cdpr4.yaml"), "--pulley", "DR",
                "--box", *map(str, RW_C), "--n", "63", "--out", f"{tmp}/g.parquet"]
         walls, own = [], []
-        for _ in range(max(args.repeat, 5)):
+        for _ in range(max(args.repeat, 11)):
             t0 = time.perf_counter()
             out = subprocess.run(cmd + ["--json"], capture_output=True, text=True, check=True).stdout
             walls.append(time.perf_counter() - t0)
