@@ -173,7 +173,7 @@ def _fixed_point(sub, P0, L0, tol, max_inner, max_outer):
             inner = inner[ok & (step >= tol)]
         keep = exists[active]
         active, P_prev = active[keep], P_prev[keep]
-        u = sub.geometry(P[active])[1]
+        u = sub.geometry(P[active]).u
         t, _ = tensions(u, sub.w_ext)
         L[active] = stretched_length(L0[active], t, sub.ES)
         done = np.linalg.norm(P[active] - P_prev, axis=1) < tol

@@ -1,9 +1,9 @@
 """Compiled DEGM_E over many points: the batched-Newton solver and the paper-mode subset choice
 of ``redundancy.solve_points``, fused into one numba kernel that runs in parallel over points.
 
-Same equations, same finite-difference Newton, same tolerances, tie-break and status rules as the
-numpy path (``direct._newton`` + ``redundancy.solve_points``); a test checks that both give the same
-table. The numpy path stays the reference; this one is what the CLI and pipeline use.
+Same equations, same analytic-Jacobian Newton and stop rule, same tolerances, tie-break and
+status rules as the numpy path (``direct._newton`` + ``redundancy.solve_points``); a test checks
+that both give the same table. The numpy path stays the reference; this one is what the CLI and pipeline use.
 """
 from __future__ import annotations
 

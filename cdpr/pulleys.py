@@ -177,7 +177,6 @@ def total_length_and_direction(P, A, kind, h, r_p, d, inward):
 
     beta = lift(-b_w / n_b, b_s / n_b)
     eps = lift(-w_P / n_P, st.rho / n_P)
-    C = A + np.stack([zero, zero, -np.broadcast_to(d, zero.shape)], axis=-1)
     l_d = np.where(st.l_d > 0, st.l_d, 1.0)
-    uC_beta = np.einsum("...i,...i->...", st.K - C, beta) / l_d
+    uC_beta = (np.einsum("...i,...i->...", st.K - A, beta) + d * beta[..., 2]) / l_d  # C = A - d z
     return CableGeometry(st.L_TE, v / n, n[..., 0], st.inside, swivel, e_perp, arm, beta, eps, uC_beta)
