@@ -72,11 +72,11 @@ def _newton(sub, P0, L, tol, maxiter, max_step):
     """Batched Newton on F(P) = 0 with the analytic Jacobian; steps capped at ``max_step``.
 
     A point converges when the step s_k just computed is shorter than ``tol``, or when the error
-    left after taking it, estimated from the observed contraction as |s_k|^2 / |s_(k-1)|, is below
-    ``tol`` (this bounds the error for linear convergence and over-estimates it for quadratic
-    convergence). That last step is taken and the tensions are carried to the new P to first order
-    (t + dt/dP s_k); this saves the evaluation that would only confirm convergence. A point also
-    stops when no step exists. Returns P, iterations, converged, exists, the tensions and validity
+    left after taking it, estimated from the observed contraction as |s_k|^2 / |s_(k-1)| (s_(k-1)
+    the step taken, after the ``max_step`` cap), is below ``tol``: this bounds the error for linear
+    convergence and over-estimates it for quadratic convergence. That last step is taken and the
+    tensions are carried to the new P to first order (t + dt/dP s_k); this saves the evaluation
+    that would only confirm convergence. A point also stops when no step exists. Returns P, iterations, converged, exists, the tensions and validity
     at the returned P, and ``fresh`` (False where the iteration cap left P moved after its last
     evaluation)."""
     n = P0.shape[0]
@@ -87,7 +87,7 @@ def _newton(sub, P0, L, tol, maxiter, max_step):
     t_at = np.full((n, 3), np.nan)
     valid_at = np.zeros(n, dtype=bool)
     fresh = np.zeros(n, dtype=bool)
-    prev = np.zeros(n)  # length of each point's previous step (0: none yet)
+    prev = np.zeros(n)  # length of each point's previous step taken (0: none yet)
     active = np.arange(n)
     for _ in range(maxiter):
         if active.size == 0:
@@ -107,7 +107,7 @@ def _newton(sub, P0, L, tol, maxiter, max_step):
         iters[active] += 1
         exists[active[bad]] = False
         conv[active[done]] = True
-        prev[active] = norm
+        prev[active] = norm * scale  # length of the step taken
         active = active[~(bad | done)]
     return P, iters, conv, exists, t_at, valid_at, fresh
 

@@ -215,7 +215,7 @@ def _newton(p0x, p0y, p0z, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES
         px += sx * scale
         py += sy * scale
         pz += sz * scale
-        prev = norm
+        prev = norm * scale
     if not fresh:  # iteration cap: evaluate at the last P
         out = _residual(px, py, pz, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES, bx, by, bz)
         t0, t1, t2, valid = out[3], out[4], out[5], out[24]

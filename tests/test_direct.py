@@ -111,8 +111,8 @@ def test_newton_stop_rule_keeps_root_and_tensions_at_returned_point(cdpr4, kind)
     b = degm_e(r, PTS, SUB, tol=1e-14)
     ok = a.converged & b.converged
     assert ok.sum() >= len(PTS) - 1
-    assert np.abs(a.P[ok] - b.P[ok]).max() < 1e-9
+    assert np.abs(a.P[ok] - b.P[ok]).max() < 1e-12
     assert (a.iterations[ok] < b.iterations[ok]).any()
     L = L_TS(r, PTS)[:, SUB]
     _, t_fresh, _ = _Subset(r, SUB).residual(a.P[ok], L[ok])
-    np.testing.assert_allclose(a.t[ok], t_fresh, rtol=0, atol=1e-5)
+    np.testing.assert_allclose(a.t[ok], t_fresh, rtol=0, atol=1e-8)  # N; without the carry ~1e-3
