@@ -13,11 +13,13 @@ from .io import atomic  # noqa: E402
 
 
 def save(fig, out):
-    """Write ``out`` (.png) and its .pdf sibling atomically; returns both paths."""
+    """Write ``out`` (.png) and its .pdf sibling atomically; returns both paths. The PDF carries no
+    creation date, so the same table gives the same bytes."""
     out = Path(out)
     paths = [out, out.with_suffix(".pdf")]
+    meta = {".png": None, ".pdf": {"CreationDate": None}}
     for p in paths:
-        atomic(p, lambda tmp, p=p: fig.savefig(tmp, format=p.suffix[1:], dpi=150, bbox_inches="tight"))
+        atomic(p, lambda tmp, p=p: fig.savefig(tmp, format=p.suffix[1:], dpi=150, bbox_inches="tight", metadata=meta[p.suffix]))
     plt.close(fig)
     return paths
 
