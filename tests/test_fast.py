@@ -30,6 +30,19 @@ def test_compiled_equals_numpy_reference(request, name, kind):
 
 
 @pytest.mark.parametrize("kind", ["SR", "DR"])
+def test_iteration_cap_equals_numpy_reference(cdpr4, kind):
+    """With an iteration cap that some points need more than, both engines flag the same points
+    not_converged and agree on the others."""
+    r = with_pulleys(cdpr4, kind=kind)
+    P = grid_points([-2.0, 2.0, -2.0, 2.0, 0.5, 4.0], 8)
+    a, b = solve_points(r, P, maxiter=3), solve_points_fast(r, P, maxiter=3)
+    assert (a["status"] == "not_converged").any() and (a["status"] == "ok").any()
+    assert (a["status"] == b["status"]).all() and (a["iterations"] == b["iterations"]).all()
+    assert (a["subset"] == b["subset"]).all()
+    np.testing.assert_allclose(b["t"], a["t"], rtol=1e-9, atol=1e-6, equal_nan=True)
+
+
+@pytest.mark.parametrize("kind", ["SR", "DR"])
 def test_pruning_changes_nothing(cdpr4, kind):
     r = with_pulleys(cdpr4, kind=kind)
     P = grid_points(BOX, 18)
