@@ -3,7 +3,8 @@ of ``redundancy.solve_points``, fused into one numba kernel that runs in paralle
 
 Same equations, same analytic-Jacobian Newton and stop rule, same tolerances, tie-break and
 status rules as the numpy path (``direct._newton`` + ``redundancy.solve_points``); a test checks
-that both give the same table. The numpy path stays the reference; this one is what the CLI and pipeline use.
+that both give the same table. The numpy path stays the reference; this one is what the CLI and
+pipeline use.
 """
 from __future__ import annotations
 
@@ -175,7 +176,6 @@ def _newton(p0x, p0y, p0z, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES
     px, py, pz = p0x, p0y, p0z
     conv = False
     exists = True
-    fresh = False
     it = 0
     prev = 0.0
     for _ in range(maxiter):
@@ -198,7 +198,6 @@ def _newton(p0x, p0y, p0z, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES
             ok = math.isfinite(sx) and math.isfinite(sy) and math.isfinite(sz)
         if not valid or not ok:
             exists = False
-            fresh = True
             break
         norm = math.sqrt(sx * sx + sy * sy + sz * sz)
         if norm < tol or norm * norm < tol * prev:  # converged: take this last step (direct._newton)
@@ -209,16 +208,15 @@ def _newton(p0x, p0y, p0z, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES
             t1 += T10 * sx + T11 * sy + T12 * sz
             t2 += T20 * sx + T21 * sy + T22 * sz
             conv = True
-            fresh = True
             break
         scale = min(1.0, max_step / max(norm, 1e-300))
         px += sx * scale
         py += sy * scale
         pz += sz * scale
         prev = norm * scale
-    if not fresh:  # iteration cap: evaluate at the last P
+    else:  # iteration cap: evaluate at the last P
         out = _residual(px, py, pz, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES, bx, by, bz)
-        t0, t1, t2, valid = out[3], out[4], out[5], out[24]
+        t0, t1, t2, valid = out[3], out[4], out[5], out[-1]
     exists = exists and valid
     return px, py, pz, t0, t1, t2, it, conv and exists, exists
 
