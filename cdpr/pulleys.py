@@ -135,8 +135,8 @@ class CableGeometry(NamedTuple):
     swivel carries D round the joint axis when P leaves the plane); and, for DR pulleys, the arm's
     rotation: P's in-plane motion dP turns the strand direction A -> P by (eps . dP)/|AP| and the
     arm (the bisector) by half of it, so dH/dP = arm beta eps^T with arm = h / (2 |AP|), beta the
-    arm's in-plane normal and eps the strand's (0 for SR and fixed pulleys); uC_beta = u_C . beta
-    with u_C the unit vector from the winch exit C toward K.
+    arm's in-plane normal and eps the strand's (0 for SR and fixed pulleys); u_beta = u . beta and
+    uC_beta = u_C . beta with u_C the unit vector from the winch exit C toward K.
     """
 
     L_TE: np.ndarray
@@ -148,6 +148,7 @@ class CableGeometry(NamedTuple):
     arm: np.ndarray
     beta: np.ndarray
     eps: np.ndarray
+    u_beta: np.ndarray
     uC_beta: np.ndarray
 
 
@@ -179,4 +180,6 @@ def total_length_and_direction(P, A, kind, h, r_p, d, inward):
     eps = lift(-w_P / n_P, st.rho / n_P)
     l_d = np.where(st.l_d > 0, st.l_d, 1.0)
     uC_beta = (np.einsum("...i,...i->...", st.K - A, beta) + d * beta[..., 2]) / l_d  # C = A - d z
-    return CableGeometry(st.L_TE, v / n, n[..., 0], st.inside, swivel, e_perp, arm, beta, eps, uC_beta)
+    u = v / n
+    u_beta = np.einsum("...i,...i->...", u, beta)
+    return CableGeometry(st.L_TE, u, n[..., 0], st.inside, swivel, e_perp, arm, beta, eps, u_beta, uC_beta)

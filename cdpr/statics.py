@@ -44,8 +44,7 @@ def tension_gradient(t, M_inv, g):
     centre moves (the DR arm's rotation); out of the plane the swivel carries D round the joint
     axis by D_s/rho of P's displacement."""
     w, u = t / g.l_E, g.u
-    u_beta = np.einsum("...ja,...ja->...j", u, g.beta)
-    lever = (w * g.arm)[..., None] * (g.beta - u_beta[..., None] * u)
+    lever = (w * g.arm)[..., None] * (g.beta - g.u_beta[..., None] * u)
     G = (np.einsum("...j,...ja,...jb->...ab", w, u, u) - w.sum(axis=-1)[..., None, None] * np.eye(3)
          + np.einsum("...j,...ja,...jb->...ab", w * g.swivel, g.e_perp, g.e_perp)
          + np.einsum("...ja,...jb->...ab", lever, g.eps))
@@ -56,8 +55,7 @@ def length_gradient(g):
     """dL_TE/dP (..., m, 3) = -u + arm ((u + u_C) . beta) eps: moving P shortens the cable along u
     (eq. 5 is a tangent length plus an arc), and the DR arm's rotation moves the sheave by dH, which
     lengthens it by (u + u_C) . dH."""
-    u_beta = np.einsum("...ja,...ja->...j", g.u, g.beta)
-    return -g.u + (g.arm * (u_beta + g.uC_beta))[..., None] * g.eps
+    return -g.u + (g.arm * (g.u_beta + g.uC_beta))[..., None] * g.eps
 
 
 def stretched_length(L0, t, ES):
