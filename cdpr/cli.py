@@ -61,7 +61,7 @@ def cmd_inverse(args):
     if args.json:
         print(json.dumps(io.clean_json(out), indent=2))
         return
-    print(f"{robot.name} ({robot.pulley_summary()}, d = {robot.d[0]:g} m) at P = {args.at} m")
+    print(f"{robot.name} ({robot.pulley_summary()}, {robot.dead_length_summary()}) at P = {args.at} m")
     rows = [[str(o["cable"]), f"{o['L_TS']:.6f}", f"{o['L_TE']:.6f}", f"{o['gamma']:.6f}", f"{o['l_d']:.6f}",
              f"{o['l_E']:.6f}", "(" + ", ".join(f"{v:.4f}" for v in o["D"]) + ")"] for o in out]
     print(_table(rows, ["cable", "L_TS [m]", "L_TE [m]", "gamma [rad]", "|l_d| [m]", "|l_E| [m]", "D [m]"]))
@@ -89,7 +89,7 @@ def cmd_point(args):
     if args.json:
         print(json.dumps(io.clean_json(out), indent=2))
         return
-    print(f"{robot.name} ({robot.pulley_summary()}, E = {robot.material.E / 1e9:g} GPa, d = {robot.d[0]:g} m), solver {args.method}")
+    print(f"{robot.name} ({robot.pulley_summary()}, {robot.material_summary()}, {robot.dead_length_summary()}), solver {args.method}")
     fmt = lambda v: "(" + ", ".join("nan" if v is None or v != v else f"{x:.6f}" for x in v) + ")"  # noqa: E731
     print(f"  desired P  [m] : {fmt(out['desired'])}")
     print(f"  solved P*  [m] : {fmt(out['solved'])}")

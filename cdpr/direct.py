@@ -49,7 +49,7 @@ class _Subset:
         s = np.asarray(subset, dtype=np.intp)
         self.args = (robot.A[s], robot.kind[s], robot.h[s], robot.r_p[s], robot.d[s], robot.inward[s])
         self.A = self.args[0]
-        self.ES = robot.ES
+        self.ES = robot.ES[s]
         self.w_ext = robot.platform.w_ext
 
     def geometry(self, P):

@@ -95,7 +95,7 @@ def _cable(px, py, pz, Ax, Ay, Az, kind, h, rp, d, inx, iny):
 
 @njit(cache=True, inline="always", error_model="numpy")
 def _residual(px, py, pz, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES, bx, by, bz):
-    """F = L_TE(P) - Lc (1 + t/ES) for subset (s0, s1, s2), t from equilibrium (statics.tensions),
+    """F = L_TE(P) - Lc (1 + t/(E S)) (E S per cable) for subset (s0, s1, s2), t from equilibrium (statics.tensions),
     the Jacobian dF/dP and dt/dP (direct._Subset.residual). Scalars only: no allocation in the hot loop.
 
     Returns (F (3), t (3), J (9, row-major), dt/dP (9, row-major), valid)."""
@@ -119,9 +119,10 @@ def _residual(px, py, pz, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES,
     t0 = (r0x * bx + r0y * by + r0z * bz) * idet
     t1 = (r1x * bx + r1y * by + r1z * bz) * idet
     t2 = (r2x * bx + r2y * by + r2z * bz) * idet
-    F0 = La - L0 * (1.0 + t0 / ES)
-    F1 = Lb - L1 * (1.0 + t1 / ES)
-    F2 = Lg - L2 * (1.0 + t2 / ES)
+    Ea, Eb, Eg = ES[s0], ES[s1], ES[s2]
+    F0 = La - L0 * (1.0 + t0 / Ea)
+    F1 = Lb - L1 * (1.0 + t1 / Eb)
+    F2 = Lg - L2 * (1.0 + t2 / Eg)
     valid = valid and math.isfinite(F0) and math.isfinite(F1) and math.isfinite(F2)
     # G = sum_j t_j du_j/dP (statics.tension_gradient): the symmetric part, the swivel term in the
     # horizontal normal e_perp of each cable plane, and the DR arm term v_j eps_j^T
@@ -159,7 +160,7 @@ def _residual(px, py, pz, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES,
     T21 = -(r2x * Gxy + r2y * Gyy + r2z * Gzy) * idet
     T22 = -(r2x * Gxz + r2y * Gyz + r2z * Gzz) * idet
     # J = dL_TE/dP - diag(L/ES) dt/dP, dL_TE/dP = -u + arm ((u + u_C) . beta) eps (statics.length_gradient)
-    k0, k1, k2 = L0 / ES, L1 / ES, L2 / ES
+    k0, k1, k2 = L0 / Ea, L1 / Eb, L2 / Eg
     ma, mb, mg = qa * (uba + ca), qb * (ubb + cb), qg * (ubg + cg)
     J00, J01, J02 = -ax + ma * eax - k0 * T00, -ay + ma * eay - k0 * T01, -az + ma * eaz - k0 * T02
     J10, J11, J12 = -bx_ + mb * ebx - k1 * T10, -by_ + mb * eby - k1 * T11, -bz_ + mb * ebz - k1 * T12
@@ -292,7 +293,7 @@ def _solve_one(i, p, A, kind, h, rp, d, inward, subsets, edges, margin, ES, b, T
                 break
             _solve_subset(k, i, p, A, kind, h, rp, d, inward, subsets, Lall, ES, b, tol, maxiter, max_step, Ps, ts, its, conv, exi, dps)
             solved[k] = True
-            if conv[k] and ts[k, 0] >= 0 and ts[k, 1] >= 0 and ts[k, 2] >= 0 and ts[k, 0] <= T_a and ts[k, 1] <= T_a and ts[k, 2] <= T_a:
+            if conv[k] and ts[k, 0] >= 0 and ts[k, 1] >= 0 and ts[k, 2] >= 0 and ts[k, 0] <= T_a[subsets[k, 0]] and ts[k, 1] <= T_a[subsets[k, 1]] and ts[k, 2] <= T_a[subsets[k, 2]]:
                 best = min(best, dps[k])
     nsolved = 0
     for k in range(ns):
@@ -304,7 +305,7 @@ def _solve_one(i, p, A, kind, h, rp, d, inward, subsets, edges, margin, ES, b, T
         if not solved[k]:
             continue
         low = ts[k, 0] >= 0 and ts[k, 1] >= 0 and ts[k, 2] >= 0
-        high = ts[k, 0] <= T_a and ts[k, 1] <= T_a and ts[k, 2] <= T_a
+        high = ts[k, 0] <= T_a[subsets[k, 0]] and ts[k, 1] <= T_a[subsets[k, 1]] and ts[k, 2] <= T_a[subsets[k, 2]]
         adm[k] = conv[k] and low and high
         any_adm = any_adm or adm[k]
         any_conv = any_conv or conv[k]
@@ -390,7 +391,7 @@ def solve_points_fast(robot, p, tol=None, maxiter=None, threads=None, prune=True
     if n:
         edges, margin = subset_edges(robot)
         _solve_points(p, robot.A, robot.kind.astype(np.int64), robot.h, robot.r_p, robot.d, np.ascontiguousarray(robot.inward),
-                      robot.subsets.astype(np.int64), edges, margin, float(robot.ES), -robot.platform.w_ext, float(robot.material.T_a),
+                      robot.subsets.astype(np.int64), edges, margin, robot.ES, -robot.platform.w_ext, robot.T_a,
                       o["tol"] if tol is None else tol, o["maxiter"] if maxiter is None else maxiter, o["max_step"], prune,
                       P_s, dp, t, sub, it, st, work)
     return {"p": p, "P_s": P_s, "dp": dp, "t": t, "subset": sub, "iterations": it, "status_code": st,

@@ -41,7 +41,7 @@ def solve_points(robot, p, method="newton", **options):
     subsets = robot.subsets
     ns = len(subsets)
     L_all = L_TS(robot, p)
-    T_a = robot.material.T_a
+    T_a = robot.T_a[subsets][:, None, :]  # (n_subsets, 1, 3) per-cable admissible tension
     Ps = np.full((ns, n, 3), np.nan)
     ts = np.full((ns, n, 3), np.nan)
     its = np.zeros((ns, n), dtype=np.int32)

@@ -4,40 +4,40 @@ A robot file looks like this (all values SI; a string with a unit such as ``"100
 
     name: CDPR4
     platform: {mass_kg: 300, gravity_m_per_s2: 9.81}
-    cable: {young_modulus_Pa: 102.2e9, diameter_m: 0.004, max_tension_N: 5140}
-    pulley: {kind: SR, h_m: 0.100, r_p_m: 0.0665}      # default for every cable
-    dead_length_m: 4.0                                  # default for every cable
+    cable: {young_modulus_Pa: 102.2e9, diameter_m: 0.004, max_tension_N: 5140}   # default for every cable
+    pulley: {kind: SR, h_m: 0.100, r_p_m: 0.0665}                               # default for every cable
+    dead_length_m: 4.0                                                           # default for every cable
     cables:
       - {A_m: [-2.5, -2.5, 5.0]}
-      - {A_m: [2.5, -2.5, 5.0], pulley: {kind: DR}, dead_length_m: 3.5}
+      - {A_m: [2.5, -2.5, 5.0], pulley: {kind: DR}, dead_length_m: 3.5, cable: {young_modulus_Pa: 95e9}}
       ...
 
 ``A_m`` is the pulley joint point A_i (the swivel axis of an SR pulley, the U-joint of a DR pulley,
-the fixed point of the standard model). The winch exit C_i lies ``dead_length_m`` below A_i.
+the fixed point of the standard model). The winch exit C_i lies ``dead_length_m`` below A_i. A
+cable's ``pulley``, ``cable`` (material) and ``dead_length_m`` override the robot's defaults key by
+key. The file is checked against ``cdpr/schemas/robot.schema.yaml`` first, then for the physics a
+schema cannot express (h >= r_p, distinct anchors above the floor, ...).
 """
 from __future__ import annotations
 
+import copy
 import dataclasses
 import itertools
 import math
 from functools import cached_property
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 import yaml
 
 from .errors import ConfigError
 from .units import quantity
+from .validation import validate
 
 PULLEY_KINDS = ("fixed", "SR", "DR")
 #: Integer codes used in the vectorised kernels.
 KIND_CODE = {"fixed": 0, "SR": 1, "DR": 2}
-
-_TOP_KEYS = {"name", "description", "platform", "cable", "pulley", "dead_length_m", "cables"}
-_PLATFORM_KEYS = {"mass_kg", "gravity_m_per_s2"}
-_CABLE_MATERIAL_KEYS = {"young_modulus_Pa", "diameter_m", "max_tension_N"}
-_PULLEY_KEYS = {"kind", "h_m", "r_p_m"}
-_CABLE_KEYS = {"A_m", "pulley", "dead_length_m"}
 
 #: Standard gravity [m/s^2], the default of ``platform.gravity_m_per_s2``.
 G_STANDARD = 9.81
@@ -50,15 +50,6 @@ class Pulley:
     kind: str
     h: float = 0.0
     r_p: float = 0.0
-
-
-@dataclasses.dataclass(frozen=True)
-class Cable:
-    """One cable: joint point A [m], its pulley and its dead length d [m] (winch exit C = A - d z)."""
-
-    A: tuple
-    pulley: Pulley
-    dead_length: float
 
 
 @dataclasses.dataclass(frozen=True)
@@ -76,6 +67,17 @@ class CableMaterial:
 
 
 @dataclasses.dataclass(frozen=True)
+class Cable:
+    """One cable: joint point A [m], its pulley, its dead length d [m] (winch exit C = A - d z) and
+    its material."""
+
+    A: tuple
+    pulley: Pulley
+    dead_length: float
+    material: CableMaterial
+
+
+@dataclasses.dataclass(frozen=True)
 class Platform:
     """Point-mass moving platform: mass M [kg] and gravity g [m/s^2]."""
 
@@ -88,6 +90,25 @@ class Platform:
         return np.array([0.0, 0.0, -self.mass * self.g])
 
 
+class CableArrays(NamedTuple):
+    """Per-cable parameters of a robot as arrays over the m cables (what the models and kernels take).
+
+    A (m, 3) [m]; kind (m,) int8 codes (0 fixed, 1 SR, 2 DR); h, r_p, d (m,) [m]; inward (m, 2)
+    horizontal unit vector from A_i toward the anchors' centroid (the pulley plane used when P is
+    on the vertical through A_i); E (m,) [Pa]; S (m,) [m^2]; ES (m,) [N]; T_a (m,) [N]."""
+
+    A: np.ndarray
+    kind: np.ndarray
+    h: np.ndarray
+    r_p: np.ndarray
+    d: np.ndarray
+    inward: np.ndarray
+    E: np.ndarray
+    S: np.ndarray
+    ES: np.ndarray
+    T_a: np.ndarray
+
+
 @dataclasses.dataclass(frozen=True)
 class Robot:
     """A suspended point-mass CDPR with m >= 3 cables."""
@@ -95,52 +116,43 @@ class Robot:
     name: str
     cables: tuple
     platform: Platform
-    material: CableMaterial
     source: str = "<dict>"
 
     @property
     def m(self):
+        """Number of cables."""
         return len(self.cables)
 
     @cached_property
-    def A(self):
-        """Pulley joint points A_i, shape (m, 3) [m]."""
-        return np.array([c.A for c in self.cables], dtype=float)
-
-    @cached_property
-    def h(self):
-        return np.array([c.pulley.h for c in self.cables], dtype=float)
-
-    @cached_property
-    def r_p(self):
-        return np.array([c.pulley.r_p for c in self.cables], dtype=float)
-
-    @cached_property
-    def kind(self):
-        """Pulley kind codes (0 fixed, 1 SR, 2 DR), shape (m,)."""
-        return np.array([KIND_CODE[c.pulley.kind] for c in self.cables], dtype=np.int8)
-
-    @cached_property
-    def d(self):
-        """Dead lengths d_i [m], shape (m,)."""
-        return np.array([c.dead_length for c in self.cables], dtype=float)
-
-    @cached_property
-    def inward(self):
-        """Horizontal unit vector from each A_i toward the anchors' centroid, shape (m, 2).
-
-        Used as the pulley plane direction when P lies exactly on the vertical through A_i.
-        """
-        c = self.A[:, :2].mean(axis=0)
-        v = c - self.A[:, :2]
+    def arrays(self):
+        """The per-cable parameters as a :class:`CableArrays` (computed once per robot)."""
+        A = np.array([c.A for c in self.cables], dtype=float)
+        centre = A[:, :2].mean(axis=0)
+        v = centre - A[:, :2]
         n = np.linalg.norm(v, axis=1, keepdims=True)
-        v = np.where(n > 0, v / np.where(n > 0, n, 1.0), np.array([1.0, 0.0]))
-        return v
+        inward = np.where(n > 0, v / np.where(n > 0, n, 1.0), np.array([1.0, 0.0]))
+        E = np.array([c.material.E for c in self.cables], dtype=float)
+        S = np.array([c.material.S for c in self.cables], dtype=float)
+        return CableArrays(
+            A=A,
+            kind=np.array([KIND_CODE[c.pulley.kind] for c in self.cables], dtype=np.int8),
+            h=np.array([c.pulley.h for c in self.cables], dtype=float),
+            r_p=np.array([c.pulley.r_p for c in self.cables], dtype=float),
+            d=np.array([c.dead_length for c in self.cables], dtype=float),
+            inward=np.ascontiguousarray(inward),
+            E=E, S=S, ES=E * S,
+            T_a=np.array([c.material.T_a for c in self.cables], dtype=float),
+        )
 
-    @property
-    def ES(self):
-        """Axial stiffness E S [N] (same for every cable)."""
-        return self.material.E * self.material.S
+    # Short names for the arrays most models use.
+    A = property(lambda self: self.arrays.A, doc="Pulley joint points A_i, shape (m, 3) [m].")
+    kind = property(lambda self: self.arrays.kind, doc="Pulley kind codes (0 fixed, 1 SR, 2 DR), shape (m,).")
+    h = property(lambda self: self.arrays.h, doc="Lever arms h_i, shape (m,) [m].")
+    r_p = property(lambda self: self.arrays.r_p, doc="Sheave radii r_p,i, shape (m,) [m].")
+    d = property(lambda self: self.arrays.d, doc="Dead lengths d_i, shape (m,) [m].")
+    inward = property(lambda self: self.arrays.inward, doc="Fallback pulley-plane directions, shape (m, 2).")
+    ES = property(lambda self: self.arrays.ES, doc="Axial stiffness E_i S_i per cable, shape (m,) [N].")
+    T_a = property(lambda self: self.arrays.T_a, doc="Admissible tension per cable, shape (m,) [N].")
 
     @cached_property
     def subsets(self):
@@ -166,25 +178,24 @@ class Robot:
             return "fixed"
         return f"{p.kind} h={p.h * 1e3:g} mm r_p={p.r_p * 1e3:g} mm"
 
+    def material_summary(self):
+        """'E = 102.2 GPa' when every cable has the same modulus, else the list per cable."""
+        E = self.arrays.E
+        if np.all(E == E[0]):
+            return f"E = {E[0] / 1e9:g} GPa"
+        return "E = " + "/".join(f"{e / 1e9:g}" for e in E) + " GPa"
+
+    def dead_length_summary(self):
+        """'d = 4 m' when every cable has the same dead length, else the list per cable."""
+        d = self.arrays.d
+        if np.all(d == d[0]):
+            return f"d = {d[0]:g} m"
+        return "d = " + "/".join(f"{x:g}" for x in d) + " m"
+
 
 # --------------------------------------------------------------------------------------------
 # Reading and validating
 # --------------------------------------------------------------------------------------------
-def _mapping(value, source, key):
-    if not isinstance(value, dict):
-        raise ConfigError(source, key, f"expected a mapping of keys to values, got {type(value).__name__}")
-    return value
-
-
-def _check_keys(d, allowed, required, source, prefix):
-    for k in d:
-        if k not in allowed:
-            raise ConfigError(source, f"{prefix}{k}", f"unknown key; allowed keys here: {', '.join(sorted(allowed))}")
-    for k in required:
-        if k not in d:
-            raise ConfigError(source, f"{prefix}{k}", "missing required key")
-
-
 def _positive(value, dimension, source, key, allow_zero=False):
     v = quantity(value, dimension, source, key)
     if v < 0 or (v == 0 and not allow_zero):
@@ -193,67 +204,77 @@ def _positive(value, dimension, source, key, allow_zero=False):
     return v
 
 
-def _pulley(d, default, source, key):
-    d = _mapping(d, source, key)
-    _check_keys(d, _PULLEY_KEYS, (), source, key + ".")
-    merged = dict(default or {})
-    merged.update(d)
-    if "kind" not in merged:
-        raise ConfigError(source, key + ".kind", f"missing required key; allowed values: {' | '.join(PULLEY_KINDS)}")
-    kind = merged["kind"]
-    if kind not in PULLEY_KINDS:
-        raise ConfigError(source, key + ".kind", f"unknown pulley kind {kind!r}; allowed: {' | '.join(PULLEY_KINDS)}")
-    h = _positive(merged.get("h_m", 0.0), "m", source, key + ".h_m", allow_zero=True)
-    r_p = _positive(merged.get("r_p_m", 0.0), "m", source, key + ".r_p_m", allow_zero=True)
+def check_pulley(kind, h, r_p, source, key):
+    """The physical rule of a pulley design; raises ConfigError naming ``source`` and ``key``.
+
+    fixed: h = r_p = 0. SR: h >= r_p (h = r_p is the common swivel pulley whose cable enters on the
+    swivel axis). DR: h > r_p, as the paper states (the sheave hangs from its U-joint and must
+    clear it). h = r_p = 0 is the fixed-point limit of either kind."""
     if kind == "fixed":
         if h != 0.0 or r_p != 0.0:
             raise ConfigError(source, key, "a 'fixed' pulley is a point of passage: h_m and r_p_m must be 0 or absent")
-    elif not (h == 0.0 and r_p == 0.0) and h <= r_p:
-        raise ConfigError(
-            source, key,
-            f"{kind} pulley needs lever arm h_m > sheave radius r_p_m (the sheave would hit its joint), "
-            f"got h_m={h:g} m, r_p_m={r_p:g} m; h_m = r_p_m = 0 is allowed as the fixed-point limit")
+    elif h == 0.0 and r_p == 0.0:
+        return
+    elif kind == "SR" and h < r_p:
+        raise ConfigError(source, key, f"SR pulley needs lever arm h_m >= sheave radius r_p_m (the sheave would cross its swivel axis), "
+                                       f"got h_m={h:g} m, r_p_m={r_p:g} m; h_m = r_p_m = 0 is allowed as the fixed-point limit")
+    elif kind == "DR" and h <= r_p:
+        raise ConfigError(source, key, f"DR pulley needs lever arm h_m > sheave radius r_p_m (the sheave would hit its joint), "
+                                       f"got h_m={h:g} m, r_p_m={r_p:g} m; h_m = r_p_m = 0 is allowed as the fixed-point limit")
+
+
+def _pulley(d, default, source, key):
+    merged = dict(default or {})
+    merged.update(d or {})
+    if "kind" not in merged:
+        raise ConfigError(source, key + ".kind", f"missing required key; allowed values: {' | '.join(PULLEY_KINDS)}")
+    kind = merged["kind"]
+    h = _positive(merged.get("h_m", 0.0), "m", source, key + ".h_m", allow_zero=True)
+    r_p = _positive(merged.get("r_p_m", 0.0), "m", source, key + ".r_p_m", allow_zero=True)
+    check_pulley(kind, h, r_p, source, key)
     return Pulley(kind=kind, h=h, r_p=r_p)
 
 
+def _material(d, default, source, key):
+    merged = dict(default or {})
+    merged.update(d or {})
+    return CableMaterial(
+        E=_positive(merged["young_modulus_Pa"], "Pa", source, key + ".young_modulus_Pa"),
+        diameter=_positive(merged["diameter_m"], "m", source, key + ".diameter_m"),
+        T_a=_positive(merged["max_tension_N"], "N", source, key + ".max_tension_N"),
+    )
+
+
 def robot_from_dict(data, source="<dict>"):
-    """Build and validate a Robot from the parsed YAML mapping ``data``; errors name ``source``."""
-    data = _mapping(data, source, "")
-    _check_keys(data, _TOP_KEYS, ("platform", "cable", "pulley", "cables"), source, "")
-    plat = _mapping(data["platform"], source, "platform")
-    _check_keys(plat, _PLATFORM_KEYS, ("mass_kg",), source, "platform.")
+    """Build and validate a Robot from the parsed YAML mapping ``data``; errors name ``source``.
+
+    The schema ``cdpr/schemas/robot.schema.yaml`` is applied first (keys, types, counts), then the
+    physical checks: positive quantities, the pulley rule (``check_pulley``), distinct anchors,
+    anchors above the floor, anchors not collinear seen from above."""
+    if not isinstance(data, dict):
+        raise ConfigError(source, None, f"expected a mapping of keys to values, got {type(data).__name__}")
+    validate(data, "robot", source)
+    plat = data["platform"]
     platform = Platform(
         mass=_positive(plat["mass_kg"], "kg", source, "platform.mass_kg"),
         g=_positive(plat.get("gravity_m_per_s2", G_STANDARD), "m/s^2", source, "platform.gravity_m_per_s2"),
     )
-    mat = _mapping(data["cable"], source, "cable")
-    _check_keys(mat, _CABLE_MATERIAL_KEYS, sorted(_CABLE_MATERIAL_KEYS), source, "cable.")
-    material = CableMaterial(
-        E=_positive(mat["young_modulus_Pa"], "Pa", source, "cable.young_modulus_Pa"),
-        diameter=_positive(mat["diameter_m"], "m", source, "cable.diameter_m"),
-        T_a=_positive(mat["max_tension_N"], "N", source, "cable.max_tension_N"),
-    )
-    default_pulley = _mapping(data["pulley"], source, "pulley")
-    _pulley(default_pulley, None, source, "pulley")  # validate the default on its own
+    default_material = data["cable"]
+    _material(default_material, None, source, "cable")  # the default on its own
+    default_pulley = data["pulley"]
+    _pulley(default_pulley, None, source, "pulley")
     default_dead = data.get("dead_length_m", 0.0)
-    cables_raw = data["cables"]
-    if not isinstance(cables_raw, list):
-        raise ConfigError(source, "cables", f"expected a list of cables, got {type(cables_raw).__name__}")
-    if len(cables_raw) < 3:
-        raise ConfigError(source, "cables", f"a spatial point-mass CDPR needs at least 3 cables, got {len(cables_raw)}")
     cables = []
-    for i, c in enumerate(cables_raw):
+    for i, c in enumerate(data["cables"]):
         key = f"cables[{i}]"
-        c = _mapping(c, source, key)
-        _check_keys(c, _CABLE_KEYS, ("A_m",), source, key + ".")
-        A = c["A_m"]
-        if not (isinstance(A, list) and len(A) == 3):
-            raise ConfigError(source, key + ".A_m", f"expected a list of 3 coordinates [x, y, z] in m, got {A!r}")
-        A = tuple(quantity(v, "m", source, f"{key}.A_m[{j}]") for j, v in enumerate(A))
-        pulley = _pulley(c.get("pulley", {}), default_pulley, source, key + ".pulley" if "pulley" in c else "pulley")
+        A = tuple(quantity(v, "m", source, f"{key}.A_m[{j}]") for j, v in enumerate(c["A_m"]))
+        if A[2] <= 0.0:
+            raise ConfigError(source, key + ".A_m", f"the anchor must lie above the floor z = 0 (the platform hangs below it), got z = {A[2]:g} m")
+        pulley = _pulley(c.get("pulley"), default_pulley, source, key + ".pulley" if "pulley" in c else "pulley")
+        material = _material(c.get("cable"), default_material, source, key + ".cable" if "cable" in c else "cable")
         dk = key + ".dead_length_m" if "dead_length_m" in c else "dead_length_m"
         dead = _positive(c.get("dead_length_m", default_dead), "m", source, dk, allow_zero=True)
-        cables.append(Cable(A=A, pulley=pulley, dead_length=dead))
+        cables.append(Cable(A=A, pulley=pulley, dead_length=dead, material=material))
     for (i, a), (j, b) in itertools.combinations(enumerate(cables), 2):
         if np.allclose(a.A, b.A, atol=1e-9):
             raise ConfigError(source, f"cables[{j}].A_m", f"duplicate anchor point {list(b.A)}: same as cables[{i}].A_m; anchors must be distinct")
@@ -262,18 +283,18 @@ def robot_from_dict(data, source="<dict>"):
     if np.linalg.matrix_rank(centred, tol=1e-9) < 2:
         raise ConfigError(source, "cables", "the anchor points are collinear seen from above; a suspended CDPR needs anchors spanning an area")
     name = data.get("name", Path(str(source)).stem)
-    if not isinstance(name, str):
-        raise ConfigError(source, "name", f"expected a string, got {name!r}")
-    return Robot(name=name, cables=tuple(cables), platform=platform, material=material, source=str(source))
+    return Robot(name=name, cables=tuple(cables), platform=platform, source=str(source))
 
 
-def apply_overrides(data, pulley=None, h=None, r_p=None, dead_length=None, E=None, mass=None):
+def apply_overrides(data, pulley=None, h=None, r_p=None, dead_length=None, E=None, mass=None, E_cables=None):
     """Return a copy of the robot mapping with the given values set for every cable, exactly as if
-    the file had been edited (``pulley`` kind, ``h``, ``r_p``, ``dead_length`` in m, ``E`` in Pa,
-    ``mass`` in kg). ``None`` leaves the file's value."""
-    import copy
-
+    the file had been edited (``pulley`` kind, ``h``, ``r_p``, ``dead_length`` [m], ``E`` [Pa],
+    ``mass`` [kg]); ``E_cables`` (m,) [Pa] sets each cable's Young's modulus. ``None`` leaves the
+    file's value. A value set for every cable also replaces the per-cable overrides of that key."""
     data = copy.deepcopy(data)
+    if not isinstance(data, dict):
+        return data
+    cables = [c for c in data.get("cables") or [] if isinstance(c, dict)]
     pul_over = {}
     if pulley is not None:
         pul_over["kind"] = pulley
@@ -285,16 +306,25 @@ def apply_overrides(data, pulley=None, h=None, r_p=None, dead_length=None, E=Non
         pul_over["r_p_m"] = r_p
     if pul_over and isinstance(data.get("pulley"), dict):
         data["pulley"].update(pul_over)
-        for c in data.get("cables") or []:
-            if isinstance(c, dict) and isinstance(c.get("pulley"), dict):
+        for c in cables:
+            if isinstance(c.get("pulley"), dict):
                 c["pulley"].update(pul_over)
     if dead_length is not None:
         data["dead_length_m"] = dead_length
-        for c in data.get("cables") or []:
-            if isinstance(c, dict):
-                c.pop("dead_length_m", None)
+        for c in cables:
+            c.pop("dead_length_m", None)
     if E is not None and isinstance(data.get("cable"), dict):
         data["cable"]["young_modulus_Pa"] = E
+        for c in cables:
+            if isinstance(c.get("cable"), dict):
+                c["cable"].pop("young_modulus_Pa", None)
+    if E_cables is not None:
+        if len(E_cables) != len(cables):
+            raise ConfigError(data.get("name", "robot"), "cables", f"{len(E_cables)} per-cable Young's moduli given for {len(cables)} cables")
+        for c, e in zip(cables, E_cables):
+            c.setdefault("cable", {})
+            if isinstance(c["cable"], dict):
+                c["cable"]["young_modulus_Pa"] = e
     if mass is not None and isinstance(data.get("platform"), dict):
         data["platform"]["mass_kg"] = mass
     return data
@@ -310,7 +340,7 @@ def read_yaml(path):
     try:
         return yaml.safe_load(text)
     except yaml.YAMLError as exc:
-        raise ConfigError(path, None, f"not valid YAML: {exc}") from None
+        raise ConfigError(path, None, f"not valid YAML: {' '.join(str(exc).split())}") from None
 
 
 def load_robot(path, **overrides):
@@ -319,13 +349,14 @@ def load_robot(path, **overrides):
     given = {k: v for k, v in overrides.items() if v is not None}
     source = str(path)
     if given:
-        data = apply_overrides(_mapping(data, source, ""), **given)
+        data = apply_overrides(data, **given)
         source = f"{path} (with command-line overrides: {', '.join(sorted(given))})"
     return robot_from_dict(data, source=source)
 
 
 def with_pulleys(robot, kind=None, h=None, r_p=None, dead_length=None, E=None):
-    """A copy of ``robot`` with every cable's pulley / dead length / E replaced (validated)."""
+    """A copy of ``robot`` with every cable's pulley / dead length / Young's modulus E [Pa] replaced
+    (validated as a robot file would be)."""
     cables = []
     for c in robot.cables:
         k = c.pulley.kind if kind is None else kind
@@ -333,10 +364,10 @@ def with_pulleys(robot, kind=None, h=None, r_p=None, dead_length=None, E=None):
         rr = c.pulley.r_p if r_p is None else r_p
         if k == "fixed":
             hh = rr = 0.0
-        pd = {"kind": k, "h_m": hh, "r_p_m": rr}
-        pulley = _pulley(pd, None, robot.source, "pulley")
-        cables.append(Cable(A=c.A, pulley=pulley, dead_length=c.dead_length if dead_length is None else float(dead_length)))
-    material = robot.material if E is None else dataclasses.replace(robot.material, E=float(E))
-    if material.E <= 0:
-        raise ConfigError(robot.source, "cable.young_modulus_Pa", f"must be strictly positive, got {E!r}")
-    return dataclasses.replace(robot, cables=tuple(cables), material=material)
+        pulley = _pulley({"kind": k, "h_m": hh, "r_p_m": rr}, None, robot.source, "pulley")
+        material = c.material
+        if E is not None:
+            material = dataclasses.replace(material, E=_positive(E, "Pa", robot.source, "cable.young_modulus_Pa"))
+        cables.append(Cable(A=c.A, pulley=pulley, dead_length=c.dead_length if dead_length is None else float(dead_length),
+                            material=material))
+    return dataclasses.replace(robot, cables=tuple(cables))

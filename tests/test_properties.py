@@ -36,6 +36,6 @@ def test_solution_invariants(kind, r_p, extra, a, b, z, E):
     sel = (r.A[SUB], r.kind[SUB], r.h[SUB], r.r_p[SUB], r.d[SUB], r.inward[SUB])
     L_TE, u = total_length_and_direction(res.P, *sel)[:2]
     assert equilibrium_residual(u, res.t, r.platform.w_ext).max() < 1e-6
-    assert np.abs(L_TE - L_TS(r, P)[:, SUB] * (1 + res.t / r.ES)).max() < 1e-9
+    assert np.abs(L_TE - L_TS(r, P)[:, SUB] * (1 + res.t / r.ES[list(SUB)])).max() < 1e-9
     # |dp| is bounded by the pulley size plus the elastic stretch scale
     assert np.linalg.norm(res.P - P) < 20 * (r.h[0] + r.r_p[0]) + 0.5
