@@ -1,46 +1,143 @@
-"""Command line: ``cdpr inverse | point | grid | winch`` (also ``python -m cdpr``).
+"""Command line: ``cdpr inverse | point | grid | plane | trajectory | winch | job`` (also ``python -m cdpr``).
 
 JSON with ``--json``, a readable table without. Options given on the command line override the
-robot file exactly as if it had been edited. SI units throughout.
+robot file exactly as if it had been edited. SI units throughout. Every bad input is refused with
+one sentence on stderr and exit code 2, before any work starts.
 """
 from __future__ import annotations
 
 import argparse
 import json
+import math
+import os
+import re
 import sys
 import time
 
 import numpy as np
 
-from . import io, study, winch
+from . import analyses, io, winch
 from .errors import CdprError
-from .inverse import L_TS, igm_e
-from .redundancy import solve_points, solve_table, subset_label
 from .robot import PULLEY_KINDS, load_robot
 from .workspace import check_box, frame_box, grid_points, shard_range
+
+#: Bytes of memory per grid point while solving and writing (measured peak RSS / points, rounded up).
+BYTES_PER_POINT = 600
+#: Largest winch table a command writes.
+MAX_STEPS = 10_000_000
+#: A number, also in exponent notation and negative ("-1e-1"): argparse must not take it for an option.
+_NUMBER = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$|^-inf(inity)?$", re.IGNORECASE)
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with one-line errors (``cdpr: error: ...``, exit 2) and negative numbers in exponent
+    notation read as numbers."""
+
+    def __init__(self, *a, **k):
+        super().__init__(*a, **k)
+        self._negative_number_matcher = _NUMBER
+
+    def error(self, message):
+        self.exit(2, f"cdpr: error: {self.prog.removeprefix('cdpr ')}: {message}\n")
+
+
+def finite(text):
+    """argparse type: a finite float."""
+    try:
+        v = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+    if not math.isfinite(v):
+        raise argparse.ArgumentTypeError(f"{text!r} is not a finite number")
+    return v
+
+
+def positive(text):
+    """argparse type: a finite float > 0."""
+    v = finite(text)
+    if v <= 0:
+        raise argparse.ArgumentTypeError(f"{text!r} must be > 0")
+    return v
+
+
+def non_negative(text):
+    """argparse type: a finite float >= 0."""
+    v = finite(text)
+    if v < 0:
+        raise argparse.ArgumentTypeError(f"{text!r} must be >= 0")
+    return v
+
+
+def count(low, high=None):
+    """argparse type: an integer in [low, high]."""
+    def parse(text):
+        try:
+            v = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
+        if v < low or (high is not None and v > high):
+            raise argparse.ArgumentTypeError(f"{v} is outside the allowed range [{low}, {high if high is not None else 'inf'}]")
+        return v
+    return parse
+
+
+def _threads(text):
+    return count(1, os.cpu_count() or 1)(text)
 
 
 def _robot_options(sp):
     sp.add_argument("--robot", required=True, metavar="FILE", help="robot YAML file (config/robots/*.yaml)")
     sp.add_argument("--pulley", choices=PULLEY_KINDS, help="pulley kind for every cable")
-    sp.add_argument("--h", type=float, metavar="M", help="lever arm h [m] for every cable")
-    sp.add_argument("--rp", type=float, metavar="M", help="sheave radius r_p [m] for every cable")
-    sp.add_argument("--dead-length", type=float, metavar="M", help="dead length d [m] for every cable")
+    sp.add_argument("--h", type=non_negative, metavar="M", help="lever arm h [m] for every cable")
+    sp.add_argument("--rp", type=non_negative, metavar="M", help="sheave radius r_p [m] for every cable")
+    sp.add_argument("--dead-length", type=non_negative, metavar="M", help="dead length d [m] for every cable")
     sp.add_argument("--json", action="store_true", help="print JSON")
 
 
 def _solver_options(sp):
-    sp.add_argument("--E", type=float, metavar="PA", help="Young's modulus E [Pa]")
-    sp.add_argument("--mass", type=float, metavar="KG", help="platform mass M [kg]")
+    sp.add_argument("--E", type=positive, metavar="PA", help="Young's modulus E [Pa] of every cable")
+    sp.add_argument("--mass", type=positive, metavar="KG", help="platform mass M [kg]")
     sp.add_argument("--method", choices=("newton", "fixed_point"), default="newton", help="DEGM_E solver (default newton)")
-    sp.add_argument("--engine", choices=("compiled", "numpy"), default="compiled",
-                    help="compiled numba kernel (default, Newton only) or the numpy reference implementation")
-    sp.add_argument("--threads", type=int, help="threads of the compiled engine (default: all cores)")
+    sp.add_argument("--engine", choices=("compiled", "numpy"), default=None,
+                    help="compiled numba kernel (default for newton; Newton only) or the numpy reference (default for fixed_point)")
+    sp.add_argument("--threads", type=_threads, help="threads of the compiled engine (1 to the number of cores; default: all)")
+
+
+def _points_options(sp, what):
+    g = sp.add_mutually_exclusive_group(required=True)
+    g.add_argument("--at", nargs=3, type=finite, metavar=("X", "Y", "Z"), help=f"{what} [m]")
+    g.add_argument("--points", metavar="FILE", help="many points at once: a .csv or .parquet table with columns x, y, z [m]")
+    sp.add_argument("--out", metavar="FILE", help="with --points: write the result table (.csv or .parquet)")
+
+
+def _engine(args):
+    return args.engine or ("compiled" if args.method == "newton" else "numpy")
 
 
 def _load(args):
     return load_robot(args.robot, pulley=args.pulley, h=args.h, r_p=args.rp, dead_length=args.dead_length,
                       E=getattr(args, "E", None), mass=getattr(args, "mass", None))
+
+
+def _points(args):
+    """(N, 3) points of --at or --points; refuses non-finite coordinates and a missing --out."""
+    if args.at is not None:
+        return np.array([args.at], dtype=float)
+    if not args.out:
+        raise CdprError("--points needs --out FILE for the result table")
+    io.check_output(args.out)
+    try:
+        df = io.read_table(args.points)
+    except FileNotFoundError:
+        raise CdprError(f"{args.points}: the points file does not exist") from None
+    missing = [c for c in "xyz" if c not in df.columns]
+    if missing:
+        raise CdprError(f"{args.points}: missing column(s) {', '.join(missing)}; a points table needs columns x, y, z [m]")
+    P = df[["x", "y", "z"]].to_numpy(dtype=float)
+    bad = ~np.isfinite(P).all(axis=1)
+    if bad.any():
+        raise CdprError(f"{args.points}: row {int(np.flatnonzero(bad)[0]) + 1} has a non-finite coordinate; every x, y, z must be a finite number")
+    return P
 
 
 def _table(rows, headers):
@@ -51,31 +148,57 @@ def _table(rows, headers):
     return "\n".join(lines)
 
 
+def _vec(v):
+    return "(" + ", ".join(f"{x:.4f}" for x in v) + ")"
+
+
 def cmd_inverse(args):
+    from .inverse import L_TS, igm_e
+
     robot = _load(args)
-    P = np.array([args.at], dtype=float)
+    P = _points(args)
     st = igm_e(robot, P)
-    lts = L_TS(robot, P)[0]
-    out = [{"cable": i + 1, "L_TS": float(lts[i]), "L_TE": float(st.L_TE[0, i]), "gamma": float(st.gamma[0, i]),
-            "l_d": float(st.l_d[0, i]), "l_E": float(st.l_E[0, i]), "D": st.D[0, i].tolist()} for i in range(robot.m)]
+    lts = L_TS(robot, P)
+    if args.points:
+        import pandas as pd
+
+        cols = {"x": P[:, 0], "y": P[:, 1], "z": P[:, 2]}
+        for i in range(robot.m):
+            c = i + 1
+            cols.update({f"L_TS{c}": lts[:, i], f"L_TE{c}": st.L_TE[:, i], f"gamma{c}": st.gamma[:, i], f"alpha{c}": st.alpha[:, i],
+                         f"beta{c}": st.beta[:, i], f"inside{c}": st.inside[:, i]})
+        df = pd.DataFrame(cols)
+        io.write_table(df, args.out)
+        print(f"wrote {len(df)} points to {args.out}; {int(st.inside.any(axis=1).sum())} inside a sheave (lengths clipped there)")
+        return
+    out = [{"cable": i + 1, "L_TS": float(lts[0, i]), "L_TE": float(st.L_TE[0, i]), "gamma": float(st.gamma[0, i]),
+            "l_d": float(st.l_d[0, i]), "l_E": float(st.l_E[0, i]), "alpha": float(st.alpha[0, i]),
+            "beta": float(st.beta[0, i]) if robot.kind[i] == 2 else None, "H": st.H[0, i].tolist(), "K": st.K[0, i].tolist(),
+            "D": st.D[0, i].tolist(), "inside": bool(st.inside[0, i])} for i in range(robot.m)]
     if args.json:
         print(json.dumps(io.clean_json(out), indent=2))
         return
     print(f"{robot.name} ({robot.pulley_summary()}, {robot.dead_length_summary()}) at P = {args.at} m")
-    rows = [[str(o["cable"]), f"{o['L_TS']:.6f}", f"{o['L_TE']:.6f}", f"{o['gamma']:.6f}", f"{o['l_d']:.6f}",
-             f"{o['l_E']:.6f}", "(" + ", ".join(f"{v:.4f}" for v in o["D"]) + ")"] for o in out]
-    print(_table(rows, ["cable", "L_TS [m]", "L_TE [m]", "gamma [rad]", "|l_d| [m]", "|l_E| [m]", "D [m]"]))
+    rows = [[str(o["cable"]), f"{o['L_TS']:.6f}", f"{o['L_TE']:.6f}", f"{o['gamma']:.6f}", f"{o['alpha']:.6f}",
+             "-" if o["beta"] is None else f"{o['beta']:.6f}", f"{o['l_d']:.6f}", f"{o['l_E']:.6f}", _vec(o["H"]), _vec(o["K"]), _vec(o["D"]),
+             "INSIDE" if o["inside"] else ""] for o in out]
+    print(_table(rows, ["cable", "L_TS [m]", "L_TE [m]", "gamma [rad]", "alpha [rad]", "beta [rad]", "|l_d| [m]", "|l_E| [m]",
+                        "H [m]", "K [m]", "D [m]", "sheave"]))
+    if any(o["inside"] for o in out):
+        print("warning: P (or the winch exit) lies inside a sheave circle for the cables marked INSIDE: no tangent exists, their lengths are clipped")
 
 
 def cmd_point(args):
-    robot = _load(args)
-    P = np.array([args.at], dtype=float)
-    if args.engine == "compiled" and args.method == "newton":
-        from .fast import solve_points_fast
+    from .solve import solve_points_any, to_frame
 
-        res = solve_points_fast(robot, P, threads=args.threads)
-    else:
-        res = solve_points(robot, P, method=args.method)
+    robot = _load(args)
+    P = _points(args)
+    res = solve_points_any(robot, P, method=args.method, engine=_engine(args), threads=args.threads)
+    if args.points:
+        df = to_frame(robot, res)
+        io.write_table(df, args.out)
+        _report(df, args.out, args, float("nan"))
+        return
     t = res["t"][0]
     out = {
         "desired": list(map(float, args.at)),
@@ -89,6 +212,8 @@ def cmd_point(args):
     if args.json:
         print(json.dumps(io.clean_json(out), indent=2))
         return
+    from .redundancy import subset_label
+
     print(f"{robot.name} ({robot.pulley_summary()}, {robot.material_summary()}, {robot.dead_length_summary()}), solver {args.method}")
     fmt = lambda v: "(" + ", ".join("nan" if v is None or v != v else f"{x:.6f}" for x in v) + ")"  # noqa: E731
     print(f"  desired P  [m] : {fmt(out['desired'])}")
@@ -99,24 +224,35 @@ def cmd_point(args):
     print(f"  status         : {out['status']}  ({out['iterations']} iterations)")
 
 
-def cmd_grid(args):
-    robot = _load(args)
-    if args.box_file:
-        from .jobs import read_box
+def _check_size(n_points, what):
+    """Refuse a job whose tables cannot fit in memory, naming the size it would need."""
+    need = n_points * BYTES_PER_POINT
+    avail = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+    if need > avail:
+        raise CdprError(f"{what}: {n_points:,} points would need about {need / 2**30:,.1f} GiB of memory, "
+                        f"more than this machine's {avail / 2**30:.1f} GiB; use fewer points or --shards")
 
-        box = check_box(read_box(args.box_file))
+
+def cmd_grid(args):
+    from .solve import solve_table
+
+    robot = _load(args)
+    io.check_output(args.out)
+    if args.box_file:
+        from .study import read_box
+
+        box = read_box(args.box_file)
     elif args.frame:
         box = check_box(frame_box(robot))
     elif args.box:
         box = check_box(args.box)
     else:
         raise CdprError("give the grid box with --box, --box-file or --frame")
-    if args.n < 1:
-        raise CdprError(f"--n must be a positive integer, got {args.n}")
     start, stop = shard_range(args.n**3, args.shard, args.shards)
+    _check_size(stop - start, f"--n {args.n}")
     t0 = time.perf_counter()
     P = grid_points(box, args.n, start, stop)
-    df = solve_table(robot, P, method=args.method, engine=args.engine, threads=args.threads)
+    df = solve_table(robot, P, method=args.method, engine=_engine(args), threads=args.threads)
     io.write_table(df, args.out)
     dt = time.perf_counter() - t0
     _report(df, args.out, args, dt)
@@ -124,8 +260,11 @@ def cmd_grid(args):
 
 def cmd_winch(args):
     p = winch.load_params(args.params) if args.params else winch.TABLE1
-    if args.steps < 2:
-        raise CdprError(f"--steps must be at least 2, got {args.steps}")
+    if args.out:
+        io.check_output(args.out)
+    if not args.lpm_from < args.lpm_to:
+        raise CdprError(f"--lpm-from must be below --lpm-to, got {args.lpm_from:g} and {args.lpm_to:g}")
+    winch.check_range(p, args.lpm_from, args.lpm_to)
     df = winch.winch_table(p, args.lpm_from, args.lpm_to, args.steps)
     if args.out:
         io.write_table(df, args.out)
@@ -140,160 +279,154 @@ def cmd_winch(args):
 def _report(df, out, args, dt):
     """What a solver command wrote: points, time, statuses and the |dp| range of the ok points."""
     counts = {k: int(v) for k, v in df["status"].value_counts().items() if v}
-    lo, hi = study.ok_extremes(df)
+    lo, hi = analyses.ok_extremes(df)
     rate = len(df) / dt if dt > 0 else None
     summary = {"out": out, "points": int(len(df)), "seconds": dt, "points_per_second": rate, "status": counts, "dp_min": lo, "dp_max": hi}
     if args.json:
         print(json.dumps(io.clean_json(summary), indent=2))
     else:
-        print(f"wrote {len(df)} points to {out} in {dt:.2f} s ({rate:.0f} points/s)")
+        timing = f" in {dt:.2f} s ({rate:.0f} points/s)" if rate else ""
+        print(f"wrote {len(df)} points to {out}{timing}")
         print("status: " + ", ".join(f"{k} {v}" for k, v in counts.items()) + f"; |dp| over ok points: min {lo:.6f} m, max {hi:.6f} m")
 
 
 def cmd_plane(args):
     robot = _load(args)
-    if args.n < 2:
-        raise CdprError(f"--n must be at least 2, got {args.n}")
+    io.check_output(args.out)
+    top = float(robot.A[:, 2].min())
+    if not 0.0 <= args.z < top:
+        raise CdprError(f"--z must lie between the floor and the lowest pulley (0 <= z < {top:g} m), got {args.z:g}")
     t0 = time.perf_counter()
-    df = study.plane(robot, args.z, args.n, method=args.method, engine=args.engine, threads=args.threads)
+    df = analyses.plane(robot, args.z, args.n, method=args.method, engine=_engine(args), threads=args.threads)
     io.write_table(df, args.out)
     _report(df, args.out, args, time.perf_counter() - t0)
 
 
 def cmd_trajectory(args):
     robot = _load(args)
-    if args.n < 2:
-        raise CdprError(f"--n must be at least 2, got {args.n}")
+    io.check_output(args.out)
     t0 = time.perf_counter()
-    df = study.trajectory(robot, args.start, args.end, args.n, method=args.method, engine=args.engine, threads=args.threads)
+    df = analyses.trajectory(robot, args.start, args.end, args.n, method=args.method, engine=_engine(args), threads=args.threads)
     io.write_table(df, args.out)
     _report(df, args.out, args, time.perf_counter() - t0)
 
 
-def cmd_plot(args):
-    from .figures import KINDS  # matplotlib is imported only by the commands that draw
-
-    KINDS[args.kind](args)
-
-
-def _groups(items, size):
-    return [items[i:i + size] for i in range(0, len(items), size)]
+#: Pipeline tasks: name -> (function of cdpr.tasks, its named options). Options named ``tables``
+#: and ``paths`` take many files; the rest one value. Files are matched by name, not position.
+JOBS = {
+    "winch-figure": ("winch_figure", ["table", "figure"]),
+    "plane-figure": ("plane_figure", ["robot_key", "tables", "figure"]),
+    "subsets-figure": ("subsets_figure", ["robot_key", "tables", "figure"]),
+    "trajectories": ("trajectories", ["tables", "table", "figure", "minmax_figure"]),
+    "volumes": ("volumes", ["tables", "table", "figure"]),
+    "volume-view": ("volume_view", ["label", "tables", "figure"]),
+    "rw": ("regular_workspace", ["tables", "table", "json"]),
+    "doe": ("doe_results", ["tables", "table", "effects", "figure", "effects_figure"]),
+    "map": ("map_rows", ["kind", "box_file", "table", "threads"]),
+    "maps": ("maps", ["tables", "box_file", "map", "lines", "figure", "threads"]),
+    "elasticity": ("elasticity", ["tables", "paths", "table", "bands", "crossings", "figure", "paths_figure"]),
+    "dead-length-point": ("dead_length_point", ["d", "box_file", "table", "threads"]),
+    "dead-length": ("dead_length", ["tables", "table", "figure"]),
+    "summary": ("summary", ["results", "table", "markdown"]),
+}
+_JOB_OPTION_HELP = {"tables": "input tables (matched by file name)", "paths": "path tables (matched by file name)",
+                    "table": "output table", "figure": "output figure (.png; a .pdf is written beside it)", "json": "output JSON",
+                    "effects": "output effects table", "effects_figure": "output effects figure", "minmax_figure": "output min/max figure",
+                    "map": "output map table", "lines": "output lines table", "bands": "output bands table", "crossings": "output crossings table",
+                    "paths_figure": "output figure of the paths", "markdown": "output summary.md", "results": "results folder of the study",
+                    "box_file": "JSON with the RW_C box", "robot_key": "robot label of the study", "label": "robot_pulley label",
+                    "kind": "pulley kind", "d": "dead length [m]", "threads": "solver threads"}
 
 
 def cmd_job(args):
-    from . import jobs
+    from . import tasks
+    from .study import load_study
 
-    st = jobs.load_study(args.study)
-    i, o = args.inputs or [], args.outputs or []
-    name = args.name
-    if name == "volumes":
-        jobs.volumes(st, args.labels, _groups(i, args.shards), *o)
-    elif name == "volume-view":
-        jobs.volume_views(st, args.labels[0], i, *o)
-    elif name == "rw":
-        jobs.regular_workspace(st, i, *o)
-    elif name == "doe":
-        jobs.doe_results(st, _groups(i, args.shards), *o)
-    elif name == "map":
-        jobs.map_rows(st, args.kind, args.box_file, *o, threads=args.threads)
-    elif name == "maps":
-        jobs.maps(st, i, args.box_file, *o)
-    elif name == "elasticity":
-        designs = list(st["optimal"])
-        E_values = [float(e) for e in args.E_values]
-        n_idx = len(designs) * len(E_values) * args.shards
-        jobs.elasticity(st, designs, E_values, _groups(i[:n_idx], args.shards), i[n_idx:], *o)
-    elif name == "dead-length-point":
-        jobs.dead_length_point(st, args.d, args.box_file, *o, threads=args.threads)
-    elif name == "dead-length":
-        jobs.dead_length(st, i, *o)
-    elif name == "summary":
-        from . import summary
-
-        summary.write_summary(st, args.results, *o)
-    else:
-        raise CdprError(f"unknown job {name!r}")
-
-
-JOBS = ("volumes", "volume-view", "rw", "doe", "map", "maps", "elasticity", "dead-length-point", "dead-length", "summary")
+    st = load_study(args.study)
+    func, names = JOBS[args.name]
+    given = {n: getattr(args, n) for n in names}
+    missing = [f"--{n.replace('_', '-')}" for n, v in given.items() if v is None and n != "threads"]
+    if missing:
+        raise CdprError(f"job {args.name} needs {', '.join(missing)}")
+    for n in names:
+        if n in ("table", "figure", "json", "effects", "effects_figure", "minmax_figure", "map", "lines", "bands", "crossings",
+                 "paths_figure", "markdown"):
+            io.check_output(given[n])
+    getattr(tasks, func)(st, **given)
 
 
 def build_parser():
-    ap = argparse.ArgumentParser(prog="cdpr", description="Pose errors of cable-driven parallel robots from pulleys, cable elasticity and winch geometry.")
-    sub = ap.add_subparsers(dest="command", required=True)
-    sp = sub.add_parser("inverse", help="extended inverse model of every cable at a point")
+    ap = _Parser(prog="cdpr", description="Pose errors of cable-driven parallel robots from pulleys, cable elasticity and winch geometry.")
+    sub = ap.add_subparsers(dest="command", required=True, parser_class=_Parser)
+    sp = sub.add_parser("inverse", help="extended inverse model of every cable at a point (or a table of points)")
     _robot_options(sp)
-    sp.add_argument("--at", nargs=3, type=float, required=True, metavar=("X", "Y", "Z"), help="platform position [m]")
+    _points_options(sp, "platform position")
     sp.set_defaults(func=cmd_inverse)
-    sp = sub.add_parser("point", help="DEGM_E at one point: solved pose, |dp|, tensions, subset, status")
+    sp = sub.add_parser("point", help="DEGM_E at a point (or a table of points): solved pose, |dp|, tensions, subset, status")
     _robot_options(sp)
     _solver_options(sp)
-    sp.add_argument("--at", nargs=3, type=float, required=True, metavar=("X", "Y", "Z"), help="desired position [m]")
+    _points_options(sp, "desired position")
     sp.set_defaults(func=cmd_point)
     sp = sub.add_parser("grid", help="DEGM_E over the n^3 cell-centred grid of a box; writes parquet or CSV")
     _robot_options(sp)
     _solver_options(sp)
-    sp.add_argument("--box", nargs=6, type=float, metavar=("XMIN", "XMAX", "YMIN", "YMAX", "ZMIN", "ZMAX"))
+    sp.add_argument("--box", nargs=6, type=finite, metavar=("XMIN", "XMAX", "YMIN", "YMAX", "ZMIN", "ZMAX"))
     sp.add_argument("--box-file", metavar="FILE", help="JSON file whose key 'box' holds the six numbers (e.g. rw_c.json)")
     sp.add_argument("--frame", action="store_true", help="the frame's bounding box (anchors' extent, z from 0 to the pulleys)")
-    sp.add_argument("--n", type=int, required=True, help="points per axis")
+    sp.add_argument("--n", type=count(1), required=True, help="points per axis")
     sp.add_argument("--out", required=True, metavar="FILE", help="output .parquet or .csv")
-    sp.add_argument("--shard", type=int, default=0, help="0-based shard index (default 0)")
-    sp.add_argument("--shards", type=int, default=1, help="number of shards (default 1)")
+    sp.add_argument("--shard", type=count(0), default=0, help="0-based shard index (default 0)")
+    sp.add_argument("--shards", type=count(1), default=1, help="number of shards (default 1)")
     sp.set_defaults(func=cmd_grid)
     sp = sub.add_parser("winch", help="winch joint angles and length error versus l_pm (winch seed Fig. 7)")
     sp.add_argument("--params", metavar="FILE", help="YAML of winch parameters (default: Table 1 of the winch seed)")
-    sp.add_argument("--lpm-from", type=float, default=0.0)
-    sp.add_argument("--lpm-to", type=float, default=5.0)
-    sp.add_argument("--steps", type=int, default=101)
+    sp.add_argument("--lpm-from", type=non_negative, default=0.0, metavar="M", help="first l_pm [m] (default 0)")
+    sp.add_argument("--lpm-to", type=non_negative, default=5.0, metavar="M", help="last l_pm [m] (default 5)")
+    sp.add_argument("--steps", type=count(2, MAX_STEPS), default=101, help="points of the table (default 101)")
     sp.add_argument("--out", metavar="FILE", help="also write the table (.csv or .parquet)")
     sp.add_argument("--json", action="store_true")
     sp.set_defaults(func=cmd_winch)
     sp = sub.add_parser("plane", help="DEGM_E over a horizontal plane (Fig. 9, 12); writes a table")
     _robot_options(sp)
     _solver_options(sp)
-    sp.add_argument("--z", type=float, required=True, metavar="M", help="plane height [m]")
-    sp.add_argument("--n", type=int, required=True, help="points per side over the anchors' bounding box")
+    sp.add_argument("--z", type=finite, required=True, metavar="M", help="plane height [m]")
+    sp.add_argument("--n", type=count(2, 20000), required=True, help="points per side over the anchors' bounding box")
     sp.add_argument("--out", required=True, metavar="FILE")
     sp.set_defaults(func=cmd_plane)
     sp = sub.add_parser("trajectory", help="DEGM_E along a straight path (Fig. 10, 19); writes a table with arc length s")
     _robot_options(sp)
     _solver_options(sp)
-    sp.add_argument("--start", nargs=3, type=float, required=True, metavar=("X", "Y", "Z"))
-    sp.add_argument("--end", nargs=3, type=float, required=True, metavar=("X", "Y", "Z"))
-    sp.add_argument("--n", type=int, required=True, help="points along the path")
+    sp.add_argument("--start", nargs=3, type=finite, required=True, metavar=("X", "Y", "Z"))
+    sp.add_argument("--end", nargs=3, type=finite, required=True, metavar=("X", "Y", "Z"))
+    sp.add_argument("--n", type=count(2, 100_000_000), required=True, help="points along the path")
     sp.add_argument("--out", required=True, metavar="FILE")
     sp.set_defaults(func=cmd_trajectory)
-    sp = sub.add_parser("job", help="a pipeline task: aggregate tables into tables and figures")
-    sp.add_argument("name", choices=JOBS)
-    sp.add_argument("--study", required=True, metavar="FILE")
-    sp.add_argument("--inputs", nargs="*", metavar="FILE")
-    sp.add_argument("--outputs", nargs="*", metavar="FILE")
-    sp.add_argument("--labels", nargs="*")
-    sp.add_argument("--shards", type=int, default=1)
-    sp.add_argument("--kind", choices=("SR", "DR"))
-    sp.add_argument("--d", type=float)
-    sp.add_argument("--E-values", nargs="*")
-    sp.add_argument("--box-file")
-    sp.add_argument("--results", help="results folder (summary)")
-    sp.add_argument("--threads", type=int, help="threads of the compiled solver")
+    sp = sub.add_parser("job", help="a pipeline task: tables in, tables and figures out (run by Snakemake)")
+    sp.add_argument("name", choices=list(JOBS))
+    sp.add_argument("--study", required=True, metavar="FILE", help="the study file (validated as by the pipeline)")
+    for n in sorted({n for _, names in JOBS.values() for n in names}):
+        opt = "--" + n.replace("_", "-")
+        if n in ("tables", "paths"):
+            sp.add_argument(opt, nargs="+", metavar="FILE", help=_JOB_OPTION_HELP[n])
+        elif n == "threads":
+            sp.add_argument(opt, type=_threads, help=_JOB_OPTION_HELP[n])
+        elif n == "d":
+            sp.add_argument(opt, type=non_negative, help=_JOB_OPTION_HELP[n])
+        else:
+            sp.add_argument(opt, help=_JOB_OPTION_HELP[n])
     sp.set_defaults(func=cmd_job)
-    sp = sub.add_parser("plot", help="draw a figure (PNG + PDF) from result tables")
-    sp.add_argument("kind", choices=("plane", "subsets", "trajectories", "winch"))
-    sp.add_argument("--table", nargs="+", required=True, metavar="FILE")
-    sp.add_argument("--labels", nargs="+")
-    sp.add_argument("--title")
-    sp.add_argument("--out", required=True, metavar="FILE.png")
-    sp.set_defaults(func=cmd_plot)
     return ap
 
 
 def main(argv=None):
-    args = build_parser().parse_args(argv)
     try:
+        args = build_parser().parse_args(argv)
         args.func(args)
     except CdprError as exc:
         print(f"cdpr: error: {exc}", file=sys.stderr)
         return 2
+    except BrokenPipeError:  # e.g. `cdpr ... | head`: the reader left; stop quietly
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return 0
     return 0
-

@@ -1,10 +1,40 @@
-"""Full factorial designs, effects and interactions (section 4.2), optimal lines (section 4.3)."""
+"""Global index (eq. 15), full factorial designs, effects and interactions (Paty 2021 section 4.2),
+optimal lines (section 4.3).
+
+References
+----------
+Paty, T., Binaud, N., Caro, S., Segonds, S. (2021). Cable-driven parallel robot modelling considering
+pulley kinematics and cable elasticity. Mechanism and Machine Theory 159, 104263.
+"""
 from __future__ import annotations
 
 import itertools
 
 import numpy as np
 import pandas as pd
+
+
+def global_index(dp, status):
+    """Global index of a design (Paty 2021 eq. 15): the mean pose error over the evaluation points.
+
+    .. math:: I = \\frac{1}{N} \\sum_{k=1}^{N} \\lVert \\delta p_k \\rVert
+
+    Parameters
+    ----------
+    dp : array (N,) [m]
+        Pose error ‖δp‖ at the N points evenly spread in RW_C (cell centres).
+    status : array (N,) of str
+        Per-point status; only ``ok`` points enter the mean.
+
+    Returns
+    -------
+    (index [m], number of points that are not ``ok``). The paper's RW_C lies inside the workspace of
+    every design, so the second number is 0 there; it is reported so that a box reaching outside a
+    design's workspace does not go unseen.
+    """
+    ok = np.asarray(status) == "ok"
+    dp = np.asarray(dp, dtype=float)
+    return (float(dp[ok].mean()) if ok.any() else float("nan")), int((~ok).sum())
 
 
 def full_factorial(k):

@@ -25,8 +25,34 @@ def atomic(path, write):
         raise
 
 
+#: Significant digits of the floats written to CSV: the tracked tables are byte-identical on another
+#: machine (the last bits of a float differ between CPUs' maths libraries), and 12 digits keep
+#: far more than any number we compare (1e-9 m on metres).
+CSV_DIGITS = 12
+TABLE_SUFFIXES = (".parquet", ".csv")
+
+
+def check_output(path, suffixes=None):
+    """Refuse an output path before any work: unknown extension, or a folder that cannot be created
+    or written. ``suffixes`` defaults to the table formats; a figure takes .png."""
+    path = Path(path)
+    if suffixes is None:
+        suffixes = {".png": (".png",), ".json": (".json",), ".md": (".md",)}.get(path.suffix, TABLE_SUFFIXES)
+    if path.suffix not in suffixes:
+        raise CdprError(f"{path}: unknown output format '{path.suffix}'; allowed: {', '.join(suffixes)}")
+    parent = path.parent
+    while not parent.exists() and parent != parent.parent:
+        parent = parent.parent
+    if not parent.is_dir() or not os.access(parent, os.W_OK | os.X_OK):
+        raise CdprError(f"{path}: cannot write there ({parent} is not a writable folder)")
+    if path.is_dir():
+        raise CdprError(f"{path}: is a folder, not a file name")
+    return path
+
+
 def write_table(df, path):
-    """Write a DataFrame as parquet (.parquet) or CSV (.csv), atomically."""
+    """Write a DataFrame as parquet (.parquet) or CSV (.csv, floats with CSV_DIGITS significant
+    digits), atomically."""
     import pandas as pd
 
     suffix = Path(path).suffix
@@ -40,20 +66,27 @@ def write_table(df, path):
         cats = [c for c in df.columns if isinstance(df[c].dtype, pd.CategoricalDtype)]
         atomic(path, lambda tmp: pq.write_table(table, tmp, compression=None, use_dictionary=cats or False))
     elif suffix == ".csv":
-        atomic(path, lambda tmp: df.to_csv(tmp, index=False))
+        atomic(path, lambda tmp: df.to_csv(tmp, index=False, float_format=f"%.{CSV_DIGITS}g"))
     else:
         raise CdprError(f"{path}: unknown table format '{suffix}'; allowed: .parquet, .csv")
 
 
 def read_table(path):
+    """Read a .parquet or .csv table; a truncated or unreadable file is named, with what to do."""
     import pandas as pd
 
     suffix = Path(path).suffix
-    if suffix == ".parquet":
-        return pd.read_parquet(path)
-    if suffix == ".csv":
-        return pd.read_csv(path)
-    raise CdprError(f"{path}: unknown table format '{suffix}'; allowed: .parquet, .csv")
+    if suffix not in TABLE_SUFFIXES:
+        raise CdprError(f"{path}: unknown table format '{suffix}'; allowed: .parquet, .csv")
+    if not Path(path).exists():
+        raise FileNotFoundError(path)
+    try:
+        return pd.read_parquet(path) if suffix == ".parquet" else pd.read_csv(path)
+    except FileNotFoundError:
+        raise
+    except Exception as exc:  # pyarrow.ArrowInvalid, pandas' EmptyDataError/ParserError, ...
+        raise CdprError(f"{path}: cannot read this table ({type(exc).__name__}: {' '.join(str(exc).split())[:200]}); "
+                        f"it is probably truncated by an interrupted run: delete it and run again") from None
 
 
 def clean_json(obj):

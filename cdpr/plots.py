@@ -1,4 +1,10 @@
-"""One function per figure family. Each reads a table (DataFrame) and writes PNG and PDF."""
+"""The figures of the study: one function per figure of the papers, each drawing from tables.
+
+Every function takes the tables (DataFrames) a pipeline job wrote beside the figure, draws, and
+writes a PNG and a PDF (``save``). Nothing here computes physics: the numbers drawn are the numbers
+in the tables. Figure numbers are those of Paty et al. 2021 (Fig. 9-19) and Métillon et al. 2022
+(Fig. 7).
+"""
 from __future__ import annotations
 
 from pathlib import Path
@@ -10,6 +16,11 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from .io import atomic  # noqa: E402
+
+#: Colours of the pulley kinds and designs, used by every figure that compares them.
+KIND_COLOURS = {"SR": "tab:blue", "DR": "tab:orange", "fixed": "tab:gray"}
+#: Colour of the cells that are not ``ok`` in the maps.
+NOT_OK_COLOUR = "0.85"
 
 
 def save(fig, out):
@@ -32,59 +43,292 @@ def _grid(df, value):
     return xs, ys, Z
 
 
-def plane_contours(df, title, out):
-    """Fig. 12: iso-contours of |dp| [m] over a horizontal plane; non-ok points left blank."""
-    ok = (df.status == "ok").to_numpy()
-    xs, ys, Z = _grid(df, np.where(ok, df.dp, np.nan))
-    fig, ax = plt.subplots(figsize=(5, 4.4))
-    cf = ax.contourf(xs, ys, Z, levels=14, cmap="viridis")
-    cs = ax.contour(xs, ys, Z, levels=7, colors="k", linewidths=0.5)
-    ax.clabel(cs, fmt="%.3f", fontsize=7)
-    fig.colorbar(cf, ax=ax, label="|dp| [m]")
-    ax.set(xlabel="x [m]", ylabel="y [m]", title=title, aspect="equal")
+def _round_levels(lo, hi, target=8):
+    """Contour levels at round values covering [lo, hi]."""
+    if not (np.isfinite(lo) and np.isfinite(hi)) or hi <= lo:
+        return None
+    raw = (hi - lo) / target
+    mag = 10 ** np.floor(np.log10(raw))
+    step = min((m * mag for m in (1, 2, 2.5, 5, 10) if m * mag >= raw), default=10 * mag)
+    return np.arange(np.floor(lo / step) * step, hi + step, step)
+
+
+def _anchors(ax, A):
+    """Draw the anchors' footprint with cable numbers (1-based)."""
+    for i, (x, y) in enumerate(A[:, :2], start=1):
+        ax.plot(x, y, "k^", ms=6)
+        ax.annotate(str(i), (x, y), textcoords="offset points", xytext=(4, 4), fontsize=8)
+
+
+def _not_ok_legend(ax, df):
+    from matplotlib.patches import Patch
+
+    counts = df.status[df.status != "ok"].value_counts()
+    counts = counts[counts > 0]
+    if len(counts):
+        ax.legend(handles=[Patch(color=NOT_OK_COLOUR, label="not ok: " + ", ".join(f"{k} {v}" for k, v in counts.items()))],
+                  fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.12))
+
+
+def fig7_winch(df, l_pm0, q0, out):
+    """Métillon 2022 Fig. 7: (a) drum angle versus the length l_pm, with and without the winch model,
+    and (b) the length error δl = k_w (q1 - q_nw). ``df`` has columns l_pm, q1, q2, q_nw, dl."""
+    fig, (a, b) = plt.subplots(1, 2, figsize=(11, 4))
+    a.plot(df.l_pm, df.q1, label="q1 (winch model, physical root)")
+    a.plot(df.l_pm, df.q_nw, "--", label="q_nw (winch neglected)")
+    a.plot([l_pm0], [q0], "ko", label=f"initial point (l_pm0 = {l_pm0:.3f} m, q0 = {q0:g} rad)")
+    a.set(xlabel="l_pm [m]", ylabel="drum angle q [rad]", title="(a) drum angle (winch seed Fig. 7a)")
+    inset = a.inset_axes([0.55, 0.12, 0.4, 0.3])
+    inset.plot(df.l_pm, (df.q1 - df.q_nw) * 1e3, "k-", lw=1)
+    inset.set_title("q1 - q_nw [mrad]", fontsize=7)
+    inset.tick_params(labelsize=6)
+    a.legend(fontsize=7, loc="upper left")
+    a.grid(alpha=0.3)
+    b.plot(df.l_pm, df.dl * 1e3, "k-", label="δl = k_w (q1 - q_nw)")
+    b.axvline(l_pm0, color="0.5", ls=":", label=f"l_pm0 = {l_pm0:.3f} m")
+    b.axhline(0.0, color="0.7", lw=0.8)
+    b.set(xlabel="l_pm [m]", ylabel="δl [mm]", title="(b) length error (winch seed Fig. 7b)")
+    b.legend(fontsize=7)
+    b.grid(alpha=0.3)
     return save(fig, out)
 
 
-def subset_map(df, title, out):
-    """Fig. 9: the 3-cable subset that minimises |dp| at each point of the plane."""
-    labels = sorted(s for s in df.subset.unique() if s)
-    code = df.subset.map({s: i for i, s in enumerate(labels)}).astype(float)
-    code[df.status != "ok"] = np.nan
-    xs, ys, Z = _grid(df, code.to_numpy())
-    fig, ax = plt.subplots(figsize=(5, 4.4))
+def fig9_subsets(tables, A, z, robot_name, out):
+    """Paty 2021 Fig. 9: the 3-cable subset that minimises ‖δp‖ at each point of the plane, one
+    panel per pulley design. ``tables`` maps a design label to its plane table."""
+    labels = sorted({s for df in tables.values() for s in df.subset.astype(str).unique() if s})
     cmap = plt.get_cmap("tab10", max(len(labels), 1))
-    im = ax.pcolormesh(xs, ys, Z, cmap=cmap, vmin=-0.5, vmax=len(labels) - 0.5, shading="nearest")
-    cb = fig.colorbar(im, ax=ax, ticks=range(len(labels)))
+    fig, axes = plt.subplots(1, len(tables), figsize=(5.2 * len(tables), 4.8), squeeze=False)
+    for ax, (label, df) in zip(axes[0], tables.items()):
+        code = df.subset.astype(str).map({s: i for i, s in enumerate(labels)}).astype(float)
+        code[(df.status != "ok").to_numpy()] = np.nan
+        xs, ys, Z = _grid(df, code.to_numpy())
+        ax.set_facecolor(NOT_OK_COLOUR)
+        im = ax.pcolormesh(xs, ys, Z, cmap=cmap, vmin=-0.5, vmax=len(labels) - 0.5, shading="nearest")
+        _anchors(ax, A)
+        ax.set(xlabel="x [m]", ylabel="y [m]", title=f"{robot_name} {label} at z = {z:g} m", aspect="equal")
+        _not_ok_legend(ax, df)
+    cb = fig.colorbar(im, ax=axes[0].tolist(), ticks=range(len(labels)))
     cb.ax.set_yticklabels([f"cables {s}" for s in labels])
-    ax.set(xlabel="x [m]", ylabel="y [m]", title=title, aspect="equal")
+    fig.suptitle("Subset of 3 cables that minimises ‖δp‖ (Fig. 9); grey: no admissible subset", fontsize=9)
     return save(fig, out)
 
 
-def curves(series, xlabel, ylabel, title, out, markers=None):
-    """Generic line plot: ``series`` is a list of (x, y, label)."""
-    fig, ax = plt.subplots(figsize=(6, 4))
-    for x, y, label in series:
-        ax.plot(x, y, label=label)
-    for x, y, label in markers or []:
-        ax.plot(x, y, "o", label=label)
-    ax.set(xlabel=xlabel, ylabel=ylabel, title=title)
+def fig10_trajectories(tables, minmax, out):
+    """Paty 2021 Fig. 10: ‖δp‖ along the section 3.3.1 paths. ``tables`` maps a design label
+    (robot_pulley) to its path table (s, dp, status); ``minmax`` has ok_until_s_m and
+    path_length_m per design. Points that are not ok are marked by status."""
+    fig, ax = plt.subplots(figsize=(7, 4.2))
+    markers = {"slack": "x", "over_tension": "^", "inaccessible": "s", "not_converged": "d"}
+    for (label, df), (_, row) in zip(tables.items(), minmax.iterrows()):
+        ok = df.status == "ok"
+        kind = label.split("_", 1)[1] if "_" in label else label
+        style = "-" if label.startswith(tuple(sorted({lab.split("_")[0] for lab in tables})[:1])) else "--"
+        line, = ax.plot(df.s.where(ok), df.dp.where(ok) * 1e3, style, color=KIND_COLOURS.get(kind), label=label)
+        for st, mk in markers.items():
+            sel = df.status == st
+            if sel.any():
+                ax.plot(df.s[sel], np.zeros(int(sel.sum())), mk, color=line.get_color(), ms=4, label=f"{label}: {st}")
+        if np.isfinite(row.ok_until_s_m):
+            ax.axvline(row.ok_until_s_m, color=line.get_color(), ls=":", lw=0.8)
+    lengths = sorted(set(np.round(minmax.path_length_m, 3)))
+    ax.set(xlabel="position along the path s [m] (path lengths " + ", ".join(f"{v:g}" for v in lengths) + " m; dotted: last ok point)",
+           ylabel="‖δp‖ [mm]", title="‖δp‖ along the section 3.3.1 paths (Fig. 10)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7, ncol=2)
+    return save(fig, out)
+
+
+def fig11_minmax(minmax, out):
+    """Paty 2021 Fig. 11: min and max ‖δp‖ along each path, per design (table ``minmax``)."""
+    fig, ax = plt.subplots(figsize=(6.5, 4))
+    x = np.arange(len(minmax))
+    ax.bar(x - 0.2, minmax.dp_min_m * 1e3, 0.4, label="min")
+    ax.bar(x + 0.2, minmax.dp_max_m * 1e3, 0.4, label="max")
+    ax.set_xticks(x, minmax.design, rotation=30, ha="right")
+    ax.set(ylabel="‖δp‖ [mm]", title="Min and max of ‖δp‖ along the paths (Fig. 11)")
+    ax.grid(axis="y", alpha=0.3)
+    ax.legend(fontsize=8)
+    return save(fig, out)
+
+
+def fig12_plane(tables, A, z, robot_name, out):
+    """Paty 2021 Fig. 12: iso-contours of ‖δp‖ over the horizontal plane at height z, one panel per
+    pulley design of the same robot on ONE colour scale (the comparison is the point). Cells that
+    are not ok are grey and counted in a legend."""
+    vals = [df.dp[df.status == "ok"] for df in tables.values()]
+    lo = min((float(v.min()) for v in vals if len(v)), default=np.nan) * 1e3
+    hi = max((float(v.max()) for v in vals if len(v)), default=np.nan) * 1e3
+    levels = _round_levels(lo, hi, 12)
+    fig, axes = plt.subplots(1, len(tables), figsize=(5.2 * len(tables), 5.0), squeeze=False)
+    cf = None
+    for ax, (label, df) in zip(axes[0], tables.items()):
+        ok = (df.status == "ok").to_numpy()
+        xs, ys, Z = _grid(df, np.where(ok, df.dp * 1e3, np.nan))
+        ax.set_facecolor(NOT_OK_COLOUR)
+        if levels is not None and np.isfinite(Z).any():
+            cf = ax.contourf(xs, ys, Z, levels=levels, cmap="viridis")
+            cs = ax.contour(xs, ys, Z, levels=levels[::2], colors="k", linewidths=0.5)
+            ax.clabel(cs, fmt="%g", fontsize=7)
+        _anchors(ax, A)
+        ax.set(xlabel="x [m]", ylabel="y [m]", title=f"{robot_name} {label} at z = {z:g} m", aspect="equal")
+        _not_ok_legend(ax, df)
+    if cf is not None:
+        fig.colorbar(cf, ax=axes[0].tolist(), label="‖δp‖ [mm]")
+    return save(fig, out)
+
+
+def fig13_volume_view(df, limits, R_V, z_top, title, out):
+    """Paty 2021 Fig. 13: the error-limited region ‖δp‖ <= limit, one panel per limit, drawn as the
+    faces of its voxels (cell-centred grid table ``df`` in C order), z from 0 to ``z_top``."""
+    xs, ys, zs = (np.sort(df[c].unique()) for c in ("x", "y", "z"))
+    n = (len(xs), len(ys), len(zs))
+    edges = [np.concatenate([[c[0] - (c[1] - c[0]) / 2], (c[:-1] + c[1:]) / 2, [c[-1] + (c[-1] - c[-2]) / 2]]) for c in (xs, ys, zs)]
+    X, Y, Z = np.meshgrid(*edges, indexing="ij")
+    ok = (df.status == "ok").to_numpy()
+    dp = df.dp.to_numpy()
+    fig = plt.figure(figsize=(5 * len(limits), 4.8))
+    norm = matplotlib.colors.Normalize(0.0, max(limits) * 1e3)
+    for k, (lim, rv) in enumerate(zip(limits, R_V)):
+        ax = fig.add_subplot(1, len(limits), k + 1, projection="3d")
+        filled = (ok & (dp <= lim)).reshape(n)
+        colour = plt.get_cmap("viridis")(norm(np.nan_to_num(dp, nan=0.0).reshape(n) * 1e3))
+        colour[..., 3] = 0.35
+        ax.voxels(X, Y, Z, filled, facecolors=colour, edgecolor=None, linewidth=0)
+        ax.set(xlabel="x [m]", ylabel="y [m]", zlabel="z [m]", zlim=(0.0, z_top), title=f"‖δp‖ ≤ {lim * 1e3:g} mm: R_V = {rv:.2f}")
+    fig.colorbar(matplotlib.cm.ScalarMappable(norm=norm, cmap="viridis"), ax=fig.axes, shrink=0.6, label="‖δp‖ [mm]")
+    fig.suptitle(title, fontsize=10)
+    return save(fig, out)
+
+
+def fig14_rv(tab, paper, out):
+    """Paty 2021 Fig. 14: R_V = V_L / V_T versus the error limit, per robot and pulley design;
+    ``paper`` rows (robot, pulley, limit_m, R_V) are the paper's values, drawn as markers."""
+    fig, ax = plt.subplots(figsize=(6.5, 4.2))
+    for (rk, pk), g in tab.groupby(["robot", "pulley"], sort=False):
+        line, = ax.plot(g.limit_m * 1e3, g.R_V, "-" if rk.endswith("4") else "--", color=KIND_COLOURS.get(pk), label=f"{rk} {pk}")
+        p = paper[(paper.robot == rk) & (paper.pulley == pk)]
+        if len(p):
+            ax.plot(p.limit_m * 1e3, p.R_V, "o", mfc="none", color=line.get_color(), label=f"{rk} {pk}: paper")
+    for lim in sorted(set(paper.limit_m)):
+        ax.axvline(lim * 1e3, color="0.6", ls=":", lw=0.8)
+    ax.set(xlabel=r"error limit $\|\delta p\|_{lim}$ [mm]", ylabel=r"$R_V = V_L / V_T$", title="Error-limited volume ratio (Fig. 14)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7, ncol=2)
+    return save(fig, out)
+
+
+def fig15_doe(tests, out):
+    """Paty 2021 Fig. 15: the global index of each DOE test (Table 2)."""
+    fig, ax = plt.subplots(figsize=(7, 4.2))
+    colours = [KIND_COLOURS.get(k) for k in tests.kind]
+    ax.bar(np.arange(len(tests)), tests.index_m * 1e3, color=colours)
+    ax.set_xticks(np.arange(len(tests)), [f"T{t}: {k}\nh={h * 1e3:g} r_p={r * 1e3:g} mm" for t, k, h, r in
+                                          zip(tests.test, tests.kind, tests.h_m, tests.r_p_m)], fontsize=7)
+    ax.set(ylabel="global index mean ‖δp‖ [mm]", title="DOE responses (Fig. 15)")
+    ax.grid(axis="y", alpha=0.3)
+    return save(fig, out)
+
+
+def fig16_effects(eff, out):
+    """Paty 2021 Fig. 16: effects and interactions of the coded factors on the global index."""
+    e = eff[eff.term != "mean"]
+    fig, ax = plt.subplots(figsize=(6.5, 4))
+    ax.bar(np.arange(len(e)), e.effect * 1e3, color=["tab:green" if v < 0 else "tab:red" for v in e.effect])
+    ax.set_xticks(np.arange(len(e)), e.term, rotation=30, ha="right")
+    ax.axhline(0.0, color="k", lw=0.8)
+    ax.set(ylabel="effect on mean ‖δp‖ [mm]",
+           title="Effects and interactions (Fig. 16); factors coded -1/+1:\njoint SR/DR, h and r_p low/high level of Table 2", )
+    ax.title.set_fontsize(9)
+    ax.grid(axis="y", alpha=0.3)
+    return save(fig, out)
+
+
+def fig17_maps(tab, valleys, lines, tests, levels, out):
+    """Paty 2021 Fig. 17: the global index over the (r_p, h) plane for each pulley kind on one
+    colour range, the valley r_p*(h), the fitted line h = k r_p, the DOE field and tests T1-T8, and
+    the line's crossing I with the field. ``valleys`` maps a kind to its valley table; ``lines``
+    has one row per kind."""
+    kinds = list(dict.fromkeys(tab.kind))
+    lo, hi = float(tab.index_m.min()) * 1e3, float(tab.index_m.max()) * 1e3
+    lv = _round_levels(lo, hi, 20)
+    fig, axes = plt.subplots(1, len(kinds), figsize=(5.8 * len(kinds), 5), squeeze=False)
+    cf = None
+    for ax, kind in zip(axes[0], kinds):
+        g = tab[tab.kind == kind]
+        piv = g.pivot(index="h_m", columns="r_p_m", values="index_m")
+        if piv.shape[0] > 1 and piv.shape[1] > 1 and lv is not None:
+            cf = ax.contourf(piv.columns * 1e3, piv.index * 1e3, piv.values * 1e3, levels=lv, cmap="viridis")
+        v = valleys[kind]
+        ax.plot(v.r_p_star * 1e3, v.h * 1e3, "wo", ms=3, mec="k", mew=0.4, label="valley r_p*(h)")
+        line = lines[lines.kind == kind].iloc[0]
+        if np.isfinite(line.slope_k):
+            rr = np.linspace(0, g.r_p_m.max(), 10)
+            ax.plot(rr * 1e3, line.slope_k * rr * 1e3, "r-", label=f"h = {line.slope_k:.2f} r_p")
+        r0, r1 = levels["r_p_m"]
+        h0, h1 = levels["h_m"]
+        ax.add_patch(plt.Rectangle((r0 * 1e3, h0 * 1e3), (r1 - r0) * 1e3, (h1 - h0) * 1e3, fill=False, ec="w", ls="--"))
+        for t in tests[tests.kind == kind].itertuples():
+            ax.annotate(f"T{t.test}", (t.r_p_m * 1e3, t.h_m * 1e3), color="w", fontsize=8, ha="center", va="center",
+                        bbox=dict(boxstyle="round,pad=0.15", fc="k", alpha=0.5))
+        if line.r_p_opt_m == line.r_p_opt_m and line.r_p_opt_m is not None:
+            ax.plot(line.r_p_opt_m * 1e3, line.h_opt_m * 1e3, "r*", ms=12, label=f"I_{kind}")
+        ax.set(xlabel="sheave radius r_p [mm]", ylabel="lever arm h [mm]", title=f"{kind} pulleys (Fig. 17)",
+               xlim=(0, g.r_p_m.max() * 1e3), ylim=(0, g.h_m.max() * 1e3))
+        ax.legend(fontsize=7, loc="lower right")
+    if cf is not None:
+        fig.colorbar(cf, ax=axes[0].tolist(), label="global index mean ‖δp‖ [mm]")
+    return save(fig, out)
+
+
+def fig18_index_vs_E(tab, E_mean, bands, out):
+    """Paty 2021 Fig. 18: the global index of each optimal design versus Young's modulus, with the
+    nominal modulus E_mean and the band [min, max] over the range marked."""
+    fig, ax = plt.subplots(figsize=(6.5, 4.2))
+    for dk, g in tab.groupby("design", sort=False):
+        line, = ax.plot(g.E_Pa / 1e9, g.index_m * 1e3, "o-", ms=3, label=dk)
+        b = bands[bands.design == dk].iloc[0]
+        ax.axhspan(b.index_min_m * 1e3, b.index_max_m * 1e3, color=line.get_color(), alpha=0.12)
+    ax.axvline(E_mean / 1e9, color="k", ls=":", label=f"E_mean = {E_mean / 1e9:g} GPa")
+    ax.set(xlabel="Young's modulus E [GPa]", ylabel="global index mean ‖δp‖ [mm]", title="Index versus Young's modulus (Fig. 18); shaded: band")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     return save(fig, out)
 
 
-def bars(labels, values, ylabel, title, out, groups=None):
-    """Bar chart; ``groups`` optionally a list of (name, values) to draw side by side."""
-    fig, ax = plt.subplots(figsize=(6.5, 4))
-    if groups is None:
-        groups = [(None, values)]
-    w = 0.8 / len(groups)
-    x = np.arange(len(labels))
-    for k, (name, vals) in enumerate(groups):
-        ax.bar(x + (k - (len(groups) - 1) / 2) * w, vals, w, label=name)
-    ax.set_xticks(x, labels, rotation=30, ha="right")
-    ax.set(ylabel=ylabel, title=title)
-    ax.grid(axis="y", alpha=0.3)
-    if groups[0][0] is not None:
-        ax.legend(fontsize=8)
+def fig19_paths(curves, crossings, out):
+    """Paty 2021 Fig. 19: ‖δp‖ along the section 5.2 path for each design (colour) at E_min,
+    E_mean, E_max (line style), with the crossings of the E_max and E_min curves marked.
+    ``curves`` is a list of (design, E [Pa], s [m], dp [m]); ``crossings`` a table design, s_m."""
+    fig, ax = plt.subplots(figsize=(7, 4.2))
+    designs = list(dict.fromkeys(c[0] for c in curves))
+    Es = sorted({c[1] for c in curves})
+    styles = dict(zip(Es, [":", "-", "--"] if len(Es) == 3 else ["-"] * len(Es)))
+    colours = dict(zip(designs, plt.rcParams["axes.prop_cycle"].by_key()["color"]))
+    for dk, E, s, dp in curves:
+        ax.plot(s, dp * 1e3, styles[E], color=colours[dk], label=f"{dk} E = {E / 1e9:g} GPa")
+    for r in crossings.itertuples():
+        ax.axvline(r.s_m, color=colours.get(r.design, "k"), lw=0.8, alpha=0.6)
+        ax.annotate(f"{r.design} crossing s = {r.s_m:.2f} m", (r.s_m, ax.get_ylim()[1]), rotation=90, fontsize=6, va="top", ha="right")
+    ax.set(xlabel="position along the path s [m]", ylabel="‖δp‖ [mm]", title="‖δp‖ along the section 5.2 path (Fig. 19)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+    return save(fig, out)
+
+
+def dead_length_figure(tab, d_default, out):
+    """Sensitivity of the paper-comparable numbers to the dead length d (not given by the paper):
+    the CDPR4 plane extremes (left) and the optimal designs' index at E_mean (right)."""
+    fig, (a, b) = plt.subplots(1, 2, figsize=(11, 4))
+    for c in [c for c in tab.columns if c.startswith("plane_")]:
+        _, pk, stat, _ = c.split("_")
+        a.plot(tab.d_m, tab[c] * 1e3, "-" if stat == "max" else "--", marker="o", ms=3, color=KIND_COLOURS.get(pk), label=f"{pk} plane {stat}")
+    for c in [c for c in tab.columns if c.endswith("_index_m") and "_Emean_" in c]:
+        b.plot(tab.d_m, tab[c] * 1e3, marker="o", ms=3, label=f"{c.split('_')[0]} index at E_mean")
+    for ax, yl in ((a, "‖δp‖ on the plane [mm]"), (b, "global index mean ‖δp‖ [mm]")):
+        ax.axvline(d_default, color="k", ls=":", label=f"default d = {d_default:g} m")
+        ax.set(xlabel="dead length d [m]", ylabel=yl)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7)
+    fig.suptitle("Sensitivity of paper-comparable numbers to the dead length d", fontsize=10)
     return save(fig, out)

@@ -1,4 +1,4 @@
-"""Kinematics of one pulley per cable (Paty et al. 2021, eq. 3-7, as read in shared/design/models.md).
+"""Kinematics of one pulley per cable (Paty et al. 2021, eq. 3-7, as read in docs/models.md).
 
 Everything of cable i happens in the vertical plane through A_i that contains P: the swivel of an
 SR pulley and the U-joint of a DR pulley both turn the sheave into that plane. In-plane coordinates

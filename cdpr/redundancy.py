@@ -19,7 +19,6 @@ lowest |dp| are still reported, so that the reason can be inspected; aggregation
 from __future__ import annotations
 
 import numpy as np
-import pandas as pd
 
 from .direct import degm_e
 from .inverse import L_TS
@@ -92,56 +91,3 @@ def subset_label(subset_row):
     if subset_row[0] < 0:
         return ""
     return "-".join(str(int(i) + 1) for i in subset_row)
-
-
-def subset_labels(robot, subset):
-    """Categorical labels ('1-2-3', ..., '' when none) of an (N, 3) array of 0-based subsets, built
-    from integer codes (no Python loop per point; parquet stores it dictionary-encoded)."""
-    subs = robot.subsets
-    labels = [subset_label(s) for s in subs] + [""]
-    weights = np.array([robot.m * robot.m, robot.m, 1])
-    skey = subs @ weights  # lexicographic order -> sorted keys
-    key = np.asarray(subset).reshape(-1, 3) @ weights
-    pos = np.minimum(np.searchsorted(skey, key), len(subs) - 1)
-    code = np.where((np.asarray(subset).reshape(-1, 3)[:, 0] >= 0) & (skey[pos] == key), pos, len(subs))
-    return pd.Categorical.from_codes(code, categories=labels)
-
-
-def to_frame(robot, res):
-    """One row per point with stable column names: x, y, z, x_s, y_s, z_s, dp, t1..tm, subset,
-    iterations, status (SI units)."""
-    df = pd.DataFrame({
-        "x": res["p"][:, 0], "y": res["p"][:, 1], "z": res["p"][:, 2],
-        "x_s": res["P_s"][:, 0], "y_s": res["P_s"][:, 1], "z_s": res["P_s"][:, 2],
-        "dp": res["dp"],
-    })
-    for i in range(robot.m):
-        df[f"t{i + 1}"] = res["t"][:, i]
-    df["subset"] = subset_labels(robot, res["subset"])
-    df["iterations"] = res["iterations"]
-    codes = res["status_code"] if "status_code" in res else pd.Categorical(res["status"], categories=list(STATUSES)).codes
-    df["status"] = pd.Categorical.from_codes(codes, categories=list(STATUSES))
-    return df
-
-
-#: Points solved per batch: bounds memory (about 2 kB per point and subset) and keeps arrays in cache.
-CHUNK = 20000
-
-
-def solve_table(robot, p, method="newton", chunk=CHUNK, engine="compiled", threads=None, **options):
-    """Solve DEGM_E at points p with the paper-mode subset choice, as a DataFrame (``to_frame``).
-
-    ``engine="compiled"`` (default, Newton only) runs the numba kernel of ``cdpr.fast`` over all
-    points in parallel (``threads`` caps the threads); ``engine="numpy"`` runs ``solve_points`` in
-    chunks of ``chunk`` points: the reference implementation, and the only one for the fixed point.
-    Both give the same table (tested)."""
-    p = np.atleast_2d(np.asarray(p, dtype=float))
-    if engine == "compiled" and method == "newton":
-        from .fast import solve_points_fast
-
-        return to_frame(robot, solve_points_fast(robot, p, threads=threads, **options))
-    if engine not in ("compiled", "numpy"):
-        raise ValueError(f"unknown engine {engine!r}; allowed: 'compiled', 'numpy'")
-    starts = range(0, len(p), chunk) if len(p) else [0]
-    frames = [to_frame(robot, solve_points(robot, p[i:i + chunk], method=method, **options)) for i in starts]
-    return pd.concat(frames, ignore_index=True)

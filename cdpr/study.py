@@ -1,51 +1,184 @@
-"""The paper's analyses as functions of a robot: trajectories (section 3.3.1), planes (3.3.2),
-error-limited volumes (3.3.3), regular workspaces and the global index (4.1), factorial designs
-(4.2), optimal lines (4.3). Each returns a DataFrame or a small dict; no files, no Snakemake."""
+"""Study files (``config/studies/*.yaml``): reading, validation and the designs they define.
+
+A study names its robots, the pulley designs to compare and the resolution of every analysis of
+the paper. This module is the one place that reads a study: ``load_study`` applies the schema
+``cdpr/schemas/study.schema.yaml`` and then the checks a schema cannot express (every robot file
+readable and valid, every pulley design physically possible on every robot, sweeps increasing,
+planes below the pulleys, ...), so that a bad value stops the run before any job, with one sentence
+naming the study file, the key and what is allowed. The command line, the library and the
+Snakemake pipeline all go through it.
+"""
 from __future__ import annotations
 
+import math
+from pathlib import Path
+
 import numpy as np
+import pandas as pd
 
-from .redundancy import solve_table
-from .workspace import cell_centres, frame_box
-
-
-def trajectory_points(start, end, n):
-    """n evenly spaced points on the segment start -> end and their arc length s [m]."""
-    start, end = np.asarray(start, dtype=float), np.asarray(end, dtype=float)
-    f = np.linspace(0.0, 1.0, n)
-    return start + f[:, None] * (end - start), f * np.linalg.norm(end - start)
+from . import doe
+from .errors import ConfigError
+from .robot import check_pulley, load_robot, read_yaml, robot_from_dict
+from .validation import validate
+from .workspace import check_box
 
 
-def trajectory(robot, start, end, n, method="newton", **solver):
-    """|dp| along a straight path (Fig. 10, 19): the point table plus the arc length ``s``."""
-    P, s = trajectory_points(start, end, n)
-    df = solve_table(robot, P, method=method, **solver)
-    df.insert(0, "s", s)
-    return df
+class Study(dict):
+    """A validated study: the parsed YAML mapping, plus ``path`` (the file) and ``robots_data`` (the
+    parsed robot files, read once)."""
+
+    path: str = "<dict>"
 
 
-def plane_points(robot, z, n):
-    """n x n cell centres over the anchors' horizontal bounding box at height z (Fig. 9, 12)."""
-    x0, x1, y0, y1, _, _ = frame_box(robot)
-    X, Y = np.meshgrid(cell_centres(x0, x1, n), cell_centres(y0, y1, n), indexing="ij")
-    return np.column_stack([X.ravel(), Y.ravel(), np.full(X.size, float(z))])
+def load_study(path):
+    """Read and validate a study file; returns a :class:`Study` (a dict of the YAML keys).
+
+    Raises ConfigError naming the study file and the key for: a missing or malformed file, a schema
+    violation, or a value the schema cannot check (``check_study``)."""
+    data = read_yaml(path)
+    if not isinstance(data, dict):
+        raise ConfigError(path, None, f"expected a mapping of study keys, got {type(data).__name__}")
+    validate(data, "study", path)
+    st = Study(data)
+    st.path = str(path)
+    check_study(st)
+    return st
 
 
-def plane(robot, z, n, method="newton", **solver):
-    """|dp| over the horizontal plane at height z (Fig. 12) with the chosen subsets (Fig. 9)."""
-    return solve_table(robot, plane_points(robot, z, n), method=method, **solver)
+def robot_of(st, robot_key, **overrides):
+    """The study's robot ``robot_key`` with keyword overrides (``robot.apply_overrides``)."""
+    return load_robot(st["robots"][robot_key], **overrides)
 
 
-def ok_extremes(df):
-    """min and max |dp| over the rows with status ok (NaN when there are none)."""
-    ok = df.loc[df["status"] == "ok", "dp"]
-    return (float(ok.min()), float(ok.max())) if len(ok) else (float("nan"), float("nan"))
+def design_robot(st, robot_key, pulley, E=None, dead_length=None):
+    """Robot ``robot_key`` of the study with a pulley design {kind, h_m, r_p_m} on every cable, the
+    study's dead length (or ``dead_length`` [m]) and optionally Young's modulus ``E`` [Pa]."""
+    fixed = pulley["kind"] == "fixed"
+    return robot_of(st, robot_key, pulley=pulley["kind"], h=None if fixed else pulley.get("h_m", 0.0),
+                    r_p=None if fixed else pulley.get("r_p_m", 0.0),
+                    dead_length=st["dead_length_m"] if dead_length is None else dead_length, E=E)
 
 
-def crossings(s, a, b):
-    """Arc lengths where curve a - b changes sign (linear interpolation), e.g. E_max vs E_min (Fig. 19)."""
-    s, diff = np.asarray(s), np.asarray(a) - np.asarray(b)
-    good = np.isfinite(diff)
-    s, diff = s[good], diff[good]
-    idx = np.flatnonzero(np.sign(diff[:-1]) * np.sign(diff[1:]) < 0)
-    return [float(s[i] - diff[i] * (s[i + 1] - s[i]) / (diff[i + 1] - diff[i])) for i in idx]
+def doe_tests(st):
+    """The 2^3 tests of Table 2 (Paty 2021 section 4.2): number, coded levels and actual design."""
+    lv = st["doe"]["levels"]
+    X = doe.full_factorial(3)
+    rows = []
+    for i, (cj, ch, cr) in enumerate(X, start=1):
+        rows.append({"test": i, "joint_c": cj, "h_c": ch, "r_p_c": cr,
+                     "kind": lv["joint"][int(cj > 0)], "h_m": lv["h_m"][int(ch > 0)], "r_p_m": lv["r_p_m"][int(cr > 0)]})
+    return pd.DataFrame(rows)
+
+
+def arange_incl(spec):
+    """from, from + step, ..., to (inclusive) of a {from, to, step} mapping, rounded to 1e-10 m."""
+    n = int(round((spec["to"] - spec["from"]) / spec["step"])) + 1
+    return np.round(spec["from"] + spec["step"] * np.arange(n), 10)
+
+
+def map_cells(st):
+    """The (h, r_p) cells of the h-r_p maps (Fig. 17) with r_p < h [m]: the DR rule h > r_p, also
+    used for SR so that both maps cover the same cells."""
+    return [(float(h), float(r)) for h in arange_incl(st["maps"]["h_m"]) for r in arange_incl(st["maps"]["r_p_m"]) if r < h - 1e-12]
+
+
+def map_kinds(st):
+    """The pulley kinds of the h-r_p maps: the DOE's joint levels (SR and DR in the paper)."""
+    return list(dict.fromkeys(st["doe"]["levels"]["joint"]))
+
+
+def E_values(st):
+    """Young's moduli [Pa] of the index-versus-E sweep (Fig. 18)."""
+    e = st["elasticity"]["E_Pa"]
+    return [float(x) for x in np.linspace(e["from"], e["to"], e["steps"])]
+
+
+def volume_limits(st):
+    """Error limits [m] of the R_V sweep (Fig. 14): the sweep and the paper's limits, sorted."""
+    sw = st["volumes"]["sweep_m"]
+    return sorted(set(np.round(np.linspace(sw["from"], sw["to"], sw["steps"]), 10)) | set(st["volumes"]["limits_m"]))
+
+
+def index_box(st, rw_c):
+    """The box [m] the global index uses: the paper's RW_C or the computed one (``doe.rw_c``)."""
+    return rw_c["box"] if isinstance(rw_c, dict) else rw_c
+
+
+def read_box(path):
+    """The ``box`` of a JSON file written by the regular-workspace job (six numbers [m])."""
+    import json
+
+    p = Path(path)
+    try:
+        return check_box(json.loads(p.read_text())["box"]).tolist()
+    except FileNotFoundError:
+        raise ConfigError(p, None, "the box file does not exist") from None
+    except (ValueError, KeyError, TypeError) as exc:
+        raise ConfigError(p, "box", f"expected a JSON object whose key 'box' holds six numbers XMIN XMAX YMIN YMAX ZMIN ZMAX ({exc})") from None
+
+
+# ------------------------------------------------------------------------------------------------
+# Checks a schema cannot express
+# ------------------------------------------------------------------------------------------------
+def _increasing(st, key, lo, hi, what="'from' must be below 'to'"):
+    if not lo < hi:
+        raise ConfigError(st.path, key, f"{what}, got from = {lo:g}, to = {hi:g}")
+
+
+def check_study(st):
+    """Cross-key checks of a schema-valid study; raises ConfigError naming the study file and key."""
+    src = st.path
+    robots = {}
+    for key, path in st["robots"].items():
+        if not Path(path).is_file():
+            raise ConfigError(src, f"robots.{key}", f"robot file {path!r} does not exist (paths are relative to the directory snakemake runs in)")
+        try:
+            robots[key] = robot_from_dict(read_yaml(path), source=path)
+        except ConfigError as exc:
+            raise ConfigError(src, f"robots.{key}", f"robot file is invalid: {exc}") from None
+    for sec, key in (("doe", "robot"),):
+        if st[sec][key] not in robots:
+            raise ConfigError(src, f"{sec}.{key}", f"unknown robot {st[sec][key]!r}; allowed: {', '.join(robots)}")
+    for key in st["trajectories"]["paths"]:
+        if key not in robots:
+            raise ConfigError(src, f"trajectories.paths.{key}", f"unknown robot; allowed: {', '.join(robots)}")
+    for sec in ("pulleys", "optimal"):
+        for name, p in st[sec].items():
+            if p["kind"] == "fixed":
+                continue
+            check_pulley(p["kind"], p.get("h_m", 0.0), p.get("r_p_m", 0.0), src, f"{sec}.{name}")
+    lv = st["doe"]["levels"]
+    for i, kind in enumerate(lv["joint"]):
+        for h in lv["h_m"]:
+            for r in lv["r_p_m"]:
+                check_pulley(kind, h, r, src, "doe.levels")
+    for key, spec in (("maps.h_m", st["maps"]["h_m"]), ("maps.r_p_m", st["maps"]["r_p_m"])):
+        _increasing(st, key, spec["from"], spec["to"])
+    if not map_cells(st):
+        raise ConfigError(src, "maps", "no map cell has r_p < h; widen maps.h_m or lower maps.r_p_m")
+    e = st["elasticity"]["E_Pa"]
+    if not e["from"] > 0:
+        raise ConfigError(src, "elasticity.E_Pa.from", f"Young's modulus must be > 0 Pa, got {e['from']:g}")
+    _increasing(st, "elasticity.E_Pa", e["from"], e["to"])
+    sw = st["volumes"]["sweep_m"]
+    _increasing(st, "volumes.sweep_m", sw["from"], sw["to"])
+    try:
+        check_box(st["doe"]["paper_rw_c_m"])
+    except Exception as exc:
+        raise ConfigError(src, "doe.paper_rw_c_m", str(exc)) from None
+    w = st["winch"]
+    for k in ("lpm_from_m", "lpm_to_m"):
+        if not math.isfinite(w[k]) or w[k] < 0:
+            raise ConfigError(src, f"winch.{k}", f"must be a finite length >= 0 m, got {w[k]!r}")
+    _increasing(st, "winch", w["lpm_from_m"], w["lpm_to_m"], "'lpm_from_m' must be below 'lpm_to_m'")
+    z = st["plane"]["z_m"]
+    for key, robot in robots.items():
+        top = float(robot.A[:, 2].min())
+        if not 0.0 <= z < top:
+            raise ConfigError(src, "plane.z_m", f"must lie between the floor and the lowest pulley of robot {key} (0 <= z < {top:g} m), got {z:g}")
+    for key, path in st["trajectories"]["paths"].items():
+        top = float(robots[key].A[:, 2].min())
+        for end in ("start_m", "end_m"):
+            if path[end][2] > top:
+                raise ConfigError(src, f"trajectories.paths.{key}.{end}", f"z must not exceed the lowest pulley ({top:g} m), got {path[end][2]:g}")
+    return st

@@ -3,7 +3,7 @@
 The drum exit point E slides along the segment E1E2 as the drum turns (eq. 12), so the cable
 length between E and the pulley entry point A varies with the joint angle q. Substituting into the
 length balance gives a quadratic in q (eq. 23). Corrections to the printed equations (see
-shared/design/models.md):
+docs/models.md):
 
 * eq. (19): the uncoiled length decreases when q grows (eq. 17), so |e - a| = X - k_w q with
   X = l_u0 + k_w q0 - l_pm (the printed "+ k_w (q - q0)" has the wrong sign);
@@ -69,6 +69,8 @@ def load_params(path):
         v = quantity(val, dim, path, key)
         if v <= 0 and field != "alpha_E1":
             raise ConfigError(path, key, f"must be strictly positive, got {val!r}")
+        if field == "alpha_E1" and not 0 <= v <= math.pi:
+            raise ConfigError(path, key, f"an angle between two segments lies in [0, pi] rad, got {val!r}")
         values[field] = v
     p = WinchParams(**values)
     if not 0 <= p.q0 <= p.q_max:
@@ -174,6 +176,24 @@ def length_error(p, l_pm):
     """Uncoiled length error dl = k_w (q1 - q_nw) (eq. 31) [m]."""
     q1, _ = roots(p, l_pm)
     return p.k_w * (q1 - q_no_winch(p, l_pm))
+
+
+def check_range(p, lpm_from, lpm_to):
+    """Refuse winch parameters or a range of l_pm [m] where the model has no physical answer: an
+    initial length l_pm0 < 0, or a physical drum angle q1 that is not real or leaves [0, q_max]
+    (the cable would be fully coiled or uncoiled). Raises CdprError naming the values."""
+    from .errors import CdprError
+
+    lp0 = l_pm0(p)
+    if not math.isfinite(lp0) or lp0 < 0:
+        raise CdprError(f"these winch parameters give an initial length l_pm0 = {lp0:.4g} m < 0 (l_u0 must exceed |A E(q0)|); check l_u0_m, l_AE1_m, l_E1E2_m")
+    l_pm = np.linspace(lpm_from, lpm_to, 1001)
+    q1, _ = roots(p, l_pm)
+    bad = ~np.isfinite(q1) | (q1 < 0) | (q1 > p.q_max)
+    if bad.any():
+        at = float(l_pm[np.argmax(bad)])
+        raise CdprError(f"at l_pm = {at:.4g} m the drum angle q1 = {float(q1[np.argmax(bad)]):.4g} rad leaves [0, q_max = {p.q_max:g}] rad "
+                        f"(the cable would be fully coiled or uncoiled): choose l_pm in a range the drum can hold")
 
 
 def winch_table(p=TABLE1, lpm_from=0.0, lpm_to=5.0, steps=101):

@@ -23,7 +23,7 @@ def run_json(capsys, *args):
 def test_inverse_json(capsys):
     out = run_json(capsys, "inverse", "--robot", R4, "--at", "0.5", "0.2", "2.5")
     assert len(out) == 4
-    assert set(out[0]) >= {"L_TS", "L_TE", "gamma", "l_d", "l_E", "D"}
+    assert set(out[0]) >= {"L_TS", "L_TE", "gamma", "l_d", "l_E", "D", "H", "K", "alpha", "beta", "inside"}
     assert len(out[0]["D"]) == 3
     fixed = run_json(capsys, "inverse", "--robot", R4, "--pulley", "fixed", "--at", "0.5", "0.2", "2.5")
     assert all(abs(c["L_TE"] - c["L_TS"]) < 1e-12 for c in fixed)

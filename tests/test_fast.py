@@ -5,7 +5,8 @@ import pandas as pd
 import pytest
 
 from cdpr.fast import solve_points_fast
-from cdpr.redundancy import solve_points, solve_table
+from cdpr.redundancy import solve_points
+from cdpr.solve import solve_table
 from cdpr.robot import with_pulleys
 from cdpr.workspace import grid_points
 

@@ -2,7 +2,8 @@
 import numpy as np
 import pytest
 
-from cdpr.redundancy import solve_points, solve_table
+from cdpr.redundancy import solve_points
+from cdpr.solve import solve_table
 from cdpr.robot import with_pulleys
 from cdpr.workspace import cell_centres
 

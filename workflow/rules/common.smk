@@ -1,34 +1,50 @@
 # Study configuration, validation and helpers shared by the rules.
+#
+# The study file is read and validated ONCE here, by the library (cdpr.study.load_study: the JSON
+# schema cdpr/schemas/study.schema.yaml, then every check a schema cannot make, robot files
+# included), so that a bad value stops the run before any job with one sentence naming the study
+# file and the key. Every rule declares as `params` the study values its job reads and the
+# library's code version (CODE), so that Snakemake reruns exactly the jobs an edit affects.
+import hashlib
 import sys
+from pathlib import Path
 
-import yaml
-from snakemake.utils import validate
+from cdpr.errors import CdprError
+from cdpr.study import doe_tests, E_values, load_study, map_kinds
 
 STUDY_FILE = config["study"]
-with open(STUDY_FILE) as fh:
-    STUDY = yaml.safe_load(fh)
 try:
-    validate(STUDY, "../schemas/study.schema.yaml")
-except Exception as exc:  # the schema error, prefixed with the file it came from
-    raise WorkflowError(f"{STUDY_FILE}: invalid study configuration: {exc}")
+    STUDY = load_study(STUDY_FILE)
+except CdprError as exc:
+    raise WorkflowError(f"invalid study configuration: {exc}")
 RES = config["results"]
 CDPR = f"{sys.executable} -m cdpr"
-ROBOTS = STUDY["robots"]
-for _key, _path in ROBOTS.items():
-    _robot = yaml.safe_load(open(_path))
-    if not isinstance(_robot, dict) or not isinstance(_robot.get("cables"), list):
-        raise WorkflowError(f"{STUDY_FILE}: key 'robots.{_key}': {_path} is not a robot file with a 'cables' list")
+ROBOTS = dict(STUDY["robots"])
 # robots with more cables than degrees of freedom: the subset map (Fig. 9) applies to them
-REDUNDANT = [k for k, p in ROBOTS.items() if len(yaml.safe_load(open(p))["cables"]) > 3]
-for _sec in ("trajectories",):
-    for _key in STUDY[_sec]["paths"]:
-        if _key not in ROBOTS:
-            raise WorkflowError(f"{STUDY_FILE}: key '{_sec}.paths.{_key}': unknown robot; allowed: {', '.join(ROBOTS)}")
-if STUDY["doe"]["robot"] not in ROBOTS:
-    raise WorkflowError(f"{STUDY_FILE}: key 'doe.robot': unknown robot {STUDY['doe']['robot']!r}; allowed: {', '.join(ROBOTS)}")
+REDUNDANT = [k for k, p in ROBOTS.items() if len(__import__("yaml").safe_load(open(p))["cables"]) > 3]
 PULLEYS = STUDY["pulleys"]
 # threads of one solver job (the compiled engine runs points in parallel); many small jobs: use 1
 SOLVER_THREADS = STUDY.get("solver_threads", 2)
+
+
+def _code_version():
+    """Version and a hash of the library's sources and schemas: a param of every rule that runs
+    the library, so that a change of the physics reruns the jobs (Snakemake does not see imports)."""
+    import cdpr
+
+    root = Path(cdpr.__file__).parent
+    h = hashlib.sha256()
+    for f in sorted(list(root.glob("*.py")) + list(root.glob("schemas/*.yaml"))):
+        h.update(f.name.encode() + f.read_bytes())
+    return f"{cdpr.__version__}+{h.hexdigest()[:16]}"
+
+
+CODE = _code_version()
+
+
+def uses(*keys):
+    """The study values a job reads, as a param (a change of any of them reruns the job)."""
+    return {k: STUDY.get(k) for k in keys}
 
 
 wildcard_constraints:
@@ -45,15 +61,10 @@ def pulley_args(p, E=None):
     return args if E is None else f"{args} --E {E}"
 
 
-def design_args(pulley):
-    """Overrides for the pulley design labelled `pulley` in the study."""
-    return pulley_args(PULLEYS[pulley])
-
-
 def all_targets():
     t = [f"{RES}/winch/winch.csv", f"{RES}/winch/winch.png"]
-    t += expand(f"{RES}/plane/{{robot}}_{{pulley}}.png", robot=ROBOTS, pulley=PULLEYS)
-    t += expand(f"{RES}/plane/{{robot}}_{{pulley}}_subsets.png", robot=REDUNDANT, pulley=PULLEYS)
+    t += expand(f"{RES}/plane/{{robot}}.png", robot=ROBOTS)
+    t += expand(f"{RES}/plane/{{robot}}_subsets.png", robot=REDUNDANT)
     t += [f"{RES}/trajectories/trajectories.png"]
     t += [f"{RES}/volumes/volumes.csv"] + expand(f"{RES}/volumes/{{label}}_VL.png", label=VOL_LABELS)
     t += [f"{RES}/doe/doe.csv", f"{RES}/maps/lines.csv", f"{RES}/elasticity/bands.csv", f"{RES}/dead_length/dead_length.csv"]

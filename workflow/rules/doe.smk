@@ -1,9 +1,8 @@
-# DOE of section 4.2: RW_max of each test, RW_C, the global index per test (shards), effects.
-from cdpr.jobs import doe_tests
-
+# DOE of Paty 2021 section 4.2: RW_max of each test, RW_C, the global index per test (shards), effects.
 DOE = STUDY["doe"]
 DOE_TESTS = doe_tests(STUDY).set_index("test")  # Table 2: number -> kind, h_m, r_p_m
 TESTS = list(DOE_TESTS.index)
+DOE_ROBOT = ROBOTS[DOE["robot"]]
 
 
 def test_args(test):
@@ -13,51 +12,70 @@ def test_args(test):
 
 rule workspace_grid:
     input:
-        robot=ROBOTS[DOE["robot"]],
+        robot=DOE_ROBOT,
     output:
-        f"{RES}/shards/workspace/test{{test}}.parquet",
+        table=f"{RES}/shards/workspace/test{{test}}.parquet",
     params:
         design=lambda w: test_args(int(w.test)),
+        n=DOE["workspace_n"],
+        code=CODE,
     log:
         f"{RES}/logs/workspace_test{{test}}.log",
     threads: SOLVER_THREADS
     shell:
-        "{CDPR} grid --threads {threads} --robot {input.robot} {params.design} --frame --n {DOE[workspace_n]} --out {output} > {log} 2>&1"
+        "{CDPR} grid --threads {threads} --robot {input.robot} {params.design} --frame --n {params.n} --out {output.table} > {log} 2>&1"
 
 
 rule regular_workspace:
     input:
-        expand(f"{RES}/shards/workspace/test{{test}}.parquet", test=TESTS),
+        tables=expand(f"{RES}/shards/workspace/test{{test}}.parquet", test=TESTS),
+        robot=DOE_ROBOT,
     output:
-        f"{RES}/doe/rw_max.csv",
-        f"{RES}/doe/rw_c.json",
+        table=f"{RES}/doe/rw_max.csv",
+        json=f"{RES}/doe/rw_c.json",
+    params:
+        study=uses("doe", "dead_length_m"),
+        code=CODE,
+    log:
+        f"{RES}/logs/regular_workspace.log",
     shell:
-        "{CDPR} job rw --study {STUDY_FILE} --inputs {input} --outputs {output}"
+        "{CDPR} job rw --study {STUDY_FILE} --tables {input.tables} --table {output.table} --json {output.json} > {log} 2>&1"
 
 
 rule index_shard:
     input:
-        robot=ROBOTS[DOE["robot"]],
-        box=f"{RES}/doe/rw_c.json",
+        robot=DOE_ROBOT,
+        box=rules.regular_workspace.output.json,
     output:
-        f"{RES}/shards/doe/test{{test}}_{{shard}}.parquet",
+        table=f"{RES}/shards/doe/test{{test}}_{{shard}}.parquet",
     params:
         design=lambda w: test_args(int(w.test)),
+        n=DOE["index_n"],
+        shards=DOE["shards"],
+        code=CODE,
     log:
         f"{RES}/logs/doe_test{{test}}_{{shard}}.log",
     threads: SOLVER_THREADS
     shell:
-        "{CDPR} grid --threads {threads} --robot {input.robot} {params.design} --box-file {input.box} --n {DOE[index_n]}"
-        " --shard {wildcards.shard} --shards {DOE[shards]} --out {output} > {log} 2>&1"
+        "{CDPR} grid --threads {threads} --robot {input.robot} {params.design} --box-file {input.box} --n {params.n}"
+        " --shard {wildcards.shard} --shards {params.shards} --out {output.table} > {log} 2>&1"
 
 
 rule doe:
     input:
-        [f"{RES}/shards/doe/test{t}_{s}.parquet" for t in TESTS for s in range(DOE["shards"])],
+        tables=[f"{RES}/shards/doe/test{t}_{s}.parquet" for t in TESTS for s in range(DOE["shards"])],
     output:
-        f"{RES}/doe/doe.csv",
-        f"{RES}/doe/effects.csv",
-        report(f"{RES}/doe/responses.png", caption="../report/doe.rst", category="DOE"),
-        report(f"{RES}/doe/effects.png", caption="../report/effects.rst", category="DOE"),
+        table=f"{RES}/doe/doe.csv",
+        effects=f"{RES}/doe/effects.csv",
+        figure=report(f"{RES}/doe/responses.png", caption="../report/doe.rst", category="DOE"),
+        pdf=f"{RES}/doe/responses.pdf",
+        effects_figure=report(f"{RES}/doe/effects.png", caption="../report/effects.rst", category="DOE"),
+        effects_pdf=f"{RES}/doe/effects.pdf",
+    params:
+        study=uses("doe"),
+        code=CODE,
+    log:
+        f"{RES}/logs/doe.log",
     shell:
-        "{CDPR} job doe --study {STUDY_FILE} --shards {DOE[shards]} --inputs {input} --outputs {output}"
+        "{CDPR} job doe --study {STUDY_FILE} --tables {input.tables} --table {output.table} --effects {output.effects}"
+        " --figure {output.figure} --effects-figure {output.effects_figure} > {log} 2>&1"

@@ -1,80 +1,95 @@
-# Young's modulus uncertainty (section 5, Fig. 18-19) and the dead-length calibration.
-import numpy as np
-
+# Young's modulus uncertainty (Paty 2021 section 5, Fig. 18-19) and the dead-length calibration.
 EL = STUDY["elasticity"]
 OPT = STUDY["optimal"]
-E_VALUES = [f"{e:.6g}" for e in np.linspace(EL["E_Pa"]["from"], EL["E_Pa"]["to"], EL["E_Pa"]["steps"])]
+E_VALUES = [f"{e:.6g}" for e in E_values(STUDY)]
 E_PATH = [f"{float(e):.6g}" for e in EL["E_path_Pa"]]
-
-
-def opt_args(design, E):
-    return pulley_args(OPT[design], E=E)
 
 
 rule elasticity_shard:
     input:
-        robot=ROBOTS[DOE["robot"]],
-        box=f"{RES}/doe/rw_c.json",
+        robot=DOE_ROBOT,
+        box=rules.regular_workspace.output.json,
     output:
-        f"{RES}/shards/elasticity/{{design}}_E{{E}}_{{shard}}.parquet",
+        table=f"{RES}/shards/elasticity/{{design}}_E{{E}}_{{shard}}.parquet",
     params:
-        design=lambda w: opt_args(w.design, w.E),
+        design=lambda w: pulley_args(OPT[w.design], E=w.E),
+        n=EL["index_n"],
+        shards=EL["shards"],
+        code=CODE,
     log:
         f"{RES}/logs/elasticity_{{design}}_E{{E}}_{{shard}}.log",
     threads: SOLVER_THREADS
     shell:
-        "{CDPR} grid --threads {threads} --robot {input.robot} {params.design} --box-file {input.box} --n {EL[index_n]}"
-        " --shard {wildcards.shard} --shards {EL[shards]} --out {output} > {log} 2>&1"
+        "{CDPR} grid --threads {threads} --robot {input.robot} {params.design} --box-file {input.box} --n {params.n}"
+        " --shard {wildcards.shard} --shards {params.shards} --out {output.table} > {log} 2>&1"
 
 
 rule elasticity_path:
     input:
-        robot=ROBOTS[DOE["robot"]],
+        robot=DOE_ROBOT,
     output:
-        f"{RES}/elasticity/path_{{design}}_E{{E}}.csv",
+        table=f"{RES}/elasticity/path_{{design}}_E{{E}}.csv",
     params:
-        design=lambda w: opt_args(w.design, w.E),
+        design=lambda w: pulley_args(OPT[w.design], E=w.E),
+        path=EL["path"],
+        code=CODE,
     log:
         f"{RES}/logs/elasticity_path_{{design}}_E{{E}}.log",
     threads: SOLVER_THREADS
     shell:
-        "{CDPR} trajectory --threads {threads} --robot {input.robot} {params.design} --start {EL[path][start_m]} --end {EL[path][end_m]}"
-        " --n {EL[path][points]} --out {output} > {log} 2>&1"
+        "{CDPR} trajectory --threads {threads} --robot {input.robot} {params.design} --start {params.path[start_m]} --end {params.path[end_m]}"
+        " --n {params.path[points]} --out {output.table} > {log} 2>&1"
 
 
 rule elasticity:
     input:
-        shards=[f"{RES}/shards/elasticity/{d}_E{e}_{s}.parquet" for d in OPT for e in E_VALUES for s in range(EL["shards"])],
+        tables=[f"{RES}/shards/elasticity/{d}_E{e}_{s}.parquet" for d in OPT for e in E_VALUES for s in range(EL["shards"])],
         paths=[f"{RES}/elasticity/path_{d}_E{e}.csv" for d in OPT for e in E_PATH],
     output:
-        f"{RES}/elasticity/index_vs_E.csv",
-        f"{RES}/elasticity/bands.csv",
-        report(f"{RES}/elasticity/index_vs_E.png", caption="../report/elasticity.rst", category="Elasticity"),
-        report(f"{RES}/elasticity/paths.png", caption="../report/elasticity_path.rst", category="Elasticity"),
-        f"{RES}/elasticity/crossings.csv",
+        table=f"{RES}/elasticity/index_vs_E.csv",
+        bands=f"{RES}/elasticity/bands.csv",
+        crossings=f"{RES}/elasticity/crossings.csv",
+        figure=report(f"{RES}/elasticity/index_vs_E.png", caption="../report/elasticity.rst", category="Elasticity"),
+        pdf=f"{RES}/elasticity/index_vs_E.pdf",
+        paths_figure=report(f"{RES}/elasticity/paths.png", caption="../report/elasticity_path.rst", category="Elasticity"),
+        paths_pdf=f"{RES}/elasticity/paths.pdf",
     params:
-        E=E_VALUES,
+        study=uses("elasticity", "optimal"),
+        code=CODE,
+    log:
+        f"{RES}/logs/elasticity.log",
     shell:
-        "{CDPR} job elasticity --study {STUDY_FILE} --E-values {params.E} --shards {EL[shards]} --inputs {input.shards} {input.paths} --outputs {output}"
+        "{CDPR} job elasticity --study {STUDY_FILE} --tables {input.tables} --paths {input.paths} --table {output.table}"
+        " --bands {output.bands} --crossings {output.crossings} --figure {output.figure} --paths-figure {output.paths_figure} > {log} 2>&1"
 
 
 rule dead_length_point:
     input:
-        box=f"{RES}/doe/rw_c.json",
+        box=rules.regular_workspace.output.json,
+        robot=DOE_ROBOT,
     output:
-        f"{RES}/shards/dead_length/d{{d}}.csv",
+        table=f"{RES}/shards/dead_length/d{{d}}.csv",
+    params:
+        study=uses("dead_length", "pulleys", "plane", "optimal", "elasticity", "doe", "solver"),
+        code=CODE,
     log:
         f"{RES}/logs/dead_length_{{d}}.log",
     threads: SOLVER_THREADS
     shell:
-        "{CDPR} job dead-length-point --threads {threads} --study {STUDY_FILE} --d {wildcards.d} --box-file {input.box} --outputs {output} > {log} 2>&1"
+        "{CDPR} job dead-length-point --threads {threads} --study {STUDY_FILE} --d {wildcards.d} --box-file {input.box} --table {output.table} > {log} 2>&1"
 
 
 rule dead_length:
     input:
-        [f"{RES}/shards/dead_length/d{d:g}.csv" for d in STUDY["dead_length"]["values_m"]],
+        tables=[f"{RES}/shards/dead_length/d{d:g}.csv" for d in STUDY["dead_length"]["values_m"]],
     output:
-        f"{RES}/dead_length/dead_length.csv",
-        report(f"{RES}/dead_length/dead_length.png", caption="../report/dead_length.rst", category="Dead length"),
+        table=f"{RES}/dead_length/dead_length.csv",
+        figure=report(f"{RES}/dead_length/dead_length.png", caption="../report/dead_length.rst", category="Dead length"),
+        pdf=f"{RES}/dead_length/dead_length.pdf",
+    params:
+        study=uses("dead_length_m"),
+        code=CODE,
+    log:
+        f"{RES}/logs/dead_length.log",
     shell:
-        "{CDPR} job dead-length --study {STUDY_FILE} --inputs {input} --outputs {output}"
+        "{CDPR} job dead-length --study {STUDY_FILE} --tables {input.tables} --table {output.table} --figure {output.figure} > {log} 2>&1"

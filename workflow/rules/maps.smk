@@ -1,25 +1,38 @@
-# h-r_p maps of the global index (section 4.3, Fig. 17): one job per pulley kind over all map cells.
+# h-r_p maps of the global index (Paty 2021 section 4.3, Fig. 17, Table 3): one job per pulley kind.
 
 
 rule map_kind:
     input:
-        box=f"{RES}/doe/rw_c.json",
+        box=rules.regular_workspace.output.json,
+        robot=DOE_ROBOT,
     output:
-        f"{RES}/shards/maps/{{kind}}.csv",
+        table=f"{RES}/shards/maps/{{kind}}.csv",
+    params:
+        study=uses("maps", "doe", "dead_length_m", "solver"),
+        code=CODE,
     log:
         f"{RES}/logs/map_{{kind}}.log",
     threads: SOLVER_THREADS
     shell:
-        "{CDPR} job map --threads {threads} --study {STUDY_FILE} --kind {wildcards.kind} --box-file {input.box} --outputs {output} > {log} 2>&1"
+        "{CDPR} job map --threads {threads} --study {STUDY_FILE} --kind {wildcards.kind} --box-file {input.box} --table {output.table} > {log} 2>&1"
 
 
 rule maps:
     input:
-        rows=expand(f"{RES}/shards/maps/{{kind}}.csv", kind=["SR", "DR"]),
-        box=f"{RES}/doe/rw_c.json",
+        tables=expand(f"{RES}/shards/maps/{{kind}}.csv", kind=map_kinds(STUDY)),
+        box=rules.regular_workspace.output.json,
+        robot=DOE_ROBOT,
     output:
-        f"{RES}/maps/map.csv",
-        f"{RES}/maps/lines.csv",
-        report(f"{RES}/maps/maps.png", caption="../report/maps.rst", category="Maps"),
+        map=f"{RES}/maps/map.csv",
+        lines=f"{RES}/maps/lines.csv",
+        figure=report(f"{RES}/maps/maps.png", caption="../report/maps.rst", category="Maps"),
+        pdf=f"{RES}/maps/maps.pdf",
+    params:
+        study=uses("maps", "doe", "dead_length_m", "solver"),
+        code=CODE,
+    log:
+        f"{RES}/logs/maps.log",
+    threads: SOLVER_THREADS
     shell:
-        "{CDPR} job maps --study {STUDY_FILE} --box-file {input.box} --inputs {input.rows} --outputs {output}"
+        "{CDPR} job maps --threads {threads} --study {STUDY_FILE} --box-file {input.box} --tables {input.tables} --map {output.map}"
+        " --lines {output.lines} --figure {output.figure} > {log} 2>&1"

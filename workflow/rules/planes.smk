@@ -1,33 +1,50 @@
+# Horizontal plane at z (Paty 2021 section 3.3.2): Fig. 12 (|dp|) and Fig. 9 (chosen subsets).
+
+
 rule plane_table:
     input:
         robot=lambda w: ROBOTS[w.robot],
     output:
-        f"{RES}/plane/{{robot}}_{{pulley}}.csv",
+        table=f"{RES}/plane/{{robot}}_{{pulley}}.csv",
     params:
-        design=lambda w: design_args(w.pulley),
+        design=lambda w: pulley_args(PULLEYS[w.pulley]),
         p=STUDY["plane"],
+        code=CODE,
     log:
         f"{RES}/logs/plane_{{robot}}_{{pulley}}.log",
     threads: SOLVER_THREADS
     shell:
-        "{CDPR} plane --threads {threads} --robot {input.robot} {params.design} --z {params.p[z_m]} --n {params.p[n]} --out {output} > {log} 2>&1"
+        "{CDPR} plane --threads {threads} --robot {input.robot} {params.design} --z {params.p[z_m]} --n {params.p[n]}"
+        " --out {output.table} > {log} 2>&1"
 
 
 rule plane_figure:
     input:
-        rules.plane_table.output,
+        tables=expand(f"{RES}/plane/{{{{robot}}}}_{{pulley}}.csv", pulley=PULLEYS),
+        robot=lambda w: ROBOTS[w.robot],
     output:
-        report(f"{RES}/plane/{{robot}}_{{pulley}}.png", caption="../report/plane.rst", category="Plane z = 2.5 m"),
-        f"{RES}/plane/{{robot}}_{{pulley}}.pdf",
+        figure=report(f"{RES}/plane/{{robot}}.png", caption="../report/plane.rst", category="Plane"),
+        pdf=f"{RES}/plane/{{robot}}.pdf",
+    params:
+        study=uses("plane", "pulleys"),
+        code=CODE,
+    log:
+        f"{RES}/logs/plane_figure_{{robot}}.log",
     shell:
-        "{CDPR} plot plane --table {input} --title '{wildcards.robot} {wildcards.pulley}: |dp| [m]' --out {output[0]}"
+        "{CDPR} job plane-figure --study {STUDY_FILE} --robot-key {wildcards.robot} --tables {input.tables} --figure {output.figure} > {log} 2>&1"
 
 
 rule subset_figure:
     input:
-        rules.plane_table.output,
+        tables=expand(f"{RES}/plane/{{{{robot}}}}_{{pulley}}.csv", pulley=PULLEYS),
+        robot=lambda w: ROBOTS[w.robot],
     output:
-        report(f"{RES}/plane/{{robot}}_{{pulley}}_subsets.png", caption="../report/subsets.rst", category="Plane z = 2.5 m"),
-        f"{RES}/plane/{{robot}}_{{pulley}}_subsets.pdf",
+        figure=report(f"{RES}/plane/{{robot}}_subsets.png", caption="../report/subsets.rst", category="Plane"),
+        pdf=f"{RES}/plane/{{robot}}_subsets.pdf",
+    params:
+        study=uses("plane", "pulleys"),
+        code=CODE,
+    log:
+        f"{RES}/logs/subset_figure_{{robot}}.log",
     shell:
-        "{CDPR} plot subsets --table {input} --title '{wildcards.robot} {wildcards.pulley}: subset minimising |dp|' --out {output[0]}"
+        "{CDPR} job subsets-figure --study {STUDY_FILE} --robot-key {wildcards.robot} --tables {input.tables} --figure {output.figure} > {log} 2>&1"

@@ -1,18 +1,28 @@
+# results/<study>/summary.md: every number of config/paper_values.yaml beside ours.
+
+
 rule summary:
     input:
-        f"{RES}/winch/winch.csv",
-        expand(f"{RES}/plane/{{robot}}_{{pulley}}.csv", robot=ROBOTS, pulley=PULLEYS),
-        expand(f"{RES}/trajectories/{{robot}}_{{pulley}}.csv", robot=STUDY["trajectories"]["paths"], pulley=PULLEYS),
-        f"{RES}/volumes/volumes.csv",
-        f"{RES}/doe/rw_c.json",
-        f"{RES}/doe/doe.csv",
-        f"{RES}/doe/effects.csv",
-        f"{RES}/maps/lines.csv",
-        f"{RES}/elasticity/bands.csv",
-        f"{RES}/elasticity/crossings.csv",
-        f"{RES}/dead_length/dead_length.csv",
+        winch=f"{RES}/winch/winch.csv",
+        planes=expand(f"{RES}/plane/{{robot}}_{{pulley}}.csv", robot=ROBOTS, pulley=PULLEYS),
+        paths=expand(f"{RES}/trajectories/{{robot}}_{{pulley}}.csv", robot=PATHS, pulley=PULLEYS),
+        minmax=f"{RES}/trajectories/trajectories_minmax.csv",
+        volumes=f"{RES}/volumes/volumes.csv",
+        rw_c=f"{RES}/doe/rw_c.json",
+        doe=f"{RES}/doe/doe.csv",
+        effects=f"{RES}/doe/effects.csv",
+        lines=f"{RES}/maps/lines.csv",
+        bands=f"{RES}/elasticity/bands.csv",
+        crossings=f"{RES}/elasticity/crossings.csv",
+        dead_length=f"{RES}/dead_length/dead_length.csv",
+        paper_values="config/paper_values.yaml",
     output:
-        f"{RES}/summary.md",
-        f"{RES}/summary.csv",
+        markdown=f"{RES}/summary.md",
+        table=f"{RES}/summary.csv",
+    params:
+        study=uses("name", "paper_comparison", "dead_length_m", "solver", "doe", "maps", "trajectories"),
+        code=CODE,
+    log:
+        f"{RES}/logs/summary.log",
     shell:
-        "{CDPR} job summary --study {STUDY_FILE} --results {RES} --outputs {output}"
+        "{CDPR} job summary --study {STUDY_FILE} --results {RES} --markdown {output.markdown} --table {output.table} > {log} 2>&1"

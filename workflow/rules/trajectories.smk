@@ -1,29 +1,39 @@
+# Straight paths of Paty 2021 section 3.3.1 (Fig. 10-11).
+PATHS = STUDY["trajectories"]["paths"]
+
+
 rule trajectory_table:
     input:
         robot=lambda w: ROBOTS[w.robot],
     output:
-        f"{RES}/trajectories/{{robot}}_{{pulley}}.csv",
+        table=f"{RES}/trajectories/{{robot}}_{{pulley}}.csv",
     params:
-        design=lambda w: design_args(w.pulley),
-        path=lambda w: STUDY["trajectories"]["paths"][w.robot],
+        design=lambda w: pulley_args(PULLEYS[w.pulley]),
+        path=lambda w: PATHS[w.robot],
         n=STUDY["trajectories"]["points"],
+        code=CODE,
     log:
         f"{RES}/logs/trajectory_{{robot}}_{{pulley}}.log",
     threads: SOLVER_THREADS
     shell:
         "{CDPR} trajectory --threads {threads} --robot {input.robot} {params.design} --start {params.path[start_m]} --end {params.path[end_m]}"
-        " --n {params.n} --out {output} > {log} 2>&1"
+        " --n {params.n} --out {output.table} > {log} 2>&1"
 
 
 rule trajectory_figure:
     input:
-        expand(f"{RES}/trajectories/{{robot}}_{{pulley}}.csv", robot=STUDY["trajectories"]["paths"], pulley=PULLEYS),
+        tables=expand(f"{RES}/trajectories/{{robot}}_{{pulley}}.csv", robot=PATHS, pulley=PULLEYS),
     output:
-        report(f"{RES}/trajectories/trajectories.png", caption="../report/trajectories.rst", category="Trajectories"),
-        f"{RES}/trajectories/trajectories.pdf",
-        f"{RES}/trajectories/trajectories_minmax.csv",
-        report(f"{RES}/trajectories/trajectories_minmax.png", caption="../report/trajectories_minmax.rst", category="Trajectories"),
+        figure=report(f"{RES}/trajectories/trajectories.png", caption="../report/trajectories.rst", category="Trajectories"),
+        pdf=f"{RES}/trajectories/trajectories.pdf",
+        table=f"{RES}/trajectories/trajectories_minmax.csv",
+        minmax=report(f"{RES}/trajectories/trajectories_minmax.png", caption="../report/trajectories_minmax.rst", category="Trajectories"),
+        minmax_pdf=f"{RES}/trajectories/trajectories_minmax.pdf",
     params:
-        labels=expand("{robot}_{pulley}", robot=STUDY["trajectories"]["paths"], pulley=PULLEYS),
+        study=uses("trajectories", "pulleys"),
+        code=CODE,
+    log:
+        f"{RES}/logs/trajectory_figure.log",
     shell:
-        "{CDPR} plot trajectories --table {input} --labels {params.labels} --title '|dp| along the section 3.3.1 paths (Fig. 10)' --out {output[0]}"
+        "{CDPR} job trajectories --study {STUDY_FILE} --tables {input.tables} --table {output.table} --figure {output.figure}"
+        " --minmax-figure {output.minmax} > {log} 2>&1"

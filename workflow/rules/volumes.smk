@@ -1,4 +1,4 @@
-# Error-limited volumes V_L and R_V (section 3.3.3, Fig. 13-14): solver shards over the frame grid.
+# Error-limited volumes V_L and R_V (Paty 2021 section 3.3.3, Fig. 13-14): solver shards over the frame grid.
 VOL = STUDY["volumes"]
 VOL_LABELS = expand("{robot}_{pulley}", robot=ROBOTS, pulley=PULLEYS)
 
@@ -7,15 +7,18 @@ rule volume_shard:
     input:
         robot=lambda w: ROBOTS[w.robot],
     output:
-        f"{RES}/shards/volume/{{robot}}_{{pulley}}_{{shard}}.parquet",
+        table=f"{RES}/shards/volume/{{robot}}_{{pulley}}_{{shard}}.parquet",
     params:
-        design=lambda w: design_args(w.pulley),
+        design=lambda w: pulley_args(PULLEYS[w.pulley]),
+        n=VOL["n"],
+        shards=VOL["shards"],
+        code=CODE,
     log:
         f"{RES}/logs/volume_{{robot}}_{{pulley}}_{{shard}}.log",
     threads: SOLVER_THREADS
     shell:
-        "{CDPR} grid --threads {threads} --robot {input.robot} {params.design} --frame --n {VOL[n]} --shard {wildcards.shard} --shards {VOL[shards]}"
-        " --out {output} > {log} 2>&1"
+        "{CDPR} grid --threads {threads} --robot {input.robot} {params.design} --frame --n {params.n} --shard {wildcards.shard}"
+        " --shards {params.shards} --out {output.table} > {log} 2>&1"
 
 
 def volume_shards(label):
@@ -24,20 +27,32 @@ def volume_shards(label):
 
 rule volumes:
     input:
-        [f for label in VOL_LABELS for f in volume_shards(label)],
+        tables=[f for label in VOL_LABELS for f in volume_shards(label)],
+        robots=list(ROBOTS.values()),
     output:
-        f"{RES}/volumes/volumes.csv",
-        report(f"{RES}/volumes/R_V.png", caption="../report/volumes.rst", category="Volumes"),
+        table=f"{RES}/volumes/volumes.csv",
+        figure=report(f"{RES}/volumes/R_V.png", caption="../report/volumes.rst", category="Volumes"),
+        pdf=f"{RES}/volumes/R_V.pdf",
     params:
-        labels=VOL_LABELS,
+        study=uses("volumes", "pulleys", "dead_length_m", "paper_comparison"),
+        code=CODE,
+    log:
+        f"{RES}/logs/volumes.log",
     shell:
-        "{CDPR} job volumes --study {STUDY_FILE} --labels {params.labels} --shards {VOL[shards]} --inputs {input} --outputs {output}"
+        "{CDPR} job volumes --study {STUDY_FILE} --tables {input.tables} --table {output.table} --figure {output.figure} > {log} 2>&1"
 
 
 rule volume_view:
     input:
-        lambda w: volume_shards(w.label),
+        tables=lambda w: volume_shards(w.label),
+        robots=list(ROBOTS.values()),
     output:
-        report(f"{RES}/volumes/{{label}}_VL.png", caption="../report/volume_view.rst", category="Volumes"),
+        figure=report(f"{RES}/volumes/{{label}}_VL.png", caption="../report/volume_view.rst", category="Volumes"),
+        pdf=f"{RES}/volumes/{{label}}_VL.pdf",
+    params:
+        study=uses("volumes", "pulleys", "dead_length_m"),
+        code=CODE,
+    log:
+        f"{RES}/logs/volume_view_{{label}}.log",
     shell:
-        "{CDPR} job volume-view --study {STUDY_FILE} --labels {wildcards.label} --inputs {input} --outputs {output}"
+        "{CDPR} job volume-view --study {STUDY_FILE} --label {wildcards.label} --tables {input.tables} --figure {output.figure} > {log} 2>&1"

@@ -1,20 +1,27 @@
+# Winch of Métillon et al. 2022 (Fig. 7).
+
+
 rule winch_table:
     output:
-        f"{RES}/winch/winch.csv",
+        table=f"{RES}/winch/winch.csv",
     params:
         w=STUDY["winch"],
+        code=CODE,
     log:
-        f"{RES}/logs/winch.log",
+        f"{RES}/logs/winch_table.log",
     shell:
-        "{CDPR} winch --lpm-from {params.w[lpm_from_m]} --lpm-to {params.w[lpm_to_m]} --steps {params.w[steps]} --out {output} > {log} 2>&1"
+        "{CDPR} winch --lpm-from {params.w[lpm_from_m]} --lpm-to {params.w[lpm_to_m]} --steps {params.w[steps]} --out {output.table} > {log} 2>&1"
 
 
 rule winch_figure:
     input:
-        rules.winch_table.output,
+        table=rules.winch_table.output.table,
     output:
-        report(f"{RES}/winch/winch.png", caption="../report/winch.rst", category="Winch"),
-        f"{RES}/winch/winch.pdf",
-        report(f"{RES}/winch/winch_dl.png", caption="../report/winch.rst", category="Winch"),
+        figure=report(f"{RES}/winch/winch.png", caption="../report/winch.rst", category="Winch"),
+        pdf=f"{RES}/winch/winch.pdf",
+    params:
+        code=CODE,
+    log:
+        f"{RES}/logs/winch_figure.log",
     shell:
-        "{CDPR} plot winch --table {input} --out {output[0]}"
+        "{CDPR} job winch-figure --study {STUDY_FILE} --table {input.table} --figure {output.figure} > {log} 2>&1"
