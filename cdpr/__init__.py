@@ -1,4 +1,5 @@
 """cdpr: pose errors of cable-driven parallel robots from pulleys, cable elasticity and winch geometry."""
+
 from importlib.metadata import PackageNotFoundError, version
 
 try:

@@ -1,4 +1,5 @@
 """Entry point of ``python -m cdpr`` and of the ``cdpr`` console script."""
+
 import gc
 import sys
 

@@ -1,6 +1,7 @@
 """The paper's analyses as functions of a robot: trajectories (section 3.3.1), planes (3.3.2),
 error-limited volumes (3.3.3), regular workspaces and the global index (4.1), factorial designs
 (4.2), optimal lines (4.3). Each returns a DataFrame or a small dict; no files, no Snakemake."""
+
 from __future__ import annotations
 
 import numpy as np

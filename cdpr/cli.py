@@ -4,6 +4,7 @@ JSON with ``--json``, a readable table without. Options given on the command lin
 robot file exactly as if it had been edited. SI units throughout. Every bad input is refused with
 one sentence on stderr and exit code 2, before any work starts.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -70,14 +71,18 @@ def non_negative(text):
 
 def count(low, high=None):
     """argparse type: an integer in [low, high]."""
+
     def parse(text):
         try:
             v = int(text)
         except ValueError:
             raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
         if v < low or (high is not None and v > high):
-            raise argparse.ArgumentTypeError(f"{v} is outside the allowed range [{low}, {high if high is not None else 'inf'}]")
+            raise argparse.ArgumentTypeError(
+                f"{v} is outside the allowed range [{low}, {high if high is not None else 'inf'}]"
+            )
         return v
+
     return parse
 
 
@@ -97,16 +102,30 @@ def _robot_options(sp):
 def _solver_options(sp):
     sp.add_argument("--E", type=positive, metavar="PA", help="Young's modulus E [Pa] of every cable")
     sp.add_argument("--mass", type=positive, metavar="KG", help="platform mass M [kg]")
-    sp.add_argument("--method", choices=("newton", "fixed_point"), default="newton", help="DEGM_E solver (default newton)")
-    sp.add_argument("--engine", choices=("compiled", "numpy"), default=None,
-                    help="compiled numba kernel (default for newton; Newton only) or the numpy reference (default for fixed_point)")
-    sp.add_argument("--threads", type=_threads, help="threads of the compiled engine (1 to the number of cores; default: all)")
+    sp.add_argument(
+        "--method", choices=("newton", "fixed_point"), default="newton", help="DEGM_E solver (default newton)"
+    )
+    sp.add_argument(
+        "--engine",
+        choices=("compiled", "numpy"),
+        default=None,
+        help="compiled numba kernel (default for newton; Newton only) or the numpy reference (default for fixed_point)",
+    )
+    sp.add_argument(
+        "--threads",
+        type=_threads,
+        help="threads of the compiled engine (1 to the number of cores; default: all)",
+    )
 
 
 def _points_options(sp, what):
     g = sp.add_mutually_exclusive_group(required=True)
     g.add_argument("--at", nargs=3, type=finite, metavar=("X", "Y", "Z"), help=f"{what} [m]")
-    g.add_argument("--points", metavar="FILE", help="many points at once: a .csv or .parquet table with columns x, y, z [m]")
+    g.add_argument(
+        "--points",
+        metavar="FILE",
+        help="many points at once: a .csv or .parquet table with columns x, y, z [m]",
+    )
     sp.add_argument("--out", metavar="FILE", help="with --points: write the result table (.csv or .parquet)")
 
 
@@ -115,8 +134,15 @@ def _engine(args):
 
 
 def _load(args):
-    return load_robot(args.robot, pulley=args.pulley, h=args.h, r_p=args.rp, dead_length=args.dead_length,
-                      E=getattr(args, "E", None), mass=getattr(args, "mass", None))
+    return load_robot(
+        args.robot,
+        pulley=args.pulley,
+        h=args.h,
+        r_p=args.rp,
+        dead_length=args.dead_length,
+        E=getattr(args, "E", None),
+        mass=getattr(args, "mass", None),
+    )
 
 
 def _points(args):
@@ -132,11 +158,15 @@ def _points(args):
         raise CdprError(f"{args.points}: the points file does not exist") from None
     missing = [c for c in "xyz" if c not in df.columns]
     if missing:
-        raise CdprError(f"{args.points}: missing column(s) {', '.join(missing)}; a points table needs columns x, y, z [m]")
+        raise CdprError(
+            f"{args.points}: missing column(s) {', '.join(missing)}; a points table needs columns x, y, z [m]"
+        )
     P = df[["x", "y", "z"]].to_numpy(dtype=float)
     bad = ~np.isfinite(P).all(axis=1)
     if bad.any():
-        raise CdprError(f"{args.points}: row {int(np.flatnonzero(bad)[0]) + 1} has a non-finite coordinate; every x, y, z must be a finite number")
+        raise CdprError(
+            f"{args.points}: row {int(np.flatnonzero(bad)[0]) + 1} has a non-finite coordinate; every x, y, z must be a finite number"
+        )
     return P
 
 
@@ -165,27 +195,83 @@ def cmd_inverse(args):
         cols = {"x": P[:, 0], "y": P[:, 1], "z": P[:, 2]}
         for i in range(robot.m):
             c = i + 1
-            cols.update({f"L_TS{c}": lts[:, i], f"L_TE{c}": st.L_TE[:, i], f"gamma{c}": st.gamma[:, i], f"alpha{c}": st.alpha[:, i],
-                         f"beta{c}": st.beta[:, i], f"inside{c}": st.inside[:, i]})
+            cols.update(
+                {
+                    f"L_TS{c}": lts[:, i],
+                    f"L_TE{c}": st.L_TE[:, i],
+                    f"gamma{c}": st.gamma[:, i],
+                    f"alpha{c}": st.alpha[:, i],
+                    f"beta{c}": st.beta[:, i],
+                    f"inside{c}": st.inside[:, i],
+                }
+            )
         df = pd.DataFrame(cols)
         io.write_table(df, args.out)
-        print(f"wrote {len(df)} points to {args.out}; {int(st.inside.any(axis=1).sum())} inside a sheave (lengths clipped there)")
+        print(
+            f"wrote {len(df)} points to {args.out}; {int(st.inside.any(axis=1).sum())} inside a sheave (lengths clipped there)"
+        )
         return
-    out = [{"cable": i + 1, "L_TS": float(lts[0, i]), "L_TE": float(st.L_TE[0, i]), "gamma": float(st.gamma[0, i]),
-            "l_d": float(st.l_d[0, i]), "l_E": float(st.l_E[0, i]), "alpha": float(st.alpha[0, i]),
-            "beta": float(st.beta[0, i]) if robot.kind[i] == 2 else None, "H": st.H[0, i].tolist(), "K": st.K[0, i].tolist(),
-            "D": st.D[0, i].tolist(), "inside": bool(st.inside[0, i])} for i in range(robot.m)]
+    out = [
+        {
+            "cable": i + 1,
+            "L_TS": float(lts[0, i]),
+            "L_TE": float(st.L_TE[0, i]),
+            "gamma": float(st.gamma[0, i]),
+            "l_d": float(st.l_d[0, i]),
+            "l_E": float(st.l_E[0, i]),
+            "alpha": float(st.alpha[0, i]),
+            "beta": float(st.beta[0, i]) if robot.kind[i] == 2 else None,
+            "H": st.H[0, i].tolist(),
+            "K": st.K[0, i].tolist(),
+            "D": st.D[0, i].tolist(),
+            "inside": bool(st.inside[0, i]),
+        }
+        for i in range(robot.m)
+    ]
     if args.json:
         print(json.dumps(io.clean_json(out), indent=2))
         return
     print(f"{robot.name} ({robot.pulley_summary()}, {robot.dead_length_summary()}) at P = {args.at} m")
-    rows = [[str(o["cable"]), f"{o['L_TS']:.6f}", f"{o['L_TE']:.6f}", f"{o['gamma']:.6f}", f"{o['alpha']:.6f}",
-             "-" if o["beta"] is None else f"{o['beta']:.6f}", f"{o['l_d']:.6f}", f"{o['l_E']:.6f}", _vec(o["H"]), _vec(o["K"]), _vec(o["D"]),
-             "INSIDE" if o["inside"] else ""] for o in out]
-    print(_table(rows, ["cable", "L_TS [m]", "L_TE [m]", "gamma [rad]", "alpha [rad]", "beta [rad]", "|l_d| [m]", "|l_E| [m]",
-                        "H [m]", "K [m]", "D [m]", "sheave"]))
+    rows = [
+        [
+            str(o["cable"]),
+            f"{o['L_TS']:.6f}",
+            f"{o['L_TE']:.6f}",
+            f"{o['gamma']:.6f}",
+            f"{o['alpha']:.6f}",
+            "-" if o["beta"] is None else f"{o['beta']:.6f}",
+            f"{o['l_d']:.6f}",
+            f"{o['l_E']:.6f}",
+            _vec(o["H"]),
+            _vec(o["K"]),
+            _vec(o["D"]),
+            "INSIDE" if o["inside"] else "",
+        ]
+        for o in out
+    ]
+    print(
+        _table(
+            rows,
+            [
+                "cable",
+                "L_TS [m]",
+                "L_TE [m]",
+                "gamma [rad]",
+                "alpha [rad]",
+                "beta [rad]",
+                "|l_d| [m]",
+                "|l_E| [m]",
+                "H [m]",
+                "K [m]",
+                "D [m]",
+                "sheave",
+            ],
+        )
+    )
     if any(o["inside"] for o in out):
-        print("warning: P (or the winch exit) lies inside a sheave circle for the cables marked INSIDE: no tangent exists, their lengths are clipped")
+        print(
+            "warning: P (or the winch exit) lies inside a sheave circle for the cables marked INSIDE: no tangent exists, their lengths are clipped"
+        )
 
 
 def cmd_point(args):
@@ -214,7 +300,9 @@ def cmd_point(args):
         return
     from .redundancy import subset_label
 
-    print(f"{robot.name} ({robot.pulley_summary()}, {robot.material_summary()}, {robot.dead_length_summary()}), solver {args.method}")
+    print(
+        f"{robot.name} ({robot.pulley_summary()}, {robot.material_summary()}, {robot.dead_length_summary()}), solver {args.method}"
+    )
     fmt = lambda v: "(" + ", ".join("nan" if v is None or v != v else f"{x:.6f}" for x in v) + ")"  # noqa: E731
     print(f"  desired P  [m] : {fmt(out['desired'])}")
     print(f"  solved P*  [m] : {fmt(out['solved'])}")
@@ -229,8 +317,10 @@ def _check_size(n_points, what):
     need = n_points * BYTES_PER_POINT
     avail = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
     if need > avail:
-        raise CdprError(f"{what}: {n_points:,} points would need about {need / 2**30:,.1f} GiB of memory, "
-                        f"more than this machine's {avail / 2**30:.1f} GiB; use fewer points or --shards")
+        raise CdprError(
+            f"{what}: {n_points:,} points would need about {need / 2**30:,.1f} GiB of memory, "
+            f"more than this machine's {avail / 2**30:.1f} GiB; use fewer points or --shards"
+        )
 
 
 def cmd_grid(args):
@@ -272,7 +362,10 @@ def cmd_winch(args):
         print(json.dumps(io.clean_json(df.to_dict(orient="records")), indent=2))
         return
     print(f"winch (l_pm0 = {winch.l_pm0(p):.6f} m, q0 = {p.q0:g} rad)")
-    rows = [[f"{r.l_pm:.4f}", f"{r.q1:.6f}", f"{r.q2:.6f}", f"{r.q_nw:.6f}", f"{r.dl * 1e3:.4f}"] for r in df.itertuples()]
+    rows = [
+        [f"{r.l_pm:.4f}", f"{r.q1:.6f}", f"{r.q2:.6f}", f"{r.q_nw:.6f}", f"{r.dl * 1e3:.4f}"]
+        for r in df.itertuples()
+    ]
     print(_table(rows, ["l_pm [m]", "q1 [rad]", "q2 [rad]", "q_nw [rad]", "dl [mm]"]))
 
 
@@ -281,13 +374,25 @@ def _report(df, out, args, dt):
     counts = {k: int(v) for k, v in df["status"].value_counts().items() if v}
     lo, hi = analyses.ok_extremes(df)
     rate = len(df) / dt if dt > 0 else None
-    summary = {"out": out, "points": int(len(df)), "seconds": dt, "points_per_second": rate, "status": counts, "dp_min": lo, "dp_max": hi}
+    summary = {
+        "out": out,
+        "points": int(len(df)),
+        "seconds": dt,
+        "points_per_second": rate,
+        "status": counts,
+        "dp_min": lo,
+        "dp_max": hi,
+    }
     if args.json:
         print(json.dumps(io.clean_json(summary), indent=2))
     else:
         timing = f" in {dt:.2f} s ({rate:.0f} points/s)" if rate else ""
         print(f"wrote {len(df)} points to {out}{timing}")
-        print("status: " + ", ".join(f"{k} {v}" for k, v in counts.items()) + f"; |dp| over ok points: min {lo:.6f} m, max {hi:.6f} m")
+        print(
+            "status: "
+            + ", ".join(f"{k} {v}" for k, v in counts.items())
+            + f"; |dp| over ok points: min {lo:.6f} m, max {hi:.6f} m"
+        )
 
 
 def cmd_plane(args):
@@ -295,7 +400,9 @@ def cmd_plane(args):
     io.check_output(args.out)
     top = float(robot.A[:, 2].min())
     if not 0.0 <= args.z < top:
-        raise CdprError(f"--z must lie between the floor and the lowest pulley (0 <= z < {top:g} m), got {args.z:g}")
+        raise CdprError(
+            f"--z must lie between the floor and the lowest pulley (0 <= z < {top:g} m), got {args.z:g}"
+        )
     t0 = time.perf_counter()
     df = analyses.plane(robot, args.z, args.n, method=args.method, engine=_engine(args), threads=args.threads)
     io.write_table(df, args.out)
@@ -306,7 +413,9 @@ def cmd_trajectory(args):
     robot = _load(args)
     io.check_output(args.out)
     t0 = time.perf_counter()
-    df = analyses.trajectory(robot, args.start, args.end, args.n, method=args.method, engine=_engine(args), threads=args.threads)
+    df = analyses.trajectory(
+        robot, args.start, args.end, args.n, method=args.method, engine=_engine(args), threads=args.threads
+    )
     io.write_table(df, args.out)
     _report(df, args.out, args, time.perf_counter() - t0)
 
@@ -324,18 +433,37 @@ JOBS = {
     "doe": ("doe_results", ["tables", "table", "effects", "figure", "effects_figure"]),
     "map": ("map_rows", ["kind", "box_file", "table", "threads"]),
     "maps": ("maps", ["tables", "box_file", "map", "lines", "figure", "threads"]),
-    "elasticity": ("elasticity", ["tables", "paths", "table", "bands", "crossings", "figure", "paths_figure"]),
+    "elasticity": (
+        "elasticity",
+        ["tables", "paths", "table", "bands", "crossings", "figure", "paths_figure"],
+    ),
     "dead-length-point": ("dead_length_point", ["d", "box_file", "table", "threads"]),
     "dead-length": ("dead_length", ["tables", "table", "figure"]),
     "summary": ("summary", ["results", "table", "markdown"]),
 }
-_JOB_OPTION_HELP = {"tables": "input tables (matched by file name)", "paths": "path tables (matched by file name)",
-                    "table": "output table", "figure": "output figure (.png; a .pdf is written beside it)", "json": "output JSON",
-                    "effects": "output effects table", "effects_figure": "output effects figure", "minmax_figure": "output min/max figure",
-                    "map": "output map table", "lines": "output lines table", "bands": "output bands table", "crossings": "output crossings table",
-                    "paths_figure": "output figure of the paths", "markdown": "output summary.md", "results": "results folder of the study",
-                    "box_file": "JSON with the RW_C box", "robot_key": "robot label of the study", "label": "robot_pulley label",
-                    "kind": "pulley kind", "d": "dead length [m]", "threads": "solver threads"}
+_JOB_OPTION_HELP = {
+    "tables": "input tables (matched by file name)",
+    "paths": "path tables (matched by file name)",
+    "table": "output table",
+    "figure": "output figure (.png; a .pdf is written beside it)",
+    "json": "output JSON",
+    "effects": "output effects table",
+    "effects_figure": "output effects figure",
+    "minmax_figure": "output min/max figure",
+    "map": "output map table",
+    "lines": "output lines table",
+    "bands": "output bands table",
+    "crossings": "output crossings table",
+    "paths_figure": "output figure of the paths",
+    "markdown": "output summary.md",
+    "results": "results folder of the study",
+    "box_file": "JSON with the RW_C box",
+    "robot_key": "robot label of the study",
+    "label": "robot_pulley label",
+    "kind": "pulley kind",
+    "d": "dead length [m]",
+    "threads": "solver threads",
+}
 
 
 def cmd_job(args):
@@ -349,20 +477,39 @@ def cmd_job(args):
     if missing:
         raise CdprError(f"job {args.name} needs {', '.join(missing)}")
     for n in names:
-        if n in ("table", "figure", "json", "effects", "effects_figure", "minmax_figure", "map", "lines", "bands", "crossings",
-                 "paths_figure", "markdown"):
+        if n in (
+            "table",
+            "figure",
+            "json",
+            "effects",
+            "effects_figure",
+            "minmax_figure",
+            "map",
+            "lines",
+            "bands",
+            "crossings",
+            "paths_figure",
+            "markdown",
+        ):
             io.check_output(given[n])
     getattr(tasks, func)(st, **given)
 
 
 def build_parser():
-    ap = _Parser(prog="cdpr", description="Pose errors of cable-driven parallel robots from pulleys, cable elasticity and winch geometry.")
+    ap = _Parser(
+        prog="cdpr",
+        description="Pose errors of cable-driven parallel robots from pulleys, cable elasticity and winch geometry.",
+    )
     sub = ap.add_subparsers(dest="command", required=True, parser_class=_Parser)
-    sp = sub.add_parser("inverse", help="extended inverse model of every cable at a point (or a table of points)")
+    sp = sub.add_parser(
+        "inverse", help="extended inverse model of every cable at a point (or a table of points)"
+    )
     _robot_options(sp)
     _points_options(sp, "platform position")
     sp.set_defaults(func=cmd_inverse)
-    sp = sub.add_parser("point", help="DEGM_E at a point (or a table of points): solved pose, |dp|, tensions, subset, status")
+    sp = sub.add_parser(
+        "point", help="DEGM_E at a point (or a table of points): solved pose, |dp|, tensions, subset, status"
+    )
     _robot_options(sp)
     _solver_options(sp)
     _points_options(sp, "desired position")
@@ -371,18 +518,30 @@ def build_parser():
     _robot_options(sp)
     _solver_options(sp)
     sp.add_argument("--box", nargs=6, type=finite, metavar=("XMIN", "XMAX", "YMIN", "YMAX", "ZMIN", "ZMAX"))
-    sp.add_argument("--box-file", metavar="FILE", help="JSON file whose key 'box' holds the six numbers (e.g. rw_c.json)")
-    sp.add_argument("--frame", action="store_true", help="the frame's bounding box (anchors' extent, z from 0 to the pulleys)")
+    sp.add_argument(
+        "--box-file", metavar="FILE", help="JSON file whose key 'box' holds the six numbers (e.g. rw_c.json)"
+    )
+    sp.add_argument(
+        "--frame",
+        action="store_true",
+        help="the frame's bounding box (anchors' extent, z from 0 to the pulleys)",
+    )
     sp.add_argument("--n", type=count(1), required=True, help="points per axis")
     sp.add_argument("--out", required=True, metavar="FILE", help="output .parquet or .csv")
     sp.add_argument("--shard", type=count(0), default=0, help="0-based shard index (default 0)")
     sp.add_argument("--shards", type=count(1), default=1, help="number of shards (default 1)")
     sp.set_defaults(func=cmd_grid)
     sp = sub.add_parser("winch", help="winch joint angles and length error versus l_pm (winch seed Fig. 7)")
-    sp.add_argument("--params", metavar="FILE", help="YAML of winch parameters (default: Table 1 of the winch seed)")
-    sp.add_argument("--lpm-from", type=non_negative, default=0.0, metavar="M", help="first l_pm [m] (default 0)")
+    sp.add_argument(
+        "--params", metavar="FILE", help="YAML of winch parameters (default: Table 1 of the winch seed)"
+    )
+    sp.add_argument(
+        "--lpm-from", type=non_negative, default=0.0, metavar="M", help="first l_pm [m] (default 0)"
+    )
     sp.add_argument("--lpm-to", type=non_negative, default=5.0, metavar="M", help="last l_pm [m] (default 5)")
-    sp.add_argument("--steps", type=count(2, MAX_STEPS), default=101, help="points of the table (default 101)")
+    sp.add_argument(
+        "--steps", type=count(2, MAX_STEPS), default=101, help="points of the table (default 101)"
+    )
     sp.add_argument("--out", metavar="FILE", help="also write the table (.csv or .parquet)")
     sp.add_argument("--json", action="store_true")
     sp.set_defaults(func=cmd_winch)
@@ -390,10 +549,14 @@ def build_parser():
     _robot_options(sp)
     _solver_options(sp)
     sp.add_argument("--z", type=finite, required=True, metavar="M", help="plane height [m]")
-    sp.add_argument("--n", type=count(2, 20000), required=True, help="points per side over the anchors' bounding box")
+    sp.add_argument(
+        "--n", type=count(2, 20000), required=True, help="points per side over the anchors' bounding box"
+    )
     sp.add_argument("--out", required=True, metavar="FILE")
     sp.set_defaults(func=cmd_plane)
-    sp = sub.add_parser("trajectory", help="DEGM_E along a straight path (Fig. 10, 19); writes a table with arc length s")
+    sp = sub.add_parser(
+        "trajectory", help="DEGM_E along a straight path (Fig. 10, 19); writes a table with arc length s"
+    )
     _robot_options(sp)
     _solver_options(sp)
     sp.add_argument("--start", nargs=3, type=finite, required=True, metavar=("X", "Y", "Z"))
@@ -403,7 +566,9 @@ def build_parser():
     sp.set_defaults(func=cmd_trajectory)
     sp = sub.add_parser("job", help="a pipeline task: tables in, tables and figures out (run by Snakemake)")
     sp.add_argument("name", choices=list(JOBS))
-    sp.add_argument("--study", required=True, metavar="FILE", help="the study file (validated as by the pipeline)")
+    sp.add_argument(
+        "--study", required=True, metavar="FILE", help="the study file (validated as by the pipeline)"
+    )
     for n in sorted({n for _, names in JOBS.values() for n in names}):
         opt = "--" + n.replace("_", "-")
         if n in ("tables", "paths"):

@@ -10,6 +10,7 @@ with t(P*) the tensions that hold the platform at P* (eq. 11-13). Two solvers be
 scheme: sphere intersections, eq. 8-9, inside updates of the tensions). Both are vectorised over
 points and report iterations and convergence per point.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -61,7 +62,9 @@ class _Subset:
         g = self.geometry(P)
         t, M_inv = tensions(g.u, self.w_ext)
         F = g.L_TE - stretched_length(L, t, self.ES)
-        valid = ~g.inside.any(axis=-1) & np.isfinite(F).all(axis=-1) & (P[:, None, 2] < self.A[:, 2]).all(axis=-1)
+        valid = (
+            ~g.inside.any(axis=-1) & np.isfinite(F).all(axis=-1) & (P[:, None, 2] < self.A[:, 2]).all(axis=-1)
+        )
         if not jacobian:
             return F, t, valid
         dt = tension_gradient(t, M_inv, g)

@@ -6,6 +6,7 @@ References
 Paty, T., Binaud, N., Caro, S., Segonds, S. (2021). Cable-driven parallel robot modelling considering
 pulley kinematics and cable elasticity. Mechanism and Machine Theory 159, 104263.
 """
+
 from __future__ import annotations
 
 import itertools
@@ -62,8 +63,15 @@ def effects(X, y, names):
     ols, *_ = np.linalg.lstsq(M, y, rcond=None)
     eff = 2 * coef
     eff[0] = coef[0]
-    return pd.DataFrame({"term": terms, "coefficient": coef, "effect": eff, "ols_coefficient": ols,
-                         "abs_effect_rank": pd.Series(np.abs(coef)).rank(ascending=False, method="first").astype(int)})
+    return pd.DataFrame(
+        {
+            "term": terms,
+            "coefficient": coef,
+            "effect": eff,
+            "ols_coefficient": ols,
+            "abs_effect_rank": pd.Series(np.abs(coef)).rank(ascending=False, method="first").astype(int),
+        }
+    )
 
 
 def valley(r_p, h, index):
@@ -81,14 +89,22 @@ def valley(r_p, h, index):
         x, y = g["r_p"].to_numpy(), g["index"].to_numpy()
         r_star, refined = x[i], False
         if 0 < i < len(g) - 1:
-            x0, x1, x2 = x[i - 1:i + 2]
-            y0, y1, y2 = y[i - 1:i + 2]
+            x0, x1, x2 = x[i - 1 : i + 2]
+            y0, y1, y2 = y[i - 1 : i + 2]
             denom = (x0 - x1) * (x0 - x2) * (x1 - x2)
             A = (x2 * (y1 - y0) + x1 * (y0 - y2) + x0 * (y2 - y1)) / denom
             B = (x2**2 * (y0 - y1) + x1**2 * (y2 - y0) + x0**2 * (y1 - y2)) / denom
             if A > 0:
                 r_star, refined = -B / (2 * A), True
-        rows.append({"h": hv, "r_p_star": r_star, "index_min": y[i], "interior": 0 < i < len(g) - 1, "refined": refined})
+        rows.append(
+            {
+                "h": hv,
+                "r_p_star": r_star,
+                "index_min": y[i],
+                "interior": 0 < i < len(g) - 1,
+                "refined": refined,
+            }
+        )
     return pd.DataFrame(rows)
 
 

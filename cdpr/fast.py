@@ -6,6 +6,7 @@ status rules as the numpy path (``direct._newton`` + ``redundancy.solve_points``
 that both give the same table. The numpy path stays the reference; this one is what the CLI and
 pipeline use.
 """
+
 from __future__ import annotations
 
 import math
@@ -20,7 +21,9 @@ from .redundancy import STATUSES, TIE_TOL
 from .statics import DET_EPS
 
 TWO_PI = 2.0 * math.pi
-ST_OK, ST_SLACK, ST_OVER, ST_INACC, ST_NOCONV = (STATUSES.index(s) for s in ("ok", "slack", "over_tension", "inaccessible", "not_converged"))
+ST_OK, ST_SLACK, ST_OVER, ST_INACC, ST_NOCONV = (
+    STATUSES.index(s) for s in ("ok", "slack", "over_tension", "inaccessible", "not_converged")
+)
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -89,8 +92,25 @@ def _cable(px, py, pz, Ax, Ay, Az, kind, h, rp, d, inx, iny):
     # u_C . beta, u_C = (K - C)/l_d in the plane, beta = (-bhw, bhs) the arm's in-plane normal
     uCb = ((Hs + rp * cK) * -bhw + (Hw + rp * sK + d) * bhs) / (ld if ld > 0.0 else 1.0)
     i_n = 1.0 / n
-    return (L, vx * i_n, vy * i_n, vz * i_n, n, inside, swivel, -esy, esx,
-            arm, -bhw * esx, -bhw * esy, bhs, ens * esx, ens * esy, enw, uCb)
+    return (
+        L,
+        vx * i_n,
+        vy * i_n,
+        vz * i_n,
+        n,
+        inside,
+        swivel,
+        -esy,
+        esx,
+        arm,
+        -bhw * esx,
+        -bhw * esy,
+        bhs,
+        ens * esx,
+        ens * esy,
+        enw,
+        uCb,
+    )
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -99,12 +119,15 @@ def _residual(px, py, pz, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES,
     the Jacobian dF/dP and dt/dP (direct._Subset.residual). Scalars only: no allocation in the hot loop.
 
     Returns (F (3), t (3), J (9, row-major), dt/dP (9, row-major), valid)."""
-    (La, ax, ay, az, la, ia, sa, pax, pay,
-     qa, bax, bay, baz, eax, eay, eaz, ca) = _cable(px, py, pz, A[s0, 0], A[s0, 1], A[s0, 2], kind[s0], h[s0], rp[s0], d[s0], inward[s0, 0], inward[s0, 1])
-    (Lb, bx_, by_, bz_, lb, ib, sb, pbx, pby,
-     qb, bbx, bby, bbz, ebx, eby, ebz, cb) = _cable(px, py, pz, A[s1, 0], A[s1, 1], A[s1, 2], kind[s1], h[s1], rp[s1], d[s1], inward[s1, 0], inward[s1, 1])
-    (Lg, cx, cy, cz, lg, ig, sg, pgx, pgy,
-     qg, bgx, bgy, bgz, egx, egy, egz, cg) = _cable(px, py, pz, A[s2, 0], A[s2, 1], A[s2, 2], kind[s2], h[s2], rp[s2], d[s2], inward[s2, 0], inward[s2, 1])
+    (La, ax, ay, az, la, ia, sa, pax, pay, qa, bax, bay, baz, eax, eay, eaz, ca) = _cable(
+        px, py, pz, A[s0, 0], A[s0, 1], A[s0, 2], kind[s0], h[s0], rp[s0], d[s0], inward[s0, 0], inward[s0, 1]
+    )
+    (Lb, bx_, by_, bz_, lb, ib, sb, pbx, pby, qb, bbx, bby, bbz, ebx, eby, ebz, cb) = _cable(
+        px, py, pz, A[s1, 0], A[s1, 1], A[s1, 2], kind[s1], h[s1], rp[s1], d[s1], inward[s1, 0], inward[s1, 1]
+    )
+    (Lg, cx, cy, cz, lg, ig, sg, pgx, pgy, qg, bgx, bgy, bgz, egx, egy, egz, cg) = _cable(
+        px, py, pz, A[s2, 0], A[s2, 1], A[s2, 2], kind[s2], h[s2], rp[s2], d[s2], inward[s2, 0], inward[s2, 1]
+    )
     valid = not (ia or ib or ig) and pz < A[s0, 2] and pz < A[s1, 2] and pz < A[s2, 2]
     # cofactor rows of M = [u_a u_b u_c]: M^{-1} = [r0; r1; r2] / det
     r0x, r0y, r0z = by_ * cz - bz_ * cy, bz_ * cx - bx_ * cz, bx_ * cy - by_ * cx
@@ -113,8 +136,33 @@ def _residual(px, py, pz, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES,
     det = ax * r0x + ay * r0y + az * r0z
     if abs(det) < DET_EPS:
         nan = np.nan
-        return (nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan,
-                nan, nan, nan, nan, nan, nan, nan, nan, nan, False)
+        return (
+            nan,
+            nan,
+            nan,
+            nan,
+            nan,
+            nan,
+            nan,
+            nan,
+            nan,
+            nan,
+            nan,
+            nan,
+            nan,
+            nan,
+            nan,
+            nan,
+            nan,
+            nan,
+            nan,
+            nan,
+            nan,
+            nan,
+            nan,
+            nan,
+            False,
+        )
     idet = 1.0 / det
     t0 = (r0x * bx + r0y * by + r0z * bz) * idet
     t1 = (r1x * bx + r1y * by + r1z * bz) * idet
@@ -129,15 +177,35 @@ def _residual(px, py, pz, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES,
     wa, wb, wg = t0 / la, t1 / lb, t2 / lg
     ws = wa + wb + wg
     qsa, qsb, qsg = wa * sa, wb * sb, wg * sg
-    uba, ubb, ubg = ax * bax + ay * bay + az * baz, bx_ * bbx + by_ * bby + bz_ * bbz, cx * bgx + cy * bgy + cz * bgz
+    uba, ubb, ubg = (
+        ax * bax + ay * bay + az * baz,
+        bx_ * bbx + by_ * bby + bz_ * bbz,
+        cx * bgx + cy * bgy + cz * bgz,
+    )
     ka, kb, kg = wa * qa, wb * qb, wg * qg
     vax, vay, vaz = ka * (bax - uba * ax), ka * (bay - uba * ay), ka * (baz - uba * az)
     vbx, vby, vbz = kb * (bbx - ubb * bx_), kb * (bby - ubb * by_), kb * (bbz - ubb * bz_)
     vgx, vgy, vgz = kg * (bgx - ubg * cx), kg * (bgy - ubg * cy), kg * (bgz - ubg * cz)
-    Sxx = -ws + wa * ax * ax + wb * bx_ * bx_ + wg * cx * cx + qsa * pax * pax + qsb * pbx * pbx + qsg * pgx * pgx
+    Sxx = (
+        -ws
+        + wa * ax * ax
+        + wb * bx_ * bx_
+        + wg * cx * cx
+        + qsa * pax * pax
+        + qsb * pbx * pbx
+        + qsg * pgx * pgx
+    )
     Sxy = wa * ax * ay + wb * bx_ * by_ + wg * cx * cy + qsa * pax * pay + qsb * pbx * pby + qsg * pgx * pgy
     Sxz = wa * ax * az + wb * bx_ * bz_ + wg * cx * cz
-    Syy = -ws + wa * ay * ay + wb * by_ * by_ + wg * cy * cy + qsa * pay * pay + qsb * pby * pby + qsg * pgy * pgy
+    Syy = (
+        -ws
+        + wa * ay * ay
+        + wb * by_ * by_
+        + wg * cy * cy
+        + qsa * pay * pay
+        + qsb * pby * pby
+        + qsg * pgy * pgy
+    )
     Syz = wa * ay * az + wb * by_ * bz_ + wg * cy * cz
     Szz = -ws + wa * az * az + wb * bz_ * bz_ + wg * cz * cz
     Gxx = Sxx + vax * eax + vbx * ebx + vgx * egx
@@ -165,12 +233,39 @@ def _residual(px, py, pz, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES,
     J00, J01, J02 = -ax + ma * eax - k0 * T00, -ay + ma * eay - k0 * T01, -az + ma * eaz - k0 * T02
     J10, J11, J12 = -bx_ + mb * ebx - k1 * T10, -by_ + mb * eby - k1 * T11, -bz_ + mb * ebz - k1 * T12
     J20, J21, J22 = -cx + mg * egx - k2 * T20, -cy + mg * egy - k2 * T21, -cz + mg * egz - k2 * T22
-    return (F0, F1, F2, t0, t1, t2, J00, J01, J02, J10, J11, J12, J20, J21, J22,
-            T00, T01, T02, T10, T11, T12, T20, T21, T22, valid)
+    return (
+        F0,
+        F1,
+        F2,
+        t0,
+        t1,
+        t2,
+        J00,
+        J01,
+        J02,
+        J10,
+        J11,
+        J12,
+        J20,
+        J21,
+        J22,
+        T00,
+        T01,
+        T02,
+        T10,
+        T11,
+        T12,
+        T20,
+        T21,
+        T22,
+        valid,
+    )
 
 
 @njit(cache=True, error_model="numpy")
-def _newton(p0x, p0y, p0z, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES, bx, by, bz, tol, maxiter, max_step):
+def _newton(
+    p0x, p0y, p0z, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES, bx, by, bz, tol, maxiter, max_step
+):
     """direct._newton (analytic Jacobian, same stop rule) for one point and one subset.
 
     Returns (Px, Py, Pz, t0, t1, t2, iterations, converged, exists)."""
@@ -180,9 +275,33 @@ def _newton(p0x, p0y, p0z, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES
     it = 0
     prev = 0.0
     for _ in range(maxiter):
-        (F0, F1, F2, t0, t1, t2, jx0, jy0, jz0, jx1, jy1, jz1, jx2, jy2, jz2,
-         T00, T01, T02, T10, T11, T12, T20, T21, T22,
-         valid) = _residual(px, py, pz, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES, bx, by, bz)
+        (
+            F0,
+            F1,
+            F2,
+            t0,
+            t1,
+            t2,
+            jx0,
+            jy0,
+            jz0,
+            jx1,
+            jy1,
+            jz1,
+            jx2,
+            jy2,
+            jz2,
+            T00,
+            T01,
+            T02,
+            T10,
+            T11,
+            T12,
+            T20,
+            T21,
+            T22,
+            valid,
+        ) = _residual(px, py, pz, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES, bx, by, bz)
         # solve J step = -F by cofactors (statics.solve3); columns (jx., jy., jz.)
         q0x, q0y, q0z = jy1 * jz2 - jy2 * jz1, jy2 * jz0 - jy0 * jz2, jy0 * jz1 - jy1 * jz0
         q1x, q1y, q1z = jz1 * jx2 - jz2 * jx1, jz2 * jx0 - jz0 * jx2, jz0 * jx1 - jz1 * jx0
@@ -223,10 +342,55 @@ def _newton(p0x, p0y, p0z, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES
 
 
 @njit(cache=True, error_model="numpy")
-def _solve_subset(k, i, p, A, kind, h, rp, d, inward, subsets, Lall, ES, b, tol, maxiter, max_step, Ps, ts, its, conv, exi, dps):
+def _solve_subset(
+    k,
+    i,
+    p,
+    A,
+    kind,
+    h,
+    rp,
+    d,
+    inward,
+    subsets,
+    Lall,
+    ES,
+    b,
+    tol,
+    maxiter,
+    max_step,
+    Ps,
+    ts,
+    its,
+    conv,
+    exi,
+    dps,
+):
     s0, s1, s2 = subsets[k, 0], subsets[k, 1], subsets[k, 2]
-    px, py, pz, t0, t1, t2, it, cv, ex = _newton(p[i, 0], p[i, 1], p[i, 2], s0, s1, s2, A, kind, h, rp, d, inward,
-                                                 Lall[s0], Lall[s1], Lall[s2], ES, b[0], b[1], b[2], tol, maxiter, max_step)
+    px, py, pz, t0, t1, t2, it, cv, ex = _newton(
+        p[i, 0],
+        p[i, 1],
+        p[i, 2],
+        s0,
+        s1,
+        s2,
+        A,
+        kind,
+        h,
+        rp,
+        d,
+        inward,
+        Lall[s0],
+        Lall[s1],
+        Lall[s2],
+        ES,
+        b[0],
+        b[1],
+        b[2],
+        tol,
+        maxiter,
+        max_step,
+    )
     Ps[k, 0], Ps[k, 1], Ps[k, 2] = px, py, pz
     ts[k, 0], ts[k, 1], ts[k, 2] = t0, t1, t2
     its[k], conv[k], exi[k] = it, cv, ex
@@ -238,8 +402,32 @@ CHUNK = 256
 
 
 @njit(cache=True, parallel=True, error_model="numpy")
-def _solve_points(p, A, kind, h, rp, d, inward, subsets, edges, margin, ES, b, T_a, tol, maxiter, max_step, prune,
-                  P_s, dp_out, t_out, sub_out, it_out, st_out, work):
+def _solve_points(
+    p,
+    A,
+    kind,
+    h,
+    rp,
+    d,
+    inward,
+    subsets,
+    edges,
+    margin,
+    ES,
+    b,
+    T_a,
+    tol,
+    maxiter,
+    max_step,
+    prune,
+    P_s,
+    dp_out,
+    t_out,
+    sub_out,
+    it_out,
+    st_out,
+    work,
+):
     n = p.shape[0]
     ns = subsets.shape[0]
     m = A.shape[0]
@@ -256,18 +444,90 @@ def _solve_points(p, A, kind, h, rp, d, inward, subsets, edges, margin, ES, b, T
         adm = np.empty(ns, np.bool_)
         gap = np.empty(ns)
         for i in range(ch * CHUNK, min(n, (ch + 1) * CHUNK)):
-            _solve_one(i, p, A, kind, h, rp, d, inward, subsets, edges, margin, ES, b, T_a, tol, maxiter, max_step, prune,
-                       P_s, dp_out, t_out, sub_out, it_out, st_out, work, Lall, Ps, ts, its, conv, exi, dps, solved, adm, gap)
+            _solve_one(
+                i,
+                p,
+                A,
+                kind,
+                h,
+                rp,
+                d,
+                inward,
+                subsets,
+                edges,
+                margin,
+                ES,
+                b,
+                T_a,
+                tol,
+                maxiter,
+                max_step,
+                prune,
+                P_s,
+                dp_out,
+                t_out,
+                sub_out,
+                it_out,
+                st_out,
+                work,
+                Lall,
+                Ps,
+                ts,
+                its,
+                conv,
+                exi,
+                dps,
+                solved,
+                adm,
+                gap,
+            )
 
 
 @njit(cache=True, error_model="numpy")
-def _solve_one(i, p, A, kind, h, rp, d, inward, subsets, edges, margin, ES, b, T_a, tol, maxiter, max_step, prune,
-               P_s, dp_out, t_out, sub_out, it_out, st_out, work, Lall, Ps, ts, its, conv, exi, dps, solved, adm, gap):
+def _solve_one(
+    i,
+    p,
+    A,
+    kind,
+    h,
+    rp,
+    d,
+    inward,
+    subsets,
+    edges,
+    margin,
+    ES,
+    b,
+    T_a,
+    tol,
+    maxiter,
+    max_step,
+    prune,
+    P_s,
+    dp_out,
+    t_out,
+    sub_out,
+    it_out,
+    st_out,
+    work,
+    Lall,
+    Ps,
+    ts,
+    its,
+    conv,
+    exi,
+    dps,
+    solved,
+    adm,
+    gap,
+):
     """Point i: solve the subsets (pruned, see solve_points_fast) and choose as redundancy.solve_points."""
     ns = subsets.shape[0]
     m = A.shape[0]
     for c in range(m):
-        Lall[c] = math.sqrt((p[i, 0] - A[c, 0]) ** 2 + (p[i, 1] - A[c, 1]) ** 2 + (p[i, 2] - A[c, 2]) ** 2) + d[c]
+        Lall[c] = (
+            math.sqrt((p[i, 0] - A[c, 0]) ** 2 + (p[i, 1] - A[c, 1]) ** 2 + (p[i, 2] - A[c, 2]) ** 2) + d[c]
+        )
     for k in range(ns):
         Ps[k, 0] = Ps[k, 1] = Ps[k, 2] = np.nan
         ts[k, 0] = ts[k, 1] = ts[k, 2] = np.nan
@@ -291,9 +551,40 @@ def _solve_one(i, p, A, kind, h, rp, d, inward, subsets, edges, margin, ES, b, T
                 continue
             if pss == 2 and best < np.inf:
                 break
-            _solve_subset(k, i, p, A, kind, h, rp, d, inward, subsets, Lall, ES, b, tol, maxiter, max_step, Ps, ts, its, conv, exi, dps)
+            _solve_subset(
+                k,
+                i,
+                p,
+                A,
+                kind,
+                h,
+                rp,
+                d,
+                inward,
+                subsets,
+                Lall,
+                ES,
+                b,
+                tol,
+                maxiter,
+                max_step,
+                Ps,
+                ts,
+                its,
+                conv,
+                exi,
+                dps,
+            )
             solved[k] = True
-            if conv[k] and ts[k, 0] >= 0 and ts[k, 1] >= 0 and ts[k, 2] >= 0 and ts[k, 0] <= T_a[subsets[k, 0]] and ts[k, 1] <= T_a[subsets[k, 1]] and ts[k, 2] <= T_a[subsets[k, 2]]:
+            if (
+                conv[k]
+                and ts[k, 0] >= 0
+                and ts[k, 1] >= 0
+                and ts[k, 2] >= 0
+                and ts[k, 0] <= T_a[subsets[k, 0]]
+                and ts[k, 1] <= T_a[subsets[k, 1]]
+                and ts[k, 2] <= T_a[subsets[k, 2]]
+            ):
                 best = min(best, dps[k])
     nsolved = 0
     for k in range(ns):
@@ -305,7 +596,11 @@ def _solve_one(i, p, A, kind, h, rp, d, inward, subsets, edges, margin, ES, b, T
         if not solved[k]:
             continue
         low = ts[k, 0] >= 0 and ts[k, 1] >= 0 and ts[k, 2] >= 0
-        high = ts[k, 0] <= T_a[subsets[k, 0]] and ts[k, 1] <= T_a[subsets[k, 1]] and ts[k, 2] <= T_a[subsets[k, 2]]
+        high = (
+            ts[k, 0] <= T_a[subsets[k, 0]]
+            and ts[k, 1] <= T_a[subsets[k, 1]]
+            and ts[k, 2] <= T_a[subsets[k, 2]]
+        )
         adm[k] = conv[k] and low and high
         any_adm = any_adm or adm[k]
         any_conv = any_conv or conv[k]
@@ -390,9 +685,40 @@ def solve_points_fast(robot, p, tol=None, maxiter=None, threads=None, prune=True
     work = np.empty(n, dtype=np.int32)
     if n:
         edges, margin = subset_edges(robot)
-        _solve_points(p, robot.A, robot.kind.astype(np.int64), robot.h, robot.r_p, robot.d, np.ascontiguousarray(robot.inward),
-                      robot.subsets.astype(np.int64), edges, margin, robot.ES, -robot.platform.w_ext, robot.T_a,
-                      o["tol"] if tol is None else tol, o["maxiter"] if maxiter is None else maxiter, o["max_step"], prune,
-                      P_s, dp, t, sub, it, st, work)
-    return {"p": p, "P_s": P_s, "dp": dp, "t": t, "subset": sub, "iterations": it, "status_code": st,
-            "status": np.asarray(STATUSES)[st], "subset_solves": work}
+        _solve_points(
+            p,
+            robot.A,
+            robot.kind.astype(np.int64),
+            robot.h,
+            robot.r_p,
+            robot.d,
+            np.ascontiguousarray(robot.inward),
+            robot.subsets.astype(np.int64),
+            edges,
+            margin,
+            robot.ES,
+            -robot.platform.w_ext,
+            robot.T_a,
+            o["tol"] if tol is None else tol,
+            o["maxiter"] if maxiter is None else maxiter,
+            o["max_step"],
+            prune,
+            P_s,
+            dp,
+            t,
+            sub,
+            it,
+            st,
+            work,
+        )
+    return {
+        "p": p,
+        "P_s": P_s,
+        "dp": dp,
+        "t": t,
+        "subset": sub,
+        "iterations": it,
+        "status_code": st,
+        "status": np.asarray(STATUSES)[st],
+        "subset_solves": work,
+    }

@@ -1,4 +1,5 @@
 """Inverse geometric models: standard IGM_S (eq. 1-2) and extended IGM_E (eq. 3-7)."""
+
 from __future__ import annotations
 
 import numpy as np

@@ -1,4 +1,5 @@
 """Atomic output: a file appears complete or not at all, so an interrupted run resumes cleanly."""
+
 from __future__ import annotations
 
 import json
@@ -85,8 +86,10 @@ def read_table(path):
     except FileNotFoundError:
         raise
     except Exception as exc:  # pyarrow.ArrowInvalid, pandas' EmptyDataError/ParserError, ...
-        raise CdprError(f"{path}: cannot read this table ({type(exc).__name__}: {' '.join(str(exc).split())[:200]}); "
-                        f"it is probably truncated by an interrupted run: delete it and run again") from None
+        raise CdprError(
+            f"{path}: cannot read this table ({type(exc).__name__}: {' '.join(str(exc).split())[:200]}); "
+            f"it is probably truncated by an interrupted run: delete it and run again"
+        ) from None
 
 
 def clean_json(obj):

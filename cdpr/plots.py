@@ -5,6 +5,7 @@ writes a PNG and a PDF (``save``). Nothing here computes physics: the numbers dr
 in the tables. Figure numbers are those of Paty et al. 2021 (Fig. 9-19) and Métillon et al. 2022
 (Fig. 7).
 """
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -30,7 +31,12 @@ def save(fig, out):
     paths = [out, out.with_suffix(".pdf")]
     meta = {".png": None, ".pdf": {"CreationDate": None}}
     for p in paths:
-        atomic(p, lambda tmp, p=p: fig.savefig(tmp, format=p.suffix[1:], dpi=150, bbox_inches="tight", metadata=meta[p.suffix]))
+        atomic(
+            p,
+            lambda tmp, p=p: fig.savefig(
+                tmp, format=p.suffix[1:], dpi=150, bbox_inches="tight", metadata=meta[p.suffix]
+            ),
+        )
     plt.close(fig)
     return paths
 
@@ -66,8 +72,16 @@ def _not_ok_legend(ax, df):
     counts = df.status[df.status != "ok"].value_counts()
     counts = counts[counts > 0]
     if len(counts):
-        ax.legend(handles=[Patch(color=NOT_OK_COLOUR, label="not ok: " + ", ".join(f"{k} {v}" for k, v in counts.items()))],
-                  fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.12))
+        ax.legend(
+            handles=[
+                Patch(
+                    color=NOT_OK_COLOUR, label="not ok: " + ", ".join(f"{k} {v}" for k, v in counts.items())
+                )
+            ],
+            fontsize=7,
+            loc="upper center",
+            bbox_to_anchor=(0.5, -0.12),
+        )
 
 
 def fig7_winch(df, l_pm0, q0, out):
@@ -124,16 +138,30 @@ def fig10_trajectories(tables, minmax, out):
         ok = df.status == "ok"
         kind = label.split("_", 1)[1] if "_" in label else label
         style = "-" if label.startswith(tuple(sorted({lab.split("_")[0] for lab in tables})[:1])) else "--"
-        line, = ax.plot(df.s.where(ok), df.dp.where(ok) * 1e3, style, color=KIND_COLOURS.get(kind), label=label)
+        (line,) = ax.plot(
+            df.s.where(ok), df.dp.where(ok) * 1e3, style, color=KIND_COLOURS.get(kind), label=label
+        )
         for st, mk in markers.items():
             sel = df.status == st
             if sel.any():
-                ax.plot(df.s[sel], np.zeros(int(sel.sum())), mk, color=line.get_color(), ms=4, label=f"{label}: {st}")
+                ax.plot(
+                    df.s[sel],
+                    np.zeros(int(sel.sum())),
+                    mk,
+                    color=line.get_color(),
+                    ms=4,
+                    label=f"{label}: {st}",
+                )
         if np.isfinite(row.ok_until_s_m):
             ax.axvline(row.ok_until_s_m, color=line.get_color(), ls=":", lw=0.8)
     lengths = sorted(set(np.round(minmax.path_length_m, 3)))
-    ax.set(xlabel="position along the path s [m] (path lengths " + ", ".join(f"{v:g}" for v in lengths) + " m; dotted: last ok point)",
-           ylabel="‖δp‖ [mm]", title="‖δp‖ along the section 3.3.1 paths (Fig. 10)")
+    ax.set(
+        xlabel="position along the path s [m] (path lengths "
+        + ", ".join(f"{v:g}" for v in lengths)
+        + " m; dotted: last ok point)",
+        ylabel="‖δp‖ [mm]",
+        title="‖δp‖ along the section 3.3.1 paths (Fig. 10)",
+    )
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7, ncol=2)
     return save(fig, out)
@@ -183,7 +211,10 @@ def fig13_volume_view(df, limits, R_V, z_top, title, out):
     faces of its voxels (cell-centred grid table ``df`` in C order), z from 0 to ``z_top``."""
     xs, ys, zs = (np.sort(df[c].unique()) for c in ("x", "y", "z"))
     n = (len(xs), len(ys), len(zs))
-    edges = [np.concatenate([[c[0] - (c[1] - c[0]) / 2], (c[:-1] + c[1:]) / 2, [c[-1] + (c[-1] - c[-2]) / 2]]) for c in (xs, ys, zs)]
+    edges = [
+        np.concatenate([[c[0] - (c[1] - c[0]) / 2], (c[:-1] + c[1:]) / 2, [c[-1] + (c[-1] - c[-2]) / 2]])
+        for c in (xs, ys, zs)
+    ]
     X, Y, Z = np.meshgrid(*edges, indexing="ij")
     ok = (df.status == "ok").to_numpy()
     dp = df.dp.to_numpy()
@@ -195,8 +226,16 @@ def fig13_volume_view(df, limits, R_V, z_top, title, out):
         colour = plt.get_cmap("viridis")(norm(np.nan_to_num(dp, nan=0.0).reshape(n) * 1e3))
         colour[..., 3] = 0.35
         ax.voxels(X, Y, Z, filled, facecolors=colour, edgecolor=None, linewidth=0)
-        ax.set(xlabel="x [m]", ylabel="y [m]", zlabel="z [m]", zlim=(0.0, z_top), title=f"‖δp‖ ≤ {lim * 1e3:g} mm: R_V = {rv:.2f}")
-    fig.colorbar(matplotlib.cm.ScalarMappable(norm=norm, cmap="viridis"), ax=fig.axes, shrink=0.6, label="‖δp‖ [mm]")
+        ax.set(
+            xlabel="x [m]",
+            ylabel="y [m]",
+            zlabel="z [m]",
+            zlim=(0.0, z_top),
+            title=f"‖δp‖ ≤ {lim * 1e3:g} mm: R_V = {rv:.2f}",
+        )
+    fig.colorbar(
+        matplotlib.cm.ScalarMappable(norm=norm, cmap="viridis"), ax=fig.axes, shrink=0.6, label="‖δp‖ [mm]"
+    )
     fig.suptitle(title, fontsize=10)
     return save(fig, out)
 
@@ -206,13 +245,25 @@ def fig14_rv(tab, paper, out):
     ``paper`` rows (robot, pulley, limit_m, R_V) are the paper's values, drawn as markers."""
     fig, ax = plt.subplots(figsize=(6.5, 4.2))
     for (rk, pk), g in tab.groupby(["robot", "pulley"], sort=False):
-        line, = ax.plot(g.limit_m * 1e3, g.R_V, "-" if rk.endswith("4") else "--", color=KIND_COLOURS.get(pk), label=f"{rk} {pk}")
+        (line,) = ax.plot(
+            g.limit_m * 1e3,
+            g.R_V,
+            "-" if rk.endswith("4") else "--",
+            color=KIND_COLOURS.get(pk),
+            label=f"{rk} {pk}",
+        )
         p = paper[(paper.robot == rk) & (paper.pulley == pk)]
         if len(p):
-            ax.plot(p.limit_m * 1e3, p.R_V, "o", mfc="none", color=line.get_color(), label=f"{rk} {pk}: paper")
+            ax.plot(
+                p.limit_m * 1e3, p.R_V, "o", mfc="none", color=line.get_color(), label=f"{rk} {pk}: paper"
+            )
     for lim in sorted(set(paper.limit_m)):
         ax.axvline(lim * 1e3, color="0.6", ls=":", lw=0.8)
-    ax.set(xlabel=r"error limit $\|\delta p\|_{lim}$ [mm]", ylabel=r"$R_V = V_L / V_T$", title="Error-limited volume ratio (Fig. 14)")
+    ax.set(
+        xlabel=r"error limit $\|\delta p\|_{lim}$ [mm]",
+        ylabel=r"$R_V = V_L / V_T$",
+        title="Error-limited volume ratio (Fig. 14)",
+    )
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7, ncol=2)
     return save(fig, out)
@@ -223,8 +274,14 @@ def fig15_doe(tests, out):
     fig, ax = plt.subplots(figsize=(7, 4.2))
     colours = [KIND_COLOURS.get(k) for k in tests.kind]
     ax.bar(np.arange(len(tests)), tests.index_m * 1e3, color=colours)
-    ax.set_xticks(np.arange(len(tests)), [f"T{t}: {k}\nh={h * 1e3:g} r_p={r * 1e3:g} mm" for t, k, h, r in
-                                          zip(tests.test, tests.kind, tests.h_m, tests.r_p_m)], fontsize=7)
+    ax.set_xticks(
+        np.arange(len(tests)),
+        [
+            f"T{t}: {k}\nh={h * 1e3:g} r_p={r * 1e3:g} mm"
+            for t, k, h, r in zip(tests.test, tests.kind, tests.h_m, tests.r_p_m)
+        ],
+        fontsize=7,
+    )
     ax.set(ylabel="global index mean ‖δp‖ [mm]", title="DOE responses (Fig. 15)")
     ax.grid(axis="y", alpha=0.3)
     return save(fig, out)
@@ -237,8 +294,10 @@ def fig16_effects(eff, out):
     ax.bar(np.arange(len(e)), e.effect * 1e3, color=["tab:green" if v < 0 else "tab:red" for v in e.effect])
     ax.set_xticks(np.arange(len(e)), e.term, rotation=30, ha="right")
     ax.axhline(0.0, color="k", lw=0.8)
-    ax.set(ylabel="effect on mean ‖δp‖ [mm]",
-           title="Effects and interactions (Fig. 16); factors coded -1/+1:\njoint SR/DR, h and r_p low/high level of Table 2", )
+    ax.set(
+        ylabel="effect on mean ‖δp‖ [mm]",
+        title="Effects and interactions (Fig. 16); factors coded -1/+1:\njoint SR/DR, h and r_p low/high level of Table 2",
+    )
     ax.title.set_fontsize(9)
     ax.grid(axis="y", alpha=0.3)
     return save(fig, out)
@@ -267,14 +326,28 @@ def fig17_maps(tab, valleys, lines, tests, levels, out):
             ax.plot(rr * 1e3, line.slope_k * rr * 1e3, "r-", label=f"h = {line.slope_k:.2f} r_p")
         r0, r1 = levels["r_p_m"]
         h0, h1 = levels["h_m"]
-        ax.add_patch(plt.Rectangle((r0 * 1e3, h0 * 1e3), (r1 - r0) * 1e3, (h1 - h0) * 1e3, fill=False, ec="w", ls="--"))
+        ax.add_patch(
+            plt.Rectangle((r0 * 1e3, h0 * 1e3), (r1 - r0) * 1e3, (h1 - h0) * 1e3, fill=False, ec="w", ls="--")
+        )
         for t in tests[tests.kind == kind].itertuples():
-            ax.annotate(f"T{t.test}", (t.r_p_m * 1e3, t.h_m * 1e3), color="w", fontsize=8, ha="center", va="center",
-                        bbox=dict(boxstyle="round,pad=0.15", fc="k", alpha=0.5))
+            ax.annotate(
+                f"T{t.test}",
+                (t.r_p_m * 1e3, t.h_m * 1e3),
+                color="w",
+                fontsize=8,
+                ha="center",
+                va="center",
+                bbox=dict(boxstyle="round,pad=0.15", fc="k", alpha=0.5),
+            )
         if line.r_p_opt_m == line.r_p_opt_m and line.r_p_opt_m is not None:
             ax.plot(line.r_p_opt_m * 1e3, line.h_opt_m * 1e3, "r*", ms=12, label=f"I_{kind}")
-        ax.set(xlabel="sheave radius r_p [mm]", ylabel="lever arm h [mm]", title=f"{kind} pulleys (Fig. 17)",
-               xlim=(0, g.r_p_m.max() * 1e3), ylim=(0, g.h_m.max() * 1e3))
+        ax.set(
+            xlabel="sheave radius r_p [mm]",
+            ylabel="lever arm h [mm]",
+            title=f"{kind} pulleys (Fig. 17)",
+            xlim=(0, g.r_p_m.max() * 1e3),
+            ylim=(0, g.h_m.max() * 1e3),
+        )
         ax.legend(fontsize=7, loc="lower right")
     if cf is not None:
         fig.colorbar(cf, ax=axes[0].tolist(), label="global index mean ‖δp‖ [mm]")
@@ -286,11 +359,15 @@ def fig18_index_vs_E(tab, E_mean, bands, out):
     nominal modulus E_mean and the band [min, max] over the range marked."""
     fig, ax = plt.subplots(figsize=(6.5, 4.2))
     for dk, g in tab.groupby("design", sort=False):
-        line, = ax.plot(g.E_Pa / 1e9, g.index_m * 1e3, "o-", ms=3, label=dk)
+        (line,) = ax.plot(g.E_Pa / 1e9, g.index_m * 1e3, "o-", ms=3, label=dk)
         b = bands[bands.design == dk].iloc[0]
         ax.axhspan(b.index_min_m * 1e3, b.index_max_m * 1e3, color=line.get_color(), alpha=0.12)
     ax.axvline(E_mean / 1e9, color="k", ls=":", label=f"E_mean = {E_mean / 1e9:g} GPa")
-    ax.set(xlabel="Young's modulus E [GPa]", ylabel="global index mean ‖δp‖ [mm]", title="Index versus Young's modulus (Fig. 18); shaded: band")
+    ax.set(
+        xlabel="Young's modulus E [GPa]",
+        ylabel="global index mean ‖δp‖ [mm]",
+        title="Index versus Young's modulus (Fig. 18); shaded: band",
+    )
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     return save(fig, out)
@@ -309,8 +386,19 @@ def fig19_paths(curves, crossings, out):
         ax.plot(s, dp * 1e3, styles[E], color=colours[dk], label=f"{dk} E = {E / 1e9:g} GPa")
     for r in crossings.itertuples():
         ax.axvline(r.s_m, color=colours.get(r.design, "k"), lw=0.8, alpha=0.6)
-        ax.annotate(f"{r.design} crossing s = {r.s_m:.2f} m", (r.s_m, ax.get_ylim()[1]), rotation=90, fontsize=6, va="top", ha="right")
-    ax.set(xlabel="position along the path s [m]", ylabel="‖δp‖ [mm]", title="‖δp‖ along the section 5.2 path (Fig. 19)")
+        ax.annotate(
+            f"{r.design} crossing s = {r.s_m:.2f} m",
+            (r.s_m, ax.get_ylim()[1]),
+            rotation=90,
+            fontsize=6,
+            va="top",
+            ha="right",
+        )
+    ax.set(
+        xlabel="position along the path s [m]",
+        ylabel="‖δp‖ [mm]",
+        title="‖δp‖ along the section 5.2 path (Fig. 19)",
+    )
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
     return save(fig, out)
@@ -322,7 +410,15 @@ def dead_length_figure(tab, d_default, out):
     fig, (a, b) = plt.subplots(1, 2, figsize=(11, 4))
     for c in [c for c in tab.columns if c.startswith("plane_")]:
         _, pk, stat, _ = c.split("_")
-        a.plot(tab.d_m, tab[c] * 1e3, "-" if stat == "max" else "--", marker="o", ms=3, color=KIND_COLOURS.get(pk), label=f"{pk} plane {stat}")
+        a.plot(
+            tab.d_m,
+            tab[c] * 1e3,
+            "-" if stat == "max" else "--",
+            marker="o",
+            ms=3,
+            color=KIND_COLOURS.get(pk),
+            label=f"{pk} plane {stat}",
+        )
     for c in [c for c in tab.columns if c.endswith("_index_m") and "_Emean_" in c]:
         b.plot(tab.d_m, tab[c] * 1e3, marker="o", ms=3, label=f"{c.split('_')[0]} index at E_mean")
     for ax, yl in ((a, "‖δp‖ on the plane [mm]"), (b, "global index mean ‖δp‖ [mm]")):

@@ -9,6 +9,7 @@ swivel axis) -> over the top -> exit point D -> P.
 All functions broadcast: P has shape (..., 3), per-cable parameters have shape (m,) or broadcast
 against (..., m). Results have shape (..., m) or (..., m, 3).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -111,15 +112,31 @@ def pulley_state(P, A, kind, h, r_p, d, inward):
     L_TE = l_d + r_p * gamma + l_E
 
     def lift(s, w):
-        return A + s[..., None] * np.concatenate([e_s, np.zeros(e_s.shape[:-1] + (1,))], axis=-1) + w[..., None] * np.array([0.0, 0.0, 1.0])
+        return (
+            A
+            + s[..., None] * np.concatenate([e_s, np.zeros(e_s.shape[:-1] + (1,))], axis=-1)
+            + w[..., None] * np.array([0.0, 0.0, 1.0])
+        )
 
     H = lift(H_s, H_w)
     D = lift(H_s + r_p * np.cos(theta_D), H_w + r_p * np.sin(theta_D))
     K = lift(H_s + r_p * np.cos(theta_K), H_w + r_p * np.sin(theta_K))
     alpha = np.arctan2(-e_s[..., 1], e_s[..., 0])
     beta = np.arctan2(H_w, np.where((H_s == 0) & (H_w == 0), 1.0, H_s))
-    return PulleyState(H=H, K=K, D=D, gamma=gamma, l_d=l_d, l_E=l_E, L_TE=L_TE, alpha=alpha, beta=beta, inside=in_P | in_C,
-                       e_s=e_s, rho=rho)
+    return PulleyState(
+        H=H,
+        K=K,
+        D=D,
+        gamma=gamma,
+        l_d=l_d,
+        l_E=l_E,
+        L_TE=L_TE,
+        alpha=alpha,
+        beta=beta,
+        inside=in_P | in_C,
+        e_s=e_s,
+        rho=rho,
+    )
 
 
 #: Horizontal distance [m] under which the swivel term of du/dP is left out (it is singular on the axis).

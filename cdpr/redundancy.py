@@ -16,6 +16,7 @@ Status of a point (``STATUSES``):
 For a point that is not ``ok``, the solved position and tensions of the converged subset with the
 lowest |dp| are still reported, so that the reason can be inspected; aggregations keep ``ok`` rows.
 """
+
 from __future__ import annotations
 
 import numpy as np

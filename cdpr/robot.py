@@ -18,6 +18,7 @@ cable's ``pulley``, ``cable`` (material) and ``dead_length_m`` override the robo
 key. The file is checked against ``cdpr/schemas/robot.schema.yaml`` first, then for the physics a
 schema cannot express (h >= r_p, distinct anchors above the floor, ...).
 """
+
 from __future__ import annotations
 
 import copy
@@ -140,7 +141,9 @@ class Robot:
             r_p=np.array([c.pulley.r_p for c in self.cables], dtype=float),
             d=np.array([c.dead_length for c in self.cables], dtype=float),
             inward=np.ascontiguousarray(inward),
-            E=E, S=S, ES=E * S,
+            E=E,
+            S=S,
+            ES=E * S,
             T_a=np.array([c.material.T_a for c in self.cables], dtype=float),
         )
 
@@ -212,22 +215,34 @@ def check_pulley(kind, h, r_p, source, key):
     clear it). h = r_p = 0 is the fixed-point limit of either kind."""
     if kind == "fixed":
         if h != 0.0 or r_p != 0.0:
-            raise ConfigError(source, key, "a 'fixed' pulley is a point of passage: h_m and r_p_m must be 0 or absent")
+            raise ConfigError(
+                source, key, "a 'fixed' pulley is a point of passage: h_m and r_p_m must be 0 or absent"
+            )
     elif h == 0.0 and r_p == 0.0:
         return
     elif kind == "SR" and h < r_p:
-        raise ConfigError(source, key, f"SR pulley needs lever arm h_m >= sheave radius r_p_m (the sheave would cross its swivel axis), "
-                                       f"got h_m={h:g} m, r_p_m={r_p:g} m; h_m = r_p_m = 0 is allowed as the fixed-point limit")
+        raise ConfigError(
+            source,
+            key,
+            f"SR pulley needs lever arm h_m >= sheave radius r_p_m (the sheave would cross its swivel axis), "
+            f"got h_m={h:g} m, r_p_m={r_p:g} m; h_m = r_p_m = 0 is allowed as the fixed-point limit",
+        )
     elif kind == "DR" and h <= r_p:
-        raise ConfigError(source, key, f"DR pulley needs lever arm h_m > sheave radius r_p_m (the sheave would hit its joint), "
-                                       f"got h_m={h:g} m, r_p_m={r_p:g} m; h_m = r_p_m = 0 is allowed as the fixed-point limit")
+        raise ConfigError(
+            source,
+            key,
+            f"DR pulley needs lever arm h_m > sheave radius r_p_m (the sheave would hit its joint), "
+            f"got h_m={h:g} m, r_p_m={r_p:g} m; h_m = r_p_m = 0 is allowed as the fixed-point limit",
+        )
 
 
 def _pulley(d, default, source, key):
     merged = dict(default or {})
     merged.update(d or {})
     if "kind" not in merged:
-        raise ConfigError(source, key + ".kind", f"missing required key; allowed values: {' | '.join(PULLEY_KINDS)}")
+        raise ConfigError(
+            source, key + ".kind", f"missing required key; allowed values: {' | '.join(PULLEY_KINDS)}"
+        )
     kind = merged["kind"]
     h = _positive(merged.get("h_m", 0.0), "m", source, key + ".h_m", allow_zero=True)
     r_p = _positive(merged.get("r_p_m", 0.0), "m", source, key + ".r_p_m", allow_zero=True)
@@ -269,19 +284,35 @@ def robot_from_dict(data, source="<dict>"):
         key = f"cables[{i}]"
         A = tuple(quantity(v, "m", source, f"{key}.A_m[{j}]") for j, v in enumerate(c["A_m"]))
         if A[2] <= 0.0:
-            raise ConfigError(source, key + ".A_m", f"the anchor must lie above the floor z = 0 (the platform hangs below it), got z = {A[2]:g} m")
-        pulley = _pulley(c.get("pulley"), default_pulley, source, key + ".pulley" if "pulley" in c else "pulley")
-        material = _material(c.get("cable"), default_material, source, key + ".cable" if "cable" in c else "cable")
+            raise ConfigError(
+                source,
+                key + ".A_m",
+                f"the anchor must lie above the floor z = 0 (the platform hangs below it), got z = {A[2]:g} m",
+            )
+        pulley = _pulley(
+            c.get("pulley"), default_pulley, source, key + ".pulley" if "pulley" in c else "pulley"
+        )
+        material = _material(
+            c.get("cable"), default_material, source, key + ".cable" if "cable" in c else "cable"
+        )
         dk = key + ".dead_length_m" if "dead_length_m" in c else "dead_length_m"
         dead = _positive(c.get("dead_length_m", default_dead), "m", source, dk, allow_zero=True)
         cables.append(Cable(A=A, pulley=pulley, dead_length=dead, material=material))
     for (i, a), (j, b) in itertools.combinations(enumerate(cables), 2):
         if np.allclose(a.A, b.A, atol=1e-9):
-            raise ConfigError(source, f"cables[{j}].A_m", f"duplicate anchor point {list(b.A)}: same as cables[{i}].A_m; anchors must be distinct")
+            raise ConfigError(
+                source,
+                f"cables[{j}].A_m",
+                f"duplicate anchor point {list(b.A)}: same as cables[{i}].A_m; anchors must be distinct",
+            )
     xy = np.array([c.A[:2] for c in cables])
     centred = xy - xy.mean(axis=0)
     if np.linalg.matrix_rank(centred, tol=1e-9) < 2:
-        raise ConfigError(source, "cables", "the anchor points are collinear seen from above; a suspended CDPR needs anchors spanning an area")
+        raise ConfigError(
+            source,
+            "cables",
+            "the anchor points are collinear seen from above; a suspended CDPR needs anchors spanning an area",
+        )
     name = data.get("name", Path(str(source)).stem)
     return Robot(name=name, cables=tuple(cables), platform=platform, source=str(source))
 
@@ -320,7 +351,11 @@ def apply_overrides(data, pulley=None, h=None, r_p=None, dead_length=None, E=Non
                 c["cable"].pop("young_modulus_Pa", None)
     if E_cables is not None:
         if len(E_cables) != len(cables):
-            raise ConfigError(data.get("name", "robot"), "cables", f"{len(E_cables)} per-cable Young's moduli given for {len(cables)} cables")
+            raise ConfigError(
+                data.get("name", "robot"),
+                "cables",
+                f"{len(E_cables)} per-cable Young's moduli given for {len(cables)} cables",
+            )
         for c, e in zip(cables, E_cables):
             c.setdefault("cable", {})
             if isinstance(c["cable"], dict):
@@ -367,7 +402,15 @@ def with_pulleys(robot, kind=None, h=None, r_p=None, dead_length=None, E=None):
         pulley = _pulley({"kind": k, "h_m": hh, "r_p_m": rr}, None, robot.source, "pulley")
         material = c.material
         if E is not None:
-            material = dataclasses.replace(material, E=_positive(E, "Pa", robot.source, "cable.young_modulus_Pa"))
-        cables.append(Cable(A=c.A, pulley=pulley, dead_length=c.dead_length if dead_length is None else float(dead_length),
-                            material=material))
+            material = dataclasses.replace(
+                material, E=_positive(E, "Pa", robot.source, "cable.young_modulus_Pa")
+            )
+        cables.append(
+            Cable(
+                A=c.A,
+                pulley=pulley,
+                dead_length=c.dead_length if dead_length is None else float(dead_length),
+                material=material,
+            )
+        )
     return dataclasses.replace(robot, cables=tuple(cables))

@@ -4,6 +4,7 @@
 (``cdpr.fast``) or the numpy reference (``cdpr.redundancy``), refuses engine/method pairs that do
 not exist, and returns one row per point with stable column names (``to_frame``).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -29,16 +30,26 @@ def subset_labels(robot, subset):
 def to_frame(robot, res):
     """One row per point with stable column names: x, y, z, x_s, y_s, z_s, dp, t1..tm, subset,
     iterations, status (SI units)."""
-    df = pd.DataFrame({
-        "x": res["p"][:, 0], "y": res["p"][:, 1], "z": res["p"][:, 2],
-        "x_s": res["P_s"][:, 0], "y_s": res["P_s"][:, 1], "z_s": res["P_s"][:, 2],
-        "dp": res["dp"],
-    })
+    df = pd.DataFrame(
+        {
+            "x": res["p"][:, 0],
+            "y": res["p"][:, 1],
+            "z": res["p"][:, 2],
+            "x_s": res["P_s"][:, 0],
+            "y_s": res["P_s"][:, 1],
+            "z_s": res["P_s"][:, 2],
+            "dp": res["dp"],
+        }
+    )
     for i in range(robot.m):
         df[f"t{i + 1}"] = res["t"][:, i]
     df["subset"] = subset_labels(robot, res["subset"])
     df["iterations"] = res["iterations"]
-    codes = res["status_code"] if "status_code" in res else pd.Categorical(res["status"], categories=list(STATUSES)).codes
+    codes = (
+        res["status_code"]
+        if "status_code" in res
+        else pd.Categorical(res["status"], categories=list(STATUSES)).codes
+    )
     df["status"] = pd.Categorical.from_codes(codes, categories=list(STATUSES))
     return df
 
@@ -61,7 +72,9 @@ def check_engine(engine, method):
         raise CdprError(f"unknown engine {engine!r}; allowed: {', '.join(ENGINES)}")
     if method not in ENGINES[engine]:
         ok = [f"{e}/{m}" for e, ms in ENGINES.items() for m in ms]
-        raise CdprError(f"the {engine} engine has no {method!r} solver; allowed engine/method pairs: {', '.join(ok)}")
+        raise CdprError(
+            f"the {engine} engine has no {method!r} solver; allowed engine/method pairs: {', '.join(ok)}"
+        )
     return engine
 
 
@@ -103,5 +116,7 @@ def solve_table(robot, p, method="newton", chunk=CHUNK, engine=None, threads=Non
 
         return to_frame(robot, solve_points_fast(robot, p, threads=threads, **options))
     starts = range(0, len(p), chunk) if len(p) else [0]
-    frames = [to_frame(robot, solve_points(robot, p[i:i + chunk], method=method, **options)) for i in starts]
+    frames = [
+        to_frame(robot, solve_points(robot, p[i : i + chunk], method=method, **options)) for i in starts
+    ]
     return pd.concat(frames, ignore_index=True)

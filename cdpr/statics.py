@@ -1,4 +1,5 @@
 """Statics of a point-mass platform held by three cables and Hooke elasticity (eq. 10-13)."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -45,9 +46,12 @@ def tension_gradient(t, M_inv, g):
     axis by D_s/rho of P's displacement."""
     w, u = t / g.l_E, g.u
     lever = (w * g.arm)[..., None] * (g.beta - g.u_beta[..., None] * u)
-    G = (np.einsum("...j,...ja,...jb->...ab", w, u, u) - w.sum(axis=-1)[..., None, None] * np.eye(3)
-         + np.einsum("...j,...ja,...jb->...ab", w * g.swivel, g.e_perp, g.e_perp)
-         + np.einsum("...ja,...jb->...ab", lever, g.eps))
+    G = (
+        np.einsum("...j,...ja,...jb->...ab", w, u, u)
+        - w.sum(axis=-1)[..., None, None] * np.eye(3)
+        + np.einsum("...j,...ja,...jb->...ab", w * g.swivel, g.e_perp, g.e_perp)
+        + np.einsum("...ja,...jb->...ab", lever, g.eps)
+    )
     return -M_inv @ G
 
 

@@ -8,6 +8,7 @@ planes below the pulleys, ...), so that a bad value stops the run before any job
 naming the study file, the key and what is allowed. The command line, the library and the
 Snakemake pipeline all go through it.
 """
+
 from __future__ import annotations
 
 import math
@@ -54,9 +55,15 @@ def design_robot(st, robot_key, pulley, E=None, dead_length=None):
     """Robot ``robot_key`` of the study with a pulley design {kind, h_m, r_p_m} on every cable, the
     study's dead length (or ``dead_length`` [m]) and optionally Young's modulus ``E`` [Pa]."""
     fixed = pulley["kind"] == "fixed"
-    return robot_of(st, robot_key, pulley=pulley["kind"], h=None if fixed else pulley.get("h_m", 0.0),
-                    r_p=None if fixed else pulley.get("r_p_m", 0.0),
-                    dead_length=st["dead_length_m"] if dead_length is None else dead_length, E=E)
+    return robot_of(
+        st,
+        robot_key,
+        pulley=pulley["kind"],
+        h=None if fixed else pulley.get("h_m", 0.0),
+        r_p=None if fixed else pulley.get("r_p_m", 0.0),
+        dead_length=st["dead_length_m"] if dead_length is None else dead_length,
+        E=E,
+    )
 
 
 def doe_tests(st):
@@ -65,8 +72,17 @@ def doe_tests(st):
     X = doe.full_factorial(3)
     rows = []
     for i, (cj, ch, cr) in enumerate(X, start=1):
-        rows.append({"test": i, "joint_c": cj, "h_c": ch, "r_p_c": cr,
-                     "kind": lv["joint"][int(cj > 0)], "h_m": lv["h_m"][int(ch > 0)], "r_p_m": lv["r_p_m"][int(cr > 0)]})
+        rows.append(
+            {
+                "test": i,
+                "joint_c": cj,
+                "h_c": ch,
+                "r_p_c": cr,
+                "kind": lv["joint"][int(cj > 0)],
+                "h_m": lv["h_m"][int(ch > 0)],
+                "r_p_m": lv["r_p_m"][int(cr > 0)],
+            }
+        )
     return pd.DataFrame(rows)
 
 
@@ -79,7 +95,12 @@ def arange_incl(spec):
 def map_cells(st):
     """The (h, r_p) cells of the h-r_p maps (Fig. 17) with r_p < h [m]: the DR rule h > r_p, also
     used for SR so that both maps cover the same cells."""
-    return [(float(h), float(r)) for h in arange_incl(st["maps"]["h_m"]) for r in arange_incl(st["maps"]["r_p_m"]) if r < h - 1e-12]
+    return [
+        (float(h), float(r))
+        for h in arange_incl(st["maps"]["h_m"])
+        for r in arange_incl(st["maps"]["r_p_m"])
+        if r < h - 1e-12
+    ]
 
 
 def map_kinds(st):
@@ -96,7 +117,9 @@ def E_values(st):
 def volume_limits(st):
     """Error limits [m] of the R_V sweep (Fig. 14): the sweep and the paper's limits, sorted."""
     sw = st["volumes"]["sweep_m"]
-    return sorted(set(np.round(np.linspace(sw["from"], sw["to"], sw["steps"]), 10)) | set(st["volumes"]["limits_m"]))
+    return sorted(
+        set(np.round(np.linspace(sw["from"], sw["to"], sw["steps"]), 10)) | set(st["volumes"]["limits_m"])
+    )
 
 
 def index_box(st, rw_c):
@@ -114,7 +137,11 @@ def read_box(path):
     except FileNotFoundError:
         raise ConfigError(p, None, "the box file does not exist") from None
     except (ValueError, KeyError, TypeError) as exc:
-        raise ConfigError(p, "box", f"expected a JSON object whose key 'box' holds six numbers XMIN XMAX YMIN YMAX ZMIN ZMAX ({exc})") from None
+        raise ConfigError(
+            p,
+            "box",
+            f"expected a JSON object whose key 'box' holds six numbers XMIN XMAX YMIN YMAX ZMIN ZMAX ({exc})",
+        ) from None
 
 
 # ------------------------------------------------------------------------------------------------
@@ -131,17 +158,25 @@ def check_study(st):
     robots = {}
     for key, path in st["robots"].items():
         if not Path(path).is_file():
-            raise ConfigError(src, f"robots.{key}", f"robot file {path!r} does not exist (paths are relative to the directory snakemake runs in)")
+            raise ConfigError(
+                src,
+                f"robots.{key}",
+                f"robot file {path!r} does not exist (paths are relative to the directory snakemake runs in)",
+            )
         try:
             robots[key] = robot_from_dict(read_yaml(path), source=path)
         except ConfigError as exc:
             raise ConfigError(src, f"robots.{key}", f"robot file is invalid: {exc}") from None
     for sec, key in (("doe", "robot"),):
         if st[sec][key] not in robots:
-            raise ConfigError(src, f"{sec}.{key}", f"unknown robot {st[sec][key]!r}; allowed: {', '.join(robots)}")
+            raise ConfigError(
+                src, f"{sec}.{key}", f"unknown robot {st[sec][key]!r}; allowed: {', '.join(robots)}"
+            )
     for key in st["trajectories"]["paths"]:
         if key not in robots:
-            raise ConfigError(src, f"trajectories.paths.{key}", f"unknown robot; allowed: {', '.join(robots)}")
+            raise ConfigError(
+                src, f"trajectories.paths.{key}", f"unknown robot; allowed: {', '.join(robots)}"
+            )
     for sec in ("pulleys", "optimal"):
         for name, p in st[sec].items():
             if p["kind"] == "fixed":
@@ -175,10 +210,18 @@ def check_study(st):
     for key, robot in robots.items():
         top = float(robot.A[:, 2].min())
         if not 0.0 <= z < top:
-            raise ConfigError(src, "plane.z_m", f"must lie between the floor and the lowest pulley of robot {key} (0 <= z < {top:g} m), got {z:g}")
+            raise ConfigError(
+                src,
+                "plane.z_m",
+                f"must lie between the floor and the lowest pulley of robot {key} (0 <= z < {top:g} m), got {z:g}",
+            )
     for key, path in st["trajectories"]["paths"].items():
         top = float(robots[key].A[:, 2].min())
         for end in ("start_m", "end_m"):
             if path[end][2] > top:
-                raise ConfigError(src, f"trajectories.paths.{key}.{end}", f"z must not exceed the lowest pulley ({top:g} m), got {path[end][2]:g}")
+                raise ConfigError(
+                    src,
+                    f"trajectories.paths.{key}.{end}",
+                    f"z must not exceed the lowest pulley ({top:g} m), got {path[end][2]:g}",
+                )
     return st

@@ -8,6 +8,7 @@ with columns quantity, source, paper, ours, unit, tolerance, verdict, note. A ro
 reason. A study that is not the paper's (``paper_comparison: false``) is not scored: its summary
 lists our numbers only. Nothing here is tuned: the paper's values are read for comparison only.
 """
+
 from __future__ import annotations
 
 import json
@@ -49,12 +50,20 @@ def _path(st, res, robot, pulley, stat):
 def _path_reach(st, res, robot, pulley):
     mm = _read(res, "trajectories/trajectories_minmax.csv")
     r = None if mm is None else mm[mm.design == f"{robot}_{pulley}"]
-    return None if r is None or r.empty else (float(r.ok_until_s_m.iloc[0]), f"path length {float(r.path_length_m.iloc[0]):.3f} m")
+    return (
+        None
+        if r is None or r.empty
+        else (float(r.ok_until_s_m.iloc[0]), f"path length {float(r.path_length_m.iloc[0]):.3f} m")
+    )
 
 
 def _path_reach_order(st, res, robot, first, second):
     a, b = _path_reach(st, res, robot, first), _path_reach(st, res, robot, second)
-    return None if a is None or b is None else (int(a[0] > b[0]), f"last ok s: {first} {a[0]:.3f} m, {second} {b[0]:.3f} m")
+    return (
+        None
+        if a is None or b is None
+        else (int(a[0] > b[0]), f"last ok s: {first} {a[0]:.3f} m, {second} {b[0]:.3f} m")
+    )
 
 
 def _plane(st, res, robot, pulley, stat):
@@ -95,8 +104,15 @@ def _rw_c(res):
 
 def _rw_c_volume(st, res):
     rw = _rw_c(res)
-    return None if rw is None else (rw["computed_volume_m3"], f"computed box {np.round(rw['computed'], 3).tolist()} on a {rw['grid_n']}^3 grid; "
-                                                            f"the index uses the {rw['use']} box")
+    return (
+        None
+        if rw is None
+        else (
+            rw["computed_volume_m3"],
+            f"computed box {np.round(rw['computed'], 3).tolist()} on a {rw['grid_n']}^3 grid; "
+            f"the index uses the {rw['use']} box",
+        )
+    )
 
 
 def _smallest_rw_max_test(st, res):
@@ -114,7 +130,11 @@ def _doe_index(st, res, stat):
 
 def _doe_test(st, res, stat):
     d = _read(res, "doe/doe.csv")
-    return None if d is None else (int(d.loc[d.index_m.idxmin() if stat == "argmin" else d.index_m.idxmax(), "test"]), "")
+    return (
+        None
+        if d is None
+        else (int(d.loc[d.index_m.idxmin() if stat == "argmin" else d.index_m.idxmax(), "test"]), "")
+    )
 
 
 def _doe_two_best(st, res, tests):
@@ -127,7 +147,11 @@ def _doe_two_best(st, res, tests):
 
 def _doe_worst(st, res, joint):
     d = _read(res, "doe/doe.csv")
-    return None if d is None or not (d.kind == joint).any() else (int(d[d.kind == joint].nlargest(1, "index_m").test.iloc[0]), "")
+    return (
+        None
+        if d is None or not (d.kind == joint).any()
+        else (int(d[d.kind == joint].nlargest(1, "index_m").test.iloc[0]), "")
+    )
 
 
 def _effects(res):
@@ -156,7 +180,10 @@ def _line(st, res, pulley, column, scale=1.0):
     if r is None or r.empty:
         return None
     r = r.iloc[0]
-    note = {"slope_k": f"{int(r.valley_points)} valley points, fixed-h valley", "index_opt_m": f"N = {int(r.N)}"}.get(column, "")
+    note = {
+        "slope_k": f"{int(r.valley_points)} valley points, fixed-h valley",
+        "index_opt_m": f"N = {int(r.N)}",
+    }.get(column, "")
     return float(r[column]) * scale, note
 
 
@@ -165,7 +192,9 @@ def _band(st, res, design, column, scale=1.0):
     r = None if b is None else b[b.design == design]
     if r is None or r.empty:
         return None
-    return float(r[column].iloc[0]) * scale, "at the paper's Table 3 geometry" if column == "index_mean_m" else ""
+    return float(
+        r[column].iloc[0]
+    ) * scale, "at the paper's Table 3 geometry" if column == "index_mean_m" else ""
 
 
 def _crossing(st, res, design, near=None):
@@ -173,7 +202,9 @@ def _crossing(st, res, design, near=None):
     if cr is None:
         return None
     c = cr[cr.design == design].s_m.tolist()
-    return (float(min(c, key=lambda x: abs(x - near))) if c else float("nan")), f"all crossings: {np.round(c, 3).tolist()}"
+    return (
+        float(min(c, key=lambda x: abs(x - near))) if c else float("nan")
+    ), f"all crossings: {np.round(c, 3).tolist()}"
 
 
 def _winch_dl(st, res, l_pm_m, scale=1000.0):
@@ -187,11 +218,26 @@ def _winch_q1_at_l_pm0(st, res):
 
 
 EXTRACTORS = {
-    "path_length": _path_length, "path": _path, "path_reach": _path_reach, "path_reach_order": _path_reach_order,
-    "plane": _plane, "R_V": _R_V, "V_T": _V_T, "rw_c_volume": _rw_c_volume, "smallest_rw_max_test": _smallest_rw_max_test,
-    "doe_index": _doe_index, "doe_test": _doe_test, "doe_two_best": _doe_two_best, "doe_worst": _doe_worst,
-    "largest_effect": _largest_effect, "third_order_smallest": _third_order_smallest, "line": _line, "band": _band,
-    "crossing": _crossing, "winch_dl": _winch_dl, "winch_q1_at_l_pm0": _winch_q1_at_l_pm0,
+    "path_length": _path_length,
+    "path": _path,
+    "path_reach": _path_reach,
+    "path_reach_order": _path_reach_order,
+    "plane": _plane,
+    "R_V": _R_V,
+    "V_T": _V_T,
+    "rw_c_volume": _rw_c_volume,
+    "smallest_rw_max_test": _smallest_rw_max_test,
+    "doe_index": _doe_index,
+    "doe_test": _doe_test,
+    "doe_two_best": _doe_two_best,
+    "doe_worst": _doe_worst,
+    "largest_effect": _largest_effect,
+    "third_order_smallest": _third_order_smallest,
+    "line": _line,
+    "band": _band,
+    "crossing": _crossing,
+    "winch_dl": _winch_dl,
+    "winch_q1_at_l_pm0": _winch_q1_at_l_pm0,
 }
 
 
@@ -219,10 +265,20 @@ def build_rows(st, res, values=None):
             continue
         ours, note = got
         paper = v["value"] if scored else None
-        rows.append({"quantity": v["quantity"], "source": v["source"], "paper": paper, "ours": ours, "unit": v["unit"],
-                     "tolerance": v["tolerance"] if scored else None,
-                     "verdict": verdict(paper, ours, v["tolerance"], v.get("reason")) if scored else "not scored (not the paper's study)",
-                     "note": note})
+        rows.append(
+            {
+                "quantity": v["quantity"],
+                "source": v["source"],
+                "paper": paper,
+                "ours": ours,
+                "unit": v["unit"],
+                "tolerance": v["tolerance"] if scored else None,
+                "verdict": verdict(paper, ours, v["tolerance"], v.get("reason"))
+                if scored
+                else "not scored (not the paper's study)",
+                "note": note,
+            }
+        )
     return pd.DataFrame(rows, columns=COLUMNS)
 
 
@@ -238,13 +294,27 @@ def write_summary(st, res, out_md, out_csv):
     io.write_table(df, out_csv)
     counts = df.verdict.str.split(" \\(").str[0].value_counts().to_dict()
     scored = bool(st.get("paper_comparison"))
-    lines = [f"# Summary of study `{st['name']}`" + (": the papers' numbers beside ours" if scored else ": our numbers"), "",
-             f"Study file `{st.path}`; dead length d = {st['dead_length_m']} m; solver {st['solver']}; "
-             f"global index over N = {st['doe']['index_n']}^3 = {st['doe']['index_n'] ** 3:,} cell-centred points (paper: 250,000); "
-             f"h-r_p maps with {st['maps']['index_n']}^3 = {st['maps']['index_n'] ** 3:,} points per cell.", "",
-             ("Verdicts: " + ", ".join(f"{k}: {v}" for k, v in counts.items()) + ". The paper's values are targets; nothing is tuned to them.")
-             if scored else "This study is not the paper's (`paper_comparison: false`), so its numbers are not scored against the paper's.", "",
-             "| quantity | source | paper | ours | unit | tolerance | verdict | note |", "|---|---|---|---|---|---|---|---|"]
+    lines = [
+        f"# Summary of study `{st['name']}`"
+        + (": the papers' numbers beside ours" if scored else ": our numbers"),
+        "",
+        f"Study file `{st.path}`; dead length d = {st['dead_length_m']} m; solver {st['solver']}; "
+        f"global index over N = {st['doe']['index_n']}^3 = {st['doe']['index_n'] ** 3:,} cell-centred points (paper: 250,000); "
+        f"h-r_p maps with {st['maps']['index_n']}^3 = {st['maps']['index_n'] ** 3:,} points per cell.",
+        "",
+        (
+            "Verdicts: "
+            + ", ".join(f"{k}: {v}" for k, v in counts.items())
+            + ". The paper's values are targets; nothing is tuned to them."
+        )
+        if scored
+        else "This study is not the paper's (`paper_comparison: false`), so its numbers are not scored against the paper's.",
+        "",
+        "| quantity | source | paper | ours | unit | tolerance | verdict | note |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
     for r in df.itertuples():
-        lines.append(f"| {r.quantity} | {r.source} | {_fmt(r.paper)} | {_fmt(r.ours)} | {r.unit} | {_fmt(r.tolerance)} | {r.verdict} | {r.note} |")
+        lines.append(
+            f"| {r.quantity} | {r.source} | {_fmt(r.paper)} | {_fmt(r.ours)} | {r.unit} | {_fmt(r.tolerance)} | {r.verdict} | {r.note} |"
+        )
     io.write_text("\n".join(lines) + "\n", out_md)

@@ -5,6 +5,7 @@ Each task takes the validated study and named files (the command line's ``--tabl
 so the order in a Snakemake rule does not matter. Physics lives in the model modules and drawing in
 ``cdpr.plots``; a task only moves data between them.
 """
+
 from __future__ import annotations
 
 import re
@@ -38,7 +39,9 @@ def _shards(paths, pattern, what, key):
     """{key value: [paths in shard order]} from files named <key>_<shard>."""
     groups = {}
     for g, p in _by_stem(paths, pattern, what):
-        groups.setdefault(g[key] if isinstance(key, str) else tuple(g[k] for k in key), []).append((int(g["shard"]), p))
+        groups.setdefault(g[key] if isinstance(key, str) else tuple(g[k] for k in key), []).append(
+            (int(g["shard"]), p)
+        )
     return {k: [p for _, p in sorted(v)] for k, v in groups.items()}
 
 
@@ -57,7 +60,10 @@ def winch_figure(st, table, figure):
 
 # ---- planes (Fig. 9, 12) -----------------------------------------------------------------------
 def _plane_tables(st, tables, robot_key):
-    found = dict((g["pulley"], p) for g, p in _by_stem(tables, rf"{re.escape(robot_key)}_(?P<pulley>[A-Za-z0-9]+)", "plane table"))
+    found = dict(
+        (g["pulley"], p)
+        for g, p in _by_stem(tables, rf"{re.escape(robot_key)}_(?P<pulley>[A-Za-z0-9]+)", "plane table")
+    )
     return {pk: io.read_table(found[pk]) for pk in st["pulleys"] if pk in found}
 
 
@@ -82,15 +88,27 @@ def trajectories(st, tables, table, figure, minmax_figure):
     """Fig. 10 (‖δp‖ along the paths) and Fig. 11 (min, max per design) with their table."""
     from . import plots
 
-    files = dict((f"{g['robot']}_{g['pulley']}", p) for g, p in _by_stem(tables, r"(?P<robot>[A-Za-z0-9]+)_(?P<pulley>[A-Za-z0-9]+)", "path table"))
-    labels = [f"{rk}_{pk}" for rk in st["trajectories"]["paths"] for pk in st["pulleys"] if f"{rk}_{pk}" in files]
+    files = dict(
+        (f"{g['robot']}_{g['pulley']}", p)
+        for g, p in _by_stem(tables, r"(?P<robot>[A-Za-z0-9]+)_(?P<pulley>[A-Za-z0-9]+)", "path table")
+    )
+    labels = [
+        f"{rk}_{pk}" for rk in st["trajectories"]["paths"] for pk in st["pulleys"] if f"{rk}_{pk}" in files
+    ]
     data = {lab: io.read_table(files[lab]) for lab in labels}
     rows = []
     for lab, df in data.items():
         ok = df.status == "ok"
         lo, hi = analyses.ok_extremes(df)
-        rows.append({"design": lab, "dp_min_m": lo, "dp_max_m": hi, "ok_until_s_m": float(df.s[ok].max()) if ok.any() else float("nan"),
-                     "path_length_m": float(df.s.max())})
+        rows.append(
+            {
+                "design": lab,
+                "dp_min_m": lo,
+                "dp_max_m": hi,
+                "ok_until_s_m": float(df.s[ok].max()) if ok.any() else float("nan"),
+                "path_length_m": float(df.s.max()),
+            }
+        )
     mm = pd.DataFrame(rows)
     io.write_table(mm, table)
     plots.fig10_trajectories(data, mm, figure)
@@ -116,8 +134,18 @@ def volumes(st, tables, table, figure):
             box = workspace.frame_box(robot)
             for lim in lims:
                 v = workspace.error_limited_volume(df, n, box, lim, robot.envelope_volume)
-                rows.append({"robot": rk, "pulley": pk, "limit_m": lim, "V_T_m3": robot.envelope_volume, "V_L_m3": v["V_L"],
-                             "R_V": v["R_V"], "V_L_err_m3": v["V_L_err"], "paper_limit": lim in st["volumes"]["limits_m"]})
+                rows.append(
+                    {
+                        "robot": rk,
+                        "pulley": pk,
+                        "limit_m": lim,
+                        "V_T_m3": robot.envelope_volume,
+                        "V_L_m3": v["V_L"],
+                        "R_V": v["R_V"],
+                        "V_L_err_m3": v["V_L_err"],
+                        "paper_limit": lim in st["volumes"]["limits_m"],
+                    }
+                )
     tab = pd.DataFrame(rows)
     io.write_table(tab, table)
     plots.fig14_rv(tab, _paper_rv(st), figure)
@@ -127,9 +155,20 @@ def _paper_rv(st):
     """The paper's R_V values (config/paper_values.yaml) for the paper's study, else none."""
     from . import summary
 
-    rows = [] if not st.get("paper_comparison") else [
-        {"robot": v["ours"]["robot"], "pulley": v["ours"]["pulley"], "limit_m": v["ours"]["limit_m"], "R_V": v["value"]}
-        for v in summary.paper_values() if v["ours"].get("kind") == "R_V"]
+    rows = (
+        []
+        if not st.get("paper_comparison")
+        else [
+            {
+                "robot": v["ours"]["robot"],
+                "pulley": v["ours"]["pulley"],
+                "limit_m": v["ours"]["limit_m"],
+                "R_V": v["value"],
+            }
+            for v in summary.paper_values()
+            if v["ours"].get("kind") == "R_V"
+        ]
+    )
     return pd.DataFrame(rows, columns=["robot", "pulley", "limit_m", "R_V"])
 
 
@@ -142,8 +181,13 @@ def volume_view(st, label, tables, figure):
     df = concat(sorted(tables, key=lambda p: int(Path(p).stem.rsplit("_", 1)[1])))
     n = st["volumes"]["n"]
     lims = st["volumes"]["limits_m"]
-    rv = [workspace.error_limited_volume(df, n, workspace.frame_box(robot), lim, robot.envelope_volume)["R_V"] for lim in lims]
-    plots.fig13_volume_view(df, lims, rv, float(robot.A[:, 2].min()), f"{rk} {pk}: error-limited volume V_L (Fig. 13)", figure)
+    rv = [
+        workspace.error_limited_volume(df, n, workspace.frame_box(robot), lim, robot.envelope_volume)["R_V"]
+        for lim in lims
+    ]
+    plots.fig13_volume_view(
+        df, lims, rv, float(robot.A[:, 2].min()), f"{rk} {pk}: error-limited volume V_L (Fig. 13)", figure
+    )
 
 
 # ---- regular workspaces (section 4.1.1) --------------------------------------------------------
@@ -157,22 +201,54 @@ def regular_workspace(st, tables, table, json):
         robot = study.design_robot(st, st["doe"]["robot"], {"kind": t.kind, "h_m": t.h_m, "r_p_m": t.r_p_m})
         count, cells = workspace.largest_box(workspace.voxel_mask(io.read_table(files[t.test]), n))
         if cells is None:
-            raise CdprError(f"DOE test {t.test}: no admissible voxel on the {n}^3 frame grid; the design has no workspace")
+            raise CdprError(
+                f"DOE test {t.test}: no admissible voxel on the {n}^3 frame grid; the design has no workspace"
+            )
         box = workspace.box_from_cells(workspace.frame_box(robot), n, cells)
         boxes.append(box)
-        rows.append({"test": int(t.test), "kind": t.kind, "h_m": t.h_m, "r_p_m": t.r_p_m, "xmin": box[0], "xmax": box[1], "ymin": box[2],
-                     "ymax": box[3], "zmin": box[4], "zmax": box[5], "volume_m3": workspace.box_volume(box)})
+        rows.append(
+            {
+                "test": int(t.test),
+                "kind": t.kind,
+                "h_m": t.h_m,
+                "r_p_m": t.r_p_m,
+                "xmin": box[0],
+                "xmax": box[1],
+                "ymin": box[2],
+                "ymax": box[3],
+                "zmin": box[4],
+                "zmax": box[5],
+                "volume_m3": workspace.box_volume(box),
+            }
+        )
     tab = pd.DataFrame(rows)
     rwc = workspace.intersect_boxes(boxes)
     smallest = int(tab.loc[tab.volume_m3.idxmin(), "test"])
-    contained = all(all(b[2 * a] <= boxes[smallest - 1][2 * a] + 1e-12 and boxes[smallest - 1][2 * a + 1] <= b[2 * a + 1] + 1e-12 for a in range(3))
-                    for b in boxes)
+    contained = all(
+        all(
+            b[2 * a] <= boxes[smallest - 1][2 * a] + 1e-12
+            and boxes[smallest - 1][2 * a + 1] <= b[2 * a + 1] + 1e-12
+            for a in range(3)
+        )
+        for b in boxes
+    )
     paper = st["doe"]["paper_rw_c_m"]
     used = paper if st["doe"]["rw_c"] == "paper" else rwc
     io.write_table(tab, table)
-    io.write_json({"computed": rwc, "computed_volume_m3": workspace.box_volume(rwc), "paper": paper,
-                   "paper_volume_m3": workspace.box_volume(paper), "smallest_rw_max_test": smallest,
-                   "smallest_contained_in_all": contained, "grid_n": n, "use": st["doe"]["rw_c"], "box": used}, json)
+    io.write_json(
+        {
+            "computed": rwc,
+            "computed_volume_m3": workspace.box_volume(rwc),
+            "paper": paper,
+            "paper_volume_m3": workspace.box_volume(paper),
+            "smallest_rw_max_test": smallest,
+            "smallest_contained_in_all": contained,
+            "grid_n": n,
+            "use": st["doe"]["rw_c"],
+            "box": used,
+        },
+        json,
+    )
 
 
 # ---- DOE (Fig. 15-16) --------------------------------------------------------------------------
@@ -187,7 +263,9 @@ def doe_results(st, tables, table, effects, figure, effects_figure):
     tests["not_ok_points"] = [k for _, k in idx]
     tests["N"] = st["doe"]["index_n"] ** 3
     io.write_table(tests, table)
-    eff = doe.effects(tests[["joint_c", "h_c", "r_p_c"]].to_numpy(), tests["index_m"].to_numpy(), ["joint", "h", "r_p"])
+    eff = doe.effects(
+        tests[["joint_c", "h_c", "r_p_c"]].to_numpy(), tests["index_m"].to_numpy(), ["joint", "h", "r_p"]
+    )
     io.write_table(eff, effects)
     plots.fig15_doe(tests, figure)
     plots.fig16_effects(eff, effects_figure)
@@ -203,7 +281,9 @@ def map_rows(st, kind, box_file, table, threads=None):
         robot = study.design_robot(st, st["doe"]["robot"], {"kind": kind, "h_m": h, "r_p_m": r_p})
         ix, bad = _index(solve_table(robot, P, method=st["solver"], threads=threads))
         rows.append({"kind": kind, "h_m": h, "r_p_m": r_p, "index_m": ix, "not_ok_points": bad, "N": n**3})
-    io.write_table(pd.DataFrame(rows, columns=["kind", "h_m", "r_p_m", "index_m", "not_ok_points", "N"]), table)
+    io.write_table(
+        pd.DataFrame(rows, columns=["kind", "h_m", "r_p_m", "index_m", "not_ok_points", "N"]), table
+    )
 
 
 def maps(st, tables, box_file, map, lines, figure, threads=None):
@@ -228,8 +308,17 @@ def maps(st, tables, box_file, map, lines, figure, threads=None):
         if pt is not None:
             robot = study.design_robot(st, st["doe"]["robot"], {"kind": kind, "h_m": pt[1], "r_p_m": pt[0]})
             ix, _ = _index(solve_table(robot, P, method=st["solver"], threads=threads))
-        out.append({"kind": kind, "slope_k": k, "valley_points": int(len(use)), "r_p_opt_m": pt[0] if pt else np.nan,
-                    "h_opt_m": pt[1] if pt else np.nan, "index_opt_m": ix, "N": n**3})
+        out.append(
+            {
+                "kind": kind,
+                "slope_k": k,
+                "valley_points": int(len(use)),
+                "r_p_opt_m": pt[0] if pt else np.nan,
+                "h_opt_m": pt[1] if pt else np.nan,
+                "index_opt_m": ix,
+                "N": n**3,
+            }
+        )
     lines_tab = pd.DataFrame(out)
     io.write_table(lines_tab, lines)
     plots.fig17_maps(tab, valleys, lines_tab, study.doe_tests(st), lv, figure)
@@ -241,7 +330,12 @@ def elasticity(st, tables, paths, table, bands, crossings, figure, paths_figure)
     path at E_min, E_mean, E_max (Fig. 19) and where the E_max and E_min curves cross."""
     from . import plots
 
-    groups = _shards(tables, r"(?P<design>[A-Za-z0-9]+)_E(?P<E>[0-9.e+-]+)_(?P<shard>\d+)", "elasticity shard", ("design", "E"))
+    groups = _shards(
+        tables,
+        r"(?P<design>[A-Za-z0-9]+)_E(?P<E>[0-9.e+-]+)_(?P<shard>\d+)",
+        "elasticity shard",
+        ("design", "E"),
+    )
     rows = []
     for dk in st["optimal"]:
         for E in study.E_values(st):
@@ -258,11 +352,24 @@ def elasticity(st, tables, paths, table, bands, crossings, figure, paths_figure)
         # the sweep's row nearest E_mean (the middle of E_path_Pa, the cable's nominal modulus)
         at_mean = float(g.index_m.iloc[np.argmin(np.abs(g.E_Pa.to_numpy() - E_mean))])
         lo, hi = g.index_m.min(), g.index_m.max()
-        out.append({"design": dk, "index_mean_m": at_mean, "index_min_m": lo, "index_max_m": hi,
-                    "minus_m": at_mean - lo, "plus_m": hi - at_mean, "total_m": hi - lo, "relative": (hi - lo) / at_mean})
+        out.append(
+            {
+                "design": dk,
+                "index_mean_m": at_mean,
+                "index_min_m": lo,
+                "index_max_m": hi,
+                "minus_m": at_mean - lo,
+                "plus_m": hi - at_mean,
+                "total_m": hi - lo,
+                "relative": (hi - lo) / at_mean,
+            }
+        )
     bands_tab = pd.DataFrame(out)
     io.write_table(bands_tab, bands)
-    files = {(g["design"], float(g["E"])): p for g, p in _by_stem(paths, r"path_(?P<design>[A-Za-z0-9]+)_E(?P<E>[0-9.e+-]+)", "path table")}
+    files = {
+        (g["design"], float(g["E"])): p
+        for g, p in _by_stem(paths, r"path_(?P<design>[A-Za-z0-9]+)_E(?P<E>[0-9.e+-]+)", "path table")
+    }
     curves, cross = [], []
     for dk in st["optimal"]:
         at = {}
@@ -286,12 +393,18 @@ def dead_length_point(st, d, box_file, table, threads=None):
     row = {"d_m": d}
     for pk in st["pulleys"]:
         robot = study.design_robot(st, st["doe"]["robot"], st["pulleys"][pk], dead_length=d)
-        lo, hi = analyses.ok_extremes(analyses.plane(robot, st["plane"]["z_m"], st["dead_length"]["plane_n"], method=st["solver"], threads=threads))
+        lo, hi = analyses.ok_extremes(
+            analyses.plane(
+                robot, st["plane"]["z_m"], st["dead_length"]["plane_n"], method=st["solver"], threads=threads
+            )
+        )
         row[f"plane_{pk}_min_m"], row[f"plane_{pk}_max_m"] = lo, hi
     for dk, spec in st["optimal"].items():
         for tag, E in zip(("Emin", "Emean", "Emax"), st["elasticity"]["E_path_Pa"]):
             robot = study.design_robot(st, st["doe"]["robot"], spec, E=E, dead_length=d)
-            row[f"{dk}_{tag}_index_m"], _ = _index(solve_table(robot, P, method=st["solver"], threads=threads))
+            row[f"{dk}_{tag}_index_m"], _ = _index(
+                solve_table(robot, P, method=st["solver"], threads=threads)
+            )
     io.write_table(pd.DataFrame([row]), table)
 
 

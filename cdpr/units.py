@@ -4,6 +4,7 @@ A value is either a plain number, taken in the SI unit named by its key (``h_m: 
 string with a unit (``h_m: "100 mm"``, ``young_modulus_Pa: "102.2 GPa"``). Everything inside the
 library is SI (m, N, Pa, kg, rad).
 """
+
 import math
 import re
 
@@ -30,20 +31,34 @@ def quantity(value, dimension, source, key):
     """
     allowed = ", ".join(UNITS[dimension])
     if isinstance(value, bool):
-        raise ConfigError(source, key, f"expected a number in {dimension} (or a string with one of the units {allowed}), got {value!r}")
+        raise ConfigError(
+            source,
+            key,
+            f"expected a number in {dimension} (or a string with one of the units {allowed}), got {value!r}",
+        )
     if isinstance(value, (int, float)):
         out = float(value)
     elif isinstance(value, str):
         match = _QUANTITY.match(value)
         if not match:
-            raise ConfigError(source, key, f"cannot read {value!r} as a quantity; write a number in {dimension} or a number with one of the units {allowed}")
+            raise ConfigError(
+                source,
+                key,
+                f"cannot read {value!r} as a quantity; write a number in {dimension} or a number with one of the units {allowed}",
+            )
         number, unit = match.groups()
         unit = unit or dimension  # a bare number written as a string (PyYAML reads 102.2e9 so)
         if unit not in UNITS[dimension]:
-            raise ConfigError(source, key, f"unit '{unit}' is not a unit of {dimension}; allowed units: {allowed}")
+            raise ConfigError(
+                source, key, f"unit '{unit}' is not a unit of {dimension}; allowed units: {allowed}"
+            )
         out = float(number) * UNITS[dimension][unit]
     else:
-        raise ConfigError(source, key, f"expected a number in {dimension} (or a string with one of the units {allowed}), got {type(value).__name__} {value!r}")
+        raise ConfigError(
+            source,
+            key,
+            f"expected a number in {dimension} (or a string with one of the units {allowed}), got {type(value).__name__} {value!r}",
+        )
     if not math.isfinite(out):
         raise ConfigError(source, key, f"must be finite, got {value!r}")
     return out

@@ -5,6 +5,7 @@ file is checked the same way by the command line, the library and the Snakemake 
 violation becomes one :class:`~cdpr.errors.ConfigError` sentence that names the file, the key and
 what is allowed.
 """
+
 from __future__ import annotations
 
 from functools import lru_cache
@@ -64,13 +65,19 @@ def _explain(err):
     if v == "type" and err.validator_value == ["number", "string"]:
         dim = unit_of_key(err.absolute_path)
         if dim:
-            return [], f"expected a number in {dim} (or a string with one of the units {', '.join(UNITS[dim])}), got {err.instance!r}"
+            return (
+                [],
+                f"expected a number in {dim} (or a string with one of the units {', '.join(UNITS[dim])}), got {err.instance!r}",
+            )
     if v == "type":
         t = err.validator_value
         t = " or ".join(t) if isinstance(t, list) else t
         return [], f"expected {t}, got {type(err.instance).__name__} {err.instance!r}"
     if v in ("minItems", "maxItems"):
-        return [], f"expected {'at least' if v == 'minItems' else 'at most'} {err.validator_value} items, got {len(err.instance)}"
+        return (
+            [],
+            f"expected {'at least' if v == 'minItems' else 'at most'} {err.validator_value} items, got {len(err.instance)}",
+        )
     if v in ("minimum", "exclusiveMinimum", "maximum", "exclusiveMaximum"):
         op = {"minimum": ">=", "exclusiveMinimum": ">", "maximum": "<=", "exclusiveMaximum": "<"}[v]
         return [], f"must be {op} {err.validator_value}, got {err.instance!r}"

@@ -16,6 +16,7 @@ docs/models.md):
 Reference: M. Metillon, C. Charron, K. Subrin, S. Caro, "Geometrical modelling of a Cable-Driven
 Parallel Robot Winch", 25e Congres Francais de Mecanique, 2022, hal-03758222.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -47,12 +48,19 @@ class WinchParams:
 
 
 #: Table 1 of the winch seed.
-TABLE1 = WinchParams(k_w=0.07460068, l_u0=5.9261, q0=94.2478, q_max=188.4956,
-                     l_AE1=2.6848, l_E1E2=0.06, alpha_E1=1.6906)
+TABLE1 = WinchParams(
+    k_w=0.07460068, l_u0=5.9261, q0=94.2478, q_max=188.4956, l_AE1=2.6848, l_E1E2=0.06, alpha_E1=1.6906
+)
 
-_PARAM_KEYS = {"k_w_m": ("k_w", "m"), "l_u0_m": ("l_u0", "m"), "q0_rad": ("q0", "rad"),
-               "q_max_rad": ("q_max", "rad"), "l_AE1_m": ("l_AE1", "m"), "l_E1E2_m": ("l_E1E2", "m"),
-               "alpha_E1_rad": ("alpha_E1", "rad")}
+_PARAM_KEYS = {
+    "k_w_m": ("k_w", "m"),
+    "l_u0_m": ("l_u0", "m"),
+    "q0_rad": ("q0", "rad"),
+    "q_max_rad": ("q_max", "rad"),
+    "l_AE1_m": ("l_AE1", "m"),
+    "l_E1E2_m": ("l_E1E2", "m"),
+    "alpha_E1_rad": ("alpha_E1", "rad"),
+}
 
 
 def load_params(path):
@@ -131,8 +139,15 @@ def params_from_geometry(R_wb, d1, a, r_w, mu, l_E1E2, q0, l_u0):
     v12 = e2 - e1
     l_AE1 = float(np.linalg.norm(v1))
     cos_a = float(v1 @ v12) / (l_AE1 * l_E1E2)
-    return WinchParams(k_w=coiling_coefficient(r_w, mu), l_u0=l_u0, q0=q0, q_max=max_angle(l_E1E2, mu),
-                       l_AE1=l_AE1, l_E1E2=l_E1E2, alpha_E1=math.acos(max(-1.0, min(1.0, cos_a))))
+    return WinchParams(
+        k_w=coiling_coefficient(r_w, mu),
+        l_u0=l_u0,
+        q0=q0,
+        q_max=max_angle(l_E1E2, mu),
+        l_AE1=l_AE1,
+        l_E1E2=l_E1E2,
+        alpha_E1=math.acos(max(-1.0, min(1.0, cos_a))),
+    )
 
 
 # ---- the quadratic (eq. 19-32, corrected) --------------------------------------------------
@@ -186,14 +201,18 @@ def check_range(p, lpm_from, lpm_to):
 
     lp0 = l_pm0(p)
     if not math.isfinite(lp0) or lp0 < 0:
-        raise CdprError(f"these winch parameters give an initial length l_pm0 = {lp0:.4g} m < 0 (l_u0 must exceed |A E(q0)|); check l_u0_m, l_AE1_m, l_E1E2_m")
+        raise CdprError(
+            f"these winch parameters give an initial length l_pm0 = {lp0:.4g} m < 0 (l_u0 must exceed |A E(q0)|); check l_u0_m, l_AE1_m, l_E1E2_m"
+        )
     l_pm = np.linspace(lpm_from, lpm_to, 1001)
     q1, _ = roots(p, l_pm)
     bad = ~np.isfinite(q1) | (q1 < 0) | (q1 > p.q_max)
     if bad.any():
         at = float(l_pm[np.argmax(bad)])
-        raise CdprError(f"at l_pm = {at:.4g} m the drum angle q1 = {float(q1[np.argmax(bad)]):.4g} rad leaves [0, q_max = {p.q_max:g}] rad "
-                        f"(the cable would be fully coiled or uncoiled): choose l_pm in a range the drum can hold")
+        raise CdprError(
+            f"at l_pm = {at:.4g} m the drum angle q1 = {float(q1[np.argmax(bad)]):.4g} rad leaves [0, q_max = {p.q_max:g}] rad "
+            f"(the cable would be fully coiled or uncoiled): choose l_pm in a range the drum can hold"
+        )
 
 
 def winch_table(p=TABLE1, lpm_from=0.0, lpm_to=5.0, steps=101):

@@ -1,5 +1,6 @@
 """Point sets and workspace measures: cell-centred grids, deterministic shards, error-limited
 volumes (section 3.3.3) and regular workspaces (section 4.1.1)."""
+
 from __future__ import annotations
 
 import numpy as np

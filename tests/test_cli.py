@@ -1,4 +1,5 @@
 """The four commands on the shipped robot files, JSON keys, overrides, clean errors."""
+
 import json
 import subprocess
 import sys
@@ -35,23 +36,69 @@ def test_point_json(capsys):
     assert out["status"] == "ok" and len(out["subset"]) == 3 and min(out["subset"]) >= 1
     assert sum(t is None for t in out["tensions"]) == 1
     assert out["dp_norm"] == pytest.approx(np.linalg.norm(np.subtract(out["solved"], out["desired"])))
-    fp = run_json(capsys, "point", "--robot", R4, "--pulley", "DR", "--method", "fixed_point", "--at", "0.5", "0.2", "2.5")
+    fp = run_json(
+        capsys,
+        "point",
+        "--robot",
+        R4,
+        "--pulley",
+        "DR",
+        "--method",
+        "fixed_point",
+        "--at",
+        "0.5",
+        "0.2",
+        "2.5",
+    )
     assert abs(fp["dp_norm"] - out["dp_norm"]) < 5e-5
 
 
 def test_point_overrides_change_the_answer(capsys):
     base = run_json(capsys, "point", "--robot", R3, "--at", "0", "0", "2")
-    stiff = run_json(capsys, "point", "--robot", R3, "--pulley", "fixed", "--E", "1e20", "--at", "0", "0", "2")
+    stiff = run_json(
+        capsys, "point", "--robot", R3, "--pulley", "fixed", "--E", "1e20", "--at", "0", "0", "2"
+    )
     assert stiff["dp_norm"] < 1e-9 < base["dp_norm"]
 
 
 @pytest.mark.parametrize("ext", ["parquet", "csv"])
 def test_grid_writes_one_row_per_point(tmp_path, capsys, ext):
     out = tmp_path / f"g.{ext}"
-    summary = run_json(capsys, "grid", "--robot", R4, "--box", "-2", "2", "-2", "2", "0.5", "4", "--n", "4", "--out", str(out))
+    summary = run_json(
+        capsys,
+        "grid",
+        "--robot",
+        R4,
+        "--box",
+        "-2",
+        "2",
+        "-2",
+        "2",
+        "0.5",
+        "4",
+        "--n",
+        "4",
+        "--out",
+        str(out),
+    )
     df = pd.read_parquet(out) if ext == "parquet" else pd.read_csv(out)
     assert len(df) == 64 == summary["points"]
-    assert list(df.columns) == ["x", "y", "z", "x_s", "y_s", "z_s", "dp", "t1", "t2", "t3", "t4", "subset", "iterations", "status"]
+    assert list(df.columns) == [
+        "x",
+        "y",
+        "z",
+        "x_s",
+        "y_s",
+        "z_s",
+        "dp",
+        "t1",
+        "t2",
+        "t3",
+        "t4",
+        "subset",
+        "iterations",
+        "status",
+    ]
     assert sorted(set(df.x)) == pytest.approx([-1.5, -0.5, 0.5, 1.5])  # cell centres
 
 
@@ -76,9 +123,26 @@ def test_winch_json(capsys):
 def test_errors_are_one_sentence_without_traceback(tmp_path):
     bad = tmp_path / "bad.yaml"
     bad.write_text((ROBOTS / "cdpr4.yaml").read_text().replace("r_p_m: 0.0665", "r_p_m: -0.0665"))
-    for args in (["point", "--robot", str(bad), "--at", "0", "0", "1"],
-                 ["point", "--robot", R4, "--pulley", "DR", "--h", "0.05", "--at", "0", "0", "1"],
-                 ["grid", "--robot", R4, "--box", "1", "0", "0", "1", "0", "1", "--n", "2", "--out", str(tmp_path / "x.csv")]):
+    for args in (
+        ["point", "--robot", str(bad), "--at", "0", "0", "1"],
+        ["point", "--robot", R4, "--pulley", "DR", "--h", "0.05", "--at", "0", "0", "1"],
+        [
+            "grid",
+            "--robot",
+            R4,
+            "--box",
+            "1",
+            "0",
+            "0",
+            "1",
+            "0",
+            "1",
+            "--n",
+            "2",
+            "--out",
+            str(tmp_path / "x.csv"),
+        ],
+    ):
         p = subprocess.run([sys.executable, "-m", "cdpr", *args], capture_output=True, text=True)
         assert p.returncode == 2
         assert "Traceback" not in p.stderr and p.stderr.startswith("cdpr: error:")

@@ -1,4 +1,5 @@
 """DEGM_E: analytic limits, equilibrium, round trip, agreement of the two solvers."""
+
 import numpy as np
 import pytest
 
@@ -40,7 +41,14 @@ def test_equilibrium_and_round_trip(cdpr4, kind):
     r = with_pulleys(cdpr4, kind=kind)
     res = degm_e(r, PTS, SUB)
     assert res.converged.all()
-    A, kd, h, rp, d, inward = (r.A[list(SUB)], r.kind[list(SUB)], r.h[list(SUB)], r.r_p[list(SUB)], r.d[list(SUB)], r.inward[list(SUB)])
+    A, kd, h, rp, d, inward = (
+        r.A[list(SUB)],
+        r.kind[list(SUB)],
+        r.h[list(SUB)],
+        r.r_p[list(SUB)],
+        r.d[list(SUB)],
+        r.inward[list(SUB)],
+    )
     L_TE, u = total_length_and_direction(res.P, A, kd, h, rp, d, inward)[:2]
     assert equilibrium_residual(u, res.t, r.platform.w_ext).max() < 1e-6  # N
     stretched = L_TS(r, PTS)[:, SUB] * (1 + res.t / r.ES[list(SUB)])

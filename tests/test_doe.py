@@ -1,4 +1,5 @@
 """cdpr.doe: global index (eq. 15), 2^3 factorial, effects, valley and optimal line."""
+
 import numpy as np
 import pytest
 
@@ -18,7 +19,16 @@ def test_effects_of_a_known_response():
     j, h, r = X.T
     y = 10 + 2 * j - 3 * h + 0.5 * r + 1.5 * j * h + 0.25 * j * h * r
     e = doe.effects(X, y, ["joint", "h", "r_p"]).set_index("term")
-    expect = {"mean": 10, "joint": 2, "h": -3, "r_p": 0.5, "joint:h": 1.5, "joint:r_p": 0, "h:r_p": 0, "joint:h:r_p": 0.25}
+    expect = {
+        "mean": 10,
+        "joint": 2,
+        "h": -3,
+        "r_p": 0.5,
+        "joint:h": 1.5,
+        "joint:r_p": 0,
+        "h:r_p": 0,
+        "joint:h:r_p": 0.25,
+    }
     for term, c in expect.items():
         assert e.coefficient[term] == pytest.approx(c, abs=1e-12)
         assert e.ols_coefficient[term] == pytest.approx(c, abs=1e-12)  # OLS on the saturated model agrees

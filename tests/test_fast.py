@@ -1,13 +1,14 @@
 """The compiled engine (cdpr.fast) gives the same table as the numpy reference implementation,
 and its subset pruning changes nothing."""
+
 import numpy as np
 import pandas as pd
 import pytest
 
 from cdpr.fast import solve_points_fast
 from cdpr.redundancy import solve_points
-from cdpr.solve import solve_table
 from cdpr.robot import with_pulleys
+from cdpr.solve import solve_table
 from cdpr.workspace import grid_points
 
 # a box larger than the frames: includes slack, over-tension and inaccessible points

@@ -1,4 +1,5 @@
 """Figures are deterministic: the same data gives the same PNG and PDF bytes (no embedded date)."""
+
 import time
 
 import matplotlib.pyplot as plt

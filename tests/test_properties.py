@@ -1,4 +1,5 @@
 """Property test: random poses and pulley sizes keep the model's invariants."""
+
 import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -6,11 +7,10 @@ from hypothesis import strategies as st
 from cdpr.direct import degm_e
 from cdpr.inverse import L_TS, igm_e
 from cdpr.pulleys import total_length_and_direction
-from cdpr.robot import with_pulleys
+from cdpr.robot import load_robot, with_pulleys
 from cdpr.statics import equilibrium_residual
 
 from .conftest import ROBOTS
-from cdpr.robot import load_robot
 
 ROBOT = load_robot(ROBOTS / "cdpr4.yaml")
 SUB = [0, 1, 2]
@@ -21,7 +21,9 @@ SUB = [0, 1, 2]
     kind=st.sampled_from(["SR", "DR"]),
     r_p=st.floats(0.0, 0.12),
     extra=st.floats(0.001, 0.1),
-    a=st.floats(0.1, 0.9), b=st.floats(0.1, 0.9), z=st.floats(0.0, 4.0),
+    a=st.floats(0.1, 0.9),
+    b=st.floats(0.1, 0.9),
+    z=st.floats(0.0, 4.0),
     E=st.floats(50e9, 200e9),
 )
 def test_solution_invariants(kind, r_p, extra, a, b, z, E):

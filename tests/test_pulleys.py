@@ -1,4 +1,5 @@
 """Extended inverse model (eq. 3-7): limits, tangency, continuity under a pulley."""
+
 import numpy as np
 import pytest
 

@@ -1,10 +1,11 @@
 """Subset choice, statuses, symmetry, and the Fig. 12 numbers of CDPR4 (compared, not copied)."""
+
 import numpy as np
 import pytest
 
 from cdpr.redundancy import solve_points
-from cdpr.solve import solve_table
 from cdpr.robot import with_pulleys
+from cdpr.solve import solve_table
 from cdpr.workspace import cell_centres
 
 
@@ -18,7 +19,9 @@ def plane(n, z=2.5, half=2.5):
 def test_mirror_symmetry_of_cdpr4_errors(cdpr4, kind):
     r = with_pulleys(cdpr4, kind=kind)
     rng = np.random.default_rng(3)
-    P = np.column_stack([rng.uniform(-2.3, 2.3, 300), rng.uniform(-2.3, 2.3, 300), rng.uniform(0.2, 4.2, 300)])
+    P = np.column_stack(
+        [rng.uniform(-2.3, 2.3, 300), rng.uniform(-2.3, 2.3, 300), rng.uniform(0.2, 4.2, 300)]
+    )
     base = solve_points(r, P)
     for mirror in (np.array([-1, 1, 1]), np.array([1, -1, 1]), np.array([-1, -1, 1])):
         m = solve_points(r, P * mirror)
@@ -42,12 +45,14 @@ def test_tie_break_on_the_diagonal_is_deterministic(cdpr4):
 
 
 def test_statuses_are_flagged_not_dropped(cdpr4):
-    P = np.array([
-        [0.0, 0.0, 2.5],     # ok
-        [0.0, 0.0, 6.0],     # above the pulleys: inaccessible
-        [3.5, 0.0, 2.0],     # outside the footprint: no subset holds it without pushing
-        [2.3, 0.0, 4.95],    # near a top edge: tension above T_a
-    ])
+    P = np.array(
+        [
+            [0.0, 0.0, 2.5],  # ok
+            [0.0, 0.0, 6.0],  # above the pulleys: inaccessible
+            [3.5, 0.0, 2.0],  # outside the footprint: no subset holds it without pushing
+            [2.3, 0.0, 4.95],  # near a top edge: tension above T_a
+        ]
+    )
     res = solve_points(cdpr4, P)
     assert list(res["status"]) == ["ok", "inaccessible", "slack", "over_tension"]
     assert np.isfinite(res["dp"][[0, 2, 3]]).all()  # reported for inspection

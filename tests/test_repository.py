@@ -12,6 +12,7 @@ TOML, reStructuredText and shell sources, the Makefile, the Snakefile and the CI
 Each failure lists ``file:line: text`` for every offending line. The patterns are built from
 pieces so that this file does not match itself.
 """
+
 from __future__ import annotations
 
 import re
@@ -70,7 +71,12 @@ def report(hits):
 
 
 def test_no_reference_to_the_notes_folder():
-    hits = [f"{name}:{no}: {line.strip()}" for name in tracked_text_files() for no, line in lines_of(name) if NOTES in line]
+    hits = [
+        f"{name}:{no}: {line.strip()}"
+        for name in tracked_text_files()
+        for no, line in lines_of(name)
+        if NOTES in line
+    ]
     if hits:
         pytest.fail(report(hits), pytrace=False)
 

@@ -1,4 +1,5 @@
 """Robot files: the shipped ones load with the paper's data; bad files give one clear sentence."""
+
 import copy
 import math
 
@@ -74,8 +75,14 @@ BAD = [
     (lambda d: d["pulley"].update(h_m="100 kg"), "unit 'kg' is not a unit of m"),
     (lambda d: d["platform"].update(mass_kg="heavy"), "cannot read 'heavy' as a quantity"),
     (lambda d: d["platform"].update(mass_kg=[300]), "expected a number in kg"),
-    (lambda d: d["pulley"].update(kind="DR", h_m=0.05, r_p_m=0.0665), "DR pulley needs lever arm h_m > sheave radius r_p_m"),
-    (lambda d: d["pulley"].update(kind="DR", h_m=0.0665, r_p_m=0.0665), "DR pulley needs lever arm h_m > sheave radius r_p_m"),
+    (
+        lambda d: d["pulley"].update(kind="DR", h_m=0.05, r_p_m=0.0665),
+        "DR pulley needs lever arm h_m > sheave radius r_p_m",
+    ),
+    (
+        lambda d: d["pulley"].update(kind="DR", h_m=0.0665, r_p_m=0.0665),
+        "DR pulley needs lever arm h_m > sheave radius r_p_m",
+    ),
     (lambda d: d["pulley"].update(kind="triple"), "unknown kind 'triple'; allowed: fixed | SR | DR"),
     (lambda d: d.update(cables=d["cables"][:2]), "needs at least 3 cables, got 2"),
     (lambda d: d["cables"][3].update(A_m=[-2.5, -2.5, 5.0]), "key 'cables[3].A_m': duplicate anchor point"),

@@ -1,4 +1,5 @@
 """Winch model (Metillon et al. 2022) against its Fig. 7 numbers and its own geometry."""
+
 import math
 
 import numpy as np
@@ -12,7 +13,7 @@ P = winch.TABLE1
 
 def test_length_error_end_values_fig7b():
     dl = winch.length_error(P, np.array([0.0, 5.0]))
-    assert dl[0] * 1e3 == pytest.approx(1.46, abs=0.01)   # "1.46 mm for l_pm = 0 m"
+    assert dl[0] * 1e3 == pytest.approx(1.46, abs=0.01)  # "1.46 mm for l_pm = 0 m"
     assert dl[1] * 1e3 == pytest.approx(-0.82, abs=0.01)  # "-0.82 mm for l_pm = 5 m"
 
 
@@ -37,7 +38,7 @@ def test_leading_coefficient_is_minus_rw_squared():
     mu = 2 * math.pi * P.l_E1E2 / P.q_max
     r_w = math.sqrt(P.k_w**2 - (mu / (2 * math.pi)) ** 2)
     a, _, _ = winch.coefficients(P, 1.0)
-    assert a == pytest.approx(-r_w**2, rel=1e-12)  # corrected eq. (27)
+    assert a == pytest.approx(-(r_w**2), rel=1e-12)  # corrected eq. (27)
 
 
 def test_geometry_gives_consistent_parameters():

@@ -1,5 +1,6 @@
 """The whole DAG on small studies: the quick study against committed reference tables, and an
 end-to-end run of a user's own design. Regenerate the references with `make update-references`."""
+
 import subprocess
 import sys
 from pathlib import Path
@@ -12,9 +13,23 @@ from .conftest import ROOT
 
 REF = ROOT / "tests" / "reference" / "quick"
 #: Tables compared with the references (paths under results/quick/).
-TABLES = ["summary.csv", "doe/doe.csv", "doe/effects.csv", "doe/rw_max.csv", "volumes/volumes.csv", "maps/map.csv",
-          "maps/lines.csv", "trajectories/trajectories_minmax.csv", "elasticity/index_vs_E.csv", "elasticity/bands.csv", "elasticity/crossings.csv",
-          "dead_length/dead_length.csv", "trajectories/CDPR4_SR.csv", "trajectories/CDPR3_DR.csv", "winch/winch.csv"]
+TABLES = [
+    "summary.csv",
+    "doe/doe.csv",
+    "doe/effects.csv",
+    "doe/rw_max.csv",
+    "volumes/volumes.csv",
+    "maps/map.csv",
+    "maps/lines.csv",
+    "trajectories/trajectories_minmax.csv",
+    "elasticity/index_vs_E.csv",
+    "elasticity/bands.csv",
+    "elasticity/crossings.csv",
+    "dead_length/dead_length.csv",
+    "trajectories/CDPR4_SR.csv",
+    "trajectories/CDPR3_DR.csv",
+    "winch/winch.csv",
+]
 RTOL, ATOL = 1e-6, 1e-9
 
 
@@ -24,7 +39,12 @@ def snakemake(target, *config, cwd=ROOT, quiet=True, force=True):
     exe = Path(sys.executable).with_name("snakemake")
     q = ["--quiet", "all"] if quiet else []
     f = ["--forceall"] if force else []
-    return subprocess.run([str(exe), target, "--cores", "2", *q, *f, "--config", *config], cwd=cwd, capture_output=True, text=True)
+    return subprocess.run(
+        [str(exe), target, "--cores", "2", *q, *f, "--config", *config],
+        cwd=cwd,
+        capture_output=True,
+        text=True,
+    )
 
 
 @pytest.fixture(scope="module")
@@ -37,18 +57,37 @@ def quick():
 @pytest.mark.parametrize("table", TABLES)
 def test_quick_study_matches_references(quick, table):
     ours, ref = pd.read_csv(quick / table), pd.read_csv(REF / table)
-    assert list(ours.columns) == list(ref.columns) and len(ours) == len(ref), f"{table}: shape or columns changed"
+    assert list(ours.columns) == list(ref.columns) and len(ours) == len(ref), (
+        f"{table}: shape or columns changed"
+    )
     for col in ref.columns:
         if pd.api.types.is_numeric_dtype(ref[col]) and pd.api.types.is_numeric_dtype(ours[col]):
-            np.testing.assert_allclose(ours[col], ref[col], rtol=RTOL, atol=ATOL, err_msg=f"{table}: column {col}")
+            np.testing.assert_allclose(
+                ours[col], ref[col], rtol=RTOL, atol=ATOL, err_msg=f"{table}: column {col}"
+            )
         else:
-            assert ours[col].fillna("").astype(str).tolist() == ref[col].fillna("").astype(str).tolist(), f"{table}: column {col}"
+            assert ours[col].fillna("").astype(str).tolist() == ref[col].fillna("").astype(str).tolist(), (
+                f"{table}: column {col}"
+            )
 
 
 def test_quick_study_writes_every_figure_and_the_summary(quick):
-    for fig in ["winch/winch.png", "plane/CDPR4.png", "plane/CDPR3.png", "plane/CDPR4_subsets.png", "trajectories/trajectories.png",
-                "trajectories/trajectories_minmax.png", "volumes/R_V.png", "volumes/CDPR3_SR_VL.png", "doe/responses.png", "doe/effects.png",
-                "maps/maps.png", "elasticity/index_vs_E.png", "elasticity/paths.png", "dead_length/dead_length.png"]:
+    for fig in [
+        "winch/winch.png",
+        "plane/CDPR4.png",
+        "plane/CDPR3.png",
+        "plane/CDPR4_subsets.png",
+        "trajectories/trajectories.png",
+        "trajectories/trajectories_minmax.png",
+        "volumes/R_V.png",
+        "volumes/CDPR3_SR_VL.png",
+        "doe/responses.png",
+        "doe/effects.png",
+        "maps/maps.png",
+        "elasticity/index_vs_E.png",
+        "elasticity/paths.png",
+        "dead_length/dead_length.png",
+    ]:
         assert (quick / fig).stat().st_size > 0 and (quick / fig).with_suffix(".pdf").stat().st_size > 0, fig
     text = (quick / "summary.md").read_text()
     assert "| winch dl at l_pm = 0 | Metillon Fig. 7b | 1.46 |" in text
@@ -63,13 +102,20 @@ def test_own_design_end_to_end(tmp_path):
     plane = pd.read_csv(out / "plane" / "FRAME_DR50.csv")
     assert (plane.status == "ok").mean() > 0.8
     text = (out / "summary.md").read_text()
-    assert "not scored" in text and "not reproduced" not in text  # an own design is not scored against the paper
+    assert (
+        "not scored" in text and "not reproduced" not in text
+    )  # an own design is not scored against the paper
 
 
 def test_bad_study_value_stops_before_any_job(tmp_path):
     bad = tmp_path / "bad.yaml"
-    bad.write_text((ROOT / "config" / "studies" / "quick.yaml").read_text().replace("solver: newton", "solver: magic"))
+    bad.write_text(
+        (ROOT / "config" / "studies" / "quick.yaml").read_text().replace("solver: newton", "solver: magic")
+    )
     p = snakemake("reproduce_paper", f"study={bad}", f"results={tmp_path / 'r'}", quiet=False)
     assert p.returncode != 0
-    assert "invalid study configuration" in p.stdout + p.stderr and "bad.yaml: key 'solver'" in p.stdout + p.stderr
+    assert (
+        "invalid study configuration" in p.stdout + p.stderr
+        and "bad.yaml: key 'solver'" in p.stdout + p.stderr
+    )
     assert not (tmp_path / "r").exists()

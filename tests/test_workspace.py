@@ -1,4 +1,5 @@
 """cdpr.workspace: grids, shards, voxel volumes and the largest box of a mask."""
+
 import numpy as np
 import pandas as pd
 import pytest
@@ -9,7 +10,15 @@ from cdpr.errors import CdprError
 
 def grid_table(n, box, ok):
     P = workspace.grid_points(box, n)
-    return pd.DataFrame({"x": P[:, 0], "y": P[:, 1], "z": P[:, 2], "dp": np.zeros(len(P)), "status": np.where(ok(P), "ok", "slack")})
+    return pd.DataFrame(
+        {
+            "x": P[:, 0],
+            "y": P[:, 1],
+            "z": P[:, 2],
+            "dp": np.zeros(len(P)),
+            "status": np.where(ok(P), "ok", "slack"),
+        }
+    )
 
 
 def test_grid_points_cell_centres_and_slices():
@@ -34,8 +43,8 @@ def test_voxel_volume_of_a_ball():
 
 def test_largest_box_of_a_known_mask():
     mask = np.zeros((6, 7, 8), dtype=bool)
-    mask[1:4, 2:7, 3:8] = True   # 3 x 5 x 5 = 75 voxels
-    mask[5, 0, 0] = True         # a stray voxel
+    mask[1:4, 2:7, 3:8] = True  # 3 x 5 x 5 = 75 voxels
+    mask[5, 0, 0] = True  # a stray voxel
     count, cells = workspace.largest_box(mask)
     assert count == 75 and cells == (1, 3, 2, 6, 3, 7)
     b = workspace.box_from_cells([0, 6, 0, 6, 0, 6], 6, (1, 3, 2, 4, 0, 5))

@@ -1,6 +1,7 @@
 """Copy the quick study's tables (results/quick) over the regression references (tests/reference/quick).
 
 Run by `make update-references`, after it recomputed the quick study from scratch."""
+
 import shutil
 from pathlib import Path
 
