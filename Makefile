@@ -7,7 +7,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: venv test docs reproduce reproduce-quick update-references clean-venv
+.PHONY: venv test docs reproduce resume reproduce-quick update-references clean-venv
 
 # Re-install whenever pyproject.toml changes (the stamp is older than it).
 $(STAMP): pyproject.toml
@@ -27,8 +27,15 @@ test: $(STAMP)
 docs: $(STAMP)
 	$(BIN)/mkdocs build --strict -d site
 
+# Every tracked output is recomputed (--forceall): a fresh clone's tracked results are never reused.
 reproduce: $(STAMP)
-	$(BIN)/snakemake --cores all reproduce_paper
+	$(BIN)/snakemake --cores all --forceall reproduce_paper
+
+# After an interruption (Ctrl-C, a killed process, a lost machine): release Snakemake's lock and
+# finish only what is missing or incomplete. Targets come before --config (both take lists).
+resume: $(STAMP)
+	$(BIN)/snakemake --unlock reproduce_paper
+	$(BIN)/snakemake --cores all --rerun-incomplete reproduce_paper
 
 # The same DAG on the small CI study (config/studies/quick.yaml), written under results/quick/.
 reproduce-quick: $(STAMP)

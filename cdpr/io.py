@@ -11,14 +11,25 @@ from pathlib import Path
 from .errors import CdprError
 
 
+def _umask():
+    """The process's umask (read without changing it for longer than this call)."""
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
 def atomic(path, write):
-    """Run write(tmp) on a temporary file beside ``path``, then rename it onto ``path``."""
+    """Run write(tmp) on a temporary file beside ``path``, then rename it onto ``path``.
+
+    The file gets the mode a plain ``open()`` would give it (0666 minus the umask), not the 0600 of
+    the temporary file, so that results are readable by others under the usual umask 022."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     os.close(fd)
     try:
         write(tmp)
+        os.chmod(tmp, 0o666 & ~_umask())
         os.replace(tmp, path)
     except BaseException:
         if os.path.exists(tmp):

@@ -61,6 +61,30 @@ def pulley_args(p, E=None):
     return args if E is None else f"{args} --E {E}"
 
 
+# Sections of the study used by several rule files.
+PATHS = STUDY["trajectories"]["paths"]
+VOL = STUDY["volumes"]
+VOL_LABELS = expand("{robot}_{pulley}", robot=ROBOTS, pulley=PULLEYS)
+DOE = STUDY["doe"]
+DOE_TESTS = doe_tests(STUDY).set_index("test")  # Table 2: number -> kind, h_m, r_p_m
+TESTS = list(DOE_TESTS.index)
+DOE_ROBOT = ROBOTS[DOE["robot"]]
+EL = STUDY["elasticity"]
+OPT = STUDY["optimal"]
+E_VALUES = [f"{e:.6g}" for e in E_values(STUDY)]
+E_PATH = [f"{float(e):.6g}" for e in EL["E_path_Pa"]]
+
+
+def test_args(test):
+    """Overrides of DOE test `test` (Table 2)."""
+    return pulley_args(DOE_TESTS.loc[int(test)].to_dict())
+
+
+def volume_shards(label):
+    """The solver shards of one robot_pulley label (volumes)."""
+    return expand(f"{RES}/shards/volume/{label}_{{shard}}.parquet", shard=range(VOL["shards"]))
+
+
 def all_targets():
     t = [f"{RES}/winch/winch.csv", f"{RES}/winch/winch.png"]
     t += expand(f"{RES}/plane/{{robot}}.png", robot=ROBOTS)

@@ -1,15 +1,4 @@
 # DOE of Paty 2021 section 4.2: RW_max of each test, RW_C, the global index per test (shards), effects.
-DOE = STUDY["doe"]
-DOE_TESTS = doe_tests(STUDY).set_index("test")  # Table 2: number -> kind, h_m, r_p_m
-TESTS = list(DOE_TESTS.index)
-DOE_ROBOT = ROBOTS[DOE["robot"]]
-
-
-def test_args(test):
-    """Overrides of DOE test `test` (Table 2)."""
-    return pulley_args(DOE_TESTS.loc[int(test)].to_dict())
-
-
 rule workspace_grid:
     input:
         robot=DOE_ROBOT,
@@ -18,12 +7,14 @@ rule workspace_grid:
     params:
         design=lambda w: test_args(int(w.test)),
         n=DOE["workspace_n"],
+        cdpr=CDPR,
+        study_file=STUDY_FILE,
         code=CODE,
     log:
         f"{RES}/logs/workspace_test{{test}}.log",
     threads: SOLVER_THREADS
     shell:
-        "{CDPR} grid --threads {threads} --robot {input.robot} {params.design} --frame --n {params.n} --out {output.table} > {log} 2>&1"
+        "{params.cdpr} grid --threads {threads} --robot {input.robot} {params.design} --frame --n {params.n} --out {output.table} > {log} 2>&1"
 
 
 rule regular_workspace:
@@ -35,11 +26,13 @@ rule regular_workspace:
         json=f"{RES}/doe/rw_c.json",
     params:
         study=uses("doe", "dead_length_m"),
+        cdpr=CDPR,
+        study_file=STUDY_FILE,
         code=CODE,
     log:
         f"{RES}/logs/regular_workspace.log",
     shell:
-        "{CDPR} job rw --study {STUDY_FILE} --tables {input.tables} --table {output.table} --json {output.json} > {log} 2>&1"
+        "{params.cdpr} job rw --study {params.study_file} --tables {input.tables} --table {output.table} --json {output.json} > {log} 2>&1"
 
 
 rule index_shard:
@@ -52,12 +45,14 @@ rule index_shard:
         design=lambda w: test_args(int(w.test)),
         n=DOE["index_n"],
         shards=DOE["shards"],
+        cdpr=CDPR,
+        study_file=STUDY_FILE,
         code=CODE,
     log:
         f"{RES}/logs/doe_test{{test}}_{{shard}}.log",
     threads: SOLVER_THREADS
     shell:
-        "{CDPR} grid --threads {threads} --robot {input.robot} {params.design} --box-file {input.box} --n {params.n}"
+        "{params.cdpr} grid --threads {threads} --robot {input.robot} {params.design} --box-file {input.box} --n {params.n}"
         " --shard {wildcards.shard} --shards {params.shards} --out {output.table} > {log} 2>&1"
 
 
@@ -73,9 +68,11 @@ rule doe:
         effects_pdf=f"{RES}/doe/effects.pdf",
     params:
         study=uses("doe"),
+        cdpr=CDPR,
+        study_file=STUDY_FILE,
         code=CODE,
     log:
         f"{RES}/logs/doe.log",
     shell:
-        "{CDPR} job doe --study {STUDY_FILE} --tables {input.tables} --table {output.table} --effects {output.effects}"
+        "{params.cdpr} job doe --study {params.study_file} --tables {input.tables} --table {output.table} --effects {output.effects}"
         " --figure {output.figure} --effects-figure {output.effects_figure} > {log} 2>&1"

@@ -1,8 +1,4 @@
 # Young's modulus uncertainty (Paty 2021 section 5, Fig. 18-19) and the dead-length calibration.
-EL = STUDY["elasticity"]
-OPT = STUDY["optimal"]
-E_VALUES = [f"{e:.6g}" for e in E_values(STUDY)]
-E_PATH = [f"{float(e):.6g}" for e in EL["E_path_Pa"]]
 
 
 rule elasticity_shard:
@@ -15,12 +11,14 @@ rule elasticity_shard:
         design=lambda w: pulley_args(OPT[w.design], E=w.E),
         n=EL["index_n"],
         shards=EL["shards"],
+        cdpr=CDPR,
+        study_file=STUDY_FILE,
         code=CODE,
     log:
         f"{RES}/logs/elasticity_{{design}}_E{{E}}_{{shard}}.log",
     threads: SOLVER_THREADS
     shell:
-        "{CDPR} grid --threads {threads} --robot {input.robot} {params.design} --box-file {input.box} --n {params.n}"
+        "{params.cdpr} grid --threads {threads} --robot {input.robot} {params.design} --box-file {input.box} --n {params.n}"
         " --shard {wildcards.shard} --shards {params.shards} --out {output.table} > {log} 2>&1"
 
 
@@ -32,12 +30,14 @@ rule elasticity_path:
     params:
         design=lambda w: pulley_args(OPT[w.design], E=w.E),
         path=EL["path"],
+        cdpr=CDPR,
+        study_file=STUDY_FILE,
         code=CODE,
     log:
         f"{RES}/logs/elasticity_path_{{design}}_E{{E}}.log",
     threads: SOLVER_THREADS
     shell:
-        "{CDPR} trajectory --threads {threads} --robot {input.robot} {params.design} --start {params.path[start_m]} --end {params.path[end_m]}"
+        "{params.cdpr} trajectory --threads {threads} --robot {input.robot} {params.design} --start {params.path[start_m]} --end {params.path[end_m]}"
         " --n {params.path[points]} --out {output.table} > {log} 2>&1"
 
 
@@ -55,11 +55,13 @@ rule elasticity:
         paths_pdf=f"{RES}/elasticity/paths.pdf",
     params:
         study=uses("elasticity", "optimal"),
+        cdpr=CDPR,
+        study_file=STUDY_FILE,
         code=CODE,
     log:
         f"{RES}/logs/elasticity.log",
     shell:
-        "{CDPR} job elasticity --study {STUDY_FILE} --tables {input.tables} --paths {input.paths} --table {output.table}"
+        "{params.cdpr} job elasticity --study {params.study_file} --tables {input.tables} --paths {input.paths} --table {output.table}"
         " --bands {output.bands} --crossings {output.crossings} --figure {output.figure} --paths-figure {output.paths_figure} > {log} 2>&1"
 
 
@@ -71,12 +73,14 @@ rule dead_length_point:
         table=f"{RES}/shards/dead_length/d{{d}}.csv",
     params:
         study=uses("dead_length", "pulleys", "plane", "optimal", "elasticity", "doe", "solver"),
+        cdpr=CDPR,
+        study_file=STUDY_FILE,
         code=CODE,
     log:
         f"{RES}/logs/dead_length_{{d}}.log",
     threads: SOLVER_THREADS
     shell:
-        "{CDPR} job dead-length-point --threads {threads} --study {STUDY_FILE} --d {wildcards.d} --box-file {input.box} --table {output.table} > {log} 2>&1"
+        "{params.cdpr} job dead-length-point --threads {threads} --study {params.study_file} --d {wildcards.d} --box-file {input.box} --table {output.table} > {log} 2>&1"
 
 
 rule dead_length:
@@ -88,8 +92,10 @@ rule dead_length:
         pdf=f"{RES}/dead_length/dead_length.pdf",
     params:
         study=uses("dead_length_m"),
+        cdpr=CDPR,
+        study_file=STUDY_FILE,
         code=CODE,
     log:
         f"{RES}/logs/dead_length.log",
     shell:
-        "{CDPR} job dead-length --study {STUDY_FILE} --tables {input.tables} --table {output.table} --figure {output.figure} > {log} 2>&1"
+        "{params.cdpr} job dead-length --study {params.study_file} --tables {input.tables} --table {output.table} --figure {output.figure} > {log} 2>&1"

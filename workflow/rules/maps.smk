@@ -9,12 +9,14 @@ rule map_kind:
         table=f"{RES}/shards/maps/{{kind}}.csv",
     params:
         study=uses("maps", "doe", "dead_length_m", "solver"),
+        cdpr=CDPR,
+        study_file=STUDY_FILE,
         code=CODE,
     log:
         f"{RES}/logs/map_{{kind}}.log",
     threads: SOLVER_THREADS
     shell:
-        "{CDPR} job map --threads {threads} --study {STUDY_FILE} --kind {wildcards.kind} --box-file {input.box} --table {output.table} > {log} 2>&1"
+        "{params.cdpr} job map --threads {threads} --study {params.study_file} --kind {wildcards.kind} --box-file {input.box} --table {output.table} > {log} 2>&1"
 
 
 rule maps:
@@ -29,10 +31,12 @@ rule maps:
         pdf=f"{RES}/maps/maps.pdf",
     params:
         study=uses("maps", "doe", "dead_length_m", "solver"),
+        cdpr=CDPR,
+        study_file=STUDY_FILE,
         code=CODE,
     log:
         f"{RES}/logs/maps.log",
     threads: SOLVER_THREADS
     shell:
-        "{CDPR} job maps --threads {threads} --study {STUDY_FILE} --box-file {input.box} --tables {input.tables} --map {output.map}"
+        "{params.cdpr} job maps --threads {threads} --study {params.study_file} --box-file {input.box} --tables {input.tables} --map {output.map}"
         " --lines {output.lines} --figure {output.figure} > {log} 2>&1"

@@ -9,12 +9,14 @@ rule plane_table:
     params:
         design=lambda w: pulley_args(PULLEYS[w.pulley]),
         p=STUDY["plane"],
+        cdpr=CDPR,
+        study_file=STUDY_FILE,
         code=CODE,
     log:
         f"{RES}/logs/plane_{{robot}}_{{pulley}}.log",
     threads: SOLVER_THREADS
     shell:
-        "{CDPR} plane --threads {threads} --robot {input.robot} {params.design} --z {params.p[z_m]} --n {params.p[n]}"
+        "{params.cdpr} plane --threads {threads} --robot {input.robot} {params.design} --z {params.p[z_m]} --n {params.p[n]}"
         " --out {output.table} > {log} 2>&1"
 
 
@@ -27,11 +29,13 @@ rule plane_figure:
         pdf=f"{RES}/plane/{{robot}}.pdf",
     params:
         study=uses("plane", "pulleys"),
+        cdpr=CDPR,
+        study_file=STUDY_FILE,
         code=CODE,
     log:
         f"{RES}/logs/plane_figure_{{robot}}.log",
     shell:
-        "{CDPR} job plane-figure --study {STUDY_FILE} --robot-key {wildcards.robot} --tables {input.tables} --figure {output.figure} > {log} 2>&1"
+        "{params.cdpr} job plane-figure --study {params.study_file} --robot-key {wildcards.robot} --tables {input.tables} --figure {output.figure} > {log} 2>&1"
 
 
 rule subset_figure:
@@ -43,8 +47,10 @@ rule subset_figure:
         pdf=f"{RES}/plane/{{robot}}_subsets.pdf",
     params:
         study=uses("plane", "pulleys"),
+        cdpr=CDPR,
+        study_file=STUDY_FILE,
         code=CODE,
     log:
         f"{RES}/logs/subset_figure_{{robot}}.log",
     shell:
-        "{CDPR} job subsets-figure --study {STUDY_FILE} --robot-key {wildcards.robot} --tables {input.tables} --figure {output.figure} > {log} 2>&1"
+        "{params.cdpr} job subsets-figure --study {params.study_file} --robot-key {wildcards.robot} --tables {input.tables} --figure {output.figure} > {log} 2>&1"

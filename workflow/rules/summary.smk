@@ -21,8 +21,11 @@ rule summary:
         table=f"{RES}/summary.csv",
     params:
         study=uses("name", "paper_comparison", "dead_length_m", "solver", "doe", "maps", "trajectories"),
+        cdpr=CDPR,
+        study_file=STUDY_FILE,
+        results=lambda w, output: str(Path(output.table).parent),
         code=CODE,
     log:
         f"{RES}/logs/summary.log",
     shell:
-        "{CDPR} job summary --study {STUDY_FILE} --results {RES} --markdown {output.markdown} --table {output.table} > {log} 2>&1"
+        "{params.cdpr} job summary --study {params.study_file} --results {params.results} --markdown {output.markdown} --table {output.table} > {log} 2>&1"

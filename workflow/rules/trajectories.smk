@@ -1,5 +1,4 @@
 # Straight paths of Paty 2021 section 3.3.1 (Fig. 10-11).
-PATHS = STUDY["trajectories"]["paths"]
 
 
 rule trajectory_table:
@@ -11,12 +10,14 @@ rule trajectory_table:
         design=lambda w: pulley_args(PULLEYS[w.pulley]),
         path=lambda w: PATHS[w.robot],
         n=STUDY["trajectories"]["points"],
+        cdpr=CDPR,
+        study_file=STUDY_FILE,
         code=CODE,
     log:
         f"{RES}/logs/trajectory_{{robot}}_{{pulley}}.log",
     threads: SOLVER_THREADS
     shell:
-        "{CDPR} trajectory --threads {threads} --robot {input.robot} {params.design} --start {params.path[start_m]} --end {params.path[end_m]}"
+        "{params.cdpr} trajectory --threads {threads} --robot {input.robot} {params.design} --start {params.path[start_m]} --end {params.path[end_m]}"
         " --n {params.n} --out {output.table} > {log} 2>&1"
 
 
@@ -31,9 +32,11 @@ rule trajectory_figure:
         minmax_pdf=f"{RES}/trajectories/trajectories_minmax.pdf",
     params:
         study=uses("trajectories", "pulleys"),
+        cdpr=CDPR,
+        study_file=STUDY_FILE,
         code=CODE,
     log:
         f"{RES}/logs/trajectory_figure.log",
     shell:
-        "{CDPR} job trajectories --study {STUDY_FILE} --tables {input.tables} --table {output.table} --figure {output.figure}"
+        "{params.cdpr} job trajectories --study {params.study_file} --tables {input.tables} --table {output.table} --figure {output.figure}"
         " --minmax-figure {output.minmax} > {log} 2>&1"

@@ -1,6 +1,4 @@
 # Error-limited volumes V_L and R_V (Paty 2021 section 3.3.3, Fig. 13-14): solver shards over the frame grid.
-VOL = STUDY["volumes"]
-VOL_LABELS = expand("{robot}_{pulley}", robot=ROBOTS, pulley=PULLEYS)
 
 
 rule volume_shard:
@@ -12,17 +10,15 @@ rule volume_shard:
         design=lambda w: pulley_args(PULLEYS[w.pulley]),
         n=VOL["n"],
         shards=VOL["shards"],
+        cdpr=CDPR,
+        study_file=STUDY_FILE,
         code=CODE,
     log:
         f"{RES}/logs/volume_{{robot}}_{{pulley}}_{{shard}}.log",
     threads: SOLVER_THREADS
     shell:
-        "{CDPR} grid --threads {threads} --robot {input.robot} {params.design} --frame --n {params.n} --shard {wildcards.shard}"
+        "{params.cdpr} grid --threads {threads} --robot {input.robot} {params.design} --frame --n {params.n} --shard {wildcards.shard}"
         " --shards {params.shards} --out {output.table} > {log} 2>&1"
-
-
-def volume_shards(label):
-    return expand(f"{RES}/shards/volume/{label}_{{shard}}.parquet", shard=range(VOL["shards"]))
 
 
 rule volumes:
@@ -35,11 +31,13 @@ rule volumes:
         pdf=f"{RES}/volumes/R_V.pdf",
     params:
         study=uses("volumes", "pulleys", "dead_length_m", "paper_comparison"),
+        cdpr=CDPR,
+        study_file=STUDY_FILE,
         code=CODE,
     log:
         f"{RES}/logs/volumes.log",
     shell:
-        "{CDPR} job volumes --study {STUDY_FILE} --tables {input.tables} --table {output.table} --figure {output.figure} > {log} 2>&1"
+        "{params.cdpr} job volumes --study {params.study_file} --tables {input.tables} --table {output.table} --figure {output.figure} > {log} 2>&1"
 
 
 rule volume_view:
@@ -51,8 +49,10 @@ rule volume_view:
         pdf=f"{RES}/volumes/{{label}}_VL.pdf",
     params:
         study=uses("volumes", "pulleys", "dead_length_m"),
+        cdpr=CDPR,
+        study_file=STUDY_FILE,
         code=CODE,
     log:
         f"{RES}/logs/volume_view_{{label}}.log",
     shell:
-        "{CDPR} job volume-view --study {STUDY_FILE} --label {wildcards.label} --tables {input.tables} --figure {output.figure} > {log} 2>&1"
+        "{params.cdpr} job volume-view --study {params.study_file} --label {wildcards.label} --tables {input.tables} --figure {output.figure} > {log} 2>&1"
