@@ -52,11 +52,12 @@ def check_output(path, suffixes=None):
         suffixes = {".png": (".png",), ".json": (".json",), ".md": (".md",)}.get(path.suffix, TABLE_SUFFIXES)
     if path.suffix not in suffixes:
         raise CdprError(f"{path}: unknown output format '{path.suffix}'; allowed: {', '.join(suffixes)}")
-    parent = path.parent
-    while not parent.exists() and parent != parent.parent:
-        parent = parent.parent
-    if not parent.is_dir() or not os.access(parent, os.W_OK | os.X_OK):
-        raise CdprError(f"{path}: cannot write there ({parent} is not a writable folder)")
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise CdprError(f"{path}: cannot create its folder ({exc.strerror})") from None
+    if not os.access(path.parent, os.W_OK | os.X_OK):
+        raise CdprError(f"{path}: cannot write there ({path.parent} is not a writable folder)")
     if path.is_dir():
         raise CdprError(f"{path}: is a folder, not a file name")
     return path
