@@ -18,3 +18,51 @@ def test_same_figure_gives_same_bytes(tmp_path):
         blobs.append([p.read_bytes() for p in paths])
         time.sleep(1.1)  # a creation date in seconds would differ
     assert blobs[0] == blobs[1]
+
+
+def _captured(monkeypatch):
+    """Figures handed to plots.save, kept open for inspection (the files are still written)."""
+    figs = []
+    real = plots.save
+
+    def keep(fig, out):
+        figs.append(fig)
+        fig.savefig(str(out), dpi=40)
+        return [out]
+
+    monkeypatch.setattr(plots, "save", keep)
+    return figs, real
+
+
+def _plane_table(kind, scale):
+    import numpy as np
+    import pandas as pd
+
+    x, y = np.meshgrid(np.linspace(-2, 2, 9), np.linspace(-2, 2, 9))
+    dp = scale * (0.05 + 0.01 * (x**2 + y**2)).ravel()
+    status = np.where(np.abs(x.ravel()) + np.abs(y.ravel()) > 3.9, "slack", "ok")
+    return pd.DataFrame({"x": x.ravel(), "y": y.ravel(), "dp": dp, "status": status, "subset": "1-2-3"})
+
+
+def test_plane_figure_shares_one_colour_scale_and_names_the_height(tmp_path, monkeypatch):
+    import numpy as np
+
+    figs, _ = _captured(monkeypatch)
+    A = np.array([[-2.5, -2.5, 5], [2.5, -2.5, 5], [2.5, 2.5, 5], [-2.5, 2.5, 5]])
+    plots.fig12_plane(
+        {"SR": _plane_table("SR", 2.0), "DR": _plane_table("DR", 1.0)}, A, 2.5, "CDPR4", tmp_path / "p.png"
+    )
+    plots.fig9_subsets({"SR": _plane_table("SR", 2.0)}, A, 2.5, "CDPR4", tmp_path / "s.png")
+    plane, subsets = figs
+    panels = [ax for ax in plane.axes if ax.get_title()]
+    assert len(panels) == 2 and all("z = 2.5 m" in ax.get_title() for ax in panels)
+    limits = {
+        (round(c.norm.vmin, 12), round(c.norm.vmax, 12))
+        for ax in panels
+        for c in ax.collections
+        if hasattr(c, "norm") and c.get_array() is not None
+    }
+    assert len(limits) == 1  # SR and DR on one colour scale although their ranges differ by 2x
+    assert all(ax.get_legend() is not None for ax in panels)  # the slack cells are explained
+    assert "z = 2.5 m" in [ax for ax in subsets.axes if ax.get_title()][0].get_title()
+    assert (tmp_path / "p.png").exists() and (tmp_path / "s.png").exists()
