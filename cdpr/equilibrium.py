@@ -34,9 +34,9 @@ globalised by an Armijo backtracking line search on a merit function:
 Where the Newton direction is not a descent direction of the merit (an indefinite Hessian from the
 swivel term next to the vertical through a joint point, a singular Jacobian) the step is the scaled
 force F / kappa, kappa = sum_i a_i E_i S_i / L0_i + sum_i t_i / |l_E,i| (a bound of the stiffness).
-When no cable is taut the Jacobian takes every cable as taut (Hooke extended to compression): the
-step then lowers the platform to where the cables tighten, and it is taken whole (no line search:
-0.5 |F|^2 is flat while every cable is slack). Steps shorter than ``LS_SKIP`` are taken whole too
+When no cable is taut (with L0 = L_TS every DR cable is slack at p by 1-4 cm) the Newton step
+takes every cable as taut, Hooke extended to compression (t_i = k_i e_i < 0 allowed in the force
+and the Jacobian): one step then lowers the platform to about where the cables hold it. Steps shorter than ``LS_SKIP`` are taken whole too
 (merit differences sink into round-off there; Newton is in its quadratic phase). Trial points
 at or above the lowest joint point are rejected by the line search (infinite merit).
 
@@ -60,7 +60,12 @@ Edge cases (choices)
   the cables are so stiff that the stretch needed is below the round-off of P).
 * The floor is not modelled (as in paper mode): P* may lie below z = 0.
 * Tensions: exactly 0 on slack cables in the model; the result writes NaN there (like paper mode's
-  slack cables, written null in JSON), with the boolean ``taut`` (t_i > 0) beside.
+  slack cables, written null in JSON), with the boolean ``taut`` beside. A cable is taut when
+  t_i > ``TAUT_MIN`` = 1e-6 N (below, the tension is the round-off of a cable resting at exactly its
+  rest length, which happens where the platform hangs on a lone cable, see below).
+* A lone SR or DR cable holding the platform has a circle of equilibria round its joint axis (the
+  swivel, or the U-joint, is neutral: the cable hangs vertically from D wherever the pulley
+  points), so P* there depends on the starting point and on round-off; |F(P*)| is still balanced.
 
 References
 ----------
@@ -86,6 +91,11 @@ MAX_HALVINGS = 30
 LS_SKIP = 1e-4
 #: A point is balanced when |F| <= FTOL_REL |w_ext|.
 FTOL_REL = 1e-10
+#: A cable counts as taut when its tension exceeds this [N]: below it, the tension is the round-off
+#: of a cable resting at exactly its rest length (stretch ~1e-16 m).
+TAUT_MIN = 1e-6
+#: A start at or above the lowest joint point is moved to this distance [m] below it.
+START_BELOW = 0.05
 #: Distance [m] outside the anchors' horizontal convex hull tolerated as inside.
 HULL_EPS = 1e-9
 ST = {s: i for i, s in enumerate(STATUSES)}
@@ -135,7 +145,9 @@ class _Cables:
         out = {"F": F, "t": t, "taut": taut, "merit": merit, "g": g}
         if jacobian:
             act = e >= 0.0
-            act |= ~act.any(axis=1, keepdims=True)  # no cable taut: Hooke extended to compression
+            none = ~act.any(axis=1)
+            act[none] = True  # no cable taut: Hooke extended to compression, in J and in Newton's F
+            out["Fn"] = np.where(none[:, None], F + np.einsum("nj,nja->na", k * e, g.u), F)
             ka = k * act
             dL = length_gradient(g)
             out["J"] = (np.einsum("nj,njab->nab", t, direction_gradient(g))
@@ -147,7 +159,7 @@ class _Cables:
 
 def _take(state, idx, new, sel):
     """state[key][idx[sel]] = new[key][sel] for every array of a cables' evaluation."""
-    for key in ("F", "t", "taut", "merit", "J", "grad", "kappa"):
+    for key in ("F", "Fn", "t", "taut", "merit", "J", "grad", "kappa"):
         state[key][idx[sel]] = new[key][sel]
 
 
@@ -171,8 +183,8 @@ def _newton(cab, P0, L0, p_ref, tol, maxiter, max_step):
         active = active[~here]
         if active.size == 0:
             break
-        F, J, grad, merit, kappa = (cur[k][active] for k in ("F", "J", "grad", "merit", "kappa"))
-        s, _ = solve3(J, -F)
+        Fn, J, grad, merit, kappa = (cur[k][active] for k in ("Fn", "J", "grad", "merit", "kappa"))
+        s, _ = solve3(J, -Fn)
         newton = np.isfinite(s).all(axis=1)
         s = np.where(newton[:, None], s, 0.0)
         slope = np.einsum("na,na->n", grad, s)
@@ -221,9 +233,19 @@ def statuses(robot, p, P, t, converged, inside, halfplanes=None):
     code = np.full(len(p), ST["ok"], dtype=np.int8)
     code[(t > robot.T_a).any(axis=1)] = ST["over_tension"]
     code[bad_P] = ST["inaccessible"]
-    code[~converged | ~(t > 0).any(axis=1)] = ST["not_converged"]  # no cable pulls: no equilibrium
+    code[~converged | ~(t > TAUT_MIN).any(axis=1)] = ST["not_converged"]  # no cable pulls: no equilibrium
     code[bad_p] = ST["inaccessible"]
     return code
+
+
+def start_points(robot, P0):
+    """Newton's starting points: P0 (N, 3) [m], moved down to ``START_BELOW`` under the lowest joint
+    point where it lies at or above it (the model means nothing above the pulleys; this happens
+    for a desired point above them, reported inaccessible)."""
+    P0 = np.array(np.atleast_2d(np.asarray(P0, dtype=float)))
+    top = robot.A[:, 2].min() - START_BELOW
+    P0[:, 2] = np.where(P0[:, 2] < top, P0[:, 2], top)
+    return np.ascontiguousarray(P0)
 
 
 def solve_physical(robot, p, L0=None, P0=None, tol=None, maxiter=None, max_step=None):
@@ -241,7 +263,7 @@ def solve_physical(robot, p, L0=None, P0=None, tol=None, maxiter=None, max_step=
     L0 : array_like, shape (N, m) [m], optional
         Commanded rest lengths; default L_TS(p) (eq. 2), as in the paper.
     P0 : array_like, shape (N, 3) [m], optional
-        Newton's starting point, default p.
+        Newton's starting point, default p (``start_points``).
     tol, maxiter, max_step : float [m], int, float [m], optional
         Step tolerance, iteration cap, largest step; defaults ``PHYSICAL_DEFAULTS``.
 
@@ -249,8 +271,9 @@ def solve_physical(robot, p, L0=None, P0=None, tol=None, maxiter=None, max_step=
     -------
     dict
         p (N, 3) [m]; P_s (N, 3) [m] the equilibrium P*; dp (N,) [m]; t (N, m) [N], NaN on slack
-        cables; taut (N, m) bool (t_i > 0); n_taut (N,); residual (N,) [N] = |F(P*)|;
-        iterations (N,); status_code (N,) int8 and status (N,) str of ``redundancy.STATUSES``.
+        cables; taut (N, m) bool (t_i > ``TAUT_MIN``); n_taut (N,); residual (N,) [N] = |F(P*)|;
+        iterations (N,); converged (N,) bool; status_code (N,) int8 and status (N,) str of
+        ``redundancy.STATUSES``.
 
     References
     ----------
@@ -262,15 +285,17 @@ def solve_physical(robot, p, L0=None, P0=None, tol=None, maxiter=None, max_step=
     max_step = o["max_step"] if max_step is None else max_step
     p = np.atleast_2d(np.asarray(p, dtype=float))
     L0 = L_TS(robot, p) if L0 is None else np.broadcast_to(np.asarray(L0, dtype=float), (len(p), robot.m)).copy()
-    P0 = p.copy() if P0 is None else np.atleast_2d(np.asarray(P0, dtype=float)).copy()
+    P0 = start_points(robot, p if P0 is None else P0)
     cab = _Cables(robot)
     P, cur, iters, conv = _newton(cab, P0, L0, p, tol, maxiter, max_step)
     g = total_length_and_direction(P, *cab.args)
-    return _result(robot, p, P, cur["t"], cur["taut"], np.linalg.norm(cur["F"], axis=1), iters, conv, g.inside)
+    return _result(robot, p, P, cur["t"], np.linalg.norm(cur["F"], axis=1), iters, conv, g.inside)
 
 
-def _result(robot, p, P, t, taut, residual, iters, conv, inside):
-    code = statuses(robot, p, P, t, conv, inside)
+def _result(robot, p, P, t, residual, iters, conv, inside, halfplanes=None):
+    """The result dict of ``solve_physical`` (shared with the compiled engine)."""
+    taut = t > TAUT_MIN
+    code = statuses(robot, p, P, t, conv, inside, halfplanes)
     return {
         "p": p,
         "P_s": P,
@@ -280,6 +305,7 @@ def _result(robot, p, P, t, taut, residual, iters, conv, inside):
         "n_taut": taut.sum(axis=1).astype(np.int8),
         "residual": residual,
         "iterations": iters,
+        "converged": conv,
         "status_code": code,
         "status": np.asarray(STATUSES)[code],
     }
@@ -297,7 +323,8 @@ def taut_labels(taut):
 
 def to_frame(robot, res):
     """One row per point: x, y, z, x_s, y_s, z_s, dp, t1..tm (NaN where slack), taut (label of the
-    taut cables, e.g. '1-2-3-4'), n_taut, iterations, status (SI units)."""
+    taut cables, e.g. '1-2-3-4'), n_taut, iterations, status (SI units). The status categories are
+    ``res["statuses"]`` when given (``compensation.COMP_STATUSES``), else ``STATUSES``."""
     df = pd.DataFrame({
         "x": res["p"][:, 0], "y": res["p"][:, 1], "z": res["p"][:, 2],
         "x_s": res["P_s"][:, 0], "y_s": res["P_s"][:, 1], "z_s": res["P_s"][:, 2],
@@ -308,5 +335,5 @@ def to_frame(robot, res):
     df["taut"] = taut_labels(res["taut"])
     df["n_taut"] = res["n_taut"]
     df["iterations"] = res["iterations"]
-    df["status"] = pd.Categorical.from_codes(res["status_code"], categories=list(STATUSES))
+    df["status"] = pd.Categorical.from_codes(res["status_code"], categories=list(res.get("statuses", STATUSES)))
     return df

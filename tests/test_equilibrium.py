@@ -255,3 +255,37 @@ def test_robot_dataclass_is_not_mutated(cdpr4):
     before = dataclasses.asdict(cdpr4)
     solve_physical(cdpr4, PTS[:3])
     assert dataclasses.asdict(cdpr4) == before
+
+
+# ---- compiled engine ------------------------------------------------------------------------
+def _grid_with_edges(robot, n=9):
+    """A grid over the anchors' bounding box from the floor to above the pulleys (every status)."""
+    from cdpr.workspace import frame_box, grid_points
+
+    x0, x1, y0, y1, _, z1 = frame_box(robot)
+    return grid_points([x0 - 0.6, x1 + 0.6, y0 - 0.6, y1 + 0.6, -0.2, z1 + 0.8], n)
+
+
+@pytest.mark.parametrize("name", KINDS + ["mixed", "cdpr3_SR", "cdpr3_DR"])
+def test_compiled_equals_numpy_reference(cdpr3, cdpr4, name):
+    """Same statuses and convergence everywhere; where the equilibrium is unique (converged, two or
+    more taut cables) the same taut sets, P* to 1e-9 m and tensions to 1e-8 relative. A lone SR or
+    DR cable has a circle of equilibria (neutral swivel), where P* depends on round-off."""
+    from cdpr.fast_physical import solve_physical_fast
+
+    r = with_pulleys(cdpr3, kind=name[6:]) if name.startswith("cdpr3") else robots(cdpr4)[name]
+    p = np.vstack([PTS, _grid_with_edges(r)])
+    for kw in ({}, {"maxiter": 2}, {"L0": L_TS(r, p) + rng.uniform(-0.02, 0.3, (len(p), r.m))},
+               {"P0": p + rng.normal(0, 0.1, p.shape)}):
+        a, b = solve_physical(r, p, **kw), solve_physical_fast(r, p, **kw)
+        assert set(a) == set(b)
+        np.testing.assert_array_equal(a["status"], b["status"])
+        np.testing.assert_array_equal(a["converged"], b["converged"])
+        unique = a["converged"] & (a["n_taut"] >= 2)
+        np.testing.assert_array_equal(a["taut"][unique], b["taut"][unique])
+        assert np.abs(a["P_s"] - b["P_s"])[unique].max(initial=0.0) < 1e-9
+        assert (np.abs(a["t"] - b["t"]) / np.fmax(1.0, np.abs(a["t"])))[a["taut"] & unique[:, None]].max(initial=0.0) < 1e-8
+        lone = a["converged"] & (a["n_taut"] == 1)
+        assert (a["residual"][lone] <= 1e-9 * 2943.0).all() and (b["residual"][lone] <= 1e-9 * 2943.0).all()
+    if kw.get("maxiter") is None:
+        assert {"ok", "inaccessible"} <= set(a["status"]) and unique.sum() > 300
