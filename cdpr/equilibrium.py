@@ -13,36 +13,43 @@ hold the platform, unlike the paper's 3-cable subsets (``redundancy``).
 
 Solver
 ------
-Semismooth Newton on F with the analytic (generalised) Jacobian
+Semismooth Newton on the force balance F with the analytic (generalised) Jacobian
 
     dF/dP = sum_i [t_i du_i/dP + (E_i S_i / L0_i) a_i u_i (dL_TE,i/dP)^T],   a_i = [L_TE,i >= L0_i]
 
 (``statics.direction_gradient`` and ``statics.length_gradient``), steps capped at ``max_step``,
-globalised by an Armijo backtracking line search on a merit function:
+globalised by an Armijo backtracking line search on the potential energy
 
-* fixed and SR pulleys: the potential energy
-  V(P) = -w_ext . (P - p) + sum_i E_i S_i / (2 L0_i) max(0, L_TE,i(P) - L0_i)^2,
-  whose gradient is exactly -F (dL_TE/dP = -u for these pulleys). V is convex for fixed pulleys and
-  its Hessian -dF/dP is positive definite as soon as one cable pulls, so the Newton direction is a
-  descent direction and the equilibrium is the unique minimum of V.
-* any DR pulley: 0.5 |F|^2. With our reading of the DR arm (on the bisector of the strand toward
-  P and the strand toward the winch, ``pulleys.sheave_centre``) dL_TE/dP has an arm term, and
-  grad V = -F + sum_i t_i arm_i ((u_i + u_C,i) . beta_i) eps_i differs from -F by 1e-6 to 1e-3
-  relative: the minimum of V would sit ~1e-5 m away from the force balance, which is the definition
-  of the equilibrium. So the force balance is solved and the energy is not used.
+    V(P) = -w_ext . (P - p) + sum_i E_i S_i / (2 L0_i) max(0, L_TE,i(P) - L0_i)^2
 
-Where the Newton direction is not a descent direction of the merit (an indefinite Hessian from the
-swivel term next to the vertical through a joint point, a singular Jacobian) the step is the scaled
-force F / kappa, kappa = sum_i a_i E_i S_i / L0_i + sum_i t_i / |l_E,i| (a bound of the stiffness).
-When no cable is taut (with L0 = L_TS every DR cable is slack at p by 1-4 cm) the Newton step
-takes every cable as taut, Hooke extended to compression (t_i = k_i e_i < 0 allowed in the force
-and the Jacobian): one step then lowers the platform to about where the cables hold it. Steps shorter than ``LS_SKIP`` are taken whole too
-(merit differences sink into round-off there; Newton is in its quadratic phase). Trial points
-at or above the lowest joint point are rejected by the line search (infinite merit).
+with its exact gradient dV/dP = -w_ext + sum_i t_i dL_TE,i/dP.
 
-A point converges when a Newton step s_k is shorter than ``tol``, or when the error left after it,
-estimated from the contraction as |s_k|^2 / |s_(k-1)| after a full Newton step s_(k-1), is below
-``tol`` (``direct._newton``'s rule); that step is taken and the cables are evaluated there.
+* Fixed and SR pulleys: dL_TE/dP = -u, so dV/dP = -F exactly: the equilibrium is the minimum of V.
+  V is convex for fixed pulleys and its Hessian -dF/dP is positive definite as soon as one cable
+  pulls, so the Newton direction descends V and the minimum is unique (tested from several starts).
+* DR pulleys: with our reading of the DR arm (on the bisector of the strand toward P and the
+  strand toward the winch, ``pulleys.sheave_centre``) dL_TE/dP has an arm term, and
+  dV/dP = -F + sum_i t_i arm_i ((u_i + u_C,i) . beta_i) eps_i; on CDPR4_DR equilibria the
+  difference is 5e-7 to 9e-4 of M g (median 1.5e-5), and the minimum of V lies up to 2e-5 m
+  (median 2e-7 m) from the force balance. The force balance is the definition of the equilibrium,
+  so Newton solves F = 0 and V serves only as the merit of the line search far from the solution:
+  Newton steps shorter than ``LS_SKIP`` = 0.1 mm are taken whole, without the descent test or the
+  line search (this is also where V's differences would sink into round-off for any pulley).
+  Convergence is judged on F only.
+
+Where the Newton direction does not descend V (an indefinite Hessian from the swivel term next to
+the vertical through a joint point, a singular Jacobian) the step is -dV/dP / kappa,
+kappa = sum_i a_i E_i S_i / L0_i + sum_i t_i / |l_E,i| (a bound of the stiffness). When no cable
+is taut (with L0 = L_TS every DR cable is slack at p by 1-4 cm) the Newton step takes every cable
+as taut, Hooke extended to compression (t_i = k_i e_i < 0 allowed in Newton's force and Jacobian):
+one step then lowers the platform to about where the cables hold it. Trial points at or above the
+lowest joint point have infinite merit (rejected); a start there is moved below it
+(``start_points``).
+
+A point converges when |F| <= ``FTOL_REL`` |w_ext| where it stands, or when a Newton step s_k is
+shorter than ``tol``, or when the error left after it, estimated from the contraction as
+|s_k|^2 / |s_(k-1)| after a full Newton step s_(k-1), is below ``tol`` (``direct._newton``'s rule);
+that step is taken and the cables are evaluated there.
 
 Edge cases (choices)
 --------------------
@@ -293,7 +300,7 @@ def solve_physical(robot, p, L0=None, P0=None, tol=None, maxiter=None, max_step=
 
 
 def _result(robot, p, P, t, residual, iters, conv, inside, halfplanes=None):
-    """The result dict of ``solve_physical`` (shared with the compiled engine)."""
+    """The result dict of ``solve_physical`` (the compiled engine builds the same)."""
     taut = t > TAUT_MIN
     code = statuses(robot, p, P, t, conv, inside, halfplanes)
     return {
