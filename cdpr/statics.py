@@ -70,3 +70,36 @@ def stretched_length(L0, t, ES):
 def equilibrium_residual(u, t, w_ext):
     """|sum_j t_j u_j + w_ext| [N], shape (...)."""
     return np.linalg.norm(np.einsum("...j,...jk->...k", t, u) + w_ext, axis=-1)
+
+
+def direction_gradient(g):
+    """Derivative of every cable's unit vector with respect to the platform position,
+
+        du_i/dP = -[(I - u_i u_i^T) - (D_s/rho)_i e_perp,i e_perp,i^T - arm_i (I - u_i u_i^T) beta_i eps_i^T] / |l_E,i|
+
+    the per-cable term that ``tension_gradient`` sums with the weights t_i (same reading: in the
+    cable plane the exit point D slides along the cable, so u turns only as the sheave centre moves
+    with the DR arm; out of the plane the swivel carries D round the joint axis by D_s/rho of P's
+    displacement).
+
+    Parameters
+    ----------
+    g : CableGeometry
+        ``pulleys.total_length_and_direction`` at P, arrays (..., m) and (..., m, 3).
+
+    Returns
+    -------
+    du_dP : ndarray, shape (..., m, 3, 3) [1/m]
+        ``du_dP[..., i, a, b]`` = d u_i,a / d P_b.
+
+    References
+    ----------
+    Paty et al. 2021, eq. (3)-(5) and (12).
+    """
+    u = g.u
+    eye = np.eye(3)
+    proj = eye - u[..., :, None] * u[..., None, :]
+    arm_v = g.arm[..., None] * (g.beta - g.u_beta[..., None] * u)  # arm (I - u u^T) beta
+    M = (proj - g.swivel[..., None, None] * g.e_perp[..., :, None] * g.e_perp[..., None, :]
+         - arm_v[..., :, None] * g.eps[..., None, :])
+    return -M / g.l_E[..., None, None]
