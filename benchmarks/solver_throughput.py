@@ -56,8 +56,12 @@ def main():
         "--n", type=int, default=30, help="points per axis for the solver comparison (n^3 points)"
     )
     ap.add_argument("--repeat", type=int, default=3, help="best of this many runs")
-    ap.add_argument("--physical-only", action="store_true", help="only the paper / physical / compensation table")
-    ap.add_argument("--nphys", type=int, default=63, help="points per axis of the physical table (n^3 points)")
+    ap.add_argument(
+        "--physical-only", action="store_true", help="only the paper / physical / compensation table"
+    )
+    ap.add_argument(
+        "--nphys", type=int, default=63, help="points per axis of the physical table (n^3 points)"
+    )
     args = ap.parse_args()
     if args.physical_only:
         physical_table(args)
@@ -117,7 +121,9 @@ def main():
 def cpu_model():
     try:
         out = subprocess.run(["lscpu"], capture_output=True, text=True, check=True).stdout
-        return next(line.split(":", 1)[1].strip() for line in out.splitlines() if line.startswith("Model name"))
+        return next(
+            line.split(":", 1)[1].strip() for line in out.splitlines() if line.startswith("Model name")
+        )
     except (OSError, subprocess.CalledProcessError, StopIteration):
         return platform.processor() or platform.machine()
 
@@ -126,9 +132,13 @@ def physical_table(args):
     """Paper mode, physical mode and compensation side by side (points/s, same run, same grid)."""
     P = grid_points(RW_C, args.nphys)
     base = load_robot(ROOT / "config" / "robots" / "cdpr4.yaml")
-    print(f"{cpu_model()}, {os.cpu_count()} cores; {len(P):,} points ({args.nphys}^3 cell centres of RW_C); best of {args.repeat}")
-    print(f"{'design':<9} {'paper pts/s':>12} {'physical pts/s':>15} {'phys/paper':>11} {'comp lengths pts/s':>19} "
-          f"{'comp+solve pts/s':>17} {'phys iters':>11}")
+    print(
+        f"{cpu_model()}, {os.cpu_count()} cores; {len(P):,} points ({args.nphys}^3 cell centres of RW_C); best of {args.repeat}"
+    )
+    print(
+        f"{'design':<9} {'paper pts/s':>12} {'physical pts/s':>15} {'phys/paper':>11} {'comp lengths pts/s':>19} "
+        f"{'comp+solve pts/s':>17} {'phys iters':>11}"
+    )
     for kind in ("SR", "DR"):
         r = with_pulleys(base, kind=kind)
         solve_points_fast(r, P[:10])  # load the compiled kernels
@@ -137,8 +147,10 @@ def physical_table(args):
         tb, b = best_of(lambda r=r: solve_physical_fast(r, P), args.repeat)
         tc, _ = best_of(lambda r=r: compensate(r, P), args.repeat)
         td, _ = best_of(lambda r=r: compensated_pose(r, P), args.repeat)
-        print(f"{base.name + '_' + kind:<9} {len(P) / ta:>12,.0f} {len(P) / tb:>15,.0f} {ta / tb:>11.2f} {len(P) / tc:>19,.0f} "
-              f"{len(P) / td:>17,.0f} {b['iterations'].mean():>11.2f}")
+        print(
+            f"{base.name + '_' + kind:<9} {len(P) / ta:>12,.0f} {len(P) / tb:>15,.0f} {ta / tb:>11.2f} {len(P) / tc:>19,.0f} "
+            f"{len(P) / td:>17,.0f} {b['iterations'].mean():>11.2f}"
+        )
 
 
 if __name__ == "__main__":

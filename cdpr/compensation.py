@@ -23,6 +23,7 @@ References
 Paty et al. 2021, eq. (3)-(5), (10)-(13). A. Pott, Cable-Driven Parallel Robots: Theory and
 Application, Springer 2018 (force distribution and elastic cable models).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -122,8 +123,17 @@ def compensate(robot, p, method="min_norm", t_min=T_MIN_DEFAULT, t_max=None, eng
     return out
 
 
-def compensated_pose(robot, p, actual=None, method="min_norm", engine="compiled", t_min=T_MIN_DEFAULT, t_max=None,
-                     solver=None, **options):
+def compensated_pose(
+    robot,
+    p,
+    actual=None,
+    method="min_norm",
+    engine="compiled",
+    t_min=T_MIN_DEFAULT,
+    t_max=None,
+    solver=None,
+    **options,
+):
     """Compensate with ``robot``, then let the platform settle on the ``actual`` robot.
 
     The rest lengths of ``compensate(robot, p, ...)`` are commanded to ``actual`` (default: the same
@@ -164,16 +174,28 @@ def compensated_pose(robot, p, actual=None, method="min_norm", engine="compiled"
     res = solve(actual, p[ok], L0=comp["L0"][ok], **(solver or {}))
     n, m = len(p), robot.m
     out = {"p": p}
-    fill = {"P_s": (np.nan, (n, 3)), "dp": (np.nan, (n,)), "t": (np.nan, (n, m)), "taut": (False, (n, m)),
-            "n_taut": (0, (n,)), "residual": (np.nan, (n,)), "iterations": (0, (n,))}
+    fill = {
+        "P_s": (np.nan, (n, 3)),
+        "dp": (np.nan, (n,)),
+        "t": (np.nan, (n, m)),
+        "taut": (False, (n, m)),
+        "n_taut": (0, (n,)),
+        "residual": (np.nan, (n,)),
+        "iterations": (0, (n,)),
+    }
     for key, (value, shape) in fill.items():
         arr = np.full(shape, value, dtype=res[key].dtype)
         arr[ok] = res[key]
         out[key] = arr
     code = np.full(n, COMP_STATUSES.index("infeasible"), dtype=np.int8)
     code[ok] = res["status_code"]
-    out.update(status_code=code, status=np.asarray(COMP_STATUSES)[code], statuses=COMP_STATUSES,
-               L0=comp["L0"], t_planned=comp["t"])
+    out.update(
+        status_code=code,
+        status=np.asarray(COMP_STATUSES)[code],
+        statuses=COMP_STATUSES,
+        L0=comp["L0"],
+        t_planned=comp["t"],
+    )
     if "subset" in comp:
         out["subset"] = comp["subset"]
     return out

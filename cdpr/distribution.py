@@ -36,6 +36,7 @@ robots", Computational Kinematics, Mechanisms and Machine Science 15, Springer 2
 A. Pott, Cable-Driven Parallel Robots: Theory and Application, Springer 2018, ch. 3 (force
 distribution).
 """
+
 from __future__ import annotations
 
 import itertools
@@ -265,7 +266,9 @@ def min_norm(W, w, t_min, t_max, t_ref=0.0, method="auto"):
         return _min_norm_m4(W, w, lo, hi, t_ref)
     if method == "enumerate":
         if m > MAX_ENUMERATED_CABLES:
-            raise ValueError(f"min_norm enumerates active sets for at most {MAX_ENUMERATED_CABLES} cables, got {m}")
+            raise ValueError(
+                f"min_norm enumerates active sets for at most {MAX_ENUMERATED_CABLES} cables, got {m}"
+            )
         return _min_norm_enumerate(W, w, lo, hi, t_ref)
     raise ValueError(f"unknown min_norm method {method!r}; allowed: 'auto', 'null_space', 'enumerate'")
 

@@ -79,6 +79,7 @@ References
 Paty et al. 2021, eq. (2)-(5), (10)-(14). Pott, A., Cable-Driven Parallel Robots: Theory and
 Application, Springer 2018 (force equilibrium and elastic cables of redundant CDPRs).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -157,8 +158,9 @@ class _Cables:
             out["Fn"] = np.where(none[:, None], F + np.einsum("nj,nja->na", k * e, g.u), F)
             ka = k * act
             dL = length_gradient(g)
-            out["J"] = (np.einsum("nj,njab->nab", t, direction_gradient(g))
-                        + np.einsum("nj,nja,njb->nab", ka, g.u, dL))
+            out["J"] = np.einsum("nj,njab->nab", t, direction_gradient(g)) + np.einsum(
+                "nj,nja,njb->nab", ka, g.u, dL
+            )
             out["grad"] = np.einsum("nj,nja->na", t, dL) - self.w_ext
             out["kappa"] = ka.sum(axis=1) + (t / g.l_E).sum(axis=1)
         return out
@@ -209,8 +211,11 @@ def _newton(cab, P0, L0, p_ref, tol, maxiter, max_step):
         for h in range(MAX_HALVINGS + 1):
             Pt = P[active[pending]] + alpha[pending, None] * s[pending]
             trial = cab.evaluate(Pt, L0[active[pending]], p_ref[active[pending]])
-            ok = (whole[pending] | (trial["merit"] <= merit[pending] + ARMIJO_C * alpha[pending] * slope[pending])
-                  | (h == MAX_HALVINGS))
+            ok = (
+                whole[pending]
+                | (trial["merit"] <= merit[pending] + ARMIJO_C * alpha[pending] * slope[pending])
+                | (h == MAX_HALVINGS)
+            )
             P[active[pending[ok]]] = Pt[ok]
             _take(cur, active[pending], trial, ok)
             pending = pending[~ok]
@@ -291,7 +296,11 @@ def solve_physical(robot, p, L0=None, P0=None, tol=None, maxiter=None, max_step=
     maxiter = o["maxiter"] if maxiter is None else maxiter
     max_step = o["max_step"] if max_step is None else max_step
     p = np.atleast_2d(np.asarray(p, dtype=float))
-    L0 = L_TS(robot, p) if L0 is None else np.broadcast_to(np.asarray(L0, dtype=float), (len(p), robot.m)).copy()
+    L0 = (
+        L_TS(robot, p)
+        if L0 is None
+        else np.broadcast_to(np.asarray(L0, dtype=float), (len(p), robot.m)).copy()
+    )
     P0 = start_points(robot, p if P0 is None else P0)
     cab = _Cables(robot)
     P, cur, iters, conv = _newton(cab, P0, L0, p, tol, maxiter, max_step)
@@ -332,15 +341,23 @@ def to_frame(robot, res):
     """One row per point: x, y, z, x_s, y_s, z_s, dp, t1..tm (NaN where slack), taut (label of the
     taut cables, e.g. '1-2-3-4'), n_taut, iterations, status (SI units). The status categories are
     ``res["statuses"]`` when given (``compensation.COMP_STATUSES``), else ``STATUSES``."""
-    df = pd.DataFrame({
-        "x": res["p"][:, 0], "y": res["p"][:, 1], "z": res["p"][:, 2],
-        "x_s": res["P_s"][:, 0], "y_s": res["P_s"][:, 1], "z_s": res["P_s"][:, 2],
-        "dp": res["dp"],
-    })
+    df = pd.DataFrame(
+        {
+            "x": res["p"][:, 0],
+            "y": res["p"][:, 1],
+            "z": res["p"][:, 2],
+            "x_s": res["P_s"][:, 0],
+            "y_s": res["P_s"][:, 1],
+            "z_s": res["P_s"][:, 2],
+            "dp": res["dp"],
+        }
+    )
     for i in range(robot.m):
         df[f"t{i + 1}"] = res["t"][:, i]
     df["taut"] = taut_labels(res["taut"])
     df["n_taut"] = res["n_taut"]
     df["iterations"] = res["iterations"]
-    df["status"] = pd.Categorical.from_codes(res["status_code"], categories=list(res.get("statuses", STATUSES)))
+    df["status"] = pd.Categorical.from_codes(
+        res["status_code"], categories=list(res.get("statuses", STATUSES))
+    )
     return df

@@ -4,6 +4,7 @@ parallel over points, scalars only in the hot loop (one cable at a time through 
 Same equations, Jacobian, merit, line search, stop rules and statuses as the numpy reference
 (``equilibrium``); a test checks that both give the same statuses, taut sets and P* (1e-9 m).
 """
+
 from __future__ import annotations
 
 import math
@@ -12,8 +13,16 @@ import numba
 import numpy as np
 from numba import njit, prange
 
-from .equilibrium import (ARMIJO_C, FTOL_REL, LS_SKIP, MAX_HALVINGS, PHYSICAL_DEFAULTS, _result, hull_halfplanes,
-                          start_points)
+from .equilibrium import (
+    ARMIJO_C,
+    FTOL_REL,
+    LS_SKIP,
+    MAX_HALVINGS,
+    PHYSICAL_DEFAULTS,
+    _result,
+    hull_halfplanes,
+    start_points,
+)
 from .fast import _cable
 from .inverse import L_TS
 from .statics import DET_EPS
@@ -37,9 +46,9 @@ def _eval(px, py, pz, rx, ry, rz, A, kind, h, rp, d, inward, L0, i, ES, wx, wy, 
     nact = 0
     inside_any = False
     for c in range(m):
-        (L, ux, uy, uz, lE, ins, sw, epx, epy,
-         arm, bx, by, bz, ex, ey, ez, uCb) = _cable(px, py, pz, A[c, 0], A[c, 1], A[c, 2], kind[c], h[c], rp[c], d[c],
-                                                    inward[c, 0], inward[c, 1])
+        (L, ux, uy, uz, lE, ins, sw, epx, epy, arm, bx, by, bz, ex, ey, ez, uCb) = _cable(
+            px, py, pz, A[c, 0], A[c, 1], A[c, 2], kind[c], h[c], rp[c], d[c], inward[c, 0], inward[c, 1]
+        )
         inside_any = inside_any or ins
         L0c = L0[i, c]
         e = L - L0c
@@ -117,19 +126,68 @@ def _eval(px, py, pz, rx, ry, rz, A, kind, h, rp, d, inward, L0, i, ES, wx, wy, 
     merit = -(wx * (px - rx) + wy * (py - ry) + wz * (pz - rz)) + elastic
     if not pz < ztop:
         merit = np.inf
-    return (Fx, Fy, Fz, Nx, Ny, Nz, merit, J00, J01, J02, J10, J11, J12, J20, J21, J22,
-            gx - wx, gy - wy, gz - wz, kact + geo, inside_any)
+    return (
+        Fx,
+        Fy,
+        Fz,
+        Nx,
+        Ny,
+        Nz,
+        merit,
+        J00,
+        J01,
+        J02,
+        J10,
+        J11,
+        J12,
+        J20,
+        J21,
+        J22,
+        gx - wx,
+        gy - wy,
+        gz - wz,
+        kact + geo,
+        inside_any,
+    )
 
 
 @njit(cache=True, error_model="numpy")
-def _solve_one(i, p, P0, L0, A, kind, h, rp, d, inward, ES, wx, wy, wz, ztop, ftol, tol, maxiter, max_step,
-               P_out, t_out, res_out, it_out, conv_out, ins_out, tcur, ttry):
+def _solve_one(
+    i,
+    p,
+    P0,
+    L0,
+    A,
+    kind,
+    h,
+    rp,
+    d,
+    inward,
+    ES,
+    wx,
+    wy,
+    wz,
+    ztop,
+    ftol,
+    tol,
+    maxiter,
+    max_step,
+    P_out,
+    t_out,
+    res_out,
+    it_out,
+    conv_out,
+    ins_out,
+    tcur,
+    ttry,
+):
     """equilibrium._newton for point i."""
     m = A.shape[0]
     rx, ry, rz = p[i, 0], p[i, 1], p[i, 2]
     px, py, pz = P0[i, 0], P0[i, 1], P0[i, 2]
-    (Fx, Fy, Fz, Nx, Ny, Nz, merit, J00, J01, J02, J10, J11, J12, J20, J21, J22,
-     gx, gy, gz, kappa, ins) = _eval(px, py, pz, rx, ry, rz, A, kind, h, rp, d, inward, L0, i, ES, wx, wy, wz, ztop, tcur)
+    (Fx, Fy, Fz, Nx, Ny, Nz, merit, J00, J01, J02, J10, J11, J12, J20, J21, J22, gx, gy, gz, kappa, ins) = (
+        _eval(px, py, pz, rx, ry, rz, A, kind, h, rp, d, inward, L0, i, ES, wx, wy, wz, ztop, tcur)
+    )
     conv = False
     it = 0
     prev = 0.0
@@ -167,9 +225,29 @@ def _solve_one(i, p, P0, L0, A, kind, h, rp, d, inward, ES, wx, wy, wz, ztop, ft
         alpha = 1.0
         for hv in range(MAX_HALVINGS + 1):
             qx, qy, qz = px + alpha * sx, py + alpha * sy, pz + alpha * sz
-            (tFx, tFy, tFz, tNx, tNy, tNz, tmerit, t00, t01, t02, t10, t11, t12, t20, t21, t22,
-             tgx, tgy, tgz, tkappa, tins) = _eval(qx, qy, qz, rx, ry, rz, A, kind, h, rp, d, inward, L0, i, ES,
-                                                  wx, wy, wz, ztop, ttry)
+            (
+                tFx,
+                tFy,
+                tFz,
+                tNx,
+                tNy,
+                tNz,
+                tmerit,
+                t00,
+                t01,
+                t02,
+                t10,
+                t11,
+                t12,
+                t20,
+                t21,
+                t22,
+                tgx,
+                tgy,
+                tgz,
+                tkappa,
+                tins,
+            ) = _eval(qx, qy, qz, rx, ry, rz, A, kind, h, rp, d, inward, L0, i, ES, wx, wy, wz, ztop, ttry)
             if whole or tmerit <= merit + ARMIJO_C * alpha * slope or hv == MAX_HALVINGS:
                 px, py, pz = qx, qy, qz
                 Fx, Fy, Fz, Nx, Ny, Nz, merit = tFx, tFy, tFz, tNx, tNy, tNz, tmerit
@@ -195,8 +273,32 @@ def _solve_one(i, p, P0, L0, A, kind, h, rp, d, inward, ES, wx, wy, wz, ztop, ft
 
 
 @njit(cache=True, parallel=True, error_model="numpy")
-def _solve_points(p, P0, L0, A, kind, h, rp, d, inward, ES, wx, wy, wz, ztop, ftol, tol, maxiter, max_step,
-                  P_out, t_out, res_out, it_out, conv_out, ins_out):
+def _solve_points(
+    p,
+    P0,
+    L0,
+    A,
+    kind,
+    h,
+    rp,
+    d,
+    inward,
+    ES,
+    wx,
+    wy,
+    wz,
+    ztop,
+    ftol,
+    tol,
+    maxiter,
+    max_step,
+    P_out,
+    t_out,
+    res_out,
+    it_out,
+    conv_out,
+    ins_out,
+):
     n = p.shape[0]
     m = A.shape[0]
     nchunks = (n + CHUNK - 1) // CHUNK
@@ -204,8 +306,35 @@ def _solve_points(p, P0, L0, A, kind, h, rp, d, inward, ES, wx, wy, wz, ztop, ft
         tcur = np.empty(m)
         ttry = np.empty(m)
         for i in range(ch * CHUNK, min(n, (ch + 1) * CHUNK)):
-            _solve_one(i, p, P0, L0, A, kind, h, rp, d, inward, ES, wx, wy, wz, ztop, ftol, tol, maxiter, max_step,
-                       P_out, t_out, res_out, it_out, conv_out, ins_out, tcur, ttry)
+            _solve_one(
+                i,
+                p,
+                P0,
+                L0,
+                A,
+                kind,
+                h,
+                rp,
+                d,
+                inward,
+                ES,
+                wx,
+                wy,
+                wz,
+                ztop,
+                ftol,
+                tol,
+                maxiter,
+                max_step,
+                P_out,
+                t_out,
+                res_out,
+                it_out,
+                conv_out,
+                ins_out,
+                tcur,
+                ttry,
+            )
 
 
 def solve_physical_fast(robot, p, L0=None, P0=None, tol=None, maxiter=None, max_step=None, threads=None):
@@ -244,8 +373,30 @@ def solve_physical_fast(robot, p, L0=None, P0=None, tol=None, maxiter=None, max_
     conv = np.empty(n, dtype=np.bool_)
     ins = np.empty(n, dtype=np.bool_)
     if n:
-        _solve_points(p, P0, L0, a.A, a.kind.astype(np.int64), a.h, a.r_p, a.d, np.ascontiguousarray(a.inward), a.ES,
-                      float(w[0]), float(w[1]), float(w[2]), float(a.A[:, 2].min()), FTOL_REL * float(np.linalg.norm(w)),
-                      o["tol"] if tol is None else tol, o["maxiter"] if maxiter is None else maxiter,
-                      o["max_step"] if max_step is None else max_step, P, t, resid, it, conv, ins)
+        _solve_points(
+            p,
+            P0,
+            L0,
+            a.A,
+            a.kind.astype(np.int64),
+            a.h,
+            a.r_p,
+            a.d,
+            np.ascontiguousarray(a.inward),
+            a.ES,
+            float(w[0]),
+            float(w[1]),
+            float(w[2]),
+            float(a.A[:, 2].min()),
+            FTOL_REL * float(np.linalg.norm(w)),
+            o["tol"] if tol is None else tol,
+            o["maxiter"] if maxiter is None else maxiter,
+            o["max_step"] if max_step is None else max_step,
+            P,
+            t,
+            resid,
+            it,
+            conv,
+            ins,
+        )
     return _result(robot, p, P, t, resid, it, conv, ins[:, None], halfplanes=hull_halfplanes(robot))

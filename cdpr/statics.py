@@ -100,6 +100,9 @@ def direction_gradient(g):
     eye = np.eye(3)
     proj = eye - u[..., :, None] * u[..., None, :]
     arm_v = g.arm[..., None] * (g.beta - g.u_beta[..., None] * u)  # arm (I - u u^T) beta
-    M = (proj - g.swivel[..., None, None] * g.e_perp[..., :, None] * g.e_perp[..., None, :]
-         - arm_v[..., :, None] * g.eps[..., None, :])
+    M = (
+        proj
+        - g.swivel[..., None, None] * g.e_perp[..., :, None] * g.e_perp[..., None, :]
+        - arm_v[..., :, None] * g.eps[..., None, :]
+    )
     return -M / g.l_E[..., None, None]

@@ -1,5 +1,6 @@
 """Compensated cable lengths (cdpr.compensation): exact round trip through the physical
 equilibrium, Hooke's law, infeasible points, modulus mismatch."""
+
 import numpy as np
 import pytest
 
@@ -56,7 +57,9 @@ def test_compensated_pose_reports_the_residual_error(cdpr4):
     data = read_yaml(ROBOTS / "cdpr4.yaml")
     for kind in ("SR", "DR"):
         model = with_pulleys(cdpr4, kind=kind)
-        real = with_pulleys(robot_from_dict(apply_overrides(data, E_cables=[80e9, 120e9, 95e9, 130e9])), kind=kind)
+        real = with_pulleys(
+            robot_from_dict(apply_overrides(data, E_cables=[80e9, 120e9, 95e9, 130e9])), kind=kind
+        )
         same = compensated_pose(model, PTS)
         assert (same["status"] == "ok").sum() > 40
         assert np.nanmax(same["dp"]) < 1e-9

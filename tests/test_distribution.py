@@ -1,9 +1,17 @@
 """Tension distribution (cdpr.distribution): equilibrium, bounds, optimality, agreement of methods."""
+
 import numpy as np
 import pytest
 
-from cdpr.distribution import (active_set_candidates, closed_form, closed_form_improved, distribute, min_norm,
-                               null_vector, wrench_matrix)
+from cdpr.distribution import (
+    active_set_candidates,
+    closed_form,
+    closed_form_improved,
+    distribute,
+    min_norm,
+    null_vector,
+    wrench_matrix,
+)
 from cdpr.robot import robot_from_dict, with_pulleys
 from cdpr.statics import tensions
 
@@ -16,10 +24,16 @@ def hexagon(kind="SR"):
     """A 6-cable suspended robot (regular hexagon of radius 3 m at 5 m) for the general-m methods."""
     ang = np.arange(6) * np.pi / 3
     cables = [{"A_m": [3 * np.cos(a), 3 * np.sin(a), 5.0]} for a in ang]
-    return robot_from_dict({
-        "name": "HEX6", "platform": {"mass_kg": 300.0},
-        "cable": {"young_modulus_Pa": 102.2e9, "diameter_m": 0.004, "max_tension_N": 5140.0},
-        "pulley": {"kind": kind, "h_m": 0.1, "r_p_m": 0.0665}, "dead_length_m": 4.0, "cables": cables})
+    return robot_from_dict(
+        {
+            "name": "HEX6",
+            "platform": {"mass_kg": 300.0},
+            "cable": {"young_modulus_Pa": 102.2e9, "diameter_m": 0.004, "max_tension_N": 5140.0},
+            "pulley": {"kind": kind, "h_m": 0.1, "r_p_m": 0.0665},
+            "dead_length_m": 4.0,
+            "cables": cables,
+        }
+    )
 
 
 @pytest.fixture(params=["SR", "DR"])
@@ -148,9 +162,15 @@ def test_six_cables_enumeration_against_a_generic_solver():
     t, ok = min_norm(W, w, T_MIN, 1500.0)
     assert ok.all()
     for k in range(len(p)):
-        res = minimize(lambda x: x @ x, np.full(6, 0.8), jac=lambda x: 2 * x, method="SLSQP",  # in kN
-                       bounds=[(T_MIN / 1e3, 1.5)] * 6, constraints={"type": "eq", "fun": lambda x, k=k: W[k] @ x - w / 1e3},
-                       options={"ftol": 1e-15, "maxiter": 500})
+        res = minimize(
+            lambda x: x @ x,
+            np.full(6, 0.8),
+            jac=lambda x: 2 * x,
+            method="SLSQP",  # in kN
+            bounds=[(T_MIN / 1e3, 1.5)] * 6,
+            constraints={"type": "eq", "fun": lambda x, k=k: W[k] @ x - w / 1e3},
+            options={"ftol": 1e-15, "maxiter": 500},
+        )
         assert res.success
         assert t[k] @ t[k] <= res.fun * 1e6 * (1 + 1e-9)
         assert np.abs(t[k] - 1e3 * res.x).max() < 1e-3

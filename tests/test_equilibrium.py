@@ -1,5 +1,6 @@
 """Physical equilibrium on all cables (cdpr.equilibrium): derivatives against finite differences,
 energy and force, uniqueness, limits, symmetry, agreement with paper mode on CDPR3, statuses."""
+
 import dataclasses
 
 import numpy as np
@@ -150,7 +151,10 @@ def test_several_starts_reach_the_same_equilibrium(cdpr4, name):
 def test_rigid_cables_and_point_pulleys_give_no_error(cdpr4):
     for kind in ("SR", "DR"):
         # (beyond E ~ 1e18 Pa the stretch sinks below the round-off of P)
-        res = [solve_physical(with_pulleys(cdpr4, kind=kind, h=0.0, r_p=0.0, E=E), PTS) for E in (1e12, 1e13, 1e16)]
+        res = [
+            solve_physical(with_pulleys(cdpr4, kind=kind, h=0.0, r_p=0.0, E=E), PTS)
+            for E in (1e12, 1e13, 1e16)
+        ]
         for x in res:
             assert np.isin(x["status"], ["ok", "over_tension"]).all()
         # elasticity alone: |dp| ~ 1/E
@@ -224,15 +228,21 @@ def test_pendulum_on_two_cables_is_ok(cdpr4):
     assert np.abs(res["P_s"][:2, 0]).max() < 1e-12  # symmetric about x = 0
     g = total_length_and_direction(res["P_s"], r.A, r.kind, r.h, r.r_p, r.d, r.inward)
     normal = np.cross(g.u[:, 0], g.u[:, 1])
-    assert np.abs(normal[:, 2]).max() < 1e-9 * np.linalg.norm(normal, axis=1).min()  # the cable plane is vertical
+    assert (
+        np.abs(normal[:, 2]).max() < 1e-9 * np.linalg.norm(normal, axis=1).min()
+    )  # the cable plane is vertical
 
 
 def test_statuses(cdpr3, cdpr4):
     r = with_pulleys(cdpr4, kind="SR")
-    p = np.array([[0.0, 0.0, 5.2],      # above the pulleys
-                  [0.0, 0.0, 4.99],     # just under: tensions far above T_a
-                  [2.6, 0.0, 2.0],      # outside the frame
-                  [0.5, 0.3, 2.0]])
+    p = np.array(
+        [
+            [0.0, 0.0, 5.2],  # above the pulleys
+            [0.0, 0.0, 4.99],  # just under: tensions far above T_a
+            [2.6, 0.0, 2.0],  # outside the frame
+            [0.5, 0.3, 2.0],
+        ]
+    )
     res = solve_physical(r, p)
     assert list(res["status"]) == ["inaccessible", "over_tension", "inaccessible", "ok"]
     assert list(solve_physical(r, p[3:], maxiter=1)["status"]) == ["not_converged"]
@@ -242,10 +252,27 @@ def test_statuses(cdpr3, cdpr4):
 
 def test_frame_and_labels(cdpr4):
     p = np.array([[0.0, 0.0, 2.5], [0.0, -1.5, 2.5]])
-    res = solve_physical(with_pulleys(cdpr4, kind="SR"), p, L0=L_TS(cdpr4, p) + [[0.0] * 4, [0.0, 0.0, 0.0, 0.5]])
+    res = solve_physical(
+        with_pulleys(cdpr4, kind="SR"), p, L0=L_TS(cdpr4, p) + [[0.0] * 4, [0.0, 0.0, 0.0, 0.5]]
+    )
     df = to_frame(cdpr4, res)
-    assert list(df.columns) == ["x", "y", "z", "x_s", "y_s", "z_s", "dp", "t1", "t2", "t3", "t4", "taut", "n_taut",
-                                "iterations", "status"]
+    assert list(df.columns) == [
+        "x",
+        "y",
+        "z",
+        "x_s",
+        "y_s",
+        "z_s",
+        "dp",
+        "t1",
+        "t2",
+        "t3",
+        "t4",
+        "taut",
+        "n_taut",
+        "iterations",
+        "status",
+    ]
     assert list(df["taut"]) == ["1-2-3-4", "1-2-3"]
     assert list(taut_labels(np.array([[False] * 4]))) == [""]
     assert df["t4"].isna().tolist() == [False, True]
@@ -275,8 +302,12 @@ def test_compiled_equals_numpy_reference(cdpr3, cdpr4, name):
 
     r = with_pulleys(cdpr3, kind=name[6:]) if name.startswith("cdpr3") else robots(cdpr4)[name]
     p = np.vstack([PTS, _grid_with_edges(r)])
-    for kw in ({}, {"maxiter": 2}, {"L0": L_TS(r, p) + rng.uniform(-0.02, 0.3, (len(p), r.m))},
-               {"P0": p + rng.normal(0, 0.1, p.shape)}):
+    for kw in (
+        {},
+        {"maxiter": 2},
+        {"L0": L_TS(r, p) + rng.uniform(-0.02, 0.3, (len(p), r.m))},
+        {"P0": p + rng.normal(0, 0.1, p.shape)},
+    ):
         a, b = solve_physical(r, p, **kw), solve_physical_fast(r, p, **kw)
         assert set(a) == set(b)
         np.testing.assert_array_equal(a["status"], b["status"])
@@ -284,7 +315,9 @@ def test_compiled_equals_numpy_reference(cdpr3, cdpr4, name):
         unique = a["converged"] & (a["n_taut"] >= 2)
         np.testing.assert_array_equal(a["taut"][unique], b["taut"][unique])
         assert np.abs(a["P_s"] - b["P_s"])[unique].max(initial=0.0) < 1e-9
-        assert (np.abs(a["t"] - b["t"]) / np.fmax(1.0, np.abs(a["t"])))[a["taut"] & unique[:, None]].max(initial=0.0) < 1e-8
+        assert (np.abs(a["t"] - b["t"]) / np.fmax(1.0, np.abs(a["t"])))[a["taut"] & unique[:, None]].max(
+            initial=0.0
+        ) < 1e-8
         lone = a["converged"] & (a["n_taut"] == 1)
         assert (a["residual"][lone] <= 1e-9 * 2943.0).all() and (b["residual"][lone] <= 1e-9 * 2943.0).all()
     if kw.get("maxiter") is None:

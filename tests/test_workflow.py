@@ -129,14 +129,32 @@ def _dry_run_rules(quick_study_text):
     try:
         path.write_text(quick_study_text)
         exe = Path(sys.executable).with_name("snakemake")
-        p = subprocess.run([str(exe), "reproduce_paper", "-n", "--quiet", "rules", "--cores", "1", "--config",
-                            "study=config/studies/quick.yaml", "results=results/quick"], cwd=ROOT, capture_output=True, text=True)
+        p = subprocess.run(
+            [
+                str(exe),
+                "reproduce_paper",
+                "-n",
+                "--quiet",
+                "rules",
+                "--cores",
+                "1",
+                "--config",
+                "study=config/studies/quick.yaml",
+                "results=results/quick",
+            ],
+            cwd=ROOT,
+            capture_output=True,
+            text=True,
+        )
     finally:
         path.write_bytes(original)
     assert p.returncode == 0, p.stderr[-2000:]
     text = p.stdout + p.stderr
-    return {line.split()[0] for line in text.splitlines()
-            if len(line.split()) == 2 and line.split()[1].isdigit() and line.split()[0] not in ("total", "job")}
+    return {
+        line.split()[0]
+        for line in text.splitlines()
+        if len(line.split()) == 2 and line.split()[1].isdigit() and line.split()[0] not in ("total", "job")
+    }
 
 
 def test_editing_a_study_key_reruns_exactly_the_affected_jobs(quick):
@@ -144,5 +162,14 @@ def test_editing_a_study_key_reruns_exactly_the_affected_jobs(quick):
     assert _dry_run_rules(text) == set()  # the fixture just ran everything: nothing to do
     rules = _dry_run_rules(text.replace("limits_m: [0.05, 0.15]", "limits_m: [0.05, 0.10]"))
     assert rules == {"volumes", "volume_view", "summary", "reproduce_paper"}, rules
-    rules = _dry_run_rules(text.replace("paper_rw_c_m: [-2.32, 2.32, -2.32, 2.32, 0.0, 3.73]", "paper_rw_c_m: [-2.3, 2.3, -2.3, 2.3, 0.0, 3.7]"))
-    assert {"regular_workspace", "index_shard", "doe", "summary"} <= rules and not rules & {"winch_table", "plane_table", "volume_shard"}, rules
+    rules = _dry_run_rules(
+        text.replace(
+            "paper_rw_c_m: [-2.32, 2.32, -2.32, 2.32, 0.0, 3.73]",
+            "paper_rw_c_m: [-2.3, 2.3, -2.3, 2.3, 0.0, 3.7]",
+        )
+    )
+    assert {"regular_workspace", "index_shard", "doe", "summary"} <= rules and not rules & {
+        "winch_table",
+        "plane_table",
+        "volume_shard",
+    }, rules
