@@ -118,6 +118,23 @@ def _solver_options(sp):
     )
 
 
+def _physics_options(sp):
+    sp.add_argument(
+        "--redundancy",
+        choices=("paper", "physical"),
+        default="paper",
+        help="paper: the best admissible 3-cable subset (the paper's rule, default); physical: the platform settles where "
+        "the forces of all cables balance, each free to go slack",
+    )
+    sp.add_argument(
+        "--E-cables",
+        nargs="+",
+        type=positive,
+        metavar="PA",
+        help="Young's modulus of each cable [Pa], cable 1 first",
+    )
+
+
 def _points_options(sp, what):
     g = sp.add_mutually_exclusive_group(required=True)
     g.add_argument("--at", nargs=3, type=finite, metavar=("X", "Y", "Z"), help=f"{what} [m]")
@@ -136,6 +153,7 @@ def _engine(args):
 def _load(args):
     return load_robot(
         args.robot,
+        E_cables=getattr(args, "E_cables", None),
         pulley=args.pulley,
         h=args.h,
         r_p=args.rp,
@@ -275,13 +293,26 @@ def cmd_inverse(args):
 
 
 def cmd_point(args):
-    from .solve import solve_points_any, to_frame
+    from .solve import results_frame, solve_points_any
 
     robot = _load(args)
     P = _points(args)
-    res = solve_points_any(robot, P, method=args.method, engine=_engine(args), threads=args.threads)
+    L0 = None
+    if args.lengths is not None:
+        if len(args.lengths) != robot.m:
+            raise CdprError(f"--lengths needs one rest length per cable ({robot.m}), got {len(args.lengths)}")
+        L0 = np.array(args.lengths, dtype=float)
+    res = solve_points_any(
+        robot,
+        P,
+        method=args.method,
+        engine=args.engine,
+        threads=args.threads,
+        redundancy=args.redundancy,
+        L0=L0,
+    )
     if args.points:
-        df = to_frame(robot, res)
+        df = results_frame(robot, res, args.redundancy)
         io.write_table(df, args.out)
         _report(df, args.out, args, float("nan"))
         return
@@ -291,25 +322,93 @@ def cmd_point(args):
         "solved": res["P_s"][0].tolist(),
         "dp_norm": float(res["dp"][0]),
         "tensions": [None if np.isnan(v) else float(v) for v in t],
-        "subset": [int(i) + 1 for i in res["subset"][0] if i >= 0],
-        "status": str(res["status"][0]),
-        "iterations": int(res["iterations"][0]),
     }
+    if args.redundancy == "physical":
+        out["taut"] = [int(i) + 1 for i in np.flatnonzero(res["taut"][0])]
+    else:
+        out["subset"] = [int(i) + 1 for i in res["subset"][0] if i >= 0]
+    out.update(status=str(res["status"][0]), iterations=int(res["iterations"][0]))
     if args.json:
         print(json.dumps(io.clean_json(out), indent=2))
         return
     from .redundancy import subset_label
 
+    mode = "physical equilibrium" if args.redundancy == "physical" else f"paper mode, solver {args.method}"
     print(
-        f"{robot.name} ({robot.pulley_summary()}, {robot.material_summary()}, {robot.dead_length_summary()}), solver {args.method}"
+        f"{robot.name} ({robot.pulley_summary()}, {robot.material_summary()}, {robot.dead_length_summary()}), {mode}"
     )
     fmt = lambda v: "(" + ", ".join("nan" if v is None or v != v else f"{x:.6f}" for x in v) + ")"  # noqa: E731
     print(f"  desired P  [m] : {fmt(out['desired'])}")
     print(f"  solved P*  [m] : {fmt(out['solved'])}")
     print(f"  |dp|       [m] : {out['dp_norm']:.6f}")
     print("  tensions   [N] : " + ", ".join("slack" if v is None else f"{v:.2f}" for v in out["tensions"]))
-    print(f"  subset         : {subset_label(res['subset'][0]) or '-'}")
+    if args.redundancy == "physical":
+        print(f"  taut cables    : {'-'.join(map(str, out['taut'])) or '-'}")
+    else:
+        print(f"  subset         : {subset_label(res['subset'][0]) or '-'}")
     print(f"  status         : {out['status']}  ({out['iterations']} iterations)")
+
+
+def cmd_compensate(args):
+    """Compensated rest lengths (inverse elasto-geometric model) and, as a check, the pose the
+    platform takes when they are commanded (to the same robot, or to one with --actual-E-cables)."""
+    import dataclasses
+
+    from .compensation import compensated_pose
+    from .equilibrium import to_frame as physical_frame
+
+    robot = _load(args)
+    P = _points(args)
+    actual = None
+    if args.actual_E_cables is not None:
+        if len(args.actual_E_cables) != robot.m:
+            raise CdprError(
+                f"--actual-E-cables needs one modulus per cable ({robot.m}), got {len(args.actual_E_cables)}"
+            )
+        cables = tuple(
+            dataclasses.replace(c, material=dataclasses.replace(c.material, E=float(e)))
+            for c, e in zip(robot.cables, args.actual_E_cables)
+        )
+        actual = dataclasses.replace(robot, cables=cables)
+    t_max = args.t_max if args.t_max is not None else None
+    if t_max is not None and not args.t_min < t_max:
+        raise CdprError(f"--t-min must be below --t-max, got {args.t_min:g} N and {t_max:g} N")
+    engine = args.engine or "compiled"
+    res = compensated_pose(
+        robot, P, actual=actual, method=args.distribution, engine=engine, t_min=args.t_min, t_max=t_max
+    )
+    if args.points:
+        df = physical_frame(robot, res)
+        for i in range(robot.m):
+            df[f"L0_{i + 1}"] = res["L0"][:, i]
+        for i in range(robot.m):
+            df[f"t_planned{i + 1}"] = res["t_planned"][:, i]
+        io.write_table(df, args.out)
+        _report(df, args.out, args, float("nan"))
+        return
+    status = str(res["status"][0])
+    out = {
+        "desired": list(map(float, args.at)),
+        "lengths": res["L0"][0].tolist(),
+        "tensions": res["t_planned"][0].tolist(),
+        "status": status,
+        "solved": res["P_s"][0].tolist(),
+        "dp_norm": float(res["dp"][0]),
+    }
+    if args.json:
+        print(json.dumps(io.clean_json(out), indent=2))
+        return
+    print(
+        f"{robot.name} ({robot.pulley_summary()}, {robot.material_summary()}, {robot.dead_length_summary()}), distribution {args.distribution}"
+    )
+    rows = [
+        [str(i + 1), f"{L:.6f}", f"{t:.2f}"] for i, (L, t) in enumerate(zip(out["lengths"], out["tensions"]))
+    ]
+    print(_table(rows, ["cable", "rest length L0 [m]", "planned tension [N]"]))
+    check = "the robot with --actual-E-cables" if actual is not None else "the same robot"
+    print(
+        f"status: {status}; commanded to {check}, the platform settles {out['dp_norm']:.3g} m from the desired point"
+    )
 
 
 def _check_size(n_points, what):
@@ -342,7 +441,9 @@ def cmd_grid(args):
     _check_size(stop - start, f"--n {args.n}")
     t0 = time.perf_counter()
     P = grid_points(box, args.n, start, stop)
-    df = solve_table(robot, P, method=args.method, engine=_engine(args), threads=args.threads)
+    df = solve_table(
+        robot, P, method=args.method, engine=args.engine, threads=args.threads, redundancy=args.redundancy
+    )
     io.write_table(df, args.out)
     dt = time.perf_counter() - t0
     _report(df, args.out, args, dt)
@@ -513,7 +614,59 @@ def build_parser():
     _robot_options(sp)
     _solver_options(sp)
     _points_options(sp, "desired position")
+    _physics_options(sp)
+    sp.add_argument(
+        "--lengths",
+        nargs="+",
+        type=positive,
+        metavar="M",
+        help="commanded rest lengths L0 per cable [m] (winch exit to platform; physical mode), instead of L_TS at --at",
+    )
     sp.set_defaults(func=cmd_point)
+    sp = sub.add_parser(
+        "compensate", help="compensated rest lengths: what to command so that the platform reaches --at"
+    )
+    _robot_options(sp)
+    sp.add_argument("--E", type=positive, metavar="PA", help="Young's modulus E [Pa] of every cable")
+    sp.add_argument(
+        "--E-cables",
+        nargs="+",
+        type=positive,
+        metavar="PA",
+        help="Young's modulus of each cable [Pa] (the model)",
+    )
+    sp.add_argument("--mass", type=positive, metavar="KG", help="platform mass M [kg]")
+    _points_options(sp, "desired position")
+    sp.add_argument(
+        "--distribution",
+        choices=("min_norm", "closed_form", "closed_form_improved", "subset"),
+        default="min_norm",
+        help="tension distribution (default min_norm: least 2-norm within [t-min, t-max]); subset: the paper's 3-cable subset",
+    )
+    sp.add_argument(
+        "--t-min", type=non_negative, default=100.0, metavar="N", help="least cable tension [N] (default 100)"
+    )
+    sp.add_argument(
+        "--t-max",
+        type=positive,
+        metavar="N",
+        help="largest cable tension [N] (default: each cable's admissible tension)",
+    )
+    sp.add_argument(
+        "--actual-E-cables",
+        nargs="+",
+        type=positive,
+        metavar="PA",
+        help="check: command the lengths to a robot whose cables have these moduli [Pa] and report where it settles",
+    )
+    sp.add_argument(
+        "--engine",
+        choices=("compiled", "numpy"),
+        default=None,
+        help="engine of the check solve (default compiled)",
+    )
+    sp.add_argument("--threads", type=_threads, help="threads of the compiled engine")
+    sp.set_defaults(func=cmd_compensate)
     sp = sub.add_parser("grid", help="DEGM_E over the n^3 cell-centred grid of a box; writes parquet or CSV")
     _robot_options(sp)
     _solver_options(sp)
@@ -530,6 +683,7 @@ def build_parser():
     sp.add_argument("--out", required=True, metavar="FILE", help="output .parquet or .csv")
     sp.add_argument("--shard", type=count(0), default=0, help="0-based shard index (default 0)")
     sp.add_argument("--shards", type=count(1), default=1, help="number of shards (default 1)")
+    _physics_options(sp)
     sp.set_defaults(func=cmd_grid)
     sp = sub.add_parser("winch", help="winch joint angles and length error versus l_pm (winch seed Fig. 7)")
     sp.add_argument(

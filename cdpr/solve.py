@@ -78,11 +78,43 @@ def check_engine(engine, method):
     return engine
 
 
-def solve_points_any(robot, p, method="newton", engine=None, threads=None, **options):
-    """Per-point results as a dict of arrays (``redundancy.solve_points`` keys) from the chosen
-    engine; an engine/method pair that does not exist raises CdprError."""
-    engine = check_engine(engine, method)
+#: How a robot with more cables than needed is held: the paper's best 3-cable subset, or physics.
+REDUNDANCY = ("paper", "physical")
+
+
+def solve_points_any(
+    robot, p, method="newton", engine=None, threads=None, redundancy="paper", L0=None, **options
+):
+    """Per-point results as a dict of arrays from the chosen model and engine.
+
+    ``redundancy="paper"``: DEGM_E on every 3-cable subset and the paper's choice
+    (``redundancy.solve_points`` keys), commanded lengths L_TS at p. ``redundancy="physical"``:
+    the equilibrium on all cables (``equilibrium.solve_physical`` keys), commanded rest lengths
+    ``L0`` (N, m) [m] or L_TS at p. An engine/method/model combination that does not exist raises
+    CdprError."""
     p = np.atleast_2d(np.asarray(p, dtype=float))
+    if redundancy not in REDUNDANCY:
+        raise CdprError(f"unknown redundancy {redundancy!r}; allowed: {', '.join(REDUNDANCY)}")
+    if redundancy == "physical":
+        if method != "newton":
+            raise CdprError(
+                "physical mode has one solver (Newton on the force balance); --method fixed_point applies to paper mode"
+            )
+        engine = check_engine(engine, "newton")
+        if L0 is not None:
+            L0 = np.broadcast_to(np.asarray(L0, dtype=float), (len(p), robot.m))
+        if engine == "compiled":
+            from .fast_physical import solve_physical_fast
+
+            return solve_physical_fast(robot, p, L0=L0, threads=threads, **options)
+        from .equilibrium import solve_physical
+
+        return solve_physical(robot, p, L0=L0, **options)
+    if L0 is not None:
+        raise CdprError(
+            "commanded lengths need physical mode (--redundancy physical); paper mode commands L_TS at the desired point"
+        )
+    engine = check_engine(engine, method)
     if engine == "compiled":
         from .fast import solve_points_fast
 
@@ -90,7 +122,19 @@ def solve_points_any(robot, p, method="newton", engine=None, threads=None, **opt
     return solve_points(robot, p, method=method, **options)
 
 
-def solve_table(robot, p, method="newton", chunk=CHUNK, engine=None, threads=None, **options):
+def results_frame(robot, res, redundancy="paper"):
+    """One row per point of a ``solve_points_any`` result (paper: ``to_frame``; physical:
+    ``equilibrium.to_frame`` with the taut cables instead of the subset)."""
+    if redundancy == "physical":
+        from .equilibrium import to_frame as physical_frame
+
+        return physical_frame(robot, res)
+    return to_frame(robot, res)
+
+
+def solve_table(
+    robot, p, method="newton", chunk=CHUNK, engine=None, threads=None, redundancy="paper", L0=None, **options
+):
     """Solve DEGM_E at points p with the paper-mode subset choice, as a DataFrame (``to_frame``).
 
     Parameters
@@ -106,11 +150,19 @@ def solve_table(robot, p, method="newton", chunk=CHUNK, engine=None, threads=Non
         chunks of ``chunk`` points: the reference implementation, and the only one for the fixed
         point. Both give the same table (tested). Another pair raises CdprError.
 
+    redundancy : {"paper", "physical"}
+        The paper's 3-cable subset rule, or the physical equilibrium on all cables
+        (``solve_points_any``); ``L0`` (N, m) [m] commanded rest lengths, physical mode only.
+
     Returns
     -------
-    DataFrame, one row per point (``to_frame``)."""
-    engine = check_engine(engine, method)
+    DataFrame, one row per point (``results_frame``)."""
     p = np.atleast_2d(np.asarray(p, dtype=float))
+    if redundancy != "paper" or L0 is not None:
+        return results_frame(
+            robot, solve_points_any(robot, p, method, engine, threads, redundancy, L0, **options), redundancy
+        )
+    engine = check_engine(engine, method)
     if engine == "compiled":
         from .fast import solve_points_fast
 

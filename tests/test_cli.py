@@ -147,3 +147,115 @@ def test_errors_are_one_sentence_without_traceback(tmp_path):
         assert p.returncode == 2
         assert "Traceback" not in p.stderr and p.stderr.startswith("cdpr: error:")
         assert len(p.stderr.strip().splitlines()) == 1
+
+
+def test_point_physical_json_and_commanded_lengths(capsys):
+    out = run_json(
+        capsys,
+        "point",
+        "--robot",
+        R4,
+        "--pulley",
+        "DR",
+        "--at",
+        "0.5",
+        "0.2",
+        "2.5",
+        "--redundancy",
+        "physical",
+    )
+    assert set(out) == {"desired", "solved", "dp_norm", "tensions", "taut", "status", "iterations"}
+    assert out["status"] == "ok" and out["taut"] == [1, 2, 3, 4] and all(t > 0 for t in out["tensions"])
+    # the lengths of `compensate` commanded explicitly bring the platform to the desired point
+    comp = run_json(capsys, "compensate", "--robot", R4, "--pulley", "DR", "--at", "0.5", "0.2", "2.5")
+    assert (
+        set(comp) == {"desired", "lengths", "tensions", "status", "solved", "dp_norm"}
+        and comp["status"] == "ok"
+    )
+    assert comp["dp_norm"] < 1e-9
+    back = run_json(
+        capsys,
+        "point",
+        "--robot",
+        R4,
+        "--pulley",
+        "DR",
+        "--at",
+        "0.5",
+        "0.2",
+        "2.5",
+        "--redundancy",
+        "physical",
+        "--lengths",
+        *map(str, comp["lengths"]),
+    )
+    assert back["dp_norm"] < 1e-9
+    np.testing.assert_allclose(back["tensions"], comp["tensions"], atol=1e-6)
+
+
+def test_per_cable_moduli_equal_to_the_robot_s_give_the_same_numbers(capsys):
+    a = run_json(capsys, "point", "--robot", R4, "--at", "0.3", "-0.4", "2.0", "--redundancy", "physical")
+    b = run_json(
+        capsys,
+        "point",
+        "--robot",
+        R4,
+        "--at",
+        "0.3",
+        "-0.4",
+        "2.0",
+        "--redundancy",
+        "physical",
+        "--E-cables",
+        *["102.2e9"] * 4,
+    )
+    assert a == b
+    c = run_json(
+        capsys,
+        "point",
+        "--robot",
+        R4,
+        "--at",
+        "0.3",
+        "-0.4",
+        "2.0",
+        "--redundancy",
+        "physical",
+        "--E-cables",
+        "80e9",
+        "120e9",
+        "95e9",
+        "130e9",
+    )
+    assert c["dp_norm"] != a["dp_norm"]
+
+
+def test_grid_physical_writes_taut_sets(tmp_path, capsys):
+    out = tmp_path / "g.parquet"
+    run_json(
+        capsys,
+        "grid",
+        "--robot",
+        R4,
+        "--box",
+        "-2",
+        "2",
+        "-2",
+        "2",
+        "0.5",
+        "4",
+        "--n",
+        "4",
+        "--out",
+        str(out),
+        "--redundancy",
+        "physical",
+    )
+    df = pd.read_parquet(out)
+    assert {"taut", "n_taut", "status"} <= set(df.columns) and len(df) == 64
+    assert (df.n_taut >= 2).all() and set(df.status.astype(str)) <= {
+        "ok",
+        "inaccessible",
+        "over_tension",
+        "not_converged",
+    }
