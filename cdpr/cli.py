@@ -298,10 +298,18 @@ def cmd_point(args):
     robot = _load(args)
     P = _points(args)
     L0 = None
+    if args.lengths is not None and args.q is not None:
+        raise CdprError("give the commanded cables either as --lengths or as drum angles --q, not both")
     if args.lengths is not None:
         if len(args.lengths) != robot.m:
             raise CdprError(f"--lengths needs one rest length per cable ({robot.m}), got {len(args.lengths)}")
         L0 = np.array(args.lengths, dtype=float)
+    if args.q is not None:
+        from .drive import rest_lengths_from_angles
+
+        if len(args.q) != robot.m:
+            raise CdprError(f"--q needs one drum angle per cable ({robot.m}), got {len(args.q)}")
+        L0 = rest_lengths_from_angles(robot, np.array([args.q]), model="winch")[0]
     res = solve_points_any(
         robot,
         P,
@@ -395,6 +403,11 @@ def cmd_compensate(args):
         "solved": res["P_s"][0].tolist(),
         "dp_norm": float(res["dp"][0]),
     }
+    if all(w is not None for w in robot.winches):
+        from .drive import drum_angles
+
+        q, q_nw = drum_angles(robot, res["L0"][:1])
+        out["q"], out["q_no_winch"] = q[0].tolist(), q_nw[0].tolist()
     if args.json:
         print(json.dumps(io.clean_json(out), indent=2))
         return
@@ -404,7 +417,11 @@ def cmd_compensate(args):
     rows = [
         [str(i + 1), f"{L:.6f}", f"{t:.2f}"] for i, (L, t) in enumerate(zip(out["lengths"], out["tensions"]))
     ]
-    print(_table(rows, ["cable", "rest length L0 [m]", "planned tension [N]"]))
+    headers = ["cable", "rest length L0 [m]", "planned tension [N]"]
+    if "q" in out:
+        rows = [r + [f"{a:.6f}", f"{b:.6f}"] for r, a, b in zip(rows, out["q"], out["q_no_winch"])]
+        headers += ["drum angle q [rad]", "q neglecting the winch [rad]"]
+    print(_table(rows, headers))
     check = "the robot with --actual-E-cables" if actual is not None else "the same robot"
     print(
         f"status: {status}; commanded to {check}, the platform settles {out['dp_norm']:.3g} m from the desired point"
@@ -621,6 +638,13 @@ def build_parser():
         type=positive,
         metavar="M",
         help="commanded rest lengths L0 per cable [m] (winch exit to platform; physical mode), instead of L_TS at --at",
+    )
+    sp.add_argument(
+        "--q",
+        nargs="+",
+        type=finite,
+        metavar="RAD",
+        help="commanded drum angles per cable [rad] (robot with winches; physical mode): mapped to rest lengths by the winch model",
     )
     sp.set_defaults(func=cmd_point)
     sp = sub.add_parser(

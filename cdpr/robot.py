@@ -30,11 +30,11 @@ from pathlib import Path
 from typing import NamedTuple
 
 import numpy as np
-import yaml
 
 from .errors import ConfigError
 from .units import quantity
-from .validation import validate
+from .validation import read_yaml, validate  # noqa: F401  (read_yaml re-exported)
+from .winch import params_from_mapping
 
 PULLEY_KINDS = ("fixed", "SR", "DR")
 #: Integer codes used in the vectorised kernels.
@@ -70,12 +70,13 @@ class CableMaterial:
 @dataclasses.dataclass(frozen=True)
 class Cable:
     """One cable: joint point A [m], its pulley, its dead length d [m] (winch exit C = A - d z) and
-    its material."""
+    its material, and optionally its winch (Métillon 2022 drum model)."""
 
     A: tuple
     pulley: Pulley
     dead_length: float
     material: CableMaterial
+    winch: object = None  #: winch.WinchParams of the drum that pays the cable out, or None (no winch model)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -181,6 +182,11 @@ class Robot:
             return "fixed"
         return f"{p.kind} h={p.h * 1e3:g} mm r_p={p.r_p * 1e3:g} mm"
 
+    @property
+    def winches(self):
+        """Each cable's winch.WinchParams, or None where the robot file gives no winch."""
+        return tuple(c.winch for c in self.cables)
+
     def material_summary(self):
         """'E = 102.2 GPa' when every cable has the same modulus, else the list per cable."""
         E = self.arrays.E
@@ -279,6 +285,9 @@ def robot_from_dict(data, source="<dict>"):
     default_pulley = data["pulley"]
     _pulley(default_pulley, None, source, "pulley")
     default_dead = data.get("dead_length_m", 0.0)
+    default_winch = data.get("winch")
+    if default_winch is not None:
+        params_from_mapping(default_winch, source, "winch")
     cables = []
     for i, c in enumerate(data["cables"]):
         key = f"cables[{i}]"
@@ -297,7 +306,15 @@ def robot_from_dict(data, source="<dict>"):
         )
         dk = key + ".dead_length_m" if "dead_length_m" in c else "dead_length_m"
         dead = _positive(c.get("dead_length_m", default_dead), "m", source, dk, allow_zero=True)
-        cables.append(Cable(A=A, pulley=pulley, dead_length=dead, material=material))
+        w = c.get("winch", default_winch)
+        winch = (
+            None
+            if w is None
+            else params_from_mapping(
+                {**(default_winch or {}), **w}, source, key + ".winch" if "winch" in c else "winch"
+            )
+        )
+        cables.append(Cable(A=A, pulley=pulley, dead_length=dead, material=material, winch=winch))
     for (i, a), (j, b) in itertools.combinations(enumerate(cables), 2):
         if np.allclose(a.A, b.A, atol=1e-9):
             raise ConfigError(
@@ -363,19 +380,6 @@ def apply_overrides(data, pulley=None, h=None, r_p=None, dead_length=None, E=Non
     if mass is not None and isinstance(data.get("platform"), dict):
         data["platform"]["mass_kg"] = mass
     return data
-
-
-def read_yaml(path):
-    """Parse a YAML file; a missing file or a syntax error becomes a ConfigError naming the file."""
-    path = Path(path)
-    try:
-        text = path.read_text()
-    except OSError as exc:
-        raise ConfigError(path, None, f"cannot read the file ({exc.strerror})") from None
-    try:
-        return yaml.safe_load(text)
-    except yaml.YAMLError as exc:
-        raise ConfigError(path, None, f"not valid YAML: {' '.join(str(exc).split())}") from None
 
 
 def load_robot(path, **overrides):

@@ -19,8 +19,8 @@ import pandas as pd
 
 from . import doe
 from .errors import ConfigError
-from .robot import check_pulley, load_robot, read_yaml, robot_from_dict
-from .validation import validate
+from .robot import check_pulley, load_robot, robot_from_dict
+from .validation import read_yaml, validate
 from .workspace import check_box
 
 

@@ -25,6 +25,19 @@ def schema(name):
     return yaml.safe_load((SCHEMA_DIR / f"{name}.schema.yaml").read_text())
 
 
+def read_yaml(path):
+    """Parse a YAML file; a missing file or a syntax error becomes a ConfigError naming the file."""
+    path = Path(path)
+    try:
+        text = path.read_text()
+    except OSError as exc:
+        raise ConfigError(path, None, f"cannot read the file ({exc.strerror})") from None
+    try:
+        return yaml.safe_load(text)
+    except yaml.YAMLError as exc:
+        raise ConfigError(path, None, f"not valid YAML: {' '.join(str(exc).split())}") from None
+
+
 def key_path(path):
     """'cables[2].pulley.h_m' from a jsonschema error path deque(['cables', 2, 'pulley', 'h_m'])."""
     out = ""

@@ -25,8 +25,8 @@ import math
 import numpy as np
 
 from .errors import ConfigError
-from .robot import read_yaml
 from .units import quantity
+from .validation import read_yaml
 
 
 @dataclasses.dataclass(frozen=True)
@@ -63,27 +63,37 @@ _PARAM_KEYS = {
 }
 
 
-def load_params(path):
-    """Read WinchParams from YAML (keys k_w_m, l_u0_m, q0_rad, q_max_rad, l_AE1_m, l_E1E2_m,
-    alpha_E1_rad; missing keys take Table 1 values)."""
-    data = read_yaml(path)
+def params_from_mapping(data, source, key=""):
+    """WinchParams from a mapping of the keys of ``_PARAM_KEYS`` (k_w_m, l_u0_m, q0_rad, q_max_rad,
+    l_AE1_m, l_E1E2_m, alpha_E1_rad; SI values or strings with units); missing keys take Table 1's
+    values. Errors name ``source`` and ``key`` (the mapping's place in its file)."""
     if not isinstance(data, dict):
-        raise ConfigError(path, None, "expected a mapping of winch parameters")
+        raise ConfigError(source, key or None, "expected a mapping of winch parameters")
+    prefix = f"{key}." if key else ""
     values = dataclasses.asdict(TABLE1)
-    for key, val in data.items():
-        if key not in _PARAM_KEYS:
-            raise ConfigError(path, key, f"unknown key; allowed: {', '.join(_PARAM_KEYS)}")
-        field, dim = _PARAM_KEYS[key]
-        v = quantity(val, dim, path, key)
+    for k, val in data.items():
+        if k not in _PARAM_KEYS:
+            raise ConfigError(source, prefix + str(k), f"unknown key; allowed: {', '.join(_PARAM_KEYS)}")
+        field, dim = _PARAM_KEYS[k]
+        v = quantity(val, dim, source, prefix + k)
         if v <= 0 and field != "alpha_E1":
-            raise ConfigError(path, key, f"must be strictly positive, got {val!r}")
+            raise ConfigError(source, prefix + k, f"must be strictly positive, got {val!r}")
         if field == "alpha_E1" and not 0 <= v <= math.pi:
-            raise ConfigError(path, key, f"an angle between two segments lies in [0, pi] rad, got {val!r}")
+            raise ConfigError(
+                source, prefix + k, f"an angle between two segments lies in [0, pi] rad, got {val!r}"
+            )
         values[field] = v
     p = WinchParams(**values)
     if not 0 <= p.q0 <= p.q_max:
-        raise ConfigError(path, "q0_rad", f"must lie in [0, q_max_rad] = [0, {p.q_max:g}], got {p.q0:g}")
+        raise ConfigError(
+            source, prefix + "q0_rad", f"must lie in [0, q_max_rad] = [0, {p.q_max:g}], got {p.q0:g}"
+        )
     return p
+
+
+def load_params(path):
+    """Read WinchParams from a YAML file (keys as ``params_from_mapping``)."""
+    return params_from_mapping(read_yaml(path), path)
 
 
 # ---- winch geometry (eq. 1-13, 18) ---------------------------------------------------------
@@ -191,6 +201,23 @@ def length_error(p, l_pm):
     """Uncoiled length error dl = k_w (q1 - q_nw) (eq. 31) [m]."""
     q1, _ = roots(p, l_pm)
     return p.k_w * (q1 - q_no_winch(p, l_pm))
+
+
+def l_pm_of_q(p, q):
+    """Length l_pm [m] beyond the pulley entry point A that the drum angle q [rad] realises, with the
+    exit point's motion (eq. 15-17, 22 with the eq. 19 sign corrected):
+
+    .. math:: l_{pm}(q) = l_{u0} + k_w (q_0 - q) - \\lVert e(q) - a \\rVert
+
+    The inverse is ``roots(p, l_pm)[0]`` (the physical root q1)."""
+    q = np.asarray(q, dtype=float)
+    return p.l_u0 + p.k_w * (p.q0 - q) - l_AE(p, q)
+
+
+def l_pm_of_q_no_winch(p, q):
+    """Length l_pm [m] that a controller neglecting the exit point's motion expects from the drum
+    angle q [rad]: the inverse of eq. (32), l_pm = l_pm0 - k_w (q - q0)."""
+    return l_pm0(p) - p.k_w * (np.asarray(q, dtype=float) - p.q0)
 
 
 def check_range(p, lpm_from, lpm_to):
