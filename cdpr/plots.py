@@ -136,27 +136,26 @@ def fig9_subsets(tables, A, z, robot_name, out):
 def fig10_trajectories(tables, minmax, out):
     """Paty 2021 Fig. 10: ‖δp‖ along the section 3.3.1 paths. ``tables`` maps a design label
     (robot_pulley) to its path table (s, dp, status); ``minmax`` has ok_until_s_m and
-    path_length_m per design. Points that are not ok are marked by status."""
+    path_length_m per design. Colour: pulley kind; line style: robot. Points that are not ok are
+    marked on the axis by status; a dotted line marks each design's last ok point."""
+    from matplotlib.lines import Line2D
+
     fig, ax = plt.subplots(figsize=(7, 4.2))
     markers = {"slack": "x", "over_tension": "^", "inaccessible": "s", "not_converged": "d"}
+    robots = list(dict.fromkeys(lab.split("_", 1)[0] for lab in tables))
+    seen = set()
     for (label, df), (_, row) in zip(tables.items(), minmax.iterrows()):
         ok = df.status == "ok"
-        kind = label.split("_", 1)[1] if "_" in label else label
-        style = "-" if label.startswith(tuple(sorted({lab.split("_")[0] for lab in tables})[:1])) else "--"
+        rk, kind = label.split("_", 1) if "_" in label else (label, label)
+        style = ["-", "--", ":", "-."][robots.index(rk) % 4]
         (line,) = ax.plot(
             df.s.where(ok), df.dp.where(ok) * 1e3, style, color=KIND_COLOURS.get(kind), label=label
         )
         for st, mk in markers.items():
             sel = df.status == st
             if sel.any():
-                ax.plot(
-                    df.s[sel],
-                    np.zeros(int(sel.sum())),
-                    mk,
-                    color=line.get_color(),
-                    ms=4,
-                    label=f"{label}: {st}",
-                )
+                seen.add(st)
+                ax.plot(df.s[sel], np.zeros(int(sel.sum())), mk, color=line.get_color(), ms=4)
         if np.isfinite(row.ok_until_s_m):
             ax.axvline(row.ok_until_s_m, color=line.get_color(), ls=":", lw=0.8)
     lengths = sorted(set(np.round(minmax.path_length_m, 3)))
@@ -168,7 +167,15 @@ def fig10_trajectories(tables, minmax, out):
         title="‖δp‖ along the section 3.3.1 paths (Fig. 10)",
     )
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=7, ncol=2)
+    lines = ax.legend(fontsize=7, loc="upper left")
+    ax.add_artist(lines)
+    proxies = [
+        Line2D([], [], ls="", marker=markers[st], color="0.3", label=f"not ok: {st}")
+        for st in markers
+        if st in seen
+    ]
+    if proxies:
+        ax.legend(handles=proxies, fontsize=7, loc="upper center")
     return save(fig, out)
 
 
@@ -276,18 +283,22 @@ def fig14_rv(tab, paper, out):
     """Paty 2021 Fig. 14: R_V = V_L / V_T versus the error limit, per robot and pulley design;
     ``paper`` rows (robot, pulley, limit_m, R_V) are the paper's values, drawn as markers."""
     fig, ax = plt.subplots(figsize=(6.5, 4.2))
+    robots = list(dict.fromkeys(tab.robot))
     for (rk, pk), g in tab.groupby(["robot", "pulley"], sort=False):
+        k = robots.index(rk)
         (line,) = ax.plot(
-            g.limit_m * 1e3,
-            g.R_V,
-            "-" if rk.endswith("4") else "--",
-            color=KIND_COLOURS.get(pk),
-            label=f"{rk} {pk}",
+            g.limit_m * 1e3, g.R_V, ["-", "--", ":"][k % 3], color=KIND_COLOURS.get(pk), label=f"{rk} {pk}"
         )
         p = paper[(paper.robot == rk) & (paper.pulley == pk)]
         if len(p):
             ax.plot(
-                p.limit_m * 1e3, p.R_V, "o", mfc="none", color=line.get_color(), label=f"{rk} {pk}: paper"
+                p.limit_m * 1e3,
+                p.R_V,
+                "os^"[k % 3],
+                mfc="none",
+                ms=7,
+                color=line.get_color(),
+                label=f"{rk} {pk}: paper",
             )
     for lim in sorted(set(paper.limit_m)):
         ax.axvline(lim * 1e3, color="0.6", ls=":", lw=0.8)
