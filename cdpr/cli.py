@@ -143,7 +143,9 @@ def _points_options(sp, what):
         metavar="FILE",
         help="many points at once: a .csv or .parquet table with columns x, y, z [m]",
     )
-    sp.add_argument("--out", metavar="FILE", help="with --points: write the result table (.csv or .parquet)")
+    sp.add_argument(
+        "--out", metavar="FILE", help="write the result table (.csv or .parquet); needed with --points"
+    )
 
 
 def _engine(args):
@@ -166,6 +168,8 @@ def _load(args):
 def _points(args):
     """(N, 3) points of --at or --points; refuses non-finite coordinates and a missing --out."""
     if args.at is not None:
+        if args.out:
+            io.check_output(args.out)
         return np.array([args.at], dtype=float)
     if not args.out:
         raise CdprError("--points needs --out FILE for the result table")
@@ -207,7 +211,7 @@ def cmd_inverse(args):
     P = _points(args)
     st = igm_e(robot, P)
     lts = L_TS(robot, P)
-    if args.points:
+    if args.points or args.out:
         import pandas as pd
 
         cols = {"x": P[:, 0], "y": P[:, 1], "z": P[:, 2]}
@@ -219,7 +223,7 @@ def cmd_inverse(args):
                     f"L_TE{c}": st.L_TE[:, i],
                     f"gamma{c}": st.gamma[:, i],
                     f"alpha{c}": st.alpha[:, i],
-                    f"beta{c}": st.beta[:, i],
+                    f"beta{c}": st.beta[:, i] if robot.kind[i] == 2 else np.full(len(P), np.nan),
                     f"inside{c}": st.inside[:, i],
                 }
             )
@@ -319,7 +323,7 @@ def cmd_point(args):
         redundancy=args.redundancy,
         L0=L0,
     )
-    if args.points:
+    if args.points or args.out:
         df = results_frame(robot, res, args.redundancy)
         io.write_table(df, args.out)
         _report(df, args.out, args, float("nan"))
@@ -385,7 +389,7 @@ def cmd_compensate(args):
     res = compensated_pose(
         robot, P, actual=actual, method=args.distribution, engine=engine, t_min=args.t_min, t_max=t_max
     )
-    if args.points:
+    if args.points or args.out:
         df = physical_frame(robot, res)
         for i in range(robot.m):
             df[f"L0_{i + 1}"] = res["L0"][:, i]

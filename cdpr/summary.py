@@ -110,7 +110,8 @@ def _rw_c_volume(st, res):
         else (
             rw["computed_volume_m3"],
             f"computed box {np.round(rw['computed'], 3).tolist()} on a {rw['grid_n']}^3 grid; "
-            f"the index uses the {rw['use']} box",
+            "the index uses "
+            + ("the study's doe.paper_rw_c_m box" if rw["use"] == "paper" else "this computed box"),
         )
     )
 
