@@ -66,3 +66,24 @@ def test_plane_figure_shares_one_colour_scale_and_names_the_height(tmp_path, mon
     assert all(ax.get_legend() is not None for ax in panels)  # the slack cells are explained
     assert "z = 2.5 m" in [ax for ax in subsets.axes if ax.get_title()][0].get_title()
     assert (tmp_path / "p.png").exists() and (tmp_path / "s.png").exists()
+
+
+def test_outputs_follow_the_umask(tmp_path):
+    """Atomic writes must not keep the temporary file's 0600: under umask 022 a table is 0644."""
+    import os
+
+    import pandas as pd
+
+    from cdpr import io
+
+    old = os.umask(0o022)
+    try:
+        io.write_table(pd.DataFrame({"a": [1.0]}), tmp_path / "t.csv")
+        io.write_text("x", tmp_path / "t.md")
+        os.umask(0o077)
+        io.write_text("x", tmp_path / "private.md")
+    finally:
+        os.umask(old)
+    assert (tmp_path / "t.csv").stat().st_mode & 0o777 == 0o644
+    assert (tmp_path / "t.md").stat().st_mode & 0o777 == 0o644
+    assert (tmp_path / "private.md").stat().st_mode & 0o777 == 0o600
