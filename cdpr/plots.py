@@ -85,7 +85,7 @@ def _not_ok_legend(ax, df):
             ],
             fontsize=7,
             loc="upper center",
-            bbox_to_anchor=(0.5, -0.12),
+            bbox_to_anchor=(0.5, -0.2),
         )
 
 
