@@ -29,8 +29,10 @@ STATUSES = ("ok", "slack", "over_tension", "inaccessible", "not_converged")
 TIE_TOL = 1e-9
 
 
-def solve_points(robot, p, method="newton", **options):
+def solve_points(robot, p, method="newton", L=None, **options):
     """Solve DEGM_E at desired points p (N, 3) over all 3-cable subsets; choose per point.
+
+    ``L`` (N, m) [m]: commanded total lengths of every cable, default L_TS(p) of ``robot`` (eq. 2).
 
     Returns a dict of arrays: P_s (N, 3), dp (N,), t (N, m) with NaN for slack cables,
     subset (N, 3) 0-based (-1 when none), iterations (N,), status (N,) strings, and the per-subset
@@ -40,7 +42,7 @@ def solve_points(robot, p, method="newton", **options):
     n = p.shape[0]
     subsets = robot.subsets
     ns = len(subsets)
-    L_all = L_TS(robot, p)
+    L_all = L_TS(robot, p) if L is None else np.broadcast_to(np.asarray(L, dtype=float), (n, robot.m))
     T_a = robot.T_a[subsets][:, None, :]  # (n_subsets, 1, 3) per-cable admissible tension
     Ps = np.full((ns, n, 3), np.nan)
     ts = np.full((ns, n, 3), np.nan)
