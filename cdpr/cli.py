@@ -292,6 +292,42 @@ def cmd_inverse(args):
         )
 
 
+def _sensitivity_options(sp):
+    sp.add_argument(
+        "--sensitivities",
+        action="store_true",
+        help="also dP*/dθ for every parameter (E_i [Pa], h_i, r_p_i, d_i, A_i_x/y/z [m], M [kg]; cables from 1) "
+        "at fixed commanded lengths, by the implicit-function theorem; Newton only",
+    )
+
+
+def _solve_sensitivities(robot, P, args, L0=None):
+    """The solve plus dP*/dθ (``sensitivity.sensitivities``) for --sensitivities."""
+    from .sensitivity import sensitivities
+
+    if args.method != "newton":
+        raise CdprError(
+            "--sensitivities needs --method newton (the implicit-function theorem uses its Jacobian at the solution)"
+        )
+    return sensitivities(
+        robot,
+        P,
+        redundancy=args.redundancy,
+        L=L0,
+        engine=args.engine or "compiled",
+        threads=args.threads,
+    )
+
+
+def _with_sensitivities(df, res):
+    """The point table with the sensitivity columns (dx_dE_1, ..., dz_dM) and ``smooth`` appended."""
+    import pandas as pd
+
+    from .sensitivity import sensitivity_frame
+
+    return pd.concat([df, sensitivity_frame(res)], axis=1)
+
+
 def cmd_point(args):
     from .solve import results_frame, solve_points_any
 
@@ -302,17 +338,26 @@ def cmd_point(args):
         if len(args.lengths) != robot.m:
             raise CdprError(f"--lengths needs one rest length per cable ({robot.m}), got {len(args.lengths)}")
         L0 = np.array(args.lengths, dtype=float)
-    res = solve_points_any(
-        robot,
-        P,
-        method=args.method,
-        engine=args.engine,
-        threads=args.threads,
-        redundancy=args.redundancy,
-        L0=L0,
-    )
+    if args.sensitivities:
+        if L0 is not None and args.redundancy != "physical":
+            raise CdprError(
+                "commanded lengths need physical mode (--redundancy physical); paper mode commands L_TS at the desired point"
+            )
+        res = _solve_sensitivities(robot, P, args, L0)
+    else:
+        res = solve_points_any(
+            robot,
+            P,
+            method=args.method,
+            engine=args.engine,
+            threads=args.threads,
+            redundancy=args.redundancy,
+            L0=L0,
+        )
     if args.points:
         df = results_frame(robot, res, args.redundancy)
+        if args.sensitivities:
+            df = _with_sensitivities(df, res)
         io.write_table(df, args.out)
         _report(df, args.out, args, float("nan"))
         return
@@ -328,6 +373,12 @@ def cmd_point(args):
     else:
         out["subset"] = [int(i) + 1 for i in res["subset"][0] if i >= 0]
     out.update(status=str(res["status"][0]), iterations=int(res["iterations"][0]))
+    if args.sensitivities:
+        S = res["S"][0]
+        out["sensitivities"] = {
+            name: [None if np.isnan(v) else float(v) for v in S[:, k]] for k, name in enumerate(res["names"])
+        }
+        out["sensitivities_smooth"] = bool(res["smooth"][0])
     if args.json:
         print(json.dumps(io.clean_json(out), indent=2))
         return
@@ -347,6 +398,19 @@ def cmd_point(args):
     else:
         print(f"  subset         : {subset_label(res['subset'][0]) or '-'}")
     print(f"  status         : {out['status']}  ({out['iterations']} iterations)")
+    if args.sensitivities:
+        from .sensitivity import UNITS, parameter_groups
+
+        units = [UNITS[g] for g in parameter_groups(robot.m)]
+        rows = [
+            [name, f"m/{unit}"] + ["nan" if v is None else f"{v:.6g}" for v in vec]
+            for (name, vec), unit in zip(out["sensitivities"].items(), units)
+        ]
+        smooth = (
+            "" if out["sensitivities_smooth"] else " (not smooth here: the subset or taut set may switch)"
+        )
+        print(f"sensitivities dP*/dθ at fixed commanded lengths{smooth}:")
+        print(_table(rows, ["θ", "unit", "dx", "dy", "dz"]))
 
 
 def cmd_compensate(args):
@@ -441,9 +505,15 @@ def cmd_grid(args):
     _check_size(stop - start, f"--n {args.n}")
     t0 = time.perf_counter()
     P = grid_points(box, args.n, start, stop)
-    df = solve_table(
-        robot, P, method=args.method, engine=args.engine, threads=args.threads, redundancy=args.redundancy
-    )
+    if args.sensitivities:
+        from .solve import results_frame
+
+        res = _solve_sensitivities(robot, P, args)
+        df = _with_sensitivities(results_frame(robot, res, args.redundancy), res)
+    else:
+        df = solve_table(
+            robot, P, method=args.method, engine=args.engine, threads=args.threads, redundancy=args.redundancy
+        )
     io.write_table(df, args.out)
     dt = time.perf_counter() - t0
     _report(df, args.out, args, dt)
@@ -622,6 +692,7 @@ def build_parser():
         metavar="M",
         help="commanded rest lengths L0 per cable [m] (winch exit to platform; physical mode), instead of L_TS at --at",
     )
+    _sensitivity_options(sp)
     sp.set_defaults(func=cmd_point)
     sp = sub.add_parser(
         "compensate", help="compensated rest lengths: what to command so that the platform reaches --at"
@@ -684,6 +755,7 @@ def build_parser():
     sp.add_argument("--shard", type=count(0), default=0, help="0-based shard index (default 0)")
     sp.add_argument("--shards", type=count(1), default=1, help="number of shards (default 1)")
     _physics_options(sp)
+    _sensitivity_options(sp)
     sp.set_defaults(func=cmd_grid)
     sp = sub.add_parser("winch", help="winch joint angles and length error versus l_pm (winch seed Fig. 7)")
     sp.add_argument(

@@ -173,3 +173,59 @@ def test_physical_numpy_reference_solver_agrees(cdpr4):
         _full_solve(robot, POINTS, L, "physical"),
         atol=1e-10,
     )
+
+
+def test_command_line_point_and_grid(tmp_path, capsys):
+    """`cdpr point --sensitivities --json` adds the key `sensitivities` (name -> 3-vector [SI]);
+    `cdpr grid --sensitivities` writes the same as columns; both equal the library."""
+    import json
+
+    import pandas as pd
+
+    from cdpr.cli import main
+
+    from .conftest import ROBOTS
+
+    robot = str(ROBOTS / "cdpr4.yaml")
+    args = ["--robot", robot, "--pulley", "DR", "--h", "0.1", "--rp", "0.08"]
+    assert main(["point", *args, "--at", "0.7", "-1.3", "0.4", "--sensitivities", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    names = parameter_names(4)
+    assert list(out["sensitivities"]) == names and out["sensitivities_smooth"] is True
+    assert names[0] == "E_1" and names[-1] == "M" and "A_4_z" in names and "r_p_2" in names
+    ref = sensitivities(_robot(robot_from_file(robot), "DR"), POINTS[:1])
+    np.testing.assert_allclose(
+        np.array([out["sensitivities"][nm] for nm in names]).T, ref["S"][0], rtol=1e-12, atol=0
+    )
+    table = tmp_path / "g.csv"
+    assert (
+        main(
+            [
+                "grid",
+                *args,
+                "--box",
+                "-2",
+                "2",
+                "-2",
+                "2",
+                "0.5",
+                "3",
+                "--n",
+                "3",
+                "--out",
+                str(table),
+                "--sensitivities",
+            ]
+        )
+        == 0
+    )
+    df = pd.read_csv(table)
+    assert len(df) == 27 and {"dx_dE_1", "dz_dM", "dy_dA_3_z", "smooth"} <= set(df.columns)
+    assert main(["point", *args, "--at", "0", "0", "1", "--sensitivities", "--method", "fixed_point"]) == 2
+    assert "--sensitivities needs --method newton" in capsys.readouterr().err
+
+
+def robot_from_file(path):
+    from cdpr.robot import load_robot
+
+    return load_robot(path)
