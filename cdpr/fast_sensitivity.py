@@ -207,11 +207,19 @@ def _put(S, i, col, Jinv, f0, f1, f2):
         S[i, a, col] = -(Jinv[a, 0] * f0 + Jinv[a, 1] * f1 + Jinv[a, 2] * f2)
 
 
+@njit(cache=True, inline="always")
+def _put_t(St, S, i, col, T, pt):
+    """St[i, :, col] = dt/dP S[i, :, col] + pt (the partial at fixed P)."""
+    for k in range(3):
+        St[i, k, col] = T[k, 0] * S[i, 0, col] + T[k, 1] * S[i, 1, col] + T[k, 2] * S[i, 2, col] + pt[k]
+
+
 @njit(cache=True, error_model="numpy")
-def _paper_sens(i, Px, Py, Pz, cs, Lc, A, kind, h, rp, d, inward, ES, E, bz, mass, m, cab, S, w):
+def _paper_sens(i, Px, Py, Pz, cs, Lc, A, kind, h, rp, d, inward, ES, E, bz, mass, m, cab, S, w, St, want_t):
     """dP*/dθ of paper mode at P* for the subset cs (3 cables) with commanded lengths Lc (3), written
     to S[i] (``sensitivity.paper_jacobian_terms`` and ``implicit_solve``); returns the subset's
-    tensions at P* and the condition number of J (inf where singular). ``w`` (7, 3, 3): scratch."""
+    tensions at P* and the condition number of J (inf where singular). ``w`` (8, 3, 3): scratch.
+    With ``want_t``, also the total dt/dθ = dt/dP dP*/dθ + dt/dθ|_P into St[i]."""
     for j in range(3):
         c = cs[j]
         _cable_sens(
@@ -230,8 +238,8 @@ def _paper_sens(i, Px, Py, Pz, cs, Lc, A, kind, h, rp, d, inward, ES, E, bz, mas
             cab[j],
         )
     # M_u = [u_0 u_1 u_2] (columns); M_u^-1 rows r_j / det
-    u, r, G, J, Jinv = w[0], w[1], w[2], w[3], w[4]
-    t, kL, du, f = w[5, 0], w[5, 1], w[5, 2], w[6, 0]
+    u, r, G, J, Jinv, T = w[0], w[1], w[2], w[3], w[4], w[7]
+    t, kL, du, f, pt = w[5, 0], w[5, 1], w[5, 2], w[6, 0], w[6, 1]
     for j in range(3):
         for a in range(3):
             u[j, a] = cab[j, C_U + a]
@@ -256,8 +264,8 @@ def _paper_sens(i, Px, Py, Pz, cs, Lc, A, kind, h, rp, d, inward, ES, E, bz, mas
                 G[a, b] += t[j] * cab[j, C_DUDP + 3 * a + b]
     for j in range(3):
         for b in range(3):
-            T = -(r[j, 0] * G[0, b] + r[j, 1] * G[1, b] + r[j, 2] * G[2, b]) * idet
-            J[j, b] = cab[j, C_DLDP + b] - kL[j] * T
+            T[j, b] = -(r[j, 0] * G[0, b] + r[j, 1] * G[1, b] + r[j, 2] * G[2, b]) * idet
+            J[j, b] = cab[j, C_DLDP + b] - kL[j] * T[j, b]
     if not _inv3(J, Jinv):
         return t[0], t[1], t[2], np.inf
     for j in range(3):
@@ -266,16 +274,24 @@ def _paper_sens(i, Px, Py, Pz, cs, Lc, A, kind, h, rp, d, inward, ES, E, bz, mas
             f[k] = 0.0
         f[j] = kL[j] * t[j] / E[c]
         _put(S, i, c, Jinv, f[0], f[1], f[2])
+        if want_t:
+            pt[0] = pt[1] = pt[2] = 0.0
+            _put_t(St, S, i, c, T, pt)
         for g in range(6):
             dL = _geo(cab, j, g, du)
             for k in range(3):
-                dt = -(r[k, 0] * du[0] + r[k, 1] * du[1] + r[k, 2] * du[2]) * t[j] * idet
-                f[k] = (dL if k == j else 0.0) - kL[k] * dt
+                pt[k] = -(r[k, 0] * du[0] + r[k, 1] * du[1] + r[k, 2] * du[2]) * t[j] * idet
+                f[k] = (dL if k == j else 0.0) - kL[k] * pt[k]
             col = (g + 1) * m + c if g < 3 else 4 * m + 3 * c + (g - 3)
             _put(S, i, col, Jinv, f[0], f[1], f[2])
+            if want_t:
+                _put_t(St, S, i, col, T, pt)
     for k in range(3):
         f[k] = -kL[k] * t[k] / mass
+        pt[k] = t[k] / mass
     _put(S, i, 7 * m, Jinv, f[0], f[1], f[2])
+    if want_t:
+        _put_t(St, S, i, 7 * m, T, pt)
     return t[0], t[1], t[2], _cond(J, Jinv)
 
 
@@ -331,7 +347,7 @@ def _paper_points(
         cab = np.empty((3, NCOL))
         cs = np.empty(3, np.int64)
         Lc = np.empty(3)
-        w = np.empty((7, 3, 3))
+        w = np.empty((8, 3, 3))
         for i in range(ch * CHUNK, min(n, (ch + 1) * CHUNK)):
             fast._solve_one(
                 i, p, Lin, A, kind, h, rp, d, inward, subsets, edges, margin, ES, b, T_a, tol, maxiter,
@@ -379,7 +395,7 @@ def _paper_points(
                 Lc[j] = Lall[cs[j]]
             t0, t1, t2, cond = _paper_sens(
                 i, Ps[choice, 0], Ps[choice, 1], Ps[choice, 2], cs, Lc, A, kind, h, rp, d, inward, ES, E, b[2],
-                mass, m, cab, S, w,
+                mass, m, cab, S, w, S, False,
             )  # fmt: skip
             cond_out[i] = cond
             if not cond < np.inf:
@@ -585,3 +601,115 @@ def sensitivities_fast(
         raise ValueError(f"unknown redundancy {redundancy!r}; allowed: 'paper', 'physical'")
     res.update(S=S, names=parameter_names(m), smooth=smooth, margin_t=tm, cond=cond)
     return res
+
+
+@njit(cache=True, parallel=True, error_model="numpy")
+def _subsets_points(
+    p, Lin, A, kind, h, rp, d, inward, subsets, ES, E, b, mass, tol, maxiter, max_step, cols, P_out, t_out,
+    conv_out, S_out, St_out,
+):  # fmt: skip
+    n = p.shape[0]
+    ns = subsets.shape[0]
+    m = A.shape[0]
+    K = 7 * m + 1
+    nchunks = (n + CHUNK - 1) // CHUNK
+    for ch in prange(nchunks):
+        Lall = np.empty(m)
+        Ps = np.empty((ns, 3))
+        ts = np.empty((ns, 3))
+        its = np.empty(ns, np.int32)
+        conv = np.empty(ns, np.bool_)
+        exi = np.empty(ns, np.bool_)
+        dps = np.empty(ns)
+        cab = np.empty((3, NCOL))
+        cs = np.empty(3, np.int64)
+        Lc = np.empty(3)
+        w = np.empty((8, 3, 3))
+        S1 = np.empty((1, 3, K))
+        St1 = np.empty((1, 3, K))
+        for i in range(ch * CHUNK, min(n, (ch + 1) * CHUNK)):
+            for c in range(m):
+                if Lin.shape[0] > 0:
+                    Lall[c] = Lin[i, c]
+                else:
+                    Lall[c] = (
+                        math.sqrt(
+                            (p[i, 0] - A[c, 0]) ** 2 + (p[i, 1] - A[c, 1]) ** 2 + (p[i, 2] - A[c, 2]) ** 2
+                        )
+                        + d[c]
+                    )
+            for k in range(ns):
+                fast._solve_subset(
+                    k, i, p, A, kind, h, rp, d, inward, subsets, Lall, ES, b, tol, maxiter, max_step, Ps, ts, its,
+                    conv, exi, dps,
+                )  # fmt: skip
+                conv_out[i, k] = False
+                for a in range(3):
+                    P_out[i, k, a] = Ps[k, a]
+                    t_out[i, k, a] = np.nan
+                    for q in range(cols.shape[0]):
+                        S_out[i, k, a, q] = np.nan
+                        St_out[i, k, a, q] = np.nan
+                if not conv[k]:
+                    continue
+                for j in range(3):
+                    cs[j] = subsets[k, j]
+                    Lc[j] = Lall[cs[j]]
+                for a in range(3):
+                    for q in range(K):
+                        S1[0, a, q] = 0.0
+                        St1[0, a, q] = 0.0
+                t0, t1, t2, cond = _paper_sens(
+                    0, Ps[k, 0], Ps[k, 1], Ps[k, 2], cs, Lc, A, kind, h, rp, d, inward, ES, E, b[2], mass, m, cab,
+                    S1, w, St1, True,
+                )  # fmt: skip
+                if not cond < np.inf:
+                    continue
+                conv_out[i, k] = True
+                t_out[i, k, 0], t_out[i, k, 1], t_out[i, k, 2] = t0, t1, t2
+                for a in range(3):
+                    for q in range(cols.shape[0]):
+                        S_out[i, k, a, q] = S1[0, a, cols[q]]
+                        St_out[i, k, a, q] = St1[0, a, cols[q]]
+
+
+def subset_sensitivities(robot, p, L=None, columns=None, threads=None, **solver):
+    """Compiled ``sensitivity.subset_sensitivities`` (same parameters and result): every 3-cable
+    subset of paper mode at every point, its P*, tensions, dP*/dθ and dt/dθ."""
+    p = np.ascontiguousarray(np.atleast_2d(np.asarray(p, dtype=float)))
+    n, m = len(p), robot.m
+    cols = np.arange(7 * m + 1) if columns is None else np.asarray(columns, dtype=np.int64)
+    if threads:
+        numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
+    o = {**NEWTON_DEFAULTS, **solver}
+    a = robot.arrays
+    Lin = (
+        np.empty((0, m))
+        if L is None
+        else np.ascontiguousarray(np.broadcast_to(np.asarray(L, dtype=float), (n, m)))
+    )
+    ns = len(robot.subsets)
+    P = np.empty((n, ns, 3))
+    t = np.empty((n, ns, 3))
+    conv = np.empty((n, ns), dtype=np.bool_)
+    S = np.empty((n, ns, 3, len(cols)))
+    St = np.empty((n, ns, 3, len(cols)))
+    if n:
+        _subsets_points(
+            p, Lin, a.A, a.kind.astype(np.int64), a.h, a.r_p, a.d, np.ascontiguousarray(a.inward),
+            robot.subsets.astype(np.int64), a.ES, a.E, -robot.platform.w_ext, robot.platform.mass, o["tol"],
+            o["maxiter"], o["max_step"], cols.astype(np.int64), P, t, conv, S, St,
+        )  # fmt: skip
+    T_a = robot.T_a[robot.subsets]
+    with np.errstate(invalid="ignore"):
+        adm = conv & (t >= 0).all(axis=2) & (t <= T_a).all(axis=2)
+    return {
+        "P": P,
+        "t": t,
+        "converged": conv,
+        "admissible": adm,
+        "S": S,
+        "St": St,
+        "T_a": T_a,
+        "columns": cols,
+    }

@@ -186,7 +186,8 @@ def _geo_columns(m, c):
 def paper_jacobian_terms(robot, P, subset, L):
     """J = dF/dP (n, 3, 3) and dF/dθ (n, 3, 7 m + 1) of paper mode's equations for one 3-cable
     ``subset`` (0-based) at the points P (n, 3) [m] with commanded lengths L (n, 3) [m] of its
-    cables; also the tensions t (n, 3) [N]."""
+    cables; also the tensions t (n, 3) [N], dt/dP (n, 3, 3) [N/m] and the partial dt/dθ at fixed P
+    (n, 3, 7 m + 1): the total dt/dθ = dt/dP dP*/dθ + that partial."""
     a = robot.arrays
     s = np.asarray(subset, dtype=np.intp)
     m = robot.m
@@ -200,6 +201,7 @@ def paper_jacobian_terms(robot, P, subset, L):
     J = cp.dL_dP - kL[..., None] * dt_dP
     n = len(P)
     dF = np.zeros((n, 3, K))
+    dt_part = np.zeros((n, 3, K))
     for j, c in enumerate(s):
         dF[:, j, c] = kL[:, j] * t[:, j] / a.E[c]
         # geometric parameters of cable c: its length and, through its direction, every tension
@@ -207,8 +209,10 @@ def paper_jacobian_terms(robot, P, subset, L):
         block = -kL[..., None] * dt
         block[:, j, :] += cp.dL[:, j]
         dF[:, :, _geo_columns(m, c)] = block
+        dt_part[:, :, _geo_columns(m, c)] = dt
     dF[:, :, 7 * m] = -kL * t / robot.platform.mass
-    return J, dF, t
+    dt_part[:, :, 7 * m] = t / robot.platform.mass
+    return J, dF, t, dt_dP, dt_part
 
 
 def physical_jacobian_terms(robot, P, L0):
@@ -337,7 +341,7 @@ def sensitivities(
             idx = np.flatnonzero(ok & (res["subset"] == s).all(axis=1))
             if idx.size == 0:
                 continue
-            J, dF, t = paper_jacobian_terms(robot, res["P_s"][idx], s, L[idx][:, s])
+            J, dF, t, _, _ = paper_jacobian_terms(robot, res["P_s"][idx], s, L[idx][:, s])
             S[idx], cond[idx] = implicit_solve(J, dF)
             t_sub[idx] = t
         gap, margin = _paper_flags(robot, res, t_sub)
@@ -406,3 +410,69 @@ def robot_with_parameters(robot, values):
     )
     platform = dataclasses.replace(robot.platform, mass=float(v[7 * m]))
     return dataclasses.replace(robot, cables=cables, platform=platform)
+
+
+def subset_sensitivities(robot, p, L=None, columns=None, engine="compiled", threads=None, **solver):
+    """Every 3-cable subset of paper mode at every point: P* (DEGM_E), admissibility (converged,
+    0 <= t <= T_a) and dP*/dθ; for the first-order propagation when the best subset may switch
+    (``uncertainty.Linearisation``). ``engine="numpy"`` is the reference (``direct.degm_e`` and
+    ``paper_jacobian_terms`` per subset), ``"compiled"`` ``fast_sensitivity.subset_sensitivities``.
+
+    Parameters
+    ----------
+    robot : Robot
+    p : array_like, shape (N, 3) [m]
+    L : array_like, shape (N, m) [m], optional
+        Commanded lengths, default L_TS(p).
+    columns : sequence of int, optional
+        Parameter columns to keep, default all 7 m + 1.
+
+    Returns
+    -------
+    dict
+        P (N, n_subsets, 3) [m]; t (N, n_subsets, 3) [N] the subset's tensions at P*; converged
+        (N, n_subsets) (a regular solution: S is finite there); admissible (N, n_subsets);
+        S (N, n_subsets, 3, len(columns)) dP*/dθ and St (same shape) dt/dθ [N per unit], NaN where
+        not converged; T_a (n_subsets, 3) [N]; columns.
+    """
+    if engine == "compiled":
+        from .fast_sensitivity import subset_sensitivities as fast_subsets
+
+        return fast_subsets(robot, p, L=L, columns=columns, threads=threads, **solver)
+    from .direct import degm_e
+
+    p = np.atleast_2d(np.asarray(p, dtype=float))
+    n, m = len(p), robot.m
+    cols = np.arange(7 * m + 1) if columns is None else np.asarray(columns, dtype=np.intp)
+    L = L_TS(robot, p) if L is None else np.broadcast_to(np.asarray(L, dtype=float), (n, m))
+    ns = len(robot.subsets)
+    P = np.empty((n, ns, 3))
+    t = np.full((n, ns, 3), np.nan)
+    conv = np.zeros((n, ns), dtype=bool)
+    S = np.full((n, ns, 3, len(cols)), np.nan)
+    St = np.full((n, ns, 3, len(cols)), np.nan)
+    for k, s in enumerate(robot.subsets):
+        r = degm_e(robot, p, subset=s, L=L[:, s], **solver)
+        P[:, k] = r.P
+        idx = np.flatnonzero(r.converged)
+        if idx.size:
+            J, dF, tk, dt_dP, dt_part = paper_jacobian_terms(robot, r.P[idx], s, L[idx][:, s])
+            Sk, cond = implicit_solve(J, dF)
+            good = np.isfinite(cond)
+            g = idx[good]
+            S[g, k] = Sk[good][:, :, cols]
+            St[g, k] = (dt_dP[good] @ Sk[good] + dt_part[good])[:, :, cols]
+            t[g, k] = tk[good]
+            conv[g, k] = True
+    T_a = robot.T_a[robot.subsets]  # (ns, 3)
+    adm = conv & (t >= 0).all(axis=2) & (t <= T_a).all(axis=2)
+    return {
+        "P": P,
+        "t": t,
+        "converged": conv,
+        "admissible": adm,
+        "S": S,
+        "St": St,
+        "T_a": T_a,
+        "columns": cols,
+    }

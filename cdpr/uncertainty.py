@@ -1,0 +1,546 @@
+"""Uncertainty of the pose error: parameter distributions, seeded Monte Carlo by full solves, the
+first-order (linearised) propagation of the exact sensitivities, and Sobol indices (SALib).
+
+The study file's ``uncertainty.parameters`` declares a distribution per parameter group (keys
+``PARAMETER_KEYS``)::
+
+    young_modulus_Pa: {dist: uniform, low: 67.2e9, high: 137.2e9, per_cable: true}    # E_i [Pa]
+    anchor_offset_m:  {dist: normal, mean: 0, sd: 0.002, per_cable: true}           # A_i + offset [m]
+    mass_kg:          {dist: normal, mean: 300, sd: 10, low: 270, high: 330}        # M [kg], truncated
+
+``uniform`` takes low and high; ``normal`` takes mean and sd, and optional low/high that truncate
+it. Keys ending in ``_offset_m`` are deviations added to each cable's nominal value (the designs
+differ in h and r_p, the anchors in position); the others are the values themselves. ``per_cable:
+true`` draws each cable's value independently; ``false`` draws one value for every cable (fully
+correlated, the paper's common E). Each independent draw is a *driver* (``Driver``): E_2, A_3_z, M,
+or E_all for a shared modulus. A driver's value is its distribution's inverse CDF at a uniform
+number u in (0, 1), so Monte Carlo (``mc_uniforms``) and Saltelli's design (``sobol_analysis``)
+only generate u.
+
+Reproducibility: sample s of seed S uses ``numpy.random.default_rng([S, s])`` and nothing else, so
+the same seed gives the same numbers whatever the shards (ranges of s) are; drivers are numbered in
+the fixed order of ``PARAMETER_KEYS`` and the cables, whatever the order of the study's keys.
+
+The pose error of a design (``PoseErrorModel``), for sampled parameters θ:
+
+* ``uncompensated`` (the paper's question): the winches command the standard model's lengths
+  L_TS(p) of the *nominal* robot; the robot with parameters θ settles at P*(θ) (paper mode: DEGM_E
+  on the best admissible 3-cable subset; or the physical equilibrium);
+* ``compensated``: the lengths are compensated with the nominal parameters (``compensation``:
+  rest lengths that hold the nominal robot exactly at p) and the robot with θ settles where its
+  forces balance (physical equilibrium): the residual error a real robot would have.
+
+``solve`` does full solves; ``linearise`` gives the first-order propagation of the sensitivities at
+the nominal parameters (``sensitivity``), dp(θ) = dp_0 + S (τ(θ) - τ(θ_0)), with τ the identity
+except for the moduli, linearised in the compliance 1/E_i (the cable stretch t L / (E S) is linear in
+it, so the elastic error is nearly linear in 1/E over the paper's ±35 GPa, not in E).
+
+References
+----------
+Paty et al. 2021, section 5. Saltelli, A. et al. (2010), Variance based sensitivity analysis of
+model output, Computer Physics Communications 181, 259-270. Herman, J., Usher, W. (2017), SALib:
+an open-source Python library for sensitivity analysis, JOSS 2(9).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pandas as pd
+
+from .errors import ConfigError
+from .inverse import L_TS
+from .sensitivity import parameter_values, robot_with_parameters
+
+#: Study keys of ``uncertainty.parameters``: key -> (parameter group, "value" or "offset"), in the
+#: order drivers are numbered.
+PARAMETER_KEYS = {
+    "young_modulus_Pa": ("E", "value"),
+    "h_offset_m": ("h", "offset"),
+    "r_p_offset_m": ("r_p", "offset"),
+    "dead_length_offset_m": ("d", "offset"),
+    "anchor_offset_m": ("A", "offset"),
+    "mass_kg": ("M", "value"),
+}
+CASES = ("uncompensated", "compensated")
+#: Quantiles of the bands (5, 50, 95 %).
+QUANTILES = (0.05, 0.5, 0.95)
+#: u is kept in [U_EPS, 1 - U_EPS] so that an unbounded normal's inverse CDF stays finite.
+U_EPS = 1e-12
+#: Samples per batch of the linearised propagation (memory: 24 bytes x points x batch).
+BATCH = 16
+
+
+@dataclasses.dataclass(frozen=True)
+class Distribution:
+    """A univariate distribution: ``uniform`` (low, high) or ``normal`` (mean, sd, optional low and
+    high truncating it)."""
+
+    dist: str
+    low: float | None = None
+    high: float | None = None
+    mean: float | None = None
+    sd: float | None = None
+
+    @classmethod
+    def from_spec(cls, spec):
+        return cls(
+            dist=spec["dist"],
+            low=spec.get("low"),
+            high=spec.get("high"),
+            mean=spec.get("mean"),
+            sd=spec.get("sd"),
+        )
+
+    def _trunc(self):
+        from scipy.stats import truncnorm
+
+        a = -np.inf if self.low is None else (self.low - self.mean) / self.sd
+        b = np.inf if self.high is None else (self.high - self.mean) / self.sd
+        return truncnorm(a, b, loc=self.mean, scale=self.sd)
+
+    def ppf(self, u):
+        """Inverse CDF at u (any shape) in (0, 1)."""
+        u = np.clip(np.asarray(u, dtype=float), U_EPS, 1.0 - U_EPS)
+        if self.dist == "uniform":
+            return self.low + u * (self.high - self.low)
+        if self.low is None and self.high is None:
+            from scipy.stats import norm
+
+            return norm.ppf(u, loc=self.mean, scale=self.sd)
+        return self._trunc().ppf(u)
+
+    def moments(self):
+        """(mean, variance) of the distribution."""
+        if self.dist == "uniform":
+            return 0.5 * (self.low + self.high), (self.high - self.low) ** 2 / 12.0
+        if self.low is None and self.high is None:
+            return float(self.mean), float(self.sd) ** 2
+        mu, var = self._trunc().stats("mv")
+        return float(mu), float(var)
+
+    def support(self):
+        """(lowest, highest) value that can be drawn (infinite for an untruncated normal)."""
+        lo = self.low if self.low is not None else -np.inf
+        hi = self.high if self.high is not None else np.inf
+        return lo, hi
+
+
+@dataclasses.dataclass(frozen=True)
+class Driver:
+    """One independent draw: its name (E_2, E_all, A_3_z, A_all_z, M), the study key, the parameter
+    group, the columns of the parameter vector (``sensitivity.parameter_names``) it sets, whether it
+    is an offset added to the nominal values, and its distribution."""
+
+    name: str
+    key: str
+    group: str
+    columns: tuple
+    offset: bool
+    dist: Distribution
+
+
+def drivers(parameters, m):
+    """The drivers of ``uncertainty.parameters`` (a mapping of ``PARAMETER_KEYS`` to specs) for a
+    robot with m cables, in the fixed order of ``PARAMETER_KEYS`` and cables."""
+    base = {"E": 0, "h": m, "r_p": 2 * m, "d": 3 * m}
+    out = []
+    for key, (group, kind) in PARAMETER_KEYS.items():
+        if key not in parameters:
+            continue
+        spec = parameters[key]
+        dist = Distribution.from_spec(spec)
+        offset = kind == "offset"
+        per_cable = spec.get("per_cable", True) and group != "M"
+        if group == "M":
+            out.append(Driver("M", key, group, (7 * m,), offset, dist))
+        elif group == "A":
+            for a, ax in enumerate("xyz"):
+                if per_cable:
+                    out += [
+                        Driver(f"A_{c + 1}_{ax}", key, group, (4 * m + 3 * c + a,), offset, dist)
+                        for c in range(m)
+                    ]
+                else:
+                    cols = tuple(4 * m + 3 * c + a for c in range(m))
+                    out.append(Driver(f"A_all_{ax}", key, group, cols, offset, dist))
+        elif per_cable:
+            out += [
+                Driver(f"{group}_{c + 1}", key, group, (base[group] + c,), offset, dist) for c in range(m)
+            ]
+        else:
+            cols = tuple(base[group] + c for c in range(m))
+            out.append(Driver(f"{group}_all", key, group, cols, offset, dist))
+    # anchors: per cable x, y, z together (A_1_x, A_1_y, A_1_z, A_2_x, ...)
+    return sorted(out, key=lambda d: (list(PARAMETER_KEYS).index(d.key), d.columns))
+
+
+def mc_uniforms(seed, start, stop, n_drivers):
+    """Uniform numbers of Monte Carlo samples start .. stop - 1, shape (stop - start, n_drivers).
+
+    Sample s draws from ``numpy.random.default_rng([seed, s])`` only: the same seed gives the same
+    numbers for a sample whatever range (shard) it is computed in."""
+    return np.array(
+        [np.random.default_rng([int(seed), int(s)]).random(n_drivers) for s in range(start, stop)]
+    ).reshape(stop - start, n_drivers)
+
+
+def parameter_samples(robot, drivers_, U, active=None):
+    """Parameter vectors θ (n, 7 m + 1) [SI] of the uniform numbers U (n, n_drivers): each active
+    driver's inverse CDF sets its columns (offsets are added to the nominal values); inactive
+    drivers (``active`` False) leave the nominal values."""
+    U = np.atleast_2d(np.asarray(U, dtype=float))
+    th0 = parameter_values(robot)
+    th = np.tile(th0, (len(U), 1))
+    for k, dr in enumerate(drivers_):
+        if active is not None and not active[k]:
+            continue
+        x = dr.dist.ppf(U[:, k])
+        cols = list(dr.columns)
+        th[:, cols] = th0[cols] + x[:, None] if dr.offset else x[:, None]
+    return th
+
+
+def check_samples(robot, theta, source="<study>", key="uncertainty.parameters"):
+    """Refuse parameter vectors a robot cannot have (E, M, r_p > 0 or >= 0, h >= r_p for SR and
+    h > r_p for DR, d >= 0, anchors above the floor), naming the first bad sample."""
+    m = robot.m
+    th = np.atleast_2d(theta)
+    E, h, r_p, d = th[:, :m], th[:, m : 2 * m], th[:, 2 * m : 3 * m], th[:, 3 * m : 4 * m]
+    Az = th[:, 4 * m + 2 : 7 * m : 3]
+    kind = robot.arrays.kind
+    sized = robot.arrays.h > 0
+    checks = [
+        (E <= 0, "a Young's modulus <= 0"),
+        (th[:, [7 * m]] <= 0, "a payload mass <= 0"),
+        (d < 0, "a negative dead length"),
+        (Az <= 0, "an anchor at or below the floor"),
+        ((r_p < 0) | (h < 0), "a negative lever arm or sheave radius"),
+        ((kind == 1) & sized & (h < r_p), "an SR pulley with h < r_p"),
+        ((kind == 2) & sized & (h <= r_p), "a DR pulley with h <= r_p"),
+    ]
+    for bad, what in checks:
+        bad = np.asarray(bad).reshape(len(th), -1).any(axis=1)
+        if bad.any():
+            raise ConfigError(
+                source,
+                key,
+                f"sample {int(np.flatnonzero(bad)[0])} gives {what}; narrow the distribution or bound it with low/high",
+            )
+
+
+def sample_stats(dp, ok):
+    """Per sample: the global index (eq. 15: mean of ‖δp‖ over the ok points), the median and the
+    95 % quantile of ‖δp‖ over the ok points, and the number of points that are not ok.
+
+    Parameters: dp (n, N) [m]; ok (n, N) bool. Returns a DataFrame with columns index_m, median_m,
+    p95_m, not_ok."""
+    d = np.where(ok, dp, np.nan)
+    with np.errstate(all="ignore"):
+        q = np.nanquantile(d, [0.5, 0.95], axis=1) if d.size else np.full((2, len(d)), np.nan)
+        return pd.DataFrame(
+            {
+                "index_m": np.nanmean(d, axis=1),
+                "median_m": q[0],
+                "p95_m": q[1],
+                "not_ok": (~ok).sum(axis=1),
+            }
+        )
+
+
+class Linearisation:
+    """First-order propagation of the sensitivities at the nominal parameters θ_0,
+    dp(θ) = dp_0 + S (τ(θ) - τ(θ_0)), τ(θ) = θ except 1/E for the moduli, for each candidate
+    solution ("slot") of a point: in paper mode every converged 3-cable subset, whose tensions are
+    propagated too (t(θ) = t_0 + S_t (τ(θ) - τ(θ_0))) so that the paper's rule (the smallest ‖dp‖
+    among the subsets with 0 <= t <= T_a) is applied to the linearised answers: the best subset may
+    switch with θ; in physical mode the one equilibrium.
+
+    Parameters
+    ----------
+    dp0 : array (N, C, 3) [m]
+        P*(θ_0) - p of each slot.
+    S : array (N, C, 3, k)
+        dP*/dθ at θ_0 of each slot for the parameter columns ``columns``.
+    valid : array (N, C) bool
+        Slots with a regular solution (S finite).
+    smooth : array (N,) bool
+        The sensitivity module's flag of the nominal answer.
+    theta0 : array (7 m + 1,)
+    m : int
+    columns : array (k,) of int
+        Columns of θ (``sensitivity.parameter_names``) that S covers; the others must stay nominal.
+    t0, St : arrays (N, C, 3) [N] and (N, C, 3, k), optional
+        Tensions of each slot and their sensitivities (paper mode).
+    T_a : array (C, 3) [N], optional
+        Admissible tensions of each slot's cables.
+    """
+
+    def __init__(self, dp0, S, valid, smooth, theta0, m, columns, t0=None, St=None, T_a=None):
+        self.theta0 = np.asarray(theta0, dtype=float)
+        self.columns = np.asarray(columns, dtype=np.intp)
+        self.valid = np.asarray(valid, dtype=bool) & np.isfinite(S).all(axis=(2, 3))
+        self.smooth = np.asarray(smooth, dtype=bool)
+        self.dp0 = np.where(self.valid[..., None], dp0, 0.0)
+        self.is_E = self.columns < m
+        # dP/d(1/E) = -E^2 dP/dE (and the same for the tensions)
+        self._scale = np.where(self.is_E, -(self.theta0[self.columns] ** 2), 1.0)
+        self.S = np.where(self.valid[..., None, None], S * self._scale, 0.0)
+        self.has_t = t0 is not None
+        if self.has_t:
+            self.t0 = np.where(self.valid[..., None], t0, 0.0)
+            self.St = np.where(self.valid[..., None, None], St * self._scale, 0.0)
+            self.T_a = np.asarray(T_a, dtype=float)
+            adm0 = self.valid & (self.t0 >= 0).all(axis=2) & (self.t0 <= self.T_a).all(axis=2)
+        else:
+            adm0 = self.valid
+        self.admissible0 = adm0
+        self.ok = adm0.any(axis=1)
+        # the nominal answer: the admissible slot of smallest |dp_0| (paper mode's choice)
+        self.best = np.argmin(np.where(adm0, np.linalg.norm(self.dp0, axis=2), np.inf), axis=1)
+
+    def tau(self, theta):
+        """τ(θ) on the covered columns, shape (n, k)."""
+        th = np.atleast_2d(np.asarray(theta, dtype=float))[:, self.columns]
+        return np.where(self.is_E, 1.0 / th, th)
+
+    def _delta(self, theta):
+        th = np.atleast_2d(np.asarray(theta, dtype=float))
+        other = np.setdiff1d(np.arange(th.shape[1]), self.columns)
+        if other.size and np.abs(th[:, other] - self.theta0[other]).max() > 0:
+            raise ValueError("the linearisation does not cover every parameter that varies")
+        return self.tau(th) - self.tau(self.theta0)
+
+    def dp(self, theta):
+        """‖dp(θ)‖ (n, N) [m] of the linearised answer; NaN where no slot is admissible."""
+        delta = self._delta(theta)
+        N, C, _, k = self.S.shape
+        Sflat = self.S.reshape(N * C * 3, k)
+        Stflat = self.St.reshape(N * C * 3, k) if self.has_t else None
+        out = np.empty((len(delta), N))
+        for i in range(0, len(delta), BATCH):
+            d = delta[i : i + BATCH]
+            v = (Sflat @ d.T).T.reshape(len(d), N, C, 3) + self.dp0
+            adm = self.valid
+            if self.has_t:
+                t = (Stflat @ d.T).T.reshape(len(d), N, C, 3) + self.t0
+                adm = adm & (t >= 0).all(axis=3) & (t <= self.T_a).all(axis=3)
+            norm = np.where(adm, np.linalg.norm(v, axis=3), np.inf)
+            out[i : i + BATCH] = norm.min(axis=2)
+        return np.where(np.isfinite(out), out, np.nan)
+
+    def nominal(self):
+        """(dp_0 (N, 3), S (N, 3, k)) of the nominal answer, with S in dP/dθ (not compliance)."""
+        idx = np.arange(len(self.best))
+        return self.dp0[idx, self.best], self.S[idx, self.best] / self._scale
+
+
+class PoseErrorModel:
+    """‖δp‖ of one design at points p when the robot's parameters are θ (module docstring).
+
+    Parameters
+    ----------
+    robot : Robot
+        The nominal robot (the model that computes the commanded lengths).
+    p : array (N, 3) [m]
+        Desired positions.
+    case : {"uncompensated", "compensated"}
+    redundancy : {"paper", "physical"}
+        Model of the uncompensated robot (paper: DEGM_E on the best subset); the compensated robot
+        is always the physical equilibrium.
+    compensation : dict, optional
+        ``method`` and ``t_min_N`` of ``compensation.compensate`` (default min_norm, 100 N).
+    threads : int, optional
+    """
+
+    def __init__(self, robot, p, case="uncompensated", redundancy="paper", compensation=None, threads=None):
+        self.robot = robot
+        self.p = np.atleast_2d(np.asarray(p, dtype=float))
+        self.case = case
+        self.threads = threads
+        n = len(self.p)
+        if case == "uncompensated":
+            self.mode = redundancy
+            self.L = L_TS(robot, self.p)
+            self.feasible = np.ones(n, dtype=bool)
+        elif case == "compensated":
+            from .compensation import compensate
+
+            c = compensation or {}
+            comp = compensate(
+                robot, self.p, method=c.get("method", "min_norm"), t_min=c.get("t_min_N", 100.0)
+            )
+            self.mode = "physical"
+            self.L = comp["L0"]
+            self.feasible = comp["feasible"]
+        else:
+            raise ValueError(f"unknown case {case!r}; allowed: {', '.join(CASES)}")
+        self._pv = np.ascontiguousarray(self.p[self.feasible])
+        self._Lv = np.ascontiguousarray(self.L[self.feasible])
+
+    def _solve(self, robot, sens=False):
+        if sens:
+            from .sensitivity import sensitivities
+
+            return sensitivities(robot, self._pv, redundancy=self.mode, L=self._Lv, threads=self.threads)
+        if self.mode == "paper":
+            from .fast import solve_points_fast
+
+            return solve_points_fast(robot, self._pv, L=self._Lv, threads=self.threads)
+        from .fast_physical import solve_physical_fast
+
+        return solve_physical_fast(robot, self._pv, L0=self._Lv, threads=self.threads)
+
+    def solve(self, theta):
+        """Full solves: ‖δp‖ (n, N) [m] and ok (n, N) for parameter vectors θ (n, 7 m + 1)."""
+        th = np.atleast_2d(theta)
+        n, N = len(th), len(self.p)
+        dp = np.full((n, N), np.nan)
+        ok = np.zeros((n, N), dtype=bool)
+        for i, t in enumerate(th):
+            res = self._solve(robot_with_parameters(self.robot, t))
+            dp[i, self.feasible] = res["dp"]
+            ok[i, self.feasible] = res["status"] == "ok"
+        return dp, ok
+
+    def linearise(self, columns=None):
+        """The ``Linearisation`` at the nominal parameters for the parameter columns ``columns``
+        (default all): paper mode every subset (``sensitivity.subset_sensitivities``), physical mode
+        the equilibrium (``sensitivity.sensitivities``)."""
+        from .sensitivity import sensitivities, subset_sensitivities
+
+        m = self.robot.m
+        cols = np.arange(7 * m + 1) if columns is None else np.asarray(columns, dtype=np.intp)
+        N = len(self.p)
+        nom = sensitivities(self.robot, self._pv, redundancy=self.mode, L=self._Lv, threads=self.threads)
+        smooth = np.zeros(N, dtype=bool)
+        smooth[self.feasible] = nom["smooth"]
+        extra = {}
+        if self.mode == "paper":
+            sub = subset_sensitivities(self.robot, self._pv, L=self._Lv, columns=cols, threads=self.threads)
+            C = sub["P"].shape[1]
+            P, valid, S = sub["P"], sub["converged"], sub["S"]
+            t0 = np.zeros((N, C, 3))
+            St = np.full((N, C, 3, len(cols)), np.nan)
+            t0[self.feasible], St[self.feasible] = sub["t"], sub["St"]
+            extra = {"t0": t0, "St": St, "T_a": sub["T_a"]}
+        else:
+            C = 1
+            P = nom["P_s"][:, None]
+            valid = (nom["status"] == "ok")[:, None]
+            S = nom["S"][:, None][..., cols]
+        dp0 = np.zeros((N, C, 3))
+        Sall = np.full((N, C, 3, len(cols)), np.nan)
+        ok = np.zeros((N, C), dtype=bool)
+        dp0[self.feasible] = P - self._pv[:, None]
+        Sall[self.feasible] = S
+        ok[self.feasible] = valid
+        return Linearisation(dp0, Sall, ok, smooth, parameter_values(self.robot), m, cols, **extra)
+
+
+def sobol_analysis(evaluate, drivers_, robot, base_samples, seed, outputs, groups=False, source="<study>"):
+    """First-order and total Sobol indices of the model outputs with SALib (Saltelli's sampling
+    scheme on a scrambled Sobol' sequence, Sobol analysis with bootstrap confidence intervals).
+
+    Parameters
+    ----------
+    evaluate : callable
+        θ (n, 7 m + 1) -> Y (n, len(outputs)).
+    drivers_ : list of Driver
+    robot : Robot
+    base_samples : int
+        N of Saltelli's scheme (a power of 2); the model runs N (D + 2) times, D the number of
+        drivers (or of groups).
+    seed : int
+        Seed of the scrambling and of the bootstrap.
+    outputs : list of str
+        Names of Y's columns.
+    groups : bool
+        Indices per parameter group (``Driver.group``) instead of per driver.
+
+    Returns
+    -------
+    (DataFrame with columns output, level, name, S1, S1_conf, ST, ST_conf; Y; θ)
+
+    References
+    ----------
+    Saltelli et al. 2010; SALib (Herman and Usher 2017).
+    """
+    from SALib.analyze import sobol as sobol_analyze
+    from SALib.sample import sobol as sobol_sample
+
+    D = len(drivers_)
+    problem = {"num_vars": D, "names": [d.name for d in drivers_], "bounds": [[0.0, 1.0]] * D}
+    if groups:
+        problem["groups"] = [d.group for d in drivers_]
+    U = sobol_sample.sample(problem, base_samples, calc_second_order=False, scramble=True, seed=seed)
+    theta = parameter_samples(robot, drivers_, U)
+    check_samples(robot, theta, source)
+    Y = np.asarray(evaluate(theta), dtype=float).reshape(len(theta), len(outputs))
+    names = list(dict.fromkeys(problem["groups"])) if groups else problem["names"]
+    rows = []
+    for j, out in enumerate(outputs):
+        Si = sobol_analyze.analyze(
+            problem, Y[:, j], calc_second_order=False, conf_level=0.95, seed=seed, print_to_console=False
+        )
+        for k, name in enumerate(names):
+            rows.append(
+                {
+                    "output": out,
+                    "level": "group" if groups else "parameter",
+                    "name": name,
+                    "S1": float(Si["S1"][k]),
+                    "S1_conf": float(Si["S1_conf"][k]),
+                    "ST": float(Si["ST"][k]),
+                    "ST_conf": float(Si["ST_conf"][k]),
+                }
+            )
+    return pd.DataFrame(rows), Y, theta
+
+
+def local_contributions(lin, drivers_, projected):
+    """First-order share of each driver in the spread of the pose error at every point.
+
+    Driver k moves the pose by δ_k = sum over its columns c of S_c (x_c - θ_0,c), x its value, so
+    its contribution is E[(n . δ_k)^2] with n = dp_0/|dp_0| (``projected``: the variance of ‖δp‖
+    to first order, where dp_0 is not small) or E[|δ_k|^2] (the mean square error, for the
+    compensated robot whose dp_0 = 0). Moments about the nominal values; S of the nominal answer.
+
+    Parameters
+    ----------
+    lin : Linearisation
+        Covering every driver's columns.
+    drivers_ : list of Driver
+    projected : bool
+
+    Returns
+    -------
+    array (N, n_drivers) [m^2], NaN where the point is not ok.
+    """
+    dp0, S = lin.nominal()
+    th0 = lin.theta0
+    pos = {int(c): j for j, c in enumerate(lin.columns)}
+    if projected:
+        n = dp0 / np.linalg.norm(dp0, axis=1, keepdims=True)
+        S = np.einsum("na,nak->nk", n, S)[:, None, :]
+    out = np.empty((len(S), len(drivers_)))
+    for k, dr in enumerate(drivers_):
+        mean, var = dr.dist.moments()
+        cols = [pos[c] for c in dr.columns]
+        a = S[:, :, cols].sum(axis=2)  # dδ/dx
+        if dr.offset:
+            # δ = a x: E[δ^2] = |a|^2 (var + mean^2)
+            out[:, k] = (a**2).sum(axis=1) * (var + mean**2)
+        else:
+            # δ = a x - b, b = sum_c S_c θ_0,c: E|δ|^2 = |a|^2 E[x^2] - 2 a.b mean + |b|^2
+            b = (S[:, :, cols] * th0[list(dr.columns)]).sum(axis=2)
+            out[:, k] = (
+                (a**2).sum(axis=1) * (var + mean**2) - 2 * (a * b).sum(axis=1) * mean + (b**2).sum(axis=1)
+            )
+    return np.where(lin.ok[:, None], np.maximum(out, 0.0), np.nan)
+
+
+def driver_columns(drivers_):
+    """The parameter columns the drivers set, sorted."""
+    return np.array(sorted({c for d in drivers_ for c in d.columns}), dtype=np.intp)
