@@ -611,6 +611,26 @@ JOBS = {
     "dead-length-point": ("dead_length_point", ["d", "box_file", "table", "threads"]),
     "dead-length": ("dead_length", ["tables", "table", "figure"]),
     "summary": ("summary", ["results", "table", "markdown"]),
+    "uq-shard": ("uq_shard", ["design", "case", "shard", "box_file", "table", "points", "threads"]),
+    "uq-design": (
+        "uq_design",
+        ["design", "case", "box_file", "table", "path", "sobol", "tolerances", "map", "threads"],
+    ),
+    "uncertainty": (
+        "uncertainty",
+        [
+            "tables",
+            "paths",
+            "bands",
+            "agreement",
+            "sobol",
+            "figure",
+            "paths_figure",
+            "sobol_figure",
+            "map_figure",
+            "agreement_figure",
+        ],
+    ),
 }
 _JOB_OPTION_HELP = {
     "tables": "input tables (matched by file name)",
@@ -634,6 +654,17 @@ _JOB_OPTION_HELP = {
     "kind": "pulley kind",
     "d": "dead length [m]",
     "threads": "solver threads",
+    "design": "design label of the study's optimal designs",
+    "case": "uncompensated | compensated",
+    "shard": "0-based shard index",
+    "points": "output per-point table",
+    "path": "output path table",
+    "sobol": "output Sobol table",
+    "tolerances": "output table of the all-parameter samples",
+    "agreement": "output agreement table",
+    "sobol_figure": "output Sobol figure",
+    "map_figure": "output map figure",
+    "agreement_figure": "output agreement figure",
 }
 
 
@@ -661,6 +692,14 @@ def cmd_job(args):
             "crossings",
             "paths_figure",
             "markdown",
+            "points",
+            "path",
+            "sobol",
+            "tolerances",
+            "agreement",
+            "sobol_figure",
+            "map_figure",
+            "agreement_figure",
         ):
             io.check_output(given[n])
     getattr(tasks, func)(st, **given)
