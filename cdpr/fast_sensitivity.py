@@ -713,3 +713,63 @@ def subset_sensitivities(robot, p, L=None, columns=None, threads=None, **solver)
         "T_a": T_a,
         "columns": cols,
     }
+
+
+@njit(cache=True, parallel=True, error_model="numpy")
+def _linear_dp(dp0, S, valid, has_t, t0, St, T_a, delta, out):
+    """out[s, i] = min over the valid slots c of point i whose linearised tensions lie in [0, T_a]
+    (when ``has_t``) of |dp0[i, c] + S[i, c] delta[s]|; NaN where none (``uncertainty.Linearisation``)."""
+    N, C = valid.shape
+    k = S.shape[3]
+    ns = delta.shape[0]
+    for i in prange(N):
+        for s in range(ns):
+            best = np.inf
+            for c in range(C):
+                if not valid[i, c]:
+                    continue
+                if has_t:
+                    adm = True
+                    for a in range(3):
+                        t = t0[i, c, a]
+                        for q in range(k):
+                            t += St[i, c, a, q] * delta[s, q]
+                        if t < 0.0 or t > T_a[c, a]:
+                            adm = False
+                            break
+                    if not adm:
+                        continue
+                v2 = 0.0
+                for a in range(3):
+                    v = dp0[i, c, a]
+                    for q in range(k):
+                        v += S[i, c, a, q] * delta[s, q]
+                    v2 += v * v
+                best = min(best, math.sqrt(v2))
+            out[s, i] = best if best < np.inf else np.nan
+
+
+def linear_dp(dp0, S, valid, delta, t0=None, St=None, T_a=None, threads=None):
+    """Compiled ``uncertainty.Linearisation.dp``: ‖dp‖ (n_samples, N) of the linearised slots for the
+    parameter changes ``delta`` (n_samples, k) (see ``_linear_dp``)."""
+    if threads:
+        numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
+    N, C = valid.shape
+    has_t = t0 is not None
+    if not has_t:
+        t0 = np.zeros((N, C, 3))
+        St = np.zeros((N, C, 3, S.shape[3]))
+        T_a = np.zeros((C, 3))
+    out = np.empty((len(delta), N))
+    _linear_dp(
+        np.ascontiguousarray(dp0),
+        np.ascontiguousarray(S),
+        np.ascontiguousarray(valid),
+        has_t,
+        np.ascontiguousarray(t0),
+        np.ascontiguousarray(St),
+        np.ascontiguousarray(T_a, dtype=float),
+        np.ascontiguousarray(delta, dtype=float),
+        out,
+    )
+    return out

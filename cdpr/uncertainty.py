@@ -312,9 +312,16 @@ class Linearisation:
             raise ValueError("the linearisation does not cover every parameter that varies")
         return self.tau(th) - self.tau(self.theta0)
 
-    def dp(self, theta):
-        """‖dp(θ)‖ (n, N) [m] of the linearised answer; NaN where no slot is admissible."""
+    def dp(self, theta, engine="compiled", threads=None):
+        """‖dp(θ)‖ (n, N) [m] of the linearised answer; NaN where no slot is admissible.
+        ``engine="compiled"`` runs ``fast_sensitivity.linear_dp`` (points in parallel), ``"numpy"``
+        the reference below (same numbers)."""
         delta = self._delta(theta)
+        if engine == "compiled":
+            from .fast_sensitivity import linear_dp
+
+            t = (self.t0, self.St, self.T_a) if self.has_t else (None, None, None)
+            return linear_dp(self.dp0, self.S, self.valid, delta, *t, threads=threads)
         N, C, _, k = self.S.shape
         Sflat = self.S.reshape(N * C * 3, k)
         Stflat = self.St.reshape(N * C * 3, k) if self.has_t else None
@@ -334,6 +341,21 @@ class Linearisation:
         """(dp_0 (N, 3), S (N, 3, k)) of the nominal answer, with S in dP/dθ (not compliance)."""
         idx = np.arange(len(self.best))
         return self.dp0[idx, self.best], self.S[idx, self.best] / self._scale
+
+
+def linear_stats(lin, theta, batch=64, threads=None):
+    """``sample_stats`` of the linearised ‖dp‖ for every row of θ, ``batch`` samples at a time (the
+    (samples, points) array of 1,000 samples over 63^3 points would take 2 GB)."""
+    theta = np.atleast_2d(theta)
+    parts = []
+    for i in range(0, len(theta), batch):
+        dp = lin.dp(theta[i : i + batch], threads=threads)
+        parts.append(sample_stats(dp, np.isfinite(dp)))
+    return (
+        pd.concat(parts, ignore_index=True)
+        if parts
+        else sample_stats(np.empty((0, 0)), np.empty((0, 0), bool))
+    )
 
 
 class PoseErrorModel:
@@ -656,8 +678,7 @@ def linear_samples(st, design, case, box, threads=None):
     dr, active = study_drivers(st, m_.robot)
     lin = m_.linearise(driver_columns([d for d, a in zip(dr, active) if a]))
     th = np.vstack([parameter_values(m_.robot), mc_parameters(st, m_.robot, 0, mc["samples"])])
-    dp = lin.dp(th)
-    out = sample_stats(dp, np.isfinite(dp))
+    out = linear_stats(lin, th, threads=threads)
     out.insert(0, "sample", np.arange(-1, mc["samples"]))
     return out
 
