@@ -83,7 +83,7 @@ def main():
     print(f"\n## 2. {args.samples} per-cable-E samples of the global index, uncompensated (paper mode)\n")
     print(
         "| design | full: s/sample | full: extrapolated to all samples [s] | linearise once [s] | "
-        "linearised samples [s] | linearised total [s] | max |index lin - full| [mm] | max rel | index 5-50-95 % [mm] |"
+        "linearised samples [s] | linearised total [s] | max abs index diff lin - full [mm] | max rel | index 5-50-95 % [mm] |"
     )
     print("|---|---|---|---|---|---|---|---|---|")
     total_lin = total_full = 0.0

@@ -602,7 +602,7 @@ def uq_dominant_map(maps, A, z, out):
     from matplotlib.patches import Patch
 
     designs = _uq_designs(maps)
-    names = sorted({n for df in maps.values() for n in df.dominant.unique() if n})
+    names = sorted({n for df in maps.values() for n in df.dominant.dropna().unique() if n})
     cmap = plt.get_cmap("tab20", max(len(names), 1))
     code = {n: k for k, n in enumerate(names)}
     fig, axes = plt.subplots(2, len(designs), figsize=(5 * len(designs) + 2, 9), squeeze=False)
