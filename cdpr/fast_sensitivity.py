@@ -7,6 +7,11 @@ dF/dθ follow, and dP*/dθ = -J^-1 dF/dθ by cofactors. Paper mode also solves t
 solver's pruning skipped whose |dp| could lie within ``gap_tol`` of the chosen one, so that the
 smoothness flag sees every subset the answer could switch to. Same equations, flags and results as
 the numpy reference (``sensitivity``), tested equal.
+
+References
+----------
+Paty, T., Binaud, N., Caro, S., Segonds, S. (2021). Cable-driven parallel robot modelling considering
+pulley kinematics and cable elasticity. Mechanism and Machine Theory 159, 104263.
 """
 
 from __future__ import annotations
@@ -522,13 +527,18 @@ def sensitivities_fast(
     L : array_like, shape (N, m) [m], optional
         Commanded lengths (held fixed), default L_TS(p).
     threads : int, optional
-    gap_tol : float [m]; t_tol : float [N]
+    gap_tol : float [m]
+    t_tol : float [N]
     solver : tol, maxiter (and max_step, physical mode).
 
     Returns
     -------
     dict
         As ``sensitivity.sensitivities``.
+
+    References
+    ----------
+    Paty et al. 2021, eq. (3)-(5), (10)-(14).
     """
     p = np.ascontiguousarray(np.atleast_2d(np.asarray(p, dtype=float)))
     n, m = len(p), robot.m
@@ -674,8 +684,23 @@ def _subsets_points(
 
 
 def subset_sensitivities(robot, p, L=None, columns=None, threads=None, **solver):
-    """Compiled ``sensitivity.subset_sensitivities`` (same parameters and result): every 3-cable
-    subset of paper mode at every point, its P*, tensions, dP*/dθ and dt/dθ."""
+    """Compiled ``sensitivity.subset_sensitivities``: every 3-cable subset of paper mode at every
+    point, its P*, tensions, dP*/dθ and dt/dθ.
+
+    Parameters
+    ----------
+    robot : Robot
+    p : array_like, shape (N, 3) [m]
+    L : array_like, shape (N, m) [m], optional
+    columns : sequence of int, optional
+    threads : int, optional
+    solver : tol, maxiter.
+
+    Returns
+    -------
+    dict
+        As ``sensitivity.subset_sensitivities``.
+    """
     p = np.ascontiguousarray(np.atleast_2d(np.asarray(p, dtype=float)))
     n, m = len(p), robot.m
     cols = np.arange(7 * m + 1) if columns is None else np.asarray(columns, dtype=np.int64)
@@ -750,8 +775,28 @@ def _linear_dp(dp0, S, valid, has_t, t0, St, T_a, delta, out):
 
 
 def linear_dp(dp0, S, valid, delta, t0=None, St=None, T_a=None, threads=None):
-    """Compiled ``uncertainty.Linearisation.dp``: ‖dp‖ (n_samples, N) of the linearised slots for the
-    parameter changes ``delta`` (n_samples, k) (see ``_linear_dp``)."""
+    """Compiled ``uncertainty.Linearisation.dp``: the smallest ‖dp‖ over the admissible linearised
+    slots of every point, for every parameter change.
+
+    Parameters
+    ----------
+    dp0 : ndarray, shape (N, C, 3) [m]
+    S : ndarray, shape (N, C, 3, k)
+        Sensitivities of the slots (in τ, see ``uncertainty.Linearisation``).
+    valid : ndarray, shape (N, C) bool
+    delta : ndarray, shape (n, k)
+        τ(θ) - τ(θ_0) per sample.
+    t0 : ndarray, shape (N, C, 3) [N], optional
+    St : ndarray, shape (N, C, 3, k), optional
+    T_a : ndarray, shape (C, 3) [N], optional
+        Tensions, their sensitivities and the admissible tensions (paper mode).
+    threads : int, optional
+
+    Returns
+    -------
+    dp : ndarray, shape (n, N) [m]
+        NaN where no slot is admissible.
+    """
     if threads:
         numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
     N, C = valid.shape

@@ -39,8 +39,10 @@ differences of full solves).
 
 References
 ----------
-Paty et al. 2021, eq. (3)-(5), (10)-(14). Implicit-function theorem, e.g. J. Nocedal and S. Wright,
-Numerical Optimization, 2nd ed., Springer 2006, A.2.
+Paty, T., Binaud, N., Caro, S., Segonds, S. (2021). Cable-driven parallel robot modelling considering
+pulley kinematics and cable elasticity. Mechanism and Machine Theory 159, 104263 (eq. 3-5, 10-14).
+Implicit-function theorem, e.g. J. Nocedal and S. Wright, Numerical Optimization, 2nd ed.,
+Springer 2006, A.2.
 """
 
 from __future__ import annotations
@@ -69,8 +71,20 @@ COND_MAX = 1e8
 
 
 def parameter_names(m):
-    """Names of the 7 m + 1 parameters, in the order of the sensitivity columns: E_1..E_m, h_1..h_m,
-    r_p_1..r_p_m, d_1..d_m, A_1_x, A_1_y, A_1_z, ..., A_m_z, M (cables numbered from 1)."""
+    """Names of the 7 m + 1 parameters, in the order of the sensitivity columns.
+
+    E_1..E_m, h_1..h_m, r_p_1..r_p_m, d_1..d_m, A_1_x, A_1_y, A_1_z, ..., A_m_z, M (cables numbered
+    from 1).
+
+    Parameters
+    ----------
+    m : int
+        Number of cables.
+
+    Returns
+    -------
+    names : list of str, length 7 m + 1
+    """
     c = range(1, m + 1)
     return (
         [f"E_{i}" for i in c]
@@ -83,12 +97,33 @@ def parameter_names(m):
 
 
 def parameter_groups(m):
-    """The group (``GROUPS``) of each parameter of ``parameter_names(m)``."""
+    """The group (``GROUPS``) of each parameter of ``parameter_names(m)``.
+
+    Parameters
+    ----------
+    m : int
+        Number of cables.
+
+    Returns
+    -------
+    groups : list of str, length 7 m + 1
+        "E", "h", "r_p", "d", "A" or "M".
+    """
     return ["E"] * m + ["h"] * m + ["r_p"] * m + ["d"] * m + ["A"] * (3 * m) + ["M"]
 
 
 def parameter_values(robot):
-    """Nominal values of ``parameter_names(robot.m)`` [SI], shape (7 m + 1,)."""
+    """Nominal values of the parameters of ``parameter_names(robot.m)``.
+
+    Parameters
+    ----------
+    robot : Robot
+
+    Returns
+    -------
+    theta : ndarray, shape (7 m + 1,) [Pa, m, kg]
+        E_i [Pa], h_i, r_p_i, d_i, A_i [m], M [kg].
+    """
     a = robot.arrays
     return np.concatenate([a.E, a.h, a.r_p, a.d, a.A.ravel(), [robot.platform.mass]])
 
@@ -125,11 +160,21 @@ def cable_partials(P, A, kind, h, r_p, d, inward):
     Parameters
     ----------
     P : array_like, shape (..., 3) [m]
-    A : array (m, 3) [m]; kind (m,) codes 0 fixed / 1 SR / 2 DR; h, r_p, d (m,) [m]; inward (m, 2)
+        Platform positions.
+    A : ndarray, shape (m, 3) [m]
+        Joint points.
+    kind : ndarray, shape (m,)
+        Pulley kind codes 0 fixed / 1 SR / 2 DR.
+    h, r_p, d : ndarray, shape (m,) [m]
+        Lever arms, sheave radii, dead lengths.
+    inward : ndarray, shape (m, 2)
+        Fallback pulley-plane directions (``robot.CableArrays``).
 
     Returns
     -------
     CablePartials
+        u (..., m, 3); l_E, L_TE (..., m) [m]; dL_dP (..., m, 3); du_dP (..., m, 3, 3) [1/m];
+        dL (..., m, 6) and du (..., m, 3, 6) with respect to h, r_p, d, A_x, A_y, A_z.
 
     References
     ----------
@@ -184,10 +229,36 @@ def _geo_columns(m, c):
 
 
 def paper_jacobian_terms(robot, P, subset, L):
-    """J = dF/dP (n, 3, 3) and dF/dθ (n, 3, 7 m + 1) of paper mode's equations for one 3-cable
-    ``subset`` (0-based) at the points P (n, 3) [m] with commanded lengths L (n, 3) [m] of its
-    cables; also the tensions t (n, 3) [N], dt/dP (n, 3, 3) [N/m] and the partial dt/dθ at fixed P
-    (n, 3, 7 m + 1): the total dt/dθ = dt/dP dP*/dθ + that partial."""
+    """Jacobian and parameter derivatives of paper mode's equations for one 3-cable subset.
+
+    F_j = L_TE,j(P) - L_j (1 + t_j(P) / (E_j S_j)), t = M_u^-1 (-w_ext) (eq. 11-13).
+
+    Parameters
+    ----------
+    robot : Robot
+    P : ndarray, shape (n, 3) [m]
+        Solutions P* of the subset.
+    subset : array_like of 3 int
+        0-based cable indices.
+    L : ndarray, shape (n, 3) [m]
+        Commanded lengths of the subset's cables.
+
+    Returns
+    -------
+    J : ndarray, shape (n, 3, 3)
+        dF/dP [m/m].
+    dF : ndarray, shape (n, 3, 7 m + 1)
+        dF/dθ at fixed P [m per unit of θ].
+    t : ndarray, shape (n, 3) [N]
+        Tensions of the subset.
+    dt_dP : ndarray, shape (n, 3, 3) [N/m]
+    dt_part : ndarray, shape (n, 3, 7 m + 1)
+        dt/dθ at fixed P; the total dt/dθ = dt_dP dP*/dθ + dt_part.
+
+    References
+    ----------
+    Paty et al. 2021, eq. (3)-(5), (10)-(13).
+    """
     a = robot.arrays
     s = np.asarray(subset, dtype=np.intp)
     m = robot.m
@@ -216,9 +287,30 @@ def paper_jacobian_terms(robot, P, subset, L):
 
 
 def physical_jacobian_terms(robot, P, L0):
-    """J = dF/dP (n, 3, 3) [N/m] and dF/dθ (n, 3, 7 m + 1) of the physical force balance at P (n, 3)
-    [m] with rest lengths L0 (n, m) [m]; also the Hooke tensions k (L_TE - L0) (n, m) [N], negative
-    where a cable is slack (its tension is 0 then)."""
+    """Jacobian and parameter derivatives of the physical force balance.
+
+    F = sum_i t_i u_i + w_ext, t_i = (E_i S_i / L0_i) max(0, L_TE,i - L0_i).
+
+    Parameters
+    ----------
+    robot : Robot
+    P : ndarray, shape (n, 3) [m]
+        Equilibria P*.
+    L0 : ndarray, shape (n, m) [m]
+        Rest lengths.
+
+    Returns
+    -------
+    J : ndarray, shape (n, 3, 3) [N/m]
+    dF : ndarray, shape (n, 3, 7 m + 1)
+        dF/dθ at fixed P [N per unit of θ].
+    hooke : ndarray, shape (n, m) [N]
+        k_i (L_TE,i - L0_i), negative where the cable is slack (its tension is 0 then).
+
+    References
+    ----------
+    Paty et al. 2021, eq. (10)-(13); the physical mode of ``equilibrium``.
+    """
     a = robot.arrays
     m = robot.m
     K = 7 * m + 1
@@ -242,8 +334,22 @@ def physical_jacobian_terms(robot, P, L0):
 
 
 def implicit_solve(J, dF):
-    """dP*/dθ = -J^-1 dF/dθ for batches: J (..., 3, 3), dF (..., 3, K); NaN where J is singular.
-    Returns (dP*/dθ, condition number ||J||_F ||J^-1||_F (...,), inf where singular)."""
+    """dP*/dθ = -J^-1 dF/dθ for batches (the implicit-function theorem).
+
+    Parameters
+    ----------
+    J : ndarray, shape (..., 3, 3)
+        Jacobian dF/dP at the solutions.
+    dF : ndarray, shape (..., 3, K)
+        dF/dθ at fixed P.
+
+    Returns
+    -------
+    S : ndarray, shape (..., 3, K)
+        dP*/dθ [m per unit of θ], NaN where J is singular.
+    cond : ndarray, shape (...)
+        ||J||_F ||J^-1||_F, inf where J is singular.
+    """
     Jinv, _ = inverse3(J)
     cond = np.linalg.norm(J, axis=(-2, -1)) * np.linalg.norm(Jinv, axis=(-2, -1))
     return -Jinv @ dF, np.where(np.isfinite(cond), cond, np.inf)
@@ -298,8 +404,10 @@ def sensitivities(
         reference here.
     threads : int, optional
         Threads of the compiled engine.
-    gap_tol : float [m], t_tol : float [N]
-        Margins of the smoothness flag (module docstring).
+    gap_tol : float [m]
+        |dp| gap to the runner-up admissible subset under which a paper-mode point is not smooth.
+    t_tol : float [N]
+        Tension margin under which a point is not smooth.
     solver : tol, maxiter (and max_step, physical mode) of the solve.
 
     Returns
@@ -308,9 +416,8 @@ def sensitivities(
         The solve's result (``redundancy.solve_points`` / ``equilibrium.solve_physical`` keys)
         plus: S (N, 3, 7 m + 1) [m per unit of θ], NaN where the status is not ok; names (list of
         7 m + 1 str, ``parameter_names``); smooth (N,) bool; margin_t (N,) [N] the tension margin;
-        cond (N,) the condition number of J (inf where singular or not ok);
-        paper mode also dp_gap (N,) [m], the |dp| gap to the runner-up admissible subset (inf if
-        none).
+        cond (N,) the condition number of J (inf where singular or not ok); paper mode also
+        dp_gap (N,) [m], the |dp| gap to the runner-up admissible subset (inf if none).
 
     References
     ----------
@@ -367,13 +474,33 @@ def sensitivities(
 
 
 def sensitivity_columns(names):
-    """Table column names of the sensitivities: dx_d<name>, dy_d<name>, dz_d<name> per parameter."""
+    """Table column names of the sensitivities: dx_d<name>, dy_d<name>, dz_d<name> per parameter.
+
+    Parameters
+    ----------
+    names : list of str
+        ``parameter_names``.
+
+    Returns
+    -------
+    columns : list of str, length 3 len(names)
+    """
     return [f"d{ax}_d{nm}" for nm in names for ax in "xyz"]
 
 
 def sensitivity_frame(res):
-    """The sensitivities of a ``sensitivities`` result as table columns (``sensitivity_columns``)
-    plus ``smooth``; one row per point."""
+    """The sensitivities of a ``sensitivities`` result as table columns, one row per point.
+
+    Parameters
+    ----------
+    res : dict
+        A ``sensitivities`` result (keys S, names, smooth).
+
+    Returns
+    -------
+    DataFrame
+        Columns ``sensitivity_columns(res["names"])`` [m per unit of θ] and ``smooth``.
+    """
     import pandas as pd
 
     S = res["S"]
@@ -385,9 +512,20 @@ def sensitivity_frame(res):
 
 
 def robot_with_parameters(robot, values):
-    """A copy of ``robot`` whose parameters are ``values`` (7 m + 1,) in the order of
-    ``parameter_names`` [SI]; pulley kinds, cable diameters and admissible tensions unchanged. Not
-    validated (the caller checks physical ranges): a sampled or perturbed robot."""
+    """A copy of ``robot`` whose parameters are ``values``; pulley kinds, cable diameters and
+    admissible tensions unchanged. Not validated (the caller checks physical ranges): a sampled or
+    perturbed robot.
+
+    Parameters
+    ----------
+    robot : Robot
+    values : array_like, shape (7 m + 1,) [Pa, m, kg]
+        In the order of ``parameter_names``.
+
+    Returns
+    -------
+    Robot
+    """
     import dataclasses
 
     from .robot import Pulley
@@ -413,8 +551,8 @@ def robot_with_parameters(robot, values):
 
 
 def subset_sensitivities(robot, p, L=None, columns=None, engine="compiled", threads=None, **solver):
-    """Every 3-cable subset of paper mode at every point: P* (DEGM_E), admissibility (converged,
-    0 <= t <= T_a) and dP*/dθ; for the first-order propagation when the best subset may switch
+    """Every 3-cable subset of paper mode at every point: P* (DEGM_E), its tensions, dP*/dθ and
+    dt/dθ; for the first-order propagation when the best subset may switch
     (``uncertainty.Linearisation``). ``engine="numpy"`` is the reference (``direct.degm_e`` and
     ``paper_jacobian_terms`` per subset), ``"compiled"`` ``fast_sensitivity.subset_sensitivities``.
 
@@ -426,6 +564,9 @@ def subset_sensitivities(robot, p, L=None, columns=None, engine="compiled", thre
         Commanded lengths, default L_TS(p).
     columns : sequence of int, optional
         Parameter columns to keep, default all 7 m + 1.
+    engine : {"compiled", "numpy"}
+    threads : int, optional
+    solver : tol, maxiter of the solves.
 
     Returns
     -------
@@ -434,6 +575,10 @@ def subset_sensitivities(robot, p, L=None, columns=None, engine="compiled", thre
         (N, n_subsets) (a regular solution: S is finite there); admissible (N, n_subsets);
         S (N, n_subsets, 3, len(columns)) dP*/dθ and St (same shape) dt/dθ [N per unit], NaN where
         not converged; T_a (n_subsets, 3) [N]; columns.
+
+    References
+    ----------
+    Paty et al. 2021, eq. (8)-(13), section 3.2.
     """
     if engine == "compiled":
         from .fast_sensitivity import subset_sensitivities as fast_subsets

@@ -37,7 +37,9 @@ it, so the elastic error is nearly linear in 1/E over the paper's ±35 GPa, not 
 
 References
 ----------
-Paty et al. 2021, section 5. Saltelli, A. et al. (2010), Variance based sensitivity analysis of
+Paty, T., Binaud, N., Caro, S., Segonds, S. (2021). Cable-driven parallel robot modelling considering
+pulley kinematics and cable elasticity. Mechanism and Machine Theory 159, 104263 (section 5).
+Saltelli, A. et al. (2010), Variance based sensitivity analysis of
 model output, Computer Physics Communications 181, 259-270. Herman, J., Usher, W. (2017), SALib:
 an open-source Python library for sensitivity analysis, JOSS 2(9).
 """
@@ -142,8 +144,20 @@ class Driver:
 
 
 def drivers(parameters, m):
-    """The drivers of ``uncertainty.parameters`` (a mapping of ``PARAMETER_KEYS`` to specs) for a
-    robot with m cables, in the fixed order of ``PARAMETER_KEYS`` and cables."""
+    """The drivers (independent draws) of ``uncertainty.parameters``, in the fixed order of
+    ``PARAMETER_KEYS`` and cables, whatever the order of the study's keys.
+
+    Parameters
+    ----------
+    parameters : dict
+        ``PARAMETER_KEYS`` -> distribution spec {dist, low, high, mean, sd, per_cable}.
+    m : int
+        Number of cables.
+
+    Returns
+    -------
+    list of Driver
+    """
     base = {"E": 0, "h": m, "r_p": 2 * m, "d": 3 * m}
     out = []
     for key, (group, kind) in PARAMETER_KEYS.items():
@@ -177,19 +191,47 @@ def drivers(parameters, m):
 
 
 def mc_uniforms(seed, start, stop, n_drivers):
-    """Uniform numbers of Monte Carlo samples start .. stop - 1, shape (stop - start, n_drivers).
+    """Uniform numbers of Monte Carlo samples start .. stop - 1.
 
     Sample s draws from ``numpy.random.default_rng([seed, s])`` only: the same seed gives the same
-    numbers for a sample whatever range (shard) it is computed in."""
+    numbers for a sample whatever range (shard) it is computed in.
+
+    Parameters
+    ----------
+    seed : int
+    start, stop : int
+        Sample range [start, stop).
+    n_drivers : int
+
+    Returns
+    -------
+    U : ndarray, shape (stop - start, n_drivers)
+        In [0, 1).
+    """
     return np.array(
         [np.random.default_rng([int(seed), int(s)]).random(n_drivers) for s in range(start, stop)]
     ).reshape(stop - start, n_drivers)
 
 
 def parameter_samples(robot, drivers_, U, active=None):
-    """Parameter vectors θ (n, 7 m + 1) [SI] of the uniform numbers U (n, n_drivers): each active
-    driver's inverse CDF sets its columns (offsets are added to the nominal values); inactive
-    drivers (``active`` False) leave the nominal values."""
+    """Parameter vectors of uniform numbers: each active driver's inverse CDF sets its columns
+    (offsets are added to the nominal values); inactive drivers leave the nominal values.
+
+    Parameters
+    ----------
+    robot : Robot
+        The nominal robot.
+    drivers_ : list of Driver
+    U : array_like, shape (n, n_drivers)
+        Uniform numbers in (0, 1).
+    active : array_like of bool, shape (n_drivers,), optional
+        Drivers that move (default all).
+
+    Returns
+    -------
+    theta : ndarray, shape (n, 7 m + 1) [Pa, m, kg]
+        In the order of ``sensitivity.parameter_names``.
+    """
     U = np.atleast_2d(np.asarray(U, dtype=float))
     th0 = parameter_values(robot)
     th = np.tile(th0, (len(U), 1))
@@ -204,7 +246,22 @@ def parameter_samples(robot, drivers_, U, active=None):
 
 def check_samples(robot, theta, source="<study>", key="uncertainty.parameters"):
     """Refuse parameter vectors a robot cannot have (E, M, r_p > 0 or >= 0, h >= r_p for SR and
-    h > r_p for DR, d >= 0, anchors above the floor), naming the first bad sample."""
+    h > r_p for DR, d >= 0, anchors above the floor), naming the first bad sample.
+
+    Parameters
+    ----------
+    robot : Robot
+    theta : array_like, shape (n, 7 m + 1)
+    source : str
+        File named in the error.
+    key : str
+        Key named in the error.
+
+    Returns
+    -------
+    None
+        Raises ConfigError for a bad sample.
+    """
     m = robot.m
     th = np.atleast_2d(theta)
     E, h, r_p, d = th[:, :m], th[:, m : 2 * m], th[:, 2 * m : 3 * m], th[:, 3 * m : 4 * m]
@@ -234,8 +291,20 @@ def sample_stats(dp, ok):
     """Per sample: the global index (eq. 15: mean of ‖δp‖ over the ok points), the median and the
     95 % quantile of ‖δp‖ over the ok points, and the number of points that are not ok.
 
-    Parameters: dp (n, N) [m]; ok (n, N) bool. Returns a DataFrame with columns index_m, median_m,
-    p95_m, not_ok."""
+    Parameters
+    ----------
+    dp : ndarray, shape (n, N) [m]
+    ok : ndarray, shape (n, N) bool
+
+    Returns
+    -------
+    DataFrame
+        Columns index_m, median_m, p95_m [m], not_ok; one row per sample.
+
+    References
+    ----------
+    Paty et al. 2021, eq. (14)-(15).
+    """
     d = np.where(ok, dp, np.nan)
     with np.errstate(all="ignore"):
         q = np.nanquantile(d, [0.5, 0.95], axis=1) if d.size else np.full((2, len(d)), np.nan)
@@ -345,7 +414,20 @@ class Linearisation:
 
 def linear_stats(lin, theta, batch=64, threads=None):
     """``sample_stats`` of the linearised ‖dp‖ for every row of θ, ``batch`` samples at a time (the
-    (samples, points) array of 1,000 samples over 63^3 points would take 2 GB)."""
+    (samples, points) array of 1,000 samples over 63^3 points would take 2 GB).
+
+    Parameters
+    ----------
+    lin : Linearisation
+    theta : array_like, shape (n, 7 m + 1)
+    batch : int
+    threads : int, optional
+
+    Returns
+    -------
+    DataFrame
+        As ``sample_stats``.
+    """
     theta = np.atleast_2d(theta)
     parts = []
     for i in range(0, len(theta), batch):
@@ -480,10 +562,15 @@ def sobol_analysis(evaluate, drivers_, robot, base_samples, seed, outputs, group
         Names of Y's columns.
     groups : bool
         Indices per parameter group (``Driver.group``) instead of per driver.
+    source : str
+        File named by ``check_samples``.
 
     Returns
     -------
-    (DataFrame with columns output, level, name, S1, S1_conf, ST, ST_conf; Y; θ)
+    indices : DataFrame
+        Columns output, level, name, S1, S1_conf, ST, ST_conf.
+    Y : ndarray, shape (N (D + 2), len(outputs))
+    theta : ndarray, shape (N (D + 2), 7 m + 1)
 
     References
     ----------
@@ -538,7 +625,8 @@ def local_contributions(lin, drivers_, projected):
 
     Returns
     -------
-    array (N, n_drivers) [m^2], NaN where the point is not ok.
+    contributions : ndarray, shape (N, n_drivers) [m^2]
+        NaN where the point is not ok.
     """
     dp0, S = lin.nominal()
     th0 = lin.theta0
@@ -564,7 +652,16 @@ def local_contributions(lin, drivers_, projected):
 
 
 def driver_columns(drivers_):
-    """The parameter columns the drivers set, sorted."""
+    """The parameter columns the drivers set, sorted.
+
+    Parameters
+    ----------
+    drivers_ : list of Driver
+
+    Returns
+    -------
+    columns : ndarray of int
+    """
     return np.array(sorted({c for d in drivers_ for c in d.columns}), dtype=np.intp)
 
 
@@ -572,14 +669,37 @@ def driver_columns(drivers_):
 # The study's experiments (``uncertainty:`` section of a study file); DataFrames in and out, no files
 # ------------------------------------------------------------------------------------------------
 def design_robot(st, design):
-    """The nominal robot of design ``design`` (a key of the study's ``optimal``) on the DOE robot."""
+    """The nominal robot of one optimal design on the DOE robot.
+
+    Parameters
+    ----------
+    st : Study
+    design : str
+        A key of the study's ``optimal``.
+
+    Returns
+    -------
+    Robot
+    """
     from .study import design_robot as study_design
 
     return study_design(st, st["doe"]["robot"], st["optimal"][design])
 
 
 def study_drivers(st, robot):
-    """(drivers of ``uncertainty.parameters``, mask of those Monte Carlo varies (``monte_carlo.vary``))."""
+    """The drivers of a study's ``uncertainty.parameters`` and which of them Monte Carlo varies.
+
+    Parameters
+    ----------
+    st : Study
+    robot : Robot
+
+    Returns
+    -------
+    drivers : list of Driver
+    active : ndarray of bool
+        The drivers of ``monte_carlo.vary``.
+    """
     u = st["uncertainty"]
     dr = drivers(u["parameters"], robot.m)
     vary = u["monte_carlo"]["vary"]
@@ -587,8 +707,20 @@ def study_drivers(st, robot):
 
 
 def mc_parameters(st, robot, start, stop, varied=True):
-    """Parameter vectors θ of Monte Carlo samples start .. stop - 1 (``varied``: only the drivers of
-    ``monte_carlo.vary`` move, the others stay nominal), checked."""
+    """Checked parameter vectors of Monte Carlo samples start .. stop - 1 of a study.
+
+    Parameters
+    ----------
+    st : Study
+    robot : Robot
+    start, stop : int
+    varied : bool
+        Only the drivers of ``monte_carlo.vary`` move (the others stay nominal); else all.
+
+    Returns
+    -------
+    theta : ndarray, shape (stop - start, 7 m + 1)
+    """
     u = st["uncertainty"]
     dr, active = study_drivers(st, robot)
     U = mc_uniforms(u["seed"], start, stop, len(dr))
@@ -598,7 +730,20 @@ def mc_parameters(st, robot, start, stop, varied=True):
 
 
 def model(st, design, case, points, threads=None):
-    """The ``PoseErrorModel`` of a design and case at ``points`` with the study's settings."""
+    """The ``PoseErrorModel`` of a design and case at ``points`` with the study's settings.
+
+    Parameters
+    ----------
+    st : Study
+    design : str
+    case : {"uncompensated", "compensated"}
+    points : array_like, shape (N, 3) [m]
+    threads : int, optional
+
+    Returns
+    -------
+    PoseErrorModel
+    """
     u = st["uncertainty"]
     return PoseErrorModel(
         design_robot(st, design),
@@ -614,11 +759,27 @@ def mc_shard(st, design, case, box, shard, threads=None):
     """Monte Carlo shard by full solves over the RW_C grid, and the linearised propagation of the
     same samples: how far the two agree.
 
-    Samples ``shard_range(full_samples, shard, shards)`` of ``monte_carlo``. Returns (per-sample
-    table: sample, index/median/p95 of ‖δp‖ [m] by full solves and linearised, not-ok points, the
-    largest point difference [m] and the share of points differing by more than ``agree_tol_m``;
-    per-point table: x, y, z, smooth (the nominal answer's flag), dp_nominal_m, max_diff_m over the
-    shard's samples, n_disagree the samples where the difference exceeds ``agree_tol_m``)."""
+    Samples ``shard_range(full_samples, shard, shards)`` of ``monte_carlo``.
+
+    Parameters
+    ----------
+    st : Study
+    design : str
+    case : {"uncompensated", "compensated"}
+    box : array_like, shape (6,) [m]
+        RW_C.
+    shard : int
+    threads : int, optional
+
+    Returns
+    -------
+    samples : DataFrame
+        sample, index/median/p95 of ‖δp‖ [m] by full solves and linearised, not-ok points, the
+        largest point difference [m], the share of points differing by more than ``agree_tol_m``.
+    points : DataFrame
+        x, y, z, smooth (the nominal answer's flag), dp_nominal_m, max_diff_m over the shard's
+        samples, n_disagree (samples where the difference exceeds ``agree_tol_m``).
+    """
     from .workspace import grid_points, shard_range
 
     mc = st["uncertainty"]["monte_carlo"]
@@ -669,8 +830,21 @@ def mc_shard(st, design, case, box, shard, threads=None):
 
 def linear_samples(st, design, case, box, threads=None):
     """Every Monte Carlo sample (``monte_carlo.samples``) by the linearised propagation over the
-    RW_C grid; the first row (sample -1) is the nominal robot. Columns sample, index_m, median_m,
-    p95_m, not_ok."""
+    RW_C grid; the first row (sample -1) is the nominal robot.
+
+    Parameters
+    ----------
+    st : Study
+    design : str
+    case : {"uncompensated", "compensated"}
+    box : array_like, shape (6,) [m]
+    threads : int, optional
+
+    Returns
+    -------
+    DataFrame
+        sample, index_m, median_m, p95_m [m], not_ok.
+    """
     from .workspace import grid_points
 
     mc = st["uncertainty"]["monte_carlo"]
@@ -685,8 +859,25 @@ def linear_samples(st, design, case, box, threads=None):
 
 def path_bands(st, design, case, threads=None):
     """‖δp‖ quantiles (5, 50, 95 %) along the section 5.2 path (``elasticity.path``) over every
-    Monte Carlo sample, by full solves. Columns s [m], x, y, z, dp_nominal_m, q05_m, q50_m, q95_m,
-    ok_share (share of samples where the point is ok)."""
+    Monte Carlo sample, by full solves.
+
+    Parameters
+    ----------
+    st : Study
+    design : str
+    case : {"uncompensated", "compensated"}
+    threads : int, optional
+
+    Returns
+    -------
+    DataFrame
+        s, x, y, z [m], dp_nominal_m, q05_m, q50_m, q95_m [m], ok_share (share of samples where the
+        point is ok).
+
+    References
+    ----------
+    Paty et al. 2021, section 5.2, Fig. 19.
+    """
     from .analyses import trajectory_points
 
     path = st["elasticity"]["path"]
@@ -723,9 +914,22 @@ def sobol(st, design, case, box, threads=None):
     (``sobol.index_n``) and of ‖δp‖ at ``sobol.points_m``, for every declared parameter (per driver
     and per group), by full solves.
 
-    Returns (indices: output, level, name, S1, S1_conf, ST, ST_conf; the evaluations of the
-    design's independent rows A and B of Saltelli's scheme (2 base_samples draws of every
-    parameter): index_m, median_m, p95_m over the RW_C grid)."""
+    Parameters
+    ----------
+    st : Study
+    design : str
+    case : {"uncompensated", "compensated"}
+    box : array_like, shape (6,) [m]
+    threads : int, optional
+
+    Returns
+    -------
+    indices : DataFrame
+        output, level, name, S1, S1_conf, ST, ST_conf.
+    rows : DataFrame
+        The evaluations of the independent rows A and B of Saltelli's scheme (2 base_samples draws
+        of every parameter): index_m, median_m, p95_m, not_ok over the RW_C grid.
+    """
     from .workspace import grid_points
 
     u = st["uncertainty"]
@@ -756,8 +960,21 @@ def sobol(st, design, case, box, threads=None):
 def dominant_map(st, design, case, threads=None):
     """The parameter that dominates the spread of ‖δp‖ on the plane z = ``plane.z_m`` (``map_n``
     points per side), from the first-order contributions of every declared driver
-    (``local_contributions``). Columns x, y, z, dp_nominal_m, dominant (driver name), group,
-    share (its part of the sum of contributions), rms_m (the square root of that sum)."""
+    (``local_contributions``).
+
+    Parameters
+    ----------
+    st : Study
+    design : str
+    case : {"uncompensated", "compensated"}
+    threads : int, optional
+
+    Returns
+    -------
+    DataFrame
+        x, y, z [m], dp_nominal_m, dominant (driver name), group, share (its part of the sum of
+        contributions), rms_m (the square root of that sum) [m].
+    """
     from .analyses import plane_points
 
     u = st["uncertainty"]
@@ -791,15 +1008,28 @@ def dominant_map(st, design, case, threads=None):
 def bands(linear, full, nominal_common=None):
     """The global-index band of the Monte Carlo samples of one design and case.
 
-    Parameters: linear (``linear_samples``: sample -1 nominal, then every sample); full (the
-    concatenated ``mc_shard`` samples); nominal_common (our index at the nominal common E, for the
-    paper's band definition, default the linear nominal row).
+    Parameters
+    ----------
+    linear : DataFrame
+        ``linear_samples`` (sample -1 nominal, then every sample).
+    full : DataFrame
+        The concatenated ``mc_shard`` samples.
+    nominal_common : float [m], optional
+        Our index at the nominal common E, default the linear nominal row.
 
-    Returns one row per method (linearised over every sample, full over the full-solve samples):
-    method, n, index_nominal_m, index_q05_m, index_q50_m, index_q95_m, index_min_m, index_max_m,
-    plus_m = max - nominal, minus_m = nominal - min (the paper's band definition), and the residual
-    statistics median_q50_m / p95_q50_m (median over samples of each sample's median and 95 % of
-    ‖δp‖ over the points) and p95_q95_m."""
+    Returns
+    -------
+    DataFrame
+        One row per method (linearised over every sample, full over the full-solve samples):
+        method, n, index_nominal_m, index_q05_m, index_q50_m, index_q95_m, index_min_m,
+        index_max_m, plus_m = max - nominal, minus_m = nominal - min (the paper's band definition),
+        median_q50_m / p95_q50_m (median over samples of each sample's median and 95 % of ‖δp‖ over
+        the points) and p95_q95_m [m].
+
+    References
+    ----------
+    Paty et al. 2021, section 5.1.
+    """
     nom = linear.loc[linear["sample"] == -1, "index_m"].iloc[0]
     nom = nom if nominal_common is None else nominal_common
     out = []
@@ -831,10 +1061,22 @@ def bands(linear, full, nominal_common=None):
 def agreement(full, points, agree_tol):
     """How far the linearised propagation agrees with the full solves (one design and case).
 
-    Returns one row: n (samples compared), max_index_diff_m and max_index_rel (largest difference
-    of the global index), max_p95_diff_m, max_point_diff_m, share_points_disagree (points where
-    some sample differs by more than ``agree_tol``), share_disagree_flagged (the part of those the
-    sensitivities flag as not smooth), z_disagree_min_m / z_disagree_max_m (where they are)."""
+    Parameters
+    ----------
+    full : DataFrame
+        The concatenated ``mc_shard`` samples.
+    points : DataFrame
+        The concatenated ``mc_shard`` points.
+    agree_tol : float [m]
+
+    Returns
+    -------
+    dict
+        n (samples compared), agree_tol_m, max_index_diff_m and max_index_rel (largest difference of
+        the global index), max_p95_diff_m, max_point_diff_m, share_points_disagree (points where some
+        sample differs by more than ``agree_tol``), share_disagree_flagged (the part of those the
+        sensitivities flag as not smooth), z_disagree_min_m / z_disagree_max_m (where they are).
+    """
     d = (full["index_lin_m"] - full["index_full_m"]).abs()
     bad = points["n_disagree"] > 0
     with np.errstate(all="ignore"):
