@@ -37,10 +37,11 @@ STATUSES = ("ok", "slack", "over_tension", "inaccessible", "not_converged")
 TIE_TOL = 1e-9
 
 
-def solve_points(robot, p, method="newton", **options):
+def solve_points(robot, p, method="newton", L=None, **options):
     """Solve DEGM_E at desired points p (N, 3) over all 3-cable subsets; choose per point.
 
-    Every subset is commanded the standard lengths L_TS(p) (Paty 2021 eq. 2) and solved with
+    Every subset is commanded the lengths ``L`` (default the standard lengths L_TS(p), Paty 2021
+    eq. 2) and solved with
     ``direct.degm_e``; the pose error is |dp| = |P* - p| (eq. 14); the choice and the statuses are
     those of the module docstring (section 3.2, Fig. 8-9).
 
@@ -52,6 +53,8 @@ def solve_points(robot, p, method="newton", **options):
         Desired positions.
     method : {"newton", "fixed_point"}
         DEGM_E solver (``direct.degm_e``).
+    L : array_like (N, m) [m], optional
+        Commanded total lengths of every cable; default L_TS(p) of ``robot`` (eq. 2).
     options : tolerances passed to ``direct.degm_e``.
 
     Returns
@@ -67,7 +70,7 @@ def solve_points(robot, p, method="newton", **options):
     n = p.shape[0]
     subsets = robot.subsets
     ns = len(subsets)
-    L_all = L_TS(robot, p)
+    L_all = L_TS(robot, p) if L is None else np.broadcast_to(np.asarray(L, dtype=float), (n, robot.m))
     T_a = robot.T_a[subsets][:, None, :]  # (n_subsets, 1, 3) per-cable admissible tension
     Ps = np.full((ns, n, 3), np.nan)
     ts = np.full((ns, n, 3), np.nan)

@@ -21,6 +21,8 @@ MODEL_MODULES = [
     "compensation",
     "drive",
     "analyses",
+    "sensitivity",
+    "uncertainty",
 ]
 
 #: A numpy section header: a title line underlined by dashes of the same length.
