@@ -1,0 +1,55 @@
+#!/usr/bin/env bash
+# `make test-slurm`: the quick study through a throw-away single-node SLURM cluster on this machine
+# (tests/slurm/local_slurm.sh, no job accounting) with the shipped profile workflow/profiles/slurm,
+# unedited; then the same study locally. Every output file except the per-rule logs must be
+# byte-identical (cmp): tables (CSV, parquet, JSON), summary.md and the figures (PNG, PDF).
+# The cluster is stopped on exit, also after a failure. Needs root or sudo, and .venv with the
+# executor plugin (`make cluster-venv`, which `make test-slurm` runs first).
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+
+STUDY=config/studies/quick.yaml
+OUT=results/test_slurm
+# The quick study makes 4 SLURM jobs (2 group jobs per solver group, every other rule local);
+# more means the profile's groups or the localrules were lost (82 jobs without them).
+MAX_JOBS=6
+SUDO=
+[ "$(id -u)" = 0 ] || SUDO=sudo
+
+fail() { echo "test-slurm: FAILED: $*" >&2; exit 1; }
+stop_cluster() { $SUDO tests/slurm/local_slurm.sh stop || true; }
+trap stop_cluster EXIT
+
+t0=$(date +%s)
+$SUDO tests/slurm/local_slurm.sh start
+t1=$(date +%s)
+
+rm -rf "$OUT"
+mkdir -p "$OUT"
+echo "test-slurm: $STUDY through SLURM (log: $OUT/slurm.log)"
+.venv/bin/snakemake --profile workflow/profiles/slurm reproduce_paper \
+  --config study="$STUDY" results="$OUT/slurm" > "$OUT/slurm.log" 2>&1 ||
+  { tail -40 "$OUT/slurm.log"; fail "the SLURM run failed"; }
+t2=$(date +%s)
+jobs=$(grep -c "has been submitted with SLURM jobid" "$OUT/slurm.log" || true)
+
+echo "test-slurm: $STUDY locally (log: $OUT/local.log)"
+.venv/bin/snakemake --cores all reproduce_paper \
+  --config study="$STUDY" results="$OUT/local" > "$OUT/local.log" 2>&1 ||
+  { tail -40 "$OUT/local.log"; fail "the local run failed"; }
+t3=$(date +%s)
+
+list() { (cd "$1" && find . -type f ! -path './logs/*' | sort); }
+list "$OUT/local" > "$OUT/local.files"
+list "$OUT/slurm" > "$OUT/slurm.files"
+diff "$OUT/local.files" "$OUT/slurm.files" || fail "the two runs wrote different files (< local, > SLURM)"
+differ=0
+while read -r f; do
+  cmp "$OUT/local/$f" "$OUT/slurm/$f" || differ=$((differ + 1))
+done < "$OUT/local.files"
+[ "$differ" = 0 ] || fail "$differ files differ between the SLURM and the local run"
+[ "$jobs" -ge 1 ] && [ "$jobs" -le "$MAX_JOBS" ] || fail "$jobs SLURM jobs submitted, expected 1..$MAX_JOBS"
+
+kinds=$(sed 's/.*\.//' "$OUT/local.files" | sort | uniq -c | awk '{printf "%s%s %s", sep, $1, $2; sep=", "}')
+echo "test-slurm: OK: $(wc -l < "$OUT/local.files") files byte-identical ($kinds); $jobs SLURM jobs"
+echo "test-slurm: seconds: cluster start $((t1 - t0)), SLURM run $((t2 - t1)), local run $((t3 - t2)), total $((t3 - t0)) (+ stop)"
