@@ -36,7 +36,7 @@ def shell_commands(dry_run: str):
         if m:
             rule = m.group(1)
         elif line.startswith("Shell command: ") and rule and line != "Shell command: None":
-            yield rule, line[len("Shell command: "):]
+            yield rule, line[len("Shell command: ") :]
 
 
 def measure(command: str):

@@ -2,6 +2,7 @@
 a command is either a solver rule the profile groups or one of the `localrules` of
 workflow/rules/cluster.smk (never both, never neither), and its groups form a valid DAG with the
 expected number of group jobs. `make test-slurm` runs the profile on a real SLURM cluster."""
+
 import re
 import subprocess
 import sys
@@ -30,7 +31,10 @@ def profile_args():
     args += ["--resources", *(f"{k}={v}" for k, v in p["resources"].items())]
     args += ["--set-resource-scopes", *(f"{k}={v}" for k, v in p["set-resource-scopes"].items())]
     args += ["--default-resources", *(f"{k}={v}" for k, v in p["default-resources"].items())]
-    args += ["--set-resources", *(f"{r}:{k}={v}" for r, res in p["set-resources"].items() for k, v in res.items())]
+    args += [
+        "--set-resources",
+        *(f"{r}:{k}={v}" for r, res in p["set-resources"].items() for k, v in res.items()),
+    ]
     return args
 
 
@@ -38,9 +42,24 @@ def profile_args():
 def dry_run(request):
     """(study, rule -> has a shell command, number of group jobs) of a dry run with the profile's groups."""
     exe = Path(sys.executable).with_name("snakemake")
-    p = subprocess.run([str(exe), "reproduce_paper", "-n", "-p", "--forceall", "--cores", "2", *profile_args(),
-                        "--config", f"study=config/studies/{request.param}.yaml", f"results=results/dry_{request.param}"],
-                       cwd=ROOT, capture_output=True, text=True)
+    p = subprocess.run(
+        [
+            str(exe),
+            "reproduce_paper",
+            "-n",
+            "-p",
+            "--forceall",
+            "--cores",
+            "2",
+            *profile_args(),
+            "--config",
+            f"study=config/studies/{request.param}.yaml",
+            f"results=results/dry_{request.param}",
+        ],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+    )
     assert p.returncode == 0, p.stdout[-2000:] + p.stderr[-2000:]
     rules, rule = {}, None
     for line in p.stdout.splitlines():
@@ -58,14 +77,20 @@ def test_every_rule_is_either_local_or_grouped(dry_run):
     grouped, local = set(PROFILE["groups"]), localrules()
     assert not grouped & local, f"both local and grouped: {grouped & local}"
     with_command = {r for r, shell in rules.items() if shell}
-    assert with_command - grouped - local == set(), "rules that would be single SLURM jobs: add to groups or localrules"
-    assert (grouped | local) - set(rules) == set(), "rules named in the profile or cluster.smk that the workflow lacks"
+    assert with_command - grouped - local == set(), (
+        "rules that would be single SLURM jobs: add to groups or localrules"
+    )
+    assert (grouped | local) - set(rules) == set(), (
+        "rules named in the profile or cluster.smk that the workflow lacks"
+    )
 
 
 def test_profile_names_only_existing_rules(dry_run):
     _, rules, _ = dry_run
     assert set(PROFILE["set-resources"]) - set(rules) == set()
-    assert set(PROFILE["set-resources"]) == set(PROFILE["groups"]), "every solver rule needs measured resources"
+    assert set(PROFILE["set-resources"]) == set(PROFILE["groups"]), (
+        "every solver rule needs measured resources"
+    )
 
 
 def test_no_partition_account_or_cpu_override():
