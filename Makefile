@@ -6,8 +6,9 @@ PYTHON ?= python3.11
 VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
+CLUSTER_STAMP := $(VENV)/.installed-cluster
 
-.PHONY: venv test docs reproduce resume reproduce-quick update-references clean-venv
+.PHONY: venv test docs reproduce resume reproduce-quick update-references clean-venv cluster-venv test-slurm
 
 # Re-install whenever pyproject.toml changes (the stamp is older than it).
 $(STAMP): pyproject.toml
@@ -46,6 +47,20 @@ reproduce-quick: $(STAMP)
 update-references: $(STAMP)
 	$(BIN)/snakemake --cores all --forceall reproduce_paper --config study=config/studies/quick.yaml results=results/quick
 	$(BIN)/python -m tests.update_references
+
+# The SLURM executor plugin (extra `cluster` of pyproject.toml) into .venv, for
+#   .venv/bin/snakemake --profile workflow/profiles/slurm ...
+$(CLUSTER_STAMP): $(STAMP)
+	$(BIN)/pip install --quiet -e '.[test,docs,cluster]'
+	touch $(CLUSTER_STAMP)
+
+cluster-venv: $(CLUSTER_STAMP)
+
+# The quick study through a throw-away single-node SLURM cluster on this machine with the shipped
+# profile, compared byte for byte with a local run. Debian/Ubuntu; root or sudo (installs the slurm
+# packages on first use, starts and stops the daemons): tests/slurm/local_slurm.sh.
+test-slurm: $(CLUSTER_STAMP)
+	tests/slurm/test_slurm.sh
 
 clean-venv:
 	rm -rf $(VENV)

@@ -27,3 +27,6 @@ rule reproduce_paper:
     default_target: True
     input:
         all_targets(),
+
+
+include: "workflow/rules/cluster.smk"

@@ -1,0 +1,106 @@
+"""The SLURM profile against the workflow, without SLURM: every rule it names exists, every rule with
+a command is either a solver rule the profile groups or one of the `localrules` of
+workflow/rules/cluster.smk (never both, never neither), and its groups form a valid DAG with the
+expected number of group jobs. `make test-slurm` runs the profile on a real SLURM cluster."""
+
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+import yaml
+
+from .conftest import ROOT
+
+PROFILE = yaml.safe_load((ROOT / "workflow" / "profiles" / "slurm" / "config.yaml").read_text())
+CLUSTER_SMK = (ROOT / "workflow" / "rules" / "cluster.smk").read_text()
+
+
+def localrules():
+    block = re.search(r"^localrules:\n((?:[ \t]+\w+,?\n)+)", CLUSTER_SMK, re.M).group(1)
+    return set(re.findall(r"\w+", block))
+
+
+def profile_args():
+    """The profile's grouping and resource keys as command-line options (the rest of the profile
+    needs the SLURM plugin)."""
+    p = PROFILE
+    args = ["--groups", *(f"{r}={g}" for r, g in p["groups"].items())]
+    args += ["--group-components", *(f"{g}={n}" for g, n in p["group-components"].items())]
+    args += ["--resources", *(f"{k}={v}" for k, v in p["resources"].items())]
+    args += ["--set-resource-scopes", *(f"{k}={v}" for k, v in p["set-resource-scopes"].items())]
+    args += ["--default-resources", *(f"{k}={v}" for k, v in p["default-resources"].items())]
+    args += [
+        "--set-resources",
+        *(f"{r}:{k}={v}" for r, res in p["set-resources"].items() for k, v in res.items()),
+    ]
+    return args
+
+
+@pytest.fixture(scope="module", params=["quick", "paper"])
+def dry_run(request):
+    """(study, rule -> has a shell command, number of group jobs) of a dry run with the profile's groups."""
+    exe = Path(sys.executable).with_name("snakemake")
+    p = subprocess.run(
+        [
+            str(exe),
+            "reproduce_paper",
+            "-n",
+            "-p",
+            "--forceall",
+            "--cores",
+            "2",
+            *profile_args(),
+            "--config",
+            f"study=config/studies/{request.param}.yaml",
+            f"results=results/dry_{request.param}",
+        ],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+    )
+    assert p.returncode == 0, p.stdout[-2000:] + p.stderr[-2000:]
+    rules, rule = {}, None
+    for line in p.stdout.splitlines():
+        m = re.match(r"^\s*(?:local)?rule (\w+):$", line)
+        if m:
+            rule = m.group(1)
+            rules.setdefault(rule, False)
+        elif line.startswith("Shell command: ") and line != "Shell command: None":
+            rules[rule] = True
+    return request.param, rules, len(re.findall(r"^\[.*\] Group job ", p.stdout, re.M))
+
+
+def test_every_rule_is_either_local_or_grouped(dry_run):
+    _, rules, _ = dry_run
+    grouped, local = set(PROFILE["groups"]), localrules()
+    assert not grouped & local, f"both local and grouped: {grouped & local}"
+    with_command = {r for r, shell in rules.items() if shell}
+    assert with_command - grouped - local == set(), (
+        "rules that would be single SLURM jobs: add to groups or localrules"
+    )
+    assert (grouped | local) - set(rules) == set(), (
+        "rules named in the profile or cluster.smk that the workflow lacks"
+    )
+
+
+def test_profile_names_only_existing_rules(dry_run):
+    _, rules, _ = dry_run
+    assert set(PROFILE["set-resources"]) - set(rules) == set()
+    assert set(PROFILE["set-resources"]) == set(PROFILE["groups"]), (
+        "every solver rule needs measured resources"
+    )
+
+
+def test_no_partition_account_or_cpu_override():
+    defaults = PROFILE["default-resources"]
+    assert not {"slurm_partition", "slurm_account", "cpus_per_task"} & set(defaults)
+    assert all("cpus_per_task" not in r for r in PROFILE["set-resources"].values())
+    assert PROFILE["slurm-status-command"] == "squeue"
+
+
+def test_group_job_count(dry_run):
+    """The number of SLURM jobs the README states (solver jobs / group-components, per group)."""
+    study, _, groups = dry_run
+    assert groups == {"quick": 5, "paper": 5}[study]
