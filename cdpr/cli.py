@@ -522,7 +522,15 @@ def cmd_plane(args):
             f"--z must lie between the floor and the lowest pulley (0 <= z < {top:g} m), got {args.z:g}"
         )
     t0 = time.perf_counter()
-    df = analyses.plane(robot, args.z, args.n, method=args.method, engine=_engine(args), threads=args.threads)
+    df = analyses.plane(
+        robot,
+        args.z,
+        args.n,
+        method=args.method,
+        engine=_engine(args),
+        threads=args.threads,
+        redundancy=args.redundancy,
+    )
     io.write_table(df, args.out)
     _report(df, args.out, args, time.perf_counter() - t0)
 
@@ -532,7 +540,14 @@ def cmd_trajectory(args):
     io.check_output(args.out)
     t0 = time.perf_counter()
     df = analyses.trajectory(
-        robot, args.start, args.end, args.n, method=args.method, engine=_engine(args), threads=args.threads
+        robot,
+        args.start,
+        args.end,
+        args.n,
+        method=args.method,
+        engine=_engine(args),
+        threads=args.threads,
+        redundancy=args.redundancy,
     )
     io.write_table(df, args.out)
     _report(df, args.out, args, time.perf_counter() - t0)
@@ -731,6 +746,7 @@ def build_parser():
         "--n", type=count(2, 20000), required=True, help="points per side over the anchors' bounding box"
     )
     sp.add_argument("--out", required=True, metavar="FILE")
+    _physics_options(sp)
     sp.set_defaults(func=cmd_plane)
     sp = sub.add_parser(
         "trajectory", help="DEGM_E along a straight path (Fig. 10, 19); writes a table with arc length s"
@@ -741,6 +757,7 @@ def build_parser():
     sp.add_argument("--end", nargs=3, type=finite, required=True, metavar=("X", "Y", "Z"))
     sp.add_argument("--n", type=count(2, 100_000_000), required=True, help="points along the path")
     sp.add_argument("--out", required=True, metavar="FILE")
+    _physics_options(sp)
     sp.set_defaults(func=cmd_trajectory)
     sp = sub.add_parser("job", help="a pipeline task: tables in, tables and figures out (run by Snakemake)")
     sp.add_argument("name", choices=list(JOBS))

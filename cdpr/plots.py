@@ -133,6 +133,34 @@ def fig9_subsets(tables, A, z, robot_name, out):
     return save(fig, out)
 
 
+def fig9_taut(tables, A, z, robot_name, out):
+    """Fig. 9 of the physical study: the set of taut cables of the equilibrium at each point of the
+    plane (``redundancy: physical``: every cable may go slack; the paper's Fig. 9 shows instead the
+    3-cable subset its rule keeps), one panel per pulley design. ``tables`` maps a design label to
+    its plane table (column ``taut``, e.g. '1-2-3-4'); points that are not ok are grey."""
+    labels = sorted(
+        {s for df in tables.values() for s in df.taut.astype(str).unique() if s},
+        key=lambda s: (-len(s.split("-")), s),
+    )
+    cmap = plt.get_cmap("tab20" if len(labels) > 10 else "tab10", max(len(labels), 1))
+    fig, axes = plt.subplots(1, len(tables), figsize=(5.2 * len(tables), 4.8), squeeze=False)
+    im = None
+    for ax, (label, df) in zip(axes[0], tables.items()):
+        code = df.taut.astype(str).map({s: i for i, s in enumerate(labels)}).astype(float)
+        code[(df.status != "ok").to_numpy()] = np.nan
+        xs, ys, Z = _grid(df, code.to_numpy())
+        ax.set_facecolor(NOT_OK_COLOUR)
+        im = ax.pcolormesh(xs, ys, Z, cmap=cmap, vmin=-0.5, vmax=len(labels) - 0.5, shading="nearest")
+        _anchors(ax, A)
+        ax.set(xlabel="x [m]", ylabel="y [m]", title=f"{robot_name} {label} at z = {z:g} m", aspect="equal")
+        _not_ok_legend(ax, df)
+    if im is not None:
+        cb = fig.colorbar(im, ax=axes[0].tolist(), ticks=range(len(labels)))
+        cb.ax.set_yticklabels([f"taut {s}" for s in labels])
+    fig.suptitle("Taut cables of the physical equilibrium (Fig. 9, physical mode); grey: not ok", fontsize=9)
+    return save(fig, out)
+
+
 def fig10_trajectories(tables, minmax, out):
     """Paty 2021 Fig. 10: ‖δp‖ along the section 3.3.1 paths. ``tables`` maps a design label
     (robot_pulley) to its path table (s, dp, status); ``minmax`` has ok_until_s_m and

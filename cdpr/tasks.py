@@ -16,7 +16,6 @@ import pandas as pd
 
 from . import analyses, doe, io, study, winch, workspace
 from .errors import CdprError
-from .solve import solve_table
 
 
 def _by_stem(paths, pattern, what):
@@ -49,6 +48,17 @@ def _index(df):
     return doe.global_index(df["dp"].to_numpy(), df["status"].astype(str).to_numpy())
 
 
+def _grid_index(st, robot, box, n, threads=None):
+    """Global index (eq. 15) of ``robot`` over the n^3 grid of ``box`` in the study's redundancy
+    mode, one solve per orbit of the symmetries robot and grid share (``symmetry.solve_grid``)."""
+    from .symmetry import solve_grid
+
+    dp, status, _ = solve_grid(
+        robot, box, n, method=st["solver"], threads=threads, redundancy=study.redundancy(st)
+    )
+    return doe.global_index(dp, status)
+
+
 # ---- winch (Métillon Fig. 7) -------------------------------------------------------------------
 def winch_figure(st, table, figure):
     """Fig. 7 of the winch seed from ``winch.csv``."""
@@ -76,11 +86,13 @@ def plane_figure(st, robot_key, tables, figure):
 
 
 def subsets_figure(st, robot_key, tables, figure):
-    """Fig. 9 for one robot: the subset minimising ‖δp‖, one panel per pulley design."""
+    """Fig. 9 for one robot: the subset minimising ‖δp‖ (paper mode) or the taut cables (physical
+    mode), one panel per pulley design."""
     from . import plots
 
     robot = study.robot_of(st, robot_key)
-    plots.fig9_subsets(_plane_tables(st, tables, robot_key), robot.A, st["plane"]["z_m"], robot_key, figure)
+    draw = plots.fig9_taut if study.redundancy(st) == "physical" else plots.fig9_subsets
+    draw(_plane_tables(st, tables, robot_key), robot.A, st["plane"]["z_m"], robot_key, figure)
 
 
 # ---- trajectories (Fig. 10-11) -----------------------------------------------------------------
@@ -275,11 +287,11 @@ def doe_results(st, tables, table, effects, figure, effects_figure):
 def map_rows(st, kind, box_file, table, threads=None):
     """Global index over every map cell (h, r_p), r_p < h, for one pulley kind (Fig. 17)."""
     n = st["maps"]["index_n"]
-    P = workspace.grid_points(study.read_box(box_file), n)
+    box = study.read_box(box_file)
     rows = []
     for h, r_p in study.map_cells(st):
         robot = study.design_robot(st, st["doe"]["robot"], {"kind": kind, "h_m": h, "r_p_m": r_p})
-        ix, bad = _index(solve_table(robot, P, method=st["solver"], threads=threads))
+        ix, bad = _grid_index(st, robot, box, n, threads)
         rows.append({"kind": kind, "h_m": h, "r_p_m": r_p, "index_m": ix, "not_ok_points": bad, "N": n**3})
     io.write_table(
         pd.DataFrame(rows, columns=["kind", "h_m", "r_p_m", "index_m", "not_ok_points", "N"]), table
@@ -295,7 +307,7 @@ def maps(st, tables, box_file, map, lines, figure, threads=None):
     io.write_table(tab, map)
     lv = st["doe"]["levels"]
     n = st["doe"]["index_n"]
-    P = workspace.grid_points(study.read_box(box_file), n)
+    box = study.read_box(box_file)
     out, valleys = [], {}
     for kind in study.map_kinds(st):
         g = tab[tab.kind == kind]
@@ -307,7 +319,7 @@ def maps(st, tables, box_file, map, lines, figure, threads=None):
         ix = float("nan")
         if pt is not None:
             robot = study.design_robot(st, st["doe"]["robot"], {"kind": kind, "h_m": pt[1], "r_p_m": pt[0]})
-            ix, _ = _index(solve_table(robot, P, method=st["solver"], threads=threads))
+            ix, _ = _grid_index(st, robot, box, n, threads)
         out.append(
             {
                 "kind": kind,
@@ -389,22 +401,25 @@ def elasticity(st, tables, paths, table, bands, crossings, figure, paths_figure)
 def dead_length_point(st, d, box_file, table, threads=None):
     """Paper-comparable numbers at dead length d: the plane extremes of each pulley design on the
     DOE robot, and each optimal design's index at E_min, E_mean, E_max."""
-    P = workspace.grid_points(study.read_box(box_file), st["dead_length"]["index_n"])
+    box, n = study.read_box(box_file), st["dead_length"]["index_n"]
     row = {"d_m": d}
     for pk in st["pulleys"]:
         robot = study.design_robot(st, st["doe"]["robot"], st["pulleys"][pk], dead_length=d)
         lo, hi = analyses.ok_extremes(
             analyses.plane(
-                robot, st["plane"]["z_m"], st["dead_length"]["plane_n"], method=st["solver"], threads=threads
+                robot,
+                st["plane"]["z_m"],
+                st["dead_length"]["plane_n"],
+                method=st["solver"],
+                threads=threads,
+                redundancy=study.redundancy(st),
             )
         )
         row[f"plane_{pk}_min_m"], row[f"plane_{pk}_max_m"] = lo, hi
     for dk, spec in st["optimal"].items():
         for tag, E in zip(("Emin", "Emean", "Emax"), st["elasticity"]["E_path_Pa"]):
             robot = study.design_robot(st, st["doe"]["robot"], spec, E=E, dead_length=d)
-            row[f"{dk}_{tag}_index_m"], _ = _index(
-                solve_table(robot, P, method=st["solver"], threads=threads)
-            )
+            row[f"{dk}_{tag}_index_m"], _ = _grid_index(st, robot, box, n, threads)
     io.write_table(pd.DataFrame([row]), table)
 
 

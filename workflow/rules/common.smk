@@ -52,10 +52,15 @@ wildcard_constraints:
     pulley="|".join(PULLEYS),
 
 
+# paper: the 3-of-4 subset rule; physical: the equilibrium on all cables (every solver job gets it)
+REDUNDANCY = STUDY["redundancy"]
+
+
 def pulley_args(p, E=None):
     """Command-line overrides for a pulley design {kind, h_m, r_p_m} (same as editing the robot
-    file), with the study's dead length and solver, and optionally E [Pa]."""
+    file), with the study's dead length, solver and redundancy mode, and optionally E [Pa]."""
     args = f"--pulley {p['kind']} --dead-length {STUDY['dead_length_m']} --method {STUDY['solver']}"
+    args += f" --redundancy {REDUNDANCY}"
     if p["kind"] != "fixed":
         args += f" --h {p.get('h_m', 0)} --rp {p.get('r_p_m', 0)}"
     return args if E is None else f"{args} --E {E}"

@@ -20,7 +20,7 @@ rule summary:
         markdown=f"{RES}/summary.md",
         table=f"{RES}/summary.csv",
     params:
-        study=uses("name", "paper_comparison", "dead_length_m", "solver", "doe", "maps", "trajectories"),
+        study=uses("name", "paper_comparison", "dead_length_m", "solver", "doe", "maps", "trajectories", "redundancy"),
         cdpr=CDPR,
         study_file=STUDY_FILE,
         results=lambda w, output: str(Path(output.table).parent),
