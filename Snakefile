@@ -20,6 +20,7 @@ include: "workflow/rules/doe.smk"
 include: "workflow/rules/maps.smk"
 include: "workflow/rules/elasticity.smk"
 include: "workflow/rules/summary.smk"
+include: "workflow/rules/comparison.smk"
 
 
 rule reproduce_paper:

@@ -573,6 +573,12 @@ JOBS = {
     "dead-length-point": ("dead_length_point", ["d", "box_file", "table", "threads"]),
     "dead-length": ("dead_length", ["tables", "table", "figure"]),
     "summary": ("summary", ["results", "table", "markdown"]),
+    "budget-design": (
+        "budget_design",
+        ["comparison", "label", "box_file", "table", "path_table", "threads"],
+    ),
+    "budget": ("budget_tables", ["comparison", "tables", "paths", "table", "figure", "paths_figure"]),
+    "comparison": ("comparison", ["comparison", "tables", "table", "figure", "markdown"]),
 }
 _JOB_OPTION_HELP = {
     "tables": "input tables (matched by file name)",
@@ -596,6 +602,8 @@ _JOB_OPTION_HELP = {
     "kind": "pulley kind",
     "d": "dead length [m]",
     "threads": "solver threads",
+    "comparison": "comparison file (config/comparisons/*.yaml)",
+    "path_table": "output table along the path",
 }
 
 
@@ -623,6 +631,7 @@ def cmd_job(args):
             "crossings",
             "paths_figure",
             "markdown",
+            "path_table",
         ):
             io.check_output(given[n])
     getattr(tasks, func)(st, **given)
