@@ -32,6 +32,8 @@ Paty et al. 2021, eq. (15) (the global index over the cell-centred grid of RW_C)
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
 
 from .workspace import check_box, grid_points
@@ -168,6 +170,17 @@ def solve_grid(robot, box, n, symmetric=True, **solver):
     if solver.get("L0") is not None:
         raise ValueError("solve_grid: commanded lengths L0 need not be symmetric; solve the full grid")
     transforms = grid_symmetries(robot, box) if symmetric else [D4[0]]
-    reps, inverse = orbits(n, transforms)
-    res = solve_points_any(robot, grid_points(box, n)[reps], **solver)
-    return np.asarray(res["dp"])[inverse], np.asarray(res["status"]).astype(str)[inverse], len(reps)
+    P, inverse = _orbit_points(tuple(check_box(box).tolist()), int(n), tuple(T.tobytes() for T in transforms))
+    res = solve_points_any(robot, P, **solver)
+    return np.asarray(res["dp"])[inverse], np.asarray(res["status"]).astype(str)[inverse], len(P)
+
+
+@lru_cache(maxsize=8)
+def _orbit_points(box, n, transforms):
+    """The representatives' coordinates (K, 3) [m] and the grid's orbit index (n^3,), computed once
+    per box, n and group (a map job solves hundreds of cells on the same grid); callers must not
+    modify them."""
+    reps, inverse = orbits(n, [np.frombuffer(t, dtype=int).reshape(2, 2) for t in transforms])
+    P = grid_points(box, n)[reps]
+    inverse.flags.writeable = False  # P stays writeable: numba compiles read-only arrays anew
+    return P, inverse
