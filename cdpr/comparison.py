@@ -517,6 +517,11 @@ def difference_stats(tables):
 # The page
 # ------------------------------------------------------------------------------------------------
 def _fmt(v, unit=""):
+    if isinstance(v, str):  # a number read back from the CSV (mixed columns are text there)
+        try:
+            v = float(v)
+        except ValueError:
+            return v
     if v is None or (isinstance(v, float) and not math.isfinite(v)):
         return "–"
     if isinstance(v, (bool, np.bool_)):
@@ -536,14 +541,10 @@ def _md_table(df, cols, headers):
 def headline_table(rows):
     """The headline rows of ``conclusions`` (one statement per conclusion) as Markdown lines."""
     h = rows[rows.headline.astype(bool)].copy()
-    h["paper_mode_u"] = [
-        f"{_fmt(v)} {u}" if u not in ("-",) and not isinstance(v, str) else _fmt(v)
-        for v, u in zip(h.paper_mode, h.unit)
-    ]
-    h["physical_u"] = [
-        f"{_fmt(v)} {u}" if u not in ("-",) and not isinstance(v, str) else _fmt(v)
-        for v, u in zip(h.physical, h.unit)
-    ]
+    for col in ("paper_mode", "physical"):
+        h[f"{col}_u"] = [
+            _fmt(v) + ("" if u == "-" or _fmt(v) == "–" else f" {u}") for v, u in zip(h[col], h.unit)
+        ]
     return _md_table(
         h,
         ["statement", "quantity", "paper_mode_u", "physical_u", "verdict"],
@@ -640,12 +641,17 @@ def write_page(cmp, rows, diff_stats, budget_table, sentences, figures, out_md):
             )
             if c in wide.columns
         ]
-        wide = wide[cols].reset_index()
+        wide = wide[cols]
+        ok = bt[bt.entry == "all"].set_index("design")
+        wide["ok_points"] = [f"{ok.ok_points[d]:,} of {ok.points[d]:,}" for d in wide.index]
+        cols.append("ok_points")
+        wide = wide.reset_index()
         lines += [
             "",
             "## Error budget: what each effect the standard model neglects costs (cdpr.budget)",
             "",
-            "Mean ‖δp‖ [mm] over the RW_C grid (points ok in every variant), the physical equilibrium "
+            "Mean ‖δp‖ [mm] over the RW_C grid (the points ok in every variant: for a robot whose "
+            "frame does not contain RW_C, e.g. CDPR3, the part inside its workspace), the physical equilibrium "
             "of the robot with only that effect, commanded by the standard model (pulley = pulleys with "
             "rigid cables; elasticity = fixed exit points with Hooke cables; winch = fixed points, rigid "
             "cables, drum angles of the no-winch model q_nw); all = the three together; interaction = "
