@@ -15,11 +15,6 @@ if CMP_FILE:
     CMP_STUDY = CMP["paper"]["study"]  # the designs; the physical study differs only in name and redundancy
     CMP_RES = {m: CMP[m]["results"] for m in ("paper", "physical")}
     CMP_DESIGNS = budget_designs(CMP.paper_study)
-    CMP_PATHS = [lab for lab, (rk, _) in CMP_DESIGNS.items() if rk in CMP.paper_study["trajectories"]["paths"]]
-
-    def cmp_uses(*keys):
-        """The compared study's values a comparison job reads (a change reruns it)."""
-        return {k: CMP.paper_study.get(k) for k in keys}
 
     rule budget_design:
         input:
@@ -32,7 +27,7 @@ if CMP_FILE:
             label="|".join(CMP_DESIGNS),
         params:
             budget=CMP["budget"],
-            study=cmp_uses("robots", "pulleys", "optimal", "trajectories", "dead_length_m"),
+            study={k: CMP.paper_study.get(k) for k in ("robots", "pulleys", "optimal", "trajectories", "dead_length_m")},
             cdpr=CDPR,
             study_file=CMP_STUDY,
             comparison_file=CMP_FILE,
@@ -55,7 +50,7 @@ if CMP_FILE:
             paths_figure=report(f"{CMP_DIR}/budget_paths.png", caption="../report/budget.rst", category="Comparison"),
             paths_pdf=f"{CMP_DIR}/budget_paths.pdf",
         params:
-            study=cmp_uses("robots", "pulleys", "optimal"),
+            study={k: CMP.paper_study.get(k) for k in ("robots", "pulleys", "optimal")},
             cdpr=CDPR,
             study_file=CMP_STUDY,
             comparison_file=CMP_FILE,
@@ -96,7 +91,7 @@ if CMP_FILE:
             pdf=f"{CMP_DIR}/difference.pdf",
             stats=f"{CMP_DIR}/difference_stats.csv",
         params:
-            study=cmp_uses("robots", "pulleys", "optimal", "plane", "volumes", "elasticity"),
+            study={k: CMP.paper_study.get(k) for k in ("robots", "pulleys", "optimal", "plane", "volumes", "elasticity")},
             cdpr=CDPR,
             study_file=CMP_STUDY,
             comparison_file=CMP_FILE,
