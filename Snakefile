@@ -19,6 +19,7 @@ include: "workflow/rules/volumes.smk"
 include: "workflow/rules/doe.smk"
 include: "workflow/rules/maps.smk"
 include: "workflow/rules/elasticity.smk"
+include: "workflow/rules/uncertainty.smk"
 include: "workflow/rules/summary.smk"
 include: "workflow/rules/comparison.smk"
 

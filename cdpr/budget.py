@@ -45,7 +45,11 @@ its own direction û = δp_all / ‖δp_all‖: ‖δp_all‖ = Σ_k δp_k · û
 
 References
 ----------
-Paty et al. 2021, eq. (1)-(7), (10)-(15). Métillon et al. 2022, eq. (12)-(32).
+Paty, T., Binaud, N., Caro, S., Segonds, S. (2021). Cable-driven parallel robot modelling
+considering pulley kinematics and cable elasticity. Mechanism and Machine Theory 159, 104263,
+eq. (1)-(7), (10)-(15).
+Métillon, M., Charron, C., Subrin, K., Caro, S. (2022). Geometrical modelling of a cable-driven
+parallel robot winch. 25e Congrès Français de Mécanique, hal-03758222, eq. (12)-(32).
 """
 
 from __future__ import annotations
@@ -104,8 +108,29 @@ def effect_robot(design, effects):
 
 
 def model_lengths(design, p, model, t_min=T_MIN_DEFAULT):
-    """Rest lengths L0 (N, m) [m] the model with effects ``model`` commands at p (N, 3) [m] (step 1
-    of the module docstring); NaN where no tension distribution exists (elasticity modelled)."""
+    """Rest lengths the model with effects ``model`` commands at p (step 1 of the module docstring).
+
+    .. math:: L_{0,i} = L_{TE,i}(p) / (1 + t_i / (E_i S_i))   (t = 0 without elasticity)
+
+    Parameters
+    ----------
+    design : Robot
+    p : array (N, 3) [m]
+        Desired positions.
+    model : iterable of str
+        Subset of ``EFFECTS`` the model includes.
+    t_min : float [N]
+        Least planned tension of the elasticity compensation (``compensation.compensate``).
+
+    Returns
+    -------
+    L0 : array (N, m) [m]
+        NaN where no tension distribution exists (elasticity modelled).
+
+    References
+    ----------
+    Paty et al. 2021, eq. (3)-(5), (10), (13).
+    """
     robot = effect_robot(design, model)
     if "elasticity" in _names(model):
         return compensate(robot, p, method="min_norm", t_min=t_min)["L0"]
@@ -113,8 +138,29 @@ def model_lengths(design, p, model, t_min=T_MIN_DEFAULT):
 
 
 def realised_lengths(design, L0, actual, model):
-    """Rest lengths [m] (N, m) the actual drums pay out when the controller's model commands L0
-    (step 2 of the module docstring); NaN where a drum angle leaves [0, q_max]."""
+    """Rest lengths the actual drums pay out when the controller's model commands L0 (step 2 of the
+    module docstring).
+
+    L0' = d + l_pm,actual(q),   q = q1(L0 - d) (model with winch) or q_nw(L0 - d) (without)
+
+    Parameters
+    ----------
+    design : Robot
+        Its winches (Table 1 of Métillon 2022 where it gives none) and dead lengths d.
+    L0 : array (N, m) [m]
+        Rest lengths the model commands.
+    actual, model : iterable of str
+        Subsets of ``EFFECTS`` of the robot and of the model; only ``winch`` matters here.
+
+    Returns
+    -------
+    array (N, m) [m]
+        L0 itself when both or neither have the winch; NaN where a drum angle leaves [0, q_max].
+
+    References
+    ----------
+    Métillon et al. 2022, eq. (15)-(17), (22), (29)-(32).
+    """
     wa, wm = "winch" in _names(actual), "winch" in _names(model)
     L0 = np.asarray(L0, dtype=float)
     if wa == wm:
@@ -170,7 +216,17 @@ def variant(design, p, actual, model, t_min=T_MIN_DEFAULT, threads=None):
 
 
 def variants():
-    """The variants of the budget: name -> (actual effects, model effects)."""
+    """The variants of the budget (module docstring).
+
+    Parameters
+    ----------
+
+    Returns
+    -------
+    dict
+        name -> (actual effects, model effects): ``none``, each single effect, ``all``,
+        ``compensated_<k>``, ``neglected_<k>`` and ``compensated_all``.
+    """
     allk = tuple(EFFECTS)
     v = {"none": ((), ())}
     v.update({k: ((k,), ()) for k in EFFECTS})
@@ -208,22 +264,42 @@ def error_budget(design, p, t_min=T_MIN_DEFAULT, threads=None):
 
 
 def norms(budget):
-    """‖δp‖ [m] of every entry of an ``error_budget``, as a DataFrame (one column per name), and
-    the mask of the points that are ok in every entry."""
+    """‖δp‖ of every entry of an error budget and the points ok in every entry.
+
+    Parameters
+    ----------
+    budget : dict
+        An ``error_budget`` result.
+
+    Returns
+    -------
+    norms : DataFrame (N rows, one column per entry) [m]
+    ok : array (N,) of bool
+    """
     ok = np.logical_and.reduce([r["status"] == "ok" for r in budget.values()])
     return pd.DataFrame({k: np.linalg.norm(r["dp"], axis=1) for k, r in budget.items()}), ok
 
 
 def summarise(budget):
-    """One row per budget entry over the points ok in every entry: mean and max ‖δp‖ [m] and, for
-    ``all``, the single effects and the interaction, the projection on the all-effects direction
-    û = δp_all / ‖δp_all‖ averaged over the points (``share_m``; the single effects' and the
-    interaction's sum to the mean ‖δp_all‖ exactly), and the fraction of points where each single
-    effect is the largest (``largest_fraction``).
+    """One row per budget entry over the points ok in every entry.
+
+    The share of effect k in the all-effects error is its projection on û = δp_all / ‖δp_all‖,
+
+        s_k = mean(δp_k · û),   Σ_k s_k + s_int = mean ‖δp_all‖
+
+    (exactly, since the single effects and the interaction add up to δp_all).
+
+    Parameters
+    ----------
+    budget : dict
+        An ``error_budget`` result.
 
     Returns
     -------
-    DataFrame with columns entry, mean_m, max_m, share_m, largest_fraction, points, ok_points.
+    DataFrame
+        Columns entry, mean_m and max_m (‖δp‖ [m]), share_m (s_k [m], for the single effects, the
+        interaction and ``all``), largest_fraction (share of the points where a single effect is
+        the largest of the three), points, ok_points.
     """
     nm, ok = norms(budget)
     d_all = budget["all"]["dp"][ok]
@@ -255,14 +331,36 @@ LABELS = {"pulley": "pulley geometry", "elasticity": "cable elasticity", "winch"
 
 
 def dominant(summary):
-    """The single effect with the largest mean ‖δp‖ of a ``summarise`` table."""
+    """The single effect with the largest mean ‖δp‖.
+
+    Parameters
+    ----------
+    summary : DataFrame
+        A ``summarise`` table.
+
+    Returns
+    -------
+    str, one of ``EFFECTS``.
+    """
     s = summary.set_index("entry")
     return max(EFFECTS, key=lambda k: s.loc[k, "mean_m"])
 
 
 def sentence(design_label, summary, path=None):
-    """One sentence on which effect dominates where, from a ``summarise`` table (RW_C) and
-    optionally the path's (section 3.3.1)."""
+    """One sentence on which effect dominates where.
+
+    Parameters
+    ----------
+    design_label : str
+    summary : DataFrame
+        ``summarise`` table over RW_C.
+    path : DataFrame, optional
+        ``summarise`` table along the section 3.3.1 path.
+
+    Returns
+    -------
+    str
+    """
     s = summary.set_index("entry")
     top = dominant(summary)
     rest = sorted((k for k in EFFECTS if k != top), key=lambda k: -s.loc[k, "mean_m"])

@@ -143,7 +143,9 @@ def _points_options(sp, what):
         metavar="FILE",
         help="many points at once: a .csv or .parquet table with columns x, y, z [m]",
     )
-    sp.add_argument("--out", metavar="FILE", help="with --points: write the result table (.csv or .parquet)")
+    sp.add_argument(
+        "--out", metavar="FILE", help="write the result table (.csv or .parquet); needed with --points"
+    )
 
 
 def _engine(args):
@@ -166,6 +168,8 @@ def _load(args):
 def _points(args):
     """(N, 3) points of --at or --points; refuses non-finite coordinates and a missing --out."""
     if args.at is not None:
+        if args.out:
+            io.check_output(args.out)
         return np.array([args.at], dtype=float)
     if not args.out:
         raise CdprError("--points needs --out FILE for the result table")
@@ -207,7 +211,7 @@ def cmd_inverse(args):
     P = _points(args)
     st = igm_e(robot, P)
     lts = L_TS(robot, P)
-    if args.points:
+    if args.points or args.out:
         import pandas as pd
 
         cols = {"x": P[:, 0], "y": P[:, 1], "z": P[:, 2]}
@@ -219,7 +223,7 @@ def cmd_inverse(args):
                     f"L_TE{c}": st.L_TE[:, i],
                     f"gamma{c}": st.gamma[:, i],
                     f"alpha{c}": st.alpha[:, i],
-                    f"beta{c}": st.beta[:, i],
+                    f"beta{c}": st.beta[:, i] if robot.kind[i] == 2 else np.full(len(P), np.nan),
                     f"inside{c}": st.inside[:, i],
                 }
             )
@@ -292,6 +296,42 @@ def cmd_inverse(args):
         )
 
 
+def _sensitivity_options(sp):
+    sp.add_argument(
+        "--sensitivities",
+        action="store_true",
+        help="also dP*/dθ for every parameter (E_i [Pa], h_i, r_p_i, d_i, A_i_x/y/z [m], M [kg]; cables from 1) "
+        "at fixed commanded lengths, by the implicit-function theorem; Newton only",
+    )
+
+
+def _solve_sensitivities(robot, P, args, L0=None):
+    """The solve plus dP*/dθ (``sensitivity.sensitivities``) for --sensitivities."""
+    from .sensitivity import sensitivities
+
+    if args.method != "newton":
+        raise CdprError(
+            "--sensitivities needs --method newton (the implicit-function theorem uses its Jacobian at the solution)"
+        )
+    return sensitivities(
+        robot,
+        P,
+        redundancy=args.redundancy,
+        L=L0,
+        engine=args.engine or "compiled",
+        threads=args.threads,
+    )
+
+
+def _with_sensitivities(df, res):
+    """The point table with the sensitivity columns (dx_dE_1, ..., dz_dM) and ``smooth`` appended."""
+    import pandas as pd
+
+    from .sensitivity import sensitivity_frame
+
+    return pd.concat([df, sensitivity_frame(res)], axis=1)
+
+
 def cmd_point(args):
     from .solve import results_frame, solve_points_any
 
@@ -310,17 +350,26 @@ def cmd_point(args):
         if len(args.q) != robot.m:
             raise CdprError(f"--q needs one drum angle per cable ({robot.m}), got {len(args.q)}")
         L0 = rest_lengths_from_angles(robot, np.array([args.q]), model="winch")[0]
-    res = solve_points_any(
-        robot,
-        P,
-        method=args.method,
-        engine=args.engine,
-        threads=args.threads,
-        redundancy=args.redundancy,
-        L0=L0,
-    )
-    if args.points:
+    if args.sensitivities:
+        if L0 is not None and args.redundancy != "physical":
+            raise CdprError(
+                "commanded lengths need physical mode (--redundancy physical); paper mode commands L_TS at the desired point"
+            )
+        res = _solve_sensitivities(robot, P, args, L0)
+    else:
+        res = solve_points_any(
+            robot,
+            P,
+            method=args.method,
+            engine=args.engine,
+            threads=args.threads,
+            redundancy=args.redundancy,
+            L0=L0,
+        )
+    if args.points or args.out:
         df = results_frame(robot, res, args.redundancy)
+        if args.sensitivities:
+            df = _with_sensitivities(df, res)
         io.write_table(df, args.out)
         _report(df, args.out, args, float("nan"))
         return
@@ -336,6 +385,12 @@ def cmd_point(args):
     else:
         out["subset"] = [int(i) + 1 for i in res["subset"][0] if i >= 0]
     out.update(status=str(res["status"][0]), iterations=int(res["iterations"][0]))
+    if args.sensitivities:
+        S = res["S"][0]
+        out["sensitivities"] = {
+            name: [None if np.isnan(v) else float(v) for v in S[:, k]] for k, name in enumerate(res["names"])
+        }
+        out["sensitivities_smooth"] = bool(res["smooth"][0])
     if args.json:
         print(json.dumps(io.clean_json(out), indent=2))
         return
@@ -355,6 +410,19 @@ def cmd_point(args):
     else:
         print(f"  subset         : {subset_label(res['subset'][0]) or '-'}")
     print(f"  status         : {out['status']}  ({out['iterations']} iterations)")
+    if args.sensitivities:
+        from .sensitivity import UNITS, parameter_groups
+
+        units = [UNITS[g] for g in parameter_groups(robot.m)]
+        rows = [
+            [name, f"m/{unit}"] + ["nan" if v is None else f"{v:.6g}" for v in vec]
+            for (name, vec), unit in zip(out["sensitivities"].items(), units)
+        ]
+        smooth = (
+            "" if out["sensitivities_smooth"] else " (not smooth here: the subset or taut set may switch)"
+        )
+        print(f"sensitivities dP*/dθ at fixed commanded lengths{smooth}:")
+        print(_table(rows, ["θ", "unit", "dx", "dy", "dz"]))
 
 
 def cmd_compensate(args):
@@ -385,7 +453,7 @@ def cmd_compensate(args):
     res = compensated_pose(
         robot, P, actual=actual, method=args.distribution, engine=engine, t_min=args.t_min, t_max=t_max
     )
-    if args.points:
+    if args.points or args.out:
         df = physical_frame(robot, res)
         for i in range(robot.m):
             df[f"L0_{i + 1}"] = res["L0"][:, i]
@@ -458,9 +526,15 @@ def cmd_grid(args):
     _check_size(stop - start, f"--n {args.n}")
     t0 = time.perf_counter()
     P = grid_points(box, args.n, start, stop)
-    df = solve_table(
-        robot, P, method=args.method, engine=args.engine, threads=args.threads, redundancy=args.redundancy
-    )
+    if args.sensitivities:
+        from .solve import results_frame
+
+        res = _solve_sensitivities(robot, P, args)
+        df = _with_sensitivities(results_frame(robot, res, args.redundancy), res)
+    else:
+        df = solve_table(
+            robot, P, method=args.method, engine=args.engine, threads=args.threads, redundancy=args.redundancy
+        )
     io.write_table(df, args.out)
     dt = time.perf_counter() - t0
     _report(df, args.out, args, dt)
@@ -579,6 +653,26 @@ JOBS = {
     ),
     "budget": ("budget_tables", ["comparison", "tables", "paths", "table", "figure", "paths_figure"]),
     "comparison": ("comparison", ["comparison", "tables", "table", "figure", "markdown"]),
+    "uq-shard": ("uq_shard", ["design", "case", "shard", "box_file", "table", "points", "threads"]),
+    "uq-design": (
+        "uq_design",
+        ["design", "case", "box_file", "table", "path", "sobol", "tolerances", "map", "threads"],
+    ),
+    "uncertainty": (
+        "uncertainty",
+        [
+            "tables",
+            "paths",
+            "bands",
+            "agreement",
+            "sobol",
+            "figure",
+            "paths_figure",
+            "sobol_figure",
+            "map_figure",
+            "agreement_figure",
+        ],
+    ),
 }
 _JOB_OPTION_HELP = {
     "tables": "input tables (matched by file name)",
@@ -604,6 +698,17 @@ _JOB_OPTION_HELP = {
     "threads": "solver threads",
     "comparison": "comparison file (config/comparisons/*.yaml)",
     "path_table": "output table along the path",
+    "design": "design label of the study's optimal designs",
+    "case": "uncompensated | compensated",
+    "shard": "0-based shard index",
+    "points": "output per-point table",
+    "path": "output path table",
+    "sobol": "output Sobol table",
+    "tolerances": "output table of the all-parameter samples",
+    "agreement": "output agreement table",
+    "sobol_figure": "output Sobol figure",
+    "map_figure": "output map figure",
+    "agreement_figure": "output agreement figure",
 }
 
 
@@ -632,6 +737,14 @@ def cmd_job(args):
             "paths_figure",
             "markdown",
             "path_table",
+            "points",
+            "path",
+            "sobol",
+            "tolerances",
+            "agreement",
+            "sobol_figure",
+            "map_figure",
+            "agreement_figure",
         ):
             io.check_output(given[n])
     getattr(tasks, func)(st, **given)
@@ -670,6 +783,7 @@ def build_parser():
         metavar="RAD",
         help="commanded drum angles per cable [rad] (robot with winches; physical mode): mapped to rest lengths by the winch model",
     )
+    _sensitivity_options(sp)
     sp.set_defaults(func=cmd_point)
     sp = sub.add_parser(
         "compensate", help="compensated rest lengths: what to command so that the platform reaches --at"
@@ -732,6 +846,7 @@ def build_parser():
     sp.add_argument("--shard", type=count(0), default=0, help="0-based shard index (default 0)")
     sp.add_argument("--shards", type=count(1), default=1, help="number of shards (default 1)")
     _physics_options(sp)
+    _sensitivity_options(sp)
     sp.set_defaults(func=cmd_grid)
     sp = sub.add_parser("winch", help="winch joint angles and length error versus l_pm (winch seed Fig. 7)")
     sp.add_argument(

@@ -20,8 +20,12 @@ below p (a softer cable than modelled) the extra cable tightens and takes load.
 
 References
 ----------
-Paty et al. 2021, eq. (3)-(5), (10)-(13). A. Pott, Cable-Driven Parallel Robots: Theory and
-Application, Springer 2018 (force distribution and elastic cable models).
+Paty et al. 2021, eq. (3)-(5), (10)-(13):
+Paty, T., Binaud, N., Caro, S., Segonds, S. (2021). Cable-driven parallel robot modelling considering
+pulley kinematics and cable elasticity. Mechanism and Machine Theory 159, 104263.
+
+A. Pott, Cable-Driven Parallel Robots: Theory and Application, Springer 2018 (force distribution and
+elastic cable models).
 """
 
 from __future__ import annotations

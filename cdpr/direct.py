@@ -9,6 +9,11 @@ with t(P*) the tensions that hold the platform at P* (eq. 11-13). Two solvers be
 (``method``): ``"newton"`` (batched Newton, default) and ``"fixed_point"`` (the paper's nested
 scheme: sphere intersections, eq. 8-9, inside updates of the tensions). Both are vectorised over
 points and report iterations and convergence per point.
+
+References
+----------
+Paty, T., Binaud, N., Caro, S., Segonds, S. (2021). Cable-driven parallel robot modelling considering
+pulley kinematics and cable elasticity. Mechanism and Machine Theory 159, 104263.
 """
 
 from __future__ import annotations
@@ -118,7 +123,24 @@ def _newton(sub, P0, L, tol, maxiter, max_step):
 def trilaterate_low(c, R):
     """Lower intersection of three spheres with centres c (N, 3, 3) and radii R (N, 3), eq. (9).
 
-    Returns (P (N, 3), exists (N,)). ``exists`` is False where the spheres do not meet.
+    Paty 2021 eq. (9): |P - H_j|^2 = R_j^2, j = 1, 2, 3, with the sheave centres H_j and the radii
+    R_j = sqrt((L_j - |l_d,j| - gamma_j r_p,j)^2 + r_p,j^2) of eq. (8); of the two solutions the
+    "low" one (smaller z) is kept, the only one a hanging platform reaches.
+
+    Parameters
+    ----------
+    c : ndarray (N, 3, 3) [m]
+        Sphere centres, one per row (``c[:, j]`` is H_j).
+    R : ndarray (N, 3) [m]
+        Sphere radii.
+
+    Returns
+    -------
+    P : ndarray (N, 3) [m]
+        The lower intersection point; where the spheres do not meet, the point where their radical
+        line crosses the plane of the three centres (meaningless, flagged by ``exists``).
+    exists : ndarray (N,) bool
+        False where the spheres do not meet.
     """
     c1, c2, c3 = c[:, 0], c[:, 1], c[:, 2]
     v12 = c2 - c1
@@ -188,17 +210,29 @@ def _fixed_point(sub, P0, L0, tol, max_inner, max_outer):
 def degm_e(robot, p, subset=(0, 1, 2), L=None, method="newton", P0=None, **options):
     """Solve DEGM_E for one 3-cable subset at N points.
 
+    Finds P* with L_TE,j(P*) = L_j (1 + t_j(P*) / (E_j S_j)) for the three cables j of the subset
+    (Paty 2021 eq. 5, 10-13; the tensions t(P*) from eq. 11-12).
+
     Parameters
     ----------
     robot : Robot
-    p : (N, 3) desired positions [m]; the commanded lengths default to L_TS(p) (eq. 2).
-    subset : three 0-based cable indices that hold the platform; the others are slack.
-    L : (N, 3) commanded rest lengths of the subset's cables [m], default L_TS(p)[:, subset].
-    method : "newton" (default) or "fixed_point".
-    P0 : (N, 3) starting point, default p.
+    p : array_like (N, 3) [m]
+        Desired positions; the commanded lengths default to L_TS(p) (eq. 2).
+    subset : sequence of 3 int
+        Three 0-based cable indices that hold the platform; the others are slack.
+    L : array_like (N, 3) [m], optional
+        Commanded rest lengths of the subset's cables, default L_TS(p)[:, subset].
+    method : {"newton", "fixed_point"}
+        Batched Newton (default) or the paper's nested fixed point (Fig. 6).
+    P0 : array_like (N, 3) [m], optional
+        Starting point, default p.
     options : tolerances, see NEWTON_DEFAULTS and FIXED_POINT_DEFAULTS.
 
-    Returns a DirectResult; tensions are evaluated at the returned P.
+    Returns
+    -------
+    DirectResult
+        P (N, 3) [m], t (N, 3) [N], iterations (N,), converged (N,) bool, exists (N,) bool;
+        tensions are evaluated at the returned P.
     """
     p = np.atleast_2d(np.asarray(p, dtype=float))
     s = np.asarray(subset, dtype=np.intp)

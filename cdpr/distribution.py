@@ -29,10 +29,16 @@ Infeasible points get the status ``infeasible``; no tension is clipped. ``closed
 
 References
 ----------
-Paty et al. 2021, eq. (11)-(12). A. Pott, T. Bruckmann, L. Mikelsons, "Closed-form force
-distribution for parallel wire robots", Computational Kinematics, Springer 2009, pp. 25-34.
+Paty et al. 2021, eq. (11)-(12):
+Paty, T., Binaud, N., Caro, S., Segonds, S. (2021). Cable-driven parallel robot modelling considering
+pulley kinematics and cable elasticity. Mechanism and Machine Theory 159, 104263.
+
+A. Pott, T. Bruckmann, L. Mikelsons, "Closed-form force distribution for parallel wire robots",
+Computational Kinematics, Springer 2009, pp. 25-34.
+
 A. Pott, "An improved force distribution algorithm for over-constrained cable-driven parallel
 robots", Computational Kinematics, Mechanisms and Machine Science 15, Springer 2014, pp. 139-146.
+
 A. Pott, Cable-Driven Parallel Robots: Theory and Application, Springer 2018, ch. 3 (force
 distribution).
 """
@@ -75,7 +81,21 @@ def wrench_matrix(robot, P):
 
 
 def pseudo_inverse(W):
-    """W^+ = W^T (W W^T)^-1, shape (N, m, 3); NaN where W W^T is singular (W of rank < 3)."""
+    """W^+ = W^T (W W^T)^-1, shape (N, m, 3); NaN where W W^T is singular (W of rank < 3).
+
+    The Moore-Penrose pseudo-inverse of the wrench matrix of Paty 2021 eq. (11)-(12), as used by
+    the closed-form distribution (Pott, Bruckmann, Mikelsons 2009).
+
+    Parameters
+    ----------
+    W : ndarray (N, 3, m) [-]
+        Wrench matrices (``wrench_matrix``; zeroed columns are allowed).
+
+    Returns
+    -------
+    W_pinv : ndarray (N, m, 3) [-]
+        W^+, with W W^+ = I where W has rank 3.
+    """
     inv, _ = inverse3(W @ np.swapaxes(W, -1, -2))
     return np.swapaxes(W, -1, -2) @ inv
 
@@ -128,7 +148,23 @@ def closed_form_improved(W, w, t_min, t_max):
     Starting from ``closed_form``, while some free cable leaves its bounds and more than three
     cables are free, the free cable with the largest violation max(T_min - t, t - T_max) is set to
     the bound it violates and removed; the closed form is applied to the free cables with the
-    right-hand side w - sum_(pinned) t_i u_i. Parameters and returns as ``closed_form``.
+    right-hand side w - sum_(pinned) t_i u_i.
+
+    Parameters
+    ----------
+    W : ndarray (N, 3, m) [-]
+        Wrench matrix (``wrench_matrix``).
+    w : array_like (N, 3) or (3,) [N]
+        Wrench the cables must produce, -w_ext (Paty 2021 eq. 11).
+    t_min, t_max : array_like (m,) or (N, m) [N]
+        Tension bounds.
+
+    Returns
+    -------
+    t : ndarray (N, m) [N]
+        The tensions, pinned cables at their bound (outside the bounds where infeasible).
+    feasible : ndarray (N,) bool
+        T_min <= t <= T_max (within ``FEAS_TOL``).
 
     References
     ----------
@@ -163,7 +199,18 @@ def closed_form_improved(W, w, t_min, t_max):
 
 def null_vector(W):
     """Null vector n of a (N, 3, 4) wrench matrix: n_i = (-1)^i det(W without column i), W n = 0;
-    shape (N, 4), zero where W has rank < 3."""
+    shape (N, 4), zero where W has rank < 3.
+
+    Parameters
+    ----------
+    W : ndarray (N, 3, 4) [-]
+        Wrench matrices of a 4-cable robot.
+
+    Returns
+    -------
+    n : ndarray (N, 4) [-]
+        A vector spanning the null space of W (not normalised).
+    """
     cols = [np.delete(np.arange(4), i) for i in range(4)]
     return np.stack([(-1) ** i * np.linalg.det(W[:, :, c]) for i, c in enumerate(cols)], axis=-1)
 
@@ -189,7 +236,20 @@ def _min_norm_m4(W, w, lo, hi, t_ref):
 
 def active_set_candidates(m):
     """Candidate active sets of ``min_norm``: (pinned (k, m) bool, upper (k, m) bool), every set of
-    at most m - 3 cables pinned at the lower or upper bound, the empty set first."""
+    at most m - 3 cables pinned at the lower or upper bound, the empty set first.
+
+    Parameters
+    ----------
+    m : int
+        Number of cables.
+
+    Returns
+    -------
+    pinned : ndarray (k, m) bool
+        Cables pinned at a bound, one candidate per row.
+    upper : ndarray (k, m) bool
+        Pinned at the upper bound (else the lower), False for free cables.
+    """
     pinned, upper = [], []
     for k in range(m - 2):
         for cab in itertools.combinations(range(m), k):

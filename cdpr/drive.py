@@ -73,7 +73,25 @@ def rest_lengths_from_angles(robot, q, model="winch"):
 
     ``model="winch"``: the drum's true geometry, L0 = d + l_pm(q) (``winch.l_pm_of_q``);
     ``model="no_winch"``: what a controller that neglects the exit point's motion believes
-    (``winch.l_pm_of_q_no_winch``). Angles outside [0, q_max] raise CdprError."""
+    (``winch.l_pm_of_q_no_winch``). Angles outside [0, q_max] raise CdprError.
+
+    Parameters
+    ----------
+    robot : Robot
+        Every cable needs a winch.
+    q : array_like (N, m) [rad]
+        Drum angles, one column per cable.
+    model : {"winch", "no_winch"}
+        "winch": Métillon 2022 eq. (14)-(17) with the moving exit point (eq. 12, 15); "no_winch":
+        the inverse of eq. (32). Any value other than "winch" is taken as "no_winch".
+
+    Returns
+    -------
+    L0 : ndarray (N, m) [m]
+        Rest lengths from the winch exit C_i to the platform, d_i + l_pm,i(q_i).
+    """
+    if model not in ("winch", "no_winch"):
+        raise CdprError(f"unknown winch model {model!r}; allowed: winch, no_winch")
     q = np.atleast_2d(np.asarray(q, dtype=float))
     ws = _winches(robot)
     if q.shape[-1] != robot.m:

@@ -76,8 +76,12 @@ Edge cases (choices)
 
 References
 ----------
-Paty et al. 2021, eq. (2)-(5), (10)-(14). Pott, A., Cable-Driven Parallel Robots: Theory and
-Application, Springer 2018 (force equilibrium and elastic cables of redundant CDPRs).
+Paty et al. 2021, eq. (2)-(5), (10)-(14):
+Paty, T., Binaud, N., Caro, S., Segonds, S. (2021). Cable-driven parallel robot modelling considering
+pulley kinematics and cable elasticity. Mechanism and Machine Theory 159, 104263.
+
+Pott, A., Cable-Driven Parallel Robots: Theory and Application, Springer 2018 (force equilibrium and
+elastic cables of redundant CDPRs).
 """
 
 from __future__ import annotations
@@ -111,7 +115,20 @@ ST = {s: i for i, s in enumerate(STATUSES)}
 
 def hull_halfplanes(robot):
     """Half-planes (n_x, n_y, c) of the anchors' horizontal convex hull, n . xy + c <= 0 inside
-    (unit outward normals n), shape (n_edges, 3)."""
+    (unit outward normals n), shape (n_edges, 3).
+
+    A helper of the ``inaccessible`` status (no paper equation).
+
+    Parameters
+    ----------
+    robot : Robot
+        Supplies the joint points A (m, 3) [m].
+
+    Returns
+    -------
+    halfplanes : ndarray (n_edges, 3)
+        n_x, n_y [-] and c [m] per hull edge (``scipy.spatial.ConvexHull.equations``).
+    """
     from scipy.spatial import ConvexHull
 
     return np.ascontiguousarray(ConvexHull(robot.A[:, :2]).equations)
@@ -119,7 +136,23 @@ def hull_halfplanes(robot):
 
 def outside_frame(robot, P, halfplanes=None):
     """True where P (..., 3) [m] lies outside the anchors' horizontal convex hull (by more than
-    ``HULL_EPS``) or at or above the lowest joint point; shape (...)."""
+    ``HULL_EPS``) or at or above the lowest joint point; shape (...).
+
+    Parameters
+    ----------
+    robot : Robot
+        Supplies the joint points A (m, 3) [m].
+    P : array_like (..., 3) [m]
+        Positions.
+    halfplanes : ndarray (n_edges, 3), optional
+        ``hull_halfplanes(robot)``, computed when not given.
+
+    Returns
+    -------
+    outside : ndarray (...) bool
+        True where P is outside the frame (where gravity cannot be balanced by pulling cables, up
+        to the pulley offsets, or above the pulleys).
+    """
     hp = hull_halfplanes(robot) if halfplanes is None else halfplanes
     P = np.asarray(P, dtype=float)
     dist = np.einsum("...k,ek->...e", P[..., :2], hp[:, :2]) + hp[:, 2]
@@ -236,8 +269,28 @@ def statuses(robot, p, P, t, converged, inside, halfplanes=None):
     not_converged (not converged, or no cable pulls), else over_tension if some t_i > T_a,i, else
     ok. For a desired point outside the frame, inaccessible wins over not_converged.
 
-    Parameters: p, P (N, 3) [m]; t (N, m) [N] (0 on slack cables); converged (N,) bool; inside
-    (N, m) bool, P* inside a sheave."""
+    Parameters
+    ----------
+    robot : Robot
+        Supplies the joint points and the admissible tensions T_a (m,) [N].
+    p : ndarray (N, 3) [m]
+        Desired positions.
+    P : ndarray (N, 3) [m]
+        Equilibria P* (may hold NaN).
+    t : ndarray (N, m) [N]
+        Tensions, 0 on slack cables.
+    converged : ndarray (N,) bool
+        Newton converged.
+    inside : ndarray (N, m) bool
+        P* inside a sheave (``CableGeometry.inside``).
+    halfplanes : ndarray (n_edges, 3), optional
+        ``hull_halfplanes(robot)``, computed when not given.
+
+    Returns
+    -------
+    code : ndarray (N,) int8
+        Index into ``redundancy.STATUSES``.
+    """
     hp = hull_halfplanes(robot) if halfplanes is None else halfplanes
     bad_p = outside_frame(robot, p, hp)
     finite = np.isfinite(P).all(axis=1)
@@ -252,8 +305,22 @@ def statuses(robot, p, P, t, converged, inside, halfplanes=None):
 
 def start_points(robot, P0):
     """Newton's starting points: P0 (N, 3) [m], moved down to ``START_BELOW`` under the lowest joint
-    point where it lies at or above it (the model means nothing above the pulleys; this happens
-    for a desired point above them, reported inaccessible)."""
+    point where it lies higher than that (the model means nothing above the pulleys; this happens
+    for a desired point above them, reported inaccessible).
+
+    Parameters
+    ----------
+    robot : Robot
+        Supplies the joint points A (m, 3) [m].
+    P0 : array_like (N, 3) or (3,) [m]
+        Starting points.
+
+    Returns
+    -------
+    P0 : ndarray (N, 3) [m]
+        A C-contiguous copy; z lowered to (lowest joint height - ``START_BELOW``) where it was
+        above that level.
+    """
     P0 = np.array(np.atleast_2d(np.asarray(P0, dtype=float)))
     top = robot.A[:, 2].min() - START_BELOW
     P0[:, 2] = np.where(P0[:, 2] < top, P0[:, 2], top)
@@ -329,7 +396,18 @@ def _result(robot, p, P, t, residual, iters, conv, inside, halfplanes=None):
 
 def taut_labels(taut):
     """Categorical labels of the taut cables, 1-based numbers joined by '-' ('1-2-4'; '' none), from
-    a (N, m) bool array (codes from the bit pattern; no Python loop per point)."""
+    a (N, m) bool array (codes from the bit pattern; no Python loop per point).
+
+    Parameters
+    ----------
+    taut : array_like (N, m) bool
+        Taut cables per point.
+
+    Returns
+    -------
+    Categorical (N,)
+        Labels; the categories are all 2^m cable sets.
+    """
     taut = np.asarray(taut, dtype=bool)
     m = taut.shape[1]
     code = taut.astype(np.int64) @ (1 << np.arange(m))
@@ -340,7 +418,21 @@ def taut_labels(taut):
 def to_frame(robot, res):
     """One row per point: x, y, z, x_s, y_s, z_s, dp, t1..tm (NaN where slack), taut (label of the
     taut cables, e.g. '1-2-3-4'), n_taut, iterations, status (SI units). The status categories are
-    ``res["statuses"]`` when given (``compensation.COMP_STATUSES``), else ``STATUSES``."""
+    ``res["statuses"]`` when given (``compensation.COMP_STATUSES``), else ``STATUSES``.
+
+    Parameters
+    ----------
+    robot : Robot
+        Supplies the number of cables m.
+    res : dict
+        A ``solve_physical`` result (or ``compensation.compensated_pose``'s).
+
+    Returns
+    -------
+    DataFrame
+        One row per point: x, y, z, x_s, y_s, z_s [m], dp [m], t1..tm [N], taut, n_taut,
+        iterations, status.
+    """
     df = pd.DataFrame(
         {
             "x": res["p"][:, 0],

@@ -404,6 +404,7 @@ CHUNK = 256
 @njit(cache=True, parallel=True, error_model="numpy")
 def _solve_points(
     p,
+    Lin,
     A,
     kind,
     h,
@@ -447,6 +448,7 @@ def _solve_points(
             _solve_one(
                 i,
                 p,
+                Lin,
                 A,
                 kind,
                 h,
@@ -487,6 +489,7 @@ def _solve_points(
 def _solve_one(
     i,
     p,
+    Lin,
     A,
     kind,
     h,
@@ -521,13 +524,18 @@ def _solve_one(
     adm,
     gap,
 ):
-    """Point i: solve the subsets (pruned, see solve_points_fast) and choose as redundancy.solve_points."""
+    """Point i: solve the subsets (pruned, see solve_points_fast) and choose as redundancy.solve_points.
+    The commanded lengths are Lin[i] when Lin has rows, else L_TS at p[i] (eq. 2)."""
     ns = subsets.shape[0]
     m = A.shape[0]
     for c in range(m):
-        Lall[c] = (
-            math.sqrt((p[i, 0] - A[c, 0]) ** 2 + (p[i, 1] - A[c, 1]) ** 2 + (p[i, 2] - A[c, 2]) ** 2) + d[c]
-        )
+        if Lin.shape[0] > 0:
+            Lall[c] = Lin[i, c]
+        else:
+            Lall[c] = (
+                math.sqrt((p[i, 0] - A[c, 0]) ** 2 + (p[i, 1] - A[c, 1]) ** 2 + (p[i, 2] - A[c, 2]) ** 2)
+                + d[c]
+            )
     for k in range(ns):
         Ps[k, 0] = Ps[k, 1] = Ps[k, 2] = np.nan
         ts[k, 0] = ts[k, 1] = ts[k, 2] = np.nan
@@ -668,12 +676,19 @@ def subset_edges(robot):
     return edges, margin
 
 
-def solve_points_fast(robot, p, tol=None, maxiter=None, threads=None, prune=True):
-    """Fast equivalent of ``redundancy.solve_points(robot, p, method="newton")`` (same keys except
-    the per-subset arrays). ``threads`` caps numba's threads (default: all cores)."""
+def solve_points_fast(robot, p, tol=None, maxiter=None, threads=None, prune=True, L=None):
+    """Fast equivalent of ``redundancy.solve_points(robot, p, method="newton", L=L)`` (same keys
+    except the per-subset arrays). ``threads`` caps numba's threads (default: all cores). ``L``
+    (N, m) [m]: commanded total lengths of every cable, default L_TS(p) of ``robot`` (eq. 2); give
+    them to command a robot whose parameters differ from the model that computed the lengths."""
     o = NEWTON_DEFAULTS
     p = np.ascontiguousarray(np.atleast_2d(np.asarray(p, dtype=float)))
     n, m = len(p), robot.m
+    Lin = (
+        np.empty((0, m))
+        if L is None
+        else np.ascontiguousarray(np.broadcast_to(np.asarray(L, dtype=float), (n, m)))
+    )
     if threads:
         numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
     P_s = np.empty((n, 3))
@@ -687,6 +702,7 @@ def solve_points_fast(robot, p, tol=None, maxiter=None, threads=None, prune=True
         edges, margin = subset_edges(robot)
         _solve_points(
             p,
+            Lin,
             robot.A,
             robot.kind.astype(np.int64),
             robot.h,

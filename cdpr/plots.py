@@ -85,7 +85,7 @@ def _not_ok_legend(ax, df):
             ],
             fontsize=7,
             loc="upper center",
-            bbox_to_anchor=(0.5, -0.12),
+            bbox_to_anchor=(0.5, -0.2),
         )
 
 
@@ -164,27 +164,26 @@ def fig9_taut(tables, A, z, robot_name, out):
 def fig10_trajectories(tables, minmax, out):
     """Paty 2021 Fig. 10: ‖δp‖ along the section 3.3.1 paths. ``tables`` maps a design label
     (robot_pulley) to its path table (s, dp, status); ``minmax`` has ok_until_s_m and
-    path_length_m per design. Points that are not ok are marked by status."""
+    path_length_m per design. Colour: pulley kind; line style: robot. Points that are not ok are
+    marked on the axis by status; a dotted line marks each design's last ok point."""
+    from matplotlib.lines import Line2D
+
     fig, ax = plt.subplots(figsize=(7, 4.2))
     markers = {"slack": "x", "over_tension": "^", "inaccessible": "s", "not_converged": "d"}
+    robots = list(dict.fromkeys(lab.split("_", 1)[0] for lab in tables))
+    seen = set()
     for (label, df), (_, row) in zip(tables.items(), minmax.iterrows()):
         ok = df.status == "ok"
-        kind = label.split("_", 1)[1] if "_" in label else label
-        style = "-" if label.startswith(tuple(sorted({lab.split("_")[0] for lab in tables})[:1])) else "--"
+        rk, kind = label.split("_", 1) if "_" in label else (label, label)
+        style = ["-", "--", ":", "-."][robots.index(rk) % 4]
         (line,) = ax.plot(
             df.s.where(ok), df.dp.where(ok) * 1e3, style, color=KIND_COLOURS.get(kind), label=label
         )
         for st, mk in markers.items():
             sel = df.status == st
             if sel.any():
-                ax.plot(
-                    df.s[sel],
-                    np.zeros(int(sel.sum())),
-                    mk,
-                    color=line.get_color(),
-                    ms=4,
-                    label=f"{label}: {st}",
-                )
+                seen.add(st)
+                ax.plot(df.s[sel], np.zeros(int(sel.sum())), mk, color=line.get_color(), ms=4)
         if np.isfinite(row.ok_until_s_m):
             ax.axvline(row.ok_until_s_m, color=line.get_color(), ls=":", lw=0.8)
     lengths = sorted(set(np.round(minmax.path_length_m, 3)))
@@ -196,7 +195,15 @@ def fig10_trajectories(tables, minmax, out):
         title="‖δp‖ along the section 3.3.1 paths (Fig. 10)",
     )
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=7, ncol=2)
+    lines = ax.legend(fontsize=7, loc="upper left")
+    ax.add_artist(lines)
+    proxies = [
+        Line2D([], [], ls="", marker=markers[st], color="0.3", label=f"not ok: {st}")
+        for st in markers
+        if st in seen
+    ]
+    if proxies:
+        ax.legend(handles=proxies, fontsize=7, loc="upper center")
     return save(fig, out)
 
 
@@ -304,18 +311,22 @@ def fig14_rv(tab, paper, out):
     """Paty 2021 Fig. 14: R_V = V_L / V_T versus the error limit, per robot and pulley design;
     ``paper`` rows (robot, pulley, limit_m, R_V) are the paper's values, drawn as markers."""
     fig, ax = plt.subplots(figsize=(6.5, 4.2))
+    robots = list(dict.fromkeys(tab.robot))
     for (rk, pk), g in tab.groupby(["robot", "pulley"], sort=False):
+        k = robots.index(rk)
         (line,) = ax.plot(
-            g.limit_m * 1e3,
-            g.R_V,
-            "-" if rk.endswith("4") else "--",
-            color=KIND_COLOURS.get(pk),
-            label=f"{rk} {pk}",
+            g.limit_m * 1e3, g.R_V, ["-", "--", ":"][k % 3], color=KIND_COLOURS.get(pk), label=f"{rk} {pk}"
         )
         p = paper[(paper.robot == rk) & (paper.pulley == pk)]
         if len(p):
             ax.plot(
-                p.limit_m * 1e3, p.R_V, "o", mfc="none", color=line.get_color(), label=f"{rk} {pk}: paper"
+                p.limit_m * 1e3,
+                p.R_V,
+                "os^"[k % 3],
+                mfc="none",
+                ms=7,
+                color=line.get_color(),
+                label=f"{rk} {pk}: paper",
             )
     for lim in sorted(set(paper.limit_m)):
         ax.axvline(lim * 1e3, color="0.6", ls=":", lw=0.8)
@@ -599,4 +610,187 @@ def budget_paths(paths, out):
     for ax in axes.ravel()[len(labels) :]:
         ax.set_axis_off()
     fig.suptitle("Error budget along the section 3.3.1 paths", fontsize=10)
+
+
+# ---- uncertainty and sensitivity (beyond the paper: cdpr.uncertainty) ---------------------------
+UQ_CASES = ("uncompensated", "compensated")
+
+
+def _uq_designs(tables):
+    return list(dict.fromkeys(d for d, _ in tables))
+
+
+def uq_index_distribution(linear, tolerances, index_vs_E, paper, out):
+    """The global index of each optimal design under per-cable moduli (Monte Carlo, one violin per
+    design) beside the common-E band of the paper's section 5.1 (our sweep, and the paper's numbers
+    when given), and under every declared parameter (Saltelli's independent rows); uncompensated
+    (left) and compensated (right).
+
+    ``linear``, ``tolerances``: {(design, case): table} of ``uncertainty.linear_samples`` and of
+    ``uncertainty.sobol``'s rows; ``index_vs_E``: the elasticity sweep (design, E_Pa, index_m) or
+    None; ``paper``: {design: (index, minus, plus)} [m]."""
+    designs = _uq_designs(linear)
+    fig, axes = plt.subplots(1, 2, figsize=(15, 5), gridspec_kw={"width_ratios": [2, 1]})
+    colours = dict(zip(designs, plt.rcParams["axes.prop_cycle"].by_key()["color"]))
+    for ax, case in zip(axes, UQ_CASES):
+        ticks, labels, x = [], [], 0.0
+        for dk in designs:
+            lin = linear.get((dk, case))
+            if lin is None:
+                continue
+            nominal = lin.loc[lin["sample"] == -1, "index_m"].iloc[0] * 1e3
+            vals = lin.loc[lin["sample"] >= 0, "index_m"].dropna().to_numpy() * 1e3
+            parts = ax.violinplot([vals], positions=[x], widths=0.7, showextrema=True, showmedians=True)
+            for b in parts["bodies"]:
+                b.set_facecolor(colours[dk])
+                b.set_alpha(0.45)
+            ax.plot([x - 0.35, x + 0.35], [nominal, nominal], "k:", lw=1)
+            ticks.append(x)
+            labels.append(f"{dk}\nper-cable E\nn = {len(vals)}")
+            x += 1.0
+            if case == "uncompensated" and index_vs_E is not None:
+                g = index_vs_E[index_vs_E.design == dk]
+                if len(g):
+                    lo, hi = g.index_m.min() * 1e3, g.index_m.max() * 1e3
+                    ax.vlines(x, lo, hi, color=colours[dk], lw=6, alpha=0.7)
+                    ax.plot(x, nominal, "k_", ms=14)
+                    ticks.append(x)
+                    labels.append(f"{dk}\ncommon E\nours")
+                    x += 1.0
+                if dk in paper:
+                    mid, minus, plus = (v * 1e3 for v in paper[dk])
+                    ax.vlines(x, mid - minus, mid + plus, color="0.3", lw=6, alpha=0.7)
+                    ax.plot(x, mid, "k_", ms=14)
+                    ticks.append(x)
+                    labels.append(f"{dk}\ncommon E\npaper")
+                    x += 1.0
+            tol = tolerances.get((dk, case))
+            if tol is not None and len(tol):
+                parts = ax.violinplot(
+                    [tol.index_m.to_numpy() * 1e3], positions=[x], widths=0.7, showextrema=True
+                )
+                for b in parts["bodies"]:
+                    b.set_facecolor(colours[dk])
+                    b.set_alpha(0.2)
+                ticks.append(x)
+                labels.append(f"{dk}\nall param.\nn = {len(tol)}")
+                x += 1.5
+        ax.set_xticks(ticks, labels, fontsize=7)
+        ax.set(ylabel="global index mean ‖δp‖ over RW_C [mm]", title=f"{case}: dotted = nominal robot")
+        ax.grid(alpha=0.3, axis="y")
+    fig.suptitle(
+        "Global index under per-cable moduli beside the common-E band (Paty 2021 section 5.1)", fontsize=10
+    )
+    return save(fig, out)
+
+
+def uq_path_bands(bands, common, out):
+    """‖δp‖ along the section 5.2 path: 5-50-95 % band under per-cable moduli for each design
+    (columns), uncompensated beside the paper's three common-E curves (top) and compensated
+    (bottom). ``bands``: {(design, case): ``uncertainty.path_bands`` table}; ``common``: list of
+    (design, E [Pa], s [m], dp [m]) of the common-E paths (Fig. 19)."""
+    designs = _uq_designs(bands)
+    fig, axes = plt.subplots(2, len(designs), figsize=(5.5 * len(designs), 7), squeeze=False)
+    Es = sorted({c[1] for c in common})
+    styles = dict(zip(Es, [":", "-", "--"] if len(Es) == 3 else ["-"] * len(Es)))
+    for j, dk in enumerate(designs):
+        for i, case in enumerate(UQ_CASES):
+            ax = axes[i, j]
+            b = bands.get((dk, case))
+            if b is None:
+                ax.set_visible(False)
+                continue
+            ax.fill_between(
+                b.s, b.q05_m * 1e3, b.q95_m * 1e3, color="tab:blue", alpha=0.3, label="5-95 % per-cable E"
+            )
+            ax.plot(b.s, b.q50_m * 1e3, color="tab:blue", label="median per-cable E")
+            ax.plot(b.s, b.dp_nominal_m * 1e3, "k", lw=0.8, alpha=0.6, label="nominal")
+            if case == "uncompensated":
+                for d, E, s, dp in common:
+                    if d == dk:
+                        ax.plot(
+                            s, dp * 1e3, styles[E], color="tab:red", lw=1, label=f"common E = {E / 1e9:g} GPa"
+                        )
+            ax.set(xlabel="position along the path s [m]", ylabel="‖δp‖ [mm]", title=f"{dk} {case}")
+            ax.grid(alpha=0.3)
+            ax.legend(fontsize=6)
+    fig.suptitle("‖δp‖ along the section 5.2 path under per-cable moduli (Fig. 19 extended)", fontsize=10)
+    fig.tight_layout()
+    return save(fig, out)
+
+
+def uq_sobol(tab, out):
+    """Sobol total (bars, 95 % confidence) and first-order (dots) indices of the global index per
+    parameter group, for each design (columns) before and after compensation (rows)."""
+    g = tab[(tab.level == "group") & (tab.output == "index")]
+    designs = list(dict.fromkeys(g.design))
+    fig, axes = plt.subplots(2, len(designs), figsize=(5 * len(designs), 6.5), squeeze=False)
+    for j, dk in enumerate(designs):
+        for i, case in enumerate(UQ_CASES):
+            ax = axes[i, j]
+            d = g[(g.design == dk) & (g.case == case)]
+            x = np.arange(len(d))
+            ax.bar(x, d.ST, yerr=d.ST_conf, color="tab:blue", alpha=0.7, capsize=3, label="total ST")
+            ax.plot(x, d.S1, "ko", ms=4, label="first order S1")
+            ax.set_xticks(x, d.name)
+            ax.set(
+                ylabel="Sobol index of the global index",
+                title=f"{dk} {case}",
+                ylim=(min(0, d.S1.min() - 0.05), 1.05),
+            )
+            ax.grid(alpha=0.3, axis="y")
+            ax.legend(fontsize=7)
+    fig.suptitle("Which uncertainty drives the global index (SALib, Saltelli sampling)", fontsize=10)
+    fig.tight_layout()
+    return save(fig, out)
+
+
+def uq_dominant_map(maps, A, z, out):
+    """The parameter whose first-order contribution to the spread of ‖δp‖ is the largest, on the
+    plane z (columns: designs; rows: before and after compensation); hatched where it explains less
+    than half of the spread. ``maps``: {(design, case): ``uncertainty.dominant_map`` table}."""
+    from matplotlib.patches import Patch
+
+    designs = _uq_designs(maps)
+    names = sorted({n for df in maps.values() for n in df.dominant.dropna().unique() if n})
+    cmap = plt.get_cmap("tab20", max(len(names), 1))
+    code = {n: k for k, n in enumerate(names)}
+    fig, axes = plt.subplots(2, len(designs), figsize=(5 * len(designs) + 2, 9), squeeze=False)
+    for j, dk in enumerate(designs):
+        for i, case in enumerate(UQ_CASES):
+            ax = axes[i, j]
+            df = maps.get((dk, case))
+            if df is None:
+                ax.set_visible(False)
+                continue
+            val = df.dominant.map(lambda n: code.get(n, np.nan)).astype(float)
+            xs, ys, Z = _grid(df, val.to_numpy())
+            _, _, share = _grid(df, df.share.to_numpy())
+            ax.pcolormesh(xs, ys, Z, cmap=cmap, vmin=-0.5, vmax=len(names) - 0.5, shading="nearest")
+            ax.contourf(
+                xs, ys, np.where(share < 0.5, 1.0, np.nan), levels=[0.5, 1.5], colors="none", hatches=["///"]
+            )
+            _anchors(ax, A)
+            ax.set(xlabel="x [m]", ylabel="y [m]", title=f"{dk} {case}", aspect="equal")
+    handles = [Patch(color=cmap(code[n]), label=n) for n in names]
+    fig.legend(handles=handles, loc="center right", fontsize=7, title="dominant")
+    fig.suptitle(f"Dominant uncertain parameter at z = {z:g} m (hatched: it explains < 50 %)", fontsize=10)
+    fig.subplots_adjust(right=0.85)
+    return save(fig, out)
+
+
+def uq_agreement(mc, out):
+    """The global index of each full-solve Monte Carlo sample against its linearised value, one
+    panel per design and case, with the line of equality."""
+    keys = sorted(mc)
+    fig, axes = plt.subplots(1, len(keys), figsize=(3.6 * len(keys), 3.6), squeeze=False)
+    for ax, key in zip(axes[0], keys):
+        df = mc[key]
+        ax.plot(df.index_full_m * 1e3, df.index_lin_m * 1e3, "o", ms=3)
+        lo = np.nanmin([df.index_full_m.min(), df.index_lin_m.min()]) * 1e3
+        hi = np.nanmax([df.index_full_m.max(), df.index_lin_m.max()]) * 1e3
+        ax.plot([lo, hi], [lo, hi], "k:", lw=1)
+        ax.set(xlabel="full solves [mm]", ylabel="linearised [mm]", title=f"{key[0]} {key[1]}")
+        ax.grid(alpha=0.3)
+    fig.suptitle("Global index per sample: linearised propagation against full solves", fontsize=10)
     return save(fig, out)

@@ -8,6 +8,16 @@ swivel axis) -> over the top -> exit point D -> P.
 
 All functions broadcast: P has shape (..., 3), per-cable parameters have shape (m,) or broadcast
 against (..., m). Results have shape (..., m) or (..., m, 3).
+
+Equation numbers are those of Paty 2021: eq. (3) the extended useful length l_E = P - D, eq. (4)
+the SR sheave position with the swivel angle alpha_i, eq. (5) the extended total length
+L_TE = |l_E| + |l_d| + gamma r_p; the DR pulley (U-joint, sheave centre on a bisector) is section
+2.2.2 and Fig. 5 (eq. 6-7), with the erratum on the bisector's strand in ``sheave_centre``.
+
+References
+----------
+Paty, T., Binaud, N., Caro, S., Segonds, S. (2021). Cable-driven parallel robot modelling considering
+pulley kinematics and cable elasticity. Mechanism and Machine Theory 159, 104263.
 """
 
 from __future__ import annotations
@@ -28,9 +38,10 @@ class PulleyState:
 
     Attributes: H, K, D (points, shape (..., m, 3)) [m]; gamma wrap angle [rad]; l_d = |K - C| [m];
     l_E = |D - P| [m]; L_TE = l_d + r_p gamma + l_E [m] (eq. 5); alpha swivel angle [rad] (eq. 4);
-    beta angle of the arm A->H below the horizontal [rad] (DR); inside: P or C inside the sheave
-    circle (no tangent exists, lengths clipped); e_s (..., m, 2) horizontal unit vector of the cable
-    plane and rho (..., m) horizontal distance A_i -> P [m].
+    beta angle of the arm A->H below the horizontal [rad] (DR; computed as atan2(H_w, H_s), so it
+    is negative when the arm points down, 0 for SR and fixed pulleys); inside: P or C inside the
+    sheave circle (no tangent exists, lengths clipped); e_s (..., m, 2) horizontal unit vector of
+    the cable plane and rho (..., m) horizontal distance A_i -> P [m].
     """
 
     H: np.ndarray
@@ -50,9 +61,29 @@ class PulleyState:
 def plane_frame(P, A, inward):
     """Horizontal unit vector e_s from A_i toward P and in-plane coordinates of P.
 
-    Returns (e_s (..., m, 2), rho (..., m), w_P (..., m)). When P is on the vertical through A_i
-    (rho < RHO_EPS) the plane direction is ``inward`` (deterministic, and every length is
-    independent of it there by symmetry about the vertical).
+    The cable plane of cable i is the vertical plane through A_i and P: its azimuth is the swivel
+    angle alpha_i of Paty 2021 eq. (4), e_s = (cos alpha_i, -sin alpha_i). When P is on the vertical
+    through A_i (rho < RHO_EPS) the plane direction is ``inward`` (deterministic, and every length
+    is independent of it there by symmetry about the vertical).
+
+    Parameters
+    ----------
+    P : ndarray (..., 3) [m]
+        Platform positions (an ndarray: it is indexed with ``None``).
+    A : ndarray (m, 3) [m]
+        Pulley joint points A_i.
+    inward : ndarray (m, 2) [-]
+        Horizontal unit vector taken as e_s where P lies on the vertical through A_i
+        (``Robot.inward``: toward the anchors' centroid).
+
+    Returns
+    -------
+    e_s : ndarray (..., m, 2) [-]
+        Horizontal unit vector of each cable plane, from A_i toward P.
+    rho : ndarray (..., m) [m]
+        Horizontal distance from A_i to P (in-plane coordinate s of P).
+    w_P : ndarray (..., m) [m]
+        Height of P relative to A_i, z_P - z_A (in-plane coordinate w of P; negative below A_i).
     """
     dxy = P[..., None, :2] - A[:, :2]
     rho = np.hypot(dxy[..., 0], dxy[..., 1])
@@ -66,9 +97,31 @@ def plane_frame(P, A, inward):
 def sheave_centre(kind, h, rho, w_P, d):
     """In-plane sheave centre H = (H_s, H_w).
 
-    SR (eq. 4): H = (h, 0). DR: H = h (e_C + e_P)/|e_C + e_P|, the bisector of the strand toward the
-    winch e_C = (0, -1) and the strand toward P (erratum: the paper's a_i points C -> A; the strand
-    toward the winch is -a_i). fixed: H = A (h = 0).
+    SR (Paty 2021 eq. 4, the arm h_i horizontal along the swivel direction): H = (h, 0).
+    DR (section 2.2.2, Fig. 5): H = h (e_C + e_P)/|e_C + e_P|, the bisector of the strand toward
+    the winch e_C = (0, -1) and the strand toward P, e_P = (rho, w_P)/|(rho, w_P)| (erratum: the
+    paper's a_i points C -> A; the strand toward the winch is -a_i). fixed: H = A (h = 0).
+
+    Parameters
+    ----------
+    kind : array (m,) int
+        Pulley kind codes: 0 fixed, 1 SR, 2 DR (``robot.KIND_CODE``).
+    h : array (m,) [m]
+        Lever arms |A_i H_i|.
+    rho : array (..., m) [m]
+        Horizontal distance from A_i to P (``plane_frame``).
+    w_P : array (..., m) [m]
+        Height of P relative to A_i (``plane_frame``).
+    d : array (m,) [m]
+        Dead lengths |C_i A_i|; not used (the winch exit C lies straight below A_i, so e_C does not
+        depend on d), kept for a signature parallel to ``pulley_state``.
+
+    Returns
+    -------
+    H_s : array (..., m) [m]
+        Horizontal in-plane coordinate of the sheave centre H_i relative to A_i (along e_s).
+    H_w : array (..., m) [m]
+        Vertical in-plane coordinate of H_i relative to A_i (0 for SR and fixed pulleys).
     """
     n_P = np.hypot(rho, w_P)
     n_P = np.where(n_P > 0, n_P, 1.0)
@@ -94,10 +147,38 @@ def _tangent(Xs, Xw, H_s, H_w, r_p):
 
 
 def pulley_state(P, A, kind, h, r_p, d, inward):
-    """Extended inverse geometric model IGM_E of every cable at points P, eq. (3)-(7).
+    """Extended inverse geometric model IGM_E of every cable at points P, Paty 2021 eq. (3)-(7).
 
-    Parameters: P (..., 3) [m]; A (m, 3) joint points [m]; kind (m,) codes 0 fixed / 1 SR / 2 DR;
-    h (m,) lever arms [m]; r_p (m,) sheave radii [m]; d (m,) dead lengths [m]; inward (m, 2).
+    In the cable plane (``plane_frame``), with the sheave centre H (``sheave_centre``), the cable
+    leaves the sheave at the tangent point D toward P and enters it at the tangent point K from the
+    winch exit C = (0, -d); gamma is the wrap angle from D to K over the top, and (eq. 5)
+
+    .. math:: L_{TE} = \\lVert l_d \\rVert + r_p \\gamma + \\lVert l_E \\rVert,
+        \\quad \\lVert l_E \\rVert = \\sqrt{\\lVert H - P \\rVert^2 - r_p^2},
+        \\quad \\lVert l_d \\rVert = \\sqrt{\\lVert H - C \\rVert^2 - r_p^2}
+
+    Parameters
+    ----------
+    P : array_like (..., 3) [m]
+        Platform positions.
+    A : ndarray (m, 3) [m]
+        Pulley joint points A_i.
+    kind : ndarray (m,) int
+        Pulley kind codes: 0 fixed, 1 SR, 2 DR.
+    h : ndarray (m,) [m]
+        Lever arms.
+    r_p : ndarray (m,) [m]
+        Sheave radii.
+    d : ndarray (m,) [m]
+        Dead lengths |C_i A_i| (winch exit C_i = A_i - d_i z).
+    inward : ndarray (m, 2) [-]
+        Fallback horizontal plane direction on the vertical through A_i (``plane_frame``).
+
+    Returns
+    -------
+    PulleyState
+        Arrays (..., m), points (..., m, 3) [m]: H, K, D, gamma [rad], l_d [m], l_E [m], L_TE [m]
+        (eq. 5), alpha [rad] (eq. 4), beta [rad], inside, e_s (..., m, 2) and rho [m].
     """
     P = np.asarray(P, dtype=float)
     e_s, rho, w_P = plane_frame(P, A, inward)
@@ -170,7 +251,36 @@ class CableGeometry(NamedTuple):
 
 
 def total_length_and_direction(P, A, kind, h, r_p, d, inward):
-    """The extended inverse model reduced to what the direct solvers need: a CableGeometry."""
+    """The extended inverse model reduced to what the direct solvers need: a CableGeometry.
+
+    L_TE is Paty 2021 eq. (5); u = (D - P)/|D - P| = -l_E/|l_E| is a column of the matrix M of
+    eq. (12) (l_E of eq. 3); the remaining fields carry the pulley motion that the gradients of
+    ``statics`` need (see ``CableGeometry``).
+
+    Parameters
+    ----------
+    P : array_like (..., 3) [m]
+        Platform positions.
+    A : ndarray (m, 3) [m]
+        Pulley joint points A_i.
+    kind : ndarray (m,) int
+        Pulley kind codes: 0 fixed, 1 SR, 2 DR.
+    h : ndarray (m,) [m]
+        Lever arms.
+    r_p : ndarray (m,) [m]
+        Sheave radii.
+    d : ndarray (m,) [m]
+        Dead lengths.
+    inward : ndarray (m, 2) [-]
+        Fallback horizontal plane direction on the vertical through A_i.
+
+    Returns
+    -------
+    CableGeometry
+        L_TE (..., m) [m]; u (..., m, 3) [-]; l_E (..., m) [m]; inside (..., m) bool;
+        swivel (..., m) [-]; e_perp (..., m, 3) [-]; arm (..., m) [-]; beta, eps (..., m, 3) [-];
+        u_beta, uC_beta (..., m) [-].
+    """
     P = np.asarray(P, dtype=float)
     st = pulley_state(P, A, kind, h, r_p, d, inward)
     v = st.D - P[..., None, :]

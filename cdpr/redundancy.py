@@ -15,6 +15,14 @@ Status of a point (``STATUSES``):
                  pulleys, point inside a sheave, coplanar cables).
 For a point that is not ``ok``, the solved position and tensions of the converged subset with the
 lowest |dp| are still reported, so that the reason can be inspected; aggregations keep ``ok`` rows.
+
+The pose error is Paty 2021 eq. (14), |dp| = |P* - p|, with P* the DEGM_E solution for the commanded
+lengths L_TS(p) of eq. (2).
+
+References
+----------
+Paty, T., Binaud, N., Caro, S., Segonds, S. (2021). Cable-driven parallel robot modelling considering
+pulley kinematics and cable elasticity. Mechanism and Machine Theory 159, 104263.
 """
 
 from __future__ import annotations
@@ -29,18 +37,40 @@ STATUSES = ("ok", "slack", "over_tension", "inaccessible", "not_converged")
 TIE_TOL = 1e-9
 
 
-def solve_points(robot, p, method="newton", **options):
+def solve_points(robot, p, method="newton", L=None, **options):
     """Solve DEGM_E at desired points p (N, 3) over all 3-cable subsets; choose per point.
 
-    Returns a dict of arrays: P_s (N, 3), dp (N,), t (N, m) with NaN for slack cables,
-    subset (N, 3) 0-based (-1 when none), iterations (N,), status (N,) strings, and the per-subset
-    dp (N, n_subsets) and admissible (N, n_subsets) for maps such as Fig. 9.
+    Every subset is commanded the lengths ``L`` (default the standard lengths L_TS(p), Paty 2021
+    eq. 2) and solved with
+    ``direct.degm_e``; the pose error is |dp| = |P* - p| (eq. 14); the choice and the statuses are
+    those of the module docstring (section 3.2, Fig. 8-9).
+
+    Parameters
+    ----------
+    robot : Robot
+        Supplies the cables, ``subsets`` and the admissible tensions T_a (m,) [N].
+    p : array_like (N, 3) [m]
+        Desired positions.
+    method : {"newton", "fixed_point"}
+        DEGM_E solver (``direct.degm_e``).
+    L : array_like (N, m) [m], optional
+        Commanded total lengths of every cable; default L_TS(p) of ``robot`` (eq. 2).
+    options : tolerances passed to ``direct.degm_e``.
+
+    Returns
+    -------
+    dict
+        Arrays: p (N, 3) [m]; P_s (N, 3) [m] the chosen solution P* (NaN when no subset
+        converged); dp (N,) [m]; t (N, m) [N] with NaN for slack cables; subset (N, 3) 0-based
+        (-1 when none); iterations (N,); status (N,) strings of ``STATUSES``; and the per-subset
+        dp_subsets (N, n_subsets) [m] and admissible_subsets (N, n_subsets) bool for maps such as
+        Fig. 9.
     """
     p = np.atleast_2d(np.asarray(p, dtype=float))
     n = p.shape[0]
     subsets = robot.subsets
     ns = len(subsets)
-    L_all = L_TS(robot, p)
+    L_all = L_TS(robot, p) if L is None else np.broadcast_to(np.asarray(L, dtype=float), (n, robot.m))
     T_a = robot.T_a[subsets][:, None, :]  # (n_subsets, 1, 3) per-cable admissible tension
     Ps = np.full((ns, n, 3), np.nan)
     ts = np.full((ns, n, 3), np.nan)
@@ -88,7 +118,19 @@ def solve_points(robot, p, method="newton", **options):
 
 
 def subset_label(subset_row):
-    """1-based cable numbers joined by '-', e.g. '1-2-3'; '' when no subset."""
+    """1-based cable numbers joined by '-', e.g. '1-2-3'; '' when no subset.
+
+    Parameters
+    ----------
+    subset_row : sequence of 3 int
+        0-based cable indices of a subset (a row of ``solve_points``' ``subset``); a negative first
+        entry means no subset.
+
+    Returns
+    -------
+    label : str
+        The label, e.g. '1-2-3', or '' when there is no subset.
+    """
     if subset_row[0] < 0:
         return ""
     return "-".join(str(int(i) + 1) for i in subset_row)

@@ -237,4 +237,118 @@ def check_study(st):
                     f"trajectories.paths.{key}.{end}",
                     f"z must not exceed the lowest pulley ({top:g} m), got {path[end][2]:g}",
                 )
+    if "uncertainty" in st:
+        check_uncertainty(st, robots)
     return st
+
+
+def check_uncertainty(st, robots):
+    """Cross-key checks of the ``uncertainty`` section (``cdpr.uncertainty``): designs among
+    ``optimal``, each distribution's keys and range, the varied keys declared, sample counts, Sobol
+    points inside the frame; and the distributions' support checked against the physics of every
+    design (moduli and mass > 0, pulley rule, dead lengths >= 0) where it is bounded."""
+    from .uncertainty import PARAMETER_KEYS, Distribution
+
+    src, u = st.path, st["uncertainty"]
+    for i, d in enumerate(u["designs"]):
+        if d not in st["optimal"]:
+            raise ConfigError(
+                src, f"uncertainty.designs[{i}]", f"unknown design {d!r}; allowed: {', '.join(st['optimal'])}"
+            )
+    for key, spec in u["parameters"].items():
+        k = f"uncertainty.parameters.{key}"
+        need = {"uniform": ("low", "high"), "normal": ("mean", "sd")}[spec["dist"]]
+        missing = [n for n in need if n not in spec]
+        if missing:
+            raise ConfigError(
+                src, f"{k}.{missing[0]}", f"a {spec['dist']} distribution needs {' and '.join(need)}"
+            )
+        if spec["dist"] == "uniform" and ("mean" in spec or "sd" in spec):
+            raise ConfigError(src, k, "a uniform distribution takes low and high only (no mean, sd)")
+        if "low" in spec and "high" in spec and not spec["low"] < spec["high"]:
+            raise ConfigError(
+                src, k, f"'low' must be below 'high', got low = {spec['low']:g}, high = {spec['high']:g}"
+            )
+        if spec["dist"] == "normal" and not spec.get("low", -math.inf) < spec["mean"] < spec.get(
+            "high", math.inf
+        ):
+            raise ConfigError(
+                src, f"{k}.mean", "the mean of a truncated normal must lie between low and high"
+            )
+        if key == "mass_kg" and "per_cable" in spec:
+            raise ConfigError(
+                src, f"{k}.per_cable", "the payload mass is one parameter; per_cable does not apply"
+            )
+        lo, _ = Distribution.from_spec(spec).support()
+        group, kind = PARAMETER_KEYS[key]
+        if kind == "value" and not lo > 0:
+            raise ConfigError(
+                src,
+                k,
+                f"must be bounded above 0 (low > 0, or a normal truncated by low > 0), got lowest value {lo:g}",
+            )
+    mc = u["monte_carlo"]
+    for i, key in enumerate(mc["vary"]):
+        if key not in u["parameters"]:
+            raise ConfigError(
+                src,
+                f"uncertainty.monte_carlo.vary[{i}]",
+                f"{key!r} has no distribution in uncertainty.parameters; declared: {', '.join(u['parameters'])}",
+            )
+    if mc["full_samples"] > mc["samples"]:
+        raise ConfigError(
+            src,
+            "uncertainty.monte_carlo.full_samples",
+            f"must not exceed samples ({mc['samples']}): the full solves check the first samples, got {mc['full_samples']}",
+        )
+    if mc["shards"] > mc["full_samples"]:
+        raise ConfigError(
+            src,
+            "uncertainty.monte_carlo.shards",
+            f"must not exceed full_samples ({mc['full_samples']}), got {mc['shards']}",
+        )
+    b = u["sobol"]["base_samples"]
+    if b & (b - 1):
+        raise ConfigError(
+            src, "uncertainty.sobol.base_samples", f"must be a power of 2 (Sobol' sequence), got {b}"
+        )
+    robot = robots[st["doe"]["robot"]]
+    top = float(robot.A[:, 2].min())
+    for i, pnt in enumerate(u["sobol"]["points_m"]):
+        if not pnt[2] < top:
+            raise ConfigError(
+                src,
+                f"uncertainty.sobol.points_m[{i}]",
+                f"z must lie below the lowest pulley ({top:g} m), got {pnt[2]:g}",
+            )
+    _check_offsets(st, u["parameters"])
+
+
+def _check_offsets(st, params):
+    """The bounded offsets of h, r_p and d keep every design physical (pulley rule, d >= 0)."""
+    from .uncertainty import Distribution
+
+    def span(key):
+        if key not in params:
+            return 0.0, 0.0
+        return Distribution.from_spec(params[key]).support()
+
+    (h_lo, _), (_, r_hi), (d_lo, _) = span("h_offset_m"), span("r_p_offset_m"), span("dead_length_offset_m")
+    for dk in st["uncertainty"]["designs"]:
+        p = st["optimal"][dk]
+        h, r = p.get("h_m", 0.0), p.get("r_p_m", 0.0)
+        if p["kind"] != "fixed" and h > 0 and np.isfinite(h_lo) and np.isfinite(r_hi):
+            try:
+                check_pulley(p["kind"], h + h_lo, r + r_hi, st.path, f"uncertainty.parameters (design {dk})")
+            except ConfigError as exc:
+                raise ConfigError(
+                    st.path,
+                    "uncertainty.parameters.h_offset_m",
+                    f"the lowest h and the highest r_p of design {dk} break the pulley rule: {exc}",
+                ) from None
+        if np.isfinite(d_lo) and st["dead_length_m"] + d_lo < 0:
+            raise ConfigError(
+                st.path,
+                "uncertainty.parameters.dead_length_offset_m",
+                f"the lowest dead length {st['dead_length_m'] + d_lo:g} m is negative",
+            )

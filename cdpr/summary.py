@@ -110,7 +110,8 @@ def _rw_c_volume(st, res):
         else (
             rw["computed_volume_m3"],
             f"computed box {np.round(rw['computed'], 3).tolist()} on a {rw['grid_n']}^3 grid; "
-            f"the index uses the {rw['use']} box",
+            "the index uses "
+            + ("the study's doe.paper_rw_c_m box" if rw["use"] == "paper" else "this computed box"),
         )
     )
 
@@ -207,6 +208,42 @@ def _crossing(st, res, design, near=None):
     ), f"all crossings: {np.round(c, 3).tolist()}"
 
 
+def _uq_band(st, res, design, case, column, method="linearised", scale=1.0):
+    """A column of uncertainty/bands.csv (one design, case and method); the note gives the 5-95 %
+    range of the index, the sample count and grid, and our common-E band for comparison."""
+    b = _read(res, "uncertainty/bands.csv")
+    r = None if b is None else b[(b.design == design) & (b.case == case) & (b.method == method)]
+    if r is None or r.empty:
+        return None
+    r = r.iloc[0]
+    note = (
+        f"{method}, n = {int(r.n)} samples on {int(r.index_n)}^3 RW_C points; index 5-95 %: "
+        f"{r.index_q05_m * 1e3:.2f}-{r.index_q95_m * 1e3:.2f} mm"
+    )
+    common = _read(res, "elasticity/bands.csv")
+    c = None if common is None else common[common.design == design]
+    if case == "uncompensated" and c is not None and not c.empty:
+        c = c.iloc[0]
+        note += (
+            f"; our common-E band {c.index_mean_m * 1e3:.2f} +{c.plus_m * 1e3:.2f}/-{c.minus_m * 1e3:.2f} mm"
+        )
+    return float(r[column]) * scale, note
+
+
+def _uq_sobol_top(st, res, design, case, rank=1, output="index"):
+    """The rank-th largest Sobol total index of one output (parameters, not groups); the note names
+    the three largest with their 95 % confidence half-widths."""
+    t = _read(res, "uncertainty/sobol.csv")
+    if t is None:
+        return None
+    g = t[(t.design == design) & (t.case == case) & (t.level == "parameter") & (t.output == output)]
+    if g.empty:
+        return None
+    g = g.sort_values("ST", ascending=False)
+    top = ", ".join(f"{r.name} {r.ST:.2f}±{r.ST_conf:.2f}" for r in g.head(3).itertuples())
+    return float(g.ST.iloc[rank - 1]), f"largest ST: {top}"
+
+
 def _winch_dl(st, res, l_pm_m, scale=1000.0):
     w = _read(res, "winch/winch.csv")
     return None if w is None else (float(np.interp(l_pm_m, w.l_pm, w.dl)) * scale, "")
@@ -236,16 +273,21 @@ EXTRACTORS = {
     "line": _line,
     "band": _band,
     "crossing": _crossing,
+    "uq_band": _uq_band,
+    "uq_sobol_top": _uq_sobol_top,
     "winch_dl": _winch_dl,
     "winch_q1_at_l_pm0": _winch_q1_at_l_pm0,
 }
 
 
-def verdict(paper, ours, tolerance, reason=None):
+def verdict(paper, ours, tolerance, reason=None, scored=True):
     """'reproduced' when |ours - paper| <= tolerance, 'not reproduced (reason)' otherwise, and
-    'no paper value' when the paper prints none."""
+    'no paper value' when the paper prints none; 'beside the paper (reason)' for a number of ours
+    shown beside a different experiment of the paper's (``scored: false`` in paper_values.yaml)."""
     if paper is None:
         return "no paper value"
+    if not scored:
+        return "beside the paper, not scored" + (f" ({reason})" if reason else "")
     if ours is not None and np.isfinite(ours) and abs(ours - paper) <= tolerance:
         return "reproduced"
     return "not reproduced" + (f" ({reason})" if reason else "")
@@ -273,7 +315,7 @@ def build_rows(st, res, values=None):
                 "ours": ours,
                 "unit": v["unit"],
                 "tolerance": v["tolerance"] if scored else None,
-                "verdict": verdict(paper, ours, v["tolerance"], v.get("reason"))
+                "verdict": verdict(paper, ours, v["tolerance"], v.get("reason"), v.get("scored", True))
                 if scored
                 else "not scored (not the paper's study)",
                 "note": note,

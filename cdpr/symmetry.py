@@ -27,7 +27,9 @@ over the same N points either way.
 
 References
 ----------
-Paty et al. 2021, eq. (15) (the global index over the cell-centred grid of RW_C).
+Paty, T., Binaud, N., Caro, S., Segonds, S. (2021). Cable-driven parallel robot modelling
+considering pulley kinematics and cable elasticity. Mechanism and Machine Theory 159, 104263,
+eq. (15) (the global index over the cell-centred grid of RW_C).
 """
 
 from __future__ import annotations
@@ -75,6 +77,10 @@ def robot_symmetric(robot, T, centre, tol=TOL):
     centre : array (2,) [m]
     tol : float
         Relative tolerance on positions (times the frame's size) [-].
+
+    Returns
+    -------
+    bool
     """
     a = robot.arrays
     w = robot.platform.w_ext
@@ -102,6 +108,8 @@ def grid_symmetries(robot, box, tol=TOL):
     robot : Robot
     box : array_like (6,) [m]
         xmin, xmax, ymin, ymax, zmin, zmax.
+    tol : float
+        Relative tolerance of the geometric comparisons [-].
 
     Returns
     -------

@@ -546,3 +546,163 @@ def comparison(st, comparison, tables, table, figure, markdown):
         },
         markdown,
     )
+
+
+# ---- uncertainty and sensitivity (beyond the paper: cdpr.uncertainty) ---------------------------
+def uq_shard(st, design, case, shard, box_file, table, points, threads=None):
+    """One Monte Carlo shard by full solves with the linearised propagation of the same samples."""
+    from . import uncertainty
+
+    samples, pts = uncertainty.mc_shard(st, design, case, study.read_box(box_file), int(shard), threads)
+    io.write_table(samples, table)
+    io.write_table(pts, points)
+
+
+def uq_design(st, design, case, box_file, table, path, sobol, tolerances, map, threads=None):
+    """Every sample linearised over RW_C, the path bands, the Sobol indices and the dominant-parameter
+    map of one design and case."""
+    from . import uncertainty
+
+    box = study.read_box(box_file)
+    io.write_table(uncertainty.linear_samples(st, design, case, box, threads), table)
+    io.write_table(uncertainty.path_bands(st, design, case, threads), path)
+    indices, rows = uncertainty.sobol(st, design, case, box, threads)
+    io.write_table(indices, sobol)
+    io.write_table(rows, tolerances)
+    io.write_table(uncertainty.dominant_map(st, design, case, threads), map)
+
+
+_UQ = r"(?P<design>[A-Za-z0-9]+)_(?P<case>uncompensated|compensated)"
+
+
+def uncertainty(
+    st,
+    tables,
+    paths,
+    bands,
+    agreement,
+    sobol,
+    figure,
+    paths_figure,
+    sobol_figure,
+    map_figure,
+    agreement_figure,
+):
+    """Aggregate the uncertainty jobs: index bands (per-cable Monte Carlo, linearised and full, and
+    every declared parameter from Saltelli's rows), the agreement of the linearisation with the full
+    solves, the Sobol indices; and the figures. ``tables``: the uncertainty jobs' files; ``paths``:
+    the elasticity tables (common-E index sweep and paths) the figures compare with."""
+    from . import plots
+    from . import uncertainty as uq
+
+    u = st["uncertainty"]
+    kinds = {
+        "mc": rf"mc_{_UQ}_(?P<shard>\d+)",
+        "points": rf"points_{_UQ}_(?P<shard>\d+)",
+        "linear": rf"{_UQ}_linear",
+        "path": rf"{_UQ}_path",
+        "sobol": rf"{_UQ}_sobol",
+        "tolerances": rf"{_UQ}_tolerances",
+        "map": rf"{_UQ}_map",
+    }
+    found = {k: {} for k in kinds}
+    for p in tables:
+        stem = Path(p).stem
+        kind = next((k for k, pat in kinds.items() if re.fullmatch(pat, stem)), None)
+        if kind is None:
+            raise CdprError(
+                f"{p}: not an uncertainty file (expected mc_, points_, _linear, _path, _sobol, _tolerances, _map)"
+            )
+        g = re.fullmatch(kinds[kind], stem).groupdict()
+        found[kind].setdefault((g["design"], g["case"]), []).append((int(g.get("shard", 0)), p))
+    read = {k: {key: concat([p for _, p in sorted(v)]) for key, v in d.items()} for k, d in found.items()}
+    common = {}
+    for p in paths:
+        stem = Path(p).stem
+        if stem == "index_vs_E":
+            common["index_vs_E"] = io.read_table(p)
+        elif stem == "bands":
+            common["bands"] = io.read_table(p)
+        elif (m := re.fullmatch(r"path_(?P<design>[A-Za-z0-9]+)_E(?P<E>[0-9.e+-]+)", stem)) is not None:
+            df = io.read_table(p)
+            common.setdefault("paths", []).append(
+                (m["design"], float(m["E"]), df.s.to_numpy(), df.dp.where(df.status == "ok").to_numpy())
+            )
+    rows, agree = [], []
+    for design in u["designs"]:
+        for case in uq.CASES:
+            key = (design, case)
+            for name in ("mc", "points", "linear", "tolerances"):
+                if key not in read[name]:
+                    raise CdprError(f"uncertainty: no {name} table of {design} {case} among the inputs")
+            b = uq.bands(read["linear"][key], read["mc"][key])
+            tol = read["tolerances"][key]
+            q = np.quantile(tol.index_m, uq.QUANTILES)
+            nom = float(b.index_nominal_m.iloc[0])
+            b = pd.concat(
+                [
+                    b,
+                    pd.DataFrame(
+                        [
+                            {
+                                "method": "all_parameters",
+                                "n": len(tol),
+                                "index_nominal_m": nom,
+                                "index_q05_m": q[0],
+                                "index_q50_m": q[1],
+                                "index_q95_m": q[2],
+                                "index_min_m": tol.index_m.min(),
+                                "index_max_m": tol.index_m.max(),
+                                "plus_m": tol.index_m.max() - nom,
+                                "minus_m": nom - tol.index_m.min(),
+                                "median_q50_m": tol.median_m.median(),
+                                "p95_q50_m": tol.p95_m.median(),
+                                "p95_q95_m": tol.p95_m.quantile(0.95),
+                            }
+                        ]
+                    ),
+                ],
+                ignore_index=True,
+            )
+            b.insert(0, "case", case)
+            b.insert(0, "design", design)
+            b["index_n"] = [u["monte_carlo"]["index_n"]] * 2 + [u["sobol"]["index_n"]]
+            rows.append(b)
+            a = uq.agreement(read["mc"][key], read["points"][key], u["monte_carlo"]["agree_tol_m"])
+            agree.append({"design": design, "case": case, **a})
+    bands_tab = pd.concat(rows, ignore_index=True)
+    agree_tab = pd.DataFrame(agree)
+    sob = []
+    for (design, case), df in read["sobol"].items():
+        df = df.copy()
+        df.insert(0, "case", case)
+        df.insert(0, "design", design)
+        sob.append(df)
+    sobol_tab = pd.concat(sob, ignore_index=True)
+    io.write_table(bands_tab, bands)
+    io.write_table(agree_tab, agreement)
+    io.write_table(sobol_tab, sobol)
+    paper_bands = _paper_uq_bands(st)
+    robot = study.robot_of(st, st["doe"]["robot"])
+    plots.uq_index_distribution(
+        read["linear"], read["tolerances"], common.get("index_vs_E"), paper_bands, figure
+    )
+    plots.uq_path_bands(read["path"], common.get("paths", []), paths_figure)
+    plots.uq_sobol(sobol_tab, sobol_figure)
+    plots.uq_dominant_map(read["map"], robot.A, st["plane"]["z_m"], map_figure)
+    plots.uq_agreement(read["mc"], agreement_figure)
+
+
+def _paper_uq_bands(st):
+    """The paper's common-E band per design {design: (index, minus, plus)} [m] from
+    config/paper_values.yaml, for the paper's study only."""
+    from . import summary
+
+    if not st.get("paper_comparison"):
+        return {}
+    out = {}
+    for v in summary.paper_values():
+        o = v["ours"]
+        if o.get("kind") == "band" and o.get("column") in ("index_mean_m", "minus_m", "plus_m"):
+            out.setdefault(o["design"], {})[o["column"]] = v["value"] / 1000.0
+    return {d: (c["index_mean_m"], c["minus_m"], c["plus_m"]) for d, c in out.items() if len(c) == 3}

@@ -85,3 +85,24 @@ def test_taut_set_map_and_difference_maps(tmp_path, monkeypatch):
     panels = [ax for ax in figs[1].axes if ax.get_title()]
     meshes = [c for ax in panels for c in ax.collections if hasattr(c, "norm") and c.get_array() is not None]
     assert len(meshes) == 4 and {(c.norm.vmin, c.norm.vmax) for c in meshes} == {(-7.5, 7.5)}
+
+
+def test_outputs_follow_the_umask(tmp_path):
+    """Atomic writes must not keep the temporary file's 0600: under umask 022 a table is 0644."""
+    import os
+
+    import pandas as pd
+
+    from cdpr import io
+
+    old = os.umask(0o022)
+    try:
+        io.write_table(pd.DataFrame({"a": [1.0]}), tmp_path / "t.csv")
+        io.write_text("x", tmp_path / "t.md")
+        os.umask(0o077)
+        io.write_text("x", tmp_path / "private.md")
+    finally:
+        os.umask(old)
+    assert (tmp_path / "t.csv").stat().st_mode & 0o777 == 0o644
+    assert (tmp_path / "t.md").stat().st_mode & 0o777 == 0o644
+    assert (tmp_path / "private.md").stat().st_mode & 0o777 == 0o600

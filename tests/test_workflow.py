@@ -32,6 +32,11 @@ TABLES = [
     "trajectories/CDPR4_SR.csv",
     "trajectories/CDPR3_DR.csv",
     "winch/winch.csv",
+    "uncertainty/bands.csv",
+    "uncertainty/agreement.csv",
+    "uncertainty/sobol.csv",
+    "uncertainty/DRopt_uncompensated_path.csv",
+    "uncertainty/SRopt_compensated_map.csv",
 ]
 #: Tables of the comparison of the two quick runs (results/quick_comparison/).
 COMPARISON_TABLES = ["conclusions.csv", "budget.csv", "difference_stats.csv"]
@@ -115,6 +120,11 @@ def test_quick_study_writes_every_figure_and_the_summary(quick):
         "elasticity/index_vs_E.png",
         "elasticity/paths.png",
         "dead_length/dead_length.png",
+        "uncertainty/index.png",
+        "uncertainty/path.png",
+        "uncertainty/sobol.png",
+        "uncertainty/dominant.png",
+        "uncertainty/agreement.png",
     ]:
         assert (quick / fig).stat().st_size > 0 and (quick / fig).with_suffix(".pdf").stat().st_size > 0, fig
     text = (quick / "summary.md").read_text()

@@ -97,5 +97,7 @@ def all_targets():
     t += [f"{RES}/trajectories/trajectories.png"]
     t += [f"{RES}/volumes/volumes.csv"] + expand(f"{RES}/volumes/{{label}}_VL.png", label=VOL_LABELS)
     t += [f"{RES}/doe/doe.csv", f"{RES}/maps/lines.csv", f"{RES}/elasticity/bands.csv", f"{RES}/dead_length/dead_length.csv"]
+    if STUDY.get("uncertainty"):
+        t += [f"{RES}/uncertainty/bands.csv"]
     t += [f"{RES}/summary.md", f"{RES}/summary.csv"]
     return t

@@ -15,12 +15,15 @@ rule summary:
         bands=f"{RES}/elasticity/bands.csv",
         crossings=f"{RES}/elasticity/crossings.csv",
         dead_length=f"{RES}/dead_length/dead_length.csv",
+        uncertainty=[f"{RES}/uncertainty/bands.csv", f"{RES}/uncertainty/sobol.csv"] if STUDY.get("uncertainty") else [],
         paper_values="config/paper_values.yaml",
     output:
         markdown=f"{RES}/summary.md",
         table=f"{RES}/summary.csv",
     params:
-        study=uses("name", "paper_comparison", "dead_length_m", "solver", "doe", "maps", "trajectories", "redundancy"),
+        study=uses(
+            "name", "paper_comparison", "dead_length_m", "solver", "doe", "maps", "trajectories", "uncertainty", "redundancy"
+        ),
         cdpr=CDPR,
         study_file=STUDY_FILE,
         results=lambda w, output: str(Path(output.table).parent),
