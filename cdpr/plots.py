@@ -610,6 +610,7 @@ def budget_paths(paths, out):
     for ax in axes.ravel()[len(labels) :]:
         ax.set_axis_off()
     fig.suptitle("Error budget along the section 3.3.1 paths", fontsize=10)
+    return save(fig, out)
 
 
 # ---- uncertainty and sensitivity (beyond the paper: cdpr.uncertainty) ---------------------------
