@@ -215,11 +215,13 @@ def variant(design, p, actual, model, t_min=T_MIN_DEFAULT, threads=None):
     return {"dp": dp, "status": status.astype(str)}
 
 
-def variants():
+def variants(effects=EFFECTS):
     """The variants of the budget (module docstring).
 
     Parameters
     ----------
+    effects : tuple of str
+        The effects of the budget (default ``EFFECTS``).
 
     Returns
     -------
@@ -227,12 +229,13 @@ def variants():
         name -> (actual effects, model effects): ``none``, each single effect, ``all``,
         ``compensated_<k>``, ``neglected_<k>`` and ``compensated_all``.
     """
-    allk = tuple(EFFECTS)
+    _names(effects)  # unknown effects raise ValueError
+    allk = tuple(effects)
     v = {"none": ((), ())}
-    v.update({k: ((k,), ()) for k in EFFECTS})
+    v.update({k: ((k,), ()) for k in allk})
     v["all"] = (allk, ())
-    v.update({f"compensated_{k}": (allk, (k,)) for k in EFFECTS})
-    v.update({f"neglected_{k}": (allk, tuple(e for e in EFFECTS if e != k)) for k in EFFECTS})
+    v.update({f"compensated_{k}": (allk, (k,)) for k in allk})
+    v.update({f"neglected_{k}": (allk, tuple(e for e in allk if e != k)) for k in allk})
     v["compensated_all"] = (allk, allk)
     return v
 
