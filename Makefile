@@ -1,5 +1,6 @@
 # Two commands do everything on a fresh machine with Python 3.11 and pip:
-#   make reproduce   -- regenerate the paper's figures, tables and summary under results/
+#   make reproduce   -- regenerate the paper's figures, tables and summary under results/ (paper and
+#                       physical modes, and their comparison results/comparison.md)
 #   make test        -- run the test suite
 #   make docs        -- build the documentation site into site/ (mkdocs, --strict)
 PYTHON ?= python3.11
@@ -8,7 +9,7 @@ BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 CLUSTER_STAMP := $(VENV)/.installed-cluster
 
-.PHONY: venv test docs reproduce resume reproduce-quick update-references clean-venv cluster-venv test-slurm
+.PHONY: venv test docs reproduce reproduce-extra resume reproduce-quick update-references clean-venv cluster-venv test-slurm
 
 # Re-install whenever pyproject.toml changes (the stamp is older than it).
 $(STAMP): pyproject.toml
@@ -29,23 +30,46 @@ docs: $(STAMP)
 	$(BIN)/mkdocs build --strict -d site
 
 # Every tracked output is recomputed (--forceall): a fresh clone's tracked results are never reused.
+# The paper study (results/paper), the same study in physical mode (results/physical: the platform
+# on all cables, config/studies/physical.yaml differs only in name and redundancy), the studies of
+# the reproduce-extra hook, then their comparison and the error budget (results/comparison.md and
+# results/comparison/; config/comparisons/paper_vs_physical.yaml).
+PHYSICAL := --config study=config/studies/physical.yaml results=results/physical
+COMPARISON_RULES := budget_design budget comparison
 reproduce: $(STAMP)
 	$(BIN)/snakemake --cores all --forceall reproduce_paper
+	$(BIN)/snakemake --cores all --forceall reproduce_paper $(PHYSICAL)
+	$(MAKE) --no-print-directory reproduce-extra
+	$(BIN)/snakemake reproduce_comparison --cores all --forcerun $(COMPARISON_RULES)
+
+# Hook: studies that make reproduce runs after the paper and physical studies and before the
+# comparison (e.g. the uncertainty study adds its snakemake command here).
+reproduce-extra: $(STAMP)
+	@:
 
 # After an interruption (Ctrl-C, a killed process, a lost machine): release Snakemake's lock and
 # finish only what is missing or incomplete. Targets come before --config (both take lists).
 resume: $(STAMP)
 	$(BIN)/snakemake --unlock reproduce_paper
 	$(BIN)/snakemake --cores all --rerun-incomplete reproduce_paper
+	$(BIN)/snakemake --unlock reproduce_paper $(PHYSICAL)
+	$(BIN)/snakemake --cores all --rerun-incomplete reproduce_paper $(PHYSICAL)
+	$(BIN)/snakemake --cores all --rerun-incomplete reproduce_comparison
 
-# The same DAG on the small CI study (config/studies/quick.yaml), written under results/quick/.
+# The same DAG on the small CI study (config/studies/quick.yaml), written under results/quick/, in
+# physical mode under results/quick_physical/, and their comparison (results/quick_comparison.md).
+QUICK_CMP := --config study=config/studies/quick.yaml results=results/quick comparison=config/comparisons/quick.yaml
 reproduce-quick: $(STAMP)
 	$(BIN)/snakemake --cores all reproduce_paper --config study=config/studies/quick.yaml results=results/quick
+	$(BIN)/snakemake --cores all reproduce_paper --config study=config/studies/quick_physical.yaml results=results/quick_physical
+	$(BIN)/snakemake reproduce_comparison --cores all $(QUICK_CMP)
 
 # Recompute the quick study from scratch and accept its tables as the new regression references
 # (review the diff!).
 update-references: $(STAMP)
 	$(BIN)/snakemake --cores all --forceall reproduce_paper --config study=config/studies/quick.yaml results=results/quick
+	$(BIN)/snakemake --cores all --forceall reproduce_paper --config study=config/studies/quick_physical.yaml results=results/quick_physical
+	$(BIN)/snakemake reproduce_comparison --cores all --forcerun $(COMPARISON_RULES) $(QUICK_CMP)
 	$(BIN)/python -m tests.update_references
 
 # The SLURM executor plugin (extra `cluster` of pyproject.toml) into .venv, for

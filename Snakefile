@@ -21,6 +21,7 @@ include: "workflow/rules/maps.smk"
 include: "workflow/rules/elasticity.smk"
 include: "workflow/rules/uncertainty.smk"
 include: "workflow/rules/summary.smk"
+include: "workflow/rules/comparison.smk"
 
 
 rule reproduce_paper:

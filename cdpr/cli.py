@@ -596,7 +596,15 @@ def cmd_plane(args):
             f"--z must lie between the floor and the lowest pulley (0 <= z < {top:g} m), got {args.z:g}"
         )
     t0 = time.perf_counter()
-    df = analyses.plane(robot, args.z, args.n, method=args.method, engine=_engine(args), threads=args.threads)
+    df = analyses.plane(
+        robot,
+        args.z,
+        args.n,
+        method=args.method,
+        engine=_engine(args),
+        threads=args.threads,
+        redundancy=args.redundancy,
+    )
     io.write_table(df, args.out)
     _report(df, args.out, args, time.perf_counter() - t0)
 
@@ -606,7 +614,14 @@ def cmd_trajectory(args):
     io.check_output(args.out)
     t0 = time.perf_counter()
     df = analyses.trajectory(
-        robot, args.start, args.end, args.n, method=args.method, engine=_engine(args), threads=args.threads
+        robot,
+        args.start,
+        args.end,
+        args.n,
+        method=args.method,
+        engine=_engine(args),
+        threads=args.threads,
+        redundancy=args.redundancy,
     )
     io.write_table(df, args.out)
     _report(df, args.out, args, time.perf_counter() - t0)
@@ -632,6 +647,12 @@ JOBS = {
     "dead-length-point": ("dead_length_point", ["d", "box_file", "table", "threads"]),
     "dead-length": ("dead_length", ["tables", "table", "figure"]),
     "summary": ("summary", ["results", "table", "markdown"]),
+    "budget-design": (
+        "budget_design",
+        ["comparison", "label", "box_file", "table", "path_table", "threads"],
+    ),
+    "budget": ("budget_tables", ["comparison", "tables", "paths", "table", "figure", "paths_figure"]),
+    "comparison": ("comparison", ["comparison", "tables", "table", "figure", "markdown"]),
     "uq-shard": ("uq_shard", ["design", "case", "shard", "box_file", "table", "points", "threads"]),
     "uq-design": (
         "uq_design",
@@ -675,6 +696,8 @@ _JOB_OPTION_HELP = {
     "kind": "pulley kind",
     "d": "dead length [m]",
     "threads": "solver threads",
+    "comparison": "comparison file (config/comparisons/*.yaml)",
+    "path_table": "output table along the path",
     "design": "design label of the study's optimal designs",
     "case": "uncompensated | compensated",
     "shard": "0-based shard index",
@@ -713,6 +736,7 @@ def cmd_job(args):
             "crossings",
             "paths_figure",
             "markdown",
+            "path_table",
             "points",
             "path",
             "sobol",
@@ -846,6 +870,7 @@ def build_parser():
         "--n", type=count(2, 20000), required=True, help="points per side over the anchors' bounding box"
     )
     sp.add_argument("--out", required=True, metavar="FILE")
+    _physics_options(sp)
     sp.set_defaults(func=cmd_plane)
     sp = sub.add_parser(
         "trajectory", help="DEGM_E along a straight path (Fig. 10, 19); writes a table with arc length s"
@@ -856,6 +881,7 @@ def build_parser():
     sp.add_argument("--end", nargs=3, type=finite, required=True, metavar=("X", "Y", "Z"))
     sp.add_argument("--n", type=count(2, 100_000_000), required=True, help="points along the path")
     sp.add_argument("--out", required=True, metavar="FILE")
+    _physics_options(sp)
     sp.set_defaults(func=cmd_trajectory)
     sp = sub.add_parser("job", help="a pipeline task: tables in, tables and figures out (run by Snakemake)")
     sp.add_argument("name", choices=list(JOBS))

@@ -133,6 +133,34 @@ def fig9_subsets(tables, A, z, robot_name, out):
     return save(fig, out)
 
 
+def fig9_taut(tables, A, z, robot_name, out):
+    """Fig. 9 of the physical study: the set of taut cables of the equilibrium at each point of the
+    plane (``redundancy: physical``: every cable may go slack; the paper's Fig. 9 shows instead the
+    3-cable subset its rule keeps), one panel per pulley design. ``tables`` maps a design label to
+    its plane table (column ``taut``, e.g. '1-2-3-4'); points that are not ok are grey."""
+    labels = sorted(
+        {s for df in tables.values() for s in df.taut.astype(str).unique() if s},
+        key=lambda s: (-len(s.split("-")), s),
+    )
+    cmap = plt.get_cmap("tab20" if len(labels) > 10 else "tab10", max(len(labels), 1))
+    fig, axes = plt.subplots(1, len(tables), figsize=(5.2 * len(tables), 4.8), squeeze=False)
+    im = None
+    for ax, (label, df) in zip(axes[0], tables.items()):
+        code = df.taut.astype(str).map({s: i for i, s in enumerate(labels)}).astype(float)
+        code[(df.status != "ok").to_numpy()] = np.nan
+        xs, ys, Z = _grid(df, code.to_numpy())
+        ax.set_facecolor(NOT_OK_COLOUR)
+        im = ax.pcolormesh(xs, ys, Z, cmap=cmap, vmin=-0.5, vmax=len(labels) - 0.5, shading="nearest")
+        _anchors(ax, A)
+        ax.set(xlabel="x [m]", ylabel="y [m]", title=f"{robot_name} {label} at z = {z:g} m", aspect="equal")
+        _not_ok_legend(ax, df)
+    if im is not None:
+        cb = fig.colorbar(im, ax=axes[0].tolist(), ticks=range(len(labels)))
+        cb.ax.set_yticklabels([f"taut {s}" for s in labels])
+    fig.suptitle("Taut cables of the physical equilibrium (Fig. 9, physical mode); grey: not ok", fontsize=9)
+    return save(fig, out)
+
+
 def fig10_trajectories(tables, minmax, out):
     """Paty 2021 Fig. 10: ‖δp‖ along the section 3.3.1 paths. ``tables`` maps a design label
     (robot_pulley) to its path table (s, dp, status); ``minmax`` has ok_until_s_m and
@@ -470,6 +498,118 @@ def dead_length_figure(tab, d_default, out):
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7)
     fig.suptitle("Sensitivity of paper-comparable numbers to the dead length d", fontsize=10)
+    return save(fig, out)
+
+
+def comparison_difference_maps(tables, anchors, z, out):
+    """Paper rule versus physics: ‖δp‖_physical − ‖δp‖_paper over the plane at height z, one panel
+    per design (rows: robots, columns: pulley designs) on one diverging colour scale centred on 0.
+    ``tables`` maps (robot, pulley) to a ``comparison.difference_table``; ``anchors`` maps a robot
+    to its anchors A (m, 3). Grey: not ok in either mode."""
+    robots = list(dict.fromkeys(r for r, _ in tables))
+    pulleys = list(dict.fromkeys(p for _, p in tables))
+    vmax = max(
+        (np.nanmax(np.abs(t["diff"])) for t in tables.values() if t["diff"].notna().any()), default=1.0
+    )
+    vmax = vmax * 1e3 if vmax > 0 else 1.0
+    fig, axes = plt.subplots(
+        len(robots), len(pulleys), figsize=(5.0 * len(pulleys), 4.6 * len(robots)), squeeze=False
+    )
+    im = None
+    for i, rk in enumerate(robots):
+        for j, pk in enumerate(pulleys):
+            ax = axes[i, j]
+            t = tables.get((rk, pk))
+            if t is None:
+                ax.set_axis_off()
+                continue
+            xs, ys, Z = _grid(t, t["diff"].to_numpy() * 1e3)
+            ax.set_facecolor(NOT_OK_COLOUR)
+            im = ax.pcolormesh(xs, ys, Z, cmap="RdBu_r", vmin=-vmax, vmax=vmax, shading="nearest")
+            _anchors(ax, anchors[rk])
+            d = t["diff"].dropna() * 1e3
+            span = f"{d.min():+.1f} to {d.max():+.1f} mm" if len(d) else "no common ok point"
+            ax.set(xlabel="x [m]", ylabel="y [m]", title=f"{rk} {pk}: {span}", aspect="equal")
+    if im is not None:
+        fig.colorbar(im, ax=axes.ravel().tolist(), label="‖δp‖ physical − ‖δp‖ paper rule [mm]")
+    fig.suptitle(f"Physical equilibrium minus the paper's 3-of-4 rule at z = {z:g} m", fontsize=10)
+    return save(fig, out)
+
+
+#: Colours of the error budget's effects.
+EFFECT_COLOURS = {
+    "pulley": "tab:blue",
+    "elasticity": "tab:green",
+    "winch": "tab:red",
+    "interaction": "tab:gray",
+    "all": "k",
+}
+
+
+def budget_bars(tab, out):
+    """Error budget per design over RW_C: (a) stacked bars of each effect's share of the mean
+    all-effects error (projection on its direction, so the stack sums to the mean ‖δp_all‖, marked
+    by a black tick; negative shares go below zero), beside the mean ‖δp‖ of each effect alone;
+    (b) the mean error left after compensating each effect, and all of them. ``tab`` is the budget
+    table (design, region, entry, mean_m, share_m, ...); rows of region RW_C are drawn."""
+    t = tab[tab.region == "RW_C"]
+    designs = list(dict.fromkeys(t.design))
+    x = np.arange(len(designs))
+    get = lambda d, e, c: float(t[(t.design == d) & (t.entry == e)][c].iloc[0]) * 1e3  # noqa: E731
+    fig, (a, b) = plt.subplots(1, 2, figsize=(max(10, 2.4 * len(designs)), 4.8), layout="constrained")
+    pos, neg = np.zeros(len(designs)), np.zeros(len(designs))
+    for e in ("pulley", "elasticity", "winch", "interaction"):
+        v = np.array([get(d, e, "share_m") for d in designs])
+        base = np.where(v >= 0, pos, neg)
+        a.bar(x - 0.2, v, 0.38, bottom=base, color=EFFECT_COLOURS[e], label=f"{e} (share)")
+        pos, neg = np.where(v >= 0, pos + v, pos), np.where(v < 0, neg + v, neg)
+    tot = np.array([get(d, "all", "mean_m") for d in designs])
+    a.scatter(x - 0.2, tot, marker="_", s=400, color="k", zorder=3, label="mean ‖δp_all‖")
+    bottom = np.zeros(len(designs))
+    for e in ("pulley", "elasticity", "winch"):
+        v = np.array([get(d, e, "mean_m") for d in designs])
+        a.bar(x + 0.2, v, 0.38, bottom=bottom, color=EFFECT_COLOURS[e], alpha=0.45, hatch="//")
+        bottom += v
+    a.axhline(0, color="0.5", lw=0.8)
+    a.set_xticks(x, designs, rotation=20)
+    a.set(ylabel="mean ‖δp‖ [mm]", title="(a) left: shares of ‖δp_all‖; right (hatched): each effect alone")
+    a.legend(fontsize=7)
+    entries = ["all", "compensated_pulley", "compensated_elasticity", "compensated_winch", "compensated_all"]
+    w = 0.8 / len(entries)
+    for i, e in enumerate(entries):
+        v = np.array([get(d, e, "mean_m") for d in designs])
+        b.bar(x - 0.4 + (i + 0.5) * w, v, w, label=e.replace("compensated_", "compensating "))
+    b.set_xticks(x, designs, rotation=20)
+    b.set_yscale("symlog", linthresh=1e-3)
+    b.set(ylabel="mean ‖δp‖ [mm]", title="(b) error left after compensating each effect")
+    b.legend(fontsize=7)
+    fig.suptitle("Error budget over RW_C: pulley geometry, cable elasticity, winch exit point", fontsize=10)
+    return save(fig, out)
+
+
+def budget_paths(paths, out):
+    """Error budget along the section 3.3.1 paths: ‖δp‖ of each effect alone, all together, the
+    interaction and the error left after compensating pulley geometry, versus the arc length s; one
+    panel per design. ``paths`` maps a design label to its budget path table (s and one column of
+    ‖δp‖ [m] per budget entry, NaN where a variant is not ok)."""
+    labels = list(paths)
+    cols = 2 if len(labels) > 1 else 1
+    rows = int(np.ceil(len(labels) / cols))
+    fig, axes = plt.subplots(
+        rows, cols, figsize=(6.5 * cols, 3.8 * rows), squeeze=False, layout="constrained"
+    )
+    for ax, label in zip(axes.ravel(), labels):
+        df = paths[label]
+        for e in ("pulley", "elasticity", "winch", "interaction", "all"):
+            ax.plot(df.s, df[e] * 1e3, color=EFFECT_COLOURS[e], lw=1.8 if e == "all" else 1.1, label=e)
+        ax.plot(df.s, df["compensated_pulley"] * 1e3, "k:", lw=1, label="after compensating pulleys")
+        ax.set_yscale("log")
+        ax.set(xlabel="position along the path s [m]", ylabel="‖δp‖ [mm]", title=label)
+        ax.grid(alpha=0.3, which="both")
+        ax.legend(fontsize=6)
+    for ax in axes.ravel()[len(labels) :]:
+        ax.set_axis_off()
+    fig.suptitle("Error budget along the section 3.3.1 paths", fontsize=10)
     return save(fig, out)
 
 

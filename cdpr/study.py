@@ -42,8 +42,15 @@ def load_study(path):
     validate(data, "study", path)
     st = Study(data)
     st.path = str(path)
+    st.setdefault("redundancy", "paper")
     check_study(st)
     return st
+
+
+def redundancy(st):
+    """The study's redundancy mode: ``paper`` (the paper's 3-cable subset rule, the default) or
+    ``physical`` (the equilibrium on all cables, ``equilibrium``)."""
+    return st.get("redundancy", "paper")
 
 
 def robot_of(st, robot_key, **overrides):
@@ -155,6 +162,12 @@ def _increasing(st, key, lo, hi, what="'from' must be below 'to'"):
 def check_study(st):
     """Cross-key checks of a schema-valid study; raises ConfigError naming the study file and key."""
     src = st.path
+    if redundancy(st) == "physical" and st["solver"] != "newton":
+        raise ConfigError(
+            src,
+            "solver",
+            f"physical mode (redundancy: physical) has one solver, newton; got {st['solver']!r}",
+        )
     robots = {}
     for key, path in st["robots"].items():
         if not Path(path).is_file():

@@ -16,7 +16,6 @@ import pandas as pd
 
 from . import analyses, doe, io, study, winch, workspace
 from .errors import CdprError
-from .solve import solve_table
 
 
 def _by_stem(paths, pattern, what):
@@ -49,6 +48,17 @@ def _index(df):
     return doe.global_index(df["dp"].to_numpy(), df["status"].astype(str).to_numpy())
 
 
+def _grid_index(st, robot, box, n, threads=None):
+    """Global index (eq. 15) of ``robot`` over the n^3 grid of ``box`` in the study's redundancy
+    mode, one solve per orbit of the symmetries robot and grid share (``symmetry.solve_grid``)."""
+    from .symmetry import solve_grid
+
+    dp, status, _ = solve_grid(
+        robot, box, n, method=st["solver"], threads=threads, redundancy=study.redundancy(st)
+    )
+    return doe.global_index(dp, status)
+
+
 # ---- winch (Métillon Fig. 7) -------------------------------------------------------------------
 def winch_figure(st, table, figure):
     """Fig. 7 of the winch seed from ``winch.csv``."""
@@ -76,11 +86,13 @@ def plane_figure(st, robot_key, tables, figure):
 
 
 def subsets_figure(st, robot_key, tables, figure):
-    """Fig. 9 for one robot: the subset minimising ‖δp‖, one panel per pulley design."""
+    """Fig. 9 for one robot: the subset minimising ‖δp‖ (paper mode) or the taut cables (physical
+    mode), one panel per pulley design."""
     from . import plots
 
     robot = study.robot_of(st, robot_key)
-    plots.fig9_subsets(_plane_tables(st, tables, robot_key), robot.A, st["plane"]["z_m"], robot_key, figure)
+    draw = plots.fig9_taut if study.redundancy(st) == "physical" else plots.fig9_subsets
+    draw(_plane_tables(st, tables, robot_key), robot.A, st["plane"]["z_m"], robot_key, figure)
 
 
 # ---- trajectories (Fig. 10-11) -----------------------------------------------------------------
@@ -275,11 +287,11 @@ def doe_results(st, tables, table, effects, figure, effects_figure):
 def map_rows(st, kind, box_file, table, threads=None):
     """Global index over every map cell (h, r_p), r_p < h, for one pulley kind (Fig. 17)."""
     n = st["maps"]["index_n"]
-    P = workspace.grid_points(study.read_box(box_file), n)
+    box = study.read_box(box_file)
     rows = []
     for h, r_p in study.map_cells(st):
         robot = study.design_robot(st, st["doe"]["robot"], {"kind": kind, "h_m": h, "r_p_m": r_p})
-        ix, bad = _index(solve_table(robot, P, method=st["solver"], threads=threads))
+        ix, bad = _grid_index(st, robot, box, n, threads)
         rows.append({"kind": kind, "h_m": h, "r_p_m": r_p, "index_m": ix, "not_ok_points": bad, "N": n**3})
     io.write_table(
         pd.DataFrame(rows, columns=["kind", "h_m", "r_p_m", "index_m", "not_ok_points", "N"]), table
@@ -295,7 +307,7 @@ def maps(st, tables, box_file, map, lines, figure, threads=None):
     io.write_table(tab, map)
     lv = st["doe"]["levels"]
     n = st["doe"]["index_n"]
-    P = workspace.grid_points(study.read_box(box_file), n)
+    box = study.read_box(box_file)
     out, valleys = [], {}
     for kind in study.map_kinds(st):
         g = tab[tab.kind == kind]
@@ -307,7 +319,7 @@ def maps(st, tables, box_file, map, lines, figure, threads=None):
         ix = float("nan")
         if pt is not None:
             robot = study.design_robot(st, st["doe"]["robot"], {"kind": kind, "h_m": pt[1], "r_p_m": pt[0]})
-            ix, _ = _index(solve_table(robot, P, method=st["solver"], threads=threads))
+            ix, _ = _grid_index(st, robot, box, n, threads)
         out.append(
             {
                 "kind": kind,
@@ -389,22 +401,25 @@ def elasticity(st, tables, paths, table, bands, crossings, figure, paths_figure)
 def dead_length_point(st, d, box_file, table, threads=None):
     """Paper-comparable numbers at dead length d: the plane extremes of each pulley design on the
     DOE robot, and each optimal design's index at E_min, E_mean, E_max."""
-    P = workspace.grid_points(study.read_box(box_file), st["dead_length"]["index_n"])
+    box, n = study.read_box(box_file), st["dead_length"]["index_n"]
     row = {"d_m": d}
     for pk in st["pulleys"]:
         robot = study.design_robot(st, st["doe"]["robot"], st["pulleys"][pk], dead_length=d)
         lo, hi = analyses.ok_extremes(
             analyses.plane(
-                robot, st["plane"]["z_m"], st["dead_length"]["plane_n"], method=st["solver"], threads=threads
+                robot,
+                st["plane"]["z_m"],
+                st["dead_length"]["plane_n"],
+                method=st["solver"],
+                threads=threads,
+                redundancy=study.redundancy(st),
             )
         )
         row[f"plane_{pk}_min_m"], row[f"plane_{pk}_max_m"] = lo, hi
     for dk, spec in st["optimal"].items():
         for tag, E in zip(("Emin", "Emean", "Emax"), st["elasticity"]["E_path_Pa"]):
             robot = study.design_robot(st, st["doe"]["robot"], spec, E=E, dead_length=d)
-            row[f"{dk}_{tag}_index_m"], _ = _index(
-                solve_table(robot, P, method=st["solver"], threads=threads)
-            )
+            row[f"{dk}_{tag}_index_m"], _ = _grid_index(st, robot, box, n, threads)
     io.write_table(pd.DataFrame([row]), table)
 
 
@@ -423,6 +438,114 @@ def summary(st, results, table, markdown):
     from . import summary as sm
 
     sm.write_summary(st, results, markdown, table)
+
+
+# ---- error budget and the paper-rule-versus-physics comparison ---------------------------------
+def budget_designs(st):
+    """The designs of the error budget: label -> (robot key, pulley design {kind, h_m, r_p_m}): every
+    robot x pulley design of the study, and the optimal designs on the DOE robot."""
+    out = {f"{rk}_{pk}": (rk, spec) for rk in st["robots"] for pk, spec in st["pulleys"].items()}
+    out.update(
+        {f"{st['doe']['robot']}_{dk}": (st["doe"]["robot"], spec) for dk, spec in st["optimal"].items()}
+    )
+    return out
+
+
+def _budget_rows(label, region, summary):
+    return summary.assign(design=label, region=region)[
+        ["design", "region", "entry", "mean_m", "max_m", "share_m", "largest_fraction", "points", "ok_points"]
+    ]
+
+
+def budget_design(st, comparison, label, box_file, table, path_table, threads=None):
+    """Error budget (``cdpr.budget``) of one design over the n^3 grid of RW_C and along its robot's
+    section 3.3.1 path: summary rows per region and entry, and ‖δp‖ per entry along the path."""
+    from . import budget
+    from .comparison import load_comparison
+
+    cmp = load_comparison(comparison)
+    designs = budget_designs(st)
+    if label not in designs:
+        raise CdprError(f"budget: unknown design {label!r}; allowed: {', '.join(designs)}")
+    rk, spec = designs[label]
+    robot = study.design_robot(st, rk, spec)
+    b = cmp["budget"]
+    P = workspace.grid_points(study.read_box(box_file), b["index_n"])
+    rows = [
+        _budget_rows(label, "RW_C", budget.summarise(budget.error_budget(robot, P, b["t_min_N"], threads)))
+    ]
+    path = st["trajectories"]["paths"].get(rk)
+    cols = ["s", *budget.variants(), "interaction"]
+    out = pd.DataFrame(columns=cols)
+    if path is not None:
+        Pp, s = analyses.trajectory_points(path["start_m"], path["end_m"], st["trajectories"]["points"])
+        bp = budget.error_budget(robot, Pp, b["t_min_N"], threads)
+        rows.append(_budget_rows(label, "path", budget.summarise(bp)))
+        nm, _ = budget.norms(bp)
+        for k, r in bp.items():
+            nm.loc[r["status"] != "ok", k] = np.nan
+        out = nm.assign(s=s)[cols]
+    io.write_table(pd.concat(rows, ignore_index=True), table)
+    io.write_table(out, path_table)
+
+
+def budget_tables(st, comparison, tables, paths, table, figure, paths_figure):
+    """The error budget of every design as one table (design, region, entry, ...), its stacked bars
+    and its curves along the paths."""
+    from . import plots
+
+    found = {
+        g["label"]: p for g, p in _by_stem(tables, r"(?P<label>[A-Za-z0-9]+_[A-Za-z0-9]+)", "budget table")
+    }
+    order = [lab for lab in budget_designs(st) if lab in found]
+    tab = pd.concat([io.read_table(found[lab]) for lab in order], ignore_index=True)
+    io.write_table(tab, table)
+    pfiles = {
+        g["label"]: p for g, p in _by_stem(paths, r"path_(?P<label>[A-Za-z0-9]+_[A-Za-z0-9]+)", "budget path")
+    }
+    curves = {lab: io.read_table(pfiles[lab]) for lab in order if lab in pfiles}
+    plots.budget_bars(tab, figure)
+    plots.budget_paths({k: v for k, v in curves.items() if len(v)}, paths_figure)
+
+
+def comparison(st, comparison, tables, table, figure, markdown):
+    """The comparison page (``cdpr.comparison``): every conclusion in both modes with its verdict,
+    the difference maps on the plane, and the error budget (``tables``: the budget table) with one
+    sentence per design. Figures sit beside ``table``; ``figure`` is the difference maps."""
+    from . import budget, plots
+    from . import comparison as cm
+
+    cmp = cm.load_comparison(comparison)
+    pres, fres = cmp["paper"]["results"], cmp["physical"]["results"]
+    rows = cm.conclusions(st, pres, fres)
+    io.write_table(rows, table)
+    diffs = {(rk, pk): cm.difference_table(pres, fres, rk, pk) for rk in st["robots"] for pk in st["pulleys"]}
+    anchors = {rk: study.robot_of(st, rk).A for rk in st["robots"]}
+    plots.comparison_difference_maps(diffs, anchors, st["plane"]["z_m"], figure)
+    stats = cm.difference_stats({f"{rk}_{pk}": t for (rk, pk), t in diffs.items()})
+    io.write_table(stats, Path(figure).with_name("difference_stats.csv"))
+    bt = io.read_table(tables[0]) if tables else None
+    sentences = []
+    if bt is not None:
+        for label in dict.fromkeys(bt.design):
+            g = bt[bt.design == label]
+            rw = g[g.region == "RW_C"].drop(columns=["design", "region"])
+            pa = g[g.region == "path"].drop(columns=["design", "region"])
+            sentences.append(budget.sentence(label, rw, pa if len(pa) else None))
+    folder = Path(figure).parent
+    cm.write_page(
+        cmp,
+        rows,
+        stats,
+        bt,
+        sentences,
+        {
+            "difference": figure,
+            "budget": folder / "budget.png",
+            "budget_paths": folder / "budget_paths.png",
+        },
+        markdown,
+    )
 
 
 # ---- uncertainty and sensitivity (beyond the paper: cdpr.uncertainty) ---------------------------

@@ -125,6 +125,26 @@ CASES = [  # (argv with {file} placeholders, exit code, fragment of stderr)
     ("winch --out {out}.txt", 2, "unknown output format"),
     ("job volumes --study {QUICK}", 2, "needs --tables"),
     ("job volumes --study {missing} --tables x", 2, "cannot read the file"),
+    (
+        "plane --robot {R4} --z 2.5 --n 3 --out {out} --redundancy physical --method fixed_point",
+        2,
+        "one solver",
+    ),
+    (
+        "trajectory --robot {R4} --start 0 0 1 --end 0 0 2 --n 3 --out {out} --redundancy magic",
+        2,
+        "invalid choice",
+    ),
+    (
+        "job comparison --study {QUICK} --comparison {missing} --tables x --table t.csv --figure f.png --markdown m.md",
+        2,
+        "cannot read the file",
+    ),
+    (
+        "job budget-design --study {QUICK} --comparison {missing} --label CDPR4_SR --box-file x --table t.csv",
+        2,
+        "needs --path-table",
+    ),
 ]
 
 
@@ -171,6 +191,12 @@ STUDY_CASES = [  # (edit of the quick study's text, key named in the message)
     ("solver: newton", "solver: magic", "solver"),
     ("sweep_m: {from: 0.0, to: 0.30", "sweep_m: {from: 0.30, to: 0.0", "volumes.sweep_m"),
     ("robot: CDPR4", "robot: CDPR9", "doe.robot"),
+    ("redundancy: paper ", "redundancy: magic ", "redundancy"),
+    (
+        "solver: newton                # newton | fixed_point\nredundancy: paper ",
+        "solver: fixed_point\nredundancy: physical ",
+        "solver",
+    ),
 ]
 
 

@@ -23,6 +23,8 @@ MODEL_MODULES = [
     "analyses",
     "sensitivity",
     "uncertainty",
+    "budget",
+    "symmetry",
 ]
 
 #: A numpy section header: a title line underlined by dashes of the same length.

@@ -68,6 +68,25 @@ def test_plane_figure_shares_one_colour_scale_and_names_the_height(tmp_path, mon
     assert (tmp_path / "p.png").exists() and (tmp_path / "s.png").exists()
 
 
+def test_taut_set_map_and_difference_maps(tmp_path, monkeypatch):
+    """Fig. 9 of the physical study colours the taut sets (four-cable sets first); the difference
+    maps share one colour scale centred on zero."""
+    import numpy as np
+
+    figs, _ = _captured(monkeypatch)
+    A = np.array([[-2.5, -2.5, 5], [2.5, -2.5, 5], [2.5, 2.5, 5], [-2.5, 2.5, 5]])
+    t = _plane_table("SR", 1.0).drop(columns="subset")
+    t["taut"] = np.where(np.abs(t.x) > 1.5, "1-2-3", "1-2-3-4")
+    plots.fig9_taut({"SR": t}, A, 2.5, "CDPR4", tmp_path / "t.png")
+    labels = [lab.get_text() for lab in figs[0].axes[-1].get_yticklabels()]
+    assert labels == ["taut 1-2-3-4", "taut 1-2-3"]
+    d = {(r, p): t.assign(diff=s * (t.x - 0.5) * 1e-3) for r in ("A", "B") for p, s in (("SR", 1), ("DR", 3))}
+    plots.comparison_difference_maps(d, {"A": A, "B": A}, 2.5, tmp_path / "d.png")
+    panels = [ax for ax in figs[1].axes if ax.get_title()]
+    meshes = [c for ax in panels for c in ax.collections if hasattr(c, "norm") and c.get_array() is not None]
+    assert len(meshes) == 4 and {(c.norm.vmin, c.norm.vmax) for c in meshes} == {(-7.5, 7.5)}
+
+
 def test_outputs_follow_the_umask(tmp_path):
     """Atomic writes must not keep the temporary file's 0600: under umask 022 a table is 0644."""
     import os

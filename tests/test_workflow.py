@@ -12,6 +12,9 @@ import pytest
 from .conftest import ROOT
 
 REF = ROOT / "tests" / "reference" / "quick"
+#: The quick study runs in both redundancy modes, then their comparison: reference folder -> results
+#: folder under results/ (the physical run has the same tables as the paper run).
+RUNS = {"quick": "quick", "quick_physical": "quick_physical", "quick_comparison": "quick_comparison"}
 #: Tables compared with the references (paths under results/quick/).
 TABLES = [
     "summary.csv",
@@ -35,15 +38,24 @@ TABLES = [
     "uncertainty/DRopt_uncompensated_path.csv",
     "uncertainty/SRopt_compensated_map.csv",
 ]
+#: Tables of the comparison of the two quick runs (results/quick_comparison/).
+COMPARISON_TABLES = ["conclusions.csv", "budget.csv", "difference_stats.csv"]
+#: (run, table) pairs compared with tests/reference/<run>/<table>.
+CASES = (
+    [("quick", t) for t in TABLES]
+    + [("quick_physical", t) for t in TABLES]
+    + [("quick_comparison", t) for t in COMPARISON_TABLES]
+)
 RTOL, ATOL = 1e-6, 1e-9
 
 
 def snakemake(target, *config, cwd=ROOT, quiet=True, force=True):
     """Run the workflow on `target` with `--config key=value ...` (option order matters: both take
-    lists). ``force``: recompute every job, since Snakemake does not see changes of the library."""
+    lists). ``force``: recompute every job, since Snakemake does not see changes of the library; a
+    list of rule names forces only those (and what depends on them)."""
     exe = Path(sys.executable).with_name("snakemake")
     q = ["--quiet", "all"] if quiet else []
-    f = ["--forceall"] if force else []
+    f = ["--forceall"] if force is True else (["--forcerun", *force] if force else [])
     return subprocess.run(
         [str(exe), target, "--cores", "2", *q, *f, "--config", *config],
         cwd=cwd,
@@ -52,16 +64,32 @@ def snakemake(target, *config, cwd=ROOT, quiet=True, force=True):
     )
 
 
+#: The rules of the comparison step (forced: their inputs come from the two runs before).
+COMPARISON_RULES = ["budget_design", "budget", "comparison"]
+
+
 @pytest.fixture(scope="module")
 def quick():
-    p = snakemake("reproduce_paper", "study=config/studies/quick.yaml", "results=results/quick")
+    """The quick study in paper mode, in physical mode, then their comparison (as `make reproduce`
+    does with the paper study)."""
+    for study in ("quick", "quick_physical"):
+        p = snakemake("reproduce_paper", f"study=config/studies/{study}.yaml", f"results=results/{study}")
+        assert p.returncode == 0, p.stderr[-3000:]
+    p = snakemake(
+        "reproduce_comparison",
+        "study=config/studies/quick.yaml",
+        "results=results/quick",
+        "comparison=config/comparisons/quick.yaml",
+        force=COMPARISON_RULES,
+    )
     assert p.returncode == 0, p.stderr[-3000:]
     return ROOT / "results" / "quick"
 
 
-@pytest.mark.parametrize("table", TABLES)
-def test_quick_study_matches_references(quick, table):
-    ours, ref = pd.read_csv(quick / table), pd.read_csv(REF / table)
+@pytest.mark.parametrize("run,table", CASES, ids=[f"{r}/{t}" for r, t in CASES])
+def test_quick_study_matches_references(quick, run, table):
+    ours = pd.read_csv(quick.parent / RUNS[run] / table)
+    ref = pd.read_csv(ROOT / "tests" / "reference" / run / table)
     assert list(ours.columns) == list(ref.columns) and len(ours) == len(ref), (
         f"{table}: shape or columns changed"
     )
@@ -101,6 +129,29 @@ def test_quick_study_writes_every_figure_and_the_summary(quick):
         assert (quick / fig).stat().st_size > 0 and (quick / fig).with_suffix(".pdf").stat().st_size > 0, fig
     text = (quick / "summary.md").read_text()
     assert "| winch dl at l_pm = 0 | Metillon Fig. 7b | 1.46 |" in text
+
+
+def test_quick_physical_run_and_comparison_write_their_figures_and_page(quick):
+    phys = quick.parent / "quick_physical"
+    assert "redundancy physical" in (phys / "summary.md").read_text()
+    plane = pd.read_csv(phys / "plane" / "CDPR4_DR.csv")
+    assert {"taut", "n_taut"} <= set(plane.columns) and "subset" not in plane.columns
+    assert (phys / "plane" / "CDPR4_subsets.png").stat().st_size > 0  # Fig. 9: the taut sets
+    folder = quick.parent / "quick_comparison"
+    for fig in ("difference.png", "budget.png", "budget_paths.png"):
+        assert (folder / fig).stat().st_size > 0 and (folder / fig).with_suffix(".pdf").stat().st_size > 0
+    page = (quick.parent / "quick_comparison.md").read_text()
+    assert (
+        "## Headline: the paper's conclusions under physics" in page
+        and "](quick_comparison/budget.png)" in page
+    )
+    rows = pd.read_csv(folder / "conclusions.csv")
+    assert set(rows.verdict) <= {"holds", "changes", "reverses", "undetermined"}
+    assert rows.headline.any() and all(st in page for st in rows[rows.headline].statement)
+    b = pd.read_csv(folder / "budget.csv").set_index(["design", "region", "entry"]).mean_m
+    assert (b.xs("none", level="entry") < 1e-7).all() and (
+        b.xs("compensated_all", level="entry") < 1e-9
+    ).all()
 
 
 def test_own_design_end_to_end(tmp_path):

@@ -20,4 +20,6 @@ localrules:
     dead_length,
     summary,
     uncertainty,
+    budget,
+    comparison,
 

@@ -52,10 +52,15 @@ wildcard_constraints:
     pulley="|".join(PULLEYS),
 
 
+# paper: the 3-of-4 subset rule; physical: the equilibrium on all cables (every solver job gets it)
+REDUNDANCY = STUDY["redundancy"]
+
+
 def pulley_args(p, E=None):
     """Command-line overrides for a pulley design {kind, h_m, r_p_m} (same as editing the robot
-    file), with the study's dead length and solver, and optionally E [Pa]."""
+    file), with the study's dead length, solver and redundancy mode, and optionally E [Pa]."""
     args = f"--pulley {p['kind']} --dead-length {STUDY['dead_length_m']} --method {STUDY['solver']}"
+    args += f" --redundancy {REDUNDANCY}"
     if p["kind"] != "fixed":
         args += f" --h {p.get('h_m', 0)} --rp {p.get('r_p_m', 0)}"
     return args if E is None else f"{args} --E {E}"
@@ -73,6 +78,11 @@ EL = STUDY["elasticity"]
 OPT = STUDY["optimal"]
 E_VALUES = [f"{e:.6g}" for e in E_values(STUDY)]
 E_PATH = [f"{float(e):.6g}" for e in EL["E_path_Pa"]]
+
+
+def uq_uses(*keys):
+    """The part of the study's uncertainty section a job reads (a change of it reruns the job)."""
+    return {k: (STUDY.get("uncertainty") or {}).get(k) for k in keys}
 
 
 def test_args(test):

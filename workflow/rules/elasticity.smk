@@ -72,7 +72,7 @@ rule dead_length_point:
     output:
         table=f"{RES}/shards/dead_length/d{{d}}.csv",
     params:
-        study=uses("dead_length", "pulleys", "plane", "optimal", "elasticity", "doe", "solver"),
+        study=uses("dead_length", "pulleys", "plane", "optimal", "elasticity", "doe", "solver", "redundancy"),
         cdpr=CDPR,
         study_file=STUDY_FILE,
         code=CODE,

@@ -8,7 +8,7 @@ rule map_kind:
     output:
         table=f"{RES}/shards/maps/{{kind}}.csv",
     params:
-        study=uses("maps", "doe", "dead_length_m", "solver"),
+        study=uses("maps", "doe", "dead_length_m", "solver", "redundancy"),
         cdpr=CDPR,
         study_file=STUDY_FILE,
         code=CODE,
@@ -30,7 +30,7 @@ rule maps:
         figure=report(f"{RES}/maps/maps.png", caption="../report/maps.rst", category="Maps"),
         pdf=f"{RES}/maps/maps.pdf",
     params:
-        study=uses("maps", "doe", "dead_length_m", "solver"),
+        study=uses("maps", "doe", "dead_length_m", "solver", "redundancy"),
         cdpr=CDPR,
         study_file=STUDY_FILE,
         code=CODE,

@@ -1,4 +1,4 @@
-# Horizontal plane at z (Paty 2021 section 3.3.2): Fig. 12 (|dp|) and Fig. 9 (chosen subsets).
+# Horizontal plane at z (Paty 2021 section 3.3.2): Fig. 12 (|dp|) and Fig. 9 (chosen subsets; taut sets in physical mode).
 
 
 rule plane_table:
@@ -46,7 +46,7 @@ rule subset_figure:
         figure=report(f"{RES}/plane/{{robot}}_subsets.png", caption="../report/subsets.rst", category="Plane"),
         pdf=f"{RES}/plane/{{robot}}_subsets.pdf",
     params:
-        study=uses("plane", "pulleys"),
+        study=uses("plane", "pulleys", "redundancy"),
         cdpr=CDPR,
         study_file=STUDY_FILE,
         code=CODE,

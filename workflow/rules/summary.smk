@@ -21,7 +21,9 @@ rule summary:
         markdown=f"{RES}/summary.md",
         table=f"{RES}/summary.csv",
     params:
-        study=uses("name", "paper_comparison", "dead_length_m", "solver", "doe", "maps", "trajectories", "uncertainty"),
+        study=uses(
+            "name", "paper_comparison", "dead_length_m", "solver", "doe", "maps", "trajectories", "uncertainty", "redundancy"
+        ),
         cdpr=CDPR,
         study_file=STUDY_FILE,
         results=lambda w, output: str(Path(output.table).parent),

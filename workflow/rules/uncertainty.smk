@@ -6,11 +6,6 @@ UQ = STUDY.get("uncertainty")
 UQ_CASES = ["uncompensated", "compensated"]
 
 
-def uq_uses(*keys):
-    """The part of the study's uncertainty section a job reads (a change of it reruns the job)."""
-    return {k: UQ.get(k) for k in keys}
-
-
 if UQ:
     UQ_DESIGNS = list(UQ["designs"])
     UQ_SHARDS = range(UQ["monte_carlo"]["shards"])
