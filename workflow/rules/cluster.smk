@@ -20,6 +20,4 @@ localrules:
     dead_length,
     summary,
     uncertainty,
-    budget,
-    comparison,
 

@@ -16,6 +16,11 @@ if CMP_FILE:
     CMP_RES = {m: CMP[m]["results"] for m in ("paper", "physical")}
     CMP_DESIGNS = budget_designs(CMP.paper_study)
 
+    # aggregation and the page run beside Snakemake on a cluster (workflow/rules/cluster.smk)
+    localrules:
+        budget,
+        comparison,
+
     rule budget_design:
         input:
             box=f"{CMP_RES['paper']}/doe/rw_c.json",
