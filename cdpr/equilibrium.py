@@ -91,7 +91,7 @@ import pandas as pd
 
 from .inverse import L_TS
 from .pulleys import total_length_and_direction
-from .redundancy import STATUSES
+from .redundancy import STATUSES, pose_columns
 from .statics import direction_gradient, length_gradient, solve3
 
 #: Newton defaults: position tolerance [m], iteration cap, largest step [m].
@@ -433,19 +433,7 @@ def to_frame(robot, res):
         One row per point: x, y, z, x_s, y_s, z_s [m], dp [m], t1..tm [N], taut, n_taut,
         iterations, status.
     """
-    df = pd.DataFrame(
-        {
-            "x": res["p"][:, 0],
-            "y": res["p"][:, 1],
-            "z": res["p"][:, 2],
-            "x_s": res["P_s"][:, 0],
-            "y_s": res["P_s"][:, 1],
-            "z_s": res["P_s"][:, 2],
-            "dp": res["dp"],
-        }
-    )
-    for i in range(robot.m):
-        df[f"t{i + 1}"] = res["t"][:, i]
+    df = pose_columns(robot, res)
     df["taut"] = taut_labels(res["taut"])
     df["n_taut"] = res["n_taut"]
     df["iterations"] = res["iterations"]

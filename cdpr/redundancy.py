@@ -134,3 +134,35 @@ def subset_label(subset_row):
     if subset_row[0] < 0:
         return ""
     return "-".join(str(int(i) + 1) for i in subset_row)
+
+
+def pose_columns(robot, res):
+    """The columns every per-point table starts with, from a solver result ``res`` (paper or
+    physical mode): x, y, z (desired P), x_s, y_s, z_s (solved P*) [m], dp = |P* - P| (Paty 2021
+    eq. 14) [m], t1..tm [N] (NaN where slack).
+
+    Parameters
+    ----------
+    robot : Robot
+        Supplies the number of cables m.
+    res : dict
+        Arrays p (N, 3), P_s (N, 3), dp (N,), t (N, m).
+
+    Returns
+    -------
+    DataFrame
+        N rows, columns x, y, z, x_s, y_s, z_s, dp, t1..tm.
+    """
+    import pandas as pd
+
+    cols = {
+        "x": res["p"][:, 0],
+        "y": res["p"][:, 1],
+        "z": res["p"][:, 2],
+        "x_s": res["P_s"][:, 0],
+        "y_s": res["P_s"][:, 1],
+        "z_s": res["P_s"][:, 2],
+        "dp": res["dp"],
+    }
+    cols.update({f"t{i + 1}": res["t"][:, i] for i in range(robot.m)})
+    return pd.DataFrame(cols)

@@ -11,7 +11,7 @@ import numpy as np
 import pandas as pd
 
 from .errors import CdprError
-from .redundancy import STATUSES, solve_points, subset_label
+from .redundancy import STATUSES, pose_columns, solve_points, subset_label
 
 
 def subset_labels(robot, subset):
@@ -30,19 +30,7 @@ def subset_labels(robot, subset):
 def to_frame(robot, res):
     """One row per point with stable column names: x, y, z, x_s, y_s, z_s, dp, t1..tm, subset,
     iterations, status (SI units)."""
-    df = pd.DataFrame(
-        {
-            "x": res["p"][:, 0],
-            "y": res["p"][:, 1],
-            "z": res["p"][:, 2],
-            "x_s": res["P_s"][:, 0],
-            "y_s": res["P_s"][:, 1],
-            "z_s": res["P_s"][:, 2],
-            "dp": res["dp"],
-        }
-    )
-    for i in range(robot.m):
-        df[f"t{i + 1}"] = res["t"][:, i]
+    df = pose_columns(robot, res)
     df["subset"] = subset_labels(robot, res["subset"])
     df["iterations"] = res["iterations"]
     codes = (
