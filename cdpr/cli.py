@@ -148,10 +148,6 @@ def _points_options(sp, what):
     )
 
 
-def _engine(args):
-    return args.engine or ("compiled" if args.method == "newton" else "numpy")
-
-
 def _load(args):
     return load_robot(
         args.robot,
@@ -601,7 +597,7 @@ def cmd_plane(args):
         args.z,
         args.n,
         method=args.method,
-        engine=_engine(args),
+        engine=args.engine,
         threads=args.threads,
         redundancy=args.redundancy,
     )
@@ -619,7 +615,7 @@ def cmd_trajectory(args):
         args.end,
         args.n,
         method=args.method,
-        engine=_engine(args),
+        engine=args.engine,
         threads=args.threads,
         redundancy=args.redundancy,
     )

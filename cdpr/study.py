@@ -25,8 +25,7 @@ from .workspace import check_box
 
 
 class Study(dict):
-    """A validated study: the parsed YAML mapping, plus ``path`` (the file) and ``robots_data`` (the
-    parsed robot files, read once)."""
+    """A validated study: the parsed YAML mapping, plus ``path`` (the file it was read from)."""
 
     path: str = "<dict>"
 
@@ -127,11 +126,6 @@ def volume_limits(st):
     return sorted(
         set(np.round(np.linspace(sw["from"], sw["to"], sw["steps"]), 10)) | set(st["volumes"]["limits_m"])
     )
-
-
-def index_box(st, rw_c):
-    """The box [m] the global index uses: the paper's RW_C or the computed one (``doe.rw_c``)."""
-    return rw_c["box"] if isinstance(rw_c, dict) else rw_c
 
 
 def read_box(path):
