@@ -25,9 +25,11 @@ from .workspace import check_box
 
 
 class Study(dict):
-    """A validated study: the parsed YAML mapping, plus ``path`` (the file it was read from)."""
+    """A validated study: the parsed YAML mapping, plus ``path`` (the file it was read from) and
+    ``robot_models`` (the Robot of each ``robots`` key, as its file says, built once by the checks)."""
 
     path: str = "<dict>"
+    robot_models: dict = None
 
 
 def load_study(path):
@@ -233,6 +235,7 @@ def check_study(st):
                 )
     if "uncertainty" in st:
         check_uncertainty(st, robots)
+    st.robot_models = robots
     return st
 
 

@@ -21,7 +21,7 @@ RES = config["results"]
 CDPR = f"{sys.executable} -m cdpr"
 ROBOTS = dict(STUDY["robots"])
 # robots with more cables than degrees of freedom: the subset map (Fig. 9) applies to them
-REDUNDANT = [k for k, p in ROBOTS.items() if len(__import__("yaml").safe_load(open(p))["cables"]) > 3]
+REDUNDANT = [k for k, robot in STUDY.robot_models.items() if robot.m > 3]
 PULLEYS = STUDY["pulleys"]
 # threads of one solver job (the compiled engine runs points in parallel); many small jobs: use 1
 SOLVER_THREADS = STUDY.get("solver_threads", 2)
