@@ -4,7 +4,7 @@ symmetric-orbit solve, in one run on this machine.
 For a few map cells (h, r_p) of each pulley kind on CDPR4 over the paper's RW_C box at n^3 points
 per cell (default 63^3 = 250,047, the DOE's N), in paper and physical mode:
   * full:      every grid point solved (the map job before: solve_table on the whole grid);
-  * symmetric: one point per orbit of the D4 symmetries robot and grid share (cdpr.symmetry,
+  * symmetric: one point per orbit of the D4 symmetries robot and grid share (cdpr.analyses.symmetry,
                33,264 solved points per cell at n = 63), copied to the whole grid.
 Reported: seconds per cell, kernel points/s (points actually solved / s), effective cell points/s
 (n^3 / s), the largest |index difference| between the two, and the CPU model.
@@ -17,11 +17,11 @@ import subprocess
 import time
 from pathlib import Path
 
-from cdpr import doe
+from cdpr.analyses import doe
+from cdpr.analyses.symmetry import solve_grid
+from cdpr.analyses.workspace import grid_points
 from cdpr.robot import load_robot, with_pulleys
 from cdpr.solve import solve_points_any
-from cdpr.symmetry import solve_grid
-from cdpr.workspace import grid_points
 
 ROOT = Path(__file__).resolve().parents[1]
 RW_C = [-2.32, 2.32, -2.32, 2.32, 0.0, 3.73]

@@ -1,17 +1,17 @@
 """Throughput of the DEGM_E solvers, measured in one run on this machine.
 
 For each robot x pulley kind, over the cell-centred grid of the paper's RW_C box:
-  * fast:  the compiled engine (cdpr.fast: numba kernel, analytic-Jacobian Newton, subset pruning,
+  * fast:  the compiled engine (cdpr.compiled.subsets: numba kernel, analytic-Jacobian Newton, subset pruning,
            both cores), the default of `cdpr grid` and of the pipeline;
   * fixed: the project's own implementation of the paper's nested fixed-point scheme
-           (cdpr.direct, numpy, vectorised over points, eps_P = 1e-5 m, every subset);
+           (cdpr.models.direct, numpy, vectorised over points, eps_P = 1e-5 m, every subset);
 points/s, subset-solves/s, their ratio, and the largest |dp| difference between the two on ok points.
 Then `cdpr grid` end to end (grid, solve, statuses, parquet) on CDPR4_DR at 63^3.
 
 Then, side by side in the same run on CDPR4_SR and CDPR4_DR over the 63^3 grid of RW_C (``--nphys``):
-  * paper:        the compiled paper-mode kernel (cdpr.fast.solve_points_fast);
-  * physical:     the compiled physical equilibrium on all four cables (cdpr.fast_physical);
-  * comp lengths: compensated rest lengths (cdpr.compensation.compensate, min_norm, t_min 100 N,
+  * paper:        the compiled paper-mode kernel (cdpr.compiled.subsets.solve_points_fast);
+  * physical:     the compiled physical equilibrium on all four cables (cdpr.compiled.equilibrium);
+  * comp lengths: compensated rest lengths (cdpr.analyses.compensation.compensate, min_norm, t_min 100 N,
                   numpy, vectorised);
   * comp + solve: those lengths and the physical equilibrium they give (compensated_pose, compiled).
 
@@ -30,12 +30,12 @@ from pathlib import Path
 
 import numpy as np
 
-from cdpr.compensation import compensate, compensated_pose
-from cdpr.fast import solve_points_fast
-from cdpr.fast_physical import solve_physical_fast
-from cdpr.redundancy import solve_points
+from cdpr.analyses.compensation import compensate, compensated_pose
+from cdpr.analyses.workspace import grid_points
+from cdpr.compiled.equilibrium import solve_physical_fast
+from cdpr.compiled.subsets import solve_points_fast
+from cdpr.models.subsets import solve_points
 from cdpr.robot import load_robot, with_pulleys
-from cdpr.workspace import grid_points
 
 ROOT = Path(__file__).resolve().parents[1]
 RW_C = [-2.32, 2.32, -2.32, 2.32, 0.0, 3.73]

@@ -13,7 +13,7 @@ def run():
     a third of a 250,000-point ``cdpr grid``. Reference counting still frees everything else; the
     library itself never touches the collector."""
     gc.disable()
-    from .cli import main
+    from cdpr.cli.commands import main
 
     code = main()
     gc.freeze()  # interpreter exit: do not collect what was loaded

@@ -8,7 +8,7 @@ import os
 import tempfile
 from pathlib import Path
 
-from .errors import CdprError
+from cdpr.errors import CdprError
 
 
 def _umask():

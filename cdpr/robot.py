@@ -31,10 +31,10 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .errors import ConfigError
-from .units import quantity
-from .validation import read_yaml, validate  # noqa: F401  (read_yaml re-exported)
-from .winch import params_from_mapping
+from cdpr.errors import ConfigError
+from cdpr.models.winch import params_from_mapping
+from cdpr.units import quantity
+from cdpr.validation import read_yaml, validate  # noqa: F401  (read_yaml re-exported)
 
 PULLEY_KINDS = ("fixed", "SR", "DR")
 #: Integer codes used in the vectorised kernels.

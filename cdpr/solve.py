@@ -1,7 +1,7 @@
 """Solving many points into a table: the engine/method dispatch and the per-point columns.
 
 ``solve_table`` is what the command line and the pipeline call. It chooses the compiled kernel
-(``cdpr.fast``) or the numpy reference (``cdpr.redundancy``), refuses engine/method pairs that do
+(``cdpr.compiled.subsets``) or the numpy reference (``cdpr.models.subsets``), refuses engine/method pairs that do
 not exist, and returns one row per point with stable column names (``to_frame``).
 """
 
@@ -10,8 +10,8 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from .errors import CdprError
-from .redundancy import STATUSES, pose_columns, solve_points, subset_label
+from cdpr.errors import CdprError
+from cdpr.models.subsets import STATUSES, pose_columns, solve_points, subset_label
 
 
 def subset_labels(robot, subset):
@@ -92,10 +92,10 @@ def solve_points_any(
         if L0 is not None:
             L0 = np.broadcast_to(np.asarray(L0, dtype=float), (len(p), robot.m))
         if engine == "compiled":
-            from .fast_physical import solve_physical_fast
+            from cdpr.compiled.equilibrium import solve_physical_fast
 
             return solve_physical_fast(robot, p, L0=L0, threads=threads, **options)
-        from .equilibrium import solve_physical
+        from cdpr.models.equilibrium import solve_physical
 
         return solve_physical(robot, p, L0=L0, **options)
     if L0 is not None:
@@ -104,7 +104,7 @@ def solve_points_any(
         )
     engine = check_engine(engine, method)
     if engine == "compiled":
-        from .fast import solve_points_fast
+        from cdpr.compiled.subsets import solve_points_fast
 
         return solve_points_fast(robot, p, threads=threads, **options)
     return solve_points(robot, p, method=method, **options)
@@ -114,7 +114,7 @@ def results_frame(robot, res, redundancy="paper"):
     """One row per point of a ``solve_points_any`` result (paper: ``to_frame``; physical:
     ``equilibrium.to_frame`` with the taut cables instead of the subset)."""
     if redundancy == "physical":
-        from .equilibrium import to_frame as physical_frame
+        from cdpr.models.equilibrium import to_frame as physical_frame
 
         return physical_frame(robot, res)
     return to_frame(robot, res)
@@ -133,7 +133,7 @@ def solve_table(
     method : {"newton", "fixed_point"}
         DEGM_E solver (``direct.degm_e``).
     engine : {"compiled", "numpy", None}
-        None (default): compiled for Newton, numpy for the fixed point. ``"compiled"`` runs the numba kernel of ``cdpr.fast`` over all points in parallel
+        None (default): compiled for Newton, numpy for the fixed point. ``"compiled"`` runs the numba kernel of ``cdpr.compiled.subsets`` over all points in parallel
         (``threads`` caps the threads); Newton only. ``"numpy"`` runs ``redundancy.solve_points`` in
         chunks of ``chunk`` points: the reference implementation, and the only one for the fixed
         point. Both give the same table (tested). Another pair raises CdprError.
@@ -152,7 +152,7 @@ def solve_table(
         )
     engine = check_engine(engine, method)
     if engine == "compiled":
-        from .fast import solve_points_fast
+        from cdpr.compiled.subsets import solve_points_fast
 
         return to_frame(robot, solve_points_fast(robot, p, threads=threads, **options))
     starts = range(0, len(p), chunk) if len(p) else [0]

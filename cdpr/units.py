@@ -8,7 +8,7 @@ library is SI (m, N, Pa, kg, rad).
 import math
 import re
 
-from .errors import ConfigError
+from cdpr.errors import ConfigError
 
 #: Accepted unit spellings for each dimension, with their factor to SI.
 UNITS = {

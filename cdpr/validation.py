@@ -13,8 +13,8 @@ from pathlib import Path
 
 import yaml
 
-from .errors import ConfigError
-from .units import UNITS
+from cdpr.errors import ConfigError
+from cdpr.units import UNITS
 
 SCHEMA_DIR = Path(__file__).parent / "schemas"
 

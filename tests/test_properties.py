@@ -4,13 +4,12 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from cdpr.direct import degm_e
-from cdpr.inverse import L_TS, igm_e
-from cdpr.pulleys import total_length_and_direction
+from cdpr.models.direct import degm_e
+from cdpr.models.inverse import L_TS, igm_e
+from cdpr.models.pulleys import total_length_and_direction
+from cdpr.models.statics import equilibrium_residual
 from cdpr.robot import load_robot, with_pulleys
-from cdpr.statics import equilibrium_residual
-
-from .conftest import ROBOTS
+from tests.conftest import ROBOTS
 
 ROBOT = load_robot(ROBOTS / "cdpr4.yaml")
 SUB = [0, 1, 2]

@@ -9,7 +9,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from .conftest import ROOT
+from tests.conftest import ROOT
 
 REF = ROOT / "tests" / "reference" / "quick"
 #: The quick study runs in both redundancy modes, then their comparison: reference folder -> results

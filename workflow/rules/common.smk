@@ -1,6 +1,6 @@
 # Study configuration, validation and helpers shared by the rules.
 #
-# The study file is read and validated ONCE here, by the library (cdpr.study.load_study: the JSON
+# The study file is read and validated ONCE here, by the library (cdpr.pipeline.study.load_study: the JSON
 # schema cdpr/schemas/study.schema.yaml, then every check a schema cannot make, robot files
 # included), so that a bad value stops the run before any job with one sentence naming the study
 # file and the key. Every rule declares as `params` the study values its job reads and the
@@ -10,7 +10,7 @@ import sys
 from pathlib import Path
 
 from cdpr.errors import CdprError
-from cdpr.study import doe_tests, E_values, load_study, map_kinds
+from cdpr.pipeline.study import doe_tests, E_values, load_study, map_kinds
 
 STUDY_FILE = config["study"]
 try:
@@ -34,8 +34,8 @@ def _code_version():
 
     root = Path(cdpr.__file__).parent
     h = hashlib.sha256()
-    for f in sorted(list(root.glob("*.py")) + list(root.glob("schemas/*.yaml"))):
-        h.update(f.name.encode() + f.read_bytes())
+    for f in sorted(f for pat in ("**/*.py", "**/*.yaml") for f in root.glob(pat)):
+        h.update(f.relative_to(root).as_posix().encode() + f.read_bytes())
     return f"{cdpr.__version__}+{h.hexdigest()[:16]}"
 
 

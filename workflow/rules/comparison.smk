@@ -1,9 +1,9 @@
 # Paper rule versus physics (one study run in both redundancy modes) and the error budget joining
-# both papers (cdpr.comparison, cdpr.budget). The comparison file (config key `comparison`,
+# both papers (cdpr.pipeline.comparison, cdpr.analyses.budget). The comparison file (config key `comparison`,
 # config/comparisons/*.yaml) names the two study files and their results folders; both studies
 # must have been run first (`make reproduce` runs paper, physical, then `reproduce_comparison`).
-from cdpr.comparison import load_comparison
-from cdpr.tasks import budget_designs
+from cdpr.pipeline.comparison import load_comparison
+from cdpr.pipeline.tasks import budget_designs
 
 CMP_FILE = config.get("comparison")
 if CMP_FILE:

@@ -1,4 +1,4 @@
-# Uncertainty and sensitivity of the optimal designs (beyond Paty 2021 section 5; cdpr.uncertainty):
+# Uncertainty and sensitivity of the optimal designs (beyond Paty 2021 section 5; cdpr.analyses.uncertainty):
 # per-cable Monte Carlo by full solves (shards of samples, seeded per sample) and linearised
 # (exact sensitivities), Sobol indices (SALib), dominant-parameter maps; uncompensated and
 # compensated. Only for a study with an `uncertainty:` section.

@@ -1,0 +1,386 @@
+"""Error budget joining both papers: what each effect the standard model neglects adds to the pose
+error, one at a time and all together, and what is left after compensating each.
+
+The standard model (Paty 2021 eq. 1-2) sees fixed cable exit points A_i, rigid cables and a drum
+that pays out exactly the length it is told. The robot differs from it by three effects:
+
+* ``pulley``: pulley geometry, the swivelling (SR) or double-revolute (DR) pulleys of Paty 2021
+  (eq. 3-7) with the design's h and r_p, instead of fixed exit points at A_i;
+* ``elasticity``: Hooke cables of modulus E (eq. 10, 13) instead of rigid ones;
+* ``winch``: the drum's exit point slides along E1E2 as the drum turns (Métillon 2022, eq. 12-32),
+  so the drum angle that a controller neglecting it commands, q_nw (eq. 32), pays out a rest
+  length off by δl = k_w (q1 - q_nw) (eq. 31).
+
+A *variant* is a pair (actual effects, model effects), subsets of the three. The model robot
+computes the commanded rest lengths at the desired point p, the controller turns them into drum
+angles, the actual drum pays them out, and the platform of the actual robot settles at its
+physical equilibrium P* (``equilibrium``, all cables, slack allowed); the error is δp = P* - p:
+
+1. model rest lengths: with ``elasticity`` in the model, the compensated lengths
+   L0 = L_TE(p) / (1 + t / (E S)) of ``compensation.compensate`` (tensions ``distribution`` with
+   at least ``t_min`` in every cable); without it, L0 = L_TE(p), the rigid cable's length (the
+   model's geometry: L_TE with the pulleys when ``pulley`` is in the model, else L_TS, eq. 2);
+2. the drum: when the actual robot and the model agree on the winch (both with or both without
+   ``winch``), the drum pays out L0 exactly; a model without ``winch`` on an actual robot with it
+   commands q_nw(L0 - d) and gets L0' = d + l_pm(q_nw) (``drive``); a model with ``winch`` on a
+   drum without exit-point motion commands q1(L0 - d) and gets d + l_pm,nw(q1);
+3. the actual robot: ``pulley`` on: the design's pulleys, else fixed exit points at A_i;
+   ``elasticity`` on: the cables' E, else E x ``RIGID`` (E -> infinity; the stretch left is
+   1e-6 of the elastic one, ~1e-8 m); ``winch``: the drum of step 2.
+
+The budget of a design at p (``error_budget``):
+
+* single effects: δp_k = δp({k}, {}) for k in ``EFFECTS`` (pulley geometry only = pulleys with
+  E -> infinity and an exact drum; elasticity only = fixed exit points with Hooke cables; winch only
+  = fixed exit points, rigid cables, drum angles q_nw of the standard lengths L_TS);
+* all together: δp_all = δp(EFFECTS, {}), the physical study's robot commanded in drum angles;
+* interaction: δp_int = δp_all - Σ_k δp_k (the vector the single effects do not add up to);
+* residual after compensating k: δp(EFFECTS, {k}); after compensating all: δp(EFFECTS, EFFECTS),
+  zero by construction (the model is the robot); neglecting only k: δp(EFFECTS, EFFECTS - {k}).
+* with no effect, δp({}, {}) = 0 (fixed points, rigid cables, exact drum: the standard model is
+  exact); both limits are tested.
+
+Norms do not add, so the stacked bars use the exact additive split of the all-effects error along
+its own direction û = δp_all / ‖δp_all‖: ‖δp_all‖ = Σ_k δp_k · û + δp_int · û (``summarise``).
+
+References
+----------
+Paty, T., Binaud, N., Caro, S., Segonds, S. (2021). Cable-driven parallel robot modelling
+considering pulley kinematics and cable elasticity. Mechanism and Machine Theory 159, 104263,
+eq. (1)-(7), (10)-(15).
+Métillon, M., Charron, C., Subrin, K., Caro, S. (2022). Geometrical modelling of a cable-driven
+parallel robot winch. 25e Congrès Français de Mécanique, hal-03758222, eq. (12)-(32).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pandas as pd
+
+from cdpr.analyses.compensation import compensate
+from cdpr.models import winch as winch_model
+from cdpr.models.inverse import igm_e
+from cdpr.models.tension_distribution import T_MIN_DEFAULT
+
+#: The effects the standard model neglects, in the order of the budget.
+EFFECTS = ("pulley", "elasticity", "winch")
+#: Factor on E standing for rigid cables (E -> infinity).
+RIGID = 1e6
+
+
+def _names(effects):
+    eff = frozenset(effects)
+    bad = eff - set(EFFECTS)
+    if bad:
+        raise ValueError(f"unknown effect(s) {sorted(bad)}; allowed: {', '.join(EFFECTS)}")
+    return eff
+
+
+def effect_robot(design, effects):
+    """``design`` with only ``effects`` on: fixed exit points at A_i unless ``pulley``, E x RIGID
+    unless ``elasticity``. Every cable keeps (or gets) a winch: the design's own, else Table 1 of
+    Métillon 2022 (whether its exit point moves is decided by the variant, ``realised_lengths``).
+
+    Parameters
+    ----------
+    design : Robot
+        The robot with its pulleys, cables and (optionally) winches.
+    effects : iterable of str
+        Subset of ``EFFECTS``.
+
+    Returns
+    -------
+    Robot
+    """
+    eff = _names(effects)
+    cables = []
+    for c in design.cables:
+        pulley = c.pulley if "pulley" in eff else dataclasses.replace(c.pulley, kind="fixed", h=0.0, r_p=0.0)
+        material = (
+            c.material if "elasticity" in eff else dataclasses.replace(c.material, E=c.material.E * RIGID)
+        )
+        cables.append(
+            dataclasses.replace(c, pulley=pulley, material=material, winch=c.winch or winch_model.TABLE1)
+        )
+    return dataclasses.replace(design, cables=tuple(cables))
+
+
+def model_lengths(design, p, model, t_min=T_MIN_DEFAULT):
+    """Rest lengths the model with effects ``model`` commands at p (step 1 of the module docstring).
+
+    .. math:: L_{0,i} = L_{TE,i}(p) / (1 + t_i / (E_i S_i))   (t = 0 without elasticity)
+
+    Parameters
+    ----------
+    design : Robot
+    p : array (N, 3) [m]
+        Desired positions.
+    model : iterable of str
+        Subset of ``EFFECTS`` the model includes.
+    t_min : float [N]
+        Least planned tension of the elasticity compensation (``compensation.compensate``).
+
+    Returns
+    -------
+    L0 : array (N, m) [m]
+        NaN where no tension distribution exists (elasticity modelled).
+
+    References
+    ----------
+    Paty et al. 2021, eq. (3)-(5), (10), (13).
+    """
+    robot = effect_robot(design, model)
+    if "elasticity" in _names(model):
+        return compensate(robot, p, method="min_norm", t_min=t_min)["L0"]
+    return igm_e(robot, p).L_TE
+
+
+def realised_lengths(design, L0, actual, model):
+    """Rest lengths the actual drums pay out when the controller's model commands L0 (step 2 of the
+    module docstring).
+
+    L0' = d + l_pm,actual(q),   q = q1(L0 - d) (model with winch) or q_nw(L0 - d) (without)
+
+    Parameters
+    ----------
+    design : Robot
+        Its winches (Table 1 of Métillon 2022 where it gives none) and dead lengths d.
+    L0 : array (N, m) [m]
+        Rest lengths the model commands.
+    actual, model : iterable of str
+        Subsets of ``EFFECTS`` of the robot and of the model; only ``winch`` matters here.
+
+    Returns
+    -------
+    array (N, m) [m]
+        L0 itself when both or neither have the winch; NaN where a drum angle leaves [0, q_max].
+
+    References
+    ----------
+    Métillon et al. 2022, eq. (15)-(17), (22), (29)-(32).
+    """
+    wa, wm = "winch" in _names(actual), "winch" in _names(model)
+    L0 = np.asarray(L0, dtype=float)
+    if wa == wm:
+        return L0
+    robot = effect_robot(design, ())
+    out = np.empty_like(L0)
+    for i, (w, d) in enumerate(zip(robot.winches, robot.d)):
+        l_pm = L0[:, i] - d
+        if wm:
+            q = winch_model.roots(w, l_pm)[0]
+            pay = winch_model.l_pm_of_q_no_winch(w, q)
+        else:
+            q = winch_model.q_no_winch(w, l_pm)
+            pay = winch_model.l_pm_of_q(w, np.clip(q, 0.0, w.q_max))
+        out[:, i] = np.where((q >= 0) & (q <= w.q_max), d + pay, np.nan)
+    return out
+
+
+def variant(design, p, actual, model, t_min=T_MIN_DEFAULT, threads=None):
+    """The platform of the robot with effects ``actual`` commanded by the model with effects
+    ``model`` (module docstring).
+
+    Parameters
+    ----------
+    design : Robot
+    p : array (N, 3) [m]
+        Desired positions.
+    actual, model : iterable of str
+        Subsets of ``EFFECTS``.
+    t_min : float [N]
+        Least planned tension of the elasticity compensation.
+    threads : int, optional
+        Threads of the compiled equilibrium.
+
+    Returns
+    -------
+    dict
+        dp (N, 3) [m] the vector P* - p; status (N,) str (``redundancy.STATUSES``, and
+        ``infeasible`` where the model has no tension distribution or a drum angle leaves its range).
+    """
+    from cdpr.compiled.equilibrium import solve_physical_fast
+
+    p = np.atleast_2d(np.asarray(p, dtype=float))
+    L0 = realised_lengths(design, model_lengths(design, p, model, t_min), actual, model)
+    good = np.isfinite(L0).all(axis=1)
+    dp = np.full(p.shape, np.nan)
+    status = np.full(len(p), "infeasible", dtype=object)
+    if good.any():
+        res = solve_physical_fast(effect_robot(design, actual), p[good], L0=L0[good], threads=threads)
+        dp[good] = res["P_s"] - p[good]
+        status[good] = res["status"]
+    return {"dp": dp, "status": status.astype(str)}
+
+
+def variants(effects=EFFECTS):
+    """The variants of the budget (module docstring).
+
+    Parameters
+    ----------
+    effects : tuple of str
+        The effects of the budget (default ``EFFECTS``).
+
+    Returns
+    -------
+    dict
+        name -> (actual effects, model effects): ``none``, each single effect, ``all``,
+        ``compensated_<k>``, ``neglected_<k>`` and ``compensated_all``.
+    """
+    _names(effects)  # unknown effects raise ValueError
+    allk = tuple(effects)
+    v = {"none": ((), ())}
+    v.update({k: ((k,), ()) for k in allk})
+    v["all"] = (allk, ())
+    v.update({f"compensated_{k}": (allk, (k,)) for k in allk})
+    v.update({f"neglected_{k}": (allk, tuple(e for e in allk if e != k)) for k in allk})
+    v["compensated_all"] = (allk, allk)
+    return v
+
+
+def error_budget(design, p, t_min=T_MIN_DEFAULT, threads=None):
+    """Every variant of the budget at p, plus the interaction (module docstring).
+
+    Parameters
+    ----------
+    design : Robot
+    p : array (N, 3) [m]
+    t_min : float [N]
+    threads : int, optional
+
+    Returns
+    -------
+    dict
+        name -> {dp (N, 3) [m], status (N,)} for every name of ``variants()``, and
+        ``interaction`` -> {dp = δp_all - Σ_k δp_k, status ok where all four are ok}.
+    """
+    out = {name: variant(design, p, a, m, t_min, threads) for name, (a, m) in variants().items()}
+    parts = [out["all"]] + [out[k] for k in EFFECTS]
+    ok = np.logical_and.reduce([r["status"] == "ok" for r in parts])
+    out["interaction"] = {
+        "dp": out["all"]["dp"] - sum(out[k]["dp"] for k in EFFECTS),
+        "status": np.where(ok, "ok", "not_ok"),
+    }
+    return out
+
+
+def norms(budget):
+    """‖δp‖ of every entry of an error budget and the points ok in every entry.
+
+    Parameters
+    ----------
+    budget : dict
+        An ``error_budget`` result.
+
+    Returns
+    -------
+    norms : DataFrame (N rows, one column per entry) [m]
+    ok : array (N,) of bool
+    """
+    ok = np.logical_and.reduce([r["status"] == "ok" for r in budget.values()])
+    return pd.DataFrame({k: np.linalg.norm(r["dp"], axis=1) for k, r in budget.items()}), ok
+
+
+def summarise(budget):
+    """One row per budget entry over the points ok in every entry.
+
+    The share of effect k in the all-effects error is its projection on û = δp_all / ‖δp_all‖,
+
+        s_k = mean(δp_k · û),   Σ_k s_k + s_int = mean ‖δp_all‖
+
+    (exactly, since the single effects and the interaction add up to δp_all).
+
+    Parameters
+    ----------
+    budget : dict
+        An ``error_budget`` result.
+
+    Returns
+    -------
+    DataFrame
+        Columns entry, mean_m and max_m (‖δp‖ [m]), share_m (s_k [m], for the single effects, the
+        interaction and ``all``), largest_fraction (share of the points where a single effect is
+        the largest of the three), points, ok_points.
+    """
+    nm, ok = norms(budget)
+    d_all = budget["all"]["dp"][ok]
+    n_all = np.linalg.norm(d_all, axis=1)
+    u = np.divide(d_all, n_all[:, None], out=np.zeros_like(d_all), where=n_all[:, None] > 0)
+    largest = nm.loc[ok, list(EFFECTS)].to_numpy().argmax(axis=1) if ok.any() else np.array([], int)
+    rows = []
+    for k in budget:
+        share = np.nan
+        if k in (*EFFECTS, "interaction", "all"):
+            share = float(np.einsum("na,na->n", budget[k]["dp"][ok], u).mean()) if ok.any() else np.nan
+        frac = float((largest == EFFECTS.index(k)).mean()) if k in EFFECTS and ok.any() else np.nan
+        rows.append(
+            {
+                "entry": k,
+                "mean_m": float(nm.loc[ok, k].mean()) if ok.any() else np.nan,
+                "max_m": float(nm.loc[ok, k].max()) if ok.any() else np.nan,
+                "share_m": share,
+                "largest_fraction": frac,
+                "points": int(len(ok)),
+                "ok_points": int(ok.sum()),
+            }
+        )
+    return pd.DataFrame(rows)
+
+
+#: Words for the effects in sentences.
+LABELS = {"pulley": "pulley geometry", "elasticity": "cable elasticity", "winch": "the winch exit point"}
+
+
+def dominant(summary):
+    """The single effect with the largest mean ‖δp‖.
+
+    Parameters
+    ----------
+    summary : DataFrame
+        A ``summarise`` table.
+
+    Returns
+    -------
+    str, one of ``EFFECTS``.
+    """
+    s = summary.set_index("entry")
+    return max(EFFECTS, key=lambda k: s.loc[k, "mean_m"])
+
+
+def sentence(design_label, summary, path=None):
+    """One sentence on which effect dominates where.
+
+    Parameters
+    ----------
+    design_label : str
+    summary : DataFrame
+        ``summarise`` table over RW_C.
+    path : DataFrame, optional
+        ``summarise`` table along the section 3.3.1 path.
+
+    Returns
+    -------
+    str
+    """
+    s = summary.set_index("entry")
+    top = dominant(summary)
+    rest = sorted((k for k in EFFECTS if k != top), key=lambda k: -s.loc[k, "mean_m"])
+    mm = lambda k: f"{s.loc[k, 'mean_m'] * 1e3:.3g} mm"  # noqa: E731
+    text = (
+        f"{design_label}: {LABELS[top]} dominates over RW_C (mean ‖δp‖ {mm(top)} alone, the largest "
+        f"single effect at {s.loc[top, 'largest_fraction']:.0%} of the points), then "
+        f"{LABELS[rest[0]]} ({mm(rest[0])}) and {LABELS[rest[1]]} ({mm(rest[1])}); all together "
+        f"{mm('all')} with an interaction of {mm('interaction')}; compensating {LABELS[top]} leaves "
+        f"{mm('compensated_' + top)}"
+    )
+    if path is not None:
+        p = path.set_index("entry")
+        ptop = max(EFFECTS, key=lambda k: p.loc[k, "mean_m"])
+        text += (
+            f"; along the section 3.3.1 path {LABELS[ptop]} dominates "
+            f"({p.loc[ptop, 'mean_m'] * 1e3:.3g} mm mean, the largest at "
+            f"{p.loc[ptop, 'largest_fraction']:.0%} of its points)"
+        )
+    return text + "."

@@ -1,0 +1,162 @@
+"""The paper's analyses as functions of a robot: trajectories (section 3.3.1), planes (3.3.2),
+error-limited volumes (3.3.3), regular workspaces and the global index (4.1), factorial designs
+(4.2), optimal lines (4.3). Each returns a DataFrame or a small dict; no files, no Snakemake.
+
+Section and figure numbers are those of Paty 2021; every point's pose error is |dp| of its eq. (14).
+
+References
+----------
+Paty, T., Binaud, N., Caro, S., Segonds, S. (2021). Cable-driven parallel robot modelling considering
+pulley kinematics and cable elasticity. Mechanism and Machine Theory 159, 104263.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from cdpr.analyses.workspace import cell_centres, frame_box
+from cdpr.solve import solve_table
+
+
+def trajectory_points(start, end, n):
+    """n evenly spaced points on the segment start -> end and their arc length s [m].
+
+    Parameters
+    ----------
+    start : array_like (3,) [m]
+        First point.
+    end : array_like (3,) [m]
+        Last point.
+    n : int
+        Number of points, ends included.
+
+    Returns
+    -------
+    P : ndarray (n, 3) [m]
+        The points.
+    s : ndarray (n,) [m]
+        Arc length from ``start``.
+    """
+    start, end = np.asarray(start, dtype=float), np.asarray(end, dtype=float)
+    f = np.linspace(0.0, 1.0, n)
+    return start + f[:, None] * (end - start), f * np.linalg.norm(end - start)
+
+
+def trajectory(robot, start, end, n, method="newton", **solver):
+    """|dp| along a straight path (Fig. 10, 19): the point table plus the arc length ``s``.
+
+    Paty 2021 section 3.3.1 (and 5.2 for Fig. 19); |dp| is eq. (14).
+
+    Parameters
+    ----------
+    robot : Robot
+    start : array_like (3,) [m]
+        First point of the path.
+    end : array_like (3,) [m]
+        Last point of the path.
+    n : int
+        Number of points.
+    method : {"newton", "fixed_point"}
+        DEGM_E solver.
+    solver : options of ``solve.solve_table`` (engine, threads, redundancy, tolerances).
+
+    Returns
+    -------
+    DataFrame
+        Column s [m] followed by the columns of ``solve.solve_table`` (x, y, z, ..., dp [m], ...,
+        status), one row per point.
+    """
+    P, s = trajectory_points(start, end, n)
+    df = solve_table(robot, P, method=method, **solver)
+    df.insert(0, "s", s)
+    return df
+
+
+def plane_points(robot, z, n):
+    """n x n cell centres over the anchors' horizontal bounding box at height z (Fig. 9, 12).
+
+    Parameters
+    ----------
+    robot : Robot
+        Supplies the joint points (``workspace.frame_box``).
+    z : float [m]
+        Height of the plane.
+    n : int
+        Cells per horizontal axis.
+
+    Returns
+    -------
+    points : ndarray (n * n, 3) [m]
+        x slowest, then y.
+    """
+    x0, x1, y0, y1, _, _ = frame_box(robot)
+    X, Y = np.meshgrid(cell_centres(x0, x1, n), cell_centres(y0, y1, n), indexing="ij")
+    return np.column_stack([X.ravel(), Y.ravel(), np.full(X.size, float(z))])
+
+
+def plane(robot, z, n, method="newton", **solver):
+    """|dp| over the horizontal plane at height z (Fig. 12) with the chosen subsets (Fig. 9).
+
+    Paty 2021 section 3.3.2; |dp| is eq. (14).
+
+    Parameters
+    ----------
+    robot : Robot
+    z : float [m]
+        Height of the plane.
+    n : int
+        Cells per horizontal axis (``plane_points``).
+    method : {"newton", "fixed_point"}
+        DEGM_E solver.
+    solver : options of ``solve.solve_table``.
+
+    Returns
+    -------
+    DataFrame
+        The table of ``solve.solve_table``, n * n rows.
+    """
+    return solve_table(robot, plane_points(robot, z, n), method=method, **solver)
+
+
+def ok_extremes(df):
+    """min and max |dp| over the rows with status ok (NaN when there are none).
+
+    Parameters
+    ----------
+    df : DataFrame
+        Point table with columns ``status`` and ``dp`` [m].
+
+    Returns
+    -------
+    tuple of 2 float [m]
+        (min, max) of dp over the ``ok`` rows.
+    """
+    ok = df.loc[df["status"] == "ok", "dp"]
+    return (float(ok.min()), float(ok.max())) if len(ok) else (float("nan"), float("nan"))
+
+
+def crossings(s, a, b):
+    """Arc lengths where curve a - b changes sign (linear interpolation), e.g. E_max vs E_min (Fig. 19).
+
+    Parameters
+    ----------
+    s : array_like (n,) [m]
+        Arc lengths along the path.
+    a : array_like (n,) [any unit]
+        First curve (e.g. |dp| [m] with the largest modulus); NaN points are dropped.
+    b : array_like (n,) [unit of a]
+        Second curve.
+
+    Returns
+    -------
+    list of float [m]
+        Arc lengths of the strict sign changes of a - b (a point where a - b is exactly 0 is not
+        counted).
+    """
+    s, diff = np.asarray(s), np.asarray(a) - np.asarray(b)
+    good = np.isfinite(diff)
+    s, diff = s[good], diff[good]
+    on = [float(s[i]) for i in np.flatnonzero(diff == 0)]  # a crossing that lands on a sample
+    idx = np.flatnonzero(np.sign(diff[:-1]) * np.sign(diff[1:]) < 0)
+    between = [float(s[i] - diff[i] * (s[i + 1] - s[i]) / (diff[i + 1] - diff[i])) for i in idx]
+    return sorted(on + between)

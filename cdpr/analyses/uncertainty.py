@@ -1,0 +1,1096 @@
+"""Uncertainty of the pose error: parameter distributions, seeded Monte Carlo by full solves, the
+first-order (linearised) propagation of the exact sensitivities, and Sobol indices (SALib).
+
+The study file's ``uncertainty.parameters`` declares a distribution per parameter group (keys
+``PARAMETER_KEYS``)::
+
+    young_modulus_Pa: {dist: uniform, low: 67.2e9, high: 137.2e9, per_cable: true}    # E_i [Pa]
+    anchor_offset_m:  {dist: normal, mean: 0, sd: 0.002, per_cable: true}           # A_i + offset [m]
+    mass_kg:          {dist: normal, mean: 300, sd: 10, low: 270, high: 330}        # M [kg], truncated
+
+``uniform`` takes low and high; ``normal`` takes mean and sd, and optional low/high that truncate
+it. Keys ending in ``_offset_m`` are deviations added to each cable's nominal value (the designs
+differ in h and r_p, the anchors in position); the others are the values themselves. ``per_cable:
+true`` draws each cable's value independently; ``false`` draws one value for every cable (fully
+correlated, the paper's common E). Each independent draw is a *driver* (``Driver``): E_2, A_3_z, M,
+or E_all for a shared modulus. A driver's value is its distribution's inverse CDF at a uniform
+number u in (0, 1), so Monte Carlo (``mc_uniforms``) and Saltelli's design (``sobol_analysis``)
+only generate u.
+
+Reproducibility: sample s of seed S uses ``numpy.random.default_rng([S, s])`` and nothing else, so
+the same seed gives the same numbers whatever the shards (ranges of s) are; drivers are numbered in
+the fixed order of ``PARAMETER_KEYS`` and the cables, whatever the order of the study's keys.
+
+The pose error of a design (``PoseErrorModel``), for sampled parameters θ:
+
+* ``uncompensated`` (the paper's question): the winches command the standard model's lengths
+  L_TS(p) of the *nominal* robot; the robot with parameters θ settles at P*(θ) (paper mode: DEGM_E
+  on the best admissible 3-cable subset; or the physical equilibrium);
+* ``compensated``: the lengths are compensated with the nominal parameters (``compensation``:
+  rest lengths that hold the nominal robot exactly at p) and the robot with θ settles where its
+  forces balance (physical equilibrium): the residual error a real robot would have.
+
+``solve`` does full solves; ``linearise`` gives the first-order propagation of the sensitivities at
+the nominal parameters (``sensitivity``), dp(θ) = dp_0 + S (τ(θ) - τ(θ_0)), with τ the identity
+except for the moduli, linearised in the compliance 1/E_i (the cable stretch t L / (E S) is linear in
+it, so the elastic error is nearly linear in 1/E over the paper's ±35 GPa, not in E).
+
+References
+----------
+Paty, T., Binaud, N., Caro, S., Segonds, S. (2021). Cable-driven parallel robot modelling considering
+pulley kinematics and cable elasticity. Mechanism and Machine Theory 159, 104263 (section 5).
+Saltelli, A. et al. (2010), Variance based sensitivity analysis of
+model output, Computer Physics Communications 181, 259-270. Herman, J., Usher, W. (2017), SALib:
+an open-source Python library for sensitivity analysis, JOSS 2(9).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pandas as pd
+
+from cdpr.errors import ConfigError
+from cdpr.models.inverse import L_TS
+from cdpr.parameters import parameter_values, robot_with_parameters
+
+#: Study keys of ``uncertainty.parameters``: key -> (parameter group, "value" or "offset"), in the
+#: order drivers are numbered.
+PARAMETER_KEYS = {
+    "young_modulus_Pa": ("E", "value"),
+    "h_offset_m": ("h", "offset"),
+    "r_p_offset_m": ("r_p", "offset"),
+    "dead_length_offset_m": ("d", "offset"),
+    "anchor_offset_m": ("A", "offset"),
+    "mass_kg": ("M", "value"),
+}
+CASES = ("uncompensated", "compensated")
+#: Quantiles of the bands (5, 50, 95 %).
+QUANTILES = (0.05, 0.5, 0.95)
+#: u is kept in [U_EPS, 1 - U_EPS] so that an unbounded normal's inverse CDF stays finite.
+U_EPS = 1e-12
+#: Samples per batch of the linearised propagation (memory: 24 bytes x points x batch).
+BATCH = 16
+
+
+@dataclasses.dataclass(frozen=True)
+class Distribution:
+    """A univariate distribution: ``uniform`` (low, high) or ``normal`` (mean, sd, optional low and
+    high truncating it)."""
+
+    dist: str
+    low: float | None = None
+    high: float | None = None
+    mean: float | None = None
+    sd: float | None = None
+
+    @classmethod
+    def from_spec(cls, spec):
+        return cls(
+            dist=spec["dist"],
+            low=spec.get("low"),
+            high=spec.get("high"),
+            mean=spec.get("mean"),
+            sd=spec.get("sd"),
+        )
+
+    def _trunc(self):
+        from scipy.stats import truncnorm
+
+        a = -np.inf if self.low is None else (self.low - self.mean) / self.sd
+        b = np.inf if self.high is None else (self.high - self.mean) / self.sd
+        return truncnorm(a, b, loc=self.mean, scale=self.sd)
+
+    def ppf(self, u):
+        """Inverse CDF at u (any shape) in (0, 1)."""
+        u = np.clip(np.asarray(u, dtype=float), U_EPS, 1.0 - U_EPS)
+        if self.dist == "uniform":
+            return self.low + u * (self.high - self.low)
+        if self.low is None and self.high is None:
+            from scipy.stats import norm
+
+            return norm.ppf(u, loc=self.mean, scale=self.sd)
+        return self._trunc().ppf(u)
+
+    def moments(self):
+        """(mean, variance) of the distribution."""
+        if self.dist == "uniform":
+            return 0.5 * (self.low + self.high), (self.high - self.low) ** 2 / 12.0
+        if self.low is None and self.high is None:
+            return float(self.mean), float(self.sd) ** 2
+        mu, var = self._trunc().stats("mv")
+        return float(mu), float(var)
+
+    def support(self):
+        """(lowest, highest) value that can be drawn (infinite for an untruncated normal)."""
+        lo = self.low if self.low is not None else -np.inf
+        hi = self.high if self.high is not None else np.inf
+        return lo, hi
+
+
+@dataclasses.dataclass(frozen=True)
+class Driver:
+    """One independent draw: its name (E_2, E_all, A_3_z, A_all_z, M), the study key, the parameter
+    group, the columns of the parameter vector (``parameters.parameter_names``) it sets, whether it
+    is an offset added to the nominal values, and its distribution."""
+
+    name: str
+    key: str
+    group: str
+    columns: tuple
+    offset: bool
+    dist: Distribution
+
+
+def drivers(parameters, m):
+    """The drivers (independent draws) of ``uncertainty.parameters``, in the fixed order of
+    ``PARAMETER_KEYS`` and cables, whatever the order of the study's keys.
+
+    Parameters
+    ----------
+    parameters : dict
+        ``PARAMETER_KEYS`` -> distribution spec {dist, low, high, mean, sd, per_cable}.
+    m : int
+        Number of cables.
+
+    Returns
+    -------
+    list of Driver
+    """
+    base = {"E": 0, "h": m, "r_p": 2 * m, "d": 3 * m}
+    out = []
+    for key, (group, kind) in PARAMETER_KEYS.items():
+        if key not in parameters:
+            continue
+        spec = parameters[key]
+        dist = Distribution.from_spec(spec)
+        offset = kind == "offset"
+        per_cable = spec.get("per_cable", True) and group != "M"
+        if group == "M":
+            out.append(Driver("M", key, group, (7 * m,), offset, dist))
+        elif group == "A":
+            for a, ax in enumerate("xyz"):
+                if per_cable:
+                    out += [
+                        Driver(f"A_{c + 1}_{ax}", key, group, (4 * m + 3 * c + a,), offset, dist)
+                        for c in range(m)
+                    ]
+                else:
+                    cols = tuple(4 * m + 3 * c + a for c in range(m))
+                    out.append(Driver(f"A_all_{ax}", key, group, cols, offset, dist))
+        elif per_cable:
+            out += [
+                Driver(f"{group}_{c + 1}", key, group, (base[group] + c,), offset, dist) for c in range(m)
+            ]
+        else:
+            cols = tuple(base[group] + c for c in range(m))
+            out.append(Driver(f"{group}_all", key, group, cols, offset, dist))
+    # anchors: per cable x, y, z together (A_1_x, A_1_y, A_1_z, A_2_x, ...)
+    return sorted(out, key=lambda d: (list(PARAMETER_KEYS).index(d.key), d.columns))
+
+
+def mc_uniforms(seed, start, stop, n_drivers):
+    """Uniform numbers of Monte Carlo samples start .. stop - 1.
+
+    Sample s draws from ``numpy.random.default_rng([seed, s])`` only: the same seed gives the same
+    numbers for a sample whatever range (shard) it is computed in.
+
+    Parameters
+    ----------
+    seed : int
+    start, stop : int
+        Sample range [start, stop).
+    n_drivers : int
+
+    Returns
+    -------
+    U : ndarray, shape (stop - start, n_drivers)
+        In [0, 1).
+    """
+    return np.array(
+        [np.random.default_rng([int(seed), int(s)]).random(n_drivers) for s in range(start, stop)]
+    ).reshape(stop - start, n_drivers)
+
+
+def parameter_samples(robot, drivers_, U, active=None):
+    """Parameter vectors of uniform numbers: each active driver's inverse CDF sets its columns
+    (offsets are added to the nominal values); inactive drivers leave the nominal values.
+
+    Parameters
+    ----------
+    robot : Robot
+        The nominal robot.
+    drivers_ : list of Driver
+    U : array_like, shape (n, n_drivers)
+        Uniform numbers in (0, 1).
+    active : array_like of bool, shape (n_drivers,), optional
+        Drivers that move (default all).
+
+    Returns
+    -------
+    theta : ndarray, shape (n, 7 m + 1) [Pa, m, kg]
+        In the order of ``parameters.parameter_names``.
+    """
+    U = np.atleast_2d(np.asarray(U, dtype=float))
+    th0 = parameter_values(robot)
+    th = np.tile(th0, (len(U), 1))
+    for k, dr in enumerate(drivers_):
+        if active is not None and not active[k]:
+            continue
+        x = dr.dist.ppf(U[:, k])
+        cols = list(dr.columns)
+        th[:, cols] = th0[cols] + x[:, None] if dr.offset else x[:, None]
+    return th
+
+
+def check_samples(robot, theta, source="<study>", key="uncertainty.parameters"):
+    """Refuse parameter vectors a robot cannot have (E, M, r_p > 0 or >= 0, h >= r_p for SR and
+    h > r_p for DR, d >= 0, anchors above the floor), naming the first bad sample.
+
+    Parameters
+    ----------
+    robot : Robot
+    theta : array_like, shape (n, 7 m + 1)
+    source : str
+        File named in the error.
+    key : str
+        Key named in the error.
+
+    Returns
+    -------
+    None
+        Raises ConfigError for a bad sample.
+    """
+    m = robot.m
+    th = np.atleast_2d(theta)
+    E, h, r_p, d = th[:, :m], th[:, m : 2 * m], th[:, 2 * m : 3 * m], th[:, 3 * m : 4 * m]
+    Az = th[:, 4 * m + 2 : 7 * m : 3]
+    kind = robot.arrays.kind
+    sized = robot.arrays.h > 0
+    checks = [
+        (E <= 0, "a Young's modulus <= 0"),
+        (th[:, [7 * m]] <= 0, "a payload mass <= 0"),
+        (d < 0, "a negative dead length"),
+        (Az <= 0, "an anchor at or below the floor"),
+        ((r_p < 0) | (h < 0), "a negative lever arm or sheave radius"),
+        ((kind == 1) & sized & (h < r_p), "an SR pulley with h < r_p"),
+        ((kind == 2) & sized & (h <= r_p), "a DR pulley with h <= r_p"),
+    ]
+    for bad, what in checks:
+        bad = np.asarray(bad).reshape(len(th), -1).any(axis=1)
+        if bad.any():
+            raise ConfigError(
+                source,
+                key,
+                f"sample {int(np.flatnonzero(bad)[0])} gives {what}; narrow the distribution or bound it with low/high",
+            )
+
+
+def sample_stats(dp, ok):
+    """Per sample: the global index (eq. 15: mean of ‖δp‖ over the ok points), the median and the
+    95 % quantile of ‖δp‖ over the ok points, and the number of points that are not ok.
+
+    Parameters
+    ----------
+    dp : ndarray, shape (n, N) [m]
+    ok : ndarray, shape (n, N) bool
+
+    Returns
+    -------
+    DataFrame
+        Columns index_m, median_m, p95_m [m], not_ok; one row per sample.
+
+    References
+    ----------
+    Paty et al. 2021, eq. (14)-(15).
+    """
+    d = np.where(ok, dp, np.nan)
+    with np.errstate(all="ignore"):
+        q = np.nanquantile(d, [0.5, 0.95], axis=1) if d.size else np.full((2, len(d)), np.nan)
+        return pd.DataFrame(
+            {
+                "index_m": np.nanmean(d, axis=1),
+                "median_m": q[0],
+                "p95_m": q[1],
+                "not_ok": (~ok).sum(axis=1),
+            }
+        )
+
+
+class Linearisation:
+    """First-order propagation of the sensitivities at the nominal parameters θ_0,
+    dp(θ) = dp_0 + S (τ(θ) - τ(θ_0)), τ(θ) = θ except 1/E for the moduli, for each candidate
+    solution ("slot") of a point: in paper mode every converged 3-cable subset, whose tensions are
+    propagated too (t(θ) = t_0 + S_t (τ(θ) - τ(θ_0))) so that the paper's rule (the smallest ‖dp‖
+    among the subsets with 0 <= t <= T_a) is applied to the linearised answers: the best subset may
+    switch with θ; in physical mode the one equilibrium.
+
+    Parameters
+    ----------
+    dp0 : array (N, C, 3) [m]
+        P*(θ_0) - p of each slot.
+    S : array (N, C, 3, k)
+        dP*/dθ at θ_0 of each slot for the parameter columns ``columns``.
+    valid : array (N, C) bool
+        Slots with a regular solution (S finite).
+    smooth : array (N,) bool
+        The sensitivity module's flag of the nominal answer.
+    theta0 : array (7 m + 1,)
+    m : int
+    columns : array (k,) of int
+        Columns of θ (``parameters.parameter_names``) that S covers; the others must stay nominal.
+    t0, St : arrays (N, C, 3) [N] and (N, C, 3, k), optional
+        Tensions of each slot and their sensitivities (paper mode).
+    T_a : array (C, 3) [N], optional
+        Admissible tensions of each slot's cables.
+    """
+
+    def __init__(self, dp0, S, valid, smooth, theta0, m, columns, t0=None, St=None, T_a=None):
+        self.theta0 = np.asarray(theta0, dtype=float)
+        self.columns = np.asarray(columns, dtype=np.intp)
+        self.valid = np.asarray(valid, dtype=bool) & np.isfinite(S).all(axis=(2, 3))
+        self.smooth = np.asarray(smooth, dtype=bool)
+        self.dp0 = np.where(self.valid[..., None], dp0, 0.0)
+        self.is_E = self.columns < m
+        # dP/d(1/E) = -E^2 dP/dE (and the same for the tensions)
+        self._scale = np.where(self.is_E, -(self.theta0[self.columns] ** 2), 1.0)
+        self.S = np.where(self.valid[..., None, None], S * self._scale, 0.0)
+        self.has_t = t0 is not None
+        if self.has_t:
+            self.t0 = np.where(self.valid[..., None], t0, 0.0)
+            self.St = np.where(self.valid[..., None, None], St * self._scale, 0.0)
+            self.T_a = np.asarray(T_a, dtype=float)
+            adm0 = self.valid & (self.t0 >= 0).all(axis=2) & (self.t0 <= self.T_a).all(axis=2)
+        else:
+            adm0 = self.valid
+        self.admissible0 = adm0
+        self.ok = adm0.any(axis=1)
+        # the nominal answer: the admissible slot of smallest |dp_0| (paper mode's choice)
+        self.best = np.argmin(np.where(adm0, np.linalg.norm(self.dp0, axis=2), np.inf), axis=1)
+
+    def tau(self, theta):
+        """τ(θ) on the covered columns, shape (n, k)."""
+        th = np.atleast_2d(np.asarray(theta, dtype=float))[:, self.columns]
+        return np.where(self.is_E, 1.0 / th, th)
+
+    def _delta(self, theta):
+        th = np.atleast_2d(np.asarray(theta, dtype=float))
+        other = np.setdiff1d(np.arange(th.shape[1]), self.columns)
+        if other.size and np.abs(th[:, other] - self.theta0[other]).max() > 0:
+            raise ValueError("the linearisation does not cover every parameter that varies")
+        return self.tau(th) - self.tau(self.theta0)
+
+    def dp(self, theta, engine="compiled", threads=None):
+        """‖dp(θ)‖ (n, N) [m] of the linearised answer; NaN where no slot is admissible.
+        ``engine="compiled"`` runs ``fast_sensitivity.linear_dp`` (points in parallel), ``"numpy"``
+        the reference below (same numbers)."""
+        delta = self._delta(theta)
+        if engine == "compiled":
+            from cdpr.compiled.sensitivity import linear_dp
+
+            t = (self.t0, self.St, self.T_a) if self.has_t else (None, None, None)
+            return linear_dp(self.dp0, self.S, self.valid, delta, *t, threads=threads)
+        N, C, _, k = self.S.shape
+        Sflat = self.S.reshape(N * C * 3, k)
+        Stflat = self.St.reshape(N * C * 3, k) if self.has_t else None
+        out = np.empty((len(delta), N))
+        for i in range(0, len(delta), BATCH):
+            d = delta[i : i + BATCH]
+            v = (Sflat @ d.T).T.reshape(len(d), N, C, 3) + self.dp0
+            adm = self.valid
+            if self.has_t:
+                t = (Stflat @ d.T).T.reshape(len(d), N, C, 3) + self.t0
+                adm = adm & (t >= 0).all(axis=3) & (t <= self.T_a).all(axis=3)
+            norm = np.where(adm, np.linalg.norm(v, axis=3), np.inf)
+            out[i : i + BATCH] = norm.min(axis=2)
+        return np.where(np.isfinite(out), out, np.nan)
+
+    def nominal(self):
+        """(dp_0 (N, 3), S (N, 3, k)) of the nominal answer, with S in dP/dθ (not compliance)."""
+        idx = np.arange(len(self.best))
+        return self.dp0[idx, self.best], self.S[idx, self.best] / self._scale
+
+
+def linear_stats(lin, theta, batch=64, threads=None):
+    """``sample_stats`` of the linearised ‖dp‖ for every row of θ, ``batch`` samples at a time (the
+    (samples, points) array of 1,000 samples over 63^3 points would take 2 GB).
+
+    Parameters
+    ----------
+    lin : Linearisation
+    theta : array_like, shape (n, 7 m + 1)
+    batch : int
+    threads : int, optional
+
+    Returns
+    -------
+    DataFrame
+        As ``sample_stats``.
+    """
+    theta = np.atleast_2d(theta)
+    parts = []
+    for i in range(0, len(theta), batch):
+        dp = lin.dp(theta[i : i + batch], threads=threads)
+        parts.append(sample_stats(dp, np.isfinite(dp)))
+    return (
+        pd.concat(parts, ignore_index=True)
+        if parts
+        else sample_stats(np.empty((0, 0)), np.empty((0, 0), bool))
+    )
+
+
+class PoseErrorModel:
+    """‖δp‖ of one design at points p when the robot's parameters are θ (module docstring).
+
+    Parameters
+    ----------
+    robot : Robot
+        The nominal robot (the model that computes the commanded lengths).
+    p : array (N, 3) [m]
+        Desired positions.
+    case : {"uncompensated", "compensated"}
+    redundancy : {"paper", "physical"}
+        Model of the uncompensated robot (paper: DEGM_E on the best subset); the compensated robot
+        is always the physical equilibrium.
+    compensation : dict, optional
+        ``method`` and ``t_min_N`` of ``compensation.compensate`` (default min_norm, 100 N).
+    threads : int, optional
+    """
+
+    def __init__(self, robot, p, case="uncompensated", redundancy="paper", compensation=None, threads=None):
+        self.robot = robot
+        self.p = np.atleast_2d(np.asarray(p, dtype=float))
+        self.case = case
+        self.threads = threads
+        n = len(self.p)
+        if case == "uncompensated":
+            self.mode = redundancy
+            self.L = L_TS(robot, self.p)
+            self.feasible = np.ones(n, dtype=bool)
+        elif case == "compensated":
+            from cdpr.analyses.compensation import compensate
+
+            c = compensation or {}
+            comp = compensate(
+                robot, self.p, method=c.get("method", "min_norm"), t_min=c.get("t_min_N", 100.0)
+            )
+            self.mode = "physical"
+            self.L = comp["L0"]
+            self.feasible = comp["feasible"]
+        else:
+            raise ValueError(f"unknown case {case!r}; allowed: {', '.join(CASES)}")
+        self._pv = np.ascontiguousarray(self.p[self.feasible])
+        self._Lv = np.ascontiguousarray(self.L[self.feasible])
+
+    def _solve(self, robot, sens=False):
+        if sens:
+            from cdpr.models.sensitivity import sensitivities
+
+            return sensitivities(robot, self._pv, redundancy=self.mode, L=self._Lv, threads=self.threads)
+        if self.mode == "paper":
+            from cdpr.compiled.subsets import solve_points_fast
+
+            return solve_points_fast(robot, self._pv, L=self._Lv, threads=self.threads)
+        from cdpr.compiled.equilibrium import solve_physical_fast
+
+        return solve_physical_fast(robot, self._pv, L0=self._Lv, threads=self.threads)
+
+    def solve(self, theta):
+        """Full solves: ‖δp‖ (n, N) [m] and ok (n, N) for parameter vectors θ (n, 7 m + 1)."""
+        th = np.atleast_2d(theta)
+        n, N = len(th), len(self.p)
+        dp = np.full((n, N), np.nan)
+        ok = np.zeros((n, N), dtype=bool)
+        for i, t in enumerate(th):
+            res = self._solve(robot_with_parameters(self.robot, t))
+            dp[i, self.feasible] = res["dp"]
+            ok[i, self.feasible] = res["status"] == "ok"
+        return dp, ok
+
+    def linearise(self, columns=None):
+        """The ``Linearisation`` at the nominal parameters for the parameter columns ``columns``
+        (default all): paper mode every subset (``sensitivity.subset_sensitivities``), physical mode
+        the equilibrium (``sensitivity.sensitivities``)."""
+        from cdpr.models.sensitivity import sensitivities, subset_sensitivities
+
+        m = self.robot.m
+        cols = np.arange(7 * m + 1) if columns is None else np.asarray(columns, dtype=np.intp)
+        N = len(self.p)
+        nom = sensitivities(self.robot, self._pv, redundancy=self.mode, L=self._Lv, threads=self.threads)
+        smooth = np.zeros(N, dtype=bool)
+        smooth[self.feasible] = nom["smooth"]
+        extra = {}
+        if self.mode == "paper":
+            sub = subset_sensitivities(self.robot, self._pv, L=self._Lv, columns=cols, threads=self.threads)
+            C = sub["P"].shape[1]
+            P, valid, S = sub["P"], sub["converged"], sub["S"]
+            t0 = np.zeros((N, C, 3))
+            St = np.full((N, C, 3, len(cols)), np.nan)
+            t0[self.feasible], St[self.feasible] = sub["t"], sub["St"]
+            extra = {"t0": t0, "St": St, "T_a": sub["T_a"]}
+        else:
+            C = 1
+            P = nom["P_s"][:, None]
+            valid = (nom["status"] == "ok")[:, None]
+            S = nom["S"][:, None][..., cols]
+        dp0 = np.zeros((N, C, 3))
+        Sall = np.full((N, C, 3, len(cols)), np.nan)
+        ok = np.zeros((N, C), dtype=bool)
+        dp0[self.feasible] = P - self._pv[:, None]
+        Sall[self.feasible] = S
+        ok[self.feasible] = valid
+        return Linearisation(dp0, Sall, ok, smooth, parameter_values(self.robot), m, cols, **extra)
+
+
+def sobol_analysis(evaluate, drivers_, robot, base_samples, seed, outputs, groups=False, source="<study>"):
+    """First-order and total Sobol indices of the model outputs with SALib (Saltelli's sampling
+    scheme on a scrambled Sobol' sequence, Sobol analysis with bootstrap confidence intervals).
+
+    Parameters
+    ----------
+    evaluate : callable
+        θ (n, 7 m + 1) -> Y (n, len(outputs)).
+    drivers_ : list of Driver
+    robot : Robot
+    base_samples : int
+        N of Saltelli's scheme (a power of 2); the model runs N (D + 2) times, D the number of
+        drivers (or of groups).
+    seed : int
+        Seed of the scrambling and of the bootstrap.
+    outputs : list of str
+        Names of Y's columns.
+    groups : bool
+        Indices per parameter group (``Driver.group``) instead of per driver.
+    source : str
+        File named by ``check_samples``.
+
+    Returns
+    -------
+    indices : DataFrame
+        Columns output, level, name, S1, S1_conf, ST, ST_conf.
+    Y : ndarray, shape (N (D + 2), len(outputs))
+    theta : ndarray, shape (N (D + 2), 7 m + 1)
+
+    References
+    ----------
+    Saltelli et al. 2010; SALib (Herman and Usher 2017).
+    """
+    from SALib.analyze import sobol as sobol_analyze
+    from SALib.sample import sobol as sobol_sample
+
+    D = len(drivers_)
+    problem = {"num_vars": D, "names": [d.name for d in drivers_], "bounds": [[0.0, 1.0]] * D}
+    if groups:
+        problem["groups"] = [d.group for d in drivers_]
+    U = sobol_sample.sample(problem, base_samples, calc_second_order=False, scramble=True, seed=seed)
+    theta = parameter_samples(robot, drivers_, U)
+    check_samples(robot, theta, source)
+    Y = np.asarray(evaluate(theta), dtype=float).reshape(len(theta), len(outputs))
+    names = list(dict.fromkeys(problem["groups"])) if groups else problem["names"]
+    rows = []
+    for j, out in enumerate(outputs):
+        Si = sobol_analyze.analyze(
+            problem, Y[:, j], calc_second_order=False, conf_level=0.95, seed=seed, print_to_console=False
+        )
+        for k, name in enumerate(names):
+            rows.append(
+                {
+                    "output": out,
+                    "level": "group" if groups else "parameter",
+                    "name": name,
+                    "S1": float(Si["S1"][k]),
+                    "S1_conf": float(Si["S1_conf"][k]),
+                    "ST": float(Si["ST"][k]),
+                    "ST_conf": float(Si["ST_conf"][k]),
+                }
+            )
+    return pd.DataFrame(rows), Y, theta
+
+
+def local_contributions(lin, drivers_, projected):
+    """First-order share of each driver in the spread of the pose error at every point.
+
+    Driver k moves the pose by δ_k = sum over its columns c of S_c (x_c - θ_0,c), x its value, so
+    its contribution is E[(n . δ_k)^2] with n = dp_0/|dp_0| (``projected``: the variance of ‖δp‖
+    to first order, where dp_0 is not small) or E[|δ_k|^2] (the mean square error, for the
+    compensated robot whose dp_0 = 0). Moments about the nominal values; S of the nominal answer.
+
+    Parameters
+    ----------
+    lin : Linearisation
+        Covering every driver's columns.
+    drivers_ : list of Driver
+    projected : bool
+
+    Returns
+    -------
+    contributions : ndarray, shape (N, n_drivers) [m^2]
+        NaN where the point is not ok.
+    """
+    dp0, S = lin.nominal()
+    th0 = lin.theta0
+    pos = {int(c): j for j, c in enumerate(lin.columns)}
+    if projected:
+        n = dp0 / np.linalg.norm(dp0, axis=1, keepdims=True)
+        S = np.einsum("na,nak->nk", n, S)[:, None, :]
+    out = np.empty((len(S), len(drivers_)))
+    for k, dr in enumerate(drivers_):
+        mean, var = dr.dist.moments()
+        cols = [pos[c] for c in dr.columns]
+        a = S[:, :, cols].sum(axis=2)  # dδ/dx
+        if dr.offset:
+            # δ = a x: E[δ^2] = |a|^2 (var + mean^2)
+            out[:, k] = (a**2).sum(axis=1) * (var + mean**2)
+        else:
+            # δ = a x - b, b = sum_c S_c θ_0,c: E|δ|^2 = |a|^2 E[x^2] - 2 a.b mean + |b|^2
+            b = (S[:, :, cols] * th0[list(dr.columns)]).sum(axis=2)
+            out[:, k] = (
+                (a**2).sum(axis=1) * (var + mean**2) - 2 * (a * b).sum(axis=1) * mean + (b**2).sum(axis=1)
+            )
+    return np.where(lin.ok[:, None], np.maximum(out, 0.0), np.nan)
+
+
+def driver_columns(drivers_):
+    """The parameter columns the drivers set, sorted.
+
+    Parameters
+    ----------
+    drivers_ : list of Driver
+
+    Returns
+    -------
+    columns : ndarray of int
+    """
+    return np.array(sorted({c for d in drivers_ for c in d.columns}), dtype=np.intp)
+
+
+# ------------------------------------------------------------------------------------------------
+# The study's experiments (``uncertainty:`` section of a study file); DataFrames in and out, no files
+# ------------------------------------------------------------------------------------------------
+def design_robot(st, design):
+    """The nominal robot of one optimal design on the DOE robot.
+
+    Parameters
+    ----------
+    st : Study
+    design : str
+        A key of the study's ``optimal``.
+
+    Returns
+    -------
+    Robot
+    """
+    from cdpr.pipeline.study import design_robot as study_design
+
+    return study_design(st, st["doe"]["robot"], st["optimal"][design])
+
+
+def study_drivers(st, robot):
+    """The drivers of a study's ``uncertainty.parameters`` and which of them Monte Carlo varies.
+
+    Parameters
+    ----------
+    st : Study
+    robot : Robot
+
+    Returns
+    -------
+    drivers : list of Driver
+    active : ndarray of bool
+        The drivers of ``monte_carlo.vary``.
+    """
+    u = st["uncertainty"]
+    dr = drivers(u["parameters"], robot.m)
+    vary = u["monte_carlo"]["vary"]
+    return dr, np.array([d.key in vary for d in dr], dtype=bool)
+
+
+def mc_parameters(st, robot, start, stop, varied=True):
+    """Checked parameter vectors of Monte Carlo samples start .. stop - 1 of a study.
+
+    Parameters
+    ----------
+    st : Study
+    robot : Robot
+    start, stop : int
+    varied : bool
+        Only the drivers of ``monte_carlo.vary`` move (the others stay nominal); else all.
+
+    Returns
+    -------
+    theta : ndarray, shape (stop - start, 7 m + 1)
+    """
+    u = st["uncertainty"]
+    dr, active = study_drivers(st, robot)
+    U = mc_uniforms(u["seed"], start, stop, len(dr))
+    th = parameter_samples(robot, dr, U, active if varied else None)
+    check_samples(robot, th, st.path)
+    return th
+
+
+def model(st, design, case, points, threads=None):
+    """The ``PoseErrorModel`` of a design and case at ``points`` with the study's settings.
+
+    Parameters
+    ----------
+    st : Study
+    design : str
+    case : {"uncompensated", "compensated"}
+    points : array_like, shape (N, 3) [m]
+    threads : int, optional
+
+    Returns
+    -------
+    PoseErrorModel
+    """
+    u = st["uncertainty"]
+    return PoseErrorModel(
+        design_robot(st, design),
+        points,
+        case,
+        redundancy=u.get("redundancy", "paper"),
+        compensation=u["compensation"],
+        threads=threads,
+    )
+
+
+def mc_shard(st, design, case, box, shard, threads=None):
+    """Monte Carlo shard by full solves over the RW_C grid, and the linearised propagation of the
+    same samples: how far the two agree.
+
+    Samples ``shard_range(full_samples, shard, shards)`` of ``monte_carlo``.
+
+    Parameters
+    ----------
+    st : Study
+    design : str
+    case : {"uncompensated", "compensated"}
+    box : array_like, shape (6,) [m]
+        RW_C.
+    shard : int
+    threads : int, optional
+
+    Returns
+    -------
+    samples : DataFrame
+        sample, index/median/p95 of ‖δp‖ [m] by full solves and linearised, not-ok points, the
+        largest point difference [m], the share of points differing by more than ``agree_tol_m``.
+    points : DataFrame
+        x, y, z, smooth (the nominal answer's flag), dp_nominal_m, max_diff_m over the shard's
+        samples, n_disagree (samples where the difference exceeds ``agree_tol_m``).
+    """
+    from cdpr.analyses.workspace import grid_points, shard_range
+
+    mc = st["uncertainty"]["monte_carlo"]
+    start, stop = shard_range(mc["full_samples"], shard, mc["shards"])
+    m_ = model(st, design, case, grid_points(box, mc["index_n"]), threads)
+    th = mc_parameters(st, m_.robot, start, stop)
+    dr, active = study_drivers(st, m_.robot)
+    dp_f, ok_f = m_.solve(th)
+    lin = m_.linearise(driver_columns([d for d, a in zip(dr, active) if a]))
+    dp_l = lin.dp(th)
+    ok_l = np.isfinite(dp_l)
+    both = ok_f & ok_l
+    diff = np.where(both, np.abs(dp_f - dp_l), np.nan)
+    tol = mc["agree_tol_m"]
+    sf, sl = sample_stats(dp_f, ok_f), sample_stats(dp_l, ok_l)
+    with np.errstate(all="ignore"):
+        samples = pd.DataFrame(
+            {
+                "sample": np.arange(start, stop),
+                "index_full_m": sf.index_m,
+                "index_lin_m": sl.index_m,
+                "median_full_m": sf.median_m,
+                "median_lin_m": sl.median_m,
+                "p95_full_m": sf.p95_m,
+                "p95_lin_m": sl.p95_m,
+                "not_ok_full": sf.not_ok,
+                "not_ok_lin": sl.not_ok,
+                "max_diff_m": np.nanmax(np.where(both, diff, -np.inf), axis=1),
+                "share_disagree": (diff > tol).sum(axis=1) / np.maximum(both.sum(axis=1), 1),
+            }
+        )
+        dp0 = np.where(lin.ok, np.linalg.norm(lin.nominal()[0], axis=1), np.nan)
+        points = pd.DataFrame(
+            {
+                "x": m_.p[:, 0],
+                "y": m_.p[:, 1],
+                "z": m_.p[:, 2],
+                "smooth": lin.smooth,
+                "dp_nominal_m": dp0,
+                "max_diff_m": np.nanmax(np.where(both, diff, -np.inf), axis=0) if len(th) else np.nan,
+                "n_disagree": (diff > tol).sum(axis=0),
+            }
+        )
+    samples["max_diff_m"] = samples["max_diff_m"].where(np.isfinite(samples["max_diff_m"]))
+    points["max_diff_m"] = points["max_diff_m"].where(np.isfinite(points["max_diff_m"]))
+    return samples, points
+
+
+def linear_samples(st, design, case, box, threads=None):
+    """Every Monte Carlo sample (``monte_carlo.samples``) by the linearised propagation over the
+    RW_C grid; the first row (sample -1) is the nominal robot.
+
+    Parameters
+    ----------
+    st : Study
+    design : str
+    case : {"uncompensated", "compensated"}
+    box : array_like, shape (6,) [m]
+    threads : int, optional
+
+    Returns
+    -------
+    DataFrame
+        sample, index_m, median_m, p95_m [m], not_ok.
+    """
+    from cdpr.analyses.workspace import grid_points
+
+    mc = st["uncertainty"]["monte_carlo"]
+    m_ = model(st, design, case, grid_points(box, mc["index_n"]), threads)
+    dr, active = study_drivers(st, m_.robot)
+    lin = m_.linearise(driver_columns([d for d, a in zip(dr, active) if a]))
+    th = np.vstack([parameter_values(m_.robot), mc_parameters(st, m_.robot, 0, mc["samples"])])
+    out = linear_stats(lin, th, threads=threads)
+    out.insert(0, "sample", np.arange(-1, mc["samples"]))
+    return out
+
+
+def path_bands(st, design, case, threads=None):
+    """‖δp‖ quantiles (5, 50, 95 %) along the section 5.2 path (``elasticity.path``) over every
+    Monte Carlo sample, by full solves.
+
+    Parameters
+    ----------
+    st : Study
+    design : str
+    case : {"uncompensated", "compensated"}
+    threads : int, optional
+
+    Returns
+    -------
+    DataFrame
+        s, x, y, z [m], dp_nominal_m, q05_m, q50_m, q95_m [m], ok_share (share of samples where the
+        point is ok).
+
+    References
+    ----------
+    Paty et al. 2021, section 5.2, Fig. 19.
+    """
+    from cdpr.analyses.scans import trajectory_points
+
+    path = st["elasticity"]["path"]
+    P, s = trajectory_points(path["start_m"], path["end_m"], path["points"])
+    m_ = model(st, design, case, P, threads)
+    mc = st["uncertainty"]["monte_carlo"]
+    th = mc_parameters(st, m_.robot, 0, mc["samples"])
+    dp, ok = m_.solve(th)
+    nominal, ok0 = m_.solve(parameter_values(m_.robot)[None])
+    d = np.where(ok, dp, np.nan)
+    with np.errstate(all="ignore"):
+        import warnings
+
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)
+            q = np.nanquantile(d, QUANTILES, axis=0)
+    return pd.DataFrame(
+        {
+            "s": s,
+            "x": P[:, 0],
+            "y": P[:, 1],
+            "z": P[:, 2],
+            "dp_nominal_m": np.where(ok0[0], nominal[0], np.nan),
+            "q05_m": q[0],
+            "q50_m": q[1],
+            "q95_m": q[2],
+            "ok_share": ok.mean(axis=0),
+        }
+    )
+
+
+def sobol(st, design, case, box, threads=None):
+    """Sobol first-order and total indices (SALib) of the global index over the RW_C grid
+    (``sobol.index_n``) and of ‖δp‖ at ``sobol.points_m``, for every declared parameter (per driver
+    and per group), by full solves.
+
+    Parameters
+    ----------
+    st : Study
+    design : str
+    case : {"uncompensated", "compensated"}
+    box : array_like, shape (6,) [m]
+    threads : int, optional
+
+    Returns
+    -------
+    indices : DataFrame
+        output, level, name, S1, S1_conf, ST, ST_conf.
+    rows : DataFrame
+        The evaluations of the independent rows A and B of Saltelli's scheme (2 base_samples draws
+        of every parameter): index_m, median_m, p95_m, not_ok over the RW_C grid.
+    """
+    from cdpr.analyses.workspace import grid_points
+
+    u = st["uncertainty"]
+    so = u["sobol"]
+    grid = grid_points(box, so["index_n"])
+    pts = np.asarray(so["points_m"], dtype=float).reshape(-1, 3)
+    m_ = model(st, design, case, np.vstack([grid, pts]), threads)
+    dr, _ = study_drivers(st, m_.robot)
+    n = len(grid)
+    outputs = ["index"] + [f"dp@({x:g}, {y:g}, {z:g})" for x, y, z in pts]
+    stats = []
+
+    def evaluate(theta):
+        dp, ok = m_.solve(theta)
+        s = sample_stats(dp[:, :n], ok[:, :n])
+        stats.append(s)
+        return np.column_stack([s.index_m.to_numpy(), np.where(ok[:, n:], dp[:, n:], np.nan)])
+
+    per, _, _ = sobol_analysis(evaluate, dr, m_.robot, so["base_samples"], u["seed"], outputs, source=st.path)
+    D = len(dr)
+    rows = stats[0].iloc[np.r_[0 : len(stats[0]) : D + 2, D + 1 : len(stats[0]) : D + 2]]  # A and B rows
+    grp, _, _ = sobol_analysis(
+        evaluate, dr, m_.robot, so["base_samples"], u["seed"], outputs, groups=True, source=st.path
+    )
+    return pd.concat([per, grp], ignore_index=True), rows.reset_index(drop=True)
+
+
+def dominant_map(st, design, case, threads=None):
+    """The parameter that dominates the spread of ‖δp‖ on the plane z = ``plane.z_m`` (``map_n``
+    points per side), from the first-order contributions of every declared driver
+    (``local_contributions``).
+
+    Parameters
+    ----------
+    st : Study
+    design : str
+    case : {"uncompensated", "compensated"}
+    threads : int, optional
+
+    Returns
+    -------
+    DataFrame
+        x, y, z [m], dp_nominal_m, dominant (driver name), group, share (its part of the sum of
+        contributions), rms_m (the square root of that sum) [m].
+    """
+    from cdpr.analyses.scans import plane_points
+
+    u = st["uncertainty"]
+    robot = design_robot(st, design)
+    P = plane_points(robot, st["plane"]["z_m"], u["map_n"])
+    m_ = model(st, design, case, P, threads)
+    dr, _ = study_drivers(st, robot)
+    lin = m_.linearise(driver_columns(dr))
+    c = local_contributions(lin, dr, projected=case == "uncompensated")
+    total = c.sum(axis=1)
+    ok = lin.ok & (total > 0)
+    k = np.argmax(np.where(ok[:, None], c, -1.0), axis=1)
+    names = np.array([d.name for d in dr], dtype=object)
+    groups = np.array([d.group for d in dr], dtype=object)
+    dp0 = np.linalg.norm(lin.nominal()[0], axis=1)
+    with np.errstate(all="ignore"):
+        return pd.DataFrame(
+            {
+                "x": P[:, 0],
+                "y": P[:, 1],
+                "z": P[:, 2],
+                "dp_nominal_m": np.where(lin.ok, dp0, np.nan),
+                "dominant": np.where(ok, names[k], ""),
+                "group": np.where(ok, groups[k], ""),
+                "share": np.where(ok, c[np.arange(len(c)), k] / total, np.nan),
+                "rms_m": np.where(ok, np.sqrt(total), np.nan),
+            }
+        )
+
+
+def bands(linear, full, nominal_common=None):
+    """The global-index band of the Monte Carlo samples of one design and case.
+
+    Parameters
+    ----------
+    linear : DataFrame
+        ``linear_samples`` (sample -1 nominal, then every sample).
+    full : DataFrame
+        The concatenated ``mc_shard`` samples.
+    nominal_common : float [m], optional
+        Our index at the nominal common E, default the linear nominal row.
+
+    Returns
+    -------
+    DataFrame
+        One row per method (linearised over every sample, full over the full-solve samples):
+        method, n, index_nominal_m, index_q05_m, index_q50_m, index_q95_m, index_min_m,
+        index_max_m, plus_m = max - nominal, minus_m = nominal - min (the paper's band definition),
+        median_q50_m / p95_q50_m (median over samples of each sample's median and 95 % of ‖δp‖ over
+        the points) and p95_q95_m [m].
+
+    References
+    ----------
+    Paty et al. 2021, section 5.1.
+    """
+    nom = linear.loc[linear["sample"] == -1, "index_m"].iloc[0]
+    nom = nom if nominal_common is None else nominal_common
+    out = []
+    for method, idx, med, p95 in (
+        ("linearised", *(linear.loc[linear["sample"] >= 0, c] for c in ("index_m", "median_m", "p95_m"))),
+        ("full", full["index_full_m"], full["median_full_m"], full["p95_full_m"]),
+    ):
+        q = np.quantile(idx, QUANTILES) if len(idx) else [np.nan] * 3
+        out.append(
+            {
+                "method": method,
+                "n": int(len(idx)),
+                "index_nominal_m": nom,
+                "index_q05_m": q[0],
+                "index_q50_m": q[1],
+                "index_q95_m": q[2],
+                "index_min_m": float(np.min(idx)) if len(idx) else np.nan,
+                "index_max_m": float(np.max(idx)) if len(idx) else np.nan,
+                "plus_m": float(np.max(idx)) - nom if len(idx) else np.nan,
+                "minus_m": nom - float(np.min(idx)) if len(idx) else np.nan,
+                "median_q50_m": float(np.median(med)) if len(med) else np.nan,
+                "p95_q50_m": float(np.median(p95)) if len(p95) else np.nan,
+                "p95_q95_m": float(np.quantile(p95, 0.95)) if len(p95) else np.nan,
+            }
+        )
+    return pd.DataFrame(out)
+
+
+def agreement(full, points, agree_tol):
+    """How far the linearised propagation agrees with the full solves (one design and case).
+
+    Parameters
+    ----------
+    full : DataFrame
+        The concatenated ``mc_shard`` samples.
+    points : DataFrame
+        The concatenated ``mc_shard`` points.
+    agree_tol : float [m]
+
+    Returns
+    -------
+    dict
+        n (samples compared), agree_tol_m, max_index_diff_m and max_index_rel (largest difference of
+        the global index), max_p95_diff_m, max_point_diff_m, share_points_disagree (points where some
+        sample differs by more than ``agree_tol``), share_disagree_flagged (the part of those the
+        sensitivities flag as not smooth), z_disagree_min_m / z_disagree_max_m (where they are).
+    """
+    d = (full["index_lin_m"] - full["index_full_m"]).abs()
+    bad = points["n_disagree"] > 0
+    with np.errstate(all="ignore"):
+        return {
+            "n": int(len(full)),
+            "agree_tol_m": agree_tol,
+            "max_index_diff_m": float(d.max()) if len(d) else np.nan,
+            "max_index_rel": float((d / full["index_full_m"]).max()) if len(d) else np.nan,
+            "max_p95_diff_m": float((full["p95_lin_m"] - full["p95_full_m"]).abs().max())
+            if len(d)
+            else np.nan,
+            "max_point_diff_m": float(points["max_diff_m"].max()),
+            "share_points_disagree": float(bad.mean()),
+            "share_disagree_flagged": float((~points.loc[bad, "smooth"]).mean()) if bad.any() else np.nan,
+            "z_disagree_min_m": float(points.loc[bad, "z"].min()) if bad.any() else np.nan,
+            "z_disagree_max_m": float(points.loc[bad, "z"].max()) if bad.any() else np.nan,
+        }

@@ -1,0 +1,1 @@
+"""The command line: ``cdpr <command> ...`` (parser and options, commands, pipeline jobs)."""

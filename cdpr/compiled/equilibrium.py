@@ -1,0 +1,402 @@
+"""Compiled physical equilibrium: ``equilibrium.solve_physical`` as a numba kernel that runs in
+parallel over points, scalars only in the hot loop (one cable at a time through ``fast._cable``).
+
+Same equations, Jacobian, merit, line search, stop rules and statuses as the numpy reference
+(``equilibrium``); a test checks that both give the same statuses, taut sets and P* (1e-9 m).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+from numba import njit, prange
+
+from cdpr.compiled.subsets import _cable
+from cdpr.models.equilibrium import (
+    ARMIJO_C,
+    FTOL_REL,
+    LS_SKIP,
+    MAX_HALVINGS,
+    PHYSICAL_DEFAULTS,
+    _result,
+    hull_halfplanes,
+    start_points,
+)
+from cdpr.models.inverse import L_TS
+from cdpr.models.statics import DET_EPS
+
+#: Points per parallel work item (per-chunk scratch arrays are allocated once).
+CHUNK = 256
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _eval(px, py, pz, rx, ry, rz, A, kind, h, rp, d, inward, L0, i, ES, wx, wy, wz, ztop, tbuf):
+    """equilibrium._Cables.evaluate at one point P with rest lengths L0[i]: writes the tensions in
+    tbuf and returns (F (3), Newton's F (3), merit, J (9, row-major), grad (3), kappa, inside)."""
+    m = A.shape[0]
+    Fx, Fy, Fz = wx, wy, wz
+    elastic = 0.0
+    gx = gy = gz = 0.0
+    J00 = J01 = J02 = J10 = J11 = J12 = J20 = J21 = J22 = 0.0
+    K00 = K01 = K02 = K10 = K11 = K12 = K20 = K21 = K22 = 0.0  # every cable's stiffness term
+    kact = ksum = geo = 0.0
+    Ex = Ey = Ez = 0.0  # sum k e u over every cable (Hooke extended to compression)
+    nact = 0
+    inside_any = False
+    for c in range(m):
+        (L, ux, uy, uz, lE, ins, sw, epx, epy, arm, bx, by, bz, ex, ey, ez, uCb) = _cable(
+            px, py, pz, A[c, 0], A[c, 1], A[c, 2], kind[c], h[c], rp[c], d[c], inward[c, 0], inward[c, 1]
+        )
+        inside_any = inside_any or ins
+        L0c = L0[i, c]
+        e = L - L0c
+        k = ES[c] / L0c
+        t = k * e if e > 0.0 else 0.0
+        tbuf[c] = t
+        Fx += t * ux
+        Fy += t * uy
+        Fz += t * uz
+        if e > 0.0:
+            elastic += 0.5 * k * e * e
+        # dL/dP = -u + arm (u . beta + u_C . beta) eps (statics.length_gradient)
+        ub = ux * bx + uy * by + uz * bz
+        q = arm * (ub + uCb)
+        dLx, dLy, dLz = -ux + q * ex, -uy + q * ey, -uz + q * ez
+        gx += t * dLx
+        gy += t * dLy
+        gz += t * dLz
+        # t du/dP = -(t/lE) [(I - u u^T) - sw ep ep^T - arm v eps^T], v = beta - (u . beta) u
+        w = t / lE
+        geo += w
+        ws = w * sw
+        wa = w * arm
+        vx, vy, vz = bx - ub * ux, by - ub * uy, bz - ub * uz
+        J00 += -w * (1.0 - ux * ux) + ws * epx * epx + wa * vx * ex
+        J01 += w * ux * uy + ws * epx * epy + wa * vx * ey
+        J02 += w * ux * uz + wa * vx * ez
+        J10 += w * uy * ux + ws * epy * epx + wa * vy * ex
+        J11 += -w * (1.0 - uy * uy) + ws * epy * epy + wa * vy * ey
+        J12 += w * uy * uz + wa * vy * ez
+        J20 += w * uz * ux + wa * vz * ex
+        J21 += w * uz * uy + wa * vz * ey
+        J22 += -w * (1.0 - uz * uz) + wa * vz * ez
+        # stiffness term k u dL^T, on active cables (L >= L0) and, apart, on all of them
+        kx, ky, kz = k * ux, k * uy, k * uz
+        K00 += kx * dLx
+        K01 += kx * dLy
+        K02 += kx * dLz
+        K10 += ky * dLx
+        K11 += ky * dLy
+        K12 += ky * dLz
+        K20 += kz * dLx
+        K21 += kz * dLy
+        K22 += kz * dLz
+        ksum += k
+        Ex += k * e * ux
+        Ey += k * e * uy
+        Ez += k * e * uz
+        if e >= 0.0:
+            nact += 1
+            kact += k
+            J00 += kx * dLx
+            J01 += kx * dLy
+            J02 += kx * dLz
+            J10 += ky * dLx
+            J11 += ky * dLy
+            J12 += ky * dLz
+            J20 += kz * dLx
+            J21 += kz * dLy
+            J22 += kz * dLz
+    if nact == 0:  # no cable taut: Hooke extended to compression
+        J00 += K00
+        J01 += K01
+        J02 += K02
+        J10 += K10
+        J11 += K11
+        J12 += K12
+        J20 += K20
+        J21 += K21
+        J22 += K22
+        kact = ksum
+        Nx, Ny, Nz = Fx + Ex, Fy + Ey, Fz + Ez
+    else:
+        Nx, Ny, Nz = Fx, Fy, Fz
+    merit = -(wx * (px - rx) + wy * (py - ry) + wz * (pz - rz)) + elastic
+    if not pz < ztop:
+        merit = np.inf
+    return (
+        Fx,
+        Fy,
+        Fz,
+        Nx,
+        Ny,
+        Nz,
+        merit,
+        J00,
+        J01,
+        J02,
+        J10,
+        J11,
+        J12,
+        J20,
+        J21,
+        J22,
+        gx - wx,
+        gy - wy,
+        gz - wz,
+        kact + geo,
+        inside_any,
+    )
+
+
+@njit(cache=True, error_model="numpy")
+def _solve_one(
+    i,
+    p,
+    P0,
+    L0,
+    A,
+    kind,
+    h,
+    rp,
+    d,
+    inward,
+    ES,
+    wx,
+    wy,
+    wz,
+    ztop,
+    ftol,
+    tol,
+    maxiter,
+    max_step,
+    P_out,
+    t_out,
+    res_out,
+    it_out,
+    conv_out,
+    ins_out,
+    tcur,
+    ttry,
+):
+    """equilibrium._newton for point i."""
+    m = A.shape[0]
+    rx, ry, rz = p[i, 0], p[i, 1], p[i, 2]
+    px, py, pz = P0[i, 0], P0[i, 1], P0[i, 2]
+    (Fx, Fy, Fz, Nx, Ny, Nz, merit, J00, J01, J02, J10, J11, J12, J20, J21, J22, gx, gy, gz, kappa, ins) = (
+        _eval(px, py, pz, rx, ry, rz, A, kind, h, rp, d, inward, L0, i, ES, wx, wy, wz, ztop, tcur)
+    )
+    conv = False
+    it = 0
+    prev = 0.0
+    prev_full = False
+    for _ in range(maxiter):
+        if Fx * Fx + Fy * Fy + Fz * Fz <= ftol * ftol:
+            conv = True
+            break
+        # Newton step J s = -F by cofactors (statics.solve3)
+        c00, c01, c02 = J11 * J22 - J12 * J21, J12 * J20 - J10 * J22, J10 * J21 - J11 * J20
+        c10, c11, c12 = J21 * J02 - J22 * J01, J22 * J00 - J20 * J02, J20 * J01 - J21 * J00
+        c20, c21, c22 = J01 * J12 - J02 * J11, J02 * J10 - J00 * J12, J00 * J11 - J01 * J10
+        det = J00 * c00 + J01 * c01 + J02 * c02
+        newton = abs(det) >= DET_EPS
+        sx = sy = sz = 0.0
+        if newton:
+            idet = 1.0 / det
+            sx = -(c00 * Nx + c10 * Ny + c20 * Nz) * idet
+            sy = -(c01 * Nx + c11 * Ny + c21 * Nz) * idet
+            sz = -(c02 * Nx + c12 * Ny + c22 * Nz) * idet
+            newton = math.isfinite(sx) and math.isfinite(sy) and math.isfinite(sz)
+        if newton:
+            slope = gx * sx + gy * sy + gz * sz
+            newton = slope < 0.0 or sx * sx + sy * sy + sz * sz <= LS_SKIP * LS_SKIP
+        if not newton:
+            kk = kappa if kappa > 0 else 1.0
+            sx, sy, sz = -gx / kk, -gy / kk, -gz / kk
+        slope = gx * sx + gy * sy + gz * sz
+        norm = math.sqrt(sx * sx + sy * sy + sz * sz)
+        done = newton and (norm < tol or (prev_full and norm * norm < tol * prev))
+        scale = 1.0 if done else min(1.0, max_step / max(norm, 1e-300))
+        sx, sy, sz = sx * scale, sy * scale, sz * scale
+        slope *= scale
+        whole = done or norm * scale <= LS_SKIP
+        alpha = 1.0
+        for hv in range(MAX_HALVINGS + 1):
+            qx, qy, qz = px + alpha * sx, py + alpha * sy, pz + alpha * sz
+            (
+                tFx,
+                tFy,
+                tFz,
+                tNx,
+                tNy,
+                tNz,
+                tmerit,
+                t00,
+                t01,
+                t02,
+                t10,
+                t11,
+                t12,
+                t20,
+                t21,
+                t22,
+                tgx,
+                tgy,
+                tgz,
+                tkappa,
+                tins,
+            ) = _eval(qx, qy, qz, rx, ry, rz, A, kind, h, rp, d, inward, L0, i, ES, wx, wy, wz, ztop, ttry)
+            if whole or tmerit <= merit + ARMIJO_C * alpha * slope or hv == MAX_HALVINGS:
+                px, py, pz = qx, qy, qz
+                Fx, Fy, Fz, Nx, Ny, Nz, merit = tFx, tFy, tFz, tNx, tNy, tNz, tmerit
+                J00, J01, J02, J10, J11, J12, J20, J21, J22 = t00, t01, t02, t10, t11, t12, t20, t21, t22
+                gx, gy, gz, kappa, ins = tgx, tgy, tgz, tkappa, tins
+                for c in range(m):
+                    tcur[c] = ttry[c]
+                break
+            alpha *= 0.5
+        it += 1
+        prev = alpha * norm * scale
+        prev_full = newton and alpha == 1.0 and scale == 1.0
+        if done:
+            conv = True
+            break
+    P_out[i, 0], P_out[i, 1], P_out[i, 2] = px, py, pz
+    for c in range(m):
+        t_out[i, c] = tcur[c]
+    res_out[i] = math.sqrt(Fx * Fx + Fy * Fy + Fz * Fz)
+    it_out[i] = it
+    conv_out[i] = conv
+    ins_out[i] = ins
+
+
+@njit(cache=True, parallel=True, error_model="numpy")
+def _solve_points(
+    p,
+    P0,
+    L0,
+    A,
+    kind,
+    h,
+    rp,
+    d,
+    inward,
+    ES,
+    wx,
+    wy,
+    wz,
+    ztop,
+    ftol,
+    tol,
+    maxiter,
+    max_step,
+    P_out,
+    t_out,
+    res_out,
+    it_out,
+    conv_out,
+    ins_out,
+):
+    n = p.shape[0]
+    m = A.shape[0]
+    nchunks = (n + CHUNK - 1) // CHUNK
+    for ch in prange(nchunks):
+        tcur = np.empty(m)
+        ttry = np.empty(m)
+        for i in range(ch * CHUNK, min(n, (ch + 1) * CHUNK)):
+            _solve_one(
+                i,
+                p,
+                P0,
+                L0,
+                A,
+                kind,
+                h,
+                rp,
+                d,
+                inward,
+                ES,
+                wx,
+                wy,
+                wz,
+                ztop,
+                ftol,
+                tol,
+                maxiter,
+                max_step,
+                P_out,
+                t_out,
+                res_out,
+                it_out,
+                conv_out,
+                ins_out,
+                tcur,
+                ttry,
+            )
+
+
+def solve_physical_fast(robot, p, L0=None, P0=None, tol=None, maxiter=None, max_step=None, threads=None):
+    """Compiled ``equilibrium.solve_physical`` (same parameters and result; ``threads`` caps numba's
+    threads, default all cores).
+
+    Parameters
+    ----------
+    robot : Robot
+    p : array_like, shape (N, 3) [m]
+    L0 : array_like, shape (N, m) [m], optional
+        Rest lengths, default L_TS(p) (eq. 2).
+    P0 : array_like, shape (N, 3) [m], optional
+    tol, maxiter, max_step : optional, defaults ``equilibrium.PHYSICAL_DEFAULTS``.
+    threads : int, optional
+
+    Returns
+    -------
+    dict
+        As ``equilibrium.solve_physical``.
+    """
+    o = PHYSICAL_DEFAULTS
+    p = np.ascontiguousarray(np.atleast_2d(np.asarray(p, dtype=float)))
+    n, m = len(p), robot.m
+    L0 = L_TS(robot, p) if L0 is None else np.broadcast_to(np.asarray(L0, dtype=float), (n, m))
+    L0 = np.ascontiguousarray(L0, dtype=float)
+    P0 = start_points(robot, p if P0 is None else P0)
+    if threads:
+        numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
+    a = robot.arrays
+    w = robot.platform.w_ext
+    P = np.empty((n, 3))
+    t = np.empty((n, m))
+    resid = np.empty(n)
+    it = np.empty(n, dtype=np.int32)
+    conv = np.empty(n, dtype=np.bool_)
+    ins = np.empty(n, dtype=np.bool_)
+    if n:
+        _solve_points(
+            p,
+            P0,
+            L0,
+            a.A,
+            a.kind.astype(np.int64),
+            a.h,
+            a.r_p,
+            a.d,
+            np.ascontiguousarray(a.inward),
+            a.ES,
+            float(w[0]),
+            float(w[1]),
+            float(w[2]),
+            float(a.A[:, 2].min()),
+            FTOL_REL * float(np.linalg.norm(w)),
+            o["tol"] if tol is None else tol,
+            o["maxiter"] if maxiter is None else maxiter,
+            o["max_step"] if max_step is None else max_step,
+            P,
+            t,
+            resid,
+            it,
+            conv,
+            ins,
+        )
+    return _result(robot, p, P, t, resid, it, conv, ins[:, None], halfplanes=hull_halfplanes(robot))

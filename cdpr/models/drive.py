@@ -1,0 +1,105 @@
+"""The winch in the chain: drum angles <-> commanded rest lengths of a robot's cables.
+
+A robot file may give each cable a winch (Métillon et al. 2022, Table 1 keys). The drum pays out
+the uncoiled length l_u(q) = l_u0 + k_w (q0 - q) (winch seed eq. 17); of it, the segment from the
+drum's exit point e(q) to the pulley entry point a is |e(q) - a| (eq. 22), and the rest,
+
+    l_pm(q) = l_u(q) - |e(q) - a|,
+
+lies beyond the pulley. In the robot model the cable's rest length from the winch exit C to the
+platform is L0 = d + l_pm: the dead length d (C to the pulley joint, as in the paper's reading)
+plus the rest length beyond it. So a commanded rest length L0_i maps to the drum angle
+q_i = q1(l_pm = L0_i - d_i) (the physical root, ``winch.roots``), and the controller that
+neglects the exit point's motion commands q_nw (``winch.q_no_winch``, eq. 32). A robot commanded
+in drum angles realises L0 = d + l_pm(q) with the winch's true geometry; commanding q_nw therefore
+adds the winch's length error δl = k_w (q1 - q_nw) (eq. 31) to the pose error.
+
+References
+----------
+Métillon, M., Charron, C., Subrin, K., Caro, S. (2022). Geometrical modelling of a cable-driven
+parallel robot winch. 25e Congrès Français de Mécanique, hal-03758222.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from cdpr.errors import CdprError
+from cdpr.models import winch
+
+
+def _winches(robot):
+    ws = robot.winches
+    if any(w is None for w in ws):
+        missing = [i + 1 for i, w in enumerate(ws) if w is None]
+        raise CdprError(
+            f"{robot.source}: cables {missing} have no winch; give 'winch:' in the robot file (winch: {{}} is Table 1's)"
+        )
+    return ws
+
+
+def drum_angles(robot, L0):
+    """Drum angles that realise the rest lengths L0, with and without the exit point's motion.
+
+    Parameters
+    ----------
+    robot : Robot
+        Every cable needs a winch.
+    L0 : array (N, m) [m]
+        Commanded rest lengths, winch exit to platform.
+
+    Returns
+    -------
+    q : array (N, m) [rad]
+        The physical root q1 of the winch seed's quadratic (eq. 29-30 corrected) for
+        l_pm = L0 - d; NaN where the drum cannot hold that length (no real root or q1 outside
+        [0, q_max]).
+    q_nw : array (N, m) [rad]
+        The angle of the model that neglects the winch geometry (eq. 32).
+    """
+    L0 = np.atleast_2d(np.asarray(L0, dtype=float))
+    q = np.full(L0.shape, np.nan)
+    q_nw = np.full(L0.shape, np.nan)
+    for i, p in enumerate(_winches(robot)):  # one loop per cable, vectorised over points
+        l_pm = L0[:, i] - robot.d[i]
+        q1, _ = winch.roots(p, l_pm)
+        q[:, i] = np.where((q1 >= 0) & (q1 <= p.q_max), q1, np.nan)
+        q_nw[:, i] = winch.q_no_winch(p, l_pm)
+    return q, q_nw
+
+
+def rest_lengths_from_angles(robot, q, model="winch"):
+    """Rest lengths L0 [m], shape (N, m), that drum angles q (N, m) [rad] realise.
+
+    ``model="winch"``: the drum's true geometry, L0 = d + l_pm(q) (``winch.l_pm_of_q``);
+    ``model="no_winch"``: what a controller that neglects the exit point's motion believes
+    (``winch.l_pm_of_q_no_winch``). Angles outside [0, q_max] raise CdprError.
+
+    Parameters
+    ----------
+    robot : Robot
+        Every cable needs a winch.
+    q : array_like (N, m) [rad]
+        Drum angles, one column per cable.
+    model : {"winch", "no_winch"}
+        "winch": Métillon 2022 eq. (14)-(17) with the moving exit point (eq. 12, 15); "no_winch":
+        the inverse of eq. (32). Any value other than "winch" is taken as "no_winch".
+
+    Returns
+    -------
+    L0 : ndarray (N, m) [m]
+        Rest lengths from the winch exit C_i to the platform, d_i + l_pm,i(q_i).
+    """
+    if model not in ("winch", "no_winch"):
+        raise CdprError(f"unknown winch model {model!r}; allowed: winch, no_winch")
+    q = np.atleast_2d(np.asarray(q, dtype=float))
+    ws = _winches(robot)
+    if q.shape[-1] != robot.m:
+        raise CdprError(f"{robot.m} drum angles needed (one per cable), got {q.shape[-1]}")
+    out = np.empty(q.shape)
+    for i, p in enumerate(ws):
+        if not ((q[:, i] >= 0) & (q[:, i] <= p.q_max)).all():
+            raise CdprError(f"drum angle of cable {i + 1} outside [0, q_max = {p.q_max:g}] rad")
+        f = winch.l_pm_of_q if model == "winch" else winch.l_pm_of_q_no_winch
+        out[:, i] = robot.d[i] + f(p, q[:, i])
+    return out

@@ -1,0 +1,523 @@
+"""Exact first-order sensitivities of the solved pose, dP*/dθ, by the implicit-function theorem.
+
+The solvers find P* with F(P*, θ) = 0 for the parameters θ of the robot. Where F is smooth and its
+Jacobian J = dF/dP is regular, the solution moves with the parameters as
+
+    dP*/dθ = -J^-1 dF/dθ
+
+with the same J the Newton step already uses. Two sets of equations (``redundancy``):
+
+* ``paper`` (DEGM_E on the chosen 3-cable subset, ``direct``): F_j = L_TE,j(P) - L_j (1 + t_j(P)/(E_j S_j)),
+  t = M_u^-1 (-w_ext) the tensions of the three cables (eq. 11-13);
+* ``physical`` (``equilibrium``): F = sum_i t_i u_i + w_ext, t_i = (E_i S_i / L0_i) max(0, L_TE,i - L0_i).
+
+The commanded lengths (L, L0) are held fixed: they are what the winches were told, computed with the
+nominal model, so dP*/dθ is how far the platform moves when the real robot's θ differs from the
+model's. Parameters (``parameter_names``), cables numbered from 1: E_i [Pa], h_i, r_p_i, d_i [m],
+A_i_x, A_i_y, A_i_z [m] and the payload mass M [kg].
+
+Partial derivatives of one cable at fixed P (``cable_partials``), in the cable plane (``pulleys``):
+moving the sheave centre H by dH changes the length by (u + u_C) . dH (u from P toward the exit point
+D, u_C from the winch exit C toward the entry point K), and turns u by (I - u u^T) dH / |l_E|;
+dH/dh is the arm direction (horizontal e_s for SR, the bisector for DR). A larger sheave radius
+lengthens the cable by its wrap angle, dL_TE/dr_p = gamma, and turns u by n_D / |l_E|, n_D the
+outward normal of the sheave at D. A longer dead length moves C down: dL_TE/dd = u_C . z. The
+geometry of a cable depends on P - A_i only, so d/dA_i = -d/dP for both L_TE and u. The paper-mode
+tensions are proportional to M and do not depend on E; Hooke's law gives the E and M terms.
+
+Not differentiable (flagged ``smooth = False``, sensitivities still given): where the answer would
+switch under a small change of θ. Paper mode: another admissible subset within ``GAP_TOL`` of the
+chosen |dp| (e.g. on the diagonals of CDPR4, where two subsets tie), or a tension of the chosen subset
+within ``T_TOL`` of 0 or T_a. Physical mode: a cable whose Hooke tension k_i (L_TE,i - L0_i) is within
+``T_TOL`` of 0 (the taut set changes), or a taut cable within ``T_TOL`` of T_a. Either mode: a Jacobian
+whose condition number exceeds ``COND_MAX`` (a platform on one SR or DR cable can swing round its
+joint axis: a circle of equilibria, J singular). Points whose status is not ``ok`` get NaN.
+
+The numpy functions here are the reference; ``cdpr.compiled.sensitivity`` computes the same in the
+compiled engines' kernels, in the same pass as the solve (tested equal, and against central finite
+differences of full solves).
+
+References
+----------
+Paty, T., Binaud, N., Caro, S., Segonds, S. (2021). Cable-driven parallel robot modelling considering
+pulley kinematics and cable elasticity. Mechanism and Machine Theory 159, 104263 (eq. 3-5, 10-14).
+Implicit-function theorem, e.g. J. Nocedal and S. Wright, Numerical Optimization, 2nd ed.,
+Springer 2006, A.2.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from cdpr.errors import CdprError
+from cdpr.models.inverse import L_TS
+from cdpr.models.pulleys import pulley_state, total_length_and_direction
+from cdpr.models.statics import direction_gradient, inverse3, length_gradient, tensions
+from cdpr.parameters import GROUPS, UNITS, parameter_names  # noqa: F401  (re-exported)
+
+#: |dp| gap [m] to the runner-up admissible subset under which a paper-mode point is not smooth.
+GAP_TOL = 1e-6
+#: Tension margin [N] (to 0, to T_a, or of a slack cable's would-be tension) under which a point is
+#: not smooth.
+T_TOL = 1e-2
+#: Condition number ||J||_F ||J^-1||_F above which a point is not smooth: the equilibrium is (close
+#: to) not isolated, e.g. a platform hanging on one SR or DR cable, free to swing round its joint axis.
+COND_MAX = 1e8
+
+
+class CablePartials(NamedTuple):
+    """Derivatives of every cable at fixed P (``cable_partials``); shapes (..., m) unless stated.
+
+    u (..., m, 3): unit vector from P toward the exit point D; l_E [m]; dL_dP (..., m, 3) and
+    du_dP (..., m, 3, 3) [1/m]: with respect to P; dL (..., m, 6) and du (..., m, 3, 6): with respect
+    to the cable's own h, r_p, d, A_x, A_y, A_z (in that order; [m/m] and [1/m])."""
+
+    u: np.ndarray
+    l_E: np.ndarray
+    L_TE: np.ndarray
+    dL_dP: np.ndarray
+    du_dP: np.ndarray
+    dL: np.ndarray
+    du: np.ndarray
+
+
+def cable_partials(P, A, kind, h, r_p, d, inward):
+    """Partial derivatives of every cable's total length L_TE and direction u at P with respect to
+    its own pulley parameters and joint point (module docstring)::
+
+        dL_TE/dh = (u + u_C) . b,      du/dh = (I - u u^T) b / |l_E|
+        dL_TE/dr_p = gamma,            du/dr_p = n_D / |l_E|
+        dL_TE/dd = u_C . z,            du/dd = 0
+        dL_TE/dA = -dL_TE/dP,          du/dA = -du/dP
+
+    with b the arm direction (SR and fixed: e_s; DR: the bisector), u_C the unit vector from the
+    winch exit C toward the entry point K, gamma the wrap angle, n_D = (u . z) e_s - (u . e_s) z the
+    sheave's outward normal at D (in the cable plane, perpendicular to u).
+
+    Parameters
+    ----------
+    P : array_like, shape (..., 3) [m]
+        Platform positions.
+    A : ndarray, shape (m, 3) [m]
+        Joint points.
+    kind : ndarray, shape (m,)
+        Pulley kind codes 0 fixed / 1 SR / 2 DR.
+    h, r_p, d : ndarray, shape (m,) [m]
+        Lever arms, sheave radii, dead lengths.
+    inward : ndarray, shape (m, 2)
+        Fallback pulley-plane directions (``robot.CableArrays``).
+
+    Returns
+    -------
+    CablePartials
+        u (..., m, 3); l_E, L_TE (..., m) [m]; dL_dP (..., m, 3); du_dP (..., m, 3, 3) [1/m];
+        dL (..., m, 6) and du (..., m, 3, 6) with respect to h, r_p, d, A_x, A_y, A_z.
+
+    References
+    ----------
+    Paty et al. 2021, eq. (3)-(5).
+    """
+    P = np.asarray(P, dtype=float)
+    st = pulley_state(P, A, kind, h, r_p, d, inward)
+    g = total_length_and_direction(P, A, kind, h, r_p, d, inward)
+    zero = np.zeros_like(st.rho)
+    e3 = np.stack([st.e_s[..., 0], st.e_s[..., 1], zero], axis=-1)
+    z = np.array([0.0, 0.0, 1.0])
+    u = g.u
+    l_d = np.where(st.l_d > 0, st.l_d, 1.0)
+    u_C = (st.K - A + d[:, None] * z) / l_d[..., None]  # C = A - d z
+    # arm direction: DR the bisector (beta rotated back by 90 degrees in the plane), else e_s
+    bis = g.beta[..., 2:3] * e3 - np.einsum("...i,...i->...", g.beta, e3)[..., None] * z
+    b = np.where((np.asarray(kind) == 2)[:, None], bis, e3)
+    u_e = np.einsum("...i,...i->...", u, e3)
+    n_D = u[..., 2:3] * e3 - u_e[..., None] * z
+    lE = g.l_E[..., None]
+    ub = np.einsum("...i,...i->...", u, b)
+    dL = np.stack(
+        [
+            np.einsum("...i,...i->...", u + u_C, b),
+            st.gamma,
+            u_C[..., 2],
+        ],
+        axis=-1,
+    )
+    du = np.stack([(b - ub[..., None] * u) / lE, n_D / lE, np.zeros_like(u)], axis=-1)
+    dL_dP = length_gradient(g)
+    du_dP = direction_gradient(g)
+    return CablePartials(
+        u=u,
+        l_E=g.l_E,
+        L_TE=g.L_TE,
+        dL_dP=dL_dP,
+        du_dP=du_dP,
+        dL=np.concatenate([dL, -dL_dP], axis=-1),
+        du=np.concatenate([du, -du_dP], axis=-1),
+    )
+
+
+def _column_index(m):
+    """Columns of (E, h, r_p, d) of cable c: c, m + c, 2 m + c, 3 m + c; A_c: 4 m + 3 c + (0, 1, 2); M: 7 m."""
+    return {"E": 0, "h": m, "r_p": 2 * m, "d": 3 * m, "A": 4 * m, "M": 7 * m}
+
+
+def _geo_columns(m, c):
+    """The 6 columns of cable c's h, r_p, d, A_x, A_y, A_z (order of ``CablePartials.dL``)."""
+    return [m + c, 2 * m + c, 3 * m + c, 4 * m + 3 * c, 4 * m + 3 * c + 1, 4 * m + 3 * c + 2]
+
+
+def paper_jacobian_terms(robot, P, subset, L):
+    """Jacobian and parameter derivatives of paper mode's equations for one 3-cable subset.
+
+    F_j = L_TE,j(P) - L_j (1 + t_j(P) / (E_j S_j)), t = M_u^-1 (-w_ext) (eq. 11-13).
+
+    Parameters
+    ----------
+    robot : Robot
+    P : ndarray, shape (n, 3) [m]
+        Solutions P* of the subset.
+    subset : array_like of 3 int
+        0-based cable indices.
+    L : ndarray, shape (n, 3) [m]
+        Commanded lengths of the subset's cables.
+
+    Returns
+    -------
+    J : ndarray, shape (n, 3, 3)
+        dF/dP [m/m].
+    dF : ndarray, shape (n, 3, 7 m + 1)
+        dF/dθ at fixed P [m per unit of θ].
+    t : ndarray, shape (n, 3) [N]
+        Tensions of the subset.
+    dt_dP : ndarray, shape (n, 3, 3) [N/m]
+    dt_part : ndarray, shape (n, 3, 7 m + 1)
+        dt/dθ at fixed P; the total dt/dθ = dt_dP dP*/dθ + dt_part.
+
+    References
+    ----------
+    Paty et al. 2021, eq. (3)-(5), (10)-(13).
+    """
+    a = robot.arrays
+    s = np.asarray(subset, dtype=np.intp)
+    m = robot.m
+    K = 7 * m + 1
+    cp = cable_partials(P, a.A[s], a.kind[s], a.h[s], a.r_p[s], a.d[s], a.inward[s])
+    t, Minv = tensions(cp.u, robot.platform.w_ext)
+    ES = a.ES[s]
+    kL = L / ES  # (n, 3)
+    G = np.einsum("nj,njab->nab", t, cp.du_dP)
+    dt_dP = -Minv @ G
+    J = cp.dL_dP - kL[..., None] * dt_dP
+    n = len(P)
+    dF = np.zeros((n, 3, K))
+    dt_part = np.zeros((n, 3, K))
+    for j, c in enumerate(s):
+        dF[:, j, c] = kL[:, j] * t[:, j] / a.E[c]
+        # geometric parameters of cable c: its length and, through its direction, every tension
+        dt = -np.einsum("nab,nbk->nak", Minv, t[:, j, None, None] * cp.du[:, j])  # (n, 3, 6)
+        block = -kL[..., None] * dt
+        block[:, j, :] += cp.dL[:, j]
+        dF[:, :, _geo_columns(m, c)] = block
+        dt_part[:, :, _geo_columns(m, c)] = dt
+    dF[:, :, 7 * m] = -kL * t / robot.platform.mass
+    dt_part[:, :, 7 * m] = t / robot.platform.mass
+    return J, dF, t, dt_dP, dt_part
+
+
+def physical_jacobian_terms(robot, P, L0):
+    """Jacobian and parameter derivatives of the physical force balance.
+
+    F = sum_i t_i u_i + w_ext, t_i = (E_i S_i / L0_i) max(0, L_TE,i - L0_i).
+
+    Parameters
+    ----------
+    robot : Robot
+    P : ndarray, shape (n, 3) [m]
+        Equilibria P*.
+    L0 : ndarray, shape (n, m) [m]
+        Rest lengths.
+
+    Returns
+    -------
+    J : ndarray, shape (n, 3, 3) [N/m]
+    dF : ndarray, shape (n, 3, 7 m + 1)
+        dF/dθ at fixed P [N per unit of θ].
+    hooke : ndarray, shape (n, m) [N]
+        k_i (L_TE,i - L0_i), negative where the cable is slack (its tension is 0 then).
+
+    References
+    ----------
+    Paty et al. 2021, eq. (10)-(13); the physical mode of ``equilibrium``.
+    """
+    a = robot.arrays
+    m = robot.m
+    K = 7 * m + 1
+    cp = cable_partials(P, a.A, a.kind, a.h, a.r_p, a.d, a.inward)
+    k = a.ES / L0
+    hooke = k * (cp.L_TE - L0)
+    taut = hooke >= 0.0
+    t = np.where(taut, hooke, 0.0)
+    ka = k * taut
+    J = np.einsum("nj,njab->nab", t, cp.du_dP) + np.einsum("nj,nja,njb->nab", ka, cp.u, cp.dL_dP)
+    n = len(P)
+    dF = np.zeros((n, 3, K))
+    for c in range(m):
+        dF[:, :, c] = (t[:, c] / a.E[c])[:, None] * cp.u[:, c]
+        dF[:, :, _geo_columns(m, c)] = (
+            ka[:, c, None, None] * cp.u[:, c, :, None] * cp.dL[:, c, None, :]
+            + t[:, c, None, None] * cp.du[:, c]
+        )
+    dF[:, :, 7 * m] = robot.platform.w_ext / robot.platform.mass
+    return J, dF, hooke
+
+
+def implicit_solve(J, dF):
+    """dP*/dθ = -J^-1 dF/dθ for batches (the implicit-function theorem).
+
+    Parameters
+    ----------
+    J : ndarray, shape (..., 3, 3)
+        Jacobian dF/dP at the solutions.
+    dF : ndarray, shape (..., 3, K)
+        dF/dθ at fixed P.
+
+    Returns
+    -------
+    S : ndarray, shape (..., 3, K)
+        dP*/dθ [m per unit of θ], NaN where J is singular.
+    cond : ndarray, shape (...)
+        ||J||_F ||J^-1||_F, inf where J is singular.
+    """
+    Jinv, _ = inverse3(J)
+    cond = np.linalg.norm(J, axis=(-2, -1)) * np.linalg.norm(Jinv, axis=(-2, -1))
+    return -Jinv @ dF, np.where(np.isfinite(cond), cond, np.inf)
+
+
+def _paper_flags(robot, res, L_sub_t):
+    """dp gap to the runner-up admissible subset [m] and the tension margin [N] of paper mode."""
+    subs = robot.subsets
+    chosen = res["subset"]
+    key = chosen @ np.array([robot.m * robot.m, robot.m, 1])
+    skey = subs @ np.array([robot.m * robot.m, robot.m, 1])
+    k = np.searchsorted(skey, key)
+    has = chosen[:, 0] >= 0
+    k = np.where(has, np.minimum(k, len(subs) - 1), 0)
+    dp = np.where(res["admissible_subsets"], res["dp_subsets"], np.inf)
+    dp[np.arange(len(k)), k] = np.inf
+    gap = dp.min(axis=1) - res["dp"]
+    t = L_sub_t
+    T_a = robot.T_a[np.where(has[:, None], chosen, 0)]
+    margin = np.minimum(t, T_a - t).min(axis=1)
+    return np.where(has, gap, np.nan), np.where(has, margin, np.nan)
+
+
+def sensitivities(
+    robot,
+    p,
+    redundancy="paper",
+    L=None,
+    engine="compiled",
+    threads=None,
+    gap_tol=GAP_TOL,
+    t_tol=T_TOL,
+    **solver,
+):
+    """Solve the points and return dP*/dθ for every parameter, with a smoothness flag per point.
+
+    .. math:: \\frac{dP^*}{d\\theta} = -J^{-1} \\frac{\\partial F}{\\partial \\theta}
+
+    Parameters
+    ----------
+    robot : Robot
+        The model at its nominal parameters.
+    p : array_like, shape (N, 3) [m]
+        Desired positions.
+    redundancy : {"paper", "physical"}
+        Paper mode's best 3-cable subset (DEGM_E) or the physical equilibrium on all cables.
+    L : array_like, shape (N, m) [m], optional
+        Commanded lengths (paper: total lengths L; physical: rest lengths L0), held fixed; default
+        L_TS(p) (eq. 2).
+    engine : {"compiled", "numpy"}
+        ``cdpr.compiled.sensitivity`` (the solve and the sensitivities in one compiled pass) or the numpy
+        reference here.
+    threads : int, optional
+        Threads of the compiled engine.
+    gap_tol : float [m]
+        |dp| gap to the runner-up admissible subset under which a paper-mode point is not smooth.
+    t_tol : float [N]
+        Tension margin under which a point is not smooth.
+    solver : tol, maxiter (and max_step, physical mode) of the solve.
+
+    Returns
+    -------
+    dict
+        The solve's result (``redundancy.solve_points`` / ``equilibrium.solve_physical`` keys)
+        plus: S (N, 3, 7 m + 1) [m per unit of θ], NaN where the status is not ok; names (list of
+        7 m + 1 str, ``parameter_names``); smooth (N,) bool; margin_t (N,) [N] the tension margin;
+        cond (N,) the condition number of J (inf where singular or not ok); paper mode also
+        dp_gap (N,) [m], the |dp| gap to the runner-up admissible subset (inf if none).
+
+    References
+    ----------
+    Paty et al. 2021, eq. (3)-(5), (10)-(14).
+    """
+    p = np.atleast_2d(np.asarray(p, dtype=float))
+    if redundancy not in ("paper", "physical"):
+        raise CdprError(f"unknown redundancy {redundancy!r}; allowed: paper, physical")
+    if engine == "compiled":
+        from cdpr.compiled.sensitivity import sensitivities_fast
+
+        return sensitivities_fast(
+            robot, p, redundancy=redundancy, L=L, threads=threads, gap_tol=gap_tol, t_tol=t_tol, **solver
+        )
+    if engine != "numpy":
+        raise CdprError(f"unknown engine {engine!r}; allowed: compiled, numpy")
+    n, m = len(p), robot.m
+    L = L_TS(robot, p) if L is None else np.broadcast_to(np.asarray(L, dtype=float), (n, m))
+    S = np.full((n, 3, 7 * m + 1), np.nan)
+    if redundancy == "paper":
+        from cdpr.models.subsets import solve_points
+
+        res = solve_points(robot, p, L=L, **solver)
+        ok = res["status"] == "ok"
+        t_sub = np.full((n, 3), np.nan)
+        cond = np.full(n, np.inf)
+        for s in robot.subsets:
+            idx = np.flatnonzero(ok & (res["subset"] == s).all(axis=1))
+            if idx.size == 0:
+                continue
+            J, dF, t, _, _ = paper_jacobian_terms(robot, res["P_s"][idx], s, L[idx][:, s])
+            S[idx], cond[idx] = implicit_solve(J, dF)
+            t_sub[idx] = t
+        gap, margin = _paper_flags(robot, res, t_sub)
+        res["dp_gap"] = gap
+        smooth = ok & (gap > gap_tol) & (margin > t_tol) & (cond < COND_MAX)
+    else:
+        from cdpr.models.equilibrium import solve_physical
+
+        res = solve_physical(robot, p, L0=L, **solver)
+        ok = res["status"] == "ok"
+        idx = np.flatnonzero(ok)
+        margin = np.full(n, np.nan)
+        cond = np.full(n, np.inf)
+        if idx.size:
+            J, dF, hooke = physical_jacobian_terms(robot, res["P_s"][idx], L[idx])
+            S[idx], cond[idx] = implicit_solve(J, dF)
+            over = np.where(hooke > 0, robot.T_a - hooke, np.inf)
+            margin[idx] = np.minimum(np.abs(hooke).min(axis=1), over.min(axis=1))
+        smooth = ok & (margin > t_tol) & (cond < COND_MAX)
+    S[~ok] = np.nan
+    res.update(S=S, names=parameter_names(m), smooth=smooth, margin_t=margin, cond=cond)
+    return res
+
+
+def sensitivity_columns(names):
+    """Table column names of the sensitivities: dx_d<name>, dy_d<name>, dz_d<name> per parameter.
+
+    Parameters
+    ----------
+    names : list of str
+        ``parameter_names``.
+
+    Returns
+    -------
+    columns : list of str, length 3 len(names)
+    """
+    return [f"d{ax}_d{nm}" for nm in names for ax in "xyz"]
+
+
+def sensitivity_frame(res):
+    """The sensitivities of a ``sensitivities`` result as table columns, one row per point.
+
+    Parameters
+    ----------
+    res : dict
+        A ``sensitivities`` result (keys S, names, smooth).
+
+    Returns
+    -------
+    DataFrame
+        Columns ``sensitivity_columns(res["names"])`` [m per unit of θ] and ``smooth``.
+    """
+    import pandas as pd
+
+    S = res["S"]
+    cols = sensitivity_columns(res["names"])
+    flat = np.swapaxes(S, 1, 2).reshape(len(S), -1)
+    df = pd.DataFrame(flat, columns=cols)
+    df["smooth"] = res["smooth"]
+    return df
+
+
+def subset_sensitivities(robot, p, L=None, columns=None, engine="compiled", threads=None, **solver):
+    """Every 3-cable subset of paper mode at every point: P* (DEGM_E), its tensions, dP*/dθ and
+    dt/dθ; for the first-order propagation when the best subset may switch
+    (``uncertainty.Linearisation``). ``engine="numpy"`` is the reference (``direct.degm_e`` and
+    ``paper_jacobian_terms`` per subset), ``"compiled"`` ``fast_sensitivity.subset_sensitivities``.
+
+    Parameters
+    ----------
+    robot : Robot
+    p : array_like, shape (N, 3) [m]
+    L : array_like, shape (N, m) [m], optional
+        Commanded lengths, default L_TS(p).
+    columns : sequence of int, optional
+        Parameter columns to keep, default all 7 m + 1.
+    engine : {"compiled", "numpy"}
+    threads : int, optional
+    solver : tol, maxiter of the solves.
+
+    Returns
+    -------
+    dict
+        P (N, n_subsets, 3) [m]; t (N, n_subsets, 3) [N] the subset's tensions at P*; converged
+        (N, n_subsets) (a regular solution: S is finite there); admissible (N, n_subsets);
+        S (N, n_subsets, 3, len(columns)) dP*/dθ and St (same shape) dt/dθ [N per unit], NaN where
+        not converged; T_a (n_subsets, 3) [N]; columns.
+
+    References
+    ----------
+    Paty et al. 2021, eq. (8)-(13), section 3.2.
+    """
+    if engine == "compiled":
+        from cdpr.compiled.sensitivity import subset_sensitivities as fast_subsets
+
+        return fast_subsets(robot, p, L=L, columns=columns, threads=threads, **solver)
+    from cdpr.models.direct import degm_e
+
+    p = np.atleast_2d(np.asarray(p, dtype=float))
+    n, m = len(p), robot.m
+    cols = np.arange(7 * m + 1) if columns is None else np.asarray(columns, dtype=np.intp)
+    L = L_TS(robot, p) if L is None else np.broadcast_to(np.asarray(L, dtype=float), (n, m))
+    ns = len(robot.subsets)
+    P = np.empty((n, ns, 3))
+    t = np.full((n, ns, 3), np.nan)
+    conv = np.zeros((n, ns), dtype=bool)
+    S = np.full((n, ns, 3, len(cols)), np.nan)
+    St = np.full((n, ns, 3, len(cols)), np.nan)
+    for k, s in enumerate(robot.subsets):
+        r = degm_e(robot, p, subset=s, L=L[:, s], **solver)
+        P[:, k] = r.P
+        idx = np.flatnonzero(r.converged)
+        if idx.size:
+            J, dF, tk, dt_dP, dt_part = paper_jacobian_terms(robot, r.P[idx], s, L[idx][:, s])
+            Sk, cond = implicit_solve(J, dF)
+            good = np.isfinite(cond)
+            g = idx[good]
+            S[g, k] = Sk[good][:, :, cols]
+            St[g, k] = (dt_dP[good] @ Sk[good] + dt_part[good])[:, :, cols]
+            t[g, k] = tk[good]
+            conv[g, k] = True
+    T_a = robot.T_a[robot.subsets]  # (ns, 3)
+    adm = conv & (t >= 0).all(axis=2) & (t <= T_a).all(axis=2)
+    return {
+        "P": P,
+        "t": t,
+        "converged": conv,
+        "admissible": adm,
+        "S": S,
+        "St": St,
+        "T_a": T_a,
+        "columns": cols,
+    }

@@ -1,0 +1,574 @@
+"""Geometric model of a single-layer CDPR winch (Métillon et al. 2022, the "winch seed").
+
+The drum exit point E slides along the segment E1E2 as the drum turns (eq. 12), so the cable
+length between E and the pulley entry point A varies with the joint angle q. Substituting into the
+length balance gives a quadratic in q (eq. 23). Corrections to the printed equations (see
+docs/models.md):
+
+* eq. (19): the uncoiled length decreases when q grows (eq. 17), so |e - a| = X - k_w q with
+  X = l_u0 + k_w q0 - l_pm (the printed "+ k_w (q - q0)" has the wrong sign);
+* eq. (27): a = l_E1E2^2 / q_max^2 - k_w^2 = -r_w^2 (the printed form drops the squares);
+* eq. (29)-(30): the roots are (-b +/- sqrt(Delta)) / (2a), not / (2c); the physical root is the
+  one through (l_pm0, q0): q1 = (-b + sqrt(Delta)) / (2a) with a < 0.
+* eq. (5): the tangent from A to the drum circle is taken in the plane of the circle, so xi uses
+  the distance from D1 to A projected on that plane (equal to |D1A| when A lies in it).
+
+Equation numbers below are those of Métillon 2022 ("eq. (N)" alone means that paper in this
+module). Lengths are in m, angles in rad; the functions of one winch take its ``WinchParams`` p.
+
+References
+----------
+Métillon, M., Charron, C., Subrin, K., Caro, S. (2022). Geometrical modelling of a cable-driven
+parallel robot winch. 25e Congrès Français de Mécanique, hal-03758222.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from cdpr.errors import ConfigError
+from cdpr.units import quantity
+from cdpr.validation import read_yaml
+
+
+@dataclasses.dataclass(frozen=True)
+class WinchParams:
+    """Parameters of the quadratic (Table 1 of the winch seed), SI units.
+
+    k_w coiling coefficient [m/rad]; l_u0 initial uncoiled length [m]; q0 initial joint angle [rad];
+    q_max drum angle at full coiling [rad]; l_AE1 |A E1| [m]; l_E1E2 coiling length [m];
+    alpha_E1 angle between AE1 and E1E2 [rad].
+    """
+
+    k_w: float
+    l_u0: float
+    q0: float
+    q_max: float
+    l_AE1: float
+    l_E1E2: float
+    alpha_E1: float
+
+
+#: Table 1 of the winch seed.
+TABLE1 = WinchParams(
+    k_w=0.07460068, l_u0=5.9261, q0=94.2478, q_max=188.4956, l_AE1=2.6848, l_E1E2=0.06, alpha_E1=1.6906
+)
+
+_PARAM_KEYS = {
+    "k_w_m": ("k_w", "m"),
+    "l_u0_m": ("l_u0", "m"),
+    "q0_rad": ("q0", "rad"),
+    "q_max_rad": ("q_max", "rad"),
+    "l_AE1_m": ("l_AE1", "m"),
+    "l_E1E2_m": ("l_E1E2", "m"),
+    "alpha_E1_rad": ("alpha_E1", "rad"),
+}
+
+
+def params_from_mapping(data, source, key=""):
+    """WinchParams from a mapping of the keys of ``_PARAM_KEYS`` (k_w_m, l_u0_m, q0_rad, q_max_rad,
+    l_AE1_m, l_E1E2_m, alpha_E1_rad; SI values or strings with units); missing keys take Table 1's
+    values. Errors name ``source`` and ``key`` (the mapping's place in its file).
+
+    Parameters
+    ----------
+    data : dict
+        Winch parameters by key: lengths [m], angles [rad], as numbers or strings with units
+        (``"60 mm"``). Every value but alpha_E1_rad must be > 0; alpha_E1_rad lies in [0, pi];
+        q0_rad must lie in [0, q_max_rad].
+    source : str
+        Name of the file (or other origin) for error messages.
+    key : str
+        Dotted place of the mapping in that file, for error messages ('' at the top level).
+
+    Returns
+    -------
+    WinchParams
+        The parameters of Métillon 2022 Table 1 with the given values, SI units.
+
+    Raises
+    ------
+    ConfigError
+        For an unknown key, a value with the wrong unit or out of range.
+    """
+    if not isinstance(data, dict):
+        raise ConfigError(source, key or None, "expected a mapping of winch parameters")
+    prefix = f"{key}." if key else ""
+    values = dataclasses.asdict(TABLE1)
+    for k, val in data.items():
+        if k not in _PARAM_KEYS:
+            raise ConfigError(source, prefix + str(k), f"unknown key; allowed: {', '.join(_PARAM_KEYS)}")
+        field, dim = _PARAM_KEYS[k]
+        v = quantity(val, dim, source, prefix + k)
+        if field != "alpha_E1" and (v < 0 or (v == 0 and field != "q0")):
+            raise ConfigError(
+                source, prefix + k, f"must be {'>= 0' if field == 'q0' else 'strictly positive'}, got {val!r}"
+            )
+        if field == "alpha_E1" and not 0 <= v <= math.pi:
+            raise ConfigError(
+                source, prefix + k, f"an angle between two segments lies in [0, pi] rad, got {val!r}"
+            )
+        values[field] = v
+    p = WinchParams(**values)
+    if not 0 <= p.q0 <= p.q_max:
+        raise ConfigError(
+            source, prefix + "q0_rad", f"must lie in [0, q_max_rad] = [0, {p.q_max:g}], got {p.q0:g}"
+        )
+    return p
+
+
+def load_params(path):
+    """Read WinchParams from a YAML file (keys as ``params_from_mapping``).
+
+    Parameters
+    ----------
+    path : str or Path
+        YAML file holding one mapping of winch parameters.
+
+    Returns
+    -------
+    WinchParams
+        SI units; missing keys take Table 1's values.
+    """
+    return params_from_mapping(read_yaml(path), path)
+
+
+# ---- winch geometry (eq. 1-13, 18) ---------------------------------------------------------
+def coiling_radius(r_d, r_g, r_c):
+    """Coiling radius r_w = r_d - r_g + r_c / 2 (Métillon 2022 eq. 7) [m].
+
+    Parameters
+    ----------
+    r_d : float [m]
+        Drum radius.
+    r_g : float [m]
+        Groove radius.
+    r_c : float [m]
+        Cable radius.
+
+    Returns
+    -------
+    r_w : float [m]
+        Radius at which the cable axis coils on the drum.
+    """
+    return r_d - r_g + r_c / 2.0
+
+
+def coiling_coefficient(r_w, mu):
+    """k_w = sqrt(r_w^2 + (mu / 2 pi)^2) (Métillon 2022 eq. 18) [m/rad]; mu is the drum pitch [m].
+
+    Parameters
+    ----------
+    r_w : float [m]
+        Coiling radius (``coiling_radius``).
+    mu : float [m]
+        Pitch of the drum's helical groove (advance per turn).
+
+    Returns
+    -------
+    k_w : float [m/rad]
+        Cable length coiled per radian of drum rotation (eq. 17: l_u = l_u0 - k_w (q - q0)).
+    """
+    return math.sqrt(r_w**2 + (mu / (2 * math.pi)) ** 2)
+
+
+def max_angle(l_E1E2, mu):
+    """q_max = 2 pi l_E1E2 / mu (Métillon 2022 eq. 13) [rad].
+
+    Parameters
+    ----------
+    l_E1E2 : float [m]
+        Coiling length, the length of the drum's grooved part along its axis.
+    mu : float [m]
+        Pitch of the groove.
+
+    Returns
+    -------
+    q_max : float [rad]
+        Drum angle at full coiling (E reaches E2).
+    """
+    return 2 * math.pi * l_E1E2 / mu
+
+
+def tangent_angle(D1A_w, r_w):
+    """kappa = chi - xi (Métillon 2022 eq. 3-5): direction of D1E1 in the winch frame [rad].
+
+    .. math:: \\chi = \\operatorname{atan2}(z, x), \\quad
+        \\xi = \\arccos \\frac{r_w}{\\sqrt{x^2 + z^2}}, \\quad \\kappa = \\chi - \\xi
+
+    with (x, y, z) = D1A_w; xi uses the distance projected on the plane of the drum circle (the
+    eq. 5 erratum of the module docstring).
+
+    Parameters
+    ----------
+    D1A_w : array_like (3,) [m]
+        Vector from the drum origin D1 to the pulley entry point A in the winch frame (eq. 6).
+    r_w : float [m]
+        Coiling radius.
+
+    Returns
+    -------
+    kappa : float [rad]
+        Angle from x_w to D1E1 about the drum axis y_w. Raises ValueError (math domain error) when
+        A lies inside the coiling circle (no tangent).
+    """
+    x, z = D1A_w[0], D1A_w[2]
+    chi = math.atan2(z, x)
+    xi = math.acos(r_w / math.hypot(x, z))
+    return chi - xi
+
+
+def exit_points(R_wb, d1, a, r_w, l_E1E2):
+    """Exit points e1, e2 in the base frame (Métillon 2022 eq. 6-11).
+
+    .. math:: e_1 = d_1 + R_{bw} (r_w \\cos\\kappa, 0, r_w \\sin\\kappa)^T, \\quad
+        e_2 = d_1 + R_{bw} (r_w \\cos\\kappa, l_{E_1E_2}, r_w \\sin\\kappa)^T
+
+    with R_bw = R_wb^T and kappa from ``tangent_angle``.
+
+    Parameters
+    ----------
+    R_wb : array_like (3, 3) [-]
+        Rotation from the base to the winch frame (w_R_b of eq. 1; the drum axis is y_w).
+    d1 : array_like (3,) [m]
+        Drum origin D1 in the base frame.
+    a : array_like (3,) [m]
+        Pulley entry point A in the base frame.
+    r_w : float [m]
+        Coiling radius.
+    l_E1E2 : float [m]
+        Coiling length.
+
+    Returns
+    -------
+    e1 : ndarray (3,) [m]
+        Exit point E1 at q = 0 (empty drum).
+    e2 : ndarray (3,) [m]
+        Exit point E2 at q = q_max (full drum).
+    """
+    R_wb = np.asarray(R_wb, dtype=float)
+    d1 = np.asarray(d1, dtype=float)
+    D1A_w = R_wb @ (np.asarray(a, dtype=float) - d1)
+    kappa = tangent_angle(D1A_w, r_w)
+    R_bw = R_wb.T
+    e1 = d1 + R_bw @ np.array([r_w * math.cos(kappa), 0.0, r_w * math.sin(kappa)])
+    e2 = d1 + R_bw @ np.array([r_w * math.cos(kappa), l_E1E2, r_w * math.sin(kappa)])
+    return e1, e2
+
+
+def exit_point(e1, e2, q, q_max):
+    """Drum exit point e(q) = e1 + (e2 - e1) q / q_max (Métillon 2022 eq. 12); q may be an array.
+
+    Parameters
+    ----------
+    e1 : array_like (3,) [m]
+        Exit point at q = 0 (``exit_points``).
+    e2 : array_like (3,) [m]
+        Exit point at q = q_max.
+    q : float or array_like (...) [rad]
+        Drum angles.
+    q_max : float [rad]
+        Drum angle at full coiling.
+
+    Returns
+    -------
+    e : ndarray (..., 3) [m]
+        Exit points in the base frame; shape (3,) for a scalar q.
+    """
+    q = np.asarray(q, dtype=float)[..., None]
+    return np.asarray(e1) + (np.asarray(e2) - np.asarray(e1)) * q / q_max
+
+
+def params_from_geometry(R_wb, d1, a, r_w, mu, l_E1E2, q0, l_u0):
+    """WinchParams from the winch geometry and the initial state (q0, l_u0).
+
+    Chains Métillon 2022 eq. (6)-(11) (``exit_points``), (13) (``max_angle``) and (18)
+    (``coiling_coefficient``): l_AE1 = |e1 - a| and alpha_E1 the angle between A->E1 and E1->E2.
+
+    Parameters
+    ----------
+    R_wb : array_like (3, 3) [-]
+        Rotation from the base to the winch frame.
+    d1 : array_like (3,) [m]
+        Drum origin D1 in the base frame.
+    a : array_like (3,) [m]
+        Pulley entry point A in the base frame.
+    r_w : float [m]
+        Coiling radius.
+    mu : float [m]
+        Pitch of the groove.
+    l_E1E2 : float [m]
+        Coiling length.
+    q0 : float [rad]
+        Initial drum angle.
+    l_u0 : float [m]
+        Initial uncoiled length (from E to the platform).
+
+    Returns
+    -------
+    WinchParams
+        k_w [m/rad], l_u0 [m], q0 [rad], q_max [rad], l_AE1 [m], l_E1E2 [m], alpha_E1 [rad].
+    """
+    e1, e2 = exit_points(R_wb, d1, a, r_w, l_E1E2)
+    v1 = e1 - np.asarray(a, dtype=float)
+    v12 = e2 - e1
+    l_AE1 = float(np.linalg.norm(v1))
+    cos_a = float(v1 @ v12) / (l_AE1 * l_E1E2)
+    return WinchParams(
+        k_w=coiling_coefficient(r_w, mu),
+        l_u0=l_u0,
+        q0=q0,
+        q_max=max_angle(l_E1E2, mu),
+        l_AE1=l_AE1,
+        l_E1E2=l_E1E2,
+        alpha_E1=math.acos(max(-1.0, min(1.0, cos_a))),
+    )
+
+
+# ---- the quadratic (eq. 19-32, corrected) --------------------------------------------------
+def l_AE(p, q):
+    """|e(q) - a| from the law of cosines on triangle A E1 E (left side of eq. 22) [m].
+
+    .. math:: l_d(q) = \\sqrt{l_{AE_1}^2 + 2 s\\, l_{AE_1} \\cos\\alpha_{E_1} + s^2},
+        \\quad s = \\frac{q}{q_{max}} l_{E_1E_2}
+
+    (Métillon 2022 eq. 15 with eq. 12 and 22).
+
+    Parameters
+    ----------
+    p : WinchParams
+    q : float or array_like (...) [rad]
+        Drum angles.
+
+    Returns
+    -------
+    l_d : ndarray (...) [m]
+        Cable length from the drum exit point E(q) to the pulley entry point A.
+    """
+    s = np.asarray(q, dtype=float) / p.q_max * p.l_E1E2
+    return np.sqrt(p.l_AE1**2 + 2 * s * p.l_AE1 * math.cos(p.alpha_E1) + s**2)
+
+
+def l_pm0(p):
+    """Initial pulley-to-platform length from |e(q0) - a| = l_u0 - l_pm0 (eq. 15-16) [m].
+
+    .. math:: l_{pm_0} = l_{u_0} - \\lVert e(q_0) - a \\rVert  \\quad \\text{(Métillon 2022 eq. 15-16)}
+
+    Parameters
+    ----------
+    p : WinchParams
+
+    Returns
+    -------
+    l_pm0 : float [m]
+        Cable length beyond the pulley entry point A in the initial state (negative when the
+        parameters are inconsistent, see ``check_range``).
+    """
+    return p.l_u0 - float(l_AE(p, p.q0))
+
+
+def coefficients(p, l_pm):
+    """Coefficients a, b, c of a q^2 + b q + c = 0 (eq. 23-26 with the eq. 19 sign corrected).
+
+    .. math:: a = \\frac{l_{E_1E_2}^2}{q_{max}^2} - k_w^2, \\quad
+        b = \\frac{2}{q_{max}} l_{AE_1} l_{E_1E_2} \\cos\\alpha_{E_1} + 2 k_w X, \\quad
+        c = l_{AE_1}^2 - X^2, \\quad X = l_{u_0} + k_w q_0 - l_{pm}
+
+    (Métillon 2022 eq. 24-26).
+
+    Parameters
+    ----------
+    p : WinchParams
+    l_pm : float or array_like (...) [m]
+        Desired cable lengths beyond the pulley entry point A.
+
+    Returns
+    -------
+    a : ndarray (...) [m^2/rad^2]
+        Broadcast to the shape of l_pm; equal to -r_w^2 when q_max and k_w come from eq. (13) and
+        (18) (eq. 27 corrected).
+    b : ndarray (...) [m^2/rad]
+    c : ndarray (...) [m^2]
+    """
+    X = p.l_u0 + p.k_w * p.q0 - np.asarray(l_pm, dtype=float)
+    a = p.l_E1E2**2 / p.q_max**2 - p.k_w**2
+    b = 2.0 / p.q_max * p.l_AE1 * p.l_E1E2 * math.cos(p.alpha_E1) + 2.0 * p.k_w * X
+    c = p.l_AE1**2 - X**2
+    return np.broadcast_to(a, X.shape).astype(float), b, c
+
+
+def roots(p, l_pm):
+    """Both roots (q1, q2) = (-b +/- sqrt(Delta)) / (2a) (eq. 28-30 corrected) [rad].
+
+    q1 is the physical root (through (l_pm0, q0)); NaN where Delta < 0.
+
+    .. math:: \\Delta = b^2 - 4 a c, \\quad q_{1,2} = \\frac{-b \\pm \\sqrt{\\Delta}}{2a}
+        \\quad \\text{(Métillon 2022 eq. 28-30, denominator corrected)}
+
+    Parameters
+    ----------
+    p : WinchParams
+    l_pm : float or array_like (...) [m]
+        Desired cable lengths beyond the pulley entry point A.
+
+    Returns
+    -------
+    q1 : ndarray (...) [rad]
+        Physical root: the drum angle that realises l_pm. Not checked against [0, q_max].
+    q2 : ndarray (...) [rad]
+        The other root (Fig. 8: the platform would have passed through the pulley).
+    """
+    a, b, c = coefficients(p, l_pm)
+    disc = b**2 - 4 * a * c
+    sq = np.sqrt(np.where(disc >= 0, disc, np.nan))
+    return (-b + sq) / (2 * a), (-b - sq) / (2 * a)
+
+
+def q_no_winch(p, l_pm):
+    """Joint angle of the model that neglects the winch geometry, eq. (32) [rad].
+
+    .. math:: q_{nw} = q_0 + \\frac{l_{pm_0} - l_{pm}}{k_w} \\quad \\text{(Métillon 2022 eq. 32)}
+
+    Parameters
+    ----------
+    p : WinchParams
+    l_pm : float or array_like (...) [m]
+        Desired cable lengths beyond the pulley entry point A.
+
+    Returns
+    -------
+    q_nw : ndarray (...) [rad]
+        Drum angle that a constant exit-to-pulley length |E A| would need.
+    """
+    return p.q0 + (l_pm0(p) - np.asarray(l_pm, dtype=float)) / p.k_w
+
+
+def length_error(p, l_pm):
+    """Uncoiled length error dl = k_w (q1 - q_nw) (Métillon 2022 eq. 31) [m].
+
+    Parameters
+    ----------
+    p : WinchParams
+    l_pm : float or array_like (...) [m]
+        Desired cable lengths beyond the pulley entry point A.
+
+    Returns
+    -------
+    dl : ndarray (...) [m]
+        Length error of the model that neglects the winch geometry (with Table 1: 1.47 mm at
+        l_pm = 0 and -0.82 mm at 5 m; Fig. 7b prints 1.46 mm and -0.82 mm).
+    """
+    q1, _ = roots(p, l_pm)
+    return p.k_w * (q1 - q_no_winch(p, l_pm))
+
+
+def l_pm_of_q(p, q):
+    """Length l_pm [m] beyond the pulley entry point A that the drum angle q [rad] realises, with the
+    exit point's motion (eq. 15-17, 22 with the eq. 19 sign corrected):
+
+    .. math:: l_{pm}(q) = l_{u0} + k_w (q_0 - q) - \\lVert e(q) - a \\rVert
+
+    The inverse is ``roots(p, l_pm)[0]`` (the physical root q1).
+
+    Parameters
+    ----------
+    p : WinchParams
+    q : float or array_like (...) [rad]
+        Drum angles.
+
+    Returns
+    -------
+    l_pm : ndarray (...) [m]
+        Cable length beyond the pulley entry point A (Métillon 2022 eq. 14-17).
+    """
+    q = np.asarray(q, dtype=float)
+    return p.l_u0 + p.k_w * (p.q0 - q) - l_AE(p, q)
+
+
+def l_pm_of_q_no_winch(p, q):
+    """Length l_pm [m] that a controller neglecting the exit point's motion expects from the drum
+    angle q [rad]: the inverse of eq. (32), l_pm = l_pm0 - k_w (q - q0).
+
+    Parameters
+    ----------
+    p : WinchParams
+    q : float or array_like (...) [rad]
+        Drum angles.
+
+    Returns
+    -------
+    l_pm : ndarray (...) [m]
+        Cable length beyond A that the no-winch model (Métillon 2022 eq. 32) assigns to q.
+    """
+    return l_pm0(p) - p.k_w * (np.asarray(q, dtype=float) - p.q0)
+
+
+def check_range(p, lpm_from, lpm_to):
+    """Refuse winch parameters or a range of l_pm [m] where the model has no physical answer: an
+    initial length l_pm0 < 0, or a physical drum angle q1 that is not real or leaves [0, q_max]
+    (the cable would be fully coiled or uncoiled). Raises CdprError naming the values.
+
+    The range is sampled at 1001 evenly spaced lengths (``roots``, Métillon 2022 eq. 28-30).
+
+    Parameters
+    ----------
+    p : WinchParams
+    lpm_from : float [m]
+        First length l_pm of the range.
+    lpm_to : float [m]
+        Last length l_pm of the range.
+
+    Returns
+    -------
+    None
+        Returns only when the whole range is valid; otherwise raises CdprError.
+    """
+    from cdpr.errors import CdprError
+
+    lp0 = l_pm0(p)
+    if not math.isfinite(lp0) or lp0 < 0:
+        raise CdprError(
+            f"these winch parameters give an initial length l_pm0 = {lp0:.4g} m < 0 (l_u0 must exceed |A E(q0)|); check l_u0_m, l_AE1_m, l_E1E2_m"
+        )
+    l_pm = np.linspace(lpm_from, lpm_to, 1001)
+    q1, _ = roots(p, l_pm)
+    bad = ~np.isfinite(q1) | (q1 < 0) | (q1 > p.q_max)
+    if bad.any():
+        at = float(l_pm[np.argmax(bad)])
+        raise CdprError(
+            f"at l_pm = {at:.4g} m the drum angle q1 = {float(q1[np.argmax(bad)]):.4g} rad leaves [0, q_max = {p.q_max:g}] rad "
+            f"(the cable would be fully coiled or uncoiled): choose l_pm in a range the drum can hold"
+        )
+
+
+def winch_table(p=TABLE1, lpm_from=0.0, lpm_to=5.0, steps=101):
+    """q1, q2, q_nw and dl over l_pm in [lpm_from, lpm_to] as a DataFrame (SI units).
+
+    Métillon 2022 Fig. 7: the two roots (eq. 29-30 corrected), the no-winch angle (eq. 32) and the
+    length error (eq. 31).
+
+    Parameters
+    ----------
+    p : WinchParams
+        Default Table 1 (``TABLE1``).
+    lpm_from : float [m]
+        First length l_pm.
+    lpm_to : float [m]
+        Last length l_pm.
+    steps : int
+        Number of evenly spaced lengths.
+
+    Returns
+    -------
+    DataFrame
+        ``steps`` rows, columns l_pm [m], q1 [rad], q2 [rad], q_nw [rad], dl [m].
+    """
+    import pandas as pd
+
+    l_pm = np.linspace(lpm_from, lpm_to, steps)
+    q1, q2 = roots(p, l_pm)
+    q_nw = q_no_winch(p, l_pm)
+    return pd.DataFrame({"l_pm": l_pm, "q1": q1, "q2": q2, "q_nw": q_nw, "dl": p.k_w * (q1 - q_nw)})

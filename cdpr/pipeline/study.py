@@ -1,0 +1,351 @@
+"""Study files (``config/studies/*.yaml``): reading, validation and the designs they define.
+
+A study names its robots, the pulley designs to compare and the resolution of every analysis of
+the paper. This module is the one place that reads a study: ``load_study`` applies the schema
+``cdpr/schemas/study.schema.yaml`` and then the checks a schema cannot express (every robot file
+readable and valid, every pulley design physically possible on every robot, sweeps increasing,
+planes below the pulleys, ...), so that a bad value stops the run before any job, with one sentence
+naming the study file, the key and what is allowed. The command line, the library and the
+Snakemake pipeline all go through it.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from cdpr.analyses import doe
+from cdpr.analyses.workspace import check_box
+from cdpr.errors import ConfigError
+from cdpr.robot import check_pulley, load_robot, robot_from_dict
+from cdpr.validation import read_yaml, validate
+
+
+class Study(dict):
+    """A validated study: the parsed YAML mapping, plus ``path`` (the file it was read from) and
+    ``robot_models`` (the Robot of each ``robots`` key, as its file says, built once by the checks)."""
+
+    path: str = "<dict>"
+    robot_models: dict = None
+
+
+def load_study(path):
+    """Read and validate a study file; returns a :class:`Study` (a dict of the YAML keys).
+
+    Raises ConfigError naming the study file and the key for: a missing or malformed file, a schema
+    violation, or a value the schema cannot check (``check_study``)."""
+    data = read_yaml(path)
+    if not isinstance(data, dict):
+        raise ConfigError(path, None, f"expected a mapping of study keys, got {type(data).__name__}")
+    validate(data, "study", path)
+    st = Study(data)
+    st.path = str(path)
+    st.setdefault("redundancy", "paper")
+    check_study(st)
+    return st
+
+
+def redundancy(st):
+    """The study's redundancy mode: ``paper`` (the paper's 3-cable subset rule, the default) or
+    ``physical`` (the equilibrium on all cables, ``equilibrium``)."""
+    return st.get("redundancy", "paper")
+
+
+def robot_of(st, robot_key, **overrides):
+    """The study's robot ``robot_key`` with keyword overrides (``robot.apply_overrides``)."""
+    return load_robot(st["robots"][robot_key], **overrides)
+
+
+def design_robot(st, robot_key, pulley, E=None, dead_length=None):
+    """Robot ``robot_key`` of the study with a pulley design {kind, h_m, r_p_m} on every cable, the
+    study's dead length (or ``dead_length`` [m]) and optionally Young's modulus ``E`` [Pa]."""
+    fixed = pulley["kind"] == "fixed"
+    return robot_of(
+        st,
+        robot_key,
+        pulley=pulley["kind"],
+        h=None if fixed else pulley.get("h_m", 0.0),
+        r_p=None if fixed else pulley.get("r_p_m", 0.0),
+        dead_length=st["dead_length_m"] if dead_length is None else dead_length,
+        E=E,
+    )
+
+
+def doe_tests(st):
+    """The 2^3 tests of Table 2 (Paty 2021 section 4.2): number, coded levels and actual design."""
+    lv = st["doe"]["levels"]
+    X = doe.full_factorial(3)
+    rows = []
+    for i, (cj, ch, cr) in enumerate(X, start=1):
+        rows.append(
+            {
+                "test": i,
+                "joint_c": cj,
+                "h_c": ch,
+                "r_p_c": cr,
+                "kind": lv["joint"][int(cj > 0)],
+                "h_m": lv["h_m"][int(ch > 0)],
+                "r_p_m": lv["r_p_m"][int(cr > 0)],
+            }
+        )
+    return pd.DataFrame(rows)
+
+
+def arange_incl(spec):
+    """from, from + step, ..., to (inclusive) of a {from, to, step} mapping, rounded to 1e-10 m."""
+    n = int(round((spec["to"] - spec["from"]) / spec["step"])) + 1
+    return np.round(spec["from"] + spec["step"] * np.arange(n), 10)
+
+
+def map_cells(st):
+    """The (h, r_p) cells of the h-r_p maps (Fig. 17) with r_p < h [m]: the DR rule h > r_p, also
+    used for SR so that both maps cover the same cells."""
+    return [
+        (float(h), float(r))
+        for h in arange_incl(st["maps"]["h_m"])
+        for r in arange_incl(st["maps"]["r_p_m"])
+        if r < h - 1e-12
+    ]
+
+
+def map_kinds(st):
+    """The pulley kinds of the h-r_p maps: the DOE's joint levels (SR and DR in the paper)."""
+    return list(dict.fromkeys(st["doe"]["levels"]["joint"]))
+
+
+def E_values(st):
+    """Young's moduli [Pa] of the index-versus-E sweep (Fig. 18)."""
+    e = st["elasticity"]["E_Pa"]
+    return [float(x) for x in np.linspace(e["from"], e["to"], e["steps"])]
+
+
+def volume_limits(st):
+    """Error limits [m] of the R_V sweep (Fig. 14): the sweep and the paper's limits, sorted."""
+    sw = st["volumes"]["sweep_m"]
+    return sorted(
+        set(np.round(np.linspace(sw["from"], sw["to"], sw["steps"]), 10)) | set(st["volumes"]["limits_m"])
+    )
+
+
+def read_box(path):
+    """The ``box`` of a JSON file written by the regular-workspace job (six numbers [m])."""
+    import json
+
+    p = Path(path)
+    try:
+        return check_box(json.loads(p.read_text())["box"]).tolist()
+    except FileNotFoundError:
+        raise ConfigError(p, None, "the box file does not exist") from None
+    except (ValueError, KeyError, TypeError) as exc:
+        raise ConfigError(
+            p,
+            "box",
+            f"expected a JSON object whose key 'box' holds six numbers XMIN XMAX YMIN YMAX ZMIN ZMAX ({exc})",
+        ) from None
+
+
+# ------------------------------------------------------------------------------------------------
+# Checks a schema cannot express
+# ------------------------------------------------------------------------------------------------
+def _increasing(st, key, lo, hi, what="'from' must be below 'to'"):
+    if not lo < hi:
+        raise ConfigError(st.path, key, f"{what}, got from = {lo:g}, to = {hi:g}")
+
+
+def check_study(st):
+    """Cross-key checks of a schema-valid study; raises ConfigError naming the study file and key."""
+    src = st.path
+    if redundancy(st) == "physical" and st["solver"] != "newton":
+        raise ConfigError(
+            src,
+            "solver",
+            f"physical mode (redundancy: physical) has one solver, newton; got {st['solver']!r}",
+        )
+    robots = {}
+    for key, path in st["robots"].items():
+        if not Path(path).is_file():
+            raise ConfigError(
+                src,
+                f"robots.{key}",
+                f"robot file {path!r} does not exist (paths are relative to the directory snakemake runs in)",
+            )
+        try:
+            robots[key] = robot_from_dict(read_yaml(path), source=path)
+        except ConfigError as exc:
+            raise ConfigError(src, f"robots.{key}", f"robot file is invalid: {exc}") from None
+    for sec, key in (("doe", "robot"),):
+        if st[sec][key] not in robots:
+            raise ConfigError(
+                src, f"{sec}.{key}", f"unknown robot {st[sec][key]!r}; allowed: {', '.join(robots)}"
+            )
+    for key in st["trajectories"]["paths"]:
+        if key not in robots:
+            raise ConfigError(
+                src, f"trajectories.paths.{key}", f"unknown robot; allowed: {', '.join(robots)}"
+            )
+    for sec in ("pulleys", "optimal"):
+        for name, p in st[sec].items():
+            if p["kind"] == "fixed":
+                continue
+            check_pulley(p["kind"], p.get("h_m", 0.0), p.get("r_p_m", 0.0), src, f"{sec}.{name}")
+    lv = st["doe"]["levels"]
+    for i, kind in enumerate(lv["joint"]):
+        for h in lv["h_m"]:
+            for r in lv["r_p_m"]:
+                check_pulley(kind, h, r, src, "doe.levels")
+    for key, spec in (("maps.h_m", st["maps"]["h_m"]), ("maps.r_p_m", st["maps"]["r_p_m"])):
+        _increasing(st, key, spec["from"], spec["to"])
+    if not map_cells(st):
+        raise ConfigError(src, "maps", "no map cell has r_p < h; widen maps.h_m or lower maps.r_p_m")
+    e = st["elasticity"]["E_Pa"]
+    if not e["from"] > 0:
+        raise ConfigError(src, "elasticity.E_Pa.from", f"Young's modulus must be > 0 Pa, got {e['from']:g}")
+    _increasing(st, "elasticity.E_Pa", e["from"], e["to"])
+    sw = st["volumes"]["sweep_m"]
+    _increasing(st, "volumes.sweep_m", sw["from"], sw["to"])
+    try:
+        check_box(st["doe"]["paper_rw_c_m"])
+    except Exception as exc:
+        raise ConfigError(src, "doe.paper_rw_c_m", str(exc)) from None
+    w = st["winch"]
+    for k in ("lpm_from_m", "lpm_to_m"):
+        if not math.isfinite(w[k]) or w[k] < 0:
+            raise ConfigError(src, f"winch.{k}", f"must be a finite length >= 0 m, got {w[k]!r}")
+    _increasing(st, "winch", w["lpm_from_m"], w["lpm_to_m"], "'lpm_from_m' must be below 'lpm_to_m'")
+    z = st["plane"]["z_m"]
+    for key, robot in robots.items():
+        top = float(robot.A[:, 2].min())
+        if not 0.0 <= z < top:
+            raise ConfigError(
+                src,
+                "plane.z_m",
+                f"must lie between the floor and the lowest pulley of robot {key} (0 <= z < {top:g} m), got {z:g}",
+            )
+    for key, path in st["trajectories"]["paths"].items():
+        top = float(robots[key].A[:, 2].min())
+        for end in ("start_m", "end_m"):
+            if path[end][2] > top:
+                raise ConfigError(
+                    src,
+                    f"trajectories.paths.{key}.{end}",
+                    f"z must not exceed the lowest pulley ({top:g} m), got {path[end][2]:g}",
+                )
+    if "uncertainty" in st:
+        check_uncertainty(st, robots)
+    st.robot_models = robots
+    return st
+
+
+def check_uncertainty(st, robots):
+    """Cross-key checks of the ``uncertainty`` section (``cdpr.analyses.uncertainty``): designs among
+    ``optimal``, each distribution's keys and range, the varied keys declared, sample counts, Sobol
+    points inside the frame; and the distributions' support checked against the physics of every
+    design (moduli and mass > 0, pulley rule, dead lengths >= 0) where it is bounded."""
+    from cdpr.analyses.uncertainty import PARAMETER_KEYS, Distribution
+
+    src, u = st.path, st["uncertainty"]
+    for i, d in enumerate(u["designs"]):
+        if d not in st["optimal"]:
+            raise ConfigError(
+                src, f"uncertainty.designs[{i}]", f"unknown design {d!r}; allowed: {', '.join(st['optimal'])}"
+            )
+    for key, spec in u["parameters"].items():
+        k = f"uncertainty.parameters.{key}"
+        need = {"uniform": ("low", "high"), "normal": ("mean", "sd")}[spec["dist"]]
+        missing = [n for n in need if n not in spec]
+        if missing:
+            raise ConfigError(
+                src, f"{k}.{missing[0]}", f"a {spec['dist']} distribution needs {' and '.join(need)}"
+            )
+        if spec["dist"] == "uniform" and ("mean" in spec or "sd" in spec):
+            raise ConfigError(src, k, "a uniform distribution takes low and high only (no mean, sd)")
+        if "low" in spec and "high" in spec and not spec["low"] < spec["high"]:
+            raise ConfigError(
+                src, k, f"'low' must be below 'high', got low = {spec['low']:g}, high = {spec['high']:g}"
+            )
+        if spec["dist"] == "normal" and not spec.get("low", -math.inf) < spec["mean"] < spec.get(
+            "high", math.inf
+        ):
+            raise ConfigError(
+                src, f"{k}.mean", "the mean of a truncated normal must lie between low and high"
+            )
+        if key == "mass_kg" and "per_cable" in spec:
+            raise ConfigError(
+                src, f"{k}.per_cable", "the payload mass is one parameter; per_cable does not apply"
+            )
+        lo, _ = Distribution.from_spec(spec).support()
+        group, kind = PARAMETER_KEYS[key]
+        if kind == "value" and not lo > 0:
+            raise ConfigError(
+                src,
+                k,
+                f"must be bounded above 0 (low > 0, or a normal truncated by low > 0), got lowest value {lo:g}",
+            )
+    mc = u["monte_carlo"]
+    for i, key in enumerate(mc["vary"]):
+        if key not in u["parameters"]:
+            raise ConfigError(
+                src,
+                f"uncertainty.monte_carlo.vary[{i}]",
+                f"{key!r} has no distribution in uncertainty.parameters; declared: {', '.join(u['parameters'])}",
+            )
+    if mc["full_samples"] > mc["samples"]:
+        raise ConfigError(
+            src,
+            "uncertainty.monte_carlo.full_samples",
+            f"must not exceed samples ({mc['samples']}): the full solves check the first samples, got {mc['full_samples']}",
+        )
+    if mc["shards"] > mc["full_samples"]:
+        raise ConfigError(
+            src,
+            "uncertainty.monte_carlo.shards",
+            f"must not exceed full_samples ({mc['full_samples']}), got {mc['shards']}",
+        )
+    b = u["sobol"]["base_samples"]
+    if b & (b - 1):
+        raise ConfigError(
+            src, "uncertainty.sobol.base_samples", f"must be a power of 2 (Sobol' sequence), got {b}"
+        )
+    robot = robots[st["doe"]["robot"]]
+    top = float(robot.A[:, 2].min())
+    for i, pnt in enumerate(u["sobol"]["points_m"]):
+        if not pnt[2] < top:
+            raise ConfigError(
+                src,
+                f"uncertainty.sobol.points_m[{i}]",
+                f"z must lie below the lowest pulley ({top:g} m), got {pnt[2]:g}",
+            )
+    _check_offsets(st, u["parameters"])
+
+
+def _check_offsets(st, params):
+    """The bounded offsets of h, r_p and d keep every design physical (pulley rule, d >= 0)."""
+    from cdpr.analyses.uncertainty import Distribution
+
+    def span(key):
+        if key not in params:
+            return 0.0, 0.0
+        return Distribution.from_spec(params[key]).support()
+
+    (h_lo, _), (_, r_hi), (d_lo, _) = span("h_offset_m"), span("r_p_offset_m"), span("dead_length_offset_m")
+    for dk in st["uncertainty"]["designs"]:
+        p = st["optimal"][dk]
+        h, r = p.get("h_m", 0.0), p.get("r_p_m", 0.0)
+        if p["kind"] != "fixed" and h > 0 and np.isfinite(h_lo) and np.isfinite(r_hi):
+            try:
+                check_pulley(p["kind"], h + h_lo, r + r_hi, st.path, f"uncertainty.parameters (design {dk})")
+            except ConfigError as exc:
+                raise ConfigError(
+                    st.path,
+                    "uncertainty.parameters.h_offset_m",
+                    f"the lowest h and the highest r_p of design {dk} break the pulley rule: {exc}",
+                ) from None
+        if np.isfinite(d_lo) and st["dead_length_m"] + d_lo < 0:
+            raise ConfigError(
+                st.path,
+                "uncertainty.parameters.dead_length_offset_m",
+                f"the lowest dead length {st['dead_length_m'] + d_lo:g} m is negative",
+            )

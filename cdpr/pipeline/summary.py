@@ -1,0 +1,365 @@
+"""results/<study>/summary.md and summary.csv: every number the papers state beside ours.
+
+The papers' numbers live in ``config/paper_values.yaml`` (quantity, source, value, unit,
+tolerance, reason, and where our number comes from). This module loops over that file: for each
+entry it runs the named extractor (``EXTRACTORS``) on the study's result tables and writes one row
+with columns quantity, source, paper, ours, unit, tolerance, verdict, note. A row is
+``reproduced`` when |ours - paper| <= tolerance, else ``not reproduced`` followed by the known
+reason. A study that is not the paper's (``paper_comparison: false``) is not scored: its summary
+lists our numbers only. Nothing here is tuned: the paper's values are read for comparison only.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import yaml
+
+from cdpr import io
+from cdpr.analyses import scans
+from cdpr.models import winch
+
+#: The papers' numbers (repository root, beside the study files).
+PAPER_VALUES = Path(__file__).resolve().parents[1] / "config" / "paper_values.yaml"
+COLUMNS = ["quantity", "source", "paper", "ours", "unit", "tolerance", "verdict", "note"]
+
+
+def paper_values(path=PAPER_VALUES):
+    """The entries of ``config/paper_values.yaml`` as a list of dicts."""
+    return yaml.safe_load(Path(path).read_text())
+
+
+def _read(res, rel):
+    p = Path(res) / rel
+    return pd.read_csv(p) if p.exists() else None
+
+
+# Each extractor returns (our value in SI units or a count, note) or None when its table is absent.
+def _path_length(st, res, robot):
+    path = st["trajectories"]["paths"].get(robot)
+    return None if path is None else (float(np.linalg.norm(np.subtract(path["end_m"], path["start_m"]))), "")
+
+
+def _path(st, res, robot, pulley, stat):
+    df = _read(res, f"trajectories/{robot}_{pulley}.csv")
+    return None if df is None else (scans.ok_extremes(df)[stat == "max"], "")
+
+
+def _path_reach(st, res, robot, pulley):
+    mm = _read(res, "trajectories/trajectories_minmax.csv")
+    r = None if mm is None else mm[mm.design == f"{robot}_{pulley}"]
+    return (
+        None
+        if r is None or r.empty
+        else (float(r.ok_until_s_m.iloc[0]), f"path length {float(r.path_length_m.iloc[0]):.3f} m")
+    )
+
+
+def _path_reach_order(st, res, robot, first, second):
+    a, b = _path_reach(st, res, robot, first), _path_reach(st, res, robot, second)
+    return (
+        None
+        if a is None or b is None
+        else (int(a[0] > b[0]), f"last ok s: {first} {a[0]:.3f} m, {second} {b[0]:.3f} m")
+    )
+
+
+def _plane(st, res, robot, pulley, stat):
+    df = _read(res, f"plane/{robot}_{pulley}.csv")
+    if df is None:
+        return None
+    if stat == "centre":
+        ok = df[df.status == "ok"]
+        return float(ok.loc[(ok.x**2 + ok.y**2).idxmin(), "dp"]), ""
+    return scans.ok_extremes(df)[stat == "max"], ""
+
+
+def _volumes_row(res, robot, pulley=None, limit_m=None):
+    vol = _read(res, "volumes/volumes.csv")
+    if vol is None:
+        return None
+    sel = vol.robot == robot
+    if pulley is not None:
+        sel &= (vol.pulley == pulley) & np.isclose(vol.limit_m, limit_m)
+    r = vol[sel]
+    return None if r.empty else r.iloc[0]
+
+
+def _R_V(st, res, robot, pulley, limit_m):
+    r = _volumes_row(res, robot, pulley, limit_m)
+    return None if r is None else (float(r.R_V), f"voxel error +/- {r.V_L_err_m3 / r.V_T_m3:.3f}")
+
+
+def _V_T(st, res, robot):
+    r = _volumes_row(res, robot)
+    return None if r is None else (float(r.V_T_m3), "")
+
+
+def _rw_c(res):
+    p = Path(res) / "doe" / "rw_c.json"
+    return json.loads(p.read_text()) if p.exists() else None
+
+
+def _rw_c_volume(st, res):
+    rw = _rw_c(res)
+    return (
+        None
+        if rw is None
+        else (
+            rw["computed_volume_m3"],
+            f"computed box {np.round(rw['computed'], 3).tolist()} on a {rw['grid_n']}^3 grid; "
+            "the index uses "
+            + ("the study's doe.paper_rw_c_m box" if rw["use"] == "paper" else "this computed box"),
+        )
+    )
+
+
+def _smallest_rw_max_test(st, res):
+    rw = _rw_c(res)
+    return None if rw is None else (rw["smallest_rw_max_test"], "")
+
+
+def _doe_index(st, res, stat):
+    d = _read(res, "doe/doe.csv")
+    if d is None:
+        return None
+    i = d.index_m.idxmin() if stat == "min" else d.index_m.idxmax()
+    return float(d.index_m[i]), f"arg{stat} = test {int(d.test[i])}"
+
+
+def _doe_test(st, res, stat):
+    d = _read(res, "doe/doe.csv")
+    return (
+        None
+        if d is None
+        else (int(d.loc[d.index_m.idxmin() if stat == "argmin" else d.index_m.idxmax(), "test"]), "")
+    )
+
+
+def _doe_two_best(st, res, tests):
+    d = _read(res, "doe/doe.csv")
+    if d is None:
+        return None
+    two = sorted(d.nsmallest(2, "index_m").test.astype(int).tolist())
+    return int(two == sorted(tests)), f"two best: {two}"
+
+
+def _doe_worst(st, res, joint):
+    d = _read(res, "doe/doe.csv")
+    return (
+        None
+        if d is None or not (d.kind == joint).any()
+        else (int(d[d.kind == joint].nlargest(1, "index_m").test.iloc[0]), "")
+    )
+
+
+def _effects(res):
+    e = _read(res, "doe/effects.csv")
+    return None if e is None else e[e.term != "mean"].set_index("term")
+
+
+def _largest_effect(st, res, term):
+    e = _effects(res)
+    if e is None:
+        return None
+    top = e.effect.abs().idxmax()
+    return int(top == term), f"largest: {top}"
+
+
+def _third_order_smallest(st, res):
+    e = _effects(res)
+    if e is None:
+        return None
+    return int(abs(e.effect["joint:h:r_p"]) <= e.effect[["joint:h", "joint:r_p", "h:r_p"]].abs().min()), ""
+
+
+def _line(st, res, pulley, column, scale=1.0):
+    lines = _read(res, "maps/lines.csv")
+    r = None if lines is None else lines[lines.kind == pulley]
+    if r is None or r.empty:
+        return None
+    r = r.iloc[0]
+    note = {
+        "slope_k": f"{int(r.valley_points)} valley points, fixed-h valley",
+        "index_opt_m": f"N = {int(r.N)}",
+    }.get(column, "")
+    return float(r[column]) * scale, note
+
+
+def _band(st, res, design, column, scale=1.0):
+    b = _read(res, "elasticity/bands.csv")
+    r = None if b is None else b[b.design == design]
+    if r is None or r.empty:
+        return None
+    return float(
+        r[column].iloc[0]
+    ) * scale, "at the paper's Table 3 geometry" if column == "index_mean_m" else ""
+
+
+def _crossing(st, res, design, near=None):
+    cr = _read(res, "elasticity/crossings.csv")
+    if cr is None:
+        return None
+    c = cr[cr.design == design].s_m.tolist()
+    return (
+        float(min(c, key=lambda x: abs(x - near))) if c else float("nan")
+    ), f"all crossings: {np.round(c, 3).tolist()}"
+
+
+def _uq_band(st, res, design, case, column, method="linearised", scale=1.0):
+    """A column of uncertainty/bands.csv (one design, case and method); the note gives the 5-95 %
+    range of the index, the sample count and grid, and our common-E band for comparison."""
+    b = _read(res, "uncertainty/bands.csv")
+    r = None if b is None else b[(b.design == design) & (b.case == case) & (b.method == method)]
+    if r is None or r.empty:
+        return None
+    r = r.iloc[0]
+    note = (
+        f"{method}, n = {int(r.n)} samples on {int(r.index_n)}^3 RW_C points; index 5-95 %: "
+        f"{r.index_q05_m * 1e3:.2f}-{r.index_q95_m * 1e3:.2f} mm"
+    )
+    common = _read(res, "elasticity/bands.csv")
+    c = None if common is None else common[common.design == design]
+    if case == "uncompensated" and c is not None and not c.empty:
+        c = c.iloc[0]
+        note += (
+            f"; our common-E band {c.index_mean_m * 1e3:.2f} +{c.plus_m * 1e3:.2f}/-{c.minus_m * 1e3:.2f} mm"
+        )
+    return float(r[column]) * scale, note
+
+
+def _uq_sobol_top(st, res, design, case, rank=1, output="index"):
+    """The rank-th largest Sobol total index of one output (parameters, not groups); the note names
+    the three largest with their 95 % confidence half-widths."""
+    t = _read(res, "uncertainty/sobol.csv")
+    if t is None:
+        return None
+    g = t[(t.design == design) & (t.case == case) & (t.level == "parameter") & (t.output == output)]
+    if g.empty:
+        return None
+    g = g.sort_values("ST", ascending=False)
+    top = ", ".join(f"{r.name} {r.ST:.2f}±{r.ST_conf:.2f}" for r in g.head(3).itertuples())
+    return float(g.ST.iloc[rank - 1]), f"largest ST: {top}"
+
+
+def _winch_dl(st, res, l_pm_m, scale=1000.0):
+    w = _read(res, "winch/winch.csv")
+    return None if w is None else (float(np.interp(l_pm_m, w.l_pm, w.dl)) * scale, "")
+
+
+def _winch_q1_at_l_pm0(st, res):
+    p = winch.TABLE1
+    return float(winch.roots(p, winch.l_pm0(p))[0]), ""
+
+
+EXTRACTORS = {
+    "path_length": _path_length,
+    "path": _path,
+    "path_reach": _path_reach,
+    "path_reach_order": _path_reach_order,
+    "plane": _plane,
+    "R_V": _R_V,
+    "V_T": _V_T,
+    "rw_c_volume": _rw_c_volume,
+    "smallest_rw_max_test": _smallest_rw_max_test,
+    "doe_index": _doe_index,
+    "doe_test": _doe_test,
+    "doe_two_best": _doe_two_best,
+    "doe_worst": _doe_worst,
+    "largest_effect": _largest_effect,
+    "third_order_smallest": _third_order_smallest,
+    "line": _line,
+    "band": _band,
+    "crossing": _crossing,
+    "uq_band": _uq_band,
+    "uq_sobol_top": _uq_sobol_top,
+    "winch_dl": _winch_dl,
+    "winch_q1_at_l_pm0": _winch_q1_at_l_pm0,
+}
+
+
+def verdict(paper, ours, tolerance, reason=None, scored=True):
+    """'reproduced' when |ours - paper| <= tolerance, 'not reproduced (reason)' otherwise, and
+    'no paper value' when the paper prints none; 'beside the paper (reason)' for a number of ours
+    shown beside a different experiment of the paper's (``scored: false`` in paper_values.yaml)."""
+    if paper is None:
+        return "no paper value"
+    if not scored:
+        return "beside the paper, not scored" + (f" ({reason})" if reason else "")
+    if ours is not None and np.isfinite(ours) and abs(ours - paper) <= tolerance:
+        return "reproduced"
+    return "not reproduced" + (f" ({reason})" if reason else "")
+
+
+def build_rows(st, res, values=None):
+    """One row per entry of ``config/paper_values.yaml`` whose result table exists."""
+    scored = bool(st.get("paper_comparison"))
+    rows = []
+    for v in values if values is not None else paper_values():
+        args = dict(v["ours"])
+        kind = args.pop("kind")
+        if kind == "crossing":
+            args["near"] = v["value"]
+        got = EXTRACTORS[kind](st, res, **args)
+        if got is None:
+            continue
+        ours, note = got
+        paper = v["value"] if scored else None
+        rows.append(
+            {
+                "quantity": v["quantity"],
+                "source": v["source"],
+                "paper": paper,
+                "ours": ours,
+                "unit": v["unit"],
+                "tolerance": v["tolerance"] if scored else None,
+                "verdict": verdict(paper, ours, v["tolerance"], v.get("reason"), v.get("scored", True))
+                if scored
+                else "not scored (not the paper's study)",
+                "note": note,
+            }
+        )
+    return pd.DataFrame(rows, columns=COLUMNS)
+
+
+def _fmt(v):
+    if v is None or (isinstance(v, float) and not math.isfinite(v)):
+        return ""
+    return f"{v:.4g}" if isinstance(v, float) else str(v)
+
+
+def write_summary(st, res, out_md, out_csv):
+    """Write the summary table (CSV) and its Markdown page."""
+    df = build_rows(st, res)
+    io.write_table(df, out_csv)
+    counts = df.verdict.str.split(" \\(").str[0].value_counts().to_dict()
+    scored = bool(st.get("paper_comparison"))
+    lines = [
+        f"# Summary of study `{st['name']}`"
+        + (": the papers' numbers beside ours" if scored else ": our numbers"),
+        "",
+        f"Study file `{st.path}`; dead length d = {st['dead_length_m']} m; solver {st['solver']}; "
+        f"redundancy {st.get('redundancy', 'paper')}; "
+        f"global index over N = {st['doe']['index_n']}^3 = {st['doe']['index_n'] ** 3:,} cell-centred points (paper: 250,000); "
+        f"h-r_p maps with {st['maps']['index_n']}^3 = {st['maps']['index_n'] ** 3:,} points per cell.",
+        "",
+        (
+            "Verdicts: "
+            + ", ".join(f"{k}: {v}" for k, v in counts.items())
+            + ". The paper's values are targets; nothing is tuned to them."
+        )
+        if scored
+        else "This study is not the paper's (`paper_comparison: false`), so its numbers are not scored against the paper's.",
+        "",
+        "| quantity | source | paper | ours | unit | tolerance | verdict | note |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    for r in df.itertuples():
+        lines.append(
+            f"| {r.quantity} | {r.source} | {_fmt(r.paper)} | {_fmt(r.ours)} | {r.unit} | {_fmt(r.tolerance)} | {r.verdict} | {r.note} |"
+        )
+    io.write_text("\n".join(lines) + "\n", out_md)

@@ -1,0 +1,712 @@
+"""Pipeline tasks (``cdpr job NAME``): read tables, call the library, write tables and figures.
+
+Each task takes the validated study and named files (the command line's ``--tables``,
+``--table``, ``--figure``, ...). Input files are matched by their names, never by their position,
+so the order in a Snakemake rule does not matter. Physics lives in the model modules and drawing in
+``cdpr.pipeline.plots``; a task only moves data between them.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from cdpr import io
+from cdpr.analyses import doe, scans, workspace
+from cdpr.errors import CdprError
+from cdpr.models import winch
+from cdpr.pipeline import study
+
+
+def _by_stem(paths, pattern, what):
+    """Map each file to the groups of ``pattern`` (a regex on the file stem); error on a stranger."""
+    out = []
+    for p in paths:
+        m = re.fullmatch(pattern, Path(p).stem)
+        if not m:
+            raise CdprError(f"{p}: not a {what} file (expected a name matching {pattern})")
+        out.append((m.groupdict(), p))
+    return out
+
+
+def concat(paths):
+    """The tables ``paths`` one after the other (shards in shard order)."""
+    return pd.concat([io.read_table(p) for p in paths], ignore_index=True)
+
+
+def _shards(paths, pattern, what, key):
+    """{key value: [paths in shard order]} from files named <key>_<shard>."""
+    groups = {}
+    for g, p in _by_stem(paths, pattern, what):
+        groups.setdefault(g[key] if isinstance(key, str) else tuple(g[k] for k in key), []).append(
+            (int(g["shard"]), p)
+        )
+    return {k: [p for _, p in sorted(v)] for k, v in groups.items()}
+
+
+def _index(df):
+    return doe.global_index(df["dp"].to_numpy(), df["status"].astype(str).to_numpy())
+
+
+def _grid_index(st, robot, box, n, threads=None):
+    """Global index (eq. 15) of ``robot`` over the n^3 grid of ``box`` in the study's redundancy
+    mode, one solve per orbit of the symmetries robot and grid share (``symmetry.solve_grid``)."""
+    from cdpr.analyses.symmetry import solve_grid
+
+    dp, status, _ = solve_grid(
+        robot, box, n, method=st["solver"], threads=threads, redundancy=study.redundancy(st)
+    )
+    return doe.global_index(dp, status)
+
+
+# ---- winch (Métillon Fig. 7) -------------------------------------------------------------------
+def winch_figure(st, table, figure):
+    """Fig. 7 of the winch seed from ``winch.csv``."""
+    from cdpr.pipeline import plots
+
+    p = winch.TABLE1
+    plots.fig7_winch(io.read_table(table), winch.l_pm0(p), p.q0, figure)
+
+
+# ---- planes (Fig. 9, 12) -----------------------------------------------------------------------
+def _plane_tables(st, tables, robot_key):
+    found = dict(
+        (g["pulley"], p)
+        for g, p in _by_stem(tables, rf"{re.escape(robot_key)}_(?P<pulley>[A-Za-z0-9]+)", "plane table")
+    )
+    return {pk: io.read_table(found[pk]) for pk in st["pulleys"] if pk in found}
+
+
+def plane_figure(st, robot_key, tables, figure):
+    """Fig. 12 for one robot: one panel per pulley design, shared colour scale."""
+    from cdpr.pipeline import plots
+
+    robot = study.robot_of(st, robot_key)
+    plots.fig12_plane(_plane_tables(st, tables, robot_key), robot.A, st["plane"]["z_m"], robot_key, figure)
+
+
+def subsets_figure(st, robot_key, tables, figure):
+    """Fig. 9 for one robot: the subset minimising ‖δp‖ (paper mode) or the taut cables (physical
+    mode), one panel per pulley design."""
+    from cdpr.pipeline import plots
+
+    robot = study.robot_of(st, robot_key)
+    draw = plots.fig9_taut if study.redundancy(st) == "physical" else plots.fig9_subsets
+    draw(_plane_tables(st, tables, robot_key), robot.A, st["plane"]["z_m"], robot_key, figure)
+
+
+# ---- trajectories (Fig. 10-11) -----------------------------------------------------------------
+def trajectories(st, tables, table, figure, minmax_figure):
+    """Fig. 10 (‖δp‖ along the paths) and Fig. 11 (min, max per design) with their table."""
+    from cdpr.pipeline import plots
+
+    files = dict(
+        (f"{g['robot']}_{g['pulley']}", p)
+        for g, p in _by_stem(tables, r"(?P<robot>[A-Za-z0-9]+)_(?P<pulley>[A-Za-z0-9]+)", "path table")
+    )
+    labels = [
+        f"{rk}_{pk}" for rk in st["trajectories"]["paths"] for pk in st["pulleys"] if f"{rk}_{pk}" in files
+    ]
+    data = {lab: io.read_table(files[lab]) for lab in labels}
+    rows = []
+    for lab, df in data.items():
+        ok = df.status == "ok"
+        lo, hi = scans.ok_extremes(df)
+        rows.append(
+            {
+                "design": lab,
+                "dp_min_m": lo,
+                "dp_max_m": hi,
+                "ok_until_s_m": float(df.s[ok].max()) if ok.any() else float("nan"),
+                "path_length_m": float(df.s.max()),
+            }
+        )
+    mm = pd.DataFrame(rows)
+    io.write_table(mm, table)
+    plots.fig10_trajectories(data, mm, figure)
+    plots.fig11_minmax(mm, minmax_figure)
+
+
+# ---- volumes (Fig. 13-14) ----------------------------------------------------------------------
+def volumes(st, tables, table, figure):
+    """V_L and R_V per robot x pulley design at the paper's limits and over the sweep (Fig. 14)."""
+    from cdpr.pipeline import plots
+
+    n = st["volumes"]["n"]
+    groups = _shards(tables, r"(?P<label>[A-Za-z0-9]+_[A-Za-z0-9]+)_(?P<shard>\d+)", "volume shard", "label")
+    lims = study.volume_limits(st)
+    rows = []
+    for rk in st["robots"]:
+        for pk in st["pulleys"]:
+            label = f"{rk}_{pk}"
+            if label not in groups:
+                raise CdprError(f"volumes: no shard of {label} among the inputs")
+            robot = study.design_robot(st, rk, st["pulleys"][pk])
+            df = concat(groups[label])
+            box = workspace.frame_box(robot)
+            for lim in lims:
+                v = workspace.error_limited_volume(df, n, box, lim, robot.envelope_volume)
+                rows.append(
+                    {
+                        "robot": rk,
+                        "pulley": pk,
+                        "limit_m": lim,
+                        "V_T_m3": robot.envelope_volume,
+                        "V_L_m3": v["V_L"],
+                        "R_V": v["R_V"],
+                        "V_L_err_m3": v["V_L_err"],
+                        "paper_limit": lim in st["volumes"]["limits_m"],
+                    }
+                )
+    tab = pd.DataFrame(rows)
+    io.write_table(tab, table)
+    plots.fig14_rv(tab, _paper_rv(st), figure)
+
+
+def _paper_rv(st):
+    """The paper's R_V values (config/paper_values.yaml) for the paper's study, else none."""
+    from cdpr.pipeline import summary
+
+    rows = (
+        []
+        if not st.get("paper_comparison")
+        else [
+            {
+                "robot": v["ours"]["robot"],
+                "pulley": v["ours"]["pulley"],
+                "limit_m": v["ours"]["limit_m"],
+                "R_V": v["value"],
+            }
+            for v in summary.paper_values()
+            if v["ours"].get("kind") == "R_V"
+        ]
+    )
+    return pd.DataFrame(rows, columns=["robot", "pulley", "limit_m", "R_V"])
+
+
+def volume_view(st, label, tables, figure):
+    """Fig. 13: the error-limited regions of one design at the paper's limits."""
+    from cdpr.pipeline import plots
+
+    rk, pk = label.split("_", 1)
+    robot = study.design_robot(st, rk, st["pulleys"][pk])
+    df = concat(sorted(tables, key=lambda p: int(Path(p).stem.rsplit("_", 1)[1])))
+    n = st["volumes"]["n"]
+    lims = st["volumes"]["limits_m"]
+    rv = [
+        workspace.error_limited_volume(df, n, workspace.frame_box(robot), lim, robot.envelope_volume)["R_V"]
+        for lim in lims
+    ]
+    plots.fig13_volume_view(
+        df, lims, rv, float(robot.A[:, 2].min()), f"{rk} {pk}: error-limited volume V_L (Fig. 13)", figure
+    )
+
+
+# ---- regular workspaces (section 4.1.1) --------------------------------------------------------
+def regular_workspace(st, tables, table, json):
+    """RW_max of each DOE design (largest axis-aligned box of ok voxels) and RW_C, their intersection."""
+    n = st["doe"]["workspace_n"]
+    tests = study.doe_tests(st)
+    files = {int(g["test"]): p for g, p in _by_stem(tables, r"test(?P<test>\d+)", "workspace grid")}
+    rows, boxes = [], []
+    for t in tests.itertuples():
+        robot = study.design_robot(st, st["doe"]["robot"], {"kind": t.kind, "h_m": t.h_m, "r_p_m": t.r_p_m})
+        count, cells = workspace.largest_box(workspace.voxel_mask(io.read_table(files[t.test]), n))
+        if cells is None:
+            raise CdprError(
+                f"DOE test {t.test}: no admissible voxel on the {n}^3 frame grid; the design has no workspace"
+            )
+        box = workspace.box_from_cells(workspace.frame_box(robot), n, cells)
+        boxes.append(box)
+        rows.append(
+            {
+                "test": int(t.test),
+                "kind": t.kind,
+                "h_m": t.h_m,
+                "r_p_m": t.r_p_m,
+                "xmin": box[0],
+                "xmax": box[1],
+                "ymin": box[2],
+                "ymax": box[3],
+                "zmin": box[4],
+                "zmax": box[5],
+                "volume_m3": workspace.box_volume(box),
+            }
+        )
+    tab = pd.DataFrame(rows)
+    rwc = workspace.intersect_boxes(boxes)
+    smallest = int(tab.loc[tab.volume_m3.idxmin(), "test"])
+    contained = all(
+        all(
+            b[2 * a] <= boxes[smallest - 1][2 * a] + 1e-12
+            and boxes[smallest - 1][2 * a + 1] <= b[2 * a + 1] + 1e-12
+            for a in range(3)
+        )
+        for b in boxes
+    )
+    paper = st["doe"]["paper_rw_c_m"]
+    used = paper if st["doe"]["rw_c"] == "paper" else rwc
+    io.write_table(tab, table)
+    io.write_json(
+        {
+            "computed": rwc,
+            "computed_volume_m3": workspace.box_volume(rwc),
+            "paper": paper,
+            "paper_volume_m3": workspace.box_volume(paper),
+            "smallest_rw_max_test": smallest,
+            "smallest_contained_in_all": contained,
+            "grid_n": n,
+            "use": st["doe"]["rw_c"],
+            "box": used,
+        },
+        json,
+    )
+
+
+# ---- DOE (Fig. 15-16) --------------------------------------------------------------------------
+def doe_results(st, tables, table, effects, figure, effects_figure):
+    """Global index of every DOE test (eq. 15), the effects and interactions, Fig. 15-16."""
+    from cdpr.pipeline import plots
+
+    tests = study.doe_tests(st)
+    groups = _shards(tables, r"test(?P<test>\d+)_(?P<shard>\d+)", "DOE shard", "test")
+    idx = [_index(concat(groups[str(t)])) for t in tests.test]
+    tests["index_m"] = [i for i, _ in idx]
+    tests["not_ok_points"] = [k for _, k in idx]
+    tests["N"] = st["doe"]["index_n"] ** 3
+    io.write_table(tests, table)
+    eff = doe.effects(
+        tests[["joint_c", "h_c", "r_p_c"]].to_numpy(), tests["index_m"].to_numpy(), ["joint", "h", "r_p"]
+    )
+    io.write_table(eff, effects)
+    plots.fig15_doe(tests, figure)
+    plots.fig16_effects(eff, effects_figure)
+
+
+# ---- h-r_p maps (Fig. 17, Table 3) -------------------------------------------------------------
+def map_rows(st, kind, box_file, table, threads=None):
+    """Global index over every map cell (h, r_p), r_p < h, for one pulley kind (Fig. 17)."""
+    n = st["maps"]["index_n"]
+    box = study.read_box(box_file)
+    rows = []
+    for h, r_p in study.map_cells(st):
+        robot = study.design_robot(st, st["doe"]["robot"], {"kind": kind, "h_m": h, "r_p_m": r_p})
+        ix, bad = _grid_index(st, robot, box, n, threads)
+        rows.append({"kind": kind, "h_m": h, "r_p_m": r_p, "index_m": ix, "not_ok_points": bad, "N": n**3})
+    io.write_table(
+        pd.DataFrame(rows, columns=["kind", "h_m", "r_p_m", "index_m", "not_ok_points", "N"]), table
+    )
+
+
+def maps(st, tables, box_file, map, lines, figure, threads=None):
+    """The valley, the line h = k r_p (eq. 17-18) and its crossing with the DOE field (Table 3)."""
+    from cdpr.pipeline import plots
+
+    tab = concat(tables)
+    tab = pd.concat([tab[tab.kind == k] for k in study.map_kinds(st)], ignore_index=True)
+    io.write_table(tab, map)
+    lv = st["doe"]["levels"]
+    n = st["doe"]["index_n"]
+    box = study.read_box(box_file)
+    out, valleys = [], {}
+    for kind in study.map_kinds(st):
+        g = tab[tab.kind == kind]
+        v = doe.valley(g.r_p_m, g.h_m, g.index_m)
+        valleys[kind] = v
+        use = v[v.interior]
+        k = doe.line_through_origin(use.r_p_star, use.h) if len(use) else float("nan")
+        pt = doe.line_field_point(k, lv["r_p_m"], lv["h_m"]) if np.isfinite(k) else None
+        ix = float("nan")
+        if pt is not None:
+            robot = study.design_robot(st, st["doe"]["robot"], {"kind": kind, "h_m": pt[1], "r_p_m": pt[0]})
+            ix, _ = _grid_index(st, robot, box, n, threads)
+        out.append(
+            {
+                "kind": kind,
+                "slope_k": k,
+                "valley_points": int(len(use)),
+                "r_p_opt_m": pt[0] if pt else np.nan,
+                "h_opt_m": pt[1] if pt else np.nan,
+                "index_opt_m": ix,
+                "N": n**3,
+            }
+        )
+    lines_tab = pd.DataFrame(out)
+    io.write_table(lines_tab, lines)
+    plots.fig17_maps(tab, valleys, lines_tab, study.doe_tests(st), lv, figure)
+
+
+# ---- elasticity (Fig. 18-19) -------------------------------------------------------------------
+def elasticity(st, tables, paths, table, bands, crossings, figure, paths_figure):
+    """Index versus E (Fig. 18), its band around the nominal modulus, ‖δp‖ along the section 5.2
+    path at E_min, E_mean, E_max (Fig. 19) and where the E_max and E_min curves cross."""
+    from cdpr.pipeline import plots
+
+    groups = _shards(
+        tables,
+        r"(?P<design>[A-Za-z0-9]+)_E(?P<E>[0-9.e+-]+)_(?P<shard>\d+)",
+        "elasticity shard",
+        ("design", "E"),
+    )
+    rows = []
+    for dk in st["optimal"]:
+        for E in study.E_values(st):
+            key = next((k for k in groups if k[0] == dk and np.isclose(float(k[1]), E, rtol=1e-5)), None)
+            if key is None:
+                raise CdprError(f"elasticity: no shard of design {dk} at E = {E:g} Pa among the inputs")
+            ix, bad = _index(concat(groups[key]))
+            rows.append({"design": dk, "E_Pa": E, "index_m": ix, "not_ok_points": bad})
+    tab = pd.DataFrame(rows)
+    io.write_table(tab, table)
+    E_min, E_mean, E_max = st["elasticity"]["E_path_Pa"]
+    out = []
+    for dk, g in tab.groupby("design", sort=False):
+        # the sweep's row nearest E_mean (the middle of E_path_Pa, the cable's nominal modulus)
+        at_mean = float(g.index_m.iloc[np.argmin(np.abs(g.E_Pa.to_numpy() - E_mean))])
+        lo, hi = g.index_m.min(), g.index_m.max()
+        out.append(
+            {
+                "design": dk,
+                "index_mean_m": at_mean,
+                "index_min_m": lo,
+                "index_max_m": hi,
+                "minus_m": at_mean - lo,
+                "plus_m": hi - at_mean,
+                "total_m": hi - lo,
+                "relative": (hi - lo) / at_mean,
+            }
+        )
+    bands_tab = pd.DataFrame(out)
+    io.write_table(bands_tab, bands)
+    files = {
+        (g["design"], float(g["E"])): p
+        for g, p in _by_stem(paths, r"path_(?P<design>[A-Za-z0-9]+)_E(?P<E>[0-9.e+-]+)", "path table")
+    }
+    curves, cross = [], []
+    for dk in st["optimal"]:
+        at = {}
+        for E in (E_min, E_mean, E_max):
+            key = next(k for k in files if k[0] == dk and np.isclose(k[1], E, rtol=1e-5))
+            df = io.read_table(files[key])
+            at[E] = df.dp.where(df.status == "ok")
+            curves.append((dk, E, df.s.to_numpy(), at[E].to_numpy()))
+        cross += [{"design": dk, "s_m": c} for c in scans.crossings(df.s, at[E_max], at[E_min])]
+    cross_tab = pd.DataFrame(cross, columns=["design", "s_m"])
+    io.write_table(cross_tab, crossings)
+    plots.fig18_index_vs_E(tab, E_mean, bands_tab, figure)
+    plots.fig19_paths(curves, cross_tab, paths_figure)
+
+
+# ---- dead-length calibration -------------------------------------------------------------------
+def dead_length_point(st, d, box_file, table, threads=None):
+    """Paper-comparable numbers at dead length d: the plane extremes of each pulley design on the
+    DOE robot, and each optimal design's index at E_min, E_mean, E_max."""
+    box, n = study.read_box(box_file), st["dead_length"]["index_n"]
+    row = {"d_m": d}
+    for pk in st["pulleys"]:
+        robot = study.design_robot(st, st["doe"]["robot"], st["pulleys"][pk], dead_length=d)
+        lo, hi = scans.ok_extremes(
+            scans.plane(
+                robot,
+                st["plane"]["z_m"],
+                st["dead_length"]["plane_n"],
+                method=st["solver"],
+                threads=threads,
+                redundancy=study.redundancy(st),
+            )
+        )
+        row[f"plane_{pk}_min_m"], row[f"plane_{pk}_max_m"] = lo, hi
+    for dk, spec in st["optimal"].items():
+        for tag, E in zip(("Emin", "Emean", "Emax"), st["elasticity"]["E_path_Pa"]):
+            robot = study.design_robot(st, st["doe"]["robot"], spec, E=E, dead_length=d)
+            row[f"{dk}_{tag}_index_m"], _ = _grid_index(st, robot, box, n, threads)
+    io.write_table(pd.DataFrame([row]), table)
+
+
+def dead_length(st, tables, table, figure):
+    """The dead-length sweep as one table and its figure."""
+    from cdpr.pipeline import plots
+
+    tab = concat(tables).sort_values("d_m", ignore_index=True)
+    io.write_table(tab, table)
+    plots.dead_length_figure(tab, st["dead_length_m"], figure)
+
+
+# ---- summary -----------------------------------------------------------------------------------
+def summary(st, results, table, markdown):
+    """results/<study>/summary.md and .csv (``cdpr.pipeline.summary``)."""
+    from cdpr.pipeline import summary as sm
+
+    sm.write_summary(st, results, markdown, table)
+
+
+# ---- error budget and the paper-rule-versus-physics comparison ---------------------------------
+def budget_designs(st):
+    """The designs of the error budget: label -> (robot key, pulley design {kind, h_m, r_p_m}): every
+    robot x pulley design of the study, and the optimal designs on the DOE robot."""
+    out = {f"{rk}_{pk}": (rk, spec) for rk in st["robots"] for pk, spec in st["pulleys"].items()}
+    out.update(
+        {f"{st['doe']['robot']}_{dk}": (st["doe"]["robot"], spec) for dk, spec in st["optimal"].items()}
+    )
+    return out
+
+
+def _budget_rows(label, region, summary):
+    return summary.assign(design=label, region=region)[
+        ["design", "region", "entry", "mean_m", "max_m", "share_m", "largest_fraction", "points", "ok_points"]
+    ]
+
+
+def budget_design(st, comparison, label, box_file, table, path_table, threads=None):
+    """Error budget (``cdpr.analyses.budget``) of one design over the n^3 grid of RW_C and along its robot's
+    section 3.3.1 path: summary rows per region and entry, and ‖δp‖ per entry along the path."""
+    from cdpr.analyses import budget
+    from cdpr.pipeline.comparison import load_comparison
+
+    cmp = load_comparison(comparison)
+    designs = budget_designs(st)
+    if label not in designs:
+        raise CdprError(f"budget: unknown design {label!r}; allowed: {', '.join(designs)}")
+    rk, spec = designs[label]
+    robot = study.design_robot(st, rk, spec)
+    b = cmp["budget"]
+    P = workspace.grid_points(study.read_box(box_file), b["index_n"])
+    rows = [
+        _budget_rows(label, "RW_C", budget.summarise(budget.error_budget(robot, P, b["t_min_N"], threads)))
+    ]
+    path = st["trajectories"]["paths"].get(rk)
+    cols = ["s", *budget.variants(), "interaction"]
+    out = pd.DataFrame(columns=cols)
+    if path is not None:
+        Pp, s = scans.trajectory_points(path["start_m"], path["end_m"], st["trajectories"]["points"])
+        bp = budget.error_budget(robot, Pp, b["t_min_N"], threads)
+        rows.append(_budget_rows(label, "path", budget.summarise(bp)))
+        nm, _ = budget.norms(bp)
+        for k, r in bp.items():
+            nm.loc[r["status"] != "ok", k] = np.nan
+        out = nm.assign(s=s)[cols]
+    io.write_table(pd.concat(rows, ignore_index=True), table)
+    io.write_table(out, path_table)
+
+
+def budget_tables(st, comparison, tables, paths, table, figure, paths_figure):
+    """The error budget of every design as one table (design, region, entry, ...), its stacked bars
+    and its curves along the paths."""
+    from cdpr.pipeline import plots
+
+    found = {
+        g["label"]: p for g, p in _by_stem(tables, r"(?P<label>[A-Za-z0-9]+_[A-Za-z0-9]+)", "budget table")
+    }
+    order = [lab for lab in budget_designs(st) if lab in found]
+    tab = pd.concat([io.read_table(found[lab]) for lab in order], ignore_index=True)
+    io.write_table(tab, table)
+    pfiles = {
+        g["label"]: p for g, p in _by_stem(paths, r"path_(?P<label>[A-Za-z0-9]+_[A-Za-z0-9]+)", "budget path")
+    }
+    curves = {lab: io.read_table(pfiles[lab]) for lab in order if lab in pfiles}
+    plots.budget_bars(tab, figure)
+    plots.budget_paths({k: v for k, v in curves.items() if len(v)}, paths_figure)
+
+
+def comparison(st, comparison, tables, table, figure, markdown):
+    """The comparison page (``cdpr.pipeline.comparison``): every conclusion in both modes with its verdict,
+    the difference maps on the plane, and the error budget (``tables``: the budget table) with one
+    sentence per design. Figures sit beside ``table``; ``figure`` is the difference maps."""
+    from cdpr.analyses import budget
+    from cdpr.pipeline import comparison as cm
+    from cdpr.pipeline import plots
+
+    cmp = cm.load_comparison(comparison)
+    pres, fres = cmp["paper"]["results"], cmp["physical"]["results"]
+    rows = cm.conclusions(st, pres, fres)
+    io.write_table(rows, table)
+    diffs = {(rk, pk): cm.difference_table(pres, fres, rk, pk) for rk in st["robots"] for pk in st["pulleys"]}
+    anchors = {rk: study.robot_of(st, rk).A for rk in st["robots"]}
+    plots.comparison_difference_maps(diffs, anchors, st["plane"]["z_m"], figure)
+    stats = cm.difference_stats({f"{rk}_{pk}": t for (rk, pk), t in diffs.items()})
+    io.write_table(stats, Path(figure).with_name("difference_stats.csv"))
+    bt = io.read_table(tables[0]) if tables else None
+    sentences = []
+    if bt is not None:
+        for label in dict.fromkeys(bt.design):
+            g = bt[bt.design == label]
+            rw = g[g.region == "RW_C"].drop(columns=["design", "region"])
+            pa = g[g.region == "path"].drop(columns=["design", "region"])
+            sentences.append(budget.sentence(label, rw, pa if len(pa) else None))
+    folder = Path(figure).parent
+    cm.write_page(
+        cmp,
+        rows,
+        stats,
+        bt,
+        sentences,
+        {
+            "difference": figure,
+            "budget": folder / "budget.png",
+            "budget_paths": folder / "budget_paths.png",
+        },
+        markdown,
+    )
+
+
+# ---- uncertainty and sensitivity (beyond the paper: cdpr.analyses.uncertainty) ---------------------------
+def uq_shard(st, design, case, shard, box_file, table, points, threads=None):
+    """One Monte Carlo shard by full solves with the linearised propagation of the same samples."""
+    from cdpr.analyses import uncertainty
+
+    samples, pts = uncertainty.mc_shard(st, design, case, study.read_box(box_file), int(shard), threads)
+    io.write_table(samples, table)
+    io.write_table(pts, points)
+
+
+def uq_design(st, design, case, box_file, table, path, sobol, tolerances, map, threads=None):
+    """Every sample linearised over RW_C, the path bands, the Sobol indices and the dominant-parameter
+    map of one design and case."""
+    from cdpr.analyses import uncertainty
+
+    box = study.read_box(box_file)
+    io.write_table(uncertainty.linear_samples(st, design, case, box, threads), table)
+    io.write_table(uncertainty.path_bands(st, design, case, threads), path)
+    indices, rows = uncertainty.sobol(st, design, case, box, threads)
+    io.write_table(indices, sobol)
+    io.write_table(rows, tolerances)
+    io.write_table(uncertainty.dominant_map(st, design, case, threads), map)
+
+
+_UQ = r"(?P<design>[A-Za-z0-9]+)_(?P<case>uncompensated|compensated)"
+
+
+def uncertainty(
+    st,
+    tables,
+    paths,
+    bands,
+    agreement,
+    sobol,
+    figure,
+    paths_figure,
+    sobol_figure,
+    map_figure,
+    agreement_figure,
+):
+    """Aggregate the uncertainty jobs: index bands (per-cable Monte Carlo, linearised and full, and
+    every declared parameter from Saltelli's rows), the agreement of the linearisation with the full
+    solves, the Sobol indices; and the figures. ``tables``: the uncertainty jobs' files; ``paths``:
+    the elasticity tables (common-E index sweep and paths) the figures compare with."""
+    from cdpr.analyses import uncertainty as uq
+    from cdpr.pipeline import plots
+
+    u = st["uncertainty"]
+    kinds = {
+        "mc": rf"mc_{_UQ}_(?P<shard>\d+)",
+        "points": rf"points_{_UQ}_(?P<shard>\d+)",
+        "linear": rf"{_UQ}_linear",
+        "path": rf"{_UQ}_path",
+        "sobol": rf"{_UQ}_sobol",
+        "tolerances": rf"{_UQ}_tolerances",
+        "map": rf"{_UQ}_map",
+    }
+    found = {k: {} for k in kinds}
+    for p in tables:
+        stem = Path(p).stem
+        kind = next((k for k, pat in kinds.items() if re.fullmatch(pat, stem)), None)
+        if kind is None:
+            raise CdprError(
+                f"{p}: not an uncertainty file (expected mc_, points_, _linear, _path, _sobol, _tolerances, _map)"
+            )
+        g = re.fullmatch(kinds[kind], stem).groupdict()
+        found[kind].setdefault((g["design"], g["case"]), []).append((int(g.get("shard", 0)), p))
+    read = {k: {key: concat([p for _, p in sorted(v)]) for key, v in d.items()} for k, d in found.items()}
+    common = {}
+    for p in paths:
+        stem = Path(p).stem
+        if stem == "index_vs_E":
+            common["index_vs_E"] = io.read_table(p)
+        elif stem == "bands":
+            common["bands"] = io.read_table(p)
+        elif (m := re.fullmatch(r"path_(?P<design>[A-Za-z0-9]+)_E(?P<E>[0-9.e+-]+)", stem)) is not None:
+            df = io.read_table(p)
+            common.setdefault("paths", []).append(
+                (m["design"], float(m["E"]), df.s.to_numpy(), df.dp.where(df.status == "ok").to_numpy())
+            )
+    rows, agree = [], []
+    for design in u["designs"]:
+        for case in uq.CASES:
+            key = (design, case)
+            for name in ("mc", "points", "linear", "tolerances"):
+                if key not in read[name]:
+                    raise CdprError(f"uncertainty: no {name} table of {design} {case} among the inputs")
+            b = uq.bands(read["linear"][key], read["mc"][key])
+            tol = read["tolerances"][key]
+            q = np.quantile(tol.index_m, uq.QUANTILES)
+            nom = float(b.index_nominal_m.iloc[0])
+            b = pd.concat(
+                [
+                    b,
+                    pd.DataFrame(
+                        [
+                            {
+                                "method": "all_parameters",
+                                "n": len(tol),
+                                "index_nominal_m": nom,
+                                "index_q05_m": q[0],
+                                "index_q50_m": q[1],
+                                "index_q95_m": q[2],
+                                "index_min_m": tol.index_m.min(),
+                                "index_max_m": tol.index_m.max(),
+                                "plus_m": tol.index_m.max() - nom,
+                                "minus_m": nom - tol.index_m.min(),
+                                "median_q50_m": tol.median_m.median(),
+                                "p95_q50_m": tol.p95_m.median(),
+                                "p95_q95_m": tol.p95_m.quantile(0.95),
+                            }
+                        ]
+                    ),
+                ],
+                ignore_index=True,
+            )
+            b.insert(0, "case", case)
+            b.insert(0, "design", design)
+            b["index_n"] = [u["monte_carlo"]["index_n"]] * 2 + [u["sobol"]["index_n"]]
+            rows.append(b)
+            a = uq.agreement(read["mc"][key], read["points"][key], u["monte_carlo"]["agree_tol_m"])
+            agree.append({"design": design, "case": case, **a})
+    bands_tab = pd.concat(rows, ignore_index=True)
+    agree_tab = pd.DataFrame(agree)
+    sob = []
+    for (design, case), df in read["sobol"].items():
+        df = df.copy()
+        df.insert(0, "case", case)
+        df.insert(0, "design", design)
+        sob.append(df)
+    sobol_tab = pd.concat(sob, ignore_index=True)
+    io.write_table(bands_tab, bands)
+    io.write_table(agree_tab, agreement)
+    io.write_table(sobol_tab, sobol)
+    paper_bands = _paper_uq_bands(st)
+    robot = study.robot_of(st, st["doe"]["robot"])
+    plots.uq_index_distribution(
+        read["linear"], read["tolerances"], common.get("index_vs_E"), paper_bands, figure
+    )
+    plots.uq_path_bands(read["path"], common.get("paths", []), paths_figure)
+    plots.uq_sobol(sobol_tab, sobol_figure)
+    plots.uq_dominant_map(read["map"], robot.A, st["plane"]["z_m"], map_figure)
+    plots.uq_agreement(read["mc"], agreement_figure)
+
+
+def _paper_uq_bands(st):
+    """The paper's common-E band per design {design: (index, minus, plus)} [m] from
+    config/paper_values.yaml, for the paper's study only."""
+    from cdpr.pipeline import summary
+
+    if not st.get("paper_comparison"):
+        return {}
+    out = {}
+    for v in summary.paper_values():
+        o = v["ours"]
+        if o.get("kind") == "band" and o.get("column") in ("index_mean_m", "minus_m", "plus_m"):
+            out.setdefault(o["design"], {})[o["column"]] = v["value"] / 1000.0
+    return {d: (c["index_mean_m"], c["minus_m"], c["plus_m"]) for d, c in out.items() if len(c) == 3}

@@ -1,0 +1,58 @@
+"""cdpr.analyses.workspace: grids, shards, voxel volumes and the largest box of a mask."""
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from cdpr.analyses import workspace
+from cdpr.errors import CdprError
+
+
+def grid_table(n, box, ok):
+    P = workspace.grid_points(box, n)
+    return pd.DataFrame(
+        {
+            "x": P[:, 0],
+            "y": P[:, 1],
+            "z": P[:, 2],
+            "dp": np.zeros(len(P)),
+            "status": np.where(ok(P), "ok", "slack"),
+        }
+    )
+
+
+def test_grid_points_cell_centres_and_slices():
+    box = [0, 1, 0, 2, 0, 4]
+    P = workspace.grid_points(box, 2)
+    assert P.shape == (8, 3)
+    assert sorted(set(P[:, 2])) == [1.0, 3.0] and P[0].tolist() == [0.25, 0.5, 1.0]
+    parts = [workspace.grid_points(box, 3, *workspace.shard_range(27, k, 4)) for k in range(4)]
+    np.testing.assert_array_equal(np.vstack(parts), workspace.grid_points(box, 3))
+    with pytest.raises(CdprError):
+        workspace.check_box([0, 1, 1, 0, 0, 1])
+
+
+def test_voxel_volume_of_a_ball():
+    """V_L of a ball of radius 1 in a 2 m cube: 4/3 pi within the reported voxel error."""
+    n, box = 40, [-1, 1, -1, 1, -1, 1]
+    df = grid_table(n, box, lambda P: np.linalg.norm(P, axis=1) <= 1.0)
+    v = workspace.error_limited_volume(df, n, box, limit=1.0, envelope_volume=8.0)
+    assert abs(v["V_L"] - 4 / 3 * np.pi) <= v["V_L_err"]
+    assert v["R_V"] == pytest.approx(v["V_L"] / 8.0)
+
+
+def test_largest_box_of_a_known_mask():
+    mask = np.zeros((6, 7, 8), dtype=bool)
+    mask[1:4, 2:7, 3:8] = True  # 3 x 5 x 5 = 75 voxels
+    mask[5, 0, 0] = True  # a stray voxel
+    count, cells = workspace.largest_box(mask)
+    assert count == 75 and cells == (1, 3, 2, 6, 3, 7)
+    b = workspace.box_from_cells([0, 6, 0, 6, 0, 6], 6, (1, 3, 2, 4, 0, 5))
+    assert b == pytest.approx([1, 4, 2, 5, 0, 6])
+
+
+def test_intersection_and_volume_of_boxes():
+    rw_c = workspace.intersect_boxes([[0, 2, 0, 2, 0, 2], [1, 3, -1, 1.5, 0.5, 4]])
+    assert rw_c == pytest.approx([1, 2, 0, 1.5, 0.5, 2])
+    assert workspace.box_volume(rw_c) == pytest.approx(1 * 1.5 * 1.5)
+    assert workspace.box_volume([0, -1, 0, 1, 0, 1]) == 0.0

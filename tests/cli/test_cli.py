@@ -1,0 +1,260 @@
+"""The four commands on the shipped robot files, JSON keys, overrides, clean errors."""
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from cdpr.cli.commands import main
+from tests.conftest import ROBOTS
+
+R4 = str(ROBOTS / "cdpr4.yaml")
+R3 = str(ROBOTS / "cdpr3.yaml")
+
+
+def run_json(capsys, *args):
+    assert main(list(args) + ["--json"]) == 0
+    return json.loads(capsys.readouterr().out)
+
+
+def test_inverse_json(capsys):
+    out = run_json(capsys, "inverse", "--robot", R4, "--at", "0.5", "0.2", "2.5")
+    assert len(out) == 4
+    assert set(out[0]) >= {"L_TS", "L_TE", "gamma", "l_d", "l_E", "D", "H", "K", "alpha", "beta", "inside"}
+    assert len(out[0]["D"]) == 3
+    fixed = run_json(capsys, "inverse", "--robot", R4, "--pulley", "fixed", "--at", "0.5", "0.2", "2.5")
+    assert all(abs(c["L_TE"] - c["L_TS"]) < 1e-12 for c in fixed)
+
+
+def test_point_json(capsys):
+    out = run_json(capsys, "point", "--robot", R4, "--pulley", "DR", "--at", "0.5", "0.2", "2.5")
+    assert set(out) == {"desired", "solved", "dp_norm", "tensions", "subset", "status", "iterations"}
+    assert out["status"] == "ok" and len(out["subset"]) == 3 and min(out["subset"]) >= 1
+    assert sum(t is None for t in out["tensions"]) == 1
+    assert out["dp_norm"] == pytest.approx(np.linalg.norm(np.subtract(out["solved"], out["desired"])))
+    fp = run_json(
+        capsys,
+        "point",
+        "--robot",
+        R4,
+        "--pulley",
+        "DR",
+        "--method",
+        "fixed_point",
+        "--at",
+        "0.5",
+        "0.2",
+        "2.5",
+    )
+    assert abs(fp["dp_norm"] - out["dp_norm"]) < 5e-5
+
+
+def test_point_overrides_change_the_answer(capsys):
+    base = run_json(capsys, "point", "--robot", R3, "--at", "0", "0", "2")
+    stiff = run_json(
+        capsys, "point", "--robot", R3, "--pulley", "fixed", "--E", "1e20", "--at", "0", "0", "2"
+    )
+    assert stiff["dp_norm"] < 1e-9 < base["dp_norm"]
+
+
+@pytest.mark.parametrize("ext", ["parquet", "csv"])
+def test_grid_writes_one_row_per_point(tmp_path, capsys, ext):
+    out = tmp_path / f"g.{ext}"
+    summary = run_json(
+        capsys,
+        "grid",
+        "--robot",
+        R4,
+        "--box",
+        "-2",
+        "2",
+        "-2",
+        "2",
+        "0.5",
+        "4",
+        "--n",
+        "4",
+        "--out",
+        str(out),
+    )
+    df = pd.read_parquet(out) if ext == "parquet" else pd.read_csv(out)
+    assert len(df) == 64 == summary["points"]
+    assert list(df.columns) == [
+        "x",
+        "y",
+        "z",
+        "x_s",
+        "y_s",
+        "z_s",
+        "dp",
+        "t1",
+        "t2",
+        "t3",
+        "t4",
+        "subset",
+        "iterations",
+        "status",
+    ]
+    assert sorted(set(df.x)) == pytest.approx([-1.5, -0.5, 0.5, 1.5])  # cell centres
+
+
+def test_grid_shards_concatenate_to_the_whole(tmp_path, capsys):
+    args = ["grid", "--robot", R4, "--box", "-2", "2", "-2", "2", "0.5", "4", "--n", "5"]
+    whole = tmp_path / "w.parquet"
+    run_json(capsys, *args, "--out", str(whole))
+    parts = []
+    for k in range(3):
+        f = tmp_path / f"s{k}.parquet"
+        run_json(capsys, *args, "--out", str(f), "--shard", str(k), "--shards", "3")
+        parts.append(pd.read_parquet(f))
+    pd.testing.assert_frame_equal(pd.concat(parts, ignore_index=True), pd.read_parquet(whole))
+
+
+def test_winch_json(capsys):
+    out = run_json(capsys, "winch", "--steps", "3")
+    assert [set(r) for r in out] == [{"l_pm", "q1", "q2", "q_nw", "dl"}] * 3
+    assert out[0]["dl"] == pytest.approx(1.46e-3, abs=1e-5)
+
+
+def test_errors_are_one_sentence_without_traceback(tmp_path):
+    bad = tmp_path / "bad.yaml"
+    bad.write_text((ROBOTS / "cdpr4.yaml").read_text().replace("r_p_m: 0.0665", "r_p_m: -0.0665"))
+    for args in (
+        ["point", "--robot", str(bad), "--at", "0", "0", "1"],
+        ["point", "--robot", R4, "--pulley", "DR", "--h", "0.05", "--at", "0", "0", "1"],
+        [
+            "grid",
+            "--robot",
+            R4,
+            "--box",
+            "1",
+            "0",
+            "0",
+            "1",
+            "0",
+            "1",
+            "--n",
+            "2",
+            "--out",
+            str(tmp_path / "x.csv"),
+        ],
+    ):
+        p = subprocess.run([sys.executable, "-m", "cdpr", *args], capture_output=True, text=True)
+        assert p.returncode == 2
+        assert "Traceback" not in p.stderr and p.stderr.startswith("cdpr: error:")
+        assert len(p.stderr.strip().splitlines()) == 1
+
+
+def test_point_physical_json_and_commanded_lengths(capsys):
+    out = run_json(
+        capsys,
+        "point",
+        "--robot",
+        R4,
+        "--pulley",
+        "DR",
+        "--at",
+        "0.5",
+        "0.2",
+        "2.5",
+        "--redundancy",
+        "physical",
+    )
+    assert set(out) == {"desired", "solved", "dp_norm", "tensions", "taut", "status", "iterations"}
+    assert out["status"] == "ok" and out["taut"] == [1, 2, 3, 4] and all(t > 0 for t in out["tensions"])
+    # the lengths of `compensate` commanded explicitly bring the platform to the desired point
+    comp = run_json(capsys, "compensate", "--robot", R4, "--pulley", "DR", "--at", "0.5", "0.2", "2.5")
+    assert (
+        set(comp) == {"desired", "lengths", "tensions", "status", "solved", "dp_norm"}
+        and comp["status"] == "ok"
+    )
+    assert comp["dp_norm"] < 1e-9
+    back = run_json(
+        capsys,
+        "point",
+        "--robot",
+        R4,
+        "--pulley",
+        "DR",
+        "--at",
+        "0.5",
+        "0.2",
+        "2.5",
+        "--redundancy",
+        "physical",
+        "--lengths",
+        *map(str, comp["lengths"]),
+    )
+    assert back["dp_norm"] < 1e-9
+    np.testing.assert_allclose(back["tensions"], comp["tensions"], atol=1e-6)
+
+
+def test_per_cable_moduli_equal_to_the_robot_s_give_the_same_numbers(capsys):
+    a = run_json(capsys, "point", "--robot", R4, "--at", "0.3", "-0.4", "2.0", "--redundancy", "physical")
+    b = run_json(
+        capsys,
+        "point",
+        "--robot",
+        R4,
+        "--at",
+        "0.3",
+        "-0.4",
+        "2.0",
+        "--redundancy",
+        "physical",
+        "--E-cables",
+        *["102.2e9"] * 4,
+    )
+    assert a == b
+    c = run_json(
+        capsys,
+        "point",
+        "--robot",
+        R4,
+        "--at",
+        "0.3",
+        "-0.4",
+        "2.0",
+        "--redundancy",
+        "physical",
+        "--E-cables",
+        "80e9",
+        "120e9",
+        "95e9",
+        "130e9",
+    )
+    assert c["dp_norm"] != a["dp_norm"]
+
+
+def test_grid_physical_writes_taut_sets(tmp_path, capsys):
+    out = tmp_path / "g.parquet"
+    run_json(
+        capsys,
+        "grid",
+        "--robot",
+        R4,
+        "--box",
+        "-2",
+        "2",
+        "-2",
+        "2",
+        "0.5",
+        "4",
+        "--n",
+        "4",
+        "--out",
+        str(out),
+        "--redundancy",
+        "physical",
+    )
+    df = pd.read_parquet(out)
+    assert {"taut", "n_taut", "status"} <= set(df.columns) and len(df) == 64
+    assert (df.n_taut >= 2).all() and set(df.status.astype(str)) <= {
+        "ok",
+        "inaccessible",
+        "over_tension",
+        "not_converged",
+    }

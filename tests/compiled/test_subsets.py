@@ -1,0 +1,65 @@
+"""The compiled engine (cdpr.compiled.subsets) gives the same table as the numpy reference implementation,
+and its subset pruning changes nothing."""
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from cdpr.analyses.workspace import grid_points
+from cdpr.compiled.subsets import solve_points_fast
+from cdpr.models.subsets import solve_points
+from cdpr.robot import with_pulleys
+from cdpr.solve import solve_table
+
+# a box larger than the frames: includes slack, over-tension and inaccessible points
+BOX = [-2.7, 2.7, -2.7, 2.7, -0.2, 5.3]
+
+
+@pytest.mark.parametrize("name", ["cdpr3", "cdpr4"])
+@pytest.mark.parametrize("kind", ["SR", "DR", "fixed"])
+def test_compiled_equals_numpy_reference(request, name, kind):
+    r = with_pulleys(request.getfixturevalue(name), kind=kind)
+    P = grid_points(BOX, 14)
+    a, b = solve_points(r, P), solve_points_fast(r, P)
+    assert set(a["status"]) >= {"ok", "slack"}
+    assert (a["status"] == b["status"]).all()
+    assert (a["subset"] == b["subset"]).all()
+    assert (a["iterations"] == b["iterations"]).all()
+    assert np.array_equal(np.isnan(a["dp"]), np.isnan(b["dp"]))
+    np.testing.assert_allclose(b["dp"], a["dp"], rtol=0, atol=1e-9, equal_nan=True)
+    np.testing.assert_allclose(b["P_s"], a["P_s"], rtol=0, atol=1e-9, equal_nan=True)
+    np.testing.assert_allclose(b["t"], a["t"], rtol=1e-9, atol=1e-6, equal_nan=True)
+
+
+@pytest.mark.parametrize("kind", ["SR", "DR"])
+def test_iteration_cap_equals_numpy_reference(cdpr4, kind):
+    """With an iteration cap that some points need more than, both engines flag the same points
+    not_converged and agree on the others."""
+    r = with_pulleys(cdpr4, kind=kind)
+    P = grid_points([-2.0, 2.0, -2.0, 2.0, 0.5, 4.0], 8)
+    a, b = solve_points(r, P, maxiter=3), solve_points_fast(r, P, maxiter=3)
+    assert (a["status"] == "not_converged").any() and (a["status"] == "ok").any()
+    assert (a["status"] == b["status"]).all() and (a["iterations"] == b["iterations"]).all()
+    assert (a["subset"] == b["subset"]).all()
+    np.testing.assert_allclose(b["t"], a["t"], rtol=1e-9, atol=1e-6, equal_nan=True)
+
+
+@pytest.mark.parametrize("kind", ["SR", "DR"])
+def test_pruning_changes_nothing(cdpr4, kind):
+    r = with_pulleys(cdpr4, kind=kind)
+    P = grid_points(BOX, 18)
+    full, pruned = solve_points_fast(r, P, prune=False), solve_points_fast(r, P)
+    for key in ("P_s", "dp", "t", "subset", "iterations", "status"):
+        assert np.array_equal(full[key], pruned[key], equal_nan=key in ("P_s", "dp", "t")), key
+    assert (full["subset_solves"] == 4).all()
+    assert pruned["subset_solves"].mean() < 3.2  # pruning does remove work
+
+
+def test_thread_count_does_not_change_results(cdpr4):
+    P = grid_points(BOX, 10)
+    a = solve_table(cdpr4, P, threads=1)
+    b = solve_table(cdpr4, P, threads=2)
+    pd.testing.assert_frame_equal(a, b)
+    c = solve_table(cdpr4, P, engine="numpy")
+    assert (a.status == c.status).all() and (a.subset == c.subset).all()
+    np.testing.assert_allclose(a.dp, c.dp, atol=1e-9)
