@@ -14,7 +14,7 @@ the paper's printed value where there is one, a tolerance and a verdict (``verdi
 * ``holds``: same truth value, and the value moves by at most the tolerance (same category);
 * ``undetermined``: a value is missing in a mode (e.g. no interior valley point on a coarse map).
 
-Tolerances are those ``config/paper_values.yaml`` uses to call the paper's printed number
+Tolerances are those ``cdpr/data/paper_values.yaml`` uses to call the paper's printed number
 reproduced (the precision the paper states it with), else ``DEFAULT_REL`` of the paper-mode value.
 
 The page (``write_page``) gives the headline table (one statement per conclusion), every row, the
@@ -38,7 +38,7 @@ from cdpr.validation import read_yaml, validate
 
 #: Tolerance of a row without a paper value: this fraction of the paper-mode value.
 DEFAULT_REL = 0.10
-#: Tolerance of the plane extremes [mm] (config/paper_values.yaml's for most printed ones).
+#: Tolerance of the plane extremes [mm] (cdpr/data/paper_values.yaml's for most printed ones).
 PLANE_TOL_MM = 10.0
 VERDICTS = ("holds", "changes", "reverses", "undetermined")
 COLUMNS = [
@@ -139,7 +139,7 @@ def _read(res, rel):
 
 
 def printed_values():
-    """The paper's printed numbers by quantity (``config/paper_values.yaml``) in SI units: quantity ->
+    """The paper's printed numbers by quantity (``cdpr/data/paper_values.yaml``) in SI units: quantity ->
     (value, tolerance); values in mm are converted to m."""
     from cdpr.pipeline.summary import paper_values
 
@@ -580,7 +580,7 @@ def write_page(cmp, rows, diff_stats, budget_table, sentences, figures, out_md):
         "",
         "Verdicts (computed by `cdpr.pipeline.comparison.verdict`): **reverses** = the statement is true in one mode "
         "and false in the other; **changes** = same truth value but the number moves by more than the "
-        "tolerance (the one `config/paper_values.yaml` uses to call the paper's printed value reproduced, "
+        "tolerance (the one `cdpr/data/paper_values.yaml` uses to call the paper's printed value reproduced, "
         f"else {DEFAULT_REL:.0%} of the paper-mode value), or a categorical value differs; **holds** = "
         "within the tolerance. Rows: " + ", ".join(f"{k} {v}" for k, v in counts.items()) + ".",
         "",

@@ -1,6 +1,6 @@
 """results/<study>/summary.md and summary.csv: every number the papers state beside ours.
 
-The papers' numbers live in ``config/paper_values.yaml`` (quantity, source, value, unit,
+The papers' numbers live in ``cdpr/data/paper_values.yaml`` (quantity, source, value, unit,
 tolerance, reason, and where our number comes from). This module loops over that file: for each
 entry it runs the named extractor (``EXTRACTORS``) on the study's result tables and writes one row
 with columns quantity, source, paper, ours, unit, tolerance, verdict, note. A row is
@@ -11,6 +11,7 @@ lists our numbers only. Nothing here is tuned: the paper's values are read for c
 
 from __future__ import annotations
 
+import importlib.resources
 import json
 import math
 from pathlib import Path
@@ -24,13 +25,13 @@ from cdpr.analyses import scans
 from cdpr.models import winch
 
 #: The papers' numbers (repository root, beside the study files).
-PAPER_VALUES = Path(__file__).resolve().parents[1] / "config" / "paper_values.yaml"
+PAPER_VALUES = importlib.resources.files("cdpr") / "data" / "paper_values.yaml"
 COLUMNS = ["quantity", "source", "paper", "ours", "unit", "tolerance", "verdict", "note"]
 
 
 def paper_values(path=PAPER_VALUES):
-    """The entries of ``config/paper_values.yaml`` as a list of dicts."""
-    return yaml.safe_load(Path(path).read_text())
+    """The entries of ``cdpr/data/paper_values.yaml`` as a list of dicts."""
+    return yaml.safe_load(Path(path).read_text(encoding="utf-8"))
 
 
 def _read(res, rel):
@@ -296,7 +297,7 @@ def verdict(paper, ours, tolerance, reason=None, scored=True):
 
 
 def build_rows(st, res, values=None):
-    """One row per entry of ``config/paper_values.yaml`` whose result table exists."""
+    """One row per entry of ``cdpr/data/paper_values.yaml`` whose result table exists."""
     scored = bool(st.get("paper_comparison"))
     rows = []
     for v in values if values is not None else paper_values():

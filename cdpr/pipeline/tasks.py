@@ -167,7 +167,7 @@ def volumes(st, tables, table, figure):
 
 
 def _paper_rv(st):
-    """The paper's R_V values (config/paper_values.yaml) for the paper's study, else none."""
+    """The paper's R_V values (cdpr/data/paper_values.yaml) for the paper's study, else none."""
     from cdpr.pipeline import summary
 
     rows = (
@@ -699,7 +699,7 @@ def uncertainty(
 
 def _paper_uq_bands(st):
     """The paper's common-E band per design {design: (index, minus, plus)} [m] from
-    config/paper_values.yaml, for the paper's study only."""
+    cdpr/data/paper_values.yaml, for the paper's study only."""
     from cdpr.pipeline import summary
 
     if not st.get("paper_comparison"):

@@ -88,7 +88,7 @@ if CMP_FILE:
                     "elasticity/crossings.csv",
                 )
             ],
-            paper_values="config/paper_values.yaml",
+            paper_values="cdpr/data/paper_values.yaml",
         output:
             markdown=CMP["page"],
             table=f"{CMP_DIR}/conclusions.csv",

@@ -1,4 +1,4 @@
-# results/<study>/summary.md: every number of config/paper_values.yaml beside ours.
+# results/<study>/summary.md: every number of cdpr/data/paper_values.yaml beside ours.
 
 
 rule summary:
@@ -16,7 +16,7 @@ rule summary:
         crossings=f"{RES}/elasticity/crossings.csv",
         dead_length=f"{RES}/dead_length/dead_length.csv",
         uncertainty=[f"{RES}/uncertainty/bands.csv", f"{RES}/uncertainty/sobol.csv"] if STUDY.get("uncertainty") else [],
-        paper_values="config/paper_values.yaml",
+        paper_values="cdpr/data/paper_values.yaml",
     output:
         markdown=f"{RES}/summary.md",
         table=f"{RES}/summary.csv",

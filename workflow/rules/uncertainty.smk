@@ -78,7 +78,7 @@ if UQ:
             ],
             paths=[f"{RES}/elasticity/index_vs_E.csv", f"{RES}/elasticity/bands.csv"]
             + [f"{RES}/elasticity/path_{d}_E{e}.csv" for d in UQ_DESIGNS for e in E_PATH],
-            paper_values="config/paper_values.yaml",
+            paper_values="cdpr/data/paper_values.yaml",
         output:
             bands=f"{RES}/uncertainty/bands.csv",
             agreement=f"{RES}/uncertainty/agreement.csv",

@@ -25,7 +25,7 @@ rule volumes:
     input:
         tables=[f for label in VOL_LABELS for f in volume_shards(label)],
         robots=list(ROBOTS.values()),
-        paper_values="config/paper_values.yaml",
+        paper_values="cdpr/data/paper_values.yaml",
     output:
         table=f"{RES}/volumes/volumes.csv",
         figure=report(f"{RES}/volumes/R_V.png", caption="../report/volumes.rst", category="Volumes"),
