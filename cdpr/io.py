@@ -116,8 +116,10 @@ def clean_json(obj):
 
 
 def write_json(obj, path):
-    atomic(path, lambda tmp: Path(tmp).write_text(json.dumps(clean_json(obj), indent=2) + "\n"))
+    atomic(
+        path, lambda tmp: Path(tmp).write_text(json.dumps(clean_json(obj), indent=2) + "\n", encoding="utf-8")
+    )
 
 
 def write_text(text, path):
-    atomic(path, lambda tmp: Path(tmp).write_text(text))
+    atomic(path, lambda tmp: Path(tmp).write_text(text, encoding="utf-8"))
