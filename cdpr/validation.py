@@ -163,19 +163,39 @@ def _explain(err):
     return [], err.message
 
 
+def problems(errors):
+    """(key, sentence) of each distinct violation: per error its most precise sub-error, then of
+    errors on the same branch of the file only the deepest (a parent's "not valid" adds nothing)."""
+    found = []
+    for err in errors:
+        if err.context:  # allOf/anyOf/oneOf: take the most precise sub-error
+            err = max(err.context, key=lambda e: len(e.absolute_path))
+        extra, message = _explain(err)
+        found.append((list(err.absolute_path) + extra[:1], message))
+    found.sort(key=lambda pm: -len(pm[0]))
+    kept = []
+    for path, message in found:
+        if any(k[: len(path)] == path for k, _ in kept):
+            continue
+        if (path, message) not in kept:
+            kept.append((path, message))
+    kept.sort(key=lambda pm: [str(x) for x in pm[0]])
+    return [(key_path(path) or None, message) for path, message in kept]
+
+
 def validate(data, name, source):
     """Validate ``data`` against schema ``name``; raise ConfigError naming ``source`` and the key.
 
-    Of several violations the one deepest in the file is reported (it names the most precise key)."""
+    Every distinct violation is reported at once (``problems``): a file with several mistakes is
+    corrected in one go, one per key, the most precise key of each."""
     import jsonschema
 
     validator = jsonschema.Draft202012Validator(schema(name))
     errors = list(validator.iter_errors(data))
     if not errors:
         return data
-    err = max(errors, key=lambda e: len(e.absolute_path))
-    if err.context:  # allOf/anyOf: take the most precise sub-error
-        err = max(err.context, key=lambda e: len(e.absolute_path))
-    extra, message = _explain(err)
-    path = list(err.absolute_path) + extra[:1]
-    raise ConfigError(source, key_path(path) or None, message)
+    found = problems(errors)
+    if len(found) == 1:
+        raise ConfigError(source, *found[0])
+    listed = "; ".join(f"key '{k}': {m}" if k else m for k, m in found)
+    raise ConfigError(source, None, f"{len(found)} problems: {listed}")

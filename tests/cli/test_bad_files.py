@@ -149,3 +149,18 @@ def test_ascii_locale(argv):
     p = subprocess.run([sys.executable, "-m", "cdpr", *argv], capture_output=True, env=ASCII, cwd=ROOT)
     assert p.returncode == 0, p.stderr.decode(errors="replace")[-2000:]
     assert b"Traceback" not in p.stderr
+
+
+def test_several_schema_mistakes_in_one_report(tmp_path, capsys):
+    """Three mistakes in three places of one robot file: one run names all three."""
+    robot = yaml.safe_load(R4.read_text(encoding="utf-8"))
+    robot["cables"][1]["pulley"] = {"kind": "XX"}
+    robot["cables"][2]["A_m"] = [1, 2]
+    robot["cable"]["colour"] = "red"
+    p = tmp_path / "r.yaml"
+    p.write_text(yaml.safe_dump(robot), encoding="utf-8")
+    code, out, err = run(["point", "--robot", str(p), "--at", "0", "0", "2.5"], capsys)
+    assert code == 2 and err.count("\n") == 1, err
+    assert "3 problems" in err
+    for key in ("cables[1].pulley.kind", "cables[2].A_m", "cable.colour"):
+        assert f"key '{key}'" in err, err
