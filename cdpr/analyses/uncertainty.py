@@ -51,9 +51,11 @@ import dataclasses
 import numpy as np
 import pandas as pd
 
+from cdpr.analyses.compensation import compensate
 from cdpr.errors import ConfigError
 from cdpr.models.inverse import L_TS
 from cdpr.parameters import parameter_values, robot_with_parameters
+from cdpr.solve import check_engine, linear_dp, sensitivities, solve_points_any, subset_sensitivities
 
 #: Study keys of ``uncertainty.parameters``: key -> (parameter group, "value" or "offset"), in the
 #: order drivers are numbered.
@@ -70,8 +72,6 @@ CASES = ("uncompensated", "compensated")
 QUANTILES = (0.05, 0.5, 0.95)
 #: u is kept in [U_EPS, 1 - U_EPS] so that an unbounded normal's inverse CDF stays finite.
 U_EPS = 1e-12
-#: Samples per batch of the linearised propagation (memory: 24 bytes x points x batch).
-BATCH = 16
 
 
 @dataclasses.dataclass(frozen=True)
@@ -381,30 +381,13 @@ class Linearisation:
             raise ValueError("the linearisation does not cover every parameter that varies")
         return self.tau(th) - self.tau(self.theta0)
 
-    def dp(self, theta, engine="compiled", threads=None):
-        """‖dp(θ)‖ (n, N) [m] of the linearised answer; NaN where no slot is admissible.
-        ``engine="compiled"`` runs ``fast_sensitivity.linear_dp`` (points in parallel), ``"numpy"``
-        the reference below (same numbers)."""
+    def dp(self, theta, engine=None, threads=None):
+        """‖dp(θ)‖ (n, N) [m] of the linearised answer; NaN where no slot is admissible
+        (``solve.linear_dp``: ``engine`` None or ``"compiled"`` runs the compiled kernel, points in
+        parallel; ``"numpy"`` the reference ``models.sensitivity.linear_dp``, same numbers)."""
         delta = self._delta(theta)
-        if engine == "compiled":
-            from cdpr.compiled.sensitivity import linear_dp
-
-            t = (self.t0, self.St, self.T_a) if self.has_t else (None, None, None)
-            return linear_dp(self.dp0, self.S, self.valid, delta, *t, threads=threads)
-        N, C, _, k = self.S.shape
-        Sflat = self.S.reshape(N * C * 3, k)
-        Stflat = self.St.reshape(N * C * 3, k) if self.has_t else None
-        out = np.empty((len(delta), N))
-        for i in range(0, len(delta), BATCH):
-            d = delta[i : i + BATCH]
-            v = (Sflat @ d.T).T.reshape(len(d), N, C, 3) + self.dp0
-            adm = self.valid
-            if self.has_t:
-                t = (Stflat @ d.T).T.reshape(len(d), N, C, 3) + self.t0
-                adm = adm & (t >= 0).all(axis=3) & (t <= self.T_a).all(axis=3)
-            norm = np.where(adm, np.linalg.norm(v, axis=3), np.inf)
-            out[i : i + BATCH] = norm.min(axis=2)
-        return np.where(np.isfinite(out), out, np.nan)
+        t = (self.t0, self.St, self.T_a) if self.has_t else (None, None, None)
+        return linear_dp(self.dp0, self.S, self.valid, delta, *t, engine=engine, threads=threads)
 
     def nominal(self):
         """(dp_0 (N, 3), S (N, 3, k)) of the nominal answer, with S in dP/dθ (not compliance)."""
@@ -456,10 +439,16 @@ class PoseErrorModel:
     compensation : dict, optional
         ``method`` and ``t_min_N`` of ``compensation.compensate`` (default min_norm, 100 N).
     threads : int, optional
+    engine : {"compiled", "numpy", None}
+        Engine of every solve (``solve.check_engine``: None is compiled; another value raises
+        CdprError).
     """
 
-    def __init__(self, robot, p, case="uncompensated", redundancy="paper", compensation=None, threads=None):
+    def __init__(
+        self, robot, p, case="uncompensated", redundancy="paper", compensation=None, threads=None, engine=None
+    ):
         self.robot = robot
+        self.engine = check_engine(engine, "newton")
         self.p = np.atleast_2d(np.asarray(p, dtype=float))
         self.case = case
         self.threads = threads
@@ -469,11 +458,13 @@ class PoseErrorModel:
             self.L = L_TS(robot, self.p)
             self.feasible = np.ones(n, dtype=bool)
         elif case == "compensated":
-            from cdpr.analyses.compensation import compensate
-
             c = compensation or {}
             comp = compensate(
-                robot, self.p, method=c.get("method", "min_norm"), t_min=c.get("t_min_N", 100.0)
+                robot,
+                self.p,
+                method=c.get("method", "min_norm"),
+                t_min=c.get("t_min_N", 100.0),
+                engine=self.engine,
             )
             self.mode = "physical"
             self.L = comp["L0"]
@@ -484,17 +475,11 @@ class PoseErrorModel:
         self._Lv = np.ascontiguousarray(self.L[self.feasible])
 
     def _solve(self, robot, sens=False):
+        run = {"engine": self.engine, "threads": self.threads}
         if sens:
-            from cdpr.models.sensitivity import sensitivities
-
-            return sensitivities(robot, self._pv, redundancy=self.mode, L=self._Lv, threads=self.threads)
-        if self.mode == "paper":
-            from cdpr.compiled.subsets import solve_points_fast
-
-            return solve_points_fast(robot, self._pv, L=self._Lv, threads=self.threads)
-        from cdpr.compiled.equilibrium import solve_physical_fast
-
-        return solve_physical_fast(robot, self._pv, L0=self._Lv, threads=self.threads)
+            return sensitivities(robot, self._pv, redundancy=self.mode, L=self._Lv, **run)
+        lengths = {"L": self._Lv} if self.mode == "paper" else {"L0": self._Lv}
+        return solve_points_any(robot, self._pv, redundancy=self.mode, **lengths, **run)
 
     def solve(self, theta):
         """Full solves: ‖δp‖ (n, N) [m] and ok (n, N) for parameter vectors θ (n, 7 m + 1)."""
@@ -512,17 +497,16 @@ class PoseErrorModel:
         """The ``Linearisation`` at the nominal parameters for the parameter columns ``columns``
         (default all): paper mode every subset (``sensitivity.subset_sensitivities``), physical mode
         the equilibrium (``sensitivity.sensitivities``)."""
-        from cdpr.models.sensitivity import sensitivities, subset_sensitivities
-
         m = self.robot.m
         cols = np.arange(7 * m + 1) if columns is None else np.asarray(columns, dtype=np.intp)
         N = len(self.p)
-        nom = sensitivities(self.robot, self._pv, redundancy=self.mode, L=self._Lv, threads=self.threads)
+        run = {"engine": self.engine, "threads": self.threads}
+        nom = sensitivities(self.robot, self._pv, redundancy=self.mode, L=self._Lv, **run)
         smooth = np.zeros(N, dtype=bool)
         smooth[self.feasible] = nom["smooth"]
         extra = {}
         if self.mode == "paper":
-            sub = subset_sensitivities(self.robot, self._pv, L=self._Lv, columns=cols, threads=self.threads)
+            sub = subset_sensitivities(self.robot, self._pv, L=self._Lv, columns=cols, **run)
             C = sub["P"].shape[1]
             P, valid, S = sub["P"], sub["converged"], sub["S"]
             t0 = np.zeros((N, C, 3))

@@ -305,7 +305,7 @@ def _sensitivity_options(sp):
 
 def _solve_sensitivities(robot, P, args, L0=None):
     """The solve plus dP*/dθ (``sensitivity.sensitivities``) for --sensitivities."""
-    from cdpr.models.sensitivity import sensitivities
+    from cdpr.solve import sensitivities
 
     if args.method != "newton":
         raise CdprError(

@@ -6,6 +6,7 @@ import pytest
 
 from cdpr.analyses.compensation import COMP_STATUSES, compensate, compensated_pose, rest_lengths
 from cdpr.compiled.equilibrium import solve_physical_fast
+from cdpr.errors import CdprError
 from cdpr.models.equilibrium import solve_physical, to_frame
 from cdpr.models.inverse import igm_e
 from cdpr.models.statics import stretched_length
@@ -100,5 +101,5 @@ def test_subset_follows_paper_mode(cdpr4):
 def test_unknown_method(cdpr4):
     with pytest.raises(ValueError, match="allowed"):
         compensate(cdpr4, PTS[:2], method="magic")
-    with pytest.raises(ValueError, match="engine"):
+    with pytest.raises(CdprError, match="unknown engine 'gpu'; allowed: compiled, numpy"):
         compensated_pose(cdpr4, PTS[:2], engine="gpu")
