@@ -18,34 +18,55 @@ from cdpr.compiled import sensitivity as compiled_sensitivity
 from cdpr.compiled import subsets as compiled_subsets
 from cdpr.errors import CdprError
 from cdpr.models import equilibrium, sensitivity
-from cdpr.models.subsets import STATUSES, pose_columns, solve_points, subset_label
+from cdpr.models.results import STATUSES, pose_columns, subset_codes, taut_labels
+from cdpr.models.subsets import solve_points
 
 
-def subset_labels(robot, subset):
-    """Categorical labels ('1-2-3', ..., '' when none) of an (N, 3) array of 0-based subsets, built
-    from integer codes (no Python loop per point; parquet stores it dictionary-encoded)."""
-    subs = robot.subsets
-    labels = [subset_label(s) for s in subs] + [""]
-    weights = np.array([robot.m * robot.m, robot.m, 1])
-    skey = subs @ weights  # lexicographic order -> sorted keys
-    key = np.asarray(subset).reshape(-1, 3) @ weights
-    pos = np.minimum(np.searchsorted(skey, key), len(subs) - 1)
-    code = np.where((np.asarray(subset).reshape(-1, 3)[:, 0] >= 0) & (skey[pos] == key), pos, len(subs))
-    return pd.Categorical.from_codes(code, categories=labels)
+def to_frame(robot, res, redundancy="paper"):
+    """One row per point of a ``solve_points_any`` (or ``sensitivities``, or
+    ``compensation.compensated_pose``) result, with stable column names (SI units).
 
+    Parameters
+    ----------
+    robot : Robot
+        Supplies m and the subsets.
+    res : dict
+        The per-point arrays (``models.results``).
+    redundancy : {"paper", "physical"}
+        The mode that produced ``res``.
 
-def to_frame(robot, res):
-    """One row per point with stable column names: x, y, z, x_s, y_s, z_s, dp, t1..tm, subset,
-    iterations, status (SI units)."""
-    df = pose_columns(robot, res)
-    df["subset"] = subset_labels(robot, res["subset"])
+    Returns
+    -------
+    DataFrame
+        ``results.pose_columns`` (x, y, z, x_s, y_s, z_s, dp [m], t1..tm [N]); paper mode: subset
+        (label '1-2-3', '' when none), iterations, status; physical mode: taut (label of the taut
+        cables, '1-2-3-4'), n_taut, iterations, status. The status categories are
+        ``res["statuses"]`` when given (``compensation.COMP_STATUSES``), else ``results.STATUSES``.
+        When ``res`` holds sensitivities (key ``S``): then dx_d<θ>, dy_d<θ>, dz_d<θ> per parameter
+        [m per unit of θ] (``sensitivity.sensitivity_columns``) and smooth.
+    """
+    df = pd.DataFrame(pose_columns(robot, res))
+    if check_redundancy(redundancy) == "paper":
+        codes, labels = subset_codes(robot, res["subset"])
+        df["subset"] = pd.Categorical.from_codes(codes, categories=labels)
+    else:
+        codes, labels = taut_labels(res["taut"])
+        df["taut"] = pd.Categorical.from_codes(codes, categories=labels)
+        df["n_taut"] = res["n_taut"]
     df["iterations"] = res["iterations"]
+    statuses = list(res.get("statuses", STATUSES))
     codes = (
         res["status_code"]
         if "status_code" in res
-        else pd.Categorical(res["status"], categories=list(STATUSES)).codes
+        else pd.Categorical(res["status"], categories=statuses).codes
     )
-    df["status"] = pd.Categorical.from_codes(codes, categories=list(STATUSES))
+    df["status"] = pd.Categorical.from_codes(codes, categories=statuses)
+    if "S" in res:
+        S = res["S"]
+        flat = np.swapaxes(S, 1, 2).reshape(len(S), -1)
+        sens = pd.DataFrame(flat, columns=sensitivity.sensitivity_columns(res["names"]))
+        sens["smooth"] = res["smooth"]
+        df = pd.concat([df, sens], axis=1)
     return df
 
 
@@ -170,14 +191,6 @@ def linear_dp(dp0, S, valid, delta, t0=None, St=None, T_a=None, engine=None, thr
     return sensitivity.linear_dp(dp0, S, valid, delta, t0, St, T_a)
 
 
-def results_frame(robot, res, redundancy="paper"):
-    """One row per point of a ``solve_points_any`` result (paper: ``to_frame``; physical:
-    ``equilibrium.to_frame`` with the taut cables instead of the subset)."""
-    if redundancy == "physical":
-        return equilibrium.to_frame(robot, res)
-    return to_frame(robot, res)
-
-
 def solve_table(
     robot, p, method="newton", chunk=CHUNK, engine=None, threads=None, redundancy="paper", L0=None, **options
 ):
@@ -202,10 +215,10 @@ def solve_table(
 
     Returns
     -------
-    DataFrame, one row per point (``results_frame``)."""
+    DataFrame, one row per point (``to_frame``)."""
     p = np.atleast_2d(np.asarray(p, dtype=float))
     if redundancy != "paper" or L0 is not None:
-        return results_frame(
+        return to_frame(
             robot, solve_points_any(robot, p, method, engine, threads, redundancy, L0, **options), redundancy
         )
     engine = check_engine(engine, method)

@@ -33,8 +33,8 @@ from __future__ import annotations
 import numpy as np
 
 from cdpr.models.inverse import igm_e
+from cdpr.models.results import STATUSES
 from cdpr.models.statics import tensions
-from cdpr.models.subsets import STATUSES
 from cdpr.models.tension_distribution import METHODS, T_MIN_DEFAULT, distribute, wrench_matrix
 from cdpr.solve import check_engine, solve_points_any
 

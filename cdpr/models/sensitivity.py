@@ -413,29 +413,6 @@ def sensitivity_columns(names):
     return [f"d{ax}_d{nm}" for nm in names for ax in "xyz"]
 
 
-def sensitivity_frame(res):
-    """The sensitivities of a ``sensitivities`` result as table columns, one row per point.
-
-    Parameters
-    ----------
-    res : dict
-        A ``sensitivities`` result (keys S, names, smooth).
-
-    Returns
-    -------
-    DataFrame
-        Columns ``sensitivity_columns(res["names"])`` [m per unit of θ] and ``smooth``.
-    """
-    import pandas as pd
-
-    S = res["S"]
-    cols = sensitivity_columns(res["names"])
-    flat = np.swapaxes(S, 1, 2).reshape(len(S), -1)
-    df = pd.DataFrame(flat, columns=cols)
-    df["smooth"] = res["smooth"]
-    return df
-
-
 def subset_sensitivities(robot, p, L=None, columns=None, **solver):
     """Every 3-cable subset of paper mode at every point: P* (DEGM_E), its tensions, dP*/dθ and
     dt/dθ; for the first-order propagation when the best subset may switch

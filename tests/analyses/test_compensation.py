@@ -7,10 +7,11 @@ import pytest
 from cdpr.analyses.compensation import COMP_STATUSES, compensate, compensated_pose, rest_lengths
 from cdpr.compiled.equilibrium import solve_physical_fast
 from cdpr.errors import CdprError
-from cdpr.models.equilibrium import solve_physical, to_frame
+from cdpr.models.equilibrium import solve_physical
 from cdpr.models.inverse import igm_e
 from cdpr.models.statics import stretched_length
 from cdpr.robot import apply_overrides, read_yaml, robot_from_dict, with_pulleys
+from cdpr.solve import to_frame
 from tests.conftest import ROBOTS
 from tests.models.test_equilibrium import mixed_robot
 
@@ -77,7 +78,7 @@ def test_infeasible_points_are_flagged_and_not_solved(cdpr4):
     assert list(res["status"]) == ["ok", "infeasible", "infeasible"]
     assert np.isnan(res["P_s"][1:]).all() and np.isnan(res["L0"][1:]).all() and np.isnan(res["dp"][1:]).all()
     assert res["statuses"] == COMP_STATUSES
-    df = to_frame(cdpr4, res)
+    df = to_frame(cdpr4, res, "physical")
     assert list(df["status"].astype(str)) == ["ok", "infeasible", "infeasible"]
 
 
