@@ -22,7 +22,7 @@ from cdpr.analyses import scans
 from cdpr.analyses.workspace import check_box, frame_box, grid_points, shard_range
 from cdpr.errors import CdprError
 from cdpr.models import winch
-from cdpr.robot import PULLEY_KINDS, load_robot
+from cdpr.robot import PULLEY_KINDS, TABLE1, load_robot, load_winch_params
 
 #: Bytes of memory per grid point while solving and writing (measured peak RSS / points, rounded up).
 BYTES_PER_POINT = 600
@@ -528,13 +528,13 @@ def cmd_grid(args):
 
 
 def cmd_winch(args):
-    p = winch.load_params(args.params) if args.params else winch.TABLE1
+    p = load_winch_params(args.params) if args.params else TABLE1
     if args.out:
         io.check_output(args.out)
     if not args.lpm_from < args.lpm_to:
         raise CdprError(f"--lpm-from must be below --lpm-to, got {args.lpm_from:g} and {args.lpm_to:g}")
     winch.check_range(p, args.lpm_from, args.lpm_to)
-    df = winch.winch_table(p, args.lpm_from, args.lpm_to, args.steps)
+    df = scans.winch_table(p, args.lpm_from, args.lpm_to, args.steps)
     if args.out:
         io.write_table(df, args.out)
     if args.json:

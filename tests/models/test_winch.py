@@ -7,6 +7,7 @@ import pytest
 
 from cdpr.errors import ConfigError
 from cdpr.models import winch
+from cdpr.robot import load_winch_params
 
 P = winch.TABLE1
 
@@ -62,7 +63,7 @@ def test_bad_params_file(tmp_path):
     f = tmp_path / "w.yaml"
     f.write_text("k_w_m: -1\n")
     with pytest.raises(ConfigError, match="w.yaml: key 'k_w_m': must be strictly positive"):
-        winch.load_params(f)
+        load_winch_params(f)
     f.write_text("kw: 1\n")
     with pytest.raises(ConfigError, match="key 'kw': unknown key"):
-        winch.load_params(f)
+        load_winch_params(f)
