@@ -16,9 +16,10 @@ import pandas as pd
 
 from cdpr import io
 from cdpr.analyses import doe, scans, workspace
+from cdpr.analyses.uncertainty import CASES, QUANTILES
 from cdpr.errors import CdprError
 from cdpr.models import winch
-from cdpr.pipeline import study
+from cdpr.pipeline import study, uq
 
 
 def _by_stem(paths, pattern, what):
@@ -552,12 +553,10 @@ def comparison(st, comparison, tables, table, figure, markdown):
     )
 
 
-# ---- uncertainty and sensitivity (beyond the paper: cdpr.analyses.uncertainty) ---------------------------
+# ---- uncertainty and sensitivity (beyond the paper: cdpr.analyses.uncertainty, cdpr.pipeline.uq) -------------
 def uq_shard(st, design, case, shard, box_file, table, points, threads=None):
     """One Monte Carlo shard by full solves with the linearised propagation of the same samples."""
-    from cdpr.analyses import uncertainty
-
-    samples, pts = uncertainty.mc_shard(st, design, case, study.read_box(box_file), int(shard), threads)
+    samples, pts = uq.mc_shard(st, design, case, study.read_box(box_file), int(shard), threads)
     io.write_table(samples, table)
     io.write_table(pts, points)
 
@@ -565,15 +564,13 @@ def uq_shard(st, design, case, shard, box_file, table, points, threads=None):
 def uq_design(st, design, case, box_file, table, path, sobol, tolerances, map, threads=None):
     """Every sample linearised over RW_C, the path bands, the Sobol indices and the dominant-parameter
     map of one design and case."""
-    from cdpr.analyses import uncertainty
-
     box = study.read_box(box_file)
-    io.write_table(uncertainty.linear_samples(st, design, case, box, threads), table)
-    io.write_table(uncertainty.path_bands(st, design, case, threads), path)
-    indices, rows = uncertainty.sobol(st, design, case, box, threads)
+    io.write_table(uq.linear_samples(st, design, case, box, threads), table)
+    io.write_table(uq.path_bands(st, design, case, threads), path)
+    indices, rows = uq.sobol(st, design, case, box, threads)
     io.write_table(indices, sobol)
     io.write_table(rows, tolerances)
-    io.write_table(uncertainty.dominant_map(st, design, case, threads), map)
+    io.write_table(uq.dominant_map(st, design, case, threads), map)
 
 
 _UQ = r"(?P<design>[A-Za-z0-9]+)_(?P<case>uncompensated|compensated)"
@@ -596,7 +593,6 @@ def uncertainty(
     every declared parameter from Saltelli's rows), the agreement of the linearisation with the full
     solves, the Sobol indices; and the figures. ``tables``: the uncertainty jobs' files; ``paths``:
     the elasticity tables (common-E index sweep and paths) the figures compare with."""
-    from cdpr.analyses import uncertainty as uq
     from cdpr.pipeline import plots
 
     u = st["uncertainty"]
@@ -634,14 +630,14 @@ def uncertainty(
             )
     rows, agree = [], []
     for design in u["designs"]:
-        for case in uq.CASES:
+        for case in CASES:
             key = (design, case)
             for name in ("mc", "points", "linear", "tolerances"):
                 if key not in read[name]:
                     raise CdprError(f"uncertainty: no {name} table of {design} {case} among the inputs")
             b = uq.bands(read["linear"][key], read["mc"][key])
             tol = read["tolerances"][key]
-            q = np.quantile(tol.index_m, uq.QUANTILES)
+            q = np.quantile(tol.index_m, QUANTILES)
             nom = float(b.index_nominal_m.iloc[0])
             b = pd.concat(
                 [
