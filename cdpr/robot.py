@@ -30,6 +30,7 @@ from pathlib import Path
 from typing import NamedTuple
 
 import numpy as np
+from scipy.spatial import ConvexHull
 
 from cdpr.errors import ConfigError
 from cdpr.units import quantity
@@ -270,8 +271,6 @@ class Robot:
     def envelope_volume(self):
         """Volume V_T of the outer envelope [m^3]: the anchors' horizontal convex hull from z = 0 to
         the lowest anchor height (a 5 m cube for CDPR4, a 54.13 m^3 prism for CDPR3)."""
-        from scipy.spatial import ConvexHull
-
         hull = ConvexHull(self.A[:, :2])
         return float(hull.volume * self.A[:, 2].min())
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 from functools import lru_cache
 from pathlib import Path
 
+import jsonschema
 import yaml
 
 from cdpr.errors import ConfigError
@@ -103,8 +104,6 @@ def validate(data, name, source):
     """Validate ``data`` against schema ``name``; raise ConfigError naming ``source`` and the key.
 
     Of several violations the one deepest in the file is reported (it names the most precise key)."""
-    import jsonschema
-
     validator = jsonschema.Draft202012Validator(schema(name))
     errors = list(validator.iter_errors(data))
     if not errors:

@@ -50,6 +50,9 @@ import dataclasses
 
 import numpy as np
 import pandas as pd
+from SALib.analyze import sobol as sobol_analyze
+from SALib.sample import sobol as sobol_sample
+from scipy.stats import norm, truncnorm
 
 from cdpr.analyses.compensation import compensate
 from cdpr.errors import ConfigError
@@ -96,8 +99,6 @@ class Distribution:
         )
 
     def _trunc(self):
-        from scipy.stats import truncnorm
-
         a = -np.inf if self.low is None else (self.low - self.mean) / self.sd
         b = np.inf if self.high is None else (self.high - self.mean) / self.sd
         return truncnorm(a, b, loc=self.mean, scale=self.sd)
@@ -108,8 +109,6 @@ class Distribution:
         if self.dist == "uniform":
             return self.low + u * (self.high - self.low)
         if self.low is None and self.high is None:
-            from scipy.stats import norm
-
             return norm.ppf(u, loc=self.mean, scale=self.sd)
         return self._trunc().ppf(u)
 
@@ -560,9 +559,6 @@ def sobol_analysis(evaluate, drivers_, robot, base_samples, seed, outputs, group
     ----------
     Saltelli et al. 2010; SALib (Herman and Usher 2017).
     """
-    from SALib.analyze import sobol as sobol_analyze
-    from SALib.sample import sobol as sobol_sample
-
     D = len(drivers_)
     problem = {"num_vars": D, "names": [d.name for d in drivers_], "bounds": [[0.0, 1.0]] * D}
     if groups:
