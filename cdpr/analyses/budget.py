@@ -63,6 +63,7 @@ from cdpr.analyses.compensation import compensate
 from cdpr.models import winch as winch_model
 from cdpr.models.inverse import igm_e
 from cdpr.models.tension_distribution import T_MIN_DEFAULT
+from cdpr.robot import TABLE1
 from cdpr.solve import check_engine, solve_points_any
 
 #: The effects the standard model neglects, in the order of the budget.
@@ -102,9 +103,7 @@ def effect_robot(design, effects):
         material = (
             c.material if "elasticity" in eff else dataclasses.replace(c.material, E=c.material.E * RIGID)
         )
-        cables.append(
-            dataclasses.replace(c, pulley=pulley, material=material, winch=c.winch or winch_model.TABLE1)
-        )
+        cables.append(dataclasses.replace(c, pulley=pulley, material=material, winch=c.winch or TABLE1))
     return dataclasses.replace(design, cables=tuple(cables))
 
 
@@ -201,7 +200,7 @@ def variant(design, p, actual, model, t_min=T_MIN_DEFAULT, threads=None, engine=
     Returns
     -------
     dict
-        dp (N, 3) [m] the vector P* - p; status (N,) str (``redundancy.STATUSES``, and
+        dp (N, 3) [m] the vector P* - p; status (N,) str (``results.STATUSES``, and
         ``infeasible`` where the model has no tension distribution or a drum angle leaves its range).
     """
     p = np.atleast_2d(np.asarray(p, dtype=float))

@@ -494,8 +494,8 @@ class PoseErrorModel:
 
     def linearise(self, columns=None):
         """The ``Linearisation`` at the nominal parameters for the parameter columns ``columns``
-        (default all): paper mode every subset (``sensitivity.subset_sensitivities``), physical mode
-        the equilibrium (``sensitivity.sensitivities``)."""
+        (default all): paper mode every subset (``solve.subset_sensitivities``), physical mode
+        the equilibrium (``solve.sensitivities``), by the model's engine."""
         m = self.robot.m
         cols = np.arange(7 * m + 1) if columns is None else np.asarray(columns, dtype=np.intp)
         N = len(self.p)

@@ -287,7 +287,7 @@ def statuses(robot, p, P, t, converged, inside, halfplanes=None):
     Returns
     -------
     code : ndarray (N,) int8
-        Index into ``redundancy.STATUSES``.
+        Index into ``results.STATUSES``.
     """
     hp = hull_halfplanes(robot) if halfplanes is None else halfplanes
     bad_p = outside_frame(robot, p, hp)
@@ -350,7 +350,7 @@ def solve_physical(robot, p, L0=None, P0=None, tol=None, maxiter=None, max_step=
         p (N, 3) [m]; P_s (N, 3) [m] the equilibrium P*; dp (N,) [m]; t (N, m) [N], NaN on slack
         cables; taut (N, m) bool (t_i > ``TAUT_MIN``); n_taut (N,); residual (N,) [N] = |F(P*)|;
         iterations (N,); converged (N,) bool; status_code (N,) int8 and status (N,) str of
-        ``redundancy.STATUSES``.
+        ``results.STATUSES``.
 
     References
     ----------

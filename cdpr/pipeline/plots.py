@@ -624,8 +624,8 @@ def uq_index_distribution(linear, tolerances, index_vs_E, paper, out):
     when given), and under every declared parameter (Saltelli's independent rows); uncompensated
     (left) and compensated (right).
 
-    ``linear``, ``tolerances``: {(design, case): table} of ``uncertainty.linear_samples`` and of
-    ``uncertainty.sobol``'s rows; ``index_vs_E``: the elasticity sweep (design, E_Pa, index_m) or
+    ``linear``, ``tolerances``: {(design, case): table} of ``uq.linear_samples`` and of
+    ``uq.sobol``'s rows; ``index_vs_E``: the elasticity sweep (design, E_Pa, index_m) or
     None; ``paper``: {design: (index, minus, plus)} [m]."""
     designs = _uq_designs(linear)
     fig, axes = plt.subplots(1, 2, figsize=(15, 5), gridspec_kw={"width_ratios": [2, 1]})
@@ -685,7 +685,7 @@ def uq_index_distribution(linear, tolerances, index_vs_E, paper, out):
 def uq_path_bands(bands, common, out):
     """‖δp‖ along the section 5.2 path: 5-50-95 % band under per-cable moduli for each design
     (columns), uncompensated beside the paper's three common-E curves (top) and compensated
-    (bottom). ``bands``: {(design, case): ``uncertainty.path_bands`` table}; ``common``: list of
+    (bottom). ``bands``: {(design, case): ``uq.path_bands`` table}; ``common``: list of
     (design, E [Pa], s [m], dp [m]) of the common-E paths (Fig. 19)."""
     designs = _uq_designs(bands)
     fig, axes = plt.subplots(2, len(designs), figsize=(5.5 * len(designs), 7), squeeze=False)
@@ -746,7 +746,7 @@ def uq_sobol(tab, out):
 def uq_dominant_map(maps, A, z, out):
     """The parameter whose first-order contribution to the spread of ‖δp‖ is the largest, on the
     plane z (columns: designs; rows: before and after compensation); hatched where it explains less
-    than half of the spread. ``maps``: {(design, case): ``uncertainty.dominant_map`` table}."""
+    than half of the spread. ``maps``: {(design, case): ``uq.dominant_map`` table}."""
     designs = _uq_designs(maps)
     names = sorted({n for df in maps.values() for n in df.dominant.dropna().unique() if n})
     cmap = plt.get_cmap("tab20", max(len(names), 1))

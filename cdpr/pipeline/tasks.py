@@ -23,6 +23,7 @@ from cdpr.models import winch
 from cdpr.pipeline import comparison as cm
 from cdpr.pipeline import plots, study, uq
 from cdpr.pipeline import summary as sm
+from cdpr.robot import TABLE1
 
 
 def _by_stem(paths, pattern, what):
@@ -67,7 +68,7 @@ def _grid_index(st, robot, box, n, threads=None):
 # ---- winch (Métillon Fig. 7) -------------------------------------------------------------------
 def winch_figure(st, table, figure):
     """Fig. 7 of the winch seed from ``winch.csv``."""
-    p = winch.TABLE1
+    p = TABLE1
     plots.fig7_winch(io.read_table(table), winch.l_pm0(p), p.q0, figure)
 
 

@@ -7,9 +7,9 @@ import pytest
 
 from cdpr.errors import ConfigError
 from cdpr.models import winch
-from cdpr.robot import load_winch_params
+from cdpr.robot import TABLE1, load_winch_params
 
-P = winch.TABLE1
+P = TABLE1
 
 
 def test_length_error_end_values_fig7b():
