@@ -10,6 +10,10 @@ import re
 import tempfile
 from pathlib import Path
 
+import pandas as pd
+import pyarrow as pa
+import pyarrow.parquet as pq
+
 from cdpr.errors import CdprError
 
 
@@ -68,13 +72,8 @@ def check_output(path, suffixes=None):
 def write_table(df, path):
     """Write a DataFrame as parquet (.parquet) or CSV (.csv, floats with CSV_DIGITS significant
     digits), atomically."""
-    import pandas as pd
-
     suffix = Path(path).suffix
     if suffix == ".parquet":
-        import pyarrow as pa
-        import pyarrow.parquet as pq
-
         # uncompressed (float columns barely compress; snappy triples the write time) and dictionary
         # encoding only for the categorical columns (trying it on every float column costs 5x)
         table = pa.Table.from_pandas(df, preserve_index=False)
@@ -88,8 +87,6 @@ def write_table(df, path):
 
 def read_table(path):
     """Read a .parquet or .csv table; a truncated or unreadable file is named, with what to do."""
-    import pandas as pd
-
     suffix = Path(path).suffix
     if suffix not in TABLE_SUFFIXES:
         raise CdprError(f"{path}: unknown table format '{suffix}'; allowed: .parquet, .csv")

@@ -22,7 +22,7 @@ from cdpr.analyses import scans
 from cdpr.analyses.workspace import check_box, frame_box, grid_points, shard_range
 from cdpr.errors import CdprError
 from cdpr.models import winch
-from cdpr.robot import PULLEY_KINDS, load_robot
+from cdpr.robot import PULLEY_KINDS, TABLE1, load_robot, load_winch_params
 
 #: Bytes of memory per grid point while solving and writing (measured peak RSS / points, rounded up).
 BYTES_PER_POINT = 600
@@ -305,7 +305,7 @@ def _sensitivity_options(sp):
 
 def _solve_sensitivities(robot, P, args, L0=None):
     """The solve plus dP*/dθ (``sensitivity.sensitivities``) for --sensitivities."""
-    from cdpr.models.sensitivity import sensitivities
+    from cdpr.solve import sensitivities
 
     if args.method != "newton":
         raise CdprError(
@@ -321,17 +321,8 @@ def _solve_sensitivities(robot, P, args, L0=None):
     )
 
 
-def _with_sensitivities(df, res):
-    """The point table with the sensitivity columns (dx_dE_1, ..., dz_dM) and ``smooth`` appended."""
-    import pandas as pd
-
-    from cdpr.models.sensitivity import sensitivity_frame
-
-    return pd.concat([df, sensitivity_frame(res)], axis=1)
-
-
 def cmd_point(args):
-    from cdpr.solve import results_frame, solve_points_any
+    from cdpr.solve import solve_points_any, to_frame
 
     robot = _load(args)
     P = _points(args)
@@ -365,9 +356,7 @@ def cmd_point(args):
             L0=L0,
         )
     if args.points or args.out:
-        df = results_frame(robot, res, args.redundancy)
-        if args.sensitivities:
-            df = _with_sensitivities(df, res)
+        df = to_frame(robot, res, args.redundancy)
         io.write_table(df, args.out)
         _report(df, args.out, args, float("nan"))
         return
@@ -392,7 +381,7 @@ def cmd_point(args):
     if args.json:
         print(json.dumps(io.clean_json(out), indent=2))
         return
-    from cdpr.models.subsets import subset_label
+    from cdpr.models.results import subset_label
 
     mode = "physical equilibrium" if args.redundancy == "physical" else f"paper mode, solver {args.method}"
     print(
@@ -429,7 +418,7 @@ def cmd_compensate(args):
     import dataclasses
 
     from cdpr.analyses.compensation import compensated_pose
-    from cdpr.models.equilibrium import to_frame as physical_frame
+    from cdpr.solve import to_frame
 
     robot = _load(args)
     P = _points(args)
@@ -452,7 +441,7 @@ def cmd_compensate(args):
         robot, P, actual=actual, method=args.distribution, engine=engine, t_min=args.t_min, t_max=t_max
     )
     if args.points or args.out:
-        df = physical_frame(robot, res)
+        df = to_frame(robot, res, "physical")
         for i in range(robot.m):
             df[f"L0_{i + 1}"] = res["L0"][:, i]
         for i in range(robot.m):
@@ -525,10 +514,10 @@ def cmd_grid(args):
     t0 = time.perf_counter()
     P = grid_points(box, args.n, start, stop)
     if args.sensitivities:
-        from cdpr.solve import results_frame
+        from cdpr.solve import to_frame
 
         res = _solve_sensitivities(robot, P, args)
-        df = _with_sensitivities(results_frame(robot, res, args.redundancy), res)
+        df = to_frame(robot, res, args.redundancy)
     else:
         df = solve_table(
             robot, P, method=args.method, engine=args.engine, threads=args.threads, redundancy=args.redundancy
@@ -539,13 +528,13 @@ def cmd_grid(args):
 
 
 def cmd_winch(args):
-    p = winch.load_params(args.params) if args.params else winch.TABLE1
+    p = load_winch_params(args.params) if args.params else TABLE1
     if args.out:
         io.check_output(args.out)
     if not args.lpm_from < args.lpm_to:
         raise CdprError(f"--lpm-from must be below --lpm-to, got {args.lpm_from:g} and {args.lpm_to:g}")
     winch.check_range(p, args.lpm_from, args.lpm_to)
-    df = winch.winch_table(p, args.lpm_from, args.lpm_to, args.steps)
+    df = scans.winch_table(p, args.lpm_from, args.lpm_to, args.steps)
     if args.out:
         io.write_table(df, args.out)
     if args.json:

@@ -20,8 +20,8 @@ from cdpr.models.equilibrium import (
     LS_SKIP,
     MAX_HALVINGS,
     PHYSICAL_DEFAULTS,
-    _result,
     hull_halfplanes,
+    physical_result,
     start_points,
 )
 from cdpr.models.inverse import L_TS
@@ -399,4 +399,4 @@ def solve_physical_fast(robot, p, L0=None, P0=None, tol=None, maxiter=None, max_
             conv,
             ins,
         )
-    return _result(robot, p, P, t, resid, it, conv, ins[:, None], halfplanes=hull_halfplanes(robot))
+    return physical_result(robot, p, P, t, resid, it, conv, ins[:, None], halfplanes=hull_halfplanes(robot))

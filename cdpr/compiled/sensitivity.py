@@ -25,12 +25,18 @@ from numba import njit, prange
 from cdpr.compiled import equilibrium as fast_physical
 from cdpr.compiled import subsets as fast
 from cdpr.models.direct import NEWTON_DEFAULTS
-from cdpr.models.equilibrium import FTOL_REL, PHYSICAL_DEFAULTS, _result, hull_halfplanes, start_points
+from cdpr.models.equilibrium import (
+    FTOL_REL,
+    PHYSICAL_DEFAULTS,
+    hull_halfplanes,
+    physical_result,
+    start_points,
+)
 from cdpr.models.inverse import L_TS
 from cdpr.models.pulleys import RHO_EPS, SWIVEL_RHO_MIN
+from cdpr.models.results import STATUSES
 from cdpr.models.sensitivity import COND_MAX, GAP_TOL, T_TOL
 from cdpr.models.statics import DET_EPS
-from cdpr.models.subsets import STATUSES
 from cdpr.parameters import parameter_names
 
 TWO_PI = 2.0 * math.pi
@@ -603,7 +609,9 @@ def sensitivities_fast(
                 float(w[2]), robot.platform.mass, float(a.A[:, 2].min()), FTOL_REL * float(np.linalg.norm(w)),
                 o["tol"], o["maxiter"], o["max_step"], P, t, resid, it, conv, ins, S, tm, cond,
             )  # fmt: skip
-        res = _result(robot, p, P, t, resid, it, conv, ins[:, None], halfplanes=hull_halfplanes(robot))
+        res = physical_result(
+            robot, p, P, t, resid, it, conv, ins[:, None], halfplanes=hull_halfplanes(robot)
+        )
         ok = res["status"] == "ok"
         S[~ok] = np.nan
         tm = np.where(ok, tm, np.nan)

@@ -17,8 +17,9 @@ from numba import njit, prange
 
 from cdpr.models.direct import NEWTON_DEFAULTS
 from cdpr.models.pulleys import RHO_EPS, SWIVEL_RHO_MIN
+from cdpr.models.results import STATUSES
 from cdpr.models.statics import DET_EPS
-from cdpr.models.subsets import STATUSES, TIE_TOL
+from cdpr.models.subsets import TIE_TOL
 
 TWO_PI = 2.0 * math.pi
 ST_OK, ST_SLACK, ST_OVER, ST_INACC, ST_NOCONV = (

@@ -34,6 +34,7 @@ from cdpr import io
 from cdpr.analyses import scans
 from cdpr.errors import ConfigError
 from cdpr.pipeline.study import load_study, redundancy
+from cdpr.pipeline.summary import paper_values
 from cdpr.validation import read_yaml, validate
 
 #: Tolerance of a row without a paper value: this fraction of the paper-mode value.
@@ -141,8 +142,6 @@ def _read(res, rel):
 def printed_values():
     """The paper's printed numbers by quantity (``cdpr/data/paper_values.yaml``) in SI units: quantity ->
     (value, tolerance); values in mm are converted to m."""
-    from cdpr.pipeline.summary import paper_values
-
     out = {}
     for v in paper_values():
         scale = 1e-3 if v["unit"] == "mm" else 1.0

@@ -11,6 +11,7 @@ Snakemake pipeline all go through it.
 
 from __future__ import annotations
 
+import json
 import math
 from pathlib import Path
 
@@ -18,6 +19,7 @@ import numpy as np
 import pandas as pd
 
 from cdpr.analyses import doe
+from cdpr.analyses.uncertainty import PARAMETER_KEYS, Distribution
 from cdpr.analyses.workspace import check_box
 from cdpr.errors import ConfigError
 from cdpr.robot import check_pulley, load_robot, robot_from_dict
@@ -132,8 +134,6 @@ def volume_limits(st):
 
 def read_box(path):
     """The ``box`` of a JSON file written by the regular-workspace job (six numbers [m])."""
-    import json
-
     p = Path(path)
     try:
         return check_box(json.loads(p.read_text(encoding="utf-8"))["box"]).tolist()
@@ -244,8 +244,6 @@ def check_uncertainty(st, robots):
     ``optimal``, each distribution's keys and range, the varied keys declared, sample counts, Sobol
     points inside the frame; and the distributions' support checked against the physics of every
     design (moduli and mass > 0, pulley rule, dead lengths >= 0) where it is bounded."""
-    from cdpr.analyses.uncertainty import PARAMETER_KEYS, Distribution
-
     src, u = st.path, st["uncertainty"]
     for i, d in enumerate(u["designs"]):
         if d not in st["optimal"]:
@@ -323,7 +321,6 @@ def check_uncertainty(st, robots):
 
 def _check_offsets(st, params):
     """The bounded offsets of h, r_p and d keep every design physical (pulley rule, d >= 0)."""
-    from cdpr.analyses.uncertainty import Distribution
 
     def span(key):
         if key not in params:

@@ -23,6 +23,7 @@ import yaml
 from cdpr import io
 from cdpr.analyses import scans
 from cdpr.models import winch
+from cdpr.robot import TABLE1
 
 #: The papers' numbers (repository root, beside the study files).
 PAPER_VALUES = importlib.resources.files("cdpr") / "data" / "paper_values.yaml"
@@ -253,7 +254,7 @@ def _winch_dl(st, res, l_pm_m, scale=1000.0):
 
 
 def _winch_q1_at_l_pm0(st, res):
-    p = winch.TABLE1
+    p = TABLE1
     return float(winch.roots(p, winch.l_pm0(p))[0]), ""
 
 

@@ -15,10 +15,15 @@ import numpy as np
 import pandas as pd
 
 from cdpr import io
-from cdpr.analyses import doe, scans, workspace
+from cdpr.analyses import budget, doe, scans, workspace
+from cdpr.analyses.symmetry import solve_grid
+from cdpr.analyses.uncertainty import CASES, QUANTILES
 from cdpr.errors import CdprError
 from cdpr.models import winch
-from cdpr.pipeline import study
+from cdpr.pipeline import comparison as cm
+from cdpr.pipeline import plots, study, uq
+from cdpr.pipeline import summary as sm
+from cdpr.robot import TABLE1
 
 
 def _by_stem(paths, pattern, what):
@@ -54,8 +59,6 @@ def _index(df):
 def _grid_index(st, robot, box, n, threads=None):
     """Global index (eq. 15) of ``robot`` over the n^3 grid of ``box`` in the study's redundancy
     mode, one solve per orbit of the symmetries robot and grid share (``symmetry.solve_grid``)."""
-    from cdpr.analyses.symmetry import solve_grid
-
     dp, status, _ = solve_grid(
         robot, box, n, method=st["solver"], threads=threads, redundancy=study.redundancy(st)
     )
@@ -65,9 +68,7 @@ def _grid_index(st, robot, box, n, threads=None):
 # ---- winch (Métillon Fig. 7) -------------------------------------------------------------------
 def winch_figure(st, table, figure):
     """Fig. 7 of the winch seed from ``winch.csv``."""
-    from cdpr.pipeline import plots
-
-    p = winch.TABLE1
+    p = TABLE1
     plots.fig7_winch(io.read_table(table), winch.l_pm0(p), p.q0, figure)
 
 
@@ -82,8 +83,6 @@ def _plane_tables(st, tables, robot_key):
 
 def plane_figure(st, robot_key, tables, figure):
     """Fig. 12 for one robot: one panel per pulley design, shared colour scale."""
-    from cdpr.pipeline import plots
-
     robot = study.robot_of(st, robot_key)
     plots.fig12_plane(_plane_tables(st, tables, robot_key), robot.A, st["plane"]["z_m"], robot_key, figure)
 
@@ -91,8 +90,6 @@ def plane_figure(st, robot_key, tables, figure):
 def subsets_figure(st, robot_key, tables, figure):
     """Fig. 9 for one robot: the subset minimising ‖δp‖ (paper mode) or the taut cables (physical
     mode), one panel per pulley design."""
-    from cdpr.pipeline import plots
-
     robot = study.robot_of(st, robot_key)
     draw = plots.fig9_taut if study.redundancy(st) == "physical" else plots.fig9_subsets
     draw(_plane_tables(st, tables, robot_key), robot.A, st["plane"]["z_m"], robot_key, figure)
@@ -101,8 +98,6 @@ def subsets_figure(st, robot_key, tables, figure):
 # ---- trajectories (Fig. 10-11) -----------------------------------------------------------------
 def trajectories(st, tables, table, figure, minmax_figure):
     """Fig. 10 (‖δp‖ along the paths) and Fig. 11 (min, max per design) with their table."""
-    from cdpr.pipeline import plots
-
     files = dict(
         (f"{g['robot']}_{g['pulley']}", p)
         for g, p in _by_stem(tables, r"(?P<robot>[A-Za-z0-9]+)_(?P<pulley>[A-Za-z0-9]+)", "path table")
@@ -133,8 +128,6 @@ def trajectories(st, tables, table, figure, minmax_figure):
 # ---- volumes (Fig. 13-14) ----------------------------------------------------------------------
 def volumes(st, tables, table, figure):
     """V_L and R_V per robot x pulley design at the paper's limits and over the sweep (Fig. 14)."""
-    from cdpr.pipeline import plots
-
     n = st["volumes"]["n"]
     groups = _shards(tables, r"(?P<label>[A-Za-z0-9]+_[A-Za-z0-9]+)_(?P<shard>\d+)", "volume shard", "label")
     lims = study.volume_limits(st)
@@ -168,8 +161,6 @@ def volumes(st, tables, table, figure):
 
 def _paper_rv(st):
     """The paper's R_V values (cdpr/data/paper_values.yaml) for the paper's study, else none."""
-    from cdpr.pipeline import summary
-
     rows = (
         []
         if not st.get("paper_comparison")
@@ -180,7 +171,7 @@ def _paper_rv(st):
                 "limit_m": v["ours"]["limit_m"],
                 "R_V": v["value"],
             }
-            for v in summary.paper_values()
+            for v in sm.paper_values()
             if v["ours"].get("kind") == "R_V"
         ]
     )
@@ -189,8 +180,6 @@ def _paper_rv(st):
 
 def volume_view(st, label, tables, figure):
     """Fig. 13: the error-limited regions of one design at the paper's limits."""
-    from cdpr.pipeline import plots
-
     rk, pk = label.split("_", 1)
     robot = study.design_robot(st, rk, st["pulleys"][pk])
     df = concat(sorted(tables, key=lambda p: int(Path(p).stem.rsplit("_", 1)[1])))
@@ -269,8 +258,6 @@ def regular_workspace(st, tables, table, json):
 # ---- DOE (Fig. 15-16) --------------------------------------------------------------------------
 def doe_results(st, tables, table, effects, figure, effects_figure):
     """Global index of every DOE test (eq. 15), the effects and interactions, Fig. 15-16."""
-    from cdpr.pipeline import plots
-
     tests = study.doe_tests(st)
     groups = _shards(tables, r"test(?P<test>\d+)_(?P<shard>\d+)", "DOE shard", "test")
     idx = [_index(concat(groups[str(t)])) for t in tests.test]
@@ -303,8 +290,6 @@ def map_rows(st, kind, box_file, table, threads=None):
 
 def maps(st, tables, box_file, map, lines, figure, threads=None):
     """The valley, the line h = k r_p (eq. 17-18) and its crossing with the DOE field (Table 3)."""
-    from cdpr.pipeline import plots
-
     tab = concat(tables)
     tab = pd.concat([tab[tab.kind == k] for k in study.map_kinds(st)], ignore_index=True)
     io.write_table(tab, map)
@@ -343,8 +328,6 @@ def maps(st, tables, box_file, map, lines, figure, threads=None):
 def elasticity(st, tables, paths, table, bands, crossings, figure, paths_figure):
     """Index versus E (Fig. 18), its band around the nominal modulus, ‖δp‖ along the section 5.2
     path at E_min, E_mean, E_max (Fig. 19) and where the E_max and E_min curves cross."""
-    from cdpr.pipeline import plots
-
     groups = _shards(
         tables,
         r"(?P<design>[A-Za-z0-9]+)_E(?P<E>[0-9.e+-]+)_(?P<shard>\d+)",
@@ -428,8 +411,6 @@ def dead_length_point(st, d, box_file, table, threads=None):
 
 def dead_length(st, tables, table, figure):
     """The dead-length sweep as one table and its figure."""
-    from cdpr.pipeline import plots
-
     tab = concat(tables).sort_values("d_m", ignore_index=True)
     io.write_table(tab, table)
     plots.dead_length_figure(tab, st["dead_length_m"], figure)
@@ -438,8 +419,6 @@ def dead_length(st, tables, table, figure):
 # ---- summary -----------------------------------------------------------------------------------
 def summary(st, results, table, markdown):
     """results/<study>/summary.md and .csv (``cdpr.pipeline.summary``)."""
-    from cdpr.pipeline import summary as sm
-
     sm.write_summary(st, results, markdown, table)
 
 
@@ -463,10 +442,7 @@ def _budget_rows(label, region, summary):
 def budget_design(st, comparison, label, box_file, table, path_table, threads=None):
     """Error budget (``cdpr.analyses.budget``) of one design over the n^3 grid of RW_C and along its robot's
     section 3.3.1 path: summary rows per region and entry, and ‖δp‖ per entry along the path."""
-    from cdpr.analyses import budget
-    from cdpr.pipeline.comparison import load_comparison
-
-    cmp = load_comparison(comparison)
+    cmp = cm.load_comparison(comparison)
     designs = budget_designs(st)
     if label not in designs:
         raise CdprError(f"budget: unknown design {label!r}; allowed: {', '.join(designs)}")
@@ -495,8 +471,6 @@ def budget_design(st, comparison, label, box_file, table, path_table, threads=No
 def budget_tables(st, comparison, tables, paths, table, figure, paths_figure):
     """The error budget of every design as one table (design, region, entry, ...), its stacked bars
     and its curves along the paths."""
-    from cdpr.pipeline import plots
-
     found = {
         g["label"]: p for g, p in _by_stem(tables, r"(?P<label>[A-Za-z0-9]+_[A-Za-z0-9]+)", "budget table")
     }
@@ -515,10 +489,6 @@ def comparison(st, comparison, tables, table, figure, markdown):
     """The comparison page (``cdpr.pipeline.comparison``): every conclusion in both modes with its verdict,
     the difference maps on the plane, and the error budget (``tables``: the budget table) with one
     sentence per design. Figures sit beside ``table``; ``figure`` is the difference maps."""
-    from cdpr.analyses import budget
-    from cdpr.pipeline import comparison as cm
-    from cdpr.pipeline import plots
-
     cmp = cm.load_comparison(comparison)
     pres, fres = cmp["paper"]["results"], cmp["physical"]["results"]
     rows = cm.conclusions(st, pres, fres)
@@ -552,12 +522,10 @@ def comparison(st, comparison, tables, table, figure, markdown):
     )
 
 
-# ---- uncertainty and sensitivity (beyond the paper: cdpr.analyses.uncertainty) ---------------------------
+# ---- uncertainty and sensitivity (beyond the paper: cdpr.analyses.uncertainty, cdpr.pipeline.uq) -------------
 def uq_shard(st, design, case, shard, box_file, table, points, threads=None):
     """One Monte Carlo shard by full solves with the linearised propagation of the same samples."""
-    from cdpr.analyses import uncertainty
-
-    samples, pts = uncertainty.mc_shard(st, design, case, study.read_box(box_file), int(shard), threads)
+    samples, pts = uq.mc_shard(st, design, case, study.read_box(box_file), int(shard), threads)
     io.write_table(samples, table)
     io.write_table(pts, points)
 
@@ -565,15 +533,13 @@ def uq_shard(st, design, case, shard, box_file, table, points, threads=None):
 def uq_design(st, design, case, box_file, table, path, sobol, tolerances, map, threads=None):
     """Every sample linearised over RW_C, the path bands, the Sobol indices and the dominant-parameter
     map of one design and case."""
-    from cdpr.analyses import uncertainty
-
     box = study.read_box(box_file)
-    io.write_table(uncertainty.linear_samples(st, design, case, box, threads), table)
-    io.write_table(uncertainty.path_bands(st, design, case, threads), path)
-    indices, rows = uncertainty.sobol(st, design, case, box, threads)
+    io.write_table(uq.linear_samples(st, design, case, box, threads), table)
+    io.write_table(uq.path_bands(st, design, case, threads), path)
+    indices, rows = uq.sobol(st, design, case, box, threads)
     io.write_table(indices, sobol)
     io.write_table(rows, tolerances)
-    io.write_table(uncertainty.dominant_map(st, design, case, threads), map)
+    io.write_table(uq.dominant_map(st, design, case, threads), map)
 
 
 _UQ = r"(?P<design>[A-Za-z0-9]+)_(?P<case>uncompensated|compensated)"
@@ -596,9 +562,6 @@ def uncertainty(
     every declared parameter from Saltelli's rows), the agreement of the linearisation with the full
     solves, the Sobol indices; and the figures. ``tables``: the uncertainty jobs' files; ``paths``:
     the elasticity tables (common-E index sweep and paths) the figures compare with."""
-    from cdpr.analyses import uncertainty as uq
-    from cdpr.pipeline import plots
-
     u = st["uncertainty"]
     kinds = {
         "mc": rf"mc_{_UQ}_(?P<shard>\d+)",
@@ -634,14 +597,14 @@ def uncertainty(
             )
     rows, agree = [], []
     for design in u["designs"]:
-        for case in uq.CASES:
+        for case in CASES:
             key = (design, case)
             for name in ("mc", "points", "linear", "tolerances"):
                 if key not in read[name]:
                     raise CdprError(f"uncertainty: no {name} table of {design} {case} among the inputs")
             b = uq.bands(read["linear"][key], read["mc"][key])
             tol = read["tolerances"][key]
-            q = np.quantile(tol.index_m, uq.QUANTILES)
+            q = np.quantile(tol.index_m, QUANTILES)
             nom = float(b.index_nominal_m.iloc[0])
             b = pd.concat(
                 [
@@ -700,12 +663,10 @@ def uncertainty(
 def _paper_uq_bands(st):
     """The paper's common-E band per design {design: (index, minus, plus)} [m] from
     cdpr/data/paper_values.yaml, for the paper's study only."""
-    from cdpr.pipeline import summary
-
     if not st.get("paper_comparison"):
         return {}
     out = {}
-    for v in summary.paper_values():
+    for v in sm.paper_values():
         o = v["ours"]
         if o.get("kind") == "band" and o.get("column") in ("index_mean_m", "minus_m", "plus_m"):
             out.setdefault(o["design"], {})[o["column"]] = v["value"] / 1000.0
