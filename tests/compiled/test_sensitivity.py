@@ -8,8 +8,8 @@ import pytest
 from cdpr.analyses.workspace import grid_points
 from cdpr.compiled.sensitivity import linear_dp
 from cdpr.models.inverse import L_TS
-from cdpr.models.sensitivity import sensitivities, subset_sensitivities
 from cdpr.robot import load_robot, with_pulleys
+from cdpr.solve import sensitivities, subset_sensitivities
 from tests.conftest import ROBOTS
 
 #: beyond the frame (anchors at +-2.5 m): slack (paper) and inaccessible (physical) points
