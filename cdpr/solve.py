@@ -8,7 +8,6 @@ not exist, and returns one row per point with stable column names (``to_frame``)
 from __future__ import annotations
 
 import numpy as np
-import pandas as pd
 
 from cdpr.errors import CdprError
 from cdpr.models.subsets import STATUSES, pose_columns, solve_points, subset_label
@@ -17,6 +16,8 @@ from cdpr.models.subsets import STATUSES, pose_columns, solve_points, subset_lab
 def subset_labels(robot, subset):
     """Categorical labels ('1-2-3', ..., '' when none) of an (N, 3) array of 0-based subsets, built
     from integer codes (no Python loop per point; parquet stores it dictionary-encoded)."""
+    import pandas as pd  # lazy: tables only; `cdpr point --at` solves one point without pandas
+
     subs = robot.subsets
     labels = [subset_label(s) for s in subs] + [""]
     weights = np.array([robot.m * robot.m, robot.m, 1])
@@ -30,6 +31,8 @@ def subset_labels(robot, subset):
 def to_frame(robot, res):
     """One row per point with stable column names: x, y, z, x_s, y_s, z_s, dp, t1..tm, subset,
     iterations, status (SI units)."""
+    import pandas as pd  # lazy: tables only; `cdpr point --at` solves one point without pandas
+
     df = pose_columns(robot, res)
     df["subset"] = subset_labels(robot, res["subset"])
     df["iterations"] = res["iterations"]
@@ -145,6 +148,8 @@ def solve_table(
     Returns
     -------
     DataFrame, one row per point (``results_frame``)."""
+    import pandas as pd  # lazy: tables only; `cdpr point --at` solves one point without pandas
+
     p = np.atleast_2d(np.asarray(p, dtype=float))
     if redundancy != "paper" or L0 is not None:
         return results_frame(
