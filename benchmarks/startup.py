@@ -83,20 +83,21 @@ def line(name, m, per=1):
     return med, low
 
 
-def numpy_reference(n, runs):
-    """Seconds per point of the numpy reference (Newton, all subsets, paper mode) over the n^3 grid of
-    RW_C, CDPR4 DR, inside this process (solve and table only): the list of ``runs`` timings."""
+def numpy_reference(n, runs, method):
+    """Seconds per point of the numpy reference (``method``: newton or the paper's fixed point; all
+    subsets, paper mode) over the n^3 grid of RW_C, CDPR4 DR, inside this process (solve and table
+    only): {"wall": [...], "cpu": [...]} of ``runs`` timings."""
     from cdpr.analyses.workspace import grid_points
     from cdpr.robot import load_robot
     from cdpr.solve import solve_table
 
     robot = load_robot(ROOT / ROBOT, pulley="DR")
     P = grid_points(RW_C, n)
-    solve_table(robot, P[:10], engine="numpy")  # warm-up
+    solve_table(robot, P[:10], method=method, engine="numpy")  # warm-up
     out = []
     for _ in range(runs):
         c0, t0 = time.process_time(), time.perf_counter()
-        solve_table(robot, P, engine="numpy")
+        solve_table(robot, P, method=method, engine="numpy")
         out.append((time.perf_counter() - t0, time.process_time() - c0))
     return {"wall": [w / len(P) for w, _ in out], "cpu": [c / len(P) for _, c in out]}
 
@@ -151,7 +152,7 @@ def main():
             [] if args.threads is None else ["--threads", str(args.threads)]
         )
         grid_m = measure(grid, args.runs, env)
-    ref = numpy_reference(args.n_ref, max(3, args.runs // 2))
+    refs = {m: numpy_reference(args.n_ref, max(3, args.runs // 2), m) for m in ("newton", "fixed_point")}
     n_pts = args.n**3
     print()
     line("cdpr --help", help_m)
@@ -159,18 +160,19 @@ def main():
     line("cdpr point --at --engine numpy", point_np)
     line(f"cdpr grid --n {args.n} (whole process)", grid_m)
     g_med, g_min = line(f"cdpr grid --n {args.n}, per point", grid_m, per=n_pts)
-    r_med = {k: statistics.median(v) for k, v in ref.items()}
-    r_min = {k: min(v) for k, v in ref.items()}
-    print(
-        f"{f'numpy reference {args.n_ref}^3, per point':38s} wall median {r_med['wall'] * 1e6:9.3f}  "
-        f"min {r_min['wall'] * 1e6:9.3f}   cpu median {r_med['cpu'] * 1e6:9.3f}  min {r_min['cpu'] * 1e6:9.3f}"
-        "  [us/point]"
-    )
-    print(
-        f"\nratio numpy reference / whole cdpr grid process, per point: wall median {r_med['wall'] / g_med['wall']:.1f}x"
-        f" (min/min {r_min['wall'] / g_min['wall']:.1f}x), cpu median {r_med['cpu'] / g_med['cpu']:.1f}x"
-        f" (min/min {r_min['cpu'] / g_min['cpu']:.1f}x)"
-    )
+    for m, ref in refs.items():
+        r_med = {k: statistics.median(v) for k, v in ref.items()}
+        r_min = {k: min(v) for k, v in ref.items()}
+        print(
+            f"{f'numpy {m} {args.n_ref}^3, per point':38s} wall median {r_med['wall'] * 1e6:9.3f}  "
+            f"min {r_min['wall'] * 1e6:9.3f}   cpu median {r_med['cpu'] * 1e6:9.3f}  min {r_min['cpu'] * 1e6:9.3f}"
+            "  [us/point]"
+        )
+        print(
+            f"  ratio numpy {m} / whole cdpr grid process, per point: wall median "
+            f"{r_med['wall'] / g_med['wall']:.1f}x (min/min {r_min['wall'] / g_min['wall']:.1f}x), "
+            f"cpu median {r_med['cpu'] / g_med['cpu']:.1f}x (min/min {r_min['cpu'] / g_min['cpu']:.1f}x)"
+        )
     importtime_top(["--help"], env)
     importtime_top(POINT, env)
 
