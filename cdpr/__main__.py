@@ -3,12 +3,6 @@
 import gc
 import sys
 
-# A command is a short-lived process whose objects are mostly the ~10^6 long-lived ones of the
-# modules it loads: the collector is off before they load (see ``run``).
-gc.disable()
-
-from cdpr.cli.commands import main  # noqa: E402
-
 
 def run():
     """``cli.main`` with Python's cyclic garbage collector off.
@@ -19,6 +13,8 @@ def run():
     a third of a 250,000-point ``cdpr grid``. Reference counting still frees everything else; the
     library itself never touches the collector."""
     gc.disable()
+    from cdpr.cli.main import main  # lazy: after the collector is off
+
     code = main()
     gc.freeze()  # interpreter exit: do not collect what was loaded
     sys.exit(code)

@@ -5,7 +5,7 @@ the same engine everywhere (compiled for Newton, numpy for the fixed point)."""
 import numpy as np
 import pytest
 
-from cdpr import solve
+from cdpr import solve, tables
 from cdpr.analyses import budget, compensation, uncertainty
 from cdpr.errors import CdprError
 from cdpr.parameters import parameter_values
@@ -42,7 +42,7 @@ def _entry_points(robot):
             "solve_points_any physical",
             lambda e: solve.solve_points_any(robot, PTS, engine=e, redundancy="physical"),
         ),
-        ("solve_table", lambda e: solve.solve_table(robot, PTS, engine=e)),
+        ("solve_table", lambda e: tables.solve_table(robot, PTS, engine=e)),
         ("sensitivities", lambda e: solve.sensitivities(robot, PTS, engine=e)),
         ("subset_sensitivities", lambda e: solve.subset_sensitivities(robot, PTS, engine=e)),
         ("linear_dp", lambda e: solve.linear_dp(*lin, engine=e)),
@@ -75,7 +75,7 @@ def test_every_entry_point_refuses_an_unknown_engine(robot):
 
 
 def test_a_pair_that_does_not_exist_is_refused(robot):
-    for call in (solve.solve_points_any, solve.solve_table):
+    for call in (solve.solve_points_any, tables.solve_table):
         with pytest.raises(CdprError, match="the compiled engine has no 'fixed_point' solver"):
             call(robot, PTS, method="fixed_point", engine="compiled")
     with pytest.raises(CdprError, match="physical mode has one solver"):
@@ -113,8 +113,8 @@ def test_the_default_is_the_compiled_engine_everywhere(robot):
 
 
 def test_the_fixed_point_default_is_numpy(robot):
-    a = solve.solve_table(robot, PTS, method="fixed_point")
-    b = solve.solve_table(robot, PTS, method="fixed_point", engine="numpy")
+    a = tables.solve_table(robot, PTS, method="fixed_point")
+    b = tables.solve_table(robot, PTS, method="fixed_point", engine="numpy")
     assert a.equals(b)
 
 
@@ -139,19 +139,19 @@ def test_one_to_frame_for_both_modes_and_the_sensitivities(robot):
     """The same leading columns in both modes; paper mode labels the subset, physical mode the taut
     cables; the sensitivity columns follow when the result has them and equal S."""
     lead = ["x", "y", "z", "x_s", "y_s", "z_s", "dp", "t1", "t2", "t3", "t4"]
-    paper = solve.to_frame(robot, solve.solve_points_any(robot, PTS))
+    paper = tables.to_frame(robot, solve.solve_points_any(robot, PTS))
     assert list(paper.columns) == [*lead, "subset", "iterations", "status"]
     res = solve.solve_points_any(robot, PTS, redundancy="physical")
-    phys = solve.to_frame(robot, res, "physical")
+    phys = tables.to_frame(robot, res, "physical")
     assert list(phys.columns) == [*lead, "taut", "n_taut", "iterations", "status"]
     assert list(phys["status"].astype(str)) == list(res["status"])
     assert set(paper["subset"].astype(str)[paper["status"] == "ok"]) <= {"1-2-3", "1-2-4", "1-3-4", "2-3-4"}
     sens = solve.sensitivities(robot, PTS)
-    df = solve.to_frame(robot, sens)
+    df = tables.to_frame(robot, sens)
     names = sens["names"]
     assert list(df.columns[: len(paper.columns)]) == list(paper.columns)
     assert list(df.columns[len(paper.columns) :]) == [f"d{a}_d{n}" for n in names for a in "xyz"] + ["smooth"]
     k = names.index("M")
     np.testing.assert_array_equal(df["dz_dM"].to_numpy(), sens["S"][:, 2, k])
     with pytest.raises(CdprError, match="allowed: paper, physical"):
-        solve.to_frame(robot, res, "both")
+        tables.to_frame(robot, res, "both")

@@ -21,7 +21,7 @@ import pandas as pd
 from cdpr.analyses.workspace import cell_centres, frame_box
 from cdpr.models import winch
 from cdpr.robot import TABLE1
-from cdpr.solve import solve_table
+from cdpr.tables import solve_table
 
 
 def trajectory_points(start, end, n):
@@ -64,12 +64,12 @@ def trajectory(robot, start, end, n, method="newton", **solver):
         Number of points.
     method : {"newton", "fixed_point"}
         DEGM_E solver.
-    solver : options of ``solve.solve_table`` (engine, threads, redundancy, tolerances).
+    solver : options of ``tables.solve_table`` (engine, threads, redundancy, tolerances).
 
     Returns
     -------
     DataFrame
-        Column s [m] followed by the columns of ``solve.solve_table`` (x, y, z, ..., dp [m], ...,
+        Column s [m] followed by the columns of ``tables.solve_table`` (x, y, z, ..., dp [m], ...,
         status), one row per point.
     """
     P, s = trajectory_points(start, end, n)
@@ -114,12 +114,12 @@ def plane(robot, z, n, method="newton", **solver):
         Cells per horizontal axis (``plane_points``).
     method : {"newton", "fixed_point"}
         DEGM_E solver.
-    solver : options of ``solve.solve_table``.
+    solver : options of ``tables.solve_table``.
 
     Returns
     -------
     DataFrame
-        The table of ``solve.solve_table``, n * n rows.
+        The table of ``tables.solve_table``, n * n rows.
     """
     return solve_table(robot, plane_points(robot, z, n), method=method, **solver)
 

@@ -1,153 +1,29 @@
-"""Command line: ``cdpr inverse | point | grid | plane | trajectory | winch | job`` (also ``python -m cdpr``).
+"""The commands: ``cdpr inverse | point | compensate | grid | winch | plane | trajectory``.
 
 JSON with ``--json``, a readable table without. Options given on the command line override the
 robot file exactly as if it had been edited. SI units throughout. Every bad input is refused with
 one sentence on stderr and exit code 2, before any work starts.
+
+``cdpr.cli.main`` imports this module only once the command line has been parsed (``cdpr --help`` and a
+usage error never load numpy). Its module-level imports are what every command needs (numpy, the robot
+file reader); each command imports the rest of what it uses (the solvers, pandas, numba) itself.
 """
 
 from __future__ import annotations
 
-import argparse
 import json
-import math
 import os
-import re
-import sys
 import time
 
 import numpy as np
 
 from cdpr import io
-from cdpr.analyses import scans
-from cdpr.analyses.workspace import check_box, frame_box, grid_points, shard_range
 from cdpr.errors import CdprError
 from cdpr.models import winch
-from cdpr.robot import PULLEY_KINDS, TABLE1, load_robot, load_winch_params
+from cdpr.robot import TABLE1, load_robot, load_winch_params
 
 #: Bytes of memory per grid point while solving and writing (measured peak RSS / points, rounded up).
 BYTES_PER_POINT = 600
-#: Largest winch table a command writes.
-MAX_STEPS = 10_000_000
-#: A number, also in exponent notation and negative ("-1e-1"): argparse must not take it for an option.
-_NUMBER = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$|^-inf(inity)?$", re.IGNORECASE)
-
-
-class _Parser(argparse.ArgumentParser):
-    """argparse with one-line errors (``cdpr: error: ...``, exit 2) and negative numbers in exponent
-    notation read as numbers."""
-
-    def __init__(self, *a, **k):
-        super().__init__(*a, **k)
-        self._negative_number_matcher = _NUMBER
-
-    def error(self, message):
-        self.exit(2, f"cdpr: error: {self.prog.removeprefix('cdpr ')}: {message}\n")
-
-
-def finite(text):
-    """argparse type: a finite float."""
-    try:
-        v = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
-    if not math.isfinite(v):
-        raise argparse.ArgumentTypeError(f"{text!r} is not a finite number")
-    return v
-
-
-def positive(text):
-    """argparse type: a finite float > 0."""
-    v = finite(text)
-    if v <= 0:
-        raise argparse.ArgumentTypeError(f"{text!r} must be > 0")
-    return v
-
-
-def non_negative(text):
-    """argparse type: a finite float >= 0."""
-    v = finite(text)
-    if v < 0:
-        raise argparse.ArgumentTypeError(f"{text!r} must be >= 0")
-    return v
-
-
-def count(low, high=None):
-    """argparse type: an integer in [low, high]."""
-
-    def parse(text):
-        try:
-            v = int(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
-        if v < low or (high is not None and v > high):
-            raise argparse.ArgumentTypeError(
-                f"{v} is outside the allowed range [{low}, {high if high is not None else 'inf'}]"
-            )
-        return v
-
-    return parse
-
-
-def _threads(text):
-    return count(1, os.cpu_count() or 1)(text)
-
-
-def _robot_options(sp):
-    sp.add_argument("--robot", required=True, metavar="FILE", help="robot YAML file (config/robots/*.yaml)")
-    sp.add_argument("--pulley", choices=PULLEY_KINDS, help="pulley kind for every cable")
-    sp.add_argument("--h", type=non_negative, metavar="M", help="lever arm h [m] for every cable")
-    sp.add_argument("--rp", type=non_negative, metavar="M", help="sheave radius r_p [m] for every cable")
-    sp.add_argument("--dead-length", type=non_negative, metavar="M", help="dead length d [m] for every cable")
-    sp.add_argument("--json", action="store_true", help="print JSON")
-
-
-def _solver_options(sp):
-    sp.add_argument("--E", type=positive, metavar="PA", help="Young's modulus E [Pa] of every cable")
-    sp.add_argument("--mass", type=positive, metavar="KG", help="platform mass M [kg]")
-    sp.add_argument(
-        "--method", choices=("newton", "fixed_point"), default="newton", help="DEGM_E solver (default newton)"
-    )
-    sp.add_argument(
-        "--engine",
-        choices=("compiled", "numpy"),
-        default=None,
-        help="compiled numba kernel (default for newton; Newton only) or the numpy reference (default for fixed_point)",
-    )
-    sp.add_argument(
-        "--threads",
-        type=_threads,
-        help="threads of the compiled engine (1 to the number of cores; default: all)",
-    )
-
-
-def _physics_options(sp):
-    sp.add_argument(
-        "--redundancy",
-        choices=("paper", "physical"),
-        default="paper",
-        help="paper: the best admissible 3-cable subset (the paper's rule, default); physical: the platform settles where "
-        "the forces of all cables balance, each free to go slack",
-    )
-    sp.add_argument(
-        "--E-cables",
-        nargs="+",
-        type=positive,
-        metavar="PA",
-        help="Young's modulus of each cable [Pa], cable 1 first",
-    )
-
-
-def _points_options(sp, what):
-    g = sp.add_mutually_exclusive_group(required=True)
-    g.add_argument("--at", nargs=3, type=finite, metavar=("X", "Y", "Z"), help=f"{what} [m]")
-    g.add_argument(
-        "--points",
-        metavar="FILE",
-        help="many points at once: a .csv or .parquet table with columns x, y, z [m]",
-    )
-    sp.add_argument(
-        "--out", metavar="FILE", help="write the result table (.csv or .parquet); needed with --points"
-    )
 
 
 def _load(args):
@@ -203,14 +79,14 @@ def _vec(v):
 
 
 def cmd_inverse(args):
-    from cdpr.models.inverse import L_TS, igm_e
+    from cdpr.models.inverse import L_TS, igm_e  # lazy: the inverse model, for this command only
 
     robot = _load(args)
     P = _points(args)
     st = igm_e(robot, P)
     lts = L_TS(robot, P)
     if args.points or args.out:
-        import pandas as pd
+        import pandas as pd  # lazy: a table of points only
 
         cols = {"x": P[:, 0], "y": P[:, 1], "z": P[:, 2]}
         for i in range(robot.m):
@@ -294,18 +170,9 @@ def cmd_inverse(args):
         )
 
 
-def _sensitivity_options(sp):
-    sp.add_argument(
-        "--sensitivities",
-        action="store_true",
-        help="also dP*/dθ for every parameter (E_i [Pa], h_i, r_p_i, d_i, A_i_x/y/z [m], M [kg]; cables from 1) "
-        "at fixed commanded lengths, by the implicit-function theorem; Newton only",
-    )
-
-
 def _solve_sensitivities(robot, P, args, L0=None):
     """The solve plus dP*/dθ (``sensitivity.sensitivities``) for --sensitivities."""
-    from cdpr.solve import sensitivities
+    from cdpr.solve import sensitivities  # lazy: --sensitivities only
 
     if args.method != "newton":
         raise CdprError(
@@ -322,7 +189,7 @@ def _solve_sensitivities(robot, P, args, L0=None):
 
 
 def cmd_point(args):
-    from cdpr.solve import solve_points_any, to_frame
+    from cdpr.solve import solve_points_any  # lazy: the solvers, for the solver commands only
 
     robot = _load(args)
     P = _points(args)
@@ -334,7 +201,7 @@ def cmd_point(args):
             raise CdprError(f"--lengths needs one rest length per cable ({robot.m}), got {len(args.lengths)}")
         L0 = np.array(args.lengths, dtype=float)
     if args.q is not None:
-        from cdpr.models.drive import rest_lengths_from_angles
+        from cdpr.models.drive import rest_lengths_from_angles  # lazy: --q only
 
         if len(args.q) != robot.m:
             raise CdprError(f"--q needs one drum angle per cable ({robot.m}), got {len(args.q)}")
@@ -356,6 +223,8 @@ def cmd_point(args):
             L0=L0,
         )
     if args.points or args.out:
+        from cdpr.tables import to_frame  # lazy: a table of points only (pandas)
+
         df = to_frame(robot, res, args.redundancy)
         io.write_table(df, args.out)
         _report(df, args.out, args, float("nan"))
@@ -381,7 +250,7 @@ def cmd_point(args):
     if args.json:
         print(json.dumps(io.clean_json(out), indent=2))
         return
-    from cdpr.models.results import subset_label
+    from cdpr.models.results import subset_label  # lazy: the readable output only
 
     mode = "physical equilibrium" if args.redundancy == "physical" else f"paper mode, solver {args.method}"
     print(
@@ -398,7 +267,7 @@ def cmd_point(args):
         print(f"  subset         : {subset_label(res['subset'][0]) or '-'}")
     print(f"  status         : {out['status']}  ({out['iterations']} iterations)")
     if args.sensitivities:
-        from cdpr.parameters import UNITS, parameter_groups
+        from cdpr.parameters import UNITS, parameter_groups  # lazy: --sensitivities only
 
         units = [UNITS[g] for g in parameter_groups(robot.m)]
         rows = [
@@ -415,10 +284,9 @@ def cmd_point(args):
 def cmd_compensate(args):
     """Compensated rest lengths (inverse elasto-geometric model) and, as a check, the pose the
     platform takes when they are commanded (to the same robot, or to one with --actual-E-cables)."""
-    import dataclasses
+    import dataclasses  # lazy: --actual-E-cables only
 
-    from cdpr.analyses.compensation import compensated_pose
-    from cdpr.solve import to_frame
+    from cdpr.analyses.compensation import compensated_pose  # lazy: this command only
 
     robot = _load(args)
     P = _points(args)
@@ -441,6 +309,8 @@ def cmd_compensate(args):
         robot, P, actual=actual, method=args.distribution, engine=engine, t_min=args.t_min, t_max=t_max
     )
     if args.points or args.out:
+        from cdpr.tables import to_frame  # lazy: tables only (pandas)
+
         df = to_frame(robot, res, "physical")
         for i in range(robot.m):
             df[f"L0_{i + 1}"] = res["L0"][:, i]
@@ -459,7 +329,7 @@ def cmd_compensate(args):
         "dp_norm": float(res["dp"][0]),
     }
     if all(w is not None for w in robot.winches):
-        from cdpr.models.drive import drum_angles
+        from cdpr.models.drive import drum_angles  # lazy: robots with winches only
 
         q, q_nw = drum_angles(robot, res["L0"][:1])
         out["q"], out["q_no_winch"] = q[0].tolist(), q_nw[0].tolist()
@@ -495,12 +365,14 @@ def _check_size(n_points, what):
 
 
 def cmd_grid(args):
-    from cdpr.solve import solve_table
+    # lazy: the grid, the solvers and pandas, for this command only
+    from cdpr.analyses.workspace import check_box, frame_box, grid_points, shard_range
+    from cdpr.tables import solve_table
 
     robot = _load(args)
     io.check_output(args.out)
     if args.box_file:
-        from cdpr.pipeline.study import read_box
+        from cdpr.pipeline.study import read_box  # lazy: --box-file only
 
         box = read_box(args.box_file)
     elif args.frame:
@@ -514,7 +386,7 @@ def cmd_grid(args):
     t0 = time.perf_counter()
     P = grid_points(box, args.n, start, stop)
     if args.sensitivities:
-        from cdpr.solve import to_frame
+        from cdpr.tables import to_frame  # lazy: --sensitivities only
 
         res = _solve_sensitivities(robot, P, args)
         df = to_frame(robot, res, args.redundancy)
@@ -534,6 +406,8 @@ def cmd_winch(args):
     if not args.lpm_from < args.lpm_to:
         raise CdprError(f"--lpm-from must be below --lpm-to, got {args.lpm_from:g} and {args.lpm_to:g}")
     winch.check_range(p, args.lpm_from, args.lpm_to)
+    from cdpr.analyses import scans  # lazy: pandas, for this command only
+
     df = scans.winch_table(p, args.lpm_from, args.lpm_to, args.steps)
     if args.out:
         io.write_table(df, args.out)
@@ -550,6 +424,8 @@ def cmd_winch(args):
 
 def _report(df, out, args, dt):
     """What a solver command wrote: points, time, statuses and the |dp| range of the ok points."""
+    from cdpr.analyses import scans  # lazy: the solver commands only
+
     counts = {k: int(v) for k, v in df["status"].value_counts().items() if v}
     lo, hi = scans.ok_extremes(df)
     rate = len(df) / dt if dt > 0 else None
@@ -575,6 +451,8 @@ def _report(df, out, args, dt):
 
 
 def cmd_plane(args):
+    from cdpr.analyses import scans  # lazy: this command only
+
     robot = _load(args)
     io.check_output(args.out)
     top = float(robot.A[:, 2].min())
@@ -597,6 +475,8 @@ def cmd_plane(args):
 
 
 def cmd_trajectory(args):
+    from cdpr.analyses import scans  # lazy: this command only
+
     robot = _load(args)
     io.check_output(args.out)
     t0 = time.perf_counter()
@@ -612,292 +492,3 @@ def cmd_trajectory(args):
     )
     io.write_table(df, args.out)
     _report(df, args.out, args, time.perf_counter() - t0)
-
-
-#: Pipeline tasks: name -> (function of cdpr.pipeline.tasks, its named options). Options named ``tables``
-#: and ``paths`` take many files; the rest one value. Files are matched by name, not position.
-JOBS = {
-    "winch-figure": ("winch_figure", ["table", "figure"]),
-    "plane-figure": ("plane_figure", ["robot_key", "tables", "figure"]),
-    "subsets-figure": ("subsets_figure", ["robot_key", "tables", "figure"]),
-    "trajectories": ("trajectories", ["tables", "table", "figure", "minmax_figure"]),
-    "volumes": ("volumes", ["tables", "table", "figure"]),
-    "volume-view": ("volume_view", ["label", "tables", "figure"]),
-    "rw": ("regular_workspace", ["tables", "table", "json"]),
-    "doe": ("doe_results", ["tables", "table", "effects", "figure", "effects_figure"]),
-    "map": ("map_rows", ["kind", "box_file", "table", "threads"]),
-    "maps": ("maps", ["tables", "box_file", "map", "lines", "figure", "threads"]),
-    "elasticity": (
-        "elasticity",
-        ["tables", "paths", "table", "bands", "crossings", "figure", "paths_figure"],
-    ),
-    "dead-length-point": ("dead_length_point", ["d", "box_file", "table", "threads"]),
-    "dead-length": ("dead_length", ["tables", "table", "figure"]),
-    "summary": ("summary", ["results", "table", "markdown"]),
-    "budget-design": (
-        "budget_design",
-        ["comparison", "label", "box_file", "table", "path_table", "threads"],
-    ),
-    "budget": ("budget_tables", ["comparison", "tables", "paths", "table", "figure", "paths_figure"]),
-    "comparison": ("comparison", ["comparison", "tables", "table", "figure", "markdown"]),
-    "uq-shard": ("uq_shard", ["design", "case", "shard", "box_file", "table", "points", "threads"]),
-    "uq-design": (
-        "uq_design",
-        ["design", "case", "box_file", "table", "path", "sobol", "tolerances", "map", "threads"],
-    ),
-    "uncertainty": (
-        "uncertainty",
-        [
-            "tables",
-            "paths",
-            "bands",
-            "agreement",
-            "sobol",
-            "figure",
-            "paths_figure",
-            "sobol_figure",
-            "map_figure",
-            "agreement_figure",
-        ],
-    ),
-}
-_JOB_OPTION_HELP = {
-    "tables": "input tables (matched by file name)",
-    "paths": "path tables (matched by file name)",
-    "table": "output table",
-    "figure": "output figure (.png; a .pdf is written beside it)",
-    "json": "output JSON",
-    "effects": "output effects table",
-    "effects_figure": "output effects figure",
-    "minmax_figure": "output min/max figure",
-    "map": "output map table",
-    "lines": "output lines table",
-    "bands": "output bands table",
-    "crossings": "output crossings table",
-    "paths_figure": "output figure of the paths",
-    "markdown": "output summary.md",
-    "results": "results folder of the study",
-    "box_file": "JSON with the RW_C box",
-    "robot_key": "robot label of the study",
-    "label": "robot_pulley label",
-    "kind": "pulley kind",
-    "d": "dead length [m]",
-    "threads": "solver threads",
-    "comparison": "comparison file (config/comparisons/*.yaml)",
-    "path_table": "output table along the path",
-    "design": "design label of the study's optimal designs",
-    "case": "uncompensated | compensated",
-    "shard": "0-based shard index",
-    "points": "output per-point table",
-    "path": "output path table",
-    "sobol": "output Sobol table",
-    "tolerances": "output table of the all-parameter samples",
-    "agreement": "output agreement table",
-    "sobol_figure": "output Sobol figure",
-    "map_figure": "output map figure",
-    "agreement_figure": "output agreement figure",
-}
-
-
-def cmd_job(args):
-    from cdpr.pipeline import tasks
-    from cdpr.pipeline.study import load_study
-
-    st = load_study(args.study)
-    func, names = JOBS[args.name]
-    given = {n: getattr(args, n) for n in names}
-    missing = [f"--{n.replace('_', '-')}" for n, v in given.items() if v is None and n != "threads"]
-    if missing:
-        raise CdprError(f"job {args.name} needs {', '.join(missing)}")
-    for n in names:
-        if n in (
-            "table",
-            "figure",
-            "json",
-            "effects",
-            "effects_figure",
-            "minmax_figure",
-            "map",
-            "lines",
-            "bands",
-            "crossings",
-            "paths_figure",
-            "markdown",
-            "path_table",
-            "points",
-            "path",
-            "sobol",
-            "tolerances",
-            "agreement",
-            "sobol_figure",
-            "map_figure",
-            "agreement_figure",
-        ):
-            io.check_output(given[n])
-    getattr(tasks, func)(st, **given)
-
-
-def build_parser():
-    ap = _Parser(
-        prog="cdpr",
-        description="Pose errors of cable-driven parallel robots from pulleys, cable elasticity and winch geometry.",
-    )
-    sub = ap.add_subparsers(dest="command", required=True, parser_class=_Parser)
-    sp = sub.add_parser(
-        "inverse", help="extended inverse model of every cable at a point (or a table of points)"
-    )
-    _robot_options(sp)
-    _points_options(sp, "platform position")
-    sp.set_defaults(func=cmd_inverse)
-    sp = sub.add_parser(
-        "point", help="DEGM_E at a point (or a table of points): solved pose, |dp|, tensions, subset, status"
-    )
-    _robot_options(sp)
-    _solver_options(sp)
-    _points_options(sp, "desired position")
-    _physics_options(sp)
-    sp.add_argument(
-        "--lengths",
-        nargs="+",
-        type=positive,
-        metavar="M",
-        help="commanded rest lengths L0 per cable [m] (winch exit to platform; physical mode), instead of L_TS at --at",
-    )
-    sp.add_argument(
-        "--q",
-        nargs="+",
-        type=finite,
-        metavar="RAD",
-        help="commanded drum angles per cable [rad] (robot with winches; physical mode): mapped to rest lengths by the winch model",
-    )
-    _sensitivity_options(sp)
-    sp.set_defaults(func=cmd_point)
-    sp = sub.add_parser(
-        "compensate", help="compensated rest lengths: what to command so that the platform reaches --at"
-    )
-    _robot_options(sp)
-    sp.add_argument("--E", type=positive, metavar="PA", help="Young's modulus E [Pa] of every cable")
-    sp.add_argument(
-        "--E-cables",
-        nargs="+",
-        type=positive,
-        metavar="PA",
-        help="Young's modulus of each cable [Pa] (the model)",
-    )
-    sp.add_argument("--mass", type=positive, metavar="KG", help="platform mass M [kg]")
-    _points_options(sp, "desired position")
-    sp.add_argument(
-        "--distribution",
-        choices=("min_norm", "closed_form", "closed_form_improved", "subset"),
-        default="min_norm",
-        help="tension distribution (default min_norm: least 2-norm within [t-min, t-max]); subset: the paper's 3-cable subset",
-    )
-    sp.add_argument(
-        "--t-min", type=non_negative, default=100.0, metavar="N", help="least cable tension [N] (default 100)"
-    )
-    sp.add_argument(
-        "--t-max",
-        type=positive,
-        metavar="N",
-        help="largest cable tension [N] (default: each cable's admissible tension)",
-    )
-    sp.add_argument(
-        "--actual-E-cables",
-        nargs="+",
-        type=positive,
-        metavar="PA",
-        help="check: command the lengths to a robot whose cables have these moduli [Pa] and report where it settles",
-    )
-    sp.add_argument(
-        "--engine",
-        choices=("compiled", "numpy"),
-        default=None,
-        help="engine of the check solve (default compiled)",
-    )
-    sp.add_argument("--threads", type=_threads, help="threads of the compiled engine")
-    sp.set_defaults(func=cmd_compensate)
-    sp = sub.add_parser("grid", help="DEGM_E over the n^3 cell-centred grid of a box; writes parquet or CSV")
-    _robot_options(sp)
-    _solver_options(sp)
-    sp.add_argument("--box", nargs=6, type=finite, metavar=("XMIN", "XMAX", "YMIN", "YMAX", "ZMIN", "ZMAX"))
-    sp.add_argument(
-        "--box-file", metavar="FILE", help="JSON file whose key 'box' holds the six numbers (e.g. rw_c.json)"
-    )
-    sp.add_argument(
-        "--frame",
-        action="store_true",
-        help="the frame's bounding box (anchors' extent, z from 0 to the pulleys)",
-    )
-    sp.add_argument("--n", type=count(1), required=True, help="points per axis")
-    sp.add_argument("--out", required=True, metavar="FILE", help="output .parquet or .csv")
-    sp.add_argument("--shard", type=count(0), default=0, help="0-based shard index (default 0)")
-    sp.add_argument("--shards", type=count(1), default=1, help="number of shards (default 1)")
-    _physics_options(sp)
-    _sensitivity_options(sp)
-    sp.set_defaults(func=cmd_grid)
-    sp = sub.add_parser("winch", help="winch joint angles and length error versus l_pm (winch seed Fig. 7)")
-    sp.add_argument(
-        "--params", metavar="FILE", help="YAML of winch parameters (default: Table 1 of the winch seed)"
-    )
-    sp.add_argument(
-        "--lpm-from", type=non_negative, default=0.0, metavar="M", help="first l_pm [m] (default 0)"
-    )
-    sp.add_argument("--lpm-to", type=non_negative, default=5.0, metavar="M", help="last l_pm [m] (default 5)")
-    sp.add_argument(
-        "--steps", type=count(2, MAX_STEPS), default=101, help="points of the table (default 101)"
-    )
-    sp.add_argument("--out", metavar="FILE", help="also write the table (.csv or .parquet)")
-    sp.add_argument("--json", action="store_true")
-    sp.set_defaults(func=cmd_winch)
-    sp = sub.add_parser("plane", help="DEGM_E over a horizontal plane (Fig. 9, 12); writes a table")
-    _robot_options(sp)
-    _solver_options(sp)
-    sp.add_argument("--z", type=finite, required=True, metavar="M", help="plane height [m]")
-    sp.add_argument(
-        "--n", type=count(2, 20000), required=True, help="points per side over the anchors' bounding box"
-    )
-    sp.add_argument("--out", required=True, metavar="FILE")
-    _physics_options(sp)
-    sp.set_defaults(func=cmd_plane)
-    sp = sub.add_parser(
-        "trajectory", help="DEGM_E along a straight path (Fig. 10, 19); writes a table with arc length s"
-    )
-    _robot_options(sp)
-    _solver_options(sp)
-    sp.add_argument("--start", nargs=3, type=finite, required=True, metavar=("X", "Y", "Z"))
-    sp.add_argument("--end", nargs=3, type=finite, required=True, metavar=("X", "Y", "Z"))
-    sp.add_argument("--n", type=count(2, 100_000_000), required=True, help="points along the path")
-    sp.add_argument("--out", required=True, metavar="FILE")
-    _physics_options(sp)
-    sp.set_defaults(func=cmd_trajectory)
-    sp = sub.add_parser("job", help="a pipeline task: tables in, tables and figures out (run by Snakemake)")
-    sp.add_argument("name", choices=list(JOBS))
-    sp.add_argument(
-        "--study", required=True, metavar="FILE", help="the study file (validated as by the pipeline)"
-    )
-    for n in sorted({n for _, names in JOBS.values() for n in names}):
-        opt = "--" + n.replace("_", "-")
-        if n in ("tables", "paths"):
-            sp.add_argument(opt, nargs="+", metavar="FILE", help=_JOB_OPTION_HELP[n])
-        elif n == "threads":
-            sp.add_argument(opt, type=_threads, help=_JOB_OPTION_HELP[n])
-        elif n == "d":
-            sp.add_argument(opt, type=non_negative, help=_JOB_OPTION_HELP[n])
-        else:
-            sp.add_argument(opt, help=_JOB_OPTION_HELP[n])
-    sp.set_defaults(func=cmd_job)
-    return ap
-
-
-def main(argv=None):
-    try:
-        args = build_parser().parse_args(argv)
-        args.func(args)
-    except CdprError as exc:
-        print(f"cdpr: error: {exc}", file=sys.stderr)
-        return 2
-    except BrokenPipeError:  # e.g. `cdpr ... | head`: the reader left; stop quietly
-        devnull = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, sys.stdout.fileno())
-        return 0
-    return 0

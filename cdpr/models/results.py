@@ -1,7 +1,7 @@
 """What a solved point is, in both redundancy modes: the statuses and the per-point columns.
 
 Paper mode (``subsets``) and physical mode (``equilibrium``), numpy or compiled, return dicts of
-arrays with the same core keys; the tables built from them (``cdpr.solve.to_frame``) start with the
+arrays with the same core keys; the tables built from them (``cdpr.tables.to_frame``) start with the
 same columns (``pose_columns``) and label the cables that hold the platform the same way
 (``subset_codes`` in paper mode, ``taut_labels`` in physical mode). No pandas here: labels are
 integer codes into a list of categories, which ``to_frame`` turns into categoricals.

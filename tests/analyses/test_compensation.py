@@ -11,7 +11,7 @@ from cdpr.models.equilibrium import solve_physical
 from cdpr.models.inverse import igm_e
 from cdpr.models.statics import stretched_length
 from cdpr.robot import apply_overrides, read_yaml, robot_from_dict, with_pulleys
-from cdpr.solve import to_frame
+from cdpr.tables import to_frame
 from tests.conftest import ROBOTS
 from tests.models.test_equilibrium import mixed_robot
 

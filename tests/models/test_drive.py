@@ -5,7 +5,7 @@ import json
 import numpy as np
 import pytest
 
-from cdpr.cli.commands import main
+from cdpr.cli.main import main
 from cdpr.errors import CdprError
 from cdpr.models import drive, winch
 from cdpr.robot import TABLE1, load_robot

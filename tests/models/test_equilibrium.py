@@ -13,7 +13,7 @@ from cdpr.models.results import taut_labels
 from cdpr.models.statics import direction_gradient, length_gradient
 from cdpr.models.subsets import solve_points
 from cdpr.robot import apply_overrides, read_yaml, robot_from_dict, with_pulleys
-from cdpr.solve import to_frame
+from cdpr.tables import to_frame
 from tests.conftest import ROBOTS
 
 rng = np.random.default_rng(11)

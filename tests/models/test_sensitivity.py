@@ -177,7 +177,7 @@ def test_command_line_point_and_grid(tmp_path, capsys):
 
     import pandas as pd
 
-    from cdpr.cli.commands import main
+    from cdpr.cli.main import main
     from tests.conftest import ROBOTS
 
     robot = str(ROBOTS / "cdpr4.yaml")
