@@ -1,8 +1,17 @@
+import atexit
 import os
 import shutil
 import subprocess
 import sys
+import tempfile
 from pathlib import Path
+
+# The test suite writes only under temporary folders: numba's cache of compiled kernels (by default
+# __pycache__/ beside cdpr/compiled/) goes to one for the session, shared by the processes the tests
+# start (set before anything imports numba; a fresh clone compiles once either way).
+if "NUMBA_CACHE_DIR" not in os.environ:
+    os.environ["NUMBA_CACHE_DIR"] = tempfile.mkdtemp(prefix="cdpr-tests-numba-")
+    atexit.register(shutil.rmtree, os.environ["NUMBA_CACHE_DIR"], True)
 
 import pytest
 from hypothesis import settings
