@@ -497,7 +497,10 @@ def comparison(st, comparison, tables, table, figure, markdown):
     anchors = {rk: study.robot_of(st, rk).A for rk in st["robots"]}
     plots.comparison_difference_maps(diffs, anchors, st["plane"]["z_m"], figure)
     stats = cm.difference_stats({f"{rk}_{pk}": t for (rk, pk), t in diffs.items()})
-    io.write_table(stats, Path(figure).with_name("difference_stats.csv"))
+    from cdpr.pipeline.results import ComparisonLayout
+
+    layout = ComparisonLayout(cmp)  # where the stats and the budget figures are (beside ``figure``)
+    io.write_table(stats, layout.paths("comparison", "stats")[0])
     bt = io.read_table(tables[0]) if tables else None
     sentences = []
     if bt is not None:
@@ -506,7 +509,6 @@ def comparison(st, comparison, tables, table, figure, markdown):
             rw = g[g.region == "RW_C"].drop(columns=["design", "region"])
             pa = g[g.region == "path"].drop(columns=["design", "region"])
             sentences.append(budget.sentence(label, rw, pa if len(pa) else None))
-    folder = Path(figure).parent
     cm.write_page(
         cmp,
         rows,
@@ -515,8 +517,8 @@ def comparison(st, comparison, tables, table, figure, markdown):
         sentences,
         {
             "difference": figure,
-            "budget": folder / "budget.png",
-            "budget_paths": folder / "budget_paths.png",
+            "budget": layout.paths("budget", "figure")[0],
+            "budget_paths": layout.paths("budget", "paths_figure")[0],
         },
         markdown,
     )
