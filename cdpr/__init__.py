@@ -10,7 +10,6 @@ PEP 562), so ``import cdpr`` itself imports neither numpy nor numba and ``cdpr -
 """
 
 from importlib import import_module
-from importlib.metadata import PackageNotFoundError, version
 
 #: Public name -> the module that defines it.
 _EXPORTS = {
@@ -50,6 +49,8 @@ __all__ = ["__version__", *_EXPORTS]
 def __getattr__(name):
     """Load a public name on first use (PEP 562) and keep it in the module's namespace."""
     if name == "__version__":
+        from importlib.metadata import PackageNotFoundError, version  # lazy: ~25 ms, never on --help
+
         try:
             value = version("cdpr")
         except PackageNotFoundError:  # a source tree that is not installed

@@ -1,10 +1,10 @@
-"""Unreadable tables (cdpr.io.read_table): the message says what was found, and the hint about an
+"""Unreadable tables (cdpr.table_io.read_table): the message says what was found, and the hint about an
 interrupted run is given only for a truncated table."""
 
 import pandas as pd
 import pytest
 
-from cdpr import io
+from cdpr import table_io
 from cdpr.errors import CdprError
 
 TRUNCATED = "probably truncated by an interrupted run"
@@ -12,7 +12,7 @@ TRUNCATED = "probably truncated by an interrupted run"
 
 def _message(path):
     with pytest.raises(CdprError) as exc:
-        io.read_table(path)
+        table_io.read_table(path)
     msg = str(exc.value)
     assert msg.startswith(str(path)) and "\n" not in msg
     return msg
@@ -33,7 +33,7 @@ def test_binary_data_in_a_csv_is_named(tmp_path):
 
 def test_a_parquet_file_named_csv_is_named(tmp_path):
     pq = tmp_path / "t.parquet"
-    io.write_table(pd.DataFrame({"x": [1.0, 2.0]}), pq)
+    table_io.write_table(pd.DataFrame({"x": [1.0, 2.0]}), pq)
     p = tmp_path / "t.csv"
     p.write_bytes(pq.read_bytes())
     msg = _message(p)
@@ -49,7 +49,7 @@ def test_a_text_file_named_parquet_is_not_called_truncated(tmp_path):
 
 def test_a_cut_parquet_file_is_called_truncated(tmp_path):
     full = tmp_path / "full.parquet"
-    io.write_table(pd.DataFrame({"x": range(100)}), full)
+    table_io.write_table(pd.DataFrame({"x": range(100)}), full)
     p = tmp_path / "cut.parquet"
     p.write_bytes(full.read_bytes()[: full.stat().st_size // 2])
     assert "without its footer" in (msg := _message(p)) and TRUNCATED in msg
@@ -65,5 +65,5 @@ def test_an_empty_or_cut_csv_is_called_truncated(tmp_path, content):
 def test_a_good_table_reads_back(tmp_path):
     df = pd.DataFrame({"x": [0.1, 0.2], "s": ["ok", "é"]})
     for name in ("t.csv", "t.parquet"):
-        io.write_table(df, tmp_path / name)
-        pd.testing.assert_frame_equal(io.read_table(tmp_path / name), df)
+        table_io.write_table(df, tmp_path / name)
+        pd.testing.assert_frame_equal(table_io.read_table(tmp_path / name), df)

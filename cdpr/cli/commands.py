@@ -26,6 +26,18 @@ from cdpr.robot import TABLE1, load_robot, load_winch_params
 BYTES_PER_POINT = 600
 
 
+def _read_table(path):
+    from cdpr import table_io  # lazy: pandas and pyarrow, for the commands that read a table only
+
+    return table_io.read_table(path)
+
+
+def _write_table(df, path):
+    from cdpr import table_io  # lazy: pandas and pyarrow, for the commands that write a table only
+
+    table_io.write_table(df, path)
+
+
 def _load(args):
     return load_robot(
         args.robot,
@@ -49,7 +61,7 @@ def _points(args):
         raise CdprError("--points needs --out FILE for the result table")
     io.check_output(args.out)
     try:
-        df = io.read_table(args.points)
+        df = _read_table(args.points)
     except FileNotFoundError:
         raise CdprError(f"{args.points}: the points file does not exist") from None
     missing = [c for c in "xyz" if c not in df.columns]
@@ -102,7 +114,7 @@ def cmd_inverse(args):
                 }
             )
         df = pd.DataFrame(cols)
-        io.write_table(df, args.out)
+        _write_table(df, args.out)
         print(
             f"wrote {len(df)} points to {args.out}; {int(st.inside.any(axis=1).sum())} inside a sheave (lengths clipped there)"
         )
@@ -226,7 +238,7 @@ def cmd_point(args):
         from cdpr.tables import to_frame  # lazy: a table of points only (pandas)
 
         df = to_frame(robot, res, args.redundancy)
-        io.write_table(df, args.out)
+        _write_table(df, args.out)
         _report(df, args.out, args, float("nan"))
         return
     t = res["t"][0]
@@ -316,7 +328,7 @@ def cmd_compensate(args):
             df[f"L0_{i + 1}"] = res["L0"][:, i]
         for i in range(robot.m):
             df[f"t_planned{i + 1}"] = res["t_planned"][:, i]
-        io.write_table(df, args.out)
+        _write_table(df, args.out)
         _report(df, args.out, args, float("nan"))
         return
     status = str(res["status"][0])
@@ -394,7 +406,7 @@ def cmd_grid(args):
         df = solve_table(
             robot, P, method=args.method, engine=args.engine, threads=args.threads, redundancy=args.redundancy
         )
-    io.write_table(df, args.out)
+    _write_table(df, args.out)
     dt = time.perf_counter() - t0
     _report(df, args.out, args, dt)
 
@@ -410,7 +422,7 @@ def cmd_winch(args):
 
     df = scans.winch_table(p, args.lpm_from, args.lpm_to, args.steps)
     if args.out:
-        io.write_table(df, args.out)
+        _write_table(df, args.out)
     if args.json:
         print(json.dumps(io.clean_json(df.to_dict(orient="records")), indent=2))
         return
@@ -470,7 +482,7 @@ def cmd_plane(args):
         threads=args.threads,
         redundancy=args.redundancy,
     )
-    io.write_table(df, args.out)
+    _write_table(df, args.out)
     _report(df, args.out, args, time.perf_counter() - t0)
 
 
@@ -490,5 +502,5 @@ def cmd_trajectory(args):
         threads=args.threads,
         redundancy=args.redundancy,
     )
-    io.write_table(df, args.out)
+    _write_table(df, args.out)
     _report(df, args.out, args, time.perf_counter() - t0)

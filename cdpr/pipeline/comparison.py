@@ -30,7 +30,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from cdpr import io
+from cdpr import io, table_io
 from cdpr.analyses import scans
 from cdpr.errors import ConfigError
 from cdpr.pipeline.results import STUDY_OUTPUTS
@@ -142,7 +142,7 @@ def _rel(rule, name="table", **wildcards):
 
 def _read(res, rel):
     p = Path(res) / rel
-    return io.read_table(p) if p.exists() else None
+    return table_io.read_table(p) if p.exists() else None
 
 
 def printed_values():
@@ -479,8 +479,8 @@ def difference_table(paper_res, physical_res, robot, pulley):
     """‖δp‖_physical - ‖δp‖_paper [m] on the plane of one design, per point (x, y), NaN where either
     mode is not ok; also both statuses. Returns a DataFrame x, y, dp_paper, dp_physical, diff,
     status_paper, status_physical."""
-    a = io.read_table(Path(paper_res) / _rel("plane_table", robot=robot, pulley=pulley))
-    b = io.read_table(Path(physical_res) / _rel("plane_table", robot=robot, pulley=pulley))
+    a = table_io.read_table(Path(paper_res) / _rel("plane_table", robot=robot, pulley=pulley))
+    b = table_io.read_table(Path(physical_res) / _rel("plane_table", robot=robot, pulley=pulley))
     if len(a) != len(b) or not (np.allclose(a.x, b.x) and np.allclose(a.y, b.y)):
         raise ValueError(f"plane tables of {robot}_{pulley} are not on the same grid")
     ok = (a.status == "ok").to_numpy() & (b.status == "ok").to_numpy()

@@ -20,7 +20,7 @@ import numpy as np
 import pandas as pd
 import yaml
 
-from cdpr import io
+from cdpr import io, table_io
 from cdpr.analyses import scans
 from cdpr.models import winch
 from cdpr.pipeline.results import STUDY_OUTPUTS, Layout, check_complete
@@ -43,7 +43,7 @@ def _rel(rule, name="table", **wildcards):
 
 def _read(res, rel):
     p = Path(res) / rel
-    return io.read_table(p) if p.exists() else None
+    return table_io.read_table(p) if p.exists() else None
 
 
 # Each extractor returns (our value in SI units or a count, note) or None when its table is absent.
@@ -346,7 +346,7 @@ def write_summary(st, res, out_md, out_csv):
     what is missing, rather than summarised from what happens to be there."""
     check_complete(res, Layout(st, res).summary_inputs(), "the summary")
     df = build_rows(st, res)
-    io.write_table(df, out_csv)
+    table_io.write_table(df, out_csv)
     counts = df.verdict.str.split(" \\(").str[0].value_counts().to_dict()
     scored = bool(st.get("paper_comparison"))
     lines = [

@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from cdpr import io
+from cdpr import io, table_io
 from cdpr.analyses import budget, doe, scans, workspace
 from cdpr.analyses.symmetry import solve_grid
 from cdpr.analyses.uncertainty import CASES, QUANTILES
@@ -39,7 +39,7 @@ def _by_stem(paths, pattern, what):
 
 def concat(paths):
     """The tables ``paths`` one after the other (shards in shard order)."""
-    return pd.concat([io.read_table(p) for p in paths], ignore_index=True)
+    return pd.concat([table_io.read_table(p) for p in paths], ignore_index=True)
 
 
 def _shards(paths, pattern, what, key):
@@ -69,7 +69,7 @@ def _grid_index(st, robot, box, n, threads=None):
 def winch_figure(st, table, figure):
     """Fig. 7 of the winch seed from ``winch.csv``."""
     p = TABLE1
-    plots.fig7_winch(io.read_table(table), winch.l_pm0(p), p.q0, figure)
+    plots.fig7_winch(table_io.read_table(table), winch.l_pm0(p), p.q0, figure)
 
 
 # ---- planes (Fig. 9, 12) -----------------------------------------------------------------------
@@ -78,7 +78,7 @@ def _plane_tables(st, tables, robot_key):
         (g["pulley"], p)
         for g, p in _by_stem(tables, rf"{re.escape(robot_key)}_(?P<pulley>[A-Za-z0-9]+)", "plane table")
     )
-    return {pk: io.read_table(found[pk]) for pk in st["pulleys"] if pk in found}
+    return {pk: table_io.read_table(found[pk]) for pk in st["pulleys"] if pk in found}
 
 
 def plane_figure(st, robot_key, tables, figure):
@@ -105,7 +105,7 @@ def trajectories(st, tables, table, figure, minmax_figure):
     labels = [
         f"{rk}_{pk}" for rk in st["trajectories"]["paths"] for pk in st["pulleys"] if f"{rk}_{pk}" in files
     ]
-    data = {lab: io.read_table(files[lab]) for lab in labels}
+    data = {lab: table_io.read_table(files[lab]) for lab in labels}
     rows = []
     for lab, df in data.items():
         ok = df.status == "ok"
@@ -120,7 +120,7 @@ def trajectories(st, tables, table, figure, minmax_figure):
             }
         )
     mm = pd.DataFrame(rows)
-    io.write_table(mm, table)
+    table_io.write_table(mm, table)
     plots.fig10_trajectories(data, mm, figure)
     plots.fig11_minmax(mm, minmax_figure)
 
@@ -155,7 +155,7 @@ def volumes(st, tables, table, figure):
                     }
                 )
     tab = pd.DataFrame(rows)
-    io.write_table(tab, table)
+    table_io.write_table(tab, table)
     plots.fig14_rv(tab, _paper_rv(st), figure)
 
 
@@ -203,7 +203,7 @@ def regular_workspace(st, tables, table, json):
     rows, boxes = [], []
     for t in tests.itertuples():
         robot = study.design_robot(st, st["doe"]["robot"], {"kind": t.kind, "h_m": t.h_m, "r_p_m": t.r_p_m})
-        count, cells = workspace.largest_box(workspace.voxel_mask(io.read_table(files[t.test]), n))
+        count, cells = workspace.largest_box(workspace.voxel_mask(table_io.read_table(files[t.test]), n))
         if cells is None:
             raise CdprError(
                 f"DOE test {t.test}: no admissible voxel on the {n}^3 frame grid; the design has no workspace"
@@ -238,7 +238,7 @@ def regular_workspace(st, tables, table, json):
     )
     paper = st["doe"]["paper_rw_c_m"]
     used = paper if st["doe"]["rw_c"] == "paper" else rwc
-    io.write_table(tab, table)
+    table_io.write_table(tab, table)
     io.write_json(
         {
             "computed": rwc,
@@ -264,11 +264,11 @@ def doe_results(st, tables, table, effects, figure, effects_figure):
     tests["index_m"] = [i for i, _ in idx]
     tests["not_ok_points"] = [k for _, k in idx]
     tests["N"] = st["doe"]["index_n"] ** 3
-    io.write_table(tests, table)
+    table_io.write_table(tests, table)
     eff = doe.effects(
         tests[["joint_c", "h_c", "r_p_c"]].to_numpy(), tests["index_m"].to_numpy(), ["joint", "h", "r_p"]
     )
-    io.write_table(eff, effects)
+    table_io.write_table(eff, effects)
     plots.fig15_doe(tests, figure)
     plots.fig16_effects(eff, effects_figure)
 
@@ -283,7 +283,7 @@ def map_rows(st, kind, box_file, table, threads=None):
         robot = study.design_robot(st, st["doe"]["robot"], {"kind": kind, "h_m": h, "r_p_m": r_p})
         ix, bad = _grid_index(st, robot, box, n, threads)
         rows.append({"kind": kind, "h_m": h, "r_p_m": r_p, "index_m": ix, "not_ok_points": bad, "N": n**3})
-    io.write_table(
+    table_io.write_table(
         pd.DataFrame(rows, columns=["kind", "h_m", "r_p_m", "index_m", "not_ok_points", "N"]), table
     )
 
@@ -292,7 +292,7 @@ def maps(st, tables, box_file, map, lines, figure, threads=None):
     """The valley, the line h = k r_p (eq. 17-18) and its crossing with the DOE field (Table 3)."""
     tab = concat(tables)
     tab = pd.concat([tab[tab.kind == k] for k in study.map_kinds(st)], ignore_index=True)
-    io.write_table(tab, map)
+    table_io.write_table(tab, map)
     lv = st["doe"]["levels"]
     n = st["doe"]["index_n"]
     box = study.read_box(box_file)
@@ -320,7 +320,7 @@ def maps(st, tables, box_file, map, lines, figure, threads=None):
             }
         )
     lines_tab = pd.DataFrame(out)
-    io.write_table(lines_tab, lines)
+    table_io.write_table(lines_tab, lines)
     plots.fig17_maps(tab, valleys, lines_tab, study.doe_tests(st), lv, figure)
 
 
@@ -343,7 +343,7 @@ def elasticity(st, tables, paths, table, bands, crossings, figure, paths_figure)
             ix, bad = _index(concat(groups[key]))
             rows.append({"design": dk, "E_Pa": E, "index_m": ix, "not_ok_points": bad})
     tab = pd.DataFrame(rows)
-    io.write_table(tab, table)
+    table_io.write_table(tab, table)
     E_min, E_mean, E_max = st["elasticity"]["E_path_Pa"]
     out = []
     for dk, g in tab.groupby("design", sort=False):
@@ -363,7 +363,7 @@ def elasticity(st, tables, paths, table, bands, crossings, figure, paths_figure)
             }
         )
     bands_tab = pd.DataFrame(out)
-    io.write_table(bands_tab, bands)
+    table_io.write_table(bands_tab, bands)
     files = {
         (g["design"], float(g["E"])): p
         for g, p in _by_stem(paths, r"path_(?P<design>[A-Za-z0-9]+)_E(?P<E>[0-9.e+-]+)", "path table")
@@ -373,12 +373,12 @@ def elasticity(st, tables, paths, table, bands, crossings, figure, paths_figure)
         at = {}
         for E in (E_min, E_mean, E_max):
             key = next(k for k in files if k[0] == dk and np.isclose(k[1], E, rtol=1e-5))
-            df = io.read_table(files[key])
+            df = table_io.read_table(files[key])
             at[E] = df.dp.where(df.status == "ok")
             curves.append((dk, E, df.s.to_numpy(), at[E].to_numpy()))
         cross += [{"design": dk, "s_m": c} for c in scans.crossings(df.s, at[E_max], at[E_min])]
     cross_tab = pd.DataFrame(cross, columns=["design", "s_m"])
-    io.write_table(cross_tab, crossings)
+    table_io.write_table(cross_tab, crossings)
     plots.fig18_index_vs_E(tab, E_mean, bands_tab, figure)
     plots.fig19_paths(curves, cross_tab, paths_figure)
 
@@ -406,13 +406,13 @@ def dead_length_point(st, d, box_file, table, threads=None):
         for tag, E in zip(("Emin", "Emean", "Emax"), st["elasticity"]["E_path_Pa"]):
             robot = study.design_robot(st, st["doe"]["robot"], spec, E=E, dead_length=d)
             row[f"{dk}_{tag}_index_m"], _ = _grid_index(st, robot, box, n, threads)
-    io.write_table(pd.DataFrame([row]), table)
+    table_io.write_table(pd.DataFrame([row]), table)
 
 
 def dead_length(st, tables, table, figure):
     """The dead-length sweep as one table and its figure."""
     tab = concat(tables).sort_values("d_m", ignore_index=True)
-    io.write_table(tab, table)
+    table_io.write_table(tab, table)
     plots.dead_length_figure(tab, st["dead_length_m"], figure)
 
 
@@ -464,8 +464,8 @@ def budget_design(st, comparison, label, box_file, table, path_table, threads=No
         for k, r in bp.items():
             nm.loc[r["status"] != "ok", k] = np.nan
         out = nm.assign(s=s)[cols]
-    io.write_table(pd.concat(rows, ignore_index=True), table)
-    io.write_table(out, path_table)
+    table_io.write_table(pd.concat(rows, ignore_index=True), table)
+    table_io.write_table(out, path_table)
 
 
 def budget_tables(st, comparison, tables, paths, table, figure, paths_figure):
@@ -475,12 +475,12 @@ def budget_tables(st, comparison, tables, paths, table, figure, paths_figure):
         g["label"]: p for g, p in _by_stem(tables, r"(?P<label>[A-Za-z0-9]+_[A-Za-z0-9]+)", "budget table")
     }
     order = [lab for lab in budget_designs(st) if lab in found]
-    tab = pd.concat([io.read_table(found[lab]) for lab in order], ignore_index=True)
-    io.write_table(tab, table)
+    tab = pd.concat([table_io.read_table(found[lab]) for lab in order], ignore_index=True)
+    table_io.write_table(tab, table)
     pfiles = {
         g["label"]: p for g, p in _by_stem(paths, r"path_(?P<label>[A-Za-z0-9]+_[A-Za-z0-9]+)", "budget path")
     }
-    curves = {lab: io.read_table(pfiles[lab]) for lab in order if lab in pfiles}
+    curves = {lab: table_io.read_table(pfiles[lab]) for lab in order if lab in pfiles}
     plots.budget_bars(tab, figure)
     plots.budget_paths({k: v for k, v in curves.items() if len(v)}, paths_figure)
 
@@ -492,7 +492,7 @@ def comparison(st, comparison, tables, table, figure, markdown):
     cmp = cm.load_comparison(comparison)
     pres, fres = cmp["paper"]["results"], cmp["physical"]["results"]
     rows = cm.conclusions(st, pres, fres)
-    io.write_table(rows, table)
+    table_io.write_table(rows, table)
     diffs = {(rk, pk): cm.difference_table(pres, fres, rk, pk) for rk in st["robots"] for pk in st["pulleys"]}
     anchors = {rk: study.robot_of(st, rk).A for rk in st["robots"]}
     plots.comparison_difference_maps(diffs, anchors, st["plane"]["z_m"], figure)
@@ -500,8 +500,8 @@ def comparison(st, comparison, tables, table, figure, markdown):
     from cdpr.pipeline.results import ComparisonLayout
 
     layout = ComparisonLayout(cmp)  # where the stats and the budget figures are (beside ``figure``)
-    io.write_table(stats, layout.paths("comparison", "stats")[0])
-    bt = io.read_table(tables[0]) if tables else None
+    table_io.write_table(stats, layout.paths("comparison", "stats")[0])
+    bt = table_io.read_table(tables[0]) if tables else None
     sentences = []
     if bt is not None:
         for label in dict.fromkeys(bt.design):
@@ -528,20 +528,20 @@ def comparison(st, comparison, tables, table, figure, markdown):
 def uq_shard(st, design, case, shard, box_file, table, points, threads=None):
     """One Monte Carlo shard by full solves with the linearised propagation of the same samples."""
     samples, pts = uq.mc_shard(st, design, case, study.read_box(box_file), int(shard), threads)
-    io.write_table(samples, table)
-    io.write_table(pts, points)
+    table_io.write_table(samples, table)
+    table_io.write_table(pts, points)
 
 
 def uq_design(st, design, case, box_file, table, path, sobol, tolerances, map, threads=None):
     """Every sample linearised over RW_C, the path bands, the Sobol indices and the dominant-parameter
     map of one design and case."""
     box = study.read_box(box_file)
-    io.write_table(uq.linear_samples(st, design, case, box, threads), table)
-    io.write_table(uq.path_bands(st, design, case, threads), path)
+    table_io.write_table(uq.linear_samples(st, design, case, box, threads), table)
+    table_io.write_table(uq.path_bands(st, design, case, threads), path)
     indices, rows = uq.sobol(st, design, case, box, threads)
-    io.write_table(indices, sobol)
-    io.write_table(rows, tolerances)
-    io.write_table(uq.dominant_map(st, design, case, threads), map)
+    table_io.write_table(indices, sobol)
+    table_io.write_table(rows, tolerances)
+    table_io.write_table(uq.dominant_map(st, design, case, threads), map)
 
 
 _UQ = r"(?P<design>[A-Za-z0-9]+)_(?P<case>uncompensated|compensated)"
@@ -589,11 +589,11 @@ def uncertainty(
     for p in paths:
         stem = Path(p).stem
         if stem == "index_vs_E":
-            common["index_vs_E"] = io.read_table(p)
+            common["index_vs_E"] = table_io.read_table(p)
         elif stem == "bands":
-            common["bands"] = io.read_table(p)
+            common["bands"] = table_io.read_table(p)
         elif (m := re.fullmatch(r"path_(?P<design>[A-Za-z0-9]+)_E(?P<E>[0-9.e+-]+)", stem)) is not None:
-            df = io.read_table(p)
+            df = table_io.read_table(p)
             common.setdefault("paths", []).append(
                 (m["design"], float(m["E"]), df.s.to_numpy(), df.dp.where(df.status == "ok").to_numpy())
             )
@@ -648,9 +648,9 @@ def uncertainty(
         df.insert(0, "design", design)
         sob.append(df)
     sobol_tab = pd.concat(sob, ignore_index=True)
-    io.write_table(bands_tab, bands)
-    io.write_table(agree_tab, agreement)
-    io.write_table(sobol_tab, sobol)
+    table_io.write_table(bands_tab, bands)
+    table_io.write_table(agree_tab, agreement)
+    table_io.write_table(sobol_tab, sobol)
     paper_bands = _paper_uq_bands(st)
     robot = study.robot_of(st, st["doe"]["robot"])
     plots.uq_index_distribution(
