@@ -31,7 +31,7 @@ ALIASES = {
     "budget_tables": "budget",
 }
 #: Public functions of ``cdpr.pipeline.tasks`` that are helpers of the tasks, not jobs.
-HELPERS = ("concat", "budget_designs")
+HELPERS = ("concat",)
 
 
 class Option(NamedTuple):

@@ -19,6 +19,8 @@ import itertools
 from pathlib import Path
 
 from cdpr.errors import CdprError
+from cdpr.pipeline.study import E_values, budget_designs, doe_tests, map_kinds
+from cdpr.robot import load_robot
 
 #: rule -> output name -> path under the results folder ({wildcards} filled by ``Layout.wildcards``).
 #: Every figure is a PNG with a PDF beside it; both are outputs of their rule.
@@ -193,15 +195,11 @@ class Layout:
         """Robots with more cables than degrees of freedom: the subset map (Fig. 9) applies to them."""
         models = self.st.robot_models
         if models is None:
-            from cdpr.robot import load_robot
-
             models = {k: load_robot(p) for k, p in self.st["robots"].items()}
         return [k for k, robot in models.items() if robot.m > 3]
 
     def E_values(self):
         """Young's moduli of the index-versus-E sweep, as written in file names."""
-        from cdpr.pipeline.study import E_values
-
         return [f"{e:.6g}" for e in E_values(self.st)]
 
     def E_path(self):
@@ -209,8 +207,6 @@ class Layout:
         return [f"{float(e):.6g}" for e in self.st["elasticity"]["E_path_Pa"]]
 
     def tests(self):
-        from cdpr.pipeline.study import doe_tests
-
         return [int(t) for t in doe_tests(self.st).test]
 
     def uq_designs(self):
@@ -252,8 +248,6 @@ class Layout:
         return table[rule]() if rule in table else one
 
     def map_kinds(self):
-        from cdpr.pipeline.study import map_kinds
-
         return map_kinds(self.st)
 
     def rules(self):
@@ -401,9 +395,7 @@ class ComparisonLayout:
         }
 
     def labels(self):
-        """The designs of the error budget (``cdpr.pipeline.tasks.budget_designs``)."""
-        from cdpr.pipeline.tasks import budget_designs
-
+        """The designs of the error budget (``cdpr.pipeline.study.budget_designs``)."""
         return list(budget_designs(self.cmp.paper_study))
 
     def wildcards(self, rule):

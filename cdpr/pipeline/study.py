@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 from pathlib import Path
 
 import numpy as np
@@ -162,8 +163,6 @@ MAX_SHARDS = 1000
 
 def _memory():
     """This machine's memory [bytes]."""
-    import os
-
     return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
 
 
@@ -425,3 +424,13 @@ def _check_offsets(st, params):
                 "uncertainty.parameters.dead_length_offset_m",
                 f"the lowest dead length {st['dead_length_m'] + d_lo:g} m is negative",
             )
+
+
+def budget_designs(st):
+    """The designs of the error budget: label -> (robot key, pulley design {kind, h_m, r_p_m}): every
+    robot x pulley design of the study, and the optimal designs on the DOE robot."""
+    out = {f"{rk}_{pk}": (rk, spec) for rk in st["robots"] for pk, spec in st["pulleys"].items()}
+    out.update(
+        {f"{st['doe']['robot']}_{dk}": (st["doe"]["robot"], spec) for dk, spec in st["optimal"].items()}
+    )
+    return out

@@ -23,6 +23,8 @@ from cdpr.models import winch
 from cdpr.pipeline import comparison as cm
 from cdpr.pipeline import plots, study, uq
 from cdpr.pipeline import summary as sm
+from cdpr.pipeline.results import ComparisonLayout
+from cdpr.pipeline.study import budget_designs
 from cdpr.robot import TABLE1
 
 
@@ -423,16 +425,6 @@ def summary(st, results, table, markdown):
 
 
 # ---- error budget and the paper-rule-versus-physics comparison ---------------------------------
-def budget_designs(st):
-    """The designs of the error budget: label -> (robot key, pulley design {kind, h_m, r_p_m}): every
-    robot x pulley design of the study, and the optimal designs on the DOE robot."""
-    out = {f"{rk}_{pk}": (rk, spec) for rk in st["robots"] for pk, spec in st["pulleys"].items()}
-    out.update(
-        {f"{st['doe']['robot']}_{dk}": (st["doe"]["robot"], spec) for dk, spec in st["optimal"].items()}
-    )
-    return out
-
-
 def _budget_rows(label, region, summary):
     return summary.assign(design=label, region=region)[
         ["design", "region", "entry", "mean_m", "max_m", "share_m", "largest_fraction", "points", "ok_points"]
@@ -497,8 +489,6 @@ def comparison(st, comparison, tables, table, figure, markdown):
     anchors = {rk: study.robot_of(st, rk).A for rk in st["robots"]}
     plots.comparison_difference_maps(diffs, anchors, st["plane"]["z_m"], figure)
     stats = cm.difference_stats({f"{rk}_{pk}": t for (rk, pk), t in diffs.items()})
-    from cdpr.pipeline.results import ComparisonLayout
-
     layout = ComparisonLayout(cmp)  # where the stats and the budget figures are (beside ``figure``)
     table_io.write_table(stats, layout.paths("comparison", "stats")[0])
     bt = table_io.read_table(tables[0]) if tables else None
