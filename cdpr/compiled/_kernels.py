@@ -51,7 +51,8 @@ __all__ = [
     "PulleyGeometry",
     "cable",
     "cable_arrays",
-    "cable_at",
+    "cable_of",
+    "cable_params",
     "cable_partials",
     "cable_partials_at",
     "commanded_input",
@@ -362,13 +363,12 @@ def cable(px, py, pz, Ax, Ay, Az, kind, h, rp, d, inx, iny):
     )
 
 
-@njit(cache=True, inline="always", error_model="numpy")
-def cable_at(px, py, pz, cab, c):
-    """``cable`` for cable c of the ``Cables`` record ``cab`` at P = (px, py, pz) [m]."""
-    return cable(
-        px,
-        py,
-        pz,
+@njit(cache=True, inline="always")
+def cable_params(cab, c):
+    """The scalars ``cable`` takes after P for cable c of the ``Cables`` record ``cab``: (Ax, Ay, Az
+    [m], kind, h, rp, d [m], inx, iny [-]) for ``cable_of``. Hoisted out of a solver's loop, they
+    are read once per solve."""
+    return (
         cab.A[c, 0],
         cab.A[c, 1],
         cab.A[c, 2],
@@ -379,6 +379,12 @@ def cable_at(px, py, pz, cab, c):
         cab.inward[c, 0],
         cab.inward[c, 1],
     )
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def cable_of(px, py, pz, cp):
+    """``cable`` at P = (px, py, pz) [m] for the cable whose parameters are ``cp = cable_params(cab, c)``."""
+    return cable(px, py, pz, cp[0], cp[1], cp[2], cp[3], cp[4], cp[5], cp[6], cp[7], cp[8])
 
 
 @njit(cache=True, error_model="numpy")

@@ -14,7 +14,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit, prange
 
-from cdpr.compiled._kernels import CHUNK, DET_EPS, cable_arrays, cable_at, newton_options, set_threads
+from cdpr.compiled._kernels import CHUNK, DET_EPS, cable, cable_arrays, newton_options, set_threads
 from cdpr.models.equilibrium import (
     ARMIJO_C,
     FTOL_REL,
@@ -81,9 +81,9 @@ def _eval(px, py, pz, rx, ry, rz, cab, L0, i, load, tbuf):
     """equilibrium._Cables.evaluate at one point P with rest lengths L0[i] (``Cables`` cab, ``Load``
     load): writes the tensions in tbuf and returns (F (3), Newton's F (3), merit, J (9, row-major),
     grad (3), kappa, inside)."""
-    ES = cab.ES
+    A, kind, h, rp, d, inward, ES = cab.A, cab.kind, cab.h, cab.rp, cab.d, cab.inward, cab.ES
     wx, wy, wz, ztop = load.wx, load.wy, load.wz, load.ztop
-    m = cab.A.shape[0]
+    m = A.shape[0]
     Fx, Fy, Fz = wx, wy, wz
     elastic = 0.0
     gx = gy = gz = 0.0
@@ -94,8 +94,8 @@ def _eval(px, py, pz, rx, ry, rz, cab, L0, i, load, tbuf):
     nact = 0
     inside_any = False
     for c in range(m):
-        (L, ux, uy, uz, lE, ins, sw, epx, epy, arm, bx, by, bz, ex, ey, ez, uCb) = cable_at(
-            px, py, pz, cab, c
+        (L, ux, uy, uz, lE, ins, sw, epx, epy, arm, bx, by, bz, ex, ey, ez, uCb) = cable(
+            px, py, pz, A[c, 0], A[c, 1], A[c, 2], kind[c], h[c], rp[c], d[c], inward[c, 0], inward[c, 1]
         )
         inside_any = inside_any or ins
         L0c = L0[i, c]

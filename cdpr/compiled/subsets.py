@@ -20,7 +20,8 @@ from cdpr.compiled._kernels import (
     DET_EPS,
     NEWTON_DEFAULTS,
     cable_arrays,
-    cable_at,
+    cable_of,
+    cable_params,
     commanded_input,
     newton_options,
     set_threads,
@@ -103,22 +104,17 @@ def paper_outputs(n, m):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def _residual(px, py, pz, s0, s1, s2, cab, L0, L1, L2, bx, by, bz):
-    """F = L_TE(P) - Lc (1 + t/(E S)) (E S per cable) for subset (s0, s1, s2), t from equilibrium (statics.tensions),
-    the Jacobian dF/dP and dt/dP (direct._Subset.residual). Scalars only: no allocation in the hot loop.
+def _residual(px, py, pz, c0, c1, c2, Ea, Eb, Eg, L0, L1, L2, bx, by, bz):
+    """F = L_TE(P) - Lc (1 + t/(E S)) (E S per cable) for the subset of cables with parameters
+    c0, c1, c2 (``cable_params``) and axial stiffnesses Ea, Eb, Eg [N], t from equilibrium
+    (statics.tensions), the Jacobian dF/dP and dt/dP (direct._Subset.residual). Scalars only: no
+    allocation in the hot loop.
 
     Returns (F (3), t (3), J (9, row-major), dt/dP (9, row-major), valid)."""
-    (La, ax, ay, az, la, ia, sa, pax, pay, qa, bax, bay, baz, eax, eay, eaz, ca) = cable_at(
-        px, py, pz, cab, s0
-    )
-    (Lb, bx_, by_, bz_, lb, ib, sb, pbx, pby, qb, bbx, bby, bbz, ebx, eby, ebz, cb) = cable_at(
-        px, py, pz, cab, s1
-    )
-    (Lg, cx, cy, cz, lg, ig, sg, pgx, pgy, qg, bgx, bgy, bgz, egx, egy, egz, cg) = cable_at(
-        px, py, pz, cab, s2
-    )
-    A = cab.A
-    valid = not (ia or ib or ig) and pz < A[s0, 2] and pz < A[s1, 2] and pz < A[s2, 2]
+    (La, ax, ay, az, la, ia, sa, pax, pay, qa, bax, bay, baz, eax, eay, eaz, ca) = cable_of(px, py, pz, c0)
+    (Lb, bx_, by_, bz_, lb, ib, sb, pbx, pby, qb, bbx, bby, bbz, ebx, eby, ebz, cb) = cable_of(px, py, pz, c1)
+    (Lg, cx, cy, cz, lg, ig, sg, pgx, pgy, qg, bgx, bgy, bgz, egx, egy, egz, cg) = cable_of(px, py, pz, c2)
+    valid = not (ia or ib or ig) and pz < c0[2] and pz < c1[2] and pz < c2[2]
     # cofactor rows of M = [u_a u_b u_c]: M^{-1} = [r0; r1; r2] / det
     r0x, r0y, r0z = by_ * cz - bz_ * cy, bz_ * cx - bx_ * cz, bx_ * cy - by_ * cx
     r1x, r1y, r1z = cy * az - cz * ay, cz * ax - cx * az, cx * ay - cy * ax
@@ -157,7 +153,6 @@ def _residual(px, py, pz, s0, s1, s2, cab, L0, L1, L2, bx, by, bz):
     t0 = (r0x * bx + r0y * by + r0z * bz) * idet
     t1 = (r1x * bx + r1y * by + r1z * bz) * idet
     t2 = (r2x * bx + r2y * by + r2z * bz) * idet
-    Ea, Eb, Eg = cab.ES[s0], cab.ES[s1], cab.ES[s2]
     F0 = La - L0 * (1.0 + t0 / Ea)
     F1 = Lb - L1 * (1.0 + t1 / Eb)
     F2 = Lg - L2 * (1.0 + t2 / Eg)
@@ -259,6 +254,8 @@ def _newton(p0x, p0y, p0z, s0, s1, s2, cab, L0, L1, L2, bx, by, bz, opts):
 
     Returns (Px, Py, Pz, t0, t1, t2, iterations, converged, exists)."""
     tol, maxiter, max_step = opts.tol, opts.maxiter, opts.max_step
+    c0, c1, c2 = cable_params(cab, s0), cable_params(cab, s1), cable_params(cab, s2)
+    Ea, Eb, Eg = cab.ES[s0], cab.ES[s1], cab.ES[s2]
     px, py, pz = p0x, p0y, p0z
     conv = False
     exists = True
@@ -291,7 +288,7 @@ def _newton(p0x, p0y, p0z, s0, s1, s2, cab, L0, L1, L2, bx, by, bz, opts):
             T21,
             T22,
             valid,
-        ) = _residual(px, py, pz, s0, s1, s2, cab, L0, L1, L2, bx, by, bz)
+        ) = _residual(px, py, pz, c0, c1, c2, Ea, Eb, Eg, L0, L1, L2, bx, by, bz)
         # solve J step = -F by cofactors (statics.solve3); columns (jx., jy., jz.)
         q0x, q0y, q0z = jy1 * jz2 - jy2 * jz1, jy2 * jz0 - jy0 * jz2, jy0 * jz1 - jy1 * jz0
         q1x, q1y, q1z = jz1 * jx2 - jz2 * jx1, jz2 * jx0 - jz0 * jx2, jz0 * jx1 - jz1 * jx0
@@ -325,7 +322,7 @@ def _newton(p0x, p0y, p0z, s0, s1, s2, cab, L0, L1, L2, bx, by, bz, opts):
         pz += sz * scale
         prev = norm * scale
     else:  # iteration cap: evaluate at the last P
-        out = _residual(px, py, pz, s0, s1, s2, cab, L0, L1, L2, bx, by, bz)
+        out = _residual(px, py, pz, c0, c1, c2, Ea, Eb, Eg, L0, L1, L2, bx, by, bz)
         t0, t1, t2, valid = out[3], out[4], out[5], out[-1]
     exists = exists and valid
     return px, py, pz, t0, t1, t2, it, conv and exists, exists
