@@ -897,6 +897,7 @@ def build_parser():
         else:
             sp.add_argument(opt, help=_JOB_OPTION_HELP[n])
     sp.set_defaults(func=cmd_job)
+    __import__("cdpr.cli.calibrate", fromlist=["add_parser"]).add_parser(sub)  # cdpr calibrate (issue 18)
     return ap
 
 
