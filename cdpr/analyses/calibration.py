@@ -77,6 +77,8 @@ DEFAULT_PRIORS = {
 RELATIVE = ("moduli", "mass")
 #: Default tracker noise [m] when the data have no ``sigma_m`` column.
 SIGMA_DEFAULT = 0.2e-3
+#: Default tension-sensor noise [N] when the data have tensions but no ``sigma_N`` column.
+SIGMA_T_DEFAULT = 5.0
 #: Rank threshold: singular values > RANK_TOL s_max count.
 RANK_TOL = 1e-9
 #: Posterior-to-prior sd ratios of "identified" and "partly".
@@ -152,7 +154,8 @@ class Data:
     """Calibration samples (``read_data``).
 
     sample (N,) labels; L (N, m) [m] commanded rest lengths, or encoder readings when ``encoder``;
-    pose (N, 3) [m], NaN where not measured; sigma (N,) [m]; source: the file."""
+    pose (N, 3) [m], NaN where not measured; sigma (N,) [m]; tension (N, m) [N], NaN where not
+    measured, and sigma_t (N,) [N]; source: the file."""
 
     sample: np.ndarray
     L: np.ndarray
@@ -160,14 +163,33 @@ class Data:
     sigma: np.ndarray
     encoder: bool
     source: str
+    tension: np.ndarray = None
+    sigma_t: np.ndarray = None
+
+    def __post_init__(self):
+        n, m = self.L.shape
+        if self.tension is None:
+            self.tension = np.full((n, m), np.nan)
+        if self.sigma_t is None:
+            self.sigma_t = np.full(n, SIGMA_T_DEFAULT)
 
     @property
     def has_pose(self):
         return np.isfinite(self.pose).all(axis=1)
 
+    @property
+    def has_tension(self):
+        return np.isfinite(self.tension).all(axis=1)
+
     def subset(self, idx):
         return dataclasses.replace(
-            self, sample=self.sample[idx], L=self.L[idx], pose=self.pose[idx], sigma=self.sigma[idx]
+            self,
+            sample=self.sample[idx],
+            L=self.L[idx],
+            pose=self.pose[idx],
+            sigma=self.sigma[idx],
+            tension=self.tension[idx],
+            sigma_t=self.sigma_t[idx],
         )
 
 
@@ -233,17 +255,19 @@ def read_data(path, robot):
     missing = [c for c in need if c not in cols]
     if missing:
         raise ConfigError(src, missing[0], f"missing column; a calibration table needs {', '.join(need)}")
-    allowed = set(need) | {"sigma_m"}
+    Tcols = [f"t{i}_N" for i in range(1, m + 1)]
+    allowed = set(need) | {"sigma_m", "sigma_N"} | set(Tcols)
     extra = [c for c in cols if c not in allowed]
-    tens = [c for c in extra if c.startswith("t") and c.endswith("_N")]
-    if tens:
-        raise ConfigError(
-            src,
-            tens[0],
-            "tension columns are not supported yet; use poses x_m, y_m, z_m (or drop the tensions)",
-        )
     if extra:
-        raise ConfigError(src, extra[0], f"unknown column; allowed: {', '.join(need)}, sigma_m")
+        raise ConfigError(
+            src, extra[0], f"unknown column; allowed: {', '.join(need)}, sigma_m, t1_N..t{m}_N, sigma_N"
+        )
+    given = [c for c in Tcols if c in cols]
+    if given and len(given) != m:
+        missing_t = [c for c in Tcols if c not in cols]
+        raise ConfigError(src, missing_t[0], f"tensions need all of t1_N..t{m}_N")
+    if "sigma_N" in cols and not given:
+        raise ConfigError(src, "sigma_N", f"the tension noise needs the tension columns t1_N..t{m}_N")
     if len(df) == 0:
         raise ConfigError(src, None, "no samples")
     Lcols = [f"{prefix}{i}" for i in range(1, m + 1)]
@@ -261,10 +285,12 @@ def read_data(path, robot):
             src, "x_m,y_m,z_m", f"row {r + 1}: a pose needs all three finite coordinates (or none)"
         )
     nan_pose = ~np.isfinite(pose).all(axis=1)
-    if nan_pose.any() and not enc:
+    if nan_pose.any() and not enc and not any(f"t{i}_N" in cols for i in range(1, m + 1)):
         r = int(np.flatnonzero(nan_pose)[0])
         raise ConfigError(
-            src, "x_m,y_m,z_m", f"row {r + 1}: no pose; only encoder data (L_enc1..) may leave the pose empty"
+            src,
+            "x_m,y_m,z_m",
+            f"row {r + 1}: no pose; only encoder data (L_enc1..) or tension data (t1_N..) may leave the pose empty",
         )
     if "sigma_m" in cols:
         sigma = _numbers(df, ["sigma_m"], src)[:, 0]
@@ -276,8 +302,28 @@ def read_data(path, robot):
             )
     else:
         sigma = np.full(len(df), SIGMA_DEFAULT)
+    tension = np.full((len(df), m), np.nan)
+    sigma_t = np.full(len(df), SIGMA_T_DEFAULT)
+    if given:
+        tension = _numbers(df, Tcols, src)
+        fin = np.isfinite(tension)
+        half = fin.any(axis=1) & ~fin.all(axis=1)
+        neg = (tension < 0).any(axis=1) | np.isinf(tension).any(axis=1)
+        if (half | neg).any():
+            r = int(np.flatnonzero(half | neg)[0])
+            raise ConfigError(
+                src, ",".join(Tcols), f"row {r + 1}: tensions must be all finite and >= 0 [N] (or all empty)"
+            )
+        if "sigma_N" in cols:
+            sigma_t = _numbers(df, ["sigma_N"], src)[:, 0]
+            bad = fin.all(axis=1) & ~(np.isfinite(sigma_t) & (sigma_t > 0))
+            if bad.any():
+                r = int(np.flatnonzero(bad)[0])
+                raise ConfigError(src, "sigma_N", f"row {r + 1}: sigma_N must be finite and > 0 [N]")
     sample = df["sample"].astype(str).to_numpy()
-    return Data(sample=sample, L=L, pose=pose, sigma=sigma, encoder=enc, source=src)
+    return Data(
+        sample=sample, L=L, pose=pose, sigma=sigma, encoder=enc, source=src, tension=tension, sigma_t=sigma_t
+    )
 
 
 def _numbers(df, cols, src):
@@ -302,6 +348,10 @@ def write_data(path, data, robot):
     for j, c in enumerate(POSE):
         df[c] = data.pose[:, j]
     df["sigma_m"] = data.sigma
+    if np.isfinite(data.tension).any():
+        for i in range(m):
+            df[f"t{i + 1}_N"] = data.tension[:, i]
+        df["sigma_N"] = data.sigma_t
     df.to_csv(path, index=False, float_format="%.17g")
 
 
@@ -366,14 +416,16 @@ def offset_sensitivities(robot, P, L0):
 class Problem:
     """The MAP problem of one data set: residual and exact Jacobian in prior-scaled variables.
 
-    z = (θ_free - θ_nominal) / σ_prior; residual r(z) = [(y - P*(θ, L0)) / σ ; z] (``map_residual``).
+    z = (θ_free - θ_nominal) / σ_prior; residual r(z) = [(y - P*(θ, L0)) / σ ; (t_meas - t(θ, L0)) / σ_t ;
+    z] (``map_residual``), pose rows for the samples with a measured pose, tension rows for those with
+    measured tensions.
 
     Parameters
     ----------
     robot : Robot
         Nominal robot (the prior mean), already in the chosen model (``model_robot``).
     data : Data
-        Samples with a measured pose.
+        Samples with a measured pose or measured tensions.
     index : ndarray of int
         Estimated parameters, into ``calibration_names(robot.m)``.
     sd : ndarray, shape (len(index),)
@@ -391,18 +443,23 @@ class Problem:
         self.m = robot.m
         self.theta0 = calibration_values(robot)
         self._cache = None
+        pose, tens = np.flatnonzero(data.has_pose), np.flatnonzero(data.has_tension)
+        #: the sample of every measurement row
+        self.row_sample = np.concatenate([np.repeat(pose, 3), np.repeat(tens, self.m)]).astype(np.intp)
+        self._pose, self._tens = pose, tens
 
     def theta(self, z):
         th = self.theta0.copy()
         th[self.index] += self.sd * np.asarray(z, dtype=float)
         return th
 
-    def evaluate(self, z, data=None):
-        """Solve at z: P* (n, 3), status (n,), smooth (n,) and dP*/dθ_free (n, 3, k)."""
-        data = self.data if data is None else data
-        key = (np.asarray(z, float).tobytes(), id(data))
+    def evaluate(self, z):
+        """Solve at z: P* (n, 3), status (n,), smooth (n,), dP*/dθ_free (n, 3, k); with tension data
+        also the tensions t (n, m) [N] and dt/dθ_free (n, m, k)."""
+        key = np.asarray(z, float).tobytes()
         if self._cache is not None and self._cache[0] == key:
             return self._cache[1]
+        data = self.data
         th = self.theta(z)
         m = self.m
         rob = robot_with_parameters(self.robot, th[: 7 * m + 1])
@@ -411,25 +468,88 @@ class Problem:
         res = sensitivities(rob, start, redundancy="physical", L=L0, engine=self.engine, **self.solver)
         S = np.zeros((len(start), 3, len(th)))
         S[:, :, : 7 * m + 1] = res["S"]
-        off = self.index >= 7 * m + 1
         ok = res["status"] == "ok"
-        if off.any() and ok.any():
+        need_off = (self.index >= 7 * m + 1).any() or len(self._tens)
+        if need_off and ok.any():
             S[ok, :, 7 * m + 1 :] = offset_sensitivities(rob, res["P_s"][ok], L0[ok])
         out = {"P": res["P_s"], "status": res["status"], "smooth": res["smooth"], "S": S[:, :, self.index]}
+        if len(self._tens):
+            t = np.full((len(start), m), np.nan)
+            St = np.full((len(start), m, len(th)), np.nan)
+            if ok.any():
+                t[ok], St[ok] = tension_sensitivities(rob, res["P_s"][ok], L0[ok], S[ok])
+            out["t"], out["St"] = t, St[:, :, self.index]
         self._cache = (key, out)
         return out
 
     def residual(self, z):
-        """r(z) = [((y - P*) / σ) for every sample and axis ; z] (``map_residual``)."""
+        """r(z) = [pose rows ; tension rows ; z] (``map_residual``)."""
         ev = self.evaluate(z)
-        return map_residual(self.data.pose, ev["P"], self.data.sigma, z)
+        d, p, t = self.data, self._pose, self._tens
+        r = map_residual(d.pose[p], ev["P"][p], d.sigma[p], z)
+        if len(t):
+            rt = ((d.tension[t] - ev["t"][t]) / d.sigma_t[t, None]).ravel()
+            r = np.concatenate([r[: 3 * len(p)], rt, r[3 * len(p) :]])
+        return r
 
     def jacobian(self, z):
-        """dr/dz: [-dP*/dθ σ_prior / σ ; I]."""
+        """dr/dz: [-dP*/dθ σ_prior / σ ; -dt/dθ σ_prior / σ_t ; I]."""
         ev = self.evaluate(z)
-        S = np.nan_to_num(ev["S"])
-        Jm = -(S * self.sd) / self.data.sigma[:, None, None]
-        return np.vstack([Jm.reshape(-1, len(self.index)), np.eye(len(self.index))])
+        d, p, t = self.data, self._pose, self._tens
+        k = len(self.index)
+        blocks = [(-(np.nan_to_num(ev["S"][p]) * self.sd) / d.sigma[p, None, None]).reshape(-1, k)]
+        if len(t):
+            blocks.append((-(np.nan_to_num(ev["St"][t]) * self.sd) / d.sigma_t[t, None, None]).reshape(-1, k))
+        return np.vstack([*blocks, np.eye(k)])
+
+
+def tension_sensitivities(robot, P, L0, S):
+    r"""Cable tensions at the equilibrium and their total derivatives by the calibration parameters.
+
+    .. math:: t_i = k_i\,a_i\,(L_{TE,i}(P^*) - L0_i),\quad k_i = \frac{E_i S_i}{L0_i},\quad
+              \frac{dt_i}{d\theta} = a_i\left[k_i\left(\frac{\partial L_{TE,i}}{\partial P}
+              \frac{dP^*}{d\theta} + \frac{\partial L_{TE,i}}{\partial \theta}\right)
+              + \frac{\partial k_i}{\partial \theta}(L_{TE,i} - L0_i)\right]
+
+    with ∂k_i/∂E_i = k_i / E_i, and for the encoder offset o_i (L0_i = reading - o_i)
+    ∂(L_TE,i - L0_i)/∂o_i = 1, ∂k_i/∂o_i = k_i / L0_i.
+
+    Parameters
+    ----------
+    robot : Robot
+    P : ndarray, shape (n, 3) [m]
+        Equilibria.
+    L0 : ndarray, shape (n, m) [m]
+        Rest lengths.
+    S : ndarray, shape (n, 3, 8 m + 1)
+        dP*/dθ of every calibration parameter (``calibration_names``).
+
+    Returns
+    -------
+    t : ndarray, shape (n, m) [N]
+        0 on slack cables.
+    dt : ndarray, shape (n, m, 8 m + 1) [N per unit of θ]
+
+    References
+    ----------
+    Paty et al. 2021, eq. (10), (13).
+    """
+    from cdpr.models.sensitivity import cable_partials
+
+    a = robot.arrays
+    m = robot.m
+    cp = cable_partials(P, a.A, a.kind, a.h, a.r_p, a.d, a.inward)
+    k = a.ES / L0
+    e = cp.L_TE - L0
+    taut = e >= 0
+    t = np.where(taut, k * e, 0.0)
+    dt = k[..., None] * np.einsum("nia,nak->nik", cp.dL_dP, S)
+    for c in range(m):
+        geo = [m + c, 2 * m + c, 3 * m + c, 4 * m + 3 * c, 4 * m + 3 * c + 1, 4 * m + 3 * c + 2]
+        dt[:, c, geo] += k[:, c, None] * cp.dL[:, c]
+        dt[:, c, c] += k[:, c] * e[:, c] / a.E[c]
+        dt[:, c, 7 * m + 1 + c] += k[:, c] + k[:, c] * e[:, c] / L0[:, c]
+    return t, dt * taut[..., None]
 
 
 def _centre(robot):
@@ -572,14 +692,15 @@ def check_model_groups(robot, model, groups, data):
 
 
 def usable(data, robot):
-    """Split the samples: those with a measured pose are equations, encoder-only ones are not.
+    """Split the samples: those with a measured pose or measured tensions are equations, the others
+    (encoder readings alone) are not.
 
     Raises CdprError when no sample is usable: in the exact model encoder-only samples give no
     equation (every set of lengths has an equilibrium for every θ)."""
-    has = data.has_pose
+    has = data.has_pose | data.has_tension
     if not has.any():
         raise CdprError(
-            f"{data.source}: no sample has a measured pose; with elastic cables and no measured tension every "
+            f"{data.source}: no sample has a measured pose or tensions; with elastic cables and no measured tension every "
             "set of lengths has an equilibrium for every θ, so encoder-only samples give no equation "
             "(d_i and offset_i enter only as their sum); measure poses, or use --model standard for a rigid "
             "self-calibration (biased)"
@@ -623,7 +744,7 @@ def fit(robot, data, groups, priors=None, model="exact", loss="linear", engine="
     check_model_groups(base, model, groups, data)
     sd = prior_sd(base, index, priors)
     used, no_pose = usable(data, robot)
-    status = np.full(len(data.sample), "no pose", dtype=object)
+    status = np.full(len(data.sample), "no pose or tension", dtype=object)
     names = [calibration_names(robot.m)[k] for k in index]
     keep = used
     for _attempt in range(3):
@@ -637,9 +758,10 @@ def fit(robot, data, groups, priors=None, model="exact", loss="linear", engine="
             continue
         break
     sub = data.subset(keep)
-    if 3 * len(keep) < len(index):
+    n_eq = 3 * int(sub.has_pose.sum()) + robot.m * int(sub.has_tension.sum())
+    if n_eq < len(index):
         raise CdprError(
-            f"{data.source}: {len(keep)} usable samples give {3 * len(keep)} equations for {len(index)} "
+            f"{data.source}: {len(keep)} usable samples give {n_eq} equations for {len(index)} "
             "parameters; give at least as many equations as parameters"
         )
     prob = Problem(base, sub, index, sd, engine=engine, solver=solver)
@@ -663,13 +785,13 @@ def fit(robot, data, groups, priors=None, model="exact", loss="linear", engine="
     status[keep] = "used"
     if bad.any():
         status[keep[bad]] = [f"left out at estimate: {s}" for s in _why(ev, bad)]
-    J = prob.jacobian(sol.x)[: 3 * len(keep)]
-    Jm = J.reshape(len(keep), 3, -1)[~bad].reshape(-1, len(index))
+    J = prob.jacobian(sol.x)[: -len(index)]
+    Jm = J[~bad[prob.row_sample]]
     ident = identifiability(Jm, names)
     theta = prob.theta(sol.x)
     before = np.full(len(data.sample), np.nan)
     after = np.full(len(data.sample), np.nan)
-    before[keep] = np.linalg.norm(sub.pose - ev0_positions(prob), axis=1)
+    before[keep] = np.linalg.norm(sub.pose - ev0_positions(prob), axis=1)  # NaN without a pose
     after[keep] = np.linalg.norm(sub.pose - ev["P"], axis=1)
     after[keep[bad]] = np.nan
     norm = after / data.sigma
@@ -794,6 +916,7 @@ class Calibration:
         pt = self.parameter_table()
         used = self.table["status"] == "used"
         res = self.table.loc[used, "residual_after_m"].to_numpy()
+        res = res[np.isfinite(res)]
         return {
             "parameters": [
                 {
@@ -907,7 +1030,17 @@ def check(robot, data, engine="compiled"):
 
 
 # --- synthetic data -------------------------------------------------------------------------------
-def simulate(truth, nominal, P, sigma=SIGMA_DEFAULT, rng=None, offsets=None, engine="compiled"):
+def simulate(
+    truth,
+    nominal,
+    P,
+    sigma=SIGMA_DEFAULT,
+    rng=None,
+    offsets=None,
+    engine="compiled",
+    tensions=False,
+    sigma_t=SIGMA_T_DEFAULT,
+):
     """Synthetic tracker data: the lengths the nominal robot would command to reach P (L_TS, eq. 2),
     the pose where the true robot settles under them, plus Gaussian noise.
 
@@ -925,6 +1058,8 @@ def simulate(truth, nominal, P, sigma=SIGMA_DEFAULT, rng=None, offsets=None, eng
         Noise source (None: noise-free).
     offsets : ndarray, shape (m,) [m], optional
         Encoder offsets: the data are then readings L0 + offsets.
+    tensions : bool
+        Also measure the cable tensions (noise sd ``sigma_t`` [N]).
 
     Returns
     -------
@@ -938,7 +1073,14 @@ def simulate(truth, nominal, P, sigma=SIGMA_DEFAULT, rng=None, offsets=None, eng
     if rng is not None:
         y = y + rng.normal(0.0, sigma, y.shape)
     L = L0[ok] if offsets is None else L0[ok] + np.asarray(offsets)
+    t = np.full(L.shape, np.nan)
+    if tensions:
+        t = np.nan_to_num(res["t"][ok])  # slack cables: 0 N
+        if rng is not None:
+            t = np.maximum(t + rng.normal(0.0, sigma_t, t.shape), 0.0)
     return Data(
+        tension=t,
+        sigma_t=np.full(int(ok.sum()), float(sigma_t)),
         sample=np.array([f"s{i + 1}" for i in range(int(ok.sum()))]),
         L=L,
         pose=y,

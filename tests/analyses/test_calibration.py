@@ -242,11 +242,13 @@ def test_sr_pulley_may_come_out_slightly_below_its_radius():
         ),
         ("sample,L1,L2,L3,x_m,y_m,z_m,rx_rad\n1,4,4,4,0,0,2,0\n", "rx_rad", "is a point mass"),
         ("sample,L1,L2,L3,L_enc1,x_m,y_m,z_m\n1,4,4,4,4,0,0,2\n", "L1", "not both"),
+        ("sample,L1,L2,L3,x_m,y_m,z_m,t1_N\n1,4,4,4,0,0,2,100\n", "t2_N", "tensions need all of t1_N..t3_N"),
         (
-            "sample,L1,L2,L3,x_m,y_m,z_m,t1_N\n1,4,4,4,0,0,2,100\n",
-            "t1_N",
-            "tension columns are not supported",
+            "sample,L1,L2,L3,x_m,y_m,z_m,t1_N,t2_N,t3_N\n1,4,4,4,0,0,2,1,-2,3\n",
+            "t1_N,t2_N,t3_N",
+            "tensions must be all finite and >= 0",
         ),
+        ("sample,L1,L2,L3,x_m,y_m,z_m,sigma_N\n1,4,4,4,0,0,2,1\n", "sigma_N", "needs the tension columns"),
         ("sample,L1,L2,L3,x_m,y_m,z_m\n", None, "no samples"),
     ],
 )
@@ -300,3 +302,41 @@ def test_check_reports_rms_max_median(cdpr4):
     assert out["n"] == 25 and out["rms_m"] == pytest.approx(np.sqrt(np.mean(err**2)))
     assert out["max_m"] == err.max() and out["median_m"] == np.median(err)
     assert 1e-4 < out["rms_m"] < 6e-4
+
+
+def test_encoder_data_with_tensions_calibrate_without_poses(cdpr4):
+    """Encoder readings and measured tensions, no pose: the exact model is identifiable from the
+    tensions (offsets, dead lengths, mass); noise-free data recover the truth."""
+    groups = ["offsets", "mass"]
+    rng, idx, sd, truth, th = _truth(cdpr4, ["mass"], 13)
+    off = np.array([0.012, -0.02, 0.007, 0.03])
+    data = cal.simulate(truth, cdpr4, _poses(rng, 30), offsets=off, tensions=True, sigma_t=1e-6)
+    data.pose[:] = np.nan
+    c = cal.fit(cdpr4, data, groups, solver={"tol": 1e-13})
+    assert c.ident["rank"] == 5
+    assert c.names == ["M", "offset_1", "offset_2", "offset_3", "offset_4"]
+    np.testing.assert_allclose(c.estimate[1:], off, rtol=1e-6)
+    assert c.estimate[0] == pytest.approx(truth.platform.mass, rel=1e-6)
+    s = c.summary()
+    assert s["samples_used"] == 30 and s["residual_rms_m"] is None
+
+
+def test_jacobian_with_tension_rows(cdpr4):
+    groups = ["anchors", "dead_lengths", "offsets", "pulleys", "moduli", "mass"]
+    rng = np.random.default_rng(6)
+    data = cal.simulate(cdpr4, cdpr4, _poses(rng, 6), offsets=np.zeros(4), tensions=True)
+    data.pose[::2] = np.nan  # half with tensions only
+    idx = select_groups(cdpr4, groups)
+    sd = cal.prior_sd(cdpr4, idx, cal.parse_priors(None))
+    prob = cal.Problem(cdpr4, data, idx, sd, solver={"tol": 1e-14})
+    z = 0.3 * rng.standard_normal(len(idx))
+    J = prob.jacobian(z)
+    assert J.shape == (3 * 3 + 4 * 6 + len(idx), len(idx))
+    fd = np.empty_like(J)
+    for j in range(len(idx)):
+        e = np.zeros(len(idx))
+        e[j] = 1e-5
+        fd[:, j] = (prob.residual(z + e) - prob.residual(z - e)) / 2e-5
+    scale = np.abs(fd).max(axis=0)
+    err = np.abs(J - fd).max(axis=0) / scale
+    assert err.max() < 1e-5, (calibration_names(4)[idx[int(np.argmax(err))]], err.max())
