@@ -627,10 +627,14 @@ def identifiability(Jm, names, rank_tol=RANK_TOL):
         ratio <= IDENTIFIED, "identified", np.where(ratio <= PARTLY, "partly", "prior-dominated")
     )
     words = []
+    null = s <= rank_tol * smax if smax > 0 else np.ones(k, dtype=bool)
+    if null.any():  # a degenerate null space: a sparse basis (reduced row echelon form) reads best
+        words += [direction_words(v, names, 0.0, True) for v in sparse_basis(Vt[null])]
     for i in np.argsort(s):
         if s[i] >= 1.0:
             break
-        words.append(direction_words(Vt[i], names, s[i], s[i] <= rank_tol * smax))
+        if not null[i]:
+            words.append(direction_words(Vt[i], names, s[i], False))
     return {
         "singular_values": s,
         "rank": rank,
@@ -640,6 +644,28 @@ def identifiability(Jm, names, rank_tol=RANK_TOL):
         "labels": labels,
         "unidentified": words,
     }
+
+
+def sparse_basis(B):
+    """A basis of the row space of B (r, k) with one pivot parameter per vector (reduced row echelon
+    form by QR with column pivoting), each row normalised: e.g. the directions d_i - offset_i one by
+    one instead of an arbitrary rotation of them.
+
+    Parameters
+    ----------
+    B : ndarray, shape (r, k)
+        Orthonormal rows spanning a subspace.
+
+    Returns
+    -------
+    V : ndarray, shape (r, k)
+    """
+    from scipy.linalg import qr
+
+    r = B.shape[0]
+    _, _, piv = qr(B, pivoting=True)
+    V = np.linalg.solve(B[:, piv[:r]], B)
+    return V / np.linalg.norm(V, axis=1, keepdims=True)
 
 
 def direction_words(v, names, s, null):
@@ -660,7 +686,7 @@ def direction_words(v, names, s, null):
     -------
     str, e.g. "d_1 against offset_1 (not seen by the data)".
     """
-    order = np.argsort(-np.abs(v))
+    order = np.lexsort((np.arange(len(v)), -np.round(np.abs(v), 6)))  # ties: the first parameter leads
     lead = order[0]
     big = [j for j in order[1:5] if abs(v[j]) >= 0.2 * abs(v[lead])]
     # along v the data do not change: opposite signs move against each other, equal signs together
@@ -711,6 +737,9 @@ def usable(data, robot):
 def fit(robot, data, groups, priors=None, model="exact", loss="linear", engine="compiled", solver=None):
     """MAP estimate of the parameters of ``groups`` from ``data`` (module docstring).
 
+    Encoder-only data with ``model="standard"`` go to the rigid self-calibration with unknown poses
+    (``self_calibrate_standard``).
+
     ``scipy.optimize.least_squares`` (trust-region reflective, bounds from the robot checks: E, M > 0,
     h, r_p, d >= 0) on ``map_residual`` with the exact Jacobian. Samples whose equilibrium is not
     ``ok`` or not smooth (a taut set about to change, a singular Jacobian) at the nominal or at the
@@ -739,6 +768,8 @@ def fit(robot, data, groups, priors=None, model="exact", loss="linear", engine="
     from scipy.optimize import least_squares
 
     priors = parse_priors(None) if priors is None else priors
+    if model == "standard" and data.encoder and not (data.has_pose | data.has_tension).any():
+        return self_calibrate_standard(robot, data, groups, priors)
     base = model_robot(robot, model)
     index = select_groups(robot, groups)
     check_model_groups(base, model, groups, data)
@@ -1231,3 +1262,162 @@ def plan(robot, groups, n, box=None, priors=None, sigma=SIGMA_DEFAULT, n_random=
         "logdet_random_median": float(np.median([r[1] for r in rand])),
         "n_candidates": len(P),
     }
+
+
+# --- rigid self-calibration (standard model, poses unknown) ---------------------------------------
+#: Encoder noise sd [m] of the rigid self-calibration.
+SIGMA_L_DEFAULT = 1e-3
+
+
+def standard_lengths(A, d, o, P):
+    """Encoder readings of the standard model: straight lines to fixed points, rigid cables,
+
+    .. math:: L_{enc,ki} = o_i + d_i + |P_k - A_i|
+
+    (the winch exit C_i = A_i - d_i z, so the cable runs C_i → A_i → P_k).
+
+    Parameters
+    ----------
+    A : ndarray, shape (m, 3) [m]
+        Joint points.
+    d, o : ndarray, shape (m,) [m]
+        Dead lengths and encoder offsets.
+    P : ndarray, shape (n, 3) [m]
+        Platform positions.
+
+    Returns
+    -------
+    L : ndarray, shape (n, m) [m]
+
+    References
+    ----------
+    Paty et al. 2021, eq. (1)-(2) (the standard geometric model).
+    """
+    return o + d + np.linalg.norm(P[:, None, :] - A, axis=-1)
+
+
+def self_calibrate_standard(robot, data, groups, priors=None, sigma_L=SIGMA_L_DEFAULT):
+    """Hangprinter-style rigid self-calibration: encoder readings only, poses unknown, redundant cables.
+
+    Least squares on (L_enc - ``standard_lengths``) / σ_L over the unknown poses P_k and the
+    parameters of ``groups`` (anchors, dead_lengths, offsets; MAP with their prior rows), exact
+    Jacobian. The identifiability is that of θ with the poses eliminated (measurement rows projected
+    on the orthogonal complement of the pose columns): d_i and offset_i enter only as their sum, and
+    with every anchor free the frame may move rigidly. Biased on a real robot: it ignores the
+    pulleys and the cables' stretch.
+
+    Parameters
+    ----------
+    robot : Robot
+        Nominal robot; its pulleys and moduli are ignored (standard model).
+    data : Data
+        Encoder readings (``data.encoder``); measured poses, if any, are not used.
+    groups : list of str
+        Among anchors, dead_lengths, offsets.
+    priors : dict, optional
+    sigma_L : float [m]
+        Encoder noise sd.
+
+    Returns
+    -------
+    Calibration
+        ``model == "standard"``; residual_after_m per sample is its RMS length residual [m].
+    """
+    from scipy.optimize import least_squares
+
+    if not data.encoder:
+        raise CdprError(
+            f"{data.source}: rigid self-calibration needs encoder readings L_enc1..L_enc{robot.m}"
+        )
+    bad = set(groups) - {"anchors", "dead_lengths", "offsets"}
+    if bad:
+        raise CdprError(
+            f"--estimate {sorted(bad)[0]}: the rigid self-calibration estimates anchors, dead_lengths, offsets only"
+        )
+    priors = parse_priors(None) if priors is None else priors
+    base = model_robot(robot, "standard")
+    index = select_groups(robot, groups)
+    sd = prior_sd(base, index, priors)
+    th0 = calibration_values(base)
+    m, n, k = robot.m, len(data.sample), len(index)
+    if n * m < 3 * n + k:
+        raise CdprError(
+            f"{data.source}: {n} samples give {n * m} equations for {3 * n + k} unknowns (poses and parameters)"
+        )
+
+    def unpack(x):
+        th = th0.copy()
+        th[index] += sd * x[3 * n :]
+        A = th[4 * m : 7 * m].reshape(m, 3)
+        return th, A, th[3 * m : 4 * m], th[7 * m + 1 :], x[: 3 * n].reshape(n, 3)
+
+    def residual(x):
+        th, A, d, o, P = unpack(x)
+        return np.concatenate([((data.L - standard_lengths(A, d, o, P)) / sigma_L).ravel(), x[3 * n :]])
+
+    def jacobian(x):
+        th, A, d, o, P = unpack(x)
+        diff = P[:, None, :] - A
+        u = diff / np.linalg.norm(diff, axis=-1, keepdims=True)  # (n, m, 3): dL/dP, -dL/dA
+        J = np.zeros((n * m + k, 3 * n + k))
+        for kk in range(n):
+            J[kk * m : (kk + 1) * m, 3 * kk : 3 * kk + 3] = -u[kk] / sigma_L
+        for j, col in enumerate(index):
+            dL = np.zeros((n, m))
+            if 4 * m <= col < 7 * m:
+                c, ax = divmod(col - 4 * m, 3)
+                dL[:, c] = -u[:, c, ax]
+            else:  # d_i or offset_i
+                dL[:, (col - 3 * m) if col < 4 * m else (col - 7 * m - 1)] = 1.0
+            J[: n * m, 3 * n + j] = -(dL * sd[j] / sigma_L).ravel()
+        J[n * m :, 3 * n :] = np.eye(k)
+        return J
+
+    # first guess of the poses: multilateration with the nominal robot (Gauss-Newton per sample)
+    A0, d0, o0 = base.A, th0[3 * m : 4 * m], np.zeros(m)
+    P = np.tile(_centre(base), (n, 1))
+    for _ in range(30):
+        diff = P[:, None, :] - A0
+        dist = np.linalg.norm(diff, axis=-1)
+        r = data.L - o0 - d0 - dist
+        u = diff / dist[..., None]
+        step = np.linalg.solve(np.einsum("nia,nib->nab", u, u), np.einsum("nia,ni->na", u, r)[..., None])[
+            ..., 0
+        ]
+        P = P + step  # Gauss-Newton: dr/dP = -u
+    x0 = np.concatenate([P.ravel(), np.zeros(k)])
+    sol = least_squares(
+        residual, x0, jac=jacobian, method="trf", ftol=1e-15, xtol=1e-15, gtol=1e-15, max_nfev=200
+    )
+    J = jacobian(sol.x)[: n * m]
+    Q, _ = np.linalg.qr(J[:, : 3 * n])
+    Jth = J[:, 3 * n :]
+    names = [calibration_names(m)[c] for c in index]
+    ident = identifiability(Jth - Q @ (Q.T @ Jth), names)
+    th = unpack(sol.x)[0]
+    res = residual(sol.x)[: n * m].reshape(n, m) * sigma_L
+    table = pd.DataFrame(
+        {
+            "sample": data.sample,
+            "status": "used",
+            "residual_before_m": np.nan,
+            "residual_after_m": np.sqrt(np.mean(res**2, axis=1)),
+            "outlier": False,
+        }
+    )
+    return Calibration(
+        robot=robot,
+        base=base,
+        model="standard",
+        index=index,
+        names=names,
+        nominal=th0[index],
+        estimate=th[index],
+        prior_sd=sd,
+        ident=ident,
+        theta=th,
+        table=table,
+        source=data.source,
+        cost=float(sol.cost),
+        nfev=int(sol.nfev),
+    )

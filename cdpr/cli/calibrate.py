@@ -13,6 +13,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -145,6 +146,11 @@ def cmd_fit(args):
     data = cal.read_data(args.data, robot)
     result = cal.fit(robot, data, args.estimate, priors=priors, model=args.model, loss=args.loss)
     cal.write_robot(args.out, result, args.data)
+    if args.model == "standard":
+        print(
+            "cdpr: warning: the standard model ignores pulley kinematics and cable stretch; its estimates are biased",
+            file=sys.stderr,
+        )
     summary = result.summary()
     if args.report:
         write_report(result, Path(args.report))

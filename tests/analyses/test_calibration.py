@@ -340,3 +340,36 @@ def test_jacobian_with_tension_rows(cdpr4):
     scale = np.abs(fd).max(axis=0)
     err = np.abs(J - fd).max(axis=0) / scale
     assert err.max() < 1e-5, (calibration_names(4)[idx[int(np.argmax(err))]], err.max())
+
+
+def test_rigid_self_calibration_reports_its_gauge(cdpr4):
+    """Encoder-only data of a straight-line robot, poses unknown: the rigid self-calibration fits
+    the readings to the noise and reports d_i against offset_i (only their sum is seen) instead of an
+    arbitrary split; the sums d_i + o_i are recovered."""
+    rng = np.random.default_rng(3)
+    n = 30
+    P = _poses(rng, n)
+    base = cal.model_robot(cdpr4, "standard")
+    off = np.array([0.02, -0.03, 0.01, 0.04])
+    d_true = cdpr4.arrays.d + np.array([0.01, -0.02, 0.015, 0.0])
+    L = cal.standard_lengths(base.A, d_true, off, P) + rng.normal(0, 1e-5, (n, 4))
+    data = cal.Data(
+        sample=np.arange(n).astype(str),
+        L=L,
+        pose=np.full((n, 3), np.nan),
+        sigma=np.full(n, 2e-4),
+        encoder=True,
+        source="enc",
+    )
+    c = cal.self_calibrate_standard(cdpr4, data, ["dead_lengths", "offsets"], sigma_L=1e-5)
+    assert c.ident["rank"] == 4
+    assert sorted(c.ident["unidentified"]) == [
+        f"d_{i} against offset_{i} (not seen by the data)" for i in range(1, 5)
+    ]
+    cov = c.covariance
+    sd_sum = np.sqrt([cov[i, i] + cov[4 + i, 4 + i] + 2 * cov[i, 4 + i] for i in range(4)])
+    assert (sd_sum < 1e-4).all() and (c.sd > 0.5 * 0.05).all()  # the sum is sharp, d and o alone are not
+    assert (np.abs(c.estimate[:4] + c.estimate[4:] - (d_true + off)) < 4 * sd_sum).all()
+    assert c.table["residual_after_m"].max() < 3e-5
+    # the split between d and o is the prior's: equal shares of the sum's deviation (same prior sd)
+    np.testing.assert_allclose(c.estimate[:4] - cdpr4.arrays.d, c.estimate[4:], atol=1e-5)

@@ -179,3 +179,38 @@ def test_bad_requests_are_one_line(measured, capsys, argv, words):
     assert main(["calibrate", argv[0], "--robot", R4, *argv[1:]]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and words in err
+
+
+def test_encoder_only_data_exact_refuses_standard_self_calibrates(tmp_path, capsys):
+    """Encoder readings without poses: the exact model refuses in one line naming the gauge; the
+    standard model runs the rigid self-calibration, warns of its bias and reports d_i against offset_i."""
+    robot = load_robot(R4)
+    rng = np.random.default_rng(5)
+    data = cal.simulate(
+        robot, robot, rng.uniform([-1.5, -1.5, 1.0], [1.5, 1.5, 3.0], (20, 3)), offsets=[0.01] * 4
+    )
+    data.pose[:] = np.nan
+    cal.write_data(tmp_path / "enc.csv", data, robot)
+    args = [
+        "calibrate",
+        "fit",
+        "--robot",
+        R4,
+        "--data",
+        str(tmp_path / "enc.csv"),
+        "--out",
+        str(tmp_path / "c.yaml"),
+    ]
+    assert main([*args, "--estimate", "dead_lengths,offsets", "--json"]) == 2
+    err = capsys.readouterr().err
+    assert (
+        err.count("\n") == 1
+        and "d_i and offset_i enter only as their sum" in err
+        and "--model standard" in err
+    )
+    assert main([*args, "--estimate", "dead_lengths,offsets", "--model", "standard", "--json"]) == 0
+    cap = capsys.readouterr()
+    s = json.loads(cap.out)
+    assert "biased" in cap.err
+    assert s["rank"] == 4 and s["n_parameters"] == 8
+    assert "d_1 against offset_1 (not seen by the data)" in s["unidentified"]
