@@ -59,8 +59,10 @@ from cdpr.parameters import (
 from cdpr.robot import with_pulleys
 from cdpr.units import quantity
 
-#: Model of the robot during the fit.
+#: Model of the robot during the fit (the command line's choices).
 MODELS = ("exact", "standard")
+#: Also ``rigid``: pulley kinematics with rigid cables (the calibration study's middle model).
+ALL_MODELS = ("standard", "rigid", "exact")
 #: Factor on E that makes the standard model's cables rigid (stretch of a few micrometres).
 STANDARD_STIFFENING = 1e3
 #: Prior standard deviations by default: lengths [m], moduli and mass relative to the nominal.
@@ -362,17 +364,18 @@ def model_robot(robot, model):
     Parameters
     ----------
     robot : Robot
-    model : {"exact", "standard"}
+    model : {"exact", "standard", "rigid"}
+        ``rigid``: the robot's pulleys, rigid cables.
 
     Returns
     -------
     Robot
     """
-    if model not in MODELS:
+    if model not in ALL_MODELS:
         raise CdprError(f"unknown model {model!r}; allowed: {', '.join(MODELS)}")
     if model == "exact":
         return robot
-    rigid = with_pulleys(robot, kind="fixed", h=0.0, r_p=0.0)
+    rigid = robot if model == "rigid" else with_pulleys(robot, kind="fixed", h=0.0, r_p=0.0)
     th = calibration_values(rigid)[: 7 * robot.m + 1]
     th[: robot.m] *= STANDARD_STIFFENING
     return robot_with_parameters(rigid, th)
@@ -711,6 +714,8 @@ def check_model_groups(robot, model, groups, data):
         raise CdprError(
             f"--estimate {bad}: the standard model has no {bad} (straight lines to fixed points, rigid cables)"
         )
+    if model == "rigid" and "moduli" in groups:
+        raise CdprError("--estimate moduli: the rigid model's cables do not stretch")
     if "offsets" in groups and not data.encoder:
         raise CdprError(f"{data.source}: --estimate offsets needs encoder readings L_enc1..L_enc{robot.m}")
     if "pulleys" in groups and (robot.arrays.kind == 0).any():
@@ -915,9 +920,14 @@ class Calibration:
         """The robot at the estimate (the model's pulleys; the standard model's E back to the file's)."""
         m = self.robot.m
         th = self.theta[: 7 * m + 1].copy()
-        if self.model == "standard":
+        if self.model in ("standard", "rigid"):
             th[:m] /= STANDARD_STIFFENING
         return robot_with_parameters(self.base, th)
+
+    def fitted_model(self):
+        """The model at the estimate, as the fit saw it (rigid models keep their stiff cables): what
+        predicts and compensates."""
+        return robot_with_parameters(self.base, self.theta[: 7 * self.robot.m + 1])
 
     @property
     def offsets(self):
@@ -1139,7 +1149,7 @@ def default_box(robot):
     return [c[0] - w[0], c[0] + w[0], c[1] - w[1], c[1] + w[1], 0.1 * top, 0.7 * top]
 
 
-def candidates(robot, box, n_axis=7, model="exact", engine="compiled"):
+def candidates(robot, box, n_axis=7, model="exact", engine="compiled", targets=False):
     """Admissible candidate poses of a box and their scaled measurement rows.
 
     A candidate is the grid point p commanded with L_TS(p); admissible when the nominal equilibrium
@@ -1151,6 +1161,8 @@ def candidates(robot, box, n_axis=7, model="exact", engine="compiled"):
         The equilibria (where the tracker would measure).
     L0 : ndarray (c, m) [m]
         Commanded lengths.
+    p : ndarray (c, 3) [m]
+        The grid points commanded (only with ``targets=True``).
     """
     from cdpr.analyses.workspace import grid_points
 
@@ -1159,6 +1171,8 @@ def candidates(robot, box, n_axis=7, model="exact", engine="compiled"):
     L0 = L_TS(robot, p)
     res = sensitivities(base, p, redundancy="physical", L=L0, engine=engine)
     ok = (res["status"] == "ok") & res["smooth"] & (res["n_taut"] >= 3)
+    if targets:
+        return res["P_s"][ok], L0[ok], p[ok]
     return res["P_s"][ok], L0[ok]
 
 

@@ -127,6 +127,11 @@ def add_parser(subparsers):
     sp.add_argument("--out", metavar="FILE", help="write the plan (CSV: sample, L1..Lm, expected pose)")
     sp.add_argument("--json", action="store_true", help="print JSON")
     sp.set_defaults(func=cmd_plan)
+
+    sp = sub.add_parser("study", help="the calibration study (config/studies/calibration.yaml)")
+    sp.add_argument("--study", required=True, metavar="FILE", help="calibration study YAML")
+    sp.add_argument("--out", required=True, metavar="DIR", help="results folder (results/calibration)")
+    sp.set_defaults(func=cmd_study)
     return cp
 
 
@@ -272,3 +277,12 @@ def cmd_plan(args):
         f"{res['logdet_d_optimal']:.4g} (random plans: median {res['logdet_random_median']:.4g})"
         + (f"; written to {args.out}" if args.out else "")
     )
+
+
+def cmd_study(args):
+    """``cdpr calibrate study``: run the calibration study and print the headline table."""
+    from cdpr.pipeline.calibration import run_calibration_study
+
+    res = run_calibration_study(args.study, args.out)
+    print((Path(args.out) / "summary.md").read_text(encoding="utf-8"))
+    print(f"calibration study: {res['elapsed_s']:.1f} s")
