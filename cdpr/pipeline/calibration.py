@@ -236,6 +236,7 @@ def run_calibration_study(study_path, out):
         )
     row("truth robot (noise floor)", 0, *validate(truth))
     headline = pd.DataFrame(rows)
+    headline["rank"] = headline["rank"].astype("Int64")
     headline.to_csv(out / "headline.csv", index=False, float_format="%.4f")
 
     exact = fits["pulleys + elasticity"]
