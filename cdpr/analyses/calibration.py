@@ -1256,7 +1256,9 @@ def plan(robot, groups, n, box=None, priors=None, sigma=SIGMA_DEFAULT, n_random=
     priors = parse_priors(None) if priors is None else priors
     index = select_groups(robot, groups)
     sd = prior_sd(robot, index, priors)
-    box = default_box(robot) if box is None else box
+    from cdpr.analyses.workspace import check_box
+
+    box = default_box(robot) if box is None else check_box(box).tolist()
     P, L0 = candidates(robot, box, n_axis)
     if len(P) == 0:
         raise CdprError(f"no admissible candidate pose in the box {box}")

@@ -185,6 +185,12 @@ def _print_fit(result, s):
     )
     for w in s["unidentified"]:
         print(f"weak: {w}")
+    t = result.table
+    if t["outlier"].any():
+        print("outliers down-weighted by the robust loss: " + ", ".join(t.loc[t["outlier"], "sample"]))
+    left = t[t["status"] != "used"]
+    for r in left.itertuples():
+        print(f"left out: sample {r.sample} ({r.status})")
     if result.model == "standard":
         print(
             "warning: the standard model ignores pulley kinematics and elasticity; its estimates are biased"

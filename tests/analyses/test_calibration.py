@@ -373,3 +373,54 @@ def test_rigid_self_calibration_reports_its_gauge(cdpr4):
     assert c.table["residual_after_m"].max() < 3e-5
     # the split between d and o is the prior's: equal shares of the sum's deviation (same prior sd)
     np.testing.assert_allclose(c.estimate[:4] - cdpr4.arrays.d, c.estimate[4:], atol=1e-5)
+
+
+def test_robust_loss_lists_the_outlier_and_resists_it(cdpr4):
+    """One sample measured 20 mm off: the linear fit is dragged, the soft-L1 fit stays within a few
+    sd of the truth and lists the sample as an outlier."""
+    groups = ["dead_lengths"]
+    rng, idx, sd, truth, th = _truth(cdpr4, groups, 31)
+    data = cal.simulate(truth, cdpr4, _poses(rng, 20), sigma=2e-4, rng=rng)
+    data.pose[3, 2] += 0.02
+    lin = cal.fit(cdpr4, data, groups)
+    rob = cal.fit(cdpr4, data, groups, loss="soft_l1")
+    assert list(rob.table["sample"][rob.table["outlier"]]) == ["s4"]
+    assert not lin.table["outlier"].any()
+    err_lin = np.abs(lin.estimate - th[idx]) / lin.sd
+    err_rob = np.abs(rob.estimate - th[idx]) / rob.sd
+    assert err_rob.max() < 4 and err_lin.max() > 2 * err_rob.max()
+
+
+def test_calibration_study_file_is_checked(tmp_path):
+    import yaml
+
+    from cdpr.pipeline.calibration import load_calibration_study
+    from tests.conftest import ROOT
+
+    path = ROOT / "config" / "studies" / "calibration.yaml"
+    st = load_calibration_study(path)
+    assert st["deviation_groups"] == ["anchors", "dead_lengths", "pulleys", "moduli"]
+    assert st["truth_deviations"]["anchors"] == pytest.approx(5e-3)
+    good = yaml.safe_load(path.read_text())
+    for key, value, words in [
+        ("n_train", 0, "expected a positive integer"),
+        ("validation_box_m", [0, 1], "expected 6 numbers"),
+        ("truth_deviations", {"anchors": "0mm"}, "must be > 0"),
+        ("truth_deviations", {"wheels": "1mm"}, "unknown group 'wheels'"),
+        ("colour", "red", "unknown key"),
+    ]:
+        bad = dict(good, **{key: value})
+        f = tmp_path / "s.yaml"
+        f.write_text(yaml.safe_dump(bad))
+        with pytest.raises(CdprError, match=words):
+            load_calibration_study(f)
+    bad = dict(good)
+    del bad["seed"]
+    f.write_text(yaml.safe_dump(bad))
+    with pytest.raises(ConfigError, match="key 'seed': missing"):
+        load_calibration_study(f)
+
+
+def test_plan_refuses_a_bad_box(cdpr4):
+    with pytest.raises(CdprError, match="XMIN < XMAX"):
+        cal.plan(cdpr4, ["dead_lengths"], 5, box=[1, -1, -1, 1, 0.5, 3])
