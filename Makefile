@@ -46,7 +46,7 @@ reproduce: $(STAMP)
 # Hook: studies that make reproduce runs after the paper and physical studies and before the
 # comparison (e.g. the uncertainty study adds its snakemake command here).
 reproduce-extra: $(STAMP)
-	@:
+	$(BIN)/snakemake --cores all --forceall calibration_study
 
 # After an interruption (Ctrl-C, a killed process, a lost machine): release Snakemake's lock and
 # finish only what is missing or incomplete. Targets come before --config (both take lists).

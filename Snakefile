@@ -22,6 +22,7 @@ include: "workflow/rules/elasticity.smk"
 include: "workflow/rules/uncertainty.smk"
 include: "workflow/rules/summary.smk"
 include: "workflow/rules/comparison.smk"
+include: "workflow/rules/calibration.smk"
 
 
 rule reproduce_paper:

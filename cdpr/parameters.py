@@ -124,3 +124,105 @@ def robot_with_parameters(robot, values):
     )
     platform = dataclasses.replace(robot.platform, mass=float(v[7 * m]))
     return dataclasses.replace(robot, cables=cables, platform=platform)
+
+
+# --- calibration groups -------------------------------------------------------------------------
+#: The groups a calibration estimates (``cdpr calibrate fit --estimate``), in the order of
+#: ``calibration_names``; ``attachments`` (b_i of a 6-DoF platform) is reserved for spatial robots.
+CALIBRATION_GROUPS = ("moduli", "pulleys", "dead_lengths", "anchors", "mass", "offsets", "attachments")
+#: The θ group (``GROUPS``) behind each parameter-vector group; ``offsets`` are per-cable encoder
+#: offsets [m] (reading = rest length + offset), which belong to the measurement, not the robot.
+_CALIBRATION_OF = {
+    "E": "moduli",
+    "h": "pulleys",
+    "r_p": "pulleys",
+    "d": "dead_lengths",
+    "A": "anchors",
+    "M": "mass",
+}
+
+
+def calibration_names(m):
+    """Names of the calibration vector: ``parameter_names(m)`` followed by the encoder offsets
+    ``offset_1`` .. ``offset_m`` [m].
+
+    Parameters
+    ----------
+    m : int
+        Number of cables.
+
+    Returns
+    -------
+    names : list of str, length 8 m + 1
+    """
+    return parameter_names(m) + [f"offset_{i}" for i in range(1, m + 1)]
+
+
+def calibration_groups(m):
+    """The calibration group (``CALIBRATION_GROUPS``) and the 1-based cable (None for the mass) of
+    every entry of ``calibration_names(m)``.
+
+    Parameters
+    ----------
+    m : int
+        Number of cables.
+
+    Returns
+    -------
+    groups : list of str, length 8 m + 1
+    cables : list of int or None, length 8 m + 1
+    """
+    groups = [_CALIBRATION_OF[g] for g in parameter_groups(m)] + ["offsets"] * m
+    c = list(range(1, m + 1))
+    cables = c * 4 + [i for i in c for _ in range(3)] + [None] + c
+    return groups, cables
+
+
+def calibration_values(robot, offsets=None):
+    """Nominal calibration vector: ``parameter_values(robot)`` then the offsets (default 0).
+
+    Parameters
+    ----------
+    robot : Robot
+    offsets : array_like, shape (m,) [m], optional
+
+    Returns
+    -------
+    theta : ndarray, shape (8 m + 1,) [Pa, m, kg]
+    """
+    off = np.zeros(robot.m) if offsets is None else np.asarray(offsets, dtype=float)
+    return np.concatenate([parameter_values(robot), off])
+
+
+def select_groups(robot, groups, source="--estimate"):
+    """Indices into ``calibration_names(robot.m)`` of the parameters of ``groups``.
+
+    Parameters
+    ----------
+    robot : Robot
+    groups : iterable of str
+        Names of ``CALIBRATION_GROUPS``.
+    source : str
+        Where the names come from, for the error message.
+
+    Returns
+    -------
+    index : ndarray of int, sorted
+
+    Raises
+    ------
+    CdprError
+        An unknown group, or ``attachments`` on a point-mass robot (no attachment points b_i).
+    """
+    groups = list(groups)
+    for g in groups:
+        if g not in CALIBRATION_GROUPS:
+            raise CdprError(f"{source}: unknown group {g!r}; allowed: {', '.join(CALIBRATION_GROUPS)}")
+        if g == "attachments":
+            raise CdprError(
+                f"{source}: 'attachments' (b_i) are for a 6-DoF platform; robot {robot.name} is a point mass"
+            )
+    if not groups:
+        raise CdprError(f"{source}: no group given; allowed: {', '.join(CALIBRATION_GROUPS[:-1])}")
+    of, _ = calibration_groups(robot.m)
+    return np.array([k for k, g in enumerate(of) if g in groups], dtype=np.intp)

@@ -315,11 +315,16 @@ def _positive(value, dimension, source, key, allow_zero=False):
     return v
 
 
+#: How far [m] an SR pulley's lever arm may lie below its sheave radius (calibrated swivel pulleys).
+SR_SLACK = 1e-3
+
+
 def check_pulley(kind, h, r_p, source, key):
     """The physical rule of a pulley design; raises ConfigError naming ``source`` and ``key``.
 
-    fixed: h = r_p = 0. SR: h >= r_p (h = r_p is the common swivel pulley whose cable enters on the
-    swivel axis). DR: h > r_p, as the paper states (the sheave hangs from its U-joint and must
+    fixed: h = r_p = 0. SR: h >= r_p - ``SR_SLACK`` (h = r_p is the common swivel pulley whose cable
+    enters on the swivel axis; a calibrated SR pulley may come out with h slightly below r_p, where the
+    model is still defined: the incoming strand leaves the axis at a small angle). DR: h > r_p, as the paper states (the sheave hangs from its U-joint and must
     clear it). h = r_p = 0 is the fixed-point limit of either kind."""
     if kind == "fixed":
         if h != 0.0 or r_p != 0.0:
@@ -328,11 +333,11 @@ def check_pulley(kind, h, r_p, source, key):
             )
     elif h == 0.0 and r_p == 0.0:
         return
-    elif kind == "SR" and h < r_p:
+    elif kind == "SR" and h < r_p - SR_SLACK:
         raise ConfigError(
             source,
             key,
-            f"SR pulley needs lever arm h_m >= sheave radius r_p_m (the sheave would cross its swivel axis), "
+            f"SR pulley needs lever arm h_m >= sheave radius r_p_m - 1 mm (the sheave would cross its swivel axis), "
             f"got h_m={h:g} m, r_p_m={r_p:g} m; h_m = r_p_m = 0 is allowed as the fixed-point limit",
         )
     elif kind == "DR" and h <= r_p:

@@ -25,6 +25,10 @@ REDUNDANCY = ("paper", "physical")
 DISTRIBUTIONS = ("min_norm", "closed_form", "closed_form_improved", "subset")
 #: Largest winch table a command writes.
 MAX_STEPS = 10_000_000
+#: ``cdpr calibrate fit --model`` (``cdpr.analyses.calibration.MODELS``).
+CALIBRATION_MODELS = ("exact", "standard")
+#: ``cdpr calibrate plan --sigma`` default [m] (``cdpr.analyses.calibration.SIGMA_DEFAULT``).
+CALIBRATION_SIGMA = 0.2e-3
 #: A number, also in exponent notation and negative ("-1e-1"): argparse must not take it for an option.
 _NUMBER = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$|^-inf(inity)?$", re.IGNORECASE)
 
@@ -158,3 +162,8 @@ def sensitivity_options(sp):
         help="also dP*/dθ for every parameter (E_i [Pa], h_i, r_p_i, d_i, A_i_x/y/z [m], M [kg]; cables from 1) "
         "at fixed commanded lengths, by the implicit-function theorem; Newton only",
     )
+
+
+def groups(text):
+    """argparse type: comma-separated parameter group names (checked by the calibration itself)."""
+    return [g.strip() for g in text.split(",") if g.strip()]

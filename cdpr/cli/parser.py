@@ -8,12 +8,15 @@ imported by ``cdpr.cli.main`` once the arguments are read.
 from __future__ import annotations
 
 from cdpr.cli.options import (
+    CALIBRATION_MODELS,
+    CALIBRATION_SIGMA,
     DISTRIBUTIONS,
     ENGINES,
     MAX_STEPS,
     Parser,
     count,
     finite,
+    groups,
     non_negative,
     physics_options,
     points_options,
@@ -166,4 +169,85 @@ def build_parser(jobs=True):
 
         job.add_arguments(sp)
     sp.set_defaults(run=("cdpr.cli.job", "run"))
+    calibrate_parser(sub)
     return ap
+
+
+_GROUPS_HELP = (
+    "comma-separated groups: anchors (A_i), dead_lengths (d_i), moduli (E_i), pulleys (h_i, r_p_i), "
+    "offsets (encoder offsets), mass (M); attachments (b_i) for 6-DoF platforms"
+)
+_PRIOR_HELP = (
+    "prior sd per group, e.g. anchors=5mm,dead_lengths=50mm,moduli=20%%,pulleys=1mm,offsets=50mm,mass=5%% "
+    "(these are the defaults; moduli and mass relative)"
+)
+
+
+def calibrate_parser(subparsers):
+    """Add ``calibrate`` with its commands ``fit``, ``check``, ``plan`` and ``study`` (``cdpr.cli.calibrate``)."""
+    cp = subparsers.add_parser("calibrate", help="identify a robot's parameters from measurements")
+    sub = cp.add_subparsers(dest="calibrate_command", required=True, parser_class=Parser)
+
+    sp = sub.add_parser("fit", help="MAP estimate of parameter groups from measured poses; writes the robot")
+    sp.add_argument("--robot", required=True, metavar="FILE", help="nominal robot YAML (the prior mean)")
+    sp.add_argument("--data", required=True, metavar="FILE", help="measurements CSV (docs/calibration.md)")
+    sp.add_argument("--estimate", required=True, type=groups, metavar="GROUPS", help=_GROUPS_HELP)
+    sp.add_argument("--prior", metavar="G=SD,...", help=_PRIOR_HELP)
+    sp.add_argument(
+        "--model",
+        choices=CALIBRATION_MODELS,
+        default="exact",
+        help="exact: pulleys and elastic cables (default); standard: straight lines to fixed points, rigid cables",
+    )
+    sp.add_argument(
+        "--loss",
+        choices=("linear", "soft_l1", "huber", "cauchy"),
+        default="linear",
+        help="least-squares loss (default linear); a robust one down-weights and lists outliers",
+    )
+    sp.add_argument("--out", required=True, metavar="FILE", help="calibrated robot YAML to write")
+    sp.add_argument(
+        "--report", metavar="DIR", help="write per-sample and per-parameter tables and figures here"
+    )
+    sp.add_argument("--json", action="store_true", help="print JSON")
+    sp.set_defaults(run=("cdpr.cli.calibrate", "cmd_fit"))
+
+    sp = sub.add_parser("check", help="a robot's predictions against measured samples")
+    sp.add_argument("--robot", required=True, metavar="FILE")
+    sp.add_argument(
+        "--data", required=True, metavar="FILE", help="CSV with commanded lengths L1..Lm and poses"
+    )
+    sp.add_argument("--json", action="store_true", help="print JSON")
+    sp.set_defaults(run=("cdpr.cli.calibrate", "cmd_check"))
+
+    sp = sub.add_parser("plan", help="D-optimal poses to measure for a calibration")
+    sp.add_argument("--robot", required=True, metavar="FILE")
+    sp.add_argument("--estimate", required=True, type=groups, metavar="GROUPS", help=_GROUPS_HELP)
+    sp.add_argument("--prior", metavar="G=SD,...", help=_PRIOR_HELP)
+    sp.add_argument("--n", type=count(1, 10000), default=30, help="poses in the plan (default 30)")
+    sp.add_argument(
+        "--box",
+        nargs=6,
+        type=finite,
+        metavar=("XMIN", "XMAX", "YMIN", "YMAX", "ZMIN", "ZMAX"),
+        help="candidate box [m] (default: middle 80 %% of the anchors' extent, z 10-70 %% of their height)",
+    )
+    sp.add_argument(
+        "--grid", type=count(1, 10000), default=7, help="candidates per axis of the box (default 7)"
+    )
+    sp.add_argument(
+        "--sigma",
+        type=positive,
+        default=CALIBRATION_SIGMA,
+        metavar="M",
+        help="tracker noise sd [m] (default 2e-4)",
+    )
+    sp.add_argument("--out", metavar="FILE", help="write the plan (CSV: sample, L1..Lm, expected pose)")
+    sp.add_argument("--json", action="store_true", help="print JSON")
+    sp.set_defaults(run=("cdpr.cli.calibrate", "cmd_plan"))
+
+    sp = sub.add_parser("study", help="the calibration study (config/studies/calibration.yaml)")
+    sp.add_argument("--study", required=True, metavar="FILE", help="calibration study YAML")
+    sp.add_argument("--out", required=True, metavar="DIR", help="results folder (results/calibration)")
+    sp.set_defaults(run=("cdpr.cli.calibrate", "cmd_study"))
+    return cp

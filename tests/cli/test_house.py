@@ -150,6 +150,10 @@ def test_choices_agree_with_their_owners():
     assert options.ENGINES == tuple(ENGINES)
     assert set(options.METHODS) == {m for ms in ENGINES.values() for m in ms}
     assert options.REDUNDANCY == REDUNDANCY
+    from cdpr.analyses import calibration
+
+    assert options.CALIBRATION_MODELS == calibration.MODELS
+    assert options.CALIBRATION_SIGMA == calibration.SIGMA_DEFAULT
 
 
 def test_every_import_inside_a_function_says_why():

@@ -1,0 +1,1439 @@
+"""Calibration: a real robot's parameters θ from measured poses, what the data cannot identify, and
+where to measure.
+
+The robot is commanded rest lengths L0 (winch exit to platform, the ``physical`` mode of
+``cdpr.models.equilibrium``) and settles at the equilibrium P*(θ, L0); a tracker measures the pose
+y. The estimate is the maximum a posteriori (MAP) of θ under a Gaussian prior around the nominal
+robot (``map_residual``): a weakly identified parameter stays near its prior instead of running away.
+The Jacobian of the residual is exact, from the implicit-function sensitivities dP*/dθ
+(``cdpr.models.sensitivity``), with the encoder offsets' column dP*/do = J^-1 dF/dL0
+(``offset_sensitivities``); no finite differences inside the fit.
+
+Models (``MODELS``): ``exact`` is the robot file as it is (pulley kinematics and Hooke elasticity);
+``standard`` is the straight-line model, every pulley a fixed point (h = r_p = 0) and the cables
+rigid, realised as the physical equilibrium with E multiplied by ``STANDARD_STIFFENING`` (the
+stretch drops below a micrometre; the redundant robot still settles on its taut cables).
+
+Encoder data (``L_enc1..L_encm`` = rest length + an unknown offset per cable): with elastic cables
+and no measured tension every set of lengths has an equilibrium for every θ, so a sample without a
+measured pose gives no equation in the exact model; such samples are counted and left out, and
+with none left the fit refuses with one line naming the way out (measure poses, or ``--model
+standard`` for a rigid self-calibration, ``self_calibrate_standard``, whose gauge it reports).
+
+Identifiability (``identifiability``): singular values of the measurement rows scaled by the
+prior (rows / σ, columns × prior sd), the rank (> 1e-9 s_max), the condition number, the weakest
+directions in words, and each parameter's posterior-to-prior sd ratio: identified (≤ 0.3), partly
+(≤ 0.8) or prior-dominated (> 0.8).
+
+References
+----------
+Paty, T., Binaud, N., Caro, S., Segonds, S. (2021). Cable-driven parallel robot modelling considering
+pulley kinematics and cable elasticity. Mechanism and Machine Theory 159, 104263 (eq. 3-5, 10-14).
+Tarantola, A. (2005). Inverse Problem Theory and Methods for Model Parameter Estimation, SIAM,
+section 3.2 (least squares with a Gaussian prior, posterior covariance).
+Atkinson, A. C., Donev, A. N. (1992). Optimum Experimental Designs, Oxford, ch. 11 (D-optimality)
+and 15 (exchange algorithms).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import datetime
+import math
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from cdpr.errors import CdprError, ConfigError
+from cdpr.models.inverse import L_TS
+from cdpr.models.sensitivity import implicit_solve, physical_jacobian_terms, sensitivities
+from cdpr.parameters import (
+    CALIBRATION_GROUPS,
+    calibration_groups,
+    calibration_names,
+    calibration_values,
+    robot_with_parameters,
+    select_groups,
+)
+from cdpr.robot import with_pulleys
+from cdpr.units import quantity
+
+#: Model of the robot during the fit (the command line's choices).
+MODELS = ("exact", "standard")
+#: Also ``rigid``: pulley kinematics with rigid cables (the calibration study's middle model).
+ALL_MODELS = ("standard", "rigid", "exact")
+#: Factor on E that makes the standard model's cables rigid (stretch of a few micrometres).
+STANDARD_STIFFENING = 1e3
+#: Prior standard deviations by default: lengths [m], moduli and mass relative to the nominal.
+DEFAULT_PRIORS = {
+    "anchors": 5e-3,
+    "dead_lengths": 50e-3,
+    "moduli": 0.20,
+    "pulleys": 1e-3,
+    "attachments": 3e-3,
+    "offsets": 50e-3,
+    "mass": 0.05,
+}
+#: Groups whose prior sd is relative to the nominal value.
+RELATIVE = ("moduli", "mass")
+#: Default tracker noise [m] when the data have no ``sigma_m`` column.
+SIGMA_DEFAULT = 0.2e-3
+#: Default tension-sensor noise [N] when the data have tensions but no ``sigma_N`` column.
+SIGMA_T_DEFAULT = 5.0
+#: Rank threshold: singular values > RANK_TOL s_max count.
+RANK_TOL = 1e-9
+#: Posterior-to-prior sd ratios of "identified" and "partly".
+IDENTIFIED, PARTLY = 0.3, 0.8
+#: Normalised residual above which a sample counts as an outlier of the robust loss.
+OUTLIER = 3.0
+
+
+# --- priors ---------------------------------------------------------------------------------------
+def parse_priors(text, source="--prior"):
+    """Prior standard deviations from ``G=SD,...`` (``anchors=5mm,moduli=20%``).
+
+    Length groups take a length with its unit (or a bare number in m), ``moduli`` and ``mass`` a
+    percentage (or a bare fraction). Missing groups keep ``DEFAULT_PRIORS``.
+
+    Parameters
+    ----------
+    text : str or None
+    source : str
+        Named in the error message.
+
+    Returns
+    -------
+    priors : dict group -> float [m, or relative]
+    """
+    out = dict(DEFAULT_PRIORS)
+    if not text:
+        return out
+    for item in str(text).split(","):
+        if "=" not in item:
+            raise CdprError(f"{source}: expected GROUP=SD, got {item!r}; e.g. anchors=5mm,moduli=20%")
+        g, v = (s.strip() for s in item.split("=", 1))
+        if g not in CALIBRATION_GROUPS:
+            raise CdprError(f"{source}: unknown group {g!r}; allowed: {', '.join(CALIBRATION_GROUPS)}")
+        if g in RELATIVE:
+            try:
+                sd = float(v[:-1]) / 100.0 if v.endswith("%") else float(v)
+            except ValueError:
+                raise CdprError(f"{source}: {g}={v!r} is not a percentage (e.g. {g}=20%)") from None
+        else:
+            sd = quantity(v, "m", source, g)
+        if not (math.isfinite(sd) and sd > 0):
+            raise CdprError(f"{source}: the prior sd of {g} must be > 0, got {v!r}")
+        out[g] = sd
+    return out
+
+
+def prior_sd(robot, index, priors):
+    """Absolute prior sd of the calibration parameters ``index`` (relative groups × |nominal|).
+
+    Parameters
+    ----------
+    robot : Robot
+    index : ndarray of int
+        Into ``calibration_names(robot.m)``.
+    priors : dict
+        ``parse_priors``.
+
+    Returns
+    -------
+    sd : ndarray, shape (len(index),) [Pa, m, kg]
+    """
+    groups, _ = calibration_groups(robot.m)
+    nominal = calibration_values(robot)
+    return np.array(
+        [priors[groups[k]] * abs(nominal[k]) if groups[k] in RELATIVE else priors[groups[k]] for k in index]
+    )
+
+
+# --- data -----------------------------------------------------------------------------------------
+@dataclasses.dataclass
+class Data:
+    """Calibration samples (``read_data``).
+
+    sample (N,) labels; L (N, m) [m] commanded rest lengths, or encoder readings when ``encoder``;
+    pose (N, 3) [m], NaN where not measured; sigma (N,) [m]; tension (N, m) [N], NaN where not
+    measured, and sigma_t (N,) [N]; source: the file."""
+
+    sample: np.ndarray
+    L: np.ndarray
+    pose: np.ndarray
+    sigma: np.ndarray
+    encoder: bool
+    source: str
+    tension: np.ndarray = None
+    sigma_t: np.ndarray = None
+
+    def __post_init__(self):
+        n, m = self.L.shape
+        if self.tension is None:
+            self.tension = np.full((n, m), np.nan)
+        if self.sigma_t is None:
+            self.sigma_t = np.full(n, SIGMA_T_DEFAULT)
+
+    @property
+    def has_pose(self):
+        return np.isfinite(self.pose).all(axis=1)
+
+    @property
+    def has_tension(self):
+        return np.isfinite(self.tension).all(axis=1)
+
+    def subset(self, idx):
+        return dataclasses.replace(
+            self,
+            sample=self.sample[idx],
+            L=self.L[idx],
+            pose=self.pose[idx],
+            sigma=self.sigma[idx],
+            tension=self.tension[idx],
+            sigma_t=self.sigma_t[idx],
+        )
+
+
+POSE = ["x_m", "y_m", "z_m"]
+ORIENTATION = ["rx_rad", "ry_rad", "rz_rad"]
+
+
+def data_columns(m, encoder=False):
+    """Columns of a calibration table for m cables: sample, L1..Lm (or L_enc1..L_encm), x_m, y_m,
+    z_m; optional sigma_m and tensions t1_N..tm_N."""
+    lengths = [f"L_enc{i}" for i in range(1, m + 1)] if encoder else [f"L{i}" for i in range(1, m + 1)]
+    return ["sample", *lengths, *POSE]
+
+
+def read_data(path, robot):
+    """Read and check a calibration CSV (docs/calibration.md) for ``robot``.
+
+    Parameters
+    ----------
+    path : str or Path
+    robot : Robot
+        Its cable count fixes the length columns.
+
+    Returns
+    -------
+    Data
+
+    Raises
+    ------
+    ConfigError
+        One line naming the file, the column and what is allowed: missing or extra columns, a
+        length column count that does not match the robot, NaN, non-finite or non-positive
+        lengths, half-measured poses, sigma <= 0, orientation columns on a point-mass robot.
+    """
+    src = str(path)
+    try:
+        df = pd.read_csv(path)
+    except FileNotFoundError:
+        raise ConfigError(src, None, "the data file does not exist") from None
+    except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
+        raise ConfigError(src, None, f"cannot read it as CSV ({str(exc).splitlines()[0]})") from None
+    m = robot.m
+    cols = list(df.columns)
+    enc = any(c.startswith("L_enc") for c in cols)
+    plain = [c for c in cols if c.startswith("L") and not c.startswith("L_enc")]
+    if enc and plain:
+        raise ConfigError(
+            src, plain[0], "give commanded lengths L1..Lm or encoder readings L_enc1..L_encm, not both"
+        )
+    prefix = "L_enc" if enc else "L"
+    lengths = [c for c in cols if c.startswith(prefix) and c[len(prefix) :].isdigit()]
+    if len(lengths) != m and lengths:
+        raise ConfigError(
+            src,
+            ",".join(lengths),
+            f"{len(lengths)} length columns but robot {robot.name} has {m} cables; allowed: {prefix}1..{prefix}{m}",
+        )
+    for c in (o for o in ORIENTATION if o in cols):
+        raise ConfigError(
+            src, c, f"orientation columns are for a 6-DoF platform; robot {robot.name} is a point mass"
+        )
+    need = data_columns(m, enc)
+    missing = [c for c in need if c not in cols]
+    if missing:
+        raise ConfigError(src, missing[0], f"missing column; a calibration table needs {', '.join(need)}")
+    Tcols = [f"t{i}_N" for i in range(1, m + 1)]
+    allowed = set(need) | {"sigma_m", "sigma_N"} | set(Tcols)
+    extra = [c for c in cols if c not in allowed]
+    if extra:
+        raise ConfigError(
+            src, extra[0], f"unknown column; allowed: {', '.join(need)}, sigma_m, t1_N..t{m}_N, sigma_N"
+        )
+    given = [c for c in Tcols if c in cols]
+    if given and len(given) != m:
+        missing_t = [c for c in Tcols if c not in cols]
+        raise ConfigError(src, missing_t[0], f"tensions need all of t1_N..t{m}_N")
+    if "sigma_N" in cols and not given:
+        raise ConfigError(src, "sigma_N", f"the tension noise needs the tension columns t1_N..t{m}_N")
+    if len(df) == 0:
+        raise ConfigError(src, None, "no samples")
+    Lcols = [f"{prefix}{i}" for i in range(1, m + 1)]
+    L = _numbers(df, Lcols, src)
+    for j, c in enumerate(Lcols):
+        bad = ~np.isfinite(L[:, j]) | (L[:, j] <= 0)
+        if bad.any():
+            r = int(np.flatnonzero(bad)[0])
+            raise ConfigError(src, c, f"row {r + 1}: {L[r, j]!r}; lengths must be finite and > 0 [m]")
+    pose = _numbers(df, POSE, src)
+    half = np.isfinite(pose).any(axis=1) & ~np.isfinite(pose).all(axis=1)
+    if half.any() or np.isinf(pose).any():
+        r = int(np.flatnonzero(half | np.isinf(pose).any(axis=1))[0])
+        raise ConfigError(
+            src, "x_m,y_m,z_m", f"row {r + 1}: a pose needs all three finite coordinates (or none)"
+        )
+    nan_pose = ~np.isfinite(pose).all(axis=1)
+    if nan_pose.any() and not enc and not any(f"t{i}_N" in cols for i in range(1, m + 1)):
+        r = int(np.flatnonzero(nan_pose)[0])
+        raise ConfigError(
+            src,
+            "x_m,y_m,z_m",
+            f"row {r + 1}: no pose; only encoder data (L_enc1..) or tension data (t1_N..) may leave the pose empty",
+        )
+    if "sigma_m" in cols:
+        sigma = _numbers(df, ["sigma_m"], src)[:, 0]
+        bad = ~(np.isfinite(sigma) & (sigma > 0))
+        if bad.any():
+            r = int(np.flatnonzero(bad)[0])
+            raise ConfigError(
+                src, "sigma_m", f"row {r + 1}: {sigma[r]!r}; sigma_m must be finite and > 0 [m]"
+            )
+    else:
+        sigma = np.full(len(df), SIGMA_DEFAULT)
+    tension = np.full((len(df), m), np.nan)
+    sigma_t = np.full(len(df), SIGMA_T_DEFAULT)
+    if given:
+        tension = _numbers(df, Tcols, src)
+        fin = np.isfinite(tension)
+        half = fin.any(axis=1) & ~fin.all(axis=1)
+        neg = (tension < 0).any(axis=1) | np.isinf(tension).any(axis=1)
+        if (half | neg).any():
+            r = int(np.flatnonzero(half | neg)[0])
+            raise ConfigError(
+                src, ",".join(Tcols), f"row {r + 1}: tensions must be all finite and >= 0 [N] (or all empty)"
+            )
+        if "sigma_N" in cols:
+            sigma_t = _numbers(df, ["sigma_N"], src)[:, 0]
+            bad = fin.all(axis=1) & ~(np.isfinite(sigma_t) & (sigma_t > 0))
+            if bad.any():
+                r = int(np.flatnonzero(bad)[0])
+                raise ConfigError(src, "sigma_N", f"row {r + 1}: sigma_N must be finite and > 0 [N]")
+    sample = df["sample"].astype(str).to_numpy()
+    return Data(
+        sample=sample, L=L, pose=pose, sigma=sigma, encoder=enc, source=src, tension=tension, sigma_t=sigma_t
+    )
+
+
+def _numbers(df, cols, src):
+    out = np.empty((len(df), len(cols)))
+    for j, c in enumerate(cols):
+        v = pd.to_numeric(df[c], errors="coerce").to_numpy(dtype=float)
+        text = df[c].notna().to_numpy() & np.isnan(v)
+        if text.any():
+            r = int(np.flatnonzero(text)[0])
+            raise ConfigError(src, c, f"row {r + 1}: {df[c].iloc[r]!r} is not a number")
+        out[:, j] = v
+    return out
+
+
+def write_data(path, data, robot):
+    """Write ``data`` as a calibration CSV (the format ``read_data`` reads)."""
+    m = robot.m
+    prefix = "L_enc" if data.encoder else "L"
+    df = pd.DataFrame({"sample": data.sample})
+    for i in range(m):
+        df[f"{prefix}{i + 1}"] = data.L[:, i]
+    for j, c in enumerate(POSE):
+        df[c] = data.pose[:, j]
+    df["sigma_m"] = data.sigma
+    if np.isfinite(data.tension).any():
+        for i in range(m):
+            df[f"t{i + 1}_N"] = data.tension[:, i]
+        df["sigma_N"] = data.sigma_t
+    df.to_csv(path, index=False, float_format="%.17g")
+
+
+# --- the model ------------------------------------------------------------------------------------
+def model_robot(robot, model):
+    """The robot the fit moves: ``exact`` the robot itself, ``standard`` fixed pulleys and rigid cables.
+
+    Parameters
+    ----------
+    robot : Robot
+    model : {"exact", "standard", "rigid"}
+        ``rigid``: the robot's pulleys, rigid cables.
+
+    Returns
+    -------
+    Robot
+    """
+    if model not in ALL_MODELS:
+        raise CdprError(f"unknown model {model!r}; allowed: {', '.join(MODELS)}")
+    if model == "exact":
+        return robot
+    rigid = robot if model == "rigid" else with_pulleys(robot, kind="fixed", h=0.0, r_p=0.0)
+    th = calibration_values(rigid)[: 7 * robot.m + 1]
+    th[: robot.m] *= STANDARD_STIFFENING
+    return robot_with_parameters(rigid, th)
+
+
+def offset_sensitivities(robot, P, L0):
+    """dP*/do_i of the encoder offsets: rest length L0_i = reading - o_i, so
+
+    .. math:: \\frac{dP^*}{do_i} = -\\frac{dP^*}{dL0_i} = J^{-1} \\frac{\\partial F}{\\partial L0_i},
+              \\quad \\frac{\\partial F}{\\partial L0_i} = -a_i \\frac{E_i S_i}{L0_i} \\frac{L_{TE,i}}{L0_i} u_i
+
+    (t_i = E_i S_i (L_TE,i - L0_i) / L0_i, a_i = 1 on a taut cable).
+
+    Parameters
+    ----------
+    robot : Robot
+    P : ndarray, shape (n, 3) [m]
+        Equilibria.
+    L0 : ndarray, shape (n, m) [m]
+        Rest lengths.
+
+    Returns
+    -------
+    S : ndarray, shape (n, 3, m) [m/m]
+
+    References
+    ----------
+    Paty et al. 2021, eq. (10)-(13); implicit-function theorem.
+    """
+    from cdpr.models.pulleys import total_length_and_direction
+
+    a = robot.arrays
+    J, _, hooke = physical_jacobian_terms(robot, P, L0)
+    g = total_length_and_direction(P, a.A, a.kind, a.h, a.r_p, a.d, a.inward)
+    k = a.ES / L0
+    dF = -((hooke >= 0) * k * g.L_TE / L0)[:, None, :] * np.swapaxes(g.u, 1, 2)  # (n, 3, m)
+    S, _ = implicit_solve(J, dF)
+    return -S
+
+
+class Problem:
+    """The MAP problem of one data set: residual and exact Jacobian in prior-scaled variables.
+
+    z = (θ_free - θ_nominal) / σ_prior; residual r(z) = [(y - P*(θ, L0)) / σ ; (t_meas - t(θ, L0)) / σ_t ;
+    z] (``map_residual``), pose rows for the samples with a measured pose, tension rows for those with
+    measured tensions.
+
+    Parameters
+    ----------
+    robot : Robot
+        Nominal robot (the prior mean), already in the chosen model (``model_robot``).
+    data : Data
+        Samples with a measured pose or measured tensions.
+    index : ndarray of int
+        Estimated parameters, into ``calibration_names(robot.m)``.
+    sd : ndarray, shape (len(index),)
+        Prior sd [Pa, m, kg].
+    engine : {"compiled", "numpy"}
+        Engine of the solves and sensitivities.
+    solver : dict
+        tol, maxiter, max_step of the physical solve.
+    """
+
+    def __init__(self, robot, data, index, sd, engine="compiled", solver=None):
+        self.robot, self.data, self.index, self.sd = robot, data, np.asarray(index), np.asarray(sd, float)
+        self.engine = engine
+        self.solver = dict(solver or {})
+        self.m = robot.m
+        self.theta0 = calibration_values(robot)
+        self._cache = None
+        pose, tens = np.flatnonzero(data.has_pose), np.flatnonzero(data.has_tension)
+        #: the sample of every measurement row
+        self.row_sample = np.concatenate([np.repeat(pose, 3), np.repeat(tens, self.m)]).astype(np.intp)
+        self._pose, self._tens = pose, tens
+
+    def theta(self, z):
+        th = self.theta0.copy()
+        th[self.index] += self.sd * np.asarray(z, dtype=float)
+        return th
+
+    def evaluate(self, z):
+        """Solve at z: P* (n, 3), status (n,), smooth (n,), dP*/dθ_free (n, 3, k); with tension data
+        also the tensions t (n, m) [N] and dt/dθ_free (n, m, k)."""
+        key = np.asarray(z, float).tobytes()
+        if self._cache is not None and self._cache[0] == key:
+            return self._cache[1]
+        data = self.data
+        th = self.theta(z)
+        m = self.m
+        rob = robot_with_parameters(self.robot, th[: 7 * m + 1])
+        L0 = data.L - th[7 * m + 1 :]
+        start = np.where(data.has_pose[:, None], data.pose, _centre(rob))
+        res = sensitivities(rob, start, redundancy="physical", L=L0, engine=self.engine, **self.solver)
+        S = np.zeros((len(start), 3, len(th)))
+        S[:, :, : 7 * m + 1] = res["S"]
+        ok = res["status"] == "ok"
+        need_off = (self.index >= 7 * m + 1).any() or len(self._tens)
+        if need_off and ok.any():
+            S[ok, :, 7 * m + 1 :] = offset_sensitivities(rob, res["P_s"][ok], L0[ok])
+        out = {"P": res["P_s"], "status": res["status"], "smooth": res["smooth"], "S": S[:, :, self.index]}
+        if len(self._tens):
+            t = np.full((len(start), m), np.nan)
+            St = np.full((len(start), m, len(th)), np.nan)
+            if ok.any():
+                t[ok], St[ok] = tension_sensitivities(rob, res["P_s"][ok], L0[ok], S[ok])
+            out["t"], out["St"] = t, St[:, :, self.index]
+        self._cache = (key, out)
+        return out
+
+    def residual(self, z):
+        """r(z) = [pose rows ; tension rows ; z] (``map_residual``)."""
+        ev = self.evaluate(z)
+        d, p, t = self.data, self._pose, self._tens
+        r = map_residual(d.pose[p], ev["P"][p], d.sigma[p], z)
+        if len(t):
+            rt = ((d.tension[t] - ev["t"][t]) / d.sigma_t[t, None]).ravel()
+            r = np.concatenate([r[: 3 * len(p)], rt, r[3 * len(p) :]])
+        return r
+
+    def jacobian(self, z):
+        """dr/dz: [-dP*/dθ σ_prior / σ ; -dt/dθ σ_prior / σ_t ; I]."""
+        ev = self.evaluate(z)
+        d, p, t = self.data, self._pose, self._tens
+        k = len(self.index)
+        blocks = [(-(np.nan_to_num(ev["S"][p]) * self.sd) / d.sigma[p, None, None]).reshape(-1, k)]
+        if len(t):
+            blocks.append((-(np.nan_to_num(ev["St"][t]) * self.sd) / d.sigma_t[t, None, None]).reshape(-1, k))
+        return np.vstack([*blocks, np.eye(k)])
+
+
+def tension_sensitivities(robot, P, L0, S):
+    r"""Cable tensions at the equilibrium and their total derivatives by the calibration parameters.
+
+    .. math:: t_i = k_i\,a_i\,(L_{TE,i}(P^*) - L0_i),\quad k_i = \frac{E_i S_i}{L0_i},\quad
+              \frac{dt_i}{d\theta} = a_i\left[k_i\left(\frac{\partial L_{TE,i}}{\partial P}
+              \frac{dP^*}{d\theta} + \frac{\partial L_{TE,i}}{\partial \theta}\right)
+              + \frac{\partial k_i}{\partial \theta}(L_{TE,i} - L0_i)\right]
+
+    with ∂k_i/∂E_i = k_i / E_i, and for the encoder offset o_i (L0_i = reading - o_i)
+    ∂(L_TE,i - L0_i)/∂o_i = 1, ∂k_i/∂o_i = k_i / L0_i.
+
+    Parameters
+    ----------
+    robot : Robot
+    P : ndarray, shape (n, 3) [m]
+        Equilibria.
+    L0 : ndarray, shape (n, m) [m]
+        Rest lengths.
+    S : ndarray, shape (n, 3, 8 m + 1)
+        dP*/dθ of every calibration parameter (``calibration_names``).
+
+    Returns
+    -------
+    t : ndarray, shape (n, m) [N]
+        0 on slack cables.
+    dt : ndarray, shape (n, m, 8 m + 1) [N per unit of θ]
+
+    References
+    ----------
+    Paty et al. 2021, eq. (10), (13).
+    """
+    from cdpr.models.sensitivity import cable_partials
+
+    a = robot.arrays
+    m = robot.m
+    cp = cable_partials(P, a.A, a.kind, a.h, a.r_p, a.d, a.inward)
+    k = a.ES / L0
+    e = cp.L_TE - L0
+    taut = e >= 0
+    t = np.where(taut, k * e, 0.0)
+    dt = k[..., None] * np.einsum("nia,nak->nik", cp.dL_dP, S)
+    for c in range(m):
+        geo = [m + c, 2 * m + c, 3 * m + c, 4 * m + 3 * c, 4 * m + 3 * c + 1, 4 * m + 3 * c + 2]
+        dt[:, c, geo] += k[:, c, None] * cp.dL[:, c]
+        dt[:, c, c] += k[:, c] * e[:, c] / a.E[c]
+        dt[:, c, 7 * m + 1 + c] += k[:, c] + k[:, c] * e[:, c] / L0[:, c]
+    return t, dt * taut[..., None]
+
+
+def _centre(robot):
+    """A start point for samples without a pose: below the anchors' centroid at half height."""
+    A = robot.A
+    return np.array([A[:, 0].mean(), A[:, 1].mean(), 0.5 * A[:, 2].min()])
+
+
+def map_residual(y, P, sigma, z):
+    """The MAP residual: measured minus predicted pose over the tracker noise, then the prior rows.
+
+    .. math:: r = \\left[\\frac{y_k - P^*_k(\\theta)}{\\sigma_k}\\right]_{k} \\oplus
+              \\frac{\\theta - \\theta_0}{\\sigma_{prior}}
+
+    so that ½|r|² is the negative log posterior under Gaussian noise and prior.
+
+    Parameters
+    ----------
+    y : ndarray, shape (n, 3) [m]
+        Measured positions.
+    P : ndarray, shape (n, 3) [m]
+        Predicted equilibria.
+    sigma : ndarray, shape (n,) [m]
+        Tracker noise sd.
+    z : ndarray, shape (k,) [-]
+        (θ - θ_0) / σ_prior of the estimated parameters.
+
+    Returns
+    -------
+    r : ndarray, shape (3 n + k,) [-]
+
+    References
+    ----------
+    Tarantola 2005, eq. (3.46).
+    """
+    return np.concatenate([((y - P) / sigma[:, None]).ravel(), np.asarray(z, dtype=float)])
+
+
+# --- identifiability ------------------------------------------------------------------------------
+def identifiability(Jm, names, rank_tol=RANK_TOL):
+    """Singular values, rank, condition, posterior covariance and the weak directions in words.
+
+    The posterior covariance in prior-scaled variables is (Jmᵀ Jm + I)^-1 (Gauss-Newton at the
+    MAP); the posterior-to-prior sd ratio of parameter j is sqrt of its diagonal.
+
+    Parameters
+    ----------
+    Jm : ndarray, shape (rows, k)
+        Measurement rows / σ, columns × prior sd.
+    names : list of str, length k
+    rank_tol : float
+        Singular values > rank_tol s_max count in the rank.
+
+    Returns
+    -------
+    dict
+        singular_values (k,) (0 where rows < k), rank, condition (inf when rank deficient),
+        cov_scaled (k, k), ratio (k,), labels (k,) identified / partly / prior-dominated,
+        unidentified: list of str, one per direction whose singular value is below 1 (the data
+        see it less than the prior does), weakest first.
+    """
+    k = Jm.shape[1]
+    s = np.zeros(k)
+    if Jm.shape[0]:
+        _, sv, Vt = np.linalg.svd(Jm, full_matrices=True)
+        s[: len(sv)] = sv
+    else:
+        Vt = np.eye(k)
+    smax = s.max() if k else 0.0
+    rank = int((s > rank_tol * smax).sum()) if smax > 0 else 0
+    cond = float(s[0] / s[-1]) if rank == k and k else math.inf
+    cov = np.linalg.inv(Jm.T @ Jm + np.eye(k))
+    ratio = np.sqrt(np.diag(cov))
+    labels = np.where(
+        ratio <= IDENTIFIED, "identified", np.where(ratio <= PARTLY, "partly", "prior-dominated")
+    )
+    words = []
+    null = s <= rank_tol * smax if smax > 0 else np.ones(k, dtype=bool)
+    if null.any():  # a degenerate null space: a sparse basis (reduced row echelon form) reads best
+        words += [direction_words(v, names, 0.0, True) for v in sparse_basis(Vt[null])]
+    for i in np.argsort(s):
+        if s[i] >= 1.0:
+            break
+        if not null[i]:
+            words.append(direction_words(Vt[i], names, s[i], False))
+    return {
+        "singular_values": s,
+        "rank": rank,
+        "condition": cond,
+        "cov_scaled": cov,
+        "ratio": ratio,
+        "labels": labels,
+        "unidentified": words,
+    }
+
+
+def sparse_basis(B):
+    """A basis of the row space of B (r, k) with one pivot parameter per vector (reduced row echelon
+    form by QR with column pivoting), each row normalised: e.g. the directions d_i - offset_i one by
+    one instead of an arbitrary rotation of them.
+
+    Parameters
+    ----------
+    B : ndarray, shape (r, k)
+        Orthonormal rows spanning a subspace.
+
+    Returns
+    -------
+    V : ndarray, shape (r, k)
+    """
+    from scipy.linalg import qr
+
+    r = B.shape[0]
+    _, _, piv = qr(B, pivoting=True)
+    V = np.linalg.solve(B[:, piv[:r]], B)
+    return V / np.linalg.norm(V, axis=1, keepdims=True)
+
+
+def direction_words(v, names, s, null):
+    """A direction of parameter space in words: the leading parameter, then 'against' those that
+    move against it along the unseen direction (opposite sign), 'with' those that move with it.
+
+    Parameters
+    ----------
+    v : ndarray, shape (k,)
+        Unit singular vector (prior-scaled).
+    names : list of str
+    s : float
+        Its singular value.
+    null : bool
+        Below the rank threshold.
+
+    Returns
+    -------
+    str, e.g. "d_1 against offset_1 (not seen by the data)".
+    """
+    order = np.lexsort((np.arange(len(v)), -np.round(np.abs(v), 6)))  # ties: the first parameter leads
+    lead = order[0]
+    big = [j for j in order[1:5] if abs(v[j]) >= 0.2 * abs(v[lead])]
+    # along v the data do not change: opposite signs move against each other, equal signs together
+    against = [names[j] for j in big if v[j] * v[lead] < 0]
+    withs = [names[j] for j in big if v[j] * v[lead] > 0]
+    text = names[lead]
+    if against:
+        text += " against " + " and ".join(against)
+    if withs:
+        text += (";" if against else "") + " with " + " and ".join(withs)
+    if not big:
+        text += " alone"
+    tail = "not seen by the data" if null else f"weak: s = {s:.2g} < 1, the prior decides"
+    return f"{text} ({tail})"
+
+
+# --- the fit --------------------------------------------------------------------------------------
+def check_model_groups(robot, model, groups, data):
+    """Refuse group/model/data combinations that mean nothing (one line each)."""
+    if model == "standard" and ({"pulleys", "moduli"} & set(groups)):
+        bad = sorted({"pulleys", "moduli"} & set(groups))[0]
+        raise CdprError(
+            f"--estimate {bad}: the standard model has no {bad} (straight lines to fixed points, rigid cables)"
+        )
+    if model == "rigid" and "moduli" in groups:
+        raise CdprError("--estimate moduli: the rigid model's cables do not stretch")
+    if "offsets" in groups and not data.encoder:
+        raise CdprError(f"{data.source}: --estimate offsets needs encoder readings L_enc1..L_enc{robot.m}")
+    if "pulleys" in groups and (robot.arrays.kind == 0).any():
+        raise CdprError("--estimate pulleys: the robot has fixed pulleys (h = r_p = 0); nothing to estimate")
+
+
+def usable(data, robot):
+    """Split the samples: those with a measured pose or measured tensions are equations, the others
+    (encoder readings alone) are not.
+
+    Raises CdprError when no sample is usable: in the exact model encoder-only samples give no
+    equation (every set of lengths has an equilibrium for every θ)."""
+    has = data.has_pose | data.has_tension
+    if not has.any():
+        raise CdprError(
+            f"{data.source}: no sample has a measured pose or tensions; with elastic cables and no measured tension every "
+            "set of lengths has an equilibrium for every θ, so encoder-only samples give no equation "
+            "(d_i and offset_i enter only as their sum); measure poses, or use --model standard for a rigid "
+            "self-calibration (biased)"
+        )
+    return np.flatnonzero(has), np.flatnonzero(~has)
+
+
+def fit(robot, data, groups, priors=None, model="exact", loss="linear", engine="compiled", solver=None):
+    """MAP estimate of the parameters of ``groups`` from ``data`` (module docstring).
+
+    Encoder-only data with ``model="standard"`` go to the rigid self-calibration with unknown poses
+    (``self_calibrate_standard``).
+
+    ``scipy.optimize.least_squares`` (trust-region reflective, bounds from the robot checks: E, M > 0,
+    h, r_p, d >= 0) on ``map_residual`` with the exact Jacobian. Samples whose equilibrium is not
+    ``ok`` or not smooth (a taut set about to change, a singular Jacobian) at the nominal or at the
+    estimate are flagged and left out, never silently.
+
+    Parameters
+    ----------
+    robot : Robot
+        Nominal robot (the prior mean).
+    data : Data
+    groups : list of str
+        ``CALIBRATION_GROUPS``.
+    priors : dict, optional
+        ``parse_priors`` (default ``DEFAULT_PRIORS``).
+    model : {"exact", "standard"}
+    loss : str
+        ``least_squares`` loss: "linear" (default) or a robust one ("soft_l1", "huber", "cauchy").
+    engine : {"compiled", "numpy"}
+    solver : dict, optional
+        tol, maxiter, max_step of the physical solve.
+
+    Returns
+    -------
+    Calibration
+    """
+    from scipy.optimize import least_squares
+
+    priors = parse_priors(None) if priors is None else priors
+    if model == "standard" and data.encoder and not (data.has_pose | data.has_tension).any():
+        return self_calibrate_standard(robot, data, groups, priors)
+    base = model_robot(robot, model)
+    index = select_groups(robot, groups)
+    check_model_groups(base, model, groups, data)
+    sd = prior_sd(base, index, priors)
+    used, no_pose = usable(data, robot)
+    status = np.full(len(data.sample), "no pose or tension", dtype=object)
+    names = [calibration_names(robot.m)[k] for k in index]
+    keep = used
+    for _attempt in range(3):
+        sub = data.subset(keep)
+        prob = Problem(base, sub, index, sd, engine=engine, solver=solver)
+        ev0 = prob.evaluate(np.zeros(len(index)))
+        good = (ev0["status"] == "ok") & ev0["smooth"]
+        if not good.all():
+            status[keep[~good]] = [f"left out at nominal: {s}" for s in _why(ev0, ~good)]
+            keep = keep[good]
+            continue
+        break
+    sub = data.subset(keep)
+    n_eq = 3 * int(sub.has_pose.sum()) + robot.m * int(sub.has_tension.sum())
+    if n_eq < len(index):
+        raise CdprError(
+            f"{data.source}: {len(keep)} usable samples give {n_eq} equations for {len(index)} "
+            "parameters; give at least as many equations as parameters"
+        )
+    prob = Problem(base, sub, index, sd, engine=engine, solver=solver)
+    lo, hi = _bounds(base, index, sd)
+    sol = least_squares(
+        prob.residual,
+        np.zeros(len(index)),
+        jac=prob.jacobian,
+        bounds=(lo, hi),
+        method="trf",
+        loss=loss,
+        f_scale=OUTLIER if loss != "linear" else 1.0,
+        x_scale=1.0,
+        ftol=1e-15,
+        xtol=1e-15,
+        gtol=1e-15,
+        max_nfev=200,
+    )
+    ev = prob.evaluate(sol.x)
+    bad = ~((ev["status"] == "ok") & ev["smooth"])
+    status[keep] = "used"
+    if bad.any():
+        status[keep[bad]] = [f"left out at estimate: {s}" for s in _why(ev, bad)]
+    J = prob.jacobian(sol.x)[: -len(index)]
+    Jm = J[~bad[prob.row_sample]]
+    ident = identifiability(Jm, names)
+    theta = prob.theta(sol.x)
+    before = np.full(len(data.sample), np.nan)
+    after = np.full(len(data.sample), np.nan)
+    before[keep] = np.linalg.norm(sub.pose - ev0_positions(prob), axis=1)  # NaN without a pose
+    after[keep] = np.linalg.norm(sub.pose - ev["P"], axis=1)
+    after[keep[bad]] = np.nan
+    norm = after / data.sigma
+    outlier = (norm > OUTLIER) if loss != "linear" else np.zeros(len(norm), dtype=bool)
+    return Calibration(
+        robot=robot,
+        base=base,
+        model=model,
+        index=index,
+        names=names,
+        nominal=prob.theta0[index],
+        estimate=theta[index],
+        prior_sd=sd,
+        ident=ident,
+        theta=theta,
+        table=pd.DataFrame(
+            {
+                "sample": data.sample,
+                "status": status.astype(str),
+                "residual_before_m": before,
+                "residual_after_m": after,
+                "outlier": outlier,
+            }
+        ),
+        source=data.source,
+        cost=float(sol.cost),
+        nfev=int(sol.nfev),
+    )
+
+
+def ev0_positions(prob):
+    """P* of the nominal robot at the problem's samples."""
+    return prob.evaluate(np.zeros(len(prob.index)))["P"]
+
+
+def _why(ev, mask):
+    return [st if st != "ok" else "taut set about to change or singular" for st in ev["status"][mask]]
+
+
+def _bounds(base, index, sd):
+    """Box bounds in prior-scaled variables: E, M > 1 % of nominal; h, r_p, d >= 0; A and offsets free."""
+    groups, _ = calibration_groups(base.m)
+    names = calibration_names(base.m)
+    th0 = calibration_values(base)
+    lo = np.full(len(index), -np.inf)
+    for j, k in enumerate(index):
+        g = groups[k]
+        if g in RELATIVE:
+            lo[j] = (0.01 * th0[k] - th0[k]) / sd[j]
+        elif g in ("pulleys", "dead_lengths") or names[k].startswith(("h_", "r_p_", "d_")):
+            lo[j] = -th0[k] / sd[j]
+    return lo, np.full(len(index), np.inf)
+
+
+@dataclasses.dataclass
+class Calibration:
+    """The result of ``fit``: estimate, posterior, identifiability and the per-sample table."""
+
+    robot: object
+    base: object
+    model: str
+    index: np.ndarray
+    names: list
+    nominal: np.ndarray
+    estimate: np.ndarray
+    prior_sd: np.ndarray
+    ident: dict
+    theta: np.ndarray
+    table: pd.DataFrame
+    source: str
+    cost: float
+    nfev: int
+
+    @property
+    def sd(self):
+        """Posterior sd [Pa, m, kg] (Gauss-Newton at the MAP)."""
+        return self.ident["ratio"] * self.prior_sd
+
+    @property
+    def covariance(self):
+        return self.ident["cov_scaled"] * np.outer(self.prior_sd, self.prior_sd)
+
+    @property
+    def correlation(self):
+        c = self.ident["cov_scaled"]
+        d = np.sqrt(np.diag(c))
+        return c / np.outer(d, d)
+
+    def calibrated_robot(self):
+        """The robot at the estimate (the model's pulleys; the standard model's E back to the file's)."""
+        m = self.robot.m
+        th = self.theta[: 7 * m + 1].copy()
+        if self.model in ("standard", "rigid"):
+            th[:m] /= STANDARD_STIFFENING
+        return robot_with_parameters(self.base, th)
+
+    def fitted_model(self):
+        """The model at the estimate, as the fit saw it (rigid models keep their stiff cables): what
+        predicts and compensates."""
+        return robot_with_parameters(self.base, self.theta[: 7 * self.robot.m + 1])
+
+    @property
+    def offsets(self):
+        return self.theta[7 * self.robot.m + 1 :]
+
+    def parameter_table(self):
+        """nominal, estimate, sd, 95 % interval, prior sd, ratio and label per parameter (SI)."""
+        groups, cables = calibration_groups(self.robot.m)
+        return pd.DataFrame(
+            {
+                "name": self.names,
+                "group": [groups[k] for k in self.index],
+                "cable": pd.array([cables[k] for k in self.index], dtype="Int64"),
+                "nominal": self.nominal,
+                "estimate": self.estimate,
+                "sd": self.sd,
+                "lo95": self.estimate - 1.959964 * self.sd,
+                "hi95": self.estimate + 1.959964 * self.sd,
+                "prior_sd": self.prior_sd,
+                "ratio": self.ident["ratio"],
+                "identified": self.ident["labels"],
+            }
+        )
+
+    def summary(self):
+        """The JSON of ``cdpr calibrate fit --json`` (issue 18's keys; SI units)."""
+        pt = self.parameter_table()
+        used = self.table["status"] == "used"
+        res = self.table.loc[used, "residual_after_m"].to_numpy()
+        res = res[np.isfinite(res)]
+        return {
+            "parameters": [
+                {
+                    "name": r.name,
+                    "group": r.group,
+                    "cable": None if pd.isna(r.cable) else int(r.cable),
+                    "nominal": float(r.nominal),
+                    "estimate": float(r.estimate),
+                    "sd": float(r.sd),
+                    "prior_sd": float(r.prior_sd),
+                    "identified": str(r.identified),
+                }
+                for r in pt.itertuples()
+            ],
+            "n_parameters": len(self.index),
+            "rank": self.ident["rank"],
+            "condition": _json_float(self.ident["condition"]),
+            "singular_values": [float(s) for s in self.ident["singular_values"]],
+            "unidentified": list(self.ident["unidentified"]),
+            "residual_rms_m": float(np.sqrt(np.mean(res**2))) if len(res) else None,
+            "residual_rms_rad": None,
+            "samples_used": int(used.sum()),
+            "samples_left_out": int((~used).sum()),
+        }
+
+
+def _json_float(x):
+    return float(x) if math.isfinite(x) else None
+
+
+def write_robot(path, cal, data_source):
+    """Write the calibrated robot: the input's schema, per-cable plain SI values, and a header saying
+    from which data, with which model, and when (offsets, which are not robot parameters, in the header).
+    """
+    import yaml
+
+    rob = cal.calibrated_robot()
+    header = [
+        f"# {rob.name} calibrated by cdpr calibrate fit ({cal.model} model) from {data_source}",
+        f"# on {datetime.datetime.now(datetime.timezone.utc).isoformat(timespec='seconds')}; nominal robot: {cal.robot.source}",
+        f"# estimated: {', '.join(cal.names)}",
+    ]
+    if "offsets" in {calibration_groups(rob.m)[0][k] for k in cal.index}:
+        header.append("# encoder offsets [m]: " + ", ".join(f"{o:.9g}" for o in cal.offsets))
+    cables = []
+    for c in rob.cables:
+        pul = {"kind": c.pulley.kind, "h_m": float(c.pulley.h), "r_p_m": float(c.pulley.r_p)}
+        mat = {
+            "young_modulus_Pa": float(c.material.E),
+            "diameter_m": float(c.material.diameter),
+            "max_tension_N": float(c.material.T_a),
+        }
+        cables.append(
+            {
+                "A_m": [float(x) for x in c.A],
+                "pulley": pul,
+                "cable": mat,
+                "dead_length_m": float(c.dead_length),
+            }
+        )
+    first = rob.cables[0]
+    doc = {
+        "name": f"{rob.name} (calibrated)",
+        "platform": {"mass_kg": float(rob.platform.mass), "gravity_m_per_s2": float(rob.platform.g)},
+        "cable": {
+            "young_modulus_Pa": float(first.material.E),
+            "diameter_m": float(first.material.diameter),
+            "max_tension_N": float(first.material.T_a),
+        },
+        "pulley": {"kind": first.pulley.kind, "h_m": float(first.pulley.h), "r_p_m": float(first.pulley.r_p)},
+        "cables": cables,
+    }
+    Path(path).write_text("\n".join(header) + "\n" + yaml.safe_dump(doc, sort_keys=False), encoding="utf-8")
+
+
+# --- check ----------------------------------------------------------------------------------------
+def check(robot, data, engine="compiled"):
+    """The robot's prediction (physical equilibrium under the commanded lengths) against every sample.
+
+    Parameters
+    ----------
+    robot : Robot
+    data : Data
+        Commanded lengths (not encoder readings: their offsets are unknown) and measured poses.
+
+    Returns
+    -------
+    dict
+        n (samples compared), rms_m (RMS over samples of |P* - y|), max_m, median_m, rms_rad and
+        max_rad (None for a point mass), samples: list of {sample, status, error_m} (error None
+        where the equilibrium is not ok).
+    """
+    if data.encoder:
+        raise CdprError(f"{data.source}: check needs commanded lengths L1..L{robot.m}, not encoder readings")
+    res = sensitivities(robot, data.pose, redundancy="physical", L=data.L, engine=engine)
+    ok = res["status"] == "ok"
+    err = np.linalg.norm(res["P_s"] - data.pose, axis=1)
+    e = err[ok]
+    return {
+        "n": int(ok.sum()),
+        "rms_m": float(np.sqrt(np.mean(e**2))) if len(e) else None,
+        "max_m": float(e.max()) if len(e) else None,
+        "median_m": float(np.median(e)) if len(e) else None,
+        "rms_rad": None,
+        "max_rad": None,
+        "samples": [
+            {"sample": str(s), "status": str(st), "error_m": float(x) if o else None}
+            for s, st, x, o in zip(data.sample, res["status"], err, ok)
+        ],
+    }
+
+
+# --- synthetic data -------------------------------------------------------------------------------
+def simulate(
+    truth,
+    nominal,
+    P,
+    sigma=SIGMA_DEFAULT,
+    rng=None,
+    offsets=None,
+    engine="compiled",
+    tensions=False,
+    sigma_t=SIGMA_T_DEFAULT,
+):
+    """Synthetic tracker data: the lengths the nominal robot would command to reach P (L_TS, eq. 2),
+    the pose where the true robot settles under them, plus Gaussian noise.
+
+    Parameters
+    ----------
+    truth : Robot
+        The real robot.
+    nominal : Robot
+        The model that computes the commands.
+    P : ndarray, shape (n, 3) [m]
+        Targets.
+    sigma : float [m]
+        Tracker noise sd.
+    rng : numpy Generator, optional
+        Noise source (None: noise-free).
+    offsets : ndarray, shape (m,) [m], optional
+        Encoder offsets: the data are then readings L0 + offsets.
+    tensions : bool
+        Also measure the cable tensions (noise sd ``sigma_t`` [N]).
+
+    Returns
+    -------
+    Data
+        With status "ok" samples only (the others are dropped here: this is the simulator, not the fit).
+    """
+    L0 = L_TS(nominal, P)
+    res = sensitivities(truth, P, redundancy="physical", L=L0, engine=engine)
+    ok = (res["status"] == "ok") & res["smooth"]
+    y = res["P_s"][ok]
+    if rng is not None:
+        y = y + rng.normal(0.0, sigma, y.shape)
+    L = L0[ok] if offsets is None else L0[ok] + np.asarray(offsets)
+    t = np.full(L.shape, np.nan)
+    if tensions:
+        t = np.nan_to_num(res["t"][ok])  # slack cables: 0 N
+        if rng is not None:
+            t = np.maximum(t + rng.normal(0.0, sigma_t, t.shape), 0.0)
+    return Data(
+        tension=t,
+        sigma_t=np.full(int(ok.sum()), float(sigma_t)),
+        sample=np.array([f"s{i + 1}" for i in range(int(ok.sum()))]),
+        L=L,
+        pose=y,
+        sigma=np.full(int(ok.sum()), float(sigma)),
+        encoder=offsets is not None,
+        source="<simulated>",
+    )
+
+
+def perturbed(robot, index, sd, rng):
+    """A robot whose parameters ``index`` are drawn from the prior N(nominal, sd²); returns (robot, θ)."""
+    th = calibration_values(robot)
+    th[index] += sd * rng.standard_normal(len(index))
+    return robot_with_parameters(robot, th[: 7 * robot.m + 1]), th
+
+
+# --- plan -----------------------------------------------------------------------------------------
+def default_box(robot):
+    """Candidate box: the middle 80 % of the anchors' horizontal extent, z from 10 % to 70 % of
+    the lowest anchor height [m]."""
+    A = robot.A
+    lo, hi = A[:, :2].min(axis=0), A[:, :2].max(axis=0)
+    c, w = (lo + hi) / 2, (hi - lo) / 2 * 0.8
+    top = A[:, 2].min()
+    return [c[0] - w[0], c[0] + w[0], c[1] - w[1], c[1] + w[1], 0.1 * top, 0.7 * top]
+
+
+def candidates(robot, box, n_axis=7, model="exact", engine="compiled", targets=False):
+    """Admissible candidate poses of a box and their scaled measurement rows.
+
+    A candidate is the grid point p commanded with L_TS(p); admissible when the nominal equilibrium
+    is ``ok`` and smooth there.
+
+    Returns
+    -------
+    P : ndarray (c, 3) [m]
+        The equilibria (where the tracker would measure).
+    L0 : ndarray (c, m) [m]
+        Commanded lengths.
+    p : ndarray (c, 3) [m]
+        The grid points commanded (only with ``targets=True``).
+    """
+    from cdpr.analyses.workspace import grid_points
+
+    base = model_robot(robot, model)
+    p = grid_points(box, n_axis)
+    L0 = L_TS(robot, p)
+    res = sensitivities(base, p, redundancy="physical", L=L0, engine=engine)
+    ok = (res["status"] == "ok") & res["smooth"] & (res["n_taut"] >= 3)
+    if targets:
+        return res["P_s"][ok], L0[ok], p[ok]
+    return res["P_s"][ok], L0[ok]
+
+
+def info_rows(robot, P, L0, index, sd, sigma=SIGMA_DEFAULT, model="exact", engine="compiled"):
+    """Scaled measurement rows per candidate: -dP*/dθ σ_prior / σ, shape (c, 3, k)."""
+    base = model_robot(robot, model)
+    data = Data(
+        sample=np.arange(len(P)).astype(str),
+        L=L0,
+        pose=P,
+        sigma=np.full(len(P), sigma),
+        encoder=False,
+        source="<plan>",
+    )
+    prob = Problem(base, data, index, sd, engine=engine)
+    return prob.jacobian(np.zeros(len(index)))[: 3 * len(P)].reshape(len(P), 3, len(index))
+
+
+def d_optimal(rows, n, exchange=True):
+    """Greedy D-optimal choice of n candidates maximising det(Σ J_kᵀ J_k + I), then one exchange pass.
+
+    Each greedy step adds the candidate with the largest det(I_3 + J_k C J_kᵀ), C the current
+    posterior covariance (matrix determinant lemma); the exchange pass swaps a chosen candidate for
+    an unchosen one whenever the determinant grows.
+
+    Parameters
+    ----------
+    rows : ndarray, shape (c, 3, k)
+        Scaled measurement rows of the candidates (``info_rows``).
+    n : int
+        Plan size (repeats allowed: a pose may be measured twice).
+    exchange : bool
+
+    Returns
+    -------
+    chosen : ndarray of int, shape (n,)
+    logdet : float
+        log det of the information matrix of the plan (prior included).
+
+    References
+    ----------
+    Atkinson & Donev 1992, ch. 11 and 15.
+    """
+    c, _, k = rows.shape
+    info = np.eye(k)
+    chosen = []
+    for _ in range(n):
+        C = np.linalg.inv(info)
+        M = np.eye(3) + np.einsum("cik,kl,cjl->cij", rows, C, rows)
+        j = int(np.argmax(np.linalg.slogdet(M)[1]))
+        chosen.append(j)
+        info += rows[j].T @ rows[j]
+    chosen = np.array(chosen)
+    if exchange:
+        for pos in range(n):
+            rest = info - rows[chosen[pos]].T @ rows[chosen[pos]]
+            C = np.linalg.inv(rest)
+            M = np.eye(3) + np.einsum("cik,kl,cjl->cij", rows, C, rows)
+            j = int(np.argmax(np.linalg.slogdet(M)[1]))
+            chosen[pos] = j
+            info = rest + rows[j].T @ rows[j]
+    return chosen, float(np.linalg.slogdet(info)[1])
+
+
+def plan_sd(rows, chosen):
+    """Posterior-to-prior sd ratios of a plan: sqrt diag (Σ_chosen J_kᵀ J_k + I)^-1."""
+    k = rows.shape[2]
+    info = np.eye(k) + np.einsum("cik,cil->kl", rows[chosen], rows[chosen])
+    return np.sqrt(np.diag(np.linalg.inv(info))), float(np.linalg.slogdet(info)[1])
+
+
+def plan(robot, groups, n, box=None, priors=None, sigma=SIGMA_DEFAULT, n_random=50, seed=0, n_axis=7):
+    """Pick n poses among admissible candidates maximising det(JᵀJ + prior) and compare with random.
+
+    Returns
+    -------
+    dict
+        poses (n, 3) [m], lengths (n, m) [m], names, sd_d_optimal, sd_random_median (k,) [SI],
+        prior_sd (k,), logdet_d_optimal, logdet_random_median, n_candidates.
+    """
+    priors = parse_priors(None) if priors is None else priors
+    index = select_groups(robot, groups)
+    sd = prior_sd(robot, index, priors)
+    from cdpr.analyses.workspace import check_box
+
+    box = default_box(robot) if box is None else check_box(box).tolist()
+    P, L0 = candidates(robot, box, n_axis)
+    if len(P) == 0:
+        raise CdprError(f"no admissible candidate pose in the box {box}")
+    rows = info_rows(robot, P, L0, index, sd, sigma)
+    chosen, logdet = d_optimal(rows, n)
+    rng = np.random.default_rng(seed)
+    rand = [plan_sd(rows, rng.choice(len(P), n, replace=len(P) < n)) for _ in range(n_random)]
+    ratio, _ = plan_sd(rows, chosen)
+    return {
+        "poses": P[chosen],
+        "lengths": L0[chosen],
+        "names": [calibration_names(robot.m)[k] for k in index],
+        "sd_d_optimal": ratio * sd,
+        "sd_random_median": np.median([r[0] for r in rand], axis=0) * sd,
+        "prior_sd": sd,
+        "logdet_d_optimal": logdet,
+        "logdet_random_median": float(np.median([r[1] for r in rand])),
+        "n_candidates": len(P),
+    }
+
+
+# --- rigid self-calibration (standard model, poses unknown) ---------------------------------------
+#: Encoder noise sd [m] of the rigid self-calibration.
+SIGMA_L_DEFAULT = 1e-3
+
+
+def standard_lengths(A, d, o, P):
+    """Encoder readings of the standard model: straight lines to fixed points, rigid cables,
+
+    .. math:: L_{enc,ki} = o_i + d_i + |P_k - A_i|
+
+    (the winch exit C_i = A_i - d_i z, so the cable runs C_i → A_i → P_k).
+
+    Parameters
+    ----------
+    A : ndarray, shape (m, 3) [m]
+        Joint points.
+    d, o : ndarray, shape (m,) [m]
+        Dead lengths and encoder offsets.
+    P : ndarray, shape (n, 3) [m]
+        Platform positions.
+
+    Returns
+    -------
+    L : ndarray, shape (n, m) [m]
+
+    References
+    ----------
+    Paty et al. 2021, eq. (1)-(2) (the standard geometric model).
+    """
+    return o + d + np.linalg.norm(P[:, None, :] - A, axis=-1)
+
+
+def self_calibrate_standard(robot, data, groups, priors=None, sigma_L=SIGMA_L_DEFAULT):
+    """Hangprinter-style rigid self-calibration: encoder readings only, poses unknown, redundant cables.
+
+    Least squares on (L_enc - ``standard_lengths``) / σ_L over the unknown poses P_k and the
+    parameters of ``groups`` (anchors, dead_lengths, offsets; MAP with their prior rows), exact
+    Jacobian. The identifiability is that of θ with the poses eliminated (measurement rows projected
+    on the orthogonal complement of the pose columns): d_i and offset_i enter only as their sum, and
+    with every anchor free the frame may move rigidly. Biased on a real robot: it ignores the
+    pulleys and the cables' stretch.
+
+    Parameters
+    ----------
+    robot : Robot
+        Nominal robot; its pulleys and moduli are ignored (standard model).
+    data : Data
+        Encoder readings (``data.encoder``); measured poses, if any, are not used.
+    groups : list of str
+        Among anchors, dead_lengths, offsets.
+    priors : dict, optional
+    sigma_L : float [m]
+        Encoder noise sd.
+
+    Returns
+    -------
+    Calibration
+        ``model == "standard"``; residual_after_m per sample is its RMS length residual [m].
+    """
+    from scipy.optimize import least_squares
+
+    if not data.encoder:
+        raise CdprError(
+            f"{data.source}: rigid self-calibration needs encoder readings L_enc1..L_enc{robot.m}"
+        )
+    bad = set(groups) - {"anchors", "dead_lengths", "offsets"}
+    if bad:
+        raise CdprError(
+            f"--estimate {sorted(bad)[0]}: the rigid self-calibration estimates anchors, dead_lengths, offsets only"
+        )
+    priors = parse_priors(None) if priors is None else priors
+    base = model_robot(robot, "standard")
+    index = select_groups(robot, groups)
+    sd = prior_sd(base, index, priors)
+    th0 = calibration_values(base)
+    m, n, k = robot.m, len(data.sample), len(index)
+    if n * m < 3 * n + k:
+        raise CdprError(
+            f"{data.source}: {n} samples give {n * m} equations for {3 * n + k} unknowns (poses and parameters)"
+        )
+
+    def unpack(x):
+        th = th0.copy()
+        th[index] += sd * x[3 * n :]
+        A = th[4 * m : 7 * m].reshape(m, 3)
+        return th, A, th[3 * m : 4 * m], th[7 * m + 1 :], x[: 3 * n].reshape(n, 3)
+
+    def residual(x):
+        th, A, d, o, P = unpack(x)
+        return np.concatenate([((data.L - standard_lengths(A, d, o, P)) / sigma_L).ravel(), x[3 * n :]])
+
+    def jacobian(x):
+        th, A, d, o, P = unpack(x)
+        diff = P[:, None, :] - A
+        u = diff / np.linalg.norm(diff, axis=-1, keepdims=True)  # (n, m, 3): dL/dP, -dL/dA
+        J = np.zeros((n * m + k, 3 * n + k))
+        for kk in range(n):
+            J[kk * m : (kk + 1) * m, 3 * kk : 3 * kk + 3] = -u[kk] / sigma_L
+        for j, col in enumerate(index):
+            dL = np.zeros((n, m))
+            if 4 * m <= col < 7 * m:
+                c, ax = divmod(col - 4 * m, 3)
+                dL[:, c] = -u[:, c, ax]
+            else:  # d_i or offset_i
+                dL[:, (col - 3 * m) if col < 4 * m else (col - 7 * m - 1)] = 1.0
+            J[: n * m, 3 * n + j] = -(dL * sd[j] / sigma_L).ravel()
+        J[n * m :, 3 * n :] = np.eye(k)
+        return J
+
+    # first guess of the poses: multilateration with the nominal robot (Gauss-Newton per sample)
+    A0, d0, o0 = base.A, th0[3 * m : 4 * m], np.zeros(m)
+    P = np.tile(_centre(base), (n, 1))
+    for _ in range(30):
+        diff = P[:, None, :] - A0
+        dist = np.linalg.norm(diff, axis=-1)
+        r = data.L - o0 - d0 - dist
+        u = diff / dist[..., None]
+        step = np.linalg.solve(np.einsum("nia,nib->nab", u, u), np.einsum("nia,ni->na", u, r)[..., None])[
+            ..., 0
+        ]
+        P = P + step  # Gauss-Newton: dr/dP = -u
+    x0 = np.concatenate([P.ravel(), np.zeros(k)])
+    sol = least_squares(
+        residual, x0, jac=jacobian, method="trf", ftol=1e-15, xtol=1e-15, gtol=1e-15, max_nfev=200
+    )
+    J = jacobian(sol.x)[: n * m]
+    Q, _ = np.linalg.qr(J[:, : 3 * n])
+    Jth = J[:, 3 * n :]
+    names = [calibration_names(m)[c] for c in index]
+    ident = identifiability(Jth - Q @ (Q.T @ Jth), names)
+    th = unpack(sol.x)[0]
+    res = residual(sol.x)[: n * m].reshape(n, m) * sigma_L
+    table = pd.DataFrame(
+        {
+            "sample": data.sample,
+            "status": "used",
+            "residual_before_m": np.nan,
+            "residual_after_m": np.sqrt(np.mean(res**2, axis=1)),
+            "outlier": False,
+        }
+    )
+    return Calibration(
+        robot=robot,
+        base=base,
+        model="standard",
+        index=index,
+        names=names,
+        nominal=th0[index],
+        estimate=th[index],
+        prior_sd=sd,
+        ident=ident,
+        theta=th,
+        table=table,
+        source=data.source,
+        cost=float(sol.cost),
+        nfev=int(sol.nfev),
+    )

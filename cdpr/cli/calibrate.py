@@ -1,0 +1,181 @@
+"""``cdpr calibrate fit | check | plan``: a real robot's parameters from measurements (issue 18).
+
+``fit`` estimates the parameter groups ``--estimate`` from a data table (docs/calibration.md) and
+writes the calibrated robot file; ``check`` compares a robot's prediction with measured samples;
+``plan`` picks D-optimal poses to measure. JSON with ``--json`` (SI units), a readable table
+without; every bad input is one line on stderr and exit code 2 (``cdpr.cli.commands.main``).
+
+Its options are defined in ``cdpr.cli.parser`` (``calibrate_parser``), which loads this module only
+to run a command.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from cdpr import io
+from cdpr.analyses import calibration as cal
+from cdpr.robot import load_robot
+
+
+def _table(rows, headers):
+    cols = [[h] + [r[i] for r in rows] for i, h in enumerate(headers)]
+    widths = [max(len(x) for x in c) for c in cols]
+    lines = ["  ".join(x.rjust(w) for x, w in zip(r, widths)) for r in [headers] + rows]
+    lines.insert(1, "  ".join("-" * w for w in widths))
+    return "\n".join(lines)
+
+
+def cmd_fit(args):
+    """``cdpr calibrate fit``: estimate, report, write the calibrated robot."""
+    io.check_output(args.out, (".yaml", ".yml"))
+    robot = load_robot(args.robot)
+    priors = cal.parse_priors(args.prior)
+    data = cal.read_data(args.data, robot)
+    result = cal.fit(robot, data, args.estimate, priors=priors, model=args.model, loss=args.loss)
+    cal.write_robot(args.out, result, args.data)
+    if args.model == "standard":
+        print(
+            "cdpr: warning: the standard model ignores pulley kinematics and cable stretch; its estimates are biased",
+            file=sys.stderr,
+        )
+    summary = result.summary()
+    if args.report:
+        write_report(result, Path(args.report))
+    if args.json:
+        print(json.dumps(summary, indent=2, allow_nan=False))
+        return
+    _print_fit(result, summary)
+
+
+def _print_fit(result, s):
+    rows = [
+        [
+            p["name"],
+            f"{p['nominal']:.6g}",
+            f"{p['estimate']:.6g}",
+            f"{p['sd']:.3g}",
+            f"{p['prior_sd']:.3g}",
+            p["identified"],
+        ]
+        for p in s["parameters"]
+    ]
+    print(_table(rows, ["parameter", "nominal", "estimate", "sd", "prior sd", "identified"]))
+    cond = "inf" if s["condition"] is None else f"{s['condition']:.3g}"
+    print(
+        f"{s['n_parameters']} parameters, rank {s['rank']}, condition {cond}; samples used {s['samples_used']}, "
+        f"left out {s['samples_left_out']}; residual RMS {s['residual_rms_m'] * 1e3:.4g} mm ({result.model} model)"
+    )
+    for w in s["unidentified"]:
+        print(f"weak: {w}")
+    t = result.table
+    if t["outlier"].any():
+        print("outliers down-weighted by the robust loss: " + ", ".join(t.loc[t["outlier"], "sample"]))
+    left = t[t["status"] != "used"]
+    for r in left.itertuples():
+        print(f"left out: sample {r.sample} ({r.status})")
+    if result.model == "standard":
+        print(
+            "warning: the standard model ignores pulley kinematics and elasticity; its estimates are biased"
+        )
+
+
+def write_report(result, folder):
+    """Per-sample table, per-parameter table, correlation matrix and three figures in ``folder``."""
+    folder.mkdir(parents=True, exist_ok=True)
+    result.table.to_csv(folder / "samples.csv", index=False, float_format="%.9g")
+    pt = result.parameter_table()
+    pt.to_csv(folder / "parameters.csv", index=False, float_format="%.9g")
+    import pandas as pd
+
+    pd.DataFrame(result.correlation, index=result.names, columns=result.names).to_csv(
+        folder / "correlation.csv", float_format="%.6f"
+    )
+    from cdpr.pipeline.calibration import calibration_figures
+
+    calibration_figures(result, folder)
+
+
+def cmd_check(args):
+    """``cdpr calibrate check``: the robot's prediction against every measured sample."""
+    robot = load_robot(args.robot)
+    data = cal.read_data(args.data, robot)
+    out = cal.check(robot, data)
+    if args.json:
+        print(json.dumps(out, indent=2, allow_nan=False))
+        return
+    if out["n"] == 0:
+        print(f"no sample has an equilibrium ({len(out['samples'])} samples)")
+        return
+    print(
+        f"{out['n']} samples: RMS {out['rms_m'] * 1e3:.4g} mm, median {out['median_m'] * 1e3:.4g} mm, "
+        f"max {out['max_m'] * 1e3:.4g} mm"
+    )
+    bad = [s for s in out["samples"] if s["error_m"] is None]
+    if bad:
+        print(
+            f"{len(bad)} samples without equilibrium: "
+            + ", ".join(f"{s['sample']} ({s['status']})" for s in bad)
+        )
+
+
+def cmd_plan(args):
+    """``cdpr calibrate plan``: D-optimal poses and their expected standard errors versus random ones."""
+    if args.out:
+        io.check_output(args.out, (".csv",))
+    robot = load_robot(args.robot)
+    priors = cal.parse_priors(args.prior)
+    res = cal.plan(
+        robot, args.estimate, args.n, box=args.box, priors=priors, sigma=args.sigma, n_axis=args.grid
+    )
+    if args.out:
+        import pandas as pd
+
+        df = pd.DataFrame({"sample": np.arange(1, args.n + 1)})
+        for i in range(robot.m):
+            df[f"L{i + 1}"] = res["lengths"][:, i]
+        for j, c in enumerate(("x_expected_m", "y_expected_m", "z_expected_m")):
+            df[c] = res["poses"][:, j]
+        df.to_csv(args.out, index=False, float_format="%.12g")
+    out = {
+        "n": args.n,
+        "n_candidates": res["n_candidates"],
+        "poses": res["poses"].tolist(),
+        "lengths": res["lengths"].tolist(),
+        "expected_sd": [
+            {"name": nm, "prior_sd": float(p), "d_optimal": float(d), "random_median": float(r)}
+            for nm, p, d, r in zip(
+                res["names"], res["prior_sd"], res["sd_d_optimal"], res["sd_random_median"]
+            )
+        ],
+        "logdet_d_optimal": res["logdet_d_optimal"],
+        "logdet_random_median": res["logdet_random_median"],
+    }
+    if args.json:
+        print(json.dumps(out, indent=2, allow_nan=False))
+        return
+    rows = [
+        [e["name"], f"{e['prior_sd']:.3g}", f"{e['d_optimal']:.3g}", f"{e['random_median']:.3g}"]
+        for e in out["expected_sd"]
+    ]
+    print(
+        _table(rows, ["parameter", "prior sd", f"sd D-optimal ({args.n})", f"sd random ({args.n}, median)"])
+    )
+    print(
+        f"{args.n} poses chosen among {res['n_candidates']} admissible candidates; log det information "
+        f"{res['logdet_d_optimal']:.4g} (random plans: median {res['logdet_random_median']:.4g})"
+        + (f"; written to {args.out}" if args.out else "")
+    )
+
+
+def cmd_study(args):
+    """``cdpr calibrate study``: run the calibration study and print the headline table."""
+    from cdpr.pipeline.calibration import run_calibration_study
+
+    res = run_calibration_study(args.study, args.out)
+    print((Path(args.out) / "summary.md").read_text(encoding="utf-8"))
+    print(f"calibration study: {res['elapsed_s']:.1f} s")

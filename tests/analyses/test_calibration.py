@@ -1,0 +1,426 @@
+"""Calibration (cdpr.analyses.calibration): recovery of a perturbed robot, coverage of the posterior
+intervals, unreachable parameters, the encoder gauge, the exact Jacobian against central differences
+of the full residual, D-optimal plans against random ones, and every bad-data case."""
+
+import numpy as np
+import pytest
+
+from cdpr.analyses import calibration as cal
+from cdpr.errors import CdprError, ConfigError
+from cdpr.models.inverse import L_TS
+from cdpr.parameters import calibration_names, select_groups
+
+BOX = [-1.8, 1.8, -1.8, 1.8, 0.8, 3.5]
+
+
+def _poses(rng, n, box=BOX):
+    lo, hi = np.array(box[::2]), np.array(box[1::2])
+    return rng.uniform(lo, hi, (n, 3))
+
+
+def _truth(robot, groups, seed, priors=None):
+    rng = np.random.default_rng(seed)
+    idx = select_groups(robot, groups)
+    sd = cal.prior_sd(robot, idx, priors or cal.parse_priors(None))
+    truth, th = cal.perturbed(robot, idx, sd, rng)
+    return rng, idx, sd, truth, th
+
+
+def test_noise_free_data_recover_the_truth(cdpr4):
+    """A robot perturbed in anchors, dead lengths, pulleys and moduli (25 parameters), noise-free
+    poses (σ = 1 nm so the prior no longer pulls): every parameter back to 1e-6 relative."""
+    groups = ["anchors", "dead_lengths", "pulleys", "moduli"]
+    rng, idx, sd, truth, th = _truth(cdpr4, groups, 3)
+    data = cal.simulate(truth, cdpr4, _poses(rng, 40), sigma=1e-9)
+    c = cal.fit(cdpr4, data, groups, solver={"tol": 1e-13})
+    assert c.ident["rank"] == len(idx) == 28
+    rel = np.abs(c.estimate - th[idx]) / np.abs(th[idx])
+    worst = int(np.argmax(rel))
+    assert rel.max() < 1e-6, (c.names[worst], rel[worst])
+    # the truth differs from the nominal by far more than that: the test is not comparing nominals
+    assert (np.abs(th[idx] - c.nominal) / np.abs(th[idx])).max() > 1e-3
+    assert set(c.ident["labels"]) == {"identified"}
+    s = c.summary()
+    assert s["samples_used"] == 40 and s["samples_left_out"] == 0 and s["residual_rms_m"] < 1e-9
+
+
+def test_moduli_and_mass_enter_only_as_their_ratio(cdpr4):
+    """Scaling every E_i and M by one factor leaves every equilibrium in place: the gauge is found
+    and named, not an arbitrary answer."""
+    groups = ["moduli", "mass"]
+    rng, idx, sd, truth, th = _truth(cdpr4, groups, 5)
+    data = cal.simulate(truth, cdpr4, _poses(rng, 20), sigma=1e-9)
+    c = cal.fit(cdpr4, data, groups, solver={"tol": 1e-13})
+    assert c.ident["rank"] == len(idx) - 1
+    words = c.ident["unidentified"][0]
+    assert words.startswith("M with E_") and "not seen by the data" in words
+    # the estimate satisfies the data: E_i / M recovered exactly
+    np.testing.assert_allclose(c.estimate[:4] / c.estimate[4], th[idx][:4] / th[idx][4], rtol=1e-6)
+
+
+def test_coverage_of_the_95_percent_intervals(cdpr3):
+    """Truth drawn from the prior, tracker noise 0.2 mm, 12 poses, full nonlinear fit each time:
+    over 120 seeded repeats the truth lies inside the 95 % interval in 90-99 % of the cases."""
+    groups = ["dead_lengths", "mass"]
+    priors = cal.parse_priors("dead_lengths=20mm,mass=5%")
+    inside = []
+    box = [-1.2, 1.2, -1.0, 1.4, 0.8, 3.5]
+    for seed in range(120):
+        rng, idx, sd, truth, th = _truth(cdpr3, groups, 1000 + seed, priors)
+        data = cal.simulate(truth, cdpr3, _poses(rng, 12, box), sigma=2e-4, rng=rng)
+        c = cal.fit(cdpr3, data, groups, priors=priors)
+        pt = c.parameter_table()
+        inside.extend(((pt.lo95 <= th[idx]) & (th[idx] <= pt.hi95)).tolist())
+    frac = np.mean(inside)
+    assert 0.90 <= frac <= 0.99, frac
+    assert len(inside) >= 100 * len(groups)
+
+
+def test_a_parameter_the_data_cannot_reach_stays_at_its_prior(cdpr4):
+    """Poses where cable 4 is slack: its dead length moves no pose, stays at the nominal and is
+    marked prior-dominated; the other three are identified."""
+    from cdpr.analyses.workspace import grid_points
+    from cdpr.models.pulleys import total_length_and_direction
+    from cdpr.models.sensitivity import sensitivities
+
+    p = grid_points([-2, 2, -2, 2, 0.5, 4], 8)
+    L0 = L_TS(cdpr4, p)
+    res = sensitivities(cdpr4, p, redundancy="physical", L=L0)
+    a = cdpr4.arrays
+    stretch = total_length_and_direction(res["P_s"], a.A, a.kind, a.h, a.r_p, a.d, a.inward).L_TE - L0
+    # cable 4 slack by more than 3 mm: three prior sds of every dead length cannot make it pull
+    slack4 = (res["status"] == "ok") & res["smooth"] & (stretch[:, 3] < -3e-3)
+    priors = cal.parse_priors("dead_lengths=1mm")
+    rng, idx, sd, truth, th = _truth(cdpr4, ["dead_lengths"], 11, priors)
+    data = cal.simulate(truth, cdpr4, p[slack4], sigma=2e-4, rng=rng)
+    assert len(data.sample) >= 6
+    c = cal.fit(cdpr4, data, ["dead_lengths"], priors=priors)
+    assert c.estimate[3] == c.nominal[3]
+    assert list(c.ident["labels"]) == ["identified"] * 3 + ["prior-dominated"]
+    assert c.ident["ratio"][3] == pytest.approx(1.0, abs=1e-12)
+    assert c.ident["unidentified"] == ["d_4 alone (not seen by the data)"]
+    assert c.ident["rank"] == 3
+
+
+def test_encoder_data_without_poses_report_the_gauge(cdpr4, tmp_path):
+    """Encoder readings and no pose: no equation in the exact model; the fit says why (d_i and
+    offset_i only as their sum) instead of returning an answer."""
+    rng = np.random.default_rng(2)
+    data = cal.simulate(cdpr4, cdpr4, _poses(rng, 10), offsets=[0.01, -0.02, 0.0, 0.03])
+    data.pose[:] = np.nan
+    path = tmp_path / "enc.csv"
+    cal.write_data(path, data, cdpr4)
+    back = cal.read_data(path, cdpr4)
+    assert back.encoder and not back.has_pose.any()
+    with pytest.raises(
+        CdprError, match="no sample has a measured pose.*d_i and offset_i enter only as their sum"
+    ):
+        cal.fit(cdpr4, back, ["dead_lengths", "offsets"])
+
+
+def test_encoder_data_with_poses_dead_length_against_offset(cdpr4):
+    """With poses, offsets are estimable, but d_i and offset_i differ only through the cable's
+    stiffness E S / L0: the weakest directions name them against each other and the sum is sharp."""
+    groups = ["dead_lengths", "offsets"]
+    rng, idx, sd, truth, th = _truth(cdpr4, groups[:1], 7)
+    off = np.array([0.02, -0.01, 0.03, 0.005])
+    data = cal.simulate(truth, cdpr4, _poses(rng, 30), sigma=2e-4, rng=rng, offsets=off)
+    c = cal.fit(cdpr4, data, groups)
+    words = c.ident["unidentified"]
+    assert len(words) >= 1 and all(" against offset_" in w or " against d_" in w for w in words)
+    cov = c.covariance
+    for i in range(4):  # sd of d_i + offset_i (the sum seen by the data) far below either alone
+        var_sum = cov[i, i] + cov[4 + i, 4 + i] + 2 * cov[i, 4 + i]
+        assert np.sqrt(var_sum) < 0.05 * c.sd[i]
+        assert abs((c.estimate[i] + c.estimate[4 + i]) - (th[idx][i] + off[i])) < 5 * np.sqrt(var_sum)
+
+
+@pytest.mark.parametrize("model", ["exact", "standard"])
+def test_analytic_jacobian_equals_central_differences_of_the_full_residual(cdpr4, model):
+    """Problem.jacobian (implicit-function sensitivities and the offset column) against central
+    differences of Problem.residual, which re-solves every equilibrium, away from taut-set changes."""
+    groups = ["anchors", "dead_lengths", "offsets", "mass"] + (
+        ["pulleys", "moduli"] if model == "exact" else []
+    )
+    rng = np.random.default_rng(4)
+    data = cal.simulate(cdpr4, cdpr4, _poses(rng, 8), offsets=np.zeros(4))
+    base = cal.model_robot(cdpr4, model)
+    idx = select_groups(cdpr4, groups)
+    sd = cal.prior_sd(base, idx, cal.parse_priors(None))
+    prob = cal.Problem(base, data, idx, sd, solver={"tol": 1e-14})
+    z = 0.3 * rng.standard_normal(len(idx))
+    ev = prob.evaluate(z)
+    assert ((ev["status"] == "ok") & ev["smooth"]).all()
+    J = prob.jacobian(z)
+    step = 1e-5
+    fd = np.empty_like(J)
+    for j in range(len(idx)):
+        e = np.zeros(len(idx))
+        e[j] = step
+        fd[:, j] = (prob.residual(z + e) - prob.residual(z - e)) / (2 * step)
+    scale = np.abs(fd).max(axis=0)
+    assert (scale[: len(idx)] > 1e-3).all()  # every column moves the residual
+    err = np.abs(J - fd).max(axis=0) / scale
+    names = [calibration_names(4)[k] for k in idx]
+    assert err.max() < 1e-5, (names[int(np.argmax(err))], err.max())
+
+
+def test_d_optimal_plan_beats_random_plans(cdpr4):
+    groups = ["anchors", "dead_lengths", "pulleys"]
+    idx = select_groups(cdpr4, groups)
+    sd = cal.prior_sd(cdpr4, idx, cal.parse_priors(None))
+    P, L0 = cal.candidates(cdpr4, cal.default_box(cdpr4), n_axis=6)
+    rows = cal.info_rows(cdpr4, P, L0, idx, sd)
+    chosen, logdet = cal.d_optimal(rows, 15)
+    rng = np.random.default_rng(0)
+    rand = [cal.plan_sd(rows, rng.choice(len(P), 15, replace=False)) for _ in range(40)]
+    assert logdet > max(r[1] for r in rand)
+    assert np.median(cal.plan_sd(rows, chosen)[0]) < np.median([np.median(r[0]) for r in rand])
+    assert cal.plan_sd(rows, chosen)[1] == pytest.approx(logdet)
+
+
+def test_calibrated_robot_reaches_the_noise_floor_on_held_out_poses(cdpr4):
+    """60 tracker samples at σ = 0.2 mm; on 200 held-out poses the calibrated exact model is within
+    10 % of the truth robot's own RMS (the noise floor), the nominal robot far off."""
+    groups = ["anchors", "dead_lengths", "pulleys", "moduli"]
+    rng, idx, sd, truth, th = _truth(cdpr4, groups, 21)
+    train = cal.simulate(truth, cdpr4, _poses(rng, 60), sigma=2e-4, rng=rng)
+    test = cal.simulate(truth, cdpr4, _poses(rng, 200), sigma=2e-4, rng=rng)
+    c = cal.fit(cdpr4, train, groups)
+    floor = cal.check(truth, test)["rms_m"]
+    after = cal.check(c.calibrated_robot(), test)["rms_m"]
+    before = cal.check(cdpr4, test)["rms_m"]
+    assert floor == pytest.approx(2e-4 * np.sqrt(3), rel=0.15)
+    assert after <= 1.10 * floor, (after, floor)
+    assert before > 10 * floor
+
+
+def test_write_robot_round_trip(cdpr4, tmp_path):
+    from cdpr.parameters import calibration_values
+    from cdpr.robot import load_robot
+
+    groups = ["anchors", "dead_lengths", "pulleys", "moduli"]
+    rng, idx, sd, truth, th = _truth(cdpr4, groups, 8)
+    c = cal.fit(cdpr4, cal.simulate(truth, cdpr4, _poses(rng, 30), sigma=2e-4, rng=rng), groups)
+    out = tmp_path / "cal.yaml"
+    cal.write_robot(out, c, "m.csv")
+    text = out.read_text()
+    assert text.startswith("# CDPR4 calibrated by cdpr calibrate fit (exact model) from m.csv")
+    back = load_robot(out)
+    np.testing.assert_array_equal(calibration_values(back)[idx], c.estimate)
+
+
+def test_sr_pulley_may_come_out_slightly_below_its_radius():
+    """The loader accepts SR with h >= r_p - 1 mm (calibrated swivel pulleys) and still refuses lower."""
+    from cdpr.robot import check_pulley
+
+    check_pulley("SR", 0.0660, 0.0665, "r.yaml", "pulley")
+    with pytest.raises(ConfigError, match="h_m >= sheave radius r_p_m - 1 mm"):
+        check_pulley("SR", 0.0650, 0.0665, "r.yaml", "pulley")
+
+
+# --- bad data -------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "text,column,words",
+    [
+        ("sample,L1,L2,x_m,y_m,z_m\n1,4,4,0,0,2\n", "L1,L2", "2 length columns but robot CDPR3 has 3 cables"),
+        ("sample,L1,L2,L3,L4,x_m,y_m,z_m\n1,4,4,4,4,0,0,2\n", "L1,L2,L3,L4", "allowed: L1..L3"),
+        ("sample,L1,L2,L3,x_m,y_m\n1,4,4,4,0,0\n", "z_m", "missing column"),
+        ("sample,L1,L2,L3,x_m,y_m,z_m,foo\n1,4,4,4,0,0,2,1\n", "foo", "unknown column"),
+        ("sample,L1,L2,L3,x_m,y_m,z_m\n1,4,,4,0,0,2\n", "L2", "lengths must be finite and > 0"),
+        ("sample,L1,L2,L3,x_m,y_m,z_m\n1,4,inf,4,0,0,2\n", "L2", "lengths must be finite and > 0"),
+        ("sample,L1,L2,L3,x_m,y_m,z_m\n1,4,-4,4,0,0,2\n", "L2", "lengths must be finite and > 0"),
+        ("sample,L1,L2,L3,x_m,y_m,z_m\n1,4,abc,4,0,0,2\n", "L2", "is not a number"),
+        ("sample,L1,L2,L3,x_m,y_m,z_m\n1,4,4,4,0,,2\n", "x_m,y_m,z_m", "all three finite coordinates"),
+        ("sample,L1,L2,L3,x_m,y_m,z_m\n1,4,4,4,,,\n", "x_m,y_m,z_m", "only encoder data"),
+        (
+            "sample,L1,L2,L3,x_m,y_m,z_m,sigma_m\n1,4,4,4,0,0,2,0\n",
+            "sigma_m",
+            "sigma_m must be finite and > 0",
+        ),
+        ("sample,L1,L2,L3,x_m,y_m,z_m,rx_rad\n1,4,4,4,0,0,2,0\n", "rx_rad", "is a point mass"),
+        ("sample,L1,L2,L3,L_enc1,x_m,y_m,z_m\n1,4,4,4,4,0,0,2\n", "L1", "not both"),
+        ("sample,L1,L2,L3,x_m,y_m,z_m,t1_N\n1,4,4,4,0,0,2,100\n", "t2_N", "tensions need all of t1_N..t3_N"),
+        (
+            "sample,L1,L2,L3,x_m,y_m,z_m,t1_N,t2_N,t3_N\n1,4,4,4,0,0,2,1,-2,3\n",
+            "t1_N,t2_N,t3_N",
+            "tensions must be all finite and >= 0",
+        ),
+        ("sample,L1,L2,L3,x_m,y_m,z_m,sigma_N\n1,4,4,4,0,0,2,1\n", "sigma_N", "needs the tension columns"),
+        ("sample,L1,L2,L3,x_m,y_m,z_m\n", None, "no samples"),
+    ],
+)
+def test_bad_data_is_one_line_naming_file_and_column(cdpr3, tmp_path, text, column, words):
+    path = tmp_path / "bad.csv"
+    path.write_text(text)
+    with pytest.raises(ConfigError) as info:
+        cal.read_data(path, cdpr3)
+    msg = str(info.value)
+    assert "\n" not in msg and str(path) in msg and words in msg
+    if column:
+        assert f"key '{column}'" in msg
+
+
+def test_bad_fit_requests(cdpr3, tmp_path):
+    data = cal.simulate(cdpr3, cdpr3, np.array([[0.1, 0.2, 2.0], [0.0, -0.3, 2.5]]))
+    with pytest.raises(CdprError, match="2 usable samples give 6 equations for 12 parameters"):
+        cal.fit(cdpr3, data, ["anchors", "dead_lengths"])
+    with pytest.raises(CdprError, match="unknown group 'wheels'"):
+        cal.fit(cdpr3, data, ["wheels"])
+    with pytest.raises(CdprError, match="'attachments' .* is a point mass"):
+        cal.fit(cdpr3, data, ["attachments"])
+    with pytest.raises(CdprError, match="offsets needs encoder readings"):
+        cal.fit(cdpr3, data, ["offsets"])
+    with pytest.raises(CdprError, match="standard model has no pulleys"):
+        cal.fit(cdpr3, data, ["pulleys"], model="standard")
+    for bad in ("anchors=0mm", "moduli=-5%", "moduli=0", "wheels=1mm", "anchors", "anchors=5 kg"):
+        with pytest.raises(CdprError):
+            cal.parse_priors(bad)
+    assert cal.parse_priors("anchors=2mm,moduli=10%")["anchors"] == pytest.approx(2e-3)
+
+
+def test_samples_without_equilibrium_are_flagged_not_dropped(cdpr4):
+    """A sample whose commanded lengths (10 % short) would pull the cables beyond their admissible
+    tension gives no usable equilibrium: left out with its status in the per-sample table, counted."""
+    rng, idx, sd, truth, th = _truth(cdpr4, ["dead_lengths"], 9)
+    data = cal.simulate(truth, cdpr4, _poses(rng, 12), sigma=2e-4, rng=rng)
+    data.L[0] *= 0.9
+    c = cal.fit(cdpr4, data, ["dead_lengths"])
+    s = c.summary()
+    assert s["samples_used"] == 11 and s["samples_left_out"] == 1
+    assert c.table["status"][0] in ("left out at nominal: over_tension", "left out at nominal: inaccessible")
+    assert np.isnan(c.table["residual_after_m"][0])
+
+
+def test_check_reports_rms_max_median(cdpr4):
+    rng = np.random.default_rng(1)
+    data = cal.simulate(cdpr4, cdpr4, _poses(rng, 25), sigma=2e-4, rng=rng)
+    out = cal.check(cdpr4, data)
+    err = np.array([s["error_m"] for s in out["samples"]])
+    assert out["n"] == 25 and out["rms_m"] == pytest.approx(np.sqrt(np.mean(err**2)))
+    assert out["max_m"] == err.max() and out["median_m"] == np.median(err)
+    assert 1e-4 < out["rms_m"] < 6e-4
+
+
+def test_encoder_data_with_tensions_calibrate_without_poses(cdpr4):
+    """Encoder readings and measured tensions, no pose: the exact model is identifiable from the
+    tensions (offsets, dead lengths, mass); noise-free data recover the truth."""
+    groups = ["offsets", "mass"]
+    rng, idx, sd, truth, th = _truth(cdpr4, ["mass"], 13)
+    off = np.array([0.012, -0.02, 0.007, 0.03])
+    data = cal.simulate(truth, cdpr4, _poses(rng, 30), offsets=off, tensions=True, sigma_t=1e-6)
+    data.pose[:] = np.nan
+    c = cal.fit(cdpr4, data, groups, solver={"tol": 1e-13})
+    assert c.ident["rank"] == 5
+    assert c.names == ["M", "offset_1", "offset_2", "offset_3", "offset_4"]
+    np.testing.assert_allclose(c.estimate[1:], off, rtol=1e-6)
+    assert c.estimate[0] == pytest.approx(truth.platform.mass, rel=1e-6)
+    s = c.summary()
+    assert s["samples_used"] == 30 and s["residual_rms_m"] is None
+
+
+def test_jacobian_with_tension_rows(cdpr4):
+    groups = ["anchors", "dead_lengths", "offsets", "pulleys", "moduli", "mass"]
+    rng = np.random.default_rng(6)
+    data = cal.simulate(cdpr4, cdpr4, _poses(rng, 6), offsets=np.zeros(4), tensions=True)
+    data.pose[::2] = np.nan  # half with tensions only
+    idx = select_groups(cdpr4, groups)
+    sd = cal.prior_sd(cdpr4, idx, cal.parse_priors(None))
+    prob = cal.Problem(cdpr4, data, idx, sd, solver={"tol": 1e-14})
+    z = 0.3 * rng.standard_normal(len(idx))
+    J = prob.jacobian(z)
+    assert J.shape == (3 * 3 + 4 * 6 + len(idx), len(idx))
+    fd = np.empty_like(J)
+    for j in range(len(idx)):
+        e = np.zeros(len(idx))
+        e[j] = 1e-5
+        fd[:, j] = (prob.residual(z + e) - prob.residual(z - e)) / 2e-5
+    scale = np.abs(fd).max(axis=0)
+    err = np.abs(J - fd).max(axis=0) / scale
+    assert err.max() < 1e-5, (calibration_names(4)[idx[int(np.argmax(err))]], err.max())
+
+
+def test_rigid_self_calibration_reports_its_gauge(cdpr4):
+    """Encoder-only data of a straight-line robot, poses unknown: the rigid self-calibration fits
+    the readings to the noise and reports d_i against offset_i (only their sum is seen) instead of an
+    arbitrary split; the sums d_i + o_i are recovered."""
+    rng = np.random.default_rng(3)
+    n = 30
+    P = _poses(rng, n)
+    base = cal.model_robot(cdpr4, "standard")
+    off = np.array([0.02, -0.03, 0.01, 0.04])
+    d_true = cdpr4.arrays.d + np.array([0.01, -0.02, 0.015, 0.0])
+    L = cal.standard_lengths(base.A, d_true, off, P) + rng.normal(0, 1e-5, (n, 4))
+    data = cal.Data(
+        sample=np.arange(n).astype(str),
+        L=L,
+        pose=np.full((n, 3), np.nan),
+        sigma=np.full(n, 2e-4),
+        encoder=True,
+        source="enc",
+    )
+    c = cal.self_calibrate_standard(cdpr4, data, ["dead_lengths", "offsets"], sigma_L=1e-5)
+    assert c.ident["rank"] == 4
+    assert sorted(c.ident["unidentified"]) == [
+        f"d_{i} against offset_{i} (not seen by the data)" for i in range(1, 5)
+    ]
+    cov = c.covariance
+    sd_sum = np.sqrt([cov[i, i] + cov[4 + i, 4 + i] + 2 * cov[i, 4 + i] for i in range(4)])
+    assert (sd_sum < 1e-4).all() and (c.sd > 0.5 * 0.05).all()  # the sum is sharp, d and o alone are not
+    assert (np.abs(c.estimate[:4] + c.estimate[4:] - (d_true + off)) < 4 * sd_sum).all()
+    assert c.table["residual_after_m"].max() < 3e-5
+    # the split between d and o is the prior's: equal shares of the sum's deviation (same prior sd)
+    np.testing.assert_allclose(c.estimate[:4] - cdpr4.arrays.d, c.estimate[4:], atol=1e-5)
+
+
+def test_robust_loss_lists_the_outlier_and_resists_it(cdpr4):
+    """One sample measured 20 mm off: the linear fit is dragged, the soft-L1 fit stays within a few
+    sd of the truth and lists the sample as an outlier."""
+    groups = ["dead_lengths"]
+    rng, idx, sd, truth, th = _truth(cdpr4, groups, 31)
+    data = cal.simulate(truth, cdpr4, _poses(rng, 20), sigma=2e-4, rng=rng)
+    data.pose[3, 2] += 0.02
+    lin = cal.fit(cdpr4, data, groups)
+    rob = cal.fit(cdpr4, data, groups, loss="soft_l1")
+    assert list(rob.table["sample"][rob.table["outlier"]]) == ["s4"]
+    assert not lin.table["outlier"].any()
+    err_lin = np.abs(lin.estimate - th[idx]) / lin.sd
+    err_rob = np.abs(rob.estimate - th[idx]) / rob.sd
+    assert err_rob.max() < 4 and err_lin.max() > 2 * err_rob.max()
+
+
+def test_calibration_study_file_is_checked(tmp_path):
+    import yaml
+
+    from cdpr.pipeline.calibration import load_calibration_study
+    from tests.conftest import ROOT
+
+    path = ROOT / "config" / "studies" / "calibration.yaml"
+    st = load_calibration_study(path)
+    assert st["deviation_groups"] == ["anchors", "dead_lengths", "pulleys", "moduli"]
+    assert st["truth_deviations"]["anchors"] == pytest.approx(5e-3)
+    good = yaml.safe_load(path.read_text())
+    for key, value, words in [
+        ("n_train", 0, "expected a positive integer"),
+        ("validation_box_m", [0, 1], "expected 6 numbers"),
+        ("truth_deviations", {"anchors": "0mm"}, "must be > 0"),
+        ("truth_deviations", {"wheels": "1mm"}, "unknown group 'wheels'"),
+        ("colour", "red", "unknown key"),
+    ]:
+        bad = dict(good, **{key: value})
+        f = tmp_path / "s.yaml"
+        f.write_text(yaml.safe_dump(bad))
+        with pytest.raises(CdprError, match=words):
+            load_calibration_study(f)
+    bad = dict(good)
+    del bad["seed"]
+    f.write_text(yaml.safe_dump(bad))
+    with pytest.raises(ConfigError, match="key 'seed': missing"):
+        load_calibration_study(f)
+
+
+def test_plan_refuses_a_bad_box(cdpr4):
+    with pytest.raises(CdprError, match="XMIN < XMAX"):
+        cal.plan(cdpr4, ["dead_lengths"], 5, box=[1, -1, -1, 1, 0.5, 3])
