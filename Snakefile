@@ -22,12 +22,14 @@ include: "workflow/rules/elasticity.smk"
 include: "workflow/rules/uncertainty.smk"
 include: "workflow/rules/summary.smk"
 include: "workflow/rules/comparison.smk"
+include: "workflow/rules/parity.smk"
 
 
 rule reproduce_paper:
     default_target: True
     input:
         all_targets(),
+        PARITY_TARGETS,
 
 
 include: "workflow/rules/cluster.smk"

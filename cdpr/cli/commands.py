@@ -645,6 +645,7 @@ JOBS = {
     "dead-length-point": ("dead_length_point", ["d", "box_file", "table", "threads"]),
     "dead-length": ("dead_length", ["tables", "table", "figure"]),
     "summary": ("summary", ["results", "table", "markdown"]),
+    "parity-figure": ("parity_figure", ["table", "figure"]),
     "budget-design": (
         "budget_design",
         ["comparison", "label", "box_file", "table", "path_table", "threads"],

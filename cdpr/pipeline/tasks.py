@@ -85,7 +85,16 @@ def plane_figure(st, robot_key, tables, figure):
     from cdpr.pipeline import plots
 
     robot = study.robot_of(st, robot_key)
-    plots.fig12_plane(_plane_tables(st, tables, robot_key), robot.A, st["plane"]["z_m"], robot_key, figure)
+    data, z, mode = _plane_tables(st, tables, robot_key), st["plane"]["z_m"], study.redundancy(st)
+    paper = {
+        pk: [plots.paper_value(f"{robot_key}_{pk} plane {stat}") for stat in ("min", "centre", "max")]
+        for pk in data
+    }
+    plots.fig12_plane(data, robot.A, z, robot_key, figure, mode=mode, paper=paper)
+    # the minimum-tension (slack margin) map beside it (declared by the rule)
+    plots.fig12_tension(
+        data, robot.A, z, robot_key, 0.0, Path(figure).with_name(f"{robot_key}_tension.png"), mode=mode
+    )
 
 
 def subsets_figure(st, robot_key, tables, figure):
@@ -95,7 +104,14 @@ def subsets_figure(st, robot_key, tables, figure):
 
     robot = study.robot_of(st, robot_key)
     draw = plots.fig9_taut if study.redundancy(st) == "physical" else plots.fig9_subsets
-    draw(_plane_tables(st, tables, robot_key), robot.A, st["plane"]["z_m"], robot_key, figure)
+    draw(
+        _plane_tables(st, tables, robot_key),
+        robot.A,
+        st["plane"]["z_m"],
+        robot_key,
+        figure,
+        mode=study.redundancy(st),
+    )
 
 
 # ---- trajectories (Fig. 10-11) -----------------------------------------------------------------
@@ -126,8 +142,8 @@ def trajectories(st, tables, table, figure, minmax_figure):
         )
     mm = pd.DataFrame(rows)
     io.write_table(mm, table)
-    plots.fig10_trajectories(data, mm, figure)
-    plots.fig11_minmax(mm, minmax_figure)
+    plots.fig10_trajectories(data, mm, figure, mode=study.redundancy(st))
+    plots.fig11_minmax(mm, minmax_figure, mode=study.redundancy(st))
 
 
 # ---- volumes (Fig. 13-14) ----------------------------------------------------------------------
@@ -163,7 +179,7 @@ def volumes(st, tables, table, figure):
                 )
     tab = pd.DataFrame(rows)
     io.write_table(tab, table)
-    plots.fig14_rv(tab, _paper_rv(st), figure)
+    plots.fig14_rv(tab, _paper_rv(st), figure, mode=study.redundancy(st))
 
 
 def _paper_rv(st):
@@ -201,7 +217,14 @@ def volume_view(st, label, tables, figure):
         for lim in lims
     ]
     plots.fig13_volume_view(
-        df, lims, rv, float(robot.A[:, 2].min()), f"{rk} {pk}: error-limited volume V_L (Fig. 13)", figure
+        df,
+        lims,
+        rv,
+        float(robot.A[:, 2].min()),
+        f"{rk} {pk}: error-limited volume V_L (Fig. 13)",
+        figure,
+        A=robot.A,
+        mode=study.redundancy(st),
     )
 
 
@@ -282,8 +305,8 @@ def doe_results(st, tables, table, effects, figure, effects_figure):
         tests[["joint_c", "h_c", "r_p_c"]].to_numpy(), tests["index_m"].to_numpy(), ["joint", "h", "r_p"]
     )
     io.write_table(eff, effects)
-    plots.fig15_doe(tests, figure)
-    plots.fig16_effects(eff, effects_figure)
+    plots.fig15_doe(tests, figure, mode=study.redundancy(st))
+    plots.fig16_effects(eff, effects_figure, mode=study.redundancy(st))
 
 
 # ---- h-r_p maps (Fig. 17, Table 3) -------------------------------------------------------------
@@ -336,7 +359,7 @@ def maps(st, tables, box_file, map, lines, figure, threads=None):
         )
     lines_tab = pd.DataFrame(out)
     io.write_table(lines_tab, lines)
-    plots.fig17_maps(tab, valleys, lines_tab, study.doe_tests(st), lv, figure)
+    plots.fig17_maps(tab, valleys, lines_tab, study.doe_tests(st), lv, figure, mode=study.redundancy(st))
 
 
 # ---- elasticity (Fig. 18-19) -------------------------------------------------------------------
@@ -396,8 +419,13 @@ def elasticity(st, tables, paths, table, bands, crossings, figure, paths_figure)
         cross += [{"design": dk, "s_m": c} for c in scans.crossings(df.s, at[E_max], at[E_min])]
     cross_tab = pd.DataFrame(cross, columns=["design", "s_m"])
     io.write_table(cross_tab, crossings)
-    plots.fig18_index_vs_E(tab, E_mean, bands_tab, figure)
-    plots.fig19_paths(curves, cross_tab, paths_figure)
+    mode = study.redundancy(st)
+    paper_cross = {
+        dk: plots.paper_value(f"{dk.replace('opt', '*')} E_max/E_min crossing") for dk in st["optimal"]
+    }
+    paper_cross = {dk: v for dk, v in paper_cross.items() if v is not None and st.get("paper_comparison")}
+    plots.fig18_index_vs_E(tab, E_mean, bands_tab, figure, mode=mode, paper=_paper_uq_bands(st))
+    plots.fig19_paths(curves, cross_tab, paths_figure, mode=mode, paper=paper_cross)
 
 
 # ---- dead-length calibration -------------------------------------------------------------------
@@ -432,7 +460,7 @@ def dead_length(st, tables, table, figure):
 
     tab = concat(tables).sort_values("d_m", ignore_index=True)
     io.write_table(tab, table)
-    plots.dead_length_figure(tab, st["dead_length_m"], figure)
+    plots.dead_length_figure(tab, st["dead_length_m"], figure, mode=study.redundancy(st))
 
 
 # ---- summary -----------------------------------------------------------------------------------
@@ -441,6 +469,13 @@ def summary(st, results, table, markdown):
     from cdpr.pipeline import summary as sm
 
     sm.write_summary(st, results, markdown, table)
+
+
+def parity_figure(st, table, figure):
+    """The parity chart of every paper number against ours from ``summary.csv``."""
+    from cdpr.pipeline import plots
+
+    plots.parity_chart(io.read_table(table), figure, mode=study.redundancy(st))
 
 
 # ---- error budget and the paper-rule-versus-physics comparison ---------------------------------
@@ -688,13 +723,16 @@ def uncertainty(
     io.write_table(sobol_tab, sobol)
     paper_bands = _paper_uq_bands(st)
     robot = study.robot_of(st, st["doe"]["robot"])
+    mode = u.get("redundancy", "paper")  # the model of the uncompensated robot
     plots.uq_index_distribution(
-        read["linear"], read["tolerances"], common.get("index_vs_E"), paper_bands, figure
+        read["linear"], read["tolerances"], common.get("index_vs_E"), paper_bands, figure, mode=mode
     )
-    plots.uq_path_bands(read["path"], common.get("paths", []), paths_figure)
-    plots.uq_sobol(sobol_tab, sobol_figure)
-    plots.uq_dominant_map(read["map"], robot.A, st["plane"]["z_m"], map_figure)
-    plots.uq_agreement(read["mc"], agreement_figure)
+    plots.uq_path_bands(
+        read["path"], common.get("paths", []), paths_figure, mode=mode, common_mode=study.redundancy(st)
+    )
+    plots.uq_sobol(sobol_tab, sobol_figure, mode=mode)
+    plots.uq_dominant_map(read["map"], robot.A, st["plane"]["z_m"], map_figure, mode=mode)
+    plots.uq_agreement(read["mc"], agreement_figure, mode=mode)
 
 
 def _paper_uq_bands(st):

@@ -27,6 +27,8 @@ rule plane_figure:
     output:
         figure=report(f"{RES}/plane/{{robot}}.png", caption="../report/plane.rst", category="Plane"),
         pdf=f"{RES}/plane/{{robot}}.pdf",
+        tension=report(f"{RES}/plane/{{robot}}_tension.png", caption="../report/plane.rst", category="Plane"),
+        tension_pdf=f"{RES}/plane/{{robot}}_tension.pdf",
     params:
         study=uses("plane", "pulleys"),
         cdpr=CDPR,
