@@ -475,9 +475,9 @@ def fig13_volume_view(df, limits, R_V, z_top, title, out, A=None, mode=None):
         if A is not None:
             _frame(ax, A)
         ax.set(xlim=box[0], ylim=box[1], zlim=box[2], title=f"‖δp‖ ≤ {lim * 1e3:g} mm: R_V = {rv:.2f}")
-        ax.set_xlabel("x [m]", labelpad=-2)
-        ax.set_ylabel("y [m]", labelpad=-2)
-        ax.set_zlabel("z [m]", labelpad=-2)
+        ax.set_xlabel("x [m]", labelpad=6)
+        ax.set_ylabel("y [m]", labelpad=6)
+        ax.set_zlabel("z [m]", labelpad=6)
         ax.tick_params(labelsize=6, pad=0)
         ax.set_box_aspect([box[a][1] - box[a][0] for a in range(3)], zoom=0.85)
     fig.colorbar(
@@ -615,15 +615,14 @@ def fig17_maps(tab, valleys, lines, tests, levels, out, mode=None):
         piv = g.pivot(index="h_m", columns="r_p_m", values="index_m")
         if piv.shape[0] > 1 and piv.shape[1] > 1 and lv is not None:
             cf = ax.contourf(piv.columns * 1e3, piv.index * 1e3, piv.values * 1e3, levels=lv, cmap="viridis")
-            cs = ax.contour(
+            ax.contour(
                 piv.columns * 1e3,
                 piv.index * 1e3,
                 piv.values * 1e3,
                 levels=lv[::4],
                 colors="k",
                 linewidths=0.4,
-            )
-            ax.clabel(cs, fmt="%g", fontsize=6)
+            )  # unlabelled: the colour bar's ticks are these levels (labels would sit on T1-T8)
         v = valleys[kind]
         ax.plot(v.r_p_star * 1e3, v.h * 1e3, "wo", ms=3, mec="k", mew=0.4, label="valley r_p*(h)")
         line = lines[lines.kind == kind].iloc[0]
@@ -642,6 +641,7 @@ def fig17_maps(tab, valleys, lines, tests, levels, out, mode=None):
             plt.Rectangle((r0 * 1e3, h0 * 1e3), (r1 - r0) * 1e3, (h1 - h0) * 1e3, fill=False, ec="w", ls="--")
         )
         for t in tests[tests.kind == kind].itertuples():
+            ax.plot(t.r_p_m * 1e3, t.h_m * 1e3, "w+", ms=6, mew=1.2)  # the test's point; its name beside it
             ax.annotate(
                 f"T{t.test}",
                 (t.r_p_m * 1e3, t.h_m * 1e3),
@@ -673,7 +673,10 @@ def fig17_maps(tab, valleys, lines, tests, levels, out, mode=None):
         )
         ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=2, frameon=False)
     if cf is not None:
-        fig.colorbar(cf, ax=axes[0].tolist(), label="global index mean ‖δp‖ [mm]")
+        cb = fig.colorbar(
+            cf, ax=axes[0].tolist(), label="global index mean ‖δp‖ [mm] (black lines at the ticks)"
+        )
+        cb.set_ticks(lv[::4])
     fig.suptitle(f"Global index over the (r_p, h) plane{_mode(mode)}", fontsize=10)
     return save(fig, out)
 
@@ -1132,7 +1135,13 @@ def uq_sobol(tab, out, mode=None):
                     rotation=90 if level == "parameter" else 0,
                     fontsize=6 if level == "parameter" else 8,
                 )
-                lo = min(0.0, float((d.S1 - d.get("S1_conf", 0)).min()) - 0.05) if len(d) else 0.0
+                # one y range per design and case (groups and parameters), intervals below -1 clipped
+                pair = g[(g.design == dk) & (g.case == case)]
+                lo = (
+                    max(-1.0, min(0.0, float((pair.S1 - pair.get("S1_conf", 0)).min()) - 0.05))
+                    if len(pair)
+                    else 0.0
+                )
                 ax.set(
                     xlabel=f"{level} [-]",
                     ylabel="Sobol index [-]" if k == 0 else "",
@@ -1240,3 +1249,73 @@ def pd_numeric(col):
 
     v = pd.to_numeric(col, errors="coerce")
     return np.isfinite(v.to_numpy(dtype=float))
+
+
+#: Line styles of the two redundancy modes in the overlays.
+MODE_STYLES = {"paper": "-", "physical": "--"}
+
+
+def comparison_overlays(data, out):
+    """Paper rule and physical equilibrium drawn over each other for Fig. 10 (‖δp‖ along the
+    CDPR4 path), Fig. 14 (R_V versus the limit), Fig. 18 (index versus E) and Fig. 19 (the section
+    5.2 path at E_mean); solid: paper rule (best 3-cable subset), dashed: physical equilibrium.
+    ``data`` maps a mode to {"paths": {label: path table}, "volumes": volumes table,
+    "index_vs_E": table, "paths_E": [(design, s, dp)]} (any key may be missing)."""
+    fig, axes = plt.subplots(2, 2, figsize=(13, 9), layout="constrained")
+    (a, b), (c, d) = axes
+    for mode, dd in data.items():
+        ls = MODE_STYLES.get(mode, "-")
+        tag = "paper rule" if mode == "paper" else "physical"
+        for label, df in dd.get("paths", {}).items():
+            kind = label.split("_", 1)[-1]
+            a.plot(
+                df.s,
+                df.dp.where(df.status == "ok") * 1e3,
+                ls,
+                color=KIND_COLOURS.get(kind),
+                label=f"{label}, {tag}",
+            )
+        v = dd.get("volumes")
+        if v is not None:
+            for (rk, pk), g in v.groupby(["robot", "pulley"], sort=False):
+                if rk == "CDPR4":
+                    b.plot(g.limit_m * 1e3, g.R_V, ls, color=KIND_COLOURS.get(pk), label=f"{rk} {pk}, {tag}")
+        e = dd.get("index_vs_E")
+        if e is not None:
+            for i, (dk, g) in enumerate(e.groupby("design", sort=False)):
+                c.plot(
+                    g.E_Pa / 1e9,
+                    g.index_m * 1e3,
+                    ls,
+                    marker="o",
+                    ms=3,
+                    color=OKABE_ITO[i],
+                    label=f"{dk}, {tag}",
+                )
+        for i, (dk, s, dp) in enumerate(dd.get("paths_E", [])):
+            d.plot(s, dp * 1e3, ls, color=OKABE_ITO[i % len(OKABE_ITO)], label=f"{dk} at E_mean, {tag}")
+    a.set(
+        xlabel="position along the path s [m]", ylabel="‖δp‖ [mm]", title="Fig. 10: CDPR4 section 3.3.1 path"
+    )
+    b.set(
+        xlabel="error limit [mm]",
+        ylabel="R_V = V_L / V_T [-]",
+        title="Fig. 14: CDPR4 error-limited volume ratio",
+    )
+    c.set(
+        xlabel="Young's modulus E [GPa]",
+        ylabel="global index mean ‖δp‖ [mm]",
+        title="Fig. 18: index versus E",
+    )
+    d.set(
+        xlabel="position along the path s [m]",
+        ylabel="‖δp‖ [mm]",
+        title="Fig. 19: section 5.2 path at E_mean",
+    )
+    for ax in axes.ravel():
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=6, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=2, frameon=False)
+    fig.suptitle(
+        "Paper rule (solid) against physical equilibrium (dashed): Fig. 10, 14, 18, 19 overlaid", fontsize=10
+    )
+    return save(fig, out)

@@ -561,6 +561,10 @@ def comparison(st, comparison, tables, table, figure, markdown):
     diffs = {(rk, pk): cm.difference_table(pres, fres, rk, pk) for rk in st["robots"] for pk in st["pulleys"]}
     anchors = {rk: study.robot_of(st, rk).A for rk in st["robots"]}
     plots.comparison_difference_maps(diffs, anchors, st["plane"]["z_m"], figure)
+    plots.comparison_overlays(
+        {m: _overlay_data(st, cmp[m]["results"]) for m in ("paper", "physical")},
+        Path(figure).with_name("overlays.png"),
+    )
     stats = cm.difference_stats({f"{rk}_{pk}": t for (rk, pk), t in diffs.items()})
     io.write_table(stats, Path(figure).with_name("difference_stats.csv"))
     bt = io.read_table(tables[0]) if tables else None
@@ -585,6 +589,27 @@ def comparison(st, comparison, tables, table, figure, markdown):
         },
         markdown,
     )
+
+
+def _overlay_data(st, res):
+    """The tables of one study's results folder that the paper-versus-physics overlays draw (the
+    CDPR4 paths, R_V, index versus E and the section 5.2 paths at E_mean); missing files are left out."""
+    res = Path(res)
+    out = {"paths": {}, "paths_E": []}
+    for pk in st["pulleys"]:
+        p = res / "trajectories" / f"CDPR4_{pk}.csv"
+        if p.exists():
+            out["paths"][f"CDPR4_{pk}"] = io.read_table(p)
+    for key, rel in (("volumes", "volumes/volumes.csv"), ("index_vs_E", "elasticity/index_vs_E.csv")):
+        if (res / rel).exists():
+            out[key] = io.read_table(res / rel)
+    E_mean = float(st["elasticity"]["E_path_Pa"][1])
+    for dk in st["optimal"]:
+        p = res / "elasticity" / f"path_{dk}_E{E_mean:.6g}.csv"
+        if p.exists():
+            df = io.read_table(p)
+            out["paths_E"].append((dk, df.s.to_numpy(), df.dp.where(df.status == "ok").to_numpy()))
+    return out
 
 
 # ---- uncertainty and sensitivity (beyond the paper: cdpr.analyses.uncertainty) ---------------------------

@@ -86,8 +86,10 @@ if CMP_FILE:
                     "maps/lines.csv",
                     "elasticity/bands.csv",
                     "elasticity/crossings.csv",
+                    "elasticity/index_vs_E.csv",
                 )
-            ],
+            ]
+            + [f"{CMP_RES[m]}/trajectories/CDPR4_{pk}.csv" for m in CMP_RES for pk in CMP.paper_study["pulleys"]],
             paper_values="cdpr/data/paper_values.yaml",
         output:
             markdown=CMP["page"],
@@ -95,6 +97,8 @@ if CMP_FILE:
             figure=report(f"{CMP_DIR}/difference.png", caption="../report/comparison.rst", category="Comparison"),
             pdf=f"{CMP_DIR}/difference.pdf",
             stats=f"{CMP_DIR}/difference_stats.csv",
+            overlays=report(f"{CMP_DIR}/overlays.png", caption="../report/comparison.rst", category="Comparison"),
+            overlays_pdf=f"{CMP_DIR}/overlays.pdf",
         params:
             study={k: CMP.paper_study.get(k) for k in ("robots", "pulleys", "optimal", "plane", "volumes", "elasticity")},
             cdpr=CDPR,
