@@ -600,6 +600,16 @@ def write_page(cmp, rows, diff_stats, budget_table, sentences, figures, out_md):
         "",
         f"![difference maps]({rel['difference']})",
         "",
+        *(
+            [
+                "Fig. 10, 14, 18 and 19 of both modes over each other (solid: paper rule, dashed: physical):",
+                "",
+                f"![paper rule and physical overlaid]({rel['overlays']})",
+                "",
+            ]
+            if "overlays" in rel
+            else []
+        ),
         *_md_table(
             diff_stats.assign(
                 **{c: diff_stats[c] * 1e3 for c in ("diff_min_m", "diff_mean_m", "diff_max_m")}

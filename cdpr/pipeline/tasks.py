@@ -586,6 +586,7 @@ def comparison(st, comparison, tables, table, figure, markdown):
             "difference": figure,
             "budget": folder / "budget.png",
             "budget_paths": folder / "budget_paths.png",
+            "overlays": folder / "overlays.png",
         },
         markdown,
     )
