@@ -467,7 +467,63 @@ def conclusions(st, paper_res, physical_res):
             claim=(r[0] < 1, r[1] < 1),
             headline=True,
         )
+    # -- per-cable moduli (beyond the paper: results/<study>/uncertainty/bands.csv, when both ran it)
+    uq = {m: _uq_bands(res[m]) for m in res}
+    if all(u is not None for u in uq.values()):
+        designs = [d for d in dict.fromkeys(uq["paper"].design) if d in set(uq["physical"].design)]
+        spread = {m: {d: _uq_spread(uq[m], d, "uncompensated") for d in designs} for m in res}
+        for d in designs:
+            add(
+                "uncertainty",
+                f"{d} index 5-95 % spread, per-cable E",
+                "spread of the global index when each cable has its own modulus (linearised Monte Carlo)",
+                "mm",
+                spread["paper"][d] * 1e3,
+                spread["physical"][d] * 1e3,
+            )
+        sr = [d for d in designs if d.upper().startswith("SR")]
+        dr = [d for d in designs if d.upper().startswith("DR")]
+        if sr and dr:
+            r = [spread[m][sr[0]] / spread[m][dr[0]] for m in res]
+            add(
+                "uncertainty",
+                f"{sr[0]} / {dr[0]} index spread under per-cable E",
+                f"{sr[0]} is more robust than {dr[0]} to per-cable moduli (narrower 5-95 % band of the index)",
+                "-",
+                r[0],
+                r[1],
+                tol=0.1,
+                claim=(r[0] < 1, r[1] < 1),
+                headline=True,
+                note="uncompensated robot, each study's uncertainty.redundancy",
+            )
+        for d in designs:
+            comp = [_uq_value(uq[m], d, "compensated", "index_q50_m") for m in res]
+            add(
+                "uncertainty",
+                f"{d} index median after compensation, per-cable E",
+                "what compensating the nominal robot's lengths leaves under per-cable moduli",
+                "mm",
+                comp[0] * 1e3,
+                comp[1] * 1e3,
+            )
     return pd.DataFrame(rows, columns=COLUMNS)
+
+
+def _uq_bands(res):
+    """The uncertainty bands table of a results folder, or None without it."""
+    p = Path(res) / "uncertainty" / "bands.csv"
+    return io.read_table(p) if p.exists() else None
+
+
+def _uq_value(tab, design, case, column, method="linearised"):
+    g = tab[(tab.design == design) & (tab.case == case) & (tab.method == method)]
+    return float(g[column].iloc[0]) if len(g) else float("nan")
+
+
+def _uq_spread(tab, design, case):
+    """5-95 % spread [m] of the global index under per-cable moduli (linearised samples)."""
+    return _uq_value(tab, design, case, "index_q95_m") - _uq_value(tab, design, case, "index_q05_m")
 
 
 def difference_table(paper_res, physical_res, robot, pulley):

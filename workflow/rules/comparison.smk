@@ -89,7 +89,8 @@ if CMP_FILE:
                     "elasticity/index_vs_E.csv",
                 )
             ]
-            + [f"{CMP_RES[m]}/trajectories/CDPR4_{pk}.csv" for m in CMP_RES for pk in CMP.paper_study["pulleys"]],
+            + [f"{CMP_RES[m]}/trajectories/CDPR4_{pk}.csv" for m in CMP_RES for pk in CMP.paper_study["pulleys"]]
+            + ([f"{CMP_RES[m]}/uncertainty/bands.csv" for m in CMP_RES] if CMP.paper_study.get("uncertainty") else []),
             paper_values="cdpr/data/paper_values.yaml",
         output:
             markdown=CMP["page"],
