@@ -67,7 +67,8 @@ class Comparison(dict):
 
 def load_comparison(path):
     """Read and validate a comparison file: the schema, both study files, their modes, and that they
-    differ only in ``name`` and ``redundancy``. Raises ConfigError naming the file and the key."""
+    differ only in ``name`` and ``redundancy`` (and ``uncertainty.redundancy``: each study's uncertainty
+    runs in its own mode). Raises ConfigError naming the file and the key."""
     data = read_yaml(path)
     if not isinstance(data, dict):
         raise ConfigError(path, None, f"expected a mapping of comparison keys, got {type(data).__name__}")
@@ -87,12 +88,16 @@ def load_comparison(path):
                 f"expected a study with redundancy: {mode}, got {redundancy(studies[mode])!r}",
             )
     a, b = studies["paper"], studies["physical"]
-    differ = sorted(k for k in set(a) | set(b) if k not in ("name", "redundancy") and a.get(k) != b.get(k))
+    ua, ub = ({k: v for k, v in (s.get("uncertainty") or {}).items() if k != "redundancy"} for s in (a, b))
+    differ = sorted(
+        k for k in set(a) | set(b) if k not in ("name", "redundancy", "uncertainty") and a.get(k) != b.get(k)
+    ) + (["uncertainty"] if ua != ub else [])
     if differ:
         raise ConfigError(
             path,
             "physical.study",
-            f"the two studies must differ only in name and redundancy; they differ in {', '.join(differ)}",
+            "the two studies must differ only in name and redundancy (and uncertainty.redundancy);"
+            f" they differ in {', '.join(differ)}",
         )
     cmp.paper_study, cmp.physical_study = a, b
     return cmp
