@@ -88,6 +88,12 @@ def _anchors(ax, A):
     for i, (x, y) in enumerate(A[:, :2], start=1):
         ax.plot(x, y, "k^", ms=6)
         ax.annotate(str(i), (x, y), textcoords="offset points", xytext=(4, 4), fontsize=8)
+    # the anchors and their numbers inside the axes (a number above the top edge met the title)
+    lo, hi = A[:, :2].min(axis=0), A[:, :2].max(axis=0)
+    pad = 0.08 * (hi - lo).max()
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    ax.set_xlim(min(x0, lo[0] - pad), max(x1, hi[0] + pad))
+    ax.set_ylim(min(y0, lo[1] - pad), max(y1, hi[1] + pad))
 
 
 #: How a figure's title names the redundancy mode of the study that drew it.
