@@ -388,7 +388,8 @@ def fig12_plane(tables, A, z, robot_name, out, mode=None, paper=None):
 
 def fig12_tension(tables, A, z, robot_name, t_min, out, mode=None):
     """Minimum cable tension over the plane at height z (beyond the paper): min_i t_i at each ok
-    point, one panel per pulley design, with the tension limit ``t_min`` [N] drawn as a red line
+    point (physical mode: over every cable, a slack one at 0 N; paper mode: over the 3-cable subset
+    the rule keeps, the others carry no modelled tension), one panel per pulley design, with the tension limit ``t_min`` [N] drawn as a red line
     (the slack margin is the distance to it). ``tables`` maps a design label to its plane table
     (columns x, y, status, t1..tm [N])."""
     fig, axes = plt.subplots(
@@ -397,7 +398,10 @@ def fig12_tension(tables, A, z, robot_name, t_min, out, mode=None):
     for ax, (label, df) in zip(axes[0], tables.items()):
         tcols = sorted((c for c in df.columns if re.fullmatch(r"t\d+", c)), key=lambda c: int(c[1:]))
         ok = (df.status == "ok").to_numpy()
-        tmin = df[tcols].min(axis=1).to_numpy() if tcols else np.full(len(df), np.nan)
+        tt = df[tcols]
+        if "taut" in df.columns:  # physical mode: a slack cable's tension is written NaN, and is 0 N
+            tt = tt.fillna(0.0)
+        tmin = tt.min(axis=1).to_numpy() if tcols else np.full(len(df), np.nan)
         xs, ys, Z = _grid(df, np.where(ok, tmin, np.nan))
         ax.set_facecolor(NOT_OK_COLOUR)
         if np.isfinite(Z).any():
@@ -413,7 +417,8 @@ def fig12_tension(tables, A, z, robot_name, t_min, out, mode=None):
         ax.set(xlabel="x [m]", ylabel="y [m]", title=f"{robot_name} {label} at z = {z:g} m", aspect="equal")
         _not_ok_legend(ax, df, A)
     lim = f"; red: t = {t_min:g} N" if t_min is not None else ""
-    fig.suptitle(f"Minimum cable tension over the plane (slack margin){lim}{_mode(mode)}", fontsize=10)
+    over = "slack cables count as 0 N" if mode == "physical" else "over the 3 cables the rule keeps"
+    fig.suptitle(f"Minimum cable tension over the plane ({over}){lim}{_mode(mode)}", fontsize=10)
     return save(fig, out)
 
 
