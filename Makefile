@@ -9,7 +9,7 @@ BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 CLUSTER_STAMP := $(VENV)/.installed-cluster
 
-.PHONY: venv test docs reproduce reproduce-extra resume reproduce-quick update-references clean-venv cluster-venv test-slurm
+.PHONY: venv test docs test-docs-browser reproduce reproduce-extra resume reproduce-quick update-references clean-venv cluster-venv test-slurm
 
 # Re-install whenever pyproject.toml changes (the stamp is older than it).
 $(STAMP): pyproject.toml
@@ -29,6 +29,12 @@ test: $(STAMP)
 # The documentation site (docs/, mkdocs.yml): every warning is an error.
 docs: $(STAMP)
 	$(BIN)/mkdocs build --strict -d site
+
+# The site in headless Chromium: equations rendered offline by the vendored MathJax, no MathJax
+# error (tests/docs/test_docs_browser.py; skipped with a message where no browser is installed:
+# Debian `apt-get install chromium`).
+test-docs-browser: $(STAMP)
+	CDPR_DOCS_BROWSER=1 $(BIN)/python -m pytest -q tests/docs/test_docs_browser.py
 
 # Every tracked output is recomputed (--forceall): a fresh clone's tracked results are never reused.
 # The paper study (results/paper), the same study in physical mode (results/physical: the platform

@@ -23,6 +23,7 @@ include: "workflow/rules/uncertainty.smk"
 include: "workflow/rules/summary.smk"
 include: "workflow/rules/comparison.smk"
 include: "workflow/rules/calibration.smk"
+include: "workflow/rules/parity.smk"
 
 
 rule reproduce_paper:

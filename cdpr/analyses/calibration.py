@@ -44,10 +44,15 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
+import yaml
+from scipy.linalg import qr
+from scipy.optimize import least_squares
 
+from cdpr.analyses.workspace import check_box, grid_points
 from cdpr.errors import CdprError, ConfigError
 from cdpr.models.inverse import L_TS
-from cdpr.models.sensitivity import implicit_solve, physical_jacobian_terms, sensitivities
+from cdpr.models.pulleys import total_length_and_direction
+from cdpr.models.sensitivity import cable_partials, implicit_solve, physical_jacobian_terms, sensitivities
 from cdpr.parameters import (
     CALIBRATION_GROUPS,
     calibration_groups,
@@ -405,7 +410,6 @@ def offset_sensitivities(robot, P, L0):
     ----------
     Paty et al. 2021, eq. (10)-(13); implicit-function theorem.
     """
-    from cdpr.models.pulleys import total_length_and_direction
 
     a = robot.arrays
     J, _, hooke = physical_jacobian_terms(robot, P, L0)
@@ -537,7 +541,6 @@ def tension_sensitivities(robot, P, L0, S):
     ----------
     Paty et al. 2021, eq. (10), (13).
     """
-    from cdpr.models.sensitivity import cable_partials
 
     a = robot.arrays
     m = robot.m
@@ -663,7 +666,6 @@ def sparse_basis(B):
     -------
     V : ndarray, shape (r, k)
     """
-    from scipy.linalg import qr
 
     r = B.shape[0]
     _, _, piv = qr(B, pivoting=True)
@@ -770,7 +772,6 @@ def fit(robot, data, groups, priors=None, model="exact", loss="linear", engine="
     -------
     Calibration
     """
-    from scipy.optimize import least_squares
 
     priors = parse_priors(None) if priors is None else priors
     if model == "standard" and data.encoder and not (data.has_pose | data.has_tension).any():
@@ -992,7 +993,6 @@ def write_robot(path, cal, data_source):
     """Write the calibrated robot: the input's schema, per-cable plain SI values, and a header saying
     from which data, with which model, and when (offsets, which are not robot parameters, in the header).
     """
-    import yaml
 
     rob = cal.calibrated_robot()
     header = [
@@ -1164,7 +1164,6 @@ def candidates(robot, box, n_axis=7, model="exact", engine="compiled", targets=F
     p : ndarray (c, 3) [m]
         The grid points commanded (only with ``targets=True``).
     """
-    from cdpr.analyses.workspace import grid_points
 
     base = model_robot(robot, model)
     p = grid_points(box, n_axis)
@@ -1256,7 +1255,6 @@ def plan(robot, groups, n, box=None, priors=None, sigma=SIGMA_DEFAULT, n_random=
     priors = parse_priors(None) if priors is None else priors
     index = select_groups(robot, groups)
     sd = prior_sd(robot, index, priors)
-    from cdpr.analyses.workspace import check_box
 
     box = default_box(robot) if box is None else check_box(box).tolist()
     P, L0 = candidates(robot, box, n_axis)
@@ -1339,7 +1337,6 @@ def self_calibrate_standard(robot, data, groups, priors=None, sigma_L=SIGMA_L_DE
     Calibration
         ``model == "standard"``; residual_after_m per sample is its RMS length residual [m].
     """
-    from scipy.optimize import least_squares
 
     if not data.encoder:
         raise CdprError(

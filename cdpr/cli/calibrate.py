@@ -90,12 +90,12 @@ def write_report(result, folder):
     result.table.to_csv(folder / "samples.csv", index=False, float_format="%.9g")
     pt = result.parameter_table()
     pt.to_csv(folder / "parameters.csv", index=False, float_format="%.9g")
-    import pandas as pd
+    import pandas as pd  # lazy: the report's tables only
 
     pd.DataFrame(result.correlation, index=result.names, columns=result.names).to_csv(
         folder / "correlation.csv", float_format="%.6f"
     )
-    from cdpr.pipeline.calibration import calibration_figures
+    from cdpr.pipeline.calibration import calibration_figures  # lazy: matplotlib, --report only
 
     calibration_figures(result, folder)
 
@@ -133,7 +133,7 @@ def cmd_plan(args):
         robot, args.estimate, args.n, box=args.box, priors=priors, sigma=args.sigma, n_axis=args.grid
     )
     if args.out:
-        import pandas as pd
+        import pandas as pd  # lazy: the plan's table only
 
         df = pd.DataFrame({"sample": np.arange(1, args.n + 1)})
         for i in range(robot.m):
@@ -174,7 +174,7 @@ def cmd_plan(args):
 
 def cmd_study(args):
     """``cdpr calibrate study``: run the calibration study and print the headline table."""
-    from cdpr.pipeline.calibration import run_calibration_study
+    from cdpr.pipeline.calibration import run_calibration_study  # lazy: the study only
 
     res = run_calibration_study(args.study, args.out)
     print((Path(args.out) / "summary.md").read_text(encoding="utf-8"))

@@ -7,9 +7,20 @@ intervals against the prior, the posterior correlation matrix.
 
 from __future__ import annotations
 
-import numpy as np
+import dataclasses
+import time
+from pathlib import Path
 
+import numpy as np
+import pandas as pd
+import yaml
+
+from cdpr.analyses import calibration as cal
+from cdpr.analyses.compensation import compensated_pose
+from cdpr.errors import CdprError, ConfigError
+from cdpr.parameters import calibration_values, select_groups
 from cdpr.pipeline.plots import plt, save
+from cdpr.robot import load_robot
 
 
 def calibration_figures(result, folder):
@@ -90,10 +101,6 @@ def load_calibration_study(path):
     dict
         The keys of ``STUDY_KEYS``; truth_deviations as ``calibration.parse_priors`` values.
     """
-    import yaml
-
-    from cdpr.analyses import calibration as cal
-    from cdpr.errors import ConfigError
 
     try:
         data = yaml.safe_load(open(path, encoding="utf-8"))
@@ -169,17 +176,6 @@ def run_calibration_study(study_path, out):
     dict
         The headline rows.
     """
-    import dataclasses
-    import time
-    from pathlib import Path
-
-    import pandas as pd
-
-    from cdpr.analyses import calibration as cal
-    from cdpr.analyses.compensation import compensated_pose
-    from cdpr.errors import CdprError
-    from cdpr.parameters import calibration_values, select_groups
-    from cdpr.robot import load_robot
 
     t0 = time.perf_counter()
     st = load_calibration_study(study_path)

@@ -69,7 +69,8 @@ class Comparison(dict):
 
 def load_comparison(path):
     """Read and validate a comparison file: the schema, both study files, their modes, and that they
-    differ only in ``name`` and ``redundancy``. Raises ConfigError naming the file and the key."""
+    differ only in ``name`` and ``redundancy`` (and ``uncertainty.redundancy``: each study's uncertainty
+    runs in its own mode). Raises ConfigError naming the file and the key."""
     data = read_yaml(path)
     if not isinstance(data, dict):
         raise ConfigError(path, None, f"expected a mapping of comparison keys, got {type(data).__name__}")
@@ -89,12 +90,16 @@ def load_comparison(path):
                 f"expected a study with redundancy: {mode}, got {redundancy(studies[mode])!r}",
             )
     a, b = studies["paper"], studies["physical"]
-    differ = sorted(k for k in set(a) | set(b) if k not in ("name", "redundancy") and a.get(k) != b.get(k))
+    ua, ub = ({k: v for k, v in (s.get("uncertainty") or {}).items() if k != "redundancy"} for s in (a, b))
+    differ = sorted(
+        k for k in set(a) | set(b) if k not in ("name", "redundancy", "uncertainty") and a.get(k) != b.get(k)
+    ) + (["uncertainty"] if ua != ub else [])
     if differ:
         raise ConfigError(
             path,
             "physical.study",
-            f"the two studies must differ only in name and redundancy; they differ in {', '.join(differ)}",
+            "the two studies must differ only in name and redundancy (and uncertainty.redundancy);"
+            f" they differ in {', '.join(differ)}",
         )
     cmp.paper_study, cmp.physical_study = a, b
     return cmp
@@ -472,7 +477,63 @@ def conclusions(st, paper_res, physical_res):
             claim=(r[0] < 1, r[1] < 1),
             headline=True,
         )
+    # -- per-cable moduli (beyond the paper: results/<study>/uncertainty/bands.csv, when both ran it)
+    uq = {m: _uq_bands(res[m]) for m in res}
+    if all(u is not None for u in uq.values()):
+        designs = [d for d in dict.fromkeys(uq["paper"].design) if d in set(uq["physical"].design)]
+        spread = {m: {d: _uq_spread(uq[m], d, "uncompensated") for d in designs} for m in res}
+        for d in designs:
+            add(
+                "uncertainty",
+                f"{d} index 5-95 % spread, per-cable E",
+                "spread of the global index when each cable has its own modulus (linearised Monte Carlo)",
+                "mm",
+                spread["paper"][d] * 1e3,
+                spread["physical"][d] * 1e3,
+            )
+        sr = [d for d in designs if d.upper().startswith("SR")]
+        dr = [d for d in designs if d.upper().startswith("DR")]
+        if sr and dr:
+            r = [spread[m][sr[0]] / spread[m][dr[0]] for m in res]
+            add(
+                "uncertainty",
+                f"{sr[0]} / {dr[0]} index spread under per-cable E",
+                f"{sr[0]} is more robust than {dr[0]} to per-cable moduli (narrower 5-95 % band of the index)",
+                "-",
+                r[0],
+                r[1],
+                tol=0.1,
+                claim=(r[0] < 1, r[1] < 1),
+                headline=True,
+                note="uncompensated robot, each study's uncertainty.redundancy",
+            )
+        for d in designs:
+            comp = [_uq_value(uq[m], d, "compensated", "index_q50_m") for m in res]
+            add(
+                "uncertainty",
+                f"{d} index median after compensation, per-cable E",
+                "what compensating the nominal robot's lengths leaves under per-cable moduli",
+                "mm",
+                comp[0] * 1e3,
+                comp[1] * 1e3,
+            )
     return pd.DataFrame(rows, columns=COLUMNS)
+
+
+def _uq_bands(res):
+    """The uncertainty bands table of a results folder, or None without it."""
+    p = Path(res) / "uncertainty" / "bands.csv"
+    return io.read_table(p) if p.exists() else None
+
+
+def _uq_value(tab, design, case, column, method="linearised"):
+    g = tab[(tab.design == design) & (tab.case == case) & (tab.method == method)]
+    return float(g[column].iloc[0]) if len(g) else float("nan")
+
+
+def _uq_spread(tab, design, case):
+    """5-95 % spread [m] of the global index under per-cable moduli (linearised samples)."""
+    return _uq_value(tab, design, case, "index_q95_m") - _uq_value(tab, design, case, "index_q05_m")
 
 
 def difference_table(paper_res, physical_res, robot, pulley):
@@ -605,6 +666,16 @@ def write_page(cmp, rows, diff_stats, budget_table, sentences, figures, out_md):
         "",
         f"![difference maps]({rel['difference']})",
         "",
+        *(
+            [
+                "Fig. 10, 14, 18 and 19 of both modes over each other (solid: paper rule, dashed: physical):",
+                "",
+                f"![paper rule and physical overlaid]({rel['overlays']})",
+                "",
+            ]
+            if "overlays" in rel
+            else []
+        ),
         *_md_table(
             diff_stats.assign(
                 **{c: diff_stats[c] * 1e3 for c in ("diff_min_m", "diff_mean_m", "diff_max_m")}

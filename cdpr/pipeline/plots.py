@@ -8,19 +8,27 @@ in the tables. Figure numbers are those of Paty et al. 2021 (Fig. 9-19) and Mét
 
 from __future__ import annotations
 
+import os
+import re
 import warnings
 from pathlib import Path
 
 import matplotlib
 
 matplotlib.use("Agg")
+import json
+
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+import pandas as pd
+from matplotlib.colors import ListedColormap
 from matplotlib.lines import Line2D  # noqa: E402
 from matplotlib.patches import Patch  # noqa: E402
+from matplotlib.path import Path as MPath
 from scipy.spatial import ConvexHull  # noqa: E402
 
 from cdpr.io import atomic  # noqa: E402
+from cdpr.pipeline import figure_checks, summary
 
 #: Colours of the pulley kinds and designs, used by every figure that compares them.
 KIND_COLOURS = {"SR": "tab:blue", "DR": "tab:orange", "fixed": "tab:gray"}
@@ -28,10 +36,24 @@ KIND_COLOURS = {"SR": "tab:blue", "DR": "tab:orange", "fixed": "tab:gray"}
 NOT_OK_COLOUR = "0.85"
 
 
+def audit(fig, out):
+    """Write ``out``'s layout audit, ``<out>.layout.json``: the problems ``figure_checks`` finds
+    (overlapping texts, texts off the canvas, axes without a unit) and the titles (for the mode)."""
+
+    rec = {"problems": figure_checks.layout_problems(fig), "titles": figure_checks.titles(fig)}
+    atomic(
+        Path(str(out) + ".layout.json"),
+        lambda tmp: Path(tmp).write_text(json.dumps(rec, indent=1, ensure_ascii=False), encoding="utf-8"),
+    )
+
+
 def save(fig, out):
     """Write ``out`` (.png) and its .pdf sibling atomically; returns both paths. The PDF carries no
-    creation date, so the same table gives the same bytes."""
+    creation date, so the same table gives the same bytes. With the environment variable
+    ``CDPR_FIGURE_AUDIT`` set, the layout audit is written beside them (``audit``)."""
     out = Path(out)
+    if os.environ.get("CDPR_FIGURE_AUDIT"):
+        audit(fig, out)
     paths = [out, out.with_suffix(".pdf")]
     meta = {".png": None, ".pdf": {"CreationDate": None}}
     for p in paths:
@@ -70,53 +92,113 @@ def _anchors(ax, A):
     for i, (x, y) in enumerate(A[:, :2], start=1):
         ax.plot(x, y, "k^", ms=6)
         ax.annotate(str(i), (x, y), textcoords="offset points", xytext=(4, 4), fontsize=8)
+    # the anchors and their numbers inside the axes (a number above the top edge met the title)
+    lo, hi = A[:, :2].min(axis=0), A[:, :2].max(axis=0)
+    pad = 0.08 * (hi - lo).max()
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    ax.set_xlim(min(x0, lo[0] - pad), max(x1, hi[0] + pad))
+    ax.set_ylim(min(y0, lo[1] - pad), max(y1, hi[1] + pad))
 
 
-def _not_ok_legend(ax, df):
-    counts = df.status[df.status != "ok"].value_counts()
-    counts = counts[counts > 0]
-    if len(counts):
+#: How a figure's title names the redundancy mode of the study that drew it.
+MODE_TITLES = {
+    "paper": "paper rule (best 3-cable subset)",
+    "physical": "physical equilibrium (all cables)",
+}
+#: A colour-blind-safe palette (Okabe & Ito 2008) for signs and categories.
+OKABE_ITO = ["#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#F0E442", "#000000"]
+
+
+def _mode(mode):
+    """' — <mode>' for a title, '' when the figure has no mode."""
+    return f" — {MODE_TITLES[mode]}" if mode in MODE_TITLES else ""
+
+
+def paper_value(quantity):
+    """The paper's number for ``quantity`` of cdpr/data/paper_values.yaml (its unit), or None."""
+
+    for v in summary.paper_values():
+        if v["quantity"] == quantity:
+            return v["value"]
+    return None
+
+
+def _footprint(A):
+    """The anchors' outline seen from above as a matplotlib Path (convex hull of their x, y)."""
+
+    hull = A[ConvexHull(A[:, :2]).vertices, :2]
+    return MPath(np.vstack([hull, hull[:1]]))
+
+
+def _not_ok_counts(df, A=None):
+    """Counts of the points that are not ok by status; with anchors ``A``, the points outside the
+    anchors' footprint are counted apart (``outside the footprint``) from the statuses inside."""
+    bad = df[df.status != "ok"]
+    counts = {}
+    if A is not None and len(bad):
+        inside = _footprint(A).contains_points(bad[["x", "y"]].to_numpy(), radius=1e-9)
+        if (~inside).any():
+            counts["outside the footprint"] = int((~inside).sum())
+        bad = bad[inside]
+    for k, v in bad.status.value_counts().items():
+        if v > 0:
+            counts[k] = int(v)
+    return counts
+
+
+def _not_ok_legend(ax, df, A=None):
+    """A legend under ``ax`` counting the points that are not ok (grey), by status, with the points
+    outside the anchors' footprint counted apart when ``A`` is given."""
+
+    counts = _not_ok_counts(df, A)
+    if counts:
         ax.legend(
             handles=[
                 Patch(
-                    color=NOT_OK_COLOUR, label="not ok: " + ", ".join(f"{k} {v}" for k, v in counts.items())
+                    color=NOT_OK_COLOUR,
+                    label="grey, not ok: " + ", ".join(f"{k} {v}" for k, v in counts.items()),
                 )
             ],
             fontsize=7,
             loc="upper center",
-            bbox_to_anchor=(0.5, -0.2),
+            bbox_to_anchor=(0.5, -0.14),
+            frameon=False,
         )
 
 
-def fig7_winch(df, l_pm0, q0, out):
-    """Métillon 2022 Fig. 7: (a) drum angle versus the length l_pm, with and without the winch model,
-    and (b) the length error δl = k_w (q1 - q_nw). ``df`` has columns l_pm, q1, q2, q_nw, dl."""
-    fig, (a, b) = plt.subplots(1, 2, figsize=(11, 4))
-    a.plot(df.l_pm, df.q1, label="q1 (winch model, physical root)")
-    a.plot(df.l_pm, df.q_nw, "--", label="q_nw (winch neglected)")
+def fig7_winch(df, l_pm0, q0, out, mode=None):
+    """Métillon 2022 Fig. 7: (a) the two roots q1, q2 of the drum angle versus the length l_pm and
+    the angle without the winch model, and (b) the length error δl = k_w (q1 - q_nw). The figure's
+    point: q1, not q2, passes through the initial point (l_pm0, q0). ``df`` has columns l_pm, q1,
+    q2, q_nw, dl. One cable: the same in both redundancy modes (the title says so)."""
+    fig, (a, b) = plt.subplots(1, 2, figsize=(11, 4.4), layout="constrained")
+    a.plot(df.l_pm, df.q1, color=OKABE_ITO[0], label="q1 (winch model, physical root)")
+    a.plot(df.l_pm, df.q2, color=OKABE_ITO[1], ls="-.", label="q2 (winch model, other root)")
+    a.plot(df.l_pm, df.q_nw, "--", color="0.3", label="q_nw (winch neglected)")
     a.plot([l_pm0], [q0], "ko", label=f"initial point (l_pm0 = {l_pm0:.3f} m, q0 = {q0:g} rad)")
-    a.set(xlabel="l_pm [m]", ylabel="drum angle q [rad]", title="(a) drum angle (winch seed Fig. 7a)")
-    inset = a.inset_axes([0.55, 0.12, 0.4, 0.3])
-    inset.plot(df.l_pm, (df.q1 - df.q_nw) * 1e3, "k-", lw=1)
-    inset.set_title("q1 - q_nw [mrad]", fontsize=7)
-    inset.tick_params(labelsize=6)
-    a.legend(fontsize=7, loc="upper left")
+    a.set(xlabel="cable length l_pm [m]", ylabel="drum angle q [rad]", title="(a) drum angle (Fig. 7a)")
+    a.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=2, frameon=False)
     a.grid(alpha=0.3)
     b.plot(df.l_pm, df.dl * 1e3, "k-", label="δl = k_w (q1 - q_nw)")
     b.axvline(l_pm0, color="0.5", ls=":", label=f"l_pm0 = {l_pm0:.3f} m")
     b.axhline(0.0, color="0.7", lw=0.8)
-    b.set(xlabel="l_pm [m]", ylabel="δl [mm]", title="(b) length error (winch seed Fig. 7b)")
-    b.legend(fontsize=7)
+    b.set(xlabel="cable length l_pm [m]", ylabel="length error δl [mm]", title="(b) length error (Fig. 7b)")
+    b.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=2, frameon=False)
     b.grid(alpha=0.3)
+    fig.suptitle(
+        "Winch exit point (Métillon 2022): one cable, the same in paper rule and physical modes", fontsize=10
+    )
     return save(fig, out)
 
 
-def fig9_subsets(tables, A, z, robot_name, out):
+def fig9_subsets(tables, A, z, robot_name, out, mode=None):
     """Paty 2021 Fig. 9: the 3-cable subset that minimises ‖δp‖ at each point of the plane, one
     panel per pulley design. ``tables`` maps a design label to its plane table."""
     labels = sorted({s for df in tables.values() for s in df.subset.astype(str).unique() if s})
     cmap = plt.get_cmap("tab10", max(len(labels), 1))
-    fig, axes = plt.subplots(1, len(tables), figsize=(5.2 * len(tables), 4.8), squeeze=False)
+    fig, axes = plt.subplots(
+        1, len(tables), figsize=(5.2 * len(tables) + 1.5, 5.2), squeeze=False, layout="constrained"
+    )
     for ax, (label, df) in zip(axes[0], tables.items()):
         code = df.subset.astype(str).map({s: i for i, s in enumerate(labels)}).astype(float)
         code[(df.status != "ok").to_numpy()] = np.nan
@@ -125,14 +207,15 @@ def fig9_subsets(tables, A, z, robot_name, out):
         im = ax.pcolormesh(xs, ys, Z, cmap=cmap, vmin=-0.5, vmax=len(labels) - 0.5, shading="nearest")
         _anchors(ax, A)
         ax.set(xlabel="x [m]", ylabel="y [m]", title=f"{robot_name} {label} at z = {z:g} m", aspect="equal")
-        _not_ok_legend(ax, df)
+        _not_ok_legend(ax, df, A)
     cb = fig.colorbar(im, ax=axes[0].tolist(), ticks=range(len(labels)))
     cb.ax.set_yticklabels([f"cables {s}" for s in labels])
-    fig.suptitle("Subset of 3 cables that minimises ‖δp‖ (Fig. 9); grey: no admissible subset", fontsize=9)
+    cb.set_label("subset kept [cable numbers]")
+    fig.suptitle(f"Subset of 3 cables that minimises ‖δp‖ (Fig. 9){_mode(mode)}", fontsize=10)
     return save(fig, out)
 
 
-def fig9_taut(tables, A, z, robot_name, out):
+def fig9_taut(tables, A, z, robot_name, out, mode="physical"):
     """Fig. 9 of the physical study: the set of taut cables of the equilibrium at each point of the
     plane (``redundancy: physical``: every cable may go slack; the paper's Fig. 9 shows instead the
     3-cable subset its rule keeps), one panel per pulley design. ``tables`` maps a design label to
@@ -142,7 +225,9 @@ def fig9_taut(tables, A, z, robot_name, out):
         key=lambda s: (-len(s.split("-")), s),
     )
     cmap = plt.get_cmap("tab20" if len(labels) > 10 else "tab10", max(len(labels), 1))
-    fig, axes = plt.subplots(1, len(tables), figsize=(5.2 * len(tables), 4.8), squeeze=False)
+    fig, axes = plt.subplots(
+        1, len(tables), figsize=(5.2 * len(tables) + 1.5, 5.2), squeeze=False, layout="constrained"
+    )
     im = None
     for ax, (label, df) in zip(axes[0], tables.items()):
         code = df.taut.astype(str).map({s: i for i, s in enumerate(labels)}).astype(float)
@@ -152,99 +237,186 @@ def fig9_taut(tables, A, z, robot_name, out):
         im = ax.pcolormesh(xs, ys, Z, cmap=cmap, vmin=-0.5, vmax=len(labels) - 0.5, shading="nearest")
         _anchors(ax, A)
         ax.set(xlabel="x [m]", ylabel="y [m]", title=f"{robot_name} {label} at z = {z:g} m", aspect="equal")
-        _not_ok_legend(ax, df)
+        _not_ok_legend(ax, df, A)
     if im is not None:
         cb = fig.colorbar(im, ax=axes[0].tolist(), ticks=range(len(labels)))
         cb.ax.set_yticklabels([f"taut {s}" for s in labels])
-    fig.suptitle("Taut cables of the physical equilibrium (Fig. 9, physical mode); grey: not ok", fontsize=9)
+        cb.set_label("taut-set map [cable numbers]")
+    fig.suptitle(f"Taut cables at each point (Fig. 9 as a taut-set map){_mode(mode)}", fontsize=10)
     return save(fig, out)
 
 
-def fig10_trajectories(tables, minmax, out):
-    """Paty 2021 Fig. 10: ‖δp‖ along the section 3.3.1 paths. ``tables`` maps a design label
-    (robot_pulley) to its path table (s, dp, status); ``minmax`` has ok_until_s_m and
-    path_length_m per design. Colour: pulley kind; line style: robot. Points that are not ok are
-    marked on the axis by status; a dotted line marks each design's last ok point."""
-    fig, ax = plt.subplots(figsize=(7, 4.2))
-    markers = {"slack": "x", "over_tension": "^", "inaccessible": "s", "not_converged": "d"}
+#: Colours of the point statuses in the status strips (ok is not drawn).
+STATUS_COLOURS = {
+    "ok": "white",
+    "slack": OKABE_ITO[1],
+    "over_tension": OKABE_ITO[3],
+    "inaccessible": "0.35",
+    "not_converged": OKABE_ITO[4],
+}
+
+
+def fig10_trajectories(tables, minmax, out, mode=None):
+    """Paty 2021 Fig. 10: ‖δp‖ along the section 3.3.1 paths, one panel per robot (colour: pulley
+    kind). ``tables`` maps a design label (robot_pulley) to its path table (s, dp, status);
+    ``minmax`` has ok_until_s_m and path_length_m per design. Points that are not ok are not drawn
+    as curves (no ‖δp‖ = 0 that reads as no error): a status strip under each panel shows, per
+    design, where the points are ok or why they are not, and the legend gives each design's reach
+    (the last ok point over the path length)."""
+
     robots = list(dict.fromkeys(lab.split("_", 1)[0] for lab in tables))
+    per = {rk: [lab for lab in tables if lab.split("_", 1)[0] == rk] for rk in robots}
+    n_strip = max(len(v) for v in per.values())
+    fig = plt.figure(figsize=(6.2 * len(robots), 5.4), layout="constrained")
+    outer = fig.add_gridspec(2, len(robots), height_ratios=[4, 0.35 * n_strip + 0.4])
+    states = list(STATUS_COLOURS)
+    cmap = ListedColormap([STATUS_COLOURS[s] for s in states])
+    mm = minmax.set_index("design")
     seen = set()
-    for (label, df), (_, row) in zip(tables.items(), minmax.iterrows()):
-        ok = df.status == "ok"
-        rk, kind = label.split("_", 1) if "_" in label else (label, label)
-        style = ["-", "--", ":", "-."][robots.index(rk) % 4]
-        (line,) = ax.plot(
-            df.s.where(ok), df.dp.where(ok) * 1e3, style, color=KIND_COLOURS.get(kind), label=label
+    for j, rk in enumerate(robots):
+        ax = fig.add_subplot(outer[0, j])
+        strip = fig.add_subplot(outer[1, j], sharex=ax)
+        for lab in per[rk]:
+            df = tables[lab]
+            ok = df.status == "ok"
+            kind = lab.split("_", 1)[1] if "_" in lab else lab
+            row = mm.loc[lab]
+            reach = f"last ok point at s = {row.ok_until_s_m:.2f} of {row.path_length_m:.2f} m"
+            ax.plot(
+                df.s.where(ok), df.dp.where(ok) * 1e3, color=KIND_COLOURS.get(kind), label=f"{lab}: {reach}"
+            )
+            seen |= set(df.status.unique())
+        codes = np.array(
+            [[states.index(s) if s in states else 0 for s in tables[lab].status] for lab in per[rk]], float
         )
-        for st, mk in markers.items():
-            sel = df.status == st
-            if sel.any():
-                seen.add(st)
-                ax.plot(df.s[sel], np.zeros(int(sel.sum())), mk, color=line.get_color(), ms=4)
-        if np.isfinite(row.ok_until_s_m):
-            ax.axvline(row.ok_until_s_m, color=line.get_color(), ls=":", lw=0.8)
-    lengths = sorted(set(np.round(minmax.path_length_m, 3)))
-    ax.set(
-        xlabel="position along the path s [m] (path lengths "
-        + ", ".join(f"{v:g}" for v in lengths)
-        + " m; dotted: last ok point)",
-        ylabel="‖δp‖ [mm]",
-        title="‖δp‖ along the section 3.3.1 paths (Fig. 10)",
+        s0 = tables[per[rk][0]].s.to_numpy()
+        strip.pcolormesh(
+            s0,
+            np.arange(len(per[rk])),
+            codes,
+            cmap=cmap,
+            vmin=-0.5,
+            vmax=len(states) - 0.5,
+            shading="nearest",
+        )
+        strip.set_yticks(np.arange(len(per[rk])), [lab.split("_", 1)[1] for lab in per[rk]], fontsize=7)
+        strip.set(xlabel="position along the path s [m]", ylabel="status [-]")
+        ax.tick_params(labelbottom=False)
+        ax.set(ylabel="‖δp‖ [mm]", title=f"{rk}: ‖δp‖ along the section 3.3.1 path")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.02 - 0.09 * n_strip), frameon=False)
+        ax.set_ylim(bottom=0)
+    handles = [Patch(facecolor=STATUS_COLOURS[s], edgecolor="0.5", label=s) for s in states if s in seen]
+    fig.legend(
+        handles=handles,
+        loc="outside lower center",
+        ncol=len(handles),
+        fontsize=7,
+        title="status strip",
+        title_fontsize=7,
     )
-    ax.grid(alpha=0.3)
-    lines = ax.legend(fontsize=7, loc="upper left")
-    ax.add_artist(lines)
-    proxies = [
-        Line2D([], [], ls="", marker=markers[st], color="0.3", label=f"not ok: {st}")
-        for st in markers
-        if st in seen
-    ]
-    if proxies:
-        ax.legend(handles=proxies, fontsize=7, loc="upper center")
+    fig.suptitle(f"‖δp‖ along the paths (Fig. 10){_mode(mode)}", fontsize=10)
     return save(fig, out)
 
 
-def fig11_minmax(minmax, out):
+def fig11_minmax(minmax, out, mode=None):
     """Paty 2021 Fig. 11: min and max ‖δp‖ along each path, per design (table ``minmax``)."""
-    fig, ax = plt.subplots(figsize=(6.5, 4))
+    fig, ax = plt.subplots(figsize=(6.5, 4.4), layout="constrained")
     x = np.arange(len(minmax))
-    ax.bar(x - 0.2, minmax.dp_min_m * 1e3, 0.4, label="min")
-    ax.bar(x + 0.2, minmax.dp_max_m * 1e3, 0.4, label="max")
+    ax.bar(x - 0.2, minmax.dp_min_m * 1e3, 0.4, color=OKABE_ITO[0], label="min over the ok points")
+    ax.bar(x + 0.2, minmax.dp_max_m * 1e3, 0.4, color=OKABE_ITO[1], label="max over the ok points")
     ax.set_xticks(x, minmax.design, rotation=30, ha="right")
-    ax.set(ylabel="‖δp‖ [mm]", title="Min and max of ‖δp‖ along the paths (Fig. 11)")
+    ax.set(
+        xlabel="design [robot_pulley]",
+        ylabel="‖δp‖ [mm]",
+        title=f"Min and max of ‖δp‖ along the paths (Fig. 11){_mode(mode)}",
+    )
+    ax.title.set_fontsize(9)
     ax.grid(axis="y", alpha=0.3)
     ax.legend(fontsize=8)
     return save(fig, out)
 
 
-def fig12_plane(tables, A, z, robot_name, out):
+def fig12_plane(tables, A, z, robot_name, out, mode=None, paper=None):
     """Paty 2021 Fig. 12: iso-contours of ‖δp‖ over the horizontal plane at height z, one panel per
-    pulley design of the same robot on ONE colour scale (the comparison is the point). Cells that
-    are not ok are grey and counted in a legend; the dashed line is the anchors' outline (cells
-    are squares, so the edge of a non-rectangular frame is drawn as steps).
+    pulley design of the same robot, each on levels fine enough to show its own structure (about
+    ten filled levels, every level a labelled line; its own colour bar). ``paper`` maps a design
+    label to the paper's iso-values [m] (e.g. the min and max it quotes), drawn as red dashed
+    labelled contours. Cells that are not ok are grey, counted by status under the panel with the
+    points outside the anchors' footprint counted apart; the dashed line is the footprint.
 
     The small closed contour at the centre of CDPR4 with DR pulleys is in the data, not the
     contouring: the paper's rule takes the least ‖δp‖ of the four 3-cable subsets, which are equal
     at the centre by symmetry and each fall away from it, so ‖δp‖ has a cusp maximum there."""
-    vals = [df.dp[df.status == "ok"] for df in tables.values()]
-    lo = min((float(v.min()) for v in vals if len(v)), default=np.nan) * 1e3
-    hi = max((float(v.max()) for v in vals if len(v)), default=np.nan) * 1e3
-    levels = _round_levels(lo, hi, 12)
-    fig, axes = plt.subplots(1, len(tables), figsize=(5.2 * len(tables), 5.0), squeeze=False)
-    cf = None
+    paper = paper or {}
+    fig, axes = plt.subplots(
+        1, len(tables), figsize=(5.6 * len(tables), 5.6), squeeze=False, layout="constrained"
+    )
     for ax, (label, df) in zip(axes[0], tables.items()):
         ok = (df.status == "ok").to_numpy()
         xs, ys, Z = _grid(df, np.where(ok, df.dp * 1e3, np.nan))
         ax.set_facecolor(NOT_OK_COLOUR)
-        if levels is not None and np.isfinite(Z).any():
-            cf = ax.contourf(xs, ys, Z, levels=levels, cmap="viridis")
-            cs = ax.contour(xs, ys, Z, levels=levels[::2], colors="k", linewidths=0.5)
-            ax.clabel(cs, fmt="%g", fontsize=7)
+        if np.isfinite(Z).any():
+            levels = _round_levels(np.nanmin(Z), np.nanmax(Z), 10)
+            if levels is not None and len(levels) > 1:
+                cf = ax.contourf(xs, ys, Z, levels=levels, cmap="viridis")
+                cs = ax.contour(xs, ys, Z, levels=levels, colors="k", linewidths=0.4)
+                iso = [v * 1e3 for v in paper.get(label, []) if v is not None]
+                lab = [v for v in levels[1:-1:2] if not np.isclose(iso, v).any()]  # paper's own label wins
+                ax.clabel(cs, lab, fmt="%g", fontsize=6)
+                fig.colorbar(cf, ax=ax, label="‖δp‖ [mm]", shrink=0.8)
+            iso = [v * 1e3 for v in paper.get(label, []) if v is not None]
+            if iso and np.nanmin(Z) < max(iso) and np.nanmax(Z) > min(iso):
+                cp = ax.contour(xs, ys, Z, levels=sorted(iso), colors="r", linewidths=1.2, linestyles="--")
+                ax.clabel(cp, fmt=lambda v: f"paper {v:g}", fontsize=6)
+        _anchors(ax, A)
+        iso_txt = " / ".join(f"{v * 1e3:g}" for v in paper.get(label, []) if v is not None)
+        extra = f"\nred dashed: paper's {iso_txt} mm" if iso_txt else ""
+        ax.set(
+            xlabel="x [m]",
+            ylabel="y [m]",
+            title=f"{robot_name} {label} at z = {z:g} m{extra}",
+            aspect="equal",
+        )
+        ax.title.set_fontsize(9)
+        _not_ok_legend(ax, df, A)
+    fig.suptitle(f"‖δp‖ over the plane (Fig. 12){_mode(mode)}", fontsize=10)
+    return save(fig, out)
+
+
+def fig12_tension(tables, A, z, robot_name, t_min, out, mode=None):
+    """Minimum cable tension over the plane at height z (beyond the paper): min_i t_i at each ok
+    point (physical mode: over every cable, a slack one at 0 N; paper mode: over the 3-cable subset
+    the rule keeps, the others carry no modelled tension), one panel per pulley design, with the tension limit ``t_min`` [N] drawn as a red line
+    (the slack margin is the distance to it). ``tables`` maps a design label to its plane table
+    (columns x, y, status, t1..tm [N])."""
+    fig, axes = plt.subplots(
+        1, len(tables), figsize=(5.6 * len(tables), 5.6), squeeze=False, layout="constrained"
+    )
+    for ax, (label, df) in zip(axes[0], tables.items()):
+        tcols = sorted((c for c in df.columns if re.fullmatch(r"t\d+", c)), key=lambda c: int(c[1:]))
+        ok = (df.status == "ok").to_numpy()
+        tt = df[tcols]
+        if "taut" in df.columns:  # physical mode: a slack cable's tension is written NaN, and is 0 N
+            tt = tt.fillna(0.0)
+        tmin = tt.min(axis=1).to_numpy() if tcols else np.full(len(df), np.nan)
+        xs, ys, Z = _grid(df, np.where(ok, tmin, np.nan))
+        ax.set_facecolor(NOT_OK_COLOUR)
+        if np.isfinite(Z).any():
+            levels = _round_levels(np.nanmin(Z), np.nanmax(Z), 10)
+            if levels is not None and len(levels) > 1:
+                cf = ax.contourf(xs, ys, Z, levels=levels, cmap="cividis")
+                cs = ax.contour(xs, ys, Z, levels=levels, colors="k", linewidths=0.4)
+                ax.clabel(cs, levels[1:-1:2], fmt="%g", fontsize=6)
+                fig.colorbar(cf, ax=ax, label="minimum cable tension min t_i [N]", shrink=0.8)
+            if t_min is not None and np.nanmin(Z) < t_min < np.nanmax(Z):
+                ax.contour(xs, ys, Z, levels=[t_min], colors="r", linewidths=1.2)
         _anchors(ax, A)
         ax.set(xlabel="x [m]", ylabel="y [m]", title=f"{robot_name} {label} at z = {z:g} m", aspect="equal")
-        _not_ok_legend(ax, df)
-    if cf is not None:
-        fig.colorbar(cf, ax=axes[0].tolist(), label="‖δp‖ [mm]")
+        _not_ok_legend(ax, df, A)
+    lim = f"; red: t = {t_min:g} N" if t_min is not None else ""
+    over = "slack cables count as 0 N" if mode == "physical" else "over the 3 cables the rule keeps"
+    fig.suptitle(f"Minimum cable tension over the plane ({over}){lim}{_mode(mode)}", fontsize=10)
     return save(fig, out)
 
 
@@ -264,11 +436,24 @@ def _coarsen(a, k, how):
         return how(blocks, axis=(1, 3, 5))
 
 
-def fig13_volume_view(df, limits, R_V, z_top, title, out):
-    """Paty 2021 Fig. 13: the error-limited region ‖δp‖ <= limit, one panel per limit, drawn as the
-    faces of its voxels (cell-centred grid table ``df`` in C order), z from 0 to ``z_top``. Grids
-    finer than ``VOXELS_DRAWN`` per axis are drawn on coarser blocks (a block is filled when most
-    of its cells are); R_V is computed on the full grid by the caller."""
+def _frame(ax, A):
+    """The frame of anchors ``A`` (m, 3) in a 3-D axes: the anchors (pulleys, triangles), the
+    footprint at the floor and at the anchors' height, and the vertical posts."""
+    path = _footprint(A).vertices
+    top = float(A[:, 2].max())
+    for zz in (0.0, top):
+        ax.plot(path[:, 0], path[:, 1], zz, color="k", lw=0.7)
+    for x, y in path[:-1]:
+        ax.plot([x, x], [y, y], [0.0, top], color="k", lw=0.7)
+    ax.scatter(A[:, 0], A[:, 1], A[:, 2], marker="^", color="k", s=20, depthshade=False)
+
+
+def fig13_volume_view(df, limits, R_V, z_top, title, out, A=None, mode=None):
+    """Paty 2021 Fig. 13: the error-limited region ‖δp‖ <= limit, one panel per limit, drawn as
+    opaque voxels (cell-centred grid table ``df`` in C order) inside the frame of anchors ``A``
+    (drawn, with the pulleys), every panel on the same limits (the frame's box, z from 0 to
+    ``z_top``). Grids finer than ``VOXELS_DRAWN`` per axis are drawn on coarser blocks (a block is
+    filled when most of its cells are); R_V is computed on the full grid by the caller."""
     xs, ys, zs = (np.sort(df[c].unique()) for c in ("x", "y", "z"))
     n = (len(xs), len(ys), len(zs))
     k = max(1, -(-max(n) // VOXELS_DRAWN))
@@ -280,34 +465,46 @@ def fig13_volume_view(df, limits, R_V, z_top, title, out):
     m = dp_c.shape
     edges = [lo[a] + step[a] * np.arange(m[a] + 1) for a in range(3)]
     X, Y, Z = np.meshgrid(*edges, indexing="ij")
-    fig = plt.figure(figsize=(5 * len(limits), 4.8))
+    if A is not None:
+        box = [(float(A[:, a].min()), float(A[:, a].max())) for a in range(2)] + [
+            (0.0, max(z_top, float(A[:, 2].max())))
+        ]
+    else:
+        box = [(edges[0][0], edges[0][-1]), (edges[1][0], edges[1][-1]), (0.0, z_top)]
+    fig = plt.figure(figsize=(5.2 * len(limits), 5.6), layout="constrained")
     norm = matplotlib.colors.Normalize(0.0, max(limits) * 1e3)
+    axes = []
     for j, (lim, rv) in enumerate(zip(limits, R_V)):
         ax = fig.add_subplot(1, len(limits), j + 1, projection="3d")
+        axes.append(ax)
         inside = np.where(np.isnan(dp), 0.0, (dp <= lim).astype(float))
         filled = (_coarsen(inside, k, np.nanmean) >= 0.5) if k > 1 else inside > 0
         colour = plt.get_cmap("viridis")(norm(np.nan_to_num(dp_c, nan=0.0) * 1e3))
-        colour[..., 3] = 0.35
         ax.voxels(X, Y, Z, filled, facecolors=colour, edgecolor=None, linewidth=0)
-        ax.set(
-            xlabel="x [m]",
-            ylabel="y [m]",
-            zlabel="z [m]",
-            zlim=(0.0, z_top),
-            title=f"‖δp‖ ≤ {lim * 1e3:g} mm: R_V = {rv:.2f}",
-        )
+        if A is not None:
+            _frame(ax, A)
+        ax.set(xlim=box[0], ylim=box[1], zlim=box[2], title=f"‖δp‖ ≤ {lim * 1e3:g} mm: R_V = {rv:.2f}")
+        ax.set_xlabel("x [m]", labelpad=6)
+        ax.set_ylabel("y [m]", labelpad=6)
+        ax.set_zlabel("z [m]", labelpad=6)
+        ax.tick_params(labelsize=6, pad=0)
+        ax.set_box_aspect([box[a][1] - box[a][0] for a in range(3)], zoom=0.85)
     fig.colorbar(
-        matplotlib.cm.ScalarMappable(norm=norm, cmap="viridis"), ax=fig.axes, shrink=0.6, label="‖δp‖ [mm]"
+        matplotlib.cm.ScalarMappable(norm=norm, cmap="viridis"),
+        ax=axes,
+        location="bottom",
+        shrink=0.5,
+        label="‖δp‖ [mm]",
     )
     drawn = f" (drawn on {m[0]}x{m[1]}x{m[2]} blocks of the {n[0]}^3 grid)" if k > 1 else ""
-    fig.suptitle(title + drawn, fontsize=10)
+    fig.suptitle(title + drawn + _mode(mode), fontsize=10)
     return save(fig, out)
 
 
-def fig14_rv(tab, paper, out):
+def fig14_rv(tab, paper, out, mode=None):
     """Paty 2021 Fig. 14: R_V = V_L / V_T versus the error limit, per robot and pulley design;
     ``paper`` rows (robot, pulley, limit_m, R_V) are the paper's values, drawn as markers."""
-    fig, ax = plt.subplots(figsize=(6.5, 4.2))
+    fig, ax = plt.subplots(figsize=(7.5, 4.6), layout="constrained")
     robots = list(dict.fromkeys(tab.robot))
     for (rk, pk), g in tab.groupby(["robot", "pulley"], sort=False):
         k = robots.index(rk)
@@ -329,172 +526,270 @@ def fig14_rv(tab, paper, out):
         ax.axvline(lim * 1e3, color="0.6", ls=":", lw=0.8)
     ax.set(
         xlabel=r"error limit $\|\delta p\|_{lim}$ [mm]",
-        ylabel=r"$R_V = V_L / V_T$",
-        title="Error-limited volume ratio (Fig. 14)",
+        ylabel=r"$R_V = V_L / V_T$ [-]",
+        title=f"Error-limited volume ratio (Fig. 14){_mode(mode)}",
     )
+    ax.title.set_fontsize(9)
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=7, ncol=2)
+    ax.legend(fontsize=7, ncol=1, loc="center left", bbox_to_anchor=(1.01, 0.5))
     return save(fig, out)
 
 
-def fig15_doe(tests, out):
-    """Paty 2021 Fig. 15: the global index of each DOE test (Table 2)."""
-    fig, ax = plt.subplots(figsize=(7, 4.2))
+def fig15_doe(tests, out, mode=None):
+    """Paty 2021 Fig. 15: the global index of each DOE test (Table 2), the factor levels of each
+    test in a table under the bars, the paper's best and worst index (0.05 / 0.29 m) as markers."""
+    fig, ax = plt.subplots(figsize=(8, 4.8), layout="constrained")
+    x = np.arange(len(tests))
     colours = [KIND_COLOURS.get(k) for k in tests.kind]
-    ax.bar(np.arange(len(tests)), tests.index_m * 1e3, color=colours)
-    ax.set_xticks(
-        np.arange(len(tests)),
-        [
-            f"T{t}: {k}\nh={h * 1e3:g} r_p={r * 1e3:g} mm"
-            for t, k, h, r in zip(tests.test, tests.kind, tests.h_m, tests.r_p_m)
-        ],
-        fontsize=7,
+    ax.bar(x, tests.index_m * 1e3, color=colours)
+    ax.set_xticks(x, [f"T{t}" for t in tests.test])
+    for name, q in (("paper's best", "DOE minimum (test 1)"), ("paper's worst", "DOE maximum (test 7)")):
+        v = paper_value(q)
+        if v is not None:
+            ax.axhline(v * 1e3, color="r", ls="--", lw=0.9)
+            ax.annotate(
+                f"{name} {v:g} m",
+                (1.0, v * 1e3),
+                xycoords=("axes fraction", "data"),
+                xytext=(3, 0),
+                textcoords="offset points",
+                fontsize=7,
+                color="r",
+                va="center",
+            )
+    cells = [
+        list(tests.kind),
+        [f"{h * 1e3:g}" for h in tests.h_m],
+        [f"{r * 1e3:g}" for r in tests.r_p_m],
+    ]
+    tb = ax.table(
+        cellText=cells,
+        rowLabels=["joint", "h [mm]", "r_p [mm]"],
+        loc="bottom",
+        cellLoc="center",
+        bbox=[0, -0.32, 1, 0.22],
     )
-    ax.set(ylabel="global index mean ‖δp‖ [mm]", title="DOE responses (Fig. 15)")
+    tb.set_fontsize(7)
+    ax.set(
+        xlabel="DOE test [Table 2]",
+        ylabel="global index mean ‖δp‖ [mm]",
+        title=f"DOE responses (Fig. 15){_mode(mode)}",
+    )
+    ax.xaxis.set_label_position("top")
     ax.grid(axis="y", alpha=0.3)
     return save(fig, out)
 
 
-def fig16_effects(eff, out):
-    """Paty 2021 Fig. 16: effects and interactions of the coded factors on the global index."""
+def fig16_effects(eff, out, mode=None):
+    """Paty 2021 Fig. 16: effects and interactions of the coded factors on the global index; the
+    effect of a term is 2 × its regression coefficient (the change from its -1 to its +1 level).
+    Colour-blind-safe signs (blue: lowers the index, vermillion: raises it)."""
     e = eff[eff.term != "mean"]
-    fig, ax = plt.subplots(figsize=(6.5, 4))
-    ax.bar(np.arange(len(e)), e.effect * 1e3, color=["tab:green" if v < 0 else "tab:red" for v in e.effect])
+    fig, ax = plt.subplots(figsize=(7, 4.4), layout="constrained")
+    ax.bar(
+        np.arange(len(e)), e.effect * 1e3, color=[OKABE_ITO[0] if v < 0 else OKABE_ITO[1] for v in e.effect]
+    )
     ax.set_xticks(np.arange(len(e)), e.term, rotation=30, ha="right")
     ax.axhline(0.0, color="k", lw=0.8)
     ax.set(
-        ylabel="effect on mean ‖δp‖ [mm]",
-        title="Effects and interactions (Fig. 16); factors coded -1/+1:\njoint SR/DR, h and r_p low/high level of Table 2",
+        xlabel="term [coded factors -1/+1: joint SR/DR, h and r_p low/high of Table 2]",
+        ylabel="effect = 2 × coefficient [mm]",
+        title=f"Effects and interactions on mean ‖δp‖ (Fig. 16){_mode(mode)}",
     )
     ax.title.set_fontsize(9)
     ax.grid(axis="y", alpha=0.3)
     return save(fig, out)
 
 
-def fig17_maps(tab, valleys, lines, tests, levels, out):
+#: The paper's lines h = k r_p (Paty 2021 section 4.3: D_SR h = 40/13 r_p, D_DR h = 5/4 r_p) and
+#: optimal designs (Table 3: SR* h = 107.7 mm, r_p = 35 mm; DR* h = 100 mm, r_p = 80 mm) [m].
+PAPER_LINES = {"SR": 40.0 / 13.0, "DR": 5.0 / 4.0}
+PAPER_OPTIMA = {"SR": (0.1077, 0.035), "DR": (0.100, 0.080)}
+
+
+def fig17_maps(tab, valleys, lines, tests, levels, out, mode=None):
     """Paty 2021 Fig. 17: the global index over the (r_p, h) plane for each pulley kind on one
-    colour range, the valley r_p*(h), the fitted line h = k r_p, the DOE field and tests T1-T8, and
-    the line's crossing I with the field. ``valleys`` maps a kind to its valley table; ``lines``
-    has one row per kind."""
+    colour range with labelled contour lines, the valley r_p*(h), the fitted line h = k r_p and
+    our optimum I, the paper's line D and its optimum (SR*, DR*), the DOE field and tests T1-T8.
+    ``valleys`` maps a kind to its valley table; ``lines`` has one row per kind."""
     kinds = list(dict.fromkeys(tab.kind))
     lo, hi = float(tab.index_m.min()) * 1e3, float(tab.index_m.max()) * 1e3
     lv = _round_levels(lo, hi, 20)
-    fig, axes = plt.subplots(1, len(kinds), figsize=(5.8 * len(kinds), 5), squeeze=False)
+    fig, axes = plt.subplots(
+        1, len(kinds), figsize=(6.0 * len(kinds) + 1.2, 5.8), squeeze=False, layout="constrained"
+    )
     cf = None
     for ax, kind in zip(axes[0], kinds):
         g = tab[tab.kind == kind]
         piv = g.pivot(index="h_m", columns="r_p_m", values="index_m")
         if piv.shape[0] > 1 and piv.shape[1] > 1 and lv is not None:
             cf = ax.contourf(piv.columns * 1e3, piv.index * 1e3, piv.values * 1e3, levels=lv, cmap="viridis")
+            ax.contour(
+                piv.columns * 1e3,
+                piv.index * 1e3,
+                piv.values * 1e3,
+                levels=lv[::4],
+                colors="k",
+                linewidths=0.4,
+            )  # unlabelled: the colour bar's ticks are these levels (labels would sit on T1-T8)
         v = valleys[kind]
         ax.plot(v.r_p_star * 1e3, v.h * 1e3, "wo", ms=3, mec="k", mew=0.4, label="valley r_p*(h)")
         line = lines[lines.kind == kind].iloc[0]
+        rmax = g.r_p_m.max()
+        rr = np.linspace(0, rmax, 10)
         if np.isfinite(line.slope_k):
-            rr = np.linspace(0, g.r_p_m.max(), 10)
-            ax.plot(rr * 1e3, line.slope_k * rr * 1e3, "r-", label=f"h = {line.slope_k:.2f} r_p")
+            ax.plot(rr * 1e3, line.slope_k * rr * 1e3, "r-", label=f"ours: h = {line.slope_k:.2f} r_p")
+        if kind in PAPER_LINES:
+            k = PAPER_LINES[kind]
+            ax.plot(rr * 1e3, k * rr * 1e3, color="m", ls="--", label=f"paper D_{kind}: h = {k:.3g} r_p")
+            h_p, r_p = PAPER_OPTIMA[kind]
+            ax.plot(r_p * 1e3, h_p * 1e3, "D", color="m", mec="w", ms=8, zorder=6, label=f"paper {kind}*")
         r0, r1 = levels["r_p_m"]
         h0, h1 = levels["h_m"]
         ax.add_patch(
             plt.Rectangle((r0 * 1e3, h0 * 1e3), (r1 - r0) * 1e3, (h1 - h0) * 1e3, fill=False, ec="w", ls="--")
         )
         for t in tests[tests.kind == kind].itertuples():
+            ax.plot(t.r_p_m * 1e3, t.h_m * 1e3, "w+", ms=6, mew=1.2)  # the test's point; its name beside it
             ax.annotate(
                 f"T{t.test}",
                 (t.r_p_m * 1e3, t.h_m * 1e3),
+                xytext=(-9, -9),
+                textcoords="offset points",
                 color="w",
-                fontsize=8,
+                fontsize=7,
                 ha="center",
                 va="center",
-                bbox=dict(boxstyle="round,pad=0.15", fc="k", alpha=0.5),
+                bbox=dict(boxstyle="round,pad=0.15", fc="k", alpha=0.6),
             )
         if line.r_p_opt_m == line.r_p_opt_m and line.r_p_opt_m is not None:
-            ax.plot(line.r_p_opt_m * 1e3, line.h_opt_m * 1e3, "r*", ms=12, label=f"I_{kind}")
+            ax.plot(
+                line.r_p_opt_m * 1e3,
+                line.h_opt_m * 1e3,
+                "r*",
+                ms=13,
+                mec="w",
+                zorder=7,
+                label=f"ours: I_{kind}",
+            )
+        hmax = max(g.h_m.max(), h1) * 1e3
         ax.set(
             xlabel="sheave radius r_p [mm]",
             ylabel="lever arm h [mm]",
             title=f"{kind} pulleys (Fig. 17)",
-            xlim=(0, g.r_p_m.max() * 1e3),
-            ylim=(0, g.h_m.max() * 1e3),
+            xlim=(0, rmax * 1e3),
+            ylim=(0, hmax * 1.08),
         )
-        ax.legend(fontsize=7, loc="lower right")
+        ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=2, frameon=False)
     if cf is not None:
-        fig.colorbar(cf, ax=axes[0].tolist(), label="global index mean ‖δp‖ [mm]")
+        cb = fig.colorbar(
+            cf, ax=axes[0].tolist(), label="global index mean ‖δp‖ [mm] (black lines at the ticks)"
+        )
+        cb.set_ticks(lv[::4])
+    fig.suptitle(f"Global index over the (r_p, h) plane{_mode(mode)}", fontsize=10)
     return save(fig, out)
 
 
-def fig18_index_vs_E(tab, E_mean, bands, out):
+def fig18_index_vs_E(tab, E_mean, bands, out, mode=None, paper=None):
     """Paty 2021 Fig. 18: the global index of each optimal design versus Young's modulus, with the
-    nominal modulus E_mean and the band [min, max] over the range marked."""
-    fig, ax = plt.subplots(figsize=(6.5, 4.2))
-    for dk, g in tab.groupby("design", sort=False):
-        (line,) = ax.plot(g.E_Pa / 1e9, g.index_m * 1e3, "o-", ms=3, label=dk)
+    nominal modulus E_mean and our band [min, max] over the range shaded; ``paper`` {design:
+    (index, minus, plus)} [m] draws the paper's band as an error bar at E_mean."""
+    paper = paper or {}
+    fig, ax = plt.subplots(figsize=(7.5, 4.6), layout="constrained")
+    for i, (dk, g) in enumerate(tab.groupby("design", sort=False)):
+        c = OKABE_ITO[i % len(OKABE_ITO)]
+        ax.plot(g.E_Pa / 1e9, g.index_m * 1e3, "o-", ms=3, color=c, label=f"{dk} (ours)")
         b = bands[bands.design == dk].iloc[0]
-        ax.axhspan(b.index_min_m * 1e3, b.index_max_m * 1e3, color=line.get_color(), alpha=0.12)
+        ax.axhspan(b.index_min_m * 1e3, b.index_max_m * 1e3, color=c, alpha=0.12)
+        if dk in paper:
+            mid, minus, plus = (v * 1e3 for v in paper[dk])
+            ax.errorbar(
+                [E_mean / 1e9 + 1.5],
+                [mid],
+                yerr=[[minus], [plus]],
+                fmt="s",
+                color=c,
+                mfc="w",
+                capsize=4,
+                label=f"{dk}: paper {mid:g} +{plus:g}/-{minus:g} mm",
+            )
     ax.axvline(E_mean / 1e9, color="k", ls=":", label=f"E_mean = {E_mean / 1e9:g} GPa")
     ax.set(
         xlabel="Young's modulus E [GPa]",
         ylabel="global index mean ‖δp‖ [mm]",
-        title="Index versus Young's modulus (Fig. 18); shaded: band",
+        title=f"Index versus E (Fig. 18), shaded: our band{_mode(mode)}",
     )
+    ax.title.set_fontsize(9)
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.01, 0.5))
     return save(fig, out)
 
 
-def fig19_paths(curves, crossings, out):
+def fig19_paths(curves, crossings, out, mode=None, paper=None):
     """Paty 2021 Fig. 19: ‖δp‖ along the section 5.2 path for each design (colour) at E_min,
-    E_mean, E_max (line style), with the crossings of the E_max and E_min curves marked.
-    ``curves`` is a list of (design, E [Pa], s [m], dp [m]); ``crossings`` a table design, s_m."""
-    fig, ax = plt.subplots(figsize=(7, 4.2))
+    E_mean, E_max (line style), with our crossings of the E_max and E_min curves (solid vertical
+    lines) and the paper's (``paper`` {design: s [m]}, dashed). ``curves`` is a list of (design, E
+    [Pa], s [m], dp [m]); ``crossings`` a table design, s_m."""
+    paper = paper or {}
+    fig, ax = plt.subplots(figsize=(7.5, 4.6), layout="constrained")
     designs = list(dict.fromkeys(c[0] for c in curves))
     Es = sorted({c[1] for c in curves})
     styles = dict(zip(Es, [":", "-", "--"] if len(Es) == 3 else ["-"] * len(Es)))
-    colours = dict(zip(designs, plt.rcParams["axes.prop_cycle"].by_key()["color"]))
+    colours = dict(zip(designs, OKABE_ITO))
     for dk, E, s, dp in curves:
         ax.plot(s, dp * 1e3, styles[E], color=colours[dk], label=f"{dk} E = {E / 1e9:g} GPa")
     for r in crossings.itertuples():
-        ax.axvline(r.s_m, color=colours.get(r.design, "k"), lw=0.8, alpha=0.6)
-        ax.annotate(
-            f"{r.design} crossing s = {r.s_m:.2f} m",
-            (r.s_m, ax.get_ylim()[1]),
-            rotation=90,
-            fontsize=6,
-            va="top",
-            ha="right",
-        )
+        ax.axvline(r.s_m, color=colours.get(r.design, "k"), lw=1.0, alpha=0.8)
+    for dk, s in paper.items():
+        if dk in colours and s is not None:
+            ax.axvline(s, color=colours[dk], lw=1.0, ls=(0, (5, 3)))
+    ours = ", ".join(f"{r.design} {r.s_m:.2f} m" for r in crossings.itertuples()) or "none"
+    theirs = ", ".join(f"{d} {s:g} m" for d, s in paper.items()) or "not given"
     ax.set(
-        xlabel="position along the path s [m]",
+        xlabel=f"position along the path s [m]\ncrossings E_max/E_min, solid: ours ({ours}); dashed: paper ({theirs})",
         ylabel="‖δp‖ [mm]",
-        title="‖δp‖ along the section 5.2 path (Fig. 19)",
+        title=f"‖δp‖ along the section 5.2 path (Fig. 19){_mode(mode)}",
     )
+    ax.xaxis.label.set_fontsize(8)
+    ax.title.set_fontsize(9)
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.01, 0.5))
     return save(fig, out)
 
 
-def dead_length_figure(tab, d_default, out):
+def dead_length_figure(tab, d_default, out, mode=None):
     """Sensitivity of the paper-comparable numbers to the dead length d (not given by the paper):
-    the CDPR4 plane extremes (left) and the optimal designs' index at E_mean (right)."""
-    fig, (a, b) = plt.subplots(1, 2, figsize=(11, 4))
+    the CDPR4 plane extremes (left) and the optimal designs' index at E_mean (right), with the
+    paper's values as horizontal lines of the same colour (dash-dot)."""
+    fig, (a, b) = plt.subplots(1, 2, figsize=(11, 4.8), layout="constrained")
     for c in [c for c in tab.columns if c.startswith("plane_")]:
         _, pk, stat, _ = c.split("_")
+        col = KIND_COLOURS.get(pk)
         a.plot(
             tab.d_m,
             tab[c] * 1e3,
             "-" if stat == "max" else "--",
             marker="o",
             ms=3,
-            color=KIND_COLOURS.get(pk),
+            color=col,
             label=f"{pk} plane {stat}",
         )
-    for c in [c for c in tab.columns if c.endswith("_index_m") and "_Emean_" in c]:
-        b.plot(tab.d_m, tab[c] * 1e3, marker="o", ms=3, label=f"{c.split('_')[0]} index at E_mean")
+        v = paper_value(f"CDPR4_{pk} plane {stat}")
+        if v is not None:
+            a.axhline(v * 1e3, color=col, ls="-.", lw=0.8, label=f"paper {pk} plane {stat} {v * 1e3:g} mm")
+    for i, c in enumerate([c for c in tab.columns if c.endswith("_index_m") and "_Emean_" in c]):
+        dk = c.split("_")[0]
+        col = OKABE_ITO[i % len(OKABE_ITO)]
+        b.plot(tab.d_m, tab[c] * 1e3, marker="o", ms=3, color=col, label=f"{dk} index at E_mean")
+        v = paper_value(f"{dk.replace('opt', '*')} index (Table 3)")
+        if v is not None:
+            b.axhline(v, color=col, ls="-.", lw=0.8, label=f"paper {dk.replace('opt', '*')} {v:g} mm")
     for ax, yl in ((a, "‖δp‖ on the plane [mm]"), (b, "global index mean ‖δp‖ [mm]")):
         ax.axvline(d_default, color="k", ls=":", label=f"default d = {d_default:g} m")
         ax.set(xlabel="dead length d [m]", ylabel=yl)
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=7)
-    fig.suptitle("Sensitivity of paper-comparable numbers to the dead length d", fontsize=10)
+        ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=2, frameon=False)
+    fig.suptitle(f"Sensitivity of paper-comparable numbers to the dead length d{_mode(mode)}", fontsize=10)
     return save(fig, out)
 
 
@@ -502,7 +797,9 @@ def comparison_difference_maps(tables, anchors, z, out):
     """Paper rule versus physics: ‖δp‖_physical − ‖δp‖_paper over the plane at height z, one panel
     per design (rows: robots, columns: pulley designs) on one diverging colour scale centred on 0.
     ``tables`` maps (robot, pulley) to a ``comparison.difference_table``; ``anchors`` maps a robot
-    to its anchors A (m, 3). Grey: not ok in either mode."""
+    to its anchors A (m, 3). Grey: not ok in either mode; each panel's title counts the points ok
+    in only one mode (left out of the difference). A robot with as many cables as degrees of
+    freedom has no redundancy: both modes solve the same equations, the panel says so."""
     robots = list(dict.fromkeys(r for r, _ in tables))
     pulleys = list(dict.fromkeys(p for _, p in tables))
     vmax = max(
@@ -510,7 +807,11 @@ def comparison_difference_maps(tables, anchors, z, out):
     )
     vmax = vmax * 1e3 if vmax > 0 else 1.0
     fig, axes = plt.subplots(
-        len(robots), len(pulleys), figsize=(5.0 * len(pulleys), 4.6 * len(robots)), squeeze=False
+        len(robots),
+        len(pulleys),
+        figsize=(5.2 * len(pulleys) + 1.2, 5.0 * len(robots)),
+        squeeze=False,
+        layout="constrained",
     )
     im = None
     for i, rk in enumerate(robots):
@@ -520,25 +821,49 @@ def comparison_difference_maps(tables, anchors, z, out):
             if t is None:
                 ax.set_axis_off()
                 continue
+            A = anchors[rk]
             xs, ys, Z = _grid(t, t["diff"].to_numpy() * 1e3)
             ax.set_facecolor(NOT_OK_COLOUR)
             im = ax.pcolormesh(xs, ys, Z, cmap="RdBu_r", vmin=-vmax, vmax=vmax, shading="nearest")
-            _anchors(ax, anchors[rk])
+            _anchors(ax, A)
             d = t["diff"].dropna() * 1e3
-            span = f"{d.min():+.1f} to {d.max():+.1f} mm" if len(d) else "no common ok point"
-            ax.set(xlabel="x [m]", ylabel="y [m]", title=f"{rk} {pk}: {span}", aspect="equal")
+            one = _ok_in_one_mode(t)
+            if len(A) <= 3:
+                span = "3 cables: no redundancy, both modes equal"
+                if len(d):
+                    span += f" (|diff| ≤ {np.abs(d).max():.1g} mm)"
+            else:
+                span = f"{d.min():+.1f} to {d.max():+.1f} mm" if len(d) else "no common ok point"
+            ok1 = f"\nok in one mode only (left out): {one}" if one is not None else ""
+            ax.set(xlabel="x [m]", ylabel="y [m]", title=f"{rk} {pk}: {span}{ok1}", aspect="equal")
+            ax.title.set_fontsize(8)
     if im is not None:
         fig.colorbar(im, ax=axes.ravel().tolist(), label="‖δp‖ physical − ‖δp‖ paper rule [mm]")
-    fig.suptitle(f"Physical equilibrium minus the paper's 3-of-4 rule at z = {z:g} m", fontsize=10)
+    fig.suptitle(
+        f"Physical equilibrium minus the paper rule (best 3-cable subset) at z = {z:g} m", fontsize=10
+    )
     return save(fig, out)
 
 
-#: Colours of the error budget's effects.
+def _ok_in_one_mode(t):
+    """Number of points of a difference table ok in exactly one mode, or None without the columns."""
+    cols = [c for c in t.columns if c.startswith("status")]
+    if len(cols) >= 2:
+        a, b = (t[c] == "ok" for c in cols[:2])
+        return int((a ^ b).sum())
+    oks = [c for c in t.columns if c.startswith("dp_")]
+    if len(oks) >= 2:
+        a, b = (t[c].notna() for c in oks[:2])
+        return int((a ^ b).sum())
+    return None
+
+
+#: Colours of the error budget's effects (Okabe & Ito, colour-blind safe).
 EFFECT_COLOURS = {
-    "pulley": "tab:blue",
-    "elasticity": "tab:green",
-    "winch": "tab:red",
-    "interaction": "tab:gray",
+    "pulley": OKABE_ITO[0],
+    "elasticity": OKABE_ITO[2],
+    "winch": OKABE_ITO[1],
+    "interaction": "0.6",
     "all": "k",
 }
 
@@ -547,13 +872,14 @@ def budget_bars(tab, out):
     """Error budget per design over RW_C: (a) stacked bars of each effect's share of the mean
     all-effects error (projection on its direction, so the stack sums to the mean ‖δp_all‖, marked
     by a black tick; negative shares go below zero), beside the mean ‖δp‖ of each effect alone;
-    (b) the mean error left after compensating each effect, and all of them. ``tab`` is the budget
-    table (design, region, entry, mean_m, share_m, ...); rows of region RW_C are drawn."""
+    (b) the mean error left after compensating each effect, and all of them (exactly zero: written
+    as text over its place, a log axis cannot draw it). ``tab`` is the budget table (design,
+    region, entry, mean_m, share_m, ...); rows of region RW_C are drawn. Legends sit outside."""
     t = tab[tab.region == "RW_C"]
     designs = list(dict.fromkeys(t.design))
     x = np.arange(len(designs))
     get = lambda d, e, c: float(t[(t.design == d) & (t.entry == e)][c].iloc[0]) * 1e3  # noqa: E731
-    fig, (a, b) = plt.subplots(1, 2, figsize=(max(10, 2.4 * len(designs)), 4.8), layout="constrained")
+    fig, (a, b) = plt.subplots(1, 2, figsize=(max(11, 2.6 * len(designs)), 5.6), layout="constrained")
     pos, neg = np.zeros(len(designs)), np.zeros(len(designs))
     for e in ("pulley", "elasticity", "winch", "interaction"):
         v = np.array([get(d, e, "share_m") for d in designs])
@@ -565,35 +891,63 @@ def budget_bars(tab, out):
     bottom = np.zeros(len(designs))
     for e in ("pulley", "elasticity", "winch"):
         v = np.array([get(d, e, "mean_m") for d in designs])
-        a.bar(x + 0.2, v, 0.38, bottom=bottom, color=EFFECT_COLOURS[e], alpha=0.45, hatch="//")
+        a.bar(
+            x + 0.2,
+            v,
+            0.38,
+            bottom=bottom,
+            color=EFFECT_COLOURS[e],
+            alpha=0.45,
+            hatch="//",
+            label=f"{e} alone (hatched)",
+        )
         bottom += v
     a.axhline(0, color="0.5", lw=0.8)
     a.set_xticks(x, designs, rotation=20)
-    a.set(ylabel="mean ‖δp‖ [mm]", title="(a) left: shares of ‖δp_all‖; right (hatched): each effect alone")
-    a.legend(fontsize=7)
+    a.set(
+        xlabel="design [robot_pulley]",
+        ylabel="mean ‖δp‖ [mm]",
+        title="(a) shares of ‖δp_all‖ (left bar), each effect alone (right)",
+    )
+    a.title.set_fontsize(9)
+    a.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=3, frameon=False)
     entries = ["all", "compensated_pulley", "compensated_elasticity", "compensated_winch", "compensated_all"]
     w = 0.8 / len(entries)
+    zero_label = False
     for i, e in enumerate(entries):
         v = np.array([get(d, e, "mean_m") for d in designs])
-        b.bar(x - 0.4 + (i + 0.5) * w, v, w, label=e.replace("compensated_", "compensating "))
+        xe = x - 0.4 + (i + 0.5) * w
+        b.bar(xe, v, w, color=OKABE_ITO[i], label=e.replace("compensated_", "compensating "))
+        for xx, vv in zip(xe, v):
+            if vv == 0.0:
+                b.annotate("0", (xx, 1e-3), ha="center", va="bottom", fontsize=7, color=OKABE_ITO[i])
+                zero_label = True
     b.set_xticks(x, designs, rotation=20)
     b.set_yscale("symlog", linthresh=1e-3)
-    b.set(ylabel="mean ‖δp‖ [mm]", title="(b) error left after compensating each effect")
-    b.legend(fontsize=7)
-    fig.suptitle("Error budget over RW_C: pulley geometry, cable elasticity, winch exit point", fontsize=10)
+    b.set(
+        xlabel="design [robot_pulley]",
+        ylabel="mean ‖δp‖ [mm]",
+        title="(b) error left after compensating" + (" ('0': exactly zero)" if zero_label else ""),
+    )
+    b.title.set_fontsize(9)
+    b.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=3, frameon=False)
+    fig.suptitle(
+        "Error budget over RW_C: pulley geometry, cable elasticity, winch exit point (physical equilibrium)",
+        fontsize=10,
+    )
     return save(fig, out)
 
 
 def budget_paths(paths, out):
     """Error budget along the section 3.3.1 paths: ‖δp‖ of each effect alone, all together, the
     interaction and the error left after compensating pulley geometry, versus the arc length s; one
-    panel per design. ``paths`` maps a design label to its budget path table (s and one column of
-    ‖δp‖ [m] per budget entry, NaN where a variant is not ok)."""
+    panel per design, one legend for all under the panels. ``paths`` maps a design label to its
+    budget path table (s and one column of ‖δp‖ [m] per budget entry, NaN where a variant is not ok)."""
     labels = list(paths)
     cols = 2 if len(labels) > 1 else 1
     rows = int(np.ceil(len(labels) / cols))
     fig, axes = plt.subplots(
-        rows, cols, figsize=(6.5 * cols, 3.8 * rows), squeeze=False, layout="constrained"
+        rows, cols, figsize=(6.5 * cols, 3.8 * rows + 0.8), squeeze=False, layout="constrained"
     )
     for ax, label in zip(axes.ravel(), labels):
         df = paths[label]
@@ -603,10 +957,11 @@ def budget_paths(paths, out):
         ax.set_yscale("log")
         ax.set(xlabel="position along the path s [m]", ylabel="‖δp‖ [mm]", title=label)
         ax.grid(alpha=0.3, which="both")
-        ax.legend(fontsize=6)
+    handles, names = axes.ravel()[0].get_legend_handles_labels()
+    fig.legend(handles, names, loc="outside lower center", ncol=6, fontsize=7)
     for ax in axes.ravel()[len(labels) :]:
         ax.set_axis_off()
-    fig.suptitle("Error budget along the section 3.3.1 paths", fontsize=10)
+    fig.suptitle("Error budget along the section 3.3.1 paths (physical equilibrium)", fontsize=10)
     return save(fig, out)
 
 
@@ -618,18 +973,33 @@ def _uq_designs(tables):
     return list(dict.fromkeys(d for d, _ in tables))
 
 
-def uq_index_distribution(linear, tolerances, index_vs_E, paper, out):
+def _colour_violin(parts, colour, alpha):
+    """Bodies, whiskers (extrema bars) and medians of a violin in one colour."""
+    for b in parts["bodies"]:
+        b.set_facecolor(colour)
+        b.set_edgecolor(colour)
+        b.set_alpha(alpha)
+    for key in ("cbars", "cmins", "cmaxes", "cmedians"):
+        if key in parts:
+            parts[key].set_color(colour)
+
+
+def uq_index_distribution(linear, tolerances, index_vs_E, paper, out, mode=None):
     """The global index of each optimal design under per-cable moduli (Monte Carlo, one violin per
     design) beside the common-E band of the paper's section 5.1 (our sweep, and the paper's numbers
     when given), and under every declared parameter (Saltelli's independent rows); uncompensated
-    (left) and compensated (right).
+    (left) and compensated (right). Each design has one colour (violins, whiskers, bars); the key
+    under the panels says what each mark is.
 
     ``linear``, ``tolerances``: {(design, case): table} of ``uq.linear_samples`` and of
     ``uq.sobol``'s rows; ``index_vs_E``: the elasticity sweep (design, E_Pa, index_m) or
     None; ``paper``: {design: (index, minus, plus)} [m]."""
+
     designs = _uq_designs(linear)
-    fig, axes = plt.subplots(1, 2, figsize=(15, 5), gridspec_kw={"width_ratios": [2, 1]})
-    colours = dict(zip(designs, plt.rcParams["axes.prop_cycle"].by_key()["color"]))
+    fig, axes = plt.subplots(
+        1, 2, figsize=(15, 5.8), gridspec_kw={"width_ratios": [2, 1]}, layout="constrained"
+    )
+    colours = dict(zip(designs, OKABE_ITO))
     for ax, case in zip(axes, UQ_CASES):
         ticks, labels, x = [], [], 0.0
         for dk in designs:
@@ -639,9 +1009,7 @@ def uq_index_distribution(linear, tolerances, index_vs_E, paper, out):
             nominal = lin.loc[lin["sample"] == -1, "index_m"].iloc[0] * 1e3
             vals = lin.loc[lin["sample"] >= 0, "index_m"].dropna().to_numpy() * 1e3
             parts = ax.violinplot([vals], positions=[x], widths=0.7, showextrema=True, showmedians=True)
-            for b in parts["bodies"]:
-                b.set_facecolor(colours[dk])
-                b.set_alpha(0.45)
+            _colour_violin(parts, colours[dk], 0.45)
             ax.plot([x - 0.35, x + 0.35], [nominal, nominal], "k:", lw=1)
             ticks.append(x)
             labels.append(f"{dk}\nper-cable E\nn = {len(vals)}")
@@ -657,7 +1025,7 @@ def uq_index_distribution(linear, tolerances, index_vs_E, paper, out):
                     x += 1.0
                 if dk in paper:
                     mid, minus, plus = (v * 1e3 for v in paper[dk])
-                    ax.vlines(x, mid - minus, mid + plus, color="0.3", lw=6, alpha=0.7)
+                    ax.vlines(x, mid - minus, mid + plus, color=colours[dk], lw=6, alpha=0.35, hatch="//")
                     ax.plot(x, mid, "k_", ms=14)
                     ticks.append(x)
                     labels.append(f"{dk}\ncommon E\npaper")
@@ -667,30 +1035,40 @@ def uq_index_distribution(linear, tolerances, index_vs_E, paper, out):
                 parts = ax.violinplot(
                     [tol.index_m.to_numpy() * 1e3], positions=[x], widths=0.7, showextrema=True
                 )
-                for b in parts["bodies"]:
-                    b.set_facecolor(colours[dk])
-                    b.set_alpha(0.2)
+                _colour_violin(parts, colours[dk], 0.2)
                 ticks.append(x)
                 labels.append(f"{dk}\nall param.\nn = {len(tol)}")
                 x += 1.5
         ax.set_xticks(ticks, labels, fontsize=7)
-        ax.set(ylabel="global index mean ‖δp‖ over RW_C [mm]", title=f"{case}: dotted = nominal robot")
+        ax.set(xlabel="design and sampling [-]", ylabel="global index mean ‖δp‖ over RW_C [mm]", title=case)
         ax.grid(alpha=0.3, axis="y")
+    key = [Patch(color=colours[d], alpha=0.6, label=d) for d in designs] + [
+        Line2D([], [], color="k", ls=":", label="nominal robot (dotted)"),
+        Line2D([], [], color="0.4", lw=6, alpha=0.7, label="common-E band [min, max] (bar)"),
+        Line2D([], [], color="k", marker="_", ls="", ms=14, label="index at E_mean (tick)"),
+        Patch(color="0.4", alpha=0.45, label="violin: samples; whiskers: min, median, max"),
+    ]
+    fig.legend(handles=key, loc="outside lower center", ncol=len(key), fontsize=7)
     fig.suptitle(
-        "Global index under per-cable moduli beside the common-E band (Paty 2021 section 5.1)", fontsize=10
+        f"Global index under per-cable moduli beside the common-E band (section 5.1){_mode(mode)}",
+        fontsize=10,
     )
     return save(fig, out)
 
 
-def uq_path_bands(bands, common, out):
+def uq_path_bands(bands, common, out, mode=None, common_mode=None):
     """‖δp‖ along the section 5.2 path: 5-50-95 % band under per-cable moduli for each design
-    (columns), uncompensated beside the paper's three common-E curves (top) and compensated
-    (bottom). ``bands``: {(design, case): ``uq.path_bands`` table}; ``common``: list of
-    (design, E [Pa], s [m], dp [m]) of the common-E paths (Fig. 19)."""
+    (columns), uncompensated beside the three common-E curves of the elasticity section (top) and
+    compensated (bottom). ``bands``: {(design, case): ``uncertainty.path_bands`` table}; ``common``:
+    list of (design, E [Pa], s [m], dp [m]) of the common-E paths (Fig. 19), computed in
+    ``common_mode`` (named in the legend when it differs from ``mode``)."""
     designs = _uq_designs(bands)
-    fig, axes = plt.subplots(2, len(designs), figsize=(5.5 * len(designs), 7), squeeze=False)
+    fig, axes = plt.subplots(
+        2, len(designs), figsize=(5.5 * len(designs), 7.6), squeeze=False, layout="constrained"
+    )
     Es = sorted({c[1] for c in common})
     styles = dict(zip(Es, [":", "-", "--"] if len(Es) == 3 else ["-"] * len(Es)))
+    other = f" ({MODE_TITLES[common_mode].split(' (')[0]})" if common_mode and common_mode != mode else ""
     for j, dk in enumerate(designs):
         for i, case in enumerate(UQ_CASES):
             ax = axes[i, j]
@@ -699,51 +1077,97 @@ def uq_path_bands(bands, common, out):
                 ax.set_visible(False)
                 continue
             ax.fill_between(
-                b.s, b.q05_m * 1e3, b.q95_m * 1e3, color="tab:blue", alpha=0.3, label="5-95 % per-cable E"
+                b.s, b.q05_m * 1e3, b.q95_m * 1e3, color=OKABE_ITO[0], alpha=0.3, label="5-95 % per-cable E"
             )
-            ax.plot(b.s, b.q50_m * 1e3, color="tab:blue", label="median per-cable E")
+            ax.plot(b.s, b.q50_m * 1e3, color=OKABE_ITO[0], label="median per-cable E")
             ax.plot(b.s, b.dp_nominal_m * 1e3, "k", lw=0.8, alpha=0.6, label="nominal")
             if case == "uncompensated":
                 for d, E, s, dp in common:
                     if d == dk:
                         ax.plot(
-                            s, dp * 1e3, styles[E], color="tab:red", lw=1, label=f"common E = {E / 1e9:g} GPa"
+                            s,
+                            dp * 1e3,
+                            styles[E],
+                            color=OKABE_ITO[1],
+                            lw=1,
+                            label=f"common E = {E / 1e9:g} GPa{other}",
                         )
             ax.set(xlabel="position along the path s [m]", ylabel="‖δp‖ [mm]", title=f"{dk} {case}")
             ax.grid(alpha=0.3)
-            ax.legend(fontsize=6)
-    fig.suptitle("‖δp‖ along the section 5.2 path under per-cable moduli (Fig. 19 extended)", fontsize=10)
-    fig.tight_layout()
+            ax.legend(fontsize=6, loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=2, frameon=False)
+    fig.suptitle(
+        f"‖δp‖ along the section 5.2 path under per-cable moduli (Fig. 19 extended){_mode(mode)}", fontsize=10
+    )
     return save(fig, out)
 
 
-def uq_sobol(tab, out):
-    """Sobol total (bars, 95 % confidence) and first-order (dots) indices of the global index per
-    parameter group, for each design (columns) before and after compensation (rows)."""
-    g = tab[(tab.level == "group") & (tab.output == "index")]
+def uq_sobol(tab, out, mode=None):
+    """Sobol total (bars) and first-order (dots) indices of the global index, both with their 95 %
+    confidence intervals, per parameter group (left of each pair) and per parameter (right: each
+    cable's E_i, d_i, h_i, r_p_i, anchor coordinates and the mass), for each design before and after
+    compensation (rows)."""
+    g = tab[tab.output == "index"]
     designs = list(dict.fromkeys(g.design))
-    fig, axes = plt.subplots(2, len(designs), figsize=(5 * len(designs), 6.5), squeeze=False)
+    fig, axes = plt.subplots(
+        2,
+        2 * len(designs),
+        figsize=(6.5 * len(designs) + 1, 7.5),
+        squeeze=False,
+        layout="constrained",
+        gridspec_kw={"width_ratios": [1, 3] * len(designs)},
+    )
     for j, dk in enumerate(designs):
         for i, case in enumerate(UQ_CASES):
-            ax = axes[i, j]
-            d = g[(g.design == dk) & (g.case == case)]
-            x = np.arange(len(d))
-            ax.bar(x, d.ST, yerr=d.ST_conf, color="tab:blue", alpha=0.7, capsize=3, label="total ST")
-            ax.plot(x, d.S1, "ko", ms=4, label="first order S1")
-            ax.set_xticks(x, d.name)
-            ax.set(
-                ylabel="Sobol index of the global index",
-                title=f"{dk} {case}",
-                ylim=(min(0, d.S1.min() - 0.05), 1.05),
-            )
-            ax.grid(alpha=0.3, axis="y")
-            ax.legend(fontsize=7)
-    fig.suptitle("Which uncertainty drives the global index (SALib, Saltelli sampling)", fontsize=10)
-    fig.tight_layout()
+            for k, level in enumerate(("group", "parameter")):
+                ax = axes[i, 2 * j + k]
+                d = g[(g.design == dk) & (g.case == case) & (g.level == level)]
+                x = np.arange(len(d))
+                ax.bar(
+                    x, d.ST, yerr=d.ST_conf, color=OKABE_ITO[0], alpha=0.7, capsize=2, label="total ST ± 95 %"
+                )
+                ax.errorbar(
+                    x,
+                    d.S1,
+                    yerr=d.S1_conf if "S1_conf" in d else None,
+                    fmt="o",
+                    color="k",
+                    ms=3,
+                    capsize=2,
+                    label="first order S1 ± 95 %",
+                )
+                ax.axhline(0, color="0.5", lw=0.6)
+                ax.set_xticks(
+                    x,
+                    d.name,
+                    rotation=90 if level == "parameter" else 0,
+                    fontsize=6 if level == "parameter" else 8,
+                )
+                # one y range per design and case (groups and parameters), intervals below -1 clipped
+                pair = g[(g.design == dk) & (g.case == case)]
+                lo = (
+                    max(-1.0, min(0.0, float((pair.S1 - pair.get("S1_conf", 0)).min()) - 0.05))
+                    if len(pair)
+                    else 0.0
+                )
+                ax.set(
+                    xlabel=f"{level} [-]",
+                    ylabel="Sobol index [-]" if k == 0 else "",
+                    title=f"{dk} {case}: {'groups' if k == 0 else 'per parameter'}",
+                    ylim=(lo, 1.05),
+                )
+                ax.title.set_fontsize(8)
+                ax.grid(alpha=0.3, axis="y")
+                if k == 1:
+                    ax.tick_params(labelleft=False)
+    handles, names = axes[0, 0].get_legend_handles_labels()
+    fig.legend(handles, names, loc="outside lower center", ncol=2, fontsize=7)
+    fig.suptitle(
+        f"Which uncertainty drives the global index (SALib, Saltelli sampling){_mode(mode)}", fontsize=10
+    )
     return save(fig, out)
 
 
-def uq_dominant_map(maps, A, z, out):
+def uq_dominant_map(maps, A, z, out, mode=None):
     """The parameter whose first-order contribution to the spread of ‖δp‖ is the largest, on the
     plane z (columns: designs; rows: before and after compensation); hatched where it explains less
     than half of the spread. ``maps``: {(design, case): ``uq.dominant_map`` table}."""
@@ -751,7 +1175,9 @@ def uq_dominant_map(maps, A, z, out):
     names = sorted({n for df in maps.values() for n in df.dominant.dropna().unique() if n})
     cmap = plt.get_cmap("tab20", max(len(names), 1))
     code = {n: k for k, n in enumerate(names)}
-    fig, axes = plt.subplots(2, len(designs), figsize=(5 * len(designs) + 2, 9), squeeze=False)
+    fig, axes = plt.subplots(
+        2, len(designs), figsize=(5 * len(designs) + 2, 9.5), squeeze=False, layout="constrained"
+    )
     for j, dk in enumerate(designs):
         for i, case in enumerate(UQ_CASES):
             ax = axes[i, j]
@@ -769,24 +1195,131 @@ def uq_dominant_map(maps, A, z, out):
             _anchors(ax, A)
             ax.set(xlabel="x [m]", ylabel="y [m]", title=f"{dk} {case}", aspect="equal")
     handles = [Patch(color=cmap(code[n]), label=n) for n in names]
-    fig.legend(handles=handles, loc="center right", fontsize=7, title="dominant")
-    fig.suptitle(f"Dominant uncertain parameter at z = {z:g} m (hatched: it explains < 50 %)", fontsize=10)
-    fig.subplots_adjust(right=0.85)
+    fig.legend(handles=handles, loc="outside right center", fontsize=7, title="dominant")
+    fig.suptitle(f"Dominant uncertain parameter at z = {z:g} m (hatched: < 50 %){_mode(mode)}", fontsize=10)
     return save(fig, out)
 
 
-def uq_agreement(mc, out):
+def uq_agreement(mc, out, mode=None):
     """The global index of each full-solve Monte Carlo sample against its linearised value, one
     panel per design and case, with the line of equality."""
     keys = sorted(mc)
-    fig, axes = plt.subplots(1, len(keys), figsize=(3.6 * len(keys), 3.6), squeeze=False)
+    fig, axes = plt.subplots(
+        1, len(keys), figsize=(3.8 * len(keys), 4.2), squeeze=False, layout="constrained"
+    )
     for ax, key in zip(axes[0], keys):
         df = mc[key]
-        ax.plot(df.index_full_m * 1e3, df.index_lin_m * 1e3, "o", ms=3)
+        ax.plot(df.index_full_m * 1e3, df.index_lin_m * 1e3, "o", ms=3, color=OKABE_ITO[0])
         lo = np.nanmin([df.index_full_m.min(), df.index_lin_m.min()]) * 1e3
         hi = np.nanmax([df.index_full_m.max(), df.index_lin_m.max()]) * 1e3
         ax.plot([lo, hi], [lo, hi], "k:", lw=1)
-        ax.set(xlabel="full solves [mm]", ylabel="linearised [mm]", title=f"{key[0]} {key[1]}")
+        ax.set(xlabel="full solves [mm]", ylabel="linearised [mm]", title=f"{key[0]}\n{key[1]}")
+        ax.title.set_fontsize(9)
+        ax.tick_params(axis="x", labelrotation=30, labelsize=7)
         ax.grid(alpha=0.3)
-    fig.suptitle("Global index per sample: linearised propagation against full solves", fontsize=10)
+    fig.suptitle(f"Global index per sample: linearised against full solves{_mode(mode)}", fontsize=10)
+    return save(fig, out)
+
+
+def parity_chart(summary_tab, out, mode=None):
+    """Every paper number against ours (``summary.csv`` rows with a paper value), one panel per
+    unit, with the line of equality and each number's tolerance band (|ours − paper| ≤ tolerance:
+    reproduced, filled marker; else open marker)."""
+    t = summary_tab[summary_tab.paper.notna() & summary_tab.ours.notna()].copy()
+    t = t[pd_numeric(t.paper) & pd_numeric(t.ours)]
+    units = list(dict.fromkeys(t.unit.astype(str)))
+    fig, axes = plt.subplots(
+        1, max(len(units), 1), figsize=(4.2 * max(len(units), 1), 4.6), squeeze=False, layout="constrained"
+    )
+    for ax, unit in zip(axes[0], units):
+        g = t[t.unit.astype(str) == unit]
+        p, o, tol = (g[c].astype(float).to_numpy() for c in ("paper", "ours", "tolerance"))
+        ok = np.abs(o - p) <= tol + 1e-12
+        ax.errorbar(p, p, yerr=tol, fmt="none", ecolor="0.6", capsize=3, lw=4, alpha=0.5)
+        ax.plot(p[ok], o[ok], "o", color=OKABE_ITO[2], ms=5, label=f"within tolerance ({ok.sum()})")
+        ax.plot(p[~ok], o[~ok], "o", mfc="none", color=OKABE_ITO[1], ms=5, label=f"outside ({(~ok).sum()})")
+        lo, hi = float(min(p.min(), o.min())), float(max(p.max(), o.max()))
+        pad = 0.05 * (hi - lo if hi > lo else 1.0)
+        ax.plot([lo - pad, hi + pad], [lo - pad, hi + pad], "k:", lw=0.8)
+        ax.set(xlabel=f"paper [{unit}]", ylabel=f"ours [{unit}]", title=f"{len(g)} numbers in {unit}")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7, loc="upper left")
+    fig.suptitle(f"Paper numbers against ours (grey bar: tolerance){_mode(mode)}", fontsize=10)
+    return save(fig, out)
+
+
+def pd_numeric(col):
+    """Whether each entry of ``col`` reads as a finite number."""
+
+    v = pd.to_numeric(col, errors="coerce")
+    return np.isfinite(v.to_numpy(dtype=float))
+
+
+#: Line styles of the two redundancy modes in the overlays.
+MODE_STYLES = {"paper": "-", "physical": "--"}
+
+
+def comparison_overlays(data, out):
+    """Paper rule and physical equilibrium drawn over each other for Fig. 10 (‖δp‖ along the
+    CDPR4 path), Fig. 14 (R_V versus the limit), Fig. 18 (index versus E) and Fig. 19 (the section
+    5.2 path at E_mean); solid: paper rule (best 3-cable subset), dashed: physical equilibrium.
+    ``data`` maps a mode to {"paths": {label: path table}, "volumes": volumes table,
+    "index_vs_E": table, "paths_E": [(design, s, dp)]} (any key may be missing)."""
+    fig, axes = plt.subplots(2, 2, figsize=(13, 9), layout="constrained")
+    (a, b), (c, d) = axes
+    for mode, dd in data.items():
+        ls = MODE_STYLES.get(mode, "-")
+        tag = "paper rule" if mode == "paper" else "physical"
+        for label, df in dd.get("paths", {}).items():
+            kind = label.split("_", 1)[-1]
+            a.plot(
+                df.s,
+                df.dp.where(df.status == "ok") * 1e3,
+                ls,
+                color=KIND_COLOURS.get(kind),
+                label=f"{label}, {tag}",
+            )
+        v = dd.get("volumes")
+        if v is not None:
+            for (rk, pk), g in v.groupby(["robot", "pulley"], sort=False):
+                if rk == "CDPR4":
+                    b.plot(g.limit_m * 1e3, g.R_V, ls, color=KIND_COLOURS.get(pk), label=f"{rk} {pk}, {tag}")
+        e = dd.get("index_vs_E")
+        if e is not None:
+            for i, (dk, g) in enumerate(e.groupby("design", sort=False)):
+                c.plot(
+                    g.E_Pa / 1e9,
+                    g.index_m * 1e3,
+                    ls,
+                    marker="o",
+                    ms=3,
+                    color=OKABE_ITO[i],
+                    label=f"{dk}, {tag}",
+                )
+        for i, (dk, s, dp) in enumerate(dd.get("paths_E", [])):
+            d.plot(s, dp * 1e3, ls, color=OKABE_ITO[i % len(OKABE_ITO)], label=f"{dk} at E_mean, {tag}")
+    a.set(
+        xlabel="position along the path s [m]", ylabel="‖δp‖ [mm]", title="Fig. 10: CDPR4 section 3.3.1 path"
+    )
+    b.set(
+        xlabel="error limit [mm]",
+        ylabel="R_V = V_L / V_T [-]",
+        title="Fig. 14: CDPR4 error-limited volume ratio",
+    )
+    c.set(
+        xlabel="Young's modulus E [GPa]",
+        ylabel="global index mean ‖δp‖ [mm]",
+        title="Fig. 18: index versus E",
+    )
+    d.set(
+        xlabel="position along the path s [m]",
+        ylabel="‖δp‖ [mm]",
+        title="Fig. 19: section 5.2 path at E_mean",
+    )
+    for ax in axes.ravel():
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=6, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=2, frameon=False)
+    fig.suptitle(
+        "Paper rule (solid) against physical equilibrium (dashed): Fig. 10, 14, 18, 19 overlaid", fontsize=10
+    )
     return save(fig, out)

@@ -28,7 +28,12 @@ STUDY_OUTPUTS = {
     "winch_table": {"table": "winch/winch.csv"},
     "winch_figure": {"figure": "winch/winch.png", "pdf": "winch/winch.pdf"},
     "plane_table": {"table": "plane/{robot}_{pulley}.csv"},
-    "plane_figure": {"figure": "plane/{robot}.png", "pdf": "plane/{robot}.pdf"},
+    "plane_figure": {
+        "figure": "plane/{robot}.png",
+        "pdf": "plane/{robot}.pdf",
+        "tension": "plane/{robot}_tension.png",
+        "tension_pdf": "plane/{robot}_tension.pdf",
+    },
     "subset_figure": {"figure": "plane/{robot}_subsets.png", "pdf": "plane/{robot}_subsets.pdf"},
     "trajectory_table": {"table": "trajectories/{robot}_{pulley}.csv"},
     "trajectory_figure": {
@@ -103,6 +108,7 @@ STUDY_OUTPUTS = {
         "agreement_pdf": "uncertainty/agreement.pdf",
     },
     "summary": {"markdown": "summary.md", "table": "summary.csv"},
+    "parity": {"figure": "parity.png", "pdf": "parity.pdf"},
 }
 
 #: rule -> its log under the results folder (one per job: the wildcards of its outputs).
@@ -132,6 +138,7 @@ STUDY_LOGS = {
     "uq_design": "logs/uq_design_{design}_{case}.log",
     "uncertainty": "logs/uncertainty.log",
     "summary": "logs/summary.log",
+    "parity": "logs/parity.log",
 }
 
 #: The two cases of the uncertainty study: lengths as commanded, and compensated with the nominal model.
@@ -153,6 +160,8 @@ COMPARISON_OUTPUTS = {
         "figure": "{folder}/difference.png",
         "pdf": "{folder}/difference.pdf",
         "stats": "{folder}/difference_stats.csv",
+        "overlays": "{folder}/overlays.png",
+        "overlays_pdf": "{folder}/overlays.pdf",
     },
 }
 COMPARISON_LOGS = {
@@ -245,6 +254,8 @@ class Layout:
             raise CdprError(f"unknown rule {rule!r}; the rules of a study: {', '.join(STUDY_OUTPUTS)}")
         if rule in ("uq_shard", "uq_design", "uncertainty") and not u:
             return []
+        if rule == "parity" and not st.get("paper_comparison"):
+            return []  # the parity chart draws the paper's numbers: the paper's study only
         return table[rule]() if rule in table else one
 
     def map_kinds(self):
@@ -327,7 +338,11 @@ class Layout:
                 self.path("maps", "lines"),
                 self.path("elasticity", "bands"),
                 self.path("elasticity", "crossings"),
+                self.path("elasticity", "table"),
             ]
+            + self.paths("trajectory_table", "table")  # the overlays of Fig. 10
+            + self.paths("elasticity_path", "table")  # the overlays of Fig. 19
+            + ([self.path("uncertainty", "bands")] if self.st.get("uncertainty") else [])
         )
 
 

@@ -120,9 +120,17 @@ def map_kinds(st):
 
 
 def E_values(st):
-    """Young's moduli [Pa] of the index-versus-E sweep (Fig. 18)."""
-    e = st["elasticity"]["E_Pa"]
-    return [float(x) for x in np.linspace(e["from"], e["to"], e["steps"])]
+    """Young's moduli [Pa] of the index-versus-E sweep (Fig. 18): ``steps`` evenly spaced moduli from
+    ``from`` to ``to`` and the moduli of ``E_path_Pa`` (E_min, E_mean, E_max), sorted.
+
+    E_mean (the cable's nominal modulus, 102.2 GPa in the paper) is always a point of the sweep, so
+    that the index "at E_mean" of the summary is computed at E_mean, not at the nearest step (97.2 GPa
+    for 8 steps from 67.2 to 137.2 GPa). A path modulus within 1e-9 (relative) of a step is that step.
+    """
+    e = st["elasticity"]
+    sweep = [float(x) for x in np.linspace(e["E_Pa"]["from"], e["E_Pa"]["to"], e["E_Pa"]["steps"])]
+    extra = [float(x) for x in e["E_path_Pa"] if not np.isclose(sweep, float(x), rtol=1e-9, atol=0).any()]
+    return sorted(sweep + extra)
 
 
 def volume_limits(st):

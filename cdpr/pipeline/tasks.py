@@ -86,7 +86,16 @@ def _plane_tables(st, tables, robot_key):
 def plane_figure(st, robot_key, tables, figure):
     """Fig. 12 for one robot: one panel per pulley design, shared colour scale."""
     robot = study.robot_of(st, robot_key)
-    plots.fig12_plane(_plane_tables(st, tables, robot_key), robot.A, st["plane"]["z_m"], robot_key, figure)
+    data, z, mode = _plane_tables(st, tables, robot_key), st["plane"]["z_m"], study.redundancy(st)
+    paper = {
+        pk: [plots.paper_value(f"{robot_key}_{pk} plane {stat}") for stat in ("min", "centre", "max")]
+        for pk in data
+    }
+    plots.fig12_plane(data, robot.A, z, robot_key, figure, mode=mode, paper=paper)
+    # the minimum-tension (slack margin) map beside it (declared by the rule)
+    plots.fig12_tension(
+        data, robot.A, z, robot_key, 0.0, Path(figure).with_name(f"{robot_key}_tension.png"), mode=mode
+    )
 
 
 def subsets_figure(st, robot_key, tables, figure):
@@ -94,7 +103,14 @@ def subsets_figure(st, robot_key, tables, figure):
     mode), one panel per pulley design."""
     robot = study.robot_of(st, robot_key)
     draw = plots.fig9_taut if study.redundancy(st) == "physical" else plots.fig9_subsets
-    draw(_plane_tables(st, tables, robot_key), robot.A, st["plane"]["z_m"], robot_key, figure)
+    draw(
+        _plane_tables(st, tables, robot_key),
+        robot.A,
+        st["plane"]["z_m"],
+        robot_key,
+        figure,
+        mode=study.redundancy(st),
+    )
 
 
 # ---- trajectories (Fig. 10-11) -----------------------------------------------------------------
@@ -123,8 +139,8 @@ def trajectories(st, tables, table, figure, minmax_figure):
         )
     mm = pd.DataFrame(rows)
     table_io.write_table(mm, table)
-    plots.fig10_trajectories(data, mm, figure)
-    plots.fig11_minmax(mm, minmax_figure)
+    plots.fig10_trajectories(data, mm, figure, mode=study.redundancy(st))
+    plots.fig11_minmax(mm, minmax_figure, mode=study.redundancy(st))
 
 
 # ---- volumes (Fig. 13-14) ----------------------------------------------------------------------
@@ -158,7 +174,7 @@ def volumes(st, tables, table, figure):
                 )
     tab = pd.DataFrame(rows)
     table_io.write_table(tab, table)
-    plots.fig14_rv(tab, _paper_rv(st), figure)
+    plots.fig14_rv(tab, _paper_rv(st), figure, mode=study.redundancy(st))
 
 
 def _paper_rv(st):
@@ -192,7 +208,14 @@ def volume_view(st, label, tables, figure):
         for lim in lims
     ]
     plots.fig13_volume_view(
-        df, lims, rv, float(robot.A[:, 2].min()), f"{rk} {pk}: error-limited volume V_L (Fig. 13)", figure
+        df,
+        lims,
+        rv,
+        float(robot.A[:, 2].min()),
+        f"{rk} {pk}: error-limited volume V_L (Fig. 13)",
+        figure,
+        A=robot.A,
+        mode=study.redundancy(st),
     )
 
 
@@ -271,8 +294,8 @@ def doe_results(st, tables, table, effects, figure, effects_figure):
         tests[["joint_c", "h_c", "r_p_c"]].to_numpy(), tests["index_m"].to_numpy(), ["joint", "h", "r_p"]
     )
     table_io.write_table(eff, effects)
-    plots.fig15_doe(tests, figure)
-    plots.fig16_effects(eff, effects_figure)
+    plots.fig15_doe(tests, figure, mode=study.redundancy(st))
+    plots.fig16_effects(eff, effects_figure, mode=study.redundancy(st))
 
 
 # ---- h-r_p maps (Fig. 17, Table 3) -------------------------------------------------------------
@@ -323,7 +346,7 @@ def maps(st, tables, box_file, map, lines, figure, threads=None):
         )
     lines_tab = pd.DataFrame(out)
     table_io.write_table(lines_tab, lines)
-    plots.fig17_maps(tab, valleys, lines_tab, study.doe_tests(st), lv, figure)
+    plots.fig17_maps(tab, valleys, lines_tab, study.doe_tests(st), lv, figure, mode=study.redundancy(st))
 
 
 # ---- elasticity (Fig. 18-19) -------------------------------------------------------------------
@@ -381,8 +404,13 @@ def elasticity(st, tables, paths, table, bands, crossings, figure, paths_figure)
         cross += [{"design": dk, "s_m": c} for c in scans.crossings(df.s, at[E_max], at[E_min])]
     cross_tab = pd.DataFrame(cross, columns=["design", "s_m"])
     table_io.write_table(cross_tab, crossings)
-    plots.fig18_index_vs_E(tab, E_mean, bands_tab, figure)
-    plots.fig19_paths(curves, cross_tab, paths_figure)
+    mode = study.redundancy(st)
+    paper_cross = {
+        dk: plots.paper_value(f"{dk.replace('opt', '*')} E_max/E_min crossing") for dk in st["optimal"]
+    }
+    paper_cross = {dk: v for dk, v in paper_cross.items() if v is not None and st.get("paper_comparison")}
+    plots.fig18_index_vs_E(tab, E_mean, bands_tab, figure, mode=mode, paper=_paper_uq_bands(st))
+    plots.fig19_paths(curves, cross_tab, paths_figure, mode=mode, paper=paper_cross)
 
 
 # ---- dead-length calibration -------------------------------------------------------------------
@@ -415,13 +443,19 @@ def dead_length(st, tables, table, figure):
     """The dead-length sweep as one table and its figure."""
     tab = concat(tables).sort_values("d_m", ignore_index=True)
     table_io.write_table(tab, table)
-    plots.dead_length_figure(tab, st["dead_length_m"], figure)
+    plots.dead_length_figure(tab, st["dead_length_m"], figure, mode=study.redundancy(st))
 
 
 # ---- summary -----------------------------------------------------------------------------------
 def summary(st, results, table, markdown):
     """results/<study>/summary.md and .csv (``cdpr.pipeline.summary``)."""
     sm.write_summary(st, results, markdown, table)
+
+
+def parity_figure(st, table, figure):
+    """The parity chart of every paper number against ours from ``summary.csv``."""
+
+    plots.parity_chart(table_io.read_table(table), figure, mode=study.redundancy(st))
 
 
 # ---- error budget and the paper-rule-versus-physics comparison ---------------------------------
@@ -488,6 +522,10 @@ def comparison(st, comparison, tables, table, figure, markdown):
     diffs = {(rk, pk): cm.difference_table(pres, fres, rk, pk) for rk in st["robots"] for pk in st["pulleys"]}
     anchors = {rk: study.robot_of(st, rk).A for rk in st["robots"]}
     plots.comparison_difference_maps(diffs, anchors, st["plane"]["z_m"], figure)
+    plots.comparison_overlays(
+        {m: _overlay_data(st, cmp[m]["results"]) for m in ("paper", "physical")},
+        Path(figure).with_name("overlays.png"),
+    )
     stats = cm.difference_stats({f"{rk}_{pk}": t for (rk, pk), t in diffs.items()})
     layout = ComparisonLayout(cmp)  # where the stats and the budget figures are (beside ``figure``)
     table_io.write_table(stats, layout.paths("comparison", "stats")[0])
@@ -509,12 +547,34 @@ def comparison(st, comparison, tables, table, figure, markdown):
             "difference": figure,
             "budget": layout.paths("budget", "figure")[0],
             "budget_paths": layout.paths("budget", "paths_figure")[0],
+            "overlays": layout.paths("comparison", "overlays")[0],
         },
         markdown,
     )
 
 
-# ---- uncertainty and sensitivity (beyond the paper: cdpr.analyses.uncertainty, cdpr.pipeline.uq) -------------
+def _overlay_data(st, res):
+    """The tables of one study's results folder that the paper-versus-physics overlays draw (the
+    CDPR4 paths, R_V, index versus E and the section 5.2 paths at E_mean); missing files are left out."""
+    res = Path(res)
+    out = {"paths": {}, "paths_E": []}
+    for pk in st["pulleys"]:
+        p = res / "trajectories" / f"CDPR4_{pk}.csv"
+        if p.exists():
+            out["paths"][f"CDPR4_{pk}"] = table_io.read_table(p)
+    for key, rel in (("volumes", "volumes/volumes.csv"), ("index_vs_E", "elasticity/index_vs_E.csv")):
+        if (res / rel).exists():
+            out[key] = table_io.read_table(res / rel)
+    E_mean = float(st["elasticity"]["E_path_Pa"][1])
+    for dk in st["optimal"]:
+        p = res / "elasticity" / f"path_{dk}_E{E_mean:.6g}.csv"
+        if p.exists():
+            df = table_io.read_table(p)
+            out["paths_E"].append((dk, df.s.to_numpy(), df.dp.where(df.status == "ok").to_numpy()))
+    return out
+
+
+# ---- uncertainty and sensitivity (beyond the paper: cdpr.analyses.uncertainty) ---------------------------
 def uq_shard(st, design, case, shard, box_file, table, points, threads=None):
     """One Monte Carlo shard by full solves with the linearised propagation of the same samples."""
     samples, pts = uq.mc_shard(st, design, case, study.read_box(box_file), int(shard), threads)
@@ -643,13 +703,16 @@ def uncertainty(
     table_io.write_table(sobol_tab, sobol)
     paper_bands = _paper_uq_bands(st)
     robot = study.robot_of(st, st["doe"]["robot"])
+    mode = u.get("redundancy", "paper")  # the model of the uncompensated robot
     plots.uq_index_distribution(
-        read["linear"], read["tolerances"], common.get("index_vs_E"), paper_bands, figure
+        read["linear"], read["tolerances"], common.get("index_vs_E"), paper_bands, figure, mode=mode
     )
-    plots.uq_path_bands(read["path"], common.get("paths", []), paths_figure)
-    plots.uq_sobol(sobol_tab, sobol_figure)
-    plots.uq_dominant_map(read["map"], robot.A, st["plane"]["z_m"], map_figure)
-    plots.uq_agreement(read["mc"], agreement_figure)
+    plots.uq_path_bands(
+        read["path"], common.get("paths", []), paths_figure, mode=mode, common_mode=study.redundancy(st)
+    )
+    plots.uq_sobol(sobol_tab, sobol_figure, mode=mode)
+    plots.uq_dominant_map(read["map"], robot.A, st["plane"]["z_m"], map_figure, mode=mode)
+    plots.uq_agreement(read["mc"], agreement_figure, mode=mode)
 
 
 def _paper_uq_bands(st):

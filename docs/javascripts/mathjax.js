@@ -1,6 +1,9 @@
 // MathJax 3 configuration for pymdownx.arithmatex (generic mode): render \( \) and \[ \] spans.
+// MathJax itself is vendored under javascripts/mathjax/ (no CDN: the site renders offline).
 window.MathJax = {
+  loader: { load: ["[tex]/boldsymbol"] },
   tex: {
+    packages: { "[+]": ["boldsymbol"] },
     inlineMath: [["\\(", "\\)"]],
     displayMath: [["\\[", "\\]"]],
     processEscapes: true,
@@ -8,7 +11,8 @@ window.MathJax = {
   },
   options: {
     ignoreHtmlClass: ".*|",
-    processHtmlClass: "arithmatex"
+    processHtmlClass: "arithmatex",
+    enableMenu: false
   }
 };
 

@@ -68,3 +68,20 @@ def test_schema_errors_name_the_key(tmp_path):
     bad.write_text(QUICK.read_text().replace("index_n: 6", "index_n: 1"))
     with pytest.raises(ConfigError, match="key 'budget.index_n': must be >= 2"):
         load_comparison(bad)
+
+
+def test_each_study_runs_its_uncertainty_in_its_own_mode_but_nothing_else_may_differ(tmp_path, monkeypatch):
+    """uncertainty.redundancy may differ between the two studies (issue 21: the physical study is
+    physical throughout); any other uncertainty key may not."""
+    monkeypatch.chdir(ROOT)
+    cmp = load_comparison(QUICK)
+    assert cmp.physical_study["uncertainty"]["redundancy"] == "physical"
+    assert cmp.paper_study["uncertainty"]["redundancy"] == "paper"
+    text = (ROOT / "config/studies/quick_physical.yaml").read_text()
+    bad_study = tmp_path / "qp.yaml"
+    bad_study.write_text(text.replace("seed: 20210304", "seed: 1"))
+    bad = tmp_path / "cmp.yaml"
+    bad.write_text(QUICK.read_text().replace("config/studies/quick_physical.yaml", str(bad_study)))
+    with pytest.raises(ConfigError) as exc:
+        load_comparison(bad)
+    assert "they differ in uncertainty" in str(exc.value)

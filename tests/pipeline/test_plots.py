@@ -45,28 +45,61 @@ def _plane_table(kind, scale):
     return pd.DataFrame({"x": x.ravel(), "y": y.ravel(), "dp": dp, "status": status, "subset": "1-2-3"})
 
 
-def test_plane_figure_shares_one_colour_scale_and_names_the_height(tmp_path, monkeypatch):
+def test_plane_figure_has_levels_per_panel_the_paper_iso_values_and_names_the_height(tmp_path, monkeypatch):
+    """Fig. 12 (issue 21): each panel on levels fine enough for its own range (a shared scale painted
+    a panel with half the range in two or three bands), the paper's iso-values drawn as red dashed
+    contours, the mode in the title, and the points outside the anchors' footprint counted apart."""
     import numpy as np
 
     figs, _ = _captured(monkeypatch)
     A = np.array([[-2.5, -2.5, 5], [2.5, -2.5, 5], [2.5, 2.5, 5], [-2.5, 2.5, 5]])
     plots.fig12_plane(
-        {"SR": _plane_table("SR", 2.0), "DR": _plane_table("DR", 1.0)}, A, 2.5, "CDPR4", tmp_path / "p.png"
+        {"SR": _plane_table("SR", 2.0), "DR": _plane_table("DR", 1.0)},
+        A,
+        2.5,
+        "CDPR4",
+        tmp_path / "p.png",
+        mode="paper",
+        paper={"SR": [0.15], "DR": [None]},
     )
-    plots.fig9_subsets({"SR": _plane_table("SR", 2.0)}, A, 2.5, "CDPR4", tmp_path / "s.png")
+    plots.fig9_subsets({"SR": _plane_table("SR", 2.0)}, A, 2.5, "CDPR4", tmp_path / "s.png", mode="paper")
     plane, subsets = figs
     panels = [ax for ax in plane.axes if ax.get_title()]
     assert len(panels) == 2 and all("z = 2.5 m" in ax.get_title() for ax in panels)
-    limits = {
-        (round(c.norm.vmin, 12), round(c.norm.vmax, 12))
-        for ax in panels
-        for c in ax.collections
-        if hasattr(c, "norm") and c.get_array() is not None
-    }
-    assert len(limits) == 1  # SR and DR on one colour scale although their ranges differ by 2x
-    assert all(ax.get_legend() is not None for ax in panels)  # the slack cells are explained
+    assert "paper rule" in plane._suptitle.get_text()
+    for ax, scale in zip(panels, (2.0, 1.0)):
+        t = _plane_table("SR", scale)
+        lo, hi = (f(t.dp[t.status == "ok"]) * 1e3 for f in (np.min, np.max))
+        filled = [c for c in ax.collections if hasattr(c, "levels") and c.filled]
+        levels = filled[0].levels
+        assert len(levels) >= 6 and levels[0] <= lo + 1e-9 and levels[-1] >= hi - 1e-9, levels
+        assert np.diff(levels).max() <= (hi - lo) / 4  # at least four bands inside the panel's own range
+    red = [
+        c
+        for c in panels[0].collections
+        if hasattr(c, "levels") and not c.filled and list(c.levels) == [150.0]
+    ]
+    assert len(red) == 1  # the paper's iso-value on the SR panel
+    texts = [t.get_text() for t in panels[0].get_legend().get_texts()]
+    assert all(ax.get_legend() is not None for ax in panels) and "slack" in texts[0]  # slack cells explained
     assert "z = 2.5 m" in [ax for ax in subsets.axes if ax.get_title()][0].get_title()
     assert (tmp_path / "p.png").exists() and (tmp_path / "s.png").exists()
+
+
+def test_not_ok_counts_put_points_outside_the_footprint_apart():
+    import numpy as np
+    import pandas as pd
+
+    A = np.array([[-1.0, -1.0, 5], [1.0, -1.0, 5], [1.0, 1.0, 5], [-1.0, 1.0, 5]])
+    df = pd.DataFrame(
+        {
+            "x": [0.0, 0.5, 2.0, -3.0, 0.2],
+            "y": [0.0, 0.5, 0.0, 0.0, 0.1],
+            "status": ["ok", "slack", "inaccessible", "slack", "inaccessible"],
+        }
+    )
+    assert plots._not_ok_counts(df, A) == {"outside the footprint": 2, "slack": 1, "inaccessible": 1}
+    assert plots._not_ok_counts(df) == {"slack": 2, "inaccessible": 2}
 
 
 def test_taut_set_map_and_difference_maps(tmp_path, monkeypatch):

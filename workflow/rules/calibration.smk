@@ -20,8 +20,9 @@ rule calibration_study:
     params:
         cdpr=CDPR,
         code=CODE,
+        out=CALIBRATION_RES,
     log:
         f"{CALIBRATION_RES}/logs/calibration_study.log",
     threads: 1
     shell:
-        "NUMBA_NUM_THREADS=1 {params.cdpr} calibrate study --study {input.study} --out {CALIBRATION_RES} > {log} 2>&1"
+        "NUMBA_NUM_THREADS=1 {params.cdpr} calibrate study --study {input.study:q} --out {params.out:q}" + TO_LOG

@@ -23,7 +23,7 @@ rule plane_figure:
         tables=lambda w: LAYOUT.paths("plane_table", "table", robot=w.robot),
         robot=lambda w: ROBOTS[w.robot],
     output:
-        **outputs("plane_figure", figure=("../report/plane.rst", "Plane")),
+        **outputs("plane_figure", figure=("../report/plane.rst", "Plane"), tension=("../report/plane.rst", "Plane")),
     params:
         **COMMON,
         study=uses("plane", "pulleys"),

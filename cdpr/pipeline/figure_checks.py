@@ -1,0 +1,137 @@
+"""Mechanical checks of a figure's layout, from matplotlib's text extents (issue 21).
+
+A reviewer's first reading of a figure: can every text be read (no two texts overlap, none leaves the
+canvas), does every axis say what it measures and in which unit, and does the title say which model
+(the paper's 3-of-m rule or the physical equilibrium) drew it. :func:`layout_problems` returns one
+sentence per violation; :func:`cdpr.pipeline.plots.save` writes them beside the figure when the
+environment variable ``CDPR_FIGURE_AUDIT`` is set (the figure test, tests/pipeline/test_figures.py).
+"""
+
+from __future__ import annotations
+
+import re
+
+from matplotlib.text import Text
+
+#: A unit in brackets at the end of an axis label: "x [m]", "R_V [-]", "‖δp‖ [mm]".
+UNIT = re.compile(r"\[[^\]]+\]\s*\)?\s*$|\[[^\]]+\]")
+#: Words of a title that name the redundancy mode.
+MODE_WORDS = {"paper": ("paper rule", "paper mode"), "physical": ("physical",)}
+#: Overlaps smaller than this [px] on either side are antialiasing, not a collision.
+SLACK_PX = 1.0
+
+
+def _hidden_tick_labels(fig):
+    """Tick labels matplotlib keeps but does not draw (ticks outside the view limits)."""
+    hidden = set()
+    for ax in fig.axes:
+        for axis in getattr(ax, "_axis_map", {}).values():
+            lo, hi = sorted(axis.get_view_interval())
+            eps = 1e-9 * abs(hi - lo)
+            for tick in axis.get_major_ticks() + axis.get_minor_ticks():
+                loc = tick.get_loc()
+                if loc is None or not lo - eps <= loc <= hi + eps:
+                    hidden.update((id(tick.label1), id(tick.label2)))
+    return hidden
+
+
+def _texts(fig):
+    """Every visible, drawn, non-empty text of ``fig`` (titles, labels, tick labels, legends,
+    annotations, contour labels)."""
+
+    hidden = _hidden_tick_labels(fig)
+    out = []
+    for t in fig.findobj(Text):
+        if not t.get_visible() or not t.get_text().strip() or id(t) in hidden:
+            continue
+        if t.axes is not None and not t.axes.get_visible():
+            continue
+        out.append(t)
+    return out
+
+
+def _name(t):
+    s = t.get_text().replace("\n", " ")
+    return repr(s[:40] + ("..." if len(s) > 40 else ""))
+
+
+def _axis_labels(ax):
+    """(axis name, label text, whether the axis shows tick labels) of a 2-D or 3-D axes."""
+    names = ["x", "y"] + (["z"] if hasattr(ax, "zaxis") else [])
+    out = []
+    for n in names:
+        axis = getattr(ax, f"{n}axis")
+        shown = axis.get_visible() and any(
+            tl.get_visible() and tl.get_text().strip() for tl in axis.get_ticklabels()
+        )
+        out.append((n, axis.get_label().get_text(), shown))
+    return out
+
+
+def layout_problems(fig, mode=None):
+    """The layout problems of ``fig``, one sentence each (empty when the figure passes).
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        A drawn or undrawn figure (it is drawn here, with its final size).
+    mode : {"paper", "physical", None}
+        The redundancy mode of the study that drew it; when given, a title (the figure's suptitle
+        or an axes title) must name it ("paper rule" / "physical").
+
+    Returns
+    -------
+    list of str
+        Text pairs that overlap, texts that leave the canvas, axes without a label or without a
+        unit in brackets (colour bars included), and a missing mode.
+    """
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    W, H = fig.bbox.width, fig.bbox.height
+    problems = []
+    texts = _texts(fig)
+    boxes = []
+    for t in texts:
+        bb = t.get_window_extent(renderer)
+        if bb.width <= 0 or bb.height <= 0:
+            continue
+        if bb.x0 < -SLACK_PX or bb.y0 < -SLACK_PX or bb.x1 > W + SLACK_PX or bb.y1 > H + SLACK_PX:
+            problems.append(f"text {_name(t)} leaves the canvas")
+        boxes.append((t, bb))
+    for i in range(len(boxes)):
+        ti, bi = boxes[i]
+        for j in range(i + 1, len(boxes)):
+            tj, bj = boxes[j]
+            dx = min(bi.x1, bj.x1) - max(bi.x0, bj.x0)
+            dy = min(bi.y1, bj.y1) - max(bi.y0, bj.y0)
+            if dx > SLACK_PX and dy > SLACK_PX:
+                problems.append(f"texts {_name(ti)} and {_name(tj)} overlap")
+    for ax in fig.axes:
+        if not ax.get_visible() or not ax.axison:
+            continue
+        for n, label, shown in _axis_labels(ax):
+            if not shown:
+                continue
+            where = ax.get_title() or ax.get_label() or "an axes"
+            if not label.strip():
+                problems.append(f"{n} axis of {where!r} has no label")
+            elif not UNIT.search(label):
+                problems.append(f"{n} axis label {label!r} has no unit in brackets")
+    if mode is not None:
+        problems += mode_problems(titles(fig), mode)
+    return problems
+
+
+def titles(fig):
+    """The figure's suptitle and every axes title (left, centre, right), non-empty."""
+    out = [fig._suptitle.get_text()] if fig._suptitle is not None else []
+    out += [ax.get_title(loc) for ax in fig.axes for loc in ("left", "center", "right")]
+    return [t for t in out if t.strip()]
+
+
+def mode_problems(title_texts, mode):
+    """[] when one of ``title_texts`` names ``mode`` ("paper" or "physical"), else one sentence."""
+    words = MODE_WORDS[mode]
+    if any(w in t.lower() for t in title_texts for w in words):
+        return []
+    return [f"no title names the mode ({' / '.join(words)})"]

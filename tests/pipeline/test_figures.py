@@ -1,0 +1,166 @@
+"""Every figure the pipeline declares, rendered from the quick studies and checked as a reviewer would
+(issue 21): no two texts overlap, no text leaves the canvas, every axis has a label with a unit in
+brackets, the title names the redundancy mode of the study that drew it; and each PNG matches its
+tracked baseline (tests/baseline/<run>/...) at a small RMS tolerance.
+
+The quick studies (both modes) and their comparison run ONCE per session into a temporary folder,
+with ``CDPR_FIGURE_AUDIT`` set so that ``plots.save`` writes each figure's layout audit beside it.
+``CDPR_FIGURE_RUNS=<folder>`` reuses a folder such a run wrote (same layout: quick/,
+quick_physical/, quick_comparison/). A failing baseline comparison writes its difference image under
+tests/output/ (ignored by git, kept by CI). ``make update-references`` refreshes the baselines.
+"""
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from cdpr.pipeline import figure_checks
+
+ROOT = Path(__file__).resolve().parents[2]
+BASELINE = ROOT / "tests" / "baseline"
+OUTPUT = ROOT / "tests" / "output"
+#: run folder -> (study file, redundancy mode named in its figures' titles; None: both modes drawn)
+RUNS = {
+    "quick": ("config/studies/quick.yaml", "paper"),
+    "quick_physical": ("config/studies/quick_physical.yaml", "physical"),
+    "quick_comparison": (None, None),
+}
+#: RMS tolerance of the baseline comparison (matplotlib.testing.compare.compare_images, 0-255 scale)
+RMS_TOL = 2.0
+
+
+def _comparison_file(root):
+    text = (
+        f"paper: {{study: config/studies/quick.yaml, results: {root}/quick}}\n"
+        f"physical: {{study: config/studies/quick_physical.yaml, results: {root}/quick_physical}}\n"
+        f"page: {root}/quick_comparison.md\nfolder: {root}/quick_comparison\n"
+        "budget:\n  index_n: 6\n  t_min_N: 100.0\n"
+    )
+    path = root / "comparison.yaml"
+    path.write_text(text)
+    return path
+
+
+def run_quick_studies(root, cores="2"):
+    """Run the quick study in both modes and their comparison into ``root`` with the layout audit."""
+    root = Path(root)
+    exe = Path(sys.executable).with_name("snakemake")
+    env = dict(os.environ, CDPR_FIGURE_AUDIT="1")
+    cmp = _comparison_file(root)
+    cmds = [
+        ["reproduce_paper", "--config", "study=config/studies/quick.yaml", f"results={root}/quick"],
+        [
+            "reproduce_paper",
+            "--config",
+            "study=config/studies/quick_physical.yaml",
+            f"results={root}/quick_physical",
+        ],
+        ["reproduce_comparison", "--config", "study=config/studies/quick.yaml", f"results={root}/quick"]
+        + [f"comparison={cmp}"],
+    ]
+    for c in cmds:
+        r = subprocess.run(
+            [str(exe), c[0], "--cores", cores, "--quiet", "all", *c[1:]],
+            cwd=ROOT,
+            env=env,
+            capture_output=True,
+            text=True,
+        )
+        assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-3000:]
+    return root
+
+
+@pytest.fixture(scope="session")
+def runs(tmp_path_factory):
+    given = os.environ.get("CDPR_FIGURE_RUNS")
+    if given:
+        return Path(given)
+    return run_quick_studies(tmp_path_factory.mktemp("figures"))
+
+
+def declared(root):
+    """(run, path relative to the run folder) of every PNG the runs wrote."""
+    return sorted(
+        (run, p.relative_to(root / run).as_posix()) for run in RUNS for p in (root / run).rglob("*.png")
+    )
+
+
+def _baselines():
+    return sorted(
+        (p.relative_to(BASELINE).parts[0], Path(*p.relative_to(BASELINE).parts[1:]).as_posix())
+        for p in BASELINE.rglob("*.png")
+    )
+
+
+FIGURES = _baselines()
+
+
+def test_baselines_exist_for_the_quick_studies():
+    runs_with_figures = {r for r, _ in FIGURES}
+    assert runs_with_figures == set(RUNS), "run `make update-references` to write tests/baseline/"
+
+
+def test_every_declared_figure_has_a_baseline_and_an_audit(runs):
+    ours = declared(runs)
+    assert ours == FIGURES, {"new (no baseline)": set(ours) - set(FIGURES), "lost": set(FIGURES) - set(ours)}
+    for run, rel in ours:
+        assert (runs / run / (rel + ".layout.json")).exists(), f"{run}/{rel}: not written by plots.save"
+
+
+@pytest.mark.parametrize("run,figure", FIGURES, ids=[f"{r}/{f}" for r, f in FIGURES])
+def test_figure_layout(runs, run, figure):
+    rec = json.loads((runs / run / (figure + ".layout.json")).read_text(encoding="utf-8"))
+    problems = list(rec["problems"])
+    mode = RUNS[run][1]
+    if mode is not None:
+        problems += figure_checks.mode_problems(rec["titles"], mode)
+    assert problems == [], f"{run}/{figure}:\n" + "\n".join(problems)
+
+
+@pytest.mark.parametrize("run,figure", FIGURES, ids=[f"{r}/{f}" for r, f in FIGURES])
+def test_figure_matches_its_baseline(runs, run, figure):
+    from matplotlib.testing.compare import compare_images
+
+    out = OUTPUT / run / figure
+    out.parent.mkdir(parents=True, exist_ok=True)
+    shutil.copy(runs / run / figure, out)
+    err = compare_images(str(BASELINE / run / figure), str(out), tol=RMS_TOL, in_decorator=True)
+    if err is None:
+        out.unlink()
+        return
+    pytest.fail(f"{run}/{figure}: RMS {err['rms']:.2f} > {RMS_TOL}; difference image {err['diff']}")
+
+
+# ---- the checks themselves can fail -------------------------------------------------------------------
+
+
+def test_layout_checks_catch_overlap_offcanvas_missing_unit_and_mode():
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(3, 2))
+    ax.plot([0, 1], [0, 1])
+    ax.set(xlabel="x", ylabel="")
+    ax.text(0.5, 0.5, "first label", transform=ax.transAxes)
+    ax.text(0.52, 0.5, "second label", transform=ax.transAxes)
+    fig.text(1.2, 0.5, "outside")
+    problems = figure_checks.layout_problems(fig, mode="physical")
+    plt.close(fig)
+    text = "\n".join(problems)
+    assert "overlap" in text and "leaves the canvas" in text
+    assert "label 'x' has no unit" in text and "y axis" in text and "no label" in text
+    assert "names the mode" in text
+
+
+def test_layout_checks_pass_a_clean_figure():
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(4, 3), layout="constrained")
+    ax.plot([0, 1], [0, 1])
+    ax.set(xlabel="x [m]", ylabel="‖δp‖ [mm]", title="physical equilibrium")
+    assert figure_checks.layout_problems(fig, mode="physical") == []
+    plt.close(fig)
