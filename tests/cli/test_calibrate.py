@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from cdpr.analyses import calibration as cal
-from cdpr.cli.commands import main
+from cdpr.cli.main import main
 from cdpr.parameters import select_groups
 from cdpr.robot import load_robot
 from tests.conftest import ROBOTS
