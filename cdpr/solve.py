@@ -17,6 +17,7 @@ from cdpr.compiled import sensitivity as compiled_sensitivity
 from cdpr.compiled import subsets as compiled_subsets
 from cdpr.errors import CdprError
 from cdpr.models import equilibrium, sensitivity
+from cdpr.models.results import mark_below_floor
 from cdpr.models.subsets import solve_points
 
 #: The (engine, method) pairs that exist: the compiled kernel implements Newton only.
@@ -73,8 +74,10 @@ def solve_points_any(
         if L0 is not None:
             L0 = np.broadcast_to(np.asarray(L0, dtype=float), (len(p), robot.m))
         if engine == "compiled":
-            return compiled_equilibrium.solve_physical_fast(robot, p, L0=L0, threads=threads, **options)
-        return equilibrium.solve_physical(robot, p, L0=L0, **options)
+            res = compiled_equilibrium.solve_physical_fast(robot, p, L0=L0, threads=threads, **options)
+        else:
+            res = equilibrium.solve_physical(robot, p, L0=L0, **options)
+        return mark_below_floor(res, p)
     if L0 is not None:
         raise CdprError(
             "commanded lengths need physical mode (--redundancy physical); paper mode commands L_TS at the desired point"
@@ -83,8 +86,10 @@ def solve_points_any(
     if L is not None:
         options["L"] = L
     if engine == "compiled":
-        return compiled_subsets.solve_points_fast(robot, p, threads=threads, **options)
-    return solve_points(robot, p, method=method, **options)
+        res = compiled_subsets.solve_points_fast(robot, p, threads=threads, **options)
+    else:
+        res = solve_points(robot, p, method=method, **options)
+    return mark_below_floor(res, p)
 
 
 def sensitivities(

@@ -11,10 +11,8 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from cdpr.compiled import subsets as compiled_subsets
 from cdpr.models import sensitivity
 from cdpr.models.results import STATUSES, pose_columns, subset_codes, taut_labels
-from cdpr.models.subsets import solve_points
 from cdpr.solve import check_engine, check_redundancy, solve_points_any
 
 
@@ -102,9 +100,9 @@ def solve_table(
         )
     engine = check_engine(engine, method)
     if engine == "compiled":
-        return to_frame(robot, compiled_subsets.solve_points_fast(robot, p, threads=threads, **options))
+        return to_frame(robot, solve_points_any(robot, p, method, engine, threads, **options))
     starts = range(0, len(p), chunk) if len(p) else [0]
     frames = [
-        to_frame(robot, solve_points(robot, p[i : i + chunk], method=method, **options)) for i in starts
+        to_frame(robot, solve_points_any(robot, p[i : i + chunk], method, engine, **options)) for i in starts
     ]
     return pd.concat(frames, ignore_index=True)

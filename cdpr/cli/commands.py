@@ -60,6 +60,8 @@ def _points(args):
     if not args.out:
         raise CdprError("--points needs --out FILE for the result table")
     io.check_output(args.out)
+    if str(args.points).endswith(".csv") and os.path.isfile(args.points):
+        io.check_csv_rows(args.points, "xyz")  # rows as wide as the header, plain numbers
     try:
         df = _read_table(args.points)
     except FileNotFoundError:

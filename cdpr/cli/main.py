@@ -26,8 +26,24 @@ def main(argv=None):
     except CdprError as exc:
         print(f"cdpr: error: {exc}", file=sys.stderr)
         return 2
+        sys.stdout.flush()  # a full disk or a closed pipe shows here, not at interpreter exit
     except BrokenPipeError:  # e.g. `cdpr ... | head`: the reader left; stop quietly
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())
         return 0
+    except OSError as exc:  # e.g. a full disk (ENOSPC), for standard output or an output file
+        where = f" {exc.filename}" if exc.filename else " the output"
+        print(f"cdpr: error: cannot write{where} ({exc.strerror or exc})", file=sys.stderr)
+        _quiet_stdout()
+        return 1
     return 0
+
+
+def _quiet_stdout():
+    """Point standard output at /dev/null so that the interpreter's final flush of what could not be
+    written raises nothing more."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except OSError:
+        pass

@@ -1,7 +1,7 @@
 """Argument types and the option groups the commands share (standard library only).
 
 This module is imported to build the parser, also for ``cdpr --help``: it must not import numpy, pandas or
-any layer of cdpr above the ground floor. The choices that belong to those layers are spelled here and a
+any layer of cdpr above the ground floor (``cdpr.io`` is standard library only). The choices that belong to those layers are spelled here and a
 test (tests/cli/test_house.py) checks them against their owners (``cdpr.robot.PULLEY_KINDS``,
 ``cdpr.solve.ENGINES``, ``cdpr.solve.REDUNDANCY``).
 """
@@ -12,6 +12,8 @@ import argparse
 import math
 import os
 import re
+
+from cdpr.io import is_plain_number
 
 #: Pulley kinds of ``--pulley`` (the same as ``cdpr.robot.PULLEY_KINDS``).
 PULLEY_KINDS = ("fixed", "SR", "DR")
@@ -46,7 +48,13 @@ class Parser(argparse.ArgumentParser):
 
 
 def finite(text):
-    """argparse type: a finite float."""
+    """argparse type: a finite float in plain decimal or exponent notation (``2.5``, ``-1e-3``); Python's
+    other float spellings (``1_0`` read as 10, ``0x1p3``) and decimal commas are refused."""
+    if not is_plain_number(text):
+        hint = " (use a decimal point, not a comma)" if "," in text else ""
+        raise argparse.ArgumentTypeError(
+            f"{text!r} is not a number{hint}; allowed: plain decimal or exponent notation, e.g. 2.5 or 2.5e-3"
+        )
     try:
         v = float(text)
     except ValueError:

@@ -112,11 +112,12 @@ def build_parser(jobs=True):
     sp = sub.add_parser("grid", help="DEGM_E over the n^3 cell-centred grid of a box; writes parquet or CSV")
     robot_options(sp)
     solver_options(sp)
-    sp.add_argument("--box", nargs=6, type=finite, metavar=("XMIN", "XMAX", "YMIN", "YMAX", "ZMIN", "ZMAX"))
-    sp.add_argument(
+    box = sp.add_mutually_exclusive_group()  # one box: giving two would silently ignore one
+    box.add_argument("--box", nargs=6, type=finite, metavar=("XMIN", "XMAX", "YMIN", "YMAX", "ZMIN", "ZMAX"))
+    box.add_argument(
         "--box-file", metavar="FILE", help="JSON file whose key 'box' holds the six numbers (e.g. rw_c.json)"
     )
-    sp.add_argument(
+    box.add_argument(
         "--frame",
         action="store_true",
         help="the frame's bounding box (anchors' extent, z from 0 to the pulleys)",

@@ -26,6 +26,37 @@ import numpy as np
 
 STATUSES = ("ok", "slack", "over_tension", "inaccessible", "not_converged")
 
+#: The floor of a suspended robot [m]: every anchor lies above it (``cdpr.robot`` checks), and the
+#: platform hangs between it and the pulleys.
+FLOOR_Z = 0.0
+
+
+def mark_below_floor(res, p):
+    """Mark the desired points below the floor (z < ``FLOOR_Z``) ``inaccessible`` in a solver's
+    per-point result, whatever the solver found there: one rule for every command and engine (a
+    point under the floor cannot be reached, even where the cable model has an equilibrium).
+
+    Parameters
+    ----------
+    res : dict
+        Per-point arrays of a solver (``status`` and, if present, ``status_code``), changed in place.
+    p : array_like, shape (N, 3) [m]
+        The desired points.
+
+    Returns
+    -------
+    dict
+        ``res``.
+    """
+    below = np.asarray(p, dtype=float).reshape(-1, 3)[:, 2] < FLOOR_Z
+    if below.any():
+        if "status_code" in res:
+            res["status_code"] = np.where(below, STATUSES.index("inaccessible"), res["status_code"]).astype(
+                np.asarray(res["status_code"]).dtype
+            )
+        res["status"] = np.where(below, "inaccessible", np.asarray(res["status"]).astype(str))
+    return res
+
 
 def subset_label(subset_row):
     """1-based cable numbers joined by '-', e.g. '1-2-3'; '' when no subset.
