@@ -52,7 +52,7 @@ from cdpr.analyses.workspace import check_box, grid_points
 from cdpr.errors import CdprError, ConfigError
 from cdpr.models.inverse import L_TS
 from cdpr.models.pulleys import total_length_and_direction
-from cdpr.models.sensitivity import cable_partials, implicit_solve, physical_jacobian_terms, sensitivities
+from cdpr.models.sensitivity import cable_partials, implicit_solve, physical_jacobian_terms
 from cdpr.parameters import (
     CALIBRATION_GROUPS,
     calibration_groups,
@@ -62,6 +62,7 @@ from cdpr.parameters import (
     select_groups,
 )
 from cdpr.robot import with_pulleys
+from cdpr.solve import sensitivities
 from cdpr.units import quantity
 
 #: Model of the robot during the fit (the command line's choices).
