@@ -70,8 +70,24 @@ def check_engine(engine, method):
 REDUNDANCY = ("paper", "physical")
 
 
+def check_spatial(robot, engine, redundancy):
+    """The engine for a robot that is not a suspended point mass (``Robot.suspended_point_mass``):
+    such robots have the numpy 6-DoF physical mode only (``cdpr.models.equilibrium6``); paper mode
+    (3 of m) and the compiled engine raise CdprError in one line."""
+    if redundancy != "physical":
+        raise CdprError(
+            f"{robot.source}: paper mode (3-cable subsets) is the point-mass rule; this robot has platform "
+            "attachments or pulley axes other than +z: use redundancy: physical (--redundancy physical)"
+        )
+    if engine == "compiled":
+        raise CdprError(
+            f"{robot.source}: the compiled engine has no 6-DoF solver yet; use --engine numpy (the default for this robot)"
+        )
+    return "numpy"
+
+
 def solve_points_any(
-    robot, p, method="newton", engine=None, threads=None, redundancy="paper", L0=None, **options
+    robot, p, method="newton", engine=None, threads=None, redundancy="paper", L0=None, rotvec=None, **options
 ):
     """Per-point results as a dict of arrays from the chosen model and engine.
 
@@ -83,7 +99,14 @@ def solve_points_any(
     p = np.atleast_2d(np.asarray(p, dtype=float))
     if redundancy not in REDUNDANCY:
         raise CdprError(f"unknown redundancy {redundancy!r}; allowed: {', '.join(REDUNDANCY)}")
-    if redundancy == "physical":
+    if not robot.suspended_point_mass or rotvec is not None or p.shape[1] == 6:
+        if not robot.suspended_point_mass:
+            check_spatial(robot, engine, redundancy)
+        if redundancy == "physical" or not robot.suspended_point_mass:
+            from cdpr.models.equilibrium6 import solve_spatial
+
+            return solve_spatial(robot, p, rotvec, L0=L0, **options)
+        p = p[:, :3]  # paper mode on a point mass: the orientation plays no part
         if method != "newton":
             raise CdprError(
                 "physical mode has one solver (Newton on the force balance); --method fixed_point applies to paper mode"
@@ -116,6 +139,10 @@ def results_frame(robot, res, redundancy="paper"):
     if redundancy == "physical":
         from cdpr.models.equilibrium import to_frame as physical_frame
 
+        if "rotvec_s" in res and not robot.point_mass:
+            from cdpr.models.equilibrium6 import to_frame6
+
+            return to_frame6(robot, res)
         return physical_frame(robot, res)
     return to_frame(robot, res)
 
@@ -146,7 +173,7 @@ def solve_table(
     -------
     DataFrame, one row per point (``results_frame``)."""
     p = np.atleast_2d(np.asarray(p, dtype=float))
-    if redundancy != "paper" or L0 is not None:
+    if redundancy != "paper" or L0 is not None or not robot.suspended_point_mass:
         return results_frame(
             robot, solve_points_any(robot, p, method, engine, threads, redundancy, L0, **options), redundancy
         )

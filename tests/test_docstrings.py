@@ -25,6 +25,8 @@ MODEL_MODULES = [
     "analyses.uncertainty",
     "analyses.budget",
     "analyses.symmetry",
+    "models.platform",
+    "models.equilibrium6",
 ]
 
 #: A numpy section header: a title line underlined by dashes of the same length.
