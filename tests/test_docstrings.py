@@ -27,6 +27,7 @@ MODEL_MODULES = [
     "analyses.symmetry",
     "models.platform",
     "models.equilibrium6",
+    "models.distribution6",
 ]
 
 #: A numpy section header: a title line underlined by dashes of the same length.

@@ -897,6 +897,9 @@ def build_parser():
         else:
             sp.add_argument(opt, help=_JOB_OPTION_HELP[n])
     sp.set_defaults(func=cmd_job)
+    from cdpr.cli import caspr
+
+    caspr.add_parser(sub, _Parser, positive, non_negative)
     return ap
 
 
