@@ -105,8 +105,14 @@ def solve_points_any(
         if redundancy == "physical" or not robot.suspended_point_mass:
             from cdpr.models.equilibrium6 import solve_spatial
 
+            if method != "newton":
+                raise CdprError(
+                    "physical mode has one solver (Newton on the force balance); --method fixed_point applies to paper mode"
+                )
+
             return solve_spatial(robot, p, rotvec, L0=L0, **options)
         p = p[:, :3]  # paper mode on a point mass: the orientation plays no part
+    if redundancy == "physical":
         if method != "newton":
             raise CdprError(
                 "physical mode has one solver (Newton on the force balance); --method fixed_point applies to paper mode"

@@ -143,10 +143,17 @@ def _points_options(sp, what):
     g.add_argument(
         "--points",
         metavar="FILE",
-        help="many points at once: a .csv or .parquet table with columns x, y, z [m]",
+        help="many points at once: a .csv or .parquet table with columns x, y, z [m] (and rx, ry, rz [rad])",
     )
     sp.add_argument(
         "--out", metavar="FILE", help="write the result table (.csv or .parquet); needed with --points"
+    )
+    sp.add_argument(
+        "--rotvec",
+        nargs=3,
+        type=finite,
+        metavar=("RX", "RY", "RZ"),
+        help="platform orientation: rotation vector [rad] (active, base frame; default identity)",
     )
 
 
@@ -187,7 +194,30 @@ def _points(args):
         raise CdprError(
             f"{args.points}: row {int(np.flatnonzero(bad)[0]) + 1} has a non-finite coordinate; every x, y, z must be a finite number"
         )
+    rot = [c for c in ("rx", "ry", "rz") if c in df.columns]
+    if rot:
+        if len(rot) != 3:
+            raise CdprError(
+                f"{args.points}: an orientation needs all three columns rx, ry, rz [rad], got {', '.join(rot)}"
+            )
+        rv = df[["rx", "ry", "rz"]].to_numpy(dtype=float)
+        bad = ~np.isfinite(rv).all(axis=1)
+        if bad.any():
+            raise CdprError(
+                f"{args.points}: row {int(np.flatnonzero(bad)[0]) + 1} has a non-finite rx, ry or rz"
+            )
+        args.table_rotvec = rv
     return P
+
+
+def _rotvec(args, n):
+    """(N, 3) orientations [rad] of --rotvec or the points table's rx, ry, rz; None when neither."""
+    table = getattr(args, "table_rotvec", None)
+    if table is not None:
+        return table
+    if getattr(args, "rotvec", None) is None:
+        return None
+    return np.tile(np.asarray(args.rotvec, dtype=float), (n, 1))
 
 
 def _table(rows, headers):
@@ -204,11 +234,24 @@ def _vec(v):
 
 def cmd_inverse(args):
     from cdpr.models.inverse import L_TS, igm_e
+    from cdpr.models.pulleys import swivel
 
     robot = _load(args)
     P = _points(args)
-    st = igm_e(robot, P)
-    lts = L_TS(robot, P)
+    rv = _rotvec(args, len(P))
+    if robot.point_mass:
+        st = igm_e(robot, P)
+        lts = L_TS(robot, P)
+        B = np.repeat(P[:, None, :], robot.m, axis=1)
+    else:
+        from cdpr.models.equilibrium6 import L_TS_pose, pose_arrays, pose_state
+
+        p_, R = pose_arrays(robot, P, rv)
+        B, st = pose_state(robot, p_, R)
+        lts = L_TS_pose(robot, p_, R)
+    a = robot.arrays
+    sw = swivel(B, a.A, None if robot.suspended_point_mass else a.frame, a.inward, per_cable=True)
+    over = st.gamma > 1.5 * np.pi
     if args.points or args.out:
         import pandas as pd
 
@@ -225,6 +268,8 @@ def cmd_inverse(args):
                     f"inside{c}": st.inside[:, i],
                 }
             )
+            if not robot.suspended_point_mass:
+                cols.update({f"swivel{c}": sw[:, i], f"wrap_over_270{c}": over[:, i]})
         df = pd.DataFrame(cols)
         io.write_table(df, args.out)
         print(
@@ -245,6 +290,9 @@ def cmd_inverse(args):
             "K": st.K[0, i].tolist(),
             "D": st.D[0, i].tolist(),
             "inside": bool(st.inside[0, i]),
+            "swivel": float(sw[0, i]),
+            "wrap": float(st.gamma[0, i]),
+            "wrap_over_270": bool(over[0, i]),
         }
         for i in range(robot.m)
     ]
@@ -348,6 +396,11 @@ def cmd_point(args):
         if len(args.q) != robot.m:
             raise CdprError(f"--q needs one drum angle per cable ({robot.m}), got {len(args.q)}")
         L0 = rest_lengths_from_angles(robot, np.array([args.q]), model="winch")[0]
+    rv = _rotvec(args, len(P))
+    if args.sensitivities and (rv is not None or not robot.suspended_point_mass):
+        raise CdprError(
+            "--sensitivities is not available yet for a rigid platform or an orientation (--rotvec)"
+        )
     if args.sensitivities:
         if L0 is not None and args.redundancy != "physical":
             raise CdprError(
@@ -363,6 +416,7 @@ def cmd_point(args):
             threads=args.threads,
             redundancy=args.redundancy,
             L0=L0,
+            rotvec=rv,
         )
     if args.points or args.out:
         df = results_frame(robot, res, args.redundancy)
@@ -378,11 +432,16 @@ def cmd_point(args):
         "dp_norm": float(res["dp"][0]),
         "tensions": [None if np.isnan(v) else float(v) for v in t],
     }
+    if "rotvec_s" in res or rv is not None:
+        out["solved_rotvec"] = (res["rotvec_s"][0] if "rotvec_s" in res else rv[0]).tolist()
+        out["dphi"] = float(res["dphi"][0]) if "dphi" in res else 0.0
     if args.redundancy == "physical":
         out["taut"] = [int(i) + 1 for i in np.flatnonzero(res["taut"][0])]
     else:
         out["subset"] = [int(i) + 1 for i in res["subset"][0] if i >= 0]
     out.update(status=str(res["status"][0]), iterations=int(res["iterations"][0]))
+    if "unique" in res:
+        out.update(unique=bool(res["unique"][0]), alternatives=res["alternatives"][0])
     if args.sensitivities:
         S = res["S"][0]
         out["sensitivities"] = {
@@ -402,6 +461,8 @@ def cmd_point(args):
     print(f"  desired P  [m] : {fmt(out['desired'])}")
     print(f"  solved P*  [m] : {fmt(out['solved'])}")
     print(f"  |dp|       [m] : {out['dp_norm']:.6f}")
+    if "dphi" in out:
+        print(f"  rotvec*  [rad] : {fmt(out['solved_rotvec'])}   dphi [rad]: {out['dphi']:.6g}")
     print("  tensions   [N] : " + ", ".join("slack" if v is None else f"{v:.2f}" for v in out["tensions"]))
     if args.redundancy == "physical":
         print(f"  taut cables    : {'-'.join(map(str, out['taut'])) or '-'}")

@@ -415,8 +415,14 @@ def solve_spatial(
     tol = o["tol"] if tol is None else tol
     maxiter = o["maxiter"] if maxiter is None else maxiter
     max_step = o["max_step"] if max_step is None else max_step
+    given = np.atleast_2d(np.asarray(p, dtype=float))
     p, R_d = pose_arrays(robot, p, rotvec)
-    rv_d = rotvec_of(R_d)
+    if given.shape[1] == 6:
+        rv_d = given[:, 3:].copy()
+    elif rotvec is not None:
+        rv_d = np.broadcast_to(np.asarray(rotvec, dtype=float), p.shape).copy()
+    else:
+        rv_d = np.zeros_like(p)
     n = len(p)
     if L0 is None:
         L0 = L_TS_pose(robot, p, R_d)

@@ -1,0 +1,124 @@
+"""The command line on spatial robots (issue 17): --rotvec, the JSON keys, tables with rx, ry, rz."""
+
+import json
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from cdpr.cli.commands import main
+from tests.conftest import ROBOTS
+
+COGIRO = str(ROBOTS / "cogiro.yaml")
+R4 = str(ROBOTS / "cdpr4.yaml")
+TILT = str(np.radians(15))
+
+
+def run_json(capsys, *args):
+    assert main(list(args) + ["--json"]) == 0
+    return json.loads(capsys.readouterr().out)
+
+
+def test_point_json_on_cogiro(capsys):
+    out = run_json(
+        capsys,
+        "point",
+        "--robot",
+        COGIRO,
+        "--at",
+        "0",
+        "0",
+        "2",
+        "--rotvec",
+        TILT,
+        "0",
+        "0",
+        "--redundancy",
+        "physical",
+    )
+    assert set(out) >= {
+        "solved",
+        "solved_rotvec",
+        "dp_norm",
+        "dphi",
+        "tensions",
+        "taut",
+        "status",
+        "unique",
+        "alternatives",
+    }
+    assert out["status"] == "ok" and out["taut"] == sorted(out["taut"]) and min(out["taut"]) >= 1
+    assert out["dp_norm"] == pytest.approx(np.linalg.norm(np.subtract(out["solved"], [0, 0, 2])))
+    from scipy.spatial.transform import Rotation
+
+    dphi = (
+        Rotation.from_rotvec(out["solved_rotvec"]) * Rotation.from_rotvec([float(TILT), 0, 0]).inv()
+    ).magnitude()
+    assert out["dphi"] == pytest.approx(dphi, abs=1e-12)
+
+
+def test_rotvec_is_carried_through_on_a_point_mass_robot(capsys):
+    base = ["point", "--robot", R4, "--at", "0.5", "0.2", "2.5", "--redundancy", "physical"]
+    a = run_json(capsys, *base)
+    b = run_json(capsys, *base, "--rotvec", "0.1", "-0.2", "0.3")
+    assert b["solved_rotvec"] == [0.1, -0.2, 0.3] and b["dphi"] == 0.0
+    assert np.abs(np.subtract(a["solved"], b["solved"])).max() < 1e-9 and a["taut"] == b["taut"]
+    c = run_json(capsys, "point", "--robot", R4, "--at", "0.5", "0.2", "2.5", "--rotvec", "0.1", "0", "0")
+    assert c["solved_rotvec"] == [0.1, 0.0, 0.0] and c["dphi"] == 0.0 and "subset" in c
+
+
+def test_inverse_json_keys_and_rotation(capsys):
+    out = run_json(capsys, "inverse", "--robot", COGIRO, "--at", "0", "0", "2", "--rotvec", "0", "0", "0.3")
+    assert len(out) == 8 and {"L_TE", "swivel", "wrap", "wrap_over_270"} <= set(out[0])
+    flat = run_json(capsys, "inverse", "--robot", COGIRO, "--at", "0", "0", "2")
+    assert any(abs(a["L_TE"] - b["L_TE"]) > 1e-3 for a, b in zip(out, flat))  # the orientation matters
+    r4 = run_json(capsys, "inverse", "--robot", R4, "--at", "0.5", "0.2", "2.5")
+    assert all(abs(c["swivel"] + c["alpha"]) < 1e-15 for c in r4)
+
+
+def test_points_table_with_orientations(tmp_path, capsys):
+    pts = tmp_path / "p.csv"
+    pd.DataFrame(
+        {"x": [0, 1], "y": [0, 1], "z": [2, 1.5], "rx": [float(TILT), 0], "ry": [0, 0], "rz": [0, 0.1]}
+    ).to_csv(pts, index=False)
+    out = tmp_path / "o.csv"
+    assert (
+        main(
+            ["point", "--robot", COGIRO, "--points", str(pts), "--out", str(out), "--redundancy", "physical"]
+        )
+        == 0
+    )
+    capsys.readouterr()
+    df = pd.read_csv(out)
+    assert {"rx", "ry", "rz", "rx_s", "ry_s", "rz_s", "dphi", "unique", "taut", "status"} <= set(df.columns)
+    assert df["rx"][0] == pytest.approx(float(TILT)) and (df["status"] == "ok").all()
+    single = run_json(
+        capsys,
+        "point",
+        "--robot",
+        COGIRO,
+        "--at",
+        "1",
+        "1",
+        "1.5",
+        "--rotvec",
+        "0",
+        "0",
+        "0.1",
+        "--redundancy",
+        "physical",
+    )
+    assert df["dphi"][1] == pytest.approx(single["dphi"], abs=1e-12)
+
+
+@pytest.mark.parametrize(
+    "extra,message",
+    [
+        ([], "paper mode (3-cable subsets) is the point-mass rule"),
+        (["--redundancy", "physical", "--engine", "compiled"], "the compiled engine has no 6-DoF solver yet"),
+    ],
+)
+def test_spatial_refusals_are_one_line(capsys, extra, message):
+    assert main(["point", "--robot", COGIRO, "--at", "0", "0", "2", *extra]) == 2
+    err = capsys.readouterr().err
+    assert message in err and err.count("\n") == 1
