@@ -508,6 +508,9 @@ def cmd_compensate(args):
     t_max = args.t_max if args.t_max is not None else None
     if t_max is not None and not args.t_min < t_max:
         raise CdprError(f"--t-min must be below --t-max, got {args.t_min:g} N and {t_max:g} N")
+    rv = _rotvec(args, len(P))
+    if rv is not None or not robot.suspended_point_mass:
+        return _compensate_spatial(args, robot, actual, P, rv, t_max)
     engine = args.engine or "compiled"
     res = compensated_pose(
         robot, P, actual=actual, method=args.distribution, engine=engine, t_min=args.t_min, t_max=t_max
@@ -552,6 +555,63 @@ def cmd_compensate(args):
     check = "the robot with --actual-E-cables" if actual is not None else "the same robot"
     print(
         f"status: {status}; commanded to {check}, the platform settles {out['dp_norm']:.3g} m from the desired point"
+    )
+
+
+def _compensate_spatial(args, robot, actual, P, rv, t_max):
+    """``compensate`` at poses (rigid platform or --rotvec): minimum-norm distribution in the bounds
+    at the pose (``distribution6``), compensated rest lengths, and the check solve (6-DoF numpy)."""
+    from cdpr.models.distribution6 import compensated_lengths
+    from cdpr.models.equilibrium6 import solve_spatial, to_frame6
+
+    if args.distribution != "min_norm":
+        raise CdprError(
+            f"--distribution {args.distribution} is not available at a pose (rigid platform or --rotvec); use min_norm"
+        )
+    if args.engine == "compiled":
+        raise CdprError("the compiled engine has no 6-DoF solver yet; use --engine numpy")
+    c = compensated_lengths(robot, P, rv, t_min=args.t_min, t_max=t_max)
+    ok = c["feasible"]
+    res = solve_spatial(actual or robot, P, rv, L0=np.where(ok[:, None], c["L0"], 1.0))
+    status = np.where(ok, res["status"], "infeasible")
+    if args.points or args.out:
+        df = to_frame6(robot, res)
+        df["status"] = status
+        for i in range(robot.m):
+            df[f"L0_{i + 1}"] = c["L0"][:, i]
+        for i in range(robot.m):
+            df[f"t_planned{i + 1}"] = c["t"][:, i]
+        io.write_table(df, args.out)
+        print(f"wrote {len(df)} poses to {args.out}; {int((~ok).sum())} infeasible (no tension distribution)")
+        return
+    out = {
+        "desired": list(map(float, args.at)),
+        "rotvec": res["rotvec"][0].tolist(),
+        "lengths": c["L0"][0].tolist(),
+        "tensions": c["t"][0].tolist(),
+        "status": str(status[0]),
+        "solved": res["P_s"][0].tolist() if ok[0] else None,
+        "solved_rotvec": res["rotvec_s"][0].tolist() if ok[0] else None,
+        "dp_norm": float(res["dp"][0]) if ok[0] else None,
+        "dphi": float(res["dphi"][0]) if ok[0] else None,
+    }
+    if args.json:
+        print(json.dumps(io.clean_json(out), indent=2))
+        return
+    print(
+        f"{robot.name} ({robot.pulley_summary()}, {robot.material_summary()}), distribution min_norm at a pose"
+    )
+    if not ok[0]:
+        print(
+            "status: infeasible (no tension distribution within the bounds holds the platform at this pose)"
+        )
+        return
+    rows = [
+        [str(i + 1), f"{L:.6f}", f"{t:.2f}"] for i, (L, t) in enumerate(zip(out["lengths"], out["tensions"]))
+    ]
+    print(_table(rows, ["cable", "rest length L0 [m]", "planned tension [N]"]))
+    print(
+        f"status: {out['status']}; the platform settles {out['dp_norm']:.3g} m and {out['dphi']:.3g} rad from the pose"
     )
 
 

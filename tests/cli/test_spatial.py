@@ -122,3 +122,26 @@ def test_spatial_refusals_are_one_line(capsys, extra, message):
     assert main(["point", "--robot", COGIRO, "--at", "0", "0", "2", *extra]) == 2
     err = capsys.readouterr().err
     assert message in err and err.count("\n") == 1
+
+
+def test_compensate_at_a_pose_round_trips(capsys):
+    E = ["80e9", "120e9", "95e9", "130e9", "110e9", "90e9", "105e9", "115e9"]
+    base = ["compensate", "--robot", COGIRO, "--E-cables", *E, "--t-min", "100", "--t-max", "5000"]
+    out = run_json(capsys, *base, "--at", "0", "0", "2", "--rotvec", TILT, "0", "0")
+    assert out["status"] == "ok" and len(out["lengths"]) == 8
+    assert out["dp_norm"] < 1e-9 and out["dphi"] < 1e-9
+    hang = run_json(
+        capsys,
+        "compensate",
+        "--robot",
+        str(ROBOTS / "hang4_6dof.yaml"),
+        "--at",
+        "0.3",
+        "0.2",
+        "2.5",
+        "--rotvec",
+        "0.2",
+        "0",
+        "0",
+    )
+    assert hang["status"] == "infeasible" and hang["lengths"] == [None] * 4
