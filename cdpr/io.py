@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+import csv
 import json
 import math
 import os
+import re
 import tempfile
 from pathlib import Path
 
@@ -116,8 +118,48 @@ def clean_json(obj):
 
 
 def write_json(obj, path):
-    atomic(path, lambda tmp: Path(tmp).write_text(json.dumps(clean_json(obj), indent=2) + "\n"))
+    atomic(
+        path, lambda tmp: Path(tmp).write_text(json.dumps(clean_json(obj), indent=2) + "\n", encoding="utf-8")
+    )
 
 
 def write_text(text, path):
-    atomic(path, lambda tmp: Path(tmp).write_text(text))
+    atomic(path, lambda tmp: Path(tmp).write_text(text, encoding="utf-8"))
+
+
+#: A number as a points table may spell it: plain decimal or exponent notation (no digit separators
+#: such as ``1_0``, no decimal comma), or nan/inf (refused later as non-finite, with the row).
+_NUMBER = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?|[+-]?(?:nan|inf|infinity)", re.IGNORECASE)
+
+
+def is_plain_number(text):
+    """True for plain decimal or exponent notation ('2.5', '-1e-3', '.5'), and for nan/inf."""
+    return _NUMBER.fullmatch(text.strip()) is not None
+
+
+def check_csv_rows(path, columns):
+    """Refuse a CSV table whose rows do not all have the header's number of fields, or whose
+    ``columns`` hold something other than a plain number (a decimal comma, a digit separator, a
+    word), with one line naming the file, the row (1 = the first row after the header) and the
+    column."""
+    with open(path, newline="", encoding="utf-8") as f:
+        reader = csv.reader(f)
+        header = next(reader, None)
+        if header is None:
+            raise CdprError(f"{path}: the table is empty; it needs a header row ({', '.join(columns)})")
+        where = {c: header.index(c) for c in columns if c in header}
+        for row_no, row in enumerate(reader, start=1):
+            if not row:
+                continue
+            if len(row) != len(header):
+                raise CdprError(
+                    f"{path}: row {row_no} has {len(row)} fields, the header has {len(header)} "
+                    f"({', '.join(header)}); every row needs one value per column"
+                )
+            for c, k in where.items():
+                if not is_plain_number(row[k]):
+                    hint = " (use a decimal point, not a comma)" if "," in row[k] else ""
+                    raise CdprError(
+                        f"{path}: row {row_no}, column {c}: {row[k]!r} is not a number{hint}; "
+                        "allowed: plain decimal or exponent notation, e.g. 2.5 or 2.5e-3"
+                    )

@@ -22,18 +22,82 @@ SCHEMA_DIR = Path(__file__).parent / "schemas"
 @lru_cache(maxsize=None)
 def schema(name):
     """The parsed schema ``cdpr/schemas/<name>.schema.yaml`` (``name`` e.g. "robot", "study")."""
-    return yaml.safe_load((SCHEMA_DIR / f"{name}.schema.yaml").read_text())
+    return yaml.safe_load((SCHEMA_DIR / f"{name}.schema.yaml").read_text(encoding="utf-8"))
+
+
+#: Largest configuration file read [bytes]: robot and study files are a few kB; a larger "file" is a
+#: mistake (a data file, a device), refused before it is read.
+MAX_CONFIG_BYTES = 4 * 1024 * 1024
+
+
+class _UniqueKeyLoader(yaml.SafeLoader):
+    """yaml.SafeLoader that refuses a key given twice in one mapping (YAML's default keeps the last)."""
+
+    def construct_mapping(self, node, deep=False):
+        seen = {}
+        for key_node, _ in node.value:
+            key = self.construct_object(key_node, deep=True)
+            try:
+                first = seen.get(key)
+            except TypeError:  # an unhashable key: let the base class say so
+                break
+            if first is not None:
+                raise _DuplicateKey(key, first, key_node.start_mark.line + 1)
+            seen[key] = key_node.start_mark.line + 1
+        return super().construct_mapping(node, deep=deep)
+
+
+class _DuplicateKey(Exception):
+    def __init__(self, key, first, second):
+        self.key, self.first, self.second = key, first, second
+
+
+def read_text_file(path, what="file", max_bytes=MAX_CONFIG_BYTES):
+    """The text of a UTF-8 file; ConfigError naming the file when it is missing, not a regular file
+    (a folder, a device such as /dev/zero, a pipe), larger than ``max_bytes``, binary or not UTF-8."""
+    path = Path(path)
+    try:
+        st = path.stat()
+    except OSError as exc:
+        raise ConfigError(path, None, f"cannot read the file ({exc.strerror})") from None
+    if path.is_dir():
+        raise ConfigError(path, None, f"is a folder, not a {what}")
+    if not path.is_file():
+        raise ConfigError(path, None, f"is not a regular file (a device or a pipe?); give a {what}")
+    if st.st_size > max_bytes:
+        raise ConfigError(
+            path, None, f"is {st.st_size / 2**20:.1f} MiB; a {what} is at most {max_bytes / 2**20:.0f} MiB"
+        )
+    try:
+        data = path.read_bytes()
+    except OSError as exc:
+        raise ConfigError(path, None, f"cannot read the file ({exc.strerror})") from None
+    if data.startswith((b"\xff\xfe", b"\xfe\xff")):
+        raise ConfigError(path, None, "is UTF-16 text; save it as UTF-8")
+    if b"\x00" in data:
+        raise ConfigError(path, None, f"is a binary file, not a text {what}")
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        line = data[: exc.start].count(b"\n") + 1
+        raise ConfigError(
+            path,
+            None,
+            f"is not UTF-8 text (byte 0x{data[exc.start]:02x} on line {line}; Latin-1?); save it as UTF-8",
+        ) from None
 
 
 def read_yaml(path):
-    """Parse a YAML file; a missing file or a syntax error becomes a ConfigError naming the file."""
+    """Parse a YAML file (``read_text_file``); a syntax error or a key given twice in one mapping
+    becomes a ConfigError naming the file (and the key with both lines)."""
     path = Path(path)
+    text = read_text_file(path, "YAML file")
     try:
-        text = path.read_text()
-    except OSError as exc:
-        raise ConfigError(path, None, f"cannot read the file ({exc.strerror})") from None
-    try:
-        return yaml.safe_load(text)
+        return yaml.load(text, Loader=_UniqueKeyLoader)  # noqa: S506 (a SafeLoader subclass)
+    except _DuplicateKey as exc:
+        raise ConfigError(
+            path, str(exc.key), f"given twice (lines {exc.first} and {exc.second}); keep one"
+        ) from None
     except yaml.YAMLError as exc:
         raise ConfigError(path, None, f"not valid YAML: {' '.join(str(exc).split())}") from None
 
@@ -99,19 +163,39 @@ def _explain(err):
     return [], err.message
 
 
+def problems(errors):
+    """(key, sentence) of each distinct violation: per error its most precise sub-error, then of
+    errors on the same branch of the file only the deepest (a parent's "not valid" adds nothing)."""
+    found = []
+    for err in errors:
+        if err.context:  # allOf/anyOf/oneOf: take the most precise sub-error
+            err = max(err.context, key=lambda e: len(e.absolute_path))
+        extra, message = _explain(err)
+        found.append((list(err.absolute_path) + extra[:1], message))
+    found.sort(key=lambda pm: -len(pm[0]))
+    kept = []
+    for path, message in found:
+        if any(k[: len(path)] == path for k, _ in kept):
+            continue
+        if (path, message) not in kept:
+            kept.append((path, message))
+    kept.sort(key=lambda pm: [str(x) for x in pm[0]])
+    return [(key_path(path) or None, message) for path, message in kept]
+
+
 def validate(data, name, source):
     """Validate ``data`` against schema ``name``; raise ConfigError naming ``source`` and the key.
 
-    Of several violations the one deepest in the file is reported (it names the most precise key)."""
+    Every distinct violation is reported at once (``problems``): a file with several mistakes is
+    corrected in one go, one per key, the most precise key of each."""
     import jsonschema
 
     validator = jsonschema.Draft202012Validator(schema(name))
     errors = list(validator.iter_errors(data))
     if not errors:
         return data
-    err = max(errors, key=lambda e: len(e.absolute_path))
-    if err.context:  # allOf/anyOf: take the most precise sub-error
-        err = max(err.context, key=lambda e: len(e.absolute_path))
-    extra, message = _explain(err)
-    path = list(err.absolute_path) + extra[:1]
-    raise ConfigError(source, key_path(path) or None, message)
+    found = problems(errors)
+    if len(found) == 1:
+        raise ConfigError(source, *found[0])
+    listed = "; ".join(f"key '{k}': {m}" if k else m for k, m in found)
+    raise ConfigError(source, None, f"{len(found)} problems: {listed}")

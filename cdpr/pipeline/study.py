@@ -136,7 +136,7 @@ def read_box(path):
 
     p = Path(path)
     try:
-        return check_box(json.loads(p.read_text())["box"]).tolist()
+        return check_box(json.loads(p.read_text(encoding="utf-8"))["box"]).tolist()
     except FileNotFoundError:
         raise ConfigError(p, None, "the box file does not exist") from None
     except (ValueError, KeyError, TypeError) as exc:

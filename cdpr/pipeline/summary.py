@@ -102,7 +102,7 @@ def _V_T(st, res, robot):
 
 def _rw_c(res):
     p = Path(res) / "doe" / "rw_c.json"
-    return json.loads(p.read_text()) if p.exists() else None
+    return json.loads(p.read_text(encoding="utf-8")) if p.exists() else None
 
 
 def _rw_c_volume(st, res):
