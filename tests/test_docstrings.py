@@ -28,6 +28,7 @@ MODEL_MODULES = [
     "models.platform",
     "models.equilibrium6",
     "models.distribution6",
+    "models.sensitivity6",
 ]
 
 #: A numpy section header: a title line underlined by dashes of the same length.
