@@ -1021,6 +1021,9 @@ def build_parser():
     from cdpr.cli import caspr
 
     caspr.add_parser(sub, _Parser, positive, non_negative)
+    from cdpr.cli import view
+
+    view.add_parser(sub, finite)
     return ap
 
 

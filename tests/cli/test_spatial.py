@@ -145,3 +145,16 @@ def test_compensate_at_a_pose_round_trips(capsys):
         "0",
     )
     assert hang["status"] == "infeasible" and hang["lengths"] == [None] * 4
+
+
+def test_view_writes_a_picture(tmp_path, capsys):
+    out = tmp_path / "robot.png"
+    assert (
+        main(
+            ["view", "--robot", COGIRO, "--at", "0", "0", "2", "--rotvec", TILT, "0", "0", "--out", str(out)]
+        )
+        == 0
+    )
+    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and out.stat().st_size > 20_000
+    assert main(["view", "--robot", COGIRO, "--out", str(tmp_path / "robot.jpg")]) == 2
+    assert "unknown output format '.jpg'" in capsys.readouterr().err
