@@ -224,10 +224,14 @@ class Robot:
     @cached_property
     def envelope_volume(self):
         """Volume V_T of the outer envelope [m^3]: the anchors' horizontal convex hull from z = 0 to
-        the lowest anchor height (a 5 m cube for CDPR4, a 54.13 m^3 prism for CDPR3)."""
+        the lowest anchor height (a 5 m cube for CDPR4, a 54.13 m^3 prism for CDPR3); for a robot
+        that is not a suspended point mass, from min(0, lowest anchor) to the highest anchor."""
         from scipy.spatial import ConvexHull
 
         hull = ConvexHull(self.A[:, :2])
+        if not self.suspended_point_mass:  # the frame's extent (issue 17)
+            z = self.A[:, 2]
+            return float(hull.volume * (z.max() - min(0.0, z.min())))
         return float(hull.volume * self.A[:, 2].min())
 
     def pulley_summary(self):

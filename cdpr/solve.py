@@ -179,7 +179,7 @@ def solve_table(
     -------
     DataFrame, one row per point (``results_frame``)."""
     p = np.atleast_2d(np.asarray(p, dtype=float))
-    if redundancy != "paper" or L0 is not None or not robot.suspended_point_mass:
+    if redundancy != "paper" or L0 is not None or not robot.suspended_point_mass or "rotvec" in options:
         return results_frame(
             robot, solve_points_any(robot, p, method, engine, threads, redundancy, L0, **options), redundancy
         )

@@ -355,6 +355,11 @@ def _solve_sensitivities(robot, P, args, L0=None):
     """The solve plus dP*/dθ (``sensitivity.sensitivities``) for --sensitivities."""
     from cdpr.models.sensitivity import sensitivities
 
+    if not robot.suspended_point_mass or getattr(args, "rotvec", None) is not None:
+        raise CdprError(
+            "--sensitivities is not available yet for a rigid platform or an orientation (--rotvec); "
+            "the library has cdpr.models.sensitivity6.spatial_sensitivities"
+        )
     if args.method != "newton":
         raise CdprError(
             "--sensitivities needs --method newton (the implicit-function theorem uses its Jacobian at the solution)"
@@ -651,8 +656,23 @@ def cmd_grid(args):
         res = _solve_sensitivities(robot, P, args)
         df = _with_sensitivities(results_frame(robot, res, args.redundancy), res)
     else:
+        extra = {} if args.rotvec is None else {"rotvec": np.asarray(args.rotvec, dtype=float)}
         df = solve_table(
-            robot, P, method=args.method, engine=args.engine, threads=args.threads, redundancy=args.redundancy
+            robot,
+            P,
+            method=args.method,
+            engine=args.engine,
+            threads=args.threads,
+            redundancy=args.redundancy,
+            **extra,
+        )
+    if args.wrench_feasible:
+        from cdpr.models.distribution6 import distribute_pose
+
+        df["feasible"] = distribute_pose(robot, P, args.rotvec, t_min=args.t_min)["feasible"]
+        cell = np.prod([(box[2 * k + 1] - box[2 * k]) / args.n for k in range(3)])
+        print(
+            f"wrench-feasible: {int(df['feasible'].sum())} of {len(df)} grid points, {df['feasible'].sum() * cell:.4g} m^3"
         )
     io.write_table(df, args.out)
     dt = time.perf_counter() - t0
@@ -961,6 +981,17 @@ def build_parser():
         help="the frame's bounding box (anchors' extent, z from 0 to the pulleys)",
     )
     sp.add_argument("--n", type=count(1), required=True, help="points per axis")
+    sp.add_argument(
+        "--rotvec", nargs=3, type=finite, metavar=("RX", "RY", "RZ"), help="fixed platform orientation [rad]"
+    )
+    sp.add_argument(
+        "--wrench-feasible",
+        action="store_true",
+        help="add a 'feasible' column: a tension distribution in [--t-min, T_a] holds the platform at the pose",
+    )
+    sp.add_argument(
+        "--t-min", type=non_negative, default=100.0, metavar="N", help="least tension of --wrench-feasible"
+    )
     sp.add_argument("--out", required=True, metavar="FILE", help="output .parquet or .csv")
     sp.add_argument("--shard", type=count(0), default=0, help="0-based shard index (default 0)")
     sp.add_argument("--shards", type=count(1), default=1, help="number of shards (default 1)")

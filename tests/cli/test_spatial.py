@@ -158,3 +158,46 @@ def test_view_writes_a_picture(tmp_path, capsys):
     assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and out.stat().st_size > 20_000
     assert main(["view", "--robot", COGIRO, "--out", str(tmp_path / "robot.jpg")]) == 2
     assert "unknown output format '.jpg'" in capsys.readouterr().err
+
+
+def test_grid_at_a_fixed_orientation_with_wrench_feasibility(tmp_path, capsys):
+    out = tmp_path / "g.csv"
+    base = [
+        "grid",
+        "--box",
+        "-2",
+        "2",
+        "-2",
+        "2",
+        "1",
+        "3",
+        "--n",
+        "2",
+        "--redundancy",
+        "physical",
+        "--wrench-feasible",
+    ]
+    assert main([*base, "--robot", COGIRO, "--rotvec", "0.1", "0", "0", "--out", str(out)]) == 0
+    df = pd.read_csv(out)
+    assert len(df) == 8 and df["feasible"].all() and (df["rx"] == 0.1).all() and (df["status"] == "ok").all()
+    assert "wrench-feasible: 8 of 8 grid points, 32 m^3" in capsys.readouterr().out
+    hang = str(ROBOTS / "hang4_6dof.yaml")
+    assert main([*base, "--robot", hang, "--rotvec", "0.1", "0", "0", "--out", str(out)]) == 0
+    assert not pd.read_csv(out)["feasible"].any()  # 4 cables, 6 DoF: no distribution at a fixed orientation
+    capsys.readouterr()
+    assert main([*base[:-1], "--robot", COGIRO, "--sensitivities", "--out", str(out)]) == 2
+    assert "not available yet for a rigid platform" in capsys.readouterr().err
+
+
+def test_frame_extent_of_a_robot_that_is_not_a_suspended_point_mass(cdpr4):
+    from cdpr.analyses.workspace import frame_box
+    from cdpr.robot import load_robot
+
+    cog = load_robot(COGIRO)
+    box = frame_box(cog)
+    assert box[4] == 0.0 and box[5] == pytest.approx(5.42) and box[0] == pytest.approx(-7.4594)
+    assert frame_box(cdpr4) == [-2.5, 2.5, -2.5, 2.5, 0.0, 5.0] and cdpr4.envelope_volume == pytest.approx(
+        125.0
+    )
+    ip = load_robot(ROBOTS / "ipanema_like.yaml")
+    assert ip.envelope_volume == pytest.approx(4 * 3 * 3)
