@@ -463,35 +463,45 @@ def _restart(cab, p, R_d, L0, P, R, cur, iters, conv, tol, maxiter, max_step):
     P2, R2, cur2, it2, conv2 = _newton6(
         cab, start_poses(cab.robot, p[rep]), Rs, L0[rep], p[rep], tol, maxiter, max_step
     )
-    rv1, rv2 = rotvec_of(R), rotvec_of(R2)
-    for a, i in enumerate(idx):
-        cands = [(P[i], R[i], rv1[i], cur["merit"][i], conv[i], None)]
-        for j in range(a * k, (a + 1) * k):
-            cands.append((P2[j], R2[j], rv2[j], cur2["merit"][j], conv2[j], j))
-        cands = [c for c in cands if c[4] and np.isfinite(c[3])] or cands[:1]
-        distinct = []
-        for c in sorted(cands, key=lambda c: c[3]):
-            if all(
-                np.linalg.norm(c[0] - d[0]) > DISTINCT or rotation_error(c[1], d[1]) > DISTINCT
-                for d in distinct
-            ):
-                distinct.append(c)
-        best = distinct[0]
-        if best[5] is not None:
-            j = best[5]
-            P[i], R[i], iters[i], conv[i] = P2[j], R2[j], iters[i] + it2[j], conv2[j]
-            for key in ("F", "M", "Fn", "t", "merit", "J", "grad", "kappa"):
-                cur[key][i] = cur2[key][j]
-        unique[i] = len(distinct) == 1
-        t_of = lambda c: cur["t"][i] if c[5] is None else cur2["t"][c[5]]  # noqa: E731
-        alternatives[i] = [
+    f, K = idx.size, k + 1
+    cP = np.concatenate([P[idx][:, None], P2.reshape(f, k, 3)], axis=1)  # candidates (f, K, ...)
+    cR = np.concatenate([R[idx][:, None], R2.reshape(f, k, 3, 3)], axis=1)
+    cE = np.concatenate([cur["merit"][idx][:, None], cur2["merit"].reshape(f, k)], axis=1)
+    cT = np.concatenate([cur["t"][idx][:, None], cur2["t"].reshape(f, k, -1)], axis=1)
+    valid = np.concatenate([conv[idx][:, None], conv2.reshape(f, k)], axis=1) & np.isfinite(cE)
+    valid[:, 0] |= ~valid.any(axis=1)  # nothing converged: keep the first solve
+    order = np.argsort(np.where(valid, cE, np.inf), axis=1, kind="stable")
+    sP = np.take_along_axis(cP, order[..., None], axis=1)
+    sR = np.take_along_axis(cR, order[..., None, None], axis=1)
+    sV = np.take_along_axis(valid, order, axis=1)
+    same = (np.linalg.norm(sP[:, :, None] - sP[:, None, :], axis=-1) <= DISTINCT) & (
+        rotation_error(sR[:, :, None], sR[:, None, :]) <= DISTINCT
+    )
+    distinct = np.zeros((f, K), dtype=bool)
+    distinct[:, 0] = True
+    for c in range(1, K):  # over the K candidates, vectorised over the points
+        distinct[:, c] = sV[:, c] & ~(same[:, c, :c] & distinct[:, :c]).any(axis=1)
+    best = order[:, 0]
+    moved = best > 0
+    src = np.arange(f)[moved] * k + best[moved] - 1
+    dst = idx[moved]
+    P[dst], R[dst], conv[dst] = P2[src], R2[src], conv2[src]
+    iters[dst] += it2[src]
+    for key in ("F", "M", "Fn", "t", "merit", "J", "grad", "kappa"):
+        cur[key][dst] = cur2[key][src]
+    unique[idx] = distinct.sum(axis=1) == 1
+    sE = np.take_along_axis(cE, order, axis=1)
+    sT = np.take_along_axis(cT, order[..., None], axis=1)
+    rv = rotvec_of(sR)
+    for a in np.flatnonzero(~unique[idx]):  # the JSON list of the other equilibria (output only)
+        alternatives[idx[a]] = [
             {
-                "P_s": c[0].tolist(),
-                "rotvec_s": c[2].tolist(),
-                "energy": float(c[3]),
-                "taut": (np.flatnonzero(t_of(c) > TAUT_MIN) + 1).tolist(),
+                "P_s": sP[a, c].tolist(),
+                "rotvec_s": rv[a, c].tolist(),
+                "energy": float(sE[a, c]),
+                "taut": (np.flatnonzero(sT[a, c] > TAUT_MIN) + 1).tolist(),
             }
-            for c in distinct[1:]
+            for c in np.flatnonzero(distinct[a])[1:]
         ]
     return P, R, cur, iters, conv, unique, alternatives
 
