@@ -137,6 +137,16 @@ def _physics_options(sp):
     )
 
 
+def _rotvec_argument(sp):
+    sp.add_argument(
+        "--rotvec",
+        nargs=3,
+        type=finite,
+        metavar=("RX", "RY", "RZ"),
+        help="platform orientation: rotation vector [rad] (active, base frame; default identity)",
+    )
+
+
 def _points_options(sp, what):
     g = sp.add_mutually_exclusive_group(required=True)
     g.add_argument("--at", nargs=3, type=finite, metavar=("X", "Y", "Z"), help=f"{what} [m]")
@@ -730,7 +740,15 @@ def cmd_plane(args):
     robot = _load(args)
     io.check_output(args.out)
     top = float(robot.A[:, 2].min())
-    if not 0.0 <= args.z < top:
+    if not robot.suspended_point_mass:
+        from cdpr.analyses.workspace import frame_box
+
+        lo, hi = frame_box(robot)[4:]
+        if not lo <= args.z <= hi:
+            raise CdprError(
+                f"--z must lie within the frame's height ({lo:g} <= z <= {hi:g} m), got {args.z:g}"
+            )
+    elif not 0.0 <= args.z < top:
         raise CdprError(
             f"--z must lie between the floor and the lowest pulley (0 <= z < {top:g} m), got {args.z:g}"
         )
@@ -743,9 +761,15 @@ def cmd_plane(args):
         engine=args.engine,
         threads=args.threads,
         redundancy=args.redundancy,
+        **_rotvec_option(args),
     )
     io.write_table(df, args.out)
     _report(df, args.out, args, time.perf_counter() - t0)
+
+
+def _rotvec_option(args):
+    """``{"rotvec": (3,)}`` for the solvers when --rotvec is given, else nothing."""
+    return {} if args.rotvec is None else {"rotvec": np.asarray(args.rotvec, dtype=float)}
 
 
 def cmd_trajectory(args):
@@ -761,6 +785,7 @@ def cmd_trajectory(args):
         engine=args.engine,
         threads=args.threads,
         redundancy=args.redundancy,
+        **_rotvec_option(args),
     )
     io.write_table(df, args.out)
     _report(df, args.out, args, time.perf_counter() - t0)
@@ -1020,6 +1045,7 @@ def build_parser():
         "--n", type=count(2, 20000), required=True, help="points per side over the anchors' bounding box"
     )
     sp.add_argument("--out", required=True, metavar="FILE")
+    _rotvec_argument(sp)
     _physics_options(sp)
     sp.set_defaults(func=cmd_plane)
     sp = sub.add_parser(
@@ -1031,6 +1057,7 @@ def build_parser():
     sp.add_argument("--end", nargs=3, type=finite, required=True, metavar=("X", "Y", "Z"))
     sp.add_argument("--n", type=count(2, 100_000_000), required=True, help="points along the path")
     sp.add_argument("--out", required=True, metavar="FILE")
+    _rotvec_argument(sp)
     _physics_options(sp)
     sp.set_defaults(func=cmd_trajectory)
     sp = sub.add_parser("job", help="a pipeline task: tables in, tables and figures out (run by Snakemake)")

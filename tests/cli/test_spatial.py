@@ -201,3 +201,16 @@ def test_frame_extent_of_a_robot_that_is_not_a_suspended_point_mass(cdpr4):
     )
     ip = load_robot(ROBOTS / "ipanema_like.yaml")
     assert ip.envelope_volume == pytest.approx(4 * 3 * 3)
+
+
+def test_plane_and_trajectory_take_an_orientation(tmp_path, capsys):
+    out = tmp_path / "t.csv"
+    base = ["--robot", COGIRO, "--rotvec", "0", "0.1", "0", "--redundancy", "physical", "--out", str(out)]
+    assert main(["trajectory", "--start", "-1", "0", "1.5", "--end", "1", "0", "2", "--n", "3", *base]) == 0
+    df = pd.read_csv(out)
+    assert len(df) == 3 and (df["ry"] == 0.1).all() and "s" in df.columns and (df["status"] == "ok").all()
+    assert main(["plane", "--z", "2", "--n", "2", *base]) == 0
+    assert len(pd.read_csv(out)) == 4
+    capsys.readouterr()
+    assert main(["plane", "--z", "7", "--n", "2", *base]) == 2
+    assert "--z must lie within the frame's height (0 <= z <= 5.42 m)" in capsys.readouterr().err
