@@ -23,8 +23,8 @@ from cdpr.analyses import uncertainty as uq
 from cdpr.analyses.workspace import grid_points
 from cdpr.compiled.equilibrium import solve_physical_fast
 from cdpr.compiled.subsets import solve_points_fast
-from cdpr.models.sensitivity import sensitivities
 from cdpr.robot import load_robot, with_pulleys
+from cdpr.solve import sensitivities
 
 RW_C = [-2.32, 2.32, -2.32, 2.32, 0.0, 3.73]
 DESIGNS = {"SR*": ("SR", 0.1077, 0.035), "DR*": ("DR", 0.100, 0.080)}

@@ -13,7 +13,7 @@ def run():
     a third of a 250,000-point ``cdpr grid``. Reference counting still frees everything else; the
     library itself never touches the collector."""
     gc.disable()
-    from cdpr.cli.commands import main
+    from cdpr.cli.main import main  # lazy: after the collector is off
 
     code = main()
     gc.freeze()  # interpreter exit: do not collect what was loaded

@@ -65,47 +65,6 @@ def check_output(path, suffixes=None):
     return path
 
 
-def write_table(df, path):
-    """Write a DataFrame as parquet (.parquet) or CSV (.csv, floats with CSV_DIGITS significant
-    digits), atomically."""
-    import pandas as pd
-
-    suffix = Path(path).suffix
-    if suffix == ".parquet":
-        import pyarrow as pa
-        import pyarrow.parquet as pq
-
-        # uncompressed (float columns barely compress; snappy triples the write time) and dictionary
-        # encoding only for the categorical columns (trying it on every float column costs 5x)
-        table = pa.Table.from_pandas(df, preserve_index=False)
-        cats = [c for c in df.columns if isinstance(df[c].dtype, pd.CategoricalDtype)]
-        atomic(path, lambda tmp: pq.write_table(table, tmp, compression=None, use_dictionary=cats or False))
-    elif suffix == ".csv":
-        atomic(path, lambda tmp: df.to_csv(tmp, index=False, float_format=f"%.{CSV_DIGITS}g"))
-    else:
-        raise CdprError(f"{path}: unknown table format '{suffix}'; allowed: .parquet, .csv")
-
-
-def read_table(path):
-    """Read a .parquet or .csv table; a truncated or unreadable file is named, with what to do."""
-    import pandas as pd
-
-    suffix = Path(path).suffix
-    if suffix not in TABLE_SUFFIXES:
-        raise CdprError(f"{path}: unknown table format '{suffix}'; allowed: .parquet, .csv")
-    if not Path(path).exists():
-        raise FileNotFoundError(path)
-    try:
-        return pd.read_parquet(path) if suffix == ".parquet" else pd.read_csv(path)
-    except FileNotFoundError:
-        raise
-    except Exception as exc:  # pyarrow.ArrowInvalid, pandas' EmptyDataError/ParserError, ...
-        raise CdprError(
-            f"{path}: cannot read this table ({type(exc).__name__}: {' '.join(str(exc).split())[:200]}); "
-            f"it is probably truncated by an interrupted run: delete it and run again"
-        ) from None
-
-
 def clean_json(obj):
     """Replace NaN/inf floats by None so the JSON is standard."""
     if isinstance(obj, float):

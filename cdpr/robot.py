@@ -37,9 +37,9 @@ from pathlib import Path
 from typing import NamedTuple
 
 import numpy as np
+from scipy.spatial import ConvexHull
 
 from cdpr.errors import ConfigError
-from cdpr.models.winch import params_from_mapping
 from cdpr.units import quantity
 from cdpr.validation import read_yaml, validate  # noqa: F401  (read_yaml re-exported)
 
@@ -49,6 +49,110 @@ KIND_CODE = {"fixed": 0, "SR": 1, "DR": 2}
 
 #: Standard gravity [m/s^2], the default of ``platform.gravity_m_per_s2``.
 G_STANDARD = 9.81
+
+
+# ---- winch description (Métillon 2022, Table 1) ----------------------------------------------
+@dataclasses.dataclass(frozen=True)
+class WinchParams:
+    """Description of one winch: the parameters of its quadratic (Métillon 2022, Table 1), SI units
+    (the equations are in ``cdpr.models.winch``).
+
+    k_w coiling coefficient [m/rad]; l_u0 initial uncoiled length [m]; q0 initial joint angle [rad];
+    q_max drum angle at full coiling [rad]; l_AE1 |A E1| [m]; l_E1E2 coiling length [m];
+    alpha_E1 angle between AE1 and E1E2 [rad].
+    """
+
+    k_w: float
+    l_u0: float
+    q0: float
+    q_max: float
+    l_AE1: float
+    l_E1E2: float
+    alpha_E1: float
+
+
+#: Table 1 of the winch seed.
+TABLE1 = WinchParams(
+    k_w=0.07460068, l_u0=5.9261, q0=94.2478, q_max=188.4956, l_AE1=2.6848, l_E1E2=0.06, alpha_E1=1.6906
+)
+
+_PARAM_KEYS = {
+    "k_w_m": ("k_w", "m"),
+    "l_u0_m": ("l_u0", "m"),
+    "q0_rad": ("q0", "rad"),
+    "q_max_rad": ("q_max", "rad"),
+    "l_AE1_m": ("l_AE1", "m"),
+    "l_E1E2_m": ("l_E1E2", "m"),
+    "alpha_E1_rad": ("alpha_E1", "rad"),
+}
+
+
+def params_from_mapping(data, source, key=""):
+    """WinchParams from a mapping of the keys of ``_PARAM_KEYS`` (k_w_m, l_u0_m, q0_rad, q_max_rad,
+    l_AE1_m, l_E1E2_m, alpha_E1_rad; SI values or strings with units); missing keys take Table 1's
+    values. Errors name ``source`` and ``key`` (the mapping's place in its file).
+
+    Parameters
+    ----------
+    data : dict
+        Winch parameters by key: lengths [m], angles [rad], as numbers or strings with units
+        (``"60 mm"``). Every value but alpha_E1_rad must be > 0; alpha_E1_rad lies in [0, pi];
+        q0_rad must lie in [0, q_max_rad].
+    source : str
+        Name of the file (or other origin) for error messages.
+    key : str
+        Dotted place of the mapping in that file, for error messages ('' at the top level).
+
+    Returns
+    -------
+    WinchParams
+        The parameters of Métillon 2022 Table 1 with the given values, SI units.
+
+    Raises
+    ------
+    ConfigError
+        For an unknown key, a value with the wrong unit or out of range.
+    """
+    if not isinstance(data, dict):
+        raise ConfigError(source, key or None, "expected a mapping of winch parameters")
+    prefix = f"{key}." if key else ""
+    values = dataclasses.asdict(TABLE1)
+    for k, val in data.items():
+        if k not in _PARAM_KEYS:
+            raise ConfigError(source, prefix + str(k), f"unknown key; allowed: {', '.join(_PARAM_KEYS)}")
+        field, dim = _PARAM_KEYS[k]
+        v = quantity(val, dim, source, prefix + k)
+        if field != "alpha_E1" and (v < 0 or (v == 0 and field != "q0")):
+            raise ConfigError(
+                source, prefix + k, f"must be {'>= 0' if field == 'q0' else 'strictly positive'}, got {val!r}"
+            )
+        if field == "alpha_E1" and not 0 <= v <= math.pi:
+            raise ConfigError(
+                source, prefix + k, f"an angle between two segments lies in [0, pi] rad, got {val!r}"
+            )
+        values[field] = v
+    p = WinchParams(**values)
+    if not 0 <= p.q0 <= p.q_max:
+        raise ConfigError(
+            source, prefix + "q0_rad", f"must lie in [0, q_max_rad] = [0, {p.q_max:g}], got {p.q0:g}"
+        )
+    return p
+
+
+def load_winch_params(path):
+    """Read WinchParams from a YAML file (keys as ``params_from_mapping``).
+
+    Parameters
+    ----------
+    path : str or Path
+        YAML file holding one mapping of winch parameters.
+
+    Returns
+    -------
+    WinchParams
+        SI units; missing keys take Table 1's values.
+    """
+    return params_from_mapping(read_yaml(path), path)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -86,7 +190,7 @@ class Cable:
     pulley: Pulley
     dead_length: float
     material: CableMaterial
-    winch: object = None  #: winch.WinchParams of the drum that pays the cable out, or None (no winch model)
+    winch: object = None  #: WinchParams of the drum that pays the cable out, or None (no winch model)
     B: tuple = (0.0, 0.0, 0.0)  #: attachment point b_i in the platform frame [m]
 
 
@@ -226,8 +330,6 @@ class Robot:
         """Volume V_T of the outer envelope [m^3]: the anchors' horizontal convex hull from z = 0 to
         the lowest anchor height (a 5 m cube for CDPR4, a 54.13 m^3 prism for CDPR3); for a robot
         that is not a suspended point mass, from min(0, lowest anchor) to the highest anchor."""
-        from scipy.spatial import ConvexHull
-
         hull = ConvexHull(self.A[:, :2])
         if not self.suspended_point_mass:  # the frame's extent (issue 17)
             z = self.A[:, 2]
@@ -246,7 +348,7 @@ class Robot:
 
     @property
     def winches(self):
-        """Each cable's winch.WinchParams, or None where the robot file gives no winch."""
+        """Each cable's WinchParams, or None where the robot file gives no winch."""
         return tuple(c.winch for c in self.cables)
 
     def material_summary(self):

@@ -1,50 +1,24 @@
-"""Solving many points into a table: the engine/method dispatch and the per-point columns.
+"""The engine registry: every choice between a numba kernel (``cdpr.compiled``) and its numpy
+reference (``cdpr.models``) is made here, through ``check_engine``, and nowhere else.
 
-``solve_table`` is what the command line and the pipeline call. It chooses the compiled kernel
-(``cdpr.compiled.subsets``) or the numpy reference (``cdpr.models.subsets``), refuses engine/method pairs that do
-not exist, and returns one row per point with stable column names (``to_frame``).
+``solve_points_any`` solves the pose (per-point arrays; ``cdpr.tables.solve_table`` gives a DataFrame);
+``sensitivities`` and ``subset_sensitivities`` add dP*/dθ; ``linear_dp`` propagates them. Each takes
+``engine`` in ``ENGINES`` or None for the default (compiled for Newton, numpy for the fixed point);
+an unknown engine or an engine/method pair that does not exist raises CdprError naming the allowed
+values, never a silent fall-back. No pandas here: ``cdpr point`` solves one point without it.
 """
 
 from __future__ import annotations
 
 import numpy as np
-import pandas as pd
 
+from cdpr.compiled import equilibrium as compiled_equilibrium
+from cdpr.compiled import sensitivity as compiled_sensitivity
+from cdpr.compiled import subsets as compiled_subsets
 from cdpr.errors import CdprError
-from cdpr.models.subsets import STATUSES, pose_columns, solve_points, subset_label
-
-
-def subset_labels(robot, subset):
-    """Categorical labels ('1-2-3', ..., '' when none) of an (N, 3) array of 0-based subsets, built
-    from integer codes (no Python loop per point; parquet stores it dictionary-encoded)."""
-    subs = robot.subsets
-    labels = [subset_label(s) for s in subs] + [""]
-    weights = np.array([robot.m * robot.m, robot.m, 1])
-    skey = subs @ weights  # lexicographic order -> sorted keys
-    key = np.asarray(subset).reshape(-1, 3) @ weights
-    pos = np.minimum(np.searchsorted(skey, key), len(subs) - 1)
-    code = np.where((np.asarray(subset).reshape(-1, 3)[:, 0] >= 0) & (skey[pos] == key), pos, len(subs))
-    return pd.Categorical.from_codes(code, categories=labels)
-
-
-def to_frame(robot, res):
-    """One row per point with stable column names: x, y, z, x_s, y_s, z_s, dp, t1..tm, subset,
-    iterations, status (SI units)."""
-    df = pose_columns(robot, res)
-    df["subset"] = subset_labels(robot, res["subset"])
-    df["iterations"] = res["iterations"]
-    codes = (
-        res["status_code"]
-        if "status_code" in res
-        else pd.Categorical(res["status"], categories=list(STATUSES)).codes
-    )
-    df["status"] = pd.Categorical.from_codes(codes, categories=list(STATUSES))
-    return df
-
-
-#: Points solved per batch: bounds memory (about 2 kB per point and subset) and keeps arrays in cache.
-CHUNK = 20000
-
+from cdpr.models import equilibrium, sensitivity
+from cdpr.models.equilibrium6 import solve_spatial
+from cdpr.models.subsets import solve_points
 
 #: The (engine, method) pairs that exist: the compiled kernel implements Newton only.
 ENGINES = {"compiled": ("newton",), "numpy": ("newton", "fixed_point")}
@@ -70,6 +44,13 @@ def check_engine(engine, method):
 REDUNDANCY = ("paper", "physical")
 
 
+def check_redundancy(redundancy):
+    """``redundancy`` if it is one of ``REDUNDANCY``, else CdprError naming the allowed values."""
+    if redundancy not in REDUNDANCY:
+        raise CdprError(f"unknown redundancy {redundancy!r}; allowed: {', '.join(REDUNDANCY)}")
+    return redundancy
+
+
 def check_spatial(robot, engine, redundancy):
     """The engine for a robot that is not a suspended point mass (``Robot.suspended_point_mass``):
     such robots have the numpy 6-DoF physical mode only (``cdpr.models.equilibrium6``); paper mode
@@ -87,29 +68,39 @@ def check_spatial(robot, engine, redundancy):
 
 
 def solve_points_any(
-    robot, p, method="newton", engine=None, threads=None, redundancy="paper", L0=None, rotvec=None, **options
+    robot,
+    p,
+    method="newton",
+    engine=None,
+    threads=None,
+    redundancy="paper",
+    L0=None,
+    L=None,
+    rotvec=None,
+    **options,
 ):
     """Per-point results as a dict of arrays from the chosen model and engine.
 
     ``redundancy="paper"``: DEGM_E on every 3-cable subset and the paper's choice
-    (``redundancy.solve_points`` keys), commanded lengths L_TS at p. ``redundancy="physical"``:
-    the equilibrium on all cables (``equilibrium.solve_physical`` keys), commanded rest lengths
-    ``L0`` (N, m) [m] or L_TS at p. An engine/method/model combination that does not exist raises
+    (``redundancy.solve_points`` keys), commanded total lengths ``L`` (N, m) [m] or L_TS at p.
+    ``redundancy="physical"``: the equilibrium on all cables (``equilibrium.solve_physical`` keys),
+    commanded rest lengths ``L0`` (N, m) [m] or L_TS at p. A robot that is not a suspended point
+    mass, an orientation ``rotvec`` ((3,) or (N, 3) [rad]) or poses p (N, 6) go to the 6-DoF numpy
+    solver (``equilibrium6.solve_spatial``, physical mode; ``check_spatial``); paper mode on a point
+    mass ignores the orientation. An engine/method/model combination that does not exist raises
     CdprError."""
     p = np.atleast_2d(np.asarray(p, dtype=float))
-    if redundancy not in REDUNDANCY:
-        raise CdprError(f"unknown redundancy {redundancy!r}; allowed: {', '.join(REDUNDANCY)}")
+    check_redundancy(redundancy)
     if not robot.suspended_point_mass or rotvec is not None or p.shape[1] == 6:
         if not robot.suspended_point_mass:
             check_spatial(robot, engine, redundancy)
         if redundancy == "physical" or not robot.suspended_point_mass:
-            from cdpr.models.equilibrium6 import solve_spatial
-
             if method != "newton":
                 raise CdprError(
                     "physical mode has one solver (Newton on the force balance); --method fixed_point applies to paper mode"
                 )
-
+            if L is not None:
+                raise CdprError("physical mode commands rest lengths L0, not total lengths L")
             return solve_spatial(robot, p, rotvec, L0=L0, **options)
         p = p[:, :3]  # paper mode on a point mass: the orientation plays no part
     if redundancy == "physical":
@@ -117,79 +108,70 @@ def solve_points_any(
             raise CdprError(
                 "physical mode has one solver (Newton on the force balance); --method fixed_point applies to paper mode"
             )
+        if L is not None:
+            raise CdprError("physical mode commands rest lengths L0, not total lengths L")
         engine = check_engine(engine, "newton")
         if L0 is not None:
             L0 = np.broadcast_to(np.asarray(L0, dtype=float), (len(p), robot.m))
         if engine == "compiled":
-            from cdpr.compiled.equilibrium import solve_physical_fast
-
-            return solve_physical_fast(robot, p, L0=L0, threads=threads, **options)
-        from cdpr.models.equilibrium import solve_physical
-
-        return solve_physical(robot, p, L0=L0, **options)
+            return compiled_equilibrium.solve_physical_fast(robot, p, L0=L0, threads=threads, **options)
+        return equilibrium.solve_physical(robot, p, L0=L0, **options)
     if L0 is not None:
         raise CdprError(
             "commanded lengths need physical mode (--redundancy physical); paper mode commands L_TS at the desired point"
         )
     engine = check_engine(engine, method)
+    if L is not None:
+        options["L"] = L
     if engine == "compiled":
-        from cdpr.compiled.subsets import solve_points_fast
-
-        return solve_points_fast(robot, p, threads=threads, **options)
+        return compiled_subsets.solve_points_fast(robot, p, threads=threads, **options)
     return solve_points(robot, p, method=method, **options)
 
 
-def results_frame(robot, res, redundancy="paper"):
-    """One row per point of a ``solve_points_any`` result (paper: ``to_frame``; physical:
-    ``equilibrium.to_frame`` with the taut cables instead of the subset)."""
-    if redundancy == "physical":
-        from cdpr.models.equilibrium import to_frame as physical_frame
-
-        if "rotvec_s" in res and not robot.point_mass:
-            from cdpr.models.equilibrium6 import to_frame6
-
-            return to_frame6(robot, res)
-        return physical_frame(robot, res)
-    return to_frame(robot, res)
-
-
-def solve_table(
-    robot, p, method="newton", chunk=CHUNK, engine=None, threads=None, redundancy="paper", L0=None, **options
+def sensitivities(
+    robot,
+    p,
+    redundancy="paper",
+    L=None,
+    engine=None,
+    threads=None,
+    gap_tol=sensitivity.GAP_TOL,
+    t_tol=sensitivity.T_TOL,
+    **solver,
 ):
-    """Solve DEGM_E at points p with the paper-mode subset choice, as a DataFrame (``to_frame``).
-
-    Parameters
-    ----------
-    robot : Robot
-    p : array (N, 3) [m]
-        Desired platform positions.
-    method : {"newton", "fixed_point"}
-        DEGM_E solver (``direct.degm_e``).
-    engine : {"compiled", "numpy", None}
-        None (default): compiled for Newton, numpy for the fixed point. ``"compiled"`` runs the numba kernel of ``cdpr.compiled.subsets`` over all points in parallel
-        (``threads`` caps the threads); Newton only. ``"numpy"`` runs ``redundancy.solve_points`` in
-        chunks of ``chunk`` points: the reference implementation, and the only one for the fixed
-        point. Both give the same table (tested). Another pair raises CdprError.
-
-    redundancy : {"paper", "physical"}
-        The paper's 3-cable subset rule, or the physical equilibrium on all cables
-        (``solve_points_any``); ``L0`` (N, m) [m] commanded rest lengths, physical mode only.
-
-    Returns
-    -------
-    DataFrame, one row per point (``results_frame``)."""
+    """The solve plus dP*/dθ of every parameter, by the chosen engine: ``"compiled"`` (default,
+    ``cdpr.compiled.sensitivity.sensitivities_fast``: the solve and the sensitivities in one compiled
+    pass, ``threads`` caps the threads) or ``"numpy"`` (the reference
+    ``cdpr.models.sensitivity.sensitivities``). Newton only; same parameters and result as the
+    reference, whose docstring gives the equations; another engine raises CdprError."""
     p = np.atleast_2d(np.asarray(p, dtype=float))
-    if redundancy != "paper" or L0 is not None or not robot.suspended_point_mass or "rotvec" in options:
-        return results_frame(
-            robot, solve_points_any(robot, p, method, engine, threads, redundancy, L0, **options), redundancy
+    check_redundancy(redundancy)
+    if check_engine(engine, "newton") == "compiled":
+        return compiled_sensitivity.sensitivities_fast(
+            robot, p, redundancy=redundancy, L=L, threads=threads, gap_tol=gap_tol, t_tol=t_tol, **solver
         )
-    engine = check_engine(engine, method)
-    if engine == "compiled":
-        from cdpr.compiled.subsets import solve_points_fast
+    return sensitivity.sensitivities(
+        robot, p, redundancy=redundancy, L=L, gap_tol=gap_tol, t_tol=t_tol, **solver
+    )
 
-        return to_frame(robot, solve_points_fast(robot, p, threads=threads, **options))
-    starts = range(0, len(p), chunk) if len(p) else [0]
-    frames = [
-        to_frame(robot, solve_points(robot, p[i : i + chunk], method=method, **options)) for i in starts
-    ]
-    return pd.concat(frames, ignore_index=True)
+
+def subset_sensitivities(robot, p, L=None, columns=None, engine=None, threads=None, **solver):
+    """Every 3-cable subset of paper mode at every point with dP*/dθ and dt/dθ, by the chosen engine
+    (``"compiled"`` default: ``cdpr.compiled.sensitivity.subset_sensitivities``; ``"numpy"``: the
+    reference ``cdpr.models.sensitivity.subset_sensitivities``, whose docstring gives the result);
+    another engine raises CdprError."""
+    if check_engine(engine, "newton") == "compiled":
+        return compiled_sensitivity.subset_sensitivities(
+            robot, p, L=L, columns=columns, threads=threads, **solver
+        )
+    return sensitivity.subset_sensitivities(robot, p, L=L, columns=columns, **solver)
+
+
+def linear_dp(dp0, S, valid, delta, t0=None, St=None, T_a=None, engine=None, threads=None):
+    """The linearised ‖dp‖ (n, N) [m] of every parameter change (``models.sensitivity.linear_dp``,
+    the reference, whose docstring gives the equation), by the chosen engine (``"compiled"``
+    default: ``cdpr.compiled.sensitivity.linear_dp``, points in parallel); another engine raises
+    CdprError."""
+    if check_engine(engine, "newton") == "compiled":
+        return compiled_sensitivity.linear_dp(dp0, S, valid, delta, t0, St, T_a, threads=threads)
+    return sensitivity.linear_dp(dp0, S, valid, delta, t0, St, T_a)

@@ -11,6 +11,7 @@ from __future__ import annotations
 from functools import lru_cache
 from pathlib import Path
 
+import jsonschema
 import yaml
 
 from cdpr.errors import ConfigError
@@ -188,8 +189,6 @@ def validate(data, name, source):
 
     Every distinct violation is reported at once (``problems``): a file with several mistakes is
     corrected in one go, one per key, the most precise key of each."""
-    import jsonschema
-
     validator = jsonschema.Draft202012Validator(schema(name))
     errors = list(validator.iter_errors(data))
     if not errors:

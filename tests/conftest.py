@@ -1,11 +1,45 @@
+import atexit
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
 from pathlib import Path
 
+# The test suite writes only under temporary folders: numba's cache of compiled kernels (by default
+# __pycache__/ beside cdpr/compiled/) goes to one for the session, shared by the processes the tests
+# start (set before anything imports numba; a fresh clone compiles once either way).
+if "NUMBA_CACHE_DIR" not in os.environ:
+    os.environ["NUMBA_CACHE_DIR"] = tempfile.mkdtemp(prefix="cdpr-tests-numba-")
+    atexit.register(shutil.rmtree, os.environ["NUMBA_CACHE_DIR"], True)
+
 import pytest
+from hypothesis import settings
 
 from cdpr.robot import load_robot
 
 ROOT = Path(__file__).resolve().parents[1]
 ROBOTS = ROOT / "config" / "robots"
+
+# The test suite writes only under pytest's temporary folders: no hypothesis example database
+# (.hypothesis/) and no bytecode caches (__pycache__/), here or in the processes the tests start.
+settings.register_profile("cdpr", database=None)
+settings.load_profile("cdpr")
+sys.dont_write_bytecode = True
+os.environ["PYTHONDONTWRITEBYTECODE"] = "1"
+
+
+def copy_sources(dest):
+    """The repository's files (tracked, and new ones not ignored) copied to ``dest``."""
+    files = subprocess.run(
+        ["git", "ls-files", "-co", "--exclude-standard", "-z"], cwd=ROOT, capture_output=True, check=True
+    ).stdout.split(b"\0")
+    for f in filter(None, files):
+        src = ROOT / f.decode()
+        if src.is_file():
+            (dest / f.decode()).parent.mkdir(parents=True, exist_ok=True)
+            shutil.copy2(src, dest / f.decode())
+    return dest
 
 
 @pytest.fixture(scope="session")

@@ -13,6 +13,7 @@ MODEL_MODULES = [
     "models.statics",
     "models.direct",
     "models.subsets",
+    "models.results",
     "models.winch",
     "analyses.workspace",
     "analyses.doe",

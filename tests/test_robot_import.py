@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 import yaml
 
-from cdpr.cli.commands import main
+from cdpr.cli.main import main
 from cdpr.errors import ConfigError
 from cdpr.robot import load_robot, robot_from_dict
 from cdpr.robot_import import robot_dict_from_caspr

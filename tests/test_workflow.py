@@ -1,6 +1,13 @@
 """The whole DAG on small studies: the quick study against committed reference tables, and an
-end-to-end run of a user's own design. Regenerate the references with `make update-references`."""
+end-to-end run of a user's own design. Regenerate the references with `make update-references`.
 
+Snakemake runs in a working folder under pytest's temporary folder (``work``): the repository's
+``config/`` is linked there (robot files), the study and comparison files are copies (a test may
+edit them), and the results, Snakemake's ``.snakemake/`` and the logs stay there, so the test
+suite writes nothing into the working tree. Its path has a space and a non-ASCII letter: every
+path that reaches a shell command is quoted."""
+
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -13,7 +20,7 @@ from tests.conftest import ROOT
 
 REF = ROOT / "tests" / "reference" / "quick"
 #: The quick study runs in both redundancy modes, then their comparison: reference folder -> results
-#: folder under results/ (the physical run has the same tables as the paper run).
+#: folder under the working folder's results/ (the physical run has the same tables as the paper run).
 RUNS = {"quick": "quick", "quick_physical": "quick_physical", "quick_comparison": "quick_comparison"}
 #: Tables compared with the references (paths under results/quick/).
 TABLES = [
@@ -49,19 +56,42 @@ CASES = (
 RTOL, ATOL = 1e-6, 1e-9
 
 
-def snakemake(target, *config, cwd=ROOT, quiet=True, force=True):
-    """Run the workflow on `target` with `--config key=value ...` (option order matters: both take
-    lists). ``force``: recompute every job, since Snakemake does not see changes of the library; a
-    list of rule names forces only those (and what depends on them)."""
+def snakemake(target, *config, cwd, quiet=True, force=True, extra=()):
+    """Run the workflow (the repository's Snakefile) on `target` in the working folder `cwd` with
+    `--config key=value ...` (option order matters: both take lists). ``force``: recompute every
+    job; a list of rule names forces only those (and what depends on them)."""
     exe = Path(sys.executable).with_name("snakemake")
     q = ["--quiet", "all"] if quiet else []
     f = ["--forceall"] if force is True else (["--forcerun", *force] if force else [])
     return subprocess.run(
-        [str(exe), target, "--cores", "2", *q, *f, "--config", *config],
+        [str(exe), target, "--snakefile", str(ROOT / "Snakefile"), "--cores", "2", *q, *f, *extra]
+        + ["--config", *config],
         cwd=cwd,
         capture_output=True,
         text=True,
     )
+
+
+def make_workdir(folder):
+    """A working folder for Snakemake outside the tree: ``config/`` linked to the repository's,
+    the studies copied to ``studies/``, and the quick comparison file naming them."""
+    folder.mkdir(parents=True, exist_ok=True)
+    (folder / "config").symlink_to(ROOT / "config", target_is_directory=True)
+    (folder / "studies").mkdir()
+    for name in ("quick", "quick_physical", "example"):
+        shutil.copy(ROOT / "config" / "studies" / f"{name}.yaml", folder / "studies" / f"{name}.yaml")
+    (folder / "comparison.yaml").write_text(
+        "paper: {study: studies/quick.yaml, results: results/quick}\n"
+        "physical: {study: studies/quick_physical.yaml, results: results/quick_physical}\n"
+        "page: results/quick_comparison.md\nfolder: results/quick_comparison\n"
+        "budget: {index_n: 6, t_min_N: 100.0}\n"
+    )
+    return folder
+
+
+@pytest.fixture(scope="module")
+def work(tmp_path_factory):
+    return make_workdir(tmp_path_factory.mktemp("work dir é") / "w")
 
 
 #: The rules of the comparison step (forced: their inputs come from the two runs before).
@@ -69,21 +99,22 @@ COMPARISON_RULES = ["budget_design", "budget", "comparison"]
 
 
 @pytest.fixture(scope="module")
-def quick():
+def quick(work):
     """The quick study in paper mode, in physical mode, then their comparison (as `make reproduce`
-    does with the paper study)."""
+    does with the paper study), in the temporary working folder."""
     for study in ("quick", "quick_physical"):
-        p = snakemake("reproduce_paper", f"study=config/studies/{study}.yaml", f"results=results/{study}")
+        p = snakemake("reproduce_paper", f"study=studies/{study}.yaml", f"results=results/{study}", cwd=work)
         assert p.returncode == 0, p.stderr[-3000:]
     p = snakemake(
         "reproduce_comparison",
-        "study=config/studies/quick.yaml",
+        "study=studies/quick.yaml",
         "results=results/quick",
-        "comparison=config/comparisons/quick.yaml",
+        "comparison=comparison.yaml",
         force=COMPARISON_RULES,
+        cwd=work,
     )
     assert p.returncode == 0, p.stderr[-3000:]
-    return ROOT / "results" / "quick"
+    return work / "results" / "quick"
 
 
 @pytest.mark.parametrize("run,table", CASES, ids=[f"{r}/{t}" for r, t in CASES])
@@ -155,8 +186,9 @@ def test_quick_physical_run_and_comparison_write_their_figures_and_page(quick):
 
 
 def test_own_design_end_to_end(tmp_path):
+    work = make_workdir(tmp_path / "w")
     out = tmp_path / "example"
-    p = snakemake("reproduce_paper", "study=config/studies/example.yaml", f"results={out}")
+    p = snakemake("reproduce_paper", "study=studies/example.yaml", f"results={out}", cwd=work)
     assert p.returncode == 0, p.stderr[-3000:]
     doe = pd.read_csv(out / "doe" / "doe.csv")
     assert len(doe) == 8 and doe.index_m.notna().all() and (doe.index_m > 0).all()
@@ -173,7 +205,8 @@ def test_bad_study_value_stops_before_any_job(tmp_path):
     bad.write_text(
         (ROOT / "config" / "studies" / "quick.yaml").read_text().replace("solver: newton", "solver: magic")
     )
-    p = snakemake("reproduce_paper", f"study={bad}", f"results={tmp_path / 'r'}", quiet=False)
+    work = make_workdir(tmp_path / "w")
+    p = snakemake("reproduce_paper", f"study={bad}", f"results={tmp_path / 'r'}", quiet=False, cwd=work)
     assert p.returncode != 0
     assert (
         "invalid study configuration" in p.stdout + p.stderr
@@ -182,28 +215,19 @@ def test_bad_study_value_stops_before_any_job(tmp_path):
     assert not (tmp_path / "r").exists()
 
 
-def _dry_run_rules(quick_study_text):
-    """Rules a dry run of the quick study would run after its study file is replaced by
-    ``quick_study_text`` (the file is restored afterwards)."""
-    path = ROOT / "config" / "studies" / "quick.yaml"
+def _dry_run_rules(work, quick_study_text=None):
+    """Rules a dry run of the quick study (in the working folder ``work``) would run, after its
+    study file is replaced by ``quick_study_text`` (the file is restored afterwards)."""
+    path = work / "studies" / "quick.yaml"
     original = path.read_bytes()
     try:
-        path.write_text(quick_study_text)
+        if quick_study_text is not None:
+            path.write_text(quick_study_text)
         exe = Path(sys.executable).with_name("snakemake")
         p = subprocess.run(
-            [
-                str(exe),
-                "reproduce_paper",
-                "-n",
-                "--quiet",
-                "rules",
-                "--cores",
-                "1",
-                "--config",
-                "study=config/studies/quick.yaml",
-                "results=results/quick",
-            ],
-            cwd=ROOT,
+            [str(exe), "reproduce_paper", "--snakefile", str(ROOT / "Snakefile"), "-n", "--quiet", "rules"]
+            + ["--cores", "1", "--config", "study=studies/quick.yaml", "results=results/quick"],
+            cwd=work,
             capture_output=True,
             text=True,
         )
@@ -218,16 +242,43 @@ def _dry_run_rules(quick_study_text):
     }
 
 
-def test_editing_a_study_key_reruns_exactly_the_affected_jobs(quick):
-    text = (ROOT / "config" / "studies" / "quick.yaml").read_text()
-    assert _dry_run_rules(text) == set()  # the fixture just ran everything: nothing to do
-    rules = _dry_run_rules(text.replace("limits_m: [0.05, 0.15]", "limits_m: [0.05, 0.10]"))
+#: Documented results of the quick study, intermediate ones included, and the rule that writes each.
+DELETED = [
+    ("doe/rw_c.json", "regular_workspace"),
+    ("plane/CDPR4_SR.csv", "plane_table"),
+    ("shards/volume/CDPR3_DR_1.parquet", "volume_shard"),
+    ("elasticity/path_DRopt_E1.022e+11.csv", "elasticity_path"),
+    ("uncertainty/SRopt_compensated_map.csv", "uq_design"),
+    ("volumes/CDPR3_SR_VL.pdf", "volume_view"),
+]
+
+
+@pytest.mark.parametrize("rel,rule", DELETED, ids=[r for r, _ in DELETED])
+def test_a_deleted_result_is_rebuilt(quick, work, rel, rule):
+    """Issue 20: every documented output is a target, so a missing one is scheduled again (the
+    file is put back, with its time stamp, afterwards)."""
+    f, backup = quick / rel, work / "deleted.bak"
+    shutil.copy2(f, backup)
+    f.unlink()
+    try:
+        rules = _dry_run_rules(work)
+    finally:
+        shutil.copy2(backup, f)
+    assert rule in rules and "reproduce_paper" in rules, rules
+    assert not rules & {"winch_table", "winch_figure"}, rules  # unrelated jobs stay done
+
+
+def test_editing_a_study_key_reruns_exactly_the_affected_jobs(quick, work):
+    text = (work / "studies" / "quick.yaml").read_text()
+    assert _dry_run_rules(work) == set()  # the fixture just ran everything: nothing to do
+    rules = _dry_run_rules(work, text.replace("limits_m: [0.05, 0.15]", "limits_m: [0.05, 0.10]"))
     assert rules == {"volumes", "volume_view", "summary", "reproduce_paper"}, rules
     rules = _dry_run_rules(
+        work,
         text.replace(
             "paper_rw_c_m: [-2.32, 2.32, -2.32, 2.32, 0.0, 3.73]",
             "paper_rw_c_m: [-2.3, 2.3, -2.3, 2.3, 0.0, 3.7]",
-        )
+        ),
     )
     assert {"regular_workspace", "index_shard", "doe", "summary"} <= rules and not rules & {
         "winch_table",

@@ -63,6 +63,8 @@ from cdpr.analyses.compensation import compensate
 from cdpr.models import winch as winch_model
 from cdpr.models.inverse import igm_e
 from cdpr.models.tension_distribution import T_MIN_DEFAULT
+from cdpr.robot import TABLE1
+from cdpr.solve import check_engine, solve_points_any
 
 #: The effects the standard model neglects, in the order of the budget.
 EFFECTS = ("pulley", "elasticity", "winch")
@@ -101,9 +103,7 @@ def effect_robot(design, effects):
         material = (
             c.material if "elasticity" in eff else dataclasses.replace(c.material, E=c.material.E * RIGID)
         )
-        cables.append(
-            dataclasses.replace(c, pulley=pulley, material=material, winch=c.winch or winch_model.TABLE1)
-        )
+        cables.append(dataclasses.replace(c, pulley=pulley, material=material, winch=c.winch or TABLE1))
     return dataclasses.replace(design, cables=tuple(cables))
 
 
@@ -179,7 +179,7 @@ def realised_lengths(design, L0, actual, model):
     return out
 
 
-def variant(design, p, actual, model, t_min=T_MIN_DEFAULT, threads=None):
+def variant(design, p, actual, model, t_min=T_MIN_DEFAULT, threads=None, engine=None):
     """The platform of the robot with effects ``actual`` commanded by the model with effects
     ``model`` (module docstring).
 
@@ -194,22 +194,30 @@ def variant(design, p, actual, model, t_min=T_MIN_DEFAULT, threads=None):
         Least planned tension of the elasticity compensation.
     threads : int, optional
         Threads of the compiled equilibrium.
+    engine : {"compiled", "numpy", None}
+        Engine of the physical equilibrium (``solve.check_engine``: None is compiled).
 
     Returns
     -------
     dict
-        dp (N, 3) [m] the vector P* - p; status (N,) str (``redundancy.STATUSES``, and
+        dp (N, 3) [m] the vector P* - p; status (N,) str (``results.STATUSES``, and
         ``infeasible`` where the model has no tension distribution or a drum angle leaves its range).
     """
-    from cdpr.compiled.equilibrium import solve_physical_fast
-
     p = np.atleast_2d(np.asarray(p, dtype=float))
+    engine = check_engine(engine, "newton")
     L0 = realised_lengths(design, model_lengths(design, p, model, t_min), actual, model)
     good = np.isfinite(L0).all(axis=1)
     dp = np.full(p.shape, np.nan)
     status = np.full(len(p), "infeasible", dtype=object)
     if good.any():
-        res = solve_physical_fast(effect_robot(design, actual), p[good], L0=L0[good], threads=threads)
+        res = solve_points_any(
+            effect_robot(design, actual),
+            p[good],
+            engine=engine,
+            threads=threads,
+            redundancy="physical",
+            L0=L0[good],
+        )
         dp[good] = res["P_s"] - p[good]
         status[good] = res["status"]
     return {"dp": dp, "status": status.astype(str)}

@@ -33,9 +33,10 @@ from __future__ import annotations
 import numpy as np
 
 from cdpr.models.inverse import igm_e
+from cdpr.models.results import STATUSES
 from cdpr.models.statics import tensions
-from cdpr.models.subsets import STATUSES
 from cdpr.models.tension_distribution import METHODS, T_MIN_DEFAULT, distribute, wrench_matrix
+from cdpr.solve import check_engine, solve_points_any
 
 COMP_METHODS = (*METHODS, "subset")
 #: Statuses of a compensated pose: the physical ones, and ``infeasible`` where no tension
@@ -65,11 +66,7 @@ def rest_lengths(L_TE, t, ES):
 
 def _subset_tensions(robot, p, engine):
     """Paper mode's subset at p and the tensions it needs at p; the other cables at zero."""
-    if engine == "compiled":
-        from cdpr.compiled.subsets import solve_points_fast as paper
-    else:
-        from cdpr.models.subsets import solve_points as paper
-    res = paper(robot, p)
+    res = solve_points_any(robot, p, engine=engine)
     sub = res["subset"]
     has = sub[:, 0] >= 0
     n = len(p)
@@ -84,7 +81,7 @@ def _subset_tensions(robot, p, engine):
     return t, ok, np.where(has[:, None], sub, -1)
 
 
-def compensate(robot, p, method="min_norm", t_min=T_MIN_DEFAULT, t_max=None, engine="compiled", **options):
+def compensate(robot, p, method="min_norm", t_min=T_MIN_DEFAULT, t_max=None, engine=None, **options):
     """Compensated rest lengths that hold the platform of ``robot`` at p with planned tensions.
 
     Parameters
@@ -97,8 +94,9 @@ def compensate(robot, p, method="min_norm", t_min=T_MIN_DEFAULT, t_max=None, eng
     t_min, t_max : float or array_like (m,) [N]
         Tension bounds of the distribution (``t_max`` default T_a,i); not used by ``subset``
         (0 <= t <= T_a there, as in paper mode).
-    engine : {"compiled", "numpy"}
-        Paper-mode engine for ``subset``.
+    engine : {"compiled", "numpy", None}
+        Paper-mode engine for ``subset`` (``solve.check_engine``: None is compiled; another value
+        raises CdprError).
     options : passed to ``distribution.distribute``.
 
     Returns
@@ -113,6 +111,7 @@ def compensate(robot, p, method="min_norm", t_min=T_MIN_DEFAULT, t_max=None, eng
     Paty et al. 2021, eq. (3)-(5), (10)-(13).
     """
     p = np.atleast_2d(np.asarray(p, dtype=float))
+    engine = check_engine(engine, "newton")
     L_TE = igm_e(robot, p).L_TE
     out = {"p": p}
     if method == "subset":
@@ -132,7 +131,7 @@ def compensated_pose(
     p,
     actual=None,
     method="min_norm",
-    engine="compiled",
+    engine=None,
     t_min=T_MIN_DEFAULT,
     t_max=None,
     solver=None,
@@ -141,8 +140,8 @@ def compensated_pose(
     """Compensate with ``robot``, then let the platform settle on the ``actual`` robot.
 
     The rest lengths of ``compensate(robot, p, ...)`` are commanded to ``actual`` (default: the same
-    robot, which returns p itself); its physical equilibrium P* (``equilibrium.solve_physical`` or
-    the compiled ``fast_physical.solve_physical_fast``) gives the residual error |dp| = |P* - p|,
+    robot, which returns p itself); its physical equilibrium P* (``solve.solve_points_any`` in
+    physical mode) gives the residual error |dp| = |P* - p|,
     e.g. for cables whose real moduli differ from the modelled one.
 
     Parameters
@@ -153,7 +152,8 @@ def compensated_pose(
     actual : Robot, optional
         The robot that executes the lengths (same anchors, pulleys and cables, other values).
     method, t_min, t_max, options : as ``compensate``.
-    engine : {"compiled", "numpy"}
+    engine : {"compiled", "numpy", None}
+        ``solve.check_engine``: None is compiled; another value raises CdprError.
     solver : dict, optional
         Options of the physical solve (tol, maxiter, max_step).
 
@@ -169,13 +169,9 @@ def compensated_pose(
         raise ValueError(f"the actual robot has {actual.m} cables, the model {robot.m}")
     comp = compensate(robot, p, method=method, t_min=t_min, t_max=t_max, engine=engine, **options)
     ok = comp["feasible"]
-    if engine == "compiled":
-        from cdpr.compiled.equilibrium import solve_physical_fast as solve
-    elif engine == "numpy":
-        from cdpr.models.equilibrium import solve_physical as solve
-    else:
-        raise ValueError(f"unknown engine {engine!r}; allowed: 'compiled', 'numpy'")
-    res = solve(actual, p[ok], L0=comp["L0"][ok], **(solver or {}))
+    res = solve_points_any(
+        actual, p[ok], engine=engine, redundancy="physical", L0=comp["L0"][ok], **(solver or {})
+    )
     n, m = len(p), robot.m
     out = {"p": p}
     fill = {

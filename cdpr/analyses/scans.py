@@ -1,6 +1,7 @@
 """The paper's analyses as functions of a robot: trajectories (section 3.3.1), planes (3.3.2),
 error-limited volumes (3.3.3), regular workspaces and the global index (4.1), factorial designs
-(4.2), optimal lines (4.3). Each returns a DataFrame or a small dict; no files, no Snakemake.
+(4.2), optimal lines (4.3); and the winch curves over the cable length (Métillon 2022, Fig. 7).
+Each returns a DataFrame or a small dict; no files, no Snakemake.
 
 Section and figure numbers are those of Paty 2021; every point's pose error is |dp| of its eq. (14).
 
@@ -8,14 +9,19 @@ References
 ----------
 Paty, T., Binaud, N., Caro, S., Segonds, S. (2021). Cable-driven parallel robot modelling considering
 pulley kinematics and cable elasticity. Mechanism and Machine Theory 159, 104263.
+Métillon, M., Charron, C., Subrin, K., Caro, S. (2022). Geometrical modelling of a cable-driven
+parallel robot winch. 25e Congrès Français de Mécanique, hal-03758222.
 """
 
 from __future__ import annotations
 
 import numpy as np
+import pandas as pd
 
 from cdpr.analyses.workspace import cell_centres, frame_box
-from cdpr.solve import solve_table
+from cdpr.models import winch
+from cdpr.robot import TABLE1
+from cdpr.tables import solve_table
 
 
 def trajectory_points(start, end, n):
@@ -58,12 +64,12 @@ def trajectory(robot, start, end, n, method="newton", **solver):
         Number of points.
     method : {"newton", "fixed_point"}
         DEGM_E solver.
-    solver : options of ``solve.solve_table`` (engine, threads, redundancy, tolerances).
+    solver : options of ``tables.solve_table`` (engine, threads, redundancy, tolerances).
 
     Returns
     -------
     DataFrame
-        Column s [m] followed by the columns of ``solve.solve_table`` (x, y, z, ..., dp [m], ...,
+        Column s [m] followed by the columns of ``tables.solve_table`` (x, y, z, ..., dp [m], ...,
         status), one row per point.
     """
     P, s = trajectory_points(start, end, n)
@@ -108,12 +114,12 @@ def plane(robot, z, n, method="newton", **solver):
         Cells per horizontal axis (``plane_points``).
     method : {"newton", "fixed_point"}
         DEGM_E solver.
-    solver : options of ``solve.solve_table``.
+    solver : options of ``tables.solve_table``.
 
     Returns
     -------
     DataFrame
-        The table of ``solve.solve_table``, n * n rows.
+        The table of ``tables.solve_table``, n * n rows.
     """
     return solve_table(robot, plane_points(robot, z, n), method=method, **solver)
 
@@ -160,3 +166,36 @@ def crossings(s, a, b):
     idx = np.flatnonzero(np.sign(diff[:-1]) * np.sign(diff[1:]) < 0)
     between = [float(s[i] - diff[i] * (s[i + 1] - s[i]) / (diff[i + 1] - diff[i])) for i in idx]
     return sorted(on + between)
+
+
+# ---- winch (Métillon 2022, Fig. 7) ---------------------------------------------------------
+def winch_table(p=TABLE1, lpm_from=0.0, lpm_to=5.0, steps=101):
+    """q1, q2, q_nw and dl over l_pm in [lpm_from, lpm_to] as a DataFrame (SI units).
+
+    Métillon 2022 Fig. 7: the two roots (eq. 29-30 corrected), the no-winch angle (eq. 32) and the
+    length error (eq. 31).
+
+    Parameters
+    ----------
+    p : WinchParams
+        Default Table 1 (``robot.TABLE1``).
+    lpm_from : float [m]
+        First length l_pm.
+    lpm_to : float [m]
+        Last length l_pm.
+    steps : int
+        Number of evenly spaced lengths.
+
+    Returns
+    -------
+    DataFrame
+        ``steps`` rows, columns l_pm [m], q1 [rad], q2 [rad], q_nw [rad], dl [m].
+
+    References
+    ----------
+    Métillon et al. 2022, eq. (29)-(32), Fig. 7.
+    """
+    l_pm = np.linspace(lpm_from, lpm_to, steps)
+    q1, q2 = winch.roots(p, l_pm)
+    q_nw = winch.q_no_winch(p, l_pm)
+    return pd.DataFrame({"l_pm": l_pm, "q1": q1, "q2": q2, "q_nw": q_nw, "dl": p.k_w * (q1 - q_nw)})

@@ -39,6 +39,7 @@ from functools import lru_cache
 import numpy as np
 
 from cdpr.analyses.workspace import check_box, grid_points
+from cdpr.solve import solve_points_any
 
 #: The eight elements of D4 as 2 x 2 integer matrices acting on centred (x, y).
 D4 = tuple(
@@ -173,8 +174,6 @@ def solve_grid(robot, box, n, symmetric=True, **solver):
     solved : int
         Number of points actually solved.
     """
-    from cdpr.solve import solve_points_any
-
     if solver.get("L0") is not None:
         raise ValueError("solve_grid: commanded lengths L0 need not be symmetric; solve the full grid")
     transforms = grid_symmetries(robot, box) if symmetric else [D4[0]]

@@ -1,1 +1,2 @@
-"""The command line: ``cdpr <command> ...`` (parser and options, commands, pipeline jobs)."""
+"""The command line ``cdpr <command> ...``: ``main`` (cdpr.cli.main), the parser (parser, options), the
+commands (commands) and the pipeline jobs (job)."""

@@ -1,16 +1,18 @@
-"""``cdpr import caspr``: a robot file from CASPR's bodies and cables XML (``cdpr.robot_import``)."""
+"""``cdpr import caspr``: its options (the command is ``cdpr.cli.commands.cmd_import_caspr``, which
+builds a robot file from CASPR's bodies and cables XML with ``cdpr.robot_import``).
+
+Standard library and ``cdpr.cli.options`` only: ``cdpr.cli.parser`` registers it for ``cdpr --help``.
+"""
 
 from __future__ import annotations
 
-import yaml
-
-from cdpr import io
+from cdpr.cli.options import Parser, non_negative, positive
 
 
-def add_parser(sub, parser_class, positive, non_negative):
+def add_parser(sub):
     """Register ``import caspr`` on the command line's subparsers ``sub``."""
     sp = sub.add_parser("import", help="write a robot file from another tool's model (CASPR)")
-    tools = sp.add_subparsers(dest="tool", required=True, parser_class=parser_class)
+    tools = sp.add_subparsers(dest="tool", required=True, parser_class=Parser)
     c = tools.add_parser("caspr", help="single-link spatial CASPR model: X_bodies.xml + X_cables.xml")
     c.add_argument("--bodies", required=True, metavar="FILE", help="CASPR bodies file (X_bodies.xml)")
     c.add_argument("--cables", required=True, metavar="FILE", help="CASPR cables file (X_cables.xml)")
@@ -23,29 +25,4 @@ def add_parser(sub, parser_class, positive, non_negative):
     c.add_argument(
         "--dead-length", type=non_negative, default=0.0, metavar="M", help="dead length d (not in CASPR)"
     )
-    c.set_defaults(func=cmd_import_caspr)
-
-
-def cmd_import_caspr(args):
-    """Read, validate as a robot file, write."""
-    from cdpr.robot import robot_from_dict
-    from cdpr.robot_import import robot_dict_from_caspr
-
-    data = robot_dict_from_caspr(
-        args.bodies,
-        args.cables,
-        args.cable_set,
-        E=args.E,
-        diameter=args.diameter,
-        dead_length=args.dead_length,
-    )
-    robot = robot_from_dict(data, source=f"{args.cables} (imported)")
-    io.check_output(args.out, (".yaml", ".yml"))
-    header = (
-        f"# Imported by `cdpr import caspr` from {args.bodies} and {args.cables}"
-        f" (cable set {args.cable_set or 'default'}).\n"
-        "# E, the cable diameter and the dead length are not part of CASPR models: given on the command line.\n"
-    )
-    with open(args.out, "w", encoding="utf-8") as f:
-        f.write(header + yaml.safe_dump(data, sort_keys=False))
-    print(f"wrote {args.out}: {robot.m} cables, platform {robot.platform.mass:g} kg")
+    c.set_defaults(run=("cdpr.cli.commands", "cmd_import_caspr"))

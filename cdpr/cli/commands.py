@@ -1,170 +1,42 @@
-"""Command line: ``cdpr inverse | point | grid | plane | trajectory | winch | job`` (also ``python -m cdpr``).
+"""The commands: ``cdpr inverse | point | compensate | grid | winch | plane | trajectory | import caspr |
+view``.
 
 JSON with ``--json``, a readable table without. Options given on the command line override the
 robot file exactly as if it had been edited. SI units throughout. Every bad input is refused with
 one sentence on stderr and exit code 2, before any work starts.
+
+``cdpr.cli.main`` imports this module only once the command line has been parsed (``cdpr --help`` and a
+usage error never load numpy). Its module-level imports are what every command needs (numpy, the robot
+file reader); each command imports the rest of what it uses (the solvers, pandas, numba) itself.
 """
 
 from __future__ import annotations
 
-import argparse
 import json
-import math
 import os
-import re
-import sys
 import time
 
 import numpy as np
 
 from cdpr import io
-from cdpr.analyses import scans
-from cdpr.analyses.workspace import check_box, frame_box, grid_points, shard_range
 from cdpr.errors import CdprError
 from cdpr.models import winch
-from cdpr.robot import PULLEY_KINDS, load_robot
+from cdpr.robot import TABLE1, load_robot, load_winch_params
 
 #: Bytes of memory per grid point while solving and writing (measured peak RSS / points, rounded up).
 BYTES_PER_POINT = 600
-#: Largest winch table a command writes.
-MAX_STEPS = 10_000_000
-#: A number, also in exponent notation and negative ("-1e-1"): argparse must not take it for an option.
-_NUMBER = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$|^-inf(inity)?$", re.IGNORECASE)
 
 
-class _Parser(argparse.ArgumentParser):
-    """argparse with one-line errors (``cdpr: error: ...``, exit 2) and negative numbers in exponent
-    notation read as numbers."""
+def _read_table(path):
+    from cdpr import table_io  # lazy: pandas and pyarrow, for the commands that read a table only
 
-    def __init__(self, *a, **k):
-        super().__init__(*a, **k)
-        self._negative_number_matcher = _NUMBER
-
-    def error(self, message):
-        self.exit(2, f"cdpr: error: {self.prog.removeprefix('cdpr ')}: {message}\n")
+    return table_io.read_table(path)
 
 
-def finite(text):
-    """argparse type: a finite float."""
-    try:
-        v = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
-    if not math.isfinite(v):
-        raise argparse.ArgumentTypeError(f"{text!r} is not a finite number")
-    return v
+def _write_table(df, path):
+    from cdpr import table_io  # lazy: pandas and pyarrow, for the commands that write a table only
 
-
-def positive(text):
-    """argparse type: a finite float > 0."""
-    v = finite(text)
-    if v <= 0:
-        raise argparse.ArgumentTypeError(f"{text!r} must be > 0")
-    return v
-
-
-def non_negative(text):
-    """argparse type: a finite float >= 0."""
-    v = finite(text)
-    if v < 0:
-        raise argparse.ArgumentTypeError(f"{text!r} must be >= 0")
-    return v
-
-
-def count(low, high=None):
-    """argparse type: an integer in [low, high]."""
-
-    def parse(text):
-        try:
-            v = int(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
-        if v < low or (high is not None and v > high):
-            raise argparse.ArgumentTypeError(
-                f"{v} is outside the allowed range [{low}, {high if high is not None else 'inf'}]"
-            )
-        return v
-
-    return parse
-
-
-def _threads(text):
-    return count(1, os.cpu_count() or 1)(text)
-
-
-def _robot_options(sp):
-    sp.add_argument("--robot", required=True, metavar="FILE", help="robot YAML file (config/robots/*.yaml)")
-    sp.add_argument("--pulley", choices=PULLEY_KINDS, help="pulley kind for every cable")
-    sp.add_argument("--h", type=non_negative, metavar="M", help="lever arm h [m] for every cable")
-    sp.add_argument("--rp", type=non_negative, metavar="M", help="sheave radius r_p [m] for every cable")
-    sp.add_argument("--dead-length", type=non_negative, metavar="M", help="dead length d [m] for every cable")
-    sp.add_argument("--json", action="store_true", help="print JSON")
-
-
-def _solver_options(sp):
-    sp.add_argument("--E", type=positive, metavar="PA", help="Young's modulus E [Pa] of every cable")
-    sp.add_argument("--mass", type=positive, metavar="KG", help="platform mass M [kg]")
-    sp.add_argument(
-        "--method", choices=("newton", "fixed_point"), default="newton", help="DEGM_E solver (default newton)"
-    )
-    sp.add_argument(
-        "--engine",
-        choices=("compiled", "numpy"),
-        default=None,
-        help="compiled numba kernel (default for newton; Newton only) or the numpy reference (default for fixed_point)",
-    )
-    sp.add_argument(
-        "--threads",
-        type=_threads,
-        help="threads of the compiled engine (1 to the number of cores; default: all)",
-    )
-
-
-def _physics_options(sp):
-    sp.add_argument(
-        "--redundancy",
-        choices=("paper", "physical"),
-        default="paper",
-        help="paper: the best admissible 3-cable subset (the paper's rule, default); physical: the platform settles where "
-        "the forces of all cables balance, each free to go slack",
-    )
-    sp.add_argument(
-        "--E-cables",
-        nargs="+",
-        type=positive,
-        metavar="PA",
-        help="Young's modulus of each cable [Pa], cable 1 first",
-    )
-
-
-def _rotvec_argument(sp):
-    sp.add_argument(
-        "--rotvec",
-        nargs=3,
-        type=finite,
-        metavar=("RX", "RY", "RZ"),
-        help="platform orientation: rotation vector [rad] (active, base frame; default identity)",
-    )
-
-
-def _points_options(sp, what):
-    g = sp.add_mutually_exclusive_group(required=True)
-    g.add_argument("--at", nargs=3, type=finite, metavar=("X", "Y", "Z"), help=f"{what} [m]")
-    g.add_argument(
-        "--points",
-        metavar="FILE",
-        help="many points at once: a .csv or .parquet table with columns x, y, z [m] (and rx, ry, rz [rad])",
-    )
-    sp.add_argument(
-        "--out", metavar="FILE", help="write the result table (.csv or .parquet); needed with --points"
-    )
-    sp.add_argument(
-        "--rotvec",
-        nargs=3,
-        type=finite,
-        metavar=("RX", "RY", "RZ"),
-        help="platform orientation: rotation vector [rad] (active, base frame; default identity)",
-    )
+    table_io.write_table(df, path)
 
 
 def _load(args):
@@ -190,7 +62,7 @@ def _points(args):
         raise CdprError("--points needs --out FILE for the result table")
     io.check_output(args.out)
     try:
-        df = io.read_table(args.points)
+        df = _read_table(args.points)
     except FileNotFoundError:
         raise CdprError(f"{args.points}: the points file does not exist") from None
     missing = [c for c in "xyz" if c not in df.columns]
@@ -230,6 +102,11 @@ def _rotvec(args, n):
     return np.tile(np.asarray(args.rotvec, dtype=float), (n, 1))
 
 
+def _rotvec_option(args):
+    """``{"rotvec": (3,)}`` for the solvers when --rotvec is given, else nothing."""
+    return {} if args.rotvec is None else {"rotvec": np.asarray(args.rotvec, dtype=float)}
+
+
 def _table(rows, headers):
     cols = [[h] + [r[i] for r in rows] for i, h in enumerate(headers)]
     widths = [max(len(x) for x in c) for c in cols]
@@ -243,6 +120,8 @@ def _vec(v):
 
 
 def cmd_inverse(args):
+    # lazy: the inverse model, for this command only
+    from cdpr.models.equilibrium6 import L_TS_pose, pose_arrays, pose_state
     from cdpr.models.inverse import L_TS, igm_e
     from cdpr.models.pulleys import swivel
 
@@ -254,8 +133,6 @@ def cmd_inverse(args):
         lts = L_TS(robot, P)
         B = np.repeat(P[:, None, :], robot.m, axis=1)
     else:
-        from cdpr.models.equilibrium6 import L_TS_pose, pose_arrays, pose_state
-
         p_, R = pose_arrays(robot, P, rv)
         B, st = pose_state(robot, p_, R)
         lts = L_TS_pose(robot, p_, R)
@@ -263,7 +140,7 @@ def cmd_inverse(args):
     sw = swivel(B, a.A, None if robot.suspended_point_mass else a.frame, a.inward, per_cable=True)
     over = st.gamma > 1.5 * np.pi
     if args.points or args.out:
-        import pandas as pd
+        import pandas as pd  # lazy: a table of points only
 
         cols = {"x": P[:, 0], "y": P[:, 1], "z": P[:, 2]}
         for i in range(robot.m):
@@ -281,7 +158,7 @@ def cmd_inverse(args):
             if not robot.suspended_point_mass:
                 cols.update({f"swivel{c}": sw[:, i], f"wrap_over_270{c}": over[:, i]})
         df = pd.DataFrame(cols)
-        io.write_table(df, args.out)
+        _write_table(df, args.out)
         print(
             f"wrote {len(df)} points to {args.out}; {int(st.inside.any(axis=1).sum())} inside a sheave (lengths clipped there)"
         )
@@ -352,18 +229,9 @@ def cmd_inverse(args):
         )
 
 
-def _sensitivity_options(sp):
-    sp.add_argument(
-        "--sensitivities",
-        action="store_true",
-        help="also dP*/dθ for every parameter (E_i [Pa], h_i, r_p_i, d_i, A_i_x/y/z [m], M [kg]; cables from 1) "
-        "at fixed commanded lengths, by the implicit-function theorem; Newton only",
-    )
-
-
 def _solve_sensitivities(robot, P, args, L0=None):
     """The solve plus dP*/dθ (``sensitivity.sensitivities``) for --sensitivities."""
-    from cdpr.models.sensitivity import sensitivities
+    from cdpr.solve import sensitivities  # lazy: --sensitivities only
 
     if not robot.suspended_point_mass or getattr(args, "rotvec", None) is not None:
         raise CdprError(
@@ -384,17 +252,8 @@ def _solve_sensitivities(robot, P, args, L0=None):
     )
 
 
-def _with_sensitivities(df, res):
-    """The point table with the sensitivity columns (dx_dE_1, ..., dz_dM) and ``smooth`` appended."""
-    import pandas as pd
-
-    from cdpr.models.sensitivity import sensitivity_frame
-
-    return pd.concat([df, sensitivity_frame(res)], axis=1)
-
-
 def cmd_point(args):
-    from cdpr.solve import results_frame, solve_points_any
+    from cdpr.solve import solve_points_any  # lazy: the solvers, for the solver commands only
 
     robot = _load(args)
     P = _points(args)
@@ -406,7 +265,7 @@ def cmd_point(args):
             raise CdprError(f"--lengths needs one rest length per cable ({robot.m}), got {len(args.lengths)}")
         L0 = np.array(args.lengths, dtype=float)
     if args.q is not None:
-        from cdpr.models.drive import rest_lengths_from_angles
+        from cdpr.models.drive import rest_lengths_from_angles  # lazy: --q only
 
         if len(args.q) != robot.m:
             raise CdprError(f"--q needs one drum angle per cable ({robot.m}), got {len(args.q)}")
@@ -434,10 +293,10 @@ def cmd_point(args):
             rotvec=rv,
         )
     if args.points or args.out:
-        df = results_frame(robot, res, args.redundancy)
-        if args.sensitivities:
-            df = _with_sensitivities(df, res)
-        io.write_table(df, args.out)
+        from cdpr.tables import to_frame  # lazy: a table of points only (pandas)
+
+        df = to_frame(robot, res, args.redundancy)
+        _write_table(df, args.out)
         _report(df, args.out, args, float("nan"))
         return
     t = res["t"][0]
@@ -466,7 +325,7 @@ def cmd_point(args):
     if args.json:
         print(json.dumps(io.clean_json(out), indent=2))
         return
-    from cdpr.models.subsets import subset_label
+    from cdpr.models.results import subset_label  # lazy: the readable output only
 
     mode = "physical equilibrium" if args.redundancy == "physical" else f"paper mode, solver {args.method}"
     print(
@@ -485,7 +344,7 @@ def cmd_point(args):
         print(f"  subset         : {subset_label(res['subset'][0]) or '-'}")
     print(f"  status         : {out['status']}  ({out['iterations']} iterations)")
     if args.sensitivities:
-        from cdpr.parameters import UNITS, parameter_groups
+        from cdpr.parameters import UNITS, parameter_groups  # lazy: --sensitivities only
 
         units = [UNITS[g] for g in parameter_groups(robot.m)]
         rows = [
@@ -502,10 +361,9 @@ def cmd_point(args):
 def cmd_compensate(args):
     """Compensated rest lengths (inverse elasto-geometric model) and, as a check, the pose the
     platform takes when they are commanded (to the same robot, or to one with --actual-E-cables)."""
-    import dataclasses
+    import dataclasses  # lazy: --actual-E-cables only
 
-    from cdpr.analyses.compensation import compensated_pose
-    from cdpr.models.equilibrium import to_frame as physical_frame
+    from cdpr.analyses.compensation import compensated_pose  # lazy: this command only
 
     robot = _load(args)
     P = _points(args)
@@ -531,12 +389,14 @@ def cmd_compensate(args):
         robot, P, actual=actual, method=args.distribution, engine=engine, t_min=args.t_min, t_max=t_max
     )
     if args.points or args.out:
-        df = physical_frame(robot, res)
+        from cdpr.tables import to_frame  # lazy: tables only (pandas)
+
+        df = to_frame(robot, res, "physical")
         for i in range(robot.m):
             df[f"L0_{i + 1}"] = res["L0"][:, i]
         for i in range(robot.m):
             df[f"t_planned{i + 1}"] = res["t_planned"][:, i]
-        io.write_table(df, args.out)
+        _write_table(df, args.out)
         _report(df, args.out, args, float("nan"))
         return
     status = str(res["status"][0])
@@ -549,7 +409,7 @@ def cmd_compensate(args):
         "dp_norm": float(res["dp"][0]),
     }
     if all(w is not None for w in robot.winches):
-        from cdpr.models.drive import drum_angles
+        from cdpr.models.drive import drum_angles  # lazy: robots with winches only
 
         q, q_nw = drum_angles(robot, res["L0"][:1])
         out["q"], out["q_no_winch"] = q[0].tolist(), q_nw[0].tolist()
@@ -576,8 +436,9 @@ def cmd_compensate(args):
 def _compensate_spatial(args, robot, actual, P, rv, t_max):
     """``compensate`` at poses (rigid platform or --rotvec): minimum-norm distribution in the bounds
     at the pose (``distribution6``), compensated rest lengths, and the check solve (6-DoF numpy)."""
+    # lazy: the 6-DoF models, for poses only
     from cdpr.models.distribution6 import compensated_lengths
-    from cdpr.models.equilibrium6 import solve_spatial, to_frame6
+    from cdpr.models.equilibrium6 import solve_spatial
 
     if args.distribution != "min_norm":
         raise CdprError(
@@ -590,13 +451,15 @@ def _compensate_spatial(args, robot, actual, P, rv, t_max):
     res = solve_spatial(actual or robot, P, rv, L0=np.where(ok[:, None], c["L0"], 1.0))
     status = np.where(ok, res["status"], "infeasible")
     if args.points or args.out:
+        from cdpr.tables import to_frame6  # lazy: tables only (pandas)
+
         df = to_frame6(robot, res)
         df["status"] = status
         for i in range(robot.m):
             df[f"L0_{i + 1}"] = c["L0"][:, i]
         for i in range(robot.m):
             df[f"t_planned{i + 1}"] = c["t"][:, i]
-        io.write_table(df, args.out)
+        _write_table(df, args.out)
         print(f"wrote {len(df)} poses to {args.out}; {int((~ok).sum())} infeasible (no tension distribution)")
         return
     out = {
@@ -642,12 +505,14 @@ def _check_size(n_points, what):
 
 
 def cmd_grid(args):
-    from cdpr.solve import solve_table
+    # lazy: the grid, the solvers and pandas, for this command only
+    from cdpr.analyses.workspace import check_box, frame_box, grid_points, shard_range
+    from cdpr.tables import solve_table
 
     robot = _load(args)
     io.check_output(args.out)
     if args.box_file:
-        from cdpr.pipeline.study import read_box
+        from cdpr.pipeline.study import read_box  # lazy: --box-file only
 
         box = read_box(args.box_file)
     elif args.frame:
@@ -661,12 +526,11 @@ def cmd_grid(args):
     t0 = time.perf_counter()
     P = grid_points(box, args.n, start, stop)
     if args.sensitivities:
-        from cdpr.solve import results_frame
+        from cdpr.tables import to_frame  # lazy: --sensitivities only
 
         res = _solve_sensitivities(robot, P, args)
-        df = _with_sensitivities(results_frame(robot, res, args.redundancy), res)
+        df = to_frame(robot, res, args.redundancy)
     else:
-        extra = {} if args.rotvec is None else {"rotvec": np.asarray(args.rotvec, dtype=float)}
         df = solve_table(
             robot,
             P,
@@ -674,31 +538,33 @@ def cmd_grid(args):
             engine=args.engine,
             threads=args.threads,
             redundancy=args.redundancy,
-            **extra,
+            **_rotvec_option(args),
         )
     if args.wrench_feasible:
-        from cdpr.models.distribution6 import distribute_pose
+        from cdpr.models.distribution6 import distribute_pose  # lazy: --wrench-feasible only
 
         df["feasible"] = distribute_pose(robot, P, args.rotvec, t_min=args.t_min)["feasible"]
         cell = np.prod([(box[2 * k + 1] - box[2 * k]) / args.n for k in range(3)])
         print(
             f"wrench-feasible: {int(df['feasible'].sum())} of {len(df)} grid points, {df['feasible'].sum() * cell:.4g} m^3"
         )
-    io.write_table(df, args.out)
+    _write_table(df, args.out)
     dt = time.perf_counter() - t0
     _report(df, args.out, args, dt)
 
 
 def cmd_winch(args):
-    p = winch.load_params(args.params) if args.params else winch.TABLE1
+    p = load_winch_params(args.params) if args.params else TABLE1
     if args.out:
         io.check_output(args.out)
     if not args.lpm_from < args.lpm_to:
         raise CdprError(f"--lpm-from must be below --lpm-to, got {args.lpm_from:g} and {args.lpm_to:g}")
     winch.check_range(p, args.lpm_from, args.lpm_to)
-    df = winch.winch_table(p, args.lpm_from, args.lpm_to, args.steps)
+    from cdpr.analyses import scans  # lazy: pandas, for this command only
+
+    df = scans.winch_table(p, args.lpm_from, args.lpm_to, args.steps)
     if args.out:
-        io.write_table(df, args.out)
+        _write_table(df, args.out)
     if args.json:
         print(json.dumps(io.clean_json(df.to_dict(orient="records")), indent=2))
         return
@@ -712,6 +578,8 @@ def cmd_winch(args):
 
 def _report(df, out, args, dt):
     """What a solver command wrote: points, time, statuses and the |dp| range of the ok points."""
+    from cdpr.analyses import scans  # lazy: the solver commands only
+
     counts = {k: int(v) for k, v in df["status"].value_counts().items() if v}
     lo, hi = scans.ok_extremes(df)
     rate = len(df) / dt if dt > 0 else None
@@ -737,12 +605,14 @@ def _report(df, out, args, dt):
 
 
 def cmd_plane(args):
+    # lazy: this command only
+    from cdpr.analyses import scans
+    from cdpr.analyses.workspace import frame_box
+
     robot = _load(args)
     io.check_output(args.out)
     top = float(robot.A[:, 2].min())
     if not robot.suspended_point_mass:
-        from cdpr.analyses.workspace import frame_box
-
         lo, hi = frame_box(robot)[4:]
         if not lo <= args.z <= hi:
             raise CdprError(
@@ -763,16 +633,13 @@ def cmd_plane(args):
         redundancy=args.redundancy,
         **_rotvec_option(args),
     )
-    io.write_table(df, args.out)
+    _write_table(df, args.out)
     _report(df, args.out, args, time.perf_counter() - t0)
 
 
-def _rotvec_option(args):
-    """``{"rotvec": (3,)}`` for the solvers when --rotvec is given, else nothing."""
-    return {} if args.rotvec is None else {"rotvec": np.asarray(args.rotvec, dtype=float)}
-
-
 def cmd_trajectory(args):
+    from cdpr.analyses import scans  # lazy: this command only
+
     robot = _load(args)
     io.check_output(args.out)
     t0 = time.perf_counter()
@@ -787,313 +654,114 @@ def cmd_trajectory(args):
         redundancy=args.redundancy,
         **_rotvec_option(args),
     )
-    io.write_table(df, args.out)
+    _write_table(df, args.out)
     _report(df, args.out, args, time.perf_counter() - t0)
 
 
-#: Pipeline tasks: name -> (function of cdpr.pipeline.tasks, its named options). Options named ``tables``
-#: and ``paths`` take many files; the rest one value. Files are matched by name, not position.
-JOBS = {
-    "winch-figure": ("winch_figure", ["table", "figure"]),
-    "plane-figure": ("plane_figure", ["robot_key", "tables", "figure"]),
-    "subsets-figure": ("subsets_figure", ["robot_key", "tables", "figure"]),
-    "trajectories": ("trajectories", ["tables", "table", "figure", "minmax_figure"]),
-    "volumes": ("volumes", ["tables", "table", "figure"]),
-    "volume-view": ("volume_view", ["label", "tables", "figure"]),
-    "rw": ("regular_workspace", ["tables", "table", "json"]),
-    "doe": ("doe_results", ["tables", "table", "effects", "figure", "effects_figure"]),
-    "map": ("map_rows", ["kind", "box_file", "table", "threads"]),
-    "maps": ("maps", ["tables", "box_file", "map", "lines", "figure", "threads"]),
-    "elasticity": (
-        "elasticity",
-        ["tables", "paths", "table", "bands", "crossings", "figure", "paths_figure"],
-    ),
-    "dead-length-point": ("dead_length_point", ["d", "box_file", "table", "threads"]),
-    "dead-length": ("dead_length", ["tables", "table", "figure"]),
-    "summary": ("summary", ["results", "table", "markdown"]),
-    "budget-design": (
-        "budget_design",
-        ["comparison", "label", "box_file", "table", "path_table", "threads"],
-    ),
-    "budget": ("budget_tables", ["comparison", "tables", "paths", "table", "figure", "paths_figure"]),
-    "comparison": ("comparison", ["comparison", "tables", "table", "figure", "markdown"]),
-    "uq-shard": ("uq_shard", ["design", "case", "shard", "box_file", "table", "points", "threads"]),
-    "uq-design": (
-        "uq_design",
-        ["design", "case", "box_file", "table", "path", "sobol", "tolerances", "map", "threads"],
-    ),
-    "uncertainty": (
-        "uncertainty",
+def cmd_import_caspr(args):
+    """``cdpr import caspr``: read CASPR's bodies and cables XML (``cdpr.robot_import``), validate the
+    result as a robot file, write it."""
+    import yaml  # lazy: yaml, for this command only
+
+    # lazy: the importer, for this command only
+    from cdpr.robot import robot_from_dict
+    from cdpr.robot_import import robot_dict_from_caspr
+
+    data = robot_dict_from_caspr(
+        args.bodies,
+        args.cables,
+        args.cable_set,
+        E=args.E,
+        diameter=args.diameter,
+        dead_length=args.dead_length,
+    )
+    robot = robot_from_dict(data, source=f"{args.cables} (imported)")
+    io.check_output(args.out, (".yaml", ".yml"))
+    header = (
+        f"# Imported by `cdpr import caspr` from {args.bodies} and {args.cables}"
+        f" (cable set {args.cable_set or 'default'}).\n"
+        "# E, the cable diameter and the dead length are not part of CASPR models: given on the command line.\n"
+    )
+    with open(args.out, "w", encoding="utf-8") as f:
+        f.write(header + yaml.safe_dump(data, sort_keys=False))
+    print(f"wrote {args.out}: {robot.m} cables, platform {robot.platform.mass:g} kg")
+
+
+def default_position(robot):
+    """The anchors' centroid, lowered to the middle of their height range (``cdpr view`` without --at)."""
+    A = robot.A
+    return np.array(
         [
-            "tables",
-            "paths",
-            "bands",
-            "agreement",
-            "sobol",
-            "figure",
-            "paths_figure",
-            "sobol_figure",
-            "map_figure",
-            "agreement_figure",
-        ],
-    ),
-}
-_JOB_OPTION_HELP = {
-    "tables": "input tables (matched by file name)",
-    "paths": "path tables (matched by file name)",
-    "table": "output table",
-    "figure": "output figure (.png; a .pdf is written beside it)",
-    "json": "output JSON",
-    "effects": "output effects table",
-    "effects_figure": "output effects figure",
-    "minmax_figure": "output min/max figure",
-    "map": "output map table",
-    "lines": "output lines table",
-    "bands": "output bands table",
-    "crossings": "output crossings table",
-    "paths_figure": "output figure of the paths",
-    "markdown": "output summary.md",
-    "results": "results folder of the study",
-    "box_file": "JSON with the RW_C box",
-    "robot_key": "robot label of the study",
-    "label": "robot_pulley label",
-    "kind": "pulley kind",
-    "d": "dead length [m]",
-    "threads": "solver threads",
-    "comparison": "comparison file (config/comparisons/*.yaml)",
-    "path_table": "output table along the path",
-    "design": "design label of the study's optimal designs",
-    "case": "uncompensated | compensated",
-    "shard": "0-based shard index",
-    "points": "output per-point table",
-    "path": "output path table",
-    "sobol": "output Sobol table",
-    "tolerances": "output table of the all-parameter samples",
-    "agreement": "output agreement table",
-    "sobol_figure": "output Sobol figure",
-    "map_figure": "output map figure",
-    "agreement_figure": "output agreement figure",
-}
+            A[:, 0].mean(),
+            A[:, 1].mean(),
+            0.5 * (A[:, 2].min() + A[:, 2].max()) * (0.6 if robot.suspended_point_mass else 1.0),
+        ]
+    )
 
 
-def cmd_job(args):
-    from cdpr.pipeline import tasks
-    from cdpr.pipeline.study import load_study
+def draw_robot(robot, p, rotvec, path):
+    """Write the picture of ``robot`` with its platform at (p, rotvec) to ``path`` (.png)."""
+    # lazy: matplotlib, the 6-DoF pose and the hull, for `cdpr view` only
+    import matplotlib
 
-    st = load_study(args.study)
-    func, names = JOBS[args.name]
-    given = {n: getattr(args, n) for n in names}
-    missing = [f"--{n.replace('_', '-')}" for n, v in given.items() if v is None and n != "threads"]
-    if missing:
-        raise CdprError(f"job {args.name} needs {', '.join(missing)}")
-    for n in names:
-        if n in (
-            "table",
-            "figure",
-            "json",
-            "effects",
-            "effects_figure",
-            "minmax_figure",
-            "map",
-            "lines",
-            "bands",
-            "crossings",
-            "paths_figure",
-            "markdown",
-            "path_table",
-            "points",
-            "path",
-            "sobol",
-            "tolerances",
-            "agreement",
-            "sobol_figure",
-            "map_figure",
-            "agreement_figure",
-        ):
-            io.check_output(given[n])
-    getattr(tasks, func)(st, **given)
+    matplotlib.use("Agg")
+    # lazy: pyplot after the backend is chosen
+    import matplotlib.pyplot as plt
+    from scipy.spatial import ConvexHull
 
+    from cdpr.models.equilibrium6 import pose_arrays, pose_state  # lazy: for `cdpr view` only
 
-def build_parser():
-    ap = _Parser(
-        prog="cdpr",
-        description="Pose errors of cable-driven parallel robots from pulleys, cable elasticity and winch geometry.",
-    )
-    sub = ap.add_subparsers(dest="command", required=True, parser_class=_Parser)
-    sp = sub.add_parser(
-        "inverse", help="extended inverse model of every cable at a point (or a table of points)"
-    )
-    _robot_options(sp)
-    _points_options(sp, "platform position")
-    sp.set_defaults(func=cmd_inverse)
-    sp = sub.add_parser(
-        "point", help="DEGM_E at a point (or a table of points): solved pose, |dp|, tensions, subset, status"
-    )
-    _robot_options(sp)
-    _solver_options(sp)
-    _points_options(sp, "desired position")
-    _physics_options(sp)
-    sp.add_argument(
-        "--lengths",
-        nargs="+",
-        type=positive,
-        metavar="M",
-        help="commanded rest lengths L0 per cable [m] (winch exit to platform; physical mode), instead of L_TS at --at",
-    )
-    sp.add_argument(
-        "--q",
-        nargs="+",
-        type=finite,
-        metavar="RAD",
-        help="commanded drum angles per cable [rad] (robot with winches; physical mode): mapped to rest lengths by the winch model",
-    )
-    _sensitivity_options(sp)
-    sp.set_defaults(func=cmd_point)
-    sp = sub.add_parser(
-        "compensate", help="compensated rest lengths: what to command so that the platform reaches --at"
-    )
-    _robot_options(sp)
-    sp.add_argument("--E", type=positive, metavar="PA", help="Young's modulus E [Pa] of every cable")
-    sp.add_argument(
-        "--E-cables",
-        nargs="+",
-        type=positive,
-        metavar="PA",
-        help="Young's modulus of each cable [Pa] (the model)",
-    )
-    sp.add_argument("--mass", type=positive, metavar="KG", help="platform mass M [kg]")
-    _points_options(sp, "desired position")
-    sp.add_argument(
-        "--distribution",
-        choices=("min_norm", "closed_form", "closed_form_improved", "subset"),
-        default="min_norm",
-        help="tension distribution (default min_norm: least 2-norm within [t-min, t-max]); subset: the paper's 3-cable subset",
-    )
-    sp.add_argument(
-        "--t-min", type=non_negative, default=100.0, metavar="N", help="least cable tension [N] (default 100)"
-    )
-    sp.add_argument(
-        "--t-max",
-        type=positive,
-        metavar="N",
-        help="largest cable tension [N] (default: each cable's admissible tension)",
-    )
-    sp.add_argument(
-        "--actual-E-cables",
-        nargs="+",
-        type=positive,
-        metavar="PA",
-        help="check: command the lengths to a robot whose cables have these moduli [Pa] and report where it settles",
-    )
-    sp.add_argument(
-        "--engine",
-        choices=("compiled", "numpy"),
-        default=None,
-        help="engine of the check solve (default compiled)",
-    )
-    sp.add_argument("--threads", type=_threads, help="threads of the compiled engine")
-    sp.set_defaults(func=cmd_compensate)
-    sp = sub.add_parser("grid", help="DEGM_E over the n^3 cell-centred grid of a box; writes parquet or CSV")
-    _robot_options(sp)
-    _solver_options(sp)
-    sp.add_argument("--box", nargs=6, type=finite, metavar=("XMIN", "XMAX", "YMIN", "YMAX", "ZMIN", "ZMAX"))
-    sp.add_argument(
-        "--box-file", metavar="FILE", help="JSON file whose key 'box' holds the six numbers (e.g. rw_c.json)"
-    )
-    sp.add_argument(
-        "--frame",
-        action="store_true",
-        help="the frame's bounding box (anchors' extent, z from 0 to the pulleys)",
-    )
-    sp.add_argument("--n", type=count(1), required=True, help="points per axis")
-    sp.add_argument(
-        "--rotvec", nargs=3, type=finite, metavar=("RX", "RY", "RZ"), help="fixed platform orientation [rad]"
-    )
-    sp.add_argument(
-        "--wrench-feasible",
-        action="store_true",
-        help="add a 'feasible' column: a tension distribution in [--t-min, T_a] holds the platform at the pose",
-    )
-    sp.add_argument(
-        "--t-min", type=non_negative, default=100.0, metavar="N", help="least tension of --wrench-feasible"
-    )
-    sp.add_argument("--out", required=True, metavar="FILE", help="output .parquet or .csv")
-    sp.add_argument("--shard", type=count(0), default=0, help="0-based shard index (default 0)")
-    sp.add_argument("--shards", type=count(1), default=1, help="number of shards (default 1)")
-    _physics_options(sp)
-    _sensitivity_options(sp)
-    sp.set_defaults(func=cmd_grid)
-    sp = sub.add_parser("winch", help="winch joint angles and length error versus l_pm (winch seed Fig. 7)")
-    sp.add_argument(
-        "--params", metavar="FILE", help="YAML of winch parameters (default: Table 1 of the winch seed)"
-    )
-    sp.add_argument(
-        "--lpm-from", type=non_negative, default=0.0, metavar="M", help="first l_pm [m] (default 0)"
-    )
-    sp.add_argument("--lpm-to", type=non_negative, default=5.0, metavar="M", help="last l_pm [m] (default 5)")
-    sp.add_argument(
-        "--steps", type=count(2, MAX_STEPS), default=101, help="points of the table (default 101)"
-    )
-    sp.add_argument("--out", metavar="FILE", help="also write the table (.csv or .parquet)")
-    sp.add_argument("--json", action="store_true")
-    sp.set_defaults(func=cmd_winch)
-    sp = sub.add_parser("plane", help="DEGM_E over a horizontal plane (Fig. 9, 12); writes a table")
-    _robot_options(sp)
-    _solver_options(sp)
-    sp.add_argument("--z", type=finite, required=True, metavar="M", help="plane height [m]")
-    sp.add_argument(
-        "--n", type=count(2, 20000), required=True, help="points per side over the anchors' bounding box"
-    )
-    sp.add_argument("--out", required=True, metavar="FILE")
-    _rotvec_argument(sp)
-    _physics_options(sp)
-    sp.set_defaults(func=cmd_plane)
-    sp = sub.add_parser(
-        "trajectory", help="DEGM_E along a straight path (Fig. 10, 19); writes a table with arc length s"
-    )
-    _robot_options(sp)
-    _solver_options(sp)
-    sp.add_argument("--start", nargs=3, type=finite, required=True, metavar=("X", "Y", "Z"))
-    sp.add_argument("--end", nargs=3, type=finite, required=True, metavar=("X", "Y", "Z"))
-    sp.add_argument("--n", type=count(2, 100_000_000), required=True, help="points along the path")
-    sp.add_argument("--out", required=True, metavar="FILE")
-    _rotvec_argument(sp)
-    _physics_options(sp)
-    sp.set_defaults(func=cmd_trajectory)
-    sp = sub.add_parser("job", help="a pipeline task: tables in, tables and figures out (run by Snakemake)")
-    sp.add_argument("name", choices=list(JOBS))
-    sp.add_argument(
-        "--study", required=True, metavar="FILE", help="the study file (validated as by the pipeline)"
-    )
-    for n in sorted({n for _, names in JOBS.values() for n in names}):
-        opt = "--" + n.replace("_", "-")
-        if n in ("tables", "paths"):
-            sp.add_argument(opt, nargs="+", metavar="FILE", help=_JOB_OPTION_HELP[n])
-        elif n == "threads":
-            sp.add_argument(opt, type=_threads, help=_JOB_OPTION_HELP[n])
-        elif n == "d":
-            sp.add_argument(opt, type=non_negative, help=_JOB_OPTION_HELP[n])
-        else:
-            sp.add_argument(opt, help=_JOB_OPTION_HELP[n])
-    sp.set_defaults(func=cmd_job)
-    from cdpr.cli import caspr
-
-    caspr.add_parser(sub, _Parser, positive, non_negative)
-    from cdpr.cli import view
-
-    view.add_parser(sub, finite)
-    return ap
+    p_, R = pose_arrays(robot, [p], None if rotvec is None else [rotvec])
+    B, st = pose_state(robot, p_, R)
+    B, D, K, H = B[0], st.D[0], st.K[0], st.H[0]
+    a = robot.arrays
+    C = a.A - a.d[:, None] * a.axis
+    fig = plt.figure(figsize=(7, 6))
+    ax = fig.add_subplot(projection="3d")
+    span = float(np.ptp(np.vstack([a.A, B]), axis=0).max())
+    ax.scatter(*a.A.T, color="k", s=12, label="joint points A_i")
+    for i in range(robot.m):
+        ax.plot(*np.stack([C[i], K[i]]).T, color="0.6", lw=0.8)  # dead length
+        ax.plot(*np.stack([D[i], B[i]]).T, color="tab:blue", lw=1.2)  # cable
+        ax.quiver(*a.A[i], *(0.08 * span * a.axis[i]), color="tab:red", lw=1.0)
+        if robot.r_p[i] > 0:
+            t = np.linspace(0, 2 * np.pi, 40)
+            e_s = (D[i] - H[i]) / max(np.linalg.norm(D[i] - H[i]), 1e-12)
+            n = np.cross(e_s, a.axis[i])
+            n /= max(np.linalg.norm(n), 1e-12)
+            w = np.cross(n, e_s)
+            circ = H[i] + robot.r_p[i] * (np.cos(t)[:, None] * e_s + np.sin(t)[:, None] * w)
+            ax.plot(*circ.T, color="tab:orange", lw=0.8)
+        ax.text(*a.A[i], f" {i + 1}", fontsize=8)
+    if not robot.point_mass:
+        pts = np.vstack([B, p_[0] + R[0] @ a.com])
+        try:
+            hull = ConvexHull(B)
+            for s in hull.simplices:
+                ax.plot(*B[np.append(s, s[0])].T, color="tab:green", lw=0.5)
+        except Exception:  # coplanar attachments: outline them
+            ax.plot(*np.vstack([B, B[:1]]).T, color="tab:green", lw=0.8)
+        ax.scatter(*pts[-1], color="tab:green", marker="x", s=30, label="centre of mass")
+    ax.scatter(*p_[0], color="tab:green", s=20, label="platform point p")
+    ax.plot([], [], color="tab:red", label="pulley axes k_i")
+    ax.plot([], [], color="tab:blue", label="cables D_i -> B_i")
+    lo, hi = np.vstack([a.A, B, C]).min(axis=0), np.vstack([a.A, B, C]).max(axis=0)
+    mid, half = (lo + hi) / 2, (hi - lo).max() / 2
+    for set_lim, c in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), mid):
+        set_lim(c - half, c + half)
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.set_zlabel("z [m]")
+    ax.set_title(f"{robot.name} at p = {np.round(p_[0], 3).tolist()} m")
+    ax.legend(fontsize=7, loc="upper left")
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
 
 
-def main(argv=None):
-    try:
-        args = build_parser().parse_args(argv)
-        args.func(args)
-    except CdprError as exc:
-        print(f"cdpr: error: {exc}", file=sys.stderr)
-        return 2
-    except BrokenPipeError:  # e.g. `cdpr ... | head`: the reader left; stop quietly
-        devnull = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, sys.stdout.fileno())
-        return 0
-    return 0
+def cmd_view(args):
+    """``cdpr view``: a 3-D picture of a robot file (frame, pulleys with their axes, platform, cables)."""
+    robot = load_robot(args.robot)
+    io.check_output(args.out, (".png",))
+    p = default_position(robot) if args.at is None else np.asarray(args.at, dtype=float)
+    draw_robot(robot, p, args.rotvec, args.out)
+    print(f"wrote {args.out}")

@@ -1,5 +1,6 @@
 """Compiled physical equilibrium: ``equilibrium.solve_physical`` as a numba kernel that runs in
-parallel over points, scalars only in the hot loop (one cable at a time through ``fast._cable``).
+parallel over points, scalars only in the hot loop (one cable at a time through the shared
+kernel ``_kernels.cable``).
 
 Same equations, Jacobian, merit, line search, stop rules and statuses as the numpy reference
 (``equilibrium``); a test checks that both give the same statuses, taut sets and P* (1e-9 m).
@@ -8,33 +9,80 @@ Same equations, Jacobian, merit, line search, stop rules and statuses as the num
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
-import numba
 import numpy as np
 from numba import njit, prange
 
-from cdpr.compiled.subsets import _cable
+from cdpr.compiled._kernels import CHUNK, DET_EPS, cable, cable_arrays, newton_options, set_threads
 from cdpr.models.equilibrium import (
     ARMIJO_C,
     FTOL_REL,
     LS_SKIP,
     MAX_HALVINGS,
     PHYSICAL_DEFAULTS,
-    _result,
     hull_halfplanes,
+    physical_result,
     start_points,
 )
 from cdpr.models.inverse import L_TS
-from cdpr.models.statics import DET_EPS
 
-#: Points per parallel work item (per-chunk scratch arrays are allocated once).
-CHUNK = 256
+
+class Load(NamedTuple):
+    """The platform's load for the physical kernels (``physical_load``): wx, wy, wz the external
+    force w_ext [N], ztop [m] the lowest pulley joint height (P must stay below it), ftol [N] the
+    force tolerance FTOL_REL |w_ext|."""
+
+    wx: float
+    wy: float
+    wz: float
+    ztop: float
+    ftol: float
+
+
+class PhysicalOut(NamedTuple):
+    """Per-point results of the physical kernel (``physical_outputs``): P (N, 3) [m], t (N, m) [N],
+    resid (N,) [N], it (N,), conv (N,) bool, ins (N,) bool (a cable's P or C inside its sheave)."""
+
+    P: np.ndarray
+    t: np.ndarray
+    resid: np.ndarray
+    it: np.ndarray
+    conv: np.ndarray
+    ins: np.ndarray
+
+
+def physical_load(robot):
+    """The ``Load`` record of ``robot``."""
+    w = robot.platform.w_ext
+    return Load(
+        float(w[0]),
+        float(w[1]),
+        float(w[2]),
+        float(robot.arrays.A[:, 2].min()),
+        FTOL_REL * float(np.linalg.norm(w)),
+    )
+
+
+def physical_outputs(n, m):
+    """An uninitialised ``PhysicalOut`` for n points and m cables."""
+    return PhysicalOut(
+        np.empty((n, 3)),
+        np.empty((n, m)),
+        np.empty(n),
+        np.empty(n, dtype=np.int32),
+        np.empty(n, dtype=np.bool_),
+        np.empty(n, dtype=np.bool_),
+    )
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def _eval(px, py, pz, rx, ry, rz, A, kind, h, rp, d, inward, L0, i, ES, wx, wy, wz, ztop, tbuf):
-    """equilibrium._Cables.evaluate at one point P with rest lengths L0[i]: writes the tensions in
-    tbuf and returns (F (3), Newton's F (3), merit, J (9, row-major), grad (3), kappa, inside)."""
+def _eval(px, py, pz, rx, ry, rz, cab, L0, i, load, tbuf):
+    """equilibrium._Cables.evaluate at one point P with rest lengths L0[i] (``Cables`` cab, ``Load``
+    load): writes the tensions in tbuf and returns (F (3), Newton's F (3), merit, J (9, row-major),
+    grad (3), kappa, inside)."""
+    A, kind, h, rp, d, inward, ES = cab.A, cab.kind, cab.h, cab.rp, cab.d, cab.inward, cab.ES
+    wx, wy, wz, ztop = load.wx, load.wy, load.wz, load.ztop
     m = A.shape[0]
     Fx, Fy, Fz = wx, wy, wz
     elastic = 0.0
@@ -46,7 +94,7 @@ def _eval(px, py, pz, rx, ry, rz, A, kind, h, rp, d, inward, L0, i, ES, wx, wy, 
     nact = 0
     inside_any = False
     for c in range(m):
-        (L, ux, uy, uz, lE, ins, sw, epx, epy, arm, bx, by, bz, ex, ey, ez, uCb) = _cable(
+        (L, ux, uy, uz, lE, ins, sw, epx, epy, arm, bx, by, bz, ex, ey, ez, uCb) = cable(
             px, py, pz, A[c, 0], A[c, 1], A[c, 2], kind[c], h[c], rp[c], d[c], inward[c, 0], inward[c, 1]
         )
         inside_any = inside_any or ins
@@ -152,41 +200,17 @@ def _eval(px, py, pz, rx, ry, rz, A, kind, h, rp, d, inward, L0, i, ES, wx, wy, 
 
 
 @njit(cache=True, error_model="numpy")
-def _solve_one(
-    i,
-    p,
-    P0,
-    L0,
-    A,
-    kind,
-    h,
-    rp,
-    d,
-    inward,
-    ES,
-    wx,
-    wy,
-    wz,
-    ztop,
-    ftol,
-    tol,
-    maxiter,
-    max_step,
-    P_out,
-    t_out,
-    res_out,
-    it_out,
-    conv_out,
-    ins_out,
-    tcur,
-    ttry,
-):
-    """equilibrium._newton for point i."""
-    m = A.shape[0]
+def solve_point(i, p, P0, L0, cab, load, opts, out, tcur, ttry):
+    """equilibrium._newton for point i: p (N, 3) [m] the nominal points, P0 (N, 3) [m] the start
+    points, L0 (N, m) [m] the rest lengths, cab ``Cables``, load ``Load``, opts ``Newton``; writes
+    row i of out (``PhysicalOut``); tcur, ttry (m,): scratch (tcur is left holding the tensions)."""
+    tol, maxiter, max_step, ftol = opts.tol, opts.maxiter, opts.max_step, load.ftol
+    P_out, t_out, res_out, it_out, conv_out, ins_out = out
+    m = cab.A.shape[0]
     rx, ry, rz = p[i, 0], p[i, 1], p[i, 2]
     px, py, pz = P0[i, 0], P0[i, 1], P0[i, 2]
     (Fx, Fy, Fz, Nx, Ny, Nz, merit, J00, J01, J02, J10, J11, J12, J20, J21, J22, gx, gy, gz, kappa, ins) = (
-        _eval(px, py, pz, rx, ry, rz, A, kind, h, rp, d, inward, L0, i, ES, wx, wy, wz, ztop, tcur)
+        _eval(px, py, pz, rx, ry, rz, cab, L0, i, load, tcur)
     )
     conv = False
     it = 0
@@ -247,7 +271,7 @@ def _solve_one(
                 tgz,
                 tkappa,
                 tins,
-            ) = _eval(qx, qy, qz, rx, ry, rz, A, kind, h, rp, d, inward, L0, i, ES, wx, wy, wz, ztop, ttry)
+            ) = _eval(qx, qy, qz, rx, ry, rz, cab, L0, i, load, ttry)
             if whole or tmerit <= merit + ARMIJO_C * alpha * slope or hv == MAX_HALVINGS:
                 px, py, pz = qx, qy, qz
                 Fx, Fy, Fz, Nx, Ny, Nz, merit = tFx, tFy, tFz, tNx, tNy, tNz, tmerit
@@ -273,68 +297,15 @@ def _solve_one(
 
 
 @njit(cache=True, parallel=True, error_model="numpy")
-def _solve_points(
-    p,
-    P0,
-    L0,
-    A,
-    kind,
-    h,
-    rp,
-    d,
-    inward,
-    ES,
-    wx,
-    wy,
-    wz,
-    ztop,
-    ftol,
-    tol,
-    maxiter,
-    max_step,
-    P_out,
-    t_out,
-    res_out,
-    it_out,
-    conv_out,
-    ins_out,
-):
+def _solve_points(p, P0, L0, cab, load, opts, out):
     n = p.shape[0]
-    m = A.shape[0]
+    m = cab.A.shape[0]
     nchunks = (n + CHUNK - 1) // CHUNK
     for ch in prange(nchunks):
         tcur = np.empty(m)
         ttry = np.empty(m)
         for i in range(ch * CHUNK, min(n, (ch + 1) * CHUNK)):
-            _solve_one(
-                i,
-                p,
-                P0,
-                L0,
-                A,
-                kind,
-                h,
-                rp,
-                d,
-                inward,
-                ES,
-                wx,
-                wy,
-                wz,
-                ztop,
-                ftol,
-                tol,
-                maxiter,
-                max_step,
-                P_out,
-                t_out,
-                res_out,
-                it_out,
-                conv_out,
-                ins_out,
-                tcur,
-                ttry,
-            )
+            solve_point(i, p, P0, L0, cab, load, opts, out, tcur, ttry)
 
 
 def solve_physical_fast(robot, p, L0=None, P0=None, tol=None, maxiter=None, max_step=None, threads=None):
@@ -356,47 +327,15 @@ def solve_physical_fast(robot, p, L0=None, P0=None, tol=None, maxiter=None, max_
     dict
         As ``equilibrium.solve_physical``.
     """
-    o = PHYSICAL_DEFAULTS
     p = np.ascontiguousarray(np.atleast_2d(np.asarray(p, dtype=float)))
     n, m = len(p), robot.m
     L0 = L_TS(robot, p) if L0 is None else np.broadcast_to(np.asarray(L0, dtype=float), (n, m))
     L0 = np.ascontiguousarray(L0, dtype=float)
     P0 = start_points(robot, p if P0 is None else P0)
-    if threads:
-        numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
-    a = robot.arrays
-    w = robot.platform.w_ext
-    P = np.empty((n, 3))
-    t = np.empty((n, m))
-    resid = np.empty(n)
-    it = np.empty(n, dtype=np.int32)
-    conv = np.empty(n, dtype=np.bool_)
-    ins = np.empty(n, dtype=np.bool_)
+    set_threads(threads)
+    out = physical_outputs(n, m)
     if n:
-        _solve_points(
-            p,
-            P0,
-            L0,
-            a.A,
-            a.kind.astype(np.int64),
-            a.h,
-            a.r_p,
-            a.d,
-            np.ascontiguousarray(a.inward),
-            a.ES,
-            float(w[0]),
-            float(w[1]),
-            float(w[2]),
-            float(a.A[:, 2].min()),
-            FTOL_REL * float(np.linalg.norm(w)),
-            o["tol"] if tol is None else tol,
-            o["maxiter"] if maxiter is None else maxiter,
-            o["max_step"] if max_step is None else max_step,
-            P,
-            t,
-            resid,
-            it,
-            conv,
-            ins,
-        )
-    return _result(robot, p, P, t, resid, it, conv, ins[:, None], halfplanes=hull_halfplanes(robot))
+        opts = newton_options(PHYSICAL_DEFAULTS, tol, maxiter, max_step)
+        _solve_points(p, P0, L0, cable_arrays(robot), physical_load(robot), opts, out)
+    P, t, resid, it, conv, ins = out
+    return physical_result(robot, p, P, t, resid, it, conv, ins[:, None], halfplanes=hull_halfplanes(robot))

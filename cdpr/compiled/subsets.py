@@ -10,125 +10,111 @@ pipeline use.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
-import numba
 import numpy as np
 from numba import njit, prange
 
-from cdpr.models.direct import NEWTON_DEFAULTS
-from cdpr.models.pulleys import RHO_EPS, SWIVEL_RHO_MIN
-from cdpr.models.statics import DET_EPS
-from cdpr.models.subsets import STATUSES, TIE_TOL
+from cdpr.compiled._kernels import (
+    CHUNK,
+    DET_EPS,
+    NEWTON_DEFAULTS,
+    cable_arrays,
+    cable_of,
+    cable_params,
+    commanded_input,
+    newton_options,
+    set_threads,
+)
+from cdpr.models.results import STATUSES
+from cdpr.models.subsets import TIE_TOL
 
-TWO_PI = 2.0 * math.pi
 ST_OK, ST_SLACK, ST_OVER, ST_INACC, ST_NOCONV = (
     STATUSES.index(s) for s in ("ok", "slack", "over_tension", "inaccessible", "not_converged")
 )
 
 
-@njit(cache=True, inline="always", error_model="numpy")
-def _cable(px, py, pz, Ax, Ay, Az, kind, h, rp, d, inx, iny):
-    """One cable's pulleys.CableGeometry at P: L_TE, u = (D - P)/|D - P|, |D - P|, inside,
-    swivel, e_perp (x, y), and the DR arm terms arm, beta, eps, uC_beta (zero for SR and fixed).
+class Subsets(NamedTuple):
+    """The 3-cable subsets of paper mode for the kernels (``subset_arrays``): idx (ns, 3) int64 cable
+    indices; edges (ns, 3, 3) and margin (ns,) [m] as ``subset_edges``."""
 
-    Same geometry as pulleys.pulley_state without its angles: with cos(delta) = r_p/R and
-    sin(delta) = l/R, the tangent directions follow from angle-sum identities, and the wrap angle
-    gamma = theta_K - theta_D (mod 2 pi) needs a single atan2."""
-    dx, dy = px - Ax, py - Ay
-    rho = math.sqrt(dx * dx + dy * dy)
-    if rho < RHO_EPS:
-        esx, esy = inx, iny
-    else:
-        esx, esy = dx / rho, dy / rho
-    wP = pz - Az
-    arm = bhs = bhw = ens = enw = 0.0
-    if kind == 2:
-        nP = math.sqrt(rho * rho + wP * wP)
-        okP = nP > 0.0
-        if not okP:
-            nP = 1.0
-        bs, bw = rho / nP, wP / nP - 1.0
-        nb = math.sqrt(bs * bs + bw * bw)
-        if okP and nb > 0.0:
-            arm = h / (2.0 * nP)
-        if nb == 0.0:
-            nb = 1.0
-        bhs, bhw = bs / nb, bw / nb
-        Hs, Hw = h * bhs, h * bhw
-        ens, enw = -wP / nP, rho / nP  # in-plane normal of the strand A -> P
-    else:
-        Hs, Hw = h, 0.0
-    rp2 = rp * rp
-    # P side: theta_D = phi_P + delta_P
-    rs, rw = rho - Hs, wP - Hw
-    R2 = rs * rs + rw * rw
-    inside = R2 <= rp2 and rp > 0.0
-    lE = math.sqrt(max(R2 - rp2, 0.0))
-    if R2 > 0.0:
-        iR2 = 1.0 / R2
-        cD, sD = (rs * rp - rw * lE) * iR2, (rw * rp + rs * lE) * iR2
-    else:
-        cD, sD = 0.0, 1.0
-    # C side (C = (0, -d)): theta_K = phi_C - delta_C
-    cs, cw = -Hs, -d - Hw
-    RC2 = cs * cs + cw * cw
-    inside = inside or (RC2 <= rp2 and rp > 0.0)
-    ld = math.sqrt(max(RC2 - rp2, 0.0))
-    if RC2 > 0.0:
-        iRC2 = 1.0 / RC2
-        cK, sK = (cs * rp + cw * ld) * iRC2, (cw * rp - cs * ld) * iRC2
-    else:
-        cK, sK = 0.0, -1.0
-    gamma = math.atan2(sK * cD - cK * sD, cK * cD + sK * sD)  # in (-pi, pi]; gamma mod 2 pi:
-    if gamma < 0.0:
-        gamma += TWO_PI
-    L = ld + rp * gamma + lE
-    Ds, Dw = Hs + rp * cD, Hw + rp * sD
-    vx, vy, vz = Ax + Ds * esx - px, Ay + Ds * esy - py, Az + Dw - pz
-    n = math.sqrt(vx * vx + vy * vy + vz * vz)
-    if n <= 0.0:
-        n = 1.0
-    swivel = Ds / rho if rho > SWIVEL_RHO_MIN else 0.0  # pulleys.total_length_and_direction
-    # u_C . beta, u_C = (K - C)/l_d in the plane, beta = (-bhw, bhs) the arm's in-plane normal
-    uCb = ((Hs + rp * cK) * -bhw + (Hw + rp * sK + d) * bhs) / (ld if ld > 0.0 else 1.0)
-    i_n = 1.0 / n
-    return (
-        L,
-        vx * i_n,
-        vy * i_n,
-        vz * i_n,
-        n,
-        inside,
-        swivel,
-        -esy,
-        esx,
-        arm,
-        -bhw * esx,
-        -bhw * esy,
-        bhs,
-        ens * esx,
-        ens * esy,
-        enw,
-        uCb,
+    idx: np.ndarray
+    edges: np.ndarray
+    margin: np.ndarray
+
+
+class PaperOut(NamedTuple):
+    """Per-point results of the paper-mode kernel (``paper_outputs``): P_s (N, 3) [m], dp (N,) [m],
+    t (N, m) [N], subset (N, 3), iterations (N,), status codes (N,) int8, subset solves (N,)."""
+
+    P_s: np.ndarray
+    dp: np.ndarray
+    t: np.ndarray
+    sub: np.ndarray
+    it: np.ndarray
+    st: np.ndarray
+    work: np.ndarray
+
+
+class PaperScratch(NamedTuple):
+    """Per-point scratch of ``solve_point`` (``paper_scratch``, one per chunk): the commanded lengths
+    Lall (m,) [m] and, per subset (ns), its solution Ps (ns, 3) [m], tensions ts (ns, 3) [N],
+    iterations, converged, exists, |dp| [m], solved, admissible and the pruning bound gap [m]."""
+
+    Lall: np.ndarray
+    Ps: np.ndarray
+    ts: np.ndarray
+    its: np.ndarray
+    conv: np.ndarray
+    exi: np.ndarray
+    dps: np.ndarray
+    solved: np.ndarray
+    adm: np.ndarray
+    gap: np.ndarray
+
+
+@njit(cache=True)
+def paper_scratch(m, ns):
+    """A ``PaperScratch`` for m cables and ns subsets (allocated, not initialised)."""
+    return PaperScratch(
+        np.empty(m),
+        np.empty((ns, 3)),
+        np.empty((ns, 3)),
+        np.empty(ns, np.int32),
+        np.empty(ns, np.bool_),
+        np.empty(ns, np.bool_),
+        np.empty(ns),
+        np.empty(ns, np.bool_),
+        np.empty(ns, np.bool_),
+        np.empty(ns),
+    )
+
+
+def paper_outputs(n, m):
+    """An uninitialised ``PaperOut`` for n points and m cables."""
+    return PaperOut(
+        np.empty((n, 3)),
+        np.empty(n),
+        np.empty((n, m)),
+        np.empty((n, 3), dtype=np.intp),
+        np.empty(n, dtype=np.int32),
+        np.empty(n, dtype=np.int8),
+        np.empty(n, dtype=np.int32),
     )
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def _residual(px, py, pz, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES, bx, by, bz):
-    """F = L_TE(P) - Lc (1 + t/(E S)) (E S per cable) for subset (s0, s1, s2), t from equilibrium (statics.tensions),
-    the Jacobian dF/dP and dt/dP (direct._Subset.residual). Scalars only: no allocation in the hot loop.
+def _residual(px, py, pz, c0, c1, c2, Ea, Eb, Eg, L0, L1, L2, bx, by, bz):
+    """F = L_TE(P) - Lc (1 + t/(E S)) (E S per cable) for the subset of cables with parameters
+    c0, c1, c2 (``cable_params``) and axial stiffnesses Ea, Eb, Eg [N], t from equilibrium
+    (statics.tensions), the Jacobian dF/dP and dt/dP (direct._Subset.residual). Scalars only: no
+    allocation in the hot loop.
 
     Returns (F (3), t (3), J (9, row-major), dt/dP (9, row-major), valid)."""
-    (La, ax, ay, az, la, ia, sa, pax, pay, qa, bax, bay, baz, eax, eay, eaz, ca) = _cable(
-        px, py, pz, A[s0, 0], A[s0, 1], A[s0, 2], kind[s0], h[s0], rp[s0], d[s0], inward[s0, 0], inward[s0, 1]
-    )
-    (Lb, bx_, by_, bz_, lb, ib, sb, pbx, pby, qb, bbx, bby, bbz, ebx, eby, ebz, cb) = _cable(
-        px, py, pz, A[s1, 0], A[s1, 1], A[s1, 2], kind[s1], h[s1], rp[s1], d[s1], inward[s1, 0], inward[s1, 1]
-    )
-    (Lg, cx, cy, cz, lg, ig, sg, pgx, pgy, qg, bgx, bgy, bgz, egx, egy, egz, cg) = _cable(
-        px, py, pz, A[s2, 0], A[s2, 1], A[s2, 2], kind[s2], h[s2], rp[s2], d[s2], inward[s2, 0], inward[s2, 1]
-    )
-    valid = not (ia or ib or ig) and pz < A[s0, 2] and pz < A[s1, 2] and pz < A[s2, 2]
+    (La, ax, ay, az, la, ia, sa, pax, pay, qa, bax, bay, baz, eax, eay, eaz, ca) = cable_of(px, py, pz, c0)
+    (Lb, bx_, by_, bz_, lb, ib, sb, pbx, pby, qb, bbx, bby, bbz, ebx, eby, ebz, cb) = cable_of(px, py, pz, c1)
+    (Lg, cx, cy, cz, lg, ig, sg, pgx, pgy, qg, bgx, bgy, bgz, egx, egy, egz, cg) = cable_of(px, py, pz, c2)
+    valid = not (ia or ib or ig) and pz < c0[2] and pz < c1[2] and pz < c2[2]
     # cofactor rows of M = [u_a u_b u_c]: M^{-1} = [r0; r1; r2] / det
     r0x, r0y, r0z = by_ * cz - bz_ * cy, bz_ * cx - bx_ * cz, bx_ * cy - by_ * cx
     r1x, r1y, r1z = cy * az - cz * ay, cz * ax - cx * az, cx * ay - cy * ax
@@ -167,7 +153,6 @@ def _residual(px, py, pz, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES,
     t0 = (r0x * bx + r0y * by + r0z * bz) * idet
     t1 = (r1x * bx + r1y * by + r1z * bz) * idet
     t2 = (r2x * bx + r2y * by + r2z * bz) * idet
-    Ea, Eb, Eg = ES[s0], ES[s1], ES[s2]
     F0 = La - L0 * (1.0 + t0 / Ea)
     F1 = Lb - L1 * (1.0 + t1 / Eb)
     F2 = Lg - L2 * (1.0 + t2 / Eg)
@@ -263,12 +248,14 @@ def _residual(px, py, pz, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES,
 
 
 @njit(cache=True, error_model="numpy")
-def _newton(
-    p0x, p0y, p0z, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES, bx, by, bz, tol, maxiter, max_step
-):
-    """direct._newton (analytic Jacobian, same stop rule) for one point and one subset.
+def _newton(p0x, p0y, p0z, s0, s1, s2, cab, L0, L1, L2, bx, by, bz, opts):
+    """direct._newton (analytic Jacobian, same stop rule) for one point and one subset; ``cab`` the
+    ``Cables`` record, ``opts`` the ``Newton`` record.
 
     Returns (Px, Py, Pz, t0, t1, t2, iterations, converged, exists)."""
+    tol, maxiter, max_step = opts.tol, opts.maxiter, opts.max_step
+    c0, c1, c2 = cable_params(cab, s0), cable_params(cab, s1), cable_params(cab, s2)
+    Ea, Eb, Eg = cab.ES[s0], cab.ES[s1], cab.ES[s2]
     px, py, pz = p0x, p0y, p0z
     conv = False
     exists = True
@@ -301,7 +288,7 @@ def _newton(
             T21,
             T22,
             valid,
-        ) = _residual(px, py, pz, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES, bx, by, bz)
+        ) = _residual(px, py, pz, c0, c1, c2, Ea, Eb, Eg, L0, L1, L2, bx, by, bz)
         # solve J step = -F by cofactors (statics.solve3); columns (jx., jy., jz.)
         q0x, q0y, q0z = jy1 * jz2 - jy2 * jz1, jy2 * jz0 - jy0 * jz2, jy0 * jz1 - jy1 * jz0
         q1x, q1y, q1z = jz1 * jx2 - jz2 * jx1, jz2 * jx0 - jz0 * jx2, jz0 * jx1 - jz1 * jx0
@@ -335,200 +322,18 @@ def _newton(
         pz += sz * scale
         prev = norm * scale
     else:  # iteration cap: evaluate at the last P
-        out = _residual(px, py, pz, s0, s1, s2, A, kind, h, rp, d, inward, L0, L1, L2, ES, bx, by, bz)
+        out = _residual(px, py, pz, c0, c1, c2, Ea, Eb, Eg, L0, L1, L2, bx, by, bz)
         t0, t1, t2, valid = out[3], out[4], out[5], out[-1]
     exists = exists and valid
     return px, py, pz, t0, t1, t2, it, conv and exists, exists
 
 
-@njit(cache=True, error_model="numpy")
-def _solve_subset(
-    k,
-    i,
-    p,
-    A,
-    kind,
-    h,
-    rp,
-    d,
-    inward,
-    subsets,
-    Lall,
-    ES,
-    b,
-    tol,
-    maxiter,
-    max_step,
-    Ps,
-    ts,
-    its,
-    conv,
-    exi,
-    dps,
-):
-    s0, s1, s2 = subsets[k, 0], subsets[k, 1], subsets[k, 2]
-    px, py, pz, t0, t1, t2, it, cv, ex = _newton(
-        p[i, 0],
-        p[i, 1],
-        p[i, 2],
-        s0,
-        s1,
-        s2,
-        A,
-        kind,
-        h,
-        rp,
-        d,
-        inward,
-        Lall[s0],
-        Lall[s1],
-        Lall[s2],
-        ES,
-        b[0],
-        b[1],
-        b[2],
-        tol,
-        maxiter,
-        max_step,
-    )
-    Ps[k, 0], Ps[k, 1], Ps[k, 2] = px, py, pz
-    ts[k, 0], ts[k, 1], ts[k, 2] = t0, t1, t2
-    its[k], conv[k], exi[k] = it, cv, ex
-    dps[k] = math.sqrt((px - p[i, 0]) ** 2 + (py - p[i, 1]) ** 2 + (pz - p[i, 2]) ** 2)
-
-
-#: Points per parallel work item: per-point scratch arrays are allocated once per chunk.
-CHUNK = 256
-
-
-@njit(cache=True, parallel=True, error_model="numpy")
-def _solve_points(
-    p,
-    Lin,
-    A,
-    kind,
-    h,
-    rp,
-    d,
-    inward,
-    subsets,
-    edges,
-    margin,
-    ES,
-    b,
-    T_a,
-    tol,
-    maxiter,
-    max_step,
-    prune,
-    P_s,
-    dp_out,
-    t_out,
-    sub_out,
-    it_out,
-    st_out,
-    work,
-):
-    n = p.shape[0]
-    ns = subsets.shape[0]
-    m = A.shape[0]
-    nchunks = (n + CHUNK - 1) // CHUNK
-    for ch in prange(nchunks):
-        Lall = np.empty(m)
-        Ps = np.empty((ns, 3))
-        ts = np.empty((ns, 3))
-        its = np.empty(ns, np.int32)
-        conv = np.empty(ns, np.bool_)
-        exi = np.empty(ns, np.bool_)
-        dps = np.empty(ns)
-        solved = np.empty(ns, np.bool_)
-        adm = np.empty(ns, np.bool_)
-        gap = np.empty(ns)
-        for i in range(ch * CHUNK, min(n, (ch + 1) * CHUNK)):
-            _solve_one(
-                i,
-                p,
-                Lin,
-                A,
-                kind,
-                h,
-                rp,
-                d,
-                inward,
-                subsets,
-                edges,
-                margin,
-                ES,
-                b,
-                T_a,
-                tol,
-                maxiter,
-                max_step,
-                prune,
-                P_s,
-                dp_out,
-                t_out,
-                sub_out,
-                it_out,
-                st_out,
-                work,
-                Lall,
-                Ps,
-                ts,
-                its,
-                conv,
-                exi,
-                dps,
-                solved,
-                adm,
-                gap,
-            )
-
-
-@njit(cache=True, error_model="numpy")
-def _solve_one(
-    i,
-    p,
-    Lin,
-    A,
-    kind,
-    h,
-    rp,
-    d,
-    inward,
-    subsets,
-    edges,
-    margin,
-    ES,
-    b,
-    T_a,
-    tol,
-    maxiter,
-    max_step,
-    prune,
-    P_s,
-    dp_out,
-    t_out,
-    sub_out,
-    it_out,
-    st_out,
-    work,
-    Lall,
-    Ps,
-    ts,
-    its,
-    conv,
-    exi,
-    dps,
-    solved,
-    adm,
-    gap,
-):
-    """Point i: solve the subsets (pruned, see solve_points_fast) and choose as redundancy.solve_points.
-    The commanded lengths are Lin[i] when Lin has rows, else L_TS at p[i] (eq. 2)."""
-    ns = subsets.shape[0]
-    m = A.shape[0]
-    for c in range(m):
+@njit(cache=True, inline="always", error_model="numpy")
+def commanded_lengths(i, p, Lin, cab, Lall):
+    """Lall (m,) [m] = the commanded total lengths of point i: Lin[i] when Lin (N, m) has rows,
+    else L_TS at p[i] (eq. 2: |A_j - p| + d_j)."""
+    A, d = cab.A, cab.d
+    for c in range(A.shape[0]):
         if Lin.shape[0] > 0:
             Lall[c] = Lin[i, c]
         else:
@@ -536,6 +341,50 @@ def _solve_one(
                 math.sqrt((p[i, 0] - A[c, 0]) ** 2 + (p[i, 1] - A[c, 1]) ** 2 + (p[i, 2] - A[c, 2]) ** 2)
                 + d[c]
             )
+
+
+@njit(cache=True, error_model="numpy")
+def solve_subset(k, i, p, cab, subsets, Lall, b, opts, scr):
+    """Subset k (row of ``subsets`` (ns, 3)) at point i from P = p[i] with commanded lengths Lall
+    (m,) [m] and force b (3,) [N] (``_newton``): writes row k of scr.Ps, ts, its, conv, exi, dps
+    (``PaperScratch``)."""
+    s0, s1, s2 = subsets[k, 0], subsets[k, 1], subsets[k, 2]
+    px, py, pz, t0, t1, t2, it, cv, ex = _newton(
+        p[i, 0], p[i, 1], p[i, 2], s0, s1, s2, cab, Lall[s0], Lall[s1], Lall[s2], b[0], b[1], b[2], opts
+    )
+    Ps, ts = scr.Ps, scr.ts
+    Ps[k, 0], Ps[k, 1], Ps[k, 2] = px, py, pz
+    ts[k, 0], ts[k, 1], ts[k, 2] = t0, t1, t2
+    scr.its[k], scr.conv[k], scr.exi[k] = it, cv, ex
+    scr.dps[k] = math.sqrt((px - p[i, 0]) ** 2 + (py - p[i, 1]) ** 2 + (pz - p[i, 2]) ** 2)
+
+
+@njit(cache=True, parallel=True, error_model="numpy")
+def _solve_points(p, Lin, cab, subs, b, opts, prune, out):
+    n = p.shape[0]
+    ns = subs.idx.shape[0]
+    m = cab.A.shape[0]
+    nchunks = (n + CHUNK - 1) // CHUNK
+    for ch in prange(nchunks):
+        scr = paper_scratch(m, ns)
+        for i in range(ch * CHUNK, min(n, (ch + 1) * CHUNK)):
+            solve_point(i, p, Lin, cab, subs, b, opts, prune, out, scr)
+
+
+@njit(cache=True, error_model="numpy")
+def solve_point(i, p, Lin, cab, subs, b, opts, prune, out, scr):
+    """Point i: solve the subsets (pruned, see solve_points_fast) and choose as redundancy.solve_points.
+
+    p (N, 3) [m]; Lin (N, m) or (0, m) [m] the commanded lengths (none: L_TS at p[i], eq. 2); cab
+    ``Cables``; subs ``Subsets``; b (3,) [N] = -w_ext; opts ``Newton``; prune bool; writes row i
+    of out (``PaperOut``); scr a ``PaperScratch`` (left holding every subset's result at point i)."""
+    subsets, edges, margin = subs.idx, subs.edges, subs.margin
+    A, T_a = cab.A, cab.T_a
+    P_s, dp_out, t_out, sub_out, it_out, st_out, work = out
+    Lall, Ps, ts, its, conv, exi, dps, solved, adm, gap = scr
+    ns = subsets.shape[0]
+    m = A.shape[0]
+    commanded_lengths(i, p, Lin, cab, Lall)
     for k in range(ns):
         Ps[k, 0] = Ps[k, 1] = Ps[k, 2] = np.nan
         ts[k, 0] = ts[k, 1] = ts[k, 2] = np.nan
@@ -559,30 +408,7 @@ def _solve_one(
                 continue
             if pss == 2 and best < np.inf:
                 break
-            _solve_subset(
-                k,
-                i,
-                p,
-                A,
-                kind,
-                h,
-                rp,
-                d,
-                inward,
-                subsets,
-                Lall,
-                ES,
-                b,
-                tol,
-                maxiter,
-                max_step,
-                Ps,
-                ts,
-                its,
-                conv,
-                exi,
-                dps,
-            )
+            solve_subset(k, i, p, cab, subsets, Lall, b, opts, scr)
             solved[k] = True
             if (
                 conv[k]
@@ -676,65 +502,35 @@ def subset_edges(robot):
     return edges, margin
 
 
+def subset_arrays(robot):
+    """The ``Subsets`` record of ``robot``: its paper-mode subsets and their ``subset_edges``."""
+    edges, margin = subset_edges(robot)
+    return Subsets(np.ascontiguousarray(robot.subsets, dtype=np.int64), edges, margin)
+
+
 def solve_points_fast(robot, p, tol=None, maxiter=None, threads=None, prune=True, L=None):
     """Fast equivalent of ``redundancy.solve_points(robot, p, method="newton", L=L)`` (same keys
     except the per-subset arrays). ``threads`` caps numba's threads (default: all cores). ``L``
     (N, m) [m]: commanded total lengths of every cable, default L_TS(p) of ``robot`` (eq. 2); give
     them to command a robot whose parameters differ from the model that computed the lengths."""
-    o = NEWTON_DEFAULTS
     p = np.ascontiguousarray(np.atleast_2d(np.asarray(p, dtype=float)))
     n, m = len(p), robot.m
-    Lin = (
-        np.empty((0, m))
-        if L is None
-        else np.ascontiguousarray(np.broadcast_to(np.asarray(L, dtype=float), (n, m)))
-    )
-    if threads:
-        numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
-    P_s = np.empty((n, 3))
-    dp = np.empty(n)
-    t = np.empty((n, m))
-    sub = np.empty((n, 3), dtype=np.intp)
-    it = np.empty(n, dtype=np.int32)
-    st = np.empty(n, dtype=np.int8)
-    work = np.empty(n, dtype=np.int32)
+    Lin = commanded_input(L, n, m)
+    set_threads(threads)
+    out = paper_outputs(n, m)
     if n:
-        edges, margin = subset_edges(robot)
+        opts = newton_options(NEWTON_DEFAULTS, tol, maxiter)
         _solve_points(
-            p,
-            Lin,
-            robot.A,
-            robot.kind.astype(np.int64),
-            robot.h,
-            robot.r_p,
-            robot.d,
-            np.ascontiguousarray(robot.inward),
-            robot.subsets.astype(np.int64),
-            edges,
-            margin,
-            robot.ES,
-            -robot.platform.w_ext,
-            robot.T_a,
-            o["tol"] if tol is None else tol,
-            o["maxiter"] if maxiter is None else maxiter,
-            o["max_step"],
-            prune,
-            P_s,
-            dp,
-            t,
-            sub,
-            it,
-            st,
-            work,
+            p, Lin, cable_arrays(robot), subset_arrays(robot), -robot.platform.w_ext, opts, prune, out
         )
     return {
         "p": p,
-        "P_s": P_s,
-        "dp": dp,
-        "t": t,
-        "subset": sub,
-        "iterations": it,
-        "status_code": st,
-        "status": np.asarray(STATUSES)[st],
-        "subset_solves": work,
+        "P_s": out.P_s,
+        "dp": out.dp,
+        "t": out.t,
+        "subset": out.sub,
+        "iterations": out.it,
+        "status_code": out.st,
+        "status": np.asarray(STATUSES)[out.st],
+        "subset_solves": out.work,
     }

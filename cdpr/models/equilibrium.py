@@ -87,12 +87,12 @@ elastic cables of redundant CDPRs).
 from __future__ import annotations
 
 import numpy as np
-import pandas as pd
+from scipy.spatial import ConvexHull
 
 from cdpr.models.inverse import L_TS
 from cdpr.models.pulleys import total_length_and_direction
+from cdpr.models.results import STATUSES
 from cdpr.models.statics import direction_gradient, length_gradient, solve3
-from cdpr.models.subsets import STATUSES, pose_columns
 
 #: Newton defaults: position tolerance [m], iteration cap, largest step [m].
 PHYSICAL_DEFAULTS = {"tol": 1e-10, "maxiter": 60, "max_step": 0.5}
@@ -129,8 +129,6 @@ def hull_halfplanes(robot):
     halfplanes : ndarray (n_edges, 3)
         n_x, n_y [-] and c [m] per hull edge (``scipy.spatial.ConvexHull.equations``).
     """
-    from scipy.spatial import ConvexHull
-
     return np.ascontiguousarray(ConvexHull(robot.A[:, :2]).equations)
 
 
@@ -289,7 +287,7 @@ def statuses(robot, p, P, t, converged, inside, halfplanes=None):
     Returns
     -------
     code : ndarray (N,) int8
-        Index into ``redundancy.STATUSES``.
+        Index into ``results.STATUSES``.
     """
     hp = hull_halfplanes(robot) if halfplanes is None else halfplanes
     bad_p = outside_frame(robot, p, hp)
@@ -352,7 +350,7 @@ def solve_physical(robot, p, L0=None, P0=None, tol=None, maxiter=None, max_step=
         p (N, 3) [m]; P_s (N, 3) [m] the equilibrium P*; dp (N,) [m]; t (N, m) [N], NaN on slack
         cables; taut (N, m) bool (t_i > ``TAUT_MIN``); n_taut (N,); residual (N,) [N] = |F(P*)|;
         iterations (N,); converged (N,) bool; status_code (N,) int8 and status (N,) str of
-        ``redundancy.STATUSES``.
+        ``results.STATUSES``.
 
     References
     ----------
@@ -372,11 +370,38 @@ def solve_physical(robot, p, L0=None, P0=None, tol=None, maxiter=None, max_step=
     cab = _Cables(robot)
     P, cur, iters, conv = _newton(cab, P0, L0, p, tol, maxiter, max_step)
     g = total_length_and_direction(P, *cab.args)
-    return _result(robot, p, P, cur["t"], np.linalg.norm(cur["F"], axis=1), iters, conv, g.inside)
+    return physical_result(robot, p, P, cur["t"], np.linalg.norm(cur["F"], axis=1), iters, conv, g.inside)
 
 
-def _result(robot, p, P, t, residual, iters, conv, inside, halfplanes=None):
-    """The result dict of ``solve_physical`` (the compiled engine builds the same)."""
+def physical_result(robot, p, P, t, residual, iters, conv, inside, halfplanes=None):
+    """The result dict of ``solve_physical`` from the solved arrays (the compiled engines build
+    theirs with it too): the taut cables (t > ``TAUT_MIN``), |dp| = |P* - p| (Paty 2021 eq. 14) and
+    the statuses (``statuses``).
+
+    Parameters
+    ----------
+    robot : Robot
+    p : ndarray (N, 3) [m]
+        Desired positions.
+    P : ndarray (N, 3) [m]
+        Solved positions P*.
+    t : ndarray (N, m) [N]
+        Hooke tensions at P* (0 for a slack cable).
+    residual : ndarray (N,) [N]
+        |F| of the force balance at P*.
+    iters : ndarray (N,) int
+    conv : ndarray (N,) bool
+    inside : ndarray (N,) or (N, 1) bool
+        p inside the anchors' horizontal convex hull.
+    halfplanes : ndarray (n_edges, 3), optional
+        ``hull_halfplanes(robot)``.
+
+    Returns
+    -------
+    dict
+        p, P_s, dp, t (NaN where slack), taut, n_taut, residual, iterations, converged,
+        status_code (index into ``results.STATUSES``), status.
+    """
     taut = t > TAUT_MIN
     code = statuses(robot, p, P, t, conv, inside, halfplanes)
     return {
@@ -392,52 +417,3 @@ def _result(robot, p, P, t, residual, iters, conv, inside, halfplanes=None):
         "status_code": code,
         "status": np.asarray(STATUSES)[code],
     }
-
-
-def taut_labels(taut):
-    """Categorical labels of the taut cables, 1-based numbers joined by '-' ('1-2-4'; '' none), from
-    a (N, m) bool array (codes from the bit pattern; no Python loop per point).
-
-    Parameters
-    ----------
-    taut : array_like (N, m) bool
-        Taut cables per point.
-
-    Returns
-    -------
-    Categorical (N,)
-        Labels; the categories are all 2^m cable sets.
-    """
-    taut = np.asarray(taut, dtype=bool)
-    m = taut.shape[1]
-    code = taut.astype(np.int64) @ (1 << np.arange(m))
-    labels = ["-".join(str(i + 1) for i in range(m) if c >> i & 1) for c in range(1 << m)]
-    return pd.Categorical.from_codes(code, categories=labels)
-
-
-def to_frame(robot, res):
-    """One row per point: x, y, z, x_s, y_s, z_s, dp, t1..tm (NaN where slack), taut (label of the
-    taut cables, e.g. '1-2-3-4'), n_taut, iterations, status (SI units). The status categories are
-    ``res["statuses"]`` when given (``compensation.COMP_STATUSES``), else ``STATUSES``.
-
-    Parameters
-    ----------
-    robot : Robot
-        Supplies the number of cables m.
-    res : dict
-        A ``solve_physical`` result (or ``compensation.compensated_pose``'s).
-
-    Returns
-    -------
-    DataFrame
-        One row per point: x, y, z, x_s, y_s, z_s [m], dp [m], t1..tm [N], taut, n_taut,
-        iterations, status.
-    """
-    df = pose_columns(robot, res)
-    df["taut"] = taut_labels(res["taut"])
-    df["n_taut"] = res["n_taut"]
-    df["iterations"] = res["iterations"]
-    df["status"] = pd.Categorical.from_codes(
-        res["status_code"], categories=list(res.get("statuses", STATUSES))
-    )
-    return df

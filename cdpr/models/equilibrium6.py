@@ -68,8 +68,8 @@ from cdpr.models.equilibrium import (
 )
 from cdpr.models.platform import attachment_points, rotation_error, rotation_matrix, rotvec_of, skew
 from cdpr.models.pulleys import pulley_state, total_length_and_direction
+from cdpr.models.results import STATUSES
 from cdpr.models.statics import direction_gradient, length_gradient, solve3
-from cdpr.models.subsets import STATUSES
 
 #: Restart orientations: the desired one turned by +-RESTART_ANGLE [rad] about x, y and z.
 RESTART_ANGLE = np.radians(20.0)
@@ -544,32 +544,3 @@ def _result6(robot, cab, p, R_d, rv_d, L0, P, R, cur, iters, conv, unique, alter
         "wrap_over_270": st.gamma > 1.5 * np.pi,
         "L0": L0,
     }
-
-
-def to_frame6(robot, res):
-    """One row per pose of a ``solve_spatial`` result: the physical mode's columns
-    (``equilibrium.to_frame``: x, y, z, x_s, y_s, z_s, dp, t1..tm, taut, n_taut, iterations,
-    status) and rx, ry, rz (desired) and rx_s, ry_s, rz_s (reached) rotation vectors [rad], dphi
-    [rad], unique.
-
-    Parameters
-    ----------
-    robot : Robot
-    res : dict
-        A ``solve_spatial`` result.
-
-    Returns
-    -------
-    DataFrame
-    """
-    from cdpr.models.equilibrium import to_frame
-
-    df = to_frame(robot, res)
-    at = list(df.columns).index("dp") + 1
-    for k, name in enumerate(("rx", "ry", "rz")):
-        df.insert(at + k, name, res["rotvec"][:, k])
-    for k, name in enumerate(("rx_s", "ry_s", "rz_s")):
-        df.insert(at + 3 + k, name, res["rotvec_s"][:, k])
-    df.insert(at + 6, "dphi", res["dphi"])
-    df["unique"] = res["unique"]
-    return df

@@ -17,6 +17,7 @@ section 3.3).
 from __future__ import annotations
 
 import numpy as np
+from scipy.spatial.transform import Rotation
 
 
 def skew(v):
@@ -87,8 +88,6 @@ def rotvec_of(R):
     rotvec : ndarray (..., 3) [rad]
         |rotvec| in [0, pi].
     """
-    from scipy.spatial.transform import Rotation
-
     R = np.asarray(R, dtype=float)
     return Rotation.from_matrix(R.reshape(-1, 3, 3)).as_rotvec().reshape(R.shape[:-1])
 

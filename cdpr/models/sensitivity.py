@@ -52,9 +52,12 @@ from typing import NamedTuple
 import numpy as np
 
 from cdpr.errors import CdprError
+from cdpr.models.direct import degm_e
+from cdpr.models.equilibrium import solve_physical
 from cdpr.models.inverse import L_TS
 from cdpr.models.pulleys import pulley_state, total_length_and_direction
 from cdpr.models.statics import direction_gradient, inverse3, length_gradient, tensions
+from cdpr.models.subsets import solve_points
 from cdpr.parameters import GROUPS, UNITS, parameter_names  # noqa: F401  (re-exported)
 
 #: |dp| gap [m] to the runner-up admissible subset under which a paper-mode point is not smooth.
@@ -317,13 +320,13 @@ def sensitivities(
     p,
     redundancy="paper",
     L=None,
-    engine="compiled",
-    threads=None,
     gap_tol=GAP_TOL,
     t_tol=T_TOL,
     **solver,
 ):
-    """Solve the points and return dP*/dθ for every parameter, with a smoothness flag per point.
+    """Solve the points and return dP*/dθ for every parameter, with a smoothness flag per point
+    (the numpy reference; ``cdpr.solve.sensitivities`` chooses between it and the compiled twin
+    ``cdpr.compiled.sensitivity.sensitivities_fast``).
 
     .. math:: \\frac{dP^*}{d\\theta} = -J^{-1} \\frac{\\partial F}{\\partial \\theta}
 
@@ -338,11 +341,6 @@ def sensitivities(
     L : array_like, shape (N, m) [m], optional
         Commanded lengths (paper: total lengths L; physical: rest lengths L0), held fixed; default
         L_TS(p) (eq. 2).
-    engine : {"compiled", "numpy"}
-        ``cdpr.compiled.sensitivity`` (the solve and the sensitivities in one compiled pass) or the numpy
-        reference here.
-    threads : int, optional
-        Threads of the compiled engine.
     gap_tol : float [m]
         |dp| gap to the runner-up admissible subset under which a paper-mode point is not smooth.
     t_tol : float [N]
@@ -365,20 +363,10 @@ def sensitivities(
     p = np.atleast_2d(np.asarray(p, dtype=float))
     if redundancy not in ("paper", "physical"):
         raise CdprError(f"unknown redundancy {redundancy!r}; allowed: paper, physical")
-    if engine == "compiled":
-        from cdpr.compiled.sensitivity import sensitivities_fast
-
-        return sensitivities_fast(
-            robot, p, redundancy=redundancy, L=L, threads=threads, gap_tol=gap_tol, t_tol=t_tol, **solver
-        )
-    if engine != "numpy":
-        raise CdprError(f"unknown engine {engine!r}; allowed: compiled, numpy")
     n, m = len(p), robot.m
     L = L_TS(robot, p) if L is None else np.broadcast_to(np.asarray(L, dtype=float), (n, m))
     S = np.full((n, 3, 7 * m + 1), np.nan)
     if redundancy == "paper":
-        from cdpr.models.subsets import solve_points
-
         res = solve_points(robot, p, L=L, **solver)
         ok = res["status"] == "ok"
         t_sub = np.full((n, 3), np.nan)
@@ -394,8 +382,6 @@ def sensitivities(
         res["dp_gap"] = gap
         smooth = ok & (gap > gap_tol) & (margin > t_tol) & (cond < COND_MAX)
     else:
-        from cdpr.models.equilibrium import solve_physical
-
         res = solve_physical(robot, p, L0=L, **solver)
         ok = res["status"] == "ok"
         idx = np.flatnonzero(ok)
@@ -427,34 +413,12 @@ def sensitivity_columns(names):
     return [f"d{ax}_d{nm}" for nm in names for ax in "xyz"]
 
 
-def sensitivity_frame(res):
-    """The sensitivities of a ``sensitivities`` result as table columns, one row per point.
-
-    Parameters
-    ----------
-    res : dict
-        A ``sensitivities`` result (keys S, names, smooth).
-
-    Returns
-    -------
-    DataFrame
-        Columns ``sensitivity_columns(res["names"])`` [m per unit of θ] and ``smooth``.
-    """
-    import pandas as pd
-
-    S = res["S"]
-    cols = sensitivity_columns(res["names"])
-    flat = np.swapaxes(S, 1, 2).reshape(len(S), -1)
-    df = pd.DataFrame(flat, columns=cols)
-    df["smooth"] = res["smooth"]
-    return df
-
-
-def subset_sensitivities(robot, p, L=None, columns=None, engine="compiled", threads=None, **solver):
+def subset_sensitivities(robot, p, L=None, columns=None, **solver):
     """Every 3-cable subset of paper mode at every point: P* (DEGM_E), its tensions, dP*/dθ and
     dt/dθ; for the first-order propagation when the best subset may switch
-    (``uncertainty.Linearisation``). ``engine="numpy"`` is the reference (``direct.degm_e`` and
-    ``paper_jacobian_terms`` per subset), ``"compiled"`` ``fast_sensitivity.subset_sensitivities``.
+    (``uncertainty.Linearisation``). The numpy reference (``direct.degm_e`` and
+    ``paper_jacobian_terms`` per subset); ``cdpr.solve.subset_sensitivities`` chooses between it and
+    the compiled twin ``cdpr.compiled.sensitivity.subset_sensitivities``.
 
     Parameters
     ----------
@@ -464,8 +428,6 @@ def subset_sensitivities(robot, p, L=None, columns=None, engine="compiled", thre
         Commanded lengths, default L_TS(p).
     columns : sequence of int, optional
         Parameter columns to keep, default all 7 m + 1.
-    engine : {"compiled", "numpy"}
-    threads : int, optional
     solver : tol, maxiter of the solves.
 
     Returns
@@ -480,12 +442,6 @@ def subset_sensitivities(robot, p, L=None, columns=None, engine="compiled", thre
     ----------
     Paty et al. 2021, eq. (8)-(13), section 3.2.
     """
-    if engine == "compiled":
-        from cdpr.compiled.sensitivity import subset_sensitivities as fast_subsets
-
-        return fast_subsets(robot, p, L=L, columns=columns, threads=threads, **solver)
-    from cdpr.models.direct import degm_e
-
     p = np.atleast_2d(np.asarray(p, dtype=float))
     n, m = len(p), robot.m
     cols = np.arange(7 * m + 1) if columns is None else np.asarray(columns, dtype=np.intp)
@@ -521,3 +477,58 @@ def subset_sensitivities(robot, p, L=None, columns=None, engine="compiled", thre
         "T_a": T_a,
         "columns": cols,
     }
+
+
+#: Parameter samples per batch of ``linear_dp`` (bounds the (batch, N, slots, 3) arrays).
+BATCH = 16
+
+
+def linear_dp(dp0, S, valid, delta, t0=None, St=None, T_a=None):
+    """First-order propagation: the smallest ‖dp‖ over the admissible linearised slots of every
+    point, for every parameter change (the numpy reference of ``uncertainty.Linearisation.dp``;
+    ``cdpr.compiled.sensitivity.linear_dp`` is its compiled twin).
+
+    .. math:: dp(\\theta) = \\min_{c\\ \\mathrm{admissible}} \\lVert dp_{0,c} + S_c \\delta \\rVert,
+              \\quad t_c(\\theta) = t_{0,c} + S_{t,c} \\delta
+
+    with δ = τ(θ) - τ(θ_0); a slot is admissible where it is valid and (paper mode) its linearised
+    tensions stay within 0 <= t <= T_a.
+
+    Parameters
+    ----------
+    dp0 : ndarray, shape (N, C, 3) [m]
+        Nominal error of every slot (C subsets in paper mode, 1 in physical mode).
+    S : ndarray, shape (N, C, 3, k) [m per unit of τ]
+        Sensitivities of the slots (in τ, see ``uncertainty.Linearisation``).
+    valid : ndarray, shape (N, C) bool
+    delta : ndarray, shape (n, k) [unit of τ]
+        τ(θ) - τ(θ_0) per sample.
+    t0 : ndarray, shape (N, C, 3) [N], optional
+    St : ndarray, shape (N, C, 3, k) [N per unit of τ], optional
+    T_a : ndarray, shape (C, 3) [N], optional
+        Tensions, their sensitivities and the admissible tensions (paper mode).
+
+    Returns
+    -------
+    dp : ndarray, shape (n, N) [m]
+        NaN where no slot is admissible.
+
+    References
+    ----------
+    Paty et al. 2021, eq. (8)-(13), section 3.2 (the subset rule applied to the linearised slots).
+    """
+    has_t = t0 is not None
+    N, C, _, k = S.shape
+    Sflat = S.reshape(N * C * 3, k)
+    Stflat = St.reshape(N * C * 3, k) if has_t else None
+    out = np.empty((len(delta), N))
+    for i in range(0, len(delta), BATCH):
+        d = delta[i : i + BATCH]
+        v = (Sflat @ d.T).T.reshape(len(d), N, C, 3) + dp0
+        adm = valid
+        if has_t:
+            t = (Stflat @ d.T).T.reshape(len(d), N, C, 3) + t0
+            adm = adm & (t >= 0).all(axis=3) & (t <= T_a).all(axis=3)
+        norm = np.where(adm, np.linalg.norm(v, axis=3), np.inf)
+        out[i : i + BATCH] = norm.min(axis=2)
+    return np.where(np.isfinite(out), out, np.nan)

@@ -6,7 +6,7 @@ lowest |dp| (Fig. 8-9). Ties (e.g. on the diagonals of CDPR4, where two subsets 
 |dp| mathematically) are broken deterministically: among subsets within ``TIE_TOL`` of the
 minimum, the first in lexicographic order of cable numbers wins.
 
-Status of a point (``STATUSES``):
+Status of a point (``results.STATUSES``):
   ok             an admissible subset exists;
   over_tension   some subset converged with all tensions >= 0 but one above T_a, none admissible;
   slack          subsets converged but each needs a negative (pushing) tension;
@@ -32,7 +32,6 @@ import numpy as np
 from cdpr.models.direct import degm_e
 from cdpr.models.inverse import L_TS
 
-STATUSES = ("ok", "slack", "over_tension", "inaccessible", "not_converged")
 #: |dp| difference [m] under which two admissible subsets count as tied.
 TIE_TOL = 1e-9
 
@@ -62,7 +61,7 @@ def solve_points(robot, p, method="newton", L=None, **options):
     dict
         Arrays: p (N, 3) [m]; P_s (N, 3) [m] the chosen solution P* (NaN when no subset
         converged); dp (N,) [m]; t (N, m) [N] with NaN for slack cables; subset (N, 3) 0-based
-        (-1 when none); iterations (N,); status (N,) strings of ``STATUSES``; and the per-subset
+        (-1 when none); iterations (N,); status (N,) strings of ``results.STATUSES``; and the per-subset
         dp_subsets (N, n_subsets) [m] and admissible_subsets (N, n_subsets) bool for maps such as
         Fig. 9.
     """
@@ -115,54 +114,3 @@ def solve_points(robot, p, method="newton", L=None, **options):
         "dp_subsets": dp.T,
         "admissible_subsets": admissible.T,
     }
-
-
-def subset_label(subset_row):
-    """1-based cable numbers joined by '-', e.g. '1-2-3'; '' when no subset.
-
-    Parameters
-    ----------
-    subset_row : sequence of 3 int
-        0-based cable indices of a subset (a row of ``solve_points``' ``subset``); a negative first
-        entry means no subset.
-
-    Returns
-    -------
-    label : str
-        The label, e.g. '1-2-3', or '' when there is no subset.
-    """
-    if subset_row[0] < 0:
-        return ""
-    return "-".join(str(int(i) + 1) for i in subset_row)
-
-
-def pose_columns(robot, res):
-    """The columns every per-point table starts with, from a solver result ``res`` (paper or
-    physical mode): x, y, z (desired P), x_s, y_s, z_s (solved P*) [m], dp = |P* - P| (Paty 2021
-    eq. 14) [m], t1..tm [N] (NaN where slack).
-
-    Parameters
-    ----------
-    robot : Robot
-        Supplies the number of cables m.
-    res : dict
-        Arrays p (N, 3), P_s (N, 3), dp (N,), t (N, m).
-
-    Returns
-    -------
-    DataFrame
-        N rows, columns x, y, z, x_s, y_s, z_s, dp, t1..tm.
-    """
-    import pandas as pd
-
-    cols = {
-        "x": res["p"][:, 0],
-        "y": res["p"][:, 1],
-        "z": res["p"][:, 2],
-        "x_s": res["P_s"][:, 0],
-        "y_s": res["P_s"][:, 1],
-        "z_s": res["P_s"][:, 2],
-        "dp": res["dp"],
-    }
-    cols.update({f"t{i + 1}": res["t"][:, i] for i in range(robot.m)})
-    return pd.DataFrame(cols)

@@ -24,116 +24,12 @@ parallel robot winch. 25e Congrès Français de Mécanique, hal-03758222.
 
 from __future__ import annotations
 
-import dataclasses
 import math
 
 import numpy as np
 
-from cdpr.errors import ConfigError
-from cdpr.units import quantity
-from cdpr.validation import read_yaml
-
-
-@dataclasses.dataclass(frozen=True)
-class WinchParams:
-    """Parameters of the quadratic (Table 1 of the winch seed), SI units.
-
-    k_w coiling coefficient [m/rad]; l_u0 initial uncoiled length [m]; q0 initial joint angle [rad];
-    q_max drum angle at full coiling [rad]; l_AE1 |A E1| [m]; l_E1E2 coiling length [m];
-    alpha_E1 angle between AE1 and E1E2 [rad].
-    """
-
-    k_w: float
-    l_u0: float
-    q0: float
-    q_max: float
-    l_AE1: float
-    l_E1E2: float
-    alpha_E1: float
-
-
-#: Table 1 of the winch seed.
-TABLE1 = WinchParams(
-    k_w=0.07460068, l_u0=5.9261, q0=94.2478, q_max=188.4956, l_AE1=2.6848, l_E1E2=0.06, alpha_E1=1.6906
-)
-
-_PARAM_KEYS = {
-    "k_w_m": ("k_w", "m"),
-    "l_u0_m": ("l_u0", "m"),
-    "q0_rad": ("q0", "rad"),
-    "q_max_rad": ("q_max", "rad"),
-    "l_AE1_m": ("l_AE1", "m"),
-    "l_E1E2_m": ("l_E1E2", "m"),
-    "alpha_E1_rad": ("alpha_E1", "rad"),
-}
-
-
-def params_from_mapping(data, source, key=""):
-    """WinchParams from a mapping of the keys of ``_PARAM_KEYS`` (k_w_m, l_u0_m, q0_rad, q_max_rad,
-    l_AE1_m, l_E1E2_m, alpha_E1_rad; SI values or strings with units); missing keys take Table 1's
-    values. Errors name ``source`` and ``key`` (the mapping's place in its file).
-
-    Parameters
-    ----------
-    data : dict
-        Winch parameters by key: lengths [m], angles [rad], as numbers or strings with units
-        (``"60 mm"``). Every value but alpha_E1_rad must be > 0; alpha_E1_rad lies in [0, pi];
-        q0_rad must lie in [0, q_max_rad].
-    source : str
-        Name of the file (or other origin) for error messages.
-    key : str
-        Dotted place of the mapping in that file, for error messages ('' at the top level).
-
-    Returns
-    -------
-    WinchParams
-        The parameters of Métillon 2022 Table 1 with the given values, SI units.
-
-    Raises
-    ------
-    ConfigError
-        For an unknown key, a value with the wrong unit or out of range.
-    """
-    if not isinstance(data, dict):
-        raise ConfigError(source, key or None, "expected a mapping of winch parameters")
-    prefix = f"{key}." if key else ""
-    values = dataclasses.asdict(TABLE1)
-    for k, val in data.items():
-        if k not in _PARAM_KEYS:
-            raise ConfigError(source, prefix + str(k), f"unknown key; allowed: {', '.join(_PARAM_KEYS)}")
-        field, dim = _PARAM_KEYS[k]
-        v = quantity(val, dim, source, prefix + k)
-        if field != "alpha_E1" and (v < 0 or (v == 0 and field != "q0")):
-            raise ConfigError(
-                source, prefix + k, f"must be {'>= 0' if field == 'q0' else 'strictly positive'}, got {val!r}"
-            )
-        if field == "alpha_E1" and not 0 <= v <= math.pi:
-            raise ConfigError(
-                source, prefix + k, f"an angle between two segments lies in [0, pi] rad, got {val!r}"
-            )
-        values[field] = v
-    p = WinchParams(**values)
-    if not 0 <= p.q0 <= p.q_max:
-        raise ConfigError(
-            source, prefix + "q0_rad", f"must lie in [0, q_max_rad] = [0, {p.q_max:g}], got {p.q0:g}"
-        )
-    return p
-
-
-def load_params(path):
-    """Read WinchParams from a YAML file (keys as ``params_from_mapping``).
-
-    Parameters
-    ----------
-    path : str or Path
-        YAML file holding one mapping of winch parameters.
-
-    Returns
-    -------
-    WinchParams
-        SI units; missing keys take Table 1's values.
-    """
-    return params_from_mapping(read_yaml(path), path)
+from cdpr.errors import CdprError
+from cdpr.robot import WinchParams
 
 
 # ---- winch geometry (eq. 1-13, 18) ---------------------------------------------------------
@@ -526,8 +422,6 @@ def check_range(p, lpm_from, lpm_to):
     None
         Returns only when the whole range is valid; otherwise raises CdprError.
     """
-    from cdpr.errors import CdprError
-
     lp0 = l_pm0(p)
     if not math.isfinite(lp0) or lp0 < 0:
         raise CdprError(
@@ -542,33 +436,3 @@ def check_range(p, lpm_from, lpm_to):
             f"at l_pm = {at:.4g} m the drum angle q1 = {float(q1[np.argmax(bad)]):.4g} rad leaves [0, q_max = {p.q_max:g}] rad "
             f"(the cable would be fully coiled or uncoiled): choose l_pm in a range the drum can hold"
         )
-
-
-def winch_table(p=TABLE1, lpm_from=0.0, lpm_to=5.0, steps=101):
-    """q1, q2, q_nw and dl over l_pm in [lpm_from, lpm_to] as a DataFrame (SI units).
-
-    Métillon 2022 Fig. 7: the two roots (eq. 29-30 corrected), the no-winch angle (eq. 32) and the
-    length error (eq. 31).
-
-    Parameters
-    ----------
-    p : WinchParams
-        Default Table 1 (``TABLE1``).
-    lpm_from : float [m]
-        First length l_pm.
-    lpm_to : float [m]
-        Last length l_pm.
-    steps : int
-        Number of evenly spaced lengths.
-
-    Returns
-    -------
-    DataFrame
-        ``steps`` rows, columns l_pm [m], q1 [rad], q2 [rad], q_nw [rad], dl [m].
-    """
-    import pandas as pd
-
-    l_pm = np.linspace(lpm_from, lpm_to, steps)
-    q1, q2 = roots(p, l_pm)
-    q_nw = q_no_winch(p, l_pm)
-    return pd.DataFrame({"l_pm": l_pm, "q1": q1, "q2": q2, "q_nw": q_nw, "dl": p.k_w * (q1 - q_nw)})

@@ -30,10 +30,12 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from cdpr import io
+from cdpr import io, table_io
 from cdpr.analyses import scans
 from cdpr.errors import ConfigError
+from cdpr.pipeline.results import STUDY_OUTPUTS
 from cdpr.pipeline.study import load_study, redundancy
+from cdpr.pipeline.summary import paper_values
 from cdpr.validation import read_yaml, validate
 
 #: Tolerance of a row without a paper value: this fraction of the paper-mode value.
@@ -133,16 +135,19 @@ def verdict(paper_mode, physical, tolerance=None, claim=None):
 # ------------------------------------------------------------------------------------------------
 # Numbers from a results folder
 # ------------------------------------------------------------------------------------------------
+def _rel(rule, name="table", **wildcards):
+    """Where ``rule`` writes its output ``name`` in a results folder (``cdpr.pipeline.results``)."""
+    return STUDY_OUTPUTS[rule][name].format(**wildcards)
+
+
 def _read(res, rel):
     p = Path(res) / rel
-    return pd.read_csv(p) if p.exists() else None
+    return table_io.read_table(p) if p.exists() else None
 
 
 def printed_values():
     """The paper's printed numbers by quantity (``cdpr/data/paper_values.yaml``) in SI units: quantity ->
     (value, tolerance); values in mm are converted to m."""
-    from cdpr.pipeline.summary import paper_values
-
     out = {}
     for v in paper_values():
         scale = 1e-3 if v["unit"] == "mm" else 1.0
@@ -161,12 +166,12 @@ def _kinds(st):
 
 def plane_extremes(res, robot, pulley):
     """(min, max) ‖δp‖ [m] over the ok points of a plane table, NaN when absent."""
-    df = _read(res, f"plane/{robot}_{pulley}.csv")
+    df = _read(res, _rel("plane_table", robot=robot, pulley=pulley))
     return (np.nan, np.nan) if df is None else scans.ok_extremes(df)
 
 
 def _rv(res, robot, pulley, limit):
-    v = _read(res, "volumes/volumes.csv")
+    v = _read(res, _rel("volumes"))
     if v is None:
         return np.nan
     r = v[(v.robot == robot) & (v.pulley == pulley) & np.isclose(v.limit_m, limit)]
@@ -174,25 +179,25 @@ def _rv(res, robot, pulley, limit):
 
 
 def _doe(res):
-    d = _read(res, "doe/doe.csv")
-    e = _read(res, "doe/effects.csv")
+    d = _read(res, _rel("doe"))
+    e = _read(res, _rel("doe", "effects"))
     return d, (None if e is None else e[e.term != "mean"].set_index("term"))
 
 
 def _line(res, kind, col):
-    li = _read(res, "maps/lines.csv")
+    li = _read(res, _rel("maps", "lines"))
     r = None if li is None else li[li.kind == kind]
     return np.nan if r is None or r.empty else float(r[col].iloc[0])
 
 
 def _band(res, design, col):
-    b = _read(res, "elasticity/bands.csv")
+    b = _read(res, _rel("elasticity", "bands"))
     r = None if b is None else b[b.design == design]
     return np.nan if r is None or r.empty else float(r[col].iloc[0])
 
 
 def _crossing(res, design, near):
-    c = _read(res, "elasticity/crossings.csv")
+    c = _read(res, _rel("elasticity", "crossings"))
     s = [] if c is None else c[c.design == design].s_m.tolist()
     if not s:
         return np.nan
@@ -474,8 +479,8 @@ def difference_table(paper_res, physical_res, robot, pulley):
     """‖δp‖_physical - ‖δp‖_paper [m] on the plane of one design, per point (x, y), NaN where either
     mode is not ok; also both statuses. Returns a DataFrame x, y, dp_paper, dp_physical, diff,
     status_paper, status_physical."""
-    a = io.read_table(Path(paper_res) / "plane" / f"{robot}_{pulley}.csv")
-    b = io.read_table(Path(physical_res) / "plane" / f"{robot}_{pulley}.csv")
+    a = table_io.read_table(Path(paper_res) / _rel("plane_table", robot=robot, pulley=pulley))
+    b = table_io.read_table(Path(physical_res) / _rel("plane_table", robot=robot, pulley=pulley))
     if len(a) != len(b) or not (np.allclose(a.x, b.x) and np.allclose(a.y, b.y)):
         raise ValueError(f"plane tables of {robot}_{pulley} are not on the same grid")
     ok = (a.status == "ok").to_numpy() & (b.status == "ok").to_numpy()

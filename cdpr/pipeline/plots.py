@@ -16,6 +16,9 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from matplotlib.lines import Line2D  # noqa: E402
+from matplotlib.patches import Patch  # noqa: E402
+from scipy.spatial import ConvexHull  # noqa: E402
 
 from cdpr.io import atomic  # noqa: E402
 
@@ -62,8 +65,6 @@ def _round_levels(lo, hi, target=8):
 
 def _anchors(ax, A):
     """Draw the anchors' footprint (the frame's outline seen from above) with cable numbers (1-based)."""
-    from scipy.spatial import ConvexHull
-
     hull = A[ConvexHull(A[:, :2]).vertices, :2]
     ax.plot(*np.vstack([hull, hull[:1]]).T, color="k", lw=0.6, ls="--")
     for i, (x, y) in enumerate(A[:, :2], start=1):
@@ -72,8 +73,6 @@ def _anchors(ax, A):
 
 
 def _not_ok_legend(ax, df):
-    from matplotlib.patches import Patch
-
     counts = df.status[df.status != "ok"].value_counts()
     counts = counts[counts > 0]
     if len(counts):
@@ -166,8 +165,6 @@ def fig10_trajectories(tables, minmax, out):
     (robot_pulley) to its path table (s, dp, status); ``minmax`` has ok_until_s_m and
     path_length_m per design. Colour: pulley kind; line style: robot. Points that are not ok are
     marked on the axis by status; a dotted line marks each design's last ok point."""
-    from matplotlib.lines import Line2D
-
     fig, ax = plt.subplots(figsize=(7, 4.2))
     markers = {"slack": "x", "over_tension": "^", "inaccessible": "s", "not_converged": "d"}
     robots = list(dict.fromkeys(lab.split("_", 1)[0] for lab in tables))
@@ -627,8 +624,8 @@ def uq_index_distribution(linear, tolerances, index_vs_E, paper, out):
     when given), and under every declared parameter (Saltelli's independent rows); uncompensated
     (left) and compensated (right).
 
-    ``linear``, ``tolerances``: {(design, case): table} of ``uncertainty.linear_samples`` and of
-    ``uncertainty.sobol``'s rows; ``index_vs_E``: the elasticity sweep (design, E_Pa, index_m) or
+    ``linear``, ``tolerances``: {(design, case): table} of ``uq.linear_samples`` and of
+    ``uq.sobol``'s rows; ``index_vs_E``: the elasticity sweep (design, E_Pa, index_m) or
     None; ``paper``: {design: (index, minus, plus)} [m]."""
     designs = _uq_designs(linear)
     fig, axes = plt.subplots(1, 2, figsize=(15, 5), gridspec_kw={"width_ratios": [2, 1]})
@@ -688,7 +685,7 @@ def uq_index_distribution(linear, tolerances, index_vs_E, paper, out):
 def uq_path_bands(bands, common, out):
     """‖δp‖ along the section 5.2 path: 5-50-95 % band under per-cable moduli for each design
     (columns), uncompensated beside the paper's three common-E curves (top) and compensated
-    (bottom). ``bands``: {(design, case): ``uncertainty.path_bands`` table}; ``common``: list of
+    (bottom). ``bands``: {(design, case): ``uq.path_bands`` table}; ``common``: list of
     (design, E [Pa], s [m], dp [m]) of the common-E paths (Fig. 19)."""
     designs = _uq_designs(bands)
     fig, axes = plt.subplots(2, len(designs), figsize=(5.5 * len(designs), 7), squeeze=False)
@@ -749,9 +746,7 @@ def uq_sobol(tab, out):
 def uq_dominant_map(maps, A, z, out):
     """The parameter whose first-order contribution to the spread of ‖δp‖ is the largest, on the
     plane z (columns: designs; rows: before and after compensation); hatched where it explains less
-    than half of the spread. ``maps``: {(design, case): ``uncertainty.dominant_map`` table}."""
-    from matplotlib.patches import Patch
-
+    than half of the spread. ``maps``: {(design, case): ``uq.dominant_map`` table}."""
     designs = _uq_designs(maps)
     names = sorted({n for df in maps.values() for n in df.dominant.dropna().unique() if n})
     cmap = plt.get_cmap("tab20", max(len(names), 1))

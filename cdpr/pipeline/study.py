@@ -11,13 +11,16 @@ Snakemake pipeline all go through it.
 
 from __future__ import annotations
 
+import json
 import math
+import os
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
 from cdpr.analyses import doe
+from cdpr.analyses.uncertainty import PARAMETER_KEYS, Distribution
 from cdpr.analyses.workspace import check_box
 from cdpr.errors import ConfigError
 from cdpr.robot import check_pulley, load_robot, robot_from_dict
@@ -132,8 +135,6 @@ def volume_limits(st):
 
 def read_box(path):
     """The ``box`` of a JSON file written by the regular-workspace job (six numbers [m])."""
-    import json
-
     p = Path(path)
     try:
         return check_box(json.loads(p.read_text(encoding="utf-8"))["box"]).tolist()
@@ -150,6 +151,82 @@ def read_box(path):
 # ------------------------------------------------------------------------------------------------
 # Checks a schema cannot express
 # ------------------------------------------------------------------------------------------------
+#: Bytes of memory per grid point while solving and writing (measured peak RSS / points, rounded up;
+#: the same bound ``cdpr grid --n`` applies).
+BYTES_PER_POINT = 600
+#: Points per second of ``cdpr grid`` (the measured 282,000-334,000 of benchmarks/README.md, rounded
+#: down): the solver time a refused size would need.
+POINTS_PER_SECOND = 250_000
+#: Most shards a study key may ask for: each shard is a job of its own (a second of start-up or more).
+MAX_SHARDS = 1000
+
+
+def _memory():
+    """This machine's memory [bytes]."""
+    return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+
+
+def _duration(seconds):
+    for unit, size in (("days", 86400), ("hours", 3600), ("minutes", 60)):
+        if seconds >= size:
+            return f"{seconds / size:,.1f} {unit}"
+    return f"{seconds:.1f} s"
+
+
+def _check_grid(st, key, n, shards=None, jobs=1):
+    """Refuse a grid of ``n``^3 points per job (``shards`` of it, if sharded) that cannot fit in this
+    machine's memory, naming the memory and the solver time it needs; and a shard count above the
+    points or above ``MAX_SHARDS``. ``jobs``: how many such grids the study solves (time only)."""
+    points = n**3
+    if shards is not None:
+        skey = key.rsplit(".", 1)[0] + ".shards"
+        if shards > points:
+            raise ConfigError(
+                st.path,
+                skey,
+                f"{shards} shards for {points:,} points ({key} = {n}, {n}^3): at most one shard per point",
+            )
+        if shards > MAX_SHARDS:
+            raise ConfigError(st.path, skey, f"at most {MAX_SHARDS} shards (one job each), got {shards:,}")
+    per_job = -(-points // (shards or 1))
+    need, avail = per_job * BYTES_PER_POINT, _memory()
+    if need > avail:
+        raise ConfigError(
+            st.path,
+            key,
+            f"{n}^3 = {points:,} points ({per_job:,} per job) would need about {need / 2**30:,.1f} GiB of memory "
+            f"per job, more than this machine's {avail / 2**30:.1f} GiB, and about "
+            f"{_duration(points * jobs / POINTS_PER_SECOND)} of solver time; use a smaller {key}"
+            + (" or more shards" if shards is not None else ""),
+        )
+
+
+def check_sizes(st):
+    """Refuse sizes that cannot run before any job (``_check_grid``), and a DOE whose two levels of
+    a factor are equal (its 2^3 design could not tell the factor's effect)."""
+    v, d, e, dl = st["volumes"], st["doe"], st["elasticity"], st["dead_length"]
+    lv = d["levels"]
+    for factor in ("joint", "h_m", "r_p_m"):
+        a, b = lv[factor]
+        if a == b:
+            raise ConfigError(
+                st.path,
+                f"doe.levels.{factor}",
+                f"the two levels must differ (the 2^3 design estimates each effect from their difference), got [{a}, {b}]",
+            )
+    n_designs = len(st["pulleys"]) * len(st["robots"])
+    _check_grid(st, "volumes.n", v["n"], v["shards"], jobs=n_designs)
+    _check_grid(st, "doe.workspace_n", d["workspace_n"], jobs=8)
+    _check_grid(st, "doe.index_n", d["index_n"], d["shards"], jobs=8)
+    _check_grid(st, "maps.index_n", st["maps"]["index_n"], jobs=len(map_cells(st)) * len(map_kinds(st)))
+    n_e = st["elasticity"]["E_Pa"]["steps"] * len(st["optimal"])
+    _check_grid(st, "elasticity.index_n", e["index_n"], e["shards"], jobs=n_e)
+    _check_grid(st, "dead_length.index_n", dl["index_n"], jobs=len(dl["values_m"]))
+    u = st.get("uncertainty")
+    if u:
+        _check_grid(st, "uncertainty.monte_carlo.index_n", u["monte_carlo"]["index_n"])
+
+
 def _increasing(st, key, lo, hi, what="'from' must be below 'to'"):
     if not lo < hi:
         raise ConfigError(st.path, key, f"{what}, got from = {lo:g}, to = {hi:g}")
@@ -206,6 +283,7 @@ def check_study(st):
     _increasing(st, "elasticity.E_Pa", e["from"], e["to"])
     sw = st["volumes"]["sweep_m"]
     _increasing(st, "volumes.sweep_m", sw["from"], sw["to"])
+    check_sizes(st)
     try:
         check_box(st["doe"]["paper_rw_c_m"])
     except Exception as exc:
@@ -244,8 +322,6 @@ def check_uncertainty(st, robots):
     ``optimal``, each distribution's keys and range, the varied keys declared, sample counts, Sobol
     points inside the frame; and the distributions' support checked against the physics of every
     design (moduli and mass > 0, pulley rule, dead lengths >= 0) where it is bounded."""
-    from cdpr.analyses.uncertainty import PARAMETER_KEYS, Distribution
-
     src, u = st.path, st["uncertainty"]
     for i, d in enumerate(u["designs"]):
         if d not in st["optimal"]:
@@ -323,7 +399,6 @@ def check_uncertainty(st, robots):
 
 def _check_offsets(st, params):
     """The bounded offsets of h, r_p and d keep every design physical (pulley rule, d >= 0)."""
-    from cdpr.analyses.uncertainty import Distribution
 
     def span(key):
         if key not in params:
@@ -349,3 +424,13 @@ def _check_offsets(st, params):
                 "uncertainty.parameters.dead_length_offset_m",
                 f"the lowest dead length {st['dead_length_m'] + d_lo:g} m is negative",
             )
+
+
+def budget_designs(st):
+    """The designs of the error budget: label -> (robot key, pulley design {kind, h_m, r_p_m}): every
+    robot x pulley design of the study, and the optimal designs on the DOE robot."""
+    out = {f"{rk}_{pk}": (rk, spec) for rk in st["robots"] for pk, spec in st["pulleys"].items()}
+    out.update(
+        {f"{st['doe']['robot']}_{dk}": (st["doe"]["robot"], spec) for dk, spec in st["optimal"].items()}
+    )
+    return out

@@ -20,11 +20,13 @@ import numpy as np
 import pandas as pd
 import yaml
 
-from cdpr import io
+from cdpr import io, table_io
 from cdpr.analyses import scans
 from cdpr.models import winch
+from cdpr.pipeline.results import STUDY_OUTPUTS, Layout, check_complete
+from cdpr.robot import TABLE1
 
-#: The papers' numbers (repository root, beside the study files).
+#: The papers' numbers (package data of the library).
 PAPER_VALUES = importlib.resources.files("cdpr") / "data" / "paper_values.yaml"
 COLUMNS = ["quantity", "source", "paper", "ours", "unit", "tolerance", "verdict", "note"]
 
@@ -34,9 +36,14 @@ def paper_values(path=PAPER_VALUES):
     return yaml.safe_load(Path(path).read_text(encoding="utf-8"))
 
 
+def _rel(rule, name="table", **wildcards):
+    """Where ``rule`` writes its output ``name`` in a results folder (``cdpr.pipeline.results``)."""
+    return STUDY_OUTPUTS[rule][name].format(**wildcards)
+
+
 def _read(res, rel):
     p = Path(res) / rel
-    return pd.read_csv(p) if p.exists() else None
+    return table_io.read_table(p) if p.exists() else None
 
 
 # Each extractor returns (our value in SI units or a count, note) or None when its table is absent.
@@ -46,12 +53,12 @@ def _path_length(st, res, robot):
 
 
 def _path(st, res, robot, pulley, stat):
-    df = _read(res, f"trajectories/{robot}_{pulley}.csv")
+    df = _read(res, _rel("trajectory_table", robot=robot, pulley=pulley))
     return None if df is None else (scans.ok_extremes(df)[stat == "max"], "")
 
 
 def _path_reach(st, res, robot, pulley):
-    mm = _read(res, "trajectories/trajectories_minmax.csv")
+    mm = _read(res, _rel("trajectory_figure"))
     r = None if mm is None else mm[mm.design == f"{robot}_{pulley}"]
     return (
         None
@@ -70,7 +77,7 @@ def _path_reach_order(st, res, robot, first, second):
 
 
 def _plane(st, res, robot, pulley, stat):
-    df = _read(res, f"plane/{robot}_{pulley}.csv")
+    df = _read(res, _rel("plane_table", robot=robot, pulley=pulley))
     if df is None:
         return None
     if stat == "centre":
@@ -80,7 +87,7 @@ def _plane(st, res, robot, pulley, stat):
 
 
 def _volumes_row(res, robot, pulley=None, limit_m=None):
-    vol = _read(res, "volumes/volumes.csv")
+    vol = _read(res, _rel("volumes"))
     if vol is None:
         return None
     sel = vol.robot == robot
@@ -101,7 +108,7 @@ def _V_T(st, res, robot):
 
 
 def _rw_c(res):
-    p = Path(res) / "doe" / "rw_c.json"
+    p = Path(res) / _rel("regular_workspace", "json")
     return json.loads(p.read_text(encoding="utf-8")) if p.exists() else None
 
 
@@ -125,7 +132,7 @@ def _smallest_rw_max_test(st, res):
 
 
 def _doe_index(st, res, stat):
-    d = _read(res, "doe/doe.csv")
+    d = _read(res, _rel("doe"))
     if d is None:
         return None
     i = d.index_m.idxmin() if stat == "min" else d.index_m.idxmax()
@@ -133,7 +140,7 @@ def _doe_index(st, res, stat):
 
 
 def _doe_test(st, res, stat):
-    d = _read(res, "doe/doe.csv")
+    d = _read(res, _rel("doe"))
     return (
         None
         if d is None
@@ -142,7 +149,7 @@ def _doe_test(st, res, stat):
 
 
 def _doe_two_best(st, res, tests):
-    d = _read(res, "doe/doe.csv")
+    d = _read(res, _rel("doe"))
     if d is None:
         return None
     two = sorted(d.nsmallest(2, "index_m").test.astype(int).tolist())
@@ -150,7 +157,7 @@ def _doe_two_best(st, res, tests):
 
 
 def _doe_worst(st, res, joint):
-    d = _read(res, "doe/doe.csv")
+    d = _read(res, _rel("doe"))
     return (
         None
         if d is None or not (d.kind == joint).any()
@@ -159,7 +166,7 @@ def _doe_worst(st, res, joint):
 
 
 def _effects(res):
-    e = _read(res, "doe/effects.csv")
+    e = _read(res, _rel("doe", "effects"))
     return None if e is None else e[e.term != "mean"].set_index("term")
 
 
@@ -179,7 +186,7 @@ def _third_order_smallest(st, res):
 
 
 def _line(st, res, pulley, column, scale=1.0):
-    lines = _read(res, "maps/lines.csv")
+    lines = _read(res, _rel("maps", "lines"))
     r = None if lines is None else lines[lines.kind == pulley]
     if r is None or r.empty:
         return None
@@ -192,7 +199,7 @@ def _line(st, res, pulley, column, scale=1.0):
 
 
 def _band(st, res, design, column, scale=1.0):
-    b = _read(res, "elasticity/bands.csv")
+    b = _read(res, _rel("elasticity", "bands"))
     r = None if b is None else b[b.design == design]
     if r is None or r.empty:
         return None
@@ -202,7 +209,7 @@ def _band(st, res, design, column, scale=1.0):
 
 
 def _crossing(st, res, design, near=None):
-    cr = _read(res, "elasticity/crossings.csv")
+    cr = _read(res, _rel("elasticity", "crossings"))
     if cr is None:
         return None
     c = cr[cr.design == design].s_m.tolist()
@@ -214,7 +221,7 @@ def _crossing(st, res, design, near=None):
 def _uq_band(st, res, design, case, column, method="linearised", scale=1.0):
     """A column of uncertainty/bands.csv (one design, case and method); the note gives the 5-95 %
     range of the index, the sample count and grid, and our common-E band for comparison."""
-    b = _read(res, "uncertainty/bands.csv")
+    b = _read(res, _rel("uncertainty", "bands"))
     r = None if b is None else b[(b.design == design) & (b.case == case) & (b.method == method)]
     if r is None or r.empty:
         return None
@@ -223,7 +230,7 @@ def _uq_band(st, res, design, case, column, method="linearised", scale=1.0):
         f"{method}, n = {int(r.n)} samples on {int(r.index_n)}^3 RW_C points; index 5-95 %: "
         f"{r.index_q05_m * 1e3:.2f}-{r.index_q95_m * 1e3:.2f} mm"
     )
-    common = _read(res, "elasticity/bands.csv")
+    common = _read(res, _rel("elasticity", "bands"))
     c = None if common is None else common[common.design == design]
     if case == "uncompensated" and c is not None and not c.empty:
         c = c.iloc[0]
@@ -236,7 +243,7 @@ def _uq_band(st, res, design, case, column, method="linearised", scale=1.0):
 def _uq_sobol_top(st, res, design, case, rank=1, output="index"):
     """The rank-th largest Sobol total index of one output (parameters, not groups); the note names
     the three largest with their 95 % confidence half-widths."""
-    t = _read(res, "uncertainty/sobol.csv")
+    t = _read(res, _rel("uncertainty", "sobol"))
     if t is None:
         return None
     g = t[(t.design == design) & (t.case == case) & (t.level == "parameter") & (t.output == output)]
@@ -248,12 +255,12 @@ def _uq_sobol_top(st, res, design, case, rank=1, output="index"):
 
 
 def _winch_dl(st, res, l_pm_m, scale=1000.0):
-    w = _read(res, "winch/winch.csv")
+    w = _read(res, _rel("winch_table"))
     return None if w is None else (float(np.interp(l_pm_m, w.l_pm, w.dl)) * scale, "")
 
 
 def _winch_q1_at_l_pm0(st, res):
-    p = winch.TABLE1
+    p = TABLE1
     return float(winch.roots(p, winch.l_pm0(p))[0]), ""
 
 
@@ -334,9 +341,12 @@ def _fmt(v):
 
 
 def write_summary(st, res, out_md, out_csv):
-    """Write the summary table (CSV) and its Markdown page."""
+    """Write the summary table (CSV) and its Markdown page. A results folder that does not exist or
+    lacks a table the summary reads (``Layout.summary_inputs``) is refused with a CdprError naming
+    what is missing, rather than summarised from what happens to be there."""
+    check_complete(res, Layout(st, res).summary_inputs(), "the summary")
     df = build_rows(st, res)
-    io.write_table(df, out_csv)
+    table_io.write_table(df, out_csv)
     counts = df.verdict.str.split(" \\(").str[0].value_counts().to_dict()
     scored = bool(st.get("paper_comparison"))
     lines = [

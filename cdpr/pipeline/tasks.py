@@ -14,11 +14,18 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from cdpr import io
-from cdpr.analyses import doe, scans, workspace
+from cdpr import io, table_io
+from cdpr.analyses import budget, doe, scans, workspace
+from cdpr.analyses.symmetry import solve_grid
+from cdpr.analyses.uncertainty import CASES, QUANTILES
 from cdpr.errors import CdprError
 from cdpr.models import winch
-from cdpr.pipeline import study
+from cdpr.pipeline import comparison as cm
+from cdpr.pipeline import plots, study, uq
+from cdpr.pipeline import summary as sm
+from cdpr.pipeline.results import ComparisonLayout
+from cdpr.pipeline.study import budget_designs
+from cdpr.robot import TABLE1
 
 
 def _by_stem(paths, pattern, what):
@@ -34,7 +41,7 @@ def _by_stem(paths, pattern, what):
 
 def concat(paths):
     """The tables ``paths`` one after the other (shards in shard order)."""
-    return pd.concat([io.read_table(p) for p in paths], ignore_index=True)
+    return pd.concat([table_io.read_table(p) for p in paths], ignore_index=True)
 
 
 def _shards(paths, pattern, what, key):
@@ -54,8 +61,6 @@ def _index(df):
 def _grid_index(st, robot, box, n, threads=None):
     """Global index (eq. 15) of ``robot`` over the n^3 grid of ``box`` in the study's redundancy
     mode, one solve per orbit of the symmetries robot and grid share (``symmetry.solve_grid``)."""
-    from cdpr.analyses.symmetry import solve_grid
-
     dp, status, _ = solve_grid(
         robot, box, n, method=st["solver"], threads=threads, redundancy=study.redundancy(st)
     )
@@ -65,10 +70,8 @@ def _grid_index(st, robot, box, n, threads=None):
 # ---- winch (Métillon Fig. 7) -------------------------------------------------------------------
 def winch_figure(st, table, figure):
     """Fig. 7 of the winch seed from ``winch.csv``."""
-    from cdpr.pipeline import plots
-
-    p = winch.TABLE1
-    plots.fig7_winch(io.read_table(table), winch.l_pm0(p), p.q0, figure)
+    p = TABLE1
+    plots.fig7_winch(table_io.read_table(table), winch.l_pm0(p), p.q0, figure)
 
 
 # ---- planes (Fig. 9, 12) -----------------------------------------------------------------------
@@ -77,13 +80,11 @@ def _plane_tables(st, tables, robot_key):
         (g["pulley"], p)
         for g, p in _by_stem(tables, rf"{re.escape(robot_key)}_(?P<pulley>[A-Za-z0-9]+)", "plane table")
     )
-    return {pk: io.read_table(found[pk]) for pk in st["pulleys"] if pk in found}
+    return {pk: table_io.read_table(found[pk]) for pk in st["pulleys"] if pk in found}
 
 
 def plane_figure(st, robot_key, tables, figure):
     """Fig. 12 for one robot: one panel per pulley design, shared colour scale."""
-    from cdpr.pipeline import plots
-
     robot = study.robot_of(st, robot_key)
     plots.fig12_plane(_plane_tables(st, tables, robot_key), robot.A, st["plane"]["z_m"], robot_key, figure)
 
@@ -91,8 +92,6 @@ def plane_figure(st, robot_key, tables, figure):
 def subsets_figure(st, robot_key, tables, figure):
     """Fig. 9 for one robot: the subset minimising ‖δp‖ (paper mode) or the taut cables (physical
     mode), one panel per pulley design."""
-    from cdpr.pipeline import plots
-
     robot = study.robot_of(st, robot_key)
     draw = plots.fig9_taut if study.redundancy(st) == "physical" else plots.fig9_subsets
     draw(_plane_tables(st, tables, robot_key), robot.A, st["plane"]["z_m"], robot_key, figure)
@@ -101,8 +100,6 @@ def subsets_figure(st, robot_key, tables, figure):
 # ---- trajectories (Fig. 10-11) -----------------------------------------------------------------
 def trajectories(st, tables, table, figure, minmax_figure):
     """Fig. 10 (‖δp‖ along the paths) and Fig. 11 (min, max per design) with their table."""
-    from cdpr.pipeline import plots
-
     files = dict(
         (f"{g['robot']}_{g['pulley']}", p)
         for g, p in _by_stem(tables, r"(?P<robot>[A-Za-z0-9]+)_(?P<pulley>[A-Za-z0-9]+)", "path table")
@@ -110,7 +107,7 @@ def trajectories(st, tables, table, figure, minmax_figure):
     labels = [
         f"{rk}_{pk}" for rk in st["trajectories"]["paths"] for pk in st["pulleys"] if f"{rk}_{pk}" in files
     ]
-    data = {lab: io.read_table(files[lab]) for lab in labels}
+    data = {lab: table_io.read_table(files[lab]) for lab in labels}
     rows = []
     for lab, df in data.items():
         ok = df.status == "ok"
@@ -125,7 +122,7 @@ def trajectories(st, tables, table, figure, minmax_figure):
             }
         )
     mm = pd.DataFrame(rows)
-    io.write_table(mm, table)
+    table_io.write_table(mm, table)
     plots.fig10_trajectories(data, mm, figure)
     plots.fig11_minmax(mm, minmax_figure)
 
@@ -133,8 +130,6 @@ def trajectories(st, tables, table, figure, minmax_figure):
 # ---- volumes (Fig. 13-14) ----------------------------------------------------------------------
 def volumes(st, tables, table, figure):
     """V_L and R_V per robot x pulley design at the paper's limits and over the sweep (Fig. 14)."""
-    from cdpr.pipeline import plots
-
     n = st["volumes"]["n"]
     groups = _shards(tables, r"(?P<label>[A-Za-z0-9]+_[A-Za-z0-9]+)_(?P<shard>\d+)", "volume shard", "label")
     lims = study.volume_limits(st)
@@ -162,14 +157,12 @@ def volumes(st, tables, table, figure):
                     }
                 )
     tab = pd.DataFrame(rows)
-    io.write_table(tab, table)
+    table_io.write_table(tab, table)
     plots.fig14_rv(tab, _paper_rv(st), figure)
 
 
 def _paper_rv(st):
     """The paper's R_V values (cdpr/data/paper_values.yaml) for the paper's study, else none."""
-    from cdpr.pipeline import summary
-
     rows = (
         []
         if not st.get("paper_comparison")
@@ -180,7 +173,7 @@ def _paper_rv(st):
                 "limit_m": v["ours"]["limit_m"],
                 "R_V": v["value"],
             }
-            for v in summary.paper_values()
+            for v in sm.paper_values()
             if v["ours"].get("kind") == "R_V"
         ]
     )
@@ -189,8 +182,6 @@ def _paper_rv(st):
 
 def volume_view(st, label, tables, figure):
     """Fig. 13: the error-limited regions of one design at the paper's limits."""
-    from cdpr.pipeline import plots
-
     rk, pk = label.split("_", 1)
     robot = study.design_robot(st, rk, st["pulleys"][pk])
     df = concat(sorted(tables, key=lambda p: int(Path(p).stem.rsplit("_", 1)[1])))
@@ -214,7 +205,7 @@ def regular_workspace(st, tables, table, json):
     rows, boxes = [], []
     for t in tests.itertuples():
         robot = study.design_robot(st, st["doe"]["robot"], {"kind": t.kind, "h_m": t.h_m, "r_p_m": t.r_p_m})
-        count, cells = workspace.largest_box(workspace.voxel_mask(io.read_table(files[t.test]), n))
+        count, cells = workspace.largest_box(workspace.voxel_mask(table_io.read_table(files[t.test]), n))
         if cells is None:
             raise CdprError(
                 f"DOE test {t.test}: no admissible voxel on the {n}^3 frame grid; the design has no workspace"
@@ -249,7 +240,7 @@ def regular_workspace(st, tables, table, json):
     )
     paper = st["doe"]["paper_rw_c_m"]
     used = paper if st["doe"]["rw_c"] == "paper" else rwc
-    io.write_table(tab, table)
+    table_io.write_table(tab, table)
     io.write_json(
         {
             "computed": rwc,
@@ -269,19 +260,17 @@ def regular_workspace(st, tables, table, json):
 # ---- DOE (Fig. 15-16) --------------------------------------------------------------------------
 def doe_results(st, tables, table, effects, figure, effects_figure):
     """Global index of every DOE test (eq. 15), the effects and interactions, Fig. 15-16."""
-    from cdpr.pipeline import plots
-
     tests = study.doe_tests(st)
     groups = _shards(tables, r"test(?P<test>\d+)_(?P<shard>\d+)", "DOE shard", "test")
     idx = [_index(concat(groups[str(t)])) for t in tests.test]
     tests["index_m"] = [i for i, _ in idx]
     tests["not_ok_points"] = [k for _, k in idx]
     tests["N"] = st["doe"]["index_n"] ** 3
-    io.write_table(tests, table)
+    table_io.write_table(tests, table)
     eff = doe.effects(
         tests[["joint_c", "h_c", "r_p_c"]].to_numpy(), tests["index_m"].to_numpy(), ["joint", "h", "r_p"]
     )
-    io.write_table(eff, effects)
+    table_io.write_table(eff, effects)
     plots.fig15_doe(tests, figure)
     plots.fig16_effects(eff, effects_figure)
 
@@ -296,18 +285,16 @@ def map_rows(st, kind, box_file, table, threads=None):
         robot = study.design_robot(st, st["doe"]["robot"], {"kind": kind, "h_m": h, "r_p_m": r_p})
         ix, bad = _grid_index(st, robot, box, n, threads)
         rows.append({"kind": kind, "h_m": h, "r_p_m": r_p, "index_m": ix, "not_ok_points": bad, "N": n**3})
-    io.write_table(
+    table_io.write_table(
         pd.DataFrame(rows, columns=["kind", "h_m", "r_p_m", "index_m", "not_ok_points", "N"]), table
     )
 
 
 def maps(st, tables, box_file, map, lines, figure, threads=None):
     """The valley, the line h = k r_p (eq. 17-18) and its crossing with the DOE field (Table 3)."""
-    from cdpr.pipeline import plots
-
     tab = concat(tables)
     tab = pd.concat([tab[tab.kind == k] for k in study.map_kinds(st)], ignore_index=True)
-    io.write_table(tab, map)
+    table_io.write_table(tab, map)
     lv = st["doe"]["levels"]
     n = st["doe"]["index_n"]
     box = study.read_box(box_file)
@@ -335,7 +322,7 @@ def maps(st, tables, box_file, map, lines, figure, threads=None):
             }
         )
     lines_tab = pd.DataFrame(out)
-    io.write_table(lines_tab, lines)
+    table_io.write_table(lines_tab, lines)
     plots.fig17_maps(tab, valleys, lines_tab, study.doe_tests(st), lv, figure)
 
 
@@ -343,8 +330,6 @@ def maps(st, tables, box_file, map, lines, figure, threads=None):
 def elasticity(st, tables, paths, table, bands, crossings, figure, paths_figure):
     """Index versus E (Fig. 18), its band around the nominal modulus, ‖δp‖ along the section 5.2
     path at E_min, E_mean, E_max (Fig. 19) and where the E_max and E_min curves cross."""
-    from cdpr.pipeline import plots
-
     groups = _shards(
         tables,
         r"(?P<design>[A-Za-z0-9]+)_E(?P<E>[0-9.e+-]+)_(?P<shard>\d+)",
@@ -360,7 +345,7 @@ def elasticity(st, tables, paths, table, bands, crossings, figure, paths_figure)
             ix, bad = _index(concat(groups[key]))
             rows.append({"design": dk, "E_Pa": E, "index_m": ix, "not_ok_points": bad})
     tab = pd.DataFrame(rows)
-    io.write_table(tab, table)
+    table_io.write_table(tab, table)
     E_min, E_mean, E_max = st["elasticity"]["E_path_Pa"]
     out = []
     for dk, g in tab.groupby("design", sort=False):
@@ -380,7 +365,7 @@ def elasticity(st, tables, paths, table, bands, crossings, figure, paths_figure)
             }
         )
     bands_tab = pd.DataFrame(out)
-    io.write_table(bands_tab, bands)
+    table_io.write_table(bands_tab, bands)
     files = {
         (g["design"], float(g["E"])): p
         for g, p in _by_stem(paths, r"path_(?P<design>[A-Za-z0-9]+)_E(?P<E>[0-9.e+-]+)", "path table")
@@ -390,12 +375,12 @@ def elasticity(st, tables, paths, table, bands, crossings, figure, paths_figure)
         at = {}
         for E in (E_min, E_mean, E_max):
             key = next(k for k in files if k[0] == dk and np.isclose(k[1], E, rtol=1e-5))
-            df = io.read_table(files[key])
+            df = table_io.read_table(files[key])
             at[E] = df.dp.where(df.status == "ok")
             curves.append((dk, E, df.s.to_numpy(), at[E].to_numpy()))
         cross += [{"design": dk, "s_m": c} for c in scans.crossings(df.s, at[E_max], at[E_min])]
     cross_tab = pd.DataFrame(cross, columns=["design", "s_m"])
-    io.write_table(cross_tab, crossings)
+    table_io.write_table(cross_tab, crossings)
     plots.fig18_index_vs_E(tab, E_mean, bands_tab, figure)
     plots.fig19_paths(curves, cross_tab, paths_figure)
 
@@ -423,37 +408,23 @@ def dead_length_point(st, d, box_file, table, threads=None):
         for tag, E in zip(("Emin", "Emean", "Emax"), st["elasticity"]["E_path_Pa"]):
             robot = study.design_robot(st, st["doe"]["robot"], spec, E=E, dead_length=d)
             row[f"{dk}_{tag}_index_m"], _ = _grid_index(st, robot, box, n, threads)
-    io.write_table(pd.DataFrame([row]), table)
+    table_io.write_table(pd.DataFrame([row]), table)
 
 
 def dead_length(st, tables, table, figure):
     """The dead-length sweep as one table and its figure."""
-    from cdpr.pipeline import plots
-
     tab = concat(tables).sort_values("d_m", ignore_index=True)
-    io.write_table(tab, table)
+    table_io.write_table(tab, table)
     plots.dead_length_figure(tab, st["dead_length_m"], figure)
 
 
 # ---- summary -----------------------------------------------------------------------------------
 def summary(st, results, table, markdown):
     """results/<study>/summary.md and .csv (``cdpr.pipeline.summary``)."""
-    from cdpr.pipeline import summary as sm
-
     sm.write_summary(st, results, markdown, table)
 
 
 # ---- error budget and the paper-rule-versus-physics comparison ---------------------------------
-def budget_designs(st):
-    """The designs of the error budget: label -> (robot key, pulley design {kind, h_m, r_p_m}): every
-    robot x pulley design of the study, and the optimal designs on the DOE robot."""
-    out = {f"{rk}_{pk}": (rk, spec) for rk in st["robots"] for pk, spec in st["pulleys"].items()}
-    out.update(
-        {f"{st['doe']['robot']}_{dk}": (st["doe"]["robot"], spec) for dk, spec in st["optimal"].items()}
-    )
-    return out
-
-
 def _budget_rows(label, region, summary):
     return summary.assign(design=label, region=region)[
         ["design", "region", "entry", "mean_m", "max_m", "share_m", "largest_fraction", "points", "ok_points"]
@@ -463,10 +434,7 @@ def _budget_rows(label, region, summary):
 def budget_design(st, comparison, label, box_file, table, path_table, threads=None):
     """Error budget (``cdpr.analyses.budget``) of one design over the n^3 grid of RW_C and along its robot's
     section 3.3.1 path: summary rows per region and entry, and ‖δp‖ per entry along the path."""
-    from cdpr.analyses import budget
-    from cdpr.pipeline.comparison import load_comparison
-
-    cmp = load_comparison(comparison)
+    cmp = cm.load_comparison(comparison)
     designs = budget_designs(st)
     if label not in designs:
         raise CdprError(f"budget: unknown design {label!r}; allowed: {', '.join(designs)}")
@@ -488,25 +456,23 @@ def budget_design(st, comparison, label, box_file, table, path_table, threads=No
         for k, r in bp.items():
             nm.loc[r["status"] != "ok", k] = np.nan
         out = nm.assign(s=s)[cols]
-    io.write_table(pd.concat(rows, ignore_index=True), table)
-    io.write_table(out, path_table)
+    table_io.write_table(pd.concat(rows, ignore_index=True), table)
+    table_io.write_table(out, path_table)
 
 
 def budget_tables(st, comparison, tables, paths, table, figure, paths_figure):
     """The error budget of every design as one table (design, region, entry, ...), its stacked bars
     and its curves along the paths."""
-    from cdpr.pipeline import plots
-
     found = {
         g["label"]: p for g, p in _by_stem(tables, r"(?P<label>[A-Za-z0-9]+_[A-Za-z0-9]+)", "budget table")
     }
     order = [lab for lab in budget_designs(st) if lab in found]
-    tab = pd.concat([io.read_table(found[lab]) for lab in order], ignore_index=True)
-    io.write_table(tab, table)
+    tab = pd.concat([table_io.read_table(found[lab]) for lab in order], ignore_index=True)
+    table_io.write_table(tab, table)
     pfiles = {
         g["label"]: p for g, p in _by_stem(paths, r"path_(?P<label>[A-Za-z0-9]+_[A-Za-z0-9]+)", "budget path")
     }
-    curves = {lab: io.read_table(pfiles[lab]) for lab in order if lab in pfiles}
+    curves = {lab: table_io.read_table(pfiles[lab]) for lab in order if lab in pfiles}
     plots.budget_bars(tab, figure)
     plots.budget_paths({k: v for k, v in curves.items() if len(v)}, paths_figure)
 
@@ -515,20 +481,17 @@ def comparison(st, comparison, tables, table, figure, markdown):
     """The comparison page (``cdpr.pipeline.comparison``): every conclusion in both modes with its verdict,
     the difference maps on the plane, and the error budget (``tables``: the budget table) with one
     sentence per design. Figures sit beside ``table``; ``figure`` is the difference maps."""
-    from cdpr.analyses import budget
-    from cdpr.pipeline import comparison as cm
-    from cdpr.pipeline import plots
-
     cmp = cm.load_comparison(comparison)
     pres, fres = cmp["paper"]["results"], cmp["physical"]["results"]
     rows = cm.conclusions(st, pres, fres)
-    io.write_table(rows, table)
+    table_io.write_table(rows, table)
     diffs = {(rk, pk): cm.difference_table(pres, fres, rk, pk) for rk in st["robots"] for pk in st["pulleys"]}
     anchors = {rk: study.robot_of(st, rk).A for rk in st["robots"]}
     plots.comparison_difference_maps(diffs, anchors, st["plane"]["z_m"], figure)
     stats = cm.difference_stats({f"{rk}_{pk}": t for (rk, pk), t in diffs.items()})
-    io.write_table(stats, Path(figure).with_name("difference_stats.csv"))
-    bt = io.read_table(tables[0]) if tables else None
+    layout = ComparisonLayout(cmp)  # where the stats and the budget figures are (beside ``figure``)
+    table_io.write_table(stats, layout.paths("comparison", "stats")[0])
+    bt = table_io.read_table(tables[0]) if tables else None
     sentences = []
     if bt is not None:
         for label in dict.fromkeys(bt.design):
@@ -536,7 +499,6 @@ def comparison(st, comparison, tables, table, figure, markdown):
             rw = g[g.region == "RW_C"].drop(columns=["design", "region"])
             pa = g[g.region == "path"].drop(columns=["design", "region"])
             sentences.append(budget.sentence(label, rw, pa if len(pa) else None))
-    folder = Path(figure).parent
     cm.write_page(
         cmp,
         rows,
@@ -545,35 +507,31 @@ def comparison(st, comparison, tables, table, figure, markdown):
         sentences,
         {
             "difference": figure,
-            "budget": folder / "budget.png",
-            "budget_paths": folder / "budget_paths.png",
+            "budget": layout.paths("budget", "figure")[0],
+            "budget_paths": layout.paths("budget", "paths_figure")[0],
         },
         markdown,
     )
 
 
-# ---- uncertainty and sensitivity (beyond the paper: cdpr.analyses.uncertainty) ---------------------------
+# ---- uncertainty and sensitivity (beyond the paper: cdpr.analyses.uncertainty, cdpr.pipeline.uq) -------------
 def uq_shard(st, design, case, shard, box_file, table, points, threads=None):
     """One Monte Carlo shard by full solves with the linearised propagation of the same samples."""
-    from cdpr.analyses import uncertainty
-
-    samples, pts = uncertainty.mc_shard(st, design, case, study.read_box(box_file), int(shard), threads)
-    io.write_table(samples, table)
-    io.write_table(pts, points)
+    samples, pts = uq.mc_shard(st, design, case, study.read_box(box_file), int(shard), threads)
+    table_io.write_table(samples, table)
+    table_io.write_table(pts, points)
 
 
 def uq_design(st, design, case, box_file, table, path, sobol, tolerances, map, threads=None):
     """Every sample linearised over RW_C, the path bands, the Sobol indices and the dominant-parameter
     map of one design and case."""
-    from cdpr.analyses import uncertainty
-
     box = study.read_box(box_file)
-    io.write_table(uncertainty.linear_samples(st, design, case, box, threads), table)
-    io.write_table(uncertainty.path_bands(st, design, case, threads), path)
-    indices, rows = uncertainty.sobol(st, design, case, box, threads)
-    io.write_table(indices, sobol)
-    io.write_table(rows, tolerances)
-    io.write_table(uncertainty.dominant_map(st, design, case, threads), map)
+    table_io.write_table(uq.linear_samples(st, design, case, box, threads), table)
+    table_io.write_table(uq.path_bands(st, design, case, threads), path)
+    indices, rows = uq.sobol(st, design, case, box, threads)
+    table_io.write_table(indices, sobol)
+    table_io.write_table(rows, tolerances)
+    table_io.write_table(uq.dominant_map(st, design, case, threads), map)
 
 
 _UQ = r"(?P<design>[A-Za-z0-9]+)_(?P<case>uncompensated|compensated)"
@@ -596,9 +554,6 @@ def uncertainty(
     every declared parameter from Saltelli's rows), the agreement of the linearisation with the full
     solves, the Sobol indices; and the figures. ``tables``: the uncertainty jobs' files; ``paths``:
     the elasticity tables (common-E index sweep and paths) the figures compare with."""
-    from cdpr.analyses import uncertainty as uq
-    from cdpr.pipeline import plots
-
     u = st["uncertainty"]
     kinds = {
         "mc": rf"mc_{_UQ}_(?P<shard>\d+)",
@@ -624,24 +579,24 @@ def uncertainty(
     for p in paths:
         stem = Path(p).stem
         if stem == "index_vs_E":
-            common["index_vs_E"] = io.read_table(p)
+            common["index_vs_E"] = table_io.read_table(p)
         elif stem == "bands":
-            common["bands"] = io.read_table(p)
+            common["bands"] = table_io.read_table(p)
         elif (m := re.fullmatch(r"path_(?P<design>[A-Za-z0-9]+)_E(?P<E>[0-9.e+-]+)", stem)) is not None:
-            df = io.read_table(p)
+            df = table_io.read_table(p)
             common.setdefault("paths", []).append(
                 (m["design"], float(m["E"]), df.s.to_numpy(), df.dp.where(df.status == "ok").to_numpy())
             )
     rows, agree = [], []
     for design in u["designs"]:
-        for case in uq.CASES:
+        for case in CASES:
             key = (design, case)
             for name in ("mc", "points", "linear", "tolerances"):
                 if key not in read[name]:
                     raise CdprError(f"uncertainty: no {name} table of {design} {case} among the inputs")
             b = uq.bands(read["linear"][key], read["mc"][key])
             tol = read["tolerances"][key]
-            q = np.quantile(tol.index_m, uq.QUANTILES)
+            q = np.quantile(tol.index_m, QUANTILES)
             nom = float(b.index_nominal_m.iloc[0])
             b = pd.concat(
                 [
@@ -683,9 +638,9 @@ def uncertainty(
         df.insert(0, "design", design)
         sob.append(df)
     sobol_tab = pd.concat(sob, ignore_index=True)
-    io.write_table(bands_tab, bands)
-    io.write_table(agree_tab, agreement)
-    io.write_table(sobol_tab, sobol)
+    table_io.write_table(bands_tab, bands)
+    table_io.write_table(agree_tab, agreement)
+    table_io.write_table(sobol_tab, sobol)
     paper_bands = _paper_uq_bands(st)
     robot = study.robot_of(st, st["doe"]["robot"])
     plots.uq_index_distribution(
@@ -700,12 +655,10 @@ def uncertainty(
 def _paper_uq_bands(st):
     """The paper's common-E band per design {design: (index, minus, plus)} [m] from
     cdpr/data/paper_values.yaml, for the paper's study only."""
-    from cdpr.pipeline import summary
-
     if not st.get("paper_comparison"):
         return {}
     out = {}
-    for v in summary.paper_values():
+    for v in sm.paper_values():
         o = v["ours"]
         if o.get("kind") == "band" and o.get("column") in ("index_mean_m", "minus_m", "plus_m"):
             out.setdefault(o["design"], {})[o["column"]] = v["value"] / 1000.0

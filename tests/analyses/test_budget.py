@@ -10,7 +10,7 @@ from cdpr.analyses import budget
 from cdpr.analyses.workspace import grid_points
 from cdpr.models import winch
 from cdpr.models.inverse import L_TS
-from cdpr.robot import with_pulleys
+from cdpr.robot import TABLE1, with_pulleys
 
 RW_C = [-2.32, 2.32, -2.32, 2.32, 0.0, 3.73]
 
@@ -81,7 +81,7 @@ def test_the_drum_adds_its_length_error(cdpr4, points):
     fixed = with_pulleys(cdpr4, kind="fixed")
     L = L_TS(fixed, points)
     got = budget.realised_lengths(fixed, L, ("winch",), ())
-    dl = np.column_stack([winch.length_error(winch.TABLE1, L[:, i] - fixed.d[i]) for i in range(4)])
+    dl = np.column_stack([winch.length_error(TABLE1, L[:, i] - fixed.d[i]) for i in range(4)])
     np.testing.assert_allclose(got - L, dl, atol=2e-5)
     np.testing.assert_array_equal(budget.realised_lengths(fixed, L, ("winch",), ("winch",)), L)
     # a model that knows the winch, on a drum whose exit point does not move: off by -dl
@@ -90,10 +90,10 @@ def test_the_drum_adds_its_length_error(cdpr4, points):
 
 
 def test_the_design_own_winch_is_kept_and_unknown_effects_refused(cdpr4):
-    w = dataclasses.replace(winch.TABLE1, k_w=0.08)
+    w = dataclasses.replace(TABLE1, k_w=0.08)
     robot = dataclasses.replace(cdpr4, cables=tuple(dataclasses.replace(c, winch=w) for c in cdpr4.cables))
     assert budget.effect_robot(robot, ()).winches == (w,) * 4
-    assert budget.effect_robot(cdpr4, ()).winches == (winch.TABLE1,) * 4
+    assert budget.effect_robot(cdpr4, ()).winches == (TABLE1,) * 4
     with pytest.raises(ValueError, match="unknown effect"):
         budget.effect_robot(cdpr4, ("gravity",))
 

@@ -6,10 +6,12 @@ import pytest
 
 from cdpr.analyses.compensation import COMP_STATUSES, compensate, compensated_pose, rest_lengths
 from cdpr.compiled.equilibrium import solve_physical_fast
-from cdpr.models.equilibrium import solve_physical, to_frame
+from cdpr.errors import CdprError
+from cdpr.models.equilibrium import solve_physical
 from cdpr.models.inverse import igm_e
 from cdpr.models.statics import stretched_length
 from cdpr.robot import apply_overrides, read_yaml, robot_from_dict, with_pulleys
+from cdpr.tables import to_frame
 from tests.conftest import ROBOTS
 from tests.models.test_equilibrium import mixed_robot
 
@@ -76,7 +78,7 @@ def test_infeasible_points_are_flagged_and_not_solved(cdpr4):
     assert list(res["status"]) == ["ok", "infeasible", "infeasible"]
     assert np.isnan(res["P_s"][1:]).all() and np.isnan(res["L0"][1:]).all() and np.isnan(res["dp"][1:]).all()
     assert res["statuses"] == COMP_STATUSES
-    df = to_frame(cdpr4, res)
+    df = to_frame(cdpr4, res, "physical")
     assert list(df["status"].astype(str)) == ["ok", "infeasible", "infeasible"]
 
 
@@ -100,5 +102,5 @@ def test_subset_follows_paper_mode(cdpr4):
 def test_unknown_method(cdpr4):
     with pytest.raises(ValueError, match="allowed"):
         compensate(cdpr4, PTS[:2], method="magic")
-    with pytest.raises(ValueError, match="engine"):
+    with pytest.raises(CdprError, match="unknown engine 'gpu'; allowed: compiled, numpy"):
         compensated_pose(cdpr4, PTS[:2], engine="gpu")

@@ -5,7 +5,6 @@ first-order contributions against Monte Carlo, and the study section's checks.""
 import copy
 
 import numpy as np
-import pandas as pd
 import pytest
 
 from cdpr.analyses import uncertainty as uq
@@ -65,20 +64,6 @@ def test_samples_do_not_depend_on_the_shards():
     parts = np.vstack([uq.mc_uniforms(11, a, b, 7) for a, b in ((0, 3), (3, 4), (4, 10))])
     assert np.array_equal(full, parts)
     assert not np.array_equal(full, uq.mc_uniforms(12, 0, 10, 7))
-
-
-def test_monte_carlo_reproducible_across_shard_counts(quick):
-    """The same seed gives the same per-sample numbers, full solves and linearised, on 1 or 3 shards."""
-    one = uq.mc_shard(_study(quick, full_samples=6, shards=1), "DRopt", "uncompensated", RW_C, 0)[0]
-    three = pd.concat(
-        [
-            uq.mc_shard(_study(quick, full_samples=6, shards=3), "DRopt", "uncompensated", RW_C, k)[0]
-            for k in range(3)
-        ],
-        ignore_index=True,
-    )
-    pd.testing.assert_frame_equal(one, three)
-    assert one["index_full_m"].nunique() == 6  # the samples differ from each other
 
 
 def test_parameter_samples_and_physical_checks(cdpr4):

@@ -10,7 +10,7 @@ import sys
 import pytest
 import yaml
 
-from cdpr.cli.commands import main
+from cdpr.cli.main import main
 from cdpr.errors import ConfigError
 from cdpr.pipeline.study import load_study
 from tests.conftest import ROBOTS, ROOT

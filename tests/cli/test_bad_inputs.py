@@ -7,7 +7,8 @@ import sys
 import pytest
 import yaml
 
-from cdpr.cli.commands import main
+from cdpr import table_io
+from cdpr.cli.main import main
 from cdpr.errors import ConfigError
 from cdpr.pipeline.study import load_study
 from tests.conftest import ROBOTS, ROOT
@@ -168,13 +169,12 @@ def test_broken_pipe_ends_quietly():
 
 
 def test_truncated_parquet_names_the_file(tmp_path):
-    from cdpr import io
     from cdpr.errors import CdprError
 
     bad = tmp_path / "shard.parquet"
     bad.write_bytes(b"PAR1" + b"\0" * 20)
     with pytest.raises(CdprError, match="shard.parquet.*delete it"):
-        io.read_table(bad)
+        table_io.read_table(bad)
 
 
 STUDY_CASES = [  # (edit of the quick study's text, key named in the message)

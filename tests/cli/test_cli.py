@@ -8,7 +8,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from cdpr.cli.commands import main
+from cdpr.cli.main import main
 from tests.conftest import ROBOTS
 
 R4 = str(ROBOTS / "cdpr4.yaml")

@@ -6,7 +6,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from cdpr.cli.commands import main
+from cdpr.cli.main import main
 from tests.conftest import ROBOTS
 
 COGIRO = str(ROBOTS / "cogiro.yaml")

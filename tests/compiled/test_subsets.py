@@ -9,7 +9,7 @@ from cdpr.analyses.workspace import grid_points
 from cdpr.compiled.subsets import solve_points_fast
 from cdpr.models.subsets import solve_points
 from cdpr.robot import with_pulleys
-from cdpr.solve import solve_table
+from cdpr.tables import solve_table
 
 # a box larger than the frames: includes slack, over-tension and inaccessible points
 BOX = [-2.7, 2.7, -2.7, 2.7, -0.2, 5.3]

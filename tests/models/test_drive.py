@@ -5,10 +5,10 @@ import json
 import numpy as np
 import pytest
 
-from cdpr.cli.commands import main
+from cdpr.cli.main import main
 from cdpr.errors import CdprError
 from cdpr.models import drive, winch
-from cdpr.robot import load_robot
+from cdpr.robot import TABLE1, load_robot
 from tests.conftest import ROBOTS
 
 RW = str(ROBOTS / "cdpr4_winch.yaml")
@@ -22,7 +22,7 @@ def test_round_trip_q_to_lengths_to_q():
     q_back, q_nw = drive.drum_angles(r, L0)
     np.testing.assert_allclose(q_back, q, atol=1e-9)
     # the model that neglects the winch is exact at q0 only; elsewhere it differs by dl / k_w (eq. 31)
-    p = winch.TABLE1
+    p = TABLE1
     np.testing.assert_allclose((q_back - q_nw) * p.k_w, winch.length_error(p, L0 - r.d), atol=1e-12)
     at_q0 = drive.rest_lengths_from_angles(r, np.full((1, r.m), p.q0))
     np.testing.assert_allclose(

@@ -6,12 +6,14 @@ import dataclasses
 import numpy as np
 import pytest
 
-from cdpr.models.equilibrium import FTOL_REL, _Cables, solve_physical, taut_labels, to_frame
+from cdpr.models.equilibrium import FTOL_REL, _Cables, solve_physical
 from cdpr.models.inverse import L_TS
 from cdpr.models.pulleys import total_length_and_direction
+from cdpr.models.results import taut_labels
 from cdpr.models.statics import direction_gradient, length_gradient
 from cdpr.models.subsets import solve_points
 from cdpr.robot import apply_overrides, read_yaml, robot_from_dict, with_pulleys
+from cdpr.tables import to_frame
 from tests.conftest import ROBOTS
 
 rng = np.random.default_rng(11)
@@ -254,7 +256,7 @@ def test_frame_and_labels(cdpr4):
     res = solve_physical(
         with_pulleys(cdpr4, kind="SR"), p, L0=L_TS(cdpr4, p) + [[0.0] * 4, [0.0, 0.0, 0.0, 0.5]]
     )
-    df = to_frame(cdpr4, res)
+    df = to_frame(cdpr4, res, "physical")
     assert list(df.columns) == [
         "x",
         "y",
@@ -273,7 +275,8 @@ def test_frame_and_labels(cdpr4):
         "status",
     ]
     assert list(df["taut"]) == ["1-2-3-4", "1-2-3"]
-    assert list(taut_labels(np.array([[False] * 4]))) == [""]
+    codes, labels = taut_labels(np.array([[False] * 4, [True, False, True, True]]))
+    assert [labels[c] for c in codes] == ["", "1-3-4"] and len(labels) == 16
     assert df["t4"].isna().tolist() == [False, True]
 
 

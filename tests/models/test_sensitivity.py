@@ -9,14 +9,11 @@ from cdpr.compiled.equilibrium import solve_physical_fast
 from cdpr.compiled.subsets import solve_points_fast
 from cdpr.models.equilibrium import solve_physical
 from cdpr.models.inverse import L_TS, igm_e
-from cdpr.models.sensitivity import (
-    GAP_TOL,
-    cable_partials,
-    sensitivities,
-)
+from cdpr.models.sensitivity import GAP_TOL, cable_partials
 from cdpr.models.subsets import solve_points
 from cdpr.parameters import parameter_names, parameter_values, robot_with_parameters
 from cdpr.robot import with_pulleys
+from cdpr.solve import sensitivities
 
 DESIGNS = {"SR": ("SR", 0.1077, 0.035), "DR": ("DR", 0.100, 0.080), "fixed": ("fixed", 0.0, 0.0)}
 #: a few points in the paper's RW_C, away from the CDPR4 diagonals
@@ -180,7 +177,7 @@ def test_command_line_point_and_grid(tmp_path, capsys):
 
     import pandas as pd
 
-    from cdpr.cli.commands import main
+    from cdpr.cli.main import main
     from tests.conftest import ROBOTS
 
     robot = str(ROBOTS / "cdpr4.yaml")

@@ -6,7 +6,7 @@ import pytest
 from cdpr.analyses.workspace import cell_centres
 from cdpr.models.subsets import solve_points
 from cdpr.robot import with_pulleys
-from cdpr.solve import solve_table
+from cdpr.tables import solve_table
 
 
 def plane(n, z=2.5, half=2.5):

@@ -7,8 +7,9 @@ import pytest
 
 from cdpr.errors import ConfigError
 from cdpr.models import winch
+from cdpr.robot import TABLE1, load_winch_params
 
-P = winch.TABLE1
+P = TABLE1
 
 
 def test_length_error_end_values_fig7b():
@@ -62,7 +63,7 @@ def test_bad_params_file(tmp_path):
     f = tmp_path / "w.yaml"
     f.write_text("k_w_m: -1\n")
     with pytest.raises(ConfigError, match="w.yaml: key 'k_w_m': must be strictly positive"):
-        winch.load_params(f)
+        load_winch_params(f)
     f.write_text("kw: 1\n")
     with pytest.raises(ConfigError, match="key 'kw': unknown key"):
-        winch.load_params(f)
+        load_winch_params(f)

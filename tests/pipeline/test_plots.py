@@ -4,6 +4,7 @@ import time
 
 import matplotlib.pyplot as plt
 
+from cdpr import table_io
 from cdpr.pipeline import plots
 
 
@@ -97,7 +98,7 @@ def test_outputs_follow_the_umask(tmp_path):
 
     old = os.umask(0o022)
     try:
-        io.write_table(pd.DataFrame({"a": [1.0]}), tmp_path / "t.csv")
+        table_io.write_table(pd.DataFrame({"a": [1.0]}), tmp_path / "t.csv")
         io.write_text("x", tmp_path / "t.md")
         os.umask(0o077)
         io.write_text("x", tmp_path / "private.md")

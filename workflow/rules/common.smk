@@ -3,14 +3,18 @@
 # The study file is read and validated ONCE here, by the library (cdpr.pipeline.study.load_study: the JSON
 # schema cdpr/schemas/study.schema.yaml, then every check a schema cannot make, robot files
 # included), so that a bad value stops the run before any job with one sentence naming the study
-# file and the key. Every rule declares as `params` the study values its job reads and the
-# library's code version (CODE), so that Snakemake reruns exactly the jobs an edit affects.
+# file and the key. Every rule declares as `params` the study values its job reads and COMMON (the
+# command, the study file and the library's code version CODE), so that Snakemake reruns exactly the
+# jobs an edit affects. Every output and input path comes from cdpr.pipeline.results (LAYOUT).
 import hashlib
+import importlib.resources
+import shlex
 import sys
 from pathlib import Path
 
 from cdpr.errors import CdprError
-from cdpr.pipeline.study import doe_tests, E_values, load_study, map_kinds
+from cdpr.pipeline.results import Layout
+from cdpr.pipeline.study import doe_tests, load_study
 
 STUDY_FILE = config["study"]
 try:
@@ -18,10 +22,13 @@ try:
 except CdprError as exc:
     raise WorkflowError(f"invalid study configuration: {exc}")
 RES = config["results"]
-CDPR = f"{sys.executable} -m cdpr"
+# every path of the results folder (cdpr.pipeline.results)
+LAYOUT = Layout(STUDY, RES)
+# the interpreter quoted: the pipeline runs from a folder whose path has spaces or non-ASCII letters
+CDPR = f"{shlex.quote(sys.executable)} -m cdpr"
+# the papers' numbers, shipped with the library (an input of the rules that read them)
+PAPER_VALUES = str(importlib.resources.files("cdpr") / "data" / "paper_values.yaml")
 ROBOTS = dict(STUDY["robots"])
-# robots with more cables than degrees of freedom: the subset map (Fig. 9) applies to them
-REDUNDANT = [k for k, robot in STUDY.robot_models.items() if robot.m > 3]
 PULLEYS = STUDY["pulleys"]
 # threads of one solver job (the compiled engine runs points in parallel); many small jobs: use 1
 SOLVER_THREADS = STUDY.get("solver_threads", 2)
@@ -40,6 +47,22 @@ def _code_version():
 
 
 CODE = _code_version()
+# the params every rule that runs the library declares: its command, the study file, the code version
+COMMON = {"cdpr": CDPR, "study_file": STUDY_FILE, "code": CODE}
+# the end of every shell command: the job's output and errors go to its log, and when the job fails
+# the log's last line (the library's one-line error) reaches the console too, with the exit status
+TO_LOG = (
+    " > {log:q} 2>&1 || {{ s=$?; echo \"job failed (exit status $s): $(tail -n 1 {log:q})\" >&2; exit $s; }}"
+)
+
+
+def outputs(rule, **reports):
+    """The outputs of `rule` (cdpr.pipeline.results); name=(caption, category) puts a figure in the
+    Snakemake report."""
+    out = LAYOUT.outputs(rule)
+    for name, (caption, category) in reports.items():
+        out[name] = report(out[name], caption=caption, category=category)
+    return out
 
 
 def uses(*keys):
@@ -69,15 +92,11 @@ def pulley_args(p, E=None):
 # Sections of the study used by several rule files.
 PATHS = STUDY["trajectories"]["paths"]
 VOL = STUDY["volumes"]
-VOL_LABELS = expand("{robot}_{pulley}", robot=ROBOTS, pulley=PULLEYS)
 DOE = STUDY["doe"]
 DOE_TESTS = doe_tests(STUDY).set_index("test")  # Table 2: number -> kind, h_m, r_p_m
-TESTS = list(DOE_TESTS.index)
 DOE_ROBOT = ROBOTS[DOE["robot"]]
 EL = STUDY["elasticity"]
 OPT = STUDY["optimal"]
-E_VALUES = [f"{e:.6g}" for e in E_values(STUDY)]
-E_PATH = [f"{float(e):.6g}" for e in EL["E_path_Pa"]]
 
 
 def uq_uses(*keys):
@@ -90,19 +109,6 @@ def test_args(test):
     return pulley_args(DOE_TESTS.loc[int(test)].to_dict())
 
 
-def volume_shards(label):
-    """The solver shards of one robot_pulley label (volumes)."""
-    return expand(f"{RES}/shards/volume/{label}_{{shard}}.parquet", shard=range(VOL["shards"]))
-
-
 def all_targets():
-    t = [f"{RES}/winch/winch.csv", f"{RES}/winch/winch.png"]
-    t += expand(f"{RES}/plane/{{robot}}.png", robot=ROBOTS)
-    t += expand(f"{RES}/plane/{{robot}}_subsets.png", robot=REDUNDANT)
-    t += [f"{RES}/trajectories/trajectories.png"]
-    t += [f"{RES}/volumes/volumes.csv"] + expand(f"{RES}/volumes/{{label}}_VL.png", label=VOL_LABELS)
-    t += [f"{RES}/doe/doe.csv", f"{RES}/maps/lines.csv", f"{RES}/elasticity/bands.csv", f"{RES}/dead_length/dead_length.csv"]
-    if STUDY.get("uncertainty"):
-        t += [f"{RES}/uncertainty/bands.csv"]
-    t += [f"{RES}/summary.md", f"{RES}/summary.csv"]
-    return t
+    """Every file the study writes (cdpr.pipeline.results): a missing one, intermediate or not, is rebuilt."""
+    return LAYOUT.targets()

@@ -2,8 +2,9 @@
 # both papers (cdpr.pipeline.comparison, cdpr.analyses.budget). The comparison file (config key `comparison`,
 # config/comparisons/*.yaml) names the two study files and their results folders; both studies
 # must have been run first (`make reproduce` runs paper, physical, then `reproduce_comparison`).
+# Every path comes from cdpr.pipeline.results.ComparisonLayout.
 from cdpr.pipeline.comparison import load_comparison
-from cdpr.pipeline.tasks import budget_designs
+from cdpr.pipeline.results import ComparisonLayout
 
 CMP_FILE = config.get("comparison")
 if CMP_FILE:
@@ -11,10 +12,18 @@ if CMP_FILE:
         CMP = load_comparison(CMP_FILE)
     except CdprError as exc:
         raise WorkflowError(f"invalid comparison configuration: {exc}")
-    CMP_DIR = CMP["folder"]
+    CMP_LAYOUT = ComparisonLayout(CMP)
     CMP_STUDY = CMP["paper"]["study"]  # the designs; the physical study differs only in name and redundancy
-    CMP_RES = {m: CMP[m]["results"] for m in ("paper", "physical")}
-    CMP_DESIGNS = budget_designs(CMP.paper_study)
+    CMP_DESIGNS = CMP_LAYOUT.labels()
+    # the params of every comparison rule: the command, the paper study and the comparison file, the code
+    CMP_COMMON = {**COMMON, "study_file": CMP_STUDY, "comparison_file": CMP_FILE}
+
+    def cmp_outputs(rule, **reports):
+        """The outputs of a comparison rule (cdpr.pipeline.results), figures in the report."""
+        out = CMP_LAYOUT.outputs(rule)
+        for name, (caption, category) in reports.items():
+            out[name] = report(out[name], caption=caption, category=category)
+        return out
 
     # aggregation and the page run beside Snakemake on a cluster (workflow/rules/cluster.smk)
     localrules:
@@ -23,90 +32,59 @@ if CMP_FILE:
 
     rule budget_design:
         input:
-            box=f"{CMP_RES['paper']}/doe/rw_c.json",
+            box=CMP_LAYOUT.studies["paper"].path("regular_workspace", "json"),
             robots=list(CMP.paper_study["robots"].values()),
         output:
-            table=f"{CMP_DIR}/budget/{{label}}.csv",
-            path=f"{CMP_DIR}/budget/path_{{label}}.csv",
+            **cmp_outputs("budget_design"),
         wildcard_constraints:
             label="|".join(CMP_DESIGNS),
         params:
+            **CMP_COMMON,
             budget=CMP["budget"],
             study={k: CMP.paper_study.get(k) for k in ("robots", "pulleys", "optimal", "trajectories", "dead_length_m")},
-            cdpr=CDPR,
-            study_file=CMP_STUDY,
-            comparison_file=CMP_FILE,
-            code=CODE,
         log:
-            f"{CMP_DIR}/logs/budget_{{label}}.log",
+            CMP_LAYOUT.log("budget_design"),
         threads: SOLVER_THREADS
         shell:
-            "{params.cdpr} job budget-design --threads {threads} --study {params.study_file} --comparison {params.comparison_file}"
-            " --label {wildcards.label} --box-file {input.box} --table {output.table} --path-table {output.path} > {log} 2>&1"
+            "{params.cdpr} job budget-design --threads {threads} --study {params.study_file:q} --comparison {params.comparison_file:q}"
+            " --label {wildcards.label} --box-file {input.box:q} --table {output.table:q} --path-table {output.path:q}" + TO_LOG
 
     rule budget:
         input:
-            tables=expand(f"{CMP_DIR}/budget/{{label}}.csv", label=CMP_DESIGNS),
-            paths=expand(f"{CMP_DIR}/budget/path_{{label}}.csv", label=CMP_DESIGNS),
+            tables=CMP_LAYOUT.paths("budget_design", "table"),
+            paths=CMP_LAYOUT.paths("budget_design", "path"),
         output:
-            table=f"{CMP_DIR}/budget.csv",
-            figure=report(f"{CMP_DIR}/budget.png", caption="../report/budget.rst", category="Comparison"),
-            pdf=f"{CMP_DIR}/budget.pdf",
-            paths_figure=report(f"{CMP_DIR}/budget_paths.png", caption="../report/budget.rst", category="Comparison"),
-            paths_pdf=f"{CMP_DIR}/budget_paths.pdf",
+            **cmp_outputs(
+                "budget",
+                figure=("../report/budget.rst", "Comparison"),
+                paths_figure=("../report/budget.rst", "Comparison"),
+            ),
         params:
+            **CMP_COMMON,
             study={k: CMP.paper_study.get(k) for k in ("robots", "pulleys", "optimal")},
-            cdpr=CDPR,
-            study_file=CMP_STUDY,
-            comparison_file=CMP_FILE,
-            code=CODE,
         log:
-            f"{CMP_DIR}/logs/budget.log",
+            CMP_LAYOUT.log("budget"),
         shell:
-            "{params.cdpr} job budget --study {params.study_file} --comparison {params.comparison_file} --tables {input.tables}"
-            " --paths {input.paths} --table {output.table} --figure {output.figure} --paths-figure {output.paths_figure} > {log} 2>&1"
+            "{params.cdpr} job budget --study {params.study_file:q} --comparison {params.comparison_file:q} --tables {input.tables:q}"
+            " --paths {input.paths:q} --table {output.table:q} --figure {output.figure:q} --paths-figure {output.paths_figure:q}"
+            + TO_LOG
 
     rule comparison:
         input:
             budget=rules.budget.output.table,
-            summaries=[f"{CMP_RES[m]}/summary.csv" for m in CMP_RES],
-            planes=[
-                f"{CMP_RES[m]}/plane/{rk}_{pk}.csv"
-                for m in CMP_RES
-                for rk in CMP.paper_study["robots"]
-                for pk in CMP.paper_study["pulleys"]
-            ],
-            tables=[
-                f"{CMP_RES[m]}/{t}"
-                for m in CMP_RES
-                for t in (
-                    "volumes/volumes.csv",
-                    "doe/doe.csv",
-                    "doe/effects.csv",
-                    "maps/lines.csv",
-                    "elasticity/bands.csv",
-                    "elasticity/crossings.csv",
-                )
-            ],
-            paper_values="cdpr/data/paper_values.yaml",
+            tables=CMP_LAYOUT.inputs(),
+            paper_values=PAPER_VALUES,
         output:
-            markdown=CMP["page"],
-            table=f"{CMP_DIR}/conclusions.csv",
-            figure=report(f"{CMP_DIR}/difference.png", caption="../report/comparison.rst", category="Comparison"),
-            pdf=f"{CMP_DIR}/difference.pdf",
-            stats=f"{CMP_DIR}/difference_stats.csv",
+            **cmp_outputs("comparison", figure=("../report/comparison.rst", "Comparison")),
         params:
+            **CMP_COMMON,
             study={k: CMP.paper_study.get(k) for k in ("robots", "pulleys", "optimal", "plane", "volumes", "elasticity")},
-            cdpr=CDPR,
-            study_file=CMP_STUDY,
-            comparison_file=CMP_FILE,
-            code=CODE,
         log:
-            f"{CMP_DIR}/logs/comparison.log",
+            CMP_LAYOUT.log("comparison"),
         shell:
-            "{params.cdpr} job comparison --study {params.study_file} --comparison {params.comparison_file} --tables {input.budget}"
-            " --table {output.table} --figure {output.figure} --markdown {output.markdown} > {log} 2>&1"
+            "{params.cdpr} job comparison --study {params.study_file:q} --comparison {params.comparison_file:q} --tables {input.budget:q}"
+            " --table {output.table:q} --figure {output.figure:q} --markdown {output.markdown:q}" + TO_LOG
 
     rule reproduce_comparison:
         input:
-            rules.comparison.output.markdown,
+            CMP_LAYOUT.targets(),

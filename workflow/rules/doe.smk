@@ -3,36 +3,33 @@ rule workspace_grid:
     input:
         robot=DOE_ROBOT,
     output:
-        table=f"{RES}/shards/workspace/test{{test}}.parquet",
+        **outputs("workspace_grid"),
     params:
+        **COMMON,
         design=lambda w: test_args(int(w.test)),
         n=DOE["workspace_n"],
-        cdpr=CDPR,
-        study_file=STUDY_FILE,
-        code=CODE,
     log:
-        f"{RES}/logs/workspace_test{{test}}.log",
+        LAYOUT.log("workspace_grid"),
     threads: SOLVER_THREADS
     shell:
-        "{params.cdpr} grid --threads {threads} --robot {input.robot} {params.design} --frame --n {params.n} --out {output.table} > {log} 2>&1"
+        "{params.cdpr} grid --threads {threads} --robot {input.robot:q} {params.design} --frame --n {params.n}"
+        " --out {output.table:q}" + TO_LOG
 
 
 rule regular_workspace:
     input:
-        tables=expand(f"{RES}/shards/workspace/test{{test}}.parquet", test=TESTS),
+        tables=LAYOUT.paths("workspace_grid", "table"),
         robot=DOE_ROBOT,
     output:
-        table=f"{RES}/doe/rw_max.csv",
-        json=f"{RES}/doe/rw_c.json",
+        **outputs("regular_workspace"),
     params:
+        **COMMON,
         study=uses("doe", "dead_length_m"),
-        cdpr=CDPR,
-        study_file=STUDY_FILE,
-        code=CODE,
     log:
-        f"{RES}/logs/regular_workspace.log",
+        LAYOUT.log("regular_workspace"),
     shell:
-        "{params.cdpr} job rw --study {params.study_file} --tables {input.tables} --table {output.table} --json {output.json} > {log} 2>&1"
+        "{params.cdpr} job rw --study {params.study_file:q} --tables {input.tables:q} --table {output.table:q}"
+        " --json {output.json:q}" + TO_LOG
 
 
 rule index_shard:
@@ -40,39 +37,34 @@ rule index_shard:
         robot=DOE_ROBOT,
         box=rules.regular_workspace.output.json,
     output:
-        table=f"{RES}/shards/doe/test{{test}}_{{shard}}.parquet",
+        **outputs("index_shard"),
     params:
+        **COMMON,
         design=lambda w: test_args(int(w.test)),
         n=DOE["index_n"],
         shards=DOE["shards"],
-        cdpr=CDPR,
-        study_file=STUDY_FILE,
-        code=CODE,
     log:
-        f"{RES}/logs/doe_test{{test}}_{{shard}}.log",
+        LAYOUT.log("index_shard"),
     threads: SOLVER_THREADS
     shell:
-        "{params.cdpr} grid --threads {threads} --robot {input.robot} {params.design} --box-file {input.box} --n {params.n}"
-        " --shard {wildcards.shard} --shards {params.shards} --out {output.table} > {log} 2>&1"
+        "{params.cdpr} grid --threads {threads} --robot {input.robot:q} {params.design} --box-file {input.box:q} --n {params.n}"
+        " --shard {wildcards.shard} --shards {params.shards} --out {output.table:q}" + TO_LOG
 
 
 rule doe:
     input:
-        tables=[f"{RES}/shards/doe/test{t}_{s}.parquet" for t in TESTS for s in range(DOE["shards"])],
+        tables=LAYOUT.paths("index_shard", "table"),
     output:
-        table=f"{RES}/doe/doe.csv",
-        effects=f"{RES}/doe/effects.csv",
-        figure=report(f"{RES}/doe/responses.png", caption="../report/doe.rst", category="DOE"),
-        pdf=f"{RES}/doe/responses.pdf",
-        effects_figure=report(f"{RES}/doe/effects.png", caption="../report/effects.rst", category="DOE"),
-        effects_pdf=f"{RES}/doe/effects.pdf",
+        **outputs(
+            "doe",
+            figure=("../report/doe.rst", "DOE"),
+            effects_figure=("../report/effects.rst", "DOE"),
+        ),
     params:
+        **COMMON,
         study=uses("doe"),
-        cdpr=CDPR,
-        study_file=STUDY_FILE,
-        code=CODE,
     log:
-        f"{RES}/logs/doe.log",
+        LAYOUT.log("doe"),
     shell:
-        "{params.cdpr} job doe --study {params.study_file} --tables {input.tables} --table {output.table} --effects {output.effects}"
-        " --figure {output.figure} --effects-figure {output.effects_figure} > {log} 2>&1"
+        "{params.cdpr} job doe --study {params.study_file:q} --tables {input.tables:q} --table {output.table:q}"
+        " --effects {output.effects:q} --figure {output.figure:q} --effects-figure {output.effects_figure:q}" + TO_LOG

@@ -6,37 +6,31 @@ rule map_kind:
         box=rules.regular_workspace.output.json,
         robot=DOE_ROBOT,
     output:
-        table=f"{RES}/shards/maps/{{kind}}.csv",
+        **outputs("map_kind"),
     params:
+        **COMMON,
         study=uses("maps", "doe", "dead_length_m", "solver", "redundancy"),
-        cdpr=CDPR,
-        study_file=STUDY_FILE,
-        code=CODE,
     log:
-        f"{RES}/logs/map_{{kind}}.log",
+        LAYOUT.log("map_kind"),
     threads: SOLVER_THREADS
     shell:
-        "{params.cdpr} job map --threads {threads} --study {params.study_file} --kind {wildcards.kind} --box-file {input.box} --table {output.table} > {log} 2>&1"
+        "{params.cdpr} job map --threads {threads} --study {params.study_file:q} --kind {wildcards.kind} --box-file {input.box:q}"
+        " --table {output.table:q}" + TO_LOG
 
 
 rule maps:
     input:
-        tables=expand(f"{RES}/shards/maps/{{kind}}.csv", kind=map_kinds(STUDY)),
+        tables=LAYOUT.paths("map_kind", "table"),
         box=rules.regular_workspace.output.json,
         robot=DOE_ROBOT,
     output:
-        map=f"{RES}/maps/map.csv",
-        lines=f"{RES}/maps/lines.csv",
-        figure=report(f"{RES}/maps/maps.png", caption="../report/maps.rst", category="Maps"),
-        pdf=f"{RES}/maps/maps.pdf",
+        **outputs("maps", figure=("../report/maps.rst", "Maps")),
     params:
+        **COMMON,
         study=uses("maps", "doe", "dead_length_m", "solver", "redundancy"),
-        cdpr=CDPR,
-        study_file=STUDY_FILE,
-        code=CODE,
     log:
-        f"{RES}/logs/maps.log",
+        LAYOUT.log("maps"),
     threads: SOLVER_THREADS
     shell:
-        "{params.cdpr} job maps --threads {threads} --study {params.study_file} --box-file {input.box} --tables {input.tables} --map {output.map}"
-        " --lines {output.lines} --figure {output.figure} > {log} 2>&1"
+        "{params.cdpr} job maps --threads {threads} --study {params.study_file:q} --box-file {input.box:q} --tables {input.tables:q}"
+        " --map {output.map:q} --lines {output.lines:q} --figure {output.figure:q}" + TO_LOG

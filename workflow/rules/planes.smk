@@ -5,52 +5,46 @@ rule plane_table:
     input:
         robot=lambda w: ROBOTS[w.robot],
     output:
-        table=f"{RES}/plane/{{robot}}_{{pulley}}.csv",
+        **outputs("plane_table"),
     params:
+        **COMMON,
         design=lambda w: pulley_args(PULLEYS[w.pulley]),
         p=STUDY["plane"],
-        cdpr=CDPR,
-        study_file=STUDY_FILE,
-        code=CODE,
     log:
-        f"{RES}/logs/plane_{{robot}}_{{pulley}}.log",
+        LAYOUT.log("plane_table"),
     threads: SOLVER_THREADS
     shell:
-        "{params.cdpr} plane --threads {threads} --robot {input.robot} {params.design} --z {params.p[z_m]} --n {params.p[n]}"
-        " --out {output.table} > {log} 2>&1"
+        "{params.cdpr} plane --threads {threads} --robot {input.robot:q} {params.design} --z {params.p[z_m]} --n {params.p[n]}"
+        " --out {output.table:q}" + TO_LOG
 
 
 rule plane_figure:
     input:
-        tables=expand(f"{RES}/plane/{{{{robot}}}}_{{pulley}}.csv", pulley=PULLEYS),
+        tables=lambda w: LAYOUT.paths("plane_table", "table", robot=w.robot),
         robot=lambda w: ROBOTS[w.robot],
     output:
-        figure=report(f"{RES}/plane/{{robot}}.png", caption="../report/plane.rst", category="Plane"),
-        pdf=f"{RES}/plane/{{robot}}.pdf",
+        **outputs("plane_figure", figure=("../report/plane.rst", "Plane")),
     params:
+        **COMMON,
         study=uses("plane", "pulleys"),
-        cdpr=CDPR,
-        study_file=STUDY_FILE,
-        code=CODE,
     log:
-        f"{RES}/logs/plane_figure_{{robot}}.log",
+        LAYOUT.log("plane_figure"),
     shell:
-        "{params.cdpr} job plane-figure --study {params.study_file} --robot-key {wildcards.robot} --tables {input.tables} --figure {output.figure} > {log} 2>&1"
+        "{params.cdpr} job plane-figure --study {params.study_file:q} --robot-key {wildcards.robot} --tables {input.tables:q}"
+        " --figure {output.figure:q}" + TO_LOG
 
 
 rule subset_figure:
     input:
-        tables=expand(f"{RES}/plane/{{{{robot}}}}_{{pulley}}.csv", pulley=PULLEYS),
+        tables=lambda w: LAYOUT.paths("plane_table", "table", robot=w.robot),
         robot=lambda w: ROBOTS[w.robot],
     output:
-        figure=report(f"{RES}/plane/{{robot}}_subsets.png", caption="../report/subsets.rst", category="Plane"),
-        pdf=f"{RES}/plane/{{robot}}_subsets.pdf",
+        **outputs("subset_figure", figure=("../report/subsets.rst", "Plane")),
     params:
+        **COMMON,
         study=uses("plane", "pulleys", "redundancy"),
-        cdpr=CDPR,
-        study_file=STUDY_FILE,
-        code=CODE,
     log:
-        f"{RES}/logs/subset_figure_{{robot}}.log",
+        LAYOUT.log("subset_figure"),
     shell:
-        "{params.cdpr} job subsets-figure --study {params.study_file} --robot-key {wildcards.robot} --tables {input.tables} --figure {output.figure} > {log} 2>&1"
+        "{params.cdpr} job subsets-figure --study {params.study_file:q} --robot-key {wildcards.robot} --tables {input.tables:q}"
+        " --figure {output.figure:q}" + TO_LOG

@@ -5,38 +5,34 @@ rule trajectory_table:
     input:
         robot=lambda w: ROBOTS[w.robot],
     output:
-        table=f"{RES}/trajectories/{{robot}}_{{pulley}}.csv",
+        **outputs("trajectory_table"),
     params:
+        **COMMON,
         design=lambda w: pulley_args(PULLEYS[w.pulley]),
         path=lambda w: PATHS[w.robot],
         n=STUDY["trajectories"]["points"],
-        cdpr=CDPR,
-        study_file=STUDY_FILE,
-        code=CODE,
     log:
-        f"{RES}/logs/trajectory_{{robot}}_{{pulley}}.log",
+        LAYOUT.log("trajectory_table"),
     threads: SOLVER_THREADS
     shell:
-        "{params.cdpr} trajectory --threads {threads} --robot {input.robot} {params.design} --start {params.path[start_m]} --end {params.path[end_m]}"
-        " --n {params.n} --out {output.table} > {log} 2>&1"
+        "{params.cdpr} trajectory --threads {threads} --robot {input.robot:q} {params.design} --start {params.path[start_m]}"
+        " --end {params.path[end_m]} --n {params.n} --out {output.table:q}" + TO_LOG
 
 
 rule trajectory_figure:
     input:
-        tables=expand(f"{RES}/trajectories/{{robot}}_{{pulley}}.csv", robot=PATHS, pulley=PULLEYS),
+        tables=LAYOUT.paths("trajectory_table", "table"),
     output:
-        figure=report(f"{RES}/trajectories/trajectories.png", caption="../report/trajectories.rst", category="Trajectories"),
-        pdf=f"{RES}/trajectories/trajectories.pdf",
-        table=f"{RES}/trajectories/trajectories_minmax.csv",
-        minmax=report(f"{RES}/trajectories/trajectories_minmax.png", caption="../report/trajectories_minmax.rst", category="Trajectories"),
-        minmax_pdf=f"{RES}/trajectories/trajectories_minmax.pdf",
+        **outputs(
+            "trajectory_figure",
+            figure=("../report/trajectories.rst", "Trajectories"),
+            minmax=("../report/trajectories_minmax.rst", "Trajectories"),
+        ),
     params:
+        **COMMON,
         study=uses("trajectories", "pulleys"),
-        cdpr=CDPR,
-        study_file=STUDY_FILE,
-        code=CODE,
     log:
-        f"{RES}/logs/trajectory_figure.log",
+        LAYOUT.log("trajectory_figure"),
     shell:
-        "{params.cdpr} job trajectories --study {params.study_file} --tables {input.tables} --table {output.table} --figure {output.figure}"
-        " --minmax-figure {output.minmax} > {log} 2>&1"
+        "{params.cdpr} job trajectories --study {params.study_file:q} --tables {input.tables:q} --table {output.table:q}"
+        " --figure {output.figure:q} --minmax-figure {output.minmax:q}" + TO_LOG

@@ -2,106 +2,85 @@
 # per-cable Monte Carlo by full solves (shards of samples, seeded per sample) and linearised
 # (exact sensitivities), Sobol indices (SALib), dominant-parameter maps; uncompensated and
 # compensated. Only for a study with an `uncertainty:` section.
+from cdpr.pipeline.results import UQ_CASES
+
 UQ = STUDY.get("uncertainty")
-UQ_CASES = ["uncompensated", "compensated"]
 
 
 if UQ:
-    UQ_DESIGNS = list(UQ["designs"])
-    UQ_SHARDS = range(UQ["monte_carlo"]["shards"])
+    UQ_DESIGNS = LAYOUT.uq_designs()
 
     rule uq_shard:
         input:
             box=rules.regular_workspace.output.json,
             robot=DOE_ROBOT,
         output:
-            table=f"{RES}/shards/uncertainty/mc_{{design}}_{{case}}_{{shard}}.parquet",
-            points=f"{RES}/shards/uncertainty/points_{{design}}_{{case}}_{{shard}}.parquet",
+            **outputs("uq_shard"),
         wildcard_constraints:
             design="|".join(UQ_DESIGNS),
             case="|".join(UQ_CASES),
             shard=r"\d+",
         params:
+            **COMMON,
             study=uses("optimal", "doe", "dead_length_m"),
             uq=uq_uses("seed", "redundancy", "parameters", "monte_carlo", "compensation"),
-            cdpr=CDPR,
-            study_file=STUDY_FILE,
-            code=CODE,
         log:
-            f"{RES}/logs/uq_shard_{{design}}_{{case}}_{{shard}}.log",
+            LAYOUT.log("uq_shard"),
         threads: SOLVER_THREADS
         shell:
-            "{params.cdpr} job uq-shard --threads {threads} --study {params.study_file} --design {wildcards.design} --case {wildcards.case}"
-            " --shard {wildcards.shard} --box-file {input.box} --table {output.table} --points {output.points} > {log} 2>&1"
+            "{params.cdpr} job uq-shard --threads {threads} --study {params.study_file:q} --design {wildcards.design}"
+            " --case {wildcards.case} --shard {wildcards.shard} --box-file {input.box:q} --table {output.table:q}"
+            " --points {output.points:q}" + TO_LOG
 
     rule uq_design:
         input:
             box=rules.regular_workspace.output.json,
             robot=DOE_ROBOT,
         output:
-            table=f"{RES}/uncertainty/{{design}}_{{case}}_linear.csv",
-            path=f"{RES}/uncertainty/{{design}}_{{case}}_path.csv",
-            sobol=f"{RES}/uncertainty/{{design}}_{{case}}_sobol.csv",
-            tolerances=f"{RES}/uncertainty/{{design}}_{{case}}_tolerances.csv",
-            map=f"{RES}/uncertainty/{{design}}_{{case}}_map.csv",
+            **outputs("uq_design"),
         wildcard_constraints:
             design="|".join(UQ_DESIGNS),
             case="|".join(UQ_CASES),
         params:
+            **COMMON,
             study=uses("optimal", "doe", "dead_length_m", "elasticity", "plane"),
             uq=UQ,
-            cdpr=CDPR,
-            study_file=STUDY_FILE,
-            code=CODE,
         log:
-            f"{RES}/logs/uq_design_{{design}}_{{case}}.log",
+            LAYOUT.log("uq_design"),
         threads: SOLVER_THREADS
         shell:
-            "{params.cdpr} job uq-design --threads {threads} --study {params.study_file} --design {wildcards.design} --case {wildcards.case}"
-            " --box-file {input.box} --table {output.table} --path {output.path} --sobol {output.sobol}"
-            " --tolerances {output.tolerances} --map {output.map} > {log} 2>&1"
+            "{params.cdpr} job uq-design --threads {threads} --study {params.study_file:q} --design {wildcards.design}"
+            " --case {wildcards.case} --box-file {input.box:q} --table {output.table:q} --path {output.path:q}"
+            " --sobol {output.sobol:q} --tolerances {output.tolerances:q} --map {output.map:q}" + TO_LOG
 
     rule uncertainty:
         input:
-            tables=[
-                f"{RES}/shards/uncertainty/{kind}_{d}_{c}_{s}.parquet"
-                for kind in ("mc", "points")
-                for d in UQ_DESIGNS
-                for c in UQ_CASES
-                for s in UQ_SHARDS
-            ]
+            tables=LAYOUT.paths("uq_shard", "table")
+            + LAYOUT.paths("uq_shard", "points")
             + [
-                f"{RES}/uncertainty/{d}_{c}_{what}.csv"
-                for d in UQ_DESIGNS
-                for c in UQ_CASES
-                for what in ("linear", "path", "sobol", "tolerances", "map")
+                LAYOUT.path("uq_design", what, **c)
+                for c in LAYOUT.wildcards("uq_design")
+                for what in ("table", "path", "sobol", "tolerances", "map")
             ],
-            paths=[f"{RES}/elasticity/index_vs_E.csv", f"{RES}/elasticity/bands.csv"]
-            + [f"{RES}/elasticity/path_{d}_E{e}.csv" for d in UQ_DESIGNS for e in E_PATH],
-            paper_values="cdpr/data/paper_values.yaml",
+            paths=[LAYOUT.path("elasticity", "table"), LAYOUT.path("elasticity", "bands")]
+            + [p for d in UQ_DESIGNS for p in LAYOUT.paths("elasticity_path", "table", design=d)],
+            paper_values=PAPER_VALUES,
         output:
-            bands=f"{RES}/uncertainty/bands.csv",
-            agreement=f"{RES}/uncertainty/agreement.csv",
-            sobol=f"{RES}/uncertainty/sobol.csv",
-            figure=report(f"{RES}/uncertainty/index.png", caption="../report/uq_index.rst", category="Uncertainty"),
-            pdf=f"{RES}/uncertainty/index.pdf",
-            paths_figure=report(f"{RES}/uncertainty/path.png", caption="../report/uq_path.rst", category="Uncertainty"),
-            paths_pdf=f"{RES}/uncertainty/path.pdf",
-            sobol_figure=report(f"{RES}/uncertainty/sobol.png", caption="../report/uq_sobol.rst", category="Uncertainty"),
-            sobol_pdf=f"{RES}/uncertainty/sobol.pdf",
-            map_figure=report(f"{RES}/uncertainty/dominant.png", caption="../report/uq_dominant.rst", category="Uncertainty"),
-            map_pdf=f"{RES}/uncertainty/dominant.pdf",
-            agreement_figure=report(f"{RES}/uncertainty/agreement.png", caption="../report/uq_agreement.rst", category="Uncertainty"),
-            agreement_pdf=f"{RES}/uncertainty/agreement.pdf",
+            **outputs(
+                "uncertainty",
+                figure=("../report/uq_index.rst", "Uncertainty"),
+                paths_figure=("../report/uq_path.rst", "Uncertainty"),
+                sobol_figure=("../report/uq_sobol.rst", "Uncertainty"),
+                map_figure=("../report/uq_dominant.rst", "Uncertainty"),
+                agreement_figure=("../report/uq_agreement.rst", "Uncertainty"),
+            ),
         params:
+            **COMMON,
             study=uses("uncertainty", "paper_comparison", "plane", "doe"),
-            cdpr=CDPR,
-            study_file=STUDY_FILE,
-            code=CODE,
         log:
-            f"{RES}/logs/uncertainty.log",
+            LAYOUT.log("uncertainty"),
         shell:
-            "{params.cdpr} job uncertainty --study {params.study_file} --tables {input.tables} --paths {input.paths}"
-            " --bands {output.bands} --agreement {output.agreement} --sobol {output.sobol} --figure {output.figure}"
-            " --paths-figure {output.paths_figure} --sobol-figure {output.sobol_figure} --map-figure {output.map_figure}"
-            " --agreement-figure {output.agreement_figure} > {log} 2>&1"
+            "{params.cdpr} job uncertainty --study {params.study_file:q} --tables {input.tables:q} --paths {input.paths:q}"
+            " --bands {output.bands:q} --agreement {output.agreement:q} --sobol {output.sobol:q} --figure {output.figure:q}"
+            " --paths-figure {output.paths_figure:q} --sobol-figure {output.sobol_figure:q} --map-figure {output.map_figure:q}"
+            " --agreement-figure {output.agreement_figure:q}" + TO_LOG

@@ -5,55 +5,48 @@ rule volume_shard:
     input:
         robot=lambda w: ROBOTS[w.robot],
     output:
-        table=f"{RES}/shards/volume/{{robot}}_{{pulley}}_{{shard}}.parquet",
+        **outputs("volume_shard"),
     params:
+        **COMMON,
         design=lambda w: pulley_args(PULLEYS[w.pulley]),
         n=VOL["n"],
         shards=VOL["shards"],
-        cdpr=CDPR,
-        study_file=STUDY_FILE,
-        code=CODE,
     log:
-        f"{RES}/logs/volume_{{robot}}_{{pulley}}_{{shard}}.log",
+        LAYOUT.log("volume_shard"),
     threads: SOLVER_THREADS
     shell:
-        "{params.cdpr} grid --threads {threads} --robot {input.robot} {params.design} --frame --n {params.n} --shard {wildcards.shard}"
-        " --shards {params.shards} --out {output.table} > {log} 2>&1"
+        "{params.cdpr} grid --threads {threads} --robot {input.robot:q} {params.design} --frame --n {params.n} --shard {wildcards.shard}"
+        " --shards {params.shards} --out {output.table:q}" + TO_LOG
 
 
 rule volumes:
     input:
-        tables=[f for label in VOL_LABELS for f in volume_shards(label)],
+        tables=LAYOUT.paths("volume_shard", "table"),
         robots=list(ROBOTS.values()),
-        paper_values="cdpr/data/paper_values.yaml",
+        paper_values=PAPER_VALUES,
     output:
-        table=f"{RES}/volumes/volumes.csv",
-        figure=report(f"{RES}/volumes/R_V.png", caption="../report/volumes.rst", category="Volumes"),
-        pdf=f"{RES}/volumes/R_V.pdf",
+        **outputs("volumes", figure=("../report/volumes.rst", "Volumes")),
     params:
+        **COMMON,
         study=uses("volumes", "pulleys", "dead_length_m", "paper_comparison"),
-        cdpr=CDPR,
-        study_file=STUDY_FILE,
-        code=CODE,
     log:
-        f"{RES}/logs/volumes.log",
+        LAYOUT.log("volumes"),
     shell:
-        "{params.cdpr} job volumes --study {params.study_file} --tables {input.tables} --table {output.table} --figure {output.figure} > {log} 2>&1"
+        "{params.cdpr} job volumes --study {params.study_file:q} --tables {input.tables:q} --table {output.table:q}"
+        " --figure {output.figure:q}" + TO_LOG
 
 
 rule volume_view:
     input:
-        tables=lambda w: volume_shards(w.label),
+        tables=lambda w: LAYOUT.volume_shards(w.label),
         robots=list(ROBOTS.values()),
     output:
-        figure=report(f"{RES}/volumes/{{label}}_VL.png", caption="../report/volume_view.rst", category="Volumes"),
-        pdf=f"{RES}/volumes/{{label}}_VL.pdf",
+        **outputs("volume_view", figure=("../report/volume_view.rst", "Volumes")),
     params:
+        **COMMON,
         study=uses("volumes", "pulleys", "dead_length_m"),
-        cdpr=CDPR,
-        study_file=STUDY_FILE,
-        code=CODE,
     log:
-        f"{RES}/logs/volume_view_{{label}}.log",
+        LAYOUT.log("volume_view"),
     shell:
-        "{params.cdpr} job volume-view --study {params.study_file} --label {wildcards.label} --tables {input.tables} --figure {output.figure} > {log} 2>&1"
+        "{params.cdpr} job volume-view --study {params.study_file:q} --label {wildcards.label} --tables {input.tables:q}"
+        " --figure {output.figure:q}" + TO_LOG

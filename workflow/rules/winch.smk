@@ -3,29 +3,25 @@
 
 rule winch_table:
     output:
-        table=f"{RES}/winch/winch.csv",
+        **outputs("winch_table"),
     params:
+        **COMMON,
         w=STUDY["winch"],
-        cdpr=CDPR,
-        study_file=STUDY_FILE,
-        code=CODE,
     log:
-        f"{RES}/logs/winch_table.log",
+        LAYOUT.log("winch_table"),
     shell:
-        "{params.cdpr} winch --lpm-from {params.w[lpm_from_m]} --lpm-to {params.w[lpm_to_m]} --steps {params.w[steps]} --out {output.table} > {log} 2>&1"
+        "{params.cdpr} winch --lpm-from {params.w[lpm_from_m]} --lpm-to {params.w[lpm_to_m]} --steps {params.w[steps]}"
+        " --out {output.table:q}" + TO_LOG
 
 
 rule winch_figure:
     input:
         table=rules.winch_table.output.table,
     output:
-        figure=report(f"{RES}/winch/winch.png", caption="../report/winch.rst", category="Winch"),
-        pdf=f"{RES}/winch/winch.pdf",
+        **outputs("winch_figure", figure=("../report/winch.rst", "Winch")),
     params:
-        cdpr=CDPR,
-        study_file=STUDY_FILE,
-        code=CODE,
+        **COMMON,
     log:
-        f"{RES}/logs/winch_figure.log",
+        LAYOUT.log("winch_figure"),
     shell:
-        "{params.cdpr} job winch-figure --study {params.study_file} --table {input.table} --figure {output.figure} > {log} 2>&1"
+        "{params.cdpr} job winch-figure --study {params.study_file:q} --table {input.table:q} --figure {output.figure:q}" + TO_LOG

@@ -1,0 +1,168 @@
+"""Argument types and the option groups the commands share (standard library only).
+
+This module is imported to build the parser, also for ``cdpr --help``: it must not import numpy, pandas or
+any layer of cdpr above the ground floor. The choices that belong to those layers are spelled here and a
+test (tests/cli/test_house.py) checks them against their owners (``cdpr.robot.PULLEY_KINDS``,
+``cdpr.solve.ENGINES``, ``cdpr.solve.REDUNDANCY``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import re
+
+#: Pulley kinds of ``--pulley`` (the same as ``cdpr.robot.PULLEY_KINDS``).
+PULLEY_KINDS = ("fixed", "SR", "DR")
+#: DEGM_E solvers of ``--method`` (the methods of ``cdpr.solve.ENGINES``).
+METHODS = ("newton", "fixed_point")
+#: Engines of ``--engine`` (the keys of ``cdpr.solve.ENGINES``).
+ENGINES = ("compiled", "numpy")
+#: Redundancy modes of ``--redundancy`` (``cdpr.solve.REDUNDANCY``).
+REDUNDANCY = ("paper", "physical")
+#: Tension distributions of ``cdpr compensate --distribution``.
+DISTRIBUTIONS = ("min_norm", "closed_form", "closed_form_improved", "subset")
+#: Largest winch table a command writes.
+MAX_STEPS = 10_000_000
+#: A number, also in exponent notation and negative ("-1e-1"): argparse must not take it for an option.
+_NUMBER = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$|^-inf(inity)?$", re.IGNORECASE)
+
+
+class Parser(argparse.ArgumentParser):
+    """argparse with one-line errors (``cdpr: error: ...``, exit 2) and negative numbers in exponent
+    notation read as numbers."""
+
+    def __init__(self, *a, **k):
+        super().__init__(*a, **k)
+        self._negative_number_matcher = _NUMBER
+
+    def error(self, message):
+        self.exit(2, f"cdpr: error: {self.prog.removeprefix('cdpr ')}: {message}\n")
+
+
+def finite(text):
+    """argparse type: a finite float."""
+    try:
+        v = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+    if not math.isfinite(v):
+        raise argparse.ArgumentTypeError(f"{text!r} is not a finite number")
+    return v
+
+
+def positive(text):
+    """argparse type: a finite float > 0."""
+    v = finite(text)
+    if v <= 0:
+        raise argparse.ArgumentTypeError(f"{text!r} must be > 0")
+    return v
+
+
+def non_negative(text):
+    """argparse type: a finite float >= 0."""
+    v = finite(text)
+    if v < 0:
+        raise argparse.ArgumentTypeError(f"{text!r} must be >= 0")
+    return v
+
+
+def count(low, high=None):
+    """argparse type: an integer in [low, high]."""
+
+    def parse(text):
+        try:
+            v = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
+        if v < low or (high is not None and v > high):
+            raise argparse.ArgumentTypeError(
+                f"{v} is outside the allowed range [{low}, {high if high is not None else 'inf'}]"
+            )
+        return v
+
+    return parse
+
+
+def threads(text):
+    """argparse type: a thread count, 1 to the number of cores."""
+    return count(1, os.cpu_count() or 1)(text)
+
+
+def robot_options(sp):
+    """--robot FILE and the per-cable overrides every robot command takes, and --json."""
+    sp.add_argument("--robot", required=True, metavar="FILE", help="robot YAML file (config/robots/*.yaml)")
+    sp.add_argument("--pulley", choices=PULLEY_KINDS, help="pulley kind for every cable")
+    sp.add_argument("--h", type=non_negative, metavar="M", help="lever arm h [m] for every cable")
+    sp.add_argument("--rp", type=non_negative, metavar="M", help="sheave radius r_p [m] for every cable")
+    sp.add_argument("--dead-length", type=non_negative, metavar="M", help="dead length d [m] for every cable")
+    sp.add_argument("--json", action="store_true", help="print JSON")
+
+
+def solver_options(sp):
+    """--E, --mass and the solver switch (--method, --engine, --threads)."""
+    sp.add_argument("--E", type=positive, metavar="PA", help="Young's modulus E [Pa] of every cable")
+    sp.add_argument("--mass", type=positive, metavar="KG", help="platform mass M [kg]")
+    sp.add_argument("--method", choices=METHODS, default="newton", help="DEGM_E solver (default newton)")
+    sp.add_argument(
+        "--engine",
+        choices=ENGINES,
+        default=None,
+        help="compiled numba kernel (default for newton; Newton only) or the numpy reference (default for fixed_point)",
+    )
+    sp.add_argument(
+        "--threads",
+        type=threads,
+        help="threads of the compiled engine (1 to the number of cores; default: all)",
+    )
+
+
+def physics_options(sp):
+    """--redundancy and --E-cables."""
+    sp.add_argument(
+        "--redundancy",
+        choices=REDUNDANCY,
+        default="paper",
+        help="paper: the best admissible 3-cable subset (the paper's rule, default); physical: the platform settles where "
+        "the forces of all cables balance, each free to go slack",
+    )
+    sp.add_argument(
+        "--E-cables",
+        nargs="+",
+        type=positive,
+        metavar="PA",
+        help="Young's modulus of each cable [Pa], cable 1 first",
+    )
+
+
+def rotvec_option(
+    sp, help="platform orientation: rotation vector [rad] (active, base frame; default identity)"
+):
+    """--rotvec RX RY RZ: the platform's orientation [rad] (spatial robots, docs/spatial.md)."""
+    sp.add_argument("--rotvec", nargs=3, type=finite, metavar=("RX", "RY", "RZ"), help=help)
+
+
+def points_options(sp, what):
+    """--at X Y Z or --points FILE, --out FILE and --rotvec."""
+    g = sp.add_mutually_exclusive_group(required=True)
+    g.add_argument("--at", nargs=3, type=finite, metavar=("X", "Y", "Z"), help=f"{what} [m]")
+    g.add_argument(
+        "--points",
+        metavar="FILE",
+        help="many points at once: a .csv or .parquet table with columns x, y, z [m] (and rx, ry, rz [rad])",
+    )
+    sp.add_argument(
+        "--out", metavar="FILE", help="write the result table (.csv or .parquet); needed with --points"
+    )
+    rotvec_option(sp)
+
+
+def sensitivity_options(sp):
+    """--sensitivities."""
+    sp.add_argument(
+        "--sensitivities",
+        action="store_true",
+        help="also dP*/dθ for every parameter (E_i [Pa], h_i, r_p_i, d_i, A_i_x/y/z [m], M [kg]; cables from 1) "
+        "at fixed commanded lengths, by the implicit-function theorem; Newton only",
+    )

@@ -1,0 +1,184 @@
+"""The ``cdpr`` command line's parser: ``build_parser()``.
+
+Standard library and ``cdpr.cli.options`` only, so that ``cdpr --help`` and a usage error answer
+without loading numpy; each subcommand names the function that runs it (``run``: module, function),
+imported by ``cdpr.cli.main`` once the arguments are read.
+"""
+
+from __future__ import annotations
+
+from cdpr.cli import caspr, view
+from cdpr.cli.options import (
+    DISTRIBUTIONS,
+    ENGINES,
+    MAX_STEPS,
+    Parser,
+    count,
+    finite,
+    non_negative,
+    physics_options,
+    points_options,
+    positive,
+    robot_options,
+    rotvec_option,
+    sensitivity_options,
+    solver_options,
+    threads,
+)
+
+
+def build_parser(jobs=True):
+    """The ``cdpr`` parser. ``jobs=False`` leaves out the options of ``cdpr job`` (their registry imports the
+    pipeline): ``cdpr.cli.main`` asks for them only when the command is ``job``."""
+    ap = Parser(
+        prog="cdpr",
+        description="Pose errors of cable-driven parallel robots from pulleys, cable elasticity and winch geometry.",
+    )
+    sub = ap.add_subparsers(dest="command", required=True, parser_class=Parser)
+    sp = sub.add_parser(
+        "inverse", help="extended inverse model of every cable at a point (or a table of points)"
+    )
+    robot_options(sp)
+    points_options(sp, "platform position")
+    sp.set_defaults(run=("cdpr.cli.commands", "cmd_inverse"))
+    sp = sub.add_parser(
+        "point", help="DEGM_E at a point (or a table of points): solved pose, |dp|, tensions, subset, status"
+    )
+    robot_options(sp)
+    solver_options(sp)
+    points_options(sp, "desired position")
+    physics_options(sp)
+    sp.add_argument(
+        "--lengths",
+        nargs="+",
+        type=positive,
+        metavar="M",
+        help="commanded rest lengths L0 per cable [m] (winch exit to platform; physical mode), instead of L_TS at --at",
+    )
+    sp.add_argument(
+        "--q",
+        nargs="+",
+        type=finite,
+        metavar="RAD",
+        help="commanded drum angles per cable [rad] (robot with winches; physical mode): mapped to rest lengths by the winch model",
+    )
+    sensitivity_options(sp)
+    sp.set_defaults(run=("cdpr.cli.commands", "cmd_point"))
+    sp = sub.add_parser(
+        "compensate", help="compensated rest lengths: what to command so that the platform reaches --at"
+    )
+    robot_options(sp)
+    sp.add_argument("--E", type=positive, metavar="PA", help="Young's modulus E [Pa] of every cable")
+    sp.add_argument(
+        "--E-cables",
+        nargs="+",
+        type=positive,
+        metavar="PA",
+        help="Young's modulus of each cable [Pa] (the model)",
+    )
+    sp.add_argument("--mass", type=positive, metavar="KG", help="platform mass M [kg]")
+    points_options(sp, "desired position")
+    sp.add_argument(
+        "--distribution",
+        choices=DISTRIBUTIONS,
+        default="min_norm",
+        help="tension distribution (default min_norm: least 2-norm within [t-min, t-max]); subset: the paper's 3-cable subset",
+    )
+    sp.add_argument(
+        "--t-min", type=non_negative, default=100.0, metavar="N", help="least cable tension [N] (default 100)"
+    )
+    sp.add_argument(
+        "--t-max",
+        type=positive,
+        metavar="N",
+        help="largest cable tension [N] (default: each cable's admissible tension)",
+    )
+    sp.add_argument(
+        "--actual-E-cables",
+        nargs="+",
+        type=positive,
+        metavar="PA",
+        help="check: command the lengths to a robot whose cables have these moduli [Pa] and report where it settles",
+    )
+    sp.add_argument(
+        "--engine",
+        choices=ENGINES,
+        default=None,
+        help="engine of the check solve (default compiled)",
+    )
+    sp.add_argument("--threads", type=threads, help="threads of the compiled engine")
+    sp.set_defaults(run=("cdpr.cli.commands", "cmd_compensate"))
+    sp = sub.add_parser("grid", help="DEGM_E over the n^3 cell-centred grid of a box; writes parquet or CSV")
+    robot_options(sp)
+    solver_options(sp)
+    sp.add_argument("--box", nargs=6, type=finite, metavar=("XMIN", "XMAX", "YMIN", "YMAX", "ZMIN", "ZMAX"))
+    sp.add_argument(
+        "--box-file", metavar="FILE", help="JSON file whose key 'box' holds the six numbers (e.g. rw_c.json)"
+    )
+    sp.add_argument(
+        "--frame",
+        action="store_true",
+        help="the frame's bounding box (anchors' extent, z from 0 to the pulleys)",
+    )
+    sp.add_argument("--n", type=count(1), required=True, help="points per axis")
+    rotvec_option(sp, help="fixed platform orientation [rad]")
+    sp.add_argument(
+        "--wrench-feasible",
+        action="store_true",
+        help="add a 'feasible' column: a tension distribution in [--t-min, T_a] holds the platform at the pose",
+    )
+    sp.add_argument(
+        "--t-min", type=non_negative, default=100.0, metavar="N", help="least tension of --wrench-feasible"
+    )
+    sp.add_argument("--out", required=True, metavar="FILE", help="output .parquet or .csv")
+    sp.add_argument("--shard", type=count(0), default=0, help="0-based shard index (default 0)")
+    sp.add_argument("--shards", type=count(1), default=1, help="number of shards (default 1)")
+    physics_options(sp)
+    sensitivity_options(sp)
+    sp.set_defaults(run=("cdpr.cli.commands", "cmd_grid"))
+    sp = sub.add_parser("winch", help="winch joint angles and length error versus l_pm (winch seed Fig. 7)")
+    sp.add_argument(
+        "--params", metavar="FILE", help="YAML of winch parameters (default: Table 1 of the winch seed)"
+    )
+    sp.add_argument(
+        "--lpm-from", type=non_negative, default=0.0, metavar="M", help="first l_pm [m] (default 0)"
+    )
+    sp.add_argument("--lpm-to", type=non_negative, default=5.0, metavar="M", help="last l_pm [m] (default 5)")
+    sp.add_argument(
+        "--steps", type=count(2, MAX_STEPS), default=101, help="points of the table (default 101)"
+    )
+    sp.add_argument("--out", metavar="FILE", help="also write the table (.csv or .parquet)")
+    sp.add_argument("--json", action="store_true")
+    sp.set_defaults(run=("cdpr.cli.commands", "cmd_winch"))
+    sp = sub.add_parser("plane", help="DEGM_E over a horizontal plane (Fig. 9, 12); writes a table")
+    robot_options(sp)
+    solver_options(sp)
+    sp.add_argument("--z", type=finite, required=True, metavar="M", help="plane height [m]")
+    sp.add_argument(
+        "--n", type=count(2, 20000), required=True, help="points per side over the anchors' bounding box"
+    )
+    sp.add_argument("--out", required=True, metavar="FILE")
+    rotvec_option(sp)
+    physics_options(sp)
+    sp.set_defaults(run=("cdpr.cli.commands", "cmd_plane"))
+    sp = sub.add_parser(
+        "trajectory", help="DEGM_E along a straight path (Fig. 10, 19); writes a table with arc length s"
+    )
+    robot_options(sp)
+    solver_options(sp)
+    sp.add_argument("--start", nargs=3, type=finite, required=True, metavar=("X", "Y", "Z"))
+    sp.add_argument("--end", nargs=3, type=finite, required=True, metavar=("X", "Y", "Z"))
+    sp.add_argument("--n", type=count(2, 100_000_000), required=True, help="points along the path")
+    sp.add_argument("--out", required=True, metavar="FILE")
+    rotvec_option(sp)
+    physics_options(sp)
+    sp.set_defaults(run=("cdpr.cli.commands", "cmd_trajectory"))
+    sp = sub.add_parser("job", help="a pipeline task: tables in, tables and figures out (run by Snakemake)")
+    if jobs:
+        from cdpr.cli import job  # lazy: the job registry imports the pipeline (pandas); for `cdpr job` only
+
+        job.add_arguments(sp)
+    sp.set_defaults(run=("cdpr.cli.job", "run"))
+    caspr.add_parser(sub)
+    view.add_parser(sub)
+    return ap

@@ -1,0 +1,147 @@
+"""Tables of solved points: one row per point with stable column names (pandas).
+
+``to_frame`` turns the per-point arrays of ``cdpr.solve`` (either redundancy mode, with or without
+sensitivities, compensation results) into a DataFrame; ``solve_table`` solves and tabulates in one
+call. Kept apart from the engine switch (``cdpr.solve``) so that solving one point does not import
+pandas.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from cdpr.compiled import subsets as compiled_subsets
+from cdpr.models import sensitivity
+from cdpr.models.results import STATUSES, pose_columns, subset_codes, taut_labels
+from cdpr.models.subsets import solve_points
+from cdpr.solve import check_engine, check_redundancy, solve_points_any
+
+
+def to_frame(robot, res, redundancy="paper"):
+    """One row per point of a ``solve_points_any`` (or ``sensitivities``, or
+    ``compensation.compensated_pose``) result, with stable column names (SI units).
+
+    Parameters
+    ----------
+    robot : Robot
+        Supplies m and the subsets.
+    res : dict
+        The per-point arrays (``models.results``).
+    redundancy : {"paper", "physical"}
+        The mode that produced ``res``.
+
+    Returns
+    -------
+    DataFrame
+        ``results.pose_columns`` (x, y, z, x_s, y_s, z_s, dp [m], t1..tm [N]); paper mode: subset
+        (label '1-2-3', '' when none), iterations, status; physical mode: taut (label of the taut
+        cables, '1-2-3-4'), n_taut, iterations, status. The status categories are
+        ``res["statuses"]`` when given (``compensation.COMP_STATUSES``), else ``results.STATUSES``.
+        When ``res`` holds sensitivities (key ``S``): then dx_d<θ>, dy_d<θ>, dz_d<θ> per parameter
+        [m per unit of θ] (``sensitivity.sensitivity_columns``) and smooth. A 6-DoF result of a
+        rigid platform (``equilibrium6.solve_spatial``, key ``rotvec_s``, robot not a point mass):
+        the columns of ``to_frame6``.
+    """
+    if check_redundancy(redundancy) == "physical" and "rotvec_s" in res and not robot.point_mass:
+        return to_frame6(robot, res)
+    return _frame(robot, res, redundancy)
+
+
+def _frame(robot, res, redundancy):
+    """``to_frame`` of a point-mass result (the columns its docstring lists)."""
+    df = pd.DataFrame(pose_columns(robot, res))
+    if redundancy == "paper":
+        codes, labels = subset_codes(robot, res["subset"])
+        df["subset"] = pd.Categorical.from_codes(codes, categories=labels)
+    else:
+        codes, labels = taut_labels(res["taut"])
+        df["taut"] = pd.Categorical.from_codes(codes, categories=labels)
+        df["n_taut"] = res["n_taut"]
+    df["iterations"] = res["iterations"]
+    statuses = list(res.get("statuses", STATUSES))
+    codes = (
+        res["status_code"]
+        if "status_code" in res
+        else pd.Categorical(res["status"], categories=statuses).codes
+    )
+    df["status"] = pd.Categorical.from_codes(codes, categories=statuses)
+    if "S" in res:
+        S = res["S"]
+        flat = np.swapaxes(S, 1, 2).reshape(len(S), -1)
+        sens = pd.DataFrame(flat, columns=sensitivity.sensitivity_columns(res["names"]))
+        sens["smooth"] = res["smooth"]
+        df = pd.concat([df, sens], axis=1)
+    return df
+
+
+def to_frame6(robot, res):
+    """One row per pose of a ``equilibrium6.solve_spatial`` result: the physical mode's columns
+    (x, y, z, x_s, y_s, z_s, dp, t1..tm, taut, n_taut, iterations, status) and rx, ry, rz
+    (desired) and rx_s, ry_s, rz_s (reached) rotation vectors [rad], dphi [rad], unique.
+
+    Parameters
+    ----------
+    robot : Robot
+    res : dict
+        A ``solve_spatial`` result.
+
+    Returns
+    -------
+    DataFrame
+    """
+    df = _frame(robot, res, "physical")
+    at = list(df.columns).index("dp") + 1
+    for k, name in enumerate(("rx", "ry", "rz")):
+        df.insert(at + k, name, res["rotvec"][:, k])
+    for k, name in enumerate(("rx_s", "ry_s", "rz_s")):
+        df.insert(at + 3 + k, name, res["rotvec_s"][:, k])
+    df.insert(at + 6, "dphi", res["dphi"])
+    df["unique"] = res["unique"]
+    return df
+
+
+#: Points solved per batch: bounds memory (about 2 kB per point and subset) and keeps arrays in cache.
+CHUNK = 20000
+
+
+def solve_table(
+    robot, p, method="newton", chunk=CHUNK, engine=None, threads=None, redundancy="paper", L0=None, **options
+):
+    """Solve DEGM_E at points p with the paper-mode subset choice, as a DataFrame (``to_frame``).
+
+    Parameters
+    ----------
+    robot : Robot
+    p : array (N, 3) [m]
+        Desired platform positions.
+    method : {"newton", "fixed_point"}
+        DEGM_E solver (``direct.degm_e``).
+    engine : {"compiled", "numpy", None}
+        None (default): compiled for Newton, numpy for the fixed point. ``"compiled"`` runs the numba kernel of ``cdpr.compiled.subsets`` over all points in parallel
+        (``threads`` caps the threads); Newton only. ``"numpy"`` runs ``redundancy.solve_points`` in
+        chunks of ``chunk`` points: the reference implementation, and the only one for the fixed
+        point. Both give the same table (tested). Another pair raises CdprError.
+
+    redundancy : {"paper", "physical"}
+        The paper's 3-cable subset rule, or the physical equilibrium on all cables
+        (``solve_points_any``); ``L0`` (N, m) [m] commanded rest lengths, physical mode only.
+        A robot that is not a suspended point mass, or ``rotvec`` in the options (a fixed
+        orientation [rad]), is solved by ``solve_points_any`` (the 6-DoF solver, physical mode).
+
+    Returns
+    -------
+    DataFrame, one row per point (``to_frame``)."""
+    p = np.atleast_2d(np.asarray(p, dtype=float))
+    if redundancy != "paper" or L0 is not None or not robot.suspended_point_mass or "rotvec" in options:
+        return to_frame(
+            robot, solve_points_any(robot, p, method, engine, threads, redundancy, L0, **options), redundancy
+        )
+    engine = check_engine(engine, method)
+    if engine == "compiled":
+        return to_frame(robot, compiled_subsets.solve_points_fast(robot, p, threads=threads, **options))
+    starts = range(0, len(p), chunk) if len(p) else [0]
+    frames = [
+        to_frame(robot, solve_points(robot, p[i : i + chunk], method=method, **options)) for i in starts
+    ]
+    return pd.concat(frames, ignore_index=True)

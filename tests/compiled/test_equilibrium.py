@@ -1,0 +1,63 @@
+"""The compiled physical equilibrium (cdpr.compiled.equilibrium) equals the numpy reference
+(cdpr.models.equilibrium) on a grid with slack cables, over-tension and inaccessible points, and its
+answers are equilibria of the numpy pulley model (force balance, Hooke)."""
+
+import numpy as np
+import pytest
+
+from cdpr.analyses.workspace import frame_box, grid_points
+from cdpr.compiled.equilibrium import solve_physical_fast
+from cdpr.models.equilibrium import FTOL_REL, solve_physical
+from cdpr.models.inverse import L_TS
+from cdpr.models.pulleys import total_length_and_direction
+from cdpr.robot import load_robot, with_pulleys
+from tests.conftest import ROBOTS
+
+#: a platform heavy enough that the tensions exceed T_a = 5140 N over part of the frame
+HEAVY_KG = 600.0
+
+
+def _case(kind, seed=0):
+    """CDPR4 with a heavy platform, a grid from the floor to above the pulleys and beyond the frame,
+    and rest lengths L_TS + U(-2 cm, 30 cm): some cables slack at equilibrium."""
+    r = with_pulleys(load_robot(ROBOTS / "cdpr4.yaml", mass=HEAVY_KG), kind=kind)
+    x0, x1, y0, y1, _, z1 = frame_box(r)
+    p = grid_points([x0 - 0.6, x1 + 0.6, y0 - 0.6, y1 + 0.6, -0.2, z1 + 0.8], 8)
+    rng = np.random.default_rng(seed)
+    L0 = L_TS(r, p) + rng.uniform(-0.02, 0.3, (len(p), r.m))
+    return r, p, L0
+
+
+@pytest.mark.parametrize("kind", ["SR", "DR", "fixed"])
+def test_compiled_equals_numpy_reference_with_slack_and_over_tension(kind):
+    r, p, L0 = _case(kind)
+    a, b = solve_physical(r, p, L0=L0), solve_physical_fast(r, p, L0=L0)
+    assert set(a) == set(b)
+    assert {"ok", "over_tension", "inaccessible"} <= set(a["status"])
+    np.testing.assert_array_equal(a["status"], b["status"])
+    np.testing.assert_array_equal(a["converged"], b["converged"])
+    unique = a["converged"] & (a["n_taut"] >= 2)  # a lone cable has a circle of equilibria
+    assert (a["n_taut"][unique] < r.m).sum() > 50  # slack cables at equilibrium
+    np.testing.assert_array_equal(a["taut"][unique], b["taut"][unique])
+    assert np.abs(a["P_s"] - b["P_s"])[unique].max() < 1e-9
+    rel = np.abs(a["t"] - b["t"]) / np.fmax(1.0, np.abs(a["t"]))
+    assert rel[a["taut"] & unique[:, None]].max() < 1e-8
+
+
+@pytest.mark.parametrize("kind", ["SR", "DR"])
+def test_compiled_answers_are_equilibria_of_the_numpy_pulley_model(kind):
+    """At every converged point: t_i = E S_i / L0_i max(L_TE,i(P*) - L0_i, 0) (Hooke) and
+    sum_i t_i u_i(P*) + w_ext = 0 to the solver's force tolerance, with L_TE and u from
+    ``pulleys.total_length_and_direction`` (numpy)."""
+    r, p, L0 = _case(kind, seed=1)
+    b = solve_physical_fast(r, p, L0=L0)
+    conv = b["converged"] & np.isfinite(b["P_s"]).all(axis=1)
+    assert conv.sum() > 200
+    a = r.arrays
+    g = total_length_and_direction(b["P_s"][conv], a.A, a.kind, a.h, a.r_p, a.d, a.inward)
+    hooke = a.ES / L0[conv] * np.maximum(g.L_TE - L0[conv], 0.0)
+    t = np.nan_to_num(b["t"][conv])
+    np.testing.assert_allclose(t, hooke, rtol=1e-9, atol=1e-6)
+    w = r.platform.w_ext
+    F = np.einsum("ni,nij->nj", hooke, g.u) + w
+    assert np.linalg.norm(F, axis=1).max() <= 1.01 * FTOL_REL * np.linalg.norm(w) + 1e-6

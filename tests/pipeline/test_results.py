@@ -1,0 +1,173 @@
+"""The results folder (cdpr.pipeline.results): the layout against the Snakemake DAG, the summary's
+refusal of a missing or incomplete folder, and the study sizes load_study refuses before any job."""
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from cdpr.errors import CdprError, ConfigError
+from cdpr.pipeline import results
+from cdpr.pipeline.results import STUDY_LOGS, STUDY_OUTPUTS, ComparisonLayout, Layout
+from cdpr.pipeline.study import MAX_SHARDS, load_study
+from tests.conftest import ROOT
+
+QUICK = ROOT / "config" / "studies" / "quick.yaml"
+
+
+@pytest.fixture
+def at_root(monkeypatch):
+    monkeypatch.chdir(ROOT)  # robot paths of the study files are relative to the repository
+
+
+def _study(tmp_path, old, new):
+    text = QUICK.read_text()
+    assert old in text, old
+    path = tmp_path / "study.yaml"
+    path.write_text(text.replace(old, new))
+    return path
+
+
+def _dry_run_jobs(*config, target="reproduce_paper", cwd=ROOT):
+    """Jobs per rule of a Snakemake dry run (``-n --quiet rules``) on an empty results folder."""
+    exe = Path(sys.executable).with_name("snakemake")
+    p = subprocess.run(
+        [str(exe), target, "-n", "--quiet", "rules", "--cores", "1", "--config", *config],
+        cwd=cwd,
+        capture_output=True,
+        text=True,
+    )
+    assert p.returncode == 0, p.stderr[-2000:]
+    jobs = {}
+    for line in (p.stdout + p.stderr).splitlines():
+        parts = line.split()
+        if len(parts) == 2 and parts[1].isdigit() and parts[0] not in ("total", "job"):
+            jobs[parts[0]] = int(parts[1])
+    return jobs
+
+
+def test_every_rule_has_its_outputs_and_log():
+    assert set(STUDY_LOGS) == set(STUDY_OUTPUTS)
+    for rule, outs in STUDY_OUTPUTS.items():
+        for name, pattern in outs.items():
+            if pattern.endswith(".png"):  # every figure has its PDF beside it, also an output
+                assert pattern[:-4] + ".pdf" in outs.values(), (rule, name)
+
+
+def test_layout_is_the_dag(at_root, tmp_path):
+    """A dry run on an empty folder schedules, per rule, as many jobs as the layout has wildcard
+    values, and the layout's targets are distinct files: the rules and the layout agree."""
+    st = load_study(QUICK)
+    layout = Layout(st, tmp_path / "r")
+    jobs = _dry_run_jobs("study=config/studies/quick.yaml", f"results={tmp_path / 'r'}")
+    expected = {rule: len(layout.wildcards(rule)) for rule in layout.rules()}
+    assert jobs == {**expected, "reproduce_paper": 1}
+    targets = layout.targets()
+    assert len(targets) == len(set(targets)) and all(t.startswith(str(tmp_path / "r") + "/") for t in targets)
+    assert f"{tmp_path}/r/doe/rw_c.json" in targets and f"{tmp_path}/r/plane/CDPR4_SR.csv" in targets
+    assert f"{tmp_path}/r/shards/volume/CDPR4_DR_1.parquet" in targets  # intermediates too
+
+
+def test_a_study_without_uncertainty_has_no_uncertainty_outputs(at_root, tmp_path):
+    st = load_study(ROOT / "config" / "studies" / "example.yaml")
+    layout = Layout(st, "r")
+    assert "uncertainty" not in st
+    assert not [t for t in layout.targets() if "uncertainty" in t]
+    assert layout.summary_inputs()["uncertainty"] == []
+
+
+def test_comparison_layout_names_the_page_the_folder_and_both_runs(at_root):
+    from cdpr.pipeline.comparison import load_comparison
+
+    lay = ComparisonLayout(load_comparison(ROOT / "config" / "comparisons" / "quick.yaml"))
+    t = lay.targets()
+    assert "results/quick_comparison.md" in t and "results/quick_comparison/difference_stats.csv" in t
+    assert "results/quick_comparison/budget/CDPR4_SRopt.csv" in t
+    inputs = lay.inputs()
+    assert "results/quick/plane/CDPR3_DR.csv" in inputs and "results/quick_physical/summary.csv" in inputs
+
+
+def _summary(res, tmp_path):
+    return subprocess.run(
+        [sys.executable, "-m", "cdpr", "job", "summary", "--study", str(QUICK), "--results", str(res)]
+        + ["--markdown", str(tmp_path / "s.md"), "--table", str(tmp_path / "s.csv")],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+    )
+
+
+def test_summary_of_a_folder_that_does_not_exist_is_an_error(tmp_path):
+    p = _summary(tmp_path / "nothing", tmp_path)
+    assert p.returncode == 2 and "Traceback" not in p.stderr, p.stderr
+    assert "nothing: the results folder does not exist" in p.stderr
+    assert not (tmp_path / "s.md").exists()
+
+
+def test_summary_of_an_incomplete_folder_names_what_is_missing(at_root, tmp_path):
+    res = tmp_path / "res"
+    layout = Layout(load_study(QUICK), res)
+    have = results._flat(layout.summary_inputs().values())
+    for f in have:  # every table the summary reads but one plane table
+        Path(f).parent.mkdir(parents=True, exist_ok=True)
+        Path(f).write_text("x\n1\n")
+    os.unlink(layout.path("plane_table", "table", robot="CDPR4", pulley="SR"))
+    p = _summary(res, tmp_path)
+    assert p.returncode == 2 and "Traceback" not in p.stderr, p.stderr
+    assert "incomplete results folder" in p.stderr and "1 missing file(s): plane/CDPR4_SR.csv" in p.stderr
+    with pytest.raises(CdprError, match="needs 2 missing file.*doe/rw_c.json"):
+        os.unlink(layout.path("regular_workspace", "json"))
+        results.check_complete(res, layout.summary_inputs(), "the summary")
+
+
+@pytest.mark.parametrize(
+    "old,new,key,fragment",
+    [
+        ("  n: 12\n  shards: 2\n", "  n: 2\n  shards: 9\n", "volumes.shards", "9 shards for 8 points"),
+        (
+            "  n: 12\n  shards: 2\n",
+            f"  n: 40\n  shards: {MAX_SHARDS + 1}\n",
+            "volumes.shards",
+            "at most 1000",
+        ),
+        ("  index_n: 8                  # N", "  index_n: 100000  # N", "doe.index_n", "GiB of memory"),
+        ("h_m: [0.100, 0.150]", "h_m: [0.1, 0.1]", "doe.levels.h_m", "the two levels must differ"),
+        ("joint: [SR, DR]", "joint: [DR, DR]", "doe.levels.joint", "got [DR, DR]"),
+        (
+            "  index_n: 8\n  shards: 2\n  path:",
+            "  index_n: 2\n  shards: 9\n  path:",
+            "elasticity.shards",
+            "9 shards",
+        ),
+    ],
+)
+def test_sizes_that_cannot_run_are_refused_before_any_job(at_root, tmp_path, old, new, key, fragment):
+    path = _study(tmp_path, old, new)
+    with pytest.raises(ConfigError, match=rf"study.yaml: key '{key}'") as exc:
+        load_study(path)
+    assert fragment in str(exc.value)
+
+
+def test_a_huge_index_grid_is_refused_with_its_memory_and_time(at_root, tmp_path):
+    path = _study(tmp_path, "  index_n: 8                  # N", "  index_n: 100000  # N")
+    with pytest.raises(ConfigError) as exc:
+        load_study(path)
+    msg = str(exc.value)
+    # 1e15 points in 2 shards at 600 bytes each: 2.8e8 GiB per job; 8 tests at 250,000 points/s
+    assert "100000^3 = 1,000,000,000,000,000 points" in msg and "279,396,772.4 GiB" in msg
+    assert f"{8e15 / 250_000 / 86400:,.1f} days of solver time" in msg
+
+
+def test_bad_size_stops_the_pipeline_before_any_job(tmp_path):
+    bad = _study(tmp_path, "h_m: [0.100, 0.150]", "h_m: [0.1, 0.1]")
+    exe = Path(sys.executable).with_name("snakemake")
+    p = subprocess.run(
+        [str(exe), "-n", "--cores", "1", "--config", f"study={bad}", f"results={tmp_path / 'r'}"],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+    )
+    assert p.returncode != 0 and "key 'doe.levels.h_m': the two levels must differ" in p.stdout + p.stderr
+    assert not (tmp_path / "r").exists()

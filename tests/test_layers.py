@@ -1,0 +1,82 @@
+"""The house's import structure: no import cycle between the modules of cdpr (grimp's graph counts
+imports inside functions and under TYPE_CHECKING too), and no import inside a function outside
+cdpr/cli/ (the layers themselves are import-linter's contracts in pyproject.toml, `make test`)."""
+
+import ast
+
+import grimp
+
+from tests.conftest import ROOT
+
+
+def find_cycle(graph):
+    """One import cycle of ``graph`` as a list of modules [a, b, ..., a], or None (iterative DFS)."""
+    modules = sorted(graph.modules)
+    state = dict.fromkeys(modules, 0)  # 0 new, 1 on the current path, 2 done
+    for root in modules:
+        if state[root]:
+            continue
+        path = [root]
+        stack = [iter(sorted(graph.find_modules_directly_imported_by(root)))]
+        state[root] = 1
+        while stack:
+            nxt = next(stack[-1], None)
+            if nxt is None:
+                state[path.pop()] = 2
+                stack.pop()
+            elif state[nxt] == 1:
+                return path[path.index(nxt) :] + [nxt]
+            elif state[nxt] == 0:
+                state[nxt] = 1
+                path.append(nxt)
+                stack.append(iter(sorted(graph.find_modules_directly_imported_by(nxt))))
+    return None
+
+
+class _Graph:
+    """A hand-made graph with grimp's two methods, to show that ``find_cycle`` finds one."""
+
+    def __init__(self, edges):
+        self.edges = edges
+        self.modules = set(edges) | {b for bs in edges.values() for b in bs}
+
+    def find_modules_directly_imported_by(self, module):
+        return set(self.edges.get(module, ()))
+
+
+def test_find_cycle_finds_and_names_a_cycle():
+    assert find_cycle(_Graph({"a": {"b"}, "b": {"c"}, "c": set()})) is None
+    assert find_cycle(_Graph({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}})) == ["a", "b", "c", "a"]
+    assert find_cycle(_Graph({"x": {"x"}})) == ["x", "x"]
+
+
+def test_no_import_cycle_between_modules():
+    graph = grimp.build_graph("cdpr", include_external_packages=False)
+    assert {"cdpr.solve", "cdpr.models.results", "cdpr.pipeline.uq"} <= graph.modules
+    cycle = find_cycle(graph)
+    assert cycle is None, "import cycle: " + " -> ".join(cycle)
+
+
+#: The command line's start-up path: the only places where an import may sit inside a function, each
+#: marked ``# lazy: <reason>`` (``cdpr --help`` must not load numpy; ``cdpr.__version__`` is read
+#: from the installed metadata only when asked for).
+STARTUP = {"cdpr/__init__.py", "cdpr/__main__.py"}
+
+
+def test_no_import_inside_a_function_outside_the_cli():
+    found = []
+    for path in sorted((ROOT / "cdpr").rglob("*.py")):
+        rel = path.relative_to(ROOT).as_posix()
+        if "cli" in path.relative_to(ROOT / "cdpr").parts:
+            continue
+        text = path.read_text(encoding="utf-8")
+        lines = text.splitlines()
+        for node in ast.walk(ast.parse(text)):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                found += [
+                    f"{rel}:{sub.lineno} {ast.unparse(sub)}"
+                    for sub in ast.walk(node)
+                    if isinstance(sub, (ast.Import, ast.ImportFrom))
+                    and not (rel in STARTUP and "# lazy:" in lines[sub.lineno - 1])
+                ]
+    assert not found, "imports inside functions (move them to the module top):\n" + "\n".join(found)
