@@ -13,10 +13,17 @@ A robot file looks like this (all values SI; a string with a unit such as ``"100
       ...
 
 ``A_m`` is the pulley joint point A_i (the swivel axis of an SR pulley, the U-joint of a DR pulley,
-the fixed point of the standard model). The winch exit C_i lies ``dead_length_m`` below A_i. A
-cable's ``pulley``, ``cable`` (material) and ``dead_length_m`` override the robot's defaults key by
-key. The file is checked against ``cdpr/schemas/robot.schema.yaml`` first, then for the physics a
-schema cannot express (h >= r_p, distinct anchors above the floor, ...).
+the fixed point of the standard model). The winch exit C_i lies ``dead_length_m`` before A_i along
+the pulley's swivel axis ``pulley.axis`` (unit k_i, default [0, 0, 1]: C_i = A_i - d_i k_i, straight
+below A_i). A cable's ``pulley``, ``cable`` (material) and ``dead_length_m`` override the robot's
+defaults key by key. The file is checked against ``cdpr/schemas/robot.schema.yaml`` first, then for
+the physics a schema cannot express (h >= r_p, distinct anchors, ...).
+
+Spatial robots (docs/spatial.md): ``B_m`` per cable is the attachment point b_i in the platform
+frame (default [0, 0, 0]), ``platform.com_m`` the centre of mass c in the platform frame (default
+[0, 0, 0]), ``pulley.zero`` (perpendicular to ``axis``) the zero of the reported swivel angle. A
+robot with every b_i = 0, c = 0 and every axis +z is a *suspended point-mass* robot, today's model:
+only there are anchors required above the floor and not collinear seen from above.
 """
 
 from __future__ import annotations
@@ -150,11 +157,14 @@ def load_winch_params(path):
 
 @dataclasses.dataclass(frozen=True)
 class Pulley:
-    """Pulley of one cable: kind fixed | SR | DR, lever arm h [m] and sheave radius r_p [m]."""
+    """Pulley of one cable: kind fixed | SR | DR, lever arm h [m], sheave radius r_p [m], swivel axis
+    k_i (unit, base frame) and the optional zero direction of its swivel angle."""
 
     kind: str
     h: float = 0.0
     r_p: float = 0.0
+    axis: tuple = (0.0, 0.0, 1.0)  #: unit swivel axis k_i (base frame) [-]; the cable arrives along +k_i
+    zero: tuple | None = None  #: unit vector ⟂ axis, zero of the reported swivel angle [-]; None: default
 
 
 @dataclasses.dataclass(frozen=True)
@@ -181,14 +191,17 @@ class Cable:
     dead_length: float
     material: CableMaterial
     winch: object = None  #: WinchParams of the drum that pays the cable out, or None (no winch model)
+    B: tuple = (0.0, 0.0, 0.0)  #: attachment point b_i in the platform frame [m]
 
 
 @dataclasses.dataclass(frozen=True)
 class Platform:
-    """Point-mass moving platform: mass M [kg] and gravity g [m/s^2]."""
+    """Moving platform: mass M [kg], gravity g [m/s^2] (along -z) and centre of mass c in the
+    platform frame [m] (0 for a point mass)."""
 
     mass: float
     g: float = G_STANDARD
+    com: tuple = (0.0, 0.0, 0.0)
 
     @property
     def w_ext(self):
@@ -201,7 +214,13 @@ class CableArrays(NamedTuple):
 
     A (m, 3) [m]; kind (m,) int8 codes (0 fixed, 1 SR, 2 DR); h, r_p, d (m,) [m]; inward (m, 2)
     horizontal unit vector from A_i toward the anchors' centroid (the pulley plane used when P is
-    on the vertical through A_i); E (m,) [Pa]; S (m,) [m^2]; ES (m,) [N]; T_a (m,) [N]."""
+    on the vertical through A_i); E (m,) [Pa]; S (m,) [m^2]; ES (m,) [N]; T_a (m,) [N].
+
+    Spatial fields: axis (m, 3) unit swivel axes k_i; frame (m, 3, 3) rows i_i, j_i, k_i of each
+    pulley's frame (i_i = ``zero``, j_i = k_i x i_i; the identity for axis +z without ``zero``);
+    b (m, 3) [m] attachments in the platform frame; com (3,) [m] centre of mass in the platform
+    frame. ``inward`` is expressed in the pulley frame (i_i, j_i): for axis +z it is today's
+    horizontal vector."""
 
     A: np.ndarray
     kind: np.ndarray
@@ -213,11 +232,16 @@ class CableArrays(NamedTuple):
     S: np.ndarray
     ES: np.ndarray
     T_a: np.ndarray
+    axis: np.ndarray = None
+    frame: np.ndarray = None
+    b: np.ndarray = None
+    com: np.ndarray = None
 
 
 @dataclasses.dataclass(frozen=True)
 class Robot:
-    """A suspended point-mass CDPR with m >= 3 cables."""
+    """A CDPR: m cables from pulleys to a platform (a suspended point mass when every b_i = 0, c = 0
+    and every pulley axis is +z, see ``suspended_point_mass``)."""
 
     name: str
     cables: tuple
@@ -237,6 +261,21 @@ class Robot:
         v = centre - A[:, :2]
         n = np.linalg.norm(v, axis=1, keepdims=True)
         inward = np.where(n > 0, v / np.where(n > 0, n, 1.0), np.array([1.0, 0.0]))
+        axis = np.array([c.pulley.axis for c in self.cables], dtype=float)
+        frame = np.array([pulley_frame(c.pulley.axis, c.pulley.zero) for c in self.cables])
+        vertical = np.array([c.pulley.axis == (0.0, 0.0, 1.0) and c.pulley.zero is None for c in self.cables])
+        # the fallback pulley plane (B_i on the axis): `zero` if given, else toward the anchors'
+        # centroid perpendicular to k_i (today's `inward` for axis +z), else i_i; in the frame (i_i, j_i)
+        v3 = A.mean(axis=0) - A
+        v3 = v3 - np.einsum("ma,ma->m", v3, axis)[:, None] * axis
+        f2 = np.stack(
+            [np.einsum("ma,ma->m", v3, frame[:, 0]), np.einsum("ma,ma->m", v3, frame[:, 1])], axis=1
+        )
+        nf = np.linalg.norm(f2, axis=1, keepdims=True)
+        f2 = np.where(nf > 1e-12, f2 / np.where(nf > 1e-12, nf, 1.0), np.array([1.0, 0.0]))
+        has_zero = np.array([c.pulley.zero is not None for c in self.cables])
+        f2[has_zero] = (1.0, 0.0)
+        inward = np.where(vertical[:, None], inward, f2)
         E = np.array([c.material.E for c in self.cables], dtype=float)
         S = np.array([c.material.S for c in self.cables], dtype=float)
         return CableArrays(
@@ -250,6 +289,25 @@ class Robot:
             S=S,
             ES=E * S,
             T_a=np.array([c.material.T_a for c in self.cables], dtype=float),
+            axis=axis,
+            frame=frame,
+            b=np.array([c.B for c in self.cables], dtype=float),
+            com=np.array(self.platform.com, dtype=float),
+        )
+
+    @cached_property
+    def point_mass(self):
+        """True when every attachment b_i and the centre of mass c are 0 (the platform is a point)."""
+        a = self.arrays
+        return bool(not a.b.any() and not a.com.any())
+
+    @cached_property
+    def suspended_point_mass(self):
+        """True for today's model: a point-mass platform under pulleys whose swivel axes are +z (and
+        no ``zero`` given). Accessibility (hull, lowest anchor), the floor and collinearity checks
+        and paper mode (3 of m) apply to these robots only."""
+        return self.point_mass and all(
+            c.pulley.axis == (0.0, 0.0, 1.0) and c.pulley.zero is None for c in self.cables
         )
 
     # Short names for the arrays most models use.
@@ -270,8 +328,12 @@ class Robot:
     @cached_property
     def envelope_volume(self):
         """Volume V_T of the outer envelope [m^3]: the anchors' horizontal convex hull from z = 0 to
-        the lowest anchor height (a 5 m cube for CDPR4, a 54.13 m^3 prism for CDPR3)."""
+        the lowest anchor height (a 5 m cube for CDPR4, a 54.13 m^3 prism for CDPR3); for a robot
+        that is not a suspended point mass, from min(0, lowest anchor) to the highest anchor."""
         hull = ConvexHull(self.A[:, :2])
+        if not self.suspended_point_mass:  # the frame's extent (issue 17)
+            z = self.A[:, 2]
+            return float(hull.volume * (z.max() - min(0.0, z.min())))
         return float(hull.volume * self.A[:, 2].min())
 
     def pulley_summary(self):
@@ -349,6 +411,75 @@ def check_pulley(kind, h, r_p, source, key):
         )
 
 
+#: Within this angle [deg] of +-x, the default zero of the swivel angle is +y projected (not +x).
+ZERO_X_CONE_DEG = 25.0
+
+
+def pulley_frame(axis, zero=None):
+    """The frame (i_i, j_i, k_i) of a pulley, rows of a (3, 3) array (no paper equation).
+
+    k_i = ``axis`` normalised; i_i = ``zero`` normalised, or by default +x projected onto the plane
+    perpendicular to k_i (+y projected when k_i lies within ``ZERO_X_CONE_DEG`` of +-x);
+    j_i = k_i x i_i. For axis +z without ``zero`` this is exactly the identity.
+
+    Parameters
+    ----------
+    axis : array_like (3,) [-]
+        Swivel axis (non-zero).
+    zero : array_like (3,) [-], optional
+        Direction perpendicular to ``axis`` of the swivel angle's zero.
+
+    Returns
+    -------
+    frame : ndarray (3, 3) [-]
+        Rows i_i, j_i, k_i (orthonormal, right-handed).
+    """
+    k = np.asarray(axis, dtype=float)
+    k = k / np.linalg.norm(k)
+    if zero is None:
+        e = np.array([1.0, 0.0, 0.0])
+        if abs(k[0]) > math.cos(math.radians(ZERO_X_CONE_DEG)):
+            e = np.array([0.0, 1.0, 0.0])
+        i = e - (e @ k) * k
+    else:
+        i = np.asarray(zero, dtype=float)
+    i = i / np.linalg.norm(i)
+    return np.array([i, np.cross(k, i), k])
+
+
+def _vector(value, source, key, dimension="m"):
+    """A list of 3 quantities as a tuple of floats; ConfigError when not finite."""
+    v = tuple(quantity(x, dimension, source, f"{key}[{j}]") for j, x in enumerate(value))
+    if not all(math.isfinite(x) for x in v):
+        raise ConfigError(source, key, f"must be 3 finite numbers, got {list(value)!r}")
+    return v
+
+
+def _axis_zero(merged, source, key):
+    """The pulley's ``axis`` (unit) and ``zero`` (unit, ⟂ axis, or None), checked."""
+    axis = (0.0, 0.0, 1.0)
+    if merged.get("axis") is not None:
+        a = np.array(_vector(merged["axis"], source, key + ".axis"))
+        n = float(np.linalg.norm(a))
+        if not n > 1e-12:
+            raise ConfigError(
+                source, key + ".axis", f"the swivel axis must be a non-zero vector, got {list(a)}"
+            )
+        axis = tuple(float(x) for x in a / n)
+    zero = None
+    if merged.get("zero") is not None:
+        z = np.array(_vector(merged["zero"], source, key + ".zero"))
+        nz = float(np.linalg.norm(z))
+        if not nz > 1e-12 or abs(z @ np.array(axis)) > 1e-9 * nz:
+            raise ConfigError(
+                source,
+                key + ".zero",
+                f"must be a non-zero vector perpendicular to the pulley axis {list(axis)}, got {list(z)}",
+            )
+        zero = tuple(float(x) for x in z / nz)
+    return axis, zero
+
+
 def _pulley(d, default, source, key):
     merged = dict(default or {})
     merged.update(d or {})
@@ -360,7 +491,8 @@ def _pulley(d, default, source, key):
     h = _positive(merged.get("h_m", 0.0), "m", source, key + ".h_m", allow_zero=True)
     r_p = _positive(merged.get("r_p_m", 0.0), "m", source, key + ".r_p_m", allow_zero=True)
     check_pulley(kind, h, r_p, source, key)
-    return Pulley(kind=kind, h=h, r_p=r_p)
+    axis, zero = _axis_zero(merged, source, key)
+    return Pulley(kind=kind, h=h, r_p=r_p, axis=axis, zero=zero)
 
 
 def _material(d, default, source, key):
@@ -377,8 +509,10 @@ def robot_from_dict(data, source="<dict>"):
     """Build and validate a Robot from the parsed YAML mapping ``data``; errors name ``source``.
 
     The schema ``cdpr/schemas/robot.schema.yaml`` is applied first (keys, types, counts), then the
-    physical checks: positive quantities, the pulley rule (``check_pulley``), distinct anchors,
-    anchors above the floor, anchors not collinear seen from above."""
+    physical checks: positive quantities, the pulley rule (``check_pulley``), a non-zero pulley axis
+    and a ``zero`` perpendicular to it, no two cables sharing both anchor and attachment; for a
+    suspended point-mass robot (``Robot.suspended_point_mass``) also anchors above the floor and not
+    collinear seen from above."""
     if not isinstance(data, dict):
         raise ConfigError(source, None, f"expected a mapping of keys to values, got {type(data).__name__}")
     validate(data, "robot", source)
@@ -386,6 +520,7 @@ def robot_from_dict(data, source="<dict>"):
     platform = Platform(
         mass=_positive(plat["mass_kg"], "kg", source, "platform.mass_kg"),
         g=_positive(plat.get("gravity_m_per_s2", G_STANDARD), "m/s^2", source, "platform.gravity_m_per_s2"),
+        com=_vector(plat.get("com_m", (0.0, 0.0, 0.0)), source, "platform.com_m"),
     )
     default_material = data["cable"]
     _material(default_material, None, source, "cable")  # the default on its own
@@ -398,13 +533,8 @@ def robot_from_dict(data, source="<dict>"):
     cables = []
     for i, c in enumerate(data["cables"]):
         key = f"cables[{i}]"
-        A = tuple(quantity(v, "m", source, f"{key}.A_m[{j}]") for j, v in enumerate(c["A_m"]))
-        if A[2] <= 0.0:
-            raise ConfigError(
-                source,
-                key + ".A_m",
-                f"the anchor must lie above the floor z = 0 (the platform hangs below it), got z = {A[2]:g} m",
-            )
+        A = _vector(c["A_m"], source, f"{key}.A_m")
+        B = _vector(c.get("B_m", (0.0, 0.0, 0.0)), source, f"{key}.B_m")
         pulley = _pulley(
             c.get("pulley"), default_pulley, source, key + ".pulley" if "pulley" in c else "pulley"
         )
@@ -421,24 +551,35 @@ def robot_from_dict(data, source="<dict>"):
                 {**(default_winch or {}), **w}, source, key + ".winch" if "winch" in c else "winch"
             )
         )
-        cables.append(Cable(A=A, pulley=pulley, dead_length=dead, material=material, winch=winch))
+        cables.append(Cable(A=A, pulley=pulley, dead_length=dead, material=material, winch=winch, B=B))
     for (i, a), (j, b) in itertools.combinations(enumerate(cables), 2):
-        if np.allclose(a.A, b.A, atol=1e-9):
+        if np.allclose(a.A, b.A, atol=1e-9) and np.allclose(a.B, b.B, atol=1e-9):
             raise ConfigError(
                 source,
                 f"cables[{j}].A_m",
-                f"duplicate anchor point {list(b.A)}: same as cables[{i}].A_m; anchors must be distinct",
+                f"duplicate anchor point {list(b.A)}: same as cables[{i}].A_m with the same attachment B_m; "
+                "two cables may share an anchor only with different attachments",
             )
-    xy = np.array([c.A[:2] for c in cables])
-    centred = xy - xy.mean(axis=0)
-    if np.linalg.matrix_rank(centred, tol=1e-9) < 2:
-        raise ConfigError(
-            source,
-            "cables",
-            "the anchor points are collinear seen from above; a suspended CDPR needs anchors spanning an area",
-        )
     name = data.get("name", Path(str(source)).stem)
-    return Robot(name=name, cables=tuple(cables), platform=platform, source=str(source))
+    robot = Robot(name=name, cables=tuple(cables), platform=platform, source=str(source))
+    if robot.suspended_point_mass:
+        for i, c in enumerate(cables):
+            if c.A[2] <= 0.0:
+                raise ConfigError(
+                    source,
+                    f"cables[{i}].A_m",
+                    "the anchor of a suspended point-mass robot must lie above the floor z = 0 (the platform "
+                    f"hangs below it), got z = {c.A[2]:g} m",
+                )
+        xy = np.array([c.A[:2] for c in cables])
+        centred = xy - xy.mean(axis=0)
+        if np.linalg.matrix_rank(centred, tol=1e-9) < 2:
+            raise ConfigError(
+                source,
+                "cables",
+                "the anchor points are collinear seen from above; a suspended CDPR needs anchors spanning an area",
+            )
+    return robot
 
 
 def apply_overrides(data, pulley=None, h=None, r_p=None, dead_length=None, E=None, mass=None, E_cables=None):
@@ -502,7 +643,8 @@ def load_robot(path, **overrides):
 
 def with_pulleys(robot, kind=None, h=None, r_p=None, dead_length=None, E=None):
     """A copy of ``robot`` with every cable's pulley / dead length / Young's modulus E [Pa] replaced
-    (validated as a robot file would be)."""
+    (validated as a robot file would be); everything else of a cable (axis, zero, attachment B,
+    winch) is kept (``dataclasses.replace``)."""
     cables = []
     for c in robot.cables:
         k = c.pulley.kind if kind is None else kind
@@ -511,14 +653,15 @@ def with_pulleys(robot, kind=None, h=None, r_p=None, dead_length=None, E=None):
         if k == "fixed":
             hh = rr = 0.0
         pulley = _pulley({"kind": k, "h_m": hh, "r_p_m": rr}, None, robot.source, "pulley")
+        pulley = dataclasses.replace(pulley, axis=c.pulley.axis, zero=c.pulley.zero)
         material = c.material
         if E is not None:
             material = dataclasses.replace(
                 material, E=_positive(E, "Pa", robot.source, "cable.young_modulus_Pa")
             )
         cables.append(
-            Cable(
-                A=c.A,
+            dataclasses.replace(
+                c,
                 pulley=pulley,
                 dead_length=c.dead_length if dead_length is None else float(dead_length),
                 material=material,

@@ -17,6 +17,7 @@ from cdpr.compiled import sensitivity as compiled_sensitivity
 from cdpr.compiled import subsets as compiled_subsets
 from cdpr.errors import CdprError
 from cdpr.models import equilibrium, sensitivity
+from cdpr.models.equilibrium6 import solve_spatial
 from cdpr.models.results import mark_below_floor
 from cdpr.models.subsets import solve_points
 
@@ -51,18 +52,59 @@ def check_redundancy(redundancy):
     return redundancy
 
 
+def check_spatial(robot, engine, redundancy):
+    """The engine for a robot that is not a suspended point mass (``Robot.suspended_point_mass``):
+    such robots have the numpy 6-DoF physical mode only (``cdpr.models.equilibrium6``); paper mode
+    (3 of m) and the compiled engine raise CdprError in one line."""
+    if redundancy != "physical":
+        raise CdprError(
+            f"{robot.source}: paper mode (3-cable subsets) is the point-mass rule; this robot has platform "
+            "attachments or pulley axes other than +z: use redundancy: physical (--redundancy physical)"
+        )
+    if engine == "compiled":
+        raise CdprError(
+            f"{robot.source}: the compiled engine has no 6-DoF solver yet; use --engine numpy (the default for this robot)"
+        )
+    return "numpy"
+
+
 def solve_points_any(
-    robot, p, method="newton", engine=None, threads=None, redundancy="paper", L0=None, L=None, **options
+    robot,
+    p,
+    method="newton",
+    engine=None,
+    threads=None,
+    redundancy="paper",
+    L0=None,
+    L=None,
+    rotvec=None,
+    **options,
 ):
     """Per-point results as a dict of arrays from the chosen model and engine.
 
     ``redundancy="paper"``: DEGM_E on every 3-cable subset and the paper's choice
     (``redundancy.solve_points`` keys), commanded total lengths ``L`` (N, m) [m] or L_TS at p.
     ``redundancy="physical"``: the equilibrium on all cables (``equilibrium.solve_physical`` keys),
-    commanded rest lengths ``L0`` (N, m) [m] or L_TS at p. An engine/method/model combination that
-    does not exist raises CdprError."""
+    commanded rest lengths ``L0`` (N, m) [m] or L_TS at p. A robot that is not a suspended point
+    mass, an orientation ``rotvec`` ((3,) or (N, 3) [rad]) or poses p (N, 6) go to the 6-DoF numpy
+    solver (``equilibrium6.solve_spatial``, physical mode; ``check_spatial``); paper mode on a point
+    mass ignores the orientation. An engine/method/model combination that does not exist raises
+    CdprError."""
     p = np.atleast_2d(np.asarray(p, dtype=float))
     check_redundancy(redundancy)
+    if not robot.suspended_point_mass or rotvec is not None or p.shape[1] == 6:
+        if not robot.suspended_point_mass:
+            check_spatial(robot, engine, redundancy)
+        if redundancy == "physical" or not robot.suspended_point_mass:
+            if method != "newton":
+                raise CdprError(
+                    "physical mode has one solver (Newton on the force balance); --method fixed_point applies to paper mode"
+                )
+            if L is not None:
+                raise CdprError("physical mode commands rest lengths L0, not total lengths L")
+            res = solve_spatial(robot, p, rotvec, L0=L0, **options)
+            return mark_below_floor(res, p) if robot.suspended_point_mass else res
+        p = p[:, :3]  # paper mode on a point mass: the orientation plays no part
     if redundancy == "physical":
         if method != "newton":
             raise CdprError(

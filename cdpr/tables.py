@@ -37,10 +37,19 @@ def to_frame(robot, res, redundancy="paper"):
         cables, '1-2-3-4'), n_taut, iterations, status. The status categories are
         ``res["statuses"]`` when given (``compensation.COMP_STATUSES``), else ``results.STATUSES``.
         When ``res`` holds sensitivities (key ``S``): then dx_d<θ>, dy_d<θ>, dz_d<θ> per parameter
-        [m per unit of θ] (``sensitivity.sensitivity_columns``) and smooth.
+        [m per unit of θ] (``sensitivity.sensitivity_columns``) and smooth. A 6-DoF result of a
+        rigid platform (``equilibrium6.solve_spatial``, key ``rotvec_s``, robot not a point mass):
+        the columns of ``to_frame6``.
     """
+    if check_redundancy(redundancy) == "physical" and "rotvec_s" in res and not robot.point_mass:
+        return to_frame6(robot, res)
+    return _frame(robot, res, redundancy)
+
+
+def _frame(robot, res, redundancy):
+    """``to_frame`` of a point-mass result (the columns its docstring lists)."""
     df = pd.DataFrame(pose_columns(robot, res))
-    if check_redundancy(redundancy) == "paper":
+    if redundancy == "paper":
         codes, labels = subset_codes(robot, res["subset"])
         df["subset"] = pd.Categorical.from_codes(codes, categories=labels)
     else:
@@ -61,6 +70,32 @@ def to_frame(robot, res, redundancy="paper"):
         sens = pd.DataFrame(flat, columns=sensitivity.sensitivity_columns(res["names"]))
         sens["smooth"] = res["smooth"]
         df = pd.concat([df, sens], axis=1)
+    return df
+
+
+def to_frame6(robot, res):
+    """One row per pose of a ``equilibrium6.solve_spatial`` result: the physical mode's columns
+    (x, y, z, x_s, y_s, z_s, dp, t1..tm, taut, n_taut, iterations, status) and rx, ry, rz
+    (desired) and rx_s, ry_s, rz_s (reached) rotation vectors [rad], dphi [rad], unique.
+
+    Parameters
+    ----------
+    robot : Robot
+    res : dict
+        A ``solve_spatial`` result.
+
+    Returns
+    -------
+    DataFrame
+    """
+    df = _frame(robot, res, "physical")
+    at = list(df.columns).index("dp") + 1
+    for k, name in enumerate(("rx", "ry", "rz")):
+        df.insert(at + k, name, res["rotvec"][:, k])
+    for k, name in enumerate(("rx_s", "ry_s", "rz_s")):
+        df.insert(at + 3 + k, name, res["rotvec_s"][:, k])
+    df.insert(at + 6, "dphi", res["dphi"])
+    df["unique"] = res["unique"]
     return df
 
 
@@ -89,12 +124,14 @@ def solve_table(
     redundancy : {"paper", "physical"}
         The paper's 3-cable subset rule, or the physical equilibrium on all cables
         (``solve_points_any``); ``L0`` (N, m) [m] commanded rest lengths, physical mode only.
+        A robot that is not a suspended point mass, or ``rotvec`` in the options (a fixed
+        orientation [rad]), is solved by ``solve_points_any`` (the 6-DoF solver, physical mode).
 
     Returns
     -------
     DataFrame, one row per point (``to_frame``)."""
     p = np.atleast_2d(np.asarray(p, dtype=float))
-    if redundancy != "paper" or L0 is not None:
+    if redundancy != "paper" or L0 is not None or not robot.suspended_point_mass or "rotvec" in options:
         return to_frame(
             robot, solve_points_any(robot, p, method, engine, threads, redundancy, L0, **options), redundancy
         )

@@ -26,6 +26,10 @@ MODEL_MODULES = [
     "analyses.uncertainty",
     "analyses.budget",
     "analyses.symmetry",
+    "models.platform",
+    "models.equilibrium6",
+    "models.distribution6",
+    "models.sensitivity6",
 ]
 
 #: A numpy section header: a title line underlined by dashes of the same length.

@@ -118,3 +118,83 @@ def test_fixed_point_limit_allowed_for_every_kind(cdpr4):
         assert (r.h == 0).all() and (r.r_p == 0).all()
     with pytest.raises(ConfigError):
         robot_from_dict({**base(), "pulley": {"kind": "fixed", "h_m": 0.1}}, "x.yaml")
+
+
+# ---------------------------------------------------------------------------------------------
+# Spatial robot files (issue 17): B_m, pulley.axis, pulley.zero, platform.com_m
+# ---------------------------------------------------------------------------------------------
+def spatial_base():
+    d = base()
+    d["cables"] = [
+        {"A_m": [-2.5, -2.5, 5.0], "B_m": [-0.2, -0.2, 0.1]},
+        {"A_m": [2.5, -2.5, 5.0], "B_m": [0.2, -0.2, 0.1]},
+        {"A_m": [2.5, 2.5, 0.0], "B_m": [0.2, 0.2, -0.1], "pulley": {"axis": [0, 0, -1]}},
+        {"A_m": [-2.5, 2.5, -1.0], "B_m": [-0.2, 0.2, -0.1], "pulley": {"axis": [1, 0, 0]}},
+    ]
+    d["platform"]["com_m"] = [0.0, 0.01, 0.02]
+    return d
+
+
+def test_spatial_keys_are_read_and_defaults_are_todays_model(tmp_path, cdpr4):
+    r = load_robot(write(tmp_path, spatial_base()))
+    a = r.arrays
+    assert a.b[0] == pytest.approx([-0.2, -0.2, 0.1]) and a.com == pytest.approx([0.0, 0.01, 0.02])
+    assert a.axis[2] == pytest.approx([0, 0, -1]) and a.axis[3] == pytest.approx([1, 0, 0])
+    assert not r.point_mass and not r.suspended_point_mass
+    for f in a.frame:  # orthonormal, right-handed, k = axis
+        assert f @ f.T == pytest.approx(np.eye(3), abs=1e-15) and np.linalg.det(f) == pytest.approx(1.0)
+    assert a.frame[3, 0] == pytest.approx([0, 1, 0])  # axis within 25 deg of +x: the zero is +y
+    # today's robots: identity frames, zero attachments, the same inward vectors as before
+    c = cdpr4.arrays
+    assert cdpr4.suspended_point_mass and (c.frame == np.eye(3)).all() and not c.b.any()
+    assert c.inward == pytest.approx(np.array([[1, 1], [-1, 1], [-1, -1], [1, -1]]) / math.sqrt(2))
+
+
+def test_anchors_anywhere_and_shared_anchors_for_spatial_robots(tmp_path):
+    d = spatial_base()
+    d["cables"][1]["A_m"] = [-2.5, -2.5, 5.0]  # shared anchor, different attachment: allowed
+    r = load_robot(write(tmp_path, d))
+    assert r.m == 4
+    d["cables"] = [{"A_m": [x, 0, 0.0], "B_m": [0.1 * x, 0, 0]} for x in (0, 1, 2)]  # collinear, z = 0
+    assert load_robot(write(tmp_path, d)).m == 3
+
+
+SPATIAL_BAD = [
+    (lambda d: d["cables"][1].update(A_m=[-2.5, -2.5, 5.0], B_m=[-0.2, -0.2, 0.1]), "duplicate anchor point"),
+    (lambda d: d["pulley"].update(axis=[0, 0, 0]), "key 'pulley.axis': the swivel axis must be a non-zero"),
+    (lambda d: d["pulley"].update(axis=[0, 0, float("nan")]), "key 'pulley.axis[2]': must be finite"),
+    (
+        lambda d: d["pulley"].update(zero=[0, 0, 1]),
+        "key 'pulley.zero': must be a non-zero vector perpendicular",
+    ),
+    (lambda d: d["cables"][0].update(B_m=[1, 2]), "key 'cables[0].B_m': expected a list of 3 coordinates"),
+    (lambda d: d["platform"].update(com_m=[0, 0]), "key 'platform.com_m': expected a list of 3 coordinates"),
+]
+
+
+@pytest.mark.parametrize("mutate,message", SPATIAL_BAD)
+def test_bad_spatial_keys_give_one_sentence(tmp_path, mutate, message):
+    d = spatial_base()
+    mutate(d)
+    path = write(tmp_path, d)
+    with pytest.raises(ConfigError) as exc:
+        load_robot(path)
+    assert message in str(exc.value) and str(path) in str(exc.value)
+
+
+def test_suspended_point_mass_rules_stay(tmp_path):
+    d = base()
+    d["cables"][0]["A_m"] = [-2.5, -2.5, 0.0]
+    with pytest.raises(ConfigError, match="above the floor"):
+        load_robot(write(tmp_path, d))
+
+
+def test_with_pulleys_keeps_axis_zero_attachment_and_winch(tmp_path):
+    d = spatial_base()
+    d["cables"][3]["pulley"]["zero"] = [0, 0, 1]
+    d["winch"] = {}
+    r = load_robot(write(tmp_path, d))
+    s = with_pulleys(r, kind="DR", h=0.15)
+    for a, b in zip(r.cables, s.cables):
+        assert (a.pulley.axis, a.pulley.zero, a.B, a.winch) == (b.pulley.axis, b.pulley.zero, b.B, b.winch)
+        assert b.pulley.kind == "DR" and b.pulley.h == 0.15

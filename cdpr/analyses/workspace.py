@@ -42,7 +42,9 @@ def check_box(box):
 
 
 def frame_box(robot):
-    """Bounding box of the frame [m]: the anchors' horizontal extent, z from 0 to the lowest anchor.
+    """Bounding box of the frame [m]: the anchors' horizontal extent, z from 0 to the lowest anchor
+    (suspended point-mass robots); for every other robot z from min(0, lowest anchor) to the
+    highest anchor (the frame's extent, issue 17).
 
     Parameters
     ----------
@@ -55,6 +57,16 @@ def frame_box(robot):
         xmin, xmax, ymin, ymax of the joint points, zmin = 0, zmax = the lowest joint height.
     """
     lo, hi = robot.A[:, :2].min(axis=0), robot.A[:, :2].max(axis=0)
+    if not robot.suspended_point_mass:  # the frame's extent: floor (or lowest anchor) to highest anchor
+        z = robot.A[:, 2]
+        return [
+            float(lo[0]),
+            float(hi[0]),
+            float(lo[1]),
+            float(hi[1]),
+            float(min(0.0, z.min())),
+            float(z.max()),
+        ]
     return [float(lo[0]), float(hi[0]), float(lo[1]), float(hi[1]), 0.0, float(robot.A[:, 2].min())]
 
 

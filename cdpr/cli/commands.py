@@ -1,4 +1,5 @@
-"""The commands: ``cdpr inverse | point | compensate | grid | winch | plane | trajectory``.
+"""The commands: ``cdpr inverse | point | compensate | grid | winch | plane | trajectory | import caspr |
+view``.
 
 JSON with ``--json``, a readable table without. Options given on the command line override the
 robot file exactly as if it had been edited. SI units throughout. Every bad input is refused with
@@ -77,7 +78,35 @@ def _points(args):
         raise CdprError(
             f"{args.points}: row {int(np.flatnonzero(bad)[0]) + 1} has a non-finite coordinate; every x, y, z must be a finite number"
         )
+    rot = [c for c in ("rx", "ry", "rz") if c in df.columns]
+    if rot:
+        if len(rot) != 3:
+            raise CdprError(
+                f"{args.points}: an orientation needs all three columns rx, ry, rz [rad], got {', '.join(rot)}"
+            )
+        rv = df[["rx", "ry", "rz"]].to_numpy(dtype=float)
+        bad = ~np.isfinite(rv).all(axis=1)
+        if bad.any():
+            raise CdprError(
+                f"{args.points}: row {int(np.flatnonzero(bad)[0]) + 1} has a non-finite rx, ry or rz"
+            )
+        args.table_rotvec = rv
     return P
+
+
+def _rotvec(args, n):
+    """(N, 3) orientations [rad] of --rotvec or the points table's rx, ry, rz; None when neither."""
+    table = getattr(args, "table_rotvec", None)
+    if table is not None:
+        return table
+    if getattr(args, "rotvec", None) is None:
+        return None
+    return np.tile(np.asarray(args.rotvec, dtype=float), (n, 1))
+
+
+def _rotvec_option(args):
+    """``{"rotvec": (3,)}`` for the solvers when --rotvec is given, else nothing."""
+    return {} if args.rotvec is None else {"rotvec": np.asarray(args.rotvec, dtype=float)}
 
 
 def _table(rows, headers):
@@ -93,12 +122,25 @@ def _vec(v):
 
 
 def cmd_inverse(args):
-    from cdpr.models.inverse import L_TS, igm_e  # lazy: the inverse model, for this command only
+    # lazy: the inverse model, for this command only
+    from cdpr.models.equilibrium6 import L_TS_pose, pose_arrays, pose_state
+    from cdpr.models.inverse import L_TS, igm_e
+    from cdpr.models.pulleys import swivel
 
     robot = _load(args)
     P = _points(args)
-    st = igm_e(robot, P)
-    lts = L_TS(robot, P)
+    rv = _rotvec(args, len(P))
+    if robot.point_mass:
+        st = igm_e(robot, P)
+        lts = L_TS(robot, P)
+        B = np.repeat(P[:, None, :], robot.m, axis=1)
+    else:
+        p_, R = pose_arrays(robot, P, rv)
+        B, st = pose_state(robot, p_, R)
+        lts = L_TS_pose(robot, p_, R)
+    a = robot.arrays
+    sw = swivel(B, a.A, None if robot.suspended_point_mass else a.frame, a.inward, per_cable=True)
+    over = st.gamma > 1.5 * np.pi
     if args.points or args.out:
         import pandas as pd  # lazy: a table of points only
 
@@ -115,6 +157,8 @@ def cmd_inverse(args):
                     f"inside{c}": st.inside[:, i],
                 }
             )
+            if not robot.suspended_point_mass:
+                cols.update({f"swivel{c}": sw[:, i], f"wrap_over_270{c}": over[:, i]})
         df = pd.DataFrame(cols)
         _write_table(df, args.out)
         print(
@@ -135,6 +179,9 @@ def cmd_inverse(args):
             "K": st.K[0, i].tolist(),
             "D": st.D[0, i].tolist(),
             "inside": bool(st.inside[0, i]),
+            "swivel": float(sw[0, i]),
+            "wrap": float(st.gamma[0, i]),
+            "wrap_over_270": bool(over[0, i]),
         }
         for i in range(robot.m)
     ]
@@ -188,6 +235,11 @@ def _solve_sensitivities(robot, P, args, L0=None):
     """The solve plus dP*/dθ (``sensitivity.sensitivities``) for --sensitivities."""
     from cdpr.solve import sensitivities  # lazy: --sensitivities only
 
+    if not robot.suspended_point_mass or getattr(args, "rotvec", None) is not None:
+        raise CdprError(
+            "--sensitivities is not available yet for a rigid platform or an orientation (--rotvec); "
+            "the library has cdpr.models.sensitivity6.spatial_sensitivities"
+        )
     if args.method != "newton":
         raise CdprError(
             "--sensitivities needs --method newton (the implicit-function theorem uses its Jacobian at the solution)"
@@ -220,6 +272,11 @@ def cmd_point(args):
         if len(args.q) != robot.m:
             raise CdprError(f"--q needs one drum angle per cable ({robot.m}), got {len(args.q)}")
         L0 = rest_lengths_from_angles(robot, np.array([args.q]), model="winch")[0]
+    rv = _rotvec(args, len(P))
+    if args.sensitivities and (rv is not None or not robot.suspended_point_mass):
+        raise CdprError(
+            "--sensitivities is not available yet for a rigid platform or an orientation (--rotvec)"
+        )
     if args.sensitivities:
         if L0 is not None and args.redundancy != "physical":
             raise CdprError(
@@ -235,6 +292,7 @@ def cmd_point(args):
             threads=args.threads,
             redundancy=args.redundancy,
             L0=L0,
+            rotvec=rv,
         )
     if args.points or args.out:
         from cdpr.tables import to_frame  # lazy: a table of points only (pandas)
@@ -250,11 +308,16 @@ def cmd_point(args):
         "dp_norm": float(res["dp"][0]),
         "tensions": [None if np.isnan(v) else float(v) for v in t],
     }
+    if "rotvec_s" in res or rv is not None:
+        out["solved_rotvec"] = (res["rotvec_s"][0] if "rotvec_s" in res else rv[0]).tolist()
+        out["dphi"] = float(res["dphi"][0]) if "dphi" in res else 0.0
     if args.redundancy == "physical":
         out["taut"] = [int(i) + 1 for i in np.flatnonzero(res["taut"][0])]
     else:
         out["subset"] = [int(i) + 1 for i in res["subset"][0] if i >= 0]
     out.update(status=str(res["status"][0]), iterations=int(res["iterations"][0]))
+    if "unique" in res:
+        out.update(unique=bool(res["unique"][0]), alternatives=res["alternatives"][0])
     if args.sensitivities:
         S = res["S"][0]
         out["sensitivities"] = {
@@ -274,6 +337,8 @@ def cmd_point(args):
     print(f"  desired P  [m] : {fmt(out['desired'])}")
     print(f"  solved P*  [m] : {fmt(out['solved'])}")
     print(f"  |dp|       [m] : {out['dp_norm']:.6f}")
+    if "dphi" in out:
+        print(f"  rotvec*  [rad] : {fmt(out['solved_rotvec'])}   dphi [rad]: {out['dphi']:.6g}")
     print("  tensions   [N] : " + ", ".join("slack" if v is None else f"{v:.2f}" for v in out["tensions"]))
     if args.redundancy == "physical":
         print(f"  taut cables    : {'-'.join(map(str, out['taut'])) or '-'}")
@@ -318,6 +383,9 @@ def cmd_compensate(args):
     t_max = args.t_max if args.t_max is not None else None
     if t_max is not None and not args.t_min < t_max:
         raise CdprError(f"--t-min must be below --t-max, got {args.t_min:g} N and {t_max:g} N")
+    rv = _rotvec(args, len(P))
+    if rv is not None or not robot.suspended_point_mass:
+        return _compensate_spatial(args, robot, actual, P, rv, t_max)
     engine = args.engine or "compiled"
     res = compensated_pose(
         robot, P, actual=actual, method=args.distribution, engine=engine, t_min=args.t_min, t_max=t_max
@@ -367,6 +435,66 @@ def cmd_compensate(args):
     )
 
 
+def _compensate_spatial(args, robot, actual, P, rv, t_max):
+    """``compensate`` at poses (rigid platform or --rotvec): minimum-norm distribution in the bounds
+    at the pose (``distribution6``), compensated rest lengths, and the check solve (6-DoF numpy)."""
+    # lazy: the 6-DoF models, for poses only
+    from cdpr.models.distribution6 import compensated_lengths
+    from cdpr.models.equilibrium6 import solve_spatial
+
+    if args.distribution != "min_norm":
+        raise CdprError(
+            f"--distribution {args.distribution} is not available at a pose (rigid platform or --rotvec); use min_norm"
+        )
+    if args.engine == "compiled":
+        raise CdprError("the compiled engine has no 6-DoF solver yet; use --engine numpy")
+    c = compensated_lengths(robot, P, rv, t_min=args.t_min, t_max=t_max)
+    ok = c["feasible"]
+    res = solve_spatial(actual or robot, P, rv, L0=np.where(ok[:, None], c["L0"], 1.0))
+    status = np.where(ok, res["status"], "infeasible")
+    if args.points or args.out:
+        from cdpr.tables import to_frame6  # lazy: tables only (pandas)
+
+        df = to_frame6(robot, res)
+        df["status"] = status
+        for i in range(robot.m):
+            df[f"L0_{i + 1}"] = c["L0"][:, i]
+        for i in range(robot.m):
+            df[f"t_planned{i + 1}"] = c["t"][:, i]
+        _write_table(df, args.out)
+        print(f"wrote {len(df)} poses to {args.out}; {int((~ok).sum())} infeasible (no tension distribution)")
+        return
+    out = {
+        "desired": list(map(float, args.at)),
+        "rotvec": res["rotvec"][0].tolist(),
+        "lengths": c["L0"][0].tolist(),
+        "tensions": c["t"][0].tolist(),
+        "status": str(status[0]),
+        "solved": res["P_s"][0].tolist() if ok[0] else None,
+        "solved_rotvec": res["rotvec_s"][0].tolist() if ok[0] else None,
+        "dp_norm": float(res["dp"][0]) if ok[0] else None,
+        "dphi": float(res["dphi"][0]) if ok[0] else None,
+    }
+    if args.json:
+        print(json.dumps(io.clean_json(out), indent=2))
+        return
+    print(
+        f"{robot.name} ({robot.pulley_summary()}, {robot.material_summary()}), distribution min_norm at a pose"
+    )
+    if not ok[0]:
+        print(
+            "status: infeasible (no tension distribution within the bounds holds the platform at this pose)"
+        )
+        return
+    rows = [
+        [str(i + 1), f"{L:.6f}", f"{t:.2f}"] for i, (L, t) in enumerate(zip(out["lengths"], out["tensions"]))
+    ]
+    print(_table(rows, ["cable", "rest length L0 [m]", "planned tension [N]"]))
+    print(
+        f"status: {out['status']}; the platform settles {out['dp_norm']:.3g} m and {out['dphi']:.3g} rad from the pose"
+    )
+
+
 def _check_size(n_points, what):
     """Refuse a job whose tables cannot fit in memory, naming the size it would need."""
     need = n_points * BYTES_PER_POINT
@@ -406,7 +534,21 @@ def cmd_grid(args):
         df = to_frame(robot, res, args.redundancy)
     else:
         df = solve_table(
-            robot, P, method=args.method, engine=args.engine, threads=args.threads, redundancy=args.redundancy
+            robot,
+            P,
+            method=args.method,
+            engine=args.engine,
+            threads=args.threads,
+            redundancy=args.redundancy,
+            **_rotvec_option(args),
+        )
+    if args.wrench_feasible:
+        from cdpr.models.distribution6 import distribute_pose  # lazy: --wrench-feasible only
+
+        df["feasible"] = distribute_pose(robot, P, args.rotvec, t_min=args.t_min)["feasible"]
+        cell = np.prod([(box[2 * k + 1] - box[2 * k]) / args.n for k in range(3)])
+        print(
+            f"wrench-feasible: {int(df['feasible'].sum())} of {len(df)} grid points, {df['feasible'].sum() * cell:.4g} m^3"
         )
     _write_table(df, args.out)
     dt = time.perf_counter() - t0
@@ -465,12 +607,20 @@ def _report(df, out, args, dt):
 
 
 def cmd_plane(args):
-    from cdpr.analyses import scans  # lazy: this command only
+    # lazy: this command only
+    from cdpr.analyses import scans
+    from cdpr.analyses.workspace import frame_box
 
     robot = _load(args)
     io.check_output(args.out)
     top = float(robot.A[:, 2].min())
-    if not 0.0 <= args.z < top:
+    if not robot.suspended_point_mass:
+        lo, hi = frame_box(robot)[4:]
+        if not lo <= args.z <= hi:
+            raise CdprError(
+                f"--z must lie within the frame's height ({lo:g} <= z <= {hi:g} m), got {args.z:g}"
+            )
+    elif not 0.0 <= args.z < top:
         raise CdprError(
             f"--z must lie between the floor and the lowest pulley (0 <= z < {top:g} m), got {args.z:g}"
         )
@@ -483,6 +633,7 @@ def cmd_plane(args):
         engine=args.engine,
         threads=args.threads,
         redundancy=args.redundancy,
+        **_rotvec_option(args),
     )
     _write_table(df, args.out)
     _report(df, args.out, args, time.perf_counter() - t0)
@@ -503,6 +654,116 @@ def cmd_trajectory(args):
         engine=args.engine,
         threads=args.threads,
         redundancy=args.redundancy,
+        **_rotvec_option(args),
     )
     _write_table(df, args.out)
     _report(df, args.out, args, time.perf_counter() - t0)
+
+
+def cmd_import_caspr(args):
+    """``cdpr import caspr``: read CASPR's bodies and cables XML (``cdpr.robot_import``), validate the
+    result as a robot file, write it."""
+    import yaml  # lazy: yaml, for this command only
+
+    # lazy: the importer, for this command only
+    from cdpr.robot import robot_from_dict
+    from cdpr.robot_import import robot_dict_from_caspr
+
+    data = robot_dict_from_caspr(
+        args.bodies,
+        args.cables,
+        args.cable_set,
+        E=args.E,
+        diameter=args.diameter,
+        dead_length=args.dead_length,
+    )
+    robot = robot_from_dict(data, source=f"{args.cables} (imported)")
+    io.check_output(args.out, (".yaml", ".yml"))
+    header = (
+        f"# Imported by `cdpr import caspr` from {args.bodies} and {args.cables}"
+        f" (cable set {args.cable_set or 'default'}).\n"
+        "# E, the cable diameter and the dead length are not part of CASPR models: given on the command line.\n"
+    )
+    with open(args.out, "w", encoding="utf-8") as f:
+        f.write(header + yaml.safe_dump(data, sort_keys=False))
+    print(f"wrote {args.out}: {robot.m} cables, platform {robot.platform.mass:g} kg")
+
+
+def default_position(robot):
+    """The anchors' centroid, lowered to the middle of their height range (``cdpr view`` without --at)."""
+    A = robot.A
+    return np.array(
+        [
+            A[:, 0].mean(),
+            A[:, 1].mean(),
+            0.5 * (A[:, 2].min() + A[:, 2].max()) * (0.6 if robot.suspended_point_mass else 1.0),
+        ]
+    )
+
+
+def draw_robot(robot, p, rotvec, path):
+    """Write the picture of ``robot`` with its platform at (p, rotvec) to ``path`` (.png)."""
+    # lazy: matplotlib, the 6-DoF pose and the hull, for `cdpr view` only
+    import matplotlib
+
+    matplotlib.use("Agg")
+    # lazy: pyplot after the backend is chosen
+    import matplotlib.pyplot as plt
+    from scipy.spatial import ConvexHull
+
+    from cdpr.models.equilibrium6 import pose_arrays, pose_state  # lazy: for `cdpr view` only
+
+    p_, R = pose_arrays(robot, [p], None if rotvec is None else [rotvec])
+    B, st = pose_state(robot, p_, R)
+    B, D, K, H = B[0], st.D[0], st.K[0], st.H[0]
+    a = robot.arrays
+    C = a.A - a.d[:, None] * a.axis
+    fig = plt.figure(figsize=(7, 6))
+    ax = fig.add_subplot(projection="3d")
+    span = float(np.ptp(np.vstack([a.A, B]), axis=0).max())
+    ax.scatter(*a.A.T, color="k", s=12, label="joint points A_i")
+    for i in range(robot.m):
+        ax.plot(*np.stack([C[i], K[i]]).T, color="0.6", lw=0.8)  # dead length
+        ax.plot(*np.stack([D[i], B[i]]).T, color="tab:blue", lw=1.2)  # cable
+        ax.quiver(*a.A[i], *(0.08 * span * a.axis[i]), color="tab:red", lw=1.0)
+        if robot.r_p[i] > 0:
+            t = np.linspace(0, 2 * np.pi, 40)
+            e_s = (D[i] - H[i]) / max(np.linalg.norm(D[i] - H[i]), 1e-12)
+            n = np.cross(e_s, a.axis[i])
+            n /= max(np.linalg.norm(n), 1e-12)
+            w = np.cross(n, e_s)
+            circ = H[i] + robot.r_p[i] * (np.cos(t)[:, None] * e_s + np.sin(t)[:, None] * w)
+            ax.plot(*circ.T, color="tab:orange", lw=0.8)
+        ax.text(*a.A[i], f" {i + 1}", fontsize=8)
+    if not robot.point_mass:
+        pts = np.vstack([B, p_[0] + R[0] @ a.com])
+        try:
+            hull = ConvexHull(B)
+            for s in hull.simplices:
+                ax.plot(*B[np.append(s, s[0])].T, color="tab:green", lw=0.5)
+        except Exception:  # coplanar attachments: outline them
+            ax.plot(*np.vstack([B, B[:1]]).T, color="tab:green", lw=0.8)
+        ax.scatter(*pts[-1], color="tab:green", marker="x", s=30, label="centre of mass")
+    ax.scatter(*p_[0], color="tab:green", s=20, label="platform point p")
+    ax.plot([], [], color="tab:red", label="pulley axes k_i")
+    ax.plot([], [], color="tab:blue", label="cables D_i -> B_i")
+    lo, hi = np.vstack([a.A, B, C]).min(axis=0), np.vstack([a.A, B, C]).max(axis=0)
+    mid, half = (lo + hi) / 2, (hi - lo).max() / 2
+    for set_lim, c in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), mid):
+        set_lim(c - half, c + half)
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.set_zlabel("z [m]")
+    ax.set_title(f"{robot.name} at p = {np.round(p_[0], 3).tolist()} m")
+    ax.legend(fontsize=7, loc="upper left")
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def cmd_view(args):
+    """``cdpr view``: a 3-D picture of a robot file (frame, pulleys with their axes, platform, cables)."""
+    robot = load_robot(args.robot)
+    io.check_output(args.out, (".png",))
+    p = default_position(robot) if args.at is None else np.asarray(args.at, dtype=float)
+    draw_robot(robot, p, args.rotvec, args.out)
+    print(f"wrote {args.out}")

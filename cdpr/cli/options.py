@@ -148,18 +148,26 @@ def physics_options(sp):
     )
 
 
+def rotvec_option(
+    sp, help="platform orientation: rotation vector [rad] (active, base frame; default identity)"
+):
+    """--rotvec RX RY RZ: the platform's orientation [rad] (spatial robots, docs/spatial.md)."""
+    sp.add_argument("--rotvec", nargs=3, type=finite, metavar=("RX", "RY", "RZ"), help=help)
+
+
 def points_options(sp, what):
-    """--at X Y Z or --points FILE, and --out FILE."""
+    """--at X Y Z or --points FILE, --out FILE and --rotvec."""
     g = sp.add_mutually_exclusive_group(required=True)
     g.add_argument("--at", nargs=3, type=finite, metavar=("X", "Y", "Z"), help=f"{what} [m]")
     g.add_argument(
         "--points",
         metavar="FILE",
-        help="many points at once: a .csv or .parquet table with columns x, y, z [m]",
+        help="many points at once: a .csv or .parquet table with columns x, y, z [m] (and rx, ry, rz [rad])",
     )
     sp.add_argument(
         "--out", metavar="FILE", help="write the result table (.csv or .parquet); needed with --points"
     )
+    rotvec_option(sp)
 
 
 def sensitivity_options(sp):

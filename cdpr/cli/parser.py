@@ -7,6 +7,7 @@ imported by ``cdpr.cli.main`` once the arguments are read.
 
 from __future__ import annotations
 
+from cdpr.cli import caspr, view
 from cdpr.cli.options import (
     CALIBRATION_MODELS,
     CALIBRATION_SIGMA,
@@ -22,6 +23,7 @@ from cdpr.cli.options import (
     points_options,
     positive,
     robot_options,
+    rotvec_option,
     sensitivity_options,
     solver_options,
     threads,
@@ -123,6 +125,15 @@ def build_parser(jobs=True):
         help="the frame's bounding box (anchors' extent, z from 0 to the pulleys)",
     )
     sp.add_argument("--n", type=count(1), required=True, help="points per axis")
+    rotvec_option(sp, help="fixed platform orientation [rad]")
+    sp.add_argument(
+        "--wrench-feasible",
+        action="store_true",
+        help="add a 'feasible' column: a tension distribution in [--t-min, T_a] holds the platform at the pose",
+    )
+    sp.add_argument(
+        "--t-min", type=non_negative, default=100.0, metavar="N", help="least tension of --wrench-feasible"
+    )
     sp.add_argument("--out", required=True, metavar="FILE", help="output .parquet or .csv")
     sp.add_argument("--shard", type=count(0), default=0, help="0-based shard index (default 0)")
     sp.add_argument("--shards", type=count(1), default=1, help="number of shards (default 1)")
@@ -151,6 +162,7 @@ def build_parser(jobs=True):
         "--n", type=count(2, 20000), required=True, help="points per side over the anchors' bounding box"
     )
     sp.add_argument("--out", required=True, metavar="FILE")
+    rotvec_option(sp)
     physics_options(sp)
     sp.set_defaults(run=("cdpr.cli.commands", "cmd_plane"))
     sp = sub.add_parser(
@@ -162,6 +174,7 @@ def build_parser(jobs=True):
     sp.add_argument("--end", nargs=3, type=finite, required=True, metavar=("X", "Y", "Z"))
     sp.add_argument("--n", type=count(2, 100_000_000), required=True, help="points along the path")
     sp.add_argument("--out", required=True, metavar="FILE")
+    rotvec_option(sp)
     physics_options(sp)
     sp.set_defaults(run=("cdpr.cli.commands", "cmd_trajectory"))
     sp = sub.add_parser("job", help="a pipeline task: tables in, tables and figures out (run by Snakemake)")
@@ -171,6 +184,8 @@ def build_parser(jobs=True):
         job.add_arguments(sp)
     sp.set_defaults(run=("cdpr.cli.job", "run"))
     calibrate_parser(sub)
+    caspr.add_parser(sub)
+    view.add_parser(sub)
     return ap
 
 

@@ -76,4 +76,5 @@ def igm_e(robot, P):
         Arrays (..., m) and points (..., m, 3) [m]; ``L_TE`` (..., m) [m] is the extended total
         length of eq. (5).
     """
-    return pulley_state(P, robot.A, robot.kind, robot.h, robot.r_p, robot.d, robot.inward)
+    frame = None if robot.suspended_point_mass else robot.arrays.frame
+    return pulley_state(P, robot.A, robot.kind, robot.h, robot.r_p, robot.d, robot.inward, frame)

@@ -32,8 +32,8 @@ FLOOR_Z = 0.0
 
 
 def mark_below_floor(res, p):
-    """Mark the desired points below the floor (z < ``FLOOR_Z``) ``inaccessible`` in a solver's
-    per-point result, whatever the solver found there: one rule for every command and engine (a
+    """Mark the desired points below the floor (z < ``FLOOR_Z``) of a suspended point-mass robot
+    ``inaccessible`` in a solver's per-point result, whatever the solver found there: one rule for every command and engine (a
     point under the floor cannot be reached, even where the cable model has an equilibrium).
 
     Parameters

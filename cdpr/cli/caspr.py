@@ -1,0 +1,28 @@
+"""``cdpr import caspr``: its options (the command is ``cdpr.cli.commands.cmd_import_caspr``, which
+builds a robot file from CASPR's bodies and cables XML with ``cdpr.robot_import``).
+
+Standard library and ``cdpr.cli.options`` only: ``cdpr.cli.parser`` registers it for ``cdpr --help``.
+"""
+
+from __future__ import annotations
+
+from cdpr.cli.options import Parser, non_negative, positive
+
+
+def add_parser(sub):
+    """Register ``import caspr`` on the command line's subparsers ``sub``."""
+    sp = sub.add_parser("import", help="write a robot file from another tool's model (CASPR)")
+    tools = sp.add_subparsers(dest="tool", required=True, parser_class=Parser)
+    c = tools.add_parser("caspr", help="single-link spatial CASPR model: X_bodies.xml + X_cables.xml")
+    c.add_argument("--bodies", required=True, metavar="FILE", help="CASPR bodies file (X_bodies.xml)")
+    c.add_argument("--cables", required=True, metavar="FILE", help="CASPR cables file (X_cables.xml)")
+    c.add_argument("--cable-set", metavar="ID", help="cable set id (default: the file's default_cable_set)")
+    c.add_argument("--out", required=True, metavar="FILE", help="robot YAML file to write")
+    c.add_argument("--E", type=positive, default=102.2e9, metavar="PA", help="Young's modulus (not in CASPR)")
+    c.add_argument(
+        "--diameter", type=positive, default=0.004, metavar="M", help="cable diameter (not in CASPR)"
+    )
+    c.add_argument(
+        "--dead-length", type=non_negative, default=0.0, metavar="M", help="dead length d (not in CASPR)"
+    )
+    c.set_defaults(run=("cdpr.cli.commands", "cmd_import_caspr"))

@@ -1,0 +1,23 @@
+"""``cdpr view``: its options (the command is ``cdpr.cli.commands.cmd_view``: a 3-D picture of a
+robot (frame, pulleys with their axes, platform, cables) so a user checks a robot file by looking at it).
+
+Standard library and ``cdpr.cli.options`` only: ``cdpr.cli.parser`` registers it for ``cdpr --help``.
+"""
+
+from __future__ import annotations
+
+from cdpr.cli.options import finite
+
+
+def add_parser(sub):
+    """Register ``view`` on the command line's subparsers ``sub``."""
+    sp = sub.add_parser(
+        "view", help="3-D picture of a robot file at a pose (frame, pulleys and axes, platform, cables)"
+    )
+    sp.add_argument("--robot", required=True, metavar="FILE", help="robot YAML file")
+    sp.add_argument(
+        "--at", nargs=3, type=finite, metavar=("X", "Y", "Z"), help="platform position [m] (default: centre)"
+    )
+    sp.add_argument("--rotvec", nargs=3, type=finite, metavar=("RX", "RY", "RZ"), help="orientation [rad]")
+    sp.add_argument("--out", required=True, metavar="FILE", help="output .png")
+    sp.set_defaults(run=("cdpr.cli.commands", "cmd_view"))

@@ -1,0 +1,216 @@
+"""The command line on spatial robots (issue 17): --rotvec, the JSON keys, tables with rx, ry, rz."""
+
+import json
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from cdpr.cli.main import main
+from tests.conftest import ROBOTS
+
+COGIRO = str(ROBOTS / "cogiro.yaml")
+R4 = str(ROBOTS / "cdpr4.yaml")
+TILT = str(np.radians(15))
+
+
+def run_json(capsys, *args):
+    assert main(list(args) + ["--json"]) == 0
+    return json.loads(capsys.readouterr().out)
+
+
+def test_point_json_on_cogiro(capsys):
+    out = run_json(
+        capsys,
+        "point",
+        "--robot",
+        COGIRO,
+        "--at",
+        "0",
+        "0",
+        "2",
+        "--rotvec",
+        TILT,
+        "0",
+        "0",
+        "--redundancy",
+        "physical",
+    )
+    assert set(out) >= {
+        "solved",
+        "solved_rotvec",
+        "dp_norm",
+        "dphi",
+        "tensions",
+        "taut",
+        "status",
+        "unique",
+        "alternatives",
+    }
+    assert out["status"] == "ok" and out["taut"] == sorted(out["taut"]) and min(out["taut"]) >= 1
+    assert out["dp_norm"] == pytest.approx(np.linalg.norm(np.subtract(out["solved"], [0, 0, 2])))
+    from scipy.spatial.transform import Rotation
+
+    dphi = (
+        Rotation.from_rotvec(out["solved_rotvec"]) * Rotation.from_rotvec([float(TILT), 0, 0]).inv()
+    ).magnitude()
+    assert out["dphi"] == pytest.approx(dphi, abs=1e-12)
+
+
+def test_rotvec_is_carried_through_on_a_point_mass_robot(capsys):
+    base = ["point", "--robot", R4, "--at", "0.5", "0.2", "2.5", "--redundancy", "physical"]
+    a = run_json(capsys, *base)
+    b = run_json(capsys, *base, "--rotvec", "0.1", "-0.2", "0.3")
+    assert b["solved_rotvec"] == [0.1, -0.2, 0.3] and b["dphi"] == 0.0
+    assert np.abs(np.subtract(a["solved"], b["solved"])).max() < 1e-9 and a["taut"] == b["taut"]
+    c = run_json(capsys, "point", "--robot", R4, "--at", "0.5", "0.2", "2.5", "--rotvec", "0.1", "0", "0")
+    assert c["solved_rotvec"] == [0.1, 0.0, 0.0] and c["dphi"] == 0.0 and "subset" in c
+
+
+def test_inverse_json_keys_and_rotation(capsys):
+    out = run_json(capsys, "inverse", "--robot", COGIRO, "--at", "0", "0", "2", "--rotvec", "0", "0", "0.3")
+    assert len(out) == 8 and {"L_TE", "swivel", "wrap", "wrap_over_270"} <= set(out[0])
+    flat = run_json(capsys, "inverse", "--robot", COGIRO, "--at", "0", "0", "2")
+    assert any(abs(a["L_TE"] - b["L_TE"]) > 1e-3 for a, b in zip(out, flat))  # the orientation matters
+    r4 = run_json(capsys, "inverse", "--robot", R4, "--at", "0.5", "0.2", "2.5")
+    assert all(abs(c["swivel"] + c["alpha"]) < 1e-15 for c in r4)
+
+
+def test_points_table_with_orientations(tmp_path, capsys):
+    pts = tmp_path / "p.csv"
+    pd.DataFrame(
+        {"x": [0, 1], "y": [0, 1], "z": [2, 1.5], "rx": [float(TILT), 0], "ry": [0, 0], "rz": [0, 0.1]}
+    ).to_csv(pts, index=False)
+    out = tmp_path / "o.csv"
+    assert (
+        main(
+            ["point", "--robot", COGIRO, "--points", str(pts), "--out", str(out), "--redundancy", "physical"]
+        )
+        == 0
+    )
+    capsys.readouterr()
+    df = pd.read_csv(out)
+    assert {"rx", "ry", "rz", "rx_s", "ry_s", "rz_s", "dphi", "unique", "taut", "status"} <= set(df.columns)
+    assert df["rx"][0] == pytest.approx(float(TILT)) and (df["status"] == "ok").all()
+    single = run_json(
+        capsys,
+        "point",
+        "--robot",
+        COGIRO,
+        "--at",
+        "1",
+        "1",
+        "1.5",
+        "--rotvec",
+        "0",
+        "0",
+        "0.1",
+        "--redundancy",
+        "physical",
+    )
+    assert df["dphi"][1] == pytest.approx(single["dphi"], abs=1e-12)
+
+
+@pytest.mark.parametrize(
+    "extra,message",
+    [
+        ([], "paper mode (3-cable subsets) is the point-mass rule"),
+        (["--redundancy", "physical", "--engine", "compiled"], "the compiled engine has no 6-DoF solver yet"),
+    ],
+)
+def test_spatial_refusals_are_one_line(capsys, extra, message):
+    assert main(["point", "--robot", COGIRO, "--at", "0", "0", "2", *extra]) == 2
+    err = capsys.readouterr().err
+    assert message in err and err.count("\n") == 1
+
+
+def test_compensate_at_a_pose_round_trips(capsys):
+    E = ["80e9", "120e9", "95e9", "130e9", "110e9", "90e9", "105e9", "115e9"]
+    base = ["compensate", "--robot", COGIRO, "--E-cables", *E, "--t-min", "100", "--t-max", "5000"]
+    out = run_json(capsys, *base, "--at", "0", "0", "2", "--rotvec", TILT, "0", "0")
+    assert out["status"] == "ok" and len(out["lengths"]) == 8
+    assert out["dp_norm"] < 1e-9 and out["dphi"] < 1e-9
+    hang = run_json(
+        capsys,
+        "compensate",
+        "--robot",
+        str(ROBOTS / "hang4_6dof.yaml"),
+        "--at",
+        "0.3",
+        "0.2",
+        "2.5",
+        "--rotvec",
+        "0.2",
+        "0",
+        "0",
+    )
+    assert hang["status"] == "infeasible" and hang["lengths"] == [None] * 4
+
+
+def test_view_writes_a_picture(tmp_path, capsys):
+    out = tmp_path / "robot.png"
+    assert (
+        main(
+            ["view", "--robot", COGIRO, "--at", "0", "0", "2", "--rotvec", TILT, "0", "0", "--out", str(out)]
+        )
+        == 0
+    )
+    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and out.stat().st_size > 20_000
+    assert main(["view", "--robot", COGIRO, "--out", str(tmp_path / "robot.jpg")]) == 2
+    assert "unknown output format '.jpg'" in capsys.readouterr().err
+
+
+def test_grid_at_a_fixed_orientation_with_wrench_feasibility(tmp_path, capsys):
+    out = tmp_path / "g.csv"
+    base = [
+        "grid",
+        "--box",
+        "-2",
+        "2",
+        "-2",
+        "2",
+        "1",
+        "3",
+        "--n",
+        "2",
+        "--redundancy",
+        "physical",
+        "--wrench-feasible",
+    ]
+    assert main([*base, "--robot", COGIRO, "--rotvec", "0.1", "0", "0", "--out", str(out)]) == 0
+    df = pd.read_csv(out)
+    assert len(df) == 8 and df["feasible"].all() and (df["rx"] == 0.1).all() and (df["status"] == "ok").all()
+    assert "wrench-feasible: 8 of 8 grid points, 32 m^3" in capsys.readouterr().out
+    hang = str(ROBOTS / "hang4_6dof.yaml")
+    assert main([*base, "--robot", hang, "--rotvec", "0.1", "0", "0", "--out", str(out)]) == 0
+    assert not pd.read_csv(out)["feasible"].any()  # 4 cables, 6 DoF: no distribution at a fixed orientation
+    capsys.readouterr()
+    assert main([*base[:-1], "--robot", COGIRO, "--sensitivities", "--out", str(out)]) == 2
+    assert "not available yet for a rigid platform" in capsys.readouterr().err
+
+
+def test_frame_extent_of_a_robot_that_is_not_a_suspended_point_mass(cdpr4):
+    from cdpr.analyses.workspace import frame_box
+    from cdpr.robot import load_robot
+
+    cog = load_robot(COGIRO)
+    box = frame_box(cog)
+    assert box[4] == 0.0 and box[5] == pytest.approx(5.42) and box[0] == pytest.approx(-7.4594)
+    assert frame_box(cdpr4) == [-2.5, 2.5, -2.5, 2.5, 0.0, 5.0] and cdpr4.envelope_volume == pytest.approx(
+        125.0
+    )
+    ip = load_robot(ROBOTS / "ipanema_like.yaml")
+    assert ip.envelope_volume == pytest.approx(4 * 3 * 3)
+
+
+def test_plane_and_trajectory_take_an_orientation(tmp_path, capsys):
+    out = tmp_path / "t.csv"
+    base = ["--robot", COGIRO, "--rotvec", "0", "0.1", "0", "--redundancy", "physical", "--out", str(out)]
+    assert main(["trajectory", "--start", "-1", "0", "1.5", "--end", "1", "0", "2", "--n", "3", *base]) == 0
+    df = pd.read_csv(out)
+    assert len(df) == 3 and (df["ry"] == 0.1).all() and "s" in df.columns and (df["status"] == "ok").all()
+    assert main(["plane", "--z", "2", "--n", "2", *base]) == 0
+    assert len(pd.read_csv(out)) == 4
+    capsys.readouterr()
+    assert main(["plane", "--z", "7", "--n", "2", *base]) == 2
+    assert "--z must lie within the frame's height (0 <= z <= 5.42 m)" in capsys.readouterr().err
