@@ -9,6 +9,8 @@ BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 CLUSTER_STAMP := $(VENV)/.installed-cluster
 
+
+.PHONY: test-fast
 .PHONY: venv test docs test-docs-browser reproduce reproduce-extra resume reproduce-quick update-references clean-venv cluster-venv test-slurm
 
 # Re-install whenever pyproject.toml changes (the stamp is older than it).
@@ -25,6 +27,15 @@ test: $(STAMP)
 	$(BIN)/ruff format --check .
 	$(BIN)/lint-imports
 	$(BIN)/python -m pytest -q
+
+# The same checks without the tests that run whole Snakemake studies or build the wheel (minutes
+# instead of tens of minutes on a 2-core machine): for the edit-test loop, not for CI.
+test-fast: $(STAMP)
+	$(BIN)/ruff check .
+	$(BIN)/ruff format --check .
+	$(BIN)/lint-imports
+	$(BIN)/python -m pytest -q -m "not slow" --ignore=tests/test_workflow.py --ignore=tests/test_package.py \
+		--ignore=tests/pipeline/test_shell.py --ignore=tests/test_cluster_profile.py
 
 # The documentation site (docs/, mkdocs.yml): every warning is an error.
 docs: $(STAMP)

@@ -516,50 +516,71 @@ def robot_from_dict(data, source="<dict>"):
     if not isinstance(data, dict):
         raise ConfigError(source, None, f"expected a mapping of keys to values, got {type(data).__name__}")
     validate(data, "robot", source)
+    problems = []  # every physical check runs; all the problems are reported at once (``_report``)
+
+    def ok(fn, *args, default=None, **kwargs):
+        try:
+            return fn(*args, **kwargs)
+        except ConfigError as exc:
+            problems.append(exc)
+            return default
+
     plat = data["platform"]
     platform = Platform(
-        mass=_positive(plat["mass_kg"], "kg", source, "platform.mass_kg"),
-        g=_positive(plat.get("gravity_m_per_s2", G_STANDARD), "m/s^2", source, "platform.gravity_m_per_s2"),
-        com=_vector(plat.get("com_m", (0.0, 0.0, 0.0)), source, "platform.com_m"),
-    )
+        mass=ok(_positive, plat["mass_kg"], "kg", source, "platform.mass_kg", default=1.0),
+        g=ok(
+            _positive, plat.get("gravity_m_per_s2", G_STANDARD), "m/s^2", source, "platform.gravity_m_per_s2",
+            default=G_STANDARD,
+        ),
+        com=ok(_vector, plat.get("com_m", (0.0, 0.0, 0.0)), source, "platform.com_m", default=(0.0, 0.0, 0.0)),
+    )  # fmt: skip
     default_material = data["cable"]
-    _material(default_material, None, source, "cable")  # the default on its own
+    ok(_material, default_material, None, source, "cable")  # the default on its own
     default_pulley = data["pulley"]
-    _pulley(default_pulley, None, source, "pulley")
+    ok(_pulley, default_pulley, None, source, "pulley")
     default_dead = data.get("dead_length_m", 0.0)
     default_winch = data.get("winch")
     if default_winch is not None:
-        params_from_mapping(default_winch, source, "winch")
+        ok(params_from_mapping, default_winch, source, "winch")
     cables = []
     for i, c in enumerate(data["cables"]):
         key = f"cables[{i}]"
-        A = _vector(c["A_m"], source, f"{key}.A_m")
-        B = _vector(c.get("B_m", (0.0, 0.0, 0.0)), source, f"{key}.B_m")
-        pulley = _pulley(
-            c.get("pulley"), default_pulley, source, key + ".pulley" if "pulley" in c else "pulley"
+        A = ok(_vector, c["A_m"], source, f"{key}.A_m", default=(0.0, 0.0, float(i)))
+        B = ok(_vector, c.get("B_m", (0.0, 0.0, 0.0)), source, f"{key}.B_m", default=(0.0, 0.0, 0.0))
+        pulley = ok(
+            _pulley, c.get("pulley"), default_pulley, source, key + ".pulley" if "pulley" in c else "pulley"
         )
-        material = _material(
-            c.get("cable"), default_material, source, key + ".cable" if "cable" in c else "cable"
+        material = ok(
+            _material, c.get("cable"), default_material, source, key + ".cable" if "cable" in c else "cable"
         )
         dk = key + ".dead_length_m" if "dead_length_m" in c else "dead_length_m"
-        dead = _positive(c.get("dead_length_m", default_dead), "m", source, dk, allow_zero=True)
+        dead = ok(
+            _positive, c.get("dead_length_m", default_dead), "m", source, dk, allow_zero=True, default=0.0
+        )
         w = c.get("winch", default_winch)
         winch = (
             None
             if w is None
-            else params_from_mapping(
-                {**(default_winch or {}), **w}, source, key + ".winch" if "winch" in c else "winch"
+            else ok(
+                params_from_mapping,
+                {**(default_winch or {}), **w},
+                source,
+                key + ".winch" if "winch" in c else "winch",
             )
         )
-        cables.append(Cable(A=A, pulley=pulley, dead_length=dead, material=material, winch=winch, B=B))
+        if pulley is not None and material is not None:
+            cables.append(Cable(A=A, pulley=pulley, dead_length=dead, material=material, winch=winch, B=B))
     for (i, a), (j, b) in itertools.combinations(enumerate(cables), 2):
         if np.allclose(a.A, b.A, atol=1e-9) and np.allclose(a.B, b.B, atol=1e-9):
-            raise ConfigError(
-                source,
-                f"cables[{j}].A_m",
-                f"duplicate anchor point {list(b.A)}: same as cables[{i}].A_m with the same attachment B_m; "
-                "two cables may share an anchor only with different attachments",
+            problems.append(
+                ConfigError(
+                    source,
+                    f"cables[{j}].A_m",
+                    f"duplicate anchor point {list(b.A)}: same as cables[{i}].A_m with the same attachment B_m; "
+                    "two cables may share an anchor only with different attachments",
+                )
             )
+    _report(source, problems)
     name = data.get("name", Path(str(source)).stem)
     robot = Robot(name=name, cables=tuple(cables), platform=platform, source=str(source))
     if robot.suspended_point_mass:
@@ -668,3 +689,13 @@ def with_pulleys(robot, kind=None, h=None, r_p=None, dead_length=None, E=None):
             )
         )
     return dataclasses.replace(robot, cables=tuple(cables))
+
+
+def _report(source, problems):
+    """Raise the one problem found, or one ConfigError listing them all (``N problems: key 'a': ...;
+    key 'b': ...``); nothing when there is none."""
+    if len(problems) == 1:
+        raise problems[0]
+    if problems:
+        listed = "; ".join(f"key '{e.key}': {e.detail}" if e.key else e.detail for e in problems)
+        raise ConfigError(source, None, f"{len(problems)} problems: {listed}")

@@ -1,1 +1,2 @@
-"""compiled"""
+"""Numba twins of ``cdpr.models`` under the same module names (subsets, equilibrium, sensitivity),
+tested equal to their references; ``_kernels`` holds the one scalar cable kernel they share."""

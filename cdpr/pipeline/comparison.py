@@ -523,7 +523,7 @@ def conclusions(st, paper_res, physical_res):
 def _uq_bands(res):
     """The uncertainty bands table of a results folder, or None without it."""
     p = Path(res) / "uncertainty" / "bands.csv"
-    return io.read_table(p) if p.exists() else None
+    return table_io.read_table(p) if p.exists() else None
 
 
 def _uq_value(tab, design, case, column, method="linearised"):

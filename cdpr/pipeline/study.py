@@ -11,6 +11,7 @@ Snakemake pipeline all go through it.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import os
@@ -241,88 +242,134 @@ def _increasing(st, key, lo, hi, what="'from' must be below 'to'"):
 
 
 def check_study(st):
-    """Cross-key checks of a schema-valid study; raises ConfigError naming the study file and key."""
+    """Cross-key checks of a schema-valid study; raises ConfigError naming the study file and key.
+
+    Every check runs, and all the problems found are reported in one error (``_report``): a study
+    with several mistakes (a robot renamed in one place but not in the others) is corrected in one
+    go."""
     src = st.path
-    if redundancy(st) == "physical" and st["solver"] != "newton":
-        raise ConfigError(
-            src,
-            "solver",
-            f"physical mode (redundancy: physical) has one solver, newton; got {st['solver']!r}",
-        )
-    robots = {}
-    for key, path in st["robots"].items():
-        if not Path(path).is_file():
+    problems = []
+    with _collect(problems):
+        if redundancy(st) == "physical" and st["solver"] != "newton":
             raise ConfigError(
                 src,
-                f"robots.{key}",
-                f"robot file {path!r} does not exist (paths are relative to the directory snakemake runs in)",
+                "solver",
+                f"physical mode (redundancy: physical) has one solver, newton; got {st['solver']!r}",
             )
-        try:
-            robots[key] = robot_from_dict(read_yaml(path), source=path)
-        except ConfigError as exc:
-            raise ConfigError(src, f"robots.{key}", f"robot file is invalid: {exc}") from None
-    for sec, key in (("doe", "robot"),):
-        if st[sec][key] not in robots:
+    robots = {}
+    for key, path in st["robots"].items():
+        with _collect(problems):
+            if not Path(path).is_file():
+                raise ConfigError(
+                    src,
+                    f"robots.{key}",
+                    f"robot file {path!r} does not exist (paths are relative to the directory snakemake runs in)",
+                )
+            try:
+                robots[key] = robot_from_dict(read_yaml(path), source=path)
+            except ConfigError as exc:
+                raise ConfigError(src, f"robots.{key}", f"robot file is invalid: {exc}") from None
+    known = list(st["robots"])  # a robot whose file is bad is reported once, above
+    with _collect(problems):
+        if st["doe"]["robot"] not in known:
             raise ConfigError(
-                src, f"{sec}.{key}", f"unknown robot {st[sec][key]!r}; allowed: {', '.join(robots)}"
+                src, "doe.robot", f"unknown robot {st['doe']['robot']!r}; allowed: {', '.join(known)}"
             )
     for key in st["trajectories"]["paths"]:
-        if key not in robots:
-            raise ConfigError(
-                src, f"trajectories.paths.{key}", f"unknown robot; allowed: {', '.join(robots)}"
-            )
+        with _collect(problems):
+            if key not in known:
+                raise ConfigError(
+                    src, f"trajectories.paths.{key}", f"unknown robot; allowed: {', '.join(known)}"
+                )
     for sec in ("pulleys", "optimal"):
         for name, p in st[sec].items():
             if p["kind"] == "fixed":
                 continue
-            check_pulley(p["kind"], p.get("h_m", 0.0), p.get("r_p_m", 0.0), src, f"{sec}.{name}")
+            with _collect(problems):
+                check_pulley(p["kind"], p.get("h_m", 0.0), p.get("r_p_m", 0.0), src, f"{sec}.{name}")
     lv = st["doe"]["levels"]
-    for i, kind in enumerate(lv["joint"]):
-        for h in lv["h_m"]:
-            for r in lv["r_p_m"]:
-                check_pulley(kind, h, r, src, "doe.levels")
+    with _collect(problems):
+        for i, kind in enumerate(lv["joint"]):
+            for h in lv["h_m"]:
+                for r in lv["r_p_m"]:
+                    check_pulley(kind, h, r, src, "doe.levels")
     for key, spec in (("maps.h_m", st["maps"]["h_m"]), ("maps.r_p_m", st["maps"]["r_p_m"])):
-        _increasing(st, key, spec["from"], spec["to"])
-    if not map_cells(st):
-        raise ConfigError(src, "maps", "no map cell has r_p < h; widen maps.h_m or lower maps.r_p_m")
+        with _collect(problems):
+            _increasing(st, key, spec["from"], spec["to"])
+    with _collect(problems):
+        if not map_cells(st):
+            raise ConfigError(src, "maps", "no map cell has r_p < h; widen maps.h_m or lower maps.r_p_m")
     e = st["elasticity"]["E_Pa"]
-    if not e["from"] > 0:
-        raise ConfigError(src, "elasticity.E_Pa.from", f"Young's modulus must be > 0 Pa, got {e['from']:g}")
-    _increasing(st, "elasticity.E_Pa", e["from"], e["to"])
+    with _collect(problems):
+        if not e["from"] > 0:
+            raise ConfigError(
+                src, "elasticity.E_Pa.from", f"Young's modulus must be > 0 Pa, got {e['from']:g}"
+            )
+        _increasing(st, "elasticity.E_Pa", e["from"], e["to"])
     sw = st["volumes"]["sweep_m"]
-    _increasing(st, "volumes.sweep_m", sw["from"], sw["to"])
-    check_sizes(st)
-    try:
-        check_box(st["doe"]["paper_rw_c_m"])
-    except Exception as exc:
-        raise ConfigError(src, "doe.paper_rw_c_m", str(exc)) from None
+    with _collect(problems):
+        _increasing(st, "volumes.sweep_m", sw["from"], sw["to"])
+    with _collect(problems):
+        check_sizes(st)
+    with _collect(problems):
+        try:
+            check_box(st["doe"]["paper_rw_c_m"])
+        except Exception as exc:
+            raise ConfigError(src, "doe.paper_rw_c_m", str(exc)) from None
     w = st["winch"]
     for k in ("lpm_from_m", "lpm_to_m"):
-        if not math.isfinite(w[k]) or w[k] < 0:
-            raise ConfigError(src, f"winch.{k}", f"must be a finite length >= 0 m, got {w[k]!r}")
-    _increasing(st, "winch", w["lpm_from_m"], w["lpm_to_m"], "'lpm_from_m' must be below 'lpm_to_m'")
+        with _collect(problems):
+            if not math.isfinite(w[k]) or w[k] < 0:
+                raise ConfigError(src, f"winch.{k}", f"must be a finite length >= 0 m, got {w[k]!r}")
+    with _collect(problems):
+        _increasing(st, "winch", w["lpm_from_m"], w["lpm_to_m"], "'lpm_from_m' must be below 'lpm_to_m'")
     z = st["plane"]["z_m"]
     for key, robot in robots.items():
         top = float(robot.A[:, 2].min())
-        if not 0.0 <= z < top:
-            raise ConfigError(
-                src,
-                "plane.z_m",
-                f"must lie between the floor and the lowest pulley of robot {key} (0 <= z < {top:g} m), got {z:g}",
-            )
-    for key, path in st["trajectories"]["paths"].items():
-        top = float(robots[key].A[:, 2].min())
-        for end in ("start_m", "end_m"):
-            if path[end][2] > top:
+        with _collect(problems):
+            if not 0.0 <= z < top:
                 raise ConfigError(
                     src,
-                    f"trajectories.paths.{key}.{end}",
-                    f"z must not exceed the lowest pulley ({top:g} m), got {path[end][2]:g}",
+                    "plane.z_m",
+                    f"must lie between the floor and the lowest pulley of robot {key} (0 <= z < {top:g} m), got {z:g}",
                 )
-    if "uncertainty" in st:
-        check_uncertainty(st, robots)
+    for key, path in st["trajectories"]["paths"].items():
+        if key not in robots:
+            continue  # unknown or invalid robot: reported above
+        top = float(robots[key].A[:, 2].min())
+        for end in ("start_m", "end_m"):
+            with _collect(problems):
+                if path[end][2] > top:
+                    raise ConfigError(
+                        src,
+                        f"trajectories.paths.{key}.{end}",
+                        f"z must not exceed the lowest pulley ({top:g} m), got {path[end][2]:g}",
+                    )
+    if "uncertainty" in st and not problems:
+        with _collect(problems):
+            check_uncertainty(st, robots)
+    _report(src, problems)
     st.robot_models = robots
     return st
+
+
+@contextlib.contextmanager
+def _collect(problems):
+    """Run one check; a ConfigError it raises joins ``problems`` instead of stopping the others."""
+    try:
+        yield
+    except ConfigError as exc:
+        problems.append(exc)
+
+
+def _report(src, problems):
+    """Raise the one problem found, or one ConfigError listing them all (``N problems: key 'a': ...;
+    key 'b': ...``); nothing when there is none."""
+    if len(problems) == 1:
+        raise problems[0]
+    if problems:
+        listed = "; ".join(f"key '{e.key}': {e.detail}" if e.key else e.detail for e in problems)
+        raise ConfigError(src, None, f"{len(problems)} problems: {listed}")
 
 
 def check_uncertainty(st, robots):

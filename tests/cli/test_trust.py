@@ -167,3 +167,38 @@ def test_closed_pipe_ends_quietly():
         cwd=ROOT,
     )
     assert p.returncode == 0 and p.stderr == b"", p.stderr
+
+
+def test_a_renamed_robot_is_one_report(tmp_path):
+    """Renaming a robot in `robots:` only: every key that still names the old robot is listed in
+    one error (it took one run per key before)."""
+    import re
+
+    from cdpr.errors import ConfigError
+    from cdpr.pipeline.study import load_study
+
+    text = (ROOT / "config" / "studies" / "quick.yaml").read_text(encoding="utf-8")
+    p = tmp_path / "renamed.yaml"
+    p.write_text(re.sub(r"^(\s*)CDPR4:", r"\1ROBOT4:", text, count=1, flags=re.M), encoding="utf-8")
+    with pytest.raises(ConfigError) as err:
+        load_study(p)
+    msg = str(err.value)
+    assert "2 problems" in msg and "\n" not in msg, msg
+    assert "key 'doe.robot': unknown robot 'CDPR4'; allowed: ROBOT4, CDPR3" in msg
+    assert "key 'trajectories.paths.CDPR4': unknown robot" in msg
+
+
+def test_several_physical_mistakes_in_a_robot_file_are_one_report(tmp_path, capsys):
+    import yaml
+
+    robot = yaml.safe_load((ROBOTS / "cdpr4.yaml").read_text(encoding="utf-8"))
+    robot["platform"]["mass_kg"] = -3
+    robot["cables"][1]["pulley"] = {"kind": "SR", "h_m": 0.01, "r_p_m": 0.05}
+    robot["cables"][2]["dead_length_m"] = -1
+    p = tmp_path / "r.yaml"
+    p.write_text(yaml.safe_dump(robot), encoding="utf-8")
+    code, out, err = run(["point", "--robot", str(p), "--at", "0", "0", "2.5"], capsys)
+    assert code == 2 and err.count("\n") == 1, err
+    assert "3 problems" in err
+    for key in ("platform.mass_kg", "cables[1].pulley", "cables[2].dead_length_m"):
+        assert f"key '{key}'" in err, err
