@@ -293,11 +293,12 @@ def check_study(st):
             for h in lv["h_m"]:
                 for r in lv["r_p_m"]:
                     check_pulley(kind, h, r, src, "doe.levels")
+    before = len(problems)
     for key, spec in (("maps.h_m", st["maps"]["h_m"]), ("maps.r_p_m", st["maps"]["r_p_m"])):
         with _collect(problems):
             _increasing(st, key, spec["from"], spec["to"])
     with _collect(problems):
-        if not map_cells(st):
+        if len(problems) == before and not map_cells(st):  # (a reversed range is the reason already)
             raise ConfigError(src, "maps", "no map cell has r_p < h; widen maps.h_m or lower maps.r_p_m")
     e = st["elasticity"]["E_Pa"]
     with _collect(problems):
@@ -317,12 +318,14 @@ def check_study(st):
         except Exception as exc:
             raise ConfigError(src, "doe.paper_rw_c_m", str(exc)) from None
     w = st["winch"]
+    before = len(problems)
     for k in ("lpm_from_m", "lpm_to_m"):
         with _collect(problems):
             if not math.isfinite(w[k]) or w[k] < 0:
                 raise ConfigError(src, f"winch.{k}", f"must be a finite length >= 0 m, got {w[k]!r}")
     with _collect(problems):
-        _increasing(st, "winch", w["lpm_from_m"], w["lpm_to_m"], "'lpm_from_m' must be below 'lpm_to_m'")
+        if len(problems) == before:  # a NaN or negative length is the reason already
+            _increasing(st, "winch", w["lpm_from_m"], w["lpm_to_m"], "'lpm_from_m' must be below 'lpm_to_m'")
     z = st["plane"]["z_m"]
     for key, robot in robots.items():
         top = float(robot.A[:, 2].min())
@@ -365,6 +368,10 @@ def _collect(problems):
 def _report(src, problems):
     """Raise the one problem found, or one ConfigError listing them all (``N problems: key 'a': ...;
     key 'b': ...``); nothing when there is none."""
+    first = {}
+    for e in problems:  # one problem per key (plane.z_m against every robot: the first says it)
+        first.setdefault(e.key, e)
+    problems = list(first.values())
     if len(problems) == 1:
         raise problems[0]
     if problems:

@@ -184,7 +184,7 @@ def test_a_renamed_robot_is_one_report(tmp_path):
         load_study(p)
     msg = str(err.value)
     assert "2 problems" in msg and "\n" not in msg, msg
-    assert "key 'doe.robot': unknown robot 'CDPR4'; allowed: ROBOT4, CDPR3" in msg
+    assert "key 'doe.robot': unknown robot 'CDPR4'; allowed: CDPR3, ROBOT4" in msg
     assert "key 'trajectories.paths.CDPR4': unknown robot" in msg
 
 
