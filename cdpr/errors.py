@@ -17,3 +17,18 @@ class ConfigError(CdprError, ValueError):
         self.detail = message
         where = f"{self.source}: key '{key}'" if key else self.source
         super().__init__(f"{where}: {message}")
+
+
+def raise_problems(source, problems):
+    """Raise the problems a file's checks collected: none, nothing; one, itself; several, one
+    ConfigError naming ``source`` and listing them (``N problems: key 'a': ...; key 'b': ...``), a
+    key once (the first problem found for it)."""
+    first = {}
+    for e in problems:
+        first.setdefault(e.key, e)
+    problems = list(first.values())
+    if len(problems) == 1:
+        raise problems[0]
+    if problems:
+        listed = "; ".join(f"key '{e.key}': {e.detail}" if e.key else e.detail for e in problems)
+        raise ConfigError(source, None, f"{len(problems)} problems: {listed}")

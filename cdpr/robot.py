@@ -39,7 +39,7 @@ from typing import NamedTuple
 import numpy as np
 from scipy.spatial import ConvexHull
 
-from cdpr.errors import ConfigError
+from cdpr.errors import ConfigError, raise_problems
 from cdpr.units import quantity
 from cdpr.validation import read_yaml, validate  # noqa: F401  (read_yaml re-exported)
 
@@ -516,7 +516,7 @@ def robot_from_dict(data, source="<dict>"):
     if not isinstance(data, dict):
         raise ConfigError(source, None, f"expected a mapping of keys to values, got {type(data).__name__}")
     validate(data, "robot", source)
-    problems = []  # every physical check runs; all the problems are reported at once (``_report``)
+    problems = []  # every physical check runs; all the problems are reported at once (``errors.raise_problems``)
 
     def ok(fn, *args, default=None, **kwargs):
         try:
@@ -580,7 +580,7 @@ def robot_from_dict(data, source="<dict>"):
                     "two cables may share an anchor only with different attachments",
                 )
             )
-    _report(source, problems)
+    raise_problems(source, problems)
     name = data.get("name", Path(str(source)).stem)
     robot = Robot(name=name, cables=tuple(cables), platform=platform, source=str(source))
     if robot.suspended_point_mass:
@@ -689,13 +689,3 @@ def with_pulleys(robot, kind=None, h=None, r_p=None, dead_length=None, E=None):
             )
         )
     return dataclasses.replace(robot, cables=tuple(cables))
-
-
-def _report(source, problems):
-    """Raise the one problem found, or one ConfigError listing them all (``N problems: key 'a': ...;
-    key 'b': ...``); nothing when there is none."""
-    if len(problems) == 1:
-        raise problems[0]
-    if problems:
-        listed = "; ".join(f"key '{e.key}': {e.detail}" if e.key else e.detail for e in problems)
-        raise ConfigError(source, None, f"{len(problems)} problems: {listed}")

@@ -23,7 +23,7 @@ import pandas as pd
 from cdpr.analyses import doe
 from cdpr.analyses.uncertainty import PARAMETER_KEYS, Distribution
 from cdpr.analyses.workspace import check_box
-from cdpr.errors import ConfigError
+from cdpr.errors import ConfigError, raise_problems
 from cdpr.robot import check_pulley, load_robot, robot_from_dict
 from cdpr.validation import read_yaml, validate
 
@@ -244,7 +244,7 @@ def _increasing(st, key, lo, hi, what="'from' must be below 'to'"):
 def check_study(st):
     """Cross-key checks of a schema-valid study; raises ConfigError naming the study file and key.
 
-    Every check runs, and all the problems found are reported in one error (``_report``): a study
+    Every check runs, and all the problems found are reported in one error (``errors.raise_problems``): a study
     with several mistakes (a robot renamed in one place but not in the others) is corrected in one
     go."""
     src = st.path
@@ -351,7 +351,7 @@ def check_study(st):
     if "uncertainty" in st and not problems:
         with _collect(problems):
             check_uncertainty(st, robots)
-    _report(src, problems)
+    raise_problems(src, problems)
     st.robot_models = robots
     return st
 
@@ -363,20 +363,6 @@ def _collect(problems):
         yield
     except ConfigError as exc:
         problems.append(exc)
-
-
-def _report(src, problems):
-    """Raise the one problem found, or one ConfigError listing them all (``N problems: key 'a': ...;
-    key 'b': ...``); nothing when there is none."""
-    first = {}
-    for e in problems:  # one problem per key (plane.z_m against every robot: the first says it)
-        first.setdefault(e.key, e)
-    problems = list(first.values())
-    if len(problems) == 1:
-        raise problems[0]
-    if problems:
-        listed = "; ".join(f"key '{e.key}': {e.detail}" if e.key else e.detail for e in problems)
-        raise ConfigError(src, None, f"{len(problems)} problems: {listed}")
 
 
 def check_uncertainty(st, robots):
