@@ -44,6 +44,13 @@ def load_study(path):
     data = read_yaml(path)
     if not isinstance(data, dict):
         raise ConfigError(path, None, f"expected a mapping of study keys, got {type(data).__name__}")
+    if "truth_deviations" in data and "robots" not in data:
+        raise ConfigError(
+            path,
+            None,
+            "this is a calibration study (truth_deviations, no robots): run it with "
+            "`cdpr calibrate study --study FILE`, not as a pipeline study",
+        )
     validate(data, "study", path)
     st = Study(data)
     st.path = str(path)

@@ -8,7 +8,10 @@ import pytest
 from cdpr.pipeline import study
 
 ROOT = Path(__file__).resolve().parents[2]
-STUDIES = sorted((ROOT / "config" / "studies").glob("*.yaml"))
+# config/studies/calibration.yaml is a calibration study (cdpr calibrate study), not a pipeline one
+STUDIES = sorted(
+    p for p in (ROOT / "config" / "studies").glob("*.yaml") if p.stem != "calibration"
+)
 
 
 @pytest.mark.parametrize("path", STUDIES, ids=[p.stem for p in STUDIES])
@@ -30,3 +33,11 @@ def test_a_path_modulus_on_a_step_is_not_added_twice():
     st = study.load_study(ROOT / "config" / "studies" / "quick.yaml")
     # 3 steps from 67.2 to 137.2 GPa: the middle step is E_mean up to rounding
     assert len(study.E_values(st)) == 3
+
+
+def test_the_calibration_study_is_refused_as_a_pipeline_study_in_one_line():
+    path = ROOT / "config" / "studies" / "calibration.yaml"
+    with pytest.raises(study.ConfigError) as err:
+        study.load_study(path)
+    message = str(err.value)
+    assert "\n" not in message and "cdpr calibrate study" in message and "calibration.yaml" in message

@@ -19,5 +19,6 @@ localrules:
     elasticity,
     dead_length,
     summary,
+    parity,
     uncertainty,
 
