@@ -9,9 +9,7 @@ from cdpr.pipeline import study
 
 ROOT = Path(__file__).resolve().parents[2]
 # config/studies/calibration.yaml is a calibration study (cdpr calibrate study), not a pipeline one
-STUDIES = sorted(
-    p for p in (ROOT / "config" / "studies").glob("*.yaml") if p.stem != "calibration"
-)
+STUDIES = sorted(p for p in (ROOT / "config" / "studies").glob("*.yaml") if p.stem != "calibration")
 
 
 @pytest.mark.parametrize("path", STUDIES, ids=[p.stem for p in STUDIES])
