@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from cdpr.pipeline import study
+from cdpr.pipeline.results import Layout
 
 ROOT = Path(__file__).resolve().parents[2]
 # config/studies/calibration.yaml is a calibration study (cdpr calibrate study), not a pipeline one
@@ -39,3 +40,15 @@ def test_the_calibration_study_is_refused_as_a_pipeline_study_in_one_line():
         study.load_study(path)
     message = str(err.value)
     assert "\n" not in message and "cdpr calibrate study" in message and "calibration.yaml" in message
+
+
+def test_the_compensated_case_is_computed_once_by_the_physical_study():
+    """Issue 21: the compensated robot is physical in both modes; the paper-mode study does not copy it."""
+    paper = study.load_study(ROOT / "config" / "studies" / "quick.yaml")
+    physical = study.load_study(ROOT / "config" / "studies" / "quick_physical.yaml")
+    assert study.uq_cases(paper) == ("uncompensated",)
+    assert study.uq_cases(physical) == ("uncompensated", "compensated")
+    cases = {w["case"] for w in Layout(paper, "results/quick").wildcards("uq_design")}
+    assert cases == {"uncompensated"}
+    cases = {w["case"] for w in Layout(physical, "results/quick_physical").wildcards("uq_shard")}
+    assert cases == {"uncompensated", "compensated"}
