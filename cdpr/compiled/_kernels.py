@@ -51,6 +51,8 @@ __all__ = [
     "PulleyGeometry",
     "cable",
     "cable_arrays",
+    "cable_axis",
+    "cable_derivatives",
     "cable_of",
     "cable_params",
     "cable_partials",
@@ -361,6 +363,111 @@ def cable(px, py, pz, Ax, Ay, Az, kind, h, rp, d, inx, iny):
         enw,
         uCb,
     )
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def cable_axis(px, py, pz, Ax, Ay, Az, kind, h, rp, d, inx, iny, ident, f):
+    """``cable`` for a pulley whose swivel axis k_i is any unit vector: the pulley frame F (rows
+    i_i, j_i, k_i) is a rotation, so the cable is evaluated by the same scalar kernel at the
+    components of B - A in that frame, and the vectors come back to the base frame by F^T::
+
+        w' = F (B - A),   (L, u', e_perp', beta', eps', ...) = cable(w', A' = 0),
+        u = F^T u',   e_perp = F^T e_perp',   beta = F^T beta',   eps = F^T eps'
+
+    The scalars (L_TE, |l_E|, swivel, arm, u_C . beta) are invariant. The gradients built from the
+    vectors (``cable_derivatives``) then rotate as dL/dB = F^T dL'/dB', du/dB = F^T du'/dB' F.
+    ``inward`` is already in the pulley frame (``robot.CableArrays``). With ``ident`` (F = I) the
+    scalar kernel runs on B and A themselves: bit for bit ``cable``.
+
+    Parameters
+    ----------
+    px, py, pz : float [m]
+        The attachment point B_i (base frame).
+    Ax, Ay, Az, kind, h, rp, d, inx, iny
+        As ``pulley_geometry`` (A in the base frame, inward in the pulley frame).
+    ident : bool
+        F is the identity (axis +z without ``zero``).
+    f : ndarray (3, 3) [-]
+        The pulley frame, rows i_i, j_i, k_i (``robot.CableArrays.frame``).
+
+    Returns
+    -------
+    tuple
+        (L [m]; ux, uy, uz [-]; l_E [m]; inside; swivel [-]; e_perp x, y, z [-]; arm [-]; beta x, y, z
+        [-]; eps x, y, z [-]; uC_beta [-]), vectors in the base frame.
+
+    References
+    ----------
+    Paty et al. 2021, eq. (3)-(5), (12).
+    """
+    if ident:
+        (L, ux, uy, uz, lE, ins, sw, epx, epy, arm, btx, bty, btz, ex, ey, ez, uCb) = cable(
+            px, py, pz, Ax, Ay, Az, kind, h, rp, d, inx, iny
+        )
+        return (L, ux, uy, uz, lE, ins, sw, epx, epy, 0.0, arm, btx, bty, btz, ex, ey, ez, uCb)
+    wx, wy, wz = px - Ax, py - Ay, pz - Az
+    qx = f[0, 0] * wx + f[0, 1] * wy + f[0, 2] * wz
+    qy = f[1, 0] * wx + f[1, 1] * wy + f[1, 2] * wz
+    qz = f[2, 0] * wx + f[2, 1] * wy + f[2, 2] * wz
+    (L, ux, uy, uz, lE, ins, sw, epx, epy, arm, btx, bty, btz, ex, ey, ez, uCb) = cable(
+        qx, qy, qz, 0.0, 0.0, 0.0, kind, h, rp, d, inx, iny
+    )
+    return (
+        L,
+        f[0, 0] * ux + f[1, 0] * uy + f[2, 0] * uz,
+        f[0, 1] * ux + f[1, 1] * uy + f[2, 1] * uz,
+        f[0, 2] * ux + f[1, 2] * uy + f[2, 2] * uz,
+        lE,
+        ins,
+        sw,
+        f[0, 0] * epx + f[1, 0] * epy,
+        f[0, 1] * epx + f[1, 1] * epy,
+        f[0, 2] * epx + f[1, 2] * epy,
+        arm,
+        f[0, 0] * btx + f[1, 0] * bty + f[2, 0] * btz,
+        f[0, 1] * btx + f[1, 1] * bty + f[2, 1] * btz,
+        f[0, 2] * btx + f[1, 2] * bty + f[2, 2] * btz,
+        f[0, 0] * ex + f[1, 0] * ey + f[2, 0] * ez,
+        f[0, 1] * ex + f[1, 1] * ey + f[2, 1] * ez,
+        f[0, 2] * ex + f[1, 2] * ey + f[2, 2] * ez,
+        uCb,
+    )
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def cable_derivatives(ux, uy, uz, lE, sw, epx, epy, epz, arm, btx, bty, btz, ex, ey, ez, uCb, dL, du):
+    """The gradients of one cable's length and direction with respect to its attachment point B
+    (``statics.length_gradient``, ``statics.direction_gradient``, scalar form), from the vectors of
+    ``cable_axis`` (any frame: they are built from vectors only)::
+
+        dL_TE/dB = -u + arm ((u + u_C) . beta) eps
+        du/dB = -[(I - u u^T) - swivel e_perp e_perp^T - arm v eps^T] / |l_E|,  v = beta - (u . beta) u
+
+    Parameters
+    ----------
+    ux, uy, uz, lE, sw, epx, epy, epz, arm, btx, bty, btz, ex, ey, ez, uCb
+        As returned by ``cable_axis`` (after L and inside) [-] or [m].
+    dL : ndarray (3,)
+        Written with dL_TE/dB [-].
+    du : ndarray (3, 3)
+        Written with du/dB [1/m], du[a, b] = d u_a / d B_b.
+
+    References
+    ----------
+    Paty et al. 2021, eq. (3)-(5), (12).
+    """
+    ub = ux * btx + uy * bty + uz * btz
+    q = arm * (ub + uCb)
+    dL[0], dL[1], dL[2] = -ux + q * ex, -uy + q * ey, -uz + q * ez
+    i_n = 1.0 / lE
+    u3 = (ux, uy, uz)
+    pe = (epx, epy, epz)
+    v3 = (btx - ub * ux, bty - ub * uy, btz - ub * uz)
+    e3 = (ex, ey, ez)
+    for a in range(3):
+        for b in range(3):
+            m_ab = (1.0 if a == b else 0.0) - u3[a] * u3[b] - sw * pe[a] * pe[b] - arm * v3[a] * e3[b]
+            du[a, b] = -m_ab * i_n
 
 
 @njit(cache=True, inline="always")

@@ -411,6 +411,33 @@ def solve_spatial(
     ----------
     Paty et al. 2021, eq. (2)-(5), (10)-(14); Pott 2018, ch. 3.
     """
+    return solve_with(robot, _Cables6(robot), _newton6, p, rotvec, L0, P0, tol, maxiter, max_step, restarts)
+
+
+def solve_with(robot, cab, newton, p, rotvec, L0, P0, tol, maxiter, max_step, restarts):
+    """``solve_spatial`` with its Newton iteration given: ``newton(cab, p0, R0, L0, p_ref, tol,
+    maxiter, max_step)`` returns (p, R, evaluation dict with at least F, M, t, merit, J, iterations,
+    converged) as ``_newton6`` does (the numpy one, or the compiled engine's); ``cab`` a
+    ``_Cables6`` (or a subclass the given ``newton`` reads). The pose set-up, the restarts and the
+    result are this module's.
+
+    Parameters
+    ----------
+    robot : Robot
+    cab : _Cables6
+    newton : callable
+    p, rotvec, L0, P0, tol, maxiter, max_step, restarts
+        As ``solve_spatial``.
+
+    Returns
+    -------
+    dict
+        As ``solve_spatial``.
+
+    References
+    ----------
+    Paty et al. 2021, eq. (2)-(5), (10)-(14); Pott 2018, ch. 3.
+    """
     o = PHYSICAL_DEFAULTS
     tol = o["tol"] if tol is None else tol
     maxiter = o["maxiter"] if maxiter is None else maxiter
@@ -427,14 +454,13 @@ def solve_spatial(
     if L0 is None:
         L0 = L_TS_pose(robot, p, R_d)
     L0 = np.broadcast_to(np.asarray(L0, dtype=float), (n, robot.m)).copy()
-    cab = _Cables6(robot)
     p0 = start_poses(robot, p if P0 is None else np.atleast_2d(np.asarray(P0, dtype=float)))
-    P, R, cur, iters, conv = _newton6(cab, p0, R_d.copy(), L0, p, tol, maxiter, max_step)
+    P, R, cur, iters, conv = newton(cab, p0, R_d.copy(), L0, p, tol, maxiter, max_step)
     alternatives = [[] for _ in range(n)]
     unique = np.ones(n, dtype=bool)
     if restarts and cab.rigid and n:
         P, R, cur, iters, conv, unique, alternatives = _restart(
-            cab, p, R_d, L0, P, R, cur, iters, conv, tol, maxiter, max_step
+            cab, p, R_d, L0, P, R, cur, iters, conv, tol, maxiter, max_step, newton
         )
     return _result6(robot, cab, p, R_d, rv_d, L0, P, R, cur, iters, conv, unique, alternatives)
 
@@ -450,7 +476,11 @@ def _needs_restart(cab, cur, conv):
     return (n_taut < 6) | ~(lam > 0) | ~conv
 
 
-def _restart(cab, p, R_d, L0, P, R, cur, iters, conv, tol, maxiter, max_step):
+def _restart(cab, p, R_d, L0, P, R, cur, iters, conv, tol, maxiter, max_step, newton=None):
+    """The points of ``_needs_restart`` solved again from ``RESTARTS`` by ``newton`` (default
+    ``_newton6``): the lowest-energy equilibrium, ``unique`` and the ``alternatives`` (module
+    docstring)."""
+    newton = _newton6 if newton is None else newton
     n = len(p)
     unique = np.ones(n, dtype=bool)
     alternatives = [[] for _ in range(n)]
@@ -460,7 +490,7 @@ def _restart(cab, p, R_d, L0, P, R, cur, iters, conv, tol, maxiter, max_step):
     k = len(RESTARTS)
     rep = np.repeat(idx, k)
     Rs = rotation_matrix(np.tile(RESTARTS, (idx.size, 1))) @ R_d[rep]
-    P2, R2, cur2, it2, conv2 = _newton6(
+    P2, R2, cur2, it2, conv2 = newton(
         cab, start_poses(cab.robot, p[rep]), Rs, L0[rep], p[rep], tol, maxiter, max_step
     )
     f, K = idx.size, k + 1
@@ -487,7 +517,7 @@ def _restart(cab, p, R_d, L0, P, R, cur, iters, conv, tol, maxiter, max_step):
     dst = idx[moved]
     P[dst], R[dst], conv[dst] = P2[src], R2[src], conv2[src]
     iters[dst] += it2[src]
-    for key in ("F", "M", "Fn", "t", "merit", "J", "grad", "kappa"):
+    for key in cur:
         cur[key][dst] = cur2[key][src]
     unique[idx] = distinct.sum(axis=1) == 1
     sE = np.take_along_axis(cE, order, axis=1)
