@@ -58,6 +58,7 @@ __all__ = [
     "cable_partials",
     "cable_partials_at",
     "commanded_input",
+    "in_frame",
     "newton_options",
     "pulley_geometry",
     "set_threads",
@@ -366,6 +367,47 @@ def cable(px, py, pz, Ax, Ay, Az, kind, h, rp, d, inx, iny):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
+def in_frame(px, py, pz, Ax, Ay, Az, ident, f):
+    """The point B and the joint A as the scalar kernels take them for a pulley with frame F (rows
+    i_i, j_i, k_i): the components of B - A in the pulley frame and A' = 0, or, for the identity
+    frame (``ident``), B and A themselves (the kernels' arithmetic bit for bit)::
+
+        w' = F (B - A)
+
+    Parameters
+    ----------
+    px, py, pz : float [m]
+        B (base frame).
+    Ax, Ay, Az : float [m]
+        A (base frame).
+    ident : bool
+        F is the identity.
+    f : ndarray (3, 3) [-]
+        The pulley frame F.
+
+    Returns
+    -------
+    tuple
+        (w'x, w'y, w'z, A'x, A'y, A'z) [m].
+
+    References
+    ----------
+    Paty et al. 2021, section 2.1 (the cable plane through the pulley's axis).
+    """
+    if ident:
+        return px, py, pz, Ax, Ay, Az
+    wx, wy, wz = px - Ax, py - Ay, pz - Az
+    return (
+        f[0, 0] * wx + f[0, 1] * wy + f[0, 2] * wz,
+        f[1, 0] * wx + f[1, 1] * wy + f[1, 2] * wz,
+        f[2, 0] * wx + f[2, 1] * wy + f[2, 2] * wz,
+        0.0,
+        0.0,
+        0.0,
+    )
+
+
+@njit(cache=True, inline="always", error_model="numpy")
 def cable_axis(px, py, pz, Ax, Ay, Az, kind, h, rp, d, inx, iny, ident, f):
     """``cable`` for a pulley whose swivel axis k_i is any unit vector: the pulley frame F (rows
     i_i, j_i, k_i) is a rotation, so the cable is evaluated by the same scalar kernel at the
@@ -400,18 +442,12 @@ def cable_axis(px, py, pz, Ax, Ay, Az, kind, h, rp, d, inx, iny, ident, f):
     ----------
     Paty et al. 2021, eq. (3)-(5), (12).
     """
-    if ident:
-        (L, ux, uy, uz, lE, ins, sw, epx, epy, arm, btx, bty, btz, ex, ey, ez, uCb) = cable(
-            px, py, pz, Ax, Ay, Az, kind, h, rp, d, inx, iny
-        )
-        return (L, ux, uy, uz, lE, ins, sw, epx, epy, 0.0, arm, btx, bty, btz, ex, ey, ez, uCb)
-    wx, wy, wz = px - Ax, py - Ay, pz - Az
-    qx = f[0, 0] * wx + f[0, 1] * wy + f[0, 2] * wz
-    qy = f[1, 0] * wx + f[1, 1] * wy + f[1, 2] * wz
-    qz = f[2, 0] * wx + f[2, 1] * wy + f[2, 2] * wz
+    qx, qy, qz, ax, ay, az = in_frame(px, py, pz, Ax, Ay, Az, ident, f)
     (L, ux, uy, uz, lE, ins, sw, epx, epy, arm, btx, bty, btz, ex, ey, ez, uCb) = cable(
-        qx, qy, qz, 0.0, 0.0, 0.0, kind, h, rp, d, inx, iny
+        qx, qy, qz, ax, ay, az, kind, h, rp, d, inx, iny
     )
+    if ident:
+        return (L, ux, uy, uz, lE, ins, sw, epx, epy, 0.0, arm, btx, bty, btz, ex, ey, ez, uCb)
     return (
         L,
         f[0, 0] * ux + f[1, 0] * uy + f[2, 0] * uz,

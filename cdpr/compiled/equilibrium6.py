@@ -33,16 +33,24 @@ from cdpr.compiled._kernels import (
     cable_arrays,
     cable_axis,
     cable_derivatives,
+    in_frame,
     newton_options,
+    pulley_geometry,
     set_threads,
 )
-from cdpr.models.equilibrium import ARMIJO_C, LS_SKIP, MAX_HALVINGS, PHYSICAL_DEFAULTS
+from cdpr.models.equilibrium import ARMIJO_C, LS_SKIP, MAX_HALVINGS, PHYSICAL_DEFAULTS, TAUT_MIN
 from cdpr.models.equilibrium6 import RCOND, SHIFT_REL, _Cables6, solve_with
 
 #: Sweeps of the one-sided Jacobi SVD (``pinv_solve6``) at most; it stops when every column pair
 #: is orthogonal to ``JACOBI_EPS`` (relative).
 JACOBI_SWEEPS = 30
 JACOBI_EPS = 1e-15
+#: The LU step stands for the pseudo-inverse one where |J|_F |L^-1|_F |U^-1|_F <= LU_SAFE / RCOND:
+#: then s_min(J) / s_max(J) >= RCOND / LU_SAFE, so the RCOND cut leaves out no singular value.
+LU_SAFE = 1e-3
+#: The Cholesky shift, relative to |H|_F, of the compiled positive-definiteness test: a Hessian that
+#: passes it has lambda_min >= STABLE_REL |H|_F, far beyond eigvalsh's round-off.
+STABLE_REL = 1e-10
 
 
 class Body(NamedTuple):
@@ -65,7 +73,9 @@ class Body(NamedTuple):
 
 class Out6(NamedTuple):
     """Per-pose results of the kernel (``outputs6``): P (N, 3) [m], R (N, 3, 3), F, M (N, 3) [N, N m],
-    t (N, m) [N], merit (N,) [J], J (N, 6, 6), it (N,), conv (N,) bool."""
+    t (N, m) [N], merit (N,) [J], J (N, 6, 6), it (N,), conv (N,) bool, inside (N, m) bool, gamma
+    (N, m) [rad] the pulleys' state at P, R (``pulleys.pulley_state``), stable (N,) bool: converged
+    with 6 or more taut cables and a positive definite -J (``STABLE_REL``)."""
 
     P: np.ndarray
     R: np.ndarray
@@ -76,6 +86,9 @@ class Out6(NamedTuple):
     J: np.ndarray
     it: np.ndarray
     conv: np.ndarray
+    inside: np.ndarray
+    gamma: np.ndarray
+    stable: np.ndarray
 
 
 def body_arrays(cab):
@@ -112,6 +125,9 @@ def outputs6(n, m):
         np.empty((n, 6, 6)),
         np.empty(n, dtype=np.int32),
         np.empty(n, dtype=np.bool_),
+        np.empty((n, m), dtype=np.bool_),
+        np.empty((n, m)),
+        np.empty(n, dtype=np.bool_),
     )
 
 
@@ -140,6 +156,8 @@ class _Scratch(NamedTuple):
     V6: np.ndarray  # (6, 6)
     s6: np.ndarray  # (6,) step
     w6: np.ndarray  # (6,) work
+    fb: np.ndarray  # (6,) fallback step
+    piv: np.ndarray  # (6,) int64 LU pivots
 
 
 @njit(cache=True)
@@ -167,6 +185,8 @@ def _scratch(m):
         np.empty((6, 6)),
         np.empty(6),
         np.empty(6),
+        np.empty(6),
+        np.empty(6, dtype=np.int64),
     )
 
 
@@ -450,6 +470,173 @@ def pinv_solve6(J, rhs, A, V, x, rcond):
 
 
 @njit(cache=True, error_model="numpy")
+def lu_solve6(J, rhs, A, Linv, piv, x, rcond):
+    """x = J^-1 rhs by LU with partial pivoting (P J = L U), where it equals the least-squares step
+    of ``pinv_solve6``: returns False (x undefined) unless the bound
+
+        s_min(J) / s_max(J) >= 1 / (|J|_F |L^-1|_F |U^-1|_F) >= r / LU_SAFE
+
+    shows that the pseudo-inverse's cut r keeps every singular value.
+
+    Parameters
+    ----------
+    J : ndarray (6, 6)
+        The system matrix (not changed).
+    rhs : ndarray (6,)
+        The right-hand side.
+    A, Linv : ndarray (6, 6)
+        Work arrays (A holds L and U).
+    piv : ndarray (6,) int64
+        Work array.
+    x : ndarray (6,)
+        Written with the step.
+    rcond : float [-]
+        The pseudo-inverse's relative cut.
+
+    Returns
+    -------
+    ok : bool
+
+    References
+    ----------
+    Golub, G. H., Van Loan, C. F. (2013). Matrix Computations, 4th ed., section 3.4.
+    """
+    n = 6
+    nJ = 0.0
+    for a in range(n):
+        piv[a] = a
+        for c in range(n):
+            A[a, c] = J[a, c]
+            nJ += J[a, c] * J[a, c]
+    for k in range(n):
+        best, at = abs(A[k, k]), k
+        for a in range(k + 1, n):
+            if abs(A[a, k]) > best:
+                best, at = abs(A[a, k]), a
+        if best == 0.0:
+            return False
+        if at != k:
+            for c in range(n):
+                A[k, c], A[at, c] = A[at, c], A[k, c]
+            piv[k], piv[at] = piv[at], piv[k]
+        inv = 1.0 / A[k, k]
+        for a in range(k + 1, n):
+            A[a, k] *= inv
+            l_ak = A[a, k]
+            for c in range(k + 1, n):
+                A[a, c] -= l_ak * A[k, c]
+    # |L^-1|_F (unit lower) and |U^-1|_F by substitution on the identity
+    nL = 0.0
+    for c in range(n):
+        for a in range(n):
+            v = 1.0 if a == c else 0.0
+            for q in range(c, a):
+                v -= A[a, q] * Linv[q, c]
+            Linv[a, c] = v
+            nL += v * v
+    nU = 0.0
+    for c in range(n):
+        for a in range(c, -1, -1):
+            v = 1.0 if a == c else 0.0
+            for q in range(a + 1, c + 1):
+                v -= A[a, q] * x[q]
+            x[a] = v / A[a, a]
+            nU += x[a] * x[a]
+    if not math.sqrt(nJ * nL * nU) * rcond <= LU_SAFE:
+        return False
+    for a in range(n):  # forward: L y = P rhs
+        v = rhs[piv[a]]
+        for q in range(a):
+            v -= A[a, q] * x[q]
+        x[a] = v
+    for a in range(n - 1, -1, -1):  # back: U x = y
+        v = x[a]
+        for q in range(a + 1, n):
+            v -= A[a, q] * x[q]
+        x[a] = v / A[a, a]
+    return True
+
+
+@njit(cache=True, error_model="numpy")
+def positive_definite6(J, A):
+    """Whether H = -(J + J^T)/2 is positive definite by a margin: the Cholesky factorisation of
+    H - STABLE_REL |H|_F I succeeds (then lambda_min(H) > 0 beyond any round-off of
+    ``numpy.linalg.eigvalsh``, the test of ``equilibrium6._needs_restart``).
+
+        H - delta I = C C^T,   delta = STABLE_REL |H|_F
+
+    Parameters
+    ----------
+    J : ndarray (6, 6)
+        d(F, M)/d(dp, dphi) [N/m, N, N m].
+    A : ndarray (6, 6)
+        Work array.
+
+    Returns
+    -------
+    ok : bool
+
+    References
+    ----------
+    Golub, G. H., Van Loan, C. F. (2013). Matrix Computations, 4th ed., section 4.2.
+    """
+    n = 6
+    nH = 0.0
+    for a in range(n):
+        for c in range(n):
+            A[a, c] = -0.5 * (J[a, c] + J[c, a])
+            nH += A[a, c] * A[a, c]
+    if not math.isfinite(nH):
+        return False
+    delta = STABLE_REL * math.sqrt(nH)
+    for a in range(n):
+        A[a, a] -= delta
+    for k in range(n):
+        v = A[k, k]
+        for q in range(k):
+            v -= A[k, q] * A[k, q]
+        if not v > 0.0:
+            return False
+        d = math.sqrt(v)
+        A[k, k] = d
+        for a in range(k + 1, n):
+            v = A[a, k]
+            for q in range(k):
+                v -= A[a, q] * A[k, q]
+            A[a, k] = v / d
+    return True
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _final_state(px, py, pz, R, cab, body, i, out):
+    """The pulleys' state at the pose (p, R) for the result (``pulleys.pulley_state``: inside, gamma)."""
+    A, b = cab.A, body.b
+    for c in range(A.shape[0]):
+        rx = R[0, 0] * b[c, 0] + R[0, 1] * b[c, 1] + R[0, 2] * b[c, 2]
+        ry = R[1, 0] * b[c, 0] + R[1, 1] * b[c, 1] + R[1, 2] * b[c, 2]
+        rz = R[2, 0] * b[c, 0] + R[2, 1] * b[c, 1] + R[2, 2] * b[c, 2]
+        qx, qy, qz, ax, ay, az = in_frame(
+            px + rx, py + ry, pz + rz, A[c, 0], A[c, 1], A[c, 2], body.ident[c], body.frame[c]
+        )
+        g = pulley_geometry(
+            qx,
+            qy,
+            qz,
+            ax,
+            ay,
+            az,
+            cab.kind[c],
+            cab.h[c],
+            cab.rp[c],
+            cab.d[c],
+            cab.inward[c, 0],
+            cab.inward[c, 1],
+        )
+        out.inside[i, c] = g.inside
+        out.gamma[i, c] = g.gamma
+
+
+@njit(cache=True, error_model="numpy")
 def modified_newton6(J, grad, ell, fallback, x):
     """``equilibrium6._modified_newton`` at one pose: x = -(H + mu I)^-1 grad in scaled coordinates
     (D = (1, 1, 1, l, l, l), H the symmetric part of -J / D D^T, mu = max(0, -lambda_min) +
@@ -556,7 +743,7 @@ def solve_pose(i, p_ref, P0, R0, L0, cab, body, opts, out, w):
     it = 0
     prev = 0.0
     prev_full = False
-    fb = np.empty(6)
+    fb = w.fb
     for _ in range(maxiter):
         if e6[0] ** 2 + e6[1] ** 2 + e6[2] ** 2 <= ftol2 and e6[3] ** 2 + e6[4] ** 2 + e6[5] ** 2 <= mtol2:
             conv = True
@@ -572,7 +759,8 @@ def solve_pose(i, p_ref, P0, R0, L0, cab, body, opts, out, w):
         elif finite:
             for a in range(6):
                 x[a] = -e6[6 + a]
-            pinv_solve6(J, x, w.A6, w.V6, s, RCOND)
+            if not lu_solve6(J, x, w.A6, w.V6, w.piv, s, RCOND):
+                pinv_solve6(J, x, w.A6, w.V6, s, RCOND)
         else:
             for a in range(6):
                 s[a] = np.nan
@@ -658,6 +846,11 @@ def solve_pose(i, p_ref, P0, R0, L0, cab, body, opts, out, w):
     out.merit[i] = e6[12]
     out.it[i] = it
     out.conv[i] = conv
+    n_taut = 0
+    for c in range(m):
+        n_taut += t[c] > TAUT_MIN
+    out.stable[i] = rigid and conv and n_taut >= 6 and positive_definite6(J, w.A6)
+    _final_state(px, py, pz, R, cab, body, i, out)
 
 
 @njit(cache=True, parallel=True, error_model="numpy")
@@ -722,7 +915,16 @@ def newton6_fast(cab, p0, R0, L0, p_ref, tol, maxiter, max_step):
             opts,
             out,
         )
-    cur = {"F": out.F, "M": out.M, "t": out.t, "merit": out.merit, "J": out.J}
+    cur = {
+        "F": out.F,
+        "M": out.M,
+        "t": out.t,
+        "merit": out.merit,
+        "J": out.J,
+        "inside": out.inside,
+        "gamma": out.gamma,
+        "stable": out.stable,
+    }
     return out.P, out.R, cur, out.it, out.conv
 
 

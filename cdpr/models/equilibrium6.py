@@ -456,12 +456,12 @@ def solve_with(robot, cab, newton, p, rotvec, L0, P0, tol, maxiter, max_step, re
     L0 = np.broadcast_to(np.asarray(L0, dtype=float), (n, robot.m)).copy()
     p0 = start_poses(robot, p if P0 is None else np.atleast_2d(np.asarray(P0, dtype=float)))
     P, R, cur, iters, conv = newton(cab, p0, R_d.copy(), L0, p, tol, maxiter, max_step)
-    alternatives = [[] for _ in range(n)]
-    unique = np.ones(n, dtype=bool)
     if restarts and cab.rigid and n:
         P, R, cur, iters, conv, unique, alternatives = _restart(
             cab, p, R_d, L0, P, R, cur, iters, conv, tol, maxiter, max_step, newton
         )
+    else:
+        unique, alternatives = np.ones(n, dtype=bool), [[] for _ in range(n)]
     return _result6(robot, cab, p, R_d, rv_d, L0, P, R, cur, iters, conv, unique, alternatives)
 
 
@@ -471,8 +471,12 @@ def _needs_restart(cab, cur, conv):
     n_taut = (cur["t"] > TAUT_MIN).sum(axis=1)
     H = -0.5 * (cur["J"] + np.swapaxes(cur["J"], 1, 2))
     ok = np.isfinite(H).all(axis=(1, 2))
+    if "stable" in cur:  # points a solver has shown positive definite (the compiled engine's Cholesky)
+        ok &= ~cur["stable"]
     lam = np.full(len(H), -np.inf)
     lam[ok] = np.linalg.eigvalsh(H[ok])[:, 0]
+    if "stable" in cur:
+        lam[cur["stable"]] = np.inf
     return (n_taut < 6) | ~(lam > 0) | ~conv
 
 
@@ -539,8 +543,11 @@ def _restart(cab, p, R_d, L0, P, R, cur, iters, conv, tol, maxiter, max_step, ne
 def _result6(robot, cab, p, R_d, rv_d, L0, P, R, cur, iters, conv, unique, alternatives):
     t = cur["t"]
     taut = t > TAUT_MIN
-    B, st = pose_state(robot, P, R)
-    inside = st.inside
+    if "inside" in cur:  # the solver gave the pulleys' state at (P, R) (the compiled engine)
+        inside, gamma = cur["inside"], cur["gamma"]
+    else:
+        _, st = pose_state(robot, P, R)
+        inside, gamma = st.inside, st.gamma
     if robot.suspended_point_mass:
         code = statuses(robot, p, P, t, conv, inside, hull_halfplanes(robot))
     else:
@@ -571,6 +578,6 @@ def _result6(robot, cab, p, R_d, rv_d, L0, P, R, cur, iters, conv, unique, alter
         "energy": cur["merit"],
         "unique": unique,
         "alternatives": alternatives,
-        "wrap_over_270": st.gamma > 1.5 * np.pi,
+        "wrap_over_270": gamma > 1.5 * np.pi,
         "L0": L0,
     }
