@@ -148,6 +148,7 @@ class _Scratch(NamedTuple):
     dL: np.ndarray  # (3,)
     du: np.ndarray  # (3, 3)
     G: np.ndarray  # (3, 3)
+    GS: np.ndarray  # (3, 3)
     cab_u: np.ndarray  # (m, 3) per-cable u (for the all-slack Jacobian)
     cab_dL: np.ndarray  # (m, 3)
     cab_r: np.ndarray  # (m, 3)
@@ -177,6 +178,7 @@ def _scratch(m):
         np.empty(3),
         np.empty((3, 3)),
         np.empty((3, 3)),
+        np.empty((3, 3)),
         np.empty((m, 3)),
         np.empty((m, 3)),
         np.empty((m, 3)),
@@ -191,37 +193,41 @@ def _scratch(m):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def _add_cable_jacobian(J, G, rx, ry, rz, t, ux, uy, uz):
+def _add_cable_jacobian(J, G, GS, rx, ry, rz, t, ux, uy, uz):
     """Adds one cable's terms of ``equilibrium6._jacobian`` to J (6, 6), with G = t du/dB + ka u dL^T
     (3, 3) and S = [r]x: J[:3, :3] += G, J[:3, 3:] -= G S, J[3:, :3] += S G,
-    J[3:, 3:] += -S G S + t (r u^T - (u . r) I)."""
-    r3 = (rx, ry, rz)
-    u3 = (ux, uy, uz)
-    ur = ux * rx + uy * ry + uz * rz
+    J[3:, 3:] += -S G S + t (r u^T - (u . r) I); GS (3, 3) is work."""
     for a in range(3):
         g0, g1, g2 = G[a, 0], G[a, 1], G[a, 2]
         J[a, 0] += g0
         J[a, 1] += g1
         J[a, 2] += g2
         # (G S)[a, :] = G[a, :] x r
-        J[a, 3] -= g1 * rz - g2 * ry
-        J[a, 4] -= g2 * rx - g0 * rz
-        J[a, 5] -= g0 * ry - g1 * rx
+        GS[a, 0] = g1 * rz - g2 * ry
+        GS[a, 1] = g2 * rx - g0 * rz
+        GS[a, 2] = g0 * ry - g1 * rx
+        J[a, 3] -= GS[a, 0]
+        J[a, 4] -= GS[a, 1]
+        J[a, 5] -= GS[a, 2]
+    ur = ux * rx + uy * ry + uz * rz
     for b in range(3):
-        # (S G)[:, b] = r x G[:, b]
+        # (S G)[:, b] = r x G[:, b];  (S G S)[:, b] = r x (G S)[:, b]
         J[3, b] += ry * G[2, b] - rz * G[1, b]
         J[4, b] += rz * G[0, b] - rx * G[2, b]
         J[5, b] += rx * G[1, b] - ry * G[0, b]
-    for b in range(3):
-        # (G S)[:, b], then S (G S)[:, b] = r x (G S)[:, b]
-        c0 = G[0, (b + 1) % 3] * r3[(b + 2) % 3] - G[0, (b + 2) % 3] * r3[(b + 1) % 3]
-        c1 = G[1, (b + 1) % 3] * r3[(b + 2) % 3] - G[1, (b + 2) % 3] * r3[(b + 1) % 3]
-        c2 = G[2, (b + 1) % 3] * r3[(b + 2) % 3] - G[2, (b + 2) % 3] * r3[(b + 1) % 3]
-        J[3, 3 + b] -= ry * c2 - rz * c1
-        J[4, 3 + b] -= rz * c0 - rx * c2
-        J[5, 3 + b] -= rx * c1 - ry * c0
-        for a in range(3):
-            J[3 + a, 3 + b] += t * (r3[a] * u3[b] - (ur if a == b else 0.0))
+        J[3, 3 + b] -= ry * GS[2, b] - rz * GS[1, b]
+        J[4, 3 + b] -= rz * GS[0, b] - rx * GS[2, b]
+        J[5, 3 + b] -= rx * GS[1, b] - ry * GS[0, b]
+    # the turn term t (r u^T - (u . r) I)
+    J[3, 3] += t * (rx * ux - ur)
+    J[3, 4] += t * rx * uy
+    J[3, 5] += t * rx * uz
+    J[4, 3] += t * ry * ux
+    J[4, 4] += t * (ry * uy - ur)
+    J[4, 5] += t * ry * uz
+    J[5, 3] += t * rz * ux
+    J[5, 4] += t * rz * uy
+    J[5, 5] += t * (rz * uz - ur)
 
 
 @njit(cache=True, error_model="numpy")
@@ -308,11 +314,12 @@ def _eval6(px, py, pz, R, rfx, rfy, rfz, cab, body, L0, i, t, J, e6, g6, w):
             nact += 1
             kact0 += k
             kact1 += k * rr
-        for a in range(3):
-            ua = (ux, uy, uz)[a]
-            for q in range(3):
-                G[a, q] = tc * du[a, q] + ka * ua * dL[q]
-        _add_cable_jacobian(J, G, rx, ry, rz, tc, ux, uy, uz)
+        kx, ky, kz = ka * ux, ka * uy, ka * uz
+        for q in range(3):
+            G[0, q] = tc * du[0, q] + kx * dL[q]
+            G[1, q] = tc * du[1, q] + ky * dL[q]
+            G[2, q] = tc * du[2, q] + kz * dL[q]
+        _add_cable_jacobian(J, G, w.GS, rx, ry, rz, tc, ux, uy, uz)
         w.cab_u[c, 0], w.cab_u[c, 1], w.cab_u[c, 2] = ux, uy, uz
         w.cab_dL[c, 0], w.cab_dL[c, 1], w.cab_dL[c, 2] = dL[0], dL[1], dL[2]
         w.cab_r[c, 0], w.cab_r[c, 1], w.cab_r[c, 2] = rx, ry, rz
@@ -337,7 +344,7 @@ def _eval6(px, py, pz, R, rfx, rfy, rfz, cab, body, L0, i, t, J, e6, g6, w):
             for a in range(3):
                 for q in range(3):
                     G[a, q] = k * w.cab_u[c, a] * w.cab_dL[c, q]
-            _add_cable_jacobian(J, G, w.cab_r[c, 0], w.cab_r[c, 1], w.cab_r[c, 2], 0.0, 0.0, 0.0, 0.0)
+            _add_cable_jacobian(J, G, w.GS, w.cab_r[c, 0], w.cab_r[c, 1], w.cab_r[c, 2], 0.0, 0.0, 0.0, 0.0)
         e6[6], e6[7], e6[8] = Fx + Ex, Fy + Ey, Fz + Ez
         e6[9], e6[10], e6[11] = Mx + Emx, My + Emy, Mz + Emz
         ka0, ka1 = kall0, kall1

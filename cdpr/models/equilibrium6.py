@@ -469,14 +469,15 @@ def _needs_restart(cab, cur, conv):
     """Points whose equilibrium may not be unique: fewer than 6 taut cables, or a converged
     Hessian -dF6/dx (symmetric part) that is not positive definite."""
     n_taut = (cur["t"] > TAUT_MIN).sum(axis=1)
-    H = -0.5 * (cur["J"] + np.swapaxes(cur["J"], 1, 2))
+    # the points a solver has shown positive definite (the compiled engine's Cholesky) are not redone
+    todo = ~cur["stable"] if "stable" in cur else np.ones(len(conv), dtype=bool)
+    lam = np.full(len(conv), np.inf)
+    J = cur["J"][todo]
+    H = -0.5 * (J + np.swapaxes(J, 1, 2))
     ok = np.isfinite(H).all(axis=(1, 2))
-    if "stable" in cur:  # points a solver has shown positive definite (the compiled engine's Cholesky)
-        ok &= ~cur["stable"]
-    lam = np.full(len(H), -np.inf)
-    lam[ok] = np.linalg.eigvalsh(H[ok])[:, 0]
-    if "stable" in cur:
-        lam[cur["stable"]] = np.inf
+    lam_todo = np.full(len(H), -np.inf)
+    lam_todo[ok] = np.linalg.eigvalsh(H[ok])[:, 0]
+    lam[todo] = lam_todo
     return (n_taut < 6) | ~(lam > 0) | ~conv
 
 
