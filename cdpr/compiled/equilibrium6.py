@@ -75,7 +75,7 @@ class Out6(NamedTuple):
     """Per-pose results of the kernel (``outputs6``): P (N, 3) [m], R (N, 3, 3), F, M (N, 3) [N, N m],
     t (N, m) [N], merit (N,) [J], J (N, 6, 6), it (N,), conv (N,) bool, inside (N, m) bool, gamma
     (N, m) [rad] the pulleys' state at P, R (``pulleys.pulley_state``), stable (N,) bool: converged
-    with 6 or more taut cables and a positive definite -J (``STABLE_REL``)."""
+    with 6 or more taut cables and a positive definite -J (``STABLE_REL``), rotvec (N, 3) [rad] of R."""
 
     P: np.ndarray
     R: np.ndarray
@@ -89,6 +89,7 @@ class Out6(NamedTuple):
     inside: np.ndarray
     gamma: np.ndarray
     stable: np.ndarray
+    rotvec: np.ndarray
 
 
 def body_arrays(cab):
@@ -128,6 +129,7 @@ def outputs6(n, m):
         np.empty((n, m), dtype=np.bool_),
         np.empty((n, m)),
         np.empty(n, dtype=np.bool_),
+        np.empty((n, 3)),
     )
 
 
@@ -643,6 +645,56 @@ def _final_state(px, py, pz, R, cab, body, i, out):
         out.gamma[i, c] = g.gamma
 
 
+@njit(cache=True, inline="always", error_model="numpy")
+def rotvec_of_matrix(R, out):
+    """The rotation vector of a rotation matrix (``platform.rotvec_of``, scipy's from_matrix then
+    as_rotvec, scalar form): the unit quaternion q = (x, y, z, w) from the largest of R00, R11, R22
+    and tr R (Shepperd's method), w >= 0, then
+
+        theta = 2 atan2(|(x, y, z)|, w),   rotvec = theta / sin(theta / 2) (x, y, z)
+
+    (the series 2 + theta^2 / 12 + 7 theta^4 / 2880 for theta <= 1e-3).
+
+    Parameters
+    ----------
+    R : ndarray (3, 3) [-]
+        Rotation matrix.
+    out : ndarray (3,)
+        Written with the rotation vector [rad], |rotvec| in [0, pi].
+
+    References
+    ----------
+    Shepperd, S. W. (1978). Quaternion from rotation matrix. J. Guidance and Control 1(3), 223-224.
+    """
+    tr = R[0, 0] + R[1, 1] + R[2, 2]
+    big, at = tr, 3
+    for a in range(3):
+        if R[a, a] > big:
+            big, at = R[a, a], a
+    if at == 3:
+        x, y, z, w = R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1], 1.0 + tr
+    else:
+        i = at
+        j = (i + 1) % 3
+        k = (j + 1) % 3
+        q = np.empty(3)
+        q[i] = 1.0 - tr + 2.0 * R[i, i]
+        q[j] = R[j, i] + R[i, j]
+        q[k] = R[k, i] + R[i, k]
+        x, y, z, w = q[0], q[1], q[2], R[k, j] - R[j, k]
+    nq = math.sqrt(x * x + y * y + z * z + w * w)
+    x, y, z, w = x / nq, y / nq, z / nq, w / nq
+    if w < 0.0:
+        x, y, z, w = -x, -y, -z, -w
+    theta = 2.0 * math.atan2(math.sqrt(x * x + y * y + z * z), w)
+    if theta <= 1e-3:
+        t2 = theta * theta
+        scale = 2.0 + t2 / 12.0 + 7.0 * t2 * t2 / 2880.0
+    else:
+        scale = theta / math.sin(theta / 2.0)
+    out[0], out[1], out[2] = scale * x, scale * y, scale * z
+
+
 @njit(cache=True, error_model="numpy")
 def modified_newton6(J, grad, ell, fallback, x):
     """``equilibrium6._modified_newton`` at one pose: x = -(H + mu I)^-1 grad in scaled coordinates
@@ -858,6 +910,7 @@ def solve_pose(i, p_ref, P0, R0, L0, cab, body, opts, out, w):
         n_taut += t[c] > TAUT_MIN
     out.stable[i] = rigid and conv and n_taut >= 6 and positive_definite6(J, w.A6)
     _final_state(px, py, pz, R, cab, body, i, out)
+    rotvec_of_matrix(R, out.rotvec[i])
 
 
 @njit(cache=True, parallel=True, error_model="numpy")
@@ -931,6 +984,7 @@ def newton6_fast(cab, p0, R0, L0, p_ref, tol, maxiter, max_step):
         "inside": out.inside,
         "gamma": out.gamma,
         "stable": out.stable,
+        "rotvec": out.rotvec,
     }
     return out.P, out.R, cur, out.it, out.conv
 
@@ -979,4 +1033,52 @@ def solve_spatial(
     """
     set_threads(threads)
     cab = _Compiled6(robot)
-    return solve_with(robot, cab, newton6_fast, p, rotvec, L0, P0, tol, maxiter, max_step, restarts)
+    return solve_with(
+        robot, cab, newton6_fast, p, rotvec, L0, P0, tol, maxiter, max_step, restarts, L_TS_fast
+    )
+
+
+@njit(cache=True, parallel=True, error_model="numpy")
+def _L_TS(p, R, b, A, d, out):
+    n, m = p.shape[0], A.shape[0]
+    for i in prange(n):
+        for c in range(m):
+            Bx = p[i, 0] + R[i, 0, 0] * b[c, 0] + R[i, 0, 1] * b[c, 1] + R[i, 0, 2] * b[c, 2]
+            By = p[i, 1] + R[i, 1, 0] * b[c, 0] + R[i, 1, 1] * b[c, 1] + R[i, 1, 2] * b[c, 2]
+            Bz = p[i, 2] + R[i, 2, 0] * b[c, 0] + R[i, 2, 1] * b[c, 1] + R[i, 2, 2] * b[c, 2]
+            dx, dy, dz = Bx - A[c, 0], By - A[c, 1], Bz - A[c, 2]
+            out[i, c] = math.sqrt(dx * dx + dy * dy + dz * dz) + d[c]
+
+
+def L_TS_fast(robot, p, R):
+    """Compiled ``equilibrium6.L_TS_pose``: L_TS,i = |B_i - A_i| + d_i at poses (p, R), B_i = p + R b_i
+    (Paty 2021 eq. 2 with B_i in place of P), in parallel over the poses.
+
+    Parameters
+    ----------
+    robot : Robot
+    p : ndarray (N, 3) [m]
+        Reference points.
+    R : ndarray (N, 3, 3) [-]
+        Orientations.
+
+    Returns
+    -------
+    L_TS : ndarray (N, m) [m]
+
+    References
+    ----------
+    Paty et al. 2021, eq. (2).
+    """
+    a = robot.arrays
+    f = np.ascontiguousarray
+    out = np.empty((len(p), robot.m))
+    _L_TS(
+        f(p, dtype=float),
+        f(R, dtype=float),
+        f(a.b, dtype=float),
+        f(a.A, dtype=float),
+        f(a.d, dtype=float),
+        out,
+    )
+    return out

@@ -414,12 +414,15 @@ def solve_spatial(
     return solve_with(robot, _Cables6(robot), _newton6, p, rotvec, L0, P0, tol, maxiter, max_step, restarts)
 
 
-def solve_with(robot, cab, newton, p, rotvec, L0, P0, tol, maxiter, max_step, restarts):
+def solve_with(robot, cab, newton, p, rotvec, L0, P0, tol, maxiter, max_step, restarts, standard=None):
     """``solve_spatial`` with its Newton iteration given: ``newton(cab, p0, R0, L0, p_ref, tol,
     maxiter, max_step)`` returns (p, R, evaluation dict with at least F, M, t, merit, J, iterations,
     converged) as ``_newton6`` does (the numpy one, or the compiled engine's); ``cab`` a
-    ``_Cables6`` (or a subclass the given ``newton`` reads). The pose set-up, the restarts and the
-    result are this module's.
+    ``_Cables6`` (or a subclass the given ``newton`` reads); ``standard(robot, p, R)`` the default
+    rest lengths (``L_TS_pose`` when None). The pose set-up, the restarts and the result are this
+    module's. The evaluation dict may also carry, at the final poses, ``stable`` (N,) (points shown
+    positive definite, not checked again by ``_needs_restart``), ``inside``, ``gamma`` (N, m) (the
+    pulleys' state) and ``rotvec`` (N, 3), which the result then takes instead of recomputing them.
 
     Parameters
     ----------
@@ -428,6 +431,7 @@ def solve_with(robot, cab, newton, p, rotvec, L0, P0, tol, maxiter, max_step, re
     newton : callable
     p, rotvec, L0, P0, tol, maxiter, max_step, restarts
         As ``solve_spatial``.
+    standard : callable, optional
 
     Returns
     -------
@@ -452,7 +456,7 @@ def solve_with(robot, cab, newton, p, rotvec, L0, P0, tol, maxiter, max_step, re
         rv_d = np.zeros_like(p)
     n = len(p)
     if L0 is None:
-        L0 = L_TS_pose(robot, p, R_d)
+        L0 = (L_TS_pose if standard is None else standard)(robot, p, R_d)
     L0 = np.broadcast_to(np.asarray(L0, dtype=float), (n, robot.m)).copy()
     p0 = start_poses(robot, p if P0 is None else np.atleast_2d(np.asarray(P0, dtype=float)))
     P, R, cur, iters, conv = newton(cab, p0, R_d.copy(), L0, p, tol, maxiter, max_step)
@@ -558,7 +562,10 @@ def _result6(robot, cab, p, R_d, rv_d, L0, P, R, cur, iters, conv, unique, alter
         code[~finite | inside.any(axis=1)] = ST["inaccessible"]
         code[~conv | ~taut.any(axis=1)] = ST["not_converged"]
     residual = np.sqrt(np.einsum("na,na->n", cur["F"], cur["F"]) + np.einsum("na,na->n", cur["M"], cur["M"]))
-    rv_s = rotvec_of(R) if cab.rigid else rv_d.copy()
+    if cab.rigid:
+        rv_s = cur["rotvec"] if "rotvec" in cur else rotvec_of(R)
+    else:
+        rv_s = rv_d.copy()
     R_s = R if cab.rigid else R_d
     return {
         "p": p,

@@ -10,10 +10,10 @@ from numba import njit
 
 from cdpr.compiled._kernels import cable, cable_axis, cable_derivatives
 from cdpr.compiled.equilibrium import solve_physical_fast
-from cdpr.compiled.equilibrium6 import lu_solve6, pinv_solve6, positive_definite6
+from cdpr.compiled.equilibrium6 import lu_solve6, pinv_solve6, positive_definite6, rotvec_of_matrix
 from cdpr.compiled.equilibrium6 import solve_spatial as solve_fast
 from cdpr.models.equilibrium6 import RCOND, L_TS_pose, pose_arrays, pose_state, solve_spatial
-from cdpr.models.platform import rotation_error
+from cdpr.models.platform import rotation_error, rotation_matrix, rotvec_of
 from cdpr.models.pulleys import total_length_and_direction
 from cdpr.models.statics import direction_gradient, length_gradient
 from cdpr.robot import load_robot, pulley_frame, with_pulleys
@@ -60,6 +60,8 @@ def _same(a, b):
     np.testing.assert_array_equal(fin, np.isfinite(b["P_s"]).all(axis=1))
     dp = np.abs(a["P_s"] - b["P_s"])[fin].max(initial=0.0)
     dphi = rotation_error(a["R_s"], b["R_s"])[fin].max(initial=0.0)
+    assert np.abs(a["rotvec_s"] - b["rotvec_s"])[fin].max(initial=0.0) < 1e-9
+    np.testing.assert_allclose(a["L0"], b["L0"], rtol=1e-15, atol=0)
     assert dp < 1e-9 and dphi < 1e-9, (dp, dphi)
     rel = np.abs(a["t"] - b["t"]) / np.fmax(1.0, np.abs(a["t"]))
     assert np.nan_to_num(rel).max() < 1e-6
@@ -259,3 +261,21 @@ def test_lu_step_equals_the_pseudo_inverse_step_and_the_cholesky_test_eigvalsh()
         assert positive_definite6(-H, A) <= (np.linalg.eigvalsh(H)[0] > 0)
         if k % 2 == 0 and k % 4 != 0:
             assert positive_definite6(-H, A)
+
+
+@njit(cache=True)
+def _rotvecs(R):
+    out = np.empty((len(R), 3))
+    for i in range(len(R)):
+        rotvec_of_matrix(R[i], out[i])
+    return out
+
+
+def test_rotation_vector_of_a_matrix_equals_scipys():
+    g = np.random.default_rng(6)
+    rv = g.normal(size=(2000, 3))
+    rv *= g.uniform(0, np.pi * (1 - 1e-6), (2000, 1)) / np.linalg.norm(rv, axis=1, keepdims=True)
+    rv[:10] *= 1e-9  # the series near 0
+    R = rotation_matrix(rv)
+    assert np.abs(_rotvecs(R) - rotvec_of(R)).max() < 1e-12
+    assert np.abs(_rotvecs(R) - rv).max() < 1e-9
