@@ -471,7 +471,7 @@ def cable_axis(px, py, pz, Ax, Ay, Az, kind, h, rp, d, inx, iny, ident, f):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def cable_derivatives(ux, uy, uz, lE, sw, epx, epy, epz, arm, btx, bty, btz, ex, ey, ez, uCb, dL, du):
+def cable_derivatives(ux, uy, uz, lE, sw, epx, epy, epz, arm, btx, bty, btz, ex, ey, ez, uCb):
     """The gradients of one cable's length and direction with respect to its attachment point B
     (``statics.length_gradient``, ``statics.direction_gradient``, scalar form), from the vectors of
     ``cable_axis`` (any frame: they are built from vectors only)::
@@ -483,10 +483,11 @@ def cable_derivatives(ux, uy, uz, lE, sw, epx, epy, epz, arm, btx, bty, btz, ex,
     ----------
     ux, uy, uz, lE, sw, epx, epy, epz, arm, btx, bty, btz, ex, ey, ez, uCb
         As returned by ``cable_axis`` (after L and inside) [-] or [m].
-    dL : ndarray (3,)
-        Written with dL_TE/dB [-].
-    du : ndarray (3, 3)
-        Written with du/dB [1/m], du[a, b] = d u_a / d B_b.
+
+    Returns
+    -------
+    tuple
+        (dL_TE/dB x, y, z [-]; du/dB row-major, du_a/dB_b, 9 values [1/m]).
 
     References
     ----------
@@ -494,16 +495,19 @@ def cable_derivatives(ux, uy, uz, lE, sw, epx, epy, epz, arm, btx, bty, btz, ex,
     """
     ub = ux * btx + uy * bty + uz * btz
     q = arm * (ub + uCb)
-    dL[0], dL[1], dL[2] = -ux + q * ex, -uy + q * ey, -uz + q * ez
     i_n = 1.0 / lE
-    u3 = (ux, uy, uz)
-    pe = (epx, epy, epz)
-    v3 = (btx - ub * ux, bty - ub * uy, btz - ub * uz)
-    e3 = (ex, ey, ez)
-    for a in range(3):
-        for b in range(3):
-            m_ab = (1.0 if a == b else 0.0) - u3[a] * u3[b] - sw * pe[a] * pe[b] - arm * v3[a] * e3[b]
-            du[a, b] = -m_ab * i_n
+    vx, vy, vz = btx - ub * ux, bty - ub * uy, btz - ub * uz
+    # -M / |l_E|, M = (I - u u^T) - sw e_perp e_perp^T - arm v eps^T
+    d00 = (1.0 - ux * ux - sw * epx * epx - arm * vx * ex) * -i_n
+    d01 = (-ux * uy - sw * epx * epy - arm * vx * ey) * -i_n
+    d02 = (-ux * uz - sw * epx * epz - arm * vx * ez) * -i_n
+    d10 = (-uy * ux - sw * epy * epx - arm * vy * ex) * -i_n
+    d11 = (1.0 - uy * uy - sw * epy * epy - arm * vy * ey) * -i_n
+    d12 = (-uy * uz - sw * epy * epz - arm * vy * ez) * -i_n
+    d20 = (-uz * ux - sw * epz * epx - arm * vz * ex) * -i_n
+    d21 = (-uz * uy - sw * epz * epy - arm * vz * ey) * -i_n
+    d22 = (1.0 - uz * uz - sw * epz * epz - arm * vz * ez) * -i_n
+    return (-ux + q * ex, -uy + q * ey, -uz + q * ez, d00, d01, d02, d10, d11, d12, d20, d21, d22)
 
 
 @njit(cache=True, inline="always")

@@ -147,10 +147,6 @@ class _Scratch(NamedTuple):
     R: np.ndarray  # (3, 3) current orientation
     Rt: np.ndarray  # (3, 3) trial orientation
     Q: np.ndarray  # (3, 3) step rotation
-    dL: np.ndarray  # (3,)
-    du: np.ndarray  # (3, 3)
-    G: np.ndarray  # (3, 3)
-    GS: np.ndarray  # (3, 3)
     cab_u: np.ndarray  # (m, 3) per-cable u (for the all-slack Jacobian)
     cab_dL: np.ndarray  # (m, 3)
     cab_r: np.ndarray  # (m, 3)
@@ -177,10 +173,6 @@ def _scratch(m):
         np.empty((3, 3)),
         np.empty((3, 3)),
         np.empty((3, 3)),
-        np.empty(3),
-        np.empty((3, 3)),
-        np.empty((3, 3)),
-        np.empty((3, 3)),
         np.empty((m, 3)),
         np.empty((m, 3)),
         np.empty((m, 3)),
@@ -195,41 +187,50 @@ def _scratch(m):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def _add_cable_jacobian(J, G, GS, rx, ry, rz, t, ux, uy, uz):
+def _add_cable_jacobian(J, g00, g01, g02, g10, g11, g12, g20, g21, g22, rx, ry, rz, t, ux, uy, uz):
     """Adds one cable's terms of ``equilibrium6._jacobian`` to J (6, 6), with G = t du/dB + ka u dL^T
-    (3, 3) and S = [r]x: J[:3, :3] += G, J[:3, 3:] -= G S, J[3:, :3] += S G,
-    J[3:, 3:] += -S G S + t (r u^T - (u . r) I); GS (3, 3) is work."""
-    for a in range(3):
-        g0, g1, g2 = G[a, 0], G[a, 1], G[a, 2]
-        J[a, 0] += g0
-        J[a, 1] += g1
-        J[a, 2] += g2
-        # (G S)[a, :] = G[a, :] x r
-        GS[a, 0] = g1 * rz - g2 * ry
-        GS[a, 1] = g2 * rx - g0 * rz
-        GS[a, 2] = g0 * ry - g1 * rx
-        J[a, 3] -= GS[a, 0]
-        J[a, 4] -= GS[a, 1]
-        J[a, 5] -= GS[a, 2]
+    (3 x 3, g_ab) and S = [r]x: J[:3, :3] += G, J[:3, 3:] -= G S, J[3:, :3] += S G,
+    J[3:, 3:] += -S G S + t (r u^T - (u . r) I)."""
+    s00, s01, s02 = g01 * rz - g02 * ry, g02 * rx - g00 * rz, g00 * ry - g01 * rx  # (G S)[0]
+    s10, s11, s12 = g11 * rz - g12 * ry, g12 * rx - g10 * rz, g10 * ry - g11 * rx  # (G S)[1]
+    s20, s21, s22 = g21 * rz - g22 * ry, g22 * rx - g20 * rz, g20 * ry - g21 * rx  # (G S)[2]
     ur = ux * rx + uy * ry + uz * rz
-    for b in range(3):
-        # (S G)[:, b] = r x G[:, b];  (S G S)[:, b] = r x (G S)[:, b]
-        J[3, b] += ry * G[2, b] - rz * G[1, b]
-        J[4, b] += rz * G[0, b] - rx * G[2, b]
-        J[5, b] += rx * G[1, b] - ry * G[0, b]
-        J[3, 3 + b] -= ry * GS[2, b] - rz * GS[1, b]
-        J[4, 3 + b] -= rz * GS[0, b] - rx * GS[2, b]
-        J[5, 3 + b] -= rx * GS[1, b] - ry * GS[0, b]
-    # the turn term t (r u^T - (u . r) I)
-    J[3, 3] += t * (rx * ux - ur)
-    J[3, 4] += t * rx * uy
-    J[3, 5] += t * rx * uz
-    J[4, 3] += t * ry * ux
-    J[4, 4] += t * (ry * uy - ur)
-    J[4, 5] += t * ry * uz
-    J[5, 3] += t * rz * ux
-    J[5, 4] += t * rz * uy
-    J[5, 5] += t * (rz * uz - ur)
+    J[0, 0] += g00
+    J[0, 1] += g01
+    J[0, 2] += g02
+    J[1, 0] += g10
+    J[1, 1] += g11
+    J[1, 2] += g12
+    J[2, 0] += g20
+    J[2, 1] += g21
+    J[2, 2] += g22
+    J[0, 3] -= s00
+    J[0, 4] -= s01
+    J[0, 5] -= s02
+    J[1, 3] -= s10
+    J[1, 4] -= s11
+    J[1, 5] -= s12
+    J[2, 3] -= s20
+    J[2, 4] -= s21
+    J[2, 5] -= s22
+    J[3, 0] += ry * g20 - rz * g10
+    J[4, 0] += rz * g00 - rx * g20
+    J[5, 0] += rx * g10 - ry * g00
+    J[3, 1] += ry * g21 - rz * g11
+    J[4, 1] += rz * g01 - rx * g21
+    J[5, 1] += rx * g11 - ry * g01
+    J[3, 2] += ry * g22 - rz * g12
+    J[4, 2] += rz * g02 - rx * g22
+    J[5, 2] += rx * g12 - ry * g02
+    J[3, 3] += -(ry * s20 - rz * s10) + t * (rx * ux - ur)
+    J[4, 3] += -(rz * s00 - rx * s20) + t * ry * ux
+    J[5, 3] += -(rx * s10 - ry * s00) + t * rz * ux
+    J[3, 4] += -(ry * s21 - rz * s11) + t * rx * uy
+    J[4, 4] += -(rz * s01 - rx * s21) + t * (ry * uy - ur)
+    J[5, 4] += -(rx * s11 - ry * s01) + t * rz * uy
+    J[3, 5] += -(ry * s22 - rz * s12) + t * rx * uz
+    J[4, 5] += -(rz * s02 - rx * s22) + t * ry * uz
+    J[5, 5] += -(rx * s12 - ry * s02) + t * (rz * uz - ur)
 
 
 @njit(cache=True, error_model="numpy")
@@ -255,7 +256,6 @@ def _eval6(px, py, pz, R, rfx, rfy, rfz, cab, body, L0, i, t, J, e6, g6, w):
     for a in range(6):
         for c in range(6):
             J[a, c] = 0.0
-    dL, du, G = w.dL, w.du, w.G
     for c in range(m):
         rx = R[0, 0] * b[c, 0] + R[0, 1] * b[c, 1] + R[0, 2] * b[c, 2]
         ry = R[1, 0] * b[c, 0] + R[1, 1] * b[c, 1] + R[1, 2] * b[c, 2]
@@ -298,13 +298,15 @@ def _eval6(px, py, pz, R, rfx, rfy, rfz, cab, body, L0, i, t, J, e6, g6, w):
         Emz += ke * muz
         if e > 0.0:
             elastic += 0.5 * k * e * e
-        cable_derivatives(ux, uy, uz, lE, sw, epx, epy, epz, arm, btx, bty, btz, ex, ey, ez, uCb, dL, du)
-        gx += tc * dL[0]
-        gy += tc * dL[1]
-        gz += tc * dL[2]
-        gmx += tc * (ry * dL[2] - rz * dL[1])
-        gmy += tc * (rz * dL[0] - rx * dL[2])
-        gmz += tc * (rx * dL[1] - ry * dL[0])
+        (dLx, dLy, dLz, d00, d01, d02, d10, d11, d12, d20, d21, d22) = cable_derivatives(
+            ux, uy, uz, lE, sw, epx, epy, epz, arm, btx, bty, btz, ex, ey, ez, uCb
+        )
+        gx += tc * dLx
+        gy += tc * dLy
+        gz += tc * dLz
+        gmx += tc * (ry * dLz - rz * dLy)
+        gmy += tc * (rz * dLx - rx * dLz)
+        gmz += tc * (rx * dLy - ry * dLx)
         rr = rx * rx + ry * ry + rz * rz
         geo0 += tc / lE
         geo1 += tc / lE * rr + tc * math.sqrt(rr)
@@ -317,13 +319,27 @@ def _eval6(px, py, pz, R, rfx, rfy, rfz, cab, body, L0, i, t, J, e6, g6, w):
             kact0 += k
             kact1 += k * rr
         kx, ky, kz = ka * ux, ka * uy, ka * uz
-        for q in range(3):
-            G[0, q] = tc * du[0, q] + kx * dL[q]
-            G[1, q] = tc * du[1, q] + ky * dL[q]
-            G[2, q] = tc * du[2, q] + kz * dL[q]
-        _add_cable_jacobian(J, G, w.GS, rx, ry, rz, tc, ux, uy, uz)
+        _add_cable_jacobian(
+            J,
+            tc * d00 + kx * dLx,
+            tc * d01 + kx * dLy,
+            tc * d02 + kx * dLz,
+            tc * d10 + ky * dLx,
+            tc * d11 + ky * dLy,
+            tc * d12 + ky * dLz,
+            tc * d20 + kz * dLx,
+            tc * d21 + kz * dLy,
+            tc * d22 + kz * dLz,
+            rx,
+            ry,
+            rz,
+            tc,
+            ux,
+            uy,
+            uz,
+        )
         w.cab_u[c, 0], w.cab_u[c, 1], w.cab_u[c, 2] = ux, uy, uz
-        w.cab_dL[c, 0], w.cab_dL[c, 1], w.cab_dL[c, 2] = dL[0], dL[1], dL[2]
+        w.cab_dL[c, 0], w.cab_dL[c, 1], w.cab_dL[c, 2] = dLx, dLy, dLz
         w.cab_r[c, 0], w.cab_r[c, 1], w.cab_r[c, 2] = rx, ry, rz
         w.cab_k[c] = k
     # gravity: F += f, M += rc x f, J[3:, 3:] += rc f^T - (rc . f) I
@@ -343,10 +359,27 @@ def _eval6(px, py, pz, R, rfx, rfy, rfz, cab, body, L0, i, t, J, e6, g6, w):
     if nact == 0:  # no cable taut: Hooke extended to compression (ka = k on every cable)
         for c in range(m):
             k = w.cab_k[c]
-            for a in range(3):
-                for q in range(3):
-                    G[a, q] = k * w.cab_u[c, a] * w.cab_dL[c, q]
-            _add_cable_jacobian(J, G, w.GS, w.cab_r[c, 0], w.cab_r[c, 1], w.cab_r[c, 2], 0.0, 0.0, 0.0, 0.0)
+            kx, ky, kz = k * w.cab_u[c, 0], k * w.cab_u[c, 1], k * w.cab_u[c, 2]
+            lx, ly, lz = w.cab_dL[c, 0], w.cab_dL[c, 1], w.cab_dL[c, 2]
+            _add_cable_jacobian(
+                J,
+                kx * lx,
+                kx * ly,
+                kx * lz,
+                ky * lx,
+                ky * ly,
+                ky * lz,
+                kz * lx,
+                kz * ly,
+                kz * lz,
+                w.cab_r[c, 0],
+                w.cab_r[c, 1],
+                w.cab_r[c, 2],
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+            )
         e6[6], e6[7], e6[8] = Fx + Ex, Fy + Ey, Fz + Ez
         e6[9], e6[10], e6[11] = Mx + Emx, My + Emy, Mz + Emz
         ka0, ka1 = kall0, kall1

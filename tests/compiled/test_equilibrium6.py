@@ -130,9 +130,11 @@ def _cables(B, A, kind, h, rp, d, inward, frame, ident):
             )  # fmt: skip
             L[i, c], ins[i, c] = L_, ins_
             u[i, c, 0], u[i, c, 1], u[i, c, 2] = ux, uy, uz
-            cable_derivatives(
-                ux, uy, uz, lE, sw, epx, epy, epz, arm, btx, bty, btz, ex, ey, ez, uCb, dL[i, c], du[i, c]
-            )
+            dv = cable_derivatives(ux, uy, uz, lE, sw, epx, epy, epz, arm, btx, bty, btz, ex, ey, ez, uCb)
+            dL[i, c, 0], dL[i, c, 1], dL[i, c, 2] = dv[0], dv[1], dv[2]
+            du[i, c, 0, 0], du[i, c, 0, 1], du[i, c, 0, 2] = dv[3], dv[4], dv[5]
+            du[i, c, 1, 0], du[i, c, 1, 1], du[i, c, 1, 2] = dv[6], dv[7], dv[8]
+            du[i, c, 2, 0], du[i, c, 2, 1], du[i, c, 2, 2] = dv[9], dv[10], dv[11]
             vals = (
                 L_,
                 ux,
