@@ -576,13 +576,15 @@ def lu_solve6(J, rhs, A, Linv, piv, x, rcond):
                 v -= A[a, q] * Linv[q, c]
             Linv[a, c] = v
             nL += v * v
+    for a in range(n):  # Linv is free: its first row holds 1 / U_aa
+        Linv[0, a] = 1.0 / A[a, a]
     nU = 0.0
     for c in range(n):
         for a in range(c, -1, -1):
             v = 1.0 if a == c else 0.0
             for q in range(a + 1, c + 1):
                 v -= A[a, q] * x[q]
-            x[a] = v / A[a, a]
+            x[a] = v * Linv[0, a]
             nU += x[a] * x[a]
     if not math.sqrt(nJ * nL * nU) * rcond <= LU_SAFE:
         return False
@@ -595,7 +597,7 @@ def lu_solve6(J, rhs, A, Linv, piv, x, rcond):
         v = x[a]
         for q in range(a + 1, n):
             v -= A[a, q] * x[q]
-        x[a] = v / A[a, a]
+        x[a] = v * Linv[0, a]
     return True
 
 
@@ -710,11 +712,14 @@ def rotvec_of_matrix(R, out):
         i = at
         j = (i + 1) % 3
         k = (j + 1) % 3
-        q = np.empty(3)
-        q[i] = 1.0 - tr + 2.0 * R[i, i]
-        q[j] = R[j, i] + R[i, j]
-        q[k] = R[k, i] + R[i, k]
-        x, y, z, w = q[0], q[1], q[2], R[k, j] - R[j, k]
+        qi, qj, qk = 1.0 - tr + 2.0 * R[i, i], R[j, i] + R[i, j], R[k, i] + R[i, k]
+        if i == 0:
+            x, y, z = qi, qj, qk
+        elif i == 1:
+            x, y, z = qk, qi, qj
+        else:
+            x, y, z = qj, qk, qi
+        w = R[k, j] - R[j, k]
     nq = math.sqrt(x * x + y * y + z * z + w * w)
     x, y, z, w = x / nq, y / nq, z / nq, w / nq
     if w < 0.0:
