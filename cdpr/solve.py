@@ -53,16 +53,11 @@ def check_redundancy(redundancy):
     return redundancy
 
 
-#: The engine of the 6-DoF solver when none is given: the numpy reference (``equilibrium6``); the
-#: compiled twin (``cdpr.compiled.equilibrium6``, tested equal to 1e-9 m and rad) on request.
-SPATIAL_DEFAULT_ENGINE = "numpy"
-
-
 def check_spatial(robot, engine, redundancy):
     """The engine for a robot that is not a suspended point mass (``Robot.suspended_point_mass``):
     such robots have the 6-DoF physical mode only (``cdpr.models.equilibrium6``); paper mode (3 of
-    m) raises CdprError in one line. The engine is ``engine`` or, when None,
-    ``SPATIAL_DEFAULT_ENGINE`` (``spatial_engine``)."""
+    m) raises CdprError in one line. The engine is ``engine`` or, when None, the one default of
+    ``check_engine`` (``spatial_engine``)."""
     if redundancy != "physical":
         raise CdprError(
             f"{robot.source}: paper mode (3-cable subsets) is the point-mass rule; this robot has platform "
@@ -72,9 +67,11 @@ def check_spatial(robot, engine, redundancy):
 
 
 def spatial_engine(engine):
-    """The engine of the 6-DoF solver: ``engine`` ("compiled" or "numpy"), or when None
-    ``SPATIAL_DEFAULT_ENGINE``; an unknown engine raises CdprError naming the allowed values."""
-    return SPATIAL_DEFAULT_ENGINE if engine is None else check_engine(engine, "newton")
+    """The engine of the 6-DoF solver (a Newton method): ``engine`` ("compiled" or "numpy"), or when
+    None the default of ``check_engine`` (compiled: ``cdpr.compiled.equilibrium6``, tested equal to
+    the numpy reference to 1e-9 m and rad); an unknown engine raises CdprError naming the allowed
+    values."""
+    return check_engine(engine, "newton")
 
 
 def solve_spatial_any(robot, p, rotvec=None, engine=None, threads=None, **options):
@@ -105,8 +102,8 @@ def solve_points_any(
     ``redundancy="physical"``: the equilibrium on all cables (``equilibrium.solve_physical`` keys),
     commanded rest lengths ``L0`` (N, m) [m] or L_TS at p. A robot that is not a suspended point
     mass, an orientation ``rotvec`` ((3,) or (N, 3) [rad]) or poses p (N, 6) go to the 6-DoF
-    solver (``equilibrium6.solve_spatial``, physical mode; ``check_spatial``), numpy by default and
-    compiled with ``engine="compiled"`` (``solve_spatial_any``); paper mode on a point mass ignores
+    solver (``equilibrium6.solve_spatial``, physical mode; ``check_spatial``), compiled by default and
+    the numpy reference with ``engine="numpy"`` (``solve_spatial_any``); paper mode on a point mass ignores
     the orientation. An engine/method/model combination that does not exist raises CdprError."""
     p = np.atleast_2d(np.asarray(p, dtype=float))
     check_redundancy(redundancy)
