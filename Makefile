@@ -92,9 +92,6 @@ reproduce-quick: $(STAMP)
 # Recompute the quick study from scratch and accept its tables as the new regression references
 # (review the diff!).
 update-references: $(STAMP)
-	$(BIN)/snakemake --cores all --forceall reproduce_paper --config study=config/studies/quick.yaml results=results/quick
-	$(BIN)/snakemake --cores all --forceall reproduce_paper --config study=config/studies/quick_physical.yaml results=results/quick_physical
-	$(BIN)/snakemake reproduce_comparison --cores all --forcerun $(COMPARISON_RULES) $(QUICK_CMP)
 	$(BIN)/python -m tests.update_references
 
 # The SLURM executor plugin (extra `cluster` of pyproject.toml) into .venv, for

@@ -17,6 +17,7 @@ import pytest
 from hypothesis import settings
 
 from cdpr.robot import load_robot
+from tests.quick_runs import make_workdir, run_quick
 
 ROOT = Path(__file__).resolve().parents[1]
 ROBOTS = ROOT / "config" / "robots"
@@ -40,6 +41,20 @@ def copy_sources(dest):
             (dest / f.decode()).parent.mkdir(parents=True, exist_ok=True)
             shutil.copy2(src, dest / f.decode())
     return dest
+
+
+@pytest.fixture(scope="session")
+def quick_work(tmp_path_factory):
+    """The working folder of the session's quick runs: outside the tree, its path with a space and
+    a non-ASCII letter (every path that reaches a shell command is quoted)."""
+    return make_workdir(tmp_path_factory.mktemp("work dir é") / "w")
+
+
+@pytest.fixture(scope="session")
+def quick_results(quick_work):
+    """The quick study in both modes and their comparison, run once per session (tests/quick_runs.py):
+    the workflow regression and the figure tests read the same runs."""
+    return run_quick(quick_work)
 
 
 @pytest.fixture(scope="session")

@@ -17,6 +17,7 @@ import pandas as pd
 import pytest
 
 from tests.conftest import ROOT
+from tests.quick_runs import make_workdir, snakemake
 
 REF = ROOT / "tests" / "reference" / "quick"
 #: The quick study runs in both redundancy modes, then their comparison: reference folder -> results
@@ -57,65 +58,16 @@ CASES = (
 RTOL, ATOL = 1e-6, 1e-9
 
 
-def snakemake(target, *config, cwd, quiet=True, force=True, extra=()):
-    """Run the workflow (the repository's Snakefile) on `target` in the working folder `cwd` with
-    `--config key=value ...` (option order matters: both take lists). ``force``: recompute every
-    job; a list of rule names forces only those (and what depends on them)."""
-    exe = Path(sys.executable).with_name("snakemake")
-    q = ["--quiet", "all"] if quiet else []
-    f = ["--forceall"] if force is True else (["--forcerun", *force] if force else [])
-    return subprocess.run(
-        [str(exe), target, "--snakefile", str(ROOT / "Snakefile"), "--cores", "2", *q, *f, *extra]
-        + ["--config", *config],
-        cwd=cwd,
-        capture_output=True,
-        text=True,
-    )
+@pytest.fixture
+def work(quick_work):
+    """The session's working folder of the quick runs (tests/quick_runs.py)."""
+    return quick_work
 
 
-def make_workdir(folder):
-    """A working folder for Snakemake outside the tree: ``config/`` linked to the repository's,
-    the studies copied to ``studies/``, and the quick comparison file naming them."""
-    folder.mkdir(parents=True, exist_ok=True)
-    (folder / "config").symlink_to(ROOT / "config", target_is_directory=True)
-    (folder / "studies").mkdir()
-    for name in ("quick", "quick_physical", "example"):
-        shutil.copy(ROOT / "config" / "studies" / f"{name}.yaml", folder / "studies" / f"{name}.yaml")
-    (folder / "comparison.yaml").write_text(
-        "paper: {study: studies/quick.yaml, results: results/quick}\n"
-        "physical: {study: studies/quick_physical.yaml, results: results/quick_physical}\n"
-        "page: results/quick_comparison.md\nfolder: results/quick_comparison\n"
-        "budget: {index_n: 6, t_min_N: 100.0}\n"
-    )
-    return folder
-
-
-@pytest.fixture(scope="module")
-def work(tmp_path_factory):
-    return make_workdir(tmp_path_factory.mktemp("work dir é") / "w")
-
-
-#: The rules of the comparison step (forced: their inputs come from the two runs before).
-COMPARISON_RULES = ["budget_design", "budget", "comparison"]
-
-
-@pytest.fixture(scope="module")
-def quick(work):
-    """The quick study in paper mode, in physical mode, then their comparison (as `make reproduce`
-    does with the paper study), in the temporary working folder."""
-    for study in ("quick", "quick_physical"):
-        p = snakemake("reproduce_paper", f"study=studies/{study}.yaml", f"results=results/{study}", cwd=work)
-        assert p.returncode == 0, p.stderr[-3000:]
-    p = snakemake(
-        "reproduce_comparison",
-        "study=studies/quick.yaml",
-        "results=results/quick",
-        "comparison=comparison.yaml",
-        force=COMPARISON_RULES,
-        cwd=work,
-    )
-    assert p.returncode == 0, p.stderr[-3000:]
-    return work / "results" / "quick"
+@pytest.fixture
+def quick(quick_results):
+    """results/quick of the session's quick runs (paper mode, physical mode, their comparison)."""
+    return quick_results / "quick"
 
 
 @pytest.mark.parametrize("run,table", CASES, ids=[f"{r}/{t}" for r, t in CASES])

@@ -37,24 +37,28 @@ KIND_COLOURS = {"SR": "tab:blue", "DR": "tab:orange", "fixed": "tab:gray"}
 NOT_OK_COLOUR = "0.85"
 
 
-def audit(fig, out):
-    """Write ``out``'s layout audit, ``<out>.layout.json``: the problems ``figure_checks`` finds
-    (overlapping texts, texts off the canvas, axes without a unit) and the titles (for the mode)."""
+def audit(fig, out=None):
+    """The layout audit of ``fig``: the problems ``figure_checks`` finds (overlapping texts, texts
+    off the canvas, axes without a unit) and the titles (for the mode); written to
+    ``<out>.layout.json`` when ``out`` is given. Auditing draws the figure."""
 
     rec = {"problems": figure_checks.layout_problems(fig), "titles": figure_checks.titles(fig)}
-    atomic(
-        Path(str(out) + ".layout.json"),
-        lambda tmp: Path(tmp).write_text(json.dumps(rec, indent=1, ensure_ascii=False), encoding="utf-8"),
-    )
+    if out is not None:
+        atomic(
+            Path(str(out) + ".layout.json"),
+            lambda tmp: Path(tmp).write_text(json.dumps(rec, indent=1, ensure_ascii=False), encoding="utf-8"),
+        )
+    return rec
 
 
 def save(fig, out):
     """Write ``out`` (.png) and its .pdf sibling atomically; returns both paths. The PDF carries no
-    creation date, so the same table gives the same bytes. With the environment variable
-    ``CDPR_FIGURE_AUDIT`` set, the layout audit is written beside them (``audit``)."""
+    creation date, so the same table gives the same bytes. Every figure is audited (``audit``)
+    before it is written, so that the pixels do not depend on whether the audit is kept: drawing
+    the figure for the audit moves a constrained layout by a pixel. With the environment variable
+    ``CDPR_FIGURE_AUDIT`` set, the audit is written beside the figure."""
     out = Path(out)
-    if os.environ.get("CDPR_FIGURE_AUDIT"):
-        audit(fig, out)
+    audit(fig, out if os.environ.get("CDPR_FIGURE_AUDIT") else None)
     paths = [out, out.with_suffix(".pdf")]
     meta = {".png": None, ".pdf": {"CreationDate": None}}
     for p in paths:

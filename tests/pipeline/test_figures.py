@@ -3,8 +3,9 @@
 brackets, the title names the redundancy mode of the study that drew it; and each PNG matches its
 tracked baseline (tests/baseline/<run>/...) at a small RMS tolerance.
 
-The quick studies (both modes) and their comparison run ONCE per session into a temporary folder,
-with ``CDPR_FIGURE_AUDIT`` set so that ``plots.save`` writes each figure's layout audit beside it.
+The quick studies (both modes) and their comparison run ONCE per session (tests/quick_runs.py, shared
+with tests/test_workflow.py), with ``CDPR_FIGURE_AUDIT`` set so that ``plots.save`` writes each
+figure's layout audit beside it.
 ``CDPR_FIGURE_RUNS=<folder>`` reuses a folder such a run wrote (same layout: quick/,
 quick_physical/, quick_comparison/). A failing baseline comparison writes its difference image under
 tests/output/ (ignored by git, kept by CI). ``make update-references`` refreshes the baselines.
@@ -13,13 +14,12 @@ tests/output/ (ignored by git, kept by CI). ``make update-references`` refreshes
 import json
 import os
 import shutil
-import subprocess
-import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
-from cdpr.pipeline import figure_checks
+from cdpr.pipeline import figure_checks, plots
 
 ROOT = Path(__file__).resolve().parents[2]
 BASELINE = ROOT / "tests" / "baseline"
@@ -34,53 +34,12 @@ RUNS = {
 RMS_TOL = 2.0
 
 
-def _comparison_file(root):
-    text = (
-        f"paper: {{study: config/studies/quick.yaml, results: {root}/quick}}\n"
-        f"physical: {{study: config/studies/quick_physical.yaml, results: {root}/quick_physical}}\n"
-        f"page: {root}/quick_comparison.md\nfolder: {root}/quick_comparison\n"
-        "budget:\n  index_n: 6\n  t_min_N: 100.0\n"
-    )
-    path = root / "comparison.yaml"
-    path.write_text(text)
-    return path
-
-
-def run_quick_studies(root, cores="2"):
-    """Run the quick study in both modes and their comparison into ``root`` with the layout audit."""
-    root = Path(root)
-    exe = Path(sys.executable).with_name("snakemake")
-    env = dict(os.environ, CDPR_FIGURE_AUDIT="1")
-    cmp = _comparison_file(root)
-    cmds = [
-        ["reproduce_paper", "--config", "study=config/studies/quick.yaml", f"results={root}/quick"],
-        [
-            "reproduce_paper",
-            "--config",
-            "study=config/studies/quick_physical.yaml",
-            f"results={root}/quick_physical",
-        ],
-        ["reproduce_comparison", "--config", "study=config/studies/quick.yaml", f"results={root}/quick"]
-        + [f"comparison={cmp}"],
-    ]
-    for c in cmds:
-        r = subprocess.run(
-            [str(exe), c[0], "--cores", cores, "--quiet", "all", *c[1:]],
-            cwd=ROOT,
-            env=env,
-            capture_output=True,
-            text=True,
-        )
-        assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-3000:]
-    return root
-
-
 @pytest.fixture(scope="session")
-def runs(tmp_path_factory):
+def runs(request):
     given = os.environ.get("CDPR_FIGURE_RUNS")
     if given:
         return Path(given)
-    return run_quick_studies(tmp_path_factory.mktemp("figures"))
+    return request.getfixturevalue("quick_results")  # the session's quick runs (tests/quick_runs.py)
 
 
 def declared(root):
@@ -164,3 +123,25 @@ def test_layout_checks_pass_a_clean_figure():
     ax.set(xlabel="x [m]", ylabel="‖δp‖ [mm]", title="physical equilibrium")
     assert figure_checks.layout_problems(fig, mode="physical") == []
     plt.close(fig)
+
+
+def test_a_figure_has_the_same_pixels_with_and_without_its_audit(tmp_path, monkeypatch):
+    """The figure test's runs keep the audit, make reproduce and make update-references do not:
+    both must draw the same image (drawing for the audit once moved constrained layouts by a pixel)."""
+    import matplotlib.pyplot as plt
+
+    def draw(out):
+        fig, axes = plt.subplots(1, 2, figsize=(6, 3), layout="constrained")
+        for ax in axes:
+            cf = ax.contourf(np.random.default_rng(0).random((5, 5)))
+            fig.colorbar(cf, ax=ax, label="‖δp‖ [mm]")
+            ax.set(xlabel="x [m]", ylabel="y [m]", title="a title\nover two lines")
+        fig.suptitle("physical equilibrium")
+        plots.save(fig, out)
+
+    monkeypatch.delenv("CDPR_FIGURE_AUDIT", raising=False)
+    draw(tmp_path / "plain.png")
+    monkeypatch.setenv("CDPR_FIGURE_AUDIT", "1")
+    draw(tmp_path / "audited.png")
+    assert (tmp_path / "audited.png.layout.json").exists()
+    assert (tmp_path / "plain.png").read_bytes() == (tmp_path / "audited.png").read_bytes()
