@@ -911,17 +911,39 @@ def fig18_index_vs_E(tab, E_mean, bands, out, mode=None, paper=None):
     return save(fig, out)
 
 
-def fig19_paths(curves, crossings, out, mode=None, paper=None):
+def fig19_paths(curves, crossings, out, mode=None, paper=None, phi=None):
     """Paty 2021 Fig. 19: ‖δp‖ along the section 5.2 path for each design (colour) at E_min,
     E_mean, E_max (line style), with our crossings of the E_max and E_min curves (solid vertical
     lines) and the paper's (``paper`` {design: s [m]}, dashed). ``curves`` is a list of (design, E
-    [Pa], s [m], dp [m]); ``crossings`` a table design, s_m."""
+    [Pa], s [m], dp [m]); ``crossings`` a table design, s_m. ``phi``: the same list with δφ [rad]
+    (a rigid platform), drawn in a second panel [mrad]."""
     paper = paper or {}
-    fig, ax = plt.subplots(figsize=(7.5, 4.6), layout="constrained")
+    fig, axes = plt.subplots(
+        2 if phi else 1, 1, figsize=(7.5, 8.6 if phi else 4.6), squeeze=False, layout="constrained"
+    )
+    ax = axes[0, 0]
     designs = list(dict.fromkeys(c[0] for c in curves))
     Es = sorted({c[1] for c in curves})
     styles = dict(zip(Es, [":", "-", "--"] if len(Es) == 3 else ["-"] * len(Es)))
     colours = dict(zip(designs, OKABE_ITO))
+    if phi:
+        a = axes[1, 0]
+        for dk, E, s, v in phi:
+            a.plot(
+                s,
+                v * DPHI_SCALE,
+                styles.get(E, "-"),
+                color=colours.get(dk),
+                label=f"{dk} E = {E / 1e9:g} GPa",
+            )
+        a.set(
+            xlabel="position along the path s [m]",
+            ylabel=DPHI_LABEL,
+            title=f"δφ along the path at E_min, E_mean, E_max{_mode(mode)}",
+        )
+        a.title.set_fontsize(9)
+        a.grid(alpha=0.3)
+        a.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.01, 0.5))
     for dk, E, s, dp in curves:
         ax.plot(s, dp * 1e3, styles[E], color=colours[dk], label=f"{dk} E = {E / 1e9:g} GPa")
     for r in crossings.itertuples():

@@ -446,7 +446,7 @@ def elasticity(st, tables, paths, table, bands, crossings, figure, paths_figure)
         (g["design"], float(g["E"])): p
         for g, p in _by_stem(paths, r"path_(?P<design>[A-Za-z0-9]+)_E(?P<E>[0-9.e+-]+)", "path table")
     }
-    curves, cross = [], []
+    curves, cross, phi = [], [], []
     for dk in st["optimal"]:
         at = {}
         for E in (E_min, E_mean, E_max):
@@ -454,6 +454,8 @@ def elasticity(st, tables, paths, table, bands, crossings, figure, paths_figure)
             df = table_io.read_table(files[key])
             at[E] = df.dp.where(df.status == "ok")
             curves.append((dk, E, df.s.to_numpy(), at[E].to_numpy()))
+            if "dphi" in df:  # a rigid platform: δφ along the path too
+                phi.append((dk, E, df.s.to_numpy(), df.dphi.where(df.status == "ok").to_numpy()))
         cross += [{"design": dk, "s_m": c} for c in scans.crossings(df.s, at[E_max], at[E_min])]
     cross_tab = pd.DataFrame(cross, columns=["design", "s_m"])
     table_io.write_table(cross_tab, crossings)
@@ -463,7 +465,7 @@ def elasticity(st, tables, paths, table, bands, crossings, figure, paths_figure)
     }
     paper_cross = {dk: v for dk, v in paper_cross.items() if v is not None and st.get("paper_comparison")}
     plots.fig18_index_vs_E(tab, E_mean, bands_tab, figure, mode=mode, paper=_paper_uq_bands(st))
-    plots.fig19_paths(curves, cross_tab, paths_figure, mode=mode, paper=paper_cross)
+    plots.fig19_paths(curves, cross_tab, paths_figure, mode=mode, paper=paper_cross, phi=phi or None)
 
 
 # ---- dead-length calibration -------------------------------------------------------------------
