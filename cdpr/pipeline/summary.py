@@ -422,6 +422,18 @@ def headline_rows(st, res):
                 + ("study's doe.paper_rw_c_m box" if rw["use"] == "paper" else "computed box"),
             )
         )
+    rwm = _read(res, _rel("regular_workspace"))
+    if rwm is not None and "wrench_feasible_m3" in rwm:
+        for r in rwm.itertuples():
+            rows.append(
+                _headline(
+                    f"DOE test {int(r.test)} wrench-feasible workspace",
+                    "doe/rw_max.csv",
+                    float(r.wrench_feasible_m3),
+                    "m^3",
+                    f"{r.kind}, h = {r.h_m * 1e3:g} mm, r_p = {r.r_p_m * 1e3:g} mm; RW_max {r.volume_m3:.4g} m^3",
+                )
+            )
     d = _read(res, _rel("doe"))
     if d is not None:
         for col, unit, scale, what in (("index_m", "mm", 1e3, "I"), ("index_phi_rad", "mrad", 1e3, "I_φ")):

@@ -256,6 +256,11 @@ def regular_workspace(st, tables, table, json):
             )
         box = workspace.box_from_cells(workspace.frame_box(robot), n, cells)
         boxes.append(box)
+        extra = {}
+        if feasible is not None:  # the wrench-feasible (and ok) workspace's volume by voxel counting
+            voxel = workspace.box_volume(workspace.frame_box(robot)) / n**3
+            ok = workspace.voxel_mask(grid, n, feasible)
+            extra["wrench_feasible_m3"] = float(ok.sum() * voxel)
         rows.append(
             {
                 "test": int(t.test),
@@ -269,6 +274,7 @@ def regular_workspace(st, tables, table, json):
                 "zmin": box[4],
                 "zmax": box[5],
                 "volume_m3": workspace.box_volume(box),
+                **extra,
             }
         )
     tab = pd.DataFrame(rows)
