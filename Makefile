@@ -11,7 +11,7 @@ CLUSTER_STAMP := $(VENV)/.installed-cluster
 
 
 .PHONY: test-fast
-.PHONY: venv test docs test-docs-browser reproduce reproduce-extra resume reproduce-quick update-references clean-venv cluster-venv test-slurm
+.PHONY: venv test docs test-docs-browser reproduce reproduce-extra resume reproduce-quick update-references clean-venv cluster-venv test-slurm report
 
 # Re-install whenever pyproject.toml changes (the stamp is older than it).
 $(STAMP): pyproject.toml
@@ -59,6 +59,13 @@ reproduce: $(STAMP)
 	$(BIN)/snakemake --cores all --forceall reproduce_paper $(PHYSICAL)
 	$(MAKE) --no-print-directory reproduce-extra
 	$(BIN)/snakemake reproduce_comparison --cores all --forcerun $(COMPARISON_RULES)
+
+# Snakemake's HTML reports of what make reproduce wrote (every figure with its caption, from
+# workflow/report/): one per study and one for the comparison, under results/report/ (not tracked).
+report: $(STAMP)
+	$(BIN)/snakemake reproduce_paper --report results/report/paper.html
+	$(BIN)/snakemake reproduce_paper --report results/report/physical.html $(PHYSICAL)
+	$(BIN)/snakemake reproduce_comparison --report results/report/comparison.html
 
 # Hook: studies that make reproduce runs after the paper and physical studies and before the
 # comparison (e.g. the uncertainty study adds its snakemake command here).

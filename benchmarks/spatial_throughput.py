@@ -1,12 +1,16 @@
-"""Spatial (6-DoF) equilibrium solves per second beside the point-mass physical kernel, in one run.
+"""Spatial (6-DoF) equilibria per second, compiled and numpy, beside the point-mass compiled kernel,
+in one run.
 
 CoGiRo (config/robots/cogiro.yaml) commanded with L_TS at N random poses in a box round the centre
-(|rotation| up to 10 deg), solved by the numpy reference ``equilibrium6.solve_spatial`` (with and
-without the restarts); CDPR4 SR physical mode at N random points by the compiled kernel and the
-numpy reference. The compiled 6-DoF engine does not exist yet (issue 17: it waits for the shared
-scalar cable kernel), so there is no compiled spatial figure.
+(|rotation| up to 10 deg), solved by the compiled engine ``cdpr.compiled.equilibrium6.solve_spatial``
+(warm: compiled before the clock starts) and by the numpy reference ``equilibrium6.solve_spatial``
+(on the first ``--n-numpy`` of them, it is slow), both with the restarts; the ratio; the compiled
+Newton kernel alone (``newton6_fast``, without the numpy set-up and result); CDPR4 SR physical mode
+at N random points by the point-mass compiled kernel and its numpy reference. The machine's load
+(``os.getloadavg``) is printed: on a shared machine the figures are a lower bound. Wall-clock
+rates, best of ``--repeat``; "cpu" is the process's CPU time per solve (all threads).
 
-    .venv/bin/python benchmarks/spatial_throughput.py [--n 2000] [--repeat 2]
+    .venv/bin/python benchmarks/spatial_throughput.py [--n 20000] [--n-numpy 2000] [--repeat 3]
 """
 
 import argparse
@@ -14,55 +18,75 @@ import os
 import time
 from pathlib import Path
 
+import numba
 import numpy as np
 
-from cdpr.models.equilibrium import solve_physical
-from cdpr.models.equilibrium6 import solve_spatial
+from cdpr.compiled.equilibrium import solve_physical_fast
+from cdpr.compiled.equilibrium6 import _Compiled6, newton6_fast
+from cdpr.compiled.equilibrium6 import solve_spatial as solve_spatial_fast
+from cdpr.models.equilibrium import PHYSICAL_DEFAULTS, solve_physical
+from cdpr.models.equilibrium6 import L_TS_pose, pose_arrays, solve_spatial
 from cdpr.robot import load_robot
 
 ROOT = Path(__file__).resolve().parents[1]
 
 
 def best(fn, repeat):
+    """(wall [s], cpu [s], result) of the fastest of ``repeat`` runs."""
     times, out = [], None
     for _ in range(repeat):
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.process_time()
         out = fn()
-        times.append(time.perf_counter() - t0)
-    return min(times), out
+        times.append((time.perf_counter() - t0, time.process_time() - c0))
+    wall, cpu = min(times)
+    return wall, cpu, out
 
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--n", type=int, default=2000)
-    ap.add_argument("--repeat", type=int, default=2)
+    ap.add_argument("--n", type=int, default=20000)
+    ap.add_argument("--n-numpy", type=int, default=2000)
+    ap.add_argument("--repeat", type=int, default=3)
     args = ap.parse_args()
+    n, nn = args.n, min(args.n_numpy, args.n)
     g = np.random.default_rng(0)
     cog = load_robot(ROOT / "config/robots/cogiro.yaml")
-    p = np.column_stack([g.uniform(-3, 3, args.n), g.uniform(-2, 2, args.n), g.uniform(1.0, 3.0, args.n)])
-    rv = g.normal(size=(args.n, 3))
-    rv *= (np.radians(10) * g.uniform(0, 1, (args.n, 1))) / np.linalg.norm(rv, axis=1, keepdims=True)
-    t, res = best(lambda: solve_spatial(cog, p, rv), args.repeat)
-    t_nr, _ = best(lambda: solve_spatial(cog, p, rv, restarts=False), args.repeat)
-    ok = (res["status"] == "ok").mean()
+    p = np.column_stack([g.uniform(-3, 3, n), g.uniform(-2, 2, n), g.uniform(1.0, 3.0, n)])
+    rv = g.normal(size=(n, 3))
+    rv *= (np.radians(10) * g.uniform(0, 1, (n, 1))) / np.linalg.norm(rv, axis=1, keepdims=True)
+    print(f"cores {os.cpu_count()}, numba threads {numba.get_num_threads()}, load before {os.getloadavg()}")
+    solve_spatial_fast(cog, p[:10], rv[:10])  # compile (or load the cache)
+    tc, cc, res = best(lambda: solve_spatial_fast(cog, p, rv), args.repeat)
+    tn, _, ref = best(lambda: solve_spatial(cog, p[:nn], rv[:nn]), max(1, args.repeat - 1))
+    same = (ref["status"] == res["status"][:nn]).all() and (ref["taut"] == res["taut"][:nn]).all()
+    dev = np.abs(ref["P_s"] - res["P_s"][:nn]).max()
     print(
-        f"CoGiRo 6-DoF numpy reference: {args.n / t:,.0f} solves/s with restarts, {args.n / t_nr:,.0f} without"
+        f"CoGiRo 6-DoF with restarts: compiled {n / tc:,.0f} /s ({cc / n * 1e6:.1f} us cpu per solve, "
+        f"N = {n}), numpy {nn / tn:,.0f} /s (N = {nn}): ratio {(n / tc) / (nn / tn):,.0f}"
     )
     print(
-        f"  status ok: {ok:.1%}; not unique: {(~res['unique']).sum()}; median iterations {np.median(res['iterations']):g}"
+        f"  status ok: {(res['status'] == 'ok').mean():.1%}; not unique: {(~res['unique']).sum()}; "
+        f"median iterations {np.median(res['iterations']):g}; compiled = numpy on the first {nn}: "
+        f"{'same statuses and taut sets' if same else 'DIFFERENT'}, max |dP| {dev:.1e} m"
     )
+    cab = _Compiled6(cog)
+    pp, R = pose_arrays(cog, p, rv)
+    L0 = L_TS_pose(cog, pp, R)
+    o = PHYSICAL_DEFAULTS
+    tk, ck, _ = best(
+        lambda: newton6_fast(cab, pp, R, L0, pp, o["tol"], o["maxiter"], o["max_step"]), args.repeat
+    )
+    print(f"  the compiled Newton kernel alone: {n / tk:,.0f} /s ({ck / n * 1e6:.1f} us cpu per solve)")
     r4 = load_robot(ROOT / "config/robots/cdpr4.yaml")
-    P = np.column_stack(
-        [g.uniform(-2.3, 2.3, args.n), g.uniform(-2.3, 2.3, args.n), g.uniform(0.2, 3.7, args.n)]
-    )
-    from cdpr.compiled.equilibrium import solve_physical_fast
-
+    P = np.column_stack([g.uniform(-2.3, 2.3, n), g.uniform(-2.3, 2.3, n), g.uniform(0.2, 3.7, n)])
     solve_physical_fast(r4, P[:10])  # compile
-    tc, _ = best(lambda: solve_physical_fast(r4, P), args.repeat)
-    tn, _ = best(lambda: solve_physical(r4, P), args.repeat)
+    t4, c4, _ = best(lambda: solve_physical_fast(r4, P), args.repeat)
+    t4n, _, _ = best(lambda: solve_physical(r4, P[:nn]), max(1, args.repeat - 1))
     print(
-        f"CDPR4 SR point mass: compiled {args.n / tc:,.0f} /s, numpy {args.n / tn:,.0f} /s (cores: {os.cpu_count()})"
+        f"CDPR4 SR point mass: compiled {n / t4:,.0f} /s ({c4 / n * 1e6:.1f} us cpu per solve), "
+        f"numpy {nn / t4n:,.0f} /s"
     )
+    print(f"load after {os.getloadavg()}")
 
 
 if __name__ == "__main__":

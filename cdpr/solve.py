@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from cdpr.compiled import equilibrium as compiled_equilibrium
+from cdpr.compiled import equilibrium6 as compiled_equilibrium6
 from cdpr.compiled import sensitivity as compiled_sensitivity
 from cdpr.compiled import subsets as compiled_subsets
 from cdpr.errors import CdprError
@@ -54,18 +55,32 @@ def check_redundancy(redundancy):
 
 def check_spatial(robot, engine, redundancy):
     """The engine for a robot that is not a suspended point mass (``Robot.suspended_point_mass``):
-    such robots have the numpy 6-DoF physical mode only (``cdpr.models.equilibrium6``); paper mode
-    (3 of m) and the compiled engine raise CdprError in one line."""
+    such robots have the 6-DoF physical mode only (``cdpr.models.equilibrium6``); paper mode (3 of
+    m) raises CdprError in one line. The engine is ``engine`` or, when None, the one default of
+    ``check_engine`` (``spatial_engine``)."""
     if redundancy != "physical":
         raise CdprError(
             f"{robot.source}: paper mode (3-cable subsets) is the point-mass rule; this robot has platform "
             "attachments or pulley axes other than +z: use redundancy: physical (--redundancy physical)"
         )
-    if engine == "compiled":
-        raise CdprError(
-            f"{robot.source}: the compiled engine has no 6-DoF solver yet; use --engine numpy (the default for this robot)"
-        )
-    return "numpy"
+    return spatial_engine(engine)
+
+
+def spatial_engine(engine):
+    """The engine of the 6-DoF solver (a Newton method): ``engine`` ("compiled" or "numpy"), or when
+    None the default of ``check_engine`` (compiled: ``cdpr.compiled.equilibrium6``, tested equal to
+    the numpy reference to 1e-9 m and rad); an unknown engine raises CdprError naming the allowed
+    values."""
+    return check_engine(engine, "newton")
+
+
+def solve_spatial_any(robot, p, rotvec=None, engine=None, threads=None, **options):
+    """``equilibrium6.solve_spatial`` by the chosen engine (``spatial_engine``): the numpy reference
+    or the compiled twin ``cdpr.compiled.equilibrium6.solve_spatial`` (``threads`` caps its
+    threads); same parameters and result."""
+    if spatial_engine(engine) == "compiled":
+        return compiled_equilibrium6.solve_spatial(robot, p, rotvec, threads=threads, **options)
+    return solve_spatial(robot, p, rotvec, **options)
 
 
 def solve_points_any(
@@ -86,10 +101,10 @@ def solve_points_any(
     (``redundancy.solve_points`` keys), commanded total lengths ``L`` (N, m) [m] or L_TS at p.
     ``redundancy="physical"``: the equilibrium on all cables (``equilibrium.solve_physical`` keys),
     commanded rest lengths ``L0`` (N, m) [m] or L_TS at p. A robot that is not a suspended point
-    mass, an orientation ``rotvec`` ((3,) or (N, 3) [rad]) or poses p (N, 6) go to the 6-DoF numpy
-    solver (``equilibrium6.solve_spatial``, physical mode; ``check_spatial``); paper mode on a point
-    mass ignores the orientation. An engine/method/model combination that does not exist raises
-    CdprError."""
+    mass, an orientation ``rotvec`` ((3,) or (N, 3) [rad]) or poses p (N, 6) go to the 6-DoF
+    solver (``equilibrium6.solve_spatial``, physical mode; ``check_spatial``), compiled by default and
+    the numpy reference with ``engine="numpy"`` (``solve_spatial_any``); paper mode on a point mass ignores
+    the orientation. An engine/method/model combination that does not exist raises CdprError."""
     p = np.atleast_2d(np.asarray(p, dtype=float))
     check_redundancy(redundancy)
     if not robot.suspended_point_mass or rotvec is not None or p.shape[1] == 6:
@@ -102,7 +117,7 @@ def solve_points_any(
                 )
             if L is not None:
                 raise CdprError("physical mode commands rest lengths L0, not total lengths L")
-            res = solve_spatial(robot, p, rotvec, L0=L0, **options)
+            res = solve_spatial_any(robot, p, rotvec, engine, threads, L0=L0, **options)
             return mark_below_floor(res, p) if robot.suspended_point_mass else res
         p = p[:, :3]  # paper mode on a point mass: the orientation plays no part
     if redundancy == "physical":

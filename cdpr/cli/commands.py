@@ -437,20 +437,19 @@ def cmd_compensate(args):
 
 def _compensate_spatial(args, robot, actual, P, rv, t_max):
     """``compensate`` at poses (rigid platform or --rotvec): minimum-norm distribution in the bounds
-    at the pose (``distribution6``), compensated rest lengths, and the check solve (6-DoF numpy)."""
+    at the pose (``distribution6``), compensated rest lengths, and the check solve (6-DoF; numpy unless --engine compiled)."""
     # lazy: the 6-DoF models, for poses only
     from cdpr.models.distribution6 import compensated_lengths
-    from cdpr.models.equilibrium6 import solve_spatial
+    from cdpr.solve import solve_spatial_any
 
     if args.distribution != "min_norm":
         raise CdprError(
             f"--distribution {args.distribution} is not available at a pose (rigid platform or --rotvec); use min_norm"
         )
-    if args.engine == "compiled":
-        raise CdprError("the compiled engine has no 6-DoF solver yet; use --engine numpy")
     c = compensated_lengths(robot, P, rv, t_min=args.t_min, t_max=t_max)
     ok = c["feasible"]
-    res = solve_spatial(actual or robot, P, rv, L0=np.where(ok[:, None], c["L0"], 1.0))
+    L0 = np.where(ok[:, None], c["L0"], 1.0)
+    res = solve_spatial_any(actual or robot, P, rv, args.engine, args.threads, L0=L0)
     status = np.where(ok, res["status"], "infeasible")
     if args.points or args.out:
         from cdpr.tables import to_frame6  # lazy: tables only (pandas)

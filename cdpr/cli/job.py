@@ -81,6 +81,7 @@ OPTIONS = {
     "sobol_figure": Option("output Sobol figure", "out"),
     "map_figure": Option("output map figure", "out"),
     "agreement_figure": Option("output agreement figure", "out"),
+    "residual_figure": Option("output figure of what compensation leaves", "out"),
 }
 
 

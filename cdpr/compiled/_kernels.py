@@ -51,11 +51,14 @@ __all__ = [
     "PulleyGeometry",
     "cable",
     "cable_arrays",
+    "cable_axis",
+    "cable_derivatives",
     "cable_of",
     "cable_params",
     "cable_partials",
     "cable_partials_at",
     "commanded_input",
+    "in_frame",
     "newton_options",
     "pulley_geometry",
     "set_threads",
@@ -361,6 +364,150 @@ def cable(px, py, pz, Ax, Ay, Az, kind, h, rp, d, inx, iny):
         enw,
         uCb,
     )
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def in_frame(px, py, pz, Ax, Ay, Az, ident, f):
+    """The point B and the joint A as the scalar kernels take them for a pulley with frame F (rows
+    i_i, j_i, k_i): the components of B - A in the pulley frame and A' = 0, or, for the identity
+    frame (``ident``), B and A themselves (the kernels' arithmetic bit for bit)::
+
+        w' = F (B - A)
+
+    Parameters
+    ----------
+    px, py, pz : float [m]
+        B (base frame).
+    Ax, Ay, Az : float [m]
+        A (base frame).
+    ident : bool
+        F is the identity.
+    f : ndarray (3, 3) [-]
+        The pulley frame F.
+
+    Returns
+    -------
+    tuple
+        (w'x, w'y, w'z, A'x, A'y, A'z) [m].
+
+    References
+    ----------
+    Paty et al. 2021, section 2.1 (the cable plane through the pulley's axis).
+    """
+    if ident:
+        return px, py, pz, Ax, Ay, Az
+    wx, wy, wz = px - Ax, py - Ay, pz - Az
+    return (
+        f[0, 0] * wx + f[0, 1] * wy + f[0, 2] * wz,
+        f[1, 0] * wx + f[1, 1] * wy + f[1, 2] * wz,
+        f[2, 0] * wx + f[2, 1] * wy + f[2, 2] * wz,
+        0.0,
+        0.0,
+        0.0,
+    )
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def cable_axis(px, py, pz, Ax, Ay, Az, kind, h, rp, d, inx, iny, ident, f):
+    """``cable`` for a pulley whose swivel axis k_i is any unit vector: the pulley frame F (rows
+    i_i, j_i, k_i) is a rotation, so the cable is evaluated by the same scalar kernel at the
+    components of B - A in that frame, and the vectors come back to the base frame by F^T::
+
+        w' = F (B - A),   (L, u', e_perp', beta', eps', ...) = cable(w', A' = 0),
+        u = F^T u',   e_perp = F^T e_perp',   beta = F^T beta',   eps = F^T eps'
+
+    The scalars (L_TE, |l_E|, swivel, arm, u_C . beta) are invariant. The gradients built from the
+    vectors (``cable_derivatives``) then rotate as dL/dB = F^T dL'/dB', du/dB = F^T du'/dB' F.
+    ``inward`` is already in the pulley frame (``robot.CableArrays``). With ``ident`` (F = I) the
+    scalar kernel runs on B and A themselves: bit for bit ``cable``.
+
+    Parameters
+    ----------
+    px, py, pz : float [m]
+        The attachment point B_i (base frame).
+    Ax, Ay, Az, kind, h, rp, d, inx, iny
+        As ``pulley_geometry`` (A in the base frame, inward in the pulley frame).
+    ident : bool
+        F is the identity (axis +z without ``zero``).
+    f : ndarray (3, 3) [-]
+        The pulley frame, rows i_i, j_i, k_i (``robot.CableArrays.frame``).
+
+    Returns
+    -------
+    tuple
+        (L [m]; ux, uy, uz [-]; l_E [m]; inside; swivel [-]; e_perp x, y, z [-]; arm [-]; beta x, y, z
+        [-]; eps x, y, z [-]; uC_beta [-]), vectors in the base frame.
+
+    References
+    ----------
+    Paty et al. 2021, eq. (3)-(5), (12).
+    """
+    qx, qy, qz, ax, ay, az = in_frame(px, py, pz, Ax, Ay, Az, ident, f)
+    (L, ux, uy, uz, lE, ins, sw, epx, epy, arm, btx, bty, btz, ex, ey, ez, uCb) = cable(
+        qx, qy, qz, ax, ay, az, kind, h, rp, d, inx, iny
+    )
+    if ident:
+        return (L, ux, uy, uz, lE, ins, sw, epx, epy, 0.0, arm, btx, bty, btz, ex, ey, ez, uCb)
+    return (
+        L,
+        f[0, 0] * ux + f[1, 0] * uy + f[2, 0] * uz,
+        f[0, 1] * ux + f[1, 1] * uy + f[2, 1] * uz,
+        f[0, 2] * ux + f[1, 2] * uy + f[2, 2] * uz,
+        lE,
+        ins,
+        sw,
+        f[0, 0] * epx + f[1, 0] * epy,
+        f[0, 1] * epx + f[1, 1] * epy,
+        f[0, 2] * epx + f[1, 2] * epy,
+        arm,
+        f[0, 0] * btx + f[1, 0] * bty + f[2, 0] * btz,
+        f[0, 1] * btx + f[1, 1] * bty + f[2, 1] * btz,
+        f[0, 2] * btx + f[1, 2] * bty + f[2, 2] * btz,
+        f[0, 0] * ex + f[1, 0] * ey + f[2, 0] * ez,
+        f[0, 1] * ex + f[1, 1] * ey + f[2, 1] * ez,
+        f[0, 2] * ex + f[1, 2] * ey + f[2, 2] * ez,
+        uCb,
+    )
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def cable_derivatives(ux, uy, uz, lE, sw, epx, epy, epz, arm, btx, bty, btz, ex, ey, ez, uCb):
+    """The gradients of one cable's length and direction with respect to its attachment point B
+    (``statics.length_gradient``, ``statics.direction_gradient``, scalar form), from the vectors of
+    ``cable_axis`` (any frame: they are built from vectors only)::
+
+        dL_TE/dB = -u + arm ((u + u_C) . beta) eps
+        du/dB = -[(I - u u^T) - swivel e_perp e_perp^T - arm v eps^T] / |l_E|,  v = beta - (u . beta) u
+
+    Parameters
+    ----------
+    ux, uy, uz, lE, sw, epx, epy, epz, arm, btx, bty, btz, ex, ey, ez, uCb
+        As returned by ``cable_axis`` (after L and inside) [-] or [m].
+
+    Returns
+    -------
+    tuple
+        (dL_TE/dB x, y, z [-]; du/dB row-major, du_a/dB_b, 9 values [1/m]).
+
+    References
+    ----------
+    Paty et al. 2021, eq. (3)-(5), (12).
+    """
+    ub = ux * btx + uy * bty + uz * btz
+    q = arm * (ub + uCb)
+    i_n = 1.0 / lE
+    vx, vy, vz = btx - ub * ux, bty - ub * uy, btz - ub * uz
+    # -M / |l_E|, M = (I - u u^T) - sw e_perp e_perp^T - arm v eps^T
+    d00 = (1.0 - ux * ux - sw * epx * epx - arm * vx * ex) * -i_n
+    d01 = (-ux * uy - sw * epx * epy - arm * vx * ey) * -i_n
+    d02 = (-ux * uz - sw * epx * epz - arm * vx * ez) * -i_n
+    d10 = (-uy * ux - sw * epy * epx - arm * vy * ex) * -i_n
+    d11 = (1.0 - uy * uy - sw * epy * epy - arm * vy * ey) * -i_n
+    d12 = (-uy * uz - sw * epy * epz - arm * vy * ez) * -i_n
+    d20 = (-uz * ux - sw * epz * epx - arm * vz * ex) * -i_n
+    d21 = (-uz * uy - sw * epz * epy - arm * vz * ey) * -i_n
+    d22 = (1.0 - uz * uz - sw * epz * epz - arm * vz * ez) * -i_n
+    return (-ux + q * ex, -uy + q * ey, -uz + q * ez, d00, d01, d02, d10, d11, d12, d20, d21, d22)
 
 
 @njit(cache=True, inline="always")

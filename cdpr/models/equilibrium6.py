@@ -411,6 +411,37 @@ def solve_spatial(
     ----------
     Paty et al. 2021, eq. (2)-(5), (10)-(14); Pott 2018, ch. 3.
     """
+    return solve_with(robot, _Cables6(robot), _newton6, p, rotvec, L0, P0, tol, maxiter, max_step, restarts)
+
+
+def solve_with(robot, cab, newton, p, rotvec, L0, P0, tol, maxiter, max_step, restarts, standard=None):
+    """``solve_spatial`` with its Newton iteration given: ``newton(cab, p0, R0, L0, p_ref, tol,
+    maxiter, max_step)`` returns (p, R, evaluation dict with at least F, M, t, merit, J, iterations,
+    converged) as ``_newton6`` does (the numpy one, or the compiled engine's); ``cab`` a
+    ``_Cables6`` (or a subclass the given ``newton`` reads); ``standard(robot, p, R)`` the default
+    rest lengths (``L_TS_pose`` when None). The pose set-up, the restarts and the result are this
+    module's. The evaluation dict may also carry, at the final poses, ``stable`` (N,) (points shown
+    positive definite, not checked again by ``_needs_restart``), ``inside``, ``gamma`` (N, m) (the
+    pulleys' state) and ``rotvec`` (N, 3), which the result then takes instead of recomputing them.
+
+    Parameters
+    ----------
+    robot : Robot
+    cab : _Cables6
+    newton : callable
+    p, rotvec, L0, P0, tol, maxiter, max_step, restarts
+        As ``solve_spatial``.
+    standard : callable, optional
+
+    Returns
+    -------
+    dict
+        As ``solve_spatial``.
+
+    References
+    ----------
+    Paty et al. 2021, eq. (2)-(5), (10)-(14); Pott 2018, ch. 3.
+    """
     o = PHYSICAL_DEFAULTS
     tol = o["tol"] if tol is None else tol
     maxiter = o["maxiter"] if maxiter is None else maxiter
@@ -425,17 +456,16 @@ def solve_spatial(
         rv_d = np.zeros_like(p)
     n = len(p)
     if L0 is None:
-        L0 = L_TS_pose(robot, p, R_d)
+        L0 = (L_TS_pose if standard is None else standard)(robot, p, R_d)
     L0 = np.broadcast_to(np.asarray(L0, dtype=float), (n, robot.m)).copy()
-    cab = _Cables6(robot)
     p0 = start_poses(robot, p if P0 is None else np.atleast_2d(np.asarray(P0, dtype=float)))
-    P, R, cur, iters, conv = _newton6(cab, p0, R_d.copy(), L0, p, tol, maxiter, max_step)
-    alternatives = [[] for _ in range(n)]
-    unique = np.ones(n, dtype=bool)
+    P, R, cur, iters, conv = newton(cab, p0, R_d.copy(), L0, p, tol, maxiter, max_step)
     if restarts and cab.rigid and n:
         P, R, cur, iters, conv, unique, alternatives = _restart(
-            cab, p, R_d, L0, P, R, cur, iters, conv, tol, maxiter, max_step
+            cab, p, R_d, L0, P, R, cur, iters, conv, tol, maxiter, max_step, newton
         )
+    else:
+        unique, alternatives = np.ones(n, dtype=bool), [[] for _ in range(n)]
     return _result6(robot, cab, p, R_d, rv_d, L0, P, R, cur, iters, conv, unique, alternatives)
 
 
@@ -443,14 +473,23 @@ def _needs_restart(cab, cur, conv):
     """Points whose equilibrium may not be unique: fewer than 6 taut cables, or a converged
     Hessian -dF6/dx (symmetric part) that is not positive definite."""
     n_taut = (cur["t"] > TAUT_MIN).sum(axis=1)
-    H = -0.5 * (cur["J"] + np.swapaxes(cur["J"], 1, 2))
+    # the points a solver has shown positive definite (the compiled engine's Cholesky) are not redone
+    todo = ~cur["stable"] if "stable" in cur else np.ones(len(conv), dtype=bool)
+    lam = np.full(len(conv), np.inf)
+    J = cur["J"][todo]
+    H = -0.5 * (J + np.swapaxes(J, 1, 2))
     ok = np.isfinite(H).all(axis=(1, 2))
-    lam = np.full(len(H), -np.inf)
-    lam[ok] = np.linalg.eigvalsh(H[ok])[:, 0]
+    lam_todo = np.full(len(H), -np.inf)
+    lam_todo[ok] = np.linalg.eigvalsh(H[ok])[:, 0]
+    lam[todo] = lam_todo
     return (n_taut < 6) | ~(lam > 0) | ~conv
 
 
-def _restart(cab, p, R_d, L0, P, R, cur, iters, conv, tol, maxiter, max_step):
+def _restart(cab, p, R_d, L0, P, R, cur, iters, conv, tol, maxiter, max_step, newton=None):
+    """The points of ``_needs_restart`` solved again from ``RESTARTS`` by ``newton`` (default
+    ``_newton6``): the lowest-energy equilibrium, ``unique`` and the ``alternatives`` (module
+    docstring)."""
+    newton = _newton6 if newton is None else newton
     n = len(p)
     unique = np.ones(n, dtype=bool)
     alternatives = [[] for _ in range(n)]
@@ -460,7 +499,7 @@ def _restart(cab, p, R_d, L0, P, R, cur, iters, conv, tol, maxiter, max_step):
     k = len(RESTARTS)
     rep = np.repeat(idx, k)
     Rs = rotation_matrix(np.tile(RESTARTS, (idx.size, 1))) @ R_d[rep]
-    P2, R2, cur2, it2, conv2 = _newton6(
+    P2, R2, cur2, it2, conv2 = newton(
         cab, start_poses(cab.robot, p[rep]), Rs, L0[rep], p[rep], tol, maxiter, max_step
     )
     f, K = idx.size, k + 1
@@ -487,7 +526,7 @@ def _restart(cab, p, R_d, L0, P, R, cur, iters, conv, tol, maxiter, max_step):
     dst = idx[moved]
     P[dst], R[dst], conv[dst] = P2[src], R2[src], conv2[src]
     iters[dst] += it2[src]
-    for key in ("F", "M", "Fn", "t", "merit", "J", "grad", "kappa"):
+    for key in cur:
         cur[key][dst] = cur2[key][src]
     unique[idx] = distinct.sum(axis=1) == 1
     sE = np.take_along_axis(cE, order, axis=1)
@@ -509,8 +548,11 @@ def _restart(cab, p, R_d, L0, P, R, cur, iters, conv, tol, maxiter, max_step):
 def _result6(robot, cab, p, R_d, rv_d, L0, P, R, cur, iters, conv, unique, alternatives):
     t = cur["t"]
     taut = t > TAUT_MIN
-    B, st = pose_state(robot, P, R)
-    inside = st.inside
+    if "inside" in cur:  # the solver gave the pulleys' state at (P, R) (the compiled engine)
+        inside, gamma = cur["inside"], cur["gamma"]
+    else:
+        _, st = pose_state(robot, P, R)
+        inside, gamma = st.inside, st.gamma
     if robot.suspended_point_mass:
         code = statuses(robot, p, P, t, conv, inside, hull_halfplanes(robot))
     else:
@@ -520,7 +562,10 @@ def _result6(robot, cab, p, R_d, rv_d, L0, P, R, cur, iters, conv, unique, alter
         code[~finite | inside.any(axis=1)] = ST["inaccessible"]
         code[~conv | ~taut.any(axis=1)] = ST["not_converged"]
     residual = np.sqrt(np.einsum("na,na->n", cur["F"], cur["F"]) + np.einsum("na,na->n", cur["M"], cur["M"]))
-    rv_s = rotvec_of(R) if cab.rigid else rv_d.copy()
+    if cab.rigid:
+        rv_s = cur["rotvec"] if "rotvec" in cur else rotvec_of(R)
+    else:
+        rv_s = rv_d.copy()
     R_s = R if cab.rigid else R_d
     return {
         "p": p,
@@ -541,6 +586,6 @@ def _result6(robot, cab, p, R_d, rv_d, L0, P, R, cur, iters, conv, unique, alter
         "energy": cur["merit"],
         "unique": unique,
         "alternatives": alternatives,
-        "wrap_over_270": st.gamma > 1.5 * np.pi,
+        "wrap_over_270": gamma > 1.5 * np.pi,
         "L0": L0,
     }

@@ -86,10 +86,15 @@ def rotvec_of(R):
     Returns
     -------
     rotvec : ndarray (..., 3) [rad]
-        |rotvec| in [0, pi].
+        |rotvec| in [0, pi]; NaN where R is not finite.
     """
     R = np.asarray(R, dtype=float)
-    return Rotation.from_matrix(R.reshape(-1, 3, 3)).as_rotvec().reshape(R.shape[:-1])
+    flat = R.reshape(-1, 3, 3)
+    out = np.full((len(flat), 3), np.nan)  # a pose that is not finite (a failed solve) stays NaN
+    ok = np.isfinite(flat).all(axis=(1, 2))
+    if ok.any():
+        out[ok] = Rotation.from_matrix(flat[ok]).as_rotvec()
+    return out.reshape(R.shape[:-1])
 
 
 def attachment_points(p, R, b):

@@ -507,15 +507,37 @@ def conclusions(st, paper_res, physical_res):
                 headline=True,
                 note="uncompensated robot, each study's uncertainty.redundancy",
             )
+        # The compensated robot is physical in both studies: only the physical study writes it
+        # (study.uq_cases), so these rows have no paper-mode value; their question is whether
+        # compensation keeps the uncompensated conclusions, read from the physical column.
+        once = "compensated robot: physical in both studies, computed once (the physical study)"
         for d in designs:
-            comp = [_uq_value(uq[m], d, "compensated", "index_q50_m") for m in res]
             add(
                 "uncertainty",
                 f"{d} index median after compensation, per-cable E",
                 "what compensating the nominal robot's lengths leaves under per-cable moduli",
                 "mm",
-                comp[0] * 1e3,
-                comp[1] * 1e3,
+                _uq_value(uq["paper"], d, "compensated", "index_q50_m") * 1e3,
+                _uq_value(uq["physical"], d, "compensated", "index_q50_m") * 1e3,
+                note=once,
+            )
+        if sr and dr:
+            ratio = {
+                case: _uq_spread(uq["physical"], sr[0], case) / _uq_spread(uq["physical"], dr[0], case)
+                for case in ("uncompensated", "compensated")
+            }
+            holds = {case: bool(r < 1) for case, r in ratio.items()}
+            add(
+                "uncertainty",
+                f"{sr[0]} / {dr[0]} index spread under per-cable E, compensated",
+                f"{sr[0]} stays more robust than {dr[0]} to per-cable moduli after compensation",
+                "-",
+                _uq_spread(uq["paper"], sr[0], "compensated") / _uq_spread(uq["paper"], dr[0], "compensated"),
+                ratio["compensated"],
+                tol=0.1,
+                headline=True,
+                note=f"{once}; physically: {'yes' if holds['compensated'] else 'no'} after compensation,"
+                f" {'yes' if holds['uncompensated'] else 'no'} before",
             )
     return pd.DataFrame(rows, columns=COLUMNS)
 
@@ -674,6 +696,16 @@ def write_page(cmp, rows, diff_stats, budget_table, sentences, figures, out_md):
                 "",
             ]
             if "overlays" in rel
+            else []
+        ),
+        *(
+            [
+                "‖δp‖ over the plane in both modes, one colour scale per design (Fig. 12):",
+                "",
+                f"![the plane in both modes]({rel['planes']})",
+                "",
+            ]
+            if "planes" in rel
             else []
         ),
         *_md_table(

@@ -27,6 +27,7 @@ from matplotlib.patches import Patch  # noqa: E402
 from matplotlib.path import Path as MPath
 from scipy.spatial import ConvexHull  # noqa: E402
 
+from cdpr.analyses.uncertainty import CASES  # noqa: E402
 from cdpr.io import atomic  # noqa: E402
 from cdpr.pipeline import figure_checks, summary
 
@@ -1053,6 +1054,46 @@ def comparison_difference_maps(tables, anchors, z, out):
     return save(fig, out)
 
 
+def comparison_planes(tables, anchors, z, out):
+    """Paty 2021 Fig. 12 in both modes on one scale: ‖δp‖ over the plane at height z, one column
+    per design (robot and pulley), the paper rule (top) above the physical equilibrium (bottom); the
+    two panels of a column share their filled levels (fine enough for the column's structure,
+    labelled lines at every other level) and one colour bar, so a colour means the same error in
+    both modes. Grey: not ok in that mode. ``tables`` maps (robot, pulley) to a
+    ``comparison.difference_table``; ``anchors`` maps a robot to its anchors A (m, 3)."""
+    keys = list(tables)
+    fig, axes = plt.subplots(
+        2, len(keys), figsize=(4.6 * len(keys), 9.8), squeeze=False, layout="constrained"
+    )
+    modes = (("paper", "paper rule (best 3-cable subset)"), ("physical", "physical equilibrium"))
+    for j, (rk, pk) in enumerate(keys):
+        t = tables[(rk, pk)]
+        Zs = []
+        for mode, _ in modes:
+            ok = (t[f"status_{mode}"] == "ok").to_numpy()
+            xs, ys, Z = _grid(t, np.where(ok, t[f"dp_{mode}"] * 1e3, np.nan))
+            Zs.append(Z)
+        finite = np.concatenate([Z[np.isfinite(Z)] for Z in Zs])
+        levels = _round_levels(finite.min(), finite.max(), 10) if finite.size else None
+        cf = None
+        for i, ((mode, name), Z) in enumerate(zip(modes, Zs)):
+            ax = axes[i, j]
+            ax.set_facecolor(NOT_OK_COLOUR)
+            if levels is not None and len(levels) > 1 and np.isfinite(Z).any():
+                cf = ax.contourf(xs, ys, Z, levels=levels, cmap="viridis")
+                cs = ax.contour(xs, ys, Z, levels=levels, colors="k", linewidths=0.4)
+                ax.clabel(cs, levels[1:-1:2], fmt="%g", fontsize=6)
+            _anchors(ax, anchors[rk])
+            ax.set(xlabel="x [m]", ylabel="y [m]", title=f"{rk} {pk}: {name}", aspect="equal")
+            ax.title.set_fontsize(8)
+        if cf is not None:
+            fig.colorbar(cf, ax=axes[:, j].tolist(), location="bottom", label="‖δp‖ [mm]", shrink=0.8)
+    fig.suptitle(
+        f"‖δp‖ over the plane at z = {z:g} m in both modes, one scale per design (Fig. 12)", fontsize=10
+    )
+    return save(fig, out)
+
+
 def _ok_in_one_mode(t):
     """Number of points of a difference table ok in exactly one mode, or None without the columns."""
     cols = [c for c in t.columns if c.startswith("status")]
@@ -1174,11 +1215,18 @@ def budget_paths(paths, out):
 
 
 # ---- uncertainty and sensitivity (beyond the paper: cdpr.analyses.uncertainty) ---------------------------
-UQ_CASES = ("uncompensated", "compensated")
+UQ_CASES = CASES  # the compensated case only where the study ran it (``study.uq_cases``)
 
 
 def _uq_designs(tables):
     return list(dict.fromkeys(d for d, _ in tables))
+
+
+def _uq_cases(tables):
+    """The cases present among {(design, case): table}, in ``UQ_CASES`` order (a paper-mode study
+    has no compensated case: ``study.uq_cases``)."""
+    cases = {c for _, c in tables}
+    return [c for c in UQ_CASES if c in cases]
 
 
 def _colour_violin(parts, colour, alpha):
@@ -1197,18 +1245,25 @@ def uq_index_distribution(linear, tolerances, index_vs_E, paper, out, mode=None)
     design) beside the common-E band of the paper's section 5.1 (our sweep, and the paper's numbers
     when given), and under every declared parameter (Saltelli's independent rows); uncompensated
     (left) and compensated (right). Each design has one colour (violins, whiskers, bars); the key
-    under the panels says what each mark is.
+    under the panels says what each mark is. A study without the compensated case (``study.uq_cases``)
+    gets the left panel only.
 
     ``linear``, ``tolerances``: {(design, case): table} of ``uq.linear_samples`` and of
     ``uq.sobol``'s rows; ``index_vs_E``: the elasticity sweep (design, E_Pa, index_m) or
     None; ``paper``: {design: (index, minus, plus)} [m]."""
 
     designs = _uq_designs(linear)
+    cases = _uq_cases(linear)
     fig, axes = plt.subplots(
-        1, 2, figsize=(15, 5.8), gridspec_kw={"width_ratios": [2, 1]}, layout="constrained"
+        1,
+        len(cases),
+        figsize=(5 + 10 * len(cases) / 2, 5.8),
+        gridspec_kw={"width_ratios": [2, 1][: len(cases)]},
+        squeeze=False,
+        layout="constrained",
     )
     colours = dict(zip(designs, OKABE_ITO))
-    for ax, case in zip(axes, UQ_CASES):
+    for ax, case in zip(axes[0], cases):
         ticks, labels, x = [], [], 0.0
         for dk in designs:
             lin = linear.get((dk, case))
@@ -1270,15 +1325,19 @@ def uq_path_bands(bands, common, out, mode=None, common_mode=None):
     compensated (bottom). ``bands``: {(design, case): ``uncertainty.path_bands`` table}; ``common``:
     list of (design, E [Pa], s [m], dp [m]) of the common-E paths (Fig. 19), computed in
     ``common_mode`` (named in the legend when it differs from ``mode``)."""
-    designs = _uq_designs(bands)
+    designs, cases = _uq_designs(bands), _uq_cases(bands)
     fig, axes = plt.subplots(
-        2, len(designs), figsize=(5.5 * len(designs), 7.6), squeeze=False, layout="constrained"
+        len(cases),
+        len(designs),
+        figsize=(5.5 * len(designs), 3.8 * len(cases)),
+        squeeze=False,
+        layout="constrained",
     )
     Es = sorted({c[1] for c in common})
     styles = dict(zip(Es, [":", "-", "--"] if len(Es) == 3 else ["-"] * len(Es)))
     other = f" ({MODE_TITLES[common_mode].split(' (')[0]})" if common_mode and common_mode != mode else ""
     for j, dk in enumerate(designs):
-        for i, case in enumerate(UQ_CASES):
+        for i, case in enumerate(cases):
             ax = axes[i, j]
             b = bands.get((dk, case))
             if b is None:
@@ -1316,16 +1375,17 @@ def uq_sobol(tab, out, mode=None):
     compensation (rows)."""
     g = tab[tab.output == "index"]
     designs = list(dict.fromkeys(g.design))
+    cases = [c for c in UQ_CASES if c in set(g.case)]
     fig, axes = plt.subplots(
-        2,
+        len(cases),
         2 * len(designs),
-        figsize=(6.5 * len(designs) + 1, 7.5),
+        figsize=(6.5 * len(designs) + 1, 3.75 * len(cases) + 0.5 * (len(cases) == 1)),
         squeeze=False,
         layout="constrained",
         gridspec_kw={"width_ratios": [1, 3] * len(designs)},
     )
     for j, dk in enumerate(designs):
-        for i, case in enumerate(UQ_CASES):
+        for i, case in enumerate(cases):
             for k, level in enumerate(("group", "parameter")):
                 ax = axes[i, 2 * j + k]
                 d = g[(g.design == dk) & (g.case == case) & (g.level == level)]
@@ -1383,11 +1443,16 @@ def uq_dominant_map(maps, A, z, out, mode=None):
     names = sorted({n for df in maps.values() for n in df.dominant.dropna().unique() if n})
     cmap = plt.get_cmap("tab20", max(len(names), 1))
     code = {n: k for k, n in enumerate(names)}
+    cases = _uq_cases(maps)
     fig, axes = plt.subplots(
-        2, len(designs), figsize=(5 * len(designs) + 2, 9.5), squeeze=False, layout="constrained"
+        len(cases),
+        len(designs),
+        figsize=(5 * len(designs) + 2, 4.75 * len(cases)),
+        squeeze=False,
+        layout="constrained",
     )
     for j, dk in enumerate(designs):
-        for i, case in enumerate(UQ_CASES):
+        for i, case in enumerate(cases):
             ax = axes[i, j]
             df = maps.get((dk, case))
             if df is None:
@@ -1405,6 +1470,57 @@ def uq_dominant_map(maps, A, z, out, mode=None):
     handles = [Patch(color=cmap(code[n]), label=n) for n in names]
     fig.legend(handles=handles, loc="outside right center", fontsize=7, title="dominant")
     fig.suptitle(f"Dominant uncertain parameter at z = {z:g} m (hatched: < 50 %){_mode(mode)}", fontsize=10)
+    return save(fig, out)
+
+
+def uq_residual_map(maps, A, z, out, mode=None):
+    """What compensation leaves, on the plane z (beyond the paper): for each design (columns) and
+    case the study ran, the nominal robot's ‖δp‖ (uncompensated: the pose error the paper studies;
+    compensated: the round-trip residual of the compensated lengths, 0 up to rounding) and the
+    first-order spread of ‖δp‖ under the declared parameters (RMS of the per-parameter
+    contributions, ``uq.dominant_map``'s ``rms_m``). Rows: nominal then spread, per case; grey:
+    not ok. ``maps``: {(design, case): ``uq.dominant_map`` table}."""
+    designs, cases = _uq_designs(maps), _uq_cases(maps)
+    rows = [(case, col) for case in cases for col in ("dp_nominal_m", "rms_m")]
+    fig, axes = plt.subplots(
+        len(rows),
+        len(designs),
+        figsize=(5 * len(designs) + 1.5, 4.4 * len(rows)),
+        squeeze=False,
+        layout="constrained",
+    )
+    what = {"dp_nominal_m": "nominal robot ‖δp‖", "rms_m": "spread of ‖δp‖ (RMS, declared parameters)"}
+    for i, (case, col) in enumerate(rows):
+        for j, dk in enumerate(designs):
+            ax = axes[i, j]
+            df = maps.get((dk, case))
+            if df is None:
+                ax.set_visible(False)
+                continue
+            xs, ys, Z = _grid(df, df[col].to_numpy() * 1e3)
+            ax.set_facecolor(NOT_OK_COLOUR)
+            finite = Z[np.isfinite(Z)]
+            top = float(np.abs(finite).max()) if finite.size else 0.0
+            if top < 1e-6:  # the compensated nominal residual: zero up to rounding, stated
+                ax.pcolormesh(
+                    xs,
+                    ys,
+                    np.where(np.isfinite(Z), 0.0, np.nan),
+                    cmap="Greys",
+                    vmin=0,
+                    vmax=1,
+                    shading="nearest",
+                )
+                label = f"max {top:.1g} mm (round trip)"
+            else:
+                levels = _round_levels(float(finite.min()), float(finite.max()), 10)
+                cf = ax.contourf(xs, ys, Z, levels=levels, cmap="viridis")
+                fig.colorbar(cf, ax=ax, label=f"{what[col].split(' (')[0]} [mm]", shrink=0.8)
+                label = f"{finite.min():.3g} to {finite.max():.3g} mm"
+            _anchors(ax, A)
+            ax.set(xlabel="x [m]", ylabel="y [m]", title=f"{dk} {case}: {what[col]}\n{label}", aspect="equal")
+            ax.title.set_fontsize(8)
+    fig.suptitle(f"What compensation leaves at z = {z:g} m (beyond the paper){_mode(mode)}", fontsize=10)
     return save(fig, out)
 
 

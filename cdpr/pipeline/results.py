@@ -18,8 +18,9 @@ from __future__ import annotations
 import itertools
 from pathlib import Path
 
+from cdpr.analyses.uncertainty import CASES
 from cdpr.errors import CdprError
-from cdpr.pipeline.study import E_values, budget_designs, doe_tests, map_kinds
+from cdpr.pipeline.study import E_values, budget_designs, doe_tests, map_kinds, uq_cases
 from cdpr.robot import load_robot
 
 #: rule -> output name -> path under the results folder ({wildcards} filled by ``Layout.wildcards``).
@@ -106,6 +107,8 @@ STUDY_OUTPUTS = {
         "map_pdf": "uncertainty/dominant.pdf",
         "agreement_figure": "uncertainty/agreement.png",
         "agreement_pdf": "uncertainty/agreement.pdf",
+        "residual_figure": "uncertainty/residual.png",
+        "residual_pdf": "uncertainty/residual.pdf",
     },
     "summary": {"markdown": "summary.md", "table": "summary.csv"},
     "parity": {"figure": "parity.png", "pdf": "parity.pdf"},
@@ -141,8 +144,10 @@ STUDY_LOGS = {
     "parity": "logs/parity.log",
 }
 
-#: The two cases of the uncertainty study: lengths as commanded, and compensated with the nominal model.
-UQ_CASES = ("uncompensated", "compensated")
+#: The two cases of the uncertainty study (``analyses.uncertainty.CASES``, re-exported for the
+#: rules): lengths as commanded, and compensated with the nominal model; a study runs
+#: ``study.uq_cases`` of them.
+UQ_CASES = CASES
 
 #: rule -> output name -> path of a comparison (``{folder}`` and ``{page}`` from the comparison file).
 COMPARISON_OUTPUTS = {
@@ -162,6 +167,8 @@ COMPARISON_OUTPUTS = {
         "stats": "{folder}/difference_stats.csv",
         "overlays": "{folder}/overlays.png",
         "overlays_pdf": "{folder}/overlays.pdf",
+        "planes": "{folder}/planes.png",
+        "planes_pdf": "{folder}/planes.pdf",
     },
 }
 COMPARISON_LOGS = {
@@ -246,9 +253,9 @@ class Layout:
             "elasticity_path": lambda: _product(design=designs, E=self.E_path()),
             "dead_length_point": lambda: _product(d=[f"{d:g}" for d in st["dead_length"]["values_m"]]),
             "uq_shard": lambda: _product(
-                design=self.uq_designs(), case=UQ_CASES, shard=range(u["monte_carlo"]["shards"])
+                design=self.uq_designs(), case=uq_cases(st), shard=range(u["monte_carlo"]["shards"])
             ),
-            "uq_design": lambda: _product(design=self.uq_designs(), case=UQ_CASES),
+            "uq_design": lambda: _product(design=self.uq_designs(), case=uq_cases(st)),
         }
         if rule not in STUDY_OUTPUTS:
             raise CdprError(f"unknown rule {rule!r}; the rules of a study: {', '.join(STUDY_OUTPUTS)}")

@@ -21,7 +21,7 @@ import numpy as np
 import pandas as pd
 
 from cdpr.analyses import doe
-from cdpr.analyses.uncertainty import PARAMETER_KEYS, Distribution
+from cdpr.analyses.uncertainty import CASES, PARAMETER_KEYS, Distribution
 from cdpr.analyses.workspace import check_box
 from cdpr.errors import ConfigError, raise_problems
 from cdpr.robot import check_pulley, load_robot, robot_from_dict
@@ -83,6 +83,16 @@ def path_robot(st, label):
     """The robot key of the path ``label`` of ``trajectories.paths``: its ``robot`` key, by default
     the label itself (one path per robot, named after it)."""
     return st["trajectories"]["paths"][label].get("robot", label)
+
+
+def uq_cases(st):
+    """The uncertainty cases a study runs: ``uncompensated`` always; ``compensated`` (lengths
+    compensated with the nominal model, then the robot in physical equilibrium) only when the
+    study's uncompensated robot is physical too (``uncertainty.redundancy: physical``). The
+    compensated robot is physical in every study, so a paper-mode study would only copy the
+    physical study's tables: they are written once, by the physical study."""
+    u = st.get("uncertainty") or {}
+    return CASES if u.get("redundancy", "paper") == "physical" else CASES[:1]
 
 
 def robot_of(st, robot_key, **overrides):

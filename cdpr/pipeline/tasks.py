@@ -17,7 +17,7 @@ import pandas as pd
 from cdpr import io, table_io
 from cdpr.analyses import budget, doe, scans, workspace
 from cdpr.analyses.symmetry import solve_grid_columns
-from cdpr.analyses.uncertainty import CASES, QUANTILES
+from cdpr.analyses.uncertainty import QUANTILES
 from cdpr.errors import CdprError
 from cdpr.models import winch
 from cdpr.pipeline import comparison as cm
@@ -576,6 +576,7 @@ def comparison(st, comparison, tables, table, figure, markdown):
     diffs = {(rk, pk): cm.difference_table(pres, fres, rk, pk) for rk in st["robots"] for pk in st["pulleys"]}
     anchors = {rk: study.robot_of(st, rk).A for rk in st["robots"]}
     plots.comparison_difference_maps(diffs, anchors, st["plane"]["z_m"], figure)
+    plots.comparison_planes(diffs, anchors, st["plane"]["z_m"], Path(figure).with_name("planes.png"))
     plots.comparison_overlays(
         {m: _overlay_data(st, cmp[m]["results"]) for m in ("paper", "physical")},
         Path(figure).with_name("overlays.png"),
@@ -602,6 +603,7 @@ def comparison(st, comparison, tables, table, figure, markdown):
             "budget": layout.paths("budget", "figure")[0],
             "budget_paths": layout.paths("budget", "paths_figure")[0],
             "overlays": layout.paths("comparison", "overlays")[0],
+            "planes": layout.paths("comparison", "planes")[0],
         },
         markdown,
     )
@@ -663,6 +665,7 @@ def uncertainty(
     sobol_figure,
     map_figure,
     agreement_figure,
+    residual_figure=None,
 ):
     """Aggregate the uncertainty jobs: index bands (per-cable Monte Carlo, linearised and full, and
     every declared parameter from Saltelli's rows), the agreement of the linearisation with the full
@@ -703,7 +706,7 @@ def uncertainty(
             )
     rows, agree = [], []
     for design in u["designs"]:
-        for case in CASES:
+        for case in study.uq_cases(st):
             key = (design, case)
             for name in ("mc", "points", "linear", "tolerances"):
                 if key not in read[name]:
@@ -767,6 +770,8 @@ def uncertainty(
     plots.uq_sobol(sobol_tab, sobol_figure, mode=mode)
     plots.uq_dominant_map(read["map"], robot.A, st["plane"]["z_m"], map_figure, mode=mode)
     plots.uq_agreement(read["mc"], agreement_figure, mode=mode)
+    if residual_figure:
+        plots.uq_residual_map(read["map"], robot.A, st["plane"]["z_m"], residual_figure, mode=mode)
 
 
 def _paper_uq_bands(st):

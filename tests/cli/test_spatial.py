@@ -115,13 +115,23 @@ def test_points_table_with_orientations(tmp_path, capsys):
     "extra,message",
     [
         ([], "paper mode (3-cable subsets) is the point-mass rule"),
-        (["--redundancy", "physical", "--engine", "compiled"], "the compiled engine has no 6-DoF solver yet"),
+        (["--redundancy", "physical", "--method", "fixed_point"], "physical mode has one solver"),
     ],
 )
 def test_spatial_refusals_are_one_line(capsys, extra, message):
     assert main(["point", "--robot", COGIRO, "--at", "0", "0", "2", *extra]) == 2
     err = capsys.readouterr().err
     assert message in err and err.count("\n") == 1
+
+
+def test_the_compiled_engine_solves_spatial_poses_as_the_numpy_one(capsys):
+    """--engine compiled: the compiled 6-DoF twin, the same pose as the numpy default (1e-9)."""
+    base = ["point", "--robot", COGIRO, "--at", "1", "1", "1.5", "--rotvec", "0", "0.2", "0.1"]
+    a = run_json(capsys, *base, "--redundancy", "physical")
+    b = run_json(capsys, *base, "--redundancy", "physical", "--engine", "compiled")
+    assert a["status"] == b["status"] == "ok" and a["taut"] == b["taut"] and a["unique"] == b["unique"]
+    assert np.abs(np.subtract(a["solved"], b["solved"])).max() < 1e-9
+    assert np.abs(np.subtract(a["solved_rotvec"], b["solved_rotvec"])).max() < 1e-9
 
 
 def test_compensate_at_a_pose_round_trips(capsys):

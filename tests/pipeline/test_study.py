@@ -7,6 +7,7 @@ import pytest
 import yaml
 
 from cdpr.pipeline import study
+from cdpr.pipeline.results import Layout
 
 ROOT = Path(__file__).resolve().parents[2]
 # config/studies/calibration.yaml is a calibration study (cdpr calibrate study), not a pipeline one
@@ -125,3 +126,15 @@ def test_a_path_naming_an_unknown_robot_is_refused(tmp_path):
     paths["diagonal"]["robot"] = "Nope"
     message = _refusal(_spatial_variant(tmp_path, trajectories=data["trajectories"]))
     assert "trajectories.paths.diagonal.robot" in message and "allowed: CoGiRo" in message
+
+
+def test_the_compensated_case_is_computed_once_by_the_physical_study():
+    """Issue 21: the compensated robot is physical in both modes; the paper-mode study does not copy it."""
+    paper = study.load_study(ROOT / "config" / "studies" / "quick.yaml")
+    physical = study.load_study(ROOT / "config" / "studies" / "quick_physical.yaml")
+    assert study.uq_cases(paper) == ("uncompensated",)
+    assert study.uq_cases(physical) == ("uncompensated", "compensated")
+    cases = {w["case"] for w in Layout(paper, "results/quick").wildcards("uq_design")}
+    assert cases == {"uncompensated"}
+    cases = {w["case"] for w in Layout(physical, "results/quick_physical").wildcards("uq_shard")}
+    assert cases == {"uncompensated", "compensated"}

@@ -75,7 +75,7 @@ if CMP_FILE:
             tables=CMP_LAYOUT.inputs(),
             paper_values=PAPER_VALUES,
         output:
-            **cmp_outputs("comparison", figure=("../report/comparison.rst", "Comparison"), overlays=("../report/comparison.rst", "Comparison")),
+            **cmp_outputs("comparison", figure=("../report/comparison.rst", "Comparison"), overlays=("../report/comparison.rst", "Comparison"), planes=("../report/comparison_planes.rst", "Comparison")),
         params:
             **CMP_COMMON,
             study={k: CMP.paper_study.get(k) for k in ("robots", "pulleys", "optimal", "plane", "volumes", "elasticity")},

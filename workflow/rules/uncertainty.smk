@@ -73,6 +73,7 @@ if UQ:
                 sobol_figure=("../report/uq_sobol.rst", "Uncertainty"),
                 map_figure=("../report/uq_dominant.rst", "Uncertainty"),
                 agreement_figure=("../report/uq_agreement.rst", "Uncertainty"),
+                residual_figure=("../report/uq_residual.rst", "Uncertainty"),
             ),
         params:
             **COMMON,
@@ -83,4 +84,4 @@ if UQ:
             "{params.cdpr} job uncertainty --study {params.study_file:q} --tables {input.tables:q} --paths {input.paths:q}"
             " --bands {output.bands:q} --agreement {output.agreement:q} --sobol {output.sobol:q} --figure {output.figure:q}"
             " --paths-figure {output.paths_figure:q} --sobol-figure {output.sobol_figure:q} --map-figure {output.map_figure:q}"
-            " --agreement-figure {output.agreement_figure:q}" + TO_LOG
+            " --agreement-figure {output.agreement_figure:q} --residual-figure {output.residual_figure:q}" + TO_LOG

@@ -1,0 +1,1122 @@
+"""Compiled 6-DoF physical equilibrium: ``equilibrium6.solve_spatial`` with its Newton iteration as a
+numba kernel that runs in parallel over poses (chunks of ``CHUNK``), scalars and 3 x 3 / 6 x 6
+scratch arrays in the hot loop, one cable at a time through the shared kernel
+(``_kernels.cable_axis``: the scalar ``cable`` in each pulley's frame).
+
+Same equations, Jacobian (``equilibrium6._jacobian``), energy, least-squares step (a 6 x 6
+pseudo-inverse with the reference's ``RCOND`` cut, by a one-sided Jacobi SVD), modified-Newton
+fallback (``SHIFT_REL``), line search, stop rules and constants as the numpy reference; the pose
+set-up, the restarts (``_needs_restart``, the candidates' selection, ``unique``, ``alternatives``)
+and the result are the reference's own functions (``equilibrium6.solve_with``), run round the
+compiled Newton. A test checks that both give the same statuses, taut sets, ``unique``, poses
+(1e-9 m, 1e-9 rad).
+
+References
+----------
+Paty, T., Binaud, N., Caro, S., Segonds, S. (2021). Cable-driven parallel robot modelling considering
+pulley kinematics and cable elasticity. Mechanism and Machine Theory 159, 104263 (eq. 2-5, 10-14).
+
+Pott, A. (2018). Cable-Driven Parallel Robots: Theory and Application. Springer, ch. 3.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+from numba import njit, prange
+
+from cdpr.compiled._kernels import (
+    CHUNK,
+    DET_EPS,
+    cable_arrays,
+    cable_axis,
+    cable_derivatives,
+    in_frame,
+    newton_options,
+    pulley_geometry,
+    set_threads,
+)
+from cdpr.models.equilibrium import ARMIJO_C, LS_SKIP, MAX_HALVINGS, PHYSICAL_DEFAULTS, TAUT_MIN
+from cdpr.models.equilibrium6 import RCOND, SHIFT_REL, _Cables6, solve_with
+
+#: Sweeps of the one-sided Jacobi SVD (``pinv_solve6``) at most; it stops when every column pair
+#: is orthogonal to ``JACOBI_EPS`` (relative).
+JACOBI_SWEEPS = 30
+JACOBI_EPS = 1e-15
+#: The LU step stands for the pseudo-inverse one where |J|_F |L^-1|_F |U^-1|_F <= LU_SAFE / RCOND:
+#: then s_min(J) / s_max(J) >= RCOND / LU_SAFE, so the RCOND cut leaves out no singular value.
+LU_SAFE = 1e-3
+#: The Cholesky shift, relative to |H|_F, of the compiled positive-definiteness test: a Hessian that
+#: passes it has lambda_min >= STABLE_REL |H|_F, far beyond eigvalsh's round-off.
+STABLE_REL = 1e-10
+
+
+class Body(NamedTuple):
+    """The platform and pulley frames for the 6-DoF kernel (``body_arrays``): b (m, 3) [m]
+    attachments in the platform frame; frame (m, 3, 3) [-] pulley frames (rows i, j, k); ident (m,)
+    bool (frame is the identity); com (3,) [m]; f (3,) [N] gravity force; ftol [N]; size [m] the
+    platform's size l; ztop [m] the lowest joint height; rigid, suspended (``_Cables6``)."""
+
+    b: np.ndarray
+    frame: np.ndarray
+    ident: np.ndarray
+    com: np.ndarray
+    f: np.ndarray
+    ftol: float
+    size: float
+    ztop: float
+    rigid: bool
+    suspended: bool
+
+
+class Out6(NamedTuple):
+    """Per-pose results of the kernel (``outputs6``): P (N, 3) [m], R (N, 3, 3), F, M (N, 3) [N, N m],
+    t (N, m) [N], merit (N,) [J], J (N, 6, 6), it (N,), conv (N,) bool, inside (N, m) bool, gamma
+    (N, m) [rad] the pulleys' state at P, R (``pulleys.pulley_state``), stable (N,) bool: converged
+    with 6 or more taut cables and a positive definite -J (``STABLE_REL``), rotvec (N, 3) [rad] of R."""
+
+    P: np.ndarray
+    R: np.ndarray
+    F: np.ndarray
+    M: np.ndarray
+    t: np.ndarray
+    merit: np.ndarray
+    J: np.ndarray
+    it: np.ndarray
+    conv: np.ndarray
+    inside: np.ndarray
+    gamma: np.ndarray
+    stable: np.ndarray
+    rotvec: np.ndarray
+
+
+def body_arrays(cab):
+    """The ``Body`` record of a ``_Cables6`` (the reference's evaluation record)."""
+    a = cab.robot.arrays
+    frame = np.ascontiguousarray(a.frame, dtype=float)
+    ident = np.array([(fr == np.eye(3)).all() for fr in frame], dtype=np.bool_)
+    if cab.suspended:  # the reference takes the identity frame (equilibrium6._args)
+        frame = np.ascontiguousarray(np.broadcast_to(np.eye(3), frame.shape))
+        ident[:] = True
+    return Body(
+        np.ascontiguousarray(a.b, dtype=float),
+        frame,
+        ident,
+        np.ascontiguousarray(a.com, dtype=float),
+        np.ascontiguousarray(cab.f, dtype=float),
+        float(cab.ftol),
+        float(cab.size),
+        float(cab.z_top),
+        bool(cab.rigid),
+        bool(cab.suspended),
+    )
+
+
+def outputs6(n, m):
+    """An uninitialised ``Out6`` for n poses and m cables."""
+    return Out6(
+        np.empty((n, 3)),
+        np.empty((n, 3, 3)),
+        np.empty((n, 3)),
+        np.empty((n, 3)),
+        np.empty((n, m)),
+        np.empty(n),
+        np.empty((n, 6, 6)),
+        np.empty(n, dtype=np.int32),
+        np.empty(n, dtype=np.bool_),
+        np.empty((n, m), dtype=np.bool_),
+        np.empty((n, m)),
+        np.empty(n, dtype=np.bool_),
+        np.empty((n, 3)),
+    )
+
+
+class _Scratch(NamedTuple):
+    """Per-chunk work arrays of ``solve_pose`` (allocated once per chunk)."""
+
+    t: np.ndarray  # (m,) tensions of the current pose
+    tt: np.ndarray  # (m,) tensions of the trial pose
+    J: np.ndarray  # (6, 6) current Jacobian
+    Jt: np.ndarray  # (6, 6) trial Jacobian
+    e6: np.ndarray  # (14,) current F (3), M (3), Fn (6), merit, kappa... see _eval6
+    et: np.ndarray  # (14,) trial
+    g6: np.ndarray  # (8,) current grad (6), kappa (2)
+    gt: np.ndarray  # (8,) trial
+    R: np.ndarray  # (3, 3) current orientation
+    Rt: np.ndarray  # (3, 3) trial orientation
+    Q: np.ndarray  # (3, 3) step rotation
+    cab_u: np.ndarray  # (m, 3) per-cable u (for the all-slack Jacobian)
+    cab_dL: np.ndarray  # (m, 3)
+    cab_r: np.ndarray  # (m, 3)
+    cab_k: np.ndarray  # (m,)
+    A6: np.ndarray  # (6, 6) SVD / eigen work
+    V6: np.ndarray  # (6, 6)
+    s6: np.ndarray  # (6,) step
+    w6: np.ndarray  # (6,) work
+    fb: np.ndarray  # (6,) fallback step
+    piv: np.ndarray  # (6,) int64 LU pivots
+
+
+@njit(cache=True)
+def _scratch(m):
+    return _Scratch(
+        np.empty(m),
+        np.empty(m),
+        np.empty((6, 6)),
+        np.empty((6, 6)),
+        np.empty(14),
+        np.empty(14),
+        np.empty(8),
+        np.empty(8),
+        np.empty((3, 3)),
+        np.empty((3, 3)),
+        np.empty((3, 3)),
+        np.empty((m, 3)),
+        np.empty((m, 3)),
+        np.empty((m, 3)),
+        np.empty(m),
+        np.empty((6, 6)),
+        np.empty((6, 6)),
+        np.empty(6),
+        np.empty(6),
+        np.empty(6),
+        np.empty(6, dtype=np.int64),
+    )
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _add_cable_jacobian(J, g00, g01, g02, g10, g11, g12, g20, g21, g22, rx, ry, rz, t, ux, uy, uz):
+    """Adds one cable's terms of ``equilibrium6._jacobian`` to J (6, 6), with G = t du/dB + ka u dL^T
+    (3 x 3, g_ab) and S = [r]x: J[:3, :3] += G, J[:3, 3:] -= G S, J[3:, :3] += S G,
+    J[3:, 3:] += -S G S + t (r u^T - (u . r) I)."""
+    s00, s01, s02 = g01 * rz - g02 * ry, g02 * rx - g00 * rz, g00 * ry - g01 * rx  # (G S)[0]
+    s10, s11, s12 = g11 * rz - g12 * ry, g12 * rx - g10 * rz, g10 * ry - g11 * rx  # (G S)[1]
+    s20, s21, s22 = g21 * rz - g22 * ry, g22 * rx - g20 * rz, g20 * ry - g21 * rx  # (G S)[2]
+    ur = ux * rx + uy * ry + uz * rz
+    J[0, 0] += g00
+    J[0, 1] += g01
+    J[0, 2] += g02
+    J[1, 0] += g10
+    J[1, 1] += g11
+    J[1, 2] += g12
+    J[2, 0] += g20
+    J[2, 1] += g21
+    J[2, 2] += g22
+    J[0, 3] -= s00
+    J[0, 4] -= s01
+    J[0, 5] -= s02
+    J[1, 3] -= s10
+    J[1, 4] -= s11
+    J[1, 5] -= s12
+    J[2, 3] -= s20
+    J[2, 4] -= s21
+    J[2, 5] -= s22
+    J[3, 0] += ry * g20 - rz * g10
+    J[4, 0] += rz * g00 - rx * g20
+    J[5, 0] += rx * g10 - ry * g00
+    J[3, 1] += ry * g21 - rz * g11
+    J[4, 1] += rz * g01 - rx * g21
+    J[5, 1] += rx * g11 - ry * g01
+    J[3, 2] += ry * g22 - rz * g12
+    J[4, 2] += rz * g02 - rx * g22
+    J[5, 2] += rx * g12 - ry * g02
+    J[3, 3] += -(ry * s20 - rz * s10) + t * (rx * ux - ur)
+    J[4, 3] += -(rz * s00 - rx * s20) + t * ry * ux
+    J[5, 3] += -(rx * s10 - ry * s00) + t * rz * ux
+    J[3, 4] += -(ry * s21 - rz * s11) + t * rx * uy
+    J[4, 4] += -(rz * s01 - rx * s21) + t * (ry * uy - ur)
+    J[5, 4] += -(rx * s11 - ry * s01) + t * rz * uy
+    J[3, 5] += -(ry * s22 - rz * s12) + t * rx * uz
+    J[4, 5] += -(rz * s02 - rx * s22) + t * ry * uz
+    J[5, 5] += -(rx * s12 - ry * s02) + t * (rz * uz - ur)
+
+
+@njit(cache=True, error_model="numpy")
+def _eval6(px, py, pz, R, rfx, rfy, rfz, cab, body, L0, i, t, J, e6, g6, w):
+    """``equilibrium6._Cables6.evaluate`` at one pose (p, R) with rest lengths L0[i], merit relative
+    to p_ref = (rfx, rfy, rfz): writes the tensions t (m,), J (6, 6), e6 = (F (3), M (3), Fn (6),
+    merit, inside), g6 = (grad (6), kappa (2)); ``w`` the scratch record."""
+    A, kind, h, rp, d, inward, ES = cab.A, cab.kind, cab.h, cab.rp, cab.d, cab.inward, cab.ES
+    b, frame, ident, f = body.b, body.frame, body.ident, body.f
+    m = A.shape[0]
+    fx, fy, fz = f[0], f[1], f[2]
+    rcx = R[0, 0] * body.com[0] + R[0, 1] * body.com[1] + R[0, 2] * body.com[2]
+    rcy = R[1, 0] * body.com[0] + R[1, 1] * body.com[1] + R[1, 2] * body.com[2]
+    rcz = R[2, 0] * body.com[0] + R[2, 1] * body.com[1] + R[2, 2] * body.com[2]
+    Fx, Fy, Fz = 0.0, 0.0, 0.0
+    Mx, My, Mz = 0.0, 0.0, 0.0
+    Ex = Ey = Ez = Emx = Emy = Emz = 0.0  # sum k e u, sum k e (r x u): Hooke extended to compression
+    gx = gy = gz = gmx = gmy = gmz = 0.0
+    elastic = 0.0
+    kact0 = kact1 = kall0 = kall1 = geo0 = geo1 = 0.0
+    nact = 0
+    inside = False
+    for a in range(6):
+        for c in range(6):
+            J[a, c] = 0.0
+    for c in range(m):
+        rx = R[0, 0] * b[c, 0] + R[0, 1] * b[c, 1] + R[0, 2] * b[c, 2]
+        ry = R[1, 0] * b[c, 0] + R[1, 1] * b[c, 1] + R[1, 2] * b[c, 2]
+        rz = R[2, 0] * b[c, 0] + R[2, 1] * b[c, 1] + R[2, 2] * b[c, 2]
+        (L, ux, uy, uz, lE, ins, sw, epx, epy, epz, arm, btx, bty, btz, ex, ey, ez, uCb) = cable_axis(
+            px + rx,
+            py + ry,
+            pz + rz,
+            A[c, 0],
+            A[c, 1],
+            A[c, 2],
+            kind[c],
+            h[c],
+            rp[c],
+            d[c],
+            inward[c, 0],
+            inward[c, 1],
+            ident[c],
+            frame[c],
+        )
+        inside = inside or ins
+        L0c = L0[i, c]
+        e = L - L0c
+        k = ES[c] / L0c
+        tc = k * e if e > 0.0 else 0.0
+        t[c] = tc
+        mux, muy, muz = ry * uz - rz * uy, rz * ux - rx * uz, rx * uy - ry * ux  # r x u
+        Fx += tc * ux
+        Fy += tc * uy
+        Fz += tc * uz
+        Mx += tc * mux
+        My += tc * muy
+        Mz += tc * muz
+        ke = k * e
+        Ex += ke * ux
+        Ey += ke * uy
+        Ez += ke * uz
+        Emx += ke * mux
+        Emy += ke * muy
+        Emz += ke * muz
+        if e > 0.0:
+            elastic += 0.5 * k * e * e
+        (dLx, dLy, dLz, d00, d01, d02, d10, d11, d12, d20, d21, d22) = cable_derivatives(
+            ux, uy, uz, lE, sw, epx, epy, epz, arm, btx, bty, btz, ex, ey, ez, uCb
+        )
+        gx += tc * dLx
+        gy += tc * dLy
+        gz += tc * dLz
+        gmx += tc * (ry * dLz - rz * dLy)
+        gmy += tc * (rz * dLx - rx * dLz)
+        gmz += tc * (rx * dLy - ry * dLx)
+        rr = rx * rx + ry * ry + rz * rz
+        geo0 += tc / lE
+        geo1 += tc / lE * rr + tc * math.sqrt(rr)
+        kall0 += k
+        kall1 += k * rr
+        act = e >= 0.0
+        ka = k if act else 0.0
+        if act:
+            nact += 1
+            kact0 += k
+            kact1 += k * rr
+        kx, ky, kz = ka * ux, ka * uy, ka * uz
+        _add_cable_jacobian(
+            J,
+            tc * d00 + kx * dLx,
+            tc * d01 + kx * dLy,
+            tc * d02 + kx * dLz,
+            tc * d10 + ky * dLx,
+            tc * d11 + ky * dLy,
+            tc * d12 + ky * dLz,
+            tc * d20 + kz * dLx,
+            tc * d21 + kz * dLy,
+            tc * d22 + kz * dLz,
+            rx,
+            ry,
+            rz,
+            tc,
+            ux,
+            uy,
+            uz,
+        )
+        w.cab_u[c, 0], w.cab_u[c, 1], w.cab_u[c, 2] = ux, uy, uz
+        w.cab_dL[c, 0], w.cab_dL[c, 1], w.cab_dL[c, 2] = dLx, dLy, dLz
+        w.cab_r[c, 0], w.cab_r[c, 1], w.cab_r[c, 2] = rx, ry, rz
+        w.cab_k[c] = k
+    # gravity: F += f, M += rc x f, J[3:, 3:] += rc f^T - (rc . f) I
+    Fx += fx
+    Fy += fy
+    Fz += fz
+    cfx, cfy, cfz = rcy * fz - rcz * fy, rcz * fx - rcx * fz, rcx * fy - rcy * fx
+    Mx += cfx
+    My += cfy
+    Mz += cfz
+    rc3 = (rcx, rcy, rcz)
+    f3 = (fx, fy, fz)
+    rcf = rcx * fx + rcy * fy + rcz * fz
+    for a in range(3):
+        for q in range(3):
+            J[3 + a, 3 + q] += rc3[a] * f3[q] - (rcf if a == q else 0.0)
+    if nact == 0:  # no cable taut: Hooke extended to compression (ka = k on every cable)
+        for c in range(m):
+            k = w.cab_k[c]
+            kx, ky, kz = k * w.cab_u[c, 0], k * w.cab_u[c, 1], k * w.cab_u[c, 2]
+            lx, ly, lz = w.cab_dL[c, 0], w.cab_dL[c, 1], w.cab_dL[c, 2]
+            _add_cable_jacobian(
+                J,
+                kx * lx,
+                kx * ly,
+                kx * lz,
+                ky * lx,
+                ky * ly,
+                ky * lz,
+                kz * lx,
+                kz * ly,
+                kz * lz,
+                w.cab_r[c, 0],
+                w.cab_r[c, 1],
+                w.cab_r[c, 2],
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+            )
+        e6[6], e6[7], e6[8] = Fx + Ex, Fy + Ey, Fz + Ez
+        e6[9], e6[10], e6[11] = Mx + Emx, My + Emy, Mz + Emz
+        ka0, ka1 = kall0, kall1
+    else:
+        e6[6], e6[7], e6[8], e6[9], e6[10], e6[11] = Fx, Fy, Fz, Mx, My, Mz
+        ka0, ka1 = kact0, kact1
+    e6[0], e6[1], e6[2], e6[3], e6[4], e6[5] = Fx, Fy, Fz, Mx, My, Mz
+    merit = -((px - rfx + rcx) * fx + (py - rfy + rcy) * fy + (pz - rfz + rcz) * fz) + elastic
+    if body.suspended and not pz < body.ztop:
+        merit = np.inf
+    e6[12] = merit
+    e6[13] = 1.0 if inside else 0.0
+    g6[0], g6[1], g6[2] = gx - fx, gy - fy, gz - fz
+    g6[3], g6[4], g6[5] = gmx - cfx, gmy - cfy, gmz - cfz
+    g6[6] = ka0 + geo0
+    g6[7] = (
+        ka1 * 1.0
+        + geo1
+        + math.sqrt(fx * fx + fy * fy + fz * fz) * math.sqrt(rcx * rcx + rcy * rcy + rcz * rcz)
+    )
+    # kappa_1 = sum (ka + t/lE) rr + t |r| + |f| |rc|; ka1 = sum ka rr, geo1 = sum (t/lE rr + t |r|)
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def rotation6(sx, sy, sz, Q):
+    """Rodrigues' formula Q = I + sin(a)/a [s]x + (1 - cos a)/a^2 [s]x^2, a = |s|, into Q (3, 3)
+    (``platform.rotation_matrix``, scalar form, with its series under a = 1e-8).
+
+    .. math:: Q = \\exp([s]_\\times)
+
+    Parameters
+    ----------
+    sx, sy, sz : float [rad]
+        Rotation vector (base frame).
+    Q : ndarray (3, 3)
+        Written with the rotation matrix [-].
+
+    References
+    ----------
+    Murray, Li, Sastry (1994), A Mathematical Introduction to Robotic Manipulation, eq. (2.14).
+    """
+    a = math.sqrt(sx * sx + sy * sy + sz * sz)
+    if a < 1e-8:
+        s = 1.0 - a * a / 6.0
+        c = 0.5 - a * a / 24.0
+    else:
+        s = math.sin(a) / a
+        c = (1.0 - math.cos(a)) / (a * a)
+    K = ((0.0, -sz, sy), (sz, 0.0, -sx), (-sy, sx, 0.0))
+    for i in range(3):
+        for j in range(3):
+            k2 = K[i][0] * K[0][j] + K[i][1] * K[1][j] + K[i][2] * K[2][j]
+            Q[i, j] = (1.0 if i == j else 0.0) + s * K[i][j] + c * k2
+
+
+@njit(cache=True, error_model="numpy")
+def pinv_solve6(J, rhs, A, V, x, rcond):
+    """The least-squares step x = pinv(J) rhs of a 6 x 6 system (``numpy.linalg.pinv`` with
+    ``rcond``: singular values s <= rcond max(s) left out), by a one-sided Jacobi SVD: plane
+    rotations V make the columns of A = J V orthogonal, then s_k = |A_k| and
+
+    .. math:: x = \\sum_{s_k > r \\max s} V_k \\, (A_k \\cdot rhs) / s_k^2
+
+    Parameters
+    ----------
+    J : ndarray (6, 6)
+        The system matrix (not changed).
+    rhs : ndarray (6,)
+        The right-hand side.
+    A, V : ndarray (6, 6)
+        Work arrays.
+    x : ndarray (6,)
+        Written with the step.
+    rcond : float [-]
+        Relative singular-value cut.
+
+    References
+    ----------
+    Hestenes, M. R. (1958). Inversion of matrices by biorthogonalization. J. SIAM 6, 51-90.
+    """
+    n = 6
+    for a in range(n):
+        for c in range(n):
+            A[a, c] = J[a, c]
+            V[a, c] = 1.0 if a == c else 0.0
+    for _ in range(JACOBI_SWEEPS):
+        rotated = False
+        for p in range(n - 1):
+            for q in range(p + 1, n):
+                alpha = beta = gamma = 0.0
+                for a in range(n):
+                    alpha += A[a, p] * A[a, p]
+                    beta += A[a, q] * A[a, q]
+                    gamma += A[a, p] * A[a, q]
+                if gamma == 0.0 or abs(gamma) <= JACOBI_EPS * math.sqrt(alpha * beta):
+                    continue
+                rotated = True
+                zeta = (beta - alpha) / (2.0 * gamma)
+                tt = math.copysign(1.0, zeta) / (abs(zeta) + math.sqrt(1.0 + zeta * zeta))
+                cs = 1.0 / math.sqrt(1.0 + tt * tt)
+                sn = cs * tt
+                for a in range(n):
+                    ap, aq = A[a, p], A[a, q]
+                    A[a, p] = cs * ap - sn * aq
+                    A[a, q] = sn * ap + cs * aq
+                    vp, vq = V[a, p], V[a, q]
+                    V[a, p] = cs * vp - sn * vq
+                    V[a, q] = sn * vp + cs * vq
+        if not rotated:
+            break
+    smax = 0.0
+    for c in range(n):
+        s2 = 0.0
+        for a in range(n):
+            s2 += A[a, c] * A[a, c]
+        smax = max(smax, math.sqrt(s2))
+    for a in range(n):
+        x[a] = 0.0
+    cut = rcond * smax
+    for c in range(n):
+        s2 = 0.0
+        dot = 0.0
+        for a in range(n):
+            s2 += A[a, c] * A[a, c]
+            dot += A[a, c] * rhs[a]
+        if math.sqrt(s2) > cut:
+            coef = dot / s2
+            for a in range(n):
+                x[a] += V[a, c] * coef
+
+
+@njit(cache=True, error_model="numpy")
+def lu_solve6(J, rhs, A, Linv, piv, x, rcond):
+    """x = J^-1 rhs by LU with partial pivoting (P J = L U), where it equals the least-squares step
+    of ``pinv_solve6``: returns False (x undefined) unless the bound
+
+        s_min(J) / s_max(J) >= 1 / (|J|_F |L^-1|_F |U^-1|_F) >= r / LU_SAFE
+
+    shows that the pseudo-inverse's cut r keeps every singular value.
+
+    Parameters
+    ----------
+    J : ndarray (6, 6)
+        The system matrix (not changed).
+    rhs : ndarray (6,)
+        The right-hand side.
+    A, Linv : ndarray (6, 6)
+        Work arrays (A holds L and U).
+    piv : ndarray (6,) int64
+        Work array.
+    x : ndarray (6,)
+        Written with the step.
+    rcond : float [-]
+        The pseudo-inverse's relative cut.
+
+    Returns
+    -------
+    ok : bool
+
+    References
+    ----------
+    Golub, G. H., Van Loan, C. F. (2013). Matrix Computations, 4th ed., section 3.4.
+    """
+    n = 6
+    nJ = 0.0
+    for a in range(n):
+        piv[a] = a
+        for c in range(n):
+            A[a, c] = J[a, c]
+            nJ += J[a, c] * J[a, c]
+    for k in range(n):
+        best, at = abs(A[k, k]), k
+        for a in range(k + 1, n):
+            if abs(A[a, k]) > best:
+                best, at = abs(A[a, k]), a
+        if best == 0.0:
+            return False
+        if at != k:
+            for c in range(n):
+                A[k, c], A[at, c] = A[at, c], A[k, c]
+            piv[k], piv[at] = piv[at], piv[k]
+        inv = 1.0 / A[k, k]
+        for a in range(k + 1, n):
+            A[a, k] *= inv
+            l_ak = A[a, k]
+            for c in range(k + 1, n):
+                A[a, c] -= l_ak * A[k, c]
+    # |L^-1|_F (unit lower) and |U^-1|_F by substitution on the identity
+    nL = 0.0
+    for c in range(n):
+        for a in range(n):
+            v = 1.0 if a == c else 0.0
+            for q in range(c, a):
+                v -= A[a, q] * Linv[q, c]
+            Linv[a, c] = v
+            nL += v * v
+    for a in range(n):  # Linv is free: its first row holds 1 / U_aa
+        Linv[0, a] = 1.0 / A[a, a]
+    nU = 0.0
+    for c in range(n):
+        for a in range(c, -1, -1):
+            v = 1.0 if a == c else 0.0
+            for q in range(a + 1, c + 1):
+                v -= A[a, q] * x[q]
+            x[a] = v * Linv[0, a]
+            nU += x[a] * x[a]
+    if not math.sqrt(nJ * nL * nU) * rcond <= LU_SAFE:
+        return False
+    for a in range(n):  # forward: L y = P rhs
+        v = rhs[piv[a]]
+        for q in range(a):
+            v -= A[a, q] * x[q]
+        x[a] = v
+    for a in range(n - 1, -1, -1):  # back: U x = y
+        v = x[a]
+        for q in range(a + 1, n):
+            v -= A[a, q] * x[q]
+        x[a] = v * Linv[0, a]
+    return True
+
+
+@njit(cache=True, error_model="numpy")
+def positive_definite6(J, A):
+    """Whether H = -(J + J^T)/2 is positive definite by a margin: the Cholesky factorisation of
+    H - STABLE_REL |H|_F I succeeds (then lambda_min(H) > 0 beyond any round-off of
+    ``numpy.linalg.eigvalsh``, the test of ``equilibrium6._needs_restart``).
+
+        H - delta I = C C^T,   delta = STABLE_REL |H|_F
+
+    Parameters
+    ----------
+    J : ndarray (6, 6)
+        d(F, M)/d(dp, dphi) [N/m, N, N m].
+    A : ndarray (6, 6)
+        Work array.
+
+    Returns
+    -------
+    ok : bool
+
+    References
+    ----------
+    Golub, G. H., Van Loan, C. F. (2013). Matrix Computations, 4th ed., section 4.2.
+    """
+    n = 6
+    nH = 0.0
+    for a in range(n):
+        for c in range(n):
+            A[a, c] = -0.5 * (J[a, c] + J[c, a])
+            nH += A[a, c] * A[a, c]
+    if not math.isfinite(nH):
+        return False
+    delta = STABLE_REL * math.sqrt(nH)
+    for a in range(n):
+        A[a, a] -= delta
+    for k in range(n):
+        v = A[k, k]
+        for q in range(k):
+            v -= A[k, q] * A[k, q]
+        if not v > 0.0:
+            return False
+        d = math.sqrt(v)
+        A[k, k] = d
+        for a in range(k + 1, n):
+            v = A[a, k]
+            for q in range(k):
+                v -= A[a, q] * A[k, q]
+            A[a, k] = v / d
+    return True
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _final_state(px, py, pz, R, cab, body, i, out):
+    """The pulleys' state at the pose (p, R) for the result (``pulleys.pulley_state``: inside, gamma)."""
+    A, b = cab.A, body.b
+    for c in range(A.shape[0]):
+        rx = R[0, 0] * b[c, 0] + R[0, 1] * b[c, 1] + R[0, 2] * b[c, 2]
+        ry = R[1, 0] * b[c, 0] + R[1, 1] * b[c, 1] + R[1, 2] * b[c, 2]
+        rz = R[2, 0] * b[c, 0] + R[2, 1] * b[c, 1] + R[2, 2] * b[c, 2]
+        qx, qy, qz, ax, ay, az = in_frame(
+            px + rx, py + ry, pz + rz, A[c, 0], A[c, 1], A[c, 2], body.ident[c], body.frame[c]
+        )
+        g = pulley_geometry(
+            qx,
+            qy,
+            qz,
+            ax,
+            ay,
+            az,
+            cab.kind[c],
+            cab.h[c],
+            cab.rp[c],
+            cab.d[c],
+            cab.inward[c, 0],
+            cab.inward[c, 1],
+        )
+        out.inside[i, c] = g.inside
+        out.gamma[i, c] = g.gamma
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def rotvec_of_matrix(R, out):
+    """The rotation vector of a rotation matrix (``platform.rotvec_of``, scipy's from_matrix then
+    as_rotvec, scalar form): the unit quaternion q = (x, y, z, w) from the largest of R00, R11, R22
+    and tr R (Shepperd's method), w >= 0, then
+
+        theta = 2 atan2(|(x, y, z)|, w),   rotvec = theta / sin(theta / 2) (x, y, z)
+
+    (the series 2 + theta^2 / 12 + 7 theta^4 / 2880 for theta <= 1e-3).
+
+    Parameters
+    ----------
+    R : ndarray (3, 3) [-]
+        Rotation matrix.
+    out : ndarray (3,)
+        Written with the rotation vector [rad], |rotvec| in [0, pi].
+
+    References
+    ----------
+    Shepperd, S. W. (1978). Quaternion from rotation matrix. J. Guidance and Control 1(3), 223-224.
+    """
+    tr = R[0, 0] + R[1, 1] + R[2, 2]
+    big, at = tr, 3
+    for a in range(3):
+        if R[a, a] > big:
+            big, at = R[a, a], a
+    if at == 3:
+        x, y, z, w = R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1], 1.0 + tr
+    else:
+        i = at
+        j = (i + 1) % 3
+        k = (j + 1) % 3
+        qi, qj, qk = 1.0 - tr + 2.0 * R[i, i], R[j, i] + R[i, j], R[k, i] + R[i, k]
+        if i == 0:
+            x, y, z = qi, qj, qk
+        elif i == 1:
+            x, y, z = qk, qi, qj
+        else:
+            x, y, z = qj, qk, qi
+        w = R[k, j] - R[j, k]
+    nq = math.sqrt(x * x + y * y + z * z + w * w)
+    x, y, z, w = x / nq, y / nq, z / nq, w / nq
+    if w < 0.0:
+        x, y, z, w = -x, -y, -z, -w
+    theta = 2.0 * math.atan2(math.sqrt(x * x + y * y + z * z), w)
+    if theta <= 1e-3:
+        t2 = theta * theta
+        scale = 2.0 + t2 / 12.0 + 7.0 * t2 * t2 / 2880.0
+    else:
+        scale = theta / math.sin(theta / 2.0)
+    out[0], out[1], out[2] = scale * x, scale * y, scale * z
+
+
+@njit(cache=True, error_model="numpy")
+def modified_newton6(J, grad, ell, fallback, x):
+    """``equilibrium6._modified_newton`` at one pose: x = -(H + mu I)^-1 grad in scaled coordinates
+    (D = (1, 1, 1, l, l, l), H the symmetric part of -J / D D^T, mu = max(0, -lambda_min) +
+    ``SHIFT_REL`` max |lambda|), or ``fallback`` where H or grad is not finite.
+
+    .. math:: x = -D^{-1} (H + \\mu I)^{-1} D^{-1} \\nabla V
+
+    Parameters
+    ----------
+    J : ndarray (6, 6)
+        d(F, M)/d(dp, dphi) [N/m, N, N m].
+    grad : ndarray (6,)
+        Energy gradient [N, N m].
+    ell : float [m]
+        The platform's size l.
+    fallback : ndarray (6,)
+        The scaled gradient step [m, rad].
+    x : ndarray (6,)
+        Written with the step [m, rad].
+
+    References
+    ----------
+    Nocedal, J., Wright, S. J. (2006). Numerical Optimization, 2nd ed., Springer, section 3.4.
+    """
+    D = (1.0, 1.0, 1.0, ell, ell, ell)
+    H = np.empty((6, 6))
+    g = np.empty(6)
+    ok = True
+    for a in range(6):
+        g[a] = grad[a] / D[a]
+        ok = ok and math.isfinite(g[a])
+        for c in range(6):
+            H[a, c] = -0.5 * (J[a, c] + J[c, a]) / D[a] / D[c]
+            ok = ok and math.isfinite(H[a, c])
+    if not ok:
+        for a in range(6):
+            x[a] = fallback[a]
+        return
+    lam, V = np.linalg.eigh(H)
+    top = 0.0
+    for a in range(6):
+        top = max(top, abs(lam[a]))
+    mu = max(0.0, -lam[0]) + SHIFT_REL * (top if top > 0 else 1.0)
+    for a in range(6):
+        x[a] = 0.0
+    for c in range(6):
+        coef = 0.0
+        for a in range(6):
+            coef += V[a, c] * g[a]
+        coef /= lam[c] + mu
+        for a in range(6):
+            x[a] += V[a, c] * coef
+    for a in range(6):
+        x[a] = -x[a] / D[a]
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _solve3(J, nx, ny, nz, x):
+    """x = J[:3, :3]^-1 (-n) by cofactors (``statics.solve3``); NaN where |det| < DET_EPS."""
+    c00, c01, c02 = (
+        J[1, 1] * J[2, 2] - J[1, 2] * J[2, 1],
+        J[1, 2] * J[2, 0] - J[1, 0] * J[2, 2],
+        J[1, 0] * J[2, 1] - J[1, 1] * J[2, 0],
+    )
+    c10, c11, c12 = (
+        J[2, 1] * J[0, 2] - J[2, 2] * J[0, 1],
+        J[2, 2] * J[0, 0] - J[2, 0] * J[0, 2],
+        J[2, 0] * J[0, 1] - J[2, 1] * J[0, 0],
+    )
+    c20, c21, c22 = (
+        J[0, 1] * J[1, 2] - J[0, 2] * J[1, 1],
+        J[0, 2] * J[1, 0] - J[0, 0] * J[1, 2],
+        J[0, 0] * J[1, 1] - J[0, 1] * J[1, 0],
+    )
+    det = J[0, 0] * c00 + J[0, 1] * c01 + J[0, 2] * c02
+    if abs(det) < DET_EPS:
+        x[0] = x[1] = x[2] = np.nan
+        return
+    idet = 1.0 / det
+    x[0] = -(c00 * nx + c10 * ny + c20 * nz) * idet
+    x[1] = -(c01 * nx + c11 * ny + c21 * nz) * idet
+    x[2] = -(c02 * nx + c12 * ny + c22 * nz) * idet
+
+
+@njit(cache=True, error_model="numpy")
+def solve_pose(i, p_ref, P0, R0, L0, cab, body, opts, out, w):
+    """``equilibrium6._newton6`` for pose i: p_ref (N, 3) [m] the desired positions (the energy's
+    origin), P0 (N, 3) [m] and R0 (N, 3, 3) the start, L0 (N, m) [m] the rest lengths, cab
+    ``Cables``, body ``Body``, opts ``Newton``; writes row i of out (``Out6``); w the scratch."""
+    tol, maxiter, max_step = opts.tol, opts.maxiter, opts.max_step
+    m = cab.A.shape[0]
+    rigid = body.rigid
+    ell = body.size if rigid else 0.0
+    ftol2, mtol2 = body.ftol * body.ftol, (body.ftol * body.size) ** 2
+    rfx, rfy, rfz = p_ref[i, 0], p_ref[i, 1], p_ref[i, 2]
+    px, py, pz = P0[i, 0], P0[i, 1], P0[i, 2]
+    R, Rt, Q, s, x = w.R, w.Rt, w.Q, w.s6, w.w6
+    for a in range(3):
+        for c in range(3):
+            R[a, c] = R0[i, a, c]
+    t, J, e6, g6 = w.t, w.J, w.e6, w.g6
+    _eval6(px, py, pz, R, rfx, rfy, rfz, cab, body, L0, i, t, J, e6, g6, w)
+    conv = False
+    it = 0
+    prev = 0.0
+    prev_full = False
+    fb = w.fb
+    for _ in range(maxiter):
+        if e6[0] ** 2 + e6[1] ** 2 + e6[2] ** 2 <= ftol2 and e6[3] ** 2 + e6[4] ** 2 + e6[5] ** 2 <= mtol2:
+            conv = True
+            break
+        # the Newton step J s = -Fn: 3 x 3 (point mass) or least squares 6 x 6
+        finite = True
+        for a in range(6):
+            for c in range(6):
+                finite = finite and math.isfinite(J[a, c])
+        if not rigid:
+            _solve3(J, e6[6], e6[7], e6[8], s)
+            s[3] = s[4] = s[5] = 0.0
+        elif finite:
+            for a in range(6):
+                x[a] = -e6[6 + a]
+            if not lu_solve6(J, x, w.A6, w.V6, w.piv, s, RCOND):
+                pinv_solve6(J, x, w.A6, w.V6, s, RCOND)
+        else:
+            for a in range(6):
+                s[a] = np.nan
+        newton = True
+        for a in range(6):
+            newton = newton and math.isfinite(s[a])
+        if not newton:
+            for a in range(6):
+                s[a] = 0.0
+        norm = math.sqrt(s[0] ** 2 + s[1] ** 2 + s[2] ** 2 + ell * ell * (s[3] ** 2 + s[4] ** 2 + s[5] ** 2))
+        slope = 0.0
+        for a in range(6):
+            slope += g6[a] * s[a]
+        newton = newton and (slope < 0.0 or norm <= LS_SKIP)
+        if not newton:
+            kp = g6[6] if g6[6] > 0 else 1.0
+            kr = g6[7] if g6[7] > 0 else 1.0
+            for a in range(3):
+                fb[a] = -g6[a] / kp
+                fb[3 + a] = -g6[3 + a] / kr * (1.0 if rigid else 0.0)
+            if rigid:
+                modified_newton6(J, g6, body.size, fb, s)
+            else:
+                for a in range(6):
+                    s[a] = fb[a]
+        slope = 0.0
+        for a in range(6):
+            slope += g6[a] * s[a]
+        norm = math.sqrt(s[0] ** 2 + s[1] ** 2 + s[2] ** 2 + ell * ell * (s[3] ** 2 + s[4] ** 2 + s[5] ** 2))
+        done = newton and (norm < tol or (prev_full and norm * norm < tol * prev))
+        scale = 1.0 if done else min(1.0, max_step / max(norm, 1e-300))
+        for a in range(6):
+            s[a] *= scale
+        slope *= scale
+        whole = done or norm * scale <= LS_SKIP
+        alpha = 1.0
+        merit = e6[12]
+        for hv in range(MAX_HALVINGS + 1):
+            qx, qy, qz = px + alpha * s[0], py + alpha * s[1], pz + alpha * s[2]
+            if rigid:
+                rotation6(alpha * s[3], alpha * s[4], alpha * s[5], Q)
+                for a in range(3):
+                    for c in range(3):
+                        Rt[a, c] = Q[a, 0] * R[0, c] + Q[a, 1] * R[1, c] + Q[a, 2] * R[2, c]
+            else:
+                for a in range(3):
+                    for c in range(3):
+                        Rt[a, c] = R[a, c]
+            _eval6(qx, qy, qz, Rt, rfx, rfy, rfz, cab, body, L0, i, w.tt, w.Jt, w.et, w.gt, w)
+            if whole or w.et[12] <= merit + ARMIJO_C * alpha * slope or hv == MAX_HALVINGS:
+                px, py, pz = qx, qy, qz
+                for a in range(3):
+                    for c in range(3):
+                        R[a, c] = Rt[a, c]
+                for c in range(m):
+                    t[c] = w.tt[c]
+                for a in range(6):
+                    for c in range(6):
+                        J[a, c] = w.Jt[a, c]
+                for a in range(14):
+                    e6[a] = w.et[a]
+                for a in range(8):
+                    g6[a] = w.gt[a]
+                break
+            alpha *= 0.5
+        it += 1
+        prev = alpha * norm * scale
+        prev_full = newton and alpha == 1.0 and scale == 1.0
+        if done:
+            conv = True
+            break
+    out.P[i, 0], out.P[i, 1], out.P[i, 2] = px, py, pz
+    for a in range(3):
+        out.F[i, a] = e6[a]
+        out.M[i, a] = e6[3 + a]
+        for c in range(3):
+            out.R[i, a, c] = R[a, c]
+    for c in range(m):
+        out.t[i, c] = t[c]
+    for a in range(6):
+        for c in range(6):
+            out.J[i, a, c] = J[a, c]
+    out.merit[i] = e6[12]
+    out.it[i] = it
+    out.conv[i] = conv
+    n_taut = 0
+    for c in range(m):
+        n_taut += t[c] > TAUT_MIN
+    out.stable[i] = rigid and conv and n_taut >= 6 and positive_definite6(J, w.A6)
+    _final_state(px, py, pz, R, cab, body, i, out)
+    rotvec_of_matrix(R, out.rotvec[i])
+
+
+@njit(cache=True, parallel=True, error_model="numpy")
+def _solve_poses(p_ref, P0, R0, L0, cab, body, opts, out):
+    n = p_ref.shape[0]
+    m = cab.A.shape[0]
+    nchunks = (n + CHUNK - 1) // CHUNK
+    for ch in prange(nchunks):
+        w = _scratch(m)
+        for i in range(ch * CHUNK, min(n, (ch + 1) * CHUNK)):
+            solve_pose(i, p_ref, P0, R0, L0, cab, body, opts, out, w)
+
+
+class _Compiled6(_Cables6):
+    """The reference's evaluation record (``equilibrium6._Cables6``: the robot, its load and
+    tolerances, read by the restarts and the result) with the kernel's ``Cables`` and ``Body``."""
+
+    def __init__(self, robot):
+        super().__init__(robot)
+        self.cables = cable_arrays(robot)
+        self.body = body_arrays(self)
+
+
+def newton6_fast(cab, p0, R0, L0, p_ref, tol, maxiter, max_step):
+    """The compiled ``equilibrium6._newton6`` (same parameters and results) over N poses.
+
+    Parameters
+    ----------
+    cab : _Compiled6
+    p0 : ndarray (N, 3) [m]
+        Start positions.
+    R0 : ndarray (N, 3, 3) [-]
+        Start orientations.
+    L0 : ndarray (N, m) [m]
+        Rest lengths.
+    p_ref : ndarray (N, 3) [m]
+        The energy's origin (the desired positions).
+    tol, maxiter, max_step : float [m], int, float [m]
+        Stop rules (``equilibrium.PHYSICAL_DEFAULTS``).
+
+    Returns
+    -------
+    p : ndarray (N, 3) [m]
+    R : ndarray (N, 3, 3) [-]
+    cur : dict
+        F, M (N, 3) [N, N m], t (N, m) [N], merit (N,) [J], J (N, 6, 6) at the last pose.
+    iters : ndarray (N,) int32
+    conv : ndarray (N,) bool
+    """
+    n, m = len(p0), cab.robot.m
+    f = np.ascontiguousarray
+    out = outputs6(n, m)
+    if n:
+        opts = newton_options(PHYSICAL_DEFAULTS, tol, maxiter, max_step)
+        _solve_poses(
+            f(p_ref, dtype=float),
+            f(p0, dtype=float),
+            f(R0, dtype=float),
+            f(L0, dtype=float),
+            cab.cables,
+            cab.body,
+            opts,
+            out,
+        )
+    cur = {
+        "F": out.F,
+        "M": out.M,
+        "t": out.t,
+        "merit": out.merit,
+        "J": out.J,
+        "inside": out.inside,
+        "gamma": out.gamma,
+        "stable": out.stable,
+        "rotvec": out.rotvec,
+    }
+    return out.P, out.R, cur, out.it, out.conv
+
+
+def solve_spatial(
+    robot,
+    p,
+    rotvec=None,
+    L0=None,
+    P0=None,
+    tol=None,
+    maxiter=None,
+    max_step=None,
+    restarts=True,
+    threads=None,
+):
+    """Compiled ``equilibrium6.solve_spatial`` (same parameters and result; ``threads`` caps numba's
+    threads, default all cores): the reference's pose set-up, restarts and result
+    (``equilibrium6.solve_with``) round the compiled Newton ``newton6_fast``.
+
+    Parameters
+    ----------
+    robot : Robot
+    p : array_like (N, 3) or (N, 6) [m, rad]
+        Desired positions, or poses (x, y, z, rx, ry, rz).
+    rotvec : array_like (N, 3) or (3,) [rad], optional
+        Desired orientations, default identity.
+    L0 : array_like (N, m) [m], optional
+        Commanded rest lengths; default L_TS at the desired pose.
+    P0 : array_like (N, 3) [m], optional
+        Newton's starting positions (default p).
+    tol, maxiter, max_step : float [m], int, float [m], optional
+        As ``equilibrium.PHYSICAL_DEFAULTS``.
+    restarts : bool
+        Look for other equilibria where the solution may not be unique.
+    threads : int, optional
+
+    Returns
+    -------
+    dict
+        As ``equilibrium6.solve_spatial``.
+
+    References
+    ----------
+    Paty et al. 2021, eq. (2)-(5), (10)-(14); Pott 2018, ch. 3.
+    """
+    set_threads(threads)
+    cab = _Compiled6(robot)
+    return solve_with(
+        robot, cab, newton6_fast, p, rotvec, L0, P0, tol, maxiter, max_step, restarts, L_TS_fast
+    )
+
+
+@njit(cache=True, parallel=True, error_model="numpy")
+def _L_TS(p, R, b, A, d, out):
+    n, m = p.shape[0], A.shape[0]
+    for i in prange(n):
+        for c in range(m):
+            Bx = p[i, 0] + R[i, 0, 0] * b[c, 0] + R[i, 0, 1] * b[c, 1] + R[i, 0, 2] * b[c, 2]
+            By = p[i, 1] + R[i, 1, 0] * b[c, 0] + R[i, 1, 1] * b[c, 1] + R[i, 1, 2] * b[c, 2]
+            Bz = p[i, 2] + R[i, 2, 0] * b[c, 0] + R[i, 2, 1] * b[c, 1] + R[i, 2, 2] * b[c, 2]
+            dx, dy, dz = Bx - A[c, 0], By - A[c, 1], Bz - A[c, 2]
+            out[i, c] = math.sqrt(dx * dx + dy * dy + dz * dz) + d[c]
+
+
+def L_TS_fast(robot, p, R):
+    """Compiled ``equilibrium6.L_TS_pose``: L_TS,i = |B_i - A_i| + d_i at poses (p, R), B_i = p + R b_i
+    (Paty 2021 eq. 2 with B_i in place of P), in parallel over the poses.
+
+    Parameters
+    ----------
+    robot : Robot
+    p : ndarray (N, 3) [m]
+        Reference points.
+    R : ndarray (N, 3, 3) [-]
+        Orientations.
+
+    Returns
+    -------
+    L_TS : ndarray (N, m) [m]
+
+    References
+    ----------
+    Paty et al. 2021, eq. (2).
+    """
+    a = robot.arrays
+    f = np.ascontiguousarray
+    out = np.empty((len(p), robot.m))
+    _L_TS(
+        f(p, dtype=float),
+        f(R, dtype=float),
+        f(a.b, dtype=float),
+        f(a.A, dtype=float),
+        f(a.d, dtype=float),
+        out,
+    )
+    return out
