@@ -71,6 +71,7 @@ report: $(STAMP)
 # comparison (e.g. the uncertainty study adds its snakemake command here).
 reproduce-extra: $(STAMP)
 	$(BIN)/snakemake --cores all --forceall calibration_study
+	$(BIN)/snakemake --cores all --forceall reproduce_paper --config study=config/studies/cogiro.yaml results=results/cogiro
 
 # After an interruption (Ctrl-C, a killed process, a lost machine): release Snakemake's lock and
 # finish only what is missing or incomplete. Targets come before --config (both take lists).

@@ -38,6 +38,26 @@ def global_index(dp, status):
     return (float(dp[ok].mean()) if ok.any() else float("nan")), int((~ok).sum())
 
 
+def orientation_index(dphi, status):
+    """Orientation index of a design: the mean orientation error over the evaluation points, the
+    statistic of eq. (15) applied to δφ (beyond the paper: a rigid platform's second response).
+
+    .. math:: I_\\varphi = \\frac{1}{N_{ok}} \\sum_{k\\,ok} \\delta\\varphi_k
+
+    Parameters
+    ----------
+    dphi : array (N,) [rad]
+        Orientation error δφ (the rotation angle of R* R_d^T) at the N points.
+    status : array (N,) of str
+        Per-point status; only ``ok`` points enter the mean (as in ``global_index``).
+
+    Returns
+    -------
+    (index [rad], number of points that are not ``ok``).
+    """
+    return global_index(dphi, status)
+
+
 def full_factorial(k):
     """Coded 2^k design in the paper's standard order (Table 2: first factor slowest), shape (2^k, k).
 

@@ -124,20 +124,22 @@ def plane(robot, z, n, method="newton", **solver):
     return solve_table(robot, plane_points(robot, z, n), method=method, **solver)
 
 
-def ok_extremes(df):
-    """min and max |dp| over the rows with status ok (NaN when there are none).
+def ok_extremes(df, column="dp"):
+    """min and max |dp| (or another column) over the rows with status ok (NaN when there are none).
 
     Parameters
     ----------
     df : DataFrame
         Point table with columns ``status`` and ``dp`` [m].
+    column : str
+        The column: ``dp`` [m] by default, ``dphi`` [rad] of a rigid platform's table.
 
     Returns
     -------
-    tuple of 2 float [m]
-        (min, max) of dp over the ``ok`` rows.
+    tuple of 2 float [unit of the column]
+        (min, max) of the column over the ``ok`` rows.
     """
-    ok = df.loc[df["status"] == "ok", "dp"]
+    ok = df.loc[df["status"] == "ok", column]
     return (float(ok.min()), float(ok.max())) if len(ok) else (float("nan"), float("nan"))
 
 

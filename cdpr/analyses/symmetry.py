@@ -117,6 +117,8 @@ def grid_symmetries(robot, box, tol=TOL):
     list of array (2, 2) of int
     """
     b = check_box(box)
+    if not robot.suspended_point_mass:  # attachments, COM and axes are not compared: identity only
+        return [D4[0]]
     centre = np.array([(b[0] + b[1]) / 2, (b[2] + b[3]) / 2])
     wx, wy = (b[1] - b[0]) / 2, (b[3] - b[2]) / 2
     square = abs(wx - wy) <= tol * max(wx, wy)
@@ -174,12 +176,45 @@ def solve_grid(robot, box, n, symmetric=True, **solver):
     solved : int
         Number of points actually solved.
     """
+    res, solved = solve_grid_columns(robot, box, n, ("dp", "status"), symmetric, **solver)
+    return res["dp"], res["status"].astype(str), solved
+
+
+def solve_grid_columns(robot, box, n, keys, symmetric=True, **solver):
+    """``solve_grid`` returning the per-point arrays ``keys`` of the solve (``dp``, ``status``,
+    ``dphi`` of a 6-DoF solve, ...) at every point of the n^3 grid.
+
+    Parameters
+    ----------
+    robot : Robot
+    box : array_like (6,) [m]
+    n : int
+    keys : sequence of str
+        Keys of the ``solve.solve_points_any`` result; ``dphi`` [rad] is 0 for a point-mass
+        solve that has none (a point has no orientation).
+    symmetric : bool
+    solver : as ``solve_grid`` (a fixed orientation ``rotvec`` is allowed: a robot that is not a
+        suspended point mass is solved without symmetries, ``grid_symmetries``).
+
+    Returns
+    -------
+    columns : dict
+        key -> array (n^3,) in the grid's C order.
+    solved : int
+        Number of points actually solved.
+    """
     if solver.get("L0") is not None:
         raise ValueError("solve_grid: commanded lengths L0 need not be symmetric; solve the full grid")
+    if solver.get("rotvec") is not None:
+        symmetric = False  # an orientation breaks the horizontal symmetries of the frame
     transforms = grid_symmetries(robot, box) if symmetric else [D4[0]]
     P, inverse = _orbit_points(tuple(check_box(box).tolist()), int(n), tuple(T.tobytes() for T in transforms))
     res = solve_points_any(robot, P, **solver)
-    return np.asarray(res["dp"])[inverse], np.asarray(res["status"]).astype(str)[inverse], len(P)
+    out = {}
+    for k in keys:
+        v = np.asarray(res[k]) if k in res or k != "dphi" else np.zeros(len(P))
+        out[k] = v[inverse]
+    return out, len(P)
 
 
 @lru_cache(maxsize=8)

@@ -272,15 +272,25 @@ def fig10_trajectories(tables, minmax, out, mode=None):
     robots = list(dict.fromkeys(lab.split("_", 1)[0] for lab in tables))
     per = {rk: [lab for lab in tables if lab.split("_", 1)[0] == rk] for rk in robots}
     n_strip = max(len(v) for v in per.values())
-    fig = plt.figure(figsize=(6.2 * len(robots), 5.4), layout="constrained")
-    outer = fig.add_gridspec(2, len(robots), height_ratios=[4, 0.35 * n_strip + 0.4])
+    # a rigid platform (tables with dphi): δφ and the cable tensions in panels under ‖δp‖
+    spatial = any("dphi" in df for df in tables.values())
+    extra = [2.6, 2.6] if spatial else []
+    fig = plt.figure(figsize=(6.2 * len(robots), 5.4 + 2.6 * len(extra)), layout="constrained")
+    outer = fig.add_gridspec(2 + len(extra), len(robots), height_ratios=[4, *extra, 0.35 * n_strip + 0.4])
     states = list(STATUS_COLOURS)
     cmap = ListedColormap([STATUS_COLOURS[s] for s in states])
     mm = minmax.set_index("design")
     seen = set()
     for j, rk in enumerate(robots):
         ax = fig.add_subplot(outer[0, j])
-        strip = fig.add_subplot(outer[1, j], sharex=ax)
+        strip = fig.add_subplot(outer[1 + len(extra), j], sharex=ax)
+        if spatial:
+            _path_dphi_tensions(
+                fig.add_subplot(outer[1, j], sharex=ax),
+                fig.add_subplot(outer[2, j], sharex=ax),
+                {lab: tables[lab] for lab in per[rk]},
+                rk,
+            )
         for lab in per[rk]:
             df = tables[lab]
             ok = df.status == "ok"
@@ -307,7 +317,9 @@ def fig10_trajectories(tables, minmax, out, mode=None):
         strip.set_yticks(np.arange(len(per[rk])), [lab.split("_", 1)[1] for lab in per[rk]], fontsize=7)
         strip.set(xlabel="position along the path s [m]", ylabel="status [-]")
         ax.tick_params(labelbottom=False)
-        ax.set(ylabel="‖δp‖ [mm]", title=f"{rk}: ‖δp‖ along the section 3.3.1 path")
+        ax.set(
+            ylabel="‖δp‖ [mm]", title=f"{rk}: ‖δp‖ along the {'path' if spatial else 'section 3.3.1 path'}"
+        )
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.02 - 0.09 * n_strip), frameon=False)
         ax.set_ylim(bottom=0)
@@ -320,14 +332,66 @@ def fig10_trajectories(tables, minmax, out, mode=None):
         title="status strip",
         title_fontsize=7,
     )
-    fig.suptitle(f"‖δp‖ along the paths (Fig. 10){_mode(mode)}", fontsize=10)
+    what = "‖δp‖, δφ and the tensions" if spatial else "‖δp‖"
+    fig.suptitle(f"{what} along the paths (Fig. 10){_mode(mode)}", fontsize=10)
     return save(fig, out)
 
 
+def _tension_columns(df):
+    """The tension columns t1..tm of a point table, in cable order."""
+    return sorted((c for c in df.columns if re.fullmatch(r"t\d+", c)), key=lambda c: int(c[1:]))
+
+
+def _path_dphi_tensions(ax_phi, ax_t, tables, name):
+    """δφ [mrad] (``ax_phi``) and the least and largest cable tension [N] (``ax_t``, a slack cable
+    at 0 N) along the path tables ``tables`` (label -> table with s, dphi, t1..tm, status), ok
+    points only, one colour per pulley kind."""
+    for lab, df in tables.items():
+        ok = df.status == "ok"
+        kind = lab.split("_", 1)[1] if "_" in lab else lab
+        c = KIND_COLOURS.get(kind)
+        if "dphi" in df:
+            ax_phi.plot(df.s.where(ok), df["dphi"].where(ok) * DPHI_SCALE, color=c, label=lab)
+        tt = df[_tension_columns(df)].fillna(0.0)
+        ax_t.plot(df.s.where(ok), tt.max(axis=1).where(ok), color=c, label=f"{lab}: largest t_i")
+        ax_t.plot(df.s.where(ok), tt.min(axis=1).where(ok), color=c, ls="--", label=f"{lab}: least t_i")
+    ax_phi.set(ylabel=DPHI_LABEL, title=f"{name}: orientation error δφ")
+    ax_phi.set_ylim(bottom=0)
+    ax_t.set(ylabel="cable tension [N]", title=f"{name}: largest and least cable tension (slack: 0 N)")
+    for a in (ax_phi, ax_t):
+        a.tick_params(labelbottom=False)
+        a.grid(alpha=0.3)
+        a.title.set_fontsize(9)
+    ax_phi.legend(fontsize=7)
+    ax_t.legend(fontsize=6, ncol=2)
+
+
 def fig11_minmax(minmax, out, mode=None):
-    """Paty 2021 Fig. 11: min and max ‖δp‖ along each path, per design (table ``minmax``)."""
-    fig, ax = plt.subplots(figsize=(6.5, 4.4), layout="constrained")
+    """Paty 2021 Fig. 11: min and max ‖δp‖ along each path, per design (table ``minmax``); with
+    columns dphi_min_rad, dphi_max_rad (a rigid platform) the same for δφ in a second panel."""
+    spatial = "dphi_max_rad" in minmax
+    fig, axes = plt.subplots(
+        1, 2 if spatial else 1, figsize=(13 if spatial else 6.5, 4.4), squeeze=False, layout="constrained"
+    )
+    ax = axes[0, 0]
     x = np.arange(len(minmax))
+    if spatial:
+        a = axes[0, 1]
+        a.bar(
+            x - 0.2, minmax.dphi_min_rad * DPHI_SCALE, 0.4, color=OKABE_ITO[0], label="min over the ok points"
+        )
+        a.bar(
+            x + 0.2, minmax.dphi_max_rad * DPHI_SCALE, 0.4, color=OKABE_ITO[1], label="max over the ok points"
+        )
+        a.set_xticks(x, minmax.design, rotation=30, ha="right")
+        a.set(
+            xlabel="design [path_pulley]",
+            ylabel=DPHI_LABEL,
+            title=f"Min and max of δφ along the paths{_mode(mode)}",
+        )
+        a.title.set_fontsize(9)
+        a.grid(axis="y", alpha=0.3)
+        a.legend(fontsize=8)
     ax.bar(x - 0.2, minmax.dp_min_m * 1e3, 0.4, color=OKABE_ITO[0], label="min over the ok points")
     ax.bar(x + 0.2, minmax.dp_max_m * 1e3, 0.4, color=OKABE_ITO[1], label="max over the ok points")
     ax.set_xticks(x, minmax.design, rotation=30, ha="right")
@@ -354,9 +418,17 @@ def fig12_plane(tables, A, z, robot_name, out, mode=None, paper=None):
     contouring: the paper's rule takes the least ‖δp‖ of the four 3-cable subsets, which are equal
     at the centre by symmetry and each fall away from it, so ‖δp‖ has a cusp maximum there."""
     paper = paper or {}
+    spatial = any("dphi" in df for df in tables.values())
     fig, axes = plt.subplots(
-        1, len(tables), figsize=(5.6 * len(tables), 5.6), squeeze=False, layout="constrained"
+        2 if spatial else 1,
+        len(tables),
+        figsize=(5.6 * len(tables), 11.2 if spatial else 5.6),
+        squeeze=False,
+        layout="constrained",
     )
+    if spatial:  # a rigid platform: the orientation error δφ under the position error
+        for ax, (label, df) in zip(axes[1], tables.items()):
+            _plane_dphi_panel(fig, ax, df, A, f"{robot_name} {label} at z = {z:g} m: δφ")
     for ax, (label, df) in zip(axes[0], tables.items()):
         ok = (df.status == "ok").to_numpy()
         xs, ys, Z = _grid(df, np.where(ok, df.dp * 1e3, np.nan))
@@ -385,8 +457,33 @@ def fig12_plane(tables, A, z, robot_name, out, mode=None, paper=None):
         )
         ax.title.set_fontsize(9)
         _not_ok_legend(ax, df, A)
-    fig.suptitle(f"‖δp‖ over the plane (Fig. 12){_mode(mode)}", fontsize=10)
+    what = "‖δp‖ and δφ" if spatial else "‖δp‖"
+    fig.suptitle(f"{what} over the plane (Fig. 12){_mode(mode)}", fontsize=10)
     return save(fig, out)
+
+
+#: The orientation error's display unit: δφ [rad] is drawn in mrad (the error is a few mrad).
+DPHI_SCALE, DPHI_UNIT = 1e3, "mrad"
+DPHI_LABEL = f"δφ [{DPHI_UNIT}]"
+
+
+def _plane_dphi_panel(fig, ax, df, A, title):
+    """One panel of the orientation error δφ [mrad] over a plane table (column ``dphi`` [rad]):
+    filled round levels with their own colour bar; cells that are not ok grey, counted below."""
+    ok = (df.status == "ok").to_numpy()
+    xs, ys, Z = _grid(df, np.where(ok, df["dphi"] * DPHI_SCALE, np.nan))
+    ax.set_facecolor(NOT_OK_COLOUR)
+    if np.isfinite(Z).any():
+        levels = _round_levels(np.nanmin(Z), np.nanmax(Z), 10)
+        if levels is not None and len(levels) > 1:
+            cf = ax.contourf(xs, ys, Z, levels=levels, cmap="magma")
+            cs = ax.contour(xs, ys, Z, levels=levels, colors="k", linewidths=0.4)
+            ax.clabel(cs, levels[1:-1:2], fmt="%g", fontsize=6)
+            fig.colorbar(cf, ax=ax, label=DPHI_LABEL, shrink=0.8)
+    _anchors(ax, A)
+    ax.set(xlabel="x [m]", ylabel="y [m]", title=title, aspect="equal")
+    ax.title.set_fontsize(9)
+    _not_ok_legend(ax, df, A)
 
 
 def fig12_tension(tables, A, z, robot_name, t_min, out, mode=None):
@@ -540,15 +637,33 @@ def fig14_rv(tab, paper, out, mode=None):
     return save(fig, out)
 
 
-def fig15_doe(tests, out, mode=None):
+def fig15_doe(tests, out, mode=None, paper=True):
     """Paty 2021 Fig. 15: the global index of each DOE test (Table 2), the factor levels of each
-    test in a table under the bars, the paper's best and worst index (0.05 / 0.29 m) as markers."""
-    fig, ax = plt.subplots(figsize=(8, 4.8), layout="constrained")
+    test in a table under the bars, the paper's best and worst index (0.05 / 0.29 m) as markers
+    (``paper``: False for a robot the paper did not study). With a column ``index_phi_rad`` (a rigid
+    platform) the orientation index of each test in a second panel."""
+    spatial = "index_phi_rad" in tests
+    fig, axes = plt.subplots(
+        1, 2 if spatial else 1, figsize=(15 if spatial else 8, 4.8), squeeze=False, layout="constrained"
+    )
+    ax = axes[0, 0]
     x = np.arange(len(tests))
     colours = [KIND_COLOURS.get(k) for k in tests.kind]
     ax.bar(x, tests.index_m * 1e3, color=colours)
     ax.set_xticks(x, [f"T{t}" for t in tests.test])
+    if spatial:
+        a = axes[0, 1]
+        a.bar(x, tests.index_phi_rad * DPHI_SCALE, color=colours)
+        a.set_xticks(x, [f"T{t}" for t in tests.test])
+        a.set(
+            xlabel="DOE test [Table 2]",
+            ylabel=f"orientation index mean δφ [{DPHI_UNIT}]",
+            title=f"DOE responses: orientation{_mode(mode)}",
+        )
+        a.grid(axis="y", alpha=0.3)
     for name, q in (("paper's best", "DOE minimum (test 1)"), ("paper's worst", "DOE maximum (test 7)")):
+        if not paper:
+            break
         v = paper_value(q)
         if v is not None:
             ax.axhline(v * 1e3, color="r", ls="--", lw=0.9)
@@ -588,21 +703,32 @@ def fig15_doe(tests, out, mode=None):
 def fig16_effects(eff, out, mode=None):
     """Paty 2021 Fig. 16: effects and interactions of the coded factors on the global index; the
     effect of a term is 2 × its regression coefficient (the change from its -1 to its +1 level).
-    Colour-blind-safe signs (blue: lowers the index, vermillion: raises it)."""
-    e = eff[eff.term != "mean"]
-    fig, ax = plt.subplots(figsize=(7, 4.4), layout="constrained")
-    ax.bar(
-        np.arange(len(e)), e.effect * 1e3, color=[OKABE_ITO[0] if v < 0 else OKABE_ITO[1] for v in e.effect]
+    Colour-blind-safe signs (blue: lowers the index, vermillion: raises it). A table with a column
+    ``response`` (a rigid platform: ``index_m`` and ``index_phi_rad``) gets one panel per response,
+    the orientation's in mrad."""
+    responses = list(dict.fromkeys(eff.response)) if "response" in eff else ["index_m"]
+    fig, axes = plt.subplots(
+        1, len(responses), figsize=(7 * len(responses), 4.4), squeeze=False, layout="constrained"
     )
-    ax.set_xticks(np.arange(len(e)), e.term, rotation=30, ha="right")
-    ax.axhline(0.0, color="k", lw=0.8)
-    ax.set(
-        xlabel="term [coded factors -1/+1: joint SR/DR, h and r_p low/high of Table 2]",
-        ylabel="effect = 2 × coefficient [mm]",
-        title=f"Effects and interactions on mean ‖δp‖ (Fig. 16){_mode(mode)}",
-    )
-    ax.title.set_fontsize(9)
-    ax.grid(axis="y", alpha=0.3)
+    for ax, resp in zip(axes[0], responses):
+        e = eff[eff.term != "mean"]
+        if "response" in eff:
+            e = e[e.response == resp]
+        phi = resp == "index_phi_rad"
+        ax.bar(
+            np.arange(len(e)),
+            e.effect * (DPHI_SCALE if phi else 1e3),
+            color=[OKABE_ITO[0] if v < 0 else OKABE_ITO[1] for v in e.effect],
+        )
+        ax.set_xticks(np.arange(len(e)), e.term, rotation=30, ha="right")
+        ax.axhline(0.0, color="k", lw=0.8)
+        ax.set(
+            xlabel="term [coded factors -1/+1: joint SR/DR, h and r_p low/high of Table 2]",
+            ylabel=f"effect = 2 × coefficient [{DPHI_UNIT if phi else 'mm'}]",
+            title=f"Effects and interactions on mean {'δφ' if phi else '‖δp‖'} (Fig. 16){_mode(mode)}",
+        )
+        ax.title.set_fontsize(9)
+        ax.grid(axis="y", alpha=0.3)
     return save(fig, out)
 
 
@@ -612,17 +738,26 @@ PAPER_LINES = {"SR": 40.0 / 13.0, "DR": 5.0 / 4.0}
 PAPER_OPTIMA = {"SR": (0.1077, 0.035), "DR": (0.100, 0.080)}
 
 
-def fig17_maps(tab, valleys, lines, tests, levels, out, mode=None):
+def fig17_maps(tab, valleys, lines, tests, levels, out, mode=None, paper=True):
     """Paty 2021 Fig. 17: the global index over the (r_p, h) plane for each pulley kind on one
     colour range with labelled contour lines, the valley r_p*(h), the fitted line h = k r_p and
-    our optimum I, the paper's line D and its optimum (SR*, DR*), the DOE field and tests T1-T8.
-    ``valleys`` maps a kind to its valley table; ``lines`` has one row per kind."""
+    our optimum I, the paper's line D and its optimum (SR*, DR*) (``paper``: False for a robot the
+    paper did not study), the DOE field and tests T1-T8. ``valleys`` maps a kind to its valley
+    table; ``lines`` has one row per kind. With a column ``index_phi_rad`` (a rigid platform) a
+    second row maps the orientation index [mrad] with the DOE field."""
     kinds = list(dict.fromkeys(tab.kind))
     lo, hi = float(tab.index_m.min()) * 1e3, float(tab.index_m.max()) * 1e3
     lv = _round_levels(lo, hi, 20)
+    spatial = "index_phi_rad" in tab
     fig, axes = plt.subplots(
-        1, len(kinds), figsize=(6.0 * len(kinds) + 1.2, 5.8), squeeze=False, layout="constrained"
+        2 if spatial else 1,
+        len(kinds),
+        figsize=(6.0 * len(kinds) + 1.2, 11.6 if spatial else 5.8),
+        squeeze=False,
+        layout="constrained",
     )
+    if spatial:
+        _maps_dphi_row(fig, axes[1], tab, kinds, levels)
     cf = None
     for ax, kind in zip(axes[0], kinds):
         g = tab[tab.kind == kind]
@@ -644,7 +779,7 @@ def fig17_maps(tab, valleys, lines, tests, levels, out, mode=None):
         rr = np.linspace(0, rmax, 10)
         if np.isfinite(line.slope_k):
             ax.plot(rr * 1e3, line.slope_k * rr * 1e3, "r-", label=f"ours: h = {line.slope_k:.2f} r_p")
-        if kind in PAPER_LINES:
+        if paper and kind in PAPER_LINES:
             k = PAPER_LINES[kind]
             ax.plot(rr * 1e3, k * rr * 1e3, color="m", ls="--", label=f"paper D_{kind}: h = {k:.3g} r_p")
             h_p, r_p = PAPER_OPTIMA[kind]
@@ -695,12 +830,63 @@ def fig17_maps(tab, valleys, lines, tests, levels, out, mode=None):
     return save(fig, out)
 
 
+def _maps_dphi_row(fig, axes, tab, kinds, levels):
+    """The orientation index [mrad] over the (r_p, h) plane, one panel per kind on one colour range,
+    with the DOE field (dashed): the second row of ``fig17_maps`` for a rigid platform."""
+    v = tab.index_phi_rad * DPHI_SCALE
+    lv = _round_levels(float(v.min()), float(v.max()), 16)
+    cf = None
+    for ax, kind in zip(axes, kinds):
+        g = tab[tab.kind == kind]
+        piv = g.pivot(index="h_m", columns="r_p_m", values="index_phi_rad")
+        if piv.shape[0] > 1 and piv.shape[1] > 1 and lv is not None and len(lv) > 1:
+            cf = ax.contourf(
+                piv.columns * 1e3, piv.index * 1e3, piv.values * DPHI_SCALE, levels=lv, cmap="magma"
+            )
+        ax.plot(g.r_p_m * 1e3, g.h_m * 1e3, "k.", ms=3)
+        r0, r1 = levels["r_p_m"]
+        h0, h1 = levels["h_m"]
+        ax.add_patch(
+            plt.Rectangle((r0 * 1e3, h0 * 1e3), (r1 - r0) * 1e3, (h1 - h0) * 1e3, fill=False, ec="c", ls="--")
+        )
+        ax.set(
+            xlabel="sheave radius r_p [mm]",
+            ylabel="lever arm h [mm]",
+            title=f"{kind} pulleys: orientation index mean δφ",
+            xlim=(0, g.r_p_m.max() * 1e3),
+            ylim=(0, max(g.h_m.max(), h1) * 1e3 * 1.08),
+        )
+    if cf is not None:
+        fig.colorbar(cf, ax=list(axes), label=f"orientation index mean δφ [{DPHI_UNIT}]")
+
+
 def fig18_index_vs_E(tab, E_mean, bands, out, mode=None, paper=None):
     """Paty 2021 Fig. 18: the global index of each optimal design versus Young's modulus, with the
     nominal modulus E_mean and our band [min, max] over the range shaded; ``paper`` {design:
     (index, minus, plus)} [m] draws the paper's band as an error bar at E_mean."""
     paper = paper or {}
-    fig, ax = plt.subplots(figsize=(7.5, 4.6), layout="constrained")
+    spatial = "index_phi_rad" in tab
+    fig, axes = plt.subplots(
+        1, 2 if spatial else 1, figsize=(15 if spatial else 7.5, 4.6), squeeze=False, layout="constrained"
+    )
+    ax = axes[0, 0]
+    if spatial:  # a rigid platform: the orientation index versus E beside it
+        a = axes[0, 1]
+        for i, (dk, g) in enumerate(tab.groupby("design", sort=False)):
+            c = OKABE_ITO[i % len(OKABE_ITO)]
+            a.plot(g.E_Pa / 1e9, g.index_phi_rad * DPHI_SCALE, "o-", ms=3, color=c, label=f"{dk} (ours)")
+            a.axhspan(
+                g.index_phi_rad.min() * DPHI_SCALE, g.index_phi_rad.max() * DPHI_SCALE, color=c, alpha=0.12
+            )
+        a.axvline(E_mean / 1e9, color="k", ls=":", label=f"E_mean = {E_mean / 1e9:g} GPa")
+        a.set(
+            xlabel="Young's modulus E [GPa]",
+            ylabel=f"orientation index mean δφ [{DPHI_UNIT}]",
+            title=f"Orientation index versus E, shaded: our band{_mode(mode)}",
+        )
+        a.title.set_fontsize(9)
+        a.grid(alpha=0.3)
+        a.legend(fontsize=7)
     for i, (dk, g) in enumerate(tab.groupby("design", sort=False)):
         c = OKABE_ITO[i % len(OKABE_ITO)]
         ax.plot(g.E_Pa / 1e9, g.index_m * 1e3, "o-", ms=3, color=c, label=f"{dk} (ours)")
@@ -730,17 +916,39 @@ def fig18_index_vs_E(tab, E_mean, bands, out, mode=None, paper=None):
     return save(fig, out)
 
 
-def fig19_paths(curves, crossings, out, mode=None, paper=None):
+def fig19_paths(curves, crossings, out, mode=None, paper=None, phi=None):
     """Paty 2021 Fig. 19: ‖δp‖ along the section 5.2 path for each design (colour) at E_min,
     E_mean, E_max (line style), with our crossings of the E_max and E_min curves (solid vertical
     lines) and the paper's (``paper`` {design: s [m]}, dashed). ``curves`` is a list of (design, E
-    [Pa], s [m], dp [m]); ``crossings`` a table design, s_m."""
+    [Pa], s [m], dp [m]); ``crossings`` a table design, s_m. ``phi``: the same list with δφ [rad]
+    (a rigid platform), drawn in a second panel [mrad]."""
     paper = paper or {}
-    fig, ax = plt.subplots(figsize=(7.5, 4.6), layout="constrained")
+    fig, axes = plt.subplots(
+        2 if phi else 1, 1, figsize=(7.5, 8.6 if phi else 4.6), squeeze=False, layout="constrained"
+    )
+    ax = axes[0, 0]
     designs = list(dict.fromkeys(c[0] for c in curves))
     Es = sorted({c[1] for c in curves})
     styles = dict(zip(Es, [":", "-", "--"] if len(Es) == 3 else ["-"] * len(Es)))
     colours = dict(zip(designs, OKABE_ITO))
+    if phi:
+        a = axes[1, 0]
+        for dk, E, s, v in phi:
+            a.plot(
+                s,
+                v * DPHI_SCALE,
+                styles.get(E, "-"),
+                color=colours.get(dk),
+                label=f"{dk} E = {E / 1e9:g} GPa",
+            )
+        a.set(
+            xlabel="position along the path s [m]",
+            ylabel=DPHI_LABEL,
+            title=f"δφ along the path at E_min, E_mean, E_max{_mode(mode)}",
+        )
+        a.title.set_fontsize(9)
+        a.grid(alpha=0.3)
+        a.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.01, 0.5))
     for dk, E, s, dp in curves:
         ax.plot(s, dp * 1e3, styles[E], color=colours[dk], label=f"{dk} E = {E / 1e9:g} GPa")
     for r in crossings.itertuples():

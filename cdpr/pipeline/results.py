@@ -36,7 +36,7 @@ STUDY_OUTPUTS = {
         "tension_pdf": "plane/{robot}_tension.pdf",
     },
     "subset_figure": {"figure": "plane/{robot}_subsets.png", "pdf": "plane/{robot}_subsets.pdf"},
-    "trajectory_table": {"table": "trajectories/{robot}_{pulley}.csv"},
+    "trajectory_table": {"table": "trajectories/{path}_{pulley}.csv"},
     "trajectory_figure": {
         "figure": "trajectories/trajectories.png",
         "pdf": "trajectories/trajectories.pdf",
@@ -121,7 +121,7 @@ STUDY_LOGS = {
     "plane_table": "logs/plane_{robot}_{pulley}.log",
     "plane_figure": "logs/plane_figure_{robot}.log",
     "subset_figure": "logs/subset_figure_{robot}.log",
-    "trajectory_table": "logs/trajectory_{robot}_{pulley}.log",
+    "trajectory_table": "logs/trajectory_{path}_{pulley}.log",
     "trajectory_figure": "logs/trajectory_figure.log",
     "volume_shard": "logs/volume_{robot}_{pulley}_{shard}.log",
     "volumes": "logs/volumes.log",
@@ -239,7 +239,7 @@ class Layout:
             "plane_table": lambda: _product(robot=robots, pulley=pulleys),
             "plane_figure": lambda: _product(robot=robots),
             "subset_figure": lambda: _product(robot=self.redundant_robots()),
-            "trajectory_table": lambda: _product(robot=list(st["trajectories"]["paths"]), pulley=pulleys),
+            "trajectory_table": lambda: _product(path=list(st["trajectories"]["paths"]), pulley=pulleys),
             "volume_shard": lambda: _product(
                 robot=robots, pulley=pulleys, shard=range(st["volumes"]["shards"])
             ),

@@ -65,6 +65,26 @@ def redundancy(st):
     return st.get("redundancy", "paper")
 
 
+def rotvec(st):
+    """The study's fixed platform orientation ``rotvec_rad`` (3,) [rad], or None when the study does
+    not set it (every solve then takes the identity: the solver's default for spatial robots)."""
+    rv = st.get("rotvec_rad")
+    return None if rv is None else [float(x) for x in rv]
+
+
+def spatial_robots(st):
+    """The keys of the study's robots that are not suspended point masses (a rigid platform with
+    attachments, or pulley axes other than +z: ``Robot.suspended_point_mass``), solved in 6 DoF."""
+    models = st.robot_models or {}
+    return [k for k, r in models.items() if not r.suspended_point_mass]
+
+
+def path_robot(st, label):
+    """The robot key of the path ``label`` of ``trajectories.paths``: its ``robot`` key, by default
+    the label itself (one path per robot, named after it)."""
+    return st["trajectories"]["paths"][label].get("robot", label)
+
+
 def uq_cases(st):
     """The uncertainty cases a study runs: ``uncompensated`` always; ``compensated`` (lengths
     compensated with the nominal model, then the robot in physical equilibrium) only when the
@@ -294,9 +314,13 @@ def check_study(st):
             )
     for key in st["trajectories"]["paths"]:
         with _collect(problems):
-            if key not in known:
+            if path_robot(st, key) not in known:
+                sub = "" if path_robot(st, key) == key else ".robot"
                 raise ConfigError(
-                    src, f"trajectories.paths.{key}", f"unknown robot; allowed: {', '.join(known)}"
+                    src,
+                    f"trajectories.paths.{key}{sub}",
+                    f"unknown robot {path_robot(st, key)!r}; allowed: {', '.join(known)} "
+                    "(a path's label is its robot's key unless it names one with `robot`)",
                 )
     for sec in ("pulleys", "optimal"):
         for name, p in st[sec].items():
@@ -354,9 +378,9 @@ def check_study(st):
                     f"must lie between the floor and the lowest pulley of robot {key} (0 <= z < {top:g} m), got {z:g}",
                 )
     for key, path in st["trajectories"]["paths"].items():
-        if key not in robots:
+        if path_robot(st, key) not in robots:
             continue  # unknown or invalid robot: reported above
-        top = float(robots[key].A[:, 2].min())
+        top = float(robots[path_robot(st, key)].A[:, 2].min())
         for end in ("start_m", "end_m"):
             with _collect(problems):
                 if path[end][2] > top:
@@ -365,12 +389,89 @@ def check_study(st):
                         f"trajectories.paths.{key}.{end}",
                         f"z must not exceed the lowest pulley ({top:g} m), got {path[end][2]:g}",
                     )
+    for problem in check_spatial_study(st, robots):
+        problems.append(problem)
     if "uncertainty" in st and not problems:
         with _collect(problems):
             check_uncertainty(st, robots)
     raise_problems(src, problems)
     st.robot_models = robots
     return st
+
+
+def check_spatial_study(st, robots):
+    """The problems of a study with spatial robots (``Robot.suspended_point_mass`` false: a rigid
+    platform or tilted pulley axes, solved in 6 DoF by ``equilibrium6.solve_spatial``): such a robot
+    has the physical mode only (paper mode and its "best 3 of m" rule are the point-mass rule), is
+    not scored against the papers (``paper_comparison``), has no uncertainty study yet; and
+    ``rotvec_rad`` (the platform orientation) applies to spatial robots only.
+
+    Parameters
+    ----------
+    st : Study
+    robots : dict
+        Robot key -> Robot of the study's valid robot files.
+
+    Returns
+    -------
+    list of ConfigError
+        One per key, each one sentence naming the key and what is allowed.
+    """
+    src = st.path
+    spatial = [k for k, r in robots.items() if not r.suspended_point_mass]
+    point = [k for k, r in robots.items() if r.suspended_point_mass]
+    out = []
+    if spatial:
+        names = ", ".join(spatial)
+        what = f"robot {names} is spatial (a rigid platform or pulley axes other than +z)"
+        if redundancy(st) != "physical":
+            out.append(
+                ConfigError(
+                    src,
+                    "redundancy",
+                    f"{what}: paper mode (the best 3 of m cables) is the point-mass rule; "
+                    f"use redundancy: physical, got {redundancy(st)!r}",
+                )
+            )
+        u = st.get("uncertainty")
+        if u and u.get("redundancy", "paper") != "physical":
+            out.append(
+                ConfigError(
+                    src,
+                    "uncertainty.redundancy",
+                    f"{what}: paper mode (the best 3 of m cables) is the point-mass rule; "
+                    f"use uncertainty.redundancy: physical, got {u.get('redundancy', 'paper')!r}",
+                )
+            )
+        elif u:
+            out.append(
+                ConfigError(
+                    src,
+                    "uncertainty",
+                    f"{what}: the uncertainty study (per-cable Monte Carlo, Sobol indices) has no 6-DoF "
+                    "version yet (its sensitivities and compensation are the point-mass ones); remove "
+                    "the uncertainty section",
+                )
+            )
+        if st.get("paper_comparison"):
+            out.append(
+                ConfigError(
+                    src,
+                    "paper_comparison",
+                    f"{what}: the papers' numbers are for their point-mass robots CDPR3 and CDPR4; "
+                    "use paper_comparison: false (the summary lists our numbers, not scored)",
+                )
+            )
+    if st.get("rotvec_rad") is not None and point:
+        out.append(
+            ConfigError(
+                src,
+                "rotvec_rad",
+                f"the platform orientation applies to spatial robots only; robot {', '.join(point)} "
+                "is a point mass (no orientation): remove rotvec_rad or use spatial robots only",
+            )
+        )
+    return out
 
 
 @contextlib.contextmanager

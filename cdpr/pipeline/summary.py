@@ -24,6 +24,7 @@ from cdpr import io, table_io
 from cdpr.analyses import scans
 from cdpr.models import winch
 from cdpr.pipeline.results import STUDY_OUTPUTS, Layout, check_complete
+from cdpr.pipeline.study import spatial_robots
 from cdpr.robot import TABLE1
 
 #: The papers' numbers (package data of the library).
@@ -53,7 +54,7 @@ def _path_length(st, res, robot):
 
 
 def _path(st, res, robot, pulley, stat):
-    df = _read(res, _rel("trajectory_table", robot=robot, pulley=pulley))
+    df = _read(res, _rel("trajectory_table", path=robot, pulley=pulley))
     return None if df is None else (scans.ok_extremes(df)[stat == "max"], "")
 
 
@@ -165,9 +166,14 @@ def _doe_worst(st, res, joint):
     )
 
 
-def _effects(res):
+def _effects(res, response="index_m"):
+    """The effects of one response (``index_m``, or ``index_phi_rad`` of a spatial study) without the mean."""
     e = _read(res, _rel("doe", "effects"))
-    return None if e is None else e[e.term != "mean"].set_index("term")
+    if e is None:
+        return None
+    if "response" in e:
+        e = e[e.response == response]
+    return e[e.term != "mean"].set_index("term")
 
 
 def _largest_effect(st, res, term):
@@ -334,6 +340,174 @@ def build_rows(st, res, values=None):
     return pd.DataFrame(rows, columns=COLUMNS)
 
 
+def _headline(quantity, source, ours, unit, note=""):
+    return {
+        "quantity": quantity,
+        "source": source,
+        "paper": None,
+        "ours": ours,
+        "unit": unit,
+        "tolerance": None,
+        "verdict": "not scored (no paper value)",
+        "note": note,
+    }
+
+
+def _ok_range(df, column, scale):
+    """(min, max) of ``column`` times ``scale`` over the ok rows of a point table (NaN when none)."""
+    ok = df.loc[df["status"] == "ok", column]
+    return (float(ok.min()) * scale, float(ok.max()) * scale) if len(ok) else (math.nan, math.nan)
+
+
+def headline_rows(st, res):
+    """The headline numbers of a study of spatial robots (``paper_comparison: false``, no paper
+    values): per design the plane's and the paths' ‖δp‖ [mm] and δφ [mrad] ranges over the ok points
+    and the paths' largest tension [N]; R_V at the study's limits; RW_C's volume; the DOE's best and
+    worst test and largest effect on both indices; the optimal lines; the common-E band of each
+    optimal design. Columns ``COLUMNS`` (paper and tolerance empty)."""
+    rows = []
+    for rk in st["robots"]:
+        for pk in st["pulleys"]:
+            df = _read(res, _rel("plane_table", robot=rk, pulley=pk))
+            if df is None:
+                continue
+            n_ok = int((df.status == "ok").sum())
+            src = f"plane z = {st['plane']['z_m']:g} m"
+            lo, hi = _ok_range(df, "dp", 1e3)
+            rows.append(
+                _headline(f"{rk} {pk} plane ‖δp‖ min", src, lo, "mm", f"{n_ok} of {len(df)} points ok")
+            )
+            rows.append(_headline(f"{rk} {pk} plane ‖δp‖ max", src, hi, "mm"))
+            if "dphi" in df:
+                lo, hi = _ok_range(df, "dphi", 1e3)
+                rows.append(_headline(f"{rk} {pk} plane δφ min", src, lo, "mrad"))
+                rows.append(_headline(f"{rk} {pk} plane δφ max", src, hi, "mrad"))
+    for path in st["trajectories"]["paths"]:
+        for pk in st["pulleys"]:
+            df = _read(res, _rel("trajectory_table", path=path, pulley=pk))
+            if df is None:
+                continue
+            src = f"path {path}"
+            lo, hi = _ok_range(df, "dp", 1e3)
+            rows.append(_headline(f"{path} {pk} ‖δp‖ min / max", src, lo, "mm", f"max {hi:.4g} mm"))
+            if "dphi" in df:
+                lo, hi = _ok_range(df, "dphi", 1e3)
+                rows.append(_headline(f"{path} {pk} δφ max", src, hi, "mrad", f"min {lo:.4g} mrad"))
+            t = df.loc[df.status == "ok", [c for c in df.columns if c[:1] == "t" and c[1:].isdigit()]]
+            if len(t):
+                rows.append(
+                    _headline(f"{path} {pk} largest tension", src, float(np.nanmax(t.to_numpy())), "N")
+                )
+    vol = _read(res, _rel("volumes"))
+    if vol is not None:
+        for r in vol[vol.paper_limit].itertuples():
+            rows.append(
+                _headline(
+                    f"{r.robot} {r.pulley} R_V at ‖δp‖ < {r.limit_m * 1e3:g} mm",
+                    "volumes",
+                    float(r.R_V),
+                    "-",
+                    f"V_L = {r.V_L_m3:.4g} m^3 of V_T = {r.V_T_m3:.4g} m^3",
+                )
+            )
+    rw = _rw_c(res)
+    if rw is not None:
+        rows.append(
+            _headline(
+                "RW_C volume",
+                "doe/rw_c.json",
+                float(rw["computed_volume_m3"]),
+                "m^3",
+                f"box {np.round(rw['computed'], 3).tolist()} on a {rw['grid_n']}^3 grid; the index uses the "
+                + ("study's doe.paper_rw_c_m box" if rw["use"] == "paper" else "computed box"),
+            )
+        )
+    rwm = _read(res, _rel("regular_workspace"))
+    if rwm is not None and "wrench_feasible_m3" in rwm:
+        for r in rwm.itertuples():
+            rows.append(
+                _headline(
+                    f"DOE test {int(r.test)} wrench-feasible workspace",
+                    "doe/rw_max.csv",
+                    float(r.wrench_feasible_m3),
+                    "m^3",
+                    f"{r.kind}, h = {r.h_m * 1e3:g} mm, r_p = {r.r_p_m * 1e3:g} mm; RW_max {r.volume_m3:.4g} m^3",
+                )
+            )
+    d = _read(res, _rel("doe"))
+    if d is not None:
+        for col, unit, scale, what in (("index_m", "mm", 1e3, "I"), ("index_phi_rad", "mrad", 1e3, "I_φ")):
+            if col not in d:
+                continue
+            lo, hi = d[col].idxmin(), d[col].idxmax()
+            rows.append(
+                _headline(
+                    f"DOE lowest {what}",
+                    "doe/doe.csv",
+                    float(d[col][lo]) * scale,
+                    unit,
+                    f"test {int(d.test[lo])} ({d.kind[lo]}, h = {d.h_m[lo] * 1e3:g} mm, r_p = {d.r_p_m[lo] * 1e3:g} mm)",
+                )
+            )
+            rows.append(
+                _headline(
+                    f"DOE highest {what}",
+                    "doe/doe.csv",
+                    float(d[col][hi]) * scale,
+                    unit,
+                    f"test {int(d.test[hi])}",
+                )
+            )
+            e = _effects(res, col)
+            if e is not None and len(e):
+                top = e.effect.abs().idxmax()
+                rows.append(
+                    _headline(
+                        f"DOE largest effect on {what}",
+                        "doe/effects.csv",
+                        float(e.effect[top]) * scale,
+                        unit,
+                        f"term {top}",
+                    )
+                )
+    lines = _read(res, _rel("maps", "lines"))
+    if lines is not None:
+        for r in lines.itertuples():
+            rows.append(
+                _headline(
+                    f"line D_{r.kind}: optimal index",
+                    "maps/lines.csv",
+                    float(r.index_opt_m) * 1e3,
+                    "mm",
+                    f"slope k = {r.slope_k:.4g} from {int(r.valley_points)} valley points; "
+                    f"h = {r.h_opt_m * 1e3:.4g} mm, r_p = {r.r_p_opt_m * 1e3:.4g} mm",
+                )
+            )
+    b = _read(res, _rel("elasticity", "bands"))
+    if b is not None:
+        for r in b.itertuples():
+            rows.append(
+                _headline(
+                    f"{r.design} index at E_mean",
+                    "elasticity/bands.csv",
+                    float(r.index_mean_m) * 1e3,
+                    "mm",
+                    f"common-E band +{r.plus_m * 1e3:.3g} / -{r.minus_m * 1e3:.3g} mm",
+                )
+            )
+            if "index_phi_mean_rad" in b:
+                rows.append(
+                    _headline(
+                        f"{r.design} orientation index at E_mean",
+                        "elasticity/bands.csv",
+                        float(r.index_phi_mean_rad) * 1e3,
+                        "mrad",
+                        f"common-E band +{r.phi_plus_rad * 1e3:.3g} / -{r.phi_minus_rad * 1e3:.3g} mrad",
+                    )
+                )
+    return pd.DataFrame(rows, columns=COLUMNS)
+
+
 def _fmt(v):
     if v is None or (isinstance(v, float) and not math.isfinite(v)):
         return ""
@@ -345,7 +519,9 @@ def write_summary(st, res, out_md, out_csv):
     lacks a table the summary reads (``Layout.summary_inputs``) is refused with a CdprError naming
     what is missing, rather than summarised from what happens to be there."""
     check_complete(res, Layout(st, res).summary_inputs(), "the summary")
-    df = build_rows(st, res)
+    spatial = bool(spatial_robots(st))
+    # a study of spatial robots: the papers' quantities are about CDPR3 and CDPR4; its headline numbers
+    df = headline_rows(st, res) if spatial else build_rows(st, res)
     table_io.write_table(df, out_csv)
     counts = df.verdict.str.split(" \\(").str[0].value_counts().to_dict()
     scored = bool(st.get("paper_comparison"))
@@ -364,7 +540,12 @@ def write_summary(st, res, out_md, out_csv):
             + ". The paper's values are targets; nothing is tuned to them."
         )
         if scored
-        else "This study is not the paper's (`paper_comparison: false`), so its numbers are not scored against the paper's.",
+        else (
+            "A study of spatial robots (6-DoF platform at the orientation rotvec_rad = "
+            f"{st.get('rotvec_rad', [0.0, 0.0, 0.0])} rad, physical mode): its headline numbers, no paper values."
+            if spatial
+            else "This study is not the paper's (`paper_comparison: false`), so its numbers are not scored against the paper's."
+        ),
         "",
         "| quantity | source | paper | ours | unit | tolerance | verdict | note |",
         "|---|---|---|---|---|---|---|---|",

@@ -16,7 +16,7 @@ import pandas as pd
 
 from cdpr import io, table_io
 from cdpr.analyses import budget, doe, scans, workspace
-from cdpr.analyses.symmetry import solve_grid
+from cdpr.analyses.symmetry import solve_grid_columns
 from cdpr.analyses.uncertainty import QUANTILES
 from cdpr.errors import CdprError
 from cdpr.models import winch
@@ -58,13 +58,33 @@ def _index(df):
     return doe.global_index(df["dp"].to_numpy(), df["status"].astype(str).to_numpy())
 
 
-def _grid_index(st, robot, box, n, threads=None):
+def _dphi_index(df):
+    """The orientation index (``doe.orientation_index``) of a table with ``dphi`` [rad], else NaN."""
+    if "dphi" not in df:
+        return float("nan")
+    return doe.orientation_index(df["dphi"].to_numpy(), df["status"].astype(str).to_numpy())[0]
+
+
+def _solver(st, threads=None):
+    """The solver options of every solve a task runs: method, threads, the redundancy mode and the
+    study's fixed platform orientation (``rotvec_rad``, when set)."""
+    out = {"method": st["solver"], "threads": threads, "redundancy": study.redundancy(st)}
+    if study.rotvec(st) is not None:
+        out["rotvec"] = np.asarray(study.rotvec(st), dtype=float)
+    return out
+
+
+def _grid_index(st, robot, box, n, threads=None, dphi=False):
     """Global index (eq. 15) of ``robot`` over the n^3 grid of ``box`` in the study's redundancy
-    mode, one solve per orbit of the symmetries robot and grid share (``symmetry.solve_grid``)."""
-    dp, status, _ = solve_grid(
-        robot, box, n, method=st["solver"], threads=threads, redundancy=study.redundancy(st)
-    )
-    return doe.global_index(dp, status)
+    mode, one solve per orbit of the symmetries robot and grid share (``symmetry.solve_grid_columns``);
+    with ``dphi`` also the orientation index [rad] (``doe.orientation_index``, NaN for a point mass)."""
+    c, _ = solve_grid_columns(robot, box, n, ("dp", "status", "dphi"), **_solver(st, threads))
+    status = c["status"].astype(str)
+    ix = doe.global_index(c["dp"], status)
+    if not dphi:
+        return ix
+    phi = doe.orientation_index(c["dphi"], status)[0] if not robot.suspended_point_mass else float("nan")
+    return ix, phi
 
 
 # ---- winch (Métillon Fig. 7) -------------------------------------------------------------------
@@ -128,15 +148,12 @@ def trajectories(st, tables, table, figure, minmax_figure):
     for lab, df in data.items():
         ok = df.status == "ok"
         lo, hi = scans.ok_extremes(df)
-        rows.append(
-            {
-                "design": lab,
-                "dp_min_m": lo,
-                "dp_max_m": hi,
-                "ok_until_s_m": float(df.s[ok].max()) if ok.any() else float("nan"),
-                "path_length_m": float(df.s.max()),
-            }
-        )
+        row = {"design": lab, "dp_min_m": lo, "dp_max_m": hi}
+        if "dphi" in df:  # a rigid platform: the orientation error's extremes beside them
+            row["dphi_min_rad"], row["dphi_max_rad"] = scans.ok_extremes(df, "dphi")
+        row["ok_until_s_m"] = float(df.s[ok].max()) if ok.any() else float("nan")
+        row["path_length_m"] = float(df.s.max())
+        rows.append(row)
     mm = pd.DataFrame(rows)
     table_io.write_table(mm, table)
     plots.fig10_trajectories(data, mm, figure, mode=study.redundancy(st))
@@ -228,13 +245,22 @@ def regular_workspace(st, tables, table, json):
     rows, boxes = [], []
     for t in tests.itertuples():
         robot = study.design_robot(st, st["doe"]["robot"], {"kind": t.kind, "h_m": t.h_m, "r_p_m": t.r_p_m})
-        count, cells = workspace.largest_box(workspace.voxel_mask(table_io.read_table(files[t.test]), n))
+        grid = table_io.read_table(files[t.test])
+        # a spatial robot's grid carries `feasible` (a tension distribution in [t_min, T_a] holds the
+        # platform at the pose): its workspace is the wrench-feasible one, where also the solve is ok
+        feasible = grid["feasible"].to_numpy(dtype=bool) if "feasible" in grid else None
+        count, cells = workspace.largest_box(workspace.voxel_mask(grid, n, feasible))
         if cells is None:
             raise CdprError(
                 f"DOE test {t.test}: no admissible voxel on the {n}^3 frame grid; the design has no workspace"
             )
         box = workspace.box_from_cells(workspace.frame_box(robot), n, cells)
         boxes.append(box)
+        extra = {}
+        if feasible is not None:  # the wrench-feasible (and ok) workspace's volume by voxel counting
+            voxel = workspace.box_volume(workspace.frame_box(robot)) / n**3
+            ok = workspace.voxel_mask(grid, n, feasible)
+            extra["wrench_feasible_m3"] = float(ok.sum() * voxel)
         rows.append(
             {
                 "test": int(t.test),
@@ -248,6 +274,7 @@ def regular_workspace(st, tables, table, json):
                 "zmin": box[4],
                 "zmax": box[5],
                 "volume_m3": workspace.box_volume(box),
+                **extra,
             }
         )
     tab = pd.DataFrame(rows)
@@ -285,16 +312,24 @@ def doe_results(st, tables, table, effects, figure, effects_figure):
     """Global index of every DOE test (eq. 15), the effects and interactions, Fig. 15-16."""
     tests = study.doe_tests(st)
     groups = _shards(tables, r"test(?P<test>\d+)_(?P<shard>\d+)", "DOE shard", "test")
-    idx = [_index(concat(groups[str(t)])) for t in tests.test]
+    frames = [concat(groups[str(t)]) for t in tests.test]
+    idx = [_index(df) for df in frames]
     tests["index_m"] = [i for i, _ in idx]
+    spatial = all("dphi" in df for df in frames)
+    if spatial:  # a rigid platform: the orientation index beside the position index
+        tests["index_phi_rad"] = [_dphi_index(df) for df in frames]
     tests["not_ok_points"] = [k for _, k in idx]
     tests["N"] = st["doe"]["index_n"] ** 3
     table_io.write_table(tests, table)
-    eff = doe.effects(
-        tests[["joint_c", "h_c", "r_p_c"]].to_numpy(), tests["index_m"].to_numpy(), ["joint", "h", "r_p"]
-    )
+    X = tests[["joint_c", "h_c", "r_p_c"]].to_numpy()
+    eff = doe.effects(X, tests["index_m"].to_numpy(), ["joint", "h", "r_p"])
+    if spatial:  # the effects on the orientation index, one response per row block
+        eff.insert(0, "response", "index_m")
+        phi = doe.effects(X, tests["index_phi_rad"].to_numpy(), ["joint", "h", "r_p"])
+        phi.insert(0, "response", "index_phi_rad")
+        eff = pd.concat([eff, phi], ignore_index=True)
     table_io.write_table(eff, effects)
-    plots.fig15_doe(tests, figure, mode=study.redundancy(st))
+    plots.fig15_doe(tests, figure, mode=study.redundancy(st), paper=not study.spatial_robots(st))
     plots.fig16_effects(eff, effects_figure, mode=study.redundancy(st))
 
 
@@ -306,11 +341,15 @@ def map_rows(st, kind, box_file, table, threads=None):
     rows = []
     for h, r_p in study.map_cells(st):
         robot = study.design_robot(st, st["doe"]["robot"], {"kind": kind, "h_m": h, "r_p_m": r_p})
-        ix, bad = _grid_index(st, robot, box, n, threads)
-        rows.append({"kind": kind, "h_m": h, "r_p_m": r_p, "index_m": ix, "not_ok_points": bad, "N": n**3})
-    table_io.write_table(
-        pd.DataFrame(rows, columns=["kind", "h_m", "r_p_m", "index_m", "not_ok_points", "N"]), table
-    )
+        (ix, bad), phi = _grid_index(st, robot, box, n, threads, dphi=True)
+        row = {"kind": kind, "h_m": h, "r_p_m": r_p, "index_m": ix}
+        if not robot.suspended_point_mass:  # a rigid platform: the orientation index beside it
+            row["index_phi_rad"] = phi
+        rows.append({**row, "not_ok_points": bad, "N": n**3})
+    cols = ["kind", "h_m", "r_p_m", "index_m", "not_ok_points", "N"]
+    if rows and "index_phi_rad" in rows[0]:
+        cols.insert(4, "index_phi_rad")
+    table_io.write_table(pd.DataFrame(rows, columns=cols), table)
 
 
 def maps(st, tables, box_file, map, lines, figure, threads=None):
@@ -346,7 +385,16 @@ def maps(st, tables, box_file, map, lines, figure, threads=None):
         )
     lines_tab = pd.DataFrame(out)
     table_io.write_table(lines_tab, lines)
-    plots.fig17_maps(tab, valleys, lines_tab, study.doe_tests(st), lv, figure, mode=study.redundancy(st))
+    plots.fig17_maps(
+        tab,
+        valleys,
+        lines_tab,
+        study.doe_tests(st),
+        lv,
+        figure,
+        mode=study.redundancy(st),
+        paper=not study.spatial_robots(st),
+    )
 
 
 # ---- elasticity (Fig. 18-19) -------------------------------------------------------------------
@@ -365,8 +413,12 @@ def elasticity(st, tables, paths, table, bands, crossings, figure, paths_figure)
             key = next((k for k in groups if k[0] == dk and np.isclose(float(k[1]), E, rtol=1e-5)), None)
             if key is None:
                 raise CdprError(f"elasticity: no shard of design {dk} at E = {E:g} Pa among the inputs")
-            ix, bad = _index(concat(groups[key]))
-            rows.append({"design": dk, "E_Pa": E, "index_m": ix, "not_ok_points": bad})
+            df = concat(groups[key])
+            ix, bad = _index(df)
+            row = {"design": dk, "E_Pa": E, "index_m": ix}
+            if "dphi" in df:
+                row["index_phi_rad"] = _dphi_index(df)
+            rows.append({**row, "not_ok_points": bad})
     tab = pd.DataFrame(rows)
     table_io.write_table(tab, table)
     E_min, E_mean, E_max = st["elasticity"]["E_path_Pa"]
@@ -375,25 +427,32 @@ def elasticity(st, tables, paths, table, bands, crossings, figure, paths_figure)
         # the sweep's row nearest E_mean (the middle of E_path_Pa, the cable's nominal modulus)
         at_mean = float(g.index_m.iloc[np.argmin(np.abs(g.E_Pa.to_numpy() - E_mean))])
         lo, hi = g.index_m.min(), g.index_m.max()
-        out.append(
-            {
-                "design": dk,
-                "index_mean_m": at_mean,
-                "index_min_m": lo,
-                "index_max_m": hi,
-                "minus_m": at_mean - lo,
-                "plus_m": hi - at_mean,
-                "total_m": hi - lo,
-                "relative": (hi - lo) / at_mean,
-            }
-        )
+        band = {
+            "design": dk,
+            "index_mean_m": at_mean,
+            "index_min_m": lo,
+            "index_max_m": hi,
+            "minus_m": at_mean - lo,
+            "plus_m": hi - at_mean,
+            "total_m": hi - lo,
+            "relative": (hi - lo) / at_mean,
+        }
+        if "index_phi_rad" in g:  # the same band of the orientation index (a rigid platform)
+            i_mean = int(np.argmin(np.abs(g.E_Pa.to_numpy() - E_mean)))
+            phi_mean = float(g.index_phi_rad.iloc[i_mean])
+            band.update(
+                index_phi_mean_rad=phi_mean,
+                phi_minus_rad=phi_mean - g.index_phi_rad.min(),
+                phi_plus_rad=g.index_phi_rad.max() - phi_mean,
+            )
+        out.append(band)
     bands_tab = pd.DataFrame(out)
     table_io.write_table(bands_tab, bands)
     files = {
         (g["design"], float(g["E"])): p
         for g, p in _by_stem(paths, r"path_(?P<design>[A-Za-z0-9]+)_E(?P<E>[0-9.e+-]+)", "path table")
     }
-    curves, cross = [], []
+    curves, cross, phi = [], [], []
     for dk in st["optimal"]:
         at = {}
         for E in (E_min, E_mean, E_max):
@@ -401,6 +460,8 @@ def elasticity(st, tables, paths, table, bands, crossings, figure, paths_figure)
             df = table_io.read_table(files[key])
             at[E] = df.dp.where(df.status == "ok")
             curves.append((dk, E, df.s.to_numpy(), at[E].to_numpy()))
+            if "dphi" in df:  # a rigid platform: δφ along the path too
+                phi.append((dk, E, df.s.to_numpy(), df.dphi.where(df.status == "ok").to_numpy()))
         cross += [{"design": dk, "s_m": c} for c in scans.crossings(df.s, at[E_max], at[E_min])]
     cross_tab = pd.DataFrame(cross, columns=["design", "s_m"])
     table_io.write_table(cross_tab, crossings)
@@ -410,7 +471,7 @@ def elasticity(st, tables, paths, table, bands, crossings, figure, paths_figure)
     }
     paper_cross = {dk: v for dk, v in paper_cross.items() if v is not None and st.get("paper_comparison")}
     plots.fig18_index_vs_E(tab, E_mean, bands_tab, figure, mode=mode, paper=_paper_uq_bands(st))
-    plots.fig19_paths(curves, cross_tab, paths_figure, mode=mode, paper=paper_cross)
+    plots.fig19_paths(curves, cross_tab, paths_figure, mode=mode, paper=paper_cross, phi=phi or None)
 
 
 # ---- dead-length calibration -------------------------------------------------------------------
@@ -422,14 +483,7 @@ def dead_length_point(st, d, box_file, table, threads=None):
     for pk in st["pulleys"]:
         robot = study.design_robot(st, st["doe"]["robot"], st["pulleys"][pk], dead_length=d)
         lo, hi = scans.ok_extremes(
-            scans.plane(
-                robot,
-                st["plane"]["z_m"],
-                st["dead_length"]["plane_n"],
-                method=st["solver"],
-                threads=threads,
-                redundancy=study.redundancy(st),
-            )
+            scans.plane(robot, st["plane"]["z_m"], st["dead_length"]["plane_n"], **_solver(st, threads))
         )
         row[f"plane_{pk}_min_m"], row[f"plane_{pk}_max_m"] = lo, hi
     for dk, spec in st["optimal"].items():

@@ -140,3 +140,69 @@ def test_outputs_follow_the_umask(tmp_path):
     assert (tmp_path / "t.csv").stat().st_mode & 0o777 == 0o644
     assert (tmp_path / "t.md").stat().st_mode & 0o777 == 0o644
     assert (tmp_path / "private.md").stat().st_mode & 0o777 == 0o600
+
+
+def _spatial(df, phi_scale):
+    """A plane or path table of a rigid platform: the point-mass columns plus dphi [rad] and tensions."""
+    out = df.copy()
+    out["dphi"] = phi_scale * (1e-3 + out.dp)
+    for i in range(1, 5):
+        out[f"t{i}"] = 100.0 * i
+    return out
+
+
+def test_spatial_tables_get_dphi_panels_with_their_unit(tmp_path, monkeypatch):
+    """Issue 19: where a table has dphi (a rigid platform), the plane, path, DOE, effects and
+    index-versus-E figures add δφ panels, labelled δφ [mrad]; every axis names its unit."""
+    import numpy as np
+    import pandas as pd
+
+    figs, _ = _captured(monkeypatch)
+    A = np.array([[-2.5, -2.5, 5], [2.5, -2.5, 5], [2.5, 2.5, 5], [-2.5, 2.5, 5]])
+    plane = {"SR": _spatial(_plane_table("SR", 2.0), 0.1), "DR": _spatial(_plane_table("DR", 1.0), 0.2)}
+    plots.fig12_plane(plane, A, 2.0, "CoGiRo", tmp_path / "plane.png", mode="physical")
+    s = np.linspace(0, 3, 7)
+    path = pd.DataFrame({"s": s, "dp": 0.1 + 0.01 * s, "status": "ok", "x": s, "y": 0.0, "z": 1.0})
+    tables = {"diagonal_SR": _spatial(path, 0.1), "diagonal_DR": _spatial(path, 0.2)}
+    mm = pd.DataFrame(
+        {
+            "design": list(tables),
+            "dp_min_m": [0.1, 0.1],
+            "dp_max_m": [0.13, 0.13],
+            "dphi_min_rad": [0.01, 0.02],
+            "dphi_max_rad": [0.02, 0.03],
+            "ok_until_s_m": [3.0, 3.0],
+            "path_length_m": [3.0, 3.0],
+        }
+    )
+    plots.fig10_trajectories(tables, mm, tmp_path / "paths.png", mode="physical")
+    plots.fig11_minmax(mm, tmp_path / "minmax.png", mode="physical")
+    tests = pd.DataFrame(
+        {
+            "test": range(1, 9),
+            "kind": ["SR"] * 4 + ["DR"] * 4,
+            "h_m": [0.05] * 8,
+            "r_p_m": [0.025] * 8,
+            "index_m": np.linspace(0.05, 0.2, 8),
+            "index_phi_rad": np.linspace(0.003, 0.03, 8),
+        }
+    )
+    plots.fig15_doe(tests, tmp_path / "doe.png", mode="physical", paper=False)
+    eff = pd.DataFrame(
+        {
+            "response": ["index_m"] * 3 + ["index_phi_rad"] * 3,
+            "term": ["mean", "joint", "h"] * 2,
+            "effect": [0.1, 0.02, -0.01, 0.01, 0.002, -0.001],
+        }
+    )
+    plots.fig16_effects(eff, tmp_path / "effects.png", mode="physical")
+    ylabels = [[ax.get_ylabel() for ax in f.axes] for f in figs]
+    assert sum(y == "δφ [mrad]" for y in ylabels[0]) == 2  # the plane: a δφ colour bar per design
+    assert all(any("[mrad]" in y for y in ys) for ys in ylabels)  # every figure has its δφ panel
+    for f in figs:
+        assert "physical" in f.get_suptitle() or any("physical" in ax.get_title() for ax in f.axes)
+        for ax in f.axes:
+            for lab in (ax.get_xlabel(), ax.get_ylabel()):
+                assert not lab or "[" in lab, lab
+    ax_doe = figs[3].axes
+    assert not any("paper" in t.get_text() for ax in ax_doe for t in ax.texts)  # no paper markers

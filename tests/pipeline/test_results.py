@@ -171,3 +171,40 @@ def test_bad_size_stops_the_pipeline_before_any_job(tmp_path):
     )
     assert p.returncode != 0 and "key 'doe.levels.h_m': the two levels must differ" in p.stdout + p.stderr
     assert not (tmp_path / "r").exists()
+
+
+def test_the_spatial_study_layout_is_the_dag_and_names_its_paths(at_root, tmp_path):
+    """quick_spatial.yaml (CoGiRo, issue 19): the rules and the layout agree; its two paths of one
+    robot are named by their labels; every solver job gets the study's orientation and the workspace
+    grids the wrench-feasible flag."""
+    path = ROOT / "config" / "studies" / "quick_spatial.yaml"
+    st = load_study(path)
+    layout = Layout(st, tmp_path / "r")
+    jobs = _dry_run_jobs(f"study={path.relative_to(ROOT)}", f"results={tmp_path / 'r'}")
+    expected = {rule: len(layout.wildcards(rule)) for rule in layout.rules()}
+    assert jobs == {**expected, "reproduce_paper": 1}
+    targets = layout.targets()
+    for rel in ("trajectories/diagonal_SR.csv", "trajectories/vertical_DR.csv", "plane/CoGiRo_subsets.png"):
+        assert f"{tmp_path}/r/{rel}" in targets
+    assert not [t for t in targets if "uncertainty" in t or t.endswith("parity.png")]
+    exe = Path(sys.executable).with_name("snakemake")
+    p = subprocess.run(
+        [
+            str(exe),
+            "reproduce_paper",
+            "-n",
+            "-p",
+            "--cores",
+            "1",
+            "--config",
+            f"study={path}",
+            f"results={tmp_path / 'r'}",
+        ],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+    )
+    assert p.returncode == 0, p.stderr[-2000:]
+    solves = [ln for ln in p.stdout.splitlines() if " -m cdpr grid " in ln or " -m cdpr plane " in ln]
+    assert solves and all("--rotvec 0.0 0.0 0.0" in ln and "--redundancy physical" in ln for ln in solves)
+    assert sum("--wrench-feasible" in ln for ln in solves) == 8  # the 8 DOE workspace grids

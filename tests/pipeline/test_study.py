@@ -4,6 +4,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import yaml
 
 from cdpr.pipeline import study
 from cdpr.pipeline.results import Layout
@@ -40,6 +41,91 @@ def test_the_calibration_study_is_refused_as_a_pipeline_study_in_one_line():
         study.load_study(path)
     message = str(err.value)
     assert "\n" not in message and "cdpr calibrate study" in message and "calibration.yaml" in message
+
+
+# ---- spatial robots (issue 19): what a study of a rigid 6-DoF platform refuses, in one line --------
+QUICK_SPATIAL = ROOT / "config" / "studies" / "quick_spatial.yaml"
+
+
+def _spatial_variant(tmp_path, **changes):
+    """quick_spatial.yaml with top-level keys changed (None removes a key), written to tmp_path."""
+    data = yaml.safe_load(QUICK_SPATIAL.read_text(encoding="utf-8"))
+    data["robots"] = {k: str(ROOT / v) for k, v in data["robots"].items()}
+    for k, v in changes.items():
+        if v is None:
+            data.pop(k, None)
+        else:
+            data[k] = v
+    path = tmp_path / "spatial.yaml"
+    path.write_text(yaml.safe_dump(data), encoding="utf-8")
+    return path
+
+
+def _refusal(path):
+    with pytest.raises(study.ConfigError) as err:
+        study.load_study(path)
+    message = str(err.value)
+    assert "\n" not in message and str(path) in message
+    return message
+
+
+def test_the_quick_spatial_study_loads_with_its_orientation():
+    st = study.load_study(QUICK_SPATIAL)
+    assert study.spatial_robots(st) == ["CoGiRo"]
+    assert study.rotvec(st) == [0.0, 0.0, 0.0]
+    assert study.path_robot(st, "diagonal") == "CoGiRo"
+
+
+def test_paper_mode_on_a_spatial_robot_is_refused_naming_redundancy_physical(tmp_path):
+    message = _refusal(_spatial_variant(tmp_path, redundancy="paper"))
+    assert "key 'redundancy'" in message and "redundancy: physical" in message and "3 of m" in message
+
+
+def test_the_default_redundancy_paper_is_refused_for_a_spatial_robot(tmp_path):
+    message = _refusal(_spatial_variant(tmp_path, redundancy=None))
+    assert "key 'redundancy'" in message and "redundancy: physical" in message
+
+
+def test_paper_comparison_on_a_spatial_robot_is_refused(tmp_path):
+    message = _refusal(_spatial_variant(tmp_path, paper_comparison=True))
+    assert "key 'paper_comparison'" in message and "paper_comparison: false" in message
+
+
+def test_uncertainty_in_paper_mode_on_a_spatial_robot_is_refused(tmp_path):
+    u = yaml.safe_load((ROOT / "config" / "studies" / "quick_physical.yaml").read_text())["uncertainty"]
+    u["redundancy"] = "paper"
+    message = _refusal(_spatial_variant(tmp_path, uncertainty=u))
+    assert "key 'uncertainty.redundancy'" in message and "uncertainty.redundancy: physical" in message
+
+
+def test_the_uncertainty_study_of_a_spatial_robot_is_refused_as_not_done(tmp_path):
+    u = yaml.safe_load((ROOT / "config" / "studies" / "quick_physical.yaml").read_text())["uncertainty"]
+    u["designs"] = ["SRopt", "DRopt"]
+    message = _refusal(_spatial_variant(tmp_path, uncertainty=u))
+    assert "key 'uncertainty'" in message and "remove the uncertainty section" in message
+
+
+def test_an_orientation_on_a_point_mass_study_is_refused(tmp_path):
+    data = yaml.safe_load((ROOT / "config" / "studies" / "quick_physical.yaml").read_text())
+    data["robots"] = {k: str(ROOT / v) for k, v in data["robots"].items()}
+    data["rotvec_rad"] = [0.0, 0.0, 0.1]
+    path = tmp_path / "pm.yaml"
+    path.write_text(yaml.safe_dump(data), encoding="utf-8")
+    message = _refusal(path)
+    assert "key 'rotvec_rad'" in message and "spatial robots only" in message
+
+
+def test_several_spatial_refusals_are_listed_in_one_line(tmp_path):
+    message = _refusal(_spatial_variant(tmp_path, redundancy="paper", paper_comparison=True))
+    assert "2 problems" in message and "'redundancy'" in message and "'paper_comparison'" in message
+
+
+def test_a_path_naming_an_unknown_robot_is_refused(tmp_path):
+    data = yaml.safe_load(QUICK_SPATIAL.read_text(encoding="utf-8"))
+    paths = data["trajectories"]["paths"]
+    paths["diagonal"]["robot"] = "Nope"
+    message = _refusal(_spatial_variant(tmp_path, trajectories=data["trajectories"]))
+    assert "trajectories.paths.diagonal.robot" in message and "allowed: CoGiRo" in message
 
 
 def test_the_compensated_case_is_computed_once_by_the_physical_study():

@@ -14,7 +14,7 @@ from pathlib import Path
 
 from cdpr.errors import CdprError
 from cdpr.pipeline.results import Layout
-from cdpr.pipeline.study import doe_tests, load_study
+from cdpr.pipeline.study import doe_tests, load_study, path_robot, rotvec, spatial_robots
 
 STUDY_FILE = config["study"]
 try:
@@ -73,10 +73,15 @@ def uses(*keys):
 wildcard_constraints:
     robot="|".join(ROBOTS),
     pulley="|".join(PULLEYS),
+    path="|".join(STUDY["trajectories"]["paths"]),
 
 
 # paper: the 3-of-4 subset rule; physical: the equilibrium on all cables (every solver job gets it)
 REDUNDANCY = STUDY["redundancy"]
+# the fixed platform orientation of every solve (study key rotvec_rad, spatial robots only; absent:
+# the solver's identity), and whether the study's robots are spatial (6-DoF solves, numpy engine)
+ROTVEC = rotvec(STUDY)
+SPATIAL = bool(spatial_robots(STUDY))
 
 
 def pulley_args(p, E=None):
@@ -84,6 +89,8 @@ def pulley_args(p, E=None):
     file), with the study's dead length, solver and redundancy mode, and optionally E [Pa]."""
     args = f"--pulley {p['kind']} --dead-length {STUDY['dead_length_m']} --method {STUDY['solver']}"
     args += f" --redundancy {REDUNDANCY}"
+    if ROTVEC is not None:
+        args += " --rotvec " + " ".join(repr(float(x)) for x in ROTVEC)
     if p["kind"] != "fixed":
         args += f" --h {p.get('h_m', 0)} --rp {p.get('r_p_m', 0)}"
     return args if E is None else f"{args} --E {E}"

@@ -8,11 +8,13 @@ rule workspace_grid:
         **COMMON,
         design=lambda w: test_args(int(w.test)),
         n=DOE["workspace_n"],
+        # a spatial robot's workspace is the wrench-feasible one (tensions in [t_min, T_a] hold the pose)
+        feasible=" --wrench-feasible" if SPATIAL else "",
     log:
         LAYOUT.log("workspace_grid"),
     threads: SOLVER_THREADS
     shell:
-        "{params.cdpr} grid --threads {threads} --robot {input.robot:q} {params.design} --frame --n {params.n}"
+        "{params.cdpr} grid --threads {threads} --robot {input.robot:q} {params.design} --frame --n {params.n}{params.feasible}"
         " --out {output.table:q}" + TO_LOG
 
 

@@ -3,13 +3,13 @@
 
 rule trajectory_table:
     input:
-        robot=lambda w: ROBOTS[w.robot],
+        robot=lambda w: ROBOTS[path_robot(STUDY, w.path)],
     output:
         **outputs("trajectory_table"),
     params:
         **COMMON,
         design=lambda w: pulley_args(PULLEYS[w.pulley]),
-        path=lambda w: PATHS[w.robot],
+        path=lambda w: PATHS[w.path],
         n=STUDY["trajectories"]["points"],
     log:
         LAYOUT.log("trajectory_table"),
