@@ -406,6 +406,20 @@ def fig11_minmax(minmax, out, mode=None):
     return save(fig, out)
 
 
+def _labelled_contours(fig, ax, xs, ys, Z, cmap, label, skip=()):
+    """Filled contours of Z at about ten round levels (``_round_levels``) with every level a black
+    line, every other line labelled (but values in ``skip``, whose own labels are drawn elsewhere),
+    and the panel's own colour bar titled ``label``. Nothing is drawn where Z has under two
+    levels."""
+    levels = _round_levels(np.nanmin(Z), np.nanmax(Z), 10)
+    if levels is None or len(levels) < 2:
+        return
+    cf = ax.contourf(xs, ys, Z, levels=levels, cmap=cmap)
+    cs = ax.contour(xs, ys, Z, levels=levels, colors="k", linewidths=0.4)
+    ax.clabel(cs, [v for v in levels[1:-1:2] if not np.isclose(skip, v).any()], fmt="%g", fontsize=6)
+    fig.colorbar(cf, ax=ax, label=label, shrink=0.8)
+
+
 def fig12_plane(tables, A, z, robot_name, out, mode=None, paper=None):
     """Paty 2021 Fig. 12: iso-contours of ‖δp‖ over the horizontal plane at height z, one panel per
     pulley design of the same robot, each on levels fine enough to show its own structure (about
@@ -434,15 +448,8 @@ def fig12_plane(tables, A, z, robot_name, out, mode=None, paper=None):
         xs, ys, Z = _grid(df, np.where(ok, df.dp * 1e3, np.nan))
         ax.set_facecolor(NOT_OK_COLOUR)
         if np.isfinite(Z).any():
-            levels = _round_levels(np.nanmin(Z), np.nanmax(Z), 10)
-            if levels is not None and len(levels) > 1:
-                cf = ax.contourf(xs, ys, Z, levels=levels, cmap="viridis")
-                cs = ax.contour(xs, ys, Z, levels=levels, colors="k", linewidths=0.4)
-                iso = [v * 1e3 for v in paper.get(label, []) if v is not None]
-                lab = [v for v in levels[1:-1:2] if not np.isclose(iso, v).any()]  # paper's own label wins
-                ax.clabel(cs, lab, fmt="%g", fontsize=6)
-                fig.colorbar(cf, ax=ax, label="‖δp‖ [mm]", shrink=0.8)
             iso = [v * 1e3 for v in paper.get(label, []) if v is not None]
+            _labelled_contours(fig, ax, xs, ys, Z, "viridis", "‖δp‖ [mm]", skip=iso)  # paper's own label wins
             if iso and np.nanmin(Z) < max(iso) and np.nanmax(Z) > min(iso):
                 cp = ax.contour(xs, ys, Z, levels=sorted(iso), colors="r", linewidths=1.2, linestyles="--")
                 ax.clabel(cp, fmt=lambda v: f"paper {v:g}", fontsize=6)
@@ -474,12 +481,7 @@ def _plane_dphi_panel(fig, ax, df, A, title):
     xs, ys, Z = _grid(df, np.where(ok, df["dphi"] * DPHI_SCALE, np.nan))
     ax.set_facecolor(NOT_OK_COLOUR)
     if np.isfinite(Z).any():
-        levels = _round_levels(np.nanmin(Z), np.nanmax(Z), 10)
-        if levels is not None and len(levels) > 1:
-            cf = ax.contourf(xs, ys, Z, levels=levels, cmap="magma")
-            cs = ax.contour(xs, ys, Z, levels=levels, colors="k", linewidths=0.4)
-            ax.clabel(cs, levels[1:-1:2], fmt="%g", fontsize=6)
-            fig.colorbar(cf, ax=ax, label=DPHI_LABEL, shrink=0.8)
+        _labelled_contours(fig, ax, xs, ys, Z, "magma", DPHI_LABEL)
     _anchors(ax, A)
     ax.set(xlabel="x [m]", ylabel="y [m]", title=title, aspect="equal")
     ax.title.set_fontsize(9)
@@ -505,12 +507,7 @@ def fig12_tension(tables, A, z, robot_name, t_min, out, mode=None):
         xs, ys, Z = _grid(df, np.where(ok, tmin, np.nan))
         ax.set_facecolor(NOT_OK_COLOUR)
         if np.isfinite(Z).any():
-            levels = _round_levels(np.nanmin(Z), np.nanmax(Z), 10)
-            if levels is not None and len(levels) > 1:
-                cf = ax.contourf(xs, ys, Z, levels=levels, cmap="cividis")
-                cs = ax.contour(xs, ys, Z, levels=levels, colors="k", linewidths=0.4)
-                ax.clabel(cs, levels[1:-1:2], fmt="%g", fontsize=6)
-                fig.colorbar(cf, ax=ax, label="minimum cable tension min t_i [N]", shrink=0.8)
+            _labelled_contours(fig, ax, xs, ys, Z, "cividis", "minimum cable tension min t_i [N]")
             if t_min is not None and np.nanmin(Z) < t_min < np.nanmax(Z):
                 ax.contour(xs, ys, Z, levels=[t_min], colors="r", linewidths=1.2)
         _anchors(ax, A)
