@@ -24,6 +24,7 @@ include: "workflow/rules/summary.smk"
 include: "workflow/rules/comparison.smk"
 include: "workflow/rules/calibration.smk"
 include: "workflow/rules/parity.smk"
+include: "workflow/rules/conclusions.smk"
 
 
 rule reproduce_paper:

@@ -112,6 +112,7 @@ STUDY_OUTPUTS = {
     },
     "summary": {"markdown": "summary.md", "table": "summary.csv"},
     "parity": {"figure": "parity.png", "pdf": "parity.pdf"},
+    "conclusions": {"markdown": "conclusions.md", "table": "conclusions.csv"},
 }
 
 #: rule -> its log under the results folder (one per job: the wildcards of its outputs).
@@ -142,6 +143,7 @@ STUDY_LOGS = {
     "uncertainty": "logs/uncertainty.log",
     "summary": "logs/summary.log",
     "parity": "logs/parity.log",
+    "conclusions": "logs/conclusions.log",
 }
 
 #: The two cases of the uncertainty study (``analyses.uncertainty.CASES``, re-exported for the
@@ -263,6 +265,8 @@ class Layout:
             return []
         if rule == "parity" and not st.get("paper_comparison"):
             return []  # the parity chart draws the paper's numbers: the paper's study only
+        if rule == "conclusions" and not st.get("conclusions"):
+            return []  # the paper's conclusions on another robot: a study that names its reference
         return table[rule]() if rule in table else one
 
     def map_kinds(self):

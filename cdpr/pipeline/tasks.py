@@ -21,6 +21,7 @@ from cdpr.analyses.uncertainty import QUANTILES
 from cdpr.errors import CdprError
 from cdpr.models import winch
 from cdpr.pipeline import comparison as cm
+from cdpr.pipeline import conclusions as robot_conclusions
 from cdpr.pipeline import plots, study, uq
 from cdpr.pipeline import summary as sm
 from cdpr.pipeline.results import ComparisonLayout
@@ -510,6 +511,12 @@ def parity_figure(st, table, figure):
     """The parity chart of every paper number against ours from ``summary.csv``."""
 
     plots.parity_chart(table_io.read_table(table), figure, mode=study.redundancy(st))
+
+
+def conclusions(st, results, table, markdown):
+    """results/<study>/conclusions.md and .csv: the paper's conclusions on this study's robot against
+    its reference study (``cdpr.pipeline.conclusions``)."""
+    robot_conclusions.write_conclusions(st, results, table, markdown)
 
 
 # ---- error budget and the paper-rule-versus-physics comparison ---------------------------------

@@ -20,5 +20,6 @@ localrules:
     dead_length,
     summary,
     parity,
+    conclusions,
     uncertainty,
 
