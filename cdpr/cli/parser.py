@@ -194,7 +194,8 @@ _GROUPS_HELP = (
     "offsets (encoder offsets), mass (M); attachments (b_i) for 6-DoF platforms"
 )
 _PRIOR_HELP = (
-    "prior sd per group, e.g. anchors=5mm,dead_lengths=50mm,moduli=20%%,pulleys=1mm,offsets=50mm,mass=5%% "
+    "prior sd per group, e.g. anchors=5mm,dead_lengths=50mm,moduli=20%%,pulleys=1mm,offsets=50mm,mass=5%%,"
+    "attachments=3mm "
     "(these are the defaults; moduli and mass relative)"
 )
 
