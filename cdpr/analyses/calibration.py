@@ -50,6 +50,7 @@ from scipy.optimize import least_squares
 
 from cdpr.analyses.workspace import check_box, grid_points
 from cdpr.errors import CdprError, ConfigError
+from cdpr.models.distribution6 import compensated_lengths
 from cdpr.models.equilibrium6 import L_TS_pose, pose_arrays, solve_spatial
 from cdpr.models.inverse import L_TS
 from cdpr.models.platform import rotation_matrix, rotvec_of, skew
@@ -79,6 +80,10 @@ from cdpr.robot import with_pulleys
 from cdpr.solve import sensitivities
 from cdpr.units import quantity
 
+#: How the candidate and simulated poses are commanded: standard lengths L_TS (the point mass's only
+#: choice) or, for a 6-DoF platform, the compensated rest lengths of the minimum-norm tension
+#: distribution (``distribution6.compensated_lengths``; a fully constrained robot needs them).
+COMMANDS = ("standard", "compensated")
 #: Model of the robot during the fit (the command line's choices).
 MODELS = ("exact", "standard")
 #: Also ``rigid``: pulley kinematics with rigid cables (the calibration study's middle model).
@@ -1463,6 +1468,7 @@ def simulate(
     sigma_t=SIGMA_T_DEFAULT,
     rotvec=None,
     sigma_rad=SIGMA_RAD_DEFAULT,
+    command="standard",
 ):
     """Synthetic tracker data: the lengths the nominal robot would command to reach P (L_TS, eq. 2),
     the pose where the true robot settles under them, plus Gaussian noise.
@@ -1487,6 +1493,8 @@ def simulate(
         Target orientations of a 6-DoF platform (default identity; or P of shape (n, 6)): the
         commands are then L_TS,i = |p + R b_i - A_i| + d_i and the tracker also measures the
         orientation, R_meas = exp([w]) R*, w ~ N(0, ``sigma_rad``² I) [rad].
+    command : {"standard", "compensated"}
+        ``COMMANDS``; "compensated" only for a 6-DoF platform.
 
     Returns
     -------
@@ -1496,7 +1504,8 @@ def simulate(
     if is_spatial(truth):
         if tensions:
             raise CdprError("simulate: tension data are not supported for a 6-DoF platform")
-        return _simulate6(truth, nominal, P, rotvec, sigma, sigma_rad, rng, offsets)
+        return _simulate6(truth, nominal, P, rotvec, sigma, sigma_rad, rng, offsets, command)
+    _check_command(command, truth)
     L0 = L_TS(nominal, P)
     res = sensitivities(truth, P, redundancy="physical", L=L0, engine=engine)
     ok = (res["status"] == "ok") & res["smooth"]
@@ -1521,11 +1530,41 @@ def simulate(
     )
 
 
-def _simulate6(truth, nominal, P, rotvec, sigma, sigma_rad, rng, offsets):
+def _check_command(command, robot):
+    if command not in COMMANDS or (command != "standard" and not is_spatial(robot)):
+        allowed = COMMANDS if is_spatial(robot) else COMMANDS[:1]
+        raise CdprError(f"command {command!r}: allowed for robot {robot.name}: {', '.join(allowed)}")
+
+
+def commanded_lengths(robot, p, R, command="standard"):
+    """Rest lengths commanded at 6-DoF poses: ``L_TS_pose`` (standard) or the compensated rest
+    lengths of the minimum-norm tensions (``distribution6.compensated_lengths``, NaN where no
+    admissible distribution exists).
+
+    Parameters
+    ----------
+    robot : Robot
+    p : ndarray, shape (n, 3) [m]
+    R : ndarray, shape (n, 3, 3) [-]
+    command : {"standard", "compensated"}
+
+    Returns
+    -------
+    L0 : ndarray, shape (n, m) [m]
+    """
+    _check_command(command, robot)
+    if command == "standard":
+        return L_TS_pose(robot, p, R)
+    return compensated_lengths(robot, p, rotvec_of(R))["L0"]
+
+
+def _simulate6(truth, nominal, P, rotvec, sigma, sigma_rad, rng, offsets, command="standard"):
     """``simulate`` for a 6-DoF platform (its docstring)."""
     p, R = pose_arrays(nominal, P, rotvec)
     rv = rotvec_of(R)
-    L0 = L_TS_pose(nominal, p, R)
+    L0 = commanded_lengths(nominal, p, R, command)
+    fin = np.isfinite(L0).all(axis=1)
+    p, R, rv, L0 = p[fin], R[fin], rv[fin], L0[fin]
     res = solve6(truth, p, L0, rotvec=rv)
     ok = (res["status"] == "ok") & res["smooth"]
     y, Rs = res["P_s"][ok], res["R_s"][ok]
@@ -1555,20 +1594,26 @@ def perturbed(robot, index, sd, rng):
 # --- plan -----------------------------------------------------------------------------------------
 def default_box(robot):
     """Candidate box: the middle 80 % of the anchors' horizontal extent, z from 10 % to 70 % of
-    the lowest anchor height [m]."""
+    the lowest anchor height [m]; for a 6-DoF robot whose anchors spread in height (some low, some
+    high), z from 20 % to 80 % of the anchors' vertical span."""
     A = robot.A
     lo, hi = A[:, :2].min(axis=0), A[:, :2].max(axis=0)
     c, w = (lo + hi) / 2, (hi - lo) / 2 * 0.8
     top = A[:, 2].min()
-    return [c[0] - w[0], c[0] + w[0], c[1] - w[1], c[1] + w[1], 0.1 * top, 0.7 * top]
+    zlo, zhi = 0.1 * top, 0.7 * top
+    span = A[:, 2].max() - top
+    if is_spatial(robot) and (top <= 0 or span > 0.1 * abs(top)):  # anchors low and high (IPAnema-like)
+        zlo, zhi = top + 0.2 * span, top + 0.8 * span
+    return [c[0] - w[0], c[0] + w[0], c[1] - w[1], c[1] + w[1], zlo, zhi]
 
 
-def candidates(robot, box, n_axis=7, model="exact", engine="compiled", targets=False):
+def candidates(robot, box, n_axis=7, model="exact", engine="compiled", targets=False, command="standard"):
     """Admissible candidate poses of a box and their scaled measurement rows.
 
     A candidate is the grid point p commanded with L_TS(p); admissible when the nominal equilibrium
     is ``ok`` and smooth there. A 6-DoF platform's candidates are at the identity orientation
-    (L_TS,i = |p + b_i - A_i| + d_i), admissible with at least 6 taut cables.
+    (L_TS,i = |p + b_i - A_i| + d_i, or with ``command="compensated"`` the compensated rest lengths,
+    ``commanded_lengths``), admissible with at least min(6, m) taut cables.
 
     Returns
     -------
@@ -1583,9 +1628,11 @@ def candidates(robot, box, n_axis=7, model="exact", engine="compiled", targets=F
     base = model_robot(robot, model)
     p = grid_points(box, n_axis)
     if is_spatial(robot):
-        L0 = L_TS_pose(robot, p, rotation_matrix(np.zeros_like(p)))
+        L0 = commanded_lengths(robot, p, rotation_matrix(np.zeros_like(p)), command)
+        fin = np.isfinite(L0).all(axis=1)
+        p, L0 = p[fin], L0[fin]
         res = solve6(base, p, L0)
-        ok = (res["status"] == "ok") & res["smooth"] & (res["n_taut"] >= 6)
+        ok = (res["status"] == "ok") & res["smooth"] & (res["n_taut"] >= min(6, robot.m))
         P6 = np.concatenate([res["P_s"], res["rotvec_s"]], axis=1)
         return (P6[ok], L0[ok], p[ok]) if targets else (P6[ok], L0[ok])
     L0 = L_TS(robot, p)
@@ -1678,7 +1725,18 @@ def plan_sd(rows, chosen):
     return np.sqrt(np.diag(np.linalg.inv(info))), float(np.linalg.slogdet(info)[1])
 
 
-def plan(robot, groups, n, box=None, priors=None, sigma=SIGMA_DEFAULT, n_random=50, seed=0, n_axis=7):
+def plan(
+    robot,
+    groups,
+    n,
+    box=None,
+    priors=None,
+    sigma=SIGMA_DEFAULT,
+    n_random=50,
+    seed=0,
+    n_axis=7,
+    command="standard",
+):
     """Pick n poses among admissible candidates maximising det(JᵀJ + prior) and compare with random.
 
     Returns
@@ -1693,7 +1751,8 @@ def plan(robot, groups, n, box=None, priors=None, sigma=SIGMA_DEFAULT, n_random=
     sd = prior_sd(robot, index, priors)
 
     box = default_box(robot) if box is None else check_box(box).tolist()
-    P, L0 = candidates(robot, box, n_axis)
+    _check_command(command, robot)
+    P, L0 = candidates(robot, box, n_axis, command=command)
     if len(P) == 0:
         raise CdprError(f"no admissible candidate pose in the box {box}")
     rows = info_rows(robot, P, L0, index, sd, sigma)

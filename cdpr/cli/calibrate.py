@@ -140,7 +140,14 @@ def cmd_plan(args):
     robot = load_robot(args.robot)
     priors = cal.parse_priors(args.prior)
     res = cal.plan(
-        robot, args.estimate, args.n, box=args.box, priors=priors, sigma=args.sigma, n_axis=args.grid
+        robot,
+        args.estimate,
+        args.n,
+        box=args.box,
+        priors=priors,
+        sigma=args.sigma,
+        n_axis=args.grid,
+        command=args.command,
     )
     if args.out:
         import pandas as pd  # lazy: the plan's table only

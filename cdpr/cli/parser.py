@@ -259,6 +259,13 @@ def calibrate_parser(subparsers):
         metavar="M",
         help="tracker noise sd [m] (default 2e-4)",
     )
+    sp.add_argument(
+        "--command",
+        choices=("standard", "compensated"),
+        default="standard",
+        help="commanded lengths of the candidates: standard L_TS (default) or, for a 6-DoF platform, "
+        "compensated (minimum-norm tensions; a fully constrained robot needs them)",
+    )
     sp.add_argument("--out", metavar="FILE", help="write the plan (CSV: sample, L1..Lm, expected pose)")
     sp.add_argument("--json", action="store_true", help="print JSON")
     sp.set_defaults(run=("cdpr.cli.calibrate", "cmd_plan"))

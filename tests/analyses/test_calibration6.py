@@ -267,3 +267,27 @@ def test_cli_fit_on_cogiro(cogiro, tmp_path, capsys):
     assert set(after["samples"][0]) == {"sample", "status", "error_m", "error_rad"}
     assert after["rms_m"] == pytest.approx(s["residual_rms_m"], rel=1e-3)
     assert after["rms_rad"] == pytest.approx(s["residual_rms_rad"], rel=1e-3)
+
+
+def test_cli_plan_on_cogiro_and_a_fully_constrained_robot(tmp_path, capsys):
+    """`cdpr calibrate plan` on CoGiRo writes the expected orientation too; IPAnema-like needs the
+    compensated commands (L_TS over-tensions a fully constrained robot); a point mass refuses them."""
+    out = tmp_path / "plan.csv"
+    args = ["calibrate", "plan", "--robot", COGIRO, "--estimate", "anchors", "--n", "6", "--grid", "3"]
+    assert main([*args, "--out", str(out), "--json"]) == 0
+    res = json.loads(capsys.readouterr().out)
+    assert res["n_candidates"] == 27 and len(res["poses"][0]) == 6
+    assert (
+        out.read_text()
+        .splitlines()[0]
+        .endswith("x_expected_m,y_expected_m,z_expected_m,rx_expected_rad,ry_expected_rad,rz_expected_rad")
+    )
+    assert res["logdet_d_optimal"] > res["logdet_random_median"]
+    ipa = ["calibrate", "plan", "--robot", str(ROBOTS / "ipanema_like.yaml"), "--estimate", "anchors"]
+    ipa += ["--n", "6", "--grid", "3", "--json"]
+    assert main(ipa) == 2 and "no admissible candidate" in capsys.readouterr().err
+    assert main([*ipa, "--command", "compensated"]) == 0
+    assert json.loads(capsys.readouterr().out)["n_candidates"] > 6
+    pm = ["calibrate", "plan", "--robot", str(ROBOTS / "cdpr4.yaml"), "--estimate", "anchors", "--n", "4"]
+    assert main([*pm, "--grid", "3", "--command", "compensated"]) == 2
+    assert "allowed for robot CDPR4: standard" in capsys.readouterr().err
