@@ -231,19 +231,19 @@ def cmd_inverse(args):
         )
 
 
-def _solve_sensitivities(robot, P, args, L0=None):
-    """The solve plus dP*/dθ (``sensitivity.sensitivities``) for --sensitivities."""
-    from cdpr.solve import sensitivities  # lazy: --sensitivities only
+def _solve_sensitivities(robot, P, args, L0=None, rv=None):
+    """The solve plus the sensitivities for --sensitivities: dP*/dθ (``solve.sensitivities``) on a
+    suspended point mass (an orientation plays no part there and is carried through), dp*/dθ and
+    dφ*/dθ (``solve.spatial_sensitivities``, the numpy reference) on any other robot."""
+    from cdpr.solve import check_spatial, sensitivities, spatial_sensitivities  # lazy: --sensitivities only
 
-    if not robot.suspended_point_mass or getattr(args, "rotvec", None) is not None:
-        raise CdprError(
-            "--sensitivities is not available yet for a rigid platform or an orientation (--rotvec); "
-            "the library has cdpr.models.sensitivity6.spatial_sensitivities"
-        )
     if args.method != "newton":
         raise CdprError(
             "--sensitivities needs --method newton (the implicit-function theorem uses its Jacobian at the solution)"
         )
+    if not robot.suspended_point_mass:
+        check_spatial(robot, None, args.redundancy)
+        return spatial_sensitivities(robot, P, rv, L0=L0, engine=args.engine)
     return sensitivities(
         robot,
         P,
@@ -273,16 +273,12 @@ def cmd_point(args):
             raise CdprError(f"--q needs one drum angle per cable ({robot.m}), got {len(args.q)}")
         L0 = rest_lengths_from_angles(robot, np.array([args.q]), model="winch")[0]
     rv = _rotvec(args, len(P))
-    if args.sensitivities and (rv is not None or not robot.suspended_point_mass):
-        raise CdprError(
-            "--sensitivities is not available yet for a rigid platform or an orientation (--rotvec)"
-        )
     if args.sensitivities:
         if L0 is not None and args.redundancy != "physical":
             raise CdprError(
                 "commanded lengths need physical mode (--redundancy physical); paper mode commands L_TS at the desired point"
             )
-        res = _solve_sensitivities(robot, P, args, L0)
+        res = _solve_sensitivities(robot, P, args, L0, rv)
     else:
         res = solve_points_any(
             robot,
@@ -321,8 +317,13 @@ def cmd_point(args):
     if args.sensitivities:
         S = res["S"][0]
         out["sensitivities"] = {
-            name: [None if np.isnan(v) else float(v) for v in S[:, k]] for k, name in enumerate(res["names"])
+            name: [None if np.isnan(v) else float(v) for v in S[:3, k]] for k, name in enumerate(res["names"])
         }
+        if len(S) == 6:  # a rigid platform: dφ*/dθ, base-frame rotation vector [rad per unit]
+            out["sensitivities_phi"] = {
+                name: [None if np.isnan(v) else float(v) for v in S[3:, k]]
+                for k, name in enumerate(res["names"])
+            }
         out["sensitivities_smooth"] = bool(res["smooth"][0])
     if args.json:
         print(json.dumps(io.clean_json(out), indent=2))
@@ -346,16 +347,32 @@ def cmd_point(args):
         print(f"  subset         : {subset_label(res['subset'][0]) or '-'}")
     print(f"  status         : {out['status']}  ({out['iterations']} iterations)")
     if args.sensitivities:
+        num = lambda v: "nan" if v is None else f"{v:.6g}"  # noqa: E731
+        smooth = (
+            "" if out["sensitivities_smooth"] else " (not smooth here: the subset or taut set may switch)"
+        )
+        if "sensitivities_phi" in out:
+            from cdpr.models.sensitivity6 import parameter_units6  # lazy: --sensitivities only
+
+            rows = [
+                [name, f"m/{unit}"]
+                + [num(v) for v in vec]
+                + [f"rad/{unit}"]
+                + [num(v) for v in out["sensitivities_phi"][name]]
+                for (name, vec), unit in zip(out["sensitivities"].items(), parameter_units6(robot.m))
+            ]
+            smooth = smooth.replace("subset or taut set may switch", "taut set may switch or J is singular")
+            print(f"sensitivities dp*/dθ and dφ*/dθ at fixed commanded lengths (numpy reference){smooth}:")
+            headers = ["θ", "unit", "dx", "dy", "dz", "unit", "dφx", "dφy", "dφz"]
+            print(_table(rows, headers))
+            return
         from cdpr.parameters import UNITS, parameter_groups  # lazy: --sensitivities only
 
         units = [UNITS[g] for g in parameter_groups(robot.m)]
         rows = [
-            [name, f"m/{unit}"] + ["nan" if v is None else f"{v:.6g}" for v in vec]
+            [name, f"m/{unit}"] + [num(v) for v in vec]
             for (name, vec), unit in zip(out["sensitivities"].items(), units)
         ]
-        smooth = (
-            "" if out["sensitivities_smooth"] else " (not smooth here: the subset or taut set may switch)"
-        )
         print(f"sensitivities dP*/dθ at fixed commanded lengths{smooth}:")
         print(_table(rows, ["θ", "unit", "dx", "dy", "dz"]))
 
@@ -529,7 +546,9 @@ def cmd_grid(args):
     if args.sensitivities:
         from cdpr.tables import to_frame  # lazy: --sensitivities only
 
-        res = _solve_sensitivities(robot, P, args)
+        res = _solve_sensitivities(
+            robot, P, args, rv=None if args.rotvec is None else np.asarray(args.rotvec)
+        )
         df = to_frame(robot, res, args.redundancy)
     else:
         df = solve_table(
