@@ -453,17 +453,19 @@ def cmd_compensate(args):
 
 
 def _compensate_spatial(args, robot, actual, P, rv, t_max):
-    """``compensate`` at poses (rigid platform or --rotvec): minimum-norm distribution in the bounds
-    at the pose (``distribution6``), compensated rest lengths, and the check solve (6-DoF; numpy unless --engine compiled)."""
+    """``compensate`` at poses (rigid platform or --rotvec): the --distribution (min_norm, closed_form or
+    closed_form_improved) at the pose (``distribution6``), compensated rest lengths, and the check solve
+    (6-DoF, ``solve.solve_spatial_any``: compiled unless --engine numpy)."""
     # lazy: the 6-DoF models, for poses only
     from cdpr.models.distribution6 import compensated_lengths
     from cdpr.solve import solve_spatial_any
 
-    if args.distribution != "min_norm":
+    if args.distribution == "subset":
         raise CdprError(
-            f"--distribution {args.distribution} is not available at a pose (rigid platform or --rotvec); use min_norm"
+            "--distribution subset (the paper's 3-cable subset) is not available at a pose (rigid platform or "
+            "--rotvec); use min_norm, closed_form or closed_form_improved"
         )
-    c = compensated_lengths(robot, P, rv, t_min=args.t_min, t_max=t_max)
+    c = compensated_lengths(robot, P, rv, t_min=args.t_min, t_max=t_max, method=args.distribution)
     ok = c["feasible"]
     L0 = np.where(ok[:, None], c["L0"], 1.0)
     res = solve_spatial_any(actual or robot, P, rv, args.engine, args.threads, L0=L0)
@@ -495,7 +497,7 @@ def _compensate_spatial(args, robot, actual, P, rv, t_max):
         print(json.dumps(io.clean_json(out), indent=2))
         return
     print(
-        f"{robot.name} ({robot.pulley_summary()}, {robot.material_summary()}), distribution min_norm at a pose"
+        f"{robot.name} ({robot.pulley_summary()}, {robot.material_summary()}), distribution {args.distribution} at a pose"
     )
     if not ok[0]:
         print(

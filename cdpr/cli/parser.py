@@ -85,7 +85,8 @@ def build_parser(jobs=True):
         "--distribution",
         choices=DISTRIBUTIONS,
         default="min_norm",
-        help="tension distribution (default min_norm: least 2-norm within [t-min, t-max]); subset: the paper's 3-cable subset",
+        help="tension distribution (default min_norm: least 2-norm within [t-min, t-max]; closed_form, "
+        "closed_form_improved: Pott's; subset: the paper's 3-cable subset, point-mass robots only)",
     )
     sp.add_argument(
         "--t-min", type=non_negative, default=100.0, metavar="N", help="least cable tension [N] (default 100)"

@@ -280,3 +280,25 @@ def test_point_mass_sensitivities_json_is_unchanged(capsys, mode):
     ref = json.loads((DATA / f"point_sensitivities_cdpr4_{mode}.json").read_text())
     assert rot["solved_rotvec"] == [0.1, 0.0, 0.0] and rot["dphi"] == 0.0 and "sensitivities_phi" not in rot
     assert rot["sensitivities"] == ref["sensitivities"]
+
+
+@pytest.mark.parametrize("method", ["closed_form", "closed_form_improved"])
+def test_compensate_at_a_pose_with_the_closed_forms(capsys, method):
+    """--distribution closed_form / closed_form_improved at a pose: the library's lengths, and the check
+    solve returns the pose; the paper's subset is refused in one line."""
+    from cdpr.models.distribution6 import compensated_lengths
+    from cdpr.robot import load_robot
+
+    base = ["compensate", "--robot", COGIRO, "--at", "0", "0", "2", "--rotvec", TILT, "0", "0"]
+    out = run_json(capsys, *base, "--t-max", "5000", "--distribution", method)
+    lib = compensated_lengths(
+        load_robot(COGIRO), [[0, 0, 2.0]], [float(TILT), 0, 0], t_max=5000.0, method=method
+    )
+    assert out["status"] == "ok" and out["lengths"] == lib["L0"][0].tolist()
+    assert out["dp_norm"] < 1e-9 and out["dphi"] < 1e-9
+    assert main([*base, "--distribution", method]) == 0
+    assert f"distribution {method} at a pose" in capsys.readouterr().out
+    assert main([*base, "--distribution", "subset"]) == 2
+    err = capsys.readouterr().err
+    assert "--distribution subset (the paper's 3-cable subset) is not available at a pose" in err
+    assert err.count("\n") == 1
