@@ -562,17 +562,50 @@ def cmd_grid(args):
             redundancy=args.redundancy,
             **_rotvec_option(args),
         )
+    extra = {}
     if args.wrench_feasible:
         from cdpr.models.distribution6 import distribute_pose  # lazy: --wrench-feasible only
 
         df["feasible"] = distribute_pose(robot, P, args.rotvec, t_min=args.t_min)["feasible"]
-        cell = np.prod([(box[2 * k + 1] - box[2 * k]) / args.n for k in range(3)])
-        print(
-            f"wrench-feasible: {int(df['feasible'].sum())} of {len(df)} grid points, {df['feasible'].sum() * cell:.4g} m^3"
-        )
+        extra = _wrench_feasible_summary(df, box, args)
     _write_table(df, args.out)
     dt = time.perf_counter() - t0
-    _report(df, args.out, args, dt)
+    _report(df, args.out, args, dt, extra)
+
+
+def _wrench_feasible_summary(df, box, args):
+    """--wrench-feasible: the feasible points' volume and, on a whole grid, the largest axis-aligned
+    box of points both ok and feasible (``workspace.largest_box_in``); printed, or returned for --json."""
+    from cdpr.analyses.workspace import largest_box_in  # lazy: --wrench-feasible only
+
+    cell = np.prod([(box[2 * k + 1] - box[2 * k]) / args.n for k in range(3)])
+    out = {
+        "wrench_feasible_points": int(df["feasible"].sum()),
+        "wrench_feasible_m3": float(df["feasible"].sum() * cell),
+    }
+    lines = [
+        f"wrench-feasible: {out['wrench_feasible_points']} of {len(df)} grid points, {out['wrench_feasible_m3']:.4g} m^3"
+    ]
+    if args.shards == 1:
+        wf = largest_box_in(df, args.n, box, df["feasible"].to_numpy(dtype=bool))
+        out["wrench_feasible_box_m3"] = wf["volume_m3"]
+        for k, name in enumerate(("xmin", "xmax", "ymin", "ymax", "zmin", "zmax")):
+            out[f"wf_box_{name}_m"] = None if wf["box"] is None else wf["box"][k]
+        if wf["box"] is None:
+            lines.append("largest wrench-feasible box: none (no grid point is both ok and wrench-feasible)")
+        else:
+            b = wf["box"]
+            lines.append(
+                f"largest wrench-feasible box: x [{b[0]:.4g}, {b[1]:.4g}] y [{b[2]:.4g}, {b[3]:.4g}] "
+                f"z [{b[4]:.4g}, {b[5]:.4g}] m, {wf['volume_m3']:.4g} m^3 ({wf['count']} grid points, ok and feasible)"
+            )
+    else:
+        lines.append(
+            "largest wrench-feasible box: needs the whole grid (--shards 1); not computed for a shard"
+        )
+    if not args.json:
+        print("\n".join(lines))
+    return out
 
 
 def cmd_winch(args):
@@ -598,8 +631,9 @@ def cmd_winch(args):
     print(_table(rows, ["l_pm [m]", "q1 [rad]", "q2 [rad]", "q_nw [rad]", "dl [mm]"]))
 
 
-def _report(df, out, args, dt):
-    """What a solver command wrote: points, time, statuses and the |dp| range of the ok points."""
+def _report(df, out, args, dt, extra=None):
+    """What a solver command wrote: points, time, statuses and the |dp| range of the ok points (and
+    ``extra`` keys in the JSON, e.g. the wrench-feasible volume and box of ``grid``)."""
     from cdpr.analyses import scans  # lazy: the solver commands only
 
     counts = {k: int(v) for k, v in df["status"].value_counts().items() if v}
@@ -613,6 +647,7 @@ def _report(df, out, args, dt):
         "status": counts,
         "dp_min": lo,
         "dp_max": hi,
+        **(extra or {}),
     }
     if args.json:
         print(json.dumps(io.clean_json(summary), indent=2))

@@ -191,7 +191,9 @@ def test_grid_at_a_fixed_orientation_with_wrench_feasibility(tmp_path, capsys):
     assert main([*base, "--robot", COGIRO, "--rotvec", "0.1", "0", "0", "--out", str(out)]) == 0
     df = pd.read_csv(out)
     assert len(df) == 8 and df["feasible"].all() and (df["rx"] == 0.1).all() and (df["status"] == "ok").all()
-    assert "wrench-feasible: 8 of 8 grid points, 32 m^3" in capsys.readouterr().out
+    text = capsys.readouterr().out
+    assert "wrench-feasible: 8 of 8 grid points, 32 m^3" in text
+    assert "largest wrench-feasible box: x [-2, 2] y [-2, 2] z [1, 3] m, 32 m^3 (8 grid points" in text
     hang = str(ROBOTS / "hang4_6dof.yaml")
     assert main([*base, "--robot", hang, "--rotvec", "0.1", "0", "0", "--out", str(out)]) == 0
     assert not pd.read_csv(out)["feasible"].any()  # 4 cables, 6 DoF: no distribution at a fixed orientation
@@ -302,3 +304,27 @@ def test_compensate_at_a_pose_with_the_closed_forms(capsys, method):
     err = capsys.readouterr().err
     assert "--distribution subset (the paper's 3-cable subset) is not available at a pose" in err
     assert err.count("\n") == 1
+
+
+def test_largest_wrench_feasible_box_of_a_spatial_grid(tmp_path, capsys):
+    """CoGiRo tilted, a 4^3 grid over the frame: the JSON's box lies on the grid, every grid point
+    inside it is ok and wrench-feasible, its volume is its bounds' and at most the feasible volume."""
+    out = tmp_path / "g.parquet"
+    args = ["grid", "--robot", COGIRO, "--frame", "--n", "4", "--rotvec", "0.05", "0", "0"]
+    s = run_json(capsys, *args, "--redundancy", "physical", "--wrench-feasible", "--out", str(out))
+    df = pd.read_parquet(out)
+    b = [s[f"wf_box_{k}_m"] for k in ("xmin", "xmax", "ymin", "ymax", "zmin", "zmax")]
+    assert s["wrench_feasible_box_m3"] == pytest.approx((b[1] - b[0]) * (b[3] - b[2]) * (b[5] - b[4]))
+    assert 0 < s["wrench_feasible_box_m3"] <= s["wrench_feasible_m3"] + 1e-9
+    inside = (
+        df["x"].between(b[0], b[1]) & df["y"].between(b[2], b[3]) & df["z"].between(b[4], b[5])
+    ).to_numpy()
+    cell = s["wrench_feasible_m3"] / s["wrench_feasible_points"]
+    assert inside.sum() * cell == pytest.approx(s["wrench_feasible_box_m3"])
+    assert df["feasible"][inside].all() and (df["status"][inside] == "ok").all()
+    assert not (df["feasible"] & (df["status"] == "ok")).all()  # the box is a real restriction here
+    assert (
+        main([*args, "--redundancy", "physical", "--wrench-feasible", "--out", str(out), "--shards", "2"])
+        == 0
+    )
+    assert "needs the whole grid (--shards 1)" in capsys.readouterr().out
