@@ -122,6 +122,22 @@ def parameter_names6(m):
     return names + ["c_x", "c_y", "c_z", "M"]
 
 
+def parameter_units6(m):
+    """Units of the parameters of ``parameter_names6(m)`` (a sensitivity is in m or rad per unit).
+
+    Parameters
+    ----------
+    m : int
+        Number of cables.
+
+    Returns
+    -------
+    units : list of str
+        'Pa' for E_i, 'kg' for M, 'm' for every length and coordinate (h_i, r_p_i, d_i, A_i, b_i, c).
+    """
+    return ["Pa" if n.startswith("E_") else "kg" if n == "M" else "m" for n in parameter_names6(m)]
+
+
 def parameter_groups6(m):
     """The group (``GROUPS6``) of each parameter of ``parameter_names6(m)``.
 

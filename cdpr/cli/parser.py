@@ -85,7 +85,8 @@ def build_parser(jobs=True):
         "--distribution",
         choices=DISTRIBUTIONS,
         default="min_norm",
-        help="tension distribution (default min_norm: least 2-norm within [t-min, t-max]); subset: the paper's 3-cable subset",
+        help="tension distribution (default min_norm: least 2-norm within [t-min, t-max]; closed_form, "
+        "closed_form_improved: Pott's; subset: the paper's 3-cable subset, point-mass robots only)",
     )
     sp.add_argument(
         "--t-min", type=non_negative, default=100.0, metavar="N", help="least cable tension [N] (default 100)"
@@ -129,7 +130,8 @@ def build_parser(jobs=True):
     sp.add_argument(
         "--wrench-feasible",
         action="store_true",
-        help="add a 'feasible' column: a tension distribution in [--t-min, T_a] holds the platform at the pose",
+        help="add a 'feasible' column: a tension distribution in [--t-min, T_a] holds the platform at the pose; "
+        "prints the feasible volume and the largest axis-aligned box of ok and feasible points (whole grids)",
     )
     sp.add_argument(
         "--t-min", type=non_negative, default=100.0, metavar="N", help="least tension of --wrench-feasible"
