@@ -43,6 +43,27 @@ def copy_sources(dest):
     return dest
 
 
+#: The session fixtures of the quick runs (tests/quick_runs.py).
+QUICK_FIXTURES = ("quick_work", "quick_results")
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_collection_modifyitems(config, items):
+    """Work units for ``pytest -n auto --dist loadgroup`` (make test): the tests that read the
+    session's quick runs (about half the suite's time) form one unit, scheduled first so that the
+    runs start at once and other tests share the second core; every other module is a unit of its
+    own, so a module's fixtures are built once. This hook runs before xdist's own, which turns the
+    marks into work units; without xdist it only puts the quick tests first."""
+    quick = [i for i in items if any(f in i.fixturenames for f in QUICK_FIXTURES)]
+    chosen = set(quick)
+    rest = [i for i in items if i not in chosen]
+    for item in quick:
+        item.add_marker(pytest.mark.xdist_group("quick"))
+    for item in rest:
+        item.add_marker(pytest.mark.xdist_group(item.nodeid.split("::")[0]))
+    items[:] = quick + rest
+
+
 @pytest.fixture(scope="session")
 def quick_work(tmp_path_factory):
     """The working folder of the session's quick runs: outside the tree, its path with a space and
