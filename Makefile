@@ -8,6 +8,11 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 CLUSTER_STAMP := $(VENV)/.installed-cluster
+# make test runs the suite on this many pytest-xdist workers (auto: one per CPU; TEST_WORKERS=0 runs
+# it in one process). The tests that read the session's quick runs form one work unit, every other
+# module one unit of its own (tests/conftest.py).
+TEST_WORKERS ?= auto
+XDIST := -n $(TEST_WORKERS) --dist loadscope --no-loadscope-reorder
 
 
 .PHONY: test-fast
@@ -26,7 +31,7 @@ test: $(STAMP)
 	$(BIN)/ruff check .
 	$(BIN)/ruff format --check .
 	$(BIN)/lint-imports
-	$(BIN)/python -m pytest -q
+	$(BIN)/python -m pytest -q $(XDIST)
 
 # The same checks without the tests that run whole Snakemake studies or build the wheel (minutes
 # instead of tens of minutes on a 2-core machine): for the edit-test loop, not for CI.
@@ -34,7 +39,7 @@ test-fast: $(STAMP)
 	$(BIN)/ruff check .
 	$(BIN)/ruff format --check .
 	$(BIN)/lint-imports
-	$(BIN)/python -m pytest -q -m "not slow" --ignore=tests/test_workflow.py --ignore=tests/test_package.py \
+	$(BIN)/python -m pytest -q $(XDIST) -m "not slow" --ignore=tests/test_workflow.py --ignore=tests/test_own_design.py --ignore=tests/test_package.py \
 		--ignore=tests/pipeline/test_shell.py --ignore=tests/test_cluster_profile.py
 
 # The documentation site (docs/, mkdocs.yml): every warning is an error.

@@ -2,7 +2,8 @@
 reference (``cdpr.models``) is made here, through ``check_engine``, and nowhere else.
 
 ``solve_points_any`` solves the pose (per-point arrays; ``cdpr.tables.solve_table`` gives a DataFrame);
-``sensitivities`` and ``subset_sensitivities`` add dP*/dθ; ``linear_dp`` propagates them. Each takes
+``sensitivities`` and ``subset_sensitivities`` add dP*/dθ (``spatial_sensitivities`` dp*/dθ and dφ*/dθ
+of a rigid platform, numpy only); ``linear_dp`` propagates them. Each takes
 ``engine`` in ``ENGINES`` or None for the default (compiled for Newton, numpy for the fixed point);
 an unknown engine or an engine/method pair that does not exist raises CdprError naming the allowed
 values, never a silent fall-back. No pandas here: ``cdpr point`` solves one point without it.
@@ -17,7 +18,7 @@ from cdpr.compiled import equilibrium6 as compiled_equilibrium6
 from cdpr.compiled import sensitivity as compiled_sensitivity
 from cdpr.compiled import subsets as compiled_subsets
 from cdpr.errors import CdprError
-from cdpr.models import equilibrium, sensitivity
+from cdpr.models import equilibrium, sensitivity, sensitivity6
 from cdpr.models.equilibrium6 import solve_spatial
 from cdpr.models.results import mark_below_floor
 from cdpr.models.subsets import solve_points
@@ -174,6 +175,19 @@ def sensitivities(
     return sensitivity.sensitivities(
         robot, p, redundancy=redundancy, L=L, gap_tol=gap_tol, t_tol=t_tol, **solver
     )
+
+
+def spatial_sensitivities(robot, p, rotvec=None, L0=None, engine=None, **solver):
+    """The 6-DoF solve plus dp*/dθ and dφ*/dθ (``sensitivity6.spatial_sensitivities``, whose docstring
+    gives the equations and the result). There is no compiled 6-DoF sensitivity kernel: the numpy
+    reference runs the solve and the derivatives, the default here (``engine`` None or "numpy");
+    ``engine="compiled"`` raises CdprError (no silent fall-back), as does an unknown engine."""
+    if engine is not None and check_engine(engine, "newton") == "compiled":
+        raise CdprError(
+            "the compiled engine has no 6-DoF sensitivity kernel: sensitivities of a rigid platform or an "
+            "orientation run the numpy reference (leave out --engine or give --engine numpy)"
+        )
+    return sensitivity6.spatial_sensitivities(robot, p, rotvec, L0=L0, **solver)
 
 
 def subset_sensitivities(robot, p, L=None, columns=None, engine=None, threads=None, **solver):

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from cdpr.models import sensitivity
+from cdpr.models import sensitivity, sensitivity6
 from cdpr.models.results import STATUSES, pose_columns, subset_codes, taut_labels
 from cdpr.solve import check_engine, check_redundancy, solve_points_any
 
@@ -37,7 +37,8 @@ def to_frame(robot, res, redundancy="paper"):
         cables, '1-2-3-4'), n_taut, iterations, status. The status categories are
         ``res["statuses"]`` when given (``compensation.COMP_STATUSES``), else ``results.STATUSES``.
         When ``res`` holds sensitivities (key ``S``): then dx_d<θ>, dy_d<θ>, dz_d<θ> per parameter
-        [m per unit of θ] (``sensitivity.sensitivity_columns``) and smooth. A 6-DoF result of a
+        [m per unit of θ] (``sensitivity.sensitivity_columns``) and smooth; a 6-DoF result's also
+        dphix_d<θ>, dphiy_d<θ>, dphiz_d<θ> [rad per unit] (``sensitivity6.sensitivity_columns6``). A 6-DoF result of a
         rigid platform (``equilibrium6.solve_spatial``, key ``rotvec_s``, robot not a point mass):
         the columns of ``to_frame6``.
     """
@@ -67,7 +68,10 @@ def _frame(robot, res, redundancy):
     if "S" in res:
         S = res["S"]
         flat = np.swapaxes(S, 1, 2).reshape(len(S), -1)
-        sens = pd.DataFrame(flat, columns=sensitivity.sensitivity_columns(res["names"]))
+        columns = (sensitivity6.sensitivity_columns6 if S.shape[1] == 6 else sensitivity.sensitivity_columns)(
+            res["names"]
+        )
+        sens = pd.DataFrame(flat, columns=columns)
         sens["smooth"] = res["smooth"]
         df = pd.concat([df, sens], axis=1)
     return df

@@ -43,6 +43,40 @@ def copy_sources(dest):
     return dest
 
 
+#: The modules whose tests read the session's quick runs (``quick_results``, tests/quick_runs.py).
+QUICK_MODULES = ("tests/pipeline/test_figures.py", "tests/test_workflow.py")
+
+
+def _work_unit(nodeid):
+    """The pytest-xdist work unit of a test: "quick" for the modules of the quick runs (one worker
+    makes the runs once and runs every test that reads them), else the test's module (or class),
+    as ``--dist loadscope`` has it, so a module's fixtures are built once."""
+    module = nodeid.split("::")[0]
+    return "quick" if module in QUICK_MODULES else nodeid.rsplit("::", 1)[0]
+
+
+@pytest.hookimpl(optionalhook=True)
+def pytest_xdist_make_scheduler(config, log):
+    """``make test`` runs ``pytest -n auto --dist loadscope``: the scheduling of loadscope with the
+    work units of ``_work_unit``. (xdist's own ``loadgroup`` marks do not group with pytest 9:
+    they rename ``Node._nodeid``, which pytest 9 no longer reads.)"""
+    if config.getvalue("dist") != "loadscope":
+        return None
+    from xdist.scheduler import LoadScopeScheduling  # only under xdist: a plain pytest needs none
+
+    class QuickFirst(LoadScopeScheduling):
+        def _split_scope(self, nodeid):
+            return _work_unit(nodeid)
+
+    return QuickFirst(config, log)
+
+
+def pytest_collection_modifyitems(config, items):
+    """The tests of the quick runs first (``--no-loadscope-reorder`` keeps this order): their
+    unit, about half the suite's time, starts at once on the first worker."""
+    items.sort(key=lambda item: _work_unit(item.nodeid) != "quick")
+
+
 @pytest.fixture(scope="session")
 def quick_work(tmp_path_factory):
     """The working folder of the session's quick runs: outside the tree, its path with a space and

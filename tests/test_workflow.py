@@ -1,5 +1,5 @@
-"""The whole DAG on small studies: the quick study against committed reference tables, and an
-end-to-end run of a user's own design. Regenerate the references with `make update-references`.
+"""The whole DAG on small studies: the quick study against committed reference tables (the
+end-to-end run of a user's own design is tests/test_own_design.py). Regenerate the references with `make update-references`.
 
 Snakemake runs in a working folder under pytest's temporary folder (``work``): the repository's
 ``config/`` is linked there (robot files), the study and comparison files are copies (a test may
@@ -136,21 +136,6 @@ def test_quick_physical_run_and_comparison_write_their_figures_and_page(quick):
     assert (b.xs("none", level="entry") < 1e-7).all() and (
         b.xs("compensated_all", level="entry") < 1e-9
     ).all()
-
-
-def test_own_design_end_to_end(tmp_path):
-    work = make_workdir(tmp_path / "w")
-    out = tmp_path / "example"
-    p = snakemake("reproduce_paper", "study=studies/example.yaml", f"results={out}", cwd=work)
-    assert p.returncode == 0, p.stderr[-3000:]
-    doe = pd.read_csv(out / "doe" / "doe.csv")
-    assert len(doe) == 8 and doe.index_m.notna().all() and (doe.index_m > 0).all()
-    plane = pd.read_csv(out / "plane" / "FRAME_DR50.csv")
-    assert (plane.status == "ok").mean() > 0.8
-    text = (out / "summary.md").read_text()
-    assert (
-        "not scored" in text and "not reproduced" not in text
-    )  # an own design is not scored against the paper
 
 
 def test_bad_study_value_stops_before_any_job(tmp_path):

@@ -50,21 +50,40 @@ from scipy.optimize import least_squares
 
 from cdpr.analyses.workspace import check_box, grid_points
 from cdpr.errors import CdprError, ConfigError
+from cdpr.models.distribution6 import compensated_lengths
+from cdpr.models.equilibrium6 import L_TS_pose, pose_arrays, solve_spatial
 from cdpr.models.inverse import L_TS
+from cdpr.models.platform import rotation_matrix, rotvec_of, skew
 from cdpr.models.pulleys import total_length_and_direction
-from cdpr.models.sensitivity import cable_partials, implicit_solve, physical_jacobian_terms
+from cdpr.models.sensitivity import (
+    COND_MAX,
+    T_TOL,
+    cable_partials,
+    implicit_solve,
+    physical_jacobian_terms,
+)
+from cdpr.models.sensitivity6 import rest_length_sensitivities, spatial_sensitivities
 from cdpr.parameters import (
     CALIBRATION_GROUPS,
+    calibrated_robot,
     calibration_groups,
     calibration_names,
     calibration_values,
+    is_spatial,
+    parameter_values,
+    robot_size,
     robot_with_parameters,
+    robot_with_parameters6,
     select_groups,
 )
 from cdpr.robot import with_pulleys
 from cdpr.solve import sensitivities
 from cdpr.units import quantity
 
+#: How the candidate and simulated poses are commanded: standard lengths L_TS (the point mass's only
+#: choice) or, for a 6-DoF platform, the compensated rest lengths of the minimum-norm tension
+#: distribution (``distribution6.compensated_lengths``; a fully constrained robot needs them).
+COMMANDS = ("standard", "compensated")
 #: Model of the robot during the fit (the command line's choices).
 MODELS = ("exact", "standard")
 #: Also ``rigid``: pulley kinematics with rigid cables (the calibration study's middle model).
@@ -85,6 +104,8 @@ DEFAULT_PRIORS = {
 RELATIVE = ("moduli", "mass")
 #: Default tracker noise [m] when the data have no ``sigma_m`` column.
 SIGMA_DEFAULT = 0.2e-3
+#: Default orientation noise [rad] of a 6-DoF tracker when the data have no ``sigma_rad`` column.
+SIGMA_RAD_DEFAULT = 1e-3
 #: Default tension-sensor noise [N] when the data have tensions but no ``sigma_N`` column.
 SIGMA_T_DEFAULT = 5.0
 #: Rank threshold: singular values > RANK_TOL s_max count.
@@ -149,7 +170,7 @@ def prior_sd(robot, index, priors):
     -------
     sd : ndarray, shape (len(index),) [Pa, m, kg]
     """
-    groups, _ = calibration_groups(robot.m)
+    groups, _ = calibration_groups(robot.m, is_spatial(robot))
     nominal = calibration_values(robot)
     return np.array(
         [priors[groups[k]] * abs(nominal[k]) if groups[k] in RELATIVE else priors[groups[k]] for k in index]
@@ -163,7 +184,9 @@ class Data:
 
     sample (N,) labels; L (N, m) [m] commanded rest lengths, or encoder readings when ``encoder``;
     pose (N, 3) [m], NaN where not measured; sigma (N,) [m]; tension (N, m) [N], NaN where not
-    measured, and sigma_t (N,) [N]; source: the file."""
+    measured, and sigma_t (N,) [N]; source: the file. A 6-DoF platform's samples also carry rotvec
+    (N, 3) [rad], the measured orientation's rotation vector (active, base frame), NaN where not
+    measured, and sigma_rad (N,) [rad]; a point mass's rotvec stays NaN."""
 
     sample: np.ndarray
     L: np.ndarray
@@ -173,6 +196,8 @@ class Data:
     source: str
     tension: np.ndarray = None
     sigma_t: np.ndarray = None
+    rotvec: np.ndarray = None
+    sigma_rad: np.ndarray = None
 
     def __post_init__(self):
         n, m = self.L.shape
@@ -180,6 +205,14 @@ class Data:
             self.tension = np.full((n, m), np.nan)
         if self.sigma_t is None:
             self.sigma_t = np.full(n, SIGMA_T_DEFAULT)
+        if self.rotvec is None:
+            self.rotvec = np.full((n, 3), np.nan)
+        if self.sigma_rad is None:
+            self.sigma_rad = np.full(n, SIGMA_RAD_DEFAULT)
+
+    @property
+    def has_orientation(self):
+        return np.isfinite(self.rotvec).all(axis=1)
 
     @property
     def has_pose(self):
@@ -198,6 +231,8 @@ class Data:
             sigma=self.sigma[idx],
             tension=self.tension[idx],
             sigma_t=self.sigma_t[idx],
+            rotvec=self.rotvec[idx],
+            sigma_rad=self.sigma_rad[idx],
         )
 
 
@@ -205,11 +240,12 @@ POSE = ["x_m", "y_m", "z_m"]
 ORIENTATION = ["rx_rad", "ry_rad", "rz_rad"]
 
 
-def data_columns(m, encoder=False):
+def data_columns(m, encoder=False, spatial=False):
     """Columns of a calibration table for m cables: sample, L1..Lm (or L_enc1..L_encm), x_m, y_m,
-    z_m; optional sigma_m and tensions t1_N..tm_N."""
+    z_m, and for a 6-DoF platform (``spatial``) rx_rad, ry_rad, rz_rad; optional sigma_m (and
+    sigma_rad), and, for a point mass, tensions t1_N..tm_N."""
     lengths = [f"L_enc{i}" for i in range(1, m + 1)] if encoder else [f"L{i}" for i in range(1, m + 1)]
-    return ["sample", *lengths, *POSE]
+    return ["sample", *lengths, *POSE, *(ORIENTATION if spatial else [])]
 
 
 def read_data(path, robot):
@@ -230,7 +266,9 @@ def read_data(path, robot):
     ConfigError
         One line naming the file, the column and what is allowed: missing or extra columns, a
         length column count that does not match the robot, NaN, non-finite or non-positive
-        lengths, half-measured poses, sigma <= 0, orientation columns on a point-mass robot.
+        lengths, half-measured poses, sigma <= 0, orientation columns on a point-mass robot; on a
+        6-DoF platform a pose needs all six of x_m, y_m, z_m, rx_rad, ry_rad, rz_rad (tension
+        columns are refused there: not implemented for a rigid platform).
     """
     src = str(path)
     try:
@@ -255,10 +293,13 @@ def read_data(path, robot):
             ",".join(lengths),
             f"{len(lengths)} length columns but robot {robot.name} has {m} cables; allowed: {prefix}1..{prefix}{m}",
         )
-    for c in (o for o in ORIENTATION if o in cols):
+    spatial = is_spatial(robot)
+    for c in (o for o in ORIENTATION if o in cols and not spatial):
         raise ConfigError(
             src, c, f"orientation columns are for a 6-DoF platform; robot {robot.name} is a point mass"
         )
+    if spatial:
+        return _read_data6(df, src, robot, enc, cols)
     need = data_columns(m, enc)
     missing = [c for c in need if c not in cols]
     if missing:
@@ -334,6 +375,70 @@ def read_data(path, robot):
     )
 
 
+def _read_data6(df, src, robot, enc, cols):
+    """``read_data`` for a 6-DoF platform: positions and orientations (rotation vectors) measured
+    together, optional sigma_m [m] and sigma_rad [rad]."""
+    m = robot.m
+    need = data_columns(m, enc, spatial=True)
+    missing = [c for c in need if c not in cols]
+    if missing:
+        raise ConfigError(
+            src,
+            missing[0],
+            f"missing column; robot {robot.name} has a 6-DoF platform, a calibration table needs {', '.join(need)}",
+        )
+    extra = [c for c in cols if c not in set(need) | {"sigma_m", "sigma_rad"}]
+    if extra:
+        why = "tension columns are not supported for a 6-DoF platform; " if extra[0].startswith("t") else ""
+        raise ConfigError(
+            src, extra[0], f"unknown column; {why}allowed: {', '.join(need)}, sigma_m, sigma_rad"
+        )
+    if len(df) == 0:
+        raise ConfigError(src, None, "no samples")
+    Lcols = [f"{'L_enc' if enc else 'L'}{i}" for i in range(1, m + 1)]
+    L = _numbers(df, Lcols, src)
+    for j, c in enumerate(Lcols):
+        bad = ~np.isfinite(L[:, j]) | (L[:, j] <= 0)
+        if bad.any():
+            r = int(np.flatnonzero(bad)[0])
+            raise ConfigError(src, c, f"row {r + 1}: {L[r, j]!r}; lengths must be finite and > 0 [m]")
+    six = _numbers(df, POSE + ORIENTATION, src)
+    fin = np.isfinite(six)
+    bad = (fin.any(axis=1) & ~fin.all(axis=1)) | np.isinf(six).any(axis=1)
+    if bad.any():
+        r = int(np.flatnonzero(bad)[0])
+        col = (POSE + ORIENTATION)[int(np.flatnonzero(~fin[r])[0])]
+        raise ConfigError(
+            src, col, f"row {r + 1}: a 6-DoF pose needs all six finite values x_m..rz_rad (or none)"
+        )
+    if not fin.all(axis=1).all() and not enc:
+        r = int(np.flatnonzero(~fin.all(axis=1))[0])
+        raise ConfigError(
+            src, "x_m", f"row {r + 1}: no pose; only encoder data (L_enc1..) may leave the pose empty"
+        )
+    sig = {}
+    for c, default, unit in (("sigma_m", SIGMA_DEFAULT, "m"), ("sigma_rad", SIGMA_RAD_DEFAULT, "rad")):
+        if c in cols:
+            v = _numbers(df, [c], src)[:, 0]
+            bad = ~(np.isfinite(v) & (v > 0))
+            if bad.any():
+                r = int(np.flatnonzero(bad)[0])
+                raise ConfigError(src, c, f"row {r + 1}: {v[r]!r}; {c} must be finite and > 0 [{unit}]")
+            sig[c] = v
+        else:
+            sig[c] = np.full(len(df), default)
+    return Data(
+        sample=df["sample"].astype(str).to_numpy(),
+        L=L,
+        pose=six[:, :3],
+        sigma=sig["sigma_m"],
+        encoder=enc,
+        source=src,
+        rotvec=six[:, 3:],
+        sigma_rad=sig["sigma_rad"],
+    )
+
+
 def _numbers(df, cols, src):
     out = np.empty((len(df), len(cols)))
     for j, c in enumerate(cols):
@@ -355,7 +460,12 @@ def write_data(path, data, robot):
         df[f"{prefix}{i + 1}"] = data.L[:, i]
     for j, c in enumerate(POSE):
         df[c] = data.pose[:, j]
+    if is_spatial(robot):
+        for j, c in enumerate(ORIENTATION):
+            df[c] = data.rotvec[:, j]
     df["sigma_m"] = data.sigma
+    if is_spatial(robot):
+        df["sigma_rad"] = data.sigma_rad
     if np.isfinite(data.tension).any():
         for i in range(m):
             df[f"t{i + 1}_N"] = data.tension[:, i]
@@ -382,7 +492,7 @@ def model_robot(robot, model):
     if model == "exact":
         return robot
     rigid = robot if model == "rigid" else with_pulleys(robot, kind="fixed", h=0.0, r_p=0.0)
-    th = calibration_values(rigid)[: 7 * robot.m + 1]
+    th = parameter_values(rigid)
     th[: robot.m] *= STANDARD_STIFFENING
     return robot_with_parameters(rigid, th)
 
@@ -509,6 +619,223 @@ class Problem:
         if len(t):
             blocks.append((-(np.nan_to_num(ev["St"][t]) * self.sd) / d.sigma_t[t, None, None]).reshape(-1, k))
         return np.vstack([*blocks, np.eye(k)])
+
+
+# --- 6-DoF platforms ------------------------------------------------------------------------------
+def orientation_residual(R_meas, R_pred):
+    r"""The orientation error as a rotation vector: e = log(R_meas R_predᵀ), the base-frame rotation
+    that takes the predicted orientation onto the measured one (its norm is the error angle).
+
+    .. math:: e = \log\left(R_{meas} R_{pred}^T\right)^\vee
+
+    Parameters
+    ----------
+    R_meas, R_pred : ndarray, shape (n, 3, 3) [-]
+        Measured and predicted orientations (active, base frame).
+
+    Returns
+    -------
+    e : ndarray, shape (n, 3) [rad]
+
+    References
+    ----------
+    Sola, J., Deray, J., Atchuthan, D. (2018). A micro Lie theory for state estimation in robotics,
+    arXiv:1812.01537, eq. (10), (26) (the logarithm of SO(3) and the left minus).
+    """
+    return rotvec_of(np.einsum("nab,ncb->nac", R_meas, R_pred))
+
+
+def log_right_jacobian_inverse(e):
+    r"""The inverse right Jacobian of SO(3): log(exp([e]) exp([w])) = e + J_r⁻¹(e) w + O(w²).
+
+    .. math:: J_r^{-1}(e) = I + \tfrac12 [e]_\times +
+              \left(\frac{1}{\theta^2} - \frac{1 + \cos\theta}{2\theta\sin\theta}\right) [e]_\times^2,
+              \quad \theta = |e|
+
+    With the prediction turned by a base-frame dφ (R_pred ← exp([dφ]) R_pred) the residual
+    e = log(R_meas R_predᵀ) moves by de = -J_r⁻¹(e) dφ.
+
+    Parameters
+    ----------
+    e : ndarray, shape (n, 3) [rad]
+
+    Returns
+    -------
+    Jinv : ndarray, shape (n, 3, 3) [-]
+
+    References
+    ----------
+    Sola et al. 2018, eq. (144).
+    """
+    th = np.linalg.norm(e, axis=1)
+    small = th < 1e-4
+    ts = np.where(small, 1.0, th)
+    c = np.where(
+        small, 1.0 / 12.0 + th**2 / 720.0, 1.0 / ts**2 - (1.0 + np.cos(ts)) / (2.0 * ts * np.sin(ts))
+    )
+    K = skew(e)
+    return np.eye(3) + 0.5 * K + c[:, None, None] * (K @ K)
+
+
+def map_residual6(y, P, R_meas, R_pred, sigma, sigma_rad, z):
+    r"""The MAP residual of a 6-DoF platform: per sample the position rows then the orientation rows,
+    then the prior rows.
+
+    .. math:: r = \left[\frac{y_k - p^*_k(\theta)}{\sigma_k},\;
+              \frac{\log(R_{meas,k} R^*_k(\theta)^T)^\vee}{\sigma_{rad,k}}\right]_{k} \oplus
+              \frac{\theta - \theta_0}{\sigma_{prior}}
+
+    Parameters
+    ----------
+    y, P : ndarray, shape (n, 3) [m]
+        Measured and predicted positions.
+    R_meas, R_pred : ndarray, shape (n, 3, 3) [-]
+        Measured and predicted orientations.
+    sigma : ndarray, shape (n,) [m]
+    sigma_rad : ndarray, shape (n,) [rad]
+    z : ndarray, shape (k,) [-]
+        (θ - θ_0) / σ_prior.
+
+    Returns
+    -------
+    r : ndarray, shape (6 n + k,) [-]
+
+    References
+    ----------
+    Tarantola 2005, eq. (3.46); Sola et al. 2018 (the orientation error).
+    """
+    rp = (y - P) / sigma[:, None]
+    rr = orientation_residual(R_meas, R_pred) / sigma_rad[:, None]
+    return np.concatenate([np.concatenate([rp, rr], axis=1).ravel(), np.asarray(z, dtype=float)])
+
+
+def smooth6(hooke, cond):
+    """Where a 6-DoF equilibrium is differentiable: no cable's Hooke tension within ``T_TOL`` of 0
+    (the taut set would change) and a condition number of dF6/dx below ``COND_MAX``."""
+    return (np.abs(hooke) > T_TOL).all(axis=1) & (cond < COND_MAX)
+
+
+class Problem6:
+    """``Problem`` for a rigid 6-DoF platform: six rows per sample with a measured pose (position /
+    σ_m, orientation error / σ_rad, ``map_residual6``), then the prior rows; the exact Jacobian from
+    ``sensitivity6.spatial_sensitivities`` (implicit function) and, for the encoder offsets,
+    ``sensitivity6.rest_length_sensitivities`` (dx*/do_i = -dx*/dL0_i). The numpy reference solver
+    (there is no compiled twin of the 6-DoF sensitivities).
+
+    Parameters
+    ----------
+    robot : Robot
+        Nominal robot (the prior mean), in the chosen model.
+    data : Data
+        Samples with a measured pose (position and orientation).
+    index : ndarray of int
+        Into ``calibration_names(robot.m, spatial=True)``.
+    sd : ndarray, shape (len(index),)
+        Prior sd [Pa, m, kg].
+    solver : dict
+        tol, maxiter, max_step of ``solve_spatial``.
+    """
+
+    def __init__(self, robot, data, index, sd, engine="numpy", solver=None):
+        self.robot, self.data, self.index, self.sd = robot, data, np.asarray(index), np.asarray(sd, float)
+        self.solver = dict(solver or {})
+        self.m = robot.m
+        self.nr = robot_size(self.m, True)
+        self.theta0 = calibration_values(robot)
+        names = calibration_names(self.m, True)
+        self._cols6 = self.index[self.index < self.nr]
+        self._names6 = [names[k] for k in self._cols6]
+        self._cache = None
+        pose = np.flatnonzero(data.has_pose & data.has_orientation)
+        self.row_sample = np.repeat(pose, 6).astype(np.intp)
+        self._pose = pose
+        self._R = rotation_matrix(np.nan_to_num(data.rotvec))
+
+    def theta(self, z):
+        th = self.theta0.copy()
+        th[self.index] += self.sd * np.asarray(z, dtype=float)
+        return th
+
+    def evaluate(self, z):
+        """Solve at z: P* (n, 3), R* (n, 3, 3), status, smooth (n,), dx*/dθ_free (n, 6, k)."""
+        key = np.asarray(z, float).tobytes()
+        if self._cache is not None and self._cache[0] == key:
+            return self._cache[1]
+        data, nr = self.data, self.nr
+        th = self.theta(z)
+        rob = robot_with_parameters6(self.robot, th[:nr])
+        L0 = data.L - th[nr:]
+        hp = data.has_pose & data.has_orientation
+        start = np.where(hp[:, None], data.pose, _centre(rob))
+        rv = np.where(hp[:, None], data.rotvec, 0.0)
+        res = spatial_sensitivities(rob, start, rv, L0=L0, names=self._names6, **self.solver)
+        S = np.zeros((len(start), 6, len(th)))
+        S[:, :, self._cols6] = res["S"]
+        SL, hooke, cond = rest_length_sensitivities(rob, res["P_s"], res["R_s"], L0)
+        S[:, :, nr:] = -SL
+        out = {
+            "P": res["P_s"],
+            "R": res["R_s"],
+            "status": res["status"],
+            "smooth": smooth6(hooke, cond),
+            "S": S[:, :, self.index],
+        }
+        self._cache = (key, out)
+        return out
+
+    def residual(self, z):
+        """r(z) = [position and orientation rows ; z] (``map_residual6``)."""
+        ev = self.evaluate(z)
+        d, p = self.data, self._pose
+        return map_residual6(d.pose[p], ev["P"][p], self._R[p], ev["R"][p], d.sigma[p], d.sigma_rad[p], z)
+
+    def jacobian(self, z):
+        """dr/dz: per sample [-dp*/dθ σ_prior / σ_m ; -J_r⁻¹(e) dφ*/dθ σ_prior / σ_rad], then I."""
+        ev = self.evaluate(z)
+        d, p = self.data, self._pose
+        k = len(self.index)
+        S = np.nan_to_num(ev["S"][p]) * self.sd
+        e = orientation_residual(self._R[p], ev["R"][p])
+        Jp = -S[:, :3] / d.sigma[p, None, None]
+        Jr = -np.einsum("nab,nbk->nak", log_right_jacobian_inverse(np.nan_to_num(e)), S[:, 3:])
+        Jr /= d.sigma_rad[p, None, None]
+        return np.vstack([np.concatenate([Jp, Jr], axis=1).reshape(-1, k), np.eye(k)])
+
+    def angles(self, ev):
+        """The orientation error angle |log(R_meas R*ᵀ)| (n,) [rad] of every sample (NaN without one)."""
+        out = np.full(len(self.data.sample), np.nan)
+        p = self._pose
+        out[p] = np.linalg.norm(orientation_residual(self._R[p], ev["R"][p]), axis=1)
+        return out
+
+
+def _problem(base, data, index, sd, engine="compiled", solver=None):
+    """The MAP problem of the robot's kind: ``Problem`` (point mass) or ``Problem6``."""
+    if is_spatial(base):
+        return Problem6(base, data, index, sd, solver=solver)
+    return Problem(base, data, index, sd, engine=engine, solver=solver)
+
+
+def solve6(robot, P, L0, rotvec=None, solver=None):
+    """The 6-DoF equilibria under commanded rest lengths L0 started at poses (P, rotvec): the
+    ``solve_spatial`` result with ``smooth`` (``smooth6``) added.
+
+    Parameters
+    ----------
+    robot : Robot
+    P : ndarray, shape (n, 3) or (n, 6) [m, rad]
+    L0 : ndarray, shape (n, m) [m]
+    rotvec : ndarray, shape (n, 3) [rad], optional
+    solver : dict, optional
+
+    Returns
+    -------
+    dict
+    """
+    res = solve_spatial(robot, P, rotvec, L0=L0, **dict(solver or {}))
+    _, hooke, cond = rest_length_sensitivities(robot, res["P_s"], res["R_s"], res["L0"])
+    res["smooth"] = smooth6(hooke, cond)
+    return res
 
 
 def tension_sensitivities(robot, P, L0, S):
@@ -783,11 +1110,12 @@ def fit(robot, data, groups, priors=None, model="exact", loss="linear", engine="
     sd = prior_sd(base, index, priors)
     used, no_pose = usable(data, robot)
     status = np.full(len(data.sample), "no pose or tension", dtype=object)
-    names = [calibration_names(robot.m)[k] for k in index]
+    spatial = is_spatial(robot)
+    names = [calibration_names(robot.m, spatial)[k] for k in index]
     keep = used
     for _attempt in range(3):
         sub = data.subset(keep)
-        prob = Problem(base, sub, index, sd, engine=engine, solver=solver)
+        prob = _problem(base, sub, index, sd, engine=engine, solver=solver)
         ev0 = prob.evaluate(np.zeros(len(index)))
         good = (ev0["status"] == "ok") & ev0["smooth"]
         if not good.all():
@@ -796,13 +1124,13 @@ def fit(robot, data, groups, priors=None, model="exact", loss="linear", engine="
             continue
         break
     sub = data.subset(keep)
-    n_eq = 3 * int(sub.has_pose.sum()) + robot.m * int(sub.has_tension.sum())
+    n_eq = (6 if spatial else 3) * int(sub.has_pose.sum()) + robot.m * int(sub.has_tension.sum())
     if n_eq < len(index):
         raise CdprError(
             f"{data.source}: {len(keep)} usable samples give {n_eq} equations for {len(index)} "
             "parameters; give at least as many equations as parameters"
         )
-    prob = Problem(base, sub, index, sd, engine=engine, solver=solver)
+    prob = _problem(base, sub, index, sd, engine=engine, solver=solver)
     lo, hi = _bounds(base, index, sd)
     sol = least_squares(
         prob.residual,
@@ -833,6 +1161,16 @@ def fit(robot, data, groups, priors=None, model="exact", loss="linear", engine="
     after[keep] = np.linalg.norm(sub.pose - ev["P"], axis=1)
     after[keep[bad]] = np.nan
     norm = after / data.sigma
+    extra = {}
+    if spatial:
+        for col, evk in (
+            ("residual_before_rad", prob.evaluate(np.zeros(len(index)))),
+            ("residual_after_rad", ev),
+        ):
+            extra[col] = np.full(len(data.sample), np.nan)
+            extra[col][keep] = prob.angles(evk)
+        extra["residual_after_rad"][keep[bad]] = np.nan
+        norm = np.maximum(norm, extra["residual_after_rad"] / data.sigma_rad)
     outlier = (norm > OUTLIER) if loss != "linear" else np.zeros(len(norm), dtype=bool)
     return Calibration(
         robot=robot,
@@ -851,6 +1189,7 @@ def fit(robot, data, groups, priors=None, model="exact", loss="linear", engine="
                 "status": status.astype(str),
                 "residual_before_m": before,
                 "residual_after_m": after,
+                **extra,
                 "outlier": outlier,
             }
         ),
@@ -871,8 +1210,8 @@ def _why(ev, mask):
 
 def _bounds(base, index, sd):
     """Box bounds in prior-scaled variables: E, M > 1 % of nominal; h, r_p, d >= 0; A and offsets free."""
-    groups, _ = calibration_groups(base.m)
-    names = calibration_names(base.m)
+    groups, _ = calibration_groups(base.m, is_spatial(base))
+    names = calibration_names(base.m, is_spatial(base))
     th0 = calibration_values(base)
     lo = np.full(len(index), -np.inf)
     for j, k in enumerate(index):
@@ -921,23 +1260,23 @@ class Calibration:
     def calibrated_robot(self):
         """The robot at the estimate (the model's pulleys; the standard model's E back to the file's)."""
         m = self.robot.m
-        th = self.theta[: 7 * m + 1].copy()
+        th = self.theta[: robot_size(m, is_spatial(self.base))].copy()
         if self.model in ("standard", "rigid"):
             th[:m] /= STANDARD_STIFFENING
-        return robot_with_parameters(self.base, th)
+        return calibrated_robot(self.base, th)
 
     def fitted_model(self):
         """The model at the estimate, as the fit saw it (rigid models keep their stiff cables): what
         predicts and compensates."""
-        return robot_with_parameters(self.base, self.theta[: 7 * self.robot.m + 1])
+        return calibrated_robot(self.base, self.theta)
 
     @property
     def offsets(self):
-        return self.theta[7 * self.robot.m + 1 :]
+        return self.theta[robot_size(self.robot.m, is_spatial(self.base)) :]
 
     def parameter_table(self):
         """nominal, estimate, sd, 95 % interval, prior sd, ratio and label per parameter (SI)."""
-        groups, cables = calibration_groups(self.robot.m)
+        groups, cables = calibration_groups(self.robot.m, is_spatial(self.base))
         return pd.DataFrame(
             {
                 "name": self.names,
@@ -960,6 +1299,11 @@ class Calibration:
         used = self.table["status"] == "used"
         res = self.table.loc[used, "residual_after_m"].to_numpy()
         res = res[np.isfinite(res)]
+        rad = None
+        if "residual_after_rad" in self.table:
+            ang = self.table.loc[used, "residual_after_rad"].to_numpy()
+            ang = ang[np.isfinite(ang)]
+            rad = float(np.sqrt(np.mean(ang**2))) if len(ang) else None
         return {
             "parameters": [
                 {
@@ -980,7 +1324,7 @@ class Calibration:
             "singular_values": [float(s) for s in self.ident["singular_values"]],
             "unidentified": list(self.ident["unidentified"]),
             "residual_rms_m": float(np.sqrt(np.mean(res**2))) if len(res) else None,
-            "residual_rms_rad": None,
+            "residual_rms_rad": rad,
             "samples_used": int(used.sum()),
             "samples_left_out": int((~used).sum()),
         }
@@ -1001,11 +1345,17 @@ def write_robot(path, cal, data_source):
         f"# on {datetime.datetime.now(datetime.timezone.utc).isoformat(timespec='seconds')}; nominal robot: {cal.robot.source}",
         f"# estimated: {', '.join(cal.names)}",
     ]
-    if "offsets" in {calibration_groups(rob.m)[0][k] for k in cal.index}:
+    spatial = is_spatial(rob)
+    if "offsets" in {calibration_groups(rob.m, spatial)[0][k] for k in cal.index}:
         header.append("# encoder offsets [m]: " + ", ".join(f"{o:.9g}" for o in cal.offsets))
     cables = []
     for c in rob.cables:
         pul = {"kind": c.pulley.kind, "h_m": float(c.pulley.h), "r_p_m": float(c.pulley.r_p)}
+        if spatial:  # the swivel axis and zero of a spatial robot's pulley (defaults left out)
+            if tuple(c.pulley.axis) != (0.0, 0.0, 1.0):
+                pul["axis"] = [float(x) for x in c.pulley.axis]
+            if c.pulley.zero is not None:
+                pul["zero"] = [float(x) for x in c.pulley.zero]
         mat = {
             "young_modulus_Pa": float(c.material.E),
             "diameter_m": float(c.material.diameter),
@@ -1014,6 +1364,7 @@ def write_robot(path, cal, data_source):
         cables.append(
             {
                 "A_m": [float(x) for x in c.A],
+                **({"B_m": [float(x) for x in c.B]} if spatial else {}),
                 "pulley": pul,
                 "cable": mat,
                 "dead_length_m": float(c.dead_length),
@@ -1022,7 +1373,11 @@ def write_robot(path, cal, data_source):
     first = rob.cables[0]
     doc = {
         "name": f"{rob.name} (calibrated)",
-        "platform": {"mass_kg": float(rob.platform.mass), "gravity_m_per_s2": float(rob.platform.g)},
+        "platform": {
+            "mass_kg": float(rob.platform.mass),
+            **({"com_m": [float(x) for x in rob.platform.com]} if spatial else {}),
+            "gravity_m_per_s2": float(rob.platform.g),
+        },
         "cable": {
             "young_modulus_Pa": float(first.material.E),
             "diameter_m": float(first.material.diameter),
@@ -1048,11 +1403,14 @@ def check(robot, data, engine="compiled"):
     -------
     dict
         n (samples compared), rms_m (RMS over samples of |P* - y|), max_m, median_m, rms_rad and
-        max_rad (None for a point mass), samples: list of {sample, status, error_m} (error None
-        where the equilibrium is not ok).
+        max_rad (None for a point mass; for a 6-DoF platform the RMS and largest angle of
+        R_meas R*ᵀ), samples: list of {sample, status, error_m} (error None where the equilibrium is
+        not ok; with error_rad for a 6-DoF platform).
     """
     if data.encoder:
         raise CdprError(f"{data.source}: check needs commanded lengths L1..L{robot.m}, not encoder readings")
+    if is_spatial(robot):
+        return _check6(robot, data)
     res = sensitivities(robot, data.pose, redundancy="physical", L=data.L, engine=engine)
     ok = res["status"] == "ok"
     err = np.linalg.norm(res["P_s"] - data.pose, axis=1)
@@ -1071,6 +1429,32 @@ def check(robot, data, engine="compiled"):
     }
 
 
+def _check6(robot, data):
+    """``check`` for a 6-DoF platform: the equilibrium under L0 started at the measured pose."""
+    res = solve6(robot, data.pose, data.L, rotvec=data.rotvec)
+    ok = res["status"] == "ok"
+    err = np.linalg.norm(res["P_s"] - data.pose, axis=1)
+    ang = np.linalg.norm(orientation_residual(rotation_matrix(data.rotvec), res["R_s"]), axis=1)
+    e, a = err[ok], ang[ok]
+    return {
+        "n": int(ok.sum()),
+        "rms_m": float(np.sqrt(np.mean(e**2))) if len(e) else None,
+        "max_m": float(e.max()) if len(e) else None,
+        "median_m": float(np.median(e)) if len(e) else None,
+        "rms_rad": float(np.sqrt(np.mean(a**2))) if len(a) else None,
+        "max_rad": float(a.max()) if len(a) else None,
+        "samples": [
+            {
+                "sample": str(s),
+                "status": str(st),
+                "error_m": float(x) if o else None,
+                "error_rad": float(y) if o else None,
+            }
+            for s, st, x, y, o in zip(data.sample, res["status"], err, ang, ok)
+        ],
+    }
+
+
 # --- synthetic data -------------------------------------------------------------------------------
 def simulate(
     truth,
@@ -1082,6 +1466,9 @@ def simulate(
     engine="compiled",
     tensions=False,
     sigma_t=SIGMA_T_DEFAULT,
+    rotvec=None,
+    sigma_rad=SIGMA_RAD_DEFAULT,
+    command="standard",
 ):
     """Synthetic tracker data: the lengths the nominal robot would command to reach P (L_TS, eq. 2),
     the pose where the true robot settles under them, plus Gaussian noise.
@@ -1102,12 +1489,23 @@ def simulate(
         Encoder offsets: the data are then readings L0 + offsets.
     tensions : bool
         Also measure the cable tensions (noise sd ``sigma_t`` [N]).
+    rotvec : ndarray, shape (n, 3) or (3,) [rad], optional
+        Target orientations of a 6-DoF platform (default identity; or P of shape (n, 6)): the
+        commands are then L_TS,i = |p + R b_i - A_i| + d_i and the tracker also measures the
+        orientation, R_meas = exp([w]) R*, w ~ N(0, ``sigma_rad``² I) [rad].
+    command : {"standard", "compensated"}
+        ``COMMANDS``; "compensated" only for a 6-DoF platform.
 
     Returns
     -------
     Data
         With status "ok" samples only (the others are dropped here: this is the simulator, not the fit).
     """
+    if is_spatial(truth):
+        if tensions:
+            raise CdprError("simulate: tension data are not supported for a 6-DoF platform")
+        return _simulate6(truth, nominal, P, rotvec, sigma, sigma_rad, rng, offsets, command)
+    _check_command(command, truth)
     L0 = L_TS(nominal, P)
     res = sensitivities(truth, P, redundancy="physical", L=L0, engine=engine)
     ok = (res["status"] == "ok") & res["smooth"]
@@ -1132,33 +1530,94 @@ def simulate(
     )
 
 
+def _check_command(command, robot):
+    if command not in COMMANDS or (command != "standard" and not is_spatial(robot)):
+        allowed = COMMANDS if is_spatial(robot) else COMMANDS[:1]
+        raise CdprError(f"command {command!r}: allowed for robot {robot.name}: {', '.join(allowed)}")
+
+
+def commanded_lengths(robot, p, R, command="standard"):
+    """Rest lengths commanded at 6-DoF poses: ``L_TS_pose`` (standard) or the compensated rest
+    lengths of the minimum-norm tensions (``distribution6.compensated_lengths``, NaN where no
+    admissible distribution exists).
+
+    Parameters
+    ----------
+    robot : Robot
+    p : ndarray, shape (n, 3) [m]
+    R : ndarray, shape (n, 3, 3) [-]
+    command : {"standard", "compensated"}
+
+    Returns
+    -------
+    L0 : ndarray, shape (n, m) [m]
+    """
+    _check_command(command, robot)
+    if command == "standard":
+        return L_TS_pose(robot, p, R)
+    return compensated_lengths(robot, p, rotvec_of(R))["L0"]
+
+
+def _simulate6(truth, nominal, P, rotvec, sigma, sigma_rad, rng, offsets, command="standard"):
+    """``simulate`` for a 6-DoF platform (its docstring)."""
+    p, R = pose_arrays(nominal, P, rotvec)
+    rv = rotvec_of(R)
+    L0 = commanded_lengths(nominal, p, R, command)
+    fin = np.isfinite(L0).all(axis=1)
+    p, R, rv, L0 = p[fin], R[fin], rv[fin], L0[fin]
+    res = solve6(truth, p, L0, rotvec=rv)
+    ok = (res["status"] == "ok") & res["smooth"]
+    y, Rs = res["P_s"][ok], res["R_s"][ok]
+    if rng is not None:
+        y = y + rng.normal(0.0, sigma, y.shape)
+        Rs = rotation_matrix(rng.normal(0.0, sigma_rad, (len(y), 3))) @ Rs
+    n = int(ok.sum())
+    return Data(
+        sample=np.array([f"s{i + 1}" for i in range(n)]),
+        L=L0[ok] if offsets is None else L0[ok] + np.asarray(offsets),
+        pose=y,
+        sigma=np.full(n, float(sigma)),
+        encoder=offsets is not None,
+        source="<simulated>",
+        rotvec=rotvec_of(Rs),
+        sigma_rad=np.full(n, float(sigma_rad)),
+    )
+
+
 def perturbed(robot, index, sd, rng):
     """A robot whose parameters ``index`` are drawn from the prior N(nominal, sd²); returns (robot, θ)."""
     th = calibration_values(robot)
     th[index] += sd * rng.standard_normal(len(index))
-    return robot_with_parameters(robot, th[: 7 * robot.m + 1]), th
+    return calibrated_robot(robot, th), th
 
 
 # --- plan -----------------------------------------------------------------------------------------
 def default_box(robot):
     """Candidate box: the middle 80 % of the anchors' horizontal extent, z from 10 % to 70 % of
-    the lowest anchor height [m]."""
+    the lowest anchor height [m]; for a 6-DoF robot whose anchors spread in height (some low, some
+    high), z from 20 % to 80 % of the anchors' vertical span."""
     A = robot.A
     lo, hi = A[:, :2].min(axis=0), A[:, :2].max(axis=0)
     c, w = (lo + hi) / 2, (hi - lo) / 2 * 0.8
     top = A[:, 2].min()
-    return [c[0] - w[0], c[0] + w[0], c[1] - w[1], c[1] + w[1], 0.1 * top, 0.7 * top]
+    zlo, zhi = 0.1 * top, 0.7 * top
+    span = A[:, 2].max() - top
+    if is_spatial(robot) and (top <= 0 or span > 0.1 * abs(top)):  # anchors low and high (IPAnema-like)
+        zlo, zhi = top + 0.2 * span, top + 0.8 * span
+    return [c[0] - w[0], c[0] + w[0], c[1] - w[1], c[1] + w[1], zlo, zhi]
 
 
-def candidates(robot, box, n_axis=7, model="exact", engine="compiled", targets=False):
+def candidates(robot, box, n_axis=7, model="exact", engine="compiled", targets=False, command="standard"):
     """Admissible candidate poses of a box and their scaled measurement rows.
 
     A candidate is the grid point p commanded with L_TS(p); admissible when the nominal equilibrium
-    is ``ok`` and smooth there.
+    is ``ok`` and smooth there. A 6-DoF platform's candidates are at the identity orientation
+    (L_TS,i = |p + b_i - A_i| + d_i, or with ``command="compensated"`` the compensated rest lengths,
+    ``commanded_lengths``), admissible with at least min(6, m) taut cables.
 
     Returns
     -------
-    P : ndarray (c, 3) [m]
+    P : ndarray (c, 3) [m], or (c, 6) [m, rad] for a 6-DoF platform
         The equilibria (where the tracker would measure).
     L0 : ndarray (c, m) [m]
         Commanded lengths.
@@ -1168,6 +1627,14 @@ def candidates(robot, box, n_axis=7, model="exact", engine="compiled", targets=F
 
     base = model_robot(robot, model)
     p = grid_points(box, n_axis)
+    if is_spatial(robot):
+        L0 = commanded_lengths(robot, p, rotation_matrix(np.zeros_like(p)), command)
+        fin = np.isfinite(L0).all(axis=1)
+        p, L0 = p[fin], L0[fin]
+        res = solve6(base, p, L0)
+        ok = (res["status"] == "ok") & res["smooth"] & (res["n_taut"] >= min(6, robot.m))
+        P6 = np.concatenate([res["P_s"], res["rotvec_s"]], axis=1)
+        return (P6[ok], L0[ok], p[ok]) if targets else (P6[ok], L0[ok])
     L0 = L_TS(robot, p)
     res = sensitivities(base, p, redundancy="physical", L=L0, engine=engine)
     ok = (res["status"] == "ok") & res["smooth"] & (res["n_taut"] >= 3)
@@ -1177,8 +1644,22 @@ def candidates(robot, box, n_axis=7, model="exact", engine="compiled", targets=F
 
 
 def info_rows(robot, P, L0, index, sd, sigma=SIGMA_DEFAULT, model="exact", engine="compiled"):
-    """Scaled measurement rows per candidate: -dP*/dθ σ_prior / σ, shape (c, 3, k)."""
+    """Scaled measurement rows per candidate: -dP*/dθ σ_prior / σ, shape (c, 3, k); for a 6-DoF
+    platform (P (c, 6)) also the orientation rows -dφ*/dθ σ_prior / σ_rad (``SIGMA_RAD_DEFAULT``),
+    shape (c, 6, k)."""
     base = model_robot(robot, model)
+    if is_spatial(robot):
+        data = Data(
+            sample=np.arange(len(P)).astype(str),
+            L=L0,
+            pose=P[:, :3],
+            sigma=np.full(len(P), sigma),
+            encoder=False,
+            source="<plan>",
+            rotvec=P[:, 3:],
+        )
+        prob = Problem6(base, data, index, sd)
+        return prob.jacobian(np.zeros(len(index)))[: 6 * len(P)].reshape(len(P), 6, len(index))
     data = Data(
         sample=np.arange(len(P)).astype(str),
         L=L0,
@@ -1194,14 +1675,14 @@ def info_rows(robot, P, L0, index, sd, sigma=SIGMA_DEFAULT, model="exact", engin
 def d_optimal(rows, n, exchange=True):
     """Greedy D-optimal choice of n candidates maximising det(Σ J_kᵀ J_k + I), then one exchange pass.
 
-    Each greedy step adds the candidate with the largest det(I_3 + J_k C J_kᵀ), C the current
+    Each greedy step adds the candidate with the largest det(I + J_k C J_kᵀ), C the current
     posterior covariance (matrix determinant lemma); the exchange pass swaps a chosen candidate for
     an unchosen one whenever the determinant grows.
 
     Parameters
     ----------
-    rows : ndarray, shape (c, 3, k)
-        Scaled measurement rows of the candidates (``info_rows``).
+    rows : ndarray, shape (c, r, k)
+        Scaled measurement rows of the candidates (``info_rows``; r = 3, or 6 for a 6-DoF platform).
     n : int
         Plan size (repeats allowed: a pose may be measured twice).
     exchange : bool
@@ -1216,12 +1697,12 @@ def d_optimal(rows, n, exchange=True):
     ----------
     Atkinson & Donev 1992, ch. 11 and 15.
     """
-    c, _, k = rows.shape
+    c, nr, k = rows.shape
     info = np.eye(k)
     chosen = []
     for _ in range(n):
         C = np.linalg.inv(info)
-        M = np.eye(3) + np.einsum("cik,kl,cjl->cij", rows, C, rows)
+        M = np.eye(nr) + np.einsum("cik,kl,cjl->cij", rows, C, rows)
         j = int(np.argmax(np.linalg.slogdet(M)[1]))
         chosen.append(j)
         info += rows[j].T @ rows[j]
@@ -1230,7 +1711,7 @@ def d_optimal(rows, n, exchange=True):
         for pos in range(n):
             rest = info - rows[chosen[pos]].T @ rows[chosen[pos]]
             C = np.linalg.inv(rest)
-            M = np.eye(3) + np.einsum("cik,kl,cjl->cij", rows, C, rows)
+            M = np.eye(nr) + np.einsum("cik,kl,cjl->cij", rows, C, rows)
             j = int(np.argmax(np.linalg.slogdet(M)[1]))
             chosen[pos] = j
             info = rest + rows[j].T @ rows[j]
@@ -1244,13 +1725,25 @@ def plan_sd(rows, chosen):
     return np.sqrt(np.diag(np.linalg.inv(info))), float(np.linalg.slogdet(info)[1])
 
 
-def plan(robot, groups, n, box=None, priors=None, sigma=SIGMA_DEFAULT, n_random=50, seed=0, n_axis=7):
+def plan(
+    robot,
+    groups,
+    n,
+    box=None,
+    priors=None,
+    sigma=SIGMA_DEFAULT,
+    n_random=50,
+    seed=0,
+    n_axis=7,
+    command="standard",
+):
     """Pick n poses among admissible candidates maximising det(JᵀJ + prior) and compare with random.
 
     Returns
     -------
     dict
-        poses (n, 3) [m], lengths (n, m) [m], names, sd_d_optimal, sd_random_median (k,) [SI],
+        poses (n, 3) [m] (n, 6 [m, rad] for a 6-DoF platform: position and rotation vector of the
+        expected equilibrium), lengths (n, m) [m], names, sd_d_optimal, sd_random_median (k,) [SI],
         prior_sd (k,), logdet_d_optimal, logdet_random_median, n_candidates.
     """
     priors = parse_priors(None) if priors is None else priors
@@ -1258,7 +1751,8 @@ def plan(robot, groups, n, box=None, priors=None, sigma=SIGMA_DEFAULT, n_random=
     sd = prior_sd(robot, index, priors)
 
     box = default_box(robot) if box is None else check_box(box).tolist()
-    P, L0 = candidates(robot, box, n_axis)
+    _check_command(command, robot)
+    P, L0 = candidates(robot, box, n_axis, command=command)
     if len(P) == 0:
         raise CdprError(f"no admissible candidate pose in the box {box}")
     rows = info_rows(robot, P, L0, index, sd, sigma)
@@ -1269,7 +1763,7 @@ def plan(robot, groups, n, box=None, priors=None, sigma=SIGMA_DEFAULT, n_random=
     return {
         "poses": P[chosen],
         "lengths": L0[chosen],
-        "names": [calibration_names(robot.m)[k] for k in index],
+        "names": [calibration_names(robot.m, is_spatial(robot))[k] for k in index],
         "sd_d_optimal": ratio * sd,
         "sd_random_median": np.median([r[0] for r in rand], axis=0) * sd,
         "prior_sd": sd,

@@ -295,6 +295,42 @@ def box_from_cells(box, n, cells):
     return out
 
 
+def largest_box_in(df, n, box, value=None):
+    """The largest axis-aligned box of a grid table's admissible points (``voxel_mask``: status ok
+    and, if given, ``value``, e.g. the wrench-feasible column of ``cdpr grid --wrench-feasible``),
+    found by ``largest_box`` (RW_max of Paty 2021 section 4.1.1 on that mask) and measured.
+
+    Parameters
+    ----------
+    df : DataFrame
+        Point table of the n^3 grid of ``box`` in C order (``grid_points``), column ``status``.
+    n : int
+        Cells per axis.
+    box : sequence of 6 float [m]
+        The grid's box.
+    value : array_like (n^3,) bool, optional
+        Extra condition per row.
+
+    Returns
+    -------
+    dict
+        count (voxels in the box, 0 when none is admissible), cells (inclusive index ranges or
+        None), box (list of 6 float [m], the outer faces of the cells, or None), volume_m3 (0.0 when
+        none) and admissible_m3 (the admissible voxels' volume, by voxel counting) [m^3].
+    """
+    mask = voxel_mask(df, n, value)
+    count, cells = largest_box(mask)
+    voxel = box_volume(box) / n**3
+    bounds = None if cells is None else box_from_cells(box, n, cells)
+    return {
+        "count": count,
+        "cells": cells,
+        "box": bounds,
+        "volume_m3": 0.0 if bounds is None else box_volume(bounds),
+        "admissible_m3": float(mask.sum() * voxel),
+    }
+
+
 def intersect_boxes(boxes):
     """Intersection of boxes [xmin, xmax, ymin, ymax, zmin, zmax] (RW_C from the RW_max).
 

@@ -69,6 +69,11 @@ def _print_fit(result, s):
     print(
         f"{s['n_parameters']} parameters, rank {s['rank']}, condition {cond}; samples used {s['samples_used']}, "
         f"left out {s['samples_left_out']}; residual RMS {s['residual_rms_m'] * 1e3:.4g} mm ({result.model} model)"
+        + (
+            f", orientation {s['residual_rms_rad'] * 1e3:.4g} mrad"
+            if s["residual_rms_rad"] is not None
+            else ""
+        )
     )
     for w in s["unidentified"]:
         print(f"weak: {w}")
@@ -114,6 +119,11 @@ def cmd_check(args):
     print(
         f"{out['n']} samples: RMS {out['rms_m'] * 1e3:.4g} mm, median {out['median_m'] * 1e3:.4g} mm, "
         f"max {out['max_m'] * 1e3:.4g} mm"
+        + (
+            f"; orientation RMS {out['rms_rad'] * 1e3:.4g} mrad, max {out['max_rad'] * 1e3:.4g} mrad"
+            if out["rms_rad"] is not None
+            else ""
+        )
     )
     bad = [s for s in out["samples"] if s["error_m"] is None]
     if bad:
@@ -130,7 +140,14 @@ def cmd_plan(args):
     robot = load_robot(args.robot)
     priors = cal.parse_priors(args.prior)
     res = cal.plan(
-        robot, args.estimate, args.n, box=args.box, priors=priors, sigma=args.sigma, n_axis=args.grid
+        robot,
+        args.estimate,
+        args.n,
+        box=args.box,
+        priors=priors,
+        sigma=args.sigma,
+        n_axis=args.grid,
+        command=args.command,
     )
     if args.out:
         import pandas as pd  # lazy: the plan's table only
@@ -138,8 +155,16 @@ def cmd_plan(args):
         df = pd.DataFrame({"sample": np.arange(1, args.n + 1)})
         for i in range(robot.m):
             df[f"L{i + 1}"] = res["lengths"][:, i]
-        for j, c in enumerate(("x_expected_m", "y_expected_m", "z_expected_m")):
-            df[c] = res["poses"][:, j]
+        cols = (
+            "x_expected_m",
+            "y_expected_m",
+            "z_expected_m",
+            "rx_expected_rad",
+            "ry_expected_rad",
+            "rz_expected_rad",
+        )
+        for j in range(res["poses"].shape[1]):  # 6 columns for a 6-DoF platform
+            df[cols[j]] = res["poses"][:, j]
         df.to_csv(args.out, index=False, float_format="%.12g")
     out = {
         "n": args.n,

@@ -231,19 +231,19 @@ def cmd_inverse(args):
         )
 
 
-def _solve_sensitivities(robot, P, args, L0=None):
-    """The solve plus dP*/dθ (``sensitivity.sensitivities``) for --sensitivities."""
-    from cdpr.solve import sensitivities  # lazy: --sensitivities only
+def _solve_sensitivities(robot, P, args, L0=None, rv=None):
+    """The solve plus the sensitivities for --sensitivities: dP*/dθ (``solve.sensitivities``) on a
+    suspended point mass (an orientation plays no part there and is carried through), dp*/dθ and
+    dφ*/dθ (``solve.spatial_sensitivities``, the numpy reference) on any other robot."""
+    from cdpr.solve import check_spatial, sensitivities, spatial_sensitivities  # lazy: --sensitivities only
 
-    if not robot.suspended_point_mass or getattr(args, "rotvec", None) is not None:
-        raise CdprError(
-            "--sensitivities is not available yet for a rigid platform or an orientation (--rotvec); "
-            "the library has cdpr.models.sensitivity6.spatial_sensitivities"
-        )
     if args.method != "newton":
         raise CdprError(
             "--sensitivities needs --method newton (the implicit-function theorem uses its Jacobian at the solution)"
         )
+    if not robot.suspended_point_mass:
+        check_spatial(robot, None, args.redundancy)
+        return spatial_sensitivities(robot, P, rv, L0=L0, engine=args.engine)
     return sensitivities(
         robot,
         P,
@@ -273,16 +273,12 @@ def cmd_point(args):
             raise CdprError(f"--q needs one drum angle per cable ({robot.m}), got {len(args.q)}")
         L0 = rest_lengths_from_angles(robot, np.array([args.q]), model="winch")[0]
     rv = _rotvec(args, len(P))
-    if args.sensitivities and (rv is not None or not robot.suspended_point_mass):
-        raise CdprError(
-            "--sensitivities is not available yet for a rigid platform or an orientation (--rotvec)"
-        )
     if args.sensitivities:
         if L0 is not None and args.redundancy != "physical":
             raise CdprError(
                 "commanded lengths need physical mode (--redundancy physical); paper mode commands L_TS at the desired point"
             )
-        res = _solve_sensitivities(robot, P, args, L0)
+        res = _solve_sensitivities(robot, P, args, L0, rv)
     else:
         res = solve_points_any(
             robot,
@@ -321,8 +317,13 @@ def cmd_point(args):
     if args.sensitivities:
         S = res["S"][0]
         out["sensitivities"] = {
-            name: [None if np.isnan(v) else float(v) for v in S[:, k]] for k, name in enumerate(res["names"])
+            name: [None if np.isnan(v) else float(v) for v in S[:3, k]] for k, name in enumerate(res["names"])
         }
+        if len(S) == 6:  # a rigid platform: dφ*/dθ, base-frame rotation vector [rad per unit]
+            out["sensitivities_phi"] = {
+                name: [None if np.isnan(v) else float(v) for v in S[3:, k]]
+                for k, name in enumerate(res["names"])
+            }
         out["sensitivities_smooth"] = bool(res["smooth"][0])
     if args.json:
         print(json.dumps(io.clean_json(out), indent=2))
@@ -346,16 +347,32 @@ def cmd_point(args):
         print(f"  subset         : {subset_label(res['subset'][0]) or '-'}")
     print(f"  status         : {out['status']}  ({out['iterations']} iterations)")
     if args.sensitivities:
+        num = lambda v: "nan" if v is None else f"{v:.6g}"  # noqa: E731
+        smooth = (
+            "" if out["sensitivities_smooth"] else " (not smooth here: the subset or taut set may switch)"
+        )
+        if "sensitivities_phi" in out:
+            from cdpr.parameters import parameter_units6  # lazy: --sensitivities only
+
+            rows = [
+                [name, f"m/{unit}"]
+                + [num(v) for v in vec]
+                + [f"rad/{unit}"]
+                + [num(v) for v in out["sensitivities_phi"][name]]
+                for (name, vec), unit in zip(out["sensitivities"].items(), parameter_units6(robot.m))
+            ]
+            smooth = smooth.replace("subset or taut set may switch", "taut set may switch or J is singular")
+            print(f"sensitivities dp*/dθ and dφ*/dθ at fixed commanded lengths (numpy reference){smooth}:")
+            headers = ["θ", "unit", "dx", "dy", "dz", "unit", "dφx", "dφy", "dφz"]
+            print(_table(rows, headers))
+            return
         from cdpr.parameters import UNITS, parameter_groups  # lazy: --sensitivities only
 
         units = [UNITS[g] for g in parameter_groups(robot.m)]
         rows = [
-            [name, f"m/{unit}"] + ["nan" if v is None else f"{v:.6g}" for v in vec]
+            [name, f"m/{unit}"] + [num(v) for v in vec]
             for (name, vec), unit in zip(out["sensitivities"].items(), units)
         ]
-        smooth = (
-            "" if out["sensitivities_smooth"] else " (not smooth here: the subset or taut set may switch)"
-        )
         print(f"sensitivities dP*/dθ at fixed commanded lengths{smooth}:")
         print(_table(rows, ["θ", "unit", "dx", "dy", "dz"]))
 
@@ -436,17 +453,19 @@ def cmd_compensate(args):
 
 
 def _compensate_spatial(args, robot, actual, P, rv, t_max):
-    """``compensate`` at poses (rigid platform or --rotvec): minimum-norm distribution in the bounds
-    at the pose (``distribution6``), compensated rest lengths, and the check solve (6-DoF; numpy unless --engine compiled)."""
+    """``compensate`` at poses (rigid platform or --rotvec): the --distribution (min_norm, closed_form or
+    closed_form_improved) at the pose (``distribution6``), compensated rest lengths, and the check solve
+    (6-DoF, ``solve.solve_spatial_any``: compiled unless --engine numpy)."""
     # lazy: the 6-DoF models, for poses only
     from cdpr.models.distribution6 import compensated_lengths
     from cdpr.solve import solve_spatial_any
 
-    if args.distribution != "min_norm":
+    if args.distribution == "subset":
         raise CdprError(
-            f"--distribution {args.distribution} is not available at a pose (rigid platform or --rotvec); use min_norm"
+            "--distribution subset (the paper's 3-cable subset) is not available at a pose (rigid platform or "
+            "--rotvec); use min_norm, closed_form or closed_form_improved"
         )
-    c = compensated_lengths(robot, P, rv, t_min=args.t_min, t_max=t_max)
+    c = compensated_lengths(robot, P, rv, t_min=args.t_min, t_max=t_max, method=args.distribution)
     ok = c["feasible"]
     L0 = np.where(ok[:, None], c["L0"], 1.0)
     res = solve_spatial_any(actual or robot, P, rv, args.engine, args.threads, L0=L0)
@@ -478,7 +497,7 @@ def _compensate_spatial(args, robot, actual, P, rv, t_max):
         print(json.dumps(io.clean_json(out), indent=2))
         return
     print(
-        f"{robot.name} ({robot.pulley_summary()}, {robot.material_summary()}), distribution min_norm at a pose"
+        f"{robot.name} ({robot.pulley_summary()}, {robot.material_summary()}), distribution {args.distribution} at a pose"
     )
     if not ok[0]:
         print(
@@ -529,7 +548,9 @@ def cmd_grid(args):
     if args.sensitivities:
         from cdpr.tables import to_frame  # lazy: --sensitivities only
 
-        res = _solve_sensitivities(robot, P, args)
+        res = _solve_sensitivities(
+            robot, P, args, rv=None if args.rotvec is None else np.asarray(args.rotvec)
+        )
         df = to_frame(robot, res, args.redundancy)
     else:
         df = solve_table(
@@ -541,17 +562,50 @@ def cmd_grid(args):
             redundancy=args.redundancy,
             **_rotvec_option(args),
         )
+    extra = {}
     if args.wrench_feasible:
         from cdpr.models.distribution6 import distribute_pose  # lazy: --wrench-feasible only
 
         df["feasible"] = distribute_pose(robot, P, args.rotvec, t_min=args.t_min)["feasible"]
-        cell = np.prod([(box[2 * k + 1] - box[2 * k]) / args.n for k in range(3)])
-        print(
-            f"wrench-feasible: {int(df['feasible'].sum())} of {len(df)} grid points, {df['feasible'].sum() * cell:.4g} m^3"
-        )
+        extra = _wrench_feasible_summary(df, box, args)
     _write_table(df, args.out)
     dt = time.perf_counter() - t0
-    _report(df, args.out, args, dt)
+    _report(df, args.out, args, dt, extra)
+
+
+def _wrench_feasible_summary(df, box, args):
+    """--wrench-feasible: the feasible points' volume and, on a whole grid, the largest axis-aligned
+    box of points both ok and feasible (``workspace.largest_box_in``); printed, or returned for --json."""
+    from cdpr.analyses.workspace import largest_box_in  # lazy: --wrench-feasible only
+
+    cell = np.prod([(box[2 * k + 1] - box[2 * k]) / args.n for k in range(3)])
+    out = {
+        "wrench_feasible_points": int(df["feasible"].sum()),
+        "wrench_feasible_m3": float(df["feasible"].sum() * cell),
+    }
+    lines = [
+        f"wrench-feasible: {out['wrench_feasible_points']} of {len(df)} grid points, {out['wrench_feasible_m3']:.4g} m^3"
+    ]
+    if args.shards == 1:
+        wf = largest_box_in(df, args.n, box, df["feasible"].to_numpy(dtype=bool))
+        out["wrench_feasible_box_m3"] = wf["volume_m3"]
+        for k, name in enumerate(("xmin", "xmax", "ymin", "ymax", "zmin", "zmax")):
+            out[f"wf_box_{name}_m"] = None if wf["box"] is None else wf["box"][k]
+        if wf["box"] is None:
+            lines.append("largest wrench-feasible box: none (no grid point is both ok and wrench-feasible)")
+        else:
+            b = wf["box"]
+            lines.append(
+                f"largest wrench-feasible box: x [{b[0]:.4g}, {b[1]:.4g}] y [{b[2]:.4g}, {b[3]:.4g}] "
+                f"z [{b[4]:.4g}, {b[5]:.4g}] m, {wf['volume_m3']:.4g} m^3 ({wf['count']} grid points, ok and feasible)"
+            )
+    else:
+        lines.append(
+            "largest wrench-feasible box: needs the whole grid (--shards 1); not computed for a shard"
+        )
+    if not args.json:
+        print("\n".join(lines))
+    return out
 
 
 def cmd_winch(args):
@@ -577,8 +631,9 @@ def cmd_winch(args):
     print(_table(rows, ["l_pm [m]", "q1 [rad]", "q2 [rad]", "q_nw [rad]", "dl [mm]"]))
 
 
-def _report(df, out, args, dt):
-    """What a solver command wrote: points, time, statuses and the |dp| range of the ok points."""
+def _report(df, out, args, dt, extra=None):
+    """What a solver command wrote: points, time, statuses and the |dp| range of the ok points (and
+    ``extra`` keys in the JSON, e.g. the wrench-feasible volume and box of ``grid``)."""
     from cdpr.analyses import scans  # lazy: the solver commands only
 
     counts = {k: int(v) for k, v in df["status"].value_counts().items() if v}
@@ -592,6 +647,7 @@ def _report(df, out, args, dt):
         "status": counts,
         "dp_min": lo,
         "dp_max": hi,
+        **(extra or {}),
     }
     if args.json:
         print(json.dumps(io.clean_json(summary), indent=2))

@@ -176,7 +176,9 @@ def sensitivity_options(sp):
         "--sensitivities",
         action="store_true",
         help="also dP*/dθ for every parameter (E_i [Pa], h_i, r_p_i, d_i, A_i_x/y/z [m], M [kg]; cables from 1) "
-        "at fixed commanded lengths, by the implicit-function theorem; Newton only",
+        "at fixed commanded lengths, by the implicit-function theorem; Newton only. A spatial robot (rigid "
+        "platform, tilted pulleys) also gets dφ*/dθ [rad per unit] and θ gains b_i_x/y/z and c_x/y/z [m]; "
+        "there it runs the numpy reference (no compiled 6-DoF sensitivity kernel; --engine compiled is refused)",
     )
 
 

@@ -85,7 +85,8 @@ def build_parser(jobs=True):
         "--distribution",
         choices=DISTRIBUTIONS,
         default="min_norm",
-        help="tension distribution (default min_norm: least 2-norm within [t-min, t-max]); subset: the paper's 3-cable subset",
+        help="tension distribution (default min_norm: least 2-norm within [t-min, t-max]; closed_form, "
+        "closed_form_improved: Pott's; subset: the paper's 3-cable subset, point-mass robots only)",
     )
     sp.add_argument(
         "--t-min", type=non_negative, default=100.0, metavar="N", help="least cable tension [N] (default 100)"
@@ -129,7 +130,8 @@ def build_parser(jobs=True):
     sp.add_argument(
         "--wrench-feasible",
         action="store_true",
-        help="add a 'feasible' column: a tension distribution in [--t-min, T_a] holds the platform at the pose",
+        help="add a 'feasible' column: a tension distribution in [--t-min, T_a] holds the platform at the pose; "
+        "prints the feasible volume and the largest axis-aligned box of ok and feasible points (whole grids)",
     )
     sp.add_argument(
         "--t-min", type=non_negative, default=100.0, metavar="N", help="least tension of --wrench-feasible"
@@ -194,7 +196,8 @@ _GROUPS_HELP = (
     "offsets (encoder offsets), mass (M); attachments (b_i) for 6-DoF platforms"
 )
 _PRIOR_HELP = (
-    "prior sd per group, e.g. anchors=5mm,dead_lengths=50mm,moduli=20%%,pulleys=1mm,offsets=50mm,mass=5%% "
+    "prior sd per group, e.g. anchors=5mm,dead_lengths=50mm,moduli=20%%,pulleys=1mm,offsets=50mm,mass=5%%,"
+    "attachments=3mm "
     "(these are the defaults; moduli and mass relative)"
 )
 
@@ -257,6 +260,13 @@ def calibrate_parser(subparsers):
         default=CALIBRATION_SIGMA,
         metavar="M",
         help="tracker noise sd [m] (default 2e-4)",
+    )
+    sp.add_argument(
+        "--command",
+        choices=("standard", "compensated"),
+        default="standard",
+        help="commanded lengths of the candidates: standard L_TS (default) or, for a 6-DoF platform, "
+        "compensated (minimum-norm tensions; a fully constrained robot needs them)",
     )
     sp.add_argument("--out", metavar="FILE", help="write the plan (CSV: sample, L1..Lm, expected pose)")
     sp.add_argument("--json", action="store_true", help="print JSON")

@@ -14,6 +14,11 @@ one of them: at most m - rank(W) constraints are active beyond the r equalities)
 enumeration is ``tension_distribution``'s). A robot with m < rank rows (an under-constrained robot at an
 arbitrary orientation) has, in general, no solution: ``infeasible``, never solved by force.
 
+``distribute_pose`` also takes Pott's ``closed_form`` and ``closed_form_improved``
+(``tension_distribution``'s functions, which work on the pseudo-inverse W^+ = W^T (W W^T)^-1 of any
+row count): the rows of W are first reduced to its rank (``rank_rows``: the 3 force rows where every
+b_i = 0, else all 6), so that W W^T is regular wherever the robot can hold the pose.
+
 Compensation: the rest lengths that bring the platform to the pose under the distribution t are,
 by Hooke's law (Paty 2021 eq. 10, 13), L0_i = L_TE,i / (1 + t_i / (E_i S_i)).
 
@@ -24,6 +29,13 @@ pulley kinematics and cable elasticity. Mechanism and Machine Theory 159, 104263
 
 Pott, A. (2018). Cable-Driven Parallel Robots: Theory and Application. Springer, ch. 3 (force
 distribution as a quadratic programme).
+
+Pott, A., Bruckmann, T., Mikelsons, L. (2009). Closed-form force distribution for parallel wire
+robots. Computational Kinematics, Springer, pp. 25-34 (the closed form).
+
+Pott, A. (2014). An improved force distribution algorithm for over-constrained cable-driven
+parallel robots. Computational Kinematics, Mechanisms and Machine Science 15, Springer,
+pp. 139-146 (the improved closed form).
 """
 
 from __future__ import annotations
@@ -34,7 +46,13 @@ import numpy as np
 
 from cdpr.models.equilibrium6 import pose_arrays, pose_state
 from cdpr.models.platform import external_wrench, wrench_matrix
-from cdpr.models.tension_distribution import FEAS_TOL, T_MIN_DEFAULT
+from cdpr.models.tension_distribution import (
+    FEAS_TOL,
+    METHODS,
+    T_MIN_DEFAULT,
+    closed_form,
+    closed_form_improved,
+)
 
 #: Cables up to which the active sets are enumerated.
 MAX_CABLES = 12
@@ -126,8 +144,35 @@ def min_norm_rows(W, w, t_min, t_max, t_ref=0.0):
     return t_best, np.isfinite(best)
 
 
-def distribute_pose(robot, p, rotvec=None, t_min=T_MIN_DEFAULT, t_max=None):
-    """Minimum-norm tension distribution holding the platform still at poses (wrench feasibility).
+def rank_rows(robot, W, w):
+    """The rows of the wrench matrix and wrench that its rank keeps: the 3 force rows of a platform
+    with every b_i = 0 and c = 0 (its moment rows vanish: rank 3), all 6 rows otherwise.
+
+    Parameters
+    ----------
+    robot : Robot
+    W : ndarray (N, 6, m) [-, m]
+        Wrench matrices (``pose_wrench``).
+    w : ndarray (N, 6) [N, N m]
+        Wrenches to produce.
+
+    Returns
+    -------
+    W : ndarray (N, r, m) [-, m]
+    w : ndarray (N, r) [N, N m]
+        r = 3 (point-mass platform) or 6.
+    """
+    if robot.point_mass:  # rank 3: the moment rows are zero
+        return W[:, :3], w[:, :3]
+    return W, w
+
+
+def distribute_pose(robot, p, rotvec=None, t_min=T_MIN_DEFAULT, t_max=None, method="min_norm"):
+    """Tension distribution holding the platform still at poses (wrench feasibility): the minimum
+    norm in the bounds (default), or Pott's closed form or improved closed form on the rows of W
+    that its rank keeps (``rank_rows``).
+
+    .. math:: \\mathbf W \\mathbf t = -\\mathbf w_{ext},\\qquad T_{min,i} \\le t_i \\le T_{max,i}
 
     Parameters
     ----------
@@ -140,23 +185,35 @@ def distribute_pose(robot, p, rotvec=None, t_min=T_MIN_DEFAULT, t_max=None):
         Least tension (default ``tension_distribution.T_MIN_DEFAULT``).
     t_max : float or array_like (m,) [N], optional
         Largest tension (default each cable's T_a).
+    method : {"min_norm", "closed_form", "closed_form_improved"}
+        ``min_norm_rows``, ``tension_distribution.closed_form`` or
+        ``tension_distribution.closed_form_improved``.
 
     Returns
     -------
     dict
-        t (N, m) [N] (NaN where infeasible), feasible (N,), status (N,) 'ok' | 'infeasible',
-        W (N, r, m) (r = 6, or 3 for a point-mass platform), L_TE (N, m) [m], p (N, 3), R (N, 3, 3).
+        t (N, m) [N] (min_norm: NaN where infeasible; the closed forms: the tensions they computed,
+        outside the bounds where infeasible, NaN where W has rank < r), feasible (N,), status (N,)
+        'ok' | 'infeasible', W (N, r, m) (r = 6, or 3 for a point-mass platform), L_TE (N, m) [m],
+        p (N, 3), R (N, 3, 3).
 
     References
     ----------
-    Paty et al. 2021, eq. (11)-(12); Pott 2018, ch. 3.
+    Paty et al. 2021, eq. (11)-(12); Pott 2018, ch. 3; Pott, Bruckmann, Mikelsons 2009, eq. (9);
+    Pott 2014, section 3.
     """
+    if method not in METHODS:
+        raise ValueError(f"unknown distribution method {method!r}; allowed: {', '.join(METHODS)}")
     p, R = pose_arrays(robot, p, rotvec)
     W, w, st = pose_wrench(robot, p, R)
-    if robot.point_mass:  # rank 3: the moment rows are zero
-        W, w = W[:, :3], w[:, :3]
+    W, w = rank_rows(robot, W, w)
     t_max = robot.T_a if t_max is None else t_max
-    t, ok = min_norm_rows(W, w, t_min, t_max)
+    if method == "closed_form":
+        t, ok = closed_form(W, w, t_min, t_max)
+    elif method == "closed_form_improved":
+        t, ok = closed_form_improved(W, w, t_min, t_max)
+    else:
+        t, ok = min_norm_rows(W, w, t_min, t_max)
     return {
         "t": t,
         "feasible": ok,
@@ -168,9 +225,9 @@ def distribute_pose(robot, p, rotvec=None, t_min=T_MIN_DEFAULT, t_max=None):
     }
 
 
-def compensated_lengths(robot, p, rotvec=None, t_min=T_MIN_DEFAULT, t_max=None):
-    """Rest lengths that bring the platform to the pose under the minimum-norm distribution,
-    L0_i = L_TE,i / (1 + t_i / (E_i S_i)).
+def compensated_lengths(robot, p, rotvec=None, t_min=T_MIN_DEFAULT, t_max=None, method="min_norm"):
+    """Rest lengths that bring the platform to the pose under the tension distribution t
+    (``distribute_pose``), L0_i = L_TE,i / (1 + t_i / (E_i S_i)).
 
     .. math:: L_{0,i} = \\frac{L_{TE,i}}{1 + t_i / (E_i S_i)}
 
@@ -185,6 +242,8 @@ def compensated_lengths(robot, p, rotvec=None, t_min=T_MIN_DEFAULT, t_max=None):
         Least tension.
     t_max : float or array_like (m,) [N], optional
         Largest tension (default T_a).
+    method : {"min_norm", "closed_form", "closed_form_improved"}
+        The distribution (``distribute_pose``).
 
     Returns
     -------
@@ -195,6 +254,7 @@ def compensated_lengths(robot, p, rotvec=None, t_min=T_MIN_DEFAULT, t_max=None):
     ----------
     Paty et al. 2021, eq. (10), (13).
     """
-    out = distribute_pose(robot, p, rotvec, t_min, t_max)
-    out["L0"] = out["L_TE"] / (1.0 + out["t"] / robot.ES)
+    out = distribute_pose(robot, p, rotvec, t_min, t_max, method)
+    L0 = out["L_TE"] / (1.0 + out["t"] / robot.ES)
+    out["L0"] = np.where(out["feasible"][:, None], L0, np.nan)
     return out

@@ -13,6 +13,8 @@ At the position P the extended model (eq. 3-5, 12) gives the wrench matrix W = [
 * ``closed_form_improved`` (Pott 2014): while the closed form leaves the bounds, pin the cable with
   the largest violation to the bound it violates, move its force to the right-hand side and apply
   the closed form to the remaining cables; infeasible when three cables remain and still violate.
+  Both closed forms take any number r of rows of W (r cables remain at the end): the r x m wrench
+  matrix of a rigid platform at a pose (``distribution6``, r = rank(W)) as well as the point mass's 3.
 * ``min_norm``: the exact minimum of |t - t_ref|_2 (t_ref = 0 by default) over W t = w and the
   bounds, a strictly convex quadratic programme. For m = 4 the null space of W is one-dimensional,
   t = t_p + lambda n with t_p = W^+ w + (I - W^+ W) t_ref, and each bound gives an interval for
@@ -80,23 +82,47 @@ def wrench_matrix(robot, P):
     return np.swapaxes(g.u, -1, -2)
 
 
-def pseudo_inverse(W):
-    """W^+ = W^T (W W^T)^-1, shape (N, m, 3); NaN where W W^T is singular (W of rank < 3).
+#: Relative singular-value cut [-] under which a wrench matrix of r != 3 rows counts as of rank < r
+#: (``pseudo_inverse``).
+RANK_RCOND = 1e-10
 
-    The Moore-Penrose pseudo-inverse of the wrench matrix of Paty 2021 eq. (11)-(12), as used by
-    the closed-form distribution (Pott, Bruckmann, Mikelsons 2009).
+
+def pseudo_inverse(W):
+    """W^+ = W^T (W W^T)^-1, shape (N, m, r); NaN where W W^T is singular (W of rank < r).
+
+    The Moore-Penrose pseudo-inverse of a full-row-rank wrench matrix (Paty 2021 eq. 11-12 for the
+    point mass, r = 3; the r x m matrix of a rigid platform, ``distribution6``), as used by the
+    closed-form distribution (Pott, Bruckmann, Mikelsons 2009). For r = 3 the 3 x 3 inverse is
+    ``statics.inverse3``'s (NaN where |det| < ``statics.DET_EPS``); for any other r, W counts as
+    singular where r > m or its smallest singular value is below ``RANK_RCOND`` times its largest.
+
+    .. math:: W^+ = W^T (W W^T)^{-1}
 
     Parameters
     ----------
-    W : ndarray (N, 3, m) [-]
-        Wrench matrices (``wrench_matrix``; zeroed columns are allowed).
+    W : ndarray (N, r, m) [-, m]
+        Wrench matrices (``wrench_matrix`` or ``distribution6.pose_wrench``; zeroed columns are
+        allowed).
 
     Returns
     -------
-    W_pinv : ndarray (N, m, 3) [-]
-        W^+, with W W^+ = I where W has rank 3.
+    W_pinv : ndarray (N, m, r) [-, 1/m]
+        W^+, with W W^+ = I where W has rank r.
+
+    References
+    ----------
+    Pott, Bruckmann, Mikelsons 2009, eq. (9).
     """
-    inv, _ = inverse3(W @ np.swapaxes(W, -1, -2))
+    G = W @ np.swapaxes(W, -1, -2)
+    n, r, m = W.shape
+    if r == 3:
+        inv, _ = inverse3(G)
+        return np.swapaxes(W, -1, -2) @ inv
+    inv = np.full_like(G, np.nan)
+    if m >= r:
+        sv = np.linalg.svd(np.where(np.isfinite(W), W, 0.0), compute_uv=False)
+        ok = np.isfinite(W).all(axis=(1, 2)) & (sv[:, -1] > RANK_RCOND * sv[:, 0])
+        inv[ok] = np.linalg.inv(G[ok])
     return np.swapaxes(W, -1, -2) @ inv
 
 
@@ -114,11 +140,17 @@ def _within(t, lo, hi):
 def closed_form(W, w, t_min, t_max):
     """Pott's closed-form force distribution t = t_m + W^+ (w - W t_m), t_m = (T_min + T_max)/2.
 
+    .. math:: \\mathbf t = \\mathbf t_m + \\mathbf W^+ (\\mathbf w - \\mathbf W \\mathbf t_m),\\qquad
+        \\mathbf W^+ = \\mathbf W^T (\\mathbf W \\mathbf W^T)^{-1}
+
+    Any number r of rows: the 3 force rows of a point mass (``wrench_matrix``) or the r = rank(W)
+    rows of a rigid platform's wrench matrix (``distribution6``, 6 rows, 3 when b_i = 0).
+
     Parameters
     ----------
-    W : ndarray, shape (N, 3, m) [-]
-        Wrench matrix (``wrench_matrix``).
-    w : array_like, shape (N, 3) or (3,) [N]
+    W : ndarray, shape (N, r, m) [-, m]
+        Wrench matrix (``wrench_matrix``; ``distribution6.pose_wrench`` reduced to its rank).
+    w : array_like, shape (N, r) or (r,) [N, N m]
         Wrench the cables must produce, -w_ext.
     t_min, t_max : array_like, shape (m,) or (N, m) [N]
         Tension bounds.
@@ -126,7 +158,7 @@ def closed_form(W, w, t_min, t_max):
     Returns
     -------
     t : ndarray, shape (N, m) [N]
-        The closed-form tensions (not clipped).
+        The closed-form tensions (not clipped; NaN where W has rank < r).
     feasible : ndarray, shape (N,) bool
         T_min <= t <= T_max (within ``FEAS_TOL``).
 
@@ -135,7 +167,7 @@ def closed_form(W, w, t_min, t_max):
     Pott, Bruckmann, Mikelsons 2009, eq. (9).
     """
     lo, hi = _bounds(W, t_min, t_max)
-    w = np.broadcast_to(np.asarray(w, dtype=float), (W.shape[0], 3))
+    w = np.broadcast_to(np.asarray(w, dtype=float), W.shape[:2])
     t_m = 0.5 * (lo + hi)
     r = w - np.einsum("nam,nm->na", W, t_m)
     t = t_m + np.einsum("nma,na->nm", pseudo_inverse(W), r)
@@ -145,16 +177,19 @@ def closed_form(W, w, t_min, t_max):
 def closed_form_improved(W, w, t_min, t_max):
     """Pott's improved closed form: pin the most violating cable to its bound and redistribute.
 
-    Starting from ``closed_form``, while some free cable leaves its bounds and more than three
-    cables are free, the free cable with the largest violation max(T_min - t, t - T_max) is set to
-    the bound it violates and removed; the closed form is applied to the free cables with the
-    right-hand side w - sum_(pinned) t_i u_i.
+    Starting from ``closed_form``, while some free cable leaves its bounds and more than r cables
+    are free (r the rows of W: 3 for a point mass, rank(W) for a rigid platform), the free cable with
+    the largest violation max(T_min - t, t - T_max) is set to the bound it violates and removed;
+    the closed form is applied to the free cables with the right-hand side w - sum_(pinned) t_i W_i:
+
+    .. math:: \\mathbf t_f = \\mathbf t_{m,f} + \\mathbf W_f^+ \\Big(\\mathbf w
+        - \\sum_{i\\ \\mathrm{pinned}} t_i \\mathbf W_{:,i} - \\mathbf W_f \\mathbf t_{m,f}\\Big)
 
     Parameters
     ----------
-    W : ndarray (N, 3, m) [-]
-        Wrench matrix (``wrench_matrix``).
-    w : array_like (N, 3) or (3,) [N]
+    W : ndarray (N, r, m) [-, m]
+        Wrench matrix (``wrench_matrix``; ``distribution6.pose_wrench`` reduced to its rank).
+    w : array_like (N, r) or (r,) [N, N m]
         Wrench the cables must produce, -w_ext (Paty 2021 eq. 11).
     t_min, t_max : array_like (m,) or (N, m) [N]
         Tension bounds.
@@ -172,13 +207,14 @@ def closed_form_improved(W, w, t_min, t_max):
     """
     lo, hi = _bounds(W, t_min, t_max)
     n, m = lo.shape
-    w = np.broadcast_to(np.asarray(w, dtype=float), (n, 3))
+    rows = W.shape[1]
+    w = np.broadcast_to(np.asarray(w, dtype=float), (n, rows))
     t_m = 0.5 * (lo + hi)
     free = np.ones((n, m), dtype=bool)
     pinned = np.zeros((n, m))
     t = np.empty((n, m))
     todo = np.arange(n)
-    for _ in range(m - 2):
+    for _ in range(m - rows + 1):
         Wf = W[todo] * free[todo][:, None, :]
         tm = np.where(free[todo], t_m[todo], 0.0)
         r = w[todo] - np.einsum("nam,nm->na", W[todo], pinned[todo]) - np.einsum("nam,nm->na", Wf, tm)
@@ -187,7 +223,7 @@ def closed_form_improved(W, w, t_min, t_max):
         viol = np.where(free[todo], np.maximum(lo[todo] - tf, tf - hi[todo]), -np.inf)
         worst = viol.argmax(axis=1)
         bad = viol[np.arange(len(todo)), worst] > FEAS_TOL
-        can = bad & (free[todo].sum(axis=1) > 3)
+        can = bad & (free[todo].sum(axis=1) > rows)
         idx, col = todo[can], worst[can]
         free[idx, col] = False
         pinned[idx, col] = np.where(t[idx, col] < lo[idx, col], lo[idx, col], hi[idx, col])

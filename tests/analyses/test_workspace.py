@@ -51,6 +51,22 @@ def test_largest_box_of_a_known_mask():
     assert b == pytest.approx([1, 4, 2, 5, 0, 6])
 
 
+def test_largest_box_in_a_grid_table_of_a_known_mask():
+    """A feasible slab with a stray point, on a 6^3 grid of [0, 6]^3 m, half of it not ok: the box is
+    the slab's ok part, with its bounds in m and volume in m^3."""
+    n, box = 6, [0, 6, 0, 6, 0, 6]
+    df = grid_table(n, box, lambda P: P[:, 2] > 2.0)  # ok for z > 2: cells k = 2..5
+    P = df[["x", "y", "z"]].to_numpy()
+    feasible = (P[:, 0] > 1) & (P[:, 0] < 4) & (P[:, 1] > 2) & (P[:, 2] < 5)  # x cells 1-3, y 2-5, z 0-4
+    feasible |= (P[:, 0] > 5) & (P[:, 1] < 1) & (P[:, 2] > 5)  # a stray voxel (5, 0, 5)
+    wf = workspace.largest_box_in(df, n, box, feasible)
+    assert wf["count"] == 3 * 4 * 3 and wf["cells"] == (1, 3, 2, 5, 2, 4)
+    assert wf["box"] == pytest.approx([1, 4, 2, 6, 2, 5]) and wf["volume_m3"] == pytest.approx(36.0)
+    assert wf["admissible_m3"] == pytest.approx(36.0 + 1.0)
+    none = workspace.largest_box_in(df, n, box, np.zeros(len(df), dtype=bool))
+    assert none["count"] == 0 and none["box"] is None and none["volume_m3"] == 0.0
+
+
 def test_intersection_and_volume_of_boxes():
     rw_c = workspace.intersect_boxes([[0, 2, 0, 2, 0, 2], [1, 3, -1, 1.5, 0.5, 4]])
     assert rw_c == pytest.approx([1, 2, 0, 1.5, 0.5, 2])

@@ -1,6 +1,7 @@
 """The command line on spatial robots (issue 17): --rotvec, the JSON keys, tables with rx, ry, rz."""
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -190,13 +191,17 @@ def test_grid_at_a_fixed_orientation_with_wrench_feasibility(tmp_path, capsys):
     assert main([*base, "--robot", COGIRO, "--rotvec", "0.1", "0", "0", "--out", str(out)]) == 0
     df = pd.read_csv(out)
     assert len(df) == 8 and df["feasible"].all() and (df["rx"] == 0.1).all() and (df["status"] == "ok").all()
-    assert "wrench-feasible: 8 of 8 grid points, 32 m^3" in capsys.readouterr().out
+    text = capsys.readouterr().out
+    assert "wrench-feasible: 8 of 8 grid points, 32 m^3" in text
+    assert "largest wrench-feasible box: x [-2, 2] y [-2, 2] z [1, 3] m, 32 m^3 (8 grid points" in text
     hang = str(ROBOTS / "hang4_6dof.yaml")
     assert main([*base, "--robot", hang, "--rotvec", "0.1", "0", "0", "--out", str(out)]) == 0
     assert not pd.read_csv(out)["feasible"].any()  # 4 cables, 6 DoF: no distribution at a fixed orientation
     capsys.readouterr()
-    assert main([*base[:-1], "--robot", COGIRO, "--sensitivities", "--out", str(out)]) == 2
-    assert "not available yet for a rigid platform" in capsys.readouterr().err
+    assert main([*base[:-1], "--robot", COGIRO, "--sensitivities", "--out", str(out)]) == 0
+    df = pd.read_csv(out)
+    assert {"dx_db_1_x", "dphiz_db_1_x", "dphix_dc_z", "dz_dM", "smooth"} <= set(df.columns)
+    assert df["smooth"].all() and np.isfinite(df["dphiy_dA_3_z"]).all()
 
 
 def test_frame_extent_of_a_robot_that_is_not_a_suspended_point_mass(cdpr4):
@@ -224,3 +229,102 @@ def test_plane_and_trajectory_take_an_orientation(tmp_path, capsys):
     capsys.readouterr()
     assert main(["plane", "--z", "7", "--n", "2", *base]) == 2
     assert "--z must lie within the frame's height (0 <= z <= 5.42 m)" in capsys.readouterr().err
+
+
+DATA = Path(__file__).parent / "data"
+SENS = ["--redundancy", "physical", "--sensitivities"]
+
+
+def test_point_sensitivities_on_cogiro_equal_the_library(capsys):
+    """--sensitivities on a rigid platform: the JSON's dp*/dθ and dφ*/dθ are the library's numbers."""
+    from cdpr.models.sensitivity6 import parameter_names6, spatial_sensitivities
+    from cdpr.robot import load_robot
+
+    rv = [0.05, -0.03, 0.02]
+    out = run_json(
+        capsys, "point", "--robot", COGIRO, "--at", "0.2", "0.1", "2", "--rotvec", *map(str, rv), *SENS
+    )
+    lib = spatial_sensitivities(load_robot(COGIRO), [[0.2, 0.1, 2.0]], rv)
+    names = parameter_names6(8)
+    assert list(out["sensitivities"]) == names == list(out["sensitivities_phi"]) and len(names) == 8 * 10 + 4
+    S = lib["S"][0]
+    assert all(out["sensitivities"][n] == S[:3, k].tolist() for k, n in enumerate(names))
+    assert all(out["sensitivities_phi"][n] == S[3:, k].tolist() for k, n in enumerate(names))
+    assert out["sensitivities_smooth"] is bool(lib["smooth"][0]) is True
+    assert out["solved"] == lib["P_s"][0].tolist()
+
+
+def test_point_sensitivities_table_on_cogiro(capsys):
+    assert main(["point", "--robot", COGIRO, "--at", "0", "0", "2", *SENS]) == 0
+    text = capsys.readouterr().out
+    assert "sensitivities dp*/dθ and dφ*/dθ at fixed commanded lengths (numpy reference):" in text
+    row = next(line for line in text.splitlines() if line.strip().startswith("E_1 "))
+    assert row.split()[1] == "m/Pa" and row.split()[5] == "rad/Pa"
+    assert "b_8_z   m/m" in text and "    M  m/kg" in text
+    assert main(["point", "--robot", COGIRO, "--at", "0", "0", "2", *SENS, "--engine", "compiled"]) == 2
+    err = capsys.readouterr().err
+    assert "the compiled engine has no 6-DoF sensitivity kernel" in err and err.count("\n") == 1
+    assert main(["point", "--robot", COGIRO, "--at", "0", "0", "2", "--sensitivities"]) == 2
+    assert "paper mode (3-cable subsets) is the point-mass rule" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("mode", ["paper", "physical"])
+def test_point_mass_sensitivities_json_is_unchanged(capsys, mode):
+    """CDPR4's --sensitivities output, byte for byte as before the spatial sensitivities (files written
+    by the previous version of the command); with --rotvec the orientation is carried through."""
+    args = ["point", "--robot", R4, "--pulley", "DR", "--at", "0.5", "0.2", "2.5", "--redundancy", mode]
+    assert main([*args, "--sensitivities", "--json"]) == 0
+    assert capsys.readouterr().out == (DATA / f"point_sensitivities_cdpr4_{mode}.json").read_text()
+    if mode == "paper":
+        assert main([*args, "--sensitivities"]) == 0
+        assert capsys.readouterr().out == (DATA / "point_sensitivities_cdpr4_paper.txt").read_text()
+    rot = run_json(capsys, *args, "--rotvec", "0.1", "0", "0", "--sensitivities")
+    ref = json.loads((DATA / f"point_sensitivities_cdpr4_{mode}.json").read_text())
+    assert rot["solved_rotvec"] == [0.1, 0.0, 0.0] and rot["dphi"] == 0.0 and "sensitivities_phi" not in rot
+    assert rot["sensitivities"] == ref["sensitivities"]
+
+
+@pytest.mark.parametrize("method", ["closed_form", "closed_form_improved"])
+def test_compensate_at_a_pose_with_the_closed_forms(capsys, method):
+    """--distribution closed_form / closed_form_improved at a pose: the library's lengths, and the check
+    solve returns the pose; the paper's subset is refused in one line."""
+    from cdpr.models.distribution6 import compensated_lengths
+    from cdpr.robot import load_robot
+
+    base = ["compensate", "--robot", COGIRO, "--at", "0", "0", "2", "--rotvec", TILT, "0", "0"]
+    out = run_json(capsys, *base, "--t-max", "5000", "--distribution", method)
+    lib = compensated_lengths(
+        load_robot(COGIRO), [[0, 0, 2.0]], [float(TILT), 0, 0], t_max=5000.0, method=method
+    )
+    assert out["status"] == "ok" and out["lengths"] == lib["L0"][0].tolist()
+    assert out["dp_norm"] < 1e-9 and out["dphi"] < 1e-9
+    assert main([*base, "--distribution", method]) == 0
+    assert f"distribution {method} at a pose" in capsys.readouterr().out
+    assert main([*base, "--distribution", "subset"]) == 2
+    err = capsys.readouterr().err
+    assert "--distribution subset (the paper's 3-cable subset) is not available at a pose" in err
+    assert err.count("\n") == 1
+
+
+def test_largest_wrench_feasible_box_of_a_spatial_grid(tmp_path, capsys):
+    """CoGiRo tilted, a 4^3 grid over the frame: the JSON's box lies on the grid, every grid point
+    inside it is ok and wrench-feasible, its volume is its bounds' and at most the feasible volume."""
+    out = tmp_path / "g.parquet"
+    args = ["grid", "--robot", COGIRO, "--frame", "--n", "4", "--rotvec", "0.05", "0", "0"]
+    s = run_json(capsys, *args, "--redundancy", "physical", "--wrench-feasible", "--out", str(out))
+    df = pd.read_parquet(out)
+    b = [s[f"wf_box_{k}_m"] for k in ("xmin", "xmax", "ymin", "ymax", "zmin", "zmax")]
+    assert s["wrench_feasible_box_m3"] == pytest.approx((b[1] - b[0]) * (b[3] - b[2]) * (b[5] - b[4]))
+    assert 0 < s["wrench_feasible_box_m3"] <= s["wrench_feasible_m3"] + 1e-9
+    inside = (
+        df["x"].between(b[0], b[1]) & df["y"].between(b[2], b[3]) & df["z"].between(b[4], b[5])
+    ).to_numpy()
+    cell = s["wrench_feasible_m3"] / s["wrench_feasible_points"]
+    assert inside.sum() * cell == pytest.approx(s["wrench_feasible_box_m3"])
+    assert df["feasible"][inside].all() and (df["status"][inside] == "ok").all()
+    assert not (df["feasible"] & (df["status"] == "ok")).all()  # the box is a real restriction here
+    assert (
+        main([*args, "--redundancy", "physical", "--wrench-feasible", "--out", str(out), "--shards", "2"])
+        == 0
+    )
+    assert "needs the whole grid (--shards 1)" in capsys.readouterr().out

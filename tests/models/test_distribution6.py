@@ -83,3 +83,84 @@ def test_shipped_spatial_robots_round_trip(name):
     assert c["feasible"].all()
     chk = solve_spatial(r, [[0.0, 0.0, 1.5]], L0=c["L0"], P0=[[0.05, -0.03, 1.54]])
     assert chk["dp"][0] < 1e-9 and chk["dphi"][0] < 1e-9 and chk["status"][0] == "ok"
+
+
+def _random_poses(n=200, seed=0):
+    """Poses over CoGiRo's frame, tilted by up to about 0.3 rad."""
+    rng = np.random.default_rng(seed)
+    return np.column_stack(
+        [rng.uniform(-6, 6, n), rng.uniform(-4, 4, n), rng.uniform(0.5, 4.5, n), rng.normal(0, 0.15, (n, 3))]
+    )
+
+
+def _wrench(robot, poses):
+    from cdpr.models.distribution6 import pose_wrench
+    from cdpr.models.equilibrium6 import pose_arrays
+
+    p, R = pose_arrays(robot, poses)
+    W, w, _ = pose_wrench(robot, p, R)
+    return W, w
+
+
+@pytest.mark.parametrize("method", ["closed_form", "closed_form_improved"])
+def test_closed_forms_at_a_pose_balance_the_platform_within_the_bounds(cogiro, method):
+    """Pott's closed forms on the 6 x 8 wrench matrix: where they report feasible, W t = -w_ext to
+    1e-9 N (and N m) and 100 <= t <= 5000 N; the closed form is the minimum of |t - t_m| over W t = w
+    (the exact bounded solver with t_ref = t_m gives the same tensions where it is feasible)."""
+    poses = np.vstack([POSES, _random_poses()])
+    d = distribute_pose(cogiro, poses, t_min=100.0, t_max=5000.0, method=method)
+    ok = d["feasible"]
+    assert ok.sum() > 100 and d["W"].shape[1] == 6
+    W, w = _wrench(cogiro, poses)
+    assert np.abs(np.einsum("nam,nm->na", W, d["t"]) - w)[ok].max() < 1e-9
+    assert (d["t"][ok] >= 100.0 - 1e-6).all() and (d["t"][ok] <= 5000.0 + 1e-6).all()
+    assert ok[:3].all()
+    if method == "closed_form":
+        t, good = min_norm_rows(W[ok], w[ok], 100.0, 5000.0, t_ref=np.full(8, 2550.0))
+        assert good.all() and np.abs(t - d["t"][ok]).max() < 1e-6
+
+
+def test_improved_closed_form_is_feasible_wherever_the_closed_form_is(cogiro):
+    poses = _random_poses(300, seed=1)
+    a = distribute_pose(cogiro, poses, t_min=100.0, t_max=5000.0, method="closed_form")
+    b = distribute_pose(cogiro, poses, t_min=100.0, t_max=5000.0, method="closed_form_improved")
+    c = distribute_pose(cogiro, poses, t_min=100.0, t_max=5000.0)
+    assert (b["feasible"] | ~a["feasible"]).all()
+    assert b["feasible"].sum() > a["feasible"].sum()  # it pins cables where the closed form leaves the bounds
+    assert (c["feasible"] | ~b["feasible"]).all()  # and never finds a distribution where none exists
+    assert np.array_equal(a["t"][a["feasible"]], b["t"][a["feasible"]])  # nothing to pin there
+
+
+@pytest.mark.parametrize("method", ["closed_form", "closed_form_improved"])
+def test_closed_forms_reduce_to_the_point_mass_ones_for_b_0(cdpr4, method):
+    """b_i = 0 (CDPR4): the rows reduced to rank 3, the same tensions as tension_distribution's
+    functions on the point-mass wrench matrix; the 6 unreduced rows have rank 3 and no W^+."""
+    from cdpr.models.tension_distribution import closed_form, pseudo_inverse
+
+    p = np.array([[0.3, -0.4, 2.0], [1.0, 1.0, 1.0], [-2.0, 1.5, 3.5], [0.0, 0.0, 2.5], [2.2, -2.2, 4.5]])
+    a = distribute(cdpr4, p, method=method, t_min=100.0, t_max=3000.0)
+    b = distribute_pose(cdpr4, p, t_min=100.0, t_max=3000.0, method=method)
+    assert b["W"].shape == (5, 3, 4) and np.allclose(a["W"], b["W"], atol=1e-12)
+    assert (a["feasible"] == b["feasible"]).all() and a["feasible"].any() and not a["feasible"].all()
+    assert np.allclose(a["t"], b["t"], atol=1e-6)
+    W6, w6 = _wrench(cdpr4, p)
+    assert np.isnan(pseudo_inverse(W6)).all() and not closed_form(W6, w6, 100.0, 3000.0)[1].any()
+
+
+def test_closed_forms_find_nothing_on_an_under_constrained_robot():
+    r = load_robot(ROBOTS / "hang4_6dof.yaml")
+    for method in ("closed_form", "closed_form_improved"):
+        c = compensated_lengths(r, [[0.3, 0.2, 2.5]], [[0.2, 0.0, 0.0]], method=method)
+        assert not c["feasible"][0] and c["status"][0] == "infeasible" and np.isnan(c["L0"]).all()
+
+
+def test_compensation_round_trip_with_the_improved_closed_form(cogiro):
+    """Lengths compensated with Pott's improved closed form, commanded to the robot they were computed
+    for, starting 5 cm away: the platform reaches the pose to 1e-9 m and 1e-9 rad, with the planned
+    tensions."""
+    c = compensated_lengths(cogiro, POSES, t_min=100.0, t_max=5000.0, method="closed_form_improved")
+    assert c["feasible"].all()
+    chk = solve_spatial(cogiro, POSES, L0=c["L0"], P0=POSES[:, :3] + [0.05, -0.03, 0.04])
+    assert (chk["status"] == "ok").all() and (chk["n_taut"] == 8).all()
+    assert chk["dp"].max() < 1e-9 and chk["dphi"].max() < 1e-9
+    assert np.abs(chk["t"] - c["t"]).max() < 1e-5
