@@ -120,7 +120,9 @@ def robot_conclusions(ref_st, ref_res, st, res):
 
     printed = cm.printed_values()
 
-    def add(group, quantity, statement, unit, a, b, tol=None, claim=None, headline=False, note="", paper=None):
+    def add(
+        group, quantity, statement, unit, a, b, tol=None, claim=None, headline=False, note="", paper=None
+    ):
         """One row; ``paper``: the paper's own value of the row: True for a statement it concludes,
         or the quantity of its printed number (``printed_values``)."""
         if tol is None and claim is None and not isinstance(a, str) and not cm._missing(a):
@@ -214,9 +216,7 @@ def robot_conclusions(ref_st, ref_res, st, res):
             headline=True,
             paper=True,
         )
-        gap = [
-            (d[d.kind == "DR"].index_m.min() - d[d.kind == "SR"].index_m.min()) * 1e3 for d, _ in doe_
-        ]
+        gap = [(d[d.kind == "DR"].index_m.min() - d[d.kind == "SR"].index_m.min()) * 1e3 for d, _ in doe_]
         add(
             "doe",
             "best DR test - best SR test",
@@ -308,6 +308,11 @@ def _fmt(v, unit):
     return f"{v:.4g}" + ("" if unit == "-" else f" {unit}")
 
 
+def _text(v):
+    """A cell's text: empty for None and NaN."""
+    return "" if v is None or (isinstance(v, float) and np.isnan(v)) else str(v)
+
+
 def _truth(c):
     return "" if c is None or (isinstance(c, float) and np.isnan(c)) else ("yes" if c else "no")
 
@@ -334,14 +339,14 @@ def conclusions_page(ref_st, st, rows):
         "",
         "Verdicts (`cdpr.pipeline.comparison.verdict`): **holds** = the statement has the same truth value "
         "on both; **reverses** = true on one, false on the other; **changes** = a categorical value "
-        f"differs, or a number without a statement moves by more than {REL:.0%} (the paper's own "
-        "tolerance for a printed number); **undetermined** = a value is missing. "
+        f"differs, or a number without a statement moves by more than {REL:.0%} (against the paper: the "
+        "tolerance of its printed number, cdpr/data/paper_values.yaml); **undetermined** = a value is missing. "
         f"*vs {ref_name}* compares {name} with our {ref_name} study; *vs paper* with what the paper "
         "concludes (yes: the paper states it) or prints.",
         "",
         f"Verdicts vs {ref_name}: "
         + ", ".join(f"{v} {int(counts.get(v, 0))}" for v in cm.VERDICTS)
-        + f". Verdicts vs the paper: "
+        + ". Verdicts vs the paper: "
         + ", ".join(f"{v} {int(vp.get(v, 0))}" for v in cm.VERDICTS)
         + ".",
         "",
@@ -352,9 +357,9 @@ def conclusions_page(ref_st, st, rows):
     ]
     for r in rows[rows.headline].itertuples():
         lines.append(
-            f"| {r.statement} | {_fmt(r.paper, r.unit) if r.paper is not None else ''} | "
+            f"| {r.statement} | {_fmt(r.paper, r.unit) if _text(r.paper) else ''} | "
             f"{_cell(r.reference, r.unit, r.claim_reference)} | {_cell(r.robot, r.unit, r.claim_robot)} | "
-            f"{r.verdict} | {r.verdict_paper or ''} |"
+            f"{r.verdict} | {_text(r.verdict_paper)} |"
         )
     lines += [
         "",
@@ -365,9 +370,9 @@ def conclusions_page(ref_st, st, rows):
     ]
     for r in rows.itertuples():
         lines.append(
-            f"| {r.group} | {r.quantity} | {r.statement} | {_fmt(r.paper, r.unit) if r.paper is not None else ''} | "
+            f"| {r.group} | {r.quantity} | {r.statement} | {_fmt(r.paper, r.unit) if _text(r.paper) else ''} | "
             f"{_cell(r.reference, r.unit, r.claim_reference)} | {_cell(r.robot, r.unit, r.claim_robot)} | "
-            f"{r.verdict} | {r.verdict_paper or ''} | {r.note} |"
+            f"{r.verdict} | {_text(r.verdict_paper)} | {r.note} |"
         )
     return "\n".join(lines) + "\n"
 

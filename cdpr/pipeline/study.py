@@ -316,9 +316,13 @@ def check_study(st):
     if ref:
         with _collect(problems):
             if not Path(ref["study"]).is_file():
-                raise ConfigError(src, "conclusions.study", f"reference study {ref['study']!r} does not exist")
+                raise ConfigError(
+                    src, "conclusions.study", f"reference study {ref['study']!r} does not exist"
+                )
             if Path(ref["study"]).resolve() == Path(src).resolve():
-                raise ConfigError(src, "conclusions.study", "the reference study is this study; name another one")
+                raise ConfigError(
+                    src, "conclusions.study", "the reference study is this study; name another one"
+                )
     for key in st["trajectories"]["paths"]:
         with _collect(problems):
             if path_robot(st, key) not in known:
