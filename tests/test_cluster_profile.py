@@ -80,7 +80,31 @@ def test_every_rule_is_either_local_or_grouped(dry_run):
     assert with_command - grouped - local == set(), (
         "rules that would be single SLURM jobs: add to groups or localrules"
     )
-    assert (grouped | local) - set(rules) == set(), (
+
+
+def defined_rules():
+    """Every rule the workflow defines (``snakemake --list-rules``), whether a study's DAG has it or not
+    (``conclusions`` runs only in a study that names a reference)."""
+    exe = Path(sys.executable).with_name("snakemake")
+    p = subprocess.run(
+        [
+            str(exe),
+            "--list-rules",
+            "--config",
+            "study=config/studies/quick.yaml",
+            "results=results/dry_quick",
+        ],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+    )
+    assert p.returncode == 0, p.stdout[-2000:] + p.stderr[-2000:]
+    return set(p.stdout.split())
+
+
+def test_profile_and_cluster_name_only_defined_rules():
+    grouped, local = set(PROFILE["groups"]), localrules()
+    assert (grouped | local) - defined_rules() == set(), (
         "rules named in the profile or cluster.smk that the workflow lacks"
     )
 

@@ -14,6 +14,7 @@ from cdpr.pipeline.results import Layout
 from cdpr.pipeline.study import load_study
 from cdpr.validation import read_yaml
 from tests.conftest import ROOT
+from tests.quick_runs import make_workdir, snakemake
 
 TABLES = ("doe/doe.csv", "doe/effects.csv", "maps/lines.csv", "elasticity/bands.csv", "volumes/volumes.csv")
 
@@ -106,3 +107,19 @@ def test_bad_reference_is_one_line(tmp_path):
         with pytest.raises(ConfigError, match=words) as exc:
             load_study(bad)
         assert "\n" not in str(exc.value)
+
+
+def test_an_unrun_reference_stops_the_workflow_in_one_line(tmp_path):
+    work = make_workdir(tmp_path / "w")
+    text = (ROOT / "config/studies/cogiro.yaml").read_text()
+    (work / "studies" / "cogiro.yaml").write_text(
+        text.replace("results: results/physical", "results: results/nowhere")
+    )
+    p = snakemake(
+        "reproduce_paper", "study=studies/cogiro.yaml", "results=results/cogiro", cwd=work, extra=("-n",)
+    )
+    assert p.returncode != 0
+    line = next(li for li in (p.stdout + p.stderr).splitlines() if "invalid study configuration" in li)
+    assert (
+        "studies/cogiro.yaml: conclusions.results: results/nowhere" in line and "run the study first" in line
+    )
