@@ -27,9 +27,23 @@ def write_table(df, path):
         cats = [c for c in df.columns if isinstance(df[c].dtype, pd.CategoricalDtype)]
         atomic(path, lambda tmp: pq.write_table(table, tmp, compression=None, use_dictionary=cats or False))
     elif suffix == ".csv":
+        df = _rounded_objects(df)
         atomic(path, lambda tmp: df.to_csv(tmp, index=False, float_format=f"%.{CSV_DIGITS}g"))
     else:
         raise CdprError(f"{path}: unknown table format '{suffix}'; allowed: .parquet, .csv")
+
+
+def _rounded_objects(df):
+    """``df`` with the floats of its object columns (a column mixing numbers and text, such as a
+    conclusions table's values) rounded to CSV_DIGITS significant digits, as ``float_format`` rounds
+    the float columns: the digits written do not depend on the last bits of a computation."""
+    cols = [c for c in df.columns if df[c].dtype == object]
+    if not cols:
+        return df
+    out = df.copy()
+    for c in cols:
+        out[c] = out[c].map(lambda v: float(f"{v:.{CSV_DIGITS}g}") if isinstance(v, float) else v)
+    return out
 
 
 #: The magic bytes at both ends of a parquet file.

@@ -67,3 +67,12 @@ def test_a_good_table_reads_back(tmp_path):
     for name in ("t.csv", "t.parquet"):
         table_io.write_table(df, tmp_path / name)
         pd.testing.assert_frame_equal(table_io.read_table(tmp_path / name), df)
+
+
+def test_numbers_in_a_text_column_are_written_to_the_same_digits_as_a_float_column(tmp_path):
+    # 0.1 + 0.2 is 0.30000000000000004: the last bits of a sum must not reach the file
+    df = pd.DataFrame({"value": ["best 1", 0.1 + 0.2, 206.44006573099998, float("nan")], "x": 0.1 + 0.2})
+    path = tmp_path / "t.csv"
+    table_io.write_table(df, path)
+    lines = path.read_text().splitlines()
+    assert lines[1:] == ["best 1,0.3", "0.3,0.3", "206.440065731,0.3", ",0.3"]

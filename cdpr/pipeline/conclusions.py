@@ -193,13 +193,13 @@ def robot_conclusions(ref_st, ref_res, st, res):
             add(
                 "volumes",
                 f"R_V(DR) - R_V(SR) at {la:g} m / {lb:g} m",
-                "DR pulleys give a larger error-limited volume than SR",
+                f"DR pulleys give a larger error-limited volume than SR (‖δp‖ limit {la:g} m / {lb:g} m)",
                 "-",
                 *d,
                 claim=claim(d, lambda v: v > 0),
                 headline=True,
                 paper=True,
-                note=f"limits {la:g} m / {lb:g} m on ‖δp‖ ({on})",
+                note=f"limits on ‖δp‖ of {on}, each study's own",
             )
     # -- the 2^3 DOE (section 4.2, Fig. 15-16)
     doe_ = both(lambda s, r_: _effects(r_))
