@@ -237,28 +237,68 @@ def _newton(cab, P0, L0, p_ref, tol, maxiter, max_step):
         s *= scale[:, None]
         slope *= scale
         whole = done | (norm * scale <= LS_SKIP)
-        alpha = np.ones(active.size)
-        pending = np.arange(active.size)
-        for h in range(MAX_HALVINGS + 1):
-            Pt = P[active[pending]] + alpha[pending, None] * s[pending]
-            trial = cab.evaluate(Pt, L0[active[pending]], p_ref[active[pending]])
-            ok = (
-                whole[pending]
-                | (trial["merit"] <= merit[pending] + ARMIJO_C * alpha[pending] * slope[pending])
-                | (h == MAX_HALVINGS)
-            )
+
+        def trial_at(pending, a):
+            Pt = P[active[pending]] + a[:, None] * s[pending]
+            return cab.evaluate(Pt, L0[active[pending]], p_ref[active[pending]]), Pt
+
+        def accept(pending, trial, Pt, ok):
             P[active[pending[ok]]] = Pt[ok]
             _take(cur, active[pending], trial, ok)
-            pending = pending[~ok]
-            if pending.size == 0:
-                break
-            alpha[pending] *= 0.5
+
+        alpha = backtrack(trial_at, accept, merit, slope, whole)
         iters[active] += 1
         prev[active] = alpha * norm * scale
         prev_full[active] = newton & (alpha == 1.0) & (scale == 1.0)
         conv[active[done]] = True
         active = active[~done]
     return P, cur, iters, conv
+
+
+def backtrack(trial_at, accept, merit, slope, whole):
+    """Armijo backtracking line search over a batch of Newton steps (Nocedal & Wright 2006, alg. 3.1),
+    the one both equilibria use (``_newton`` here, ``equilibrium6._newton6``): the step fraction
+    α_k = 2^-h of point k is accepted at the first h with
+
+        V(x_k + α_k s_k) <= V(x_k) + c α_k ∇V·s_k,   c = ARMIJO_C,
+
+    or at once where ``whole`` (a converged or negligible step), or at h = MAX_HALVINGS.
+
+    Parameters
+    ----------
+    trial_at : callable (pending (n,) int, alpha (n,)) -> (trial dict with "merit" (n,), state)
+        Evaluates the trial points x_k + α_k s_k of the still pending points.
+    accept : callable (pending, trial, state, ok (n,) bool) -> None
+        Commits the accepted trials.
+    merit, slope : ndarray (K,)
+        V(x_k) and the directional derivative ∇V·s_k (negative along a descent step).
+    whole : ndarray (K,) bool
+        Points whose full step is taken without a test.
+
+    Returns
+    -------
+    alpha : ndarray (K,)
+        The accepted step fractions.
+
+    References
+    ----------
+    Nocedal, J., Wright, S. J. (2006). Numerical Optimization, 2nd ed. Springer, ch. 3.1.
+    """
+    alpha = np.ones(len(merit))
+    pending = np.arange(len(merit))
+    for h in range(MAX_HALVINGS + 1):
+        trial, state = trial_at(pending, alpha[pending])
+        ok = (
+            whole[pending]
+            | (trial["merit"] <= merit[pending] + ARMIJO_C * alpha[pending] * slope[pending])
+            | (h == MAX_HALVINGS)
+        )
+        accept(pending, trial, state, ok)
+        pending = pending[~ok]
+        if pending.size == 0:
+            break
+        alpha[pending] *= 0.5
+    return alpha
 
 
 def statuses(robot, p, P, t, converged, inside, halfplanes=None):

@@ -55,14 +55,13 @@ from __future__ import annotations
 import numpy as np
 
 from cdpr.models.equilibrium import (
-    ARMIJO_C,
     FTOL_REL,
     LS_SKIP,
-    MAX_HALVINGS,
     PHYSICAL_DEFAULTS,
     ST,
     START_BELOW,
     TAUT_MIN,
+    backtrack,
     hull_halfplanes,
     statuses,
 )
@@ -329,26 +328,22 @@ def _newton6(cab, p0, R0, L0, p_ref, tol, maxiter, max_step):
         s *= scale[:, None]
         slope *= scale
         whole = done | (norm * scale <= LS_SKIP)
-        alpha = np.ones(active.size)
-        pending = np.arange(active.size)
-        for h in range(MAX_HALVINGS + 1):
+
+        def trial_at(pending, a):
             idx = active[pending]
-            st = alpha[pending, None] * s[pending]
+            st = a[:, None] * s[pending]
             pt = p[idx] + st[:, :3]
             Rt = rotation_matrix(st[:, 3:]) @ R[idx] if cab.rigid else R[idx]
-            trial = cab.evaluate(pt, Rt, L0[idx], p_ref[idx])
-            ok = (
-                whole[pending]
-                | (trial["merit"] <= merit[pending] + ARMIJO_C * alpha[pending] * slope[pending])
-                | (h == MAX_HALVINGS)
-            )
+            return cab.evaluate(pt, Rt, L0[idx], p_ref[idx]), (pt, Rt)
+
+        def accept(pending, trial, state, ok):
+            idx = active[pending]
+            pt, Rt = state
             p[idx[ok]] = pt[ok]
             R[idx[ok]] = Rt[ok]
             _take(cur, idx, trial, ok)
-            pending = pending[~ok]
-            if pending.size == 0:
-                break
-            alpha[pending] *= 0.5
+
+        alpha = backtrack(trial_at, accept, merit, slope, whole)
         iters[active] += 1
         prev[active] = alpha * norm * scale
         prev_full[active] = newton & (alpha == 1.0) & (scale == 1.0)
