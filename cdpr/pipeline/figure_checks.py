@@ -35,7 +35,7 @@ def _hidden_tick_labels(fig):
     return hidden
 
 
-def _texts(fig):
+def visible_texts(fig):
     """Every visible, drawn, non-empty text of ``fig`` (titles, labels, tick labels, legends,
     annotations, contour labels)."""
 
@@ -68,7 +68,7 @@ def _axis_labels(ax):
     return out
 
 
-def layout_problems(fig, mode=None):
+def layout_problems(fig, mode=None, draw=True):
     """The layout problems of ``fig``, one sentence each (empty when the figure passes).
 
     Parameters
@@ -78,6 +78,8 @@ def layout_problems(fig, mode=None):
     mode : {"paper", "physical", None}
         The redundancy mode of the study that drew it; when given, a title (the figure's suptitle
         or an axes title) must name it ("paper rule" / "physical").
+    draw : bool
+        Draw the figure first (False: it has just been drawn with its final size).
 
     Returns
     -------
@@ -85,11 +87,12 @@ def layout_problems(fig, mode=None):
         Text pairs that overlap, texts that leave the canvas, axes without a label or without a
         unit in brackets (colour bars included), and a missing mode.
     """
-    fig.canvas.draw()
+    if draw:
+        fig.canvas.draw()
     renderer = fig.canvas.get_renderer()
     W, H = fig.bbox.width, fig.bbox.height
     problems = []
-    texts = _texts(fig)
+    texts = visible_texts(fig)
     boxes = []
     for t in texts:
         bb = t.get_window_extent(renderer)

@@ -40,15 +40,45 @@ NOT_OK_COLOUR = "0.85"
 def audit(fig, out=None):
     """The layout audit of ``fig``: the problems ``figure_checks`` finds (overlapping texts, texts
     off the canvas, axes without a unit) and the titles (for the mode); written to
-    ``<out>.layout.json`` when ``out`` is given. Auditing draws the figure."""
+    ``<out>.layout.json`` when ``out`` is given. Auditing draws the figure, then hides the contour
+    labels that collide (``_drop_colliding_contour_labels``)."""
 
-    rec = {"problems": figure_checks.layout_problems(fig), "titles": figure_checks.titles(fig)}
+    fig.canvas.draw()
+    _drop_colliding_contour_labels(fig)
+    rec = {"problems": figure_checks.layout_problems(fig, draw=False), "titles": figure_checks.titles(fig)}
     if out is not None:
         atomic(
             Path(str(out) + ".layout.json"),
             lambda tmp: Path(tmp).write_text(json.dumps(rec, indent=1, ensure_ascii=False), encoding="utf-8"),
         )
     return rec
+
+
+def _drop_colliding_contour_labels(fig):
+    """Hide every contour label (``clabel``) that would overlap a text drawn before it: the other
+    texts first (titles, tick and anchor labels), then the contour labels in the order they were
+    placed. matplotlib places contour labels without looking at each other; where a field's levels
+    crowd (a steep rim near the frame's edge) their labels pile up. Figures whose labels do not
+    collide are untouched. ``fig`` must have been drawn (``audit`` draws it once: a second draw would
+    move a constrained layout by a pixel)."""
+    labels = [t for ax in fig.axes for c in ax.collections if hasattr(c, "labelTexts") for t in c.labelTexts]
+    if not labels:
+        return
+    renderer = fig.canvas.get_renderer()
+    ids = {id(t) for t in labels}
+    kept = [t.get_window_extent(renderer) for t in figure_checks.visible_texts(fig) if id(t) not in ids]
+    slack = figure_checks.SLACK_PX
+    for t in labels:
+        if not t.get_visible():
+            continue
+        bb = t.get_window_extent(renderer)
+        if any(
+            min(bb.x1, k.x1) - max(bb.x0, k.x0) > slack and min(bb.y1, k.y1) - max(bb.y0, k.y0) > slack
+            for k in kept
+        ):
+            t.set_visible(False)
+        else:
+            kept.append(bb)
 
 
 def save(fig, out):
@@ -406,15 +436,18 @@ def fig11_minmax(minmax, out, mode=None):
     return save(fig, out)
 
 
-def _labelled_contours(fig, ax, xs, ys, Z, cmap, label, skip=()):
+def _labelled_contours(fig, ax, xs, ys, Z, cmap, label, skip=(), top=None):
     """Filled contours of Z at about ten round levels (``_round_levels``) with every level a black
     line, every other line labelled (but values in ``skip``, whose own labels are drawn elsewhere),
-    and the panel's own colour bar titled ``label``. Nothing is drawn where Z has under two
-    levels."""
-    levels = _round_levels(np.nanmin(Z), np.nanmax(Z), 10)
+    and the panel's own colour bar titled ``label``. ``top``: the levels stop there and the values
+    above it take the top colour (the colour bar's triangle), for a field whose few largest values
+    would flatten the rest. Nothing is drawn where Z has under two levels."""
+    high = np.nanmax(Z) if top is None else min(top, np.nanmax(Z))
+    levels = _round_levels(np.nanmin(Z), high, 10)
     if levels is None or len(levels) < 2:
         return
-    cf = ax.contourf(xs, ys, Z, levels=levels, cmap=cmap)
+    extend = "max" if np.nanmax(Z) > levels[-1] else "neither"
+    cf = ax.contourf(xs, ys, Z, levels=levels, cmap=cmap, extend=extend)
     cs = ax.contour(xs, ys, Z, levels=levels, colors="k", linewidths=0.4)
     ax.clabel(cs, [v for v in levels[1:-1:2] if not np.isclose(skip, v).any()], fmt="%g", fontsize=6)
     fig.colorbar(cf, ax=ax, label=label, shrink=0.8)
@@ -472,16 +505,25 @@ def fig12_plane(tables, A, z, robot_name, out, mode=None, paper=None):
 #: The orientation error's display unit: δφ [rad] is drawn in mrad (the error is a few mrad).
 DPHI_SCALE, DPHI_UNIT = 1e3, "mrad"
 DPHI_LABEL = f"δφ [{DPHI_UNIT}]"
+#: A δφ plane whose largest value exceeds this many times its 75th percentile is drawn to the percentile.
+DPHI_TAIL = 3.0
 
 
 def _plane_dphi_panel(fig, ax, df, A, title):
     """One panel of the orientation error δφ [mrad] over a plane table (column ``dphi`` [rad]):
-    filled round levels with their own colour bar; cells that are not ok grey, counted below."""
+    filled round levels with their own colour bar; cells that are not ok grey, counted below. Where
+    the largest values (near the frame's edges, where the platform hangs on few taut cables) exceed
+    DPHI_TAIL times the 75th percentile, the levels stop at that percentile and the title says so:
+    else the interior, where the platform works, is one colour."""
     ok = (df.status == "ok").to_numpy()
     xs, ys, Z = _grid(df, np.where(ok, df["dphi"] * DPHI_SCALE, np.nan))
     ax.set_facecolor(NOT_OK_COLOUR)
     if np.isfinite(Z).any():
-        _labelled_contours(fig, ax, xs, ys, Z, "magma", DPHI_LABEL)
+        q75 = float(np.nanpercentile(Z, 75))
+        top = q75 if np.nanmax(Z) > DPHI_TAIL * q75 else None
+        _labelled_contours(fig, ax, xs, ys, Z, "magma", DPHI_LABEL, top=top)
+        if top is not None:
+            title += f"\nlevels to the 75th percentile; max {np.nanmax(Z):.3g} {DPHI_UNIT}"
     _anchors(ax, A)
     ax.set(xlabel="x [m]", ylabel="y [m]", title=title, aspect="equal")
     ax.title.set_fontsize(9)

@@ -3,9 +3,10 @@
 import time
 
 import matplotlib.pyplot as plt
+import numpy as np
 
 from cdpr import table_io
-from cdpr.pipeline import plots
+from cdpr.pipeline import figure_checks, plots
 
 
 def test_same_figure_gives_same_bytes(tmp_path):
@@ -206,3 +207,29 @@ def test_spatial_tables_get_dphi_panels_with_their_unit(tmp_path, monkeypatch):
                 assert not lab or "[" in lab, lab
     ax_doe = figs[3].axes
     assert not any("paper" in t.get_text() for ax in ax_doe for t in ax.texts)  # no paper markers
+
+
+def test_colliding_contour_labels_are_hidden_and_others_kept():
+    x = np.linspace(0, 1, 60)
+    X, Y = np.meshgrid(x, x)
+    # a steep rim: forty levels crowd into the last few percent of the panel
+    Z = np.exp(40 * (X - 1))
+    fig, ax = plt.subplots(figsize=(4, 4))
+    ax.set(xlabel="x [m]", ylabel="y [m]")
+    cs = ax.contour(X, Y, Z, levels=np.linspace(0.02, 0.98, 40))
+    labels = ax.clabel(cs, fmt="%.2f", fontsize=8)
+    before = figure_checks.layout_problems(fig)
+    assert any("overlap" in p for p in before)
+    rec = plots.audit(fig)
+    assert not [p for p in rec["problems"] if "overlap" in p], rec["problems"]
+    shown = [t for t in labels if t.get_visible()]
+    assert 0 < len(shown) < len(labels)
+    plt.close(fig)
+    # well separated labels are all kept
+    fig, ax = plt.subplots(figsize=(4, 4))
+    ax.set(xlabel="x [m]", ylabel="y [m]")
+    cs = ax.contour(X, Y, X, levels=[0.25, 0.5, 0.75])
+    labels = ax.clabel(cs, fmt="%.2f")
+    plots.audit(fig)
+    assert all(t.get_visible() for t in labels)
+    plt.close(fig)
