@@ -45,7 +45,6 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import yaml
-from scipy.linalg import qr
 from scipy.optimize import least_squares
 
 from cdpr.analyses.workspace import check_box, grid_points
@@ -964,7 +963,7 @@ def identifiability(Jm, names, rank_tol=RANK_TOL):
     null = s <= rank_tol * smax if smax > 0 else np.ones(k, dtype=bool)
     if null.any():  # a degenerate null space: a sparse basis (reduced row echelon form) reads best
         words += [direction_words(v, names, 0.0, True) for v in sparse_basis(Vt[null])]
-    for i in np.argsort(s):
+    for i in np.argsort(s, kind="stable"):
         if s[i] >= 1.0:
             break
         if not null[i]:
@@ -982,8 +981,15 @@ def identifiability(Jm, names, rank_tol=RANK_TOL):
 
 def sparse_basis(B):
     """A basis of the row space of B (r, k) with one pivot parameter per vector (reduced row echelon
-    form by QR with column pivoting), each row normalised: e.g. the directions d_i - offset_i one by
-    one instead of an arbitrary rotation of them.
+    form), each row normalised: e.g. the directions d_i - offset_i one by one instead of an
+    arbitrary rotation of them.
+
+    The pivots are chosen greedily, each the parameter whose column has the largest norm left after
+    projecting out the pivots already chosen (column-pivoted Gram-Schmidt). The norms are rounded
+    to ``TIE_DIGITS`` significant digits relative to the largest before ranking and ties go to the
+    first parameter, so that equal loadings (a symmetric robot's d_1 - offset_1, d_2 - offset_2,
+    ...) give the same basis, in the same order, on every machine. The result depends only on the
+    row space of B, not on which orthonormal basis of it B holds.
 
     Parameters
     ----------
@@ -996,9 +1002,40 @@ def sparse_basis(B):
     """
 
     r = B.shape[0]
-    _, _, piv = qr(B, pivoting=True)
-    V = np.linalg.solve(B[:, piv[:r]], B)
+    Q = np.array(B, dtype=float)  # columns of B, orthogonalised against the chosen pivots
+    piv = []
+    for _ in range(r):
+        norms = np.linalg.norm(Q, axis=0)
+        norms[piv] = 0.0
+        j = _first_max(norms)
+        piv.append(j)
+        q = Q[:, j] / norms[j]
+        Q -= np.outer(q, q @ Q)
+    V = np.linalg.solve(B[:, piv], B)
+    V[:, piv] = np.eye(r)  # exact zeros and ones at the pivots (no round-off left to rank on)
     return V / np.linalg.norm(V, axis=1, keepdims=True)
+
+
+#: Significant digits kept when ranking loadings: closer values are a tie, broken by parameter order.
+TIE_DIGITS = 6
+
+
+def _first_max(values):
+    """Index of the largest of ``values`` (>= 0) after rounding to ``TIE_DIGITS`` significant digits
+    relative to the largest; ties go to the lowest index."""
+    top = float(np.max(values))
+    if top <= 0:
+        return 0
+    return int(np.argmax(np.round(np.asarray(values) / top, TIE_DIGITS)))
+
+
+def _ranked(v):
+    """Parameter indices by decreasing |v|, rounded to ``TIE_DIGITS`` significant digits relative to
+    the largest; ties in parameter order."""
+    a = np.abs(np.asarray(v, dtype=float))
+    top = a.max() if len(a) else 0.0
+    key = np.round(a / top, TIE_DIGITS) if top > 0 else a
+    return np.lexsort((np.arange(len(a)), -key))
 
 
 def direction_words(v, names, s, null):
@@ -1019,7 +1056,7 @@ def direction_words(v, names, s, null):
     -------
     str, e.g. "d_1 against offset_1 (not seen by the data)".
     """
-    order = np.lexsort((np.arange(len(v)), -np.round(np.abs(v), 6)))  # ties: the first parameter leads
+    order = _ranked(v)  # ties: the first parameter leads
     lead = order[0]
     big = [j for j in order[1:5] if abs(v[j]) >= 0.2 * abs(v[lead])]
     # along v the data do not change: opposite signs move against each other, equal signs together
