@@ -1,5 +1,6 @@
-"""Calibration figures and the calibration study (issue 18): a seeded true CDPR4, synthetic tracker
-data, calibrations with models of increasing fidelity, and their errors on a validation set.
+"""Calibration figures and the calibration study (issue 18): a seeded true CDPR4 (with winches),
+synthetic tracker data, calibrations with models of increasing fidelity, and their errors on a
+validation set.
 
 Figures (``calibration_figures``): residuals before/after per sample, estimates with their 95 %
 intervals against the prior, the posterior correlation matrix.
@@ -172,9 +173,10 @@ def _uniform(rng, box, n):
 
 
 def run_calibration_study(study_path, out):
-    """The calibration study of issue 18: a seeded true CDPR4, synthetic tracker data, calibrations
-    with the standard, pulley and pulley + elasticity models, each predicting and compensating a
-    validation set over RW_C; learning curves (random and D-optimal poses); encoder data with and
+    """The calibration study of issue 18: a seeded true CDPR4 (with the study's ``winch`` on every
+    cable, commanded through a controller that neglects the exit point's motion), synthetic tracker
+    data, calibrations with the standard, pulley, pulley + elasticity and (with a winch) pulley +
+    elasticity + winch models, each predicting and compensating a validation set over RW_C; learning curves (random and D-optimal poses); encoder data with and
     without tensions. Writes headline.csv/.md, learning_curve.csv/.png, encoder.csv,
     identifiability.md, parameters.csv and the exact fit's figures under ``out``.
 
