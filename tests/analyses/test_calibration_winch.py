@@ -1,7 +1,8 @@
 """Calibration of a robot with winches (cdpr.analyses.calibration on a robot file with ``winch:``): the
 commanded lengths go through the drums' map (cdpr.models.drive.realised_rest_lengths) before the
 equilibrium; the Jacobian carries its chain rule; a model without the drums cannot reach the noise
-floor, the model with them recovers the truth."""
+floor, the model with them recovers the truth. The numpy engine throughout (the compiled one's
+first call costs a JIT compile of about a minute on the 2-core machine; the engines are twins)."""
 
 import numpy as np
 import pytest
@@ -16,6 +17,7 @@ from cdpr.robot import load_robot
 from tests.conftest import ROBOTS
 
 BOX = [-1.8, 1.8, -1.8, 1.8, 0.8, 3.5]
+NP = "numpy"
 
 
 @pytest.fixture(scope="module")
@@ -33,11 +35,11 @@ def test_jacobian_through_the_winch_equals_central_differences(cdpr4w):
     Problem.residual, which re-maps the commands and re-solves every equilibrium."""
     groups = ["anchors", "dead_lengths", "offsets", "pulleys", "moduli", "mass"]
     rng = np.random.default_rng(6)
-    data = cal.simulate(cdpr4w, cdpr4w, _poses(rng, 6), offsets=np.zeros(4), tensions=True)
+    data = cal.simulate(cdpr4w, cdpr4w, _poses(rng, 6), offsets=np.zeros(4), tensions=True, engine=NP)
     data.pose[::2] = np.nan  # half with tensions only
     idx = select_groups(cdpr4w, groups)
     sd = cal.prior_sd(cdpr4w, idx, cal.parse_priors(None))
-    prob = cal.Problem(cdpr4w, data, idx, sd, solver={"tol": 1e-14})
+    prob = cal.Problem(cdpr4w, data, idx, sd, solver={"tol": 1e-14}, engine=NP)
     assert prob.winch
     z = 0.3 * rng.standard_normal(len(idx))
     ev = prob.evaluate(z)
@@ -52,7 +54,7 @@ def test_jacobian_through_the_winch_equals_central_differences(cdpr4w):
     err = np.abs(J - fd).max(axis=0) / scale
     assert err.max() < 1e-5, (calibration_names(4)[idx[int(np.argmax(err))]], err.max())
     # the chain rule matters: without it the offset and dead-length columns would be off by more
-    no_winch = cal.Problem(cal.without_winches(cdpr4w), data, idx, sd, solver={"tol": 1e-14})
+    no_winch = cal.Problem(cal.without_winches(cdpr4w), data, idx, sd, solver={"tol": 1e-14}, engine=NP)
     J0 = no_winch.jacobian(z)
     assert (np.abs(J0 - fd).max(axis=0) / scale).max() > 1e-4
 
@@ -67,12 +69,12 @@ def test_the_winch_model_recovers_the_truth_the_drumless_model_cannot(cdpr4w):
     sd = cal.prior_sd(cdpr4w, idx, cal.parse_priors(None))
     truth, th = cal.perturbed(cdpr4w, idx, sd, rng)
     assert truth.winches == cdpr4w.winches
-    data = cal.simulate(truth, cdpr4w, _poses(rng, 40), sigma=1e-9)
-    c = cal.fit(cdpr4w, data, groups, solver={"tol": 1e-13})
+    data = cal.simulate(truth, cdpr4w, _poses(rng, 40), sigma=1e-9, engine=NP)
+    c = cal.fit(cdpr4w, data, groups, solver={"tol": 1e-13}, engine=NP)
     rel = np.abs(c.estimate - th[idx]) / np.abs(th[idx])
     assert rel.max() < 1e-6, (c.names[int(np.argmax(rel))], rel.max())
     assert c.summary()["residual_rms_m"] < 1e-9
-    blind = cal.fit(cal.without_winches(cdpr4w), data, groups, solver={"tol": 1e-13})
+    blind = cal.fit(cal.without_winches(cdpr4w), data, groups, solver={"tol": 1e-13}, engine=NP)
     assert blind.summary()["residual_rms_m"] > 1e-5
 
 
@@ -81,10 +83,10 @@ def test_simulate_and_check_go_through_the_drums(cdpr4w):
     with the robot file's winch predicts them exactly, the drumless robot is off by the winch error."""
     rng = np.random.default_rng(8)
     P = _poses(rng, 20)
-    data = cal.simulate(cdpr4w, cdpr4w, P, sigma=1e-9)
+    data = cal.simulate(cdpr4w, cdpr4w, P, sigma=1e-9, engine=NP)
     np.testing.assert_array_equal(data.L, L_TS(cdpr4w, P)[: len(data.L)])
-    assert cal.check(cdpr4w, data)["max_m"] < 1e-7
-    off = cal.check(cal.without_winches(cdpr4w), data)
+    assert cal.check(cdpr4w, data, engine=NP)["max_m"] < 1e-7
+    off = cal.check(cal.without_winches(cdpr4w), data, engine=NP)
     assert off["median_m"] > 1e-4
     L0, _, _ = realised_rest_lengths(cdpr4w, data.L)
     assert np.abs(L0 - data.L).max() > 5e-4
@@ -95,18 +97,18 @@ def test_compensation_through_the_drums(cdpr4w):
     the target; a drumless model's commands leave the winch error."""
     p = np.array([[0.3, -0.4, 1.5], [-1.0, 0.8, 2.5]])
     ex = cal.executed_lengths(cdpr4w, cdpr4w)
-    good = compensated_pose(cdpr4w, p, actual=cdpr4w, realise=ex)
+    good = compensated_pose(cdpr4w, p, actual=cdpr4w, realise=ex, engine=NP)
     assert (good["status"] == "ok").all() and good["dp"].max() < 1e-8
     blind = cal.without_winches(cdpr4w)
-    bad = compensated_pose(blind, p, actual=cdpr4w, realise=cal.executed_lengths(blind, cdpr4w))
+    bad = compensated_pose(blind, p, actual=cdpr4w, realise=cal.executed_lengths(blind, cdpr4w), engine=NP)
     assert bad["dp"].min() > 1e-4
     assert cal.executed_lengths(blind, blind) is None
 
 
 def test_write_robot_keeps_the_winch(cdpr4w, tmp_path):
     rng = np.random.default_rng(9)
-    data = cal.simulate(cdpr4w, cdpr4w, _poses(rng, 10), sigma=1e-9)
-    c = cal.fit(cdpr4w, data, ["dead_lengths"])
+    data = cal.simulate(cdpr4w, cdpr4w, _poses(rng, 10), sigma=1e-9, engine=NP)
+    c = cal.fit(cdpr4w, data, ["dead_lengths"], engine=NP)
     cal.write_robot(tmp_path / "r.yaml", c, "x.csv")
     back = load_robot(tmp_path / "r.yaml")
     assert back.winches == cdpr4w.winches
