@@ -14,6 +14,13 @@ Models (``MODELS``): ``exact`` is the robot file as it is (pulley kinematics and
 rigid, realised as the physical equilibrium with E multiplied by ``STANDARD_STIFFENING`` (the
 stretch drops below a micrometre; the redundant robot still settles on its taut cables).
 
+Winches: on a robot file with ``winch:`` (every cable) the data's lengths are the rest lengths the
+controller was asked for; it turns each drum to the angle of the model that neglects the exit
+point's motion (Métillon 2022 eq. 32), so the drum realises L0 = W(L_cmd) =
+``drive.realised_rest_lengths`` (the length error δl of eq. 31). The exact model maps every
+command through W before the equilibrium and its Jacobian carries the chain rule (dL0/dL_cmd on the
+offsets, dL0/dd on the dead lengths); the standard model knows no drum (``without_winches``).
+
 Encoder data (``L_enc1..L_encm`` = rest length + an unknown offset per cable): with elastic cables
 and no measured tension every set of lengths has an equilibrium for every θ, so a sample without a
 measured pose gives no equation in the exact model; such samples are counted and left out, and
@@ -45,12 +52,12 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import yaml
-from scipy.linalg import qr
 from scipy.optimize import least_squares
 
 from cdpr.analyses.workspace import check_box, grid_points
 from cdpr.errors import CdprError, ConfigError
 from cdpr.models.distribution6 import compensated_lengths
+from cdpr.models.drive import commanded_for, has_winches, realised_rest_lengths
 from cdpr.models.equilibrium6 import L_TS_pose, pose_arrays, solve_spatial
 from cdpr.models.inverse import L_TS
 from cdpr.models.platform import rotation_matrix, rotvec_of, skew
@@ -76,6 +83,7 @@ from cdpr.parameters import (
     robot_with_parameters6,
     select_groups,
 )
+from cdpr.robot import _PARAM_KEYS as WINCH_KEYS
 from cdpr.robot import with_pulleys
 from cdpr.solve import sensitivities
 from cdpr.units import quantity
@@ -114,6 +122,8 @@ RANK_TOL = 1e-9
 IDENTIFIED, PARTLY = 0.3, 0.8
 #: Normalised residual above which a sample counts as an outlier of the robust loss.
 OUTLIER = 3.0
+#: Status of a sample whose commanded length the drum cannot pay out (a robot with winches).
+DRUM_RANGE = "outside the drum's range"
 
 
 # --- priors ---------------------------------------------------------------------------------------
@@ -491,10 +501,43 @@ def model_robot(robot, model):
         raise CdprError(f"unknown model {model!r}; allowed: {', '.join(MODELS)}")
     if model == "exact":
         return robot
-    rigid = robot if model == "rigid" else with_pulleys(robot, kind="fixed", h=0.0, r_p=0.0)
+    rigid = robot if model == "rigid" else without_winches(with_pulleys(robot, kind="fixed", h=0.0, r_p=0.0))
     th = parameter_values(rigid)
     th[: robot.m] *= STANDARD_STIFFENING
     return robot_with_parameters(rigid, th)
+
+
+def without_winches(robot):
+    """The robot with its winches removed: the commanded lengths are then the rest lengths (the
+    standard model knows no drum)."""
+    if all(w is None for w in robot.winches):
+        return robot
+    return dataclasses.replace(robot, cables=tuple(dataclasses.replace(c, winch=None) for c in robot.cables))
+
+
+def realised_lengths(robot, L_cmd):
+    """The rest lengths ``robot`` realises under the commanded lengths L_cmd (N, m) [m]: L_cmd itself
+    without winches, ``drive.realised_rest_lengths`` with them (the robot file's ``winch:``; NaN
+    where the drum cannot pay the length out)."""
+    if not has_winches(robot):
+        return np.asarray(L_cmd, dtype=float)
+    return realised_rest_lengths(robot, L_cmd)[0]
+
+
+def executed_lengths(model, actual):
+    """The map from the rest lengths a compensating ``model`` wants to those the ``actual`` robot
+    realises: a model with winches asks the no-winch controller for ``drive.commanded_for`` its
+    wanted lengths (it knows the drums), a model without takes its rest lengths as the commands;
+    the actual robot's drums then pay out ``realised_lengths``. None when neither has winches (the
+    identity)."""
+    if not (has_winches(model) or has_winches(actual)):
+        return None
+
+    def execute(L0):
+        L_cmd = commanded_for(model, L0) if has_winches(model) else L0
+        return realised_lengths(actual, L_cmd)
+
+    return execute
 
 
 def offset_sensitivities(robot, P, L0):
@@ -560,6 +603,8 @@ class Problem:
         self.solver = dict(solver or {})
         self.m = robot.m
         self.theta0 = calibration_values(robot)
+        #: a robot file with ``winch:``: the commanded lengths are mapped through the drums
+        self.winch = has_winches(robot)
         self._cache = None
         pose, tens = np.flatnonzero(data.has_pose), np.flatnonzero(data.has_tension)
         #: the sample of every measurement row
@@ -582,20 +627,38 @@ class Problem:
         m = self.m
         rob = robot_with_parameters(self.robot, th[: 7 * m + 1])
         L0 = data.L - th[7 * m + 1 :]
+        if self.winch:  # the commanded lengths go through the drums (drive.realised_rest_lengths)
+            L0, w_L, w_d = realised_rest_lengths(rob, L0)
         start = np.where(data.has_pose[:, None], data.pose, _centre(rob))
-        res = sensitivities(rob, start, redundancy="physical", L=L0, engine=self.engine, **self.solver)
+        drum = np.isfinite(L0).all(axis=1)
+        res = sensitivities(
+            rob,
+            start,
+            redundancy="physical",
+            L=np.where(drum[:, None], L0, data.L),
+            engine=self.engine,
+            **self.solver,
+        )
+        if not drum.all():  # a command the drum cannot pay out: no equilibrium, flagged by the fit
+            res["status"] = np.where(drum, res["status"], DRUM_RANGE)
+            res["P_s"][~drum] = np.nan
         S = np.zeros((len(start), 3, len(th)))
         S[:, :, : 7 * m + 1] = res["S"]
         ok = res["status"] == "ok"
-        need_off = (self.index >= 7 * m + 1).any() or len(self._tens)
+        need_off = (self.index >= 7 * m + 1).any() or len(self._tens) or self.winch
         if need_off and ok.any():
             S[ok, :, 7 * m + 1 :] = offset_sensitivities(rob, res["P_s"][ok], L0[ok])
+        if self.winch:  # chain rule: dP/do_i = -dP/dL0_i dL0_i/dL_cmd,i, dP/dd_i += dP/dL0_i dL0_i/dd_i
+            SL0 = -S[:, :, 7 * m + 1 :].copy()
+            S[:, :, 7 * m + 1 :] = -SL0 * w_L[:, None, :]
+            S[:, :, 3 * m : 4 * m] += SL0 * w_d[:, None, :]
         out = {"P": res["P_s"], "status": res["status"], "smooth": res["smooth"], "S": S[:, :, self.index]}
         if len(self._tens):
             t = np.full((len(start), m), np.nan)
             St = np.full((len(start), m, len(th)), np.nan)
             if ok.any():
-                t[ok], St[ok] = tension_sensitivities(rob, res["P_s"][ok], L0[ok], S[ok])
+                w = (w_L[ok], w_d[ok]) if self.winch else (None, None)
+                t[ok], St[ok] = tension_sensitivities(rob, res["P_s"][ok], L0[ok], S[ok], *w)
             out["t"], out["St"] = t, St[:, :, self.index]
         self._cache = (key, out)
         return out
@@ -838,7 +901,7 @@ def solve6(robot, P, L0, rotvec=None, solver=None):
     return res
 
 
-def tension_sensitivities(robot, P, L0, S):
+def tension_sensitivities(robot, P, L0, S, w_L=None, w_d=None):
     r"""Cable tensions at the equilibrium and their total derivatives by the calibration parameters.
 
     .. math:: t_i = k_i\,a_i\,(L_{TE,i}(P^*) - L0_i),\quad k_i = \frac{E_i S_i}{L0_i},\quad
@@ -847,7 +910,9 @@ def tension_sensitivities(robot, P, L0, S):
               + \frac{\partial k_i}{\partial \theta}(L_{TE,i} - L0_i)\right]
 
     with ∂k_i/∂E_i = k_i / E_i, and for the encoder offset o_i (L0_i = reading - o_i)
-    ∂(L_TE,i - L0_i)/∂o_i = 1, ∂k_i/∂o_i = k_i / L0_i.
+    ∂(L_TE,i - L0_i)/∂o_i = 1, ∂k_i/∂o_i = k_i / L0_i. Through a winch (L0_i = W(reading - o_i, d_i),
+    ``drive.realised_rest_lengths``) the offset terms are multiplied by ∂W/∂L_cmd and the dead length
+    gets ∂t_i/∂L0_i ∂W/∂d_i, ∂t_i/∂L0_i = -(k_i + k_i (L_TE,i - L0_i) / L0_i).
 
     Parameters
     ----------
@@ -858,6 +923,8 @@ def tension_sensitivities(robot, P, L0, S):
         Rest lengths.
     S : ndarray, shape (n, 3, 8 m + 1)
         dP*/dθ of every calibration parameter (``calibration_names``).
+    w_L, w_d : ndarray, shape (n, m) [m/m], optional
+        dL0/dL_cmd and dL0/dd of the winch map (None: no winch).
 
     Returns
     -------
@@ -882,7 +949,12 @@ def tension_sensitivities(robot, P, L0, S):
         geo = [m + c, 2 * m + c, 3 * m + c, 4 * m + 3 * c, 4 * m + 3 * c + 1, 4 * m + 3 * c + 2]
         dt[:, c, geo] += k[:, c, None] * cp.dL[:, c]
         dt[:, c, c] += k[:, c] * e[:, c] / a.E[c]
-        dt[:, c, 7 * m + 1 + c] += k[:, c] + k[:, c] * e[:, c] / L0[:, c]
+        dt_dL0 = -(k[:, c] + k[:, c] * e[:, c] / L0[:, c])
+        if w_L is None:
+            dt[:, c, 7 * m + 1 + c] -= dt_dL0
+        else:
+            dt[:, c, 7 * m + 1 + c] -= dt_dL0 * w_L[:, c]
+            dt[:, c, 3 * m + c] += dt_dL0 * w_d[:, c]
     return t, dt * taut[..., None]
 
 
@@ -964,7 +1036,7 @@ def identifiability(Jm, names, rank_tol=RANK_TOL):
     null = s <= rank_tol * smax if smax > 0 else np.ones(k, dtype=bool)
     if null.any():  # a degenerate null space: a sparse basis (reduced row echelon form) reads best
         words += [direction_words(v, names, 0.0, True) for v in sparse_basis(Vt[null])]
-    for i in np.argsort(s):
+    for i in np.argsort(s, kind="stable"):
         if s[i] >= 1.0:
             break
         if not null[i]:
@@ -982,8 +1054,15 @@ def identifiability(Jm, names, rank_tol=RANK_TOL):
 
 def sparse_basis(B):
     """A basis of the row space of B (r, k) with one pivot parameter per vector (reduced row echelon
-    form by QR with column pivoting), each row normalised: e.g. the directions d_i - offset_i one by
-    one instead of an arbitrary rotation of them.
+    form), each row normalised: e.g. the directions d_i - offset_i one by one instead of an
+    arbitrary rotation of them.
+
+    The pivots are chosen greedily, each the parameter whose column has the largest norm left after
+    projecting out the pivots already chosen (column-pivoted Gram-Schmidt). The norms are rounded
+    to ``TIE_DIGITS`` significant digits relative to the largest before ranking and ties go to the
+    first parameter, so that equal loadings (a symmetric robot's d_1 - offset_1, d_2 - offset_2,
+    ...) give the same basis, in the same order, on every machine. The result depends only on the
+    row space of B, not on which orthonormal basis of it B holds.
 
     Parameters
     ----------
@@ -996,9 +1075,40 @@ def sparse_basis(B):
     """
 
     r = B.shape[0]
-    _, _, piv = qr(B, pivoting=True)
-    V = np.linalg.solve(B[:, piv[:r]], B)
+    Q = np.array(B, dtype=float)  # columns of B, orthogonalised against the chosen pivots
+    piv = []
+    for _ in range(r):
+        norms = np.linalg.norm(Q, axis=0)
+        norms[piv] = 0.0
+        j = _first_max(norms)
+        piv.append(j)
+        q = Q[:, j] / norms[j]
+        Q -= np.outer(q, q @ Q)
+    V = np.linalg.solve(B[:, piv], B)
+    V[:, piv] = np.eye(r)  # exact zeros and ones at the pivots (no round-off left to rank on)
     return V / np.linalg.norm(V, axis=1, keepdims=True)
+
+
+#: Significant digits kept when ranking loadings: closer values are a tie, broken by parameter order.
+TIE_DIGITS = 6
+
+
+def _first_max(values):
+    """Index of the largest of ``values`` (>= 0) after rounding to ``TIE_DIGITS`` significant digits
+    relative to the largest; ties go to the lowest index."""
+    top = float(np.max(values))
+    if top <= 0:
+        return 0
+    return int(np.argmax(np.round(np.asarray(values) / top, TIE_DIGITS)))
+
+
+def _ranked(v):
+    """Parameter indices by decreasing |v|, rounded to ``TIE_DIGITS`` significant digits relative to
+    the largest; ties in parameter order."""
+    a = np.abs(np.asarray(v, dtype=float))
+    top = a.max() if len(a) else 0.0
+    key = np.round(a / top, TIE_DIGITS) if top > 0 else a
+    return np.lexsort((np.arange(len(a)), -key))
 
 
 def direction_words(v, names, s, null):
@@ -1019,7 +1129,7 @@ def direction_words(v, names, s, null):
     -------
     str, e.g. "d_1 against offset_1 (not seen by the data)".
     """
-    order = np.lexsort((np.arange(len(v)), -np.round(np.abs(v), 6)))  # ties: the first parameter leads
+    order = _ranked(v)  # ties: the first parameter leads
     lead = order[0]
     big = [j for j in order[1:5] if abs(v[j]) >= 0.2 * abs(v[lead])]
     # along v the data do not change: opposite signs move against each other, equal signs together
@@ -1105,6 +1215,11 @@ def fit(robot, data, groups, priors=None, model="exact", loss="linear", engine="
     if model == "standard" and data.encoder and not (data.has_pose | data.has_tension).any():
         return self_calibrate_standard(robot, data, groups, priors)
     base = model_robot(robot, model)
+    if is_spatial(base) and has_winches(base):
+        raise CdprError(
+            f"{robot.source}: the winch map (winch:) is implemented for point-mass robots only; remove "
+            "'winch:' or use --model standard"
+        )
     index = select_groups(robot, groups)
     check_model_groups(base, model, groups, data)
     sd = prior_sd(base, index, priors)
@@ -1330,6 +1445,11 @@ class Calibration:
         }
 
 
+def _winch_mapping(w):
+    """A cable's WinchParams as the robot file's ``winch:`` keys (plain SI numbers)."""
+    return {key: float(getattr(w, attr)) for key, (attr, _unit) in WINCH_KEYS.items()}
+
+
 def _json_float(x):
     return float(x) if math.isfinite(x) else None
 
@@ -1368,6 +1488,7 @@ def write_robot(path, cal, data_source):
                 "pulley": pul,
                 "cable": mat,
                 "dead_length_m": float(c.dead_length),
+                **({"winch": _winch_mapping(c.winch)} if c.winch is not None else {}),
             }
         )
     first = rob.cables[0]
@@ -1410,8 +1531,17 @@ def check(robot, data, engine="compiled"):
     if data.encoder:
         raise CdprError(f"{data.source}: check needs commanded lengths L1..L{robot.m}, not encoder readings")
     if is_spatial(robot):
+        if has_winches(robot):
+            raise CdprError(
+                f"{robot.source}: the winch map (winch:) is implemented for point-mass robots only"
+            )
         return _check6(robot, data)
-    res = sensitivities(robot, data.pose, redundancy="physical", L=data.L, engine=engine)
+    L0 = realised_lengths(robot, data.L)
+    drum = np.isfinite(L0).all(axis=1)
+    res = sensitivities(
+        robot, data.pose, redundancy="physical", L=np.where(drum[:, None], L0, data.L), engine=engine
+    )
+    res["status"] = np.where(drum, res["status"], DRUM_RANGE)
     ok = res["status"] == "ok"
     err = np.linalg.norm(res["P_s"] - data.pose, axis=1)
     e = err[ok]
@@ -1471,7 +1601,9 @@ def simulate(
     command="standard",
 ):
     """Synthetic tracker data: the lengths the nominal robot would command to reach P (L_TS, eq. 2),
-    the pose where the true robot settles under them, plus Gaussian noise.
+    the pose where the true robot settles under them, plus Gaussian noise. A true robot with
+    winches realises the commands through its drums (``realised_lengths``: a controller that
+    neglects the exit point's motion, Métillon 2022 eq. 31-32); the data keep the commands.
 
     Parameters
     ----------
@@ -1502,13 +1634,19 @@ def simulate(
         With status "ok" samples only (the others are dropped here: this is the simulator, not the fit).
     """
     if is_spatial(truth):
+        if has_winches(truth):
+            raise CdprError(
+                f"{truth.source}: the winch map (winch:) is implemented for point-mass robots only"
+            )
         if tensions:
             raise CdprError("simulate: tension data are not supported for a 6-DoF platform")
         return _simulate6(truth, nominal, P, rotvec, sigma, sigma_rad, rng, offsets, command)
     _check_command(command, truth)
     L0 = L_TS(nominal, P)
-    res = sensitivities(truth, P, redundancy="physical", L=L0, engine=engine)
-    ok = (res["status"] == "ok") & res["smooth"]
+    L_real = realised_lengths(truth, L0)  # through the true robot's drums when it has winches
+    drum = np.isfinite(L_real).all(axis=1)
+    res = sensitivities(truth, P, redundancy="physical", L=np.where(drum[:, None], L_real, L0), engine=engine)
+    ok = (res["status"] == "ok") & res["smooth"] & drum
     y = res["P_s"][ok]
     if rng is not None:
         y = y + rng.normal(0.0, sigma, y.shape)
@@ -1636,8 +1774,10 @@ def candidates(robot, box, n_axis=7, model="exact", engine="compiled", targets=F
         P6 = np.concatenate([res["P_s"], res["rotvec_s"]], axis=1)
         return (P6[ok], L0[ok], p[ok]) if targets else (P6[ok], L0[ok])
     L0 = L_TS(robot, p)
-    res = sensitivities(base, p, redundancy="physical", L=L0, engine=engine)
-    ok = (res["status"] == "ok") & res["smooth"] & (res["n_taut"] >= 3)
+    L_real = realised_lengths(base, L0)  # through the drums of a robot with winches
+    drum = np.isfinite(L_real).all(axis=1)
+    res = sensitivities(base, p, redundancy="physical", L=np.where(drum[:, None], L_real, L0), engine=engine)
+    ok = (res["status"] == "ok") & res["smooth"] & (res["n_taut"] >= 3) & drum
     if targets:
         return res["P_s"][ok], L0[ok], p[ok]
     return res["P_s"][ok], L0[ok]

@@ -135,6 +135,7 @@ def compensated_pose(
     t_min=T_MIN_DEFAULT,
     t_max=None,
     solver=None,
+    realise=None,
     **options,
 ):
     """Compensate with ``robot``, then let the platform settle on the ``actual`` robot.
@@ -156,6 +157,10 @@ def compensated_pose(
         ``solve.check_engine``: None is compiled; another value raises CdprError.
     solver : dict, optional
         Options of the physical solve (tol, maxiter, max_step).
+    realise : callable, optional
+        L0 (k, m) [m] -> the rest lengths the actual robot realises (k, m) [m] under those commands,
+        NaN where it cannot (e.g. through its drums, ``calibration.executed_lengths``); default the
+        identity. Points it cannot realise are ``infeasible``.
 
     Returns
     -------
@@ -169,8 +174,13 @@ def compensated_pose(
         raise ValueError(f"the actual robot has {actual.m} cables, the model {robot.m}")
     comp = compensate(robot, p, method=method, t_min=t_min, t_max=t_max, engine=engine, **options)
     ok = comp["feasible"]
+    L_act = comp["L0"]
+    if realise is not None:
+        L_act = np.full(comp["L0"].shape, np.nan)
+        L_act[ok] = realise(comp["L0"][ok])
+        ok = ok & np.isfinite(L_act).all(axis=1)
     res = solve_points_any(
-        actual, p[ok], engine=engine, redundancy="physical", L0=comp["L0"][ok], **(solver or {})
+        actual, p[ok], engine=engine, redundancy="physical", L0=L_act[ok], **(solver or {})
     )
     n, m = len(p), robot.m
     out = {"p": p}

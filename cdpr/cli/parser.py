@@ -216,7 +216,9 @@ def calibrate_parser(subparsers):
         "--model",
         choices=CALIBRATION_MODELS,
         default="exact",
-        help="exact: pulleys and elastic cables (default); standard: straight lines to fixed points, rigid cables",
+        help="exact: pulleys and elastic cables (default), and on a robot file with winch: the drums (the lengths "
+        "are the controller's commands, realised through the no-winch drum model); standard: straight lines to "
+        "fixed points, rigid cables, no drums",
     )
     sp.add_argument(
         "--loss",

@@ -103,3 +103,100 @@ def rest_lengths_from_angles(robot, q, model="winch"):
         f = winch.l_pm_of_q if model == "winch" else winch.l_pm_of_q_no_winch
         out[:, i] = robot.d[i] + f(p, q[:, i])
     return out
+
+
+def has_winches(robot):
+    """True when every cable of ``robot`` has a winch (the robot file's ``winch:``), False when none
+    has; a robot with winches on some cables only raises CdprError (``_winches``)."""
+    ws = robot.winches
+    if all(w is None for w in ws):
+        return False
+    _winches(robot)
+    return True
+
+
+def realised_rest_lengths(robot, L_cmd):
+    """Rest lengths the drums realise when a controller that neglects the exit point's motion is
+    asked for the rest lengths L_cmd, and their derivatives.
+
+    The controller turns drum i to q_nw,i = q0 + (l_pm0 - (L_cmd,i - d_i)) / k_w (eq. 32); the drum's
+    true geometry then pays out l_pm(q_nw) = l_u0 + k_w (q0 - q_nw) - |e(q_nw) - a| (eq. 14-17, 22),
+    so the realised rest length is
+
+    .. math:: L0_i = d_i + l_{pm}(q_{nw,i}) = L_{cmd,i} + l_{AE}(q_0) - l_{AE}(q_{nw,i}),
+
+    .. math:: \\frac{\\partial L0_i}{\\partial L_{cmd,i}} = 1 + \\frac{l_{AE}'(q_{nw,i})}{k_w},
+              \\quad \\frac{\\partial L0_i}{\\partial d_i} = -\\frac{l_{AE}'(q_{nw,i})}{k_w},
+              \\quad l_{AE}'(q) = \\frac{s'(l_{AE_1}\\cos\\alpha_{E_1} + s)}{l_{AE}(q)},
+              \\quad s = \\frac{q}{q_{max}} l_{E_1E_2},\\ s' = \\frac{l_{E_1E_2}}{q_{max}}.
+
+    L0 - L_cmd is the winch's length error: to first order in l_AE'/k_w it is δl = k_w (q1 - q_nw)
+    (eq. 31, ``winch.length_error``; 1.47 mm at l_pm = 0 to -0.82 mm at 5 m with Table 1). The
+    dead length d_i is the robot's own (the commanded lengths are rest lengths in the robot's
+    frame, as without a winch).
+
+    Parameters
+    ----------
+    robot : Robot
+        Every cable needs a winch.
+    L_cmd : array_like, shape (N, m) [m]
+        Commanded rest lengths, winch exit to platform.
+
+    Returns
+    -------
+    L0 : ndarray, shape (N, m) [m]
+        Realised rest lengths; NaN where q_nw leaves [0, q_max] (the drum cannot pay that out).
+    dL0_dL : ndarray, shape (N, m) [m/m]
+        dL0_i / dL_cmd,i.
+    dL0_dd : ndarray, shape (N, m) [m/m]
+        dL0_i / dd_i at fixed L_cmd.
+
+    References
+    ----------
+    Métillon et al. 2022, eq. (12), (14)-(17), (22), (31)-(32).
+    """
+    L_cmd = np.atleast_2d(np.asarray(L_cmd, dtype=float))
+    if L_cmd.shape[-1] != robot.m:
+        raise CdprError(f"{robot.m} commanded lengths needed (one per cable), got {L_cmd.shape[-1]}")
+    L0 = np.empty(L_cmd.shape)
+    slope = np.empty(L_cmd.shape)
+    for i, p in enumerate(_winches(robot)):  # one loop per cable, vectorised over points
+        q = winch.q_no_winch(p, L_cmd[:, i] - robot.d[i])
+        inside = (q >= 0) & (q <= p.q_max)
+        ld = winch.l_AE(p, q)
+        s = q / p.q_max * p.l_E1E2
+        d_ld = p.l_E1E2 / p.q_max * (p.l_AE1 * np.cos(p.alpha_E1) + s) / ld
+        L0[:, i] = np.where(inside, L_cmd[:, i] + winch.l_AE(p, p.q0) - ld, np.nan)
+        slope[:, i] = d_ld / p.k_w
+    return L0, 1.0 + slope, -slope
+
+
+def commanded_for(robot, L0, tol=1e-13, maxiter=50):
+    """The commanded lengths L_cmd whose realised rest lengths (``realised_rest_lengths``) are L0: what
+    a model that knows the winch asks the no-winch controller for. Fixed-point iteration
+    L_cmd <- L_cmd - (L0(L_cmd) - L0), a contraction of ratio |l_AE'| / k_w (about 5e-4 with
+    Table 1).
+
+    Parameters
+    ----------
+    robot : Robot
+        Every cable needs a winch.
+    L0 : array_like, shape (N, m) [m]
+        Wanted rest lengths.
+    tol : float [m]
+    maxiter : int
+
+    Returns
+    -------
+    L_cmd : ndarray, shape (N, m) [m]
+        NaN where the drum cannot realise L0.
+    """
+    L0 = np.atleast_2d(np.asarray(L0, dtype=float))
+    L = L0.copy()
+    for _ in range(maxiter):
+        got, dL, _ = realised_rest_lengths(robot, L)
+        step = (got - L0) / dL
+        L = L - step
+        if not (np.abs(step) > tol).any():  # NaN steps (outside the drum) stop too
+            break
+    return L

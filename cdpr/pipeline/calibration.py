@@ -1,5 +1,6 @@
-"""Calibration figures and the calibration study (issue 18): a seeded true CDPR4, synthetic tracker
-data, calibrations with models of increasing fidelity, and their errors on a validation set.
+"""Calibration figures and the calibration study (issue 18): a seeded true CDPR4 (with winches),
+synthetic tracker data, calibrations with models of increasing fidelity, and their errors on a
+validation set.
 
 Figures (``calibration_figures``): residuals before/after per sample, estimates with their 95 %
 intervals against the prior, the posterior correlation matrix.
@@ -20,7 +21,7 @@ from cdpr.analyses.compensation import compensated_pose
 from cdpr.errors import CdprError, ConfigError
 from cdpr.parameters import calibration_values, select_groups
 from cdpr.pipeline.plots import plt, save
-from cdpr.robot import load_robot
+from cdpr.robot import TABLE1, load_robot, params_from_mapping
 
 
 def calibration_figures(result, folder):
@@ -74,7 +75,11 @@ STUDY_MODELS = {
     "standard": ("standard", ["anchors", "dead_lengths"]),
     "pulleys": ("rigid", ["anchors", "dead_lengths", "pulleys"]),
     "pulleys + elasticity": ("exact", ["anchors", "dead_lengths", "pulleys", "moduli"]),
+    "pulleys + elasticity + winch": ("exact", ["anchors", "dead_lengths", "pulleys", "moduli"]),
 }
+#: The model that knows the drums (the nominal robot with the study's winch on every cable); the
+#: others take the commanded lengths as rest lengths.
+WINCH_MODEL = "pulleys + elasticity + winch"
 #: Keys of config/studies/calibration.yaml.
 STUDY_KEYS = {
     "name",
@@ -91,6 +96,9 @@ STUDY_KEYS = {
     "learning_curve",
     "plan_grid",
 }
+#: Optional keys: ``winch``, the drum on every cable of the true robot (Métillon 2022 Table 1 keys,
+#: ``{}`` is Table 1; without it the true robot has no winch and the study has no winch model).
+STUDY_OPTIONAL = {"winch"}
 
 
 def load_calibration_study(path):
@@ -113,9 +121,16 @@ def load_calibration_study(path):
         raise ConfigError(
             path, missing[0], f"missing; a calibration study needs {', '.join(sorted(STUDY_KEYS))}"
         )
-    extra = sorted(set(data) - STUDY_KEYS)
+    extra = sorted(set(data) - STUDY_KEYS - STUDY_OPTIONAL)
     if extra:
-        raise ConfigError(path, extra[0], f"unknown key; allowed: {', '.join(sorted(STUDY_KEYS))}")
+        raise ConfigError(
+            path, extra[0], f"unknown key; allowed: {', '.join(sorted(STUDY_KEYS | STUDY_OPTIONAL))}"
+        )
+    if "winch" in data:
+        out_w = data["winch"] if data["winch"] is not None else {}
+        if not isinstance(out_w, dict):
+            raise ConfigError(path, "winch", "expected a mapping of winch parameters ({} is Table 1's drum)")
+        data = dict(data, winch=params_from_mapping(out_w, str(path), "winch"))
     out = dict(data)
     dev = data["truth_deviations"]
     if not isinstance(dev, dict):
@@ -158,9 +173,10 @@ def _uniform(rng, box, n):
 
 
 def run_calibration_study(study_path, out):
-    """The calibration study of issue 18: a seeded true CDPR4, synthetic tracker data, calibrations
-    with the standard, pulley and pulley + elasticity models, each predicting and compensating a
-    validation set over RW_C; learning curves (random and D-optimal poses); encoder data with and
+    """The calibration study of issue 18: a seeded true CDPR4 (with the study's ``winch`` on every
+    cable, commanded through a controller that neglects the exit point's motion), synthetic tracker
+    data, calibrations with the standard, pulley, pulley + elasticity and (with a winch) pulley +
+    elasticity + winch models, each predicting and compensating a validation set over RW_C; learning curves (random and D-optimal poses); encoder data with and
     without tensions. Writes headline.csv/.md, learning_curve.csv/.png, encoder.csv,
     identifiability.md, parameters.csv and the exact fit's figures under ``out``.
 
@@ -182,12 +198,18 @@ def run_calibration_study(study_path, out):
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     robot = load_robot(st["robot"])
+    # with a winch, the true robot and the winch model have the study's drum on every cable
+    winched = robot
+    if st.get("winch") is not None:
+        winched = dataclasses.replace(
+            robot, cables=tuple(dataclasses.replace(c, winch=st["winch"]) for c in robot.cables)
+        )
     rng = np.random.default_rng(st["seed"])
     sigma = float(st["tracker_sigma_m"])
     # the true robot: every deviation group drawn from its tolerance
     dev_idx = select_groups(robot, st["deviation_groups"])
     dev_sd = cal.prior_sd(robot, dev_idx, st["truth_deviations"])
-    truth, theta_true = cal.perturbed(robot, dev_idx, dev_sd, rng)
+    truth, theta_true = cal.perturbed(winched, dev_idx, dev_sd, rng)
     train = cal.simulate(truth, robot, _uniform(rng, st["calibration_box_m"], st["n_train"]), sigma, rng)
     p_val = _uniform(rng, st["validation_box_m"], st["n_validation"])
     val = cal.simulate(truth, robot, p_val, sigma, rng)
@@ -201,7 +223,9 @@ def run_calibration_study(study_path, out):
         v = val if offsets is None else dataclasses.replace(val, L=val.L + off - offsets)
         pred = cal.check(model_robot, v)
         err_pred = np.array([s["error_m"] if s["error_m"] is not None else np.nan for s in pred["samples"]])
-        comp = compensated_pose(model_robot, p_val, actual=truth)
+        comp = compensated_pose(
+            model_robot, p_val, actual=truth, realise=cal.executed_lengths(model_robot, truth)
+        )
         err_comp = np.where(comp["status"] == "ok", comp["dp"], np.nan)
         return err_pred, err_comp
 
@@ -217,8 +241,10 @@ def run_calibration_study(study_path, out):
         rows.append(r)
 
     row("nominal (uncalibrated)", 0, *validate(robot))
-    for label, (model, groups) in STUDY_MODELS.items():
-        c = cal.fit(robot, train, groups, priors=priors, model=model)
+    models = {k: v for k, v in STUDY_MODELS.items() if k != WINCH_MODEL or winched is not robot}
+    best = WINCH_MODEL if winched is not robot else "pulleys + elasticity"
+    for label, (model, groups) in models.items():
+        c = cal.fit(winched if label == WINCH_MODEL else robot, train, groups, priors=priors, model=model)
         fits[label] = c
         row(label, len(c.index), *validate(c.fitted_model()), {"rank": c.ident["rank"]})
         s = c.summary()
@@ -235,7 +261,7 @@ def run_calibration_study(study_path, out):
     headline["rank"] = headline["rank"].astype("Int64")
     headline.to_csv(out / "headline.csv", index=False, float_format="%.4f")
 
-    exact = fits["pulleys + elasticity"]
+    exact = fits[best]
     pt = exact.parameter_table()
     pt["truth"] = calibration_values(truth)[exact.index]
     pt.to_csv(out / "parameters.csv", index=False, float_format="%.9g")
@@ -243,11 +269,12 @@ def run_calibration_study(study_path, out):
     exact.table.to_csv(out / "exact" / "samples.csv", index=False, float_format="%.9g")
 
     # learning curves, exact model: random poses vs D-optimal poses among the admissible candidates
-    groups = STUDY_MODELS["pulleys + elasticity"][1]
+    # (the best model: with a winch the one that knows the drums)
+    groups = STUDY_MODELS[best][1]
     idx = select_groups(robot, groups)
     sd = cal.prior_sd(robot, idx, priors)
-    P_c, L_c, p_c = cal.candidates(robot, st["calibration_box_m"], st["plan_grid"], targets=True)
-    rows_c = cal.info_rows(robot, P_c, L_c, idx, sd, sigma)
+    P_c, L_c, p_c = cal.candidates(winched, st["calibration_box_m"], st["plan_grid"], targets=True)
+    rows_c = cal.info_rows(winched, P_c, L_c, idx, sd, sigma)
     pool = cal.simulate(
         truth, robot, _uniform(rng, st["calibration_box_m"], max(st["learning_curve"])), sigma, rng
     )
@@ -258,7 +285,7 @@ def run_calibration_study(study_path, out):
         designs["D-optimal"] = cal.simulate(truth, robot, p_c[chosen], sigma, rng)
         for design, data in designs.items():
             try:
-                c = cal.fit(robot, data, groups, priors=priors)
+                c = cal.fit(winched, data, groups, priors=priors)
             except CdprError as exc:
                 curve.append({"n": n, "design": design, "error": str(exc)})
                 continue
@@ -274,7 +301,7 @@ def run_calibration_study(study_path, out):
             )
     curve = pd.DataFrame(curve)
     curve.to_csv(out / "learning_curve.csv", index=False, float_format="%.4f")
-    _learning_figure(curve, float(headline.iloc[-1]["predict_rms_mm"]), out / "learning_curve.png")
+    _learning_figure(curve, float(headline.iloc[-1]["predict_rms_mm"]), out / "learning_curve.png", best)
 
     # encoder data: offsets unknown; with poses, with tensions only, alone; validated on encoder
     # readings of the validation commands
@@ -300,7 +327,7 @@ def run_calibration_study(study_path, out):
         if not poses:
             data.pose[:] = np.nan
         try:
-            c = cal.fit(robot, data, gr, priors=priors_enc, model=model)
+            c = cal.fit(winched, data, gr, priors=priors_enc, model=model)
         except CdprError as exc:
             enc_rows.append({"case": case, "groups": ",".join(gr), "result": str(exc).split(";")[0]})
             continue
@@ -321,12 +348,12 @@ def run_calibration_study(study_path, out):
 
     elapsed = time.perf_counter() - t0
     _write_markdown(
-        out, st, headline, curve, pd.DataFrame(enc_rows), ident_lines, n_val_left_out, len(val.sample)
+        out, st, headline, curve, pd.DataFrame(enc_rows), ident_lines, n_val_left_out, len(val.sample), best
     )
     return {"headline": headline, "elapsed_s": elapsed}
 
 
-def _learning_figure(curve, floor_mm, path):
+def _learning_figure(curve, floor_mm, path, label="pulleys + elasticity"):
     fig, ax = plt.subplots(figsize=(5.5, 3.5))
     for design, g in curve.dropna(subset=["predict_rms_mm"]).groupby("design"):
         ax.loglog(g["n"], g["predict_rms_mm"], "o-", label=design)
@@ -334,7 +361,7 @@ def _learning_figure(curve, floor_mm, path):
     ax.set_xlabel("calibration samples")
     ax.set_ylabel("validation RMS [mm]")
     ax.legend()
-    ax.set_title("Learning curve, pulleys + elasticity model")
+    ax.set_title(f"Learning curve, {label} model")
     save(fig, path)
 
 
@@ -347,7 +374,7 @@ def _md_table(df, cols, fmt="{:.3g}"):
     return head + "\n".join(lines) + "\n"
 
 
-def _write_markdown(out, st, headline, curve, enc, ident_lines, left_out, n_val):
+def _write_markdown(out, st, headline, curve, enc, ident_lines, left_out, n_val, best="pulleys + elasticity"):
     """results/calibration/summary.md: the headline table, identifiability, learning curve, encoder."""
     text = [
         "# Calibration study (issue 18)",
@@ -357,6 +384,20 @@ def _write_markdown(out, st, headline, curve, enc, ident_lines, left_out, n_val)
         + f" (lengths in m, moduli relative); tracker sigma {st['tracker_sigma_m'] * 1e3:g} mm; "
         f"{st['n_train']} training samples in {st['calibration_box_m']}; validation: {n_val} poses over RW_C "
         f"{st['validation_box_m']} ({left_out} without equilibrium left out). Errors in mm.",
+        *(
+            [
+                "",
+                "Winch: the true robot has the drum of Metillon et al. 2022 (Table 1 values"
+                + (" as given in the study file" if st["winch"] != TABLE1 else "")
+                + ") on every cable, nominal geometry on all four (no per-cable drum deviation). Its controller "
+                "turns each drum to the angle of the model that neglects the exit point's motion (q_nw, eq. 32), "
+                "so the realised rest lengths differ from the commanded ones by the winch error (eq. 31, about "
+                "-0.8 to +1.5 mm). The data's L1..Lm are the commanded lengths; the first three models take them "
+                "as rest lengths, the winch model maps them through the drums.",
+            ]
+            if st.get("winch") is not None
+            else []
+        ),
         "",
         "## Headline: validation error per model",
         "",
@@ -381,7 +422,7 @@ def _write_markdown(out, st, headline, curve, enc, ident_lines, left_out, n_val)
         "",
         *ident_lines,
         "",
-        "## Learning curve (pulleys + elasticity model)",
+        f"## Learning curve ({best} model)",
         "",
         _md_table(
             curve,

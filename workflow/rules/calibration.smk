@@ -1,7 +1,8 @@
 # Calibration study (issue 18; cdpr.pipeline.calibration): a seeded true CDPR4, synthetic tracker
-# data, calibrations with the standard / pulley / pulley + elasticity models, validation over RW_C,
+# data, calibrations with the standard / pulley / pulley + elasticity / + winch models (the true robot
+# has a drum on every cable), validation over RW_C,
 # learning curves, encoder cases. Independent of the paper study; `make reproduce` runs it
-# (reproduce-extra hook). About 40-60 s on the 2-core machine.
+# (reproduce-extra hook). About 15-30 s on the 2-core machine.
 CALIBRATION_STUDY = "config/studies/calibration.yaml"
 CALIBRATION_RES = "results/calibration"
 
