@@ -39,7 +39,7 @@ test-fast: $(STAMP)
 	$(BIN)/ruff check .
 	$(BIN)/ruff format --check .
 	$(BIN)/lint-imports
-	$(BIN)/python -m pytest -q $(XDIST) -m "not slow" --ignore=tests/test_workflow.py --ignore=tests/test_own_design.py --ignore=tests/test_package.py \
+	$(BIN)/python -m pytest -q $(XDIST) -m "not slow" --ignore=tests/test_workflow.py --ignore=tests/test_workflow_spatial.py --ignore=tests/test_own_design.py --ignore=tests/test_package.py \
 		--ignore=tests/pipeline/test_shell.py --ignore=tests/test_cluster_profile.py
 
 # The documentation site (docs/, mkdocs.yml): every warning is an error.
@@ -95,8 +95,9 @@ reproduce-quick: $(STAMP)
 	$(BIN)/snakemake --cores all reproduce_paper --config study=config/studies/quick_physical.yaml results=results/quick_physical
 	$(BIN)/snakemake reproduce_comparison --cores all $(QUICK_CMP)
 
-# Recompute the quick study from scratch and accept its tables as the new regression references
-# (review the diff!).
+# Recompute the quick study (both modes, their comparison) and the quick spatial study from scratch and
+# accept their tables and figures as the new regression references and baselines (review the diff!).
+# `.venv/bin/python -m tests.update_references --only quick_spatial` recomputes one of them.
 update-references: $(STAMP)
 	$(BIN)/python -m tests.update_references
 

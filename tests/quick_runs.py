@@ -2,7 +2,11 @@
 and the figure tests (tests/pipeline/test_figures.py): the quick study in paper mode, in physical
 mode, then their comparison, as `make reproduce` does with the paper study, in a working folder
 outside the tree (``make_workdir``) with ``CDPR_FIGURE_AUDIT`` set, so that every figure's layout
-audit is written beside it (the audit does not change the pixels: ``plots.save``)."""
+audit is written beside it (the audit does not change the pixels: ``plots.save``).
+
+The quick study of a spatial robot (``run_quick_spatial``) runs the same way in a working folder
+of its own, once per run of tests/test_workflow_spatial.py (not with the quick runs: make test
+runs that module on another pytest-xdist worker, in parallel with them)."""
 
 import os
 import shutil
@@ -30,20 +34,27 @@ def snakemake(target, *config, cwd, quiet=True, force=True, extra=()):
     )
 
 
-def make_workdir(folder):
+#: The study files a working folder gets by default (``make_workdir``): the quick study in both
+#: modes (their comparison file names them) and the example of a user's own design.
+QUICK_STUDIES = ("quick", "quick_physical", "example")
+
+
+def make_workdir(folder, studies=QUICK_STUDIES):
     """A working folder for Snakemake outside the tree: ``config/`` linked to the repository's,
-    the studies copied to ``studies/``, and the quick comparison file naming them."""
+    the ``studies`` (names of config/studies/*.yaml) copied to ``studies/``, and, when both quick
+    studies are among them, the quick comparison file naming them."""
     folder.mkdir(parents=True, exist_ok=True)
     (folder / "config").symlink_to(ROOT / "config", target_is_directory=True)
     (folder / "studies").mkdir()
-    for name in ("quick", "quick_physical", "example"):
+    for name in studies:
         shutil.copy(ROOT / "config" / "studies" / f"{name}.yaml", folder / "studies" / f"{name}.yaml")
-    (folder / "comparison.yaml").write_text(
-        "paper: {study: studies/quick.yaml, results: results/quick}\n"
-        "physical: {study: studies/quick_physical.yaml, results: results/quick_physical}\n"
-        "page: results/quick_comparison.md\nfolder: results/quick_comparison\n"
-        "budget: {index_n: 6, t_min_N: 100.0}\n"
-    )
+    if {"quick", "quick_physical"} <= set(studies):
+        (folder / "comparison.yaml").write_text(
+            "paper: {study: studies/quick.yaml, results: results/quick}\n"
+            "physical: {study: studies/quick_physical.yaml, results: results/quick_physical}\n"
+            "page: results/quick_comparison.md\nfolder: results/quick_comparison\n"
+            "budget: {index_n: 6, t_min_N: 100.0}\n"
+        )
     return folder
 
 
@@ -67,3 +78,26 @@ def run_quick(work):
     )
     assert p.returncode == 0, p.stderr[-3000:]
     return work / "results"
+
+
+#: The quick study of a spatial robot (config/studies/quick_spatial.yaml: CoGiRo, rigid platform,
+#: physical mode), run by tests/test_workflow_spatial.py on its own, beside the quick runs.
+SPATIAL_STUDY = "quick_spatial"
+
+
+#: The first job of the spatial run, run alone (a plane of CoGiRo, a couple of seconds once
+#: compiled): it compiles the 6-DoF kernels (cdpr/compiled/equilibrium6.py, about 100 s of one core)
+#: into the numba cache, which every later job loads. Started together, the first two solver jobs
+#: each compiled them: twice the CPU on a shared machine.
+SPATIAL_FIRST = "plane/CoGiRo_SR.csv"
+
+
+def run_quick_spatial(work):
+    """Run the quick spatial study in the working folder ``work`` (``make_workdir(folder,
+    studies=(SPATIAL_STUDY,))``), its first job alone (``SPATIAL_FIRST``), then the whole study;
+    returns its results folder ``work/results/quick_spatial``."""
+    config = (f"study=studies/{SPATIAL_STUDY}.yaml", f"results=results/{SPATIAL_STUDY}")
+    for target in (f"results/{SPATIAL_STUDY}/{SPATIAL_FIRST}", "reproduce_paper"):
+        p = snakemake(target, *config, cwd=work)
+        assert p.returncode == 0, p.stderr[-3000:]
+    return work / "results" / SPATIAL_STUDY
