@@ -43,6 +43,19 @@ The budget of a design at p (``error_budget``):
 Norms do not add, so the stacked bars use the exact additive split of the all-effects error along
 its own direction û = δp_all / ‖δp_all‖: ‖δp_all‖ = Σ_k δp_k · û + δp_int · û (``summarise``).
 
+A rigid platform (a robot that is not a suspended point mass, or any robot given an orientation
+``rotvec``): the same budget at the fixed desired orientation R_d = exp([rotvec]x) (default the
+identity). The model's rest lengths are taken at the attachment points B_i = p + R_d b_i: the rigid
+cable's length L_TE(B_i) of the 6-DoF inverse model (``equilibrium6.pose_state``, the pulley
+geometry at B_i, as ``cdpr inverse`` gives it), or with ``elasticity`` in the model the compensated
+lengths of ``distribution6.compensated_lengths`` (the minimum-norm distribution of the 6 x m wrench
+matrix, at least ``t_min`` in every cable); the actual robot settles at its 6-DoF equilibrium
+(p*, R*) (``equilibrium6``, through ``solve.solve_points_any``) under the realised lengths, and
+every entry also gets the orientation error δφ = rotvec(R* R_dᵀ) (N, 3) [rad] (its interaction
+δφ_all - Σ_k δφ_k, first order in the small rotations), summarised by its mean and largest norm.
+A point-mass robot given ``rotvec`` goes the same way (its moment rows vanish): equal to the
+point-mass budget, which is how the 6-DoF path is tested.
+
 References
 ----------
 Paty, T., Binaud, N., Caro, S., Segonds, S. (2021). Cable-driven parallel robot modelling
@@ -61,7 +74,10 @@ import pandas as pd
 
 from cdpr.analyses.compensation import compensate
 from cdpr.models import winch as winch_model
+from cdpr.models.distribution6 import compensated_lengths
+from cdpr.models.equilibrium6 import pose_arrays, pose_state
 from cdpr.models.inverse import igm_e
+from cdpr.models.platform import rotvec_of
 from cdpr.models.tension_distribution import T_MIN_DEFAULT
 from cdpr.robot import TABLE1
 from cdpr.solve import check_engine, solve_points_any
@@ -78,6 +94,22 @@ def _names(effects):
     if bad:
         raise ValueError(f"unknown effect(s) {sorted(bad)}; allowed: {', '.join(EFFECTS)}")
     return eff
+
+
+def spatial(design, rotvec=None):
+    """True when the budget of ``design`` runs on the 6-DoF path (module docstring): a robot that is
+    not a suspended point mass (``Robot.suspended_point_mass``), or an orientation ``rotvec`` given.
+
+    Parameters
+    ----------
+    design : Robot
+    rotvec : array_like (3,) or (N, 3) [rad], optional
+
+    Returns
+    -------
+    bool
+    """
+    return rotvec is not None or not design.suspended_point_mass
 
 
 def effect_robot(design, effects):
@@ -107,10 +139,11 @@ def effect_robot(design, effects):
     return dataclasses.replace(design, cables=tuple(cables))
 
 
-def model_lengths(design, p, model, t_min=T_MIN_DEFAULT):
+def model_lengths(design, p, model, t_min=T_MIN_DEFAULT, rotvec=None):
     """Rest lengths the model with effects ``model`` commands at p (step 1 of the module docstring).
 
-    .. math:: L_{0,i} = L_{TE,i}(p) / (1 + t_i / (E_i S_i))   (t = 0 without elasticity)
+    .. math:: L_{0,i} = L_{TE,i}(B_i) / (1 + t_i / (E_i S_i)),\\quad B_i = p + R_d b_i
+              \\quad (t = 0 without elasticity)
 
     Parameters
     ----------
@@ -120,7 +153,11 @@ def model_lengths(design, p, model, t_min=T_MIN_DEFAULT):
     model : iterable of str
         Subset of ``EFFECTS`` the model includes.
     t_min : float [N]
-        Least planned tension of the elasticity compensation (``compensation.compensate``).
+        Least planned tension of the elasticity compensation (``compensation.compensate``, or
+        ``distribution6.compensated_lengths`` on the 6-DoF path).
+    rotvec : array_like (3,) or (N, 3) [rad], optional
+        Desired orientation of a rigid platform (default identity); given, or for a robot that is
+        not a suspended point mass, the 6-DoF path (``spatial``).
 
     Returns
     -------
@@ -132,6 +169,10 @@ def model_lengths(design, p, model, t_min=T_MIN_DEFAULT):
     Paty et al. 2021, eq. (3)-(5), (10), (13).
     """
     robot = effect_robot(design, model)
+    if spatial(design, rotvec):
+        if "elasticity" in _names(model):
+            return compensated_lengths(robot, p, rotvec, t_min=t_min, method="min_norm")["L0"]
+        return pose_state(robot, *pose_arrays(robot, p, rotvec))[1].L_TE
     if "elasticity" in _names(model):
         return compensate(robot, p, method="min_norm", t_min=t_min)["L0"]
     return igm_e(robot, p).L_TE
@@ -179,9 +220,11 @@ def realised_lengths(design, L0, actual, model):
     return out
 
 
-def variant(design, p, actual, model, t_min=T_MIN_DEFAULT, threads=None, engine=None):
+def variant(design, p, actual, model, t_min=T_MIN_DEFAULT, threads=None, engine=None, rotvec=None):
     """The platform of the robot with effects ``actual`` commanded by the model with effects
     ``model`` (module docstring).
+
+    .. math:: \\delta p = p^* - p,\\qquad \\delta\\varphi = \\operatorname{rotvec}(R^* R_d^T)
 
     Parameters
     ----------
@@ -196,20 +239,33 @@ def variant(design, p, actual, model, t_min=T_MIN_DEFAULT, threads=None, engine=
         Threads of the compiled equilibrium.
     engine : {"compiled", "numpy", None}
         Engine of the physical equilibrium (``solve.check_engine``: None is compiled).
+    rotvec : array_like (3,) or (N, 3) [rad], optional
+        Desired orientation of a rigid platform (default identity; the 6-DoF path, ``spatial``).
 
     Returns
     -------
     dict
         dp (N, 3) [m] the vector P* - p; status (N,) str (``results.STATUSES``, and
-        ``infeasible`` where the model has no tension distribution or a drum angle leaves its range).
+        ``infeasible`` where the model has no tension distribution or a drum angle leaves its range);
+        on the 6-DoF path also dphi (N, 3) [rad], the rotation vector of R* R_dᵀ (NaN where
+        infeasible).
+
+    References
+    ----------
+    Paty et al. 2021, eq. (2)-(5), (10)-(14); Métillon et al. 2022, eq. (29)-(32).
     """
     p = np.atleast_2d(np.asarray(p, dtype=float))
     engine = check_engine(engine, "newton")
-    L0 = realised_lengths(design, model_lengths(design, p, model, t_min), actual, model)
+    six = spatial(design, rotvec)
+    L0 = realised_lengths(design, model_lengths(design, p, model, t_min, rotvec), actual, model)
     good = np.isfinite(L0).all(axis=1)
     dp = np.full(p.shape, np.nan)
+    dphi = np.full(p.shape, np.nan)
     status = np.full(len(p), "infeasible", dtype=object)
     if good.any():
+        rv = None
+        if rotvec is not None:
+            rv = np.broadcast_to(np.asarray(rotvec, dtype=float), p.shape)[good]
         res = solve_points_any(
             effect_robot(design, actual),
             p[good],
@@ -217,10 +273,17 @@ def variant(design, p, actual, model, t_min=T_MIN_DEFAULT, threads=None, engine=
             threads=threads,
             redundancy="physical",
             L0=L0[good],
+            rotvec=rv,
         )
         dp[good] = res["P_s"] - p[good]
         status[good] = res["status"]
-    return {"dp": dp, "status": status.astype(str)}
+        if six:
+            _, R_d = pose_arrays(design, p[good], rv)
+            dphi[good] = rotvec_of(res["R_s"] @ np.swapaxes(R_d, 1, 2))
+    out = {"dp": dp, "status": status.astype(str)}
+    if six:
+        out["dphi"] = dphi
+    return out
 
 
 def variants(effects=EFFECTS):
@@ -248,8 +311,10 @@ def variants(effects=EFFECTS):
     return v
 
 
-def error_budget(design, p, t_min=T_MIN_DEFAULT, threads=None):
+def error_budget(design, p, t_min=T_MIN_DEFAULT, threads=None, rotvec=None, engine=None):
     """Every variant of the budget at p, plus the interaction (module docstring).
+
+    .. math:: \\delta p_{int} = \\delta p_{all} - \\sum_k \\delta p_k
 
     Parameters
     ----------
@@ -257,20 +322,33 @@ def error_budget(design, p, t_min=T_MIN_DEFAULT, threads=None):
     p : array (N, 3) [m]
     t_min : float [N]
     threads : int, optional
+    rotvec : array_like (3,) or (N, 3) [rad], optional
+        Desired orientation of a rigid platform (default identity; the 6-DoF path, ``spatial``).
+    engine : {"compiled", "numpy", None}
+        Engine of the physical equilibrium (None is compiled).
 
     Returns
     -------
     dict
-        name -> {dp (N, 3) [m], status (N,)} for every name of ``variants()``, and
-        ``interaction`` -> {dp = δp_all - Σ_k δp_k, status ok where all four are ok}.
+        name -> {dp (N, 3) [m], status (N,)} (and dphi (N, 3) [rad] on the 6-DoF path) for every
+        name of ``variants()``, and ``interaction`` -> {dp = δp_all - Σ_k δp_k (dphi likewise),
+        status ok where all four are ok}.
+
+    References
+    ----------
+    Paty et al. 2021, eq. (1)-(7), (10)-(15); Métillon et al. 2022, eq. (12)-(32).
     """
-    out = {name: variant(design, p, a, m, t_min, threads) for name, (a, m) in variants().items()}
+    out = {
+        name: variant(design, p, a, m, t_min, threads, engine, rotvec) for name, (a, m) in variants().items()
+    }
     parts = [out["all"]] + [out[k] for k in EFFECTS]
     ok = np.logical_and.reduce([r["status"] == "ok" for r in parts])
     out["interaction"] = {
         "dp": out["all"]["dp"] - sum(out[k]["dp"] for k in EFFECTS),
         "status": np.where(ok, "ok", "not_ok"),
     }
+    if "dphi" in out["all"]:
+        out["interaction"]["dphi"] = out["all"]["dphi"] - sum(out[k]["dphi"] for k in EFFECTS)
     return out
 
 
@@ -310,7 +388,8 @@ def summarise(budget):
     DataFrame
         Columns entry, mean_m and max_m (‖δp‖ [m]), share_m (s_k [m], for the single effects, the
         interaction and ``all``), largest_fraction (share of the points where a single effect is
-        the largest of the three), points, ok_points.
+        the largest of the three), points, ok_points; on the 6-DoF path (entries with ``dphi``)
+        also mean_rad and max_rad (‖δφ‖ [rad]), the last two columns.
     """
     nm, ok = norms(budget)
     d_all = budget["all"]["dp"][ok]
@@ -334,6 +413,10 @@ def summarise(budget):
                 "ok_points": int(ok.sum()),
             }
         )
+        if "dphi" in budget[k]:
+            a = np.linalg.norm(budget[k]["dphi"][ok], axis=1)
+            rows[-1]["mean_rad"] = float(a.mean()) if ok.any() else np.nan
+            rows[-1]["max_rad"] = float(a.max()) if ok.any() else np.nan
     return pd.DataFrame(rows)
 
 

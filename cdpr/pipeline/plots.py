@@ -1160,18 +1160,23 @@ EFFECT_COLOURS = {
 }
 
 
-def budget_bars(tab, out):
+def budget_bars(tab, out, xlabel="design [robot_pulley]"):
     """Error budget per design over RW_C: (a) stacked bars of each effect's share of the mean
     all-effects error (projection on its direction, so the stack sums to the mean ‖δp_all‖, marked
     by a black tick; negative shares go below zero), beside the mean ‖δp‖ of each effect alone;
     (b) the mean error left after compensating each effect, and all of them (exactly zero: written
-    as text over its place, a log axis cannot draw it). ``tab`` is the budget table (design,
-    region, entry, mean_m, share_m, ...); rows of region RW_C are drawn. Legends sit outside."""
+    as text over its place, a log axis cannot draw it); (c), when the table has ``mean_rad`` (a
+    rigid platform), the mean orientation error ‖δφ‖ of each effect alone, all together, the
+    interaction and after compensating each. ``tab`` is the budget table (design, region, entry,
+    mean_m, share_m, ...); rows of region RW_C are drawn. Legends sit outside."""
     t = tab[tab.region == "RW_C"]
     designs = list(dict.fromkeys(t.design))
     x = np.arange(len(designs))
     get = lambda d, e, c: float(t[(t.design == d) & (t.entry == e)][c].iloc[0]) * 1e3  # noqa: E731
-    fig, (a, b) = plt.subplots(1, 2, figsize=(max(11, 2.6 * len(designs)), 5.6), layout="constrained")
+    if "mean_rad" in t:
+        fig, (a, b, c) = plt.subplots(1, 3, figsize=(max(16, 3.6 * len(designs)), 5.6), layout="constrained")
+    else:
+        fig, (a, b) = plt.subplots(1, 2, figsize=(max(11, 2.6 * len(designs)), 5.6), layout="constrained")
     pos, neg = np.zeros(len(designs)), np.zeros(len(designs))
     for e in ("pulley", "elasticity", "winch", "interaction"):
         v = np.array([get(d, e, "share_m") for d in designs])
@@ -1197,7 +1202,7 @@ def budget_bars(tab, out):
     a.axhline(0, color="0.5", lw=0.8)
     a.set_xticks(x, designs, rotation=20)
     a.set(
-        xlabel="design [robot_pulley]",
+        xlabel=xlabel,
         ylabel="mean ‖δp‖ [mm]",
         title="(a) shares of ‖δp_all‖ (left bar), each effect alone (right)",
     )
@@ -1217,12 +1222,33 @@ def budget_bars(tab, out):
     b.set_xticks(x, designs, rotation=20)
     b.set_yscale("symlog", linthresh=1e-3)
     b.set(
-        xlabel="design [robot_pulley]",
+        xlabel=xlabel,
         ylabel="mean ‖δp‖ [mm]",
         title="(b) error left after compensating" + (" ('0': exactly zero)" if zero_label else ""),
     )
     b.title.set_fontsize(9)
     b.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=3, frameon=False)
+    if "mean_rad" in t:
+        phi = ["pulley", "elasticity", "winch", "interaction", "all", *entries[1:]]
+        w = 0.8 / len(phi)
+        for i, e in enumerate(phi):
+            v = np.array([get(d, e, "mean_rad") for d in designs])
+            colour = EFFECT_COLOURS.get(e) or OKABE_ITO[entries.index(e)]  # as in (b)
+            hatch = "//" if e.startswith("compensated_") else None  # (b)'s colours: tell them from (a)'s
+            c.bar(
+                x - 0.4 + (i + 0.5) * w,
+                v,
+                w,
+                color=colour,
+                hatch=hatch,
+                edgecolor="w" if hatch else None,
+                label=e.replace("compensated_", "compensating "),
+            )
+        c.set_xticks(x, designs, rotation=20)
+        c.set_yscale("symlog", linthresh=1e-3)
+        c.set(xlabel=xlabel, ylabel="mean ‖δφ‖ [mrad]", title="(c) orientation error of each entry")
+        c.title.set_fontsize(9)
+        c.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=3, frameon=False)
     fig.suptitle(
         "Error budget over RW_C: pulley geometry, cable elasticity, winch exit point (physical equilibrium)",
         fontsize=10,

@@ -110,6 +110,8 @@ STUDY_OUTPUTS = {
         "residual_figure": "uncertainty/residual.png",
         "residual_pdf": "uncertainty/residual.pdf",
     },
+    "study_budget_design": {"table": "budget/{design}.csv"},
+    "study_budget": {"table": "budget/budget.csv", "figure": "budget/budget.png", "pdf": "budget/budget.pdf"},
     "summary": {"markdown": "summary.md", "table": "summary.csv"},
     "parity": {"figure": "parity.png", "pdf": "parity.pdf"},
     "conclusions": {"markdown": "conclusions.md", "table": "conclusions.csv"},
@@ -141,6 +143,8 @@ STUDY_LOGS = {
     "uq_shard": "logs/uq_shard_{design}_{case}_{shard}.log",
     "uq_design": "logs/uq_design_{design}_{case}.log",
     "uncertainty": "logs/uncertainty.log",
+    "study_budget_design": "logs/budget_{design}.log",
+    "study_budget": "logs/budget.log",
     "summary": "logs/summary.log",
     "parity": "logs/parity.log",
     "conclusions": "logs/conclusions.log",
@@ -258,11 +262,14 @@ class Layout:
                 design=self.uq_designs(), case=uq_cases(st), shard=range(u["monte_carlo"]["shards"])
             ),
             "uq_design": lambda: _product(design=self.uq_designs(), case=uq_cases(st)),
+            "study_budget_design": lambda: _product(design=designs),
         }
         if rule not in STUDY_OUTPUTS:
             raise CdprError(f"unknown rule {rule!r}; the rules of a study: {', '.join(STUDY_OUTPUTS)}")
         if rule in ("uq_shard", "uq_design", "uncertainty") and not u:
             return []
+        if rule in ("study_budget_design", "study_budget") and not st.get("budget"):
+            return []  # the error budget of a rigid platform: a spatial study with a `budget` key
         if rule == "parity" and not st.get("paper_comparison"):
             return []  # the parity chart draws the paper's numbers: the paper's study only
         if rule == "conclusions" and not st.get("conclusions"):
@@ -334,6 +341,8 @@ class Layout:
             if self.st.get("uncertainty")
             else [],
         }
+        if self.st.get("budget"):  # the study's error budget (a spatial study with a `budget` key)
+            out["budget"] = self.path("study_budget", "table")
         return out
 
     def comparison_inputs(self):

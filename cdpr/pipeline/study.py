@@ -415,7 +415,8 @@ def check_spatial_study(st, robots):
     platform or tilted pulley axes, solved in 6 DoF by ``equilibrium6.solve_spatial``): such a robot
     has the physical mode only (paper mode and its "best 3 of m" rule are the point-mass rule), is
     not scored against the papers (``paper_comparison``), has no uncertainty study yet; and
-    ``rotvec_rad`` (the platform orientation) applies to spatial robots only.
+    ``rotvec_rad`` (the platform orientation) and ``budget`` (the error budget of a rigid platform,
+    on the DOE robot) apply to spatial robots only.
 
     Parameters
     ----------
@@ -473,6 +474,17 @@ def check_spatial_study(st, robots):
                     "use paper_comparison: false (the summary lists our numbers, not scored)",
                 )
             )
+    doe_robot = robots.get(st["doe"]["robot"])
+    if st.get("budget") is not None and doe_robot is not None and doe_robot.suspended_point_mass:
+        out.append(
+            ConfigError(
+                src,
+                "budget",
+                f"the study's error budget is for a rigid platform; robot {st['doe']['robot']} (doe.robot) is "
+                "a point mass: remove the key (a point-mass study has the comparison's budget, "
+                "config/comparisons/*.yaml)",
+            )
+        )
     if st.get("rotvec_rad") is not None and point:
         out.append(
             ConfigError(

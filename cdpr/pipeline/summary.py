@@ -505,7 +505,39 @@ def headline_rows(st, res):
                         f"common-E band +{r.phi_plus_rad * 1e3:.3g} / -{r.phi_minus_rad * 1e3:.3g} mrad",
                     )
                 )
+    rows += _budget_rows(res)
     return pd.DataFrame(rows, columns=COLUMNS)
+
+
+#: The error budget's entries in the summary (``cdpr.analyses.budget``), with their words.
+BUDGET_TERMS = {
+    "pulley": "pulley geometry alone",
+    "elasticity": "elasticity alone",
+    "winch": "winch exit point alone",
+    "all": "all three",
+}
+
+
+def _budget_rows(res):
+    """The study's error budget (``budget/budget.csv``, a spatial study with a ``budget`` key): per
+    design the mean ‖δp‖ [mm] of the three terms alone and together, with the mean ‖δφ‖ and the
+    points the means are over (ok in every entry); no rows when the table is absent."""
+    t = _read(res, _rel("study_budget"))
+    if t is None:
+        return []
+    rows = []
+    for r in t[t.entry.isin(list(BUDGET_TERMS))].itertuples():
+        rows.append(
+            _headline(
+                f"{r.design} budget: {BUDGET_TERMS[r.entry]}",
+                "budget/budget.csv",
+                float(r.mean_m) * 1e3,
+                "mm",
+                f"mean ‖δφ‖ {r.mean_rad * 1e3:.3g} mrad; over the {int(r.ok_points)} of {int(r.points)} RW_C points "
+                f"ok in every entry ({int(r.entry_ok_points)} ok in this one)",
+            )
+        )
+    return rows
 
 
 def _fmt(v):

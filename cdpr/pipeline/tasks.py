@@ -572,6 +572,45 @@ def budget_tables(st, comparison, tables, paths, table, figure, paths_figure):
     plots.budget_paths({k: v for k, v in curves.items() if len(v)}, paths_figure)
 
 
+def study_budget_design(st, design, box_file, table, threads=None):
+    """The error budget (``cdpr.analyses.budget``) of one optimal design on the DOE robot of a
+    spatial study, over the index_n^3 grid of RW_C at the study's orientation (``rotvec_rad``): one
+    row per entry (``budget.summarise``: ‖δp‖ and ‖δφ‖ over the points ok in every entry) with the
+    design, the region and entry_ok_points (points ok in that entry alone; the winch entries flag
+    points whose drum angle leaves [0, q_max] as infeasible)."""
+    if design not in st["optimal"]:
+        raise CdprError(f"budget: unknown design {design!r}; allowed: {', '.join(st['optimal'])}")
+    b = st["budget"]
+    robot = study.design_robot(st, st["doe"]["robot"], st["optimal"][design])
+    P = workspace.grid_points(study.read_box(box_file), b["index_n"])
+    res = budget.error_budget(robot, P, b["t_min_N"], threads, rotvec=study.rotvec(st))
+    tab = budget.summarise(res).assign(design=design, region="RW_C")
+    tab["entry_ok_points"] = [int((res[k]["status"] == "ok").sum()) for k in tab.entry]
+    cols = [
+        "design",
+        "region",
+        "entry",
+        "mean_m",
+        "max_m",
+        "share_m",
+        "largest_fraction",
+        "points",
+        "ok_points",
+    ]
+    extra = [c for c in ("mean_rad", "max_rad") if c in tab]
+    table_io.write_table(tab[cols + extra + ["entry_ok_points"]], table)
+
+
+def study_budget(st, tables, table, figure):
+    """The study's error budget of every optimal design as one table and its stacked bars
+    (``plots.budget_bars``, with the orientation panel when the table has ‖δφ‖)."""
+    found = {g["design"]: p for g, p in _by_stem(tables, r"(?P<design>[A-Za-z0-9_-]+)", "budget table")}
+    order = [d for d in st["optimal"] if d in found]
+    tab = pd.concat([table_io.read_table(found[d]) for d in order], ignore_index=True)
+    table_io.write_table(tab, table)
+    plots.budget_bars(tab, figure, xlabel=f"design [{st['doe']['robot']} optimal]")
+
+
 def comparison(st, comparison, tables, table, figure, markdown):
     """The comparison page (``cdpr.pipeline.comparison``): every conclusion in both modes with its verdict,
     the difference maps on the plane, and the error budget (``tables``: the budget table) with one

@@ -22,4 +22,5 @@ localrules:
     parity,
     conclusions,
     uncertainty,
+    study_budget,
 

@@ -10,7 +10,8 @@ rule summary:
     params:
         **COMMON,
         study=uses(
-            "name", "paper_comparison", "dead_length_m", "solver", "doe", "maps", "trajectories", "uncertainty", "redundancy"
+            "name", "paper_comparison", "dead_length_m", "solver", "doe", "maps", "trajectories", "uncertainty", "redundancy",
+            *(["budget"] if STUDY.get("budget") else []),  # the study's error budget (spatial studies only)
         ),
         results=RES,
     log:

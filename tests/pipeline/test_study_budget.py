@@ -1,0 +1,87 @@
+"""The error budget of a spatial study (study key ``budget``; rules study_budget_design, study_budget):
+the key is refused for a point-mass study in one line, gates the rules' jobs, and its two jobs write
+the per-design table (position and orientation, every entry) and the stacked bars."""
+
+import functools
+import json
+
+import pytest
+import yaml
+
+from cdpr import table_io
+from cdpr.analyses import budget
+from cdpr.pipeline import study, summary, tasks
+from cdpr.pipeline.results import Layout
+from tests.conftest import ROOT
+
+QUICK = ROOT / "config" / "studies" / "quick.yaml"
+QUICK_SPATIAL = ROOT / "config" / "studies" / "quick_spatial.yaml"
+KEY = {"index_n": 2, "t_min_N": 100.0}
+
+
+def _variant(src, tmp_path, **changes):
+    data = yaml.safe_load(src.read_text(encoding="utf-8"))
+    data["robots"] = {k: str(ROOT / v) for k, v in data["robots"].items()}
+    data.update(changes)
+    path = tmp_path / "study.yaml"
+    path.write_text(yaml.safe_dump(data), encoding="utf-8")
+    return path
+
+
+def test_a_point_mass_study_refuses_the_key_in_one_line(tmp_path):
+    path = _variant(QUICK, tmp_path, budget=KEY)
+    with pytest.raises(study.ConfigError) as err:
+        study.load_study(path)
+    message = str(err.value)
+    assert "\n" not in message and str(path) in message and "key 'budget'" in message
+    assert "point mass" in message and "comparison" in message
+
+
+def test_the_key_is_checked_by_the_schema(tmp_path):
+    with pytest.raises(study.ConfigError, match="budget"):
+        study.load_study(_variant(QUICK_SPATIAL, tmp_path, budget={"index_n": 1, "t_min_N": 100.0}))
+
+
+def test_the_key_gates_the_jobs(tmp_path):
+    plain = Layout(study.load_study(QUICK_SPATIAL), "r")
+    assert plain.wildcards("study_budget_design") == [] and plain.wildcards("study_budget") == []
+    assert "budget" not in plain.summary_inputs()
+    st = study.load_study(_variant(QUICK_SPATIAL, tmp_path, budget=KEY))
+    lay = Layout(st, "r")
+    assert lay.wildcards("study_budget_design") == [{"design": d} for d in st["optimal"]]
+    targets = lay.targets()
+    assert {f"r/budget/{d}.csv" for d in st["optimal"]} | {
+        "r/budget/budget.csv",
+        "r/budget/budget.png",
+    } <= set(targets)
+    assert lay.summary_inputs()["budget"] == "r/budget/budget.csv"
+
+
+def test_the_jobs_write_the_budget_of_every_design(tmp_path, monkeypatch):
+    # the numpy reference of the 6-DoF solve: no kernel compilation in this file (the compiled twin
+    # is tested equal to it to 1e-9 m and rad, tests/compiled/test_equilibrium6.py)
+    monkeypatch.setattr(tasks.budget, "error_budget", functools.partial(budget.error_budget, engine="numpy"))
+    st = study.load_study(_variant(QUICK_SPATIAL, tmp_path, budget=KEY))
+    box = tmp_path / "rw_c.json"
+    box.write_text(json.dumps({"box": [-0.4, 0.4, -0.4, 0.4, 2.4, 3.0]}), encoding="utf-8")
+    tables = []
+    for d in st["optimal"]:
+        tables.append(tmp_path / f"{d}.csv")
+        tasks.study_budget_design(st, d, box, tables[-1])
+    t = table_io.read_table(tables[0]).set_index("entry")
+    assert list(t.index) == [*budget.variants(), "interaction"]
+    assert (t.points == 8).all() and (t.ok_points == 8).all() and (t.entry_ok_points == 8).all()
+    assert t.loc["compensated_all", "mean_m"] < 1e-9 and t.loc["compensated_all", "mean_rad"] < 1e-9
+    assert t.loc["pulley", "mean_m"] > t.loc["winch", "mean_m"] > 0 and t.loc["pulley", "mean_rad"] > 0
+    shares = t.loc[[*budget.EFFECTS, "interaction"], "share_m"].sum()
+    assert shares == pytest.approx(t.loc["all", "mean_m"], rel=1e-9)
+    out = tmp_path / "budget" / "budget.csv"
+    out.parent.mkdir()
+    tasks.study_budget(st, list(reversed(tables)), out, out.with_suffix(".png"))
+    tab = table_io.read_table(out)
+    assert list(dict.fromkeys(tab.design)) == list(st["optimal"])  # in the study's order
+    assert out.with_suffix(".png").stat().st_size > 0 and out.with_suffix(".pdf").is_file()
+    rows = summary._budget_rows(tmp_path)
+    assert [r["quantity"] for r in rows[:4]] == [
+        f"{next(iter(st['optimal']))} budget: {w}" for w in summary.BUDGET_TERMS.values()
+    ]
