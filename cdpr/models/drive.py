@@ -107,7 +107,16 @@ def rest_lengths_from_angles(robot, q, model="winch"):
 
 def has_winches(robot):
     """True when every cable of ``robot`` has a winch (the robot file's ``winch:``), False when none
-    has; a robot with winches on some cables only raises CdprError (``_winches``)."""
+    has; a robot with winches on some cables only raises CdprError (``_winches``).
+
+    Parameters
+    ----------
+    robot : Robot
+
+    Returns
+    -------
+    bool
+    """
     ws = robot.winches
     if all(w is None for w in ws):
         return False
