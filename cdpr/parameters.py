@@ -30,7 +30,6 @@ import dataclasses
 import numpy as np
 
 from cdpr.errors import CdprError
-from cdpr.robot import Pulley
 
 #: Parameter groups, in the order of the sensitivity columns.
 GROUPS = ("E", "h", "r_p", "d", "A", "M")
@@ -204,8 +203,8 @@ def robot_with_parameters6(robot, values):
 
 
 def robot_with_parameters(robot, values):
-    """A copy of ``robot`` whose parameters are ``values``; pulley kinds, cable diameters and
-    admissible tensions unchanged. Not validated (the caller checks physical ranges): a sampled or
+    """A copy of ``robot`` whose parameters are ``values``; pulley kinds and axes, cable
+    diameters and admissible tensions unchanged. Not validated (the caller checks physical ranges): a sampled or
     perturbed robot.
 
     Parameters
@@ -228,7 +227,7 @@ def robot_with_parameters(robot, values):
         dataclasses.replace(
             c,
             A=tuple(float(x) for x in A[i]),
-            pulley=Pulley(kind=c.pulley.kind, h=float(h[i]), r_p=float(r_p[i])),
+            pulley=dataclasses.replace(c.pulley, h=float(h[i]), r_p=float(r_p[i])),
             dead_length=float(d[i]),
             material=dataclasses.replace(c.material, E=float(E[i])),
         )
