@@ -330,12 +330,7 @@ def read_data(path, robot):
     if len(df) == 0:
         raise ConfigError(src, None, "no samples")
     Lcols = [f"{prefix}{i}" for i in range(1, m + 1)]
-    L = _numbers(df, Lcols, src)
-    for j, c in enumerate(Lcols):
-        bad = ~np.isfinite(L[:, j]) | (L[:, j] <= 0)
-        if bad.any():
-            r = int(np.flatnonzero(bad)[0])
-            raise ConfigError(src, c, f"row {r + 1}: {L[r, j]!r}; lengths must be finite and > 0 [m]")
+    L = _lengths(df, Lcols, src)
     pose = _numbers(df, POSE, src)
     half = np.isfinite(pose).any(axis=1) & ~np.isfinite(pose).all(axis=1)
     if half.any() or np.isinf(pose).any():
@@ -406,12 +401,7 @@ def _read_data6(df, src, robot, enc, cols):
     if len(df) == 0:
         raise ConfigError(src, None, "no samples")
     Lcols = [f"{'L_enc' if enc else 'L'}{i}" for i in range(1, m + 1)]
-    L = _numbers(df, Lcols, src)
-    for j, c in enumerate(Lcols):
-        bad = ~np.isfinite(L[:, j]) | (L[:, j] <= 0)
-        if bad.any():
-            r = int(np.flatnonzero(bad)[0])
-            raise ConfigError(src, c, f"row {r + 1}: {L[r, j]!r}; lengths must be finite and > 0 [m]")
+    L = _lengths(df, Lcols, src)
     six = _numbers(df, POSE + ORIENTATION, src)
     fin = np.isfinite(six)
     bad = (fin.any(axis=1) & ~fin.all(axis=1)) | np.isinf(six).any(axis=1)
@@ -447,6 +437,18 @@ def _read_data6(df, src, robot, enc, cols):
         rotvec=six[:, 3:],
         sigma_rad=sig["sigma_rad"],
     )
+
+
+def _lengths(df, cols, src):
+    """The length columns ``cols`` of a calibration table as floats (n, m) [m]; ConfigError naming
+    the column and the first row whose value is not finite and > 0."""
+    L = _numbers(df, cols, src)
+    for j, c in enumerate(cols):
+        bad = ~np.isfinite(L[:, j]) | (L[:, j] <= 0)
+        if bad.any():
+            r = int(np.flatnonzero(bad)[0])
+            raise ConfigError(src, c, f"row {r + 1}: {L[r, j]!r}; lengths must be finite and > 0 [m]")
+    return L
 
 
 def _numbers(df, cols, src):
