@@ -72,8 +72,13 @@ def quick(quick_results):
 
 @pytest.mark.parametrize("run,table", CASES, ids=[f"{r}/{t}" for r, t in CASES])
 def test_quick_study_matches_references(quick, run, table):
-    ours = pd.read_csv(quick.parent / RUNS[run] / table)
-    ref = pd.read_csv(ROOT / "tests" / "reference" / run / table)
+    assert_table_matches(quick.parent / RUNS[run] / table, ROOT / "tests" / "reference" / run / table, table)
+
+
+def assert_table_matches(ours_path, ref_path, table):
+    """A results table against its reference: same columns and rows, numbers within RTOL/ATOL,
+    every other column's text equal (``table`` names it in the message)."""
+    ours, ref = pd.read_csv(ours_path), pd.read_csv(ref_path)
     assert list(ours.columns) == list(ref.columns) and len(ours) == len(ref), (
         f"{table}: shape or columns changed"
     )

@@ -17,8 +17,6 @@ import json
 import shutil
 from pathlib import Path
 
-import numpy as np
-import pandas as pd
 import pytest
 from matplotlib.testing.compare import compare_images
 
@@ -28,7 +26,7 @@ from cdpr.pipeline.study import load_study
 from tests.conftest import ROOT
 from tests.pipeline.test_figures import OUTPUT, RMS_TOL
 from tests.quick_runs import SPATIAL_STUDY, make_workdir, run_quick_spatial
-from tests.test_workflow import ATOL, RTOL
+from tests.test_workflow import assert_table_matches
 
 STUDY = ROOT / "config" / "studies" / f"{SPATIAL_STUDY}.yaml"
 REF = ROOT / "tests" / "reference" / SPATIAL_STUDY
@@ -86,20 +84,7 @@ def test_the_references_are_the_compared_tables():
 
 @pytest.mark.parametrize("table", TABLES)
 def test_quick_spatial_study_matches_references(spatial, table):
-    ours = pd.read_csv(spatial / table)
-    ref = pd.read_csv(REF / table)
-    assert list(ours.columns) == list(ref.columns) and len(ours) == len(ref), (
-        f"{table}: shape or columns changed"
-    )
-    for col in ref.columns:
-        if pd.api.types.is_numeric_dtype(ref[col]) and pd.api.types.is_numeric_dtype(ours[col]):
-            np.testing.assert_allclose(
-                ours[col], ref[col], rtol=RTOL, atol=ATOL, err_msg=f"{table}: column {col}"
-            )
-        else:
-            assert ours[col].fillna("").astype(str).tolist() == ref[col].fillna("").astype(str).tolist(), (
-                f"{table}: column {col}"
-            )
+    assert_table_matches(spatial / table, REF / table, table)
 
 
 def test_every_declared_output_is_written_and_every_figure_declared(spatial):
