@@ -38,7 +38,7 @@ def profile_args():
     return args
 
 
-@pytest.fixture(scope="module", params=["quick", "paper"])
+@pytest.fixture(scope="module", params=["quick", "paper", "quick_spatial"])
 def dry_run(request):
     """(study, rule -> has a shell command, number of group jobs) of a dry run with the profile's groups."""
     exe = Path(sys.executable).with_name("snakemake")
@@ -129,4 +129,4 @@ def test_no_partition_account_or_cpu_override():
 def test_group_job_count(dry_run):
     """The number of SLURM jobs the README states (solver jobs / group-components, per group)."""
     study, _, groups = dry_run
-    assert groups == {"quick": 5, "paper": 5}[study]
+    assert groups == {"quick": 5, "paper": 5, "quick_spatial": 4}[study]

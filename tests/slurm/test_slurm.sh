@@ -1,18 +1,21 @@
 #!/usr/bin/env bash
-# `make test-slurm`: the quick study through a throw-away single-node SLURM cluster on this machine
-# (tests/slurm/local_slurm.sh, no job accounting) with the shipped profile workflow/profiles/slurm,
-# unedited, and alongside it the same study locally. Every output file except the per-rule logs must be
+# `make test-slurm`: the quick study and the quick spatial study (CoGiRo), one after the other,
+# through a throw-away single-node SLURM cluster on this machine (tests/slurm/local_slurm.sh, no job
+# accounting) with the shipped profile workflow/profiles/slurm, unedited, and alongside each the
+# same study locally. Every output file except the per-rule logs must be
 # byte-identical (cmp): tables (CSV, parquet, JSON), summary.md and the figures (PNG, PDF).
 # The cluster is stopped on exit, also after a failure. Needs root or sudo, and .venv with the
 # executor plugin (`make cluster-venv`, which `make test-slurm` runs first).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 
-STUDY=config/studies/quick.yaml
 OUT=results/test_slurm
-# The quick study makes 5 SLURM jobs (2 + 3 group jobs of the two solver groups, every other rule local);
-# more means the profile's groups or the localrules were lost (82 jobs without them).
-MAX_JOBS=6
+# The studies, each with the most SLURM jobs it may submit: the quick study makes 5 (2 + 3 group jobs
+# of the two solver groups, every other rule local; 82 jobs without them), the quick spatial study
+# 4 (tests/test_cluster_profile.py counts them in a dry run). More means the profile's groups or the
+# localrules were lost. `TEST_SLURM_STUDIES="quick"` runs only the first.
+STUDIES=${TEST_SLURM_STUDIES:-"quick quick_spatial"}
+declare -A MAX_JOBS=([quick]=6 [quick_spatial]=5)
 SUDO=
 [ "$(id -u)" = 0 ] || SUDO=sudo
 
@@ -37,32 +40,46 @@ t1=$(date +%s)
 
 rm -rf "$OUT"
 mkdir -p "$OUT"
-# The local run goes alongside the SLURM run, whose jobs leave the CPUs idle while they queue
-# and between status queries (disjoint outputs, so the two Snakemake runs do not lock each other).
-echo "test-slurm: $STUDY through SLURM (log: $OUT/slurm.log) and locally (log: $OUT/local.log)"
-.venv/bin/snakemake --profile workflow/profiles/slurm reproduce_paper \
-  --config study="$STUDY" results="$OUT/slurm" > "$OUT/slurm.log" 2>&1 &
-slurm_pid=$!
-.venv/bin/snakemake --cores all reproduce_paper \
-  --config study="$STUDY" results="$OUT/local" > "$OUT/local.log" 2>&1 ||
-  { tail -40 "$OUT/local.log"; fail "the local run failed"; }
-t2=$(date +%s)
-wait "$slurm_pid" || { tail -40 "$OUT/slurm.log"; fail "the SLURM run failed"; }
-slurm_pid=
-t3=$(date +%s)
-jobs=$(grep -c "has been submitted with SLURM jobid" "$OUT/slurm.log" || true)
 
-list() { (cd "$1" && find . -type f ! -path './logs/*' | sort); }
-list "$OUT/local" > "$OUT/local.files"
-list "$OUT/slurm" > "$OUT/slurm.files"
-diff "$OUT/local.files" "$OUT/slurm.files" || fail "the two runs wrote different files (< local, > SLURM)"
-differ=0
-while read -r f; do
-  cmp "$OUT/local/$f" "$OUT/slurm/$f" || differ=$((differ + 1))
-done < "$OUT/local.files"
-[ "$differ" = 0 ] || fail "$differ files differ between the SLURM and the local run"
-[ "$jobs" -ge 1 ] && [ "$jobs" -le "$MAX_JOBS" ] || fail "$jobs SLURM jobs submitted, expected 1..$MAX_JOBS"
+# One study through SLURM and, alongside, locally; every output but the logs compared with cmp.
+run_study() {
+  local name=$1 study=config/studies/$1.yaml out=$OUT/$1 ta tb tc jobs differ f kinds
+  mkdir -p "$out"
+  ta=$(date +%s)
+  # The local run goes alongside the SLURM run, whose jobs leave the CPUs idle while they queue
+  # and between status queries (disjoint outputs, so the two Snakemake runs do not lock each other).
+  echo "test-slurm: $study through SLURM (log: $out/slurm.log) and locally (log: $out/local.log)"
+  .venv/bin/snakemake --profile workflow/profiles/slurm reproduce_paper \
+    --config study="$study" results="$out/slurm" > "$out/slurm.log" 2>&1 &
+  slurm_pid=$!
+  .venv/bin/snakemake --cores all reproduce_paper \
+    --config study="$study" results="$out/local" > "$out/local.log" 2>&1 ||
+    { tail -40 "$out/local.log"; fail "$name: the local run failed"; }
+  tb=$(date +%s)
+  wait "$slurm_pid" || { tail -40 "$out/slurm.log"; fail "$name: the SLURM run failed"; }
+  slurm_pid=
+  tc=$(date +%s)
+  jobs=$(grep -c "has been submitted with SLURM jobid" "$out/slurm.log" || true)
 
-kinds=$(sed 's/.*\.//' "$OUT/local.files" | sort | uniq -c | awk '{printf "%s%s %s", sep, $1, $2; sep=", "}')
-echo "test-slurm: OK: $(wc -l < "$OUT/local.files") files byte-identical ($kinds); $jobs SLURM jobs"
-echo "test-slurm: seconds: cluster start $((t1 - t0)), local run $((t2 - t1)) and SLURM run $((t3 - t1)) side by side, total $((t3 - t0)) (+ stop)"
+  list() { (cd "$1" && find . -type f ! -path './logs/*' | sort); }
+  list "$out/local" > "$out/local.files"
+  list "$out/slurm" > "$out/slurm.files"
+  diff "$out/local.files" "$out/slurm.files" || fail "$name: the two runs wrote different files (< local, > SLURM)"
+  differ=0
+  while read -r f; do
+    cmp "$out/local/$f" "$out/slurm/$f" || differ=$((differ + 1))
+  done < "$out/local.files"
+  [ "$differ" = 0 ] || fail "$name: $differ files differ between the SLURM and the local run"
+  [ "$jobs" -ge 1 ] && [ "$jobs" -le "${MAX_JOBS[$name]}" ] ||
+    fail "$name: $jobs SLURM jobs submitted, expected 1..${MAX_JOBS[$name]}"
+
+  kinds=$(sed 's/.*\.//' "$out/local.files" | sort | uniq -c | awk '{printf "%s%s %s", sep, $1, $2; sep=", "}')
+  echo "test-slurm: $name OK: $(wc -l < "$out/local.files") files byte-identical ($kinds); $jobs SLURM jobs"
+  echo "test-slurm: $name seconds: local run $((tb - ta)) and SLURM run $((tc - ta)) side by side"
+}
+
+for name in $STUDIES; do
+  [ -f "config/studies/$name.yaml" ] && [ -n "${MAX_JOBS[$name]:-}" ] || fail "unknown study $name (TEST_SLURM_STUDIES)"
+  run_study "$name"
+done
+echo "test-slurm: seconds: cluster start $((t1 - t0)), total $(($(date +%s) - t0)) (+ stop)"
