@@ -1306,8 +1306,8 @@ def usable(data, robot):
         raise CdprError(
             f"{data.source}: no sample has a measured pose or tensions; with elastic cables and no measured tension every "
             "set of lengths has an equilibrium for every θ, so encoder-only samples give no equation "
-            "(d_i and offset_i enter only as their sum); measure poses, or use --model standard for a rigid "
-            "self-calibration (biased)"
+            "(d_i and offset_i enter only as their sum); measure poses or tensions (t1_N..), or, for a point mass, "
+            "use --model standard for a rigid self-calibration (biased)"
         )
     return np.flatnonzero(has), np.flatnonzero(~has)
 

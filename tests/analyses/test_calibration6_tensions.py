@@ -1,7 +1,7 @@
 """Measured tensions and winches on a rigid 6-DoF platform (cdpr.analyses.calibration on CoGiRo):
 the tension rows' exact Jacobian against central differences of the full residual (re-solving
-every equilibrium) with and without drums, encoder-only data with tensions recovering the offsets
-and moduli, the gauge without tensions, bad tension columns, the drums in simulate, check and fit,
+every equilibrium) with and without drums, encoder-only data with tensions recovering the offsets,
+moduli and mass, the gauge without tensions, bad tension columns, the drums in simulate, check and fit,
 and the command line round trip."""
 
 import json
@@ -91,19 +91,21 @@ def test_tension_rows_jacobian_equals_central_differences(cogiro, cogiro_winch, 
         np.testing.assert_array_equal(J[n_pose + n_t :, j], np.eye(len(idx))[j])
 
 
-def test_encoder_only_with_tensions_recovers_offsets_and_moduli(cogiro):
+def test_encoder_only_with_tensions_recovers_offsets_moduli_and_mass(cogiro):
     """Encoder readings and measured tensions, no pose, noise-free (σ_t = 1 µN): the tensions
-    fix the pose through the balance, Hooke's law then the rest lengths, so the offsets and the
-    moduli are identified (rank 16) and recovered to 1e-6 relative."""
-    groups = ["moduli", "offsets"]
-    rng, idx, sd, truth, th = _truth(cogiro, ["moduli"], 21)
+    fix the pose through the balance, Hooke's law then the rest lengths, so the offsets, the moduli
+    and the mass (which poses alone see only as E_i / M) are identified (rank 17) and recovered to
+    1e-6 relative."""
+    groups = ["moduli", "mass", "offsets"]
+    rng, idx, sd, truth, th = _truth(cogiro, ["moduli", "mass"], 21)
     off = np.linspace(-0.035, 0.035, 8)  # none 0: 1e-6 relative on each
     data = cal.simulate(truth, cogiro, _poses(rng, 12), offsets=off, tensions=True, sigma_t=1e-6)
     c = cal.fit(cogiro, _encoder_only(data), groups, solver={"tol": 1e-13})
-    assert c.ident["rank"] == 16 and set(c.ident["labels"]) == {"identified"}
-    np.testing.assert_allclose(c.estimate[8:], off, rtol=1e-6)
-    np.testing.assert_allclose(c.estimate[:8], th[idx], rtol=1e-6)
-    assert (np.abs(c.estimate[:8] - c.nominal[:8]) / c.nominal[:8]).max() > 0.05  # far from the nominal
+    assert c.names == [*[f"E_{i}" for i in range(1, 9)], "M", *[f"offset_{i}" for i in range(1, 9)]]
+    assert c.ident["rank"] == 17 and set(c.ident["labels"]) == {"identified"}
+    np.testing.assert_allclose(c.estimate[9:], off, rtol=1e-6)
+    np.testing.assert_allclose(c.estimate[:9], th[idx], rtol=1e-6)
+    assert (np.abs(c.estimate[:9] - c.nominal[:9]) / c.nominal[:9]).max() > 0.05  # far from the nominal
     s = c.summary()
     assert s["samples_used"] == 12 and s["residual_rms_m"] is None and s["residual_rms_rad"] is None
 
