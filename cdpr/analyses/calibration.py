@@ -25,7 +25,11 @@ Encoder data (``L_enc1..L_encm`` = rest length + an unknown offset per cable): w
 and no measured tension every set of lengths has an equilibrium for every θ, so a sample without a
 measured pose gives no equation in the exact model; such samples are counted and left out, and
 with none left the fit refuses with one line naming the way out (measure poses, or ``--model
-standard`` for a rigid self-calibration, ``self_calibrate_standard``, whose gauge it reports).
+standard`` for a rigid self-calibration of a point mass, ``self_calibrate_standard``, whose gauge
+it reports). Measured tensions (``t1_N..tm_N``, point mass and 6-DoF platform alike) add m rows
+(t_meas - t(θ, L0)) / σ_t per sample, which make encoder-only samples equations: the tensions fix
+the pose through the balance, Hooke's law then the rest lengths (``tension_sensitivities``,
+``tension_sensitivities6``).
 
 Identifiability (``identifiability``): singular values of the measurement rows scaled by the
 prior (rows / σ, columns × prior sd), the rank (> 1e-9 s_max), the condition number, the weakest
@@ -69,7 +73,7 @@ from cdpr.models.sensitivity import (
     implicit_solve,
     physical_jacobian_terms,
 )
-from cdpr.models.sensitivity6 import rest_length_sensitivities, spatial_sensitivities
+from cdpr.models.sensitivity6 import rest_length_sensitivities, spatial_sensitivities, tension_partials6
 from cdpr.parameters import (
     CALIBRATION_GROUPS,
     calibrated_robot,
@@ -253,7 +257,7 @@ ORIENTATION = ["rx_rad", "ry_rad", "rz_rad"]
 def data_columns(m, encoder=False, spatial=False):
     """Columns of a calibration table for m cables: sample, L1..Lm (or L_enc1..L_encm), x_m, y_m,
     z_m, and for a 6-DoF platform (``spatial``) rx_rad, ry_rad, rz_rad; optional sigma_m (and
-    sigma_rad), and, for a point mass, tensions t1_N..tm_N."""
+    sigma_rad), tensions t1_N..tm_N and sigma_N."""
     lengths = [f"L_enc{i}" for i in range(1, m + 1)] if encoder else [f"L{i}" for i in range(1, m + 1)]
     return ["sample", *lengths, *POSE, *(ORIENTATION if spatial else [])]
 
@@ -277,8 +281,8 @@ def read_data(path, robot):
         One line naming the file, the column and what is allowed: missing or extra columns, a
         length column count that does not match the robot, NaN, non-finite or non-positive
         lengths, half-measured poses, sigma <= 0, orientation columns on a point-mass robot; on a
-        6-DoF platform a pose needs all six of x_m, y_m, z_m, rx_rad, ry_rad, rz_rad (tension
-        columns are refused there: not implemented for a rigid platform).
+        6-DoF platform a pose needs all six of x_m, y_m, z_m, rx_rad, ry_rad, rz_rad; tensions
+        t1_N..tm_N all or none, finite and >= 0, sigma_N > 0 (every robot).
     """
     src = str(path)
     try:
@@ -321,12 +325,7 @@ def read_data(path, robot):
         raise ConfigError(
             src, extra[0], f"unknown column; allowed: {', '.join(need)}, sigma_m, t1_N..t{m}_N, sigma_N"
         )
-    given = [c for c in Tcols if c in cols]
-    if given and len(given) != m:
-        missing_t = [c for c in Tcols if c not in cols]
-        raise ConfigError(src, missing_t[0], f"tensions need all of t1_N..t{m}_N")
-    if "sigma_N" in cols and not given:
-        raise ConfigError(src, "sigma_N", f"the tension noise needs the tension columns t1_N..t{m}_N")
+    given = _tension_names(cols, src, m)
     if len(df) == 0:
         raise ConfigError(src, None, "no samples")
     Lcols = [f"{prefix}{i}" for i in range(1, m + 1)]
@@ -339,7 +338,7 @@ def read_data(path, robot):
             src, "x_m,y_m,z_m", f"row {r + 1}: a pose needs all three finite coordinates (or none)"
         )
     nan_pose = ~np.isfinite(pose).all(axis=1)
-    if nan_pose.any() and not enc and not any(f"t{i}_N" in cols for i in range(1, m + 1)):
+    if nan_pose.any() and not enc and not given:
         r = int(np.flatnonzero(nan_pose)[0])
         raise ConfigError(
             src,
@@ -356,24 +355,7 @@ def read_data(path, robot):
             )
     else:
         sigma = np.full(len(df), SIGMA_DEFAULT)
-    tension = np.full((len(df), m), np.nan)
-    sigma_t = np.full(len(df), SIGMA_T_DEFAULT)
-    if given:
-        tension = _numbers(df, Tcols, src)
-        fin = np.isfinite(tension)
-        half = fin.any(axis=1) & ~fin.all(axis=1)
-        neg = (tension < 0).any(axis=1) | np.isinf(tension).any(axis=1)
-        if (half | neg).any():
-            r = int(np.flatnonzero(half | neg)[0])
-            raise ConfigError(
-                src, ",".join(Tcols), f"row {r + 1}: tensions must be all finite and >= 0 [N] (or all empty)"
-            )
-        if "sigma_N" in cols:
-            sigma_t = _numbers(df, ["sigma_N"], src)[:, 0]
-            bad = fin.all(axis=1) & ~(np.isfinite(sigma_t) & (sigma_t > 0))
-            if bad.any():
-                r = int(np.flatnonzero(bad)[0])
-                raise ConfigError(src, "sigma_N", f"row {r + 1}: sigma_N must be finite and > 0 [N]")
+    tension, sigma_t = _tensions(df, src, m, given)
     sample = df["sample"].astype(str).to_numpy()
     return Data(
         sample=sample, L=L, pose=pose, sigma=sigma, encoder=enc, source=src, tension=tension, sigma_t=sigma_t
@@ -392,12 +374,15 @@ def _read_data6(df, src, robot, enc, cols):
             missing[0],
             f"missing column; robot {robot.name} has a 6-DoF platform, a calibration table needs {', '.join(need)}",
         )
-    extra = [c for c in cols if c not in set(need) | {"sigma_m", "sigma_rad"}]
+    Tcols = [f"t{i}_N" for i in range(1, m + 1)]
+    extra = [c for c in cols if c not in set(need) | {"sigma_m", "sigma_rad", "sigma_N"} | set(Tcols)]
     if extra:
-        why = "tension columns are not supported for a 6-DoF platform; " if extra[0].startswith("t") else ""
         raise ConfigError(
-            src, extra[0], f"unknown column; {why}allowed: {', '.join(need)}, sigma_m, sigma_rad"
+            src,
+            extra[0],
+            f"unknown column; allowed: {', '.join(need)}, sigma_m, sigma_rad, t1_N..t{m}_N, sigma_N",
         )
+    given = _tension_names(cols, src, m)
     if len(df) == 0:
         raise ConfigError(src, None, "no samples")
     Lcols = [f"{'L_enc' if enc else 'L'}{i}" for i in range(1, m + 1)]
@@ -411,10 +396,12 @@ def _read_data6(df, src, robot, enc, cols):
         raise ConfigError(
             src, col, f"row {r + 1}: a 6-DoF pose needs all six finite values x_m..rz_rad (or none)"
         )
-    if not fin.all(axis=1).all() and not enc:
+    if not fin.all(axis=1).all() and not enc and not given:
         r = int(np.flatnonzero(~fin.all(axis=1))[0])
         raise ConfigError(
-            src, "x_m", f"row {r + 1}: no pose; only encoder data (L_enc1..) may leave the pose empty"
+            src,
+            "x_m",
+            f"row {r + 1}: no pose; only encoder data (L_enc1..) or tension data (t1_N..) may leave the pose empty",
         )
     sig = {}
     for c, default, unit in (("sigma_m", SIGMA_DEFAULT, "m"), ("sigma_rad", SIGMA_RAD_DEFAULT, "rad")):
@@ -427,6 +414,7 @@ def _read_data6(df, src, robot, enc, cols):
             sig[c] = v
         else:
             sig[c] = np.full(len(df), default)
+    tension, sigma_t = _tensions(df, src, m, given)
     return Data(
         sample=df["sample"].astype(str).to_numpy(),
         L=L,
@@ -434,9 +422,51 @@ def _read_data6(df, src, robot, enc, cols):
         sigma=sig["sigma_m"],
         encoder=enc,
         source=src,
+        tension=tension,
+        sigma_t=sigma_t,
         rotvec=six[:, 3:],
         sigma_rad=sig["sigma_rad"],
     )
+
+
+def _tension_names(cols, src, m):
+    """The tension columns t1_N..tm_N of a calibration table, all of them or none (an empty list);
+    ConfigError when only some are there or sigma_N comes without them."""
+    Tcols = [f"t{i}_N" for i in range(1, m + 1)]
+    given = [c for c in Tcols if c in cols]
+    if given and len(given) != m:
+        missing_t = [c for c in Tcols if c not in cols]
+        raise ConfigError(src, missing_t[0], f"tensions need all of t1_N..t{m}_N")
+    if "sigma_N" in cols and not given:
+        raise ConfigError(src, "sigma_N", f"the tension noise needs the tension columns t1_N..t{m}_N")
+    return given
+
+
+def _tensions(df, src, m, given):
+    """The measured tensions (n, m) [N] (NaN rows where not measured) and their noise sd sigma_N
+    (n,) [N] (``SIGMA_T_DEFAULT`` without the column) of the tension columns ``given``
+    (``_tension_names``); ConfigError naming the row where the tensions are half given, negative or
+    not finite, or sigma_N is not finite and > 0."""
+    tension = np.full((len(df), m), np.nan)
+    sigma_t = np.full(len(df), SIGMA_T_DEFAULT)
+    if not given:
+        return tension, sigma_t
+    tension = _numbers(df, given, src)
+    fin = np.isfinite(tension)
+    half = fin.any(axis=1) & ~fin.all(axis=1)
+    neg = (tension < 0).any(axis=1) | np.isinf(tension).any(axis=1)
+    if (half | neg).any():
+        r = int(np.flatnonzero(half | neg)[0])
+        raise ConfigError(
+            src, ",".join(given), f"row {r + 1}: tensions must be all finite and >= 0 [N] (or all empty)"
+        )
+    if "sigma_N" in df.columns:
+        sigma_t = _numbers(df, ["sigma_N"], src)[:, 0]
+        bad = fin.all(axis=1) & ~(np.isfinite(sigma_t) & (sigma_t > 0))
+        if bad.any():
+            r = int(np.flatnonzero(bad)[0])
+            raise ConfigError(src, "sigma_N", f"row {r + 1}: sigma_N must be finite and > 0 [N]")
+    return tension, sigma_t
 
 
 def _lengths(df, cols, src):
@@ -782,17 +812,21 @@ def smooth6(hooke, cond):
 
 class Problem6:
     """``Problem`` for a rigid 6-DoF platform: six rows per sample with a measured pose (position /
-    σ_m, orientation error / σ_rad, ``map_residual6``), then the prior rows; the exact Jacobian from
-    ``sensitivity6.spatial_sensitivities`` (implicit function) and, for the encoder offsets,
-    ``sensitivity6.rest_length_sensitivities`` (dx*/do_i = -dx*/dL0_i). The numpy reference solver
-    (there is no compiled twin of the 6-DoF sensitivities).
+    σ_m, orientation error / σ_rad, ``map_residual6``), m tension rows (t_meas - t(θ, L0)) / σ_t per
+    sample with measured tensions (``tension_sensitivities6``), then the prior rows; the exact
+    Jacobian from ``sensitivity6.spatial_sensitivities`` (implicit function) and, for the encoder
+    offsets, ``sensitivity6.rest_length_sensitivities`` (dx*/do_i = -dx*/dL0_i). A sample without a
+    measured pose is solved from ``_centre`` at the identity orientation. On a robot file with
+    ``winch:`` the commanded lengths go through the drums (``drive.realised_rest_lengths``) with
+    the chain rule of ``Problem.evaluate`` on the offsets and dead lengths. The numpy reference
+    solver (there is no compiled twin of the 6-DoF sensitivities).
 
     Parameters
     ----------
     robot : Robot
         Nominal robot (the prior mean), in the chosen model.
     data : Data
-        Samples with a measured pose (position and orientation).
+        Samples with a measured pose (position and orientation) or measured tensions.
     index : ndarray of int
         Into ``calibration_names(robot.m, spatial=True)``.
     sd : ndarray, shape (len(index),)
@@ -807,13 +841,17 @@ class Problem6:
         self.m = robot.m
         self.nr = robot_size(self.m, True)
         self.theta0 = calibration_values(robot)
+        #: a robot file with ``winch:``: the commanded lengths are mapped through the drums
+        self.winch = has_winches(robot)
         names = calibration_names(self.m, True)
         self._cols6 = self.index[self.index < self.nr]
         self._names6 = [names[k] for k in self._cols6]
         self._cache = None
         pose = np.flatnonzero(data.has_pose & data.has_orientation)
-        self.row_sample = np.repeat(pose, 6).astype(np.intp)
-        self._pose = pose
+        tens = np.flatnonzero(data.has_tension)
+        #: the sample of every measurement row
+        self.row_sample = np.concatenate([np.repeat(pose, 6), np.repeat(tens, self.m)]).astype(np.intp)
+        self._pose, self._tens = pose, tens
         self._R = rotation_matrix(np.nan_to_num(data.rotvec))
 
     def theta(self, z):
@@ -822,22 +860,33 @@ class Problem6:
         return th
 
     def evaluate(self, z):
-        """Solve at z: P* (n, 3), R* (n, 3, 3), status, smooth (n,), dx*/dθ_free (n, 6, k)."""
+        """Solve at z: P* (n, 3), R* (n, 3, 3), status, smooth (n,), dx*/dθ_free (n, 6, k); with
+        tension data also the tensions t (n, m) [N] and dt/dθ_free (n, m, k)."""
         key = np.asarray(z, float).tobytes()
         if self._cache is not None and self._cache[0] == key:
             return self._cache[1]
-        data, nr = self.data, self.nr
+        data, nr, m = self.data, self.nr, self.m
         th = self.theta(z)
         rob = robot_with_parameters6(self.robot, th[:nr])
         L0 = data.L - th[nr:]
+        w_L = w_d = None
+        if self.winch:  # the commanded lengths go through the drums (drive.realised_rest_lengths)
+            L0, w_L, w_d = realised_rest_lengths(rob, L0)
         hp = data.has_pose & data.has_orientation
         start = np.where(hp[:, None], data.pose, _centre(rob))
         rv = np.where(hp[:, None], data.rotvec, 0.0)
+        drum = np.isfinite(L0).all(axis=1)
+        L0 = _drum_or_standard(rob, L0, drum, start, rv)
         res = spatial_sensitivities(rob, start, rv, L0=L0, names=self._names6, **self.solver)
+        SL, hooke, cond = rest_length_sensitivities(rob, res["P_s"], res["R_s"], L0)
+        if not drum.all():  # a command the drum cannot pay out: no equilibrium, flagged by the fit
+            res["status"] = np.where(drum, res["status"], DRUM_RANGE)
+            res["P_s"][~drum] = np.nan
         S = np.zeros((len(start), 6, len(th)))
         S[:, :, self._cols6] = res["S"]
-        SL, hooke, cond = rest_length_sensitivities(rob, res["P_s"], res["R_s"], L0)
-        S[:, :, nr:] = -SL
+        S[:, :, nr:] = -SL if w_L is None else -SL * w_L[:, None, :]
+        if self.winch:  # chain rule: dx/dd_i += dx/dL0_i dL0_i/dd_i (dx/do_i above: -dx/dL0_i dL0_i/dL_cmd,i)
+            S[:, :, 3 * m : 4 * m] += SL * w_d[:, None, :]
         out = {
             "P": res["P_s"],
             "R": res["R_s"],
@@ -845,26 +894,44 @@ class Problem6:
             "smooth": smooth6(hooke, cond),
             "S": S[:, :, self.index],
         }
+        if len(self._tens):
+            ok = res["status"] == "ok"
+            t = np.full((len(start), m), np.nan)
+            St = np.full((len(start), m, len(th)), np.nan)
+            if ok.any():
+                w = (w_L[ok], w_d[ok]) if self.winch else (None, None)
+                t[ok], St[ok] = tension_sensitivities6(
+                    rob, res["P_s"][ok], res["R_s"][ok], L0[ok], S[ok], self._cols6, *w
+                )
+            out["t"], out["St"] = t, St[:, :, self.index]
         self._cache = (key, out)
         return out
 
     def residual(self, z):
-        """r(z) = [position and orientation rows ; z] (``map_residual6``)."""
+        """r(z) = [position and orientation rows ; tension rows ; z] (``map_residual6``)."""
         ev = self.evaluate(z)
-        d, p = self.data, self._pose
-        return map_residual6(d.pose[p], ev["P"][p], self._R[p], ev["R"][p], d.sigma[p], d.sigma_rad[p], z)
+        d, p, t = self.data, self._pose, self._tens
+        r = map_residual6(d.pose[p], ev["P"][p], self._R[p], ev["R"][p], d.sigma[p], d.sigma_rad[p], z)
+        if len(t):
+            rt = ((d.tension[t] - ev["t"][t]) / d.sigma_t[t, None]).ravel()
+            r = np.concatenate([r[: 6 * len(p)], rt, r[6 * len(p) :]])
+        return r
 
     def jacobian(self, z):
-        """dr/dz: per sample [-dp*/dθ σ_prior / σ_m ; -J_r⁻¹(e) dφ*/dθ σ_prior / σ_rad], then I."""
+        """dr/dz: per sample [-dp*/dθ σ_prior / σ_m ; -J_r⁻¹(e) dφ*/dθ σ_prior / σ_rad], then
+        -dt/dθ σ_prior / σ_t, then I."""
         ev = self.evaluate(z)
-        d, p = self.data, self._pose
+        d, p, t = self.data, self._pose, self._tens
         k = len(self.index)
         S = np.nan_to_num(ev["S"][p]) * self.sd
         e = orientation_residual(self._R[p], ev["R"][p])
         Jp = -S[:, :3] / d.sigma[p, None, None]
         Jr = -np.einsum("nab,nbk->nak", log_right_jacobian_inverse(np.nan_to_num(e)), S[:, 3:])
         Jr /= d.sigma_rad[p, None, None]
-        return np.vstack([np.concatenate([Jp, Jr], axis=1).reshape(-1, k), np.eye(k)])
+        blocks = [np.concatenate([Jp, Jr], axis=1).reshape(-1, k)]
+        if len(t):
+            blocks.append((-(np.nan_to_num(ev["St"][t]) * self.sd) / d.sigma_t[t, None, None]).reshape(-1, k))
+        return np.vstack([*blocks, np.eye(k)])
 
     def angles(self, ev):
         """The orientation error angle |log(R_meas R*ᵀ)| (n,) [rad] of every sample (NaN without one)."""
@@ -872,6 +939,70 @@ class Problem6:
         p = self._pose
         out[p] = np.linalg.norm(orientation_residual(self._R[p], ev["R"][p]), axis=1)
         return out
+
+
+def _drum_or_standard(robot, L0, drum, p, rv):
+    """The rest lengths L0 (n, m) [m] where the drums can pay them out (``drum``), elsewhere the
+    standard lengths at the start poses (p, rv): a harmless solve for the samples flagged
+    ``DRUM_RANGE`` afterwards."""
+    if drum.all():
+        return L0
+    return np.where(drum[:, None], L0, L_TS_pose(robot, p, rotation_matrix(rv)))
+
+
+def tension_sensitivities6(robot, P, R, L0, S, cols6, w_L=None, w_d=None):
+    r"""Cable tensions at a rigid platform's equilibrium and their total derivatives by the
+    calibration parameters.
+
+    .. math:: t_i = a_i k_i (L_{TE,i}(x^*) - L0_i),\quad k_i = \frac{E_i S_i}{L0_i},\quad
+              \frac{dt_i}{d\theta} = \frac{\partial t_i}{\partial x}\frac{dx^*}{d\theta}
+              + a_i\left[k_i \frac{\partial L_{TE,i}}{\partial \theta}
+              + \frac{\partial k_i}{\partial \theta}(L_{TE,i} - L0_i)\right]
+              + \frac{\partial t_i}{\partial L0_i}\frac{dL0_i}{d\theta}
+
+    x* = (p*, R*) with the attachment B_i = p + R b_i (``sensitivity6.tension_partials6``: ∂t_i/∂x,
+    ∂t_i/∂L0_i = -a_i k_i L_TE,i / L0_i and the fixed-pose partials); L0_i = reading - o_i, so
+    dL0_i/do_i = -1, or through a winch (L0_i = W(reading - o_i, d_i), ``drive.realised_rest_lengths``)
+    dL0_i/do_i = -∂W/∂L_cmd and dL0_i/dd_i = ∂W/∂d_i.
+
+    Parameters
+    ----------
+    robot : Robot
+    P : ndarray, shape (n, 3) [m]
+        Equilibrium positions.
+    R : ndarray, shape (n, 3, 3) [-]
+        Equilibrium orientations.
+    L0 : ndarray, shape (n, m) [m]
+        Rest lengths.
+    S : ndarray, shape (n, 6, 11 m + 4)
+        dx*/dθ of the calibration parameters (``calibration_names(m, spatial=True)``), the chain
+        rule of the winch included; only the columns ``cols6`` and the offsets need to be filled.
+    cols6 : ndarray of int
+        Robot parameters (< 10 m + 4) whose fixed-pose partials count.
+    w_L, w_d : ndarray, shape (n, m) [m/m], optional
+        dL0/dL_cmd and dL0/dd of the winch map (None: no winch).
+
+    Returns
+    -------
+    t : ndarray, shape (n, m) [N]
+        0 on slack cables.
+    dt : ndarray, shape (n, m, 11 m + 4) [N per unit of θ]
+
+    References
+    ----------
+    Paty et al. 2021, eq. (5), (10), (13); implicit-function theorem.
+    """
+    m = robot.m
+    nr = robot_size(m, True)
+    names = calibration_names(m, True)
+    tp = tension_partials6(robot, P, R, L0, [names[k] for k in cols6])
+    dt = np.einsum("nia,nak->nik", tp["dt_dx"], S)
+    dt[:, :, cols6] += tp["dt_dtheta"]
+    cab = np.arange(m)
+    dt[:, cab, nr + cab] -= tp["dt_dL0"] if w_L is None else tp["dt_dL0"] * w_L
+    if w_d is not None:
+        dt[:, cab, 3 * m + cab] += tp["dt_dL0"] * w_d
+    return tp["t"], dt
 
 
 def _problem(base, data, index, sd, engine="compiled", solver=None):
@@ -1175,8 +1306,8 @@ def usable(data, robot):
         raise CdprError(
             f"{data.source}: no sample has a measured pose or tensions; with elastic cables and no measured tension every "
             "set of lengths has an equilibrium for every θ, so encoder-only samples give no equation "
-            "(d_i and offset_i enter only as their sum); measure poses, or use --model standard for a rigid "
-            "self-calibration (biased)"
+            "(d_i and offset_i enter only as their sum); measure poses or tensions (t1_N..), or, for a point mass, "
+            "use --model standard for a rigid self-calibration (biased)"
         )
     return np.flatnonzero(has), np.flatnonzero(~has)
 
@@ -1217,11 +1348,6 @@ def fit(robot, data, groups, priors=None, model="exact", loss="linear", engine="
     if model == "standard" and data.encoder and not (data.has_pose | data.has_tension).any():
         return self_calibrate_standard(robot, data, groups, priors)
     base = model_robot(robot, model)
-    if is_spatial(base) and has_winches(base):
-        raise CdprError(
-            f"{robot.source}: the winch map (winch:) is implemented for point-mass robots only; remove "
-            "'winch:' or use --model standard"
-        )
     index = select_groups(robot, groups)
     check_model_groups(base, model, groups, data)
     sd = prior_sd(base, index, priors)
@@ -1533,10 +1659,6 @@ def check(robot, data, engine="compiled"):
     if data.encoder:
         raise CdprError(f"{data.source}: check needs commanded lengths L1..L{robot.m}, not encoder readings")
     if is_spatial(robot):
-        if has_winches(robot):
-            raise CdprError(
-                f"{robot.source}: the winch map (winch:) is implemented for point-mass robots only"
-            )
         return _check6(robot, data)
     L0 = realised_lengths(robot, data.L)
     drum = np.isfinite(L0).all(axis=1)
@@ -1562,8 +1684,13 @@ def check(robot, data, engine="compiled"):
 
 
 def _check6(robot, data):
-    """``check`` for a 6-DoF platform: the equilibrium under L0 started at the measured pose."""
-    res = solve6(robot, data.pose, data.L, rotvec=data.rotvec)
+    """``check`` for a 6-DoF platform: the equilibrium under the commanded lengths (through the
+    drums of a robot with winches, ``realised_lengths``) started at the measured pose."""
+    L0 = realised_lengths(robot, data.L)
+    drum = np.isfinite(L0).all(axis=1)
+    L0 = _drum_or_standard(robot, L0, drum, data.pose, np.nan_to_num(data.rotvec))
+    res = solve6(robot, data.pose, L0, rotvec=data.rotvec)
+    res["status"] = np.where(drum, res["status"], DRUM_RANGE)
     ok = res["status"] == "ok"
     err = np.linalg.norm(res["P_s"] - data.pose, axis=1)
     ang = np.linalg.norm(orientation_residual(rotation_matrix(data.rotvec), res["R_s"]), axis=1)
@@ -1636,13 +1763,19 @@ def simulate(
         With status "ok" samples only (the others are dropped here: this is the simulator, not the fit).
     """
     if is_spatial(truth):
-        if has_winches(truth):
-            raise CdprError(
-                f"{truth.source}: the winch map (winch:) is implemented for point-mass robots only"
-            )
-        if tensions:
-            raise CdprError("simulate: tension data are not supported for a 6-DoF platform")
-        return _simulate6(truth, nominal, P, rotvec, sigma, sigma_rad, rng, offsets, command)
+        return _simulate6(
+            truth,
+            nominal,
+            P,
+            rotvec,
+            sigma,
+            sigma_rad,
+            rng,
+            offsets,
+            command,
+            tensions=tensions,
+            sigma_t=sigma_t,
+        )
     _check_command(command, truth)
     L0 = L_TS(nominal, P)
     L_real = realised_lengths(truth, L0)  # through the true robot's drums when it has winches
@@ -1655,9 +1788,7 @@ def simulate(
     L = L0[ok] if offsets is None else L0[ok] + np.asarray(offsets)
     t = np.full(L.shape, np.nan)
     if tensions:
-        t = np.nan_to_num(res["t"][ok])  # slack cables: 0 N
-        if rng is not None:
-            t = np.maximum(t + rng.normal(0.0, sigma_t, t.shape), 0.0)
+        t = _measured_tensions(res["t"][ok], sigma_t, rng)
     return Data(
         tension=t,
         sigma_t=np.full(int(ok.sum()), float(sigma_t)),
@@ -1668,6 +1799,15 @@ def simulate(
         encoder=offsets is not None,
         source="<simulated>",
     )
+
+
+def _measured_tensions(t, sigma_t, rng):
+    """Tension-sensor readings of the equilibrium tensions t (n, m) [N] (NaN on a slack cable, read
+    as 0 N): plus N(0, sigma_t²) noise with ``rng``, clipped at 0 N."""
+    t = np.nan_to_num(t)
+    if rng is not None:
+        t = np.maximum(t + rng.normal(0.0, sigma_t, t.shape), 0.0)
+    return t
 
 
 def _check_command(command, robot):
@@ -1698,21 +1838,40 @@ def commanded_lengths(robot, p, R, command="standard"):
     return compensated_lengths(robot, p, rotvec_of(R))["L0"]
 
 
-def _simulate6(truth, nominal, P, rotvec, sigma, sigma_rad, rng, offsets, command="standard"):
+def _simulate6(
+    truth,
+    nominal,
+    P,
+    rotvec,
+    sigma,
+    sigma_rad,
+    rng,
+    offsets,
+    command="standard",
+    tensions=False,
+    sigma_t=SIGMA_T_DEFAULT,
+):
     """``simulate`` for a 6-DoF platform (its docstring)."""
     p, R = pose_arrays(nominal, P, rotvec)
     rv = rotvec_of(R)
     L0 = commanded_lengths(nominal, p, R, command)
     fin = np.isfinite(L0).all(axis=1)
     p, R, rv, L0 = p[fin], R[fin], rv[fin], L0[fin]
-    res = solve6(truth, p, L0, rotvec=rv)
-    ok = (res["status"] == "ok") & res["smooth"]
+    L_real = realised_lengths(truth, L0)  # through the true robot's drums when it has winches
+    drum = np.isfinite(L_real).all(axis=1)
+    res = solve6(truth, p, np.where(drum[:, None], L_real, L0), rotvec=rv)
+    ok = (res["status"] == "ok") & res["smooth"] & drum
     y, Rs = res["P_s"][ok], res["R_s"][ok]
     if rng is not None:
         y = y + rng.normal(0.0, sigma, y.shape)
         Rs = rotation_matrix(rng.normal(0.0, sigma_rad, (len(y), 3))) @ Rs
     n = int(ok.sum())
+    t = np.full((n, truth.m), np.nan)
+    if tensions:
+        t = _measured_tensions(res["t"][ok], sigma_t, rng)
     return Data(
+        tension=t,
+        sigma_t=np.full(n, float(sigma_t)),
         sample=np.array([f"s{i + 1}" for i in range(n)]),
         L=L0[ok] if offsets is None else L0[ok] + np.asarray(offsets),
         pose=y,
@@ -1771,8 +1930,10 @@ def candidates(robot, box, n_axis=7, model="exact", engine="compiled", targets=F
         L0 = commanded_lengths(robot, p, rotation_matrix(np.zeros_like(p)), command)
         fin = np.isfinite(L0).all(axis=1)
         p, L0 = p[fin], L0[fin]
-        res = solve6(base, p, L0)
-        ok = (res["status"] == "ok") & res["smooth"] & (res["n_taut"] >= min(6, robot.m))
+        L_real = realised_lengths(base, L0)  # through the drums of a robot with winches
+        drum = np.isfinite(L_real).all(axis=1)
+        res = solve6(base, p, np.where(drum[:, None], L_real, L0))
+        ok = (res["status"] == "ok") & res["smooth"] & (res["n_taut"] >= min(6, robot.m)) & drum
         P6 = np.concatenate([res["P_s"], res["rotvec_s"]], axis=1)
         return (P6[ok], L0[ok], p[ok]) if targets else (P6[ok], L0[ok])
     L0 = L_TS(robot, p)
@@ -1978,6 +2139,12 @@ def self_calibrate_standard(robot, data, groups, priors=None, sigma_L=SIGMA_L_DE
     if not data.encoder:
         raise CdprError(
             f"{data.source}: rigid self-calibration needs encoder readings L_enc1..L_enc{robot.m}"
+        )
+    if is_spatial(robot):
+        raise CdprError(
+            f"{data.source}: the rigid self-calibration (encoder readings alone, --model standard) is for "
+            f"point-mass robots; robot {robot.name} has a 6-DoF platform: give tensions t1_N..t{robot.m}_N "
+            "or measured poses"
         )
     bad = set(groups) - {"anchors", "dead_lengths", "offsets"}
     if bad:

@@ -66,9 +66,10 @@ def _print_fit(result, s):
     ]
     print(_table(rows, ["parameter", "nominal", "estimate", "sd", "prior sd", "identified"]))
     cond = "inf" if s["condition"] is None else f"{s['condition']:.3g}"
+    rms = "no pose measured" if s["residual_rms_m"] is None else f"{s['residual_rms_m'] * 1e3:.4g} mm"
     print(
         f"{s['n_parameters']} parameters, rank {s['rank']}, condition {cond}; samples used {s['samples_used']}, "
-        f"left out {s['samples_left_out']}; residual RMS {s['residual_rms_m'] * 1e3:.4g} mm ({result.model} model)"
+        f"left out {s['samples_left_out']}; residual RMS {rms} ({result.model} model)"
         + (
             f", orientation {s['residual_rms_rad'] * 1e3:.4g} mrad"
             if s["residual_rms_rad"] is not None

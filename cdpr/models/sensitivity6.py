@@ -30,6 +30,7 @@ import numpy as np
 from cdpr.models.equilibrium6 import _Cables6, solve_spatial
 from cdpr.models.pulleys import total_length_and_direction
 from cdpr.models.sensitivity import COND_MAX, T_TOL
+from cdpr.models.statics import length_gradient
 from cdpr.parameters import parameter_names6, parameter_units6
 
 __all__ = [
@@ -40,6 +41,7 @@ __all__ = [
     "sensitivities_at",
     "sensitivity_columns6",
     "spatial_sensitivities",
+    "tension_partials6",
 ]
 
 
@@ -86,18 +88,19 @@ def _step(name, cab):
     return 1e-7
 
 
-def _cable_partials(cab, names, P, R, L0):
-    """dF6/dθ (N, 6, len(names)) at fixed poses of parameters that belong to one cable (E_i, h_i,
-    r_p_i, d_i, A_i_xyz, b_i_xyz), by central differences of that cable's wrench alone: every
-    perturbed cable (both signs) is one column of a single evaluation of the pulley model (the
-    other cables' wrenches cancel in the difference)."""
+def _perturbed_tensions(cab, names, P, R, L0):
+    """Every parameter of ``names`` that belongs to one cable (E_i, h_i, r_p_i, d_i, A_i_xyz,
+    b_i_xyz) moved by + and - its step (``_step``), each perturbed cable one column of a single
+    evaluation of the pulley model at fixed poses: tensions t (N, 2K) [N], directions u (N, 2K, 3)
+    and lever arms r = R b (N, 2K, 3) [m] (columns 0..K-1 the + steps, K..2K-1 the - steps), the
+    steps (K,) and the cable of each parameter (K,) (0-based)."""
     A, kind, h, r_p, d, inward, frame = cab.args
     ci, steps = [], []
     for name in names:
         parts = name.split("_")
         ci.append(int(parts[1] if parts[0] in ("A", "b") else parts[-1]) - 1)
         steps.append(_step(name, cab))
-    ci, steps = np.array(ci), np.array(steps)
+    ci, steps = np.array(ci, dtype=int), np.array(steps)
     K = len(names)
     c2 = np.concatenate([ci, ci])
     A2, b2 = A[c2].copy(), cab.b[c2].copy()
@@ -127,11 +130,85 @@ def _cable_partials(cab, names, P, R, L0):
     L0c = L0[:, c2]
     e = g.L_TE - L0c
     t = np.where(e > 0.0, ES2 / L0c * e, 0.0)
-    f = t[..., None] * g.u
-    mom = t[..., None] * np.cross(r, g.u)
+    return t, g.u, r, steps, ci
+
+
+def _cable_partials(cab, names, P, R, L0):
+    """dF6/dθ (N, 6, len(names)) at fixed poses of parameters that belong to one cable (E_i, h_i,
+    r_p_i, d_i, A_i_xyz, b_i_xyz), by central differences of that cable's wrench alone
+    (``_perturbed_tensions``: the other cables' wrenches cancel in the difference)."""
+    t, u, r, steps, _ = _perturbed_tensions(cab, names, P, R, L0)
+    K = len(names)
+    f = t[..., None] * u
+    mom = t[..., None] * np.cross(r, u)
     out = np.empty((len(P), 6, K))
     out[:, :3] = np.swapaxes(f[:, :K] - f[:, K:], 1, 2) / (2 * steps)
     out[:, 3:] = np.swapaxes(mom[:, :K] - mom[:, K:], 1, 2) / (2 * steps)
+    return out
+
+
+def tension_partials6(robot, P, R, L0, names=None):
+    r"""The cable tensions at fixed poses of a rigid platform and their partial derivatives by the
+    pose, the rest lengths and the parameters.
+
+    .. math:: t_i = a_i k_i (L_{TE,i}(B_i) - L0_i),\quad k_i = \frac{E_i S_i}{L0_i},\quad
+              B_i = p + R b_i,
+
+    .. math:: \frac{\partial t_i}{\partial (p, \varphi)} = a_i k_i
+              \left[\frac{\partial L_{TE,i}}{\partial B},\;
+              r_i \times \frac{\partial L_{TE,i}}{\partial B}\right],\quad
+              \frac{\partial t_i}{\partial L0_i} = -a_i k_i \frac{L_{TE,i}}{L0_i}
+
+    (dB_i = dp + dφ × r_i, r_i = R b_i, φ a base-frame rotation vector; a_i = 1 on a taut cable,
+    L_TE,i ≥ L0_i); ∂t_i/∂θ at fixed pose and rest lengths by central differences of that cable's
+    tension alone (``_perturbed_tensions``, the steps of the wrench partials: exact to O(δ²)) for
+    E_i, h_i, r_p_i, d_i, A_i, b_i, and 0 for the centre of mass and the mass (they move the
+    tensions only through the pose).
+
+    Parameters
+    ----------
+    robot : Robot
+    P : ndarray, shape (n, 3) [m]
+        Platform positions.
+    R : ndarray, shape (n, 3, 3) [-]
+        Orientations.
+    L0 : ndarray, shape (n, m) [m]
+        Rest lengths.
+    names : list of str, optional
+        Parameters (``parameter_names6``; default all).
+
+    Returns
+    -------
+    dict
+        t (n, m) [N] (0 on a slack cable); dt_dx (n, m, 6) [N/m, N/rad]; dt_dL0 (n, m) [N/m]
+        (cable i's own rest length); dt_dtheta (n, m, len(names)) [N per unit of θ].
+
+    References
+    ----------
+    Paty et al. 2021, eq. (5), (10), (13) (the total length and Hooke's law at B_i).
+    """
+    names = parameter_names6(robot.m) if names is None else list(names)
+    cab = _Cables6(robot)
+    cab.mass = robot.platform.mass
+    cab.E = robot.arrays.E
+    r = np.einsum("nab,mb->nma", R, cab.b)
+    g = total_length_and_direction(P[:, None, :] + r, *cab.args, per_cable=True)
+    k = cab.ES / L0
+    e = g.L_TE - L0
+    ka = k * (e >= 0.0)
+    dL = length_gradient(g)
+    n = len(P)
+    out = {
+        "t": ka * e,
+        "dt_dx": ka[..., None] * np.concatenate([dL, np.cross(r, dL)], axis=-1),
+        "dt_dL0": -ka * g.L_TE / L0,
+        "dt_dtheta": np.zeros((n, robot.m, len(names))),
+    }
+    per = [j for j, name in enumerate(names) if name != "M" and not name.startswith("c_")]
+    if per and n:
+        t, _, _, steps, ci = _perturbed_tensions(cab, [names[j] for j in per], P, R, L0)
+        K = len(per)
+        out["dt_dtheta"][:, ci, per] = (t[:, :K] - t[:, K:]) / (2 * steps)
     return out
 
 

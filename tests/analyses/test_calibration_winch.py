@@ -9,7 +9,6 @@ import pytest
 
 from cdpr.analyses import calibration as cal
 from cdpr.analyses.compensation import compensated_pose
-from cdpr.errors import CdprError
 from cdpr.models.drive import realised_rest_lengths
 from cdpr.models.inverse import L_TS
 from cdpr.parameters import calibration_names, select_groups
@@ -125,15 +124,19 @@ def test_standard_model_and_spatial_winches(cdpr4w):
     )
     data = cal.Data(
         sample=np.array(["s1"]),
-        L=np.ones((1, cog.m)),
+        L=np.full((1, cog.m), 30.0),
         pose=np.zeros((1, 3)),
         sigma=np.ones(1),
         encoder=False,
         source="d.csv",
         rotvec=np.zeros((1, 3)),
     )
-    with pytest.raises(CdprError, match="point-mass robots only"):
-        cal.fit(cogw, data, ["anchors"])
+    # a spatial robot with winches maps its commands through the drums (no longer refused): 30 m is
+    # more than the drum holds, outside its range, flagged (the drum map of a 6-DoF platform is
+    # tested in test_calibration6_tensions.py)
+    prob = cal.Problem6(cogw, data, np.arange(8), np.ones(8))
+    assert prob.winch and list(prob.evaluate(np.zeros(8))["status"]) == [cal.DRUM_RANGE]
+    assert cal.check(cogw, data)["samples"][0]["status"] == cal.DRUM_RANGE
 
 
 def test_study_winch_key_is_checked(tmp_path):
