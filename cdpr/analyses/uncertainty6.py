@@ -11,6 +11,30 @@ from cdpr.models.sensitivity6 import sensitivities_at
 from cdpr.parameters import parameter_names6, parameter_values6, robot_with_parameters6
 
 
+def spatial_theta(robot, theta):
+    """6-DoF parameter vectors of point-mass ones (``parameter_names``, as ``uncertainty.drivers``
+    and ``parameter_samples`` build them): E, h, r_p, d and A keep their columns, M moves to the
+    last column, the attachments b and the centre of mass c keep their nominal values.
+
+    Parameters
+    ----------
+    robot : Robot
+        The nominal spatial robot.
+    theta : array_like (n, 7 m + 1) [Pa, m, kg]
+
+    Returns
+    -------
+    theta6 : ndarray (n, 10 m + 4) [Pa, m, kg]
+        In the order of ``parameter_names6``.
+    """
+    th = np.atleast_2d(np.asarray(theta, dtype=float))
+    m = robot.m
+    out = np.tile(parameter_values6(robot), (len(th), 1))
+    out[:, : 7 * m] = th[:, : 7 * m]
+    out[:, -1] = th[:, 7 * m]
+    return out
+
+
 class PoseErrorModel6:
     """‖δp‖ and δφ of a spatial robot at desired poses when its parameters are θ.
 
