@@ -5,7 +5,7 @@ and orientation); the implicit-function linearisation predicts a small modulus c
 import numpy as np
 import pytest
 
-from cdpr.analyses.uncertainty import drivers, mc_uniforms, parameter_samples
+from cdpr.analyses.uncertainty import drivers, mc_uniforms, parameter_samples, sobol_analysis
 from cdpr.analyses.uncertainty6 import PoseErrorModel6, spatial_theta
 from cdpr.models.equilibrium6 import solve_spatial
 from cdpr.models.platform import rotation_error
@@ -84,3 +84,26 @@ def test_monte_carlo_linear_agrees_with_full_solves_for_small_spreads(cogiro):
         step = np.linalg.norm(full["P_s"] - lin["P_s"], axis=1)
         assert np.all(step > 0)
         assert np.all(np.linalg.norm(full["P_s"] - pred, axis=1) < 0.05 * step)
+
+
+def test_sobol_indices_of_spatial_responses_are_bounded(cogiro):
+    """SALib Sobol indices of ‖δp‖ and δφ under common E (±10 %) and dead lengths (±1 mm): every
+    index within [-conf, 1 + conf] and the first-order indices sum to at most 1 + conf."""
+    E = cogiro.arrays.E[0]
+    spec = {
+        "young_modulus_Pa": {"dist": "uniform", "low": 0.9 * E, "high": 1.1 * E, "per_cable": False},
+        "dead_length_offset_m": {"dist": "uniform", "low": -1e-3, "high": 1e-3, "per_cable": False},
+    }
+    drs = drivers(spec, cogiro.m)
+    model = PoseErrorModel6(cogiro, P[:1])
+
+    def evaluate(theta):
+        dp, dphi, ok = model.solve(spatial_theta(cogiro, theta))
+        assert ok.all()
+        return np.column_stack([dp[:, 0], dphi[:, 0]])
+
+    idx, Y, _ = sobol_analysis(evaluate, drs, cogiro, 32, 3, ["dp_norm_m", "dphi_rad"])
+    assert len(idx) == 4 and np.all(np.isfinite(idx[["S1", "ST"]].to_numpy()))
+    assert np.all(idx["ST"] <= 1 + idx["ST_conf"]) and np.all(idx["ST"] >= -idx["ST_conf"])
+    for _, g in idx.groupby("output"):
+        assert g["S1"].sum() <= 1 + g["S1_conf"].sum()
