@@ -75,7 +75,7 @@ report: $(STAMP)
 # Hook: studies that make reproduce runs after the paper and physical studies and before the
 # comparison (e.g. the uncertainty study adds its snakemake command here).
 reproduce-extra: $(STAMP)
-	$(BIN)/snakemake --cores all --forceall calibration_study
+	$(BIN)/snakemake --cores all --forceall calibration_study calibration_cogiro
 	$(BIN)/snakemake --cores all --forceall reproduce_paper --config study=config/studies/cogiro.yaml results=results/cogiro
 
 # After an interruption (Ctrl-C, a killed process, a lost machine): release Snakemake's lock and

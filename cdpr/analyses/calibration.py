@@ -1890,6 +1890,98 @@ def perturbed(robot, index, sd, rng):
     return calibrated_robot(robot, th), th
 
 
+def random_poses6(robot, rng, n, box, tilt=0.1, margin=100.0, command="standard"):
+    """n random poses of a 6-DoF platform where the robot under the ``command`` lengths
+    (``commanded_lengths``) settles ``ok`` with every cable taut by more than ``margin``.
+
+    Positions are uniform in ``box`` (x, then y, then z drawn), rotation vectors uniform in
+    [-tilt, tilt]³; 4n candidates are drawn and the first n admissible kept (the others are
+    rejected: this draws targets, it is not the fit).
+
+    Parameters
+    ----------
+    robot : Robot
+        6-DoF platform that computes the commands and judges admissibility (the nominal robot).
+    rng : numpy Generator
+    n : int
+        Number of poses.
+    box : list of 6 float [m]
+        [xmin, xmax, ymin, ymax, zmin, zmax] of the positions.
+    tilt : float [rad]
+        Largest rotation-vector component.
+    margin : float [N]
+        Least tension of every cable at an admissible pose.
+    command : {"standard", "compensated"}
+        ``COMMANDS``.
+
+    Returns
+    -------
+    P6 : ndarray, shape (n, 6) [m, rad]
+        Target positions and rotation vectors.
+
+    Raises
+    ------
+    CdprError
+        Fewer than n admissible poses among the 4n drawn.
+    """
+    p = np.column_stack([rng.uniform(box[2 * k], box[2 * k + 1], 4 * n) for k in range(3)])
+    P6 = np.concatenate([p, rng.uniform(-tilt, tilt, (4 * n, 3))], axis=1)
+    L = commanded_lengths(robot, P6[:, :3], rotation_matrix(P6[:, 3:]), command)
+    fin = np.isfinite(L).all(axis=1)
+    P6, L = P6[fin], L[fin]
+    res = solve6(robot, P6[:, :3], L, rotvec=P6[:, 3:])
+    good = (res["status"] == "ok") & (np.nan_to_num(res["t"]) > margin).all(axis=1)
+    if good.sum() < n:
+        raise CdprError(
+            f"only {int(good.sum())} admissible poses of {4 * n} drawn in {list(box)} (tilt {tilt} rad, "
+            f"every cable above {margin} N, {command} commands); ask for fewer or widen the box"
+        )
+    return P6[good][:n]
+
+
+def equilibrium_flags(robot, data, kick=(0.05, 0.05), tol=1e-3):
+    """Per sample: the number of taut cables of ``robot``'s equilibrium under the data's lengths
+    (started at the measured pose), and whether a second equilibrium exists (``robot`` settles
+    more than ``tol`` away when started from the measured pose moved by ±kick[0] along each axis or
+    turned by ±kick[1] about each axis: 12 starts, a heuristic, not a proof of uniqueness).
+
+    A 6-DoF platform on fewer than 6 taut cables has a soft mode (it swings until gravity
+    balances), where a small parameter error moves the pose far.
+
+    Parameters
+    ----------
+    robot : Robot
+        6-DoF platform (the true robot of a simulation).
+    data : Data
+        Samples with poses and orientations.
+    kick : tuple of 2 float [m, rad]
+        Start offsets.
+    tol : float [m]
+        Distance beyond which an equilibrium counts as another one.
+
+    Returns
+    -------
+    n_taut : ndarray, shape (N,) of int
+        0 where the equilibrium is not ``ok``.
+    second : ndarray, shape (N,) of bool
+    """
+    ref = solve6(robot, data.pose, data.L, rotvec=data.rotvec)
+    ok_ref = ref["status"] == "ok"
+    second = np.zeros(len(data.sample), dtype=bool)
+    for k in range(6):
+        for s in (-1.0, 1.0):
+            P, rv = data.pose.copy(), data.rotvec.copy()
+            if k < 3:
+                P[:, k] += s * kick[0]
+            else:
+                rv[:, k - 3] += s * kick[1]
+            r = solve6(robot, P, data.L, rotvec=rv)
+            ok = (r["status"] == "ok") & ok_ref
+            second |= ok & (np.linalg.norm(r["P_s"] - ref["P_s"], axis=1) > tol)
+    n_taut = np.where(ok_ref, ref["taut"].sum(axis=1), 0).astype(int)
+    return n_taut, second
+
+
 # --- plan -----------------------------------------------------------------------------------------
 def default_box(robot):
     """Candidate box: the middle 80 % of the anchors' horizontal extent, z from 10 % to 70 % of

@@ -29,15 +29,8 @@ def cogiro():
 def _poses(rng, n, tilt=0.1, margin=100.0):
     """n poses inside CoGiRo's workspace with small tilts where, commanded with L_TS, the nominal
     robot holds every cable taut by more than ``margin`` [N] (a perturbed robot stays away from a
-    taut-set change)."""
-    robot = load_robot(COGIRO)
-    p = np.column_stack([rng.uniform(-3, 3, 4 * n), rng.uniform(-2, 2, 4 * n), rng.uniform(1.0, 2.5, 4 * n)])
-    P6 = np.concatenate([p, rng.uniform(-tilt, tilt, (4 * n, 3))], axis=1)
-    L = L_TS_pose(robot, P6[:, :3], rotation_matrix(P6[:, 3:]))
-    res = cal.solve6(robot, P6[:, :3], L, rotvec=P6[:, 3:])
-    good = (res["status"] == "ok") & (np.nan_to_num(res["t"]) > margin).all(axis=1)
-    assert good.sum() >= n
-    return P6[good][:n]
+    taut-set change): ``calibration.random_poses6``."""
+    return cal.random_poses6(load_robot(COGIRO), rng, n, [-3, 3, -2, 2, 1.0, 2.5], tilt, margin)
 
 
 def _truth(robot, groups, seed, priors=None):

@@ -27,3 +27,32 @@ rule calibration_study:
     threads: 1
     shell:
         "NUMBA_NUM_THREADS=1 {params.cdpr} calibrate study --study {input.study:q} --out {params.out:q}" + TO_LOG
+
+
+# The 6-DoF part (CoGiRo): a seeded true CoGiRo, synthetic tracker data (position and orientation),
+# the standard / pulley / pulley + elasticity models, validation poses in CoGiRo's workspace
+# (cdpr.pipeline.calibration6). About 40-60 s on the 2-core machine (the rigid models' stiff solves).
+CALIBRATION6_STUDY = "config/studies/calibration_cogiro.yaml"
+CALIBRATION6_RES = f"{CALIBRATION_RES}/cogiro"
+
+
+rule calibration_cogiro:
+    input:
+        study=CALIBRATION6_STUDY,
+        robot="config/robots/cogiro.yaml",
+    output:
+        headline=f"{CALIBRATION6_RES}/headline.csv",
+        summary=f"{CALIBRATION6_RES}/summary.md",
+        validation=f"{CALIBRATION6_RES}/validation.csv",
+        parameters=f"{CALIBRATION6_RES}/parameters.csv",
+        figure=f"{CALIBRATION6_RES}/validation_errors.png",
+    params:
+        cdpr=CDPR,
+        code=CODE,
+        out=CALIBRATION6_RES,
+    log:
+        f"{CALIBRATION6_RES}/logs/calibration_cogiro.log",
+    threads: 1
+    shell:
+        "NUMBA_NUM_THREADS=1 OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 {params.cdpr} calibrate study "
+        "--study {input.study:q} --out {params.out:q}" + TO_LOG
