@@ -10,8 +10,10 @@ from cdpr.pipeline import study
 from cdpr.pipeline.results import Layout
 
 ROOT = Path(__file__).resolve().parents[2]
-# config/studies/calibration.yaml is a calibration study (cdpr calibrate study), not a pipeline one
-STUDIES = sorted(p for p in (ROOT / "config" / "studies").glob("*.yaml") if p.stem != "calibration")
+# config/studies/calibration.yaml and calibration_cogiro.yaml are calibration studies (cdpr calibrate
+# study), not pipeline ones
+CALIBRATION_STUDIES = ("calibration", "calibration_cogiro")
+STUDIES = sorted(p for p in (ROOT / "config" / "studies").glob("*.yaml") if p.stem not in CALIBRATION_STUDIES)
 
 
 @pytest.mark.parametrize("path", STUDIES, ids=[p.stem for p in STUDIES])
@@ -35,12 +37,13 @@ def test_a_path_modulus_on_a_step_is_not_added_twice():
     assert len(study.E_values(st)) == 3
 
 
-def test_the_calibration_study_is_refused_as_a_pipeline_study_in_one_line():
-    path = ROOT / "config" / "studies" / "calibration.yaml"
+@pytest.mark.parametrize("name", CALIBRATION_STUDIES)
+def test_the_calibration_study_is_refused_as_a_pipeline_study_in_one_line(name):
+    path = ROOT / "config" / "studies" / f"{name}.yaml"
     with pytest.raises(study.ConfigError) as err:
         study.load_study(path)
     message = str(err.value)
-    assert "\n" not in message and "cdpr calibrate study" in message and "calibration.yaml" in message
+    assert "\n" not in message and "cdpr calibrate study" in message and f"{name}.yaml" in message
 
 
 # ---- spatial robots (issue 19): what a study of a rigid 6-DoF platform refuses, in one line --------

@@ -54,5 +54,5 @@ rule calibration_cogiro:
         f"{CALIBRATION6_RES}/logs/calibration_cogiro.log",
     threads: 1
     shell:
-        "NUMBA_NUM_THREADS=1 OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 {params.cdpr} calibrate study "
-        "--study {input.study:q} --out {params.out:q}" + TO_LOG
+        "NUMBA_NUM_THREADS=1 OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 {params.cdpr} calibrate study --study {input.study:q}"
+        " --out {params.out:q}" + TO_LOG
