@@ -238,9 +238,11 @@ def run_calibration_study6(study_path, out):
     models = {"nominal (uncalibrated)": (robot, 0, None)}
     models.update({k: (c.fitted_model(), len(c.index), c.ident["rank"]) for k, c in fits.items()})
     models["truth robot (noise floor)"] = (truth, 0, None)
+    pt_err = {}
     for label, (rob, n_par, rank) in models.items():
         row(label, rob, n_par, rank)
         pos, ang, _ = _errors(rob, val_pt)
+        pt_err[label] = (pos, ang)
         rows[-1].update(
             {f"pretensioned_{k}": v for k, v in _stats(pos).items()},
             pretensioned_rms_mm=1e3 * float(np.sqrt(np.nanmean(pos**2))),
@@ -258,25 +260,39 @@ def run_calibration_study6(study_path, out):
     pt.to_csv(out / "parameters.csv", index=False, float_format="%.9g")
     calibration_figures(exact, out / "exact")
     exact.table.to_csv(out / "exact" / "samples.csv", index=False, float_format="%.9g")
-    _error_figure(vt, headline, out / "validation_errors.png", robot.name, command)
+    _error_figure(vt, headline, pt_err, out / "validation_errors.png", robot.name, command)
     elapsed = time.perf_counter() - t0
     _write_markdown6(out, st, robot, headline, ident_lines, vt, len(train.sample), (taut_pt, second_pt))
     return {"headline": headline, "elapsed_s": elapsed}
 
 
-def _error_figure(vt, headline, path, name, command):
-    """Sorted prediction errors (position and orientation) of every model on the validation poses."""
-    fig, axes = plt.subplots(1, 2, figsize=(9, 3.6), layout="constrained")
+def _error_figure(vt, headline, pretensioned, path, name, command):
+    """Sorted prediction errors (position and orientation) of every model on the validation poses
+    (solid), and of the exact model and the truth on the pretensioned validation (dashed)."""
+    fig, axes = plt.subplots(1, 2, figsize=(9, 4.4), layout="constrained")
+    colours = {}
     for label in headline["model"]:
         key = _key(label)
         for ax, col in zip(axes, ("position_mm", "orientation_mrad")):
             e = np.sort(vt[f"{key}_{col}"].dropna().to_numpy())
-            ax.semilogx(e, np.arange(1, len(e) + 1) / len(e), label=label)
+            (line,) = ax.semilogx(e, np.arange(1, len(e) + 1) / len(e), label=label)
+            colours[label] = line.get_color()
+    for label in (EXACT6, "truth robot (noise floor)"):
+        for ax, err in zip(axes, pretensioned[label]):
+            e = np.sort(1e3 * err[np.isfinite(err)])
+            ax.semilogx(
+                e,
+                np.arange(1, len(e) + 1) / len(e),
+                "--",
+                color=colours[label],
+                label=f"{label}, pretensioned",
+            )
     axes[0].set_xlabel("|predicted - measured| position [mm]")
     axes[1].set_xlabel("|predicted - measured| orientation [mrad]")
     for ax in axes:
         ax.set_ylabel("fraction of validation poses [-]")
-    axes[0].legend(fontsize=7)
+    handles, labels = axes[0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="outside lower center", ncol=4, fontsize=7)  # off the curves
     fig.suptitle(f"{name}: validation errors per model (physical mode, {command} commands)")
     save(fig, path)
 
