@@ -177,13 +177,13 @@ def volumes(st, tables, table, figure):
             df = concat(groups[label])
             box = workspace.frame_box(robot)
             for lim in lims:
-                v = workspace.error_limited_volume(df, n, box, lim, robot.envelope_volume)
+                v = workspace.error_limited_volume(df, n, box, lim, workspace.envelope_volume(robot))
                 rows.append(
                     {
                         "robot": rk,
                         "pulley": pk,
                         "limit_m": lim,
-                        "V_T_m3": robot.envelope_volume,
+                        "V_T_m3": workspace.envelope_volume(robot),
                         "V_L_m3": v["V_L"],
                         "R_V": v["R_V"],
                         "V_L_err_m3": v["V_L_err"],

@@ -205,17 +205,17 @@ def test_grid_at_a_fixed_orientation_with_wrench_feasibility(tmp_path, capsys):
 
 
 def test_frame_extent_of_a_robot_that_is_not_a_suspended_point_mass(cdpr4):
-    from cdpr.analyses.workspace import frame_box
+    from cdpr.analyses.workspace import envelope_volume, frame_box
     from cdpr.robot import load_robot
 
     cog = load_robot(COGIRO)
     box = frame_box(cog)
     assert box[4] == 0.0 and box[5] == pytest.approx(5.42) and box[0] == pytest.approx(-7.4594)
-    assert frame_box(cdpr4) == [-2.5, 2.5, -2.5, 2.5, 0.0, 5.0] and cdpr4.envelope_volume == pytest.approx(
+    assert frame_box(cdpr4) == [-2.5, 2.5, -2.5, 2.5, 0.0, 5.0] and envelope_volume(cdpr4) == pytest.approx(
         125.0
     )
     ip = load_robot(ROBOTS / "ipanema_like.yaml")
-    assert ip.envelope_volume == pytest.approx(4 * 3 * 3)
+    assert envelope_volume(ip) == pytest.approx(4 * 3 * 3)
 
 
 def test_plane_and_trajectory_take_an_orientation(tmp_path, capsys):
