@@ -15,8 +15,9 @@ scalar ``cable_partials`` in each pulley's frame). With w_i = t_i (u_i, r_i × u
     dw_i/dE_i = (t_i / E_i) (u_i, r_i × u_i)
     dF6/dc_a = (0, R e_a × f),   dF6/dM = (f, R c × f) / M     (f = -M g e_z)
 
-(the moment rows zero on a point mass), then S = -pinv(dF6/dx) dF6/dθ (``numpy.linalg.pinv``,
-the reference's rcond). The numpy reference takes dF6/dθ by central differences of the balance
+(the moment rows zero on a point mass), then S = -pinv(dF6/dx) dF6/dθ with the reference's rcond:
+J^-1 by LU where ``equilibrium6.lu_solve6``'s bound shows that the cut keeps every singular value
+(then pinv = J^-1), ``numpy.linalg.pinv`` otherwise (a point mass: the rotation rows are zero). The numpy reference takes dF6/dθ by central differences of the balance
 (steps 1e-7 m, 1e-6 relative): the two agree to its O(δ²) truncation and round-off, tested. Same
 flags (smooth, margin_t, cond) as the reference.
 
@@ -50,7 +51,7 @@ from cdpr.compiled._kernels import (
     cable_partials_axis,
     set_threads,
 )
-from cdpr.compiled.equilibrium6 import _Compiled6, _eval6, _scratch, solve_spatial
+from cdpr.compiled.equilibrium6 import _Compiled6, _eval6, _scratch, lu_solve6, solve_spatial
 from cdpr.errors import CdprError
 from cdpr.models.sensitivity import COND_MAX, T_TOL
 from cdpr.parameters import parameter_names6
@@ -305,60 +306,87 @@ def scaled_condition6(J, ell, rigid, Js):
     return math.sqrt(a2) * math.sqrt(b2)
 
 
+@njit(cache=True, error_model="numpy")
+def _sens_pose(i, P, R, L0, ok, cab, body, mass, cols, rcond, S, margin, cond, w, rows, dF, Js, Jp):
+    """dx*/dθ at pose i into S[i], margin[i], cond[i] (``sensitivities_at``); w the ``_scratch``
+    record, rows (m, NCOL), dF (6, 10 m + 4), Js, Jp (6, 6) work arrays."""
+    K = cols.shape[0]
+    for a in range(6):
+        for k in range(K):
+            S[i, a, k] = np.nan
+    margin[i] = np.nan
+    cond[i] = np.inf
+    if not ok[i]:
+        return
+    _eval6(
+        P[i, 0],
+        P[i, 1],
+        P[i, 2],
+        R[i],
+        P[i, 0],
+        P[i, 1],
+        P[i, 2],
+        cab,
+        body,
+        L0,
+        i,
+        w.t,
+        w.J,
+        w.e6,
+        w.g6,
+        w,
+    )
+    J = w.J
+    margin[i] = wrench_partials6(P, R, L0, i, cab, body, mass, rows, dF)
+    finite = True
+    for a in range(6):
+        for c in range(6):
+            finite = finite and math.isfinite(J[a, c])
+    if not finite:
+        return
+    lu = body.rigid  # J^-1 by LU where it equals the pseudo-inverse (``lu_solve6``'s bound)
+    for c in range(6):
+        if not lu:
+            break
+        for a in range(6):
+            w.w6[a] = 1.0 if a == c else 0.0
+        lu = lu_solve6(J, w.w6, w.A6, w.V6, w.piv, w.s6, rcond)
+        for a in range(6):
+            Jp[a, c] = w.s6[a]
+    if lu:  # ||J_s||_F ||J_s^-1||_F with J_s^-1 = D J^-1 D
+        a2 = b2 = 0.0
+        for a in range(6):
+            for c in range(6):
+                da = body.size if a >= 3 else 1.0
+                dc = body.size if c >= 3 else 1.0
+                a2 += (J[a, c] / da / dc) ** 2
+                b2 += (Jp[a, c] * da * dc) ** 2
+        cond[i] = math.sqrt(a2) * math.sqrt(b2)
+    else:
+        cond[i] = scaled_condition6(J, body.size, body.rigid, Js)
+        Jp[:, :] = np.linalg.pinv(J, rcond)
+    for k in range(K):
+        col = cols[k]
+        for a in range(6):
+            s = 0.0
+            for c in range(6):
+                s += Jp[a, c] * dF[c, col]
+            S[i, a, k] = -s
+
+
 @njit(cache=True, parallel=True, error_model="numpy")
 def _sens_poses(P, R, L0, ok, cab, body, mass, cols, rcond, S, margin, cond):
     n = P.shape[0]
     m = cab.A.shape[0]
-    K = cols.shape[0]
     nchunks = (n + CHUNK - 1) // CHUNK
     for ch in prange(nchunks):
         w = _scratch(m)
         rows = np.empty((m, NCOL))
         dF = np.empty((6, 10 * m + 4))
         Js = np.empty((6, 6))
+        Jp = np.empty((6, 6))
         for i in range(ch * CHUNK, min(n, (ch + 1) * CHUNK)):
-            for a in range(6):
-                for k in range(K):
-                    S[i, a, k] = np.nan
-            margin[i] = np.nan
-            cond[i] = np.inf
-            if not ok[i]:
-                continue
-            _eval6(
-                P[i, 0],
-                P[i, 1],
-                P[i, 2],
-                R[i],
-                P[i, 0],
-                P[i, 1],
-                P[i, 2],
-                cab,
-                body,
-                L0,
-                i,
-                w.t,
-                w.J,
-                w.e6,
-                w.g6,
-                w,
-            )
-            J = w.J
-            margin[i] = wrench_partials6(P, R, L0, i, cab, body, mass, rows, dF)
-            cond[i] = scaled_condition6(J, body.size, body.rigid, Js)
-            finite = True
-            for a in range(6):
-                for c in range(6):
-                    finite = finite and math.isfinite(J[a, c])
-            if not finite:
-                continue
-            Jp = np.linalg.pinv(J, rcond)
-            for k in range(K):
-                col = cols[k]
-                for a in range(6):
-                    s = 0.0
-                    for c in range(6):
-                        s += Jp[a, c] * dF[c, col]
-                    S[i, a, k] = -s
+            _sens_pose(i, P, R, L0, ok, cab, body, mass, cols, rcond, S, margin, cond, w, rows, dF, Js, Jp)
 
 
 def sensitivities_at(robot, res, names=None, t_tol=T_TOL, threads=None):
