@@ -10,8 +10,22 @@ times longer. The flags, the tension margins and the condition numbers agree to 
 
 import numpy as np
 import pytest
+from numba import njit
 
 from cdpr.compiled import sensitivity6 as fast
+from cdpr.compiled._kernels import (
+    C_DLD,
+    C_DLDP,
+    C_DLH,
+    C_DLR,
+    C_DUDP,
+    C_DUH,
+    C_DUR,
+    C_L,
+    C_U,
+    NCOL,
+    cable_partials_axis,
+)
 from cdpr.compiled.equilibrium6 import solve_spatial as solve_fast
 from cdpr.errors import CdprError
 from cdpr.models import sensitivity6 as ref
@@ -19,7 +33,7 @@ from cdpr.models.equilibrium6 import L_TS_pose, pose_arrays, solve_spatial
 from cdpr.models.platform import rotvec_of
 from cdpr.robot import load_robot, with_pulleys
 from cdpr.solve import spatial_sensitivities, spatial_sensitivities_at
-from tests.compiled.test_equilibrium6 import BOXES, _poses
+from tests.compiled.test_equilibrium6 import BOXES, _cables, _poses, _random_pulleys
 from tests.conftest import ROBOTS
 
 #: The reference's central-difference round-off bound, relative to a column of S (measured 3.3e-6).
@@ -151,3 +165,50 @@ def test_engine_registry():
     ):
         with pytest.raises(CdprError, match="unknown engine 'numba'; allowed: compiled, numpy"):
             call()
+
+
+@njit(cache=True)
+def _rows(B, A, kind, h, rp, d, inward, frame, ident):
+    """cable_partials_axis at B (N, m, 3): rows (N, m, NCOL)."""
+    n, m = B.shape[0], B.shape[1]
+    out = np.empty((n, m, NCOL))
+    for i in range(n):
+        for c in range(m):
+            cable_partials_axis(
+                B[i, c, 0], B[i, c, 1], B[i, c, 2], A[c, 0], A[c, 1], A[c, 2],
+                kind[c], h[c], rp[c], d[c], inward[c, 0], inward[c, 1], ident[c], frame[c], out[i, c],
+            )  # fmt: skip
+    return out
+
+
+def test_general_axis_cable_partials_equal_the_kernel_and_finite_differences():
+    """``_kernels.cable_partials_axis`` with random pulley axes: L, u, dL/dB, du/dB those of
+    ``cable_axis`` + ``cable_derivatives``; dL/dh, du/dh, dL/dr_p, du/dr_p, dL/dd central differences
+    of the kernel in h, r_p, d."""
+    B, A, kind, h, rp, d, inward, frame = _random_pulleys(21)
+    B = B[:60]
+    ident = np.zeros(len(A), dtype=np.bool_)
+    rows = _rows(B, A, kind, h, rp, d, inward, frame, ident)
+    L, u, dL, du, ins, _ = _cables(B, A, kind, h, rp, d, inward, frame, ident)
+    ok = ~ins
+    assert ok.mean() > 0.9
+    np.testing.assert_allclose(rows[..., C_L][ok], L[ok], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(rows[..., C_U : C_U + 3][ok], u[ok], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(rows[..., C_DLDP : C_DLDP + 3][ok], dL[ok], rtol=0, atol=1e-10)
+    np.testing.assert_allclose(rows[..., C_DUDP : C_DUDP + 9][ok], du[ok].reshape(-1, 9), rtol=0, atol=1e-9)
+    eps = 1e-7
+    for key, cl, cu in (("h", C_DLH, C_DUH), ("rp", C_DLR, C_DUR), ("d", C_DLD, None)):
+        pulley = kind > 0 if key != "d" else np.ones(len(A), dtype=bool)
+        vals = {"h": h, "rp": rp, "d": d}
+        out = []
+        for s in (1.0, -1.0):
+            v = dict(vals)
+            v[key] = vals[key] + s * eps * pulley
+            out.append(_cables(B, A, kind, v["h"], v["rp"], v["d"], inward, frame, ident)[:2])
+        fdL = (out[0][0] - out[1][0]) / (2 * eps)
+        good = ok & pulley[None, :]
+        np.testing.assert_allclose(rows[..., cl][good], fdL[good], rtol=0, atol=1e-6)
+        if cu is not None:
+            fdu = (out[0][1] - out[1][1]) / (2 * eps)
+            scale = np.abs(fdu[good]).max()
+            np.testing.assert_allclose(rows[..., cu : cu + 3][good], fdu[good], rtol=0, atol=1e-5 * scale)
