@@ -630,7 +630,7 @@ class Problem:
         tol, maxiter, max_step of the physical solve.
     """
 
-    def __init__(self, robot, data, index, sd, engine="numpy", solver=None):
+    def __init__(self, robot, data, index, sd, engine="compiled", solver=None):
         self.robot, self.data, self.index, self.sd = robot, data, np.asarray(index), np.asarray(sd, float)
         self.engine = engine
         self.solver = dict(solver or {})
