@@ -29,6 +29,8 @@ KNOWN_JOBS = [
     "trajectories",
     "volumes",
     "volume-view",
+    "volumes-dphi",
+    "robot-view",
     "rw",
     "doe",
     "map",
