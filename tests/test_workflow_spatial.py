@@ -50,6 +50,7 @@ TABLES = [
     "doe/effects.csv",
     "doe/rw_max.csv",
     "volumes/volumes.csv",
+    "volumes/volumes_dphi.csv",
     "maps/map.csv",
     "maps/lines.csv",
     "trajectories/trajectories_minmax.csv",

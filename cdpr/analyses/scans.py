@@ -20,6 +20,7 @@ import pandas as pd
 
 from cdpr.analyses.workspace import cell_centres, frame_box
 from cdpr.models import winch
+from cdpr.models.equilibrium6 import pose_arrays, pose_state
 from cdpr.robot import TABLE1
 from cdpr.tables import solve_table
 
@@ -168,6 +169,90 @@ def crossings(s, a, b):
     idx = np.flatnonzero(np.sign(diff[:-1]) * np.sign(diff[1:]) < 0)
     between = [float(s[i] - diff[i] * (s[i + 1] - s[i]) / (diff[i + 1] - diff[i])) for i in idx]
     return sorted(on + between)
+
+
+# ---- the robot at a pose (``cdpr view``, the study's robot figure) ------------------------------
+#: Points per sheave circle of ``pose_geometry``.
+SHEAVE_POINTS = 41
+
+
+def view_position(robot):
+    """The platform position a picture of ``robot`` shows by default (no paper equation): the
+    anchors' centroid in x and y; in z the middle of the frame's extent (``frame_box``: the floor,
+    or the lowest anchor, to the highest anchor), for a suspended point mass 60 % of the middle of
+    the anchors' height range (every anchor is above it).
+
+    Parameters
+    ----------
+    robot : Robot
+        Supplies the joint points A (m, 3) [m].
+
+    Returns
+    -------
+    p : ndarray (3,) [m]
+        The position.
+    """
+    A = robot.A
+    if robot.suspended_point_mass:
+        z = 0.3 * (A[:, 2].min() + A[:, 2].max())
+    else:
+        box = frame_box(robot)
+        z = 0.5 * (box[4] + box[5])
+    return np.array([A[:, 0].mean(), A[:, 1].mean(), z])
+
+
+def pose_geometry(robot, p, rotvec=None):
+    """Every point a picture of the robot at the desired pose (p, rotvec) draws, from the extended
+    inverse model of each cable (Paty 2021 eq. 3-7 at the attachment points B_i = p + R b_i; no
+    equilibrium is solved: the platform is where it is asked to be).
+
+    Parameters
+    ----------
+    robot : Robot
+        The robot (m cables).
+    p : array_like (3,) [m]
+        Platform reference point.
+    rotvec : array_like (3,) [rad], optional
+        Platform orientation as a rotation vector (default identity).
+
+    Returns
+    -------
+    dict
+        ``A`` (m, 3) [m] joint points; ``axis`` (m, 3) [-] unit swivel axes k_i; ``C`` (m, 3) [m]
+        winch exit points C_i = A_i - d_i k_i; ``H``, ``K``, ``D`` (m, 3) [m] sheave centres and
+        the tangent points where the cable enters and leaves the sheave; ``B`` (m, 3) [m]
+        attachment points; ``sheave`` (m, SHEAVE_POINTS, 3) [m] each sheave's circle (radius r_p
+        about H_i, in the plane of k_i and D_i - H_i; empty for a fixed pulley: NaN); ``p`` (3,)
+        [m]; ``R`` (3, 3) [-] and ``rotvec`` (3,) [rad] the orientation; ``com`` (3,) [m] the centre of mass; ``point_mass`` bool; ``name``.
+    """
+    p_, R = pose_arrays(robot, [p], None if rotvec is None else [rotvec])
+    B, st = pose_state(robot, p_, R)
+    a = robot.arrays
+    B, H, K, D = B[0], st.H[0], st.K[0], st.D[0]
+    r_p = np.asarray(robot.r_p, dtype=float)
+    e_s = D - H
+    e_s /= np.maximum(np.linalg.norm(e_s, axis=1), 1e-12)[:, None]
+    w = np.cross(np.cross(e_s, a.axis), e_s)
+    w /= np.maximum(np.linalg.norm(w, axis=1), 1e-12)[:, None]
+    t = np.linspace(0.0, 2.0 * np.pi, SHEAVE_POINTS)[None, :, None]
+    sheave = H[:, None, :] + r_p[:, None, None] * (np.cos(t) * e_s[:, None, :] + np.sin(t) * w[:, None, :])
+    sheave[r_p <= 0] = np.nan
+    return {
+        "A": a.A.copy(),
+        "axis": a.axis.copy(),
+        "C": a.A - a.d[:, None] * a.axis,
+        "H": H,
+        "K": K,
+        "D": D,
+        "B": B,
+        "sheave": sheave,
+        "p": p_[0],
+        "R": R[0],
+        "rotvec": np.zeros(3) if rotvec is None else np.asarray(rotvec, dtype=float).copy(),
+        "com": p_[0] + R[0] @ a.com,
+        "point_mass": robot.point_mass,
+        "name": robot.name,
+    }
 
 
 # ---- winch (Métillon 2022, Fig. 7) ---------------------------------------------------------

@@ -192,27 +192,36 @@ def voxel_mask(df, n, value=None):
     return ok.reshape(n, n, n)
 
 
-def error_limited_volume(df, n, box, limit, envelope_volume):
+#: The errors an error-limited volume may bound: table column -> what it is.
+ERROR_COLUMNS = {"dp": "the position error |dp| [m]", "dphi": "the orientation error δφ [rad]"}
+
+
+def error_limited_volume(df, n, box, limit, envelope_volume, column="dp"):
     """Error-limited volume V_L (section 3.3.3) by voxel counting on the n^3 cell-centred grid.
 
     Returns dict V_L [m^3], R_V = V_L / V_T, and ``V_L_err`` [m^3]: half the volume of the counted
     voxels that touch an uncounted one, an estimate of the voxel-counting error.
 
     A voxel counts when its centre is ``ok`` and its pose error |dp| (Paty 2021 eq. 14) is at most
-    ``limit`` (the paper's |dp|_lim, Fig. 13-14).
+    ``limit`` (the paper's |dp|_lim, Fig. 13-14); with ``column="dphi"`` when its orientation error
+    δφ (the rotation angle between the desired and the reached orientation of a rigid platform, not
+    in the paper) is at most ``limit`` [rad].
 
     Parameters
     ----------
     df : DataFrame
-        Point table of the n^3 grid of ``box`` in C order, columns ``status`` and ``dp`` [m].
+        Point table of the n^3 grid of ``box`` in C order, columns ``status`` and ``column``.
     n : int
         Cells per axis.
     box : sequence of 6 float [m]
         The grid's box.
-    limit : float [m]
-        Error limit |dp|_lim.
+    limit : float [m] or [rad]
+        Error limit |dp|_lim [m] (``column="dp"``) or δφ_lim [rad] (``column="dphi"``).
     envelope_volume : float [m^3]
         Volume V_T of the outer envelope (``envelope_volume``).
+    column : {"dp", "dphi"}
+        The error the limit applies to: the position error |dp| [m] or the orientation error δφ
+        [rad] (tables of spatial robots only; a table without the column raises CdprError).
 
     Returns
     -------
@@ -220,8 +229,17 @@ def error_limited_volume(df, n, box, limit, envelope_volume):
         V_L [m^3]; R_V [-]; V_L_err [m^3].
     """
     b = check_box(box)
+    if column not in ERROR_COLUMNS:
+        raise CdprError(
+            f"error_limited_volume: column must be one of {', '.join(ERROR_COLUMNS)}, got {column!r}"
+        )
+    if column not in df:
+        raise CdprError(
+            f"error_limited_volume: the grid table has no {column!r} column "
+            f"({ERROR_COLUMNS[column]}; δφ exists for spatial robots only)"
+        )
     voxel = np.prod((b[1::2] - b[0::2]) / n)
-    m = voxel_mask(df, n, df["dp"].to_numpy() <= limit)
+    m = voxel_mask(df, n, df[column].to_numpy() <= limit)
     count = int(m.sum())
     pad = np.pad(m, 1, constant_values=False)
     interior = m.copy()

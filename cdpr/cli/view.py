@@ -1,5 +1,6 @@
 """``cdpr view``: its options (the command is ``cdpr.cli.commands.cmd_view``: a 3-D picture of a
-robot (frame, pulleys with their axes, platform, cables) so a user checks a robot file by looking at it).
+robot (frame box, pulleys with their swivel axes and sheaves, platform, cables, optionally a box) so a
+user checks a robot file by looking at it; drawn by ``cdpr.pipeline.plots.robot_view``).
 
 Standard library and ``cdpr.cli.options`` only: ``cdpr.cli.parser`` registers it for ``cdpr --help``.
 """
@@ -19,5 +20,12 @@ def add_parser(sub):
         "--at", nargs=3, type=finite, metavar=("X", "Y", "Z"), help="platform position [m] (default: centre)"
     )
     sp.add_argument("--rotvec", nargs=3, type=finite, metavar=("RX", "RY", "RZ"), help="orientation [rad]")
-    sp.add_argument("--out", required=True, metavar="FILE", help="output .png")
+    sp.add_argument(
+        "--box",
+        nargs=6,
+        type=finite,
+        metavar=("XMIN", "XMAX", "YMIN", "YMAX", "ZMIN", "ZMAX"),
+        help="a box [m] drawn as a wireframe (e.g. the RW_C box of doe/rw_c.json)",
+    )
+    sp.add_argument("--out", required=True, metavar="FILE", help="output .png (a .pdf is written beside it)")
     sp.set_defaults(run=("cdpr.cli.commands", "cmd_view"))

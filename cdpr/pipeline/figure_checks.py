@@ -9,9 +9,13 @@ environment variable ``CDPR_FIGURE_AUDIT`` is set (the figure test, tests/pipeli
 
 from __future__ import annotations
 
+import math
 import re
 
+import numpy as np
 from matplotlib.text import Text
+from mpl_toolkits.mplot3d import proj3d
+from mpl_toolkits.mplot3d.art3d import Text3D
 
 #: A unit in brackets at the end of an axis label: "x [m]", "R_V [-]", "‖δp‖ [mm]".
 UNIT = re.compile(r"\[[^\]]+\]\s*\)?\s*$|\[[^\]]+\]")
@@ -48,6 +52,32 @@ def visible_texts(fig):
             continue
         out.append(t)
     return out
+
+
+def text_extent(t, renderer):
+    """The window extent [px] of text ``t`` where it is drawn.
+
+    A 2-D text's ``get_window_extent``. A text of a 3-D axes (``ax.text(x, y, z, s)``, a
+    ``Text3D``) keeps its data coordinates (x, y, z) and is moved to their projection only while it is
+    drawn, so its own ``get_window_extent`` measures it at (x, y) read as 2-D data coordinates of
+    the 3-D axes (far off the canvas for x, y of metres). Here it is measured at the projection of
+    (x, y, z) through the axes' last projection matrix (``ax.M``, set when the figure was drawn) and
+    at the angle of its projected direction, as ``Text3D.draw`` places it.
+    """
+    if not isinstance(t, Text3D) or t.axes is None or getattr(t.axes, "M", None) is None:
+        return t.get_window_extent(renderer)
+    ax = t.axes
+    x, y, z = t.get_position_3d()
+    ends = np.array([[x, y, z], np.add([x, y, z], t._dir_vec)], dtype=float)
+    scaled = [a.get_transform().transform(ends[:, i]) for i, a in enumerate((ax.xaxis, ax.yaxis, ax.zaxis))]
+    px, py, _ = proj3d.proj_transform(*scaled, ax.M)
+    angle = (math.degrees(math.atan2(py[1] - py[0], px[1] - px[0])) + 180) % 180
+    saved = (t._x, t._y, t._rotation)
+    try:
+        t._x, t._y, t._rotation = px[0], py[0], angle - 180 if angle > 90 else angle
+        return t.get_window_extent(renderer)
+    finally:
+        t._x, t._y, t._rotation = saved
 
 
 def _name(t):
@@ -95,7 +125,7 @@ def layout_problems(fig, mode=None, draw=True):
     texts = visible_texts(fig)
     boxes = []
     for t in texts:
-        bb = t.get_window_extent(renderer)
+        bb = text_extent(t, renderer)
         if bb.width <= 0 or bb.height <= 0:
             continue
         if bb.x0 < -SLACK_PX or bb.y0 < -SLACK_PX or bb.x1 > W + SLACK_PX or bb.y1 > H + SLACK_PX:

@@ -66,7 +66,9 @@ def _drop_colliding_contour_labels(fig):
         return
     renderer = fig.canvas.get_renderer()
     ids = {id(t) for t in labels}
-    kept = [t.get_window_extent(renderer) for t in figure_checks.visible_texts(fig) if id(t) not in ids]
+    kept = [
+        figure_checks.text_extent(t, renderer) for t in figure_checks.visible_texts(fig) if id(t) not in ids
+    ]
     slack = figure_checks.SLACK_PX
     for t in labels:
         if not t.get_visible():
@@ -589,57 +591,78 @@ def _frame(ax, A):
     ax.scatter(A[:, 0], A[:, 1], A[:, 2], marker="^", color="k", s=20, depthshade=False)
 
 
-def fig13_volume_view(df, limits, R_V, z_top, title, out, A=None, mode=None):
+def fig13_volume_view(df, limits, R_V, z_top, title, out, A=None, mode=None, dphi_limits=None, dphi_R_V=None):
     """Paty 2021 Fig. 13: the error-limited region ‖δp‖ <= limit, one panel per limit, drawn as
     opaque voxels (cell-centred grid table ``df`` in C order) inside the frame of anchors ``A``
     (drawn, with the pulleys), every panel on the same limits (the frame's box, z from 0 to
     ``z_top``). Grids finer than ``VOXELS_DRAWN`` per axis are drawn on coarser blocks (a block is
-    filled when most of its cells are); R_V is computed on the full grid by the caller."""
+    filled when most of its cells are); R_V is computed on the full grid by the caller. With
+    ``dphi_limits`` [rad] and their ``dphi_R_V`` (a rigid platform: ``df`` has ``dphi`` [rad]), a
+    second row draws the region δφ <= limit the same way (beyond the paper)."""
     xs, ys, zs = (np.sort(df[c].unique()) for c in ("x", "y", "z"))
     n = (len(xs), len(ys), len(zs))
     k = max(1, -(-max(n) // VOXELS_DRAWN))
     ok = (df.status == "ok").to_numpy().reshape(n)
-    dp = np.where(ok, df.dp.to_numpy().reshape(n), np.nan)
     lo = np.array([xs[0], ys[0], zs[0]]) - np.array([xs[1] - xs[0], ys[1] - ys[0], zs[1] - zs[0]]) / 2
     step = np.array([xs[1] - xs[0], ys[1] - ys[0], zs[1] - zs[0]]) * k
-    dp_c = _coarsen(dp, k, np.nanmean) if k > 1 else dp
-    m = dp_c.shape
+    m = tuple(-(-np.array(n) // k))
     edges = [lo[a] + step[a] * np.arange(m[a] + 1) for a in range(3)]
-    X, Y, Z = np.meshgrid(*edges, indexing="ij")
     if A is not None:
         box = [(float(A[:, a].min()), float(A[:, a].max())) for a in range(2)] + [
             (0.0, max(z_top, float(A[:, 2].max())))
         ]
     else:
         box = [(edges[0][0], edges[0][-1]), (edges[1][0], edges[1][-1]), (0.0, z_top)]
-    fig = plt.figure(figsize=(5.2 * len(limits), 5.6), layout="constrained")
-    norm = matplotlib.colors.Normalize(0.0, max(limits) * 1e3)
+    rows = [("dp", limits, R_V, 1e3, "‖δp‖", "mm")]
+    if dphi_limits:
+        rows.append(("dphi", dphi_limits, dphi_R_V, DPHI_SCALE, "δφ", DPHI_UNIT))
+    ncols = max(len(r[1]) for r in rows)
+    fig = plt.figure(figsize=(5.2 * ncols, 5.6 * len(rows)), layout="constrained")
+    for r, (column, lims, rvs, scale, name, unit) in enumerate(rows):
+        err = np.where(ok, df[column].to_numpy().reshape(n), np.nan)
+        axes = _volume_row(fig, (len(rows), ncols, r), err, lims, rvs, (scale, name, unit), k, edges, box, A)
+        fig.colorbar(
+            matplotlib.cm.ScalarMappable(
+                norm=matplotlib.colors.Normalize(0.0, max(lims) * scale), cmap="viridis"
+            ),
+            ax=axes,
+            location="bottom",
+            shrink=0.5,
+            label=f"{name} [{unit}]",
+        )
+    drawn = f" (drawn on {m[0]}x{m[1]}x{m[2]} blocks of the {n[0]}^3 grid)" if k > 1 else ""
+    fig.suptitle(title + drawn + _mode(mode), fontsize=10)
+    return save(fig, out)
+
+
+def _volume_row(fig, grid, err, limits, R_V, what, k, edges, box, A):
+    """One row of Fig. 13: a 3-D panel per limit of the voxels whose error ``err`` (n, n, n; NaN
+    where not ok) is at most the limit, coloured by the error. ``grid`` = (rows, columns, row);
+    ``what`` = (display scale, name, unit). Returns the row's axes."""
+    rows, ncols, r = grid
+    scale, name, unit = what
+    norm = matplotlib.colors.Normalize(0.0, max(limits) * scale)
+    err_c = _coarsen(err, k, np.nanmean) if k > 1 else err
+    X, Y, Z = np.meshgrid(*edges, indexing="ij")
     axes = []
     for j, (lim, rv) in enumerate(zip(limits, R_V)):
-        ax = fig.add_subplot(1, len(limits), j + 1, projection="3d")
+        ax = fig.add_subplot(rows, ncols, r * ncols + j + 1, projection="3d")
         axes.append(ax)
-        inside = np.where(np.isnan(dp), 0.0, (dp <= lim).astype(float))
+        inside = np.where(np.isnan(err), 0.0, (err <= lim).astype(float))
         filled = (_coarsen(inside, k, np.nanmean) >= 0.5) if k > 1 else inside > 0
-        colour = plt.get_cmap("viridis")(norm(np.nan_to_num(dp_c, nan=0.0) * 1e3))
+        colour = plt.get_cmap("viridis")(norm(np.nan_to_num(err_c, nan=0.0) * scale))
         ax.voxels(X, Y, Z, filled, facecolors=colour, edgecolor=None, linewidth=0)
         if A is not None:
             _frame(ax, A)
-        ax.set(xlim=box[0], ylim=box[1], zlim=box[2], title=f"‖δp‖ ≤ {lim * 1e3:g} mm: R_V = {rv:.2f}")
+        ax.set(
+            xlim=box[0], ylim=box[1], zlim=box[2], title=f"{name} ≤ {lim * scale:g} {unit}: R_V = {rv:.2f}"
+        )
         ax.set_xlabel("x [m]", labelpad=6)
         ax.set_ylabel("y [m]", labelpad=6)
         ax.set_zlabel("z [m]", labelpad=6)
         ax.tick_params(labelsize=6, pad=0)
         ax.set_box_aspect([box[a][1] - box[a][0] for a in range(3)], zoom=0.85)
-    fig.colorbar(
-        matplotlib.cm.ScalarMappable(norm=norm, cmap="viridis"),
-        ax=axes,
-        location="bottom",
-        shrink=0.5,
-        label="‖δp‖ [mm]",
-    )
-    drawn = f" (drawn on {m[0]}x{m[1]}x{m[2]} blocks of the {n[0]}^3 grid)" if k > 1 else ""
-    fig.suptitle(title + drawn + _mode(mode), fontsize=10)
-    return save(fig, out)
+    return axes
 
 
 def fig14_rv(tab, paper, out, mode=None):
@@ -669,6 +692,36 @@ def fig14_rv(tab, paper, out, mode=None):
         xlabel=r"error limit $\|\delta p\|_{lim}$ [mm]",
         ylabel=r"$R_V = V_L / V_T$ [-]",
         title=f"Error-limited volume ratio (Fig. 14){_mode(mode)}",
+    )
+    ax.title.set_fontsize(9)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7, ncol=1, loc="center left", bbox_to_anchor=(1.01, 0.5))
+    return save(fig, out)
+
+
+def fig14_rv_dphi(tab, out, mode=None):
+    """Fig. 14 on the orientation error (beyond the paper): R_V = V_L / V_T of the region δφ <= limit
+    versus the limit [rad, drawn in mrad], per robot and pulley design (``tab``: robot, pulley,
+    limit_rad, R_V, study_limit); the study's limits (``volumes.dphi_limits_rad``) are marked."""
+    fig, ax = plt.subplots(figsize=(7.5, 4.6), layout="constrained")
+    robots = list(dict.fromkeys(tab.robot))
+    for (rk, pk), g in tab.groupby(["robot", "pulley"], sort=False):
+        k = robots.index(rk)
+        ax.plot(
+            g.limit_rad * DPHI_SCALE,
+            g.R_V,
+            ["-", "--", ":"][k % 3],
+            marker="o",
+            ms=3,
+            color=KIND_COLOURS.get(pk),
+            label=f"{rk} {pk}",
+        )
+    for lim in sorted(set(tab.limit_rad[tab.study_limit.astype(bool)])):
+        ax.axvline(lim * DPHI_SCALE, color="0.6", ls=":", lw=0.8)
+    ax.set(
+        xlabel=f"orientation error limit δφ_lim [{DPHI_UNIT}]",
+        ylabel=r"$R_V = V_L / V_T$ [-]",
+        title=f"Error-limited volume ratio on δφ (Fig. 14 on the orientation){_mode(mode)}",
     )
     ax.title.set_fontsize(9)
     ax.grid(alpha=0.3)
@@ -1728,4 +1781,106 @@ def comparison_overlays(data, out):
     fig.suptitle(
         "Paper rule (solid) against physical equilibrium (dashed): Fig. 10, 14, 18, 19 overlaid", fontsize=10
     )
+    return save(fig, out)
+
+
+# ---- the robot in 3-D (``cdpr view``, the study's robot figure) --------------------------------
+#: Colours and line styles of the boxes ``robot_view`` draws, in the order given.
+BOX_STYLES = [("0.45", "--"), ("tab:purple", "-"), ("tab:brown", "-."), ("tab:olive", ":")]
+
+
+def _box_edges(box):
+    """The 12 edges of the axis-aligned box (xmin, xmax, ymin, ymax, zmin, zmax) [m], each (2, 3)."""
+    b = np.asarray(box, dtype=float)
+    corners = np.array([[b[i], b[2 + j], b[4 + k]] for i in (0, 1) for j in (0, 1) for k in (0, 1)])
+    # corners differ in one coordinate along an edge: index bits (x, y, z) = (4, 2, 1)
+    return [corners[[c, c | bit]] for c in range(8) for bit in (4, 2, 1) if not c & bit]
+
+
+def _anchor_groups(A, span):
+    """Cable numbers (1-based) grouped by anchors closer than 4 % of ``span`` [m]: one label per group
+    (the crossed cables of a robot leave their pulleys in pairs, whose numbers would overlap)."""
+    groups = []
+    for i, a in enumerate(A):
+        for g in groups:
+            if np.linalg.norm(A[g[0]] - a) < 0.04 * span:
+                g.append(i)
+                break
+        else:
+            groups.append([i])
+    return groups
+
+
+def robot_view(geom, out, boxes=None, mode=None):
+    """A 3-D picture of a robot at a pose: the joint points A_i with their cable numbers, the swivel
+    axes k_i, the sheaves, the dead lengths C_i → K_i, the cables D_i → B_i, the platform (the
+    attachment points' hull, its centre of mass and reference point) and the given boxes as
+    wireframes. Nothing is solved: ``geom`` is ``cdpr.analyses.scans.pose_geometry`` (the desired
+    pose). Drawn to equal scale on every axis.
+
+    Parameters
+    ----------
+    geom : dict
+        ``scans.pose_geometry`` of the robot at the pose.
+    out : str or Path
+        The .png written (a .pdf beside it, ``save``).
+    boxes : dict, optional
+        Label -> box (xmin, xmax, ymin, ymax, zmin, zmax) [m] drawn as a wireframe (e.g. the frame
+        box of the volumes' grid, the study's RW_C), in the styles of ``BOX_STYLES``.
+    mode : {"paper", "physical", None}
+        The study's redundancy mode, named in the title (``cdpr view`` has none).
+    """
+    boxes = dict(boxes or {})
+    A, B, axis = geom["A"], geom["B"], geom["axis"]
+    allp = np.vstack([A, B, geom["C"], geom["H"]] + [e for b in boxes.values() for e in _box_edges(b)])
+    lo, hi = allp.min(axis=0), allp.max(axis=0)
+    span = float((hi - lo).max())
+    lo, hi = lo - 0.03 * span, hi + 0.03 * span
+    fig = plt.figure(figsize=(8.0, 7.0), layout="constrained")
+    ax = fig.add_subplot(projection="3d")
+    handles = []
+    for (label, box), (colour, ls) in zip(boxes.items(), BOX_STYLES * 4):
+        for e in _box_edges(box):
+            ax.plot(*e.T, color=colour, ls=ls, lw=0.9)
+        handles.append(Line2D([], [], color=colour, ls=ls, label=label))
+    ax.scatter(*A.T, color="k", marker="^", s=18, depthshade=False)
+    for i in range(len(A)):
+        ax.plot(*np.stack([geom["C"][i], geom["K"][i]]).T, color="0.6", lw=0.8)
+        ax.plot(*np.stack([geom["D"][i], B[i]]).T, color="tab:blue", lw=1.1)
+        ax.plot(*np.stack([A[i], A[i] + 0.06 * span * axis[i]]).T, color="tab:red", lw=1.2)
+        if np.isfinite(geom["sheave"][i]).all():
+            ax.plot(*geom["sheave"][i].T, color="tab:orange", lw=0.9)
+    for g in _anchor_groups(A, span):
+        c = A[g].mean(axis=0)
+        ax.text(*(c + 0.04 * span * np.array([0, 0, 1])), ",".join(str(i + 1) for i in g), fontsize=7)
+    if not geom["point_mass"]:
+        try:
+            for s in ConvexHull(B).simplices:
+                ax.plot(*B[np.append(s, s[0])].T, color="tab:green", lw=0.5)
+        except Exception:  # coplanar attachment points: their outline
+            ax.plot(*np.vstack([B, B[:1]]).T, color="tab:green", lw=0.8)
+        ax.scatter(*geom["com"], color="tab:green", marker="x", s=30, depthshade=False)
+        handles += [
+            Line2D([], [], color="tab:green", lw=0.5, label="platform: attachment points B_i (hull)"),
+            Line2D([], [], color="tab:green", marker="x", ls="none", label="centre of mass"),
+        ]
+    ax.scatter(*geom["p"], color="tab:green", s=20, depthshade=False)
+    handles += [
+        Line2D([], [], color="tab:green", marker="o", ls="none", label="platform point p"),
+        Line2D([], [], color="k", marker="^", ls="none", label="joint points A_i (cable numbers)"),
+        Line2D([], [], color="tab:red", label="swivel axes k_i"),
+        Line2D([], [], color="tab:orange", label="sheaves (radius r_p)"),
+        Line2D([], [], color="0.6", label="dead length C_i → K_i"),
+        Line2D([], [], color="tab:blue", label="cables D_i → B_i"),
+    ]
+    ax.set(xlim=(lo[0], hi[0]), ylim=(lo[1], hi[1]), zlim=(lo[2], hi[2]))
+    ax.set_box_aspect(hi - lo, zoom=0.9)
+    ax.set_xlabel("x [m]", labelpad=4)
+    ax.set_ylabel("y [m]", labelpad=4)
+    ax.set_zlabel("z [m]", labelpad=2)
+    ax.tick_params(labelsize=7, pad=0)
+    rv = geom["rotvec"]
+    pose = f"p = [{', '.join(f'{x:.3g}' for x in geom['p'])}] m, rotvec = [{', '.join(f'{x:.3g}' for x in rv)}] rad"
+    ax.set_title(f"{geom['name']} at the desired pose {pose}{_mode(mode)}", fontsize=9, wrap=True)
+    fig.legend(handles=handles, loc="outside lower center", ncol=3, fontsize=7, frameon=False)
     return save(fig, out)

@@ -47,8 +47,14 @@ STUDY_OUTPUTS = {
     "volume_shard": {"table": "shards/volume/{robot}_{pulley}_{shard}.parquet"},
     "volumes": {"table": "volumes/volumes.csv", "figure": "volumes/R_V.png", "pdf": "volumes/R_V.pdf"},
     "volume_view": {"figure": "volumes/{label}_VL.png", "pdf": "volumes/{label}_VL.pdf"},
+    "volumes_dphi": {
+        "table": "volumes/volumes_dphi.csv",
+        "figure": "volumes/R_V_dphi.png",
+        "pdf": "volumes/R_V_dphi.pdf",
+    },
     "workspace_grid": {"table": "shards/workspace/test{test}.parquet"},
     "regular_workspace": {"table": "doe/rw_max.csv", "json": "doe/rw_c.json"},
+    "robot_view": {"figure": "robot/{robot}.png", "pdf": "robot/{robot}.pdf"},
     "index_shard": {"table": "shards/doe/test{test}_{shard}.parquet"},
     "doe": {
         "table": "doe/doe.csv",
@@ -129,8 +135,10 @@ STUDY_LOGS = {
     "volume_shard": "logs/volume_{robot}_{pulley}_{shard}.log",
     "volumes": "logs/volumes.log",
     "volume_view": "logs/volume_view_{label}.log",
+    "volumes_dphi": "logs/volumes_dphi.log",
     "workspace_grid": "logs/workspace_test{test}.log",
     "regular_workspace": "logs/regular_workspace.log",
+    "robot_view": "logs/robot_view_{robot}.log",
     "index_shard": "logs/doe_test{test}_{shard}.log",
     "doe": "logs/doe.log",
     "map_kind": "logs/map_{kind}.log",
@@ -220,6 +228,14 @@ class Layout:
             models = {k: load_robot(p) for k, p in self.st["robots"].items()}
         return [k for k, robot in models.items() if robot.m > 3]
 
+    def spatial_robots(self):
+        """Robots solved in 6 DoF (not suspended point masses): the 3-D view (``robot_view``) is drawn
+        for them."""
+        models = self.st.robot_models
+        if models is None:
+            models = {k: load_robot(p) for k, p in self.st["robots"].items()}
+        return [k for k, robot in models.items() if not robot.suspended_point_mass]
+
     def E_values(self):
         """Young's moduli of the index-versus-E sweep, as written in file names."""
         return [f"{e:.6g}" for e in E_values(self.st)]
@@ -250,6 +266,7 @@ class Layout:
                 robot=robots, pulley=pulleys, shard=range(st["volumes"]["shards"])
             ),
             "volume_view": lambda: _product(label=[f"{r}_{p}" for r in robots for p in pulleys]),
+            "robot_view": lambda: _product(robot=self.spatial_robots()),
             "workspace_grid": lambda: _product(test=self.tests()),
             "index_shard": lambda: _product(test=self.tests(), shard=range(st["doe"]["shards"])),
             "map_kind": lambda: _product(kind=self.map_kinds()),
@@ -270,6 +287,8 @@ class Layout:
             return []
         if rule in ("study_budget_design", "study_budget") and not st.get("budget"):
             return []  # the error budget of a rigid platform: a spatial study with a `budget` key
+        if rule == "volumes_dphi" and not st["volumes"].get("dphi_limits_rad"):
+            return []  # the volumes on δφ: a spatial study with volumes.dphi_limits_rad
         if rule == "parity" and not st.get("paper_comparison"):
             return []  # the parity chart draws the paper's numbers: the paper's study only
         if rule == "conclusions" and not st.get("conclusions"):

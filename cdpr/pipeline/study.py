@@ -179,6 +179,15 @@ def volume_limits(st):
     )
 
 
+def dphi_volume_limits(st):
+    """Orientation-error limits [rad] of the R_V sweep on δφ: ``volumes.dphi_sweep_rad`` and
+    ``volumes.dphi_limits_rad``, sorted; [] when the study sets neither (no δφ volumes)."""
+    v = st["volumes"]
+    sw = v.get("dphi_sweep_rad")
+    sweep = set(np.round(np.linspace(sw["from"], sw["to"], sw["steps"]), 12)) if sw else set()
+    return sorted(float(x) for x in sweep | set(v.get("dphi_limits_rad") or []))
+
+
 def read_box(path):
     """The ``box`` of a JSON file written by the regular-workspace job (six numbers [m])."""
     p = Path(path)
@@ -362,6 +371,10 @@ def check_study(st):
     sw = st["volumes"]["sweep_m"]
     with _collect(problems):
         _increasing(st, "volumes.sweep_m", sw["from"], sw["to"])
+    sw = st["volumes"].get("dphi_sweep_rad")
+    if sw:
+        with _collect(problems):
+            _increasing(st, "volumes.dphi_sweep_rad", sw["from"], sw["to"])
     with _collect(problems):
         check_sizes(st)
     with _collect(problems):
@@ -419,7 +432,8 @@ def check_spatial_study(st, robots):
     has the physical mode only (paper mode and its "best 3 of m" rule are the point-mass rule), is
     not scored against the papers (``paper_comparison``), has no uncertainty study yet; and
     ``rotvec_rad`` (the platform orientation) and ``budget`` (the error budget of a rigid platform,
-    on the DOE robot) apply to spatial robots only.
+    on the DOE robot) apply to spatial robots only, and the volumes on δφ (``volumes.dphi_limits_rad``,
+    ``volumes.dphi_sweep_rad``) to robots with a rigid platform only (a point mass has no δφ).
 
     Parameters
     ----------
@@ -488,6 +502,17 @@ def check_spatial_study(st, robots):
                 "config/comparisons/*.yaml)",
             )
         )
+    masses = [k for k, r in robots.items() if r.point_mass]
+    for key in ("dphi_limits_rad", "dphi_sweep_rad"):
+        if st["volumes"].get(key) is not None and masses:
+            out.append(
+                ConfigError(
+                    src,
+                    f"volumes.{key}",
+                    f"the error-limited volumes on δφ need an orientation; robot {', '.join(masses)} is a "
+                    "point mass (no δφ): remove the key or use spatial robots only",
+                )
+            )
     if st.get("rotvec_rad") is not None and point:
         out.append(
             ConfigError(

@@ -215,15 +215,25 @@ def _paper_rv(st):
 
 
 def volume_view(st, label, tables, figure):
-    """Fig. 13: the error-limited regions of one design at the paper's limits."""
+    """Fig. 13: the error-limited regions of one design at the paper's limits (and at the study's
+    δφ limits, ``volumes.dphi_limits_rad``, in a second row)."""
     rk, pk = label.split("_", 1)
     robot = study.design_robot(st, rk, st["pulleys"][pk])
     df = concat(sorted(tables, key=lambda p: int(Path(p).stem.rsplit("_", 1)[1])))
     n = st["volumes"]["n"]
     lims = st["volumes"]["limits_m"]
     rv = [
-        workspace.error_limited_volume(df, n, workspace.frame_box(robot), lim, robot.envelope_volume)["R_V"]
+        workspace.error_limited_volume(
+            df, n, workspace.frame_box(robot), lim, workspace.envelope_volume(robot)
+        )["R_V"]
         for lim in lims
+    ]
+    phi_lims = st["volumes"].get("dphi_limits_rad") or []
+    phi_rv = [
+        workspace.error_limited_volume(
+            df, n, workspace.frame_box(robot), lim, workspace.envelope_volume(robot), column="dphi"
+        )["R_V"]
+        for lim in phi_lims
     ]
     plots.fig13_volume_view(
         df,
@@ -234,7 +244,44 @@ def volume_view(st, label, tables, figure):
         figure,
         A=robot.A,
         mode=study.redundancy(st),
+        dphi_limits=phi_lims,
+        dphi_R_V=phi_rv,
     )
+
+
+def volumes_dphi(st, tables, table, figure):
+    """V_L and R_V on the orientation error δφ (beyond the paper) per robot x pulley design at the
+    study's limits and over its sweep (``volumes.dphi_limits_rad``, ``volumes.dphi_sweep_rad``), from
+    the same frame grids as ``volumes``."""
+    n = st["volumes"]["n"]
+    groups = _shards(tables, r"(?P<label>[A-Za-z0-9]+_[A-Za-z0-9]+)_(?P<shard>\d+)", "volume shard", "label")
+    rows = []
+    for rk in st["robots"]:
+        for pk in st["pulleys"]:
+            label = f"{rk}_{pk}"
+            if label not in groups:
+                raise CdprError(f"volumes-dphi: no shard of {label} among the inputs")
+            robot = study.design_robot(st, rk, st["pulleys"][pk])
+            df, box = concat(groups[label]), workspace.frame_box(robot)
+            for lim in study.dphi_volume_limits(st):
+                v = workspace.error_limited_volume(
+                    df, n, box, lim, workspace.envelope_volume(robot), column="dphi"
+                )
+                rows.append(
+                    {
+                        "robot": rk,
+                        "pulley": pk,
+                        "limit_rad": lim,
+                        "V_T_m3": workspace.envelope_volume(robot),
+                        "V_L_m3": v["V_L"],
+                        "R_V": v["R_V"],
+                        "V_L_err_m3": v["V_L_err"],
+                        "study_limit": lim in st["volumes"]["dphi_limits_rad"],
+                    }
+                )
+    tab = pd.DataFrame(rows)
+    table_io.write_table(tab, table)
+    plots.fig14_rv_dphi(tab, figure, mode=study.redundancy(st))
 
 
 # ---- regular workspaces (section 4.1.1) --------------------------------------------------------
@@ -305,6 +352,24 @@ def regular_workspace(st, tables, table, json):
             "box": used,
         },
         json,
+    )
+
+
+# ---- the robot in 3-D --------------------------------------------------------------------------
+def robot_view(st, robot_key, box_file, figure):
+    """A 3-D picture of the study's robot ``robot_key`` (its file with the study's dead length) at
+    the study's platform orientation: the frame box of the volumes' grid and, for the DOE robot, the
+    RW_C box of ``box_file`` (doe/rw_c.json) drawn as wireframes, the platform at RW_C's centre
+    (elsewhere the default position of ``scans.view_position``)."""
+    robot = study.robot_of(st, robot_key, dead_length=st["dead_length_m"])
+    boxes = {"frame box (the volumes' grid)": workspace.frame_box(robot)}
+    p = scans.view_position(robot)
+    if robot_key == st["doe"]["robot"]:
+        rwc = study.read_box(box_file)
+        boxes[f"RW_C ({Path(box_file).name}, {st['doe']['rw_c']})"] = rwc
+        p = np.array([0.5 * (rwc[2 * a] + rwc[2 * a + 1]) for a in range(3)])
+    plots.robot_view(
+        scans.pose_geometry(robot, p, study.rotvec(st)), figure, boxes=boxes, mode=study.redundancy(st)
     )
 
 

@@ -72,3 +72,43 @@ def test_intersection_and_volume_of_boxes():
     assert rw_c == pytest.approx([1, 2, 0, 1.5, 0.5, 2])
     assert workspace.box_volume(rw_c) == pytest.approx(1 * 1.5 * 1.5)
     assert workspace.box_volume([0, -1, 0, 1, 0, 1]) == 0.0
+
+
+def _dphi_table():
+    """A 3^3 grid of [0, 3]^3 m (1 m^3 voxels) with δφ = 1 mrad x (i + j + k) of the cell indices,
+    ‖δp‖ = 1 m everywhere, the cell (1, 0, 0) not ok and the cell (0, 1, 0) ok without a δφ (NaN)."""
+    n, box = 3, [0, 3, 0, 3, 0, 3]
+    P = workspace.grid_points(box, n)
+    idx = np.floor(P).astype(int)
+    dphi = 1e-3 * idx.sum(axis=1)
+    status = np.where((idx == [1, 0, 0]).all(axis=1), "slack", "ok")
+    dphi[(idx == [0, 1, 0]).all(axis=1)] = np.nan
+    df = pd.DataFrame({"x": P[:, 0], "y": P[:, 1], "z": P[:, 2], "dp": 1.0, "dphi": dphi, "status": status})
+    return df, n, box
+
+
+def test_error_limited_volume_on_dphi_counts_the_cells_under_the_limit():
+    """Hand count: the cells with i + j + k <= 2 are 1 + 3 + 6 = 10; one is not ok and one has no δφ:
+    8 voxels of 1 m^3, every one touching an uncounted voxel or the grid's edge (V_L_err = 4 m^3)."""
+    df, n, box = _dphi_table()
+    v = workspace.error_limited_volume(df, n, box, 0.002, envelope_volume=27.0, column="dphi")
+    assert v["V_L"] == pytest.approx(8.0) and v["R_V"] == pytest.approx(8.0 / 27.0)
+    assert v["V_L_err"] == pytest.approx(4.0)
+    # the limit bounds δφ, not ‖δp‖ (1 m everywhere: nothing under 2 mm; everything ok under 1 m)
+    assert workspace.error_limited_volume(df, n, box, 0.002, 27.0)["V_L"] == 0.0
+    assert workspace.error_limited_volume(df, n, box, 1.0, 27.0)["V_L"] == pytest.approx(26.0)
+    # the same values as ‖δp‖ give the same volume: the count does not depend on the column
+    as_dp = df.assign(dp=df.dphi)
+    assert workspace.error_limited_volume(as_dp, n, box, 0.002, 27.0) == v
+    # every ok cell with a δφ is under the largest sum (6 mrad): 27 - 1 not ok - 1 NaN
+    assert workspace.error_limited_volume(df, n, box, 0.006, 27.0, column="dphi")["V_L"] == pytest.approx(
+        25.0
+    )
+
+
+def test_error_limited_volume_refuses_a_missing_or_unknown_column():
+    df, n, box = _dphi_table()
+    with pytest.raises(CdprError, match="no 'dphi' column"):
+        workspace.error_limited_volume(df.drop(columns="dphi"), n, box, 0.01, 27.0, column="dphi")
+    with pytest.raises(CdprError, match="column must be one of dp, dphi"):
+        workspace.error_limited_volume(df, n, box, 0.01, 27.0, column="tension")

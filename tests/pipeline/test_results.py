@@ -208,3 +208,17 @@ def test_the_spatial_study_layout_is_the_dag_and_names_its_paths(at_root, tmp_pa
     solves = [ln for ln in p.stdout.splitlines() if " -m cdpr grid " in ln or " -m cdpr plane " in ln]
     assert solves and all("--rotvec 0.0 0.0 0.0" in ln and "--redundancy physical" in ln for ln in solves)
     assert sum("--wrench-feasible" in ln for ln in solves) == 8  # the 8 DOE workspace grids
+
+
+def test_the_robot_view_and_the_dphi_volumes_are_outputs_of_spatial_studies_only(at_root):
+    spatial = Layout(load_study(ROOT / "config" / "studies" / "quick_spatial.yaml"), "r")
+    assert spatial.wildcards("robot_view") == [{"robot": "CoGiRo"}]
+    assert {
+        "r/robot/CoGiRo.png",
+        "r/robot/CoGiRo.pdf",
+        "r/volumes/volumes_dphi.csv",
+        "r/volumes/R_V_dphi.png",
+    } <= set(spatial.targets())
+    point = Layout(load_study(QUICK), "r")
+    assert point.wildcards("robot_view") == [] and point.wildcards("volumes_dphi") == []
+    assert not [t for t in point.targets() if "robot/" in t or "dphi" in t]

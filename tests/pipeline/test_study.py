@@ -141,3 +141,42 @@ def test_the_compensated_case_is_computed_once_by_the_physical_study():
     assert cases == {"uncompensated"}
     cases = {w["case"] for w in Layout(physical, "results/quick_physical").wildcards("uq_shard")}
     assert cases == {"uncompensated", "compensated"}
+
+
+# ---- error-limited volumes on δφ (spatial studies only) ---------------------------------------------
+def _with_volumes(tmp_path, base, **keys):
+    data = yaml.safe_load(base.read_text(encoding="utf-8"))
+    data["robots"] = {k: str(ROOT / v) for k, v in data["robots"].items()}
+    data["volumes"].update(keys)
+    path = tmp_path / f"v_{base.name}"
+    path.write_text(yaml.safe_dump(data), encoding="utf-8")
+    return path
+
+
+def test_the_dphi_limits_of_the_spatial_studies_are_their_sweep_and_their_limits():
+    st = study.load_study(QUICK_SPATIAL)
+    lims = study.dphi_volume_limits(st)
+    assert lims == pytest.approx([0.0025, 0.005, 0.0075, 0.01, 0.0125, 0.015])
+    assert set(st["volumes"]["dphi_limits_rad"]) <= set(lims) and all(isinstance(x, float) for x in lims)
+    assert study.dphi_volume_limits(study.load_study(ROOT / "config" / "studies" / "quick.yaml")) == []
+
+
+@pytest.mark.parametrize("key", ["dphi_limits_rad", "dphi_sweep_rad"])
+def test_dphi_volumes_on_a_point_mass_study_are_refused_in_one_line(tmp_path, key):
+    value = [0.01] if key == "dphi_limits_rad" else {"from": 0.001, "to": 0.01, "steps": 3}
+    extra = {} if key == "dphi_limits_rad" else {"dphi_limits_rad": [0.005]}
+    message = _refusal(
+        _with_volumes(tmp_path, ROOT / "config" / "studies" / "quick_physical.yaml", **{key: value}, **extra)
+    )
+    assert f"key 'volumes.{key}'" in message and "point mass (no δφ)" in message and "CDPR" in message
+
+
+def test_a_reversed_dphi_sweep_and_a_sweep_without_limits_are_refused(tmp_path):
+    bad = _with_volumes(tmp_path, QUICK_SPATIAL, dphi_sweep_rad={"from": 0.02, "to": 0.01, "steps": 3})
+    assert "key 'volumes.dphi_sweep_rad'" in _refusal(bad) and "'from' must be below 'to'" in _refusal(bad)
+    data = yaml.safe_load(QUICK_SPATIAL.read_text(encoding="utf-8"))
+    data["robots"] = {k: str(ROOT / v) for k, v in data["robots"].items()}
+    del data["volumes"]["dphi_limits_rad"]
+    path = tmp_path / "nolimits.yaml"
+    path.write_text(yaml.safe_dump(data), encoding="utf-8")
+    assert "dphi_limits_rad" in _refusal(path)

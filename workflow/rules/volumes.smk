@@ -50,3 +50,21 @@ rule volume_view:
     shell:
         "{params.cdpr} job volume-view --study {params.study_file:q} --label {wildcards.label} --tables {input.tables:q}"
         " --figure {output.figure:q}" + TO_LOG
+
+
+# Error-limited volumes on the orientation error δφ (beyond the paper; a spatial study with
+# volumes.dphi_limits_rad): the same frame grids, V_L and R_V of δφ <= limit.
+rule volumes_dphi:
+    input:
+        tables=LAYOUT.paths("volume_shard", "table"),
+        robots=list(ROBOTS.values()),
+    output:
+        **outputs("volumes_dphi", figure=("../report/volumes_dphi.rst", "Volumes")),
+    params:
+        **COMMON,
+        study=uses("volumes", "pulleys", "dead_length_m", "redundancy"),
+    log:
+        LAYOUT.log("volumes_dphi"),
+    shell:
+        "{params.cdpr} job volumes-dphi --study {params.study_file:q} --tables {input.tables:q} --table {output.table:q}"
+        " --figure {output.figure:q}" + TO_LOG
