@@ -60,7 +60,7 @@ def test_volumes_dphi_counts_the_voxels_of_each_design(st, tmp_path):
             table_io.write_table(part, p)
             paths.append(str(p))
         voxel = workspace.box_volume(box) / n**3
-        fields[pk] = (dphi, status == "ok", voxel, robot.envelope_volume)
+        fields[pk] = (dphi, status == "ok", voxel, workspace.envelope_volume(robot))
     out = tmp_path / "volumes_dphi.csv"
     tasks.volumes_dphi(st, paths, str(out), str(tmp_path / "R_V_dphi.png"))
     tab = pd.read_csv(out)
