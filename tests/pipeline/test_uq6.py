@@ -5,12 +5,13 @@ robot, and the compensated nominal robot a round trip."""
 
 import copy
 import os
+import shutil
 
 import numpy as np
 import pandas as pd
 import pytest
 
-from cdpr.pipeline import uq, uq6
+from cdpr.pipeline import summary, uq, uq6
 from cdpr.pipeline.study import Study, load_study
 from tests.conftest import ROOT
 
@@ -91,3 +92,28 @@ def test_spatial_dominant_map_names_a_driver_for_each_response(spatial):
     ok = m.dominant != ""
     assert ok.any() and (m.dominant_phi[ok] != "").all()
     assert ((m.share[ok] > 0) & (m.share[ok] <= 1)).all() and (m.rms_phi_rad[ok] > 0).all()
+
+
+def test_summary_rows_of_the_spatial_uncertainty_study(spatial, tmp_path):
+    """results/<study>/summary: per design and case the median indices of ‖δp‖ and δφ and the largest
+    total Sobol index of each response (group and parameter), read from the reference tables of
+    tests/reference/quick_spatial/uncertainty/."""
+    ref = ROOT / "tests" / "reference" / "quick_spatial" / "uncertainty"
+    (tmp_path / "uncertainty").mkdir()
+    for name in ("bands.csv", "sobol.csv"):
+        shutil.copy(ref / name, tmp_path / "uncertainty" / name)
+    rows = pd.DataFrame(summary._uq_spatial_rows(spatial, tmp_path))
+    sob = pd.read_csv(ref / "sobol.csv")
+    for case in ("uncompensated", "compensated"):
+        for what, out in (("‖δp‖", "index"), ("δφ", "index_phi")):
+            g = sob[(sob.case == case) & (sob.output == out) & (sob.level == "group")]
+            r = rows[
+                rows.quantity == f"SRopt {case} largest total Sobol index on the index of {what} (group)"
+            ]
+            assert len(r) == 1 and r.ours.iloc[0] == g.ST.max()
+            assert r.note.iloc[0].startswith(g.loc[g.ST.idxmax(), "name"] + ";")
+        band = pd.read_csv(ref / "bands.csv")
+        b = band[(band.case == case) & (band.method == "linearised")].iloc[0]
+        r = rows[rows.quantity == f"SRopt {case} index of δφ under per-cable E (median)"]
+        np.testing.assert_allclose(r.ours.iloc[0], b.index_phi_q50_rad * 1e3)
+        assert (r.unit == "mrad").all()
