@@ -5,9 +5,13 @@ CoGiRo (config/robots/cogiro.yaml) commanded with L_TS at N random poses in a bo
 (|rotation| up to 10 deg), solved by the compiled engine ``cdpr.compiled.equilibrium6.solve_spatial``
 (warm: compiled before the clock starts) and by the numpy reference ``equilibrium6.solve_spatial``
 (on the first ``--n-numpy`` of them, it is slow), both with the restarts; the ratio; the compiled
-Newton kernel alone (``newton6_fast``, without the numpy set-up and result); CDPR4 SR physical mode
+Newton kernel alone (``newton6_fast``, without the numpy set-up and result); the 6-DoF sensitivities
+dp*/dθ, dφ*/dθ of all 84 parameters at those equilibria (``sensitivities_at``: compiled
+``cdpr.compiled.sensitivity6`` on N, numpy ``cdpr.models.sensitivity6`` on ``--n-numpy``, same
+solve result) and end to end (``spatial_sensitivities``: the solve plus the sensitivities, compiled
+on N, numpy on a tenth of ``--n-numpy``); CDPR4 SR physical mode
 at N random points by the point-mass compiled kernel and its numpy reference. The machine's load
-(``os.getloadavg``) is printed: on a shared machine the figures are a lower bound. Wall-clock
+(``os.getloadavg``) and the CPU model (``lscpu``) are printed: on a shared machine the figures are a lower bound. Wall-clock
 rates, best of ``--repeat``; "cpu" is the process's CPU time per solve (all threads).
 
     .venv/bin/python benchmarks/spatial_throughput.py [--n 20000] [--n-numpy 2000] [--repeat 3]
@@ -15,6 +19,7 @@ rates, best of ``--repeat``; "cpu" is the process's CPU time per solve (all thre
 
 import argparse
 import os
+import subprocess
 import time
 from pathlib import Path
 
@@ -24,8 +29,11 @@ import numpy as np
 from cdpr.compiled.equilibrium import solve_physical_fast
 from cdpr.compiled.equilibrium6 import _Compiled6, newton6_fast
 from cdpr.compiled.equilibrium6 import solve_spatial as solve_spatial_fast
+from cdpr.compiled.sensitivity6 import sensitivities_at as sensitivities_at_fast
+from cdpr.compiled.sensitivity6 import spatial_sensitivities as spatial_sensitivities_fast
 from cdpr.models.equilibrium import PHYSICAL_DEFAULTS, solve_physical
 from cdpr.models.equilibrium6 import L_TS_pose, pose_arrays, solve_spatial
+from cdpr.models.sensitivity6 import sensitivities_at, spatial_sensitivities
 from cdpr.robot import load_robot
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -42,6 +50,43 @@ def best(fn, repeat):
     return wall, cpu, out
 
 
+def cpu_model():
+    """The CPU's model name (``lscpu``), or "unknown"."""
+    try:
+        text = subprocess.run(["lscpu"], capture_output=True, text=True, check=True).stdout
+    except (OSError, subprocess.CalledProcessError):
+        return "unknown"
+    return next(
+        (ln.split(":", 1)[1].strip() for ln in text.splitlines() if ln.startswith("Model name")), "unknown"
+    )
+
+
+def sensitivity_rates(cog, p, rv, res, n, nn, repeat):
+    """Prints the 6-DoF sensitivities per second, compiled and numpy, at the same equilibria ``res``
+    (``sensitivities_at``) and end to end (``spatial_sensitivities``)."""
+    sub = {k: v[:nn] for k, v in res.items() if k != "alternatives"}
+    sensitivities_at_fast(cog, {k: v[:10] for k, v in sub.items()})  # compile (or load the cache)
+    ts, cs, a = best(lambda: sensitivities_at_fast(cog, res), repeat)
+    tsn, _, b = best(lambda: sensitivities_at(cog, sub), max(1, repeat - 1))
+    sm = b["smooth"]
+    same = (a["smooth"][:nn] == sm).all()
+    dev = np.abs(a["S"][:nn][sm] - b["S"][sm]).max(axis=1) / np.abs(b["S"][sm]).max(axis=1).clip(1e-300)
+    print(
+        f"CoGiRo 6-DoF sensitivities (84 parameters) at the equilibria: compiled {n / ts:,.0f} poses/s "
+        f"({cs / n * 1e6:.1f} us cpu per pose, N = {n}), numpy {nn / tsn:,.0f} poses/s (N = {nn}): "
+        f"ratio {(n / ts) / (nn / tsn):,.0f}; flags {'same' if same else 'DIFFERENT'}, max column-relative "
+        f"|dS| {dev.max():.1e} (the numpy finite differences' round-off)"
+    )
+    n3 = max(1, nn // 10)
+    te, ce, _ = best(lambda: spatial_sensitivities_fast(cog, p, rv), repeat)
+    ten, _, _ = best(lambda: spatial_sensitivities(cog, p[:n3], rv[:n3]), max(1, repeat - 1))
+    print(
+        f"  solve + sensitivities (spatial_sensitivities): compiled {n / te:,.0f} poses/s "
+        f"({ce / n * 1e6:.1f} us cpu per pose), numpy {n3 / ten:,.0f} poses/s (N = {n3}): "
+        f"ratio {(n / te) / (n3 / ten):,.0f}"
+    )
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--n", type=int, default=20000)
@@ -54,7 +99,10 @@ def main():
     p = np.column_stack([g.uniform(-3, 3, n), g.uniform(-2, 2, n), g.uniform(1.0, 3.0, n)])
     rv = g.normal(size=(n, 3))
     rv *= (np.radians(10) * g.uniform(0, 1, (n, 1))) / np.linalg.norm(rv, axis=1, keepdims=True)
-    print(f"cores {os.cpu_count()}, numba threads {numba.get_num_threads()}, load before {os.getloadavg()}")
+    print(
+        f"CPU {cpu_model()}, cores {os.cpu_count()}, numba threads {numba.get_num_threads()}, "
+        f"load before {os.getloadavg()}"
+    )
     solve_spatial_fast(cog, p[:10], rv[:10])  # compile (or load the cache)
     tc, cc, res = best(lambda: solve_spatial_fast(cog, p, rv), args.repeat)
     tn, _, ref = best(lambda: solve_spatial(cog, p[:nn], rv[:nn]), max(1, args.repeat - 1))
@@ -69,6 +117,7 @@ def main():
         f"median iterations {np.median(res['iterations']):g}; compiled = numpy on the first {nn}: "
         f"{'same statuses and taut sets' if same else 'DIFFERENT'}, max |dP| {dev:.1e} m"
     )
+    sensitivity_rates(cog, p, rv, res, n, nn, args.repeat)
     cab = _Compiled6(cog)
     pp, R = pose_arrays(cog, p, rv)
     L0 = L_TS_pose(cog, pp, R)

@@ -37,7 +37,6 @@ from pathlib import Path
 from typing import NamedTuple
 
 import numpy as np
-from scipy.spatial import ConvexHull
 
 from cdpr.errors import ConfigError, raise_problems
 from cdpr.units import quantity
@@ -324,17 +323,6 @@ class Robot:
     def subsets(self):
         """All 3-cable subsets as an int array (n_subsets, 3), lexicographic order (0-based)."""
         return np.array(list(itertools.combinations(range(self.m), 3)), dtype=np.intp)
-
-    @cached_property
-    def envelope_volume(self):
-        """Volume V_T of the outer envelope [m^3]: the anchors' horizontal convex hull from z = 0 to
-        the lowest anchor height (a 5 m cube for CDPR4, a 54.13 m^3 prism for CDPR3); for a robot
-        that is not a suspended point mass, from min(0, lowest anchor) to the highest anchor."""
-        hull = ConvexHull(self.A[:, :2])
-        if not self.suspended_point_mass:  # the frame's extent (issue 17)
-            z = self.A[:, 2]
-            return float(hull.volume * (z.max() - min(0.0, z.min())))
-        return float(hull.volume * self.A[:, 2].min())
 
     def pulley_summary(self):
         """Short text such as 'SR h=100 mm r_p=66.5 mm' when all pulleys are alike, else 'mixed'."""

@@ -2,8 +2,8 @@
 reference (``cdpr.models``) is made here, through ``check_engine``, and nowhere else.
 
 ``solve_points_any`` solves the pose (per-point arrays; ``cdpr.tables.solve_table`` gives a DataFrame);
-``sensitivities`` and ``subset_sensitivities`` add dP*/dθ (``spatial_sensitivities`` dp*/dθ and dφ*/dθ
-of a rigid platform, numpy only); ``linear_dp`` propagates them. Each takes
+``sensitivities`` and ``subset_sensitivities`` add dP*/dθ (``spatial_sensitivities`` and
+``spatial_sensitivities_at`` dp*/dθ and dφ*/dθ of a rigid platform); ``linear_dp`` propagates them. Each takes
 ``engine`` in ``ENGINES`` or None for the default (compiled for Newton, numpy for the fixed point);
 an unknown engine or an engine/method pair that does not exist raises CdprError naming the allowed
 values, never a silent fall-back. No pandas here: ``cdpr point`` solves one point without it.
@@ -16,6 +16,7 @@ import numpy as np
 from cdpr.compiled import equilibrium as compiled_equilibrium
 from cdpr.compiled import equilibrium6 as compiled_equilibrium6
 from cdpr.compiled import sensitivity as compiled_sensitivity
+from cdpr.compiled import sensitivity6 as compiled_sensitivity6
 from cdpr.compiled import subsets as compiled_subsets
 from cdpr.errors import CdprError
 from cdpr.models import equilibrium, sensitivity, sensitivity6
@@ -177,17 +178,25 @@ def sensitivities(
     )
 
 
-def spatial_sensitivities(robot, p, rotvec=None, L0=None, engine=None, **solver):
+def spatial_sensitivities(robot, p, rotvec=None, L0=None, engine=None, threads=None, **solver):
     """The 6-DoF solve plus dp*/dθ and dφ*/dθ (``sensitivity6.spatial_sensitivities``, whose docstring
-    gives the equations and the result). There is no compiled 6-DoF sensitivity kernel: the numpy
-    reference runs the solve and the derivatives, the default here (``engine`` None or "numpy");
-    ``engine="compiled"`` raises CdprError (no silent fall-back), as does an unknown engine."""
-    if engine is not None and check_engine(engine, "newton") == "compiled":
-        raise CdprError(
-            "the compiled engine has no 6-DoF sensitivity kernel: sensitivities of a rigid platform or an "
-            "orientation run the numpy reference (leave out --engine or give --engine numpy)"
-        )
+    gives the equations and the result), by the chosen engine: ``"compiled"`` (default, as for the
+    point-mass sensitivities: ``cdpr.compiled.sensitivity6.spatial_sensitivities``, the compiled
+    solve and analytic dF6/dθ in parallel over poses, ``threads`` caps the threads) or ``"numpy"``
+    (the reference); another engine raises CdprError naming the allowed values."""
+    if check_engine(engine, "newton") == "compiled":
+        return compiled_sensitivity6.spatial_sensitivities(robot, p, rotvec, L0=L0, threads=threads, **solver)
     return sensitivity6.spatial_sensitivities(robot, p, rotvec, L0=L0, **solver)
+
+
+def spatial_sensitivities_at(robot, res, names=None, t_tol=sensitivity.T_TOL, engine=None, threads=None):
+    """dp*/dθ and dφ*/dθ at the equilibria of a ``solve_spatial`` result of either engine
+    (``sensitivity6.sensitivities_at``, whose docstring gives the equations and the result), by the
+    chosen engine: ``"compiled"`` (default: ``cdpr.compiled.sensitivity6.sensitivities_at``) or
+    ``"numpy"``; another engine raises CdprError naming the allowed values."""
+    if check_engine(engine, "newton") == "compiled":
+        return compiled_sensitivity6.sensitivities_at(robot, res, names, t_tol, threads=threads)
+    return sensitivity6.sensitivities_at(robot, res, names, t_tol)
 
 
 def subset_sensitivities(robot, p, L=None, columns=None, engine=None, threads=None, **solver):

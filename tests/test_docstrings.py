@@ -30,6 +30,7 @@ MODEL_MODULES = [
     "models.equilibrium6",
     "models.distribution6",
     "models.sensitivity6",
+    "compiled.sensitivity6",
 ]
 
 #: A numpy section header: a title line underlined by dashes of the same length.

@@ -59,8 +59,10 @@ def test_no_import_cycle_between_modules():
 
 #: The command line's start-up path: the only places where an import may sit inside a function, each
 #: marked ``# lazy: <reason>`` (``cdpr --help`` must not load numpy; ``cdpr.__version__`` is read
-#: from the installed metadata only when asked for).
-STARTUP = {"cdpr/__init__.py", "cdpr/__main__.py"}
+#: from the installed metadata only when asked for; scipy's ``Rotation`` is imported where it is used,
+#: issue 17, and so is the anchors' ``ConvexHull`` of the physical mode, so that scipy.spatial, 0.17 s,
+#: stays off the start-up of every command that does not need it).
+STARTUP = {"cdpr/__init__.py", "cdpr/__main__.py", "cdpr/models/platform.py", "cdpr/models/equilibrium.py"}
 
 
 def test_no_import_inside_a_function_outside_the_cli():

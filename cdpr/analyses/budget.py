@@ -139,6 +139,24 @@ def effect_robot(design, effects):
     return dataclasses.replace(design, cables=tuple(cables))
 
 
+def with_drums(design, drum):
+    """``design`` with ``drum`` on every cable that has no winch of its own (the cables' own winches
+    are kept); ``effect_robot`` then keeps them in every variant instead of Table 1's drum.
+
+    Parameters
+    ----------
+    design : Robot
+    drum : WinchParams
+        Métillon 2022 Table 1 parameters of the drum (SI units).
+
+    Returns
+    -------
+    Robot
+    """
+    cables = tuple(dataclasses.replace(c, winch=c.winch or drum) for c in design.cables)
+    return dataclasses.replace(design, cables=cables)
+
+
 def model_lengths(design, p, model, t_min=T_MIN_DEFAULT, rotvec=None):
     """Rest lengths the model with effects ``model`` commands at p (step 1 of the module docstring).
 

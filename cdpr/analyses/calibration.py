@@ -73,7 +73,7 @@ from cdpr.models.sensitivity import (
     implicit_solve,
     physical_jacobian_terms,
 )
-from cdpr.models.sensitivity6 import rest_length_sensitivities, spatial_sensitivities, tension_partials6
+from cdpr.models.sensitivity6 import rest_length_sensitivities, tension_partials6
 from cdpr.parameters import (
     CALIBRATION_GROUPS,
     calibrated_robot,
@@ -90,6 +90,7 @@ from cdpr.parameters import (
 from cdpr.robot import _PARAM_KEYS as WINCH_KEYS
 from cdpr.robot import with_pulleys
 from cdpr.solve import sensitivities
+from cdpr.solve import spatial_sensitivities as solve_spatial_sensitivities
 from cdpr.units import quantity
 
 #: How the candidate and simulated poses are commanded: standard lengths L_TS (the point mass's only
@@ -818,8 +819,10 @@ class Problem6:
     offsets, ``sensitivity6.rest_length_sensitivities`` (dx*/do_i = -dx*/dL0_i). A sample without a
     measured pose is solved from ``_centre`` at the identity orientation. On a robot file with
     ``winch:`` the commanded lengths go through the drums (``drive.realised_rest_lengths``) with
-    the chain rule of ``Problem.evaluate`` on the offsets and dead lengths. The numpy reference
-    solver (there is no compiled twin of the 6-DoF sensitivities).
+    the chain rule of ``Problem.evaluate`` on the offsets and dead lengths. The solve and the
+    sensitivities by ``engine`` (``solve.spatial_sensitivities``), the numpy reference by default:
+    the compiled twin (analytic dF6/dθ) changes the tracked CoGiRo tables (the misfit models' fits
+    move; the exact model's in the 4th digit), so the study stays on numpy.
 
     Parameters
     ----------
@@ -831,12 +834,15 @@ class Problem6:
         Into ``calibration_names(robot.m, spatial=True)``.
     sd : ndarray, shape (len(index),)
         Prior sd [Pa, m, kg].
+    engine : {"numpy", "compiled"}
+        Engine of the solve and the sensitivities.
     solver : dict
         tol, maxiter, max_step of ``solve_spatial``.
     """
 
     def __init__(self, robot, data, index, sd, engine="numpy", solver=None):
         self.robot, self.data, self.index, self.sd = robot, data, np.asarray(index), np.asarray(sd, float)
+        self.engine = engine
         self.solver = dict(solver or {})
         self.m = robot.m
         self.nr = robot_size(self.m, True)
@@ -877,7 +883,9 @@ class Problem6:
         rv = np.where(hp[:, None], data.rotvec, 0.0)
         drum = np.isfinite(L0).all(axis=1)
         L0 = _drum_or_standard(rob, L0, drum, start, rv)
-        res = spatial_sensitivities(rob, start, rv, L0=L0, names=self._names6, **self.solver)
+        res = solve_spatial_sensitivities(
+            rob, start, rv, L0=L0, engine=self.engine, names=self._names6, **self.solver
+        )
         SL, hooke, cond = rest_length_sensitivities(rob, res["P_s"], res["R_s"], L0)
         if not drum.all():  # a command the drum cannot pay out: no equilibrium, flagged by the fit
             res["status"] = np.where(drum, res["status"], DRUM_RANGE)

@@ -16,6 +16,7 @@ pulley kinematics and cable elasticity. Mechanism and Machine Theory 159, 104263
 from __future__ import annotations
 
 import numpy as np
+from scipy.spatial import ConvexHull
 
 from cdpr.errors import CdprError
 
@@ -39,6 +40,27 @@ def check_box(box):
     if not (b[0] < b[1] and b[2] < b[3] and b[4] < b[5]):
         raise CdprError(f"a box needs XMIN < XMAX, YMIN < YMAX and ZMIN < ZMAX, got {b.tolist()}")
     return b
+
+
+def envelope_volume(robot):
+    """Volume V_T of the outer envelope [m^3] (Paty 2021 section 3.3.3): the anchors' horizontal
+    convex hull from z = 0 to the lowest anchor height (a 5 m cube for CDPR4, a 54.13 m^3 prism for
+    CDPR3); for a robot that is not a suspended point mass, from min(0, lowest anchor) to the
+    highest anchor (issue 17).
+
+    Parameters
+    ----------
+    robot : Robot
+
+    Returns
+    -------
+    float [m^3]
+    """
+    A = robot.A
+    area = ConvexHull(A[:, :2]).volume  # the area of a 2-D hull
+    if not robot.suspended_point_mass:
+        return float(area * (A[:, 2].max() - min(0.0, A[:, 2].min())))
+    return float(area * A[:, 2].min())
 
 
 def frame_box(robot):
@@ -190,7 +212,7 @@ def error_limited_volume(df, n, box, limit, envelope_volume):
     limit : float [m]
         Error limit |dp|_lim.
     envelope_volume : float [m^3]
-        Volume V_T of the outer envelope (``Robot.envelope_volume``).
+        Volume V_T of the outer envelope (``envelope_volume``).
 
     Returns
     -------

@@ -234,7 +234,7 @@ def cmd_inverse(args):
 def _solve_sensitivities(robot, P, args, L0=None, rv=None):
     """The solve plus the sensitivities for --sensitivities: dP*/dθ (``solve.sensitivities``) on a
     suspended point mass (an orientation plays no part there and is carried through), dp*/dθ and
-    dφ*/dθ (``solve.spatial_sensitivities``, the numpy reference) on any other robot."""
+    dφ*/dθ (``solve.spatial_sensitivities``, compiled unless --engine numpy) on any other robot."""
     from cdpr.solve import check_spatial, sensitivities, spatial_sensitivities  # lazy: --sensitivities only
 
     if args.method != "newton":
@@ -243,7 +243,7 @@ def _solve_sensitivities(robot, P, args, L0=None, rv=None):
         )
     if not robot.suspended_point_mass:
         check_spatial(robot, None, args.redundancy)
-        return spatial_sensitivities(robot, P, rv, L0=L0, engine=args.engine)
+        return spatial_sensitivities(robot, P, rv, L0=L0, engine=args.engine, threads=args.threads)
     return sensitivities(
         robot,
         P,
@@ -362,7 +362,8 @@ def cmd_point(args):
                 for (name, vec), unit in zip(out["sensitivities"].items(), parameter_units6(robot.m))
             ]
             smooth = smooth.replace("subset or taut set may switch", "taut set may switch or J is singular")
-            print(f"sensitivities dp*/dθ and dφ*/dθ at fixed commanded lengths (numpy reference){smooth}:")
+            engine = "numpy reference" if args.engine == "numpy" else "compiled engine"
+            print(f"sensitivities dp*/dθ and dφ*/dθ at fixed commanded lengths ({engine}){smooth}:")
             headers = ["θ", "unit", "dx", "dy", "dz", "unit", "dφx", "dφy", "dφz"]
             print(_table(rows, headers))
             return

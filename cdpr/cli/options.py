@@ -178,7 +178,7 @@ def sensitivity_options(sp):
         help="also dP*/dθ for every parameter (E_i [Pa], h_i, r_p_i, d_i, A_i_x/y/z [m], M [kg]; cables from 1) "
         "at fixed commanded lengths, by the implicit-function theorem; Newton only. A spatial robot (rigid "
         "platform, tilted pulleys) also gets dφ*/dθ [rad per unit] and θ gains b_i_x/y/z and c_x/y/z [m]; "
-        "there it runs the numpy reference (no compiled 6-DoF sensitivity kernel; --engine compiled is refused)",
+        "there the compiled 6-DoF kernel runs (--engine numpy: the numpy reference)",
     )
 
 

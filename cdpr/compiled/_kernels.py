@@ -57,6 +57,7 @@ __all__ = [
     "cable_params",
     "cable_partials",
     "cable_partials_at",
+    "cable_partials_axis",
     "commanded_input",
     "in_frame",
     "newton_options",
@@ -624,3 +625,61 @@ def cable_partials_at(px, py, pz, cab, c, out):
         cab.inward[c, 1],
         out,
     )
+
+
+@njit(cache=True, error_model="numpy")
+def cable_partials_axis(px, py, pz, Ax, Ay, Az, kind, h, rp, d, inx, iny, ident, f, out):
+    """``cable_partials`` for a pulley whose swivel axis k_i is any unit vector (the frame rule of
+    ``cable_axis``): the same scalar kernel at w' = F (B - A), A' = 0, and the vectors back to the
+    base frame::
+
+        u = F^T u',  dL_TE/dB = F^T dL'/dB',  du/dB = F^T (du'/dB') F,
+        du/dh = F^T du'/dh,  du/dr_p = F^T du'/dr_p
+
+    (L_TE, |l_E|, dL_TE/dh, dL_TE/dr_p, dL_TE/dd are invariant). With ``ident`` bit for bit
+    ``cable_partials`` at B and A.
+
+    Parameters
+    ----------
+    px, py, pz : float [m]
+        The attachment point B_i (base frame).
+    Ax, Ay, Az, kind, h, rp, d, inx, iny
+        As ``pulley_geometry`` (A in the base frame, inward in the pulley frame).
+    ident : bool
+        F is the identity.
+    f : ndarray (3, 3) [-]
+        The pulley frame, rows i_i, j_i, k_i.
+    out : ndarray, shape (NCOL,)
+        Written with the layout ``C_*`` (``cable_partials``), vectors in the base frame.
+
+    References
+    ----------
+    Paty et al. 2021, eq. (3)-(5), (12).
+    """
+    qx, qy, qz, ax, ay, az = in_frame(px, py, pz, Ax, Ay, Az, ident, f)
+    cable_partials(qx, qy, qz, ax, ay, az, kind, h, rp, d, inx, iny, out)
+    if ident:
+        return
+    for c0 in (C_U, C_DLDP, C_DUH, C_DUR):
+        v0, v1, v2 = out[c0], out[c0 + 1], out[c0 + 2]
+        for a in range(3):
+            out[c0 + a] = f[0, a] * v0 + f[1, a] * v1 + f[2, a] * v2
+    o = C_DUDP
+    dp = (
+        out[o],
+        out[o + 1],
+        out[o + 2],
+        out[o + 3],
+        out[o + 4],
+        out[o + 5],
+        out[o + 6],
+        out[o + 7],
+        out[o + 8],
+    )
+    for a in range(3):  # du/dB = F^T (du'/dB') F
+        for b in range(3):
+            s = 0.0
+            for k in range(3):
+                for q in range(3):
+                    s += f[k, a] * dp[3 * k + q] * f[q, b]
+            out[o + 3 * a + b] = s

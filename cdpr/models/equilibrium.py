@@ -87,7 +87,6 @@ elastic cables of redundant CDPRs).
 from __future__ import annotations
 
 import numpy as np
-from scipy.spatial import ConvexHull
 
 from cdpr.models.inverse import L_TS
 from cdpr.models.pulleys import total_length_and_direction
@@ -129,6 +128,8 @@ def hull_halfplanes(robot):
     halfplanes : ndarray (n_edges, 3)
         n_x, n_y [-] and c [m] per hull edge (``scipy.spatial.ConvexHull.equations``).
     """
+    from scipy.spatial import ConvexHull  # lazy: scipy.spatial is 0.17 s of start-up
+
     return np.ascontiguousarray(ConvexHull(robot.A[:, :2]).equations)
 
 

@@ -17,7 +17,6 @@ section 3.3).
 from __future__ import annotations
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 
 def skew(v):
@@ -93,6 +92,8 @@ def rotvec_of(R):
     out = np.full((len(flat), 3), np.nan)  # a pose that is not finite (a failed solve) stays NaN
     ok = np.isfinite(flat).all(axis=(1, 2))
     if ok.any():
+        from scipy.spatial.transform import Rotation  # lazy: scipy.spatial is 0.17 s of start-up
+
         out[ok] = Rotation.from_matrix(flat[ok]).as_rotvec()
     return out.reshape(R.shape[:-1])
 

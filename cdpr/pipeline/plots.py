@@ -1045,13 +1045,20 @@ def dead_length_figure(tab, d_default, out, mode=None):
     return save(fig, out)
 
 
+#: |‖δp‖ physical − ‖δp‖ paper| [mm] below which a 3-cable point counts as the same solution in both modes.
+SAME_MM = 1e-3
+
+
 def comparison_difference_maps(tables, anchors, z, out):
     """Paper rule versus physics: ‖δp‖_physical − ‖δp‖_paper over the plane at height z, one panel
     per design (rows: robots, columns: pulley designs) on one diverging colour scale centred on 0.
     ``tables`` maps (robot, pulley) to a ``comparison.difference_table``; ``anchors`` maps a robot
     to its anchors A (m, 3). Grey: not ok in either mode; each panel's title counts the points ok
     in only one mode (left out of the difference). A robot with as many cables as degrees of
-    freedom has no redundancy: both modes solve the same equations, the panel says so."""
+    freedom has no redundancy: both modes solve the same equations, the panel says so, and counts
+    the points where they still found different solutions (more than ``SAME_MM`` apart: the same
+    equations can have two; CDPR3 DR at (0, 2.87, 2.5) m hangs from cable 3 alone in physical mode,
+    while the paper rule's three taut cables put P* 2 cm outside the anchors' footprint)."""
     robots = list(dict.fromkeys(r for r, _ in tables))
     pulleys = list(dict.fromkeys(p for _, p in tables))
     vmax = max(
@@ -1082,8 +1089,14 @@ def comparison_difference_maps(tables, anchors, z, out):
             one = _ok_in_one_mode(t)
             if len(A) <= 3:
                 span = "3 cables: no redundancy, both modes equal"
-                if len(d):
+                same = np.abs(d) <= SAME_MM
+                if len(d) and same.all():
                     span += f" (|diff| ≤ {np.abs(d).max():.1g} mm)"
+                elif len(d):  # the same equations can have two solutions: say so, not "equal"
+                    span = (
+                        f"3 cables: no redundancy, modes equal at {int(same.sum())} points;\n"
+                        f"{int((~same).sum())} differ by up to {np.abs(d).max():.2g} mm (different equilibria)"
+                    )
             else:
                 span = f"{d.min():+.1f} to {d.max():+.1f} mm" if len(d) else "no common ok point"
             ok1 = f"\nok in one mode only (left out): {one}" if one is not None else ""

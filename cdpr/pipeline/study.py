@@ -24,7 +24,7 @@ from cdpr.analyses import doe
 from cdpr.analyses.uncertainty import CASES, PARAMETER_KEYS, Distribution
 from cdpr.analyses.workspace import check_box
 from cdpr.errors import ConfigError, raise_problems
-from cdpr.robot import check_pulley, load_robot, robot_from_dict
+from cdpr.robot import TABLE1, check_pulley, load_robot, params_from_mapping, robot_from_dict
 from cdpr.validation import read_yaml, validate
 
 
@@ -409,6 +409,9 @@ def check_study(st):
                     )
     for problem in check_spatial_study(st, robots):
         problems.append(problem)
+    if st.get("budget") is not None:
+        with _collect(problems):
+            budget_drum(st)
     if "uncertainty" in st and not problems:
         with _collect(problems):
             check_uncertainty(st, robots)
@@ -493,6 +496,28 @@ def check_spatial_study(st, robots):
             )
         )
     return out
+
+
+def budget_drum(st):
+    """The drum of the study's error budget (``budget.drum``, Métillon 2022 Table 1 keys; missing
+    keys and a study without the key take Table 1's drum): the winch entries put it on every cable
+    that has no winch of its own.
+
+    Parameters
+    ----------
+    st : Study
+
+    Returns
+    -------
+    WinchParams
+
+    Raises
+    ------
+    ConfigError
+        Naming ``budget.drum.<key>`` for an unknown key or a value out of range.
+    """
+    drum = (st.get("budget") or {}).get("drum")
+    return TABLE1 if drum is None else params_from_mapping(drum, st.path, "budget.drum")
 
 
 @contextlib.contextmanager

@@ -177,13 +177,13 @@ def volumes(st, tables, table, figure):
             df = concat(groups[label])
             box = workspace.frame_box(robot)
             for lim in lims:
-                v = workspace.error_limited_volume(df, n, box, lim, robot.envelope_volume)
+                v = workspace.error_limited_volume(df, n, box, lim, workspace.envelope_volume(robot))
                 rows.append(
                     {
                         "robot": rk,
                         "pulley": pk,
                         "limit_m": lim,
-                        "V_T_m3": robot.envelope_volume,
+                        "V_T_m3": workspace.envelope_volume(robot),
                         "V_L_m3": v["V_L"],
                         "R_V": v["R_V"],
                         "V_L_err_m3": v["V_L_err"],
@@ -577,11 +577,14 @@ def study_budget_design(st, design, box_file, table, threads=None):
     spatial study, over the index_n^3 grid of RW_C at the study's orientation (``rotvec_rad``): one
     row per entry (``budget.summarise``: ‖δp‖ and ‖δφ‖ over the points ok in every entry) with the
     design, the region and entry_ok_points (points ok in that entry alone; the winch entries flag
-    points whose drum angle leaves [0, q_max] as infeasible)."""
+    points whose drum angle leaves [0, q_max] as infeasible). Every cable without a winch of its own
+    gets the study's drum (``study.budget_drum``: ``budget.drum``, Table 1 by default)."""
     if design not in st["optimal"]:
         raise CdprError(f"budget: unknown design {design!r}; allowed: {', '.join(st['optimal'])}")
     b = st["budget"]
-    robot = study.design_robot(st, st["doe"]["robot"], st["optimal"][design])
+    robot = budget.with_drums(
+        study.design_robot(st, st["doe"]["robot"], st["optimal"][design]), study.budget_drum(st)
+    )
     P = workspace.grid_points(study.read_box(box_file), b["index_n"])
     res = budget.error_budget(robot, P, b["t_min_N"], threads, rotvec=study.rotvec(st))
     tab = budget.summarise(res).assign(design=design, region="RW_C")

@@ -263,3 +263,24 @@ def test_spatial_uncertainty_figures_have_dphi_panels_with_their_unit(tmp_path, 
             for lab in (ax.get_xlabel(), ax.get_ylabel()):
                 assert not lab or "[" in lab, lab
         assert figure_checks.mode_problems([f.get_suptitle()], "physical") == []
+
+
+def test_a_three_cable_difference_panel_counts_the_points_where_the_modes_differ(tmp_path, monkeypatch):
+    """Without redundancy both modes solve the same equations, but they can land on different
+    solutions: the panel must not call them equal then."""
+    import numpy as np
+
+    figs, _ = _captured(monkeypatch)
+    A3 = np.array([[-2.5, -1.44, 5], [2.5, -1.44, 5], [0.0, 2.89, 5]])
+    t = _plane_table("SR", 1.0).drop(columns="subset")
+    same = t.assign(diff=1e-12 * np.sign(t.x - 0.5))
+    one = same.copy()
+    one.loc[one.index[0], "diff"] = 0.004
+    plots.comparison_difference_maps(
+        {("C", "SR"): same, ("C", "DR"): one}, {"C": A3}, 2.5, tmp_path / "d.png"
+    )
+    titles = [ax.get_title() for ax in figs[0].axes if ax.get_title()]
+    assert "both modes equal (|diff| ≤ 1e-09 mm)" in titles[0]
+    assert "equal at" not in titles[0]
+    assert f"modes equal at {len(t) - 1} points" in titles[1] and "1 differ by up to 4 mm" in titles[1]
+    assert "both modes equal" not in titles[1]

@@ -5,6 +5,7 @@ the per-design table (position and orientation, every entry) and the stacked bar
 import functools
 import json
 
+import numpy as np
 import pytest
 import yaml
 
@@ -85,3 +86,33 @@ def test_the_jobs_write_the_budget_of_every_design(tmp_path, monkeypatch):
     assert [r["quantity"] for r in rows[:4]] == [
         f"{next(iter(st['optimal']))} budget: {w}" for w in summary.BUDGET_TERMS.values()
     ]
+
+
+def test_the_drum_key_defaults_to_table_1_and_is_checked_in_one_line(tmp_path):
+    st = study.load_study(_variant(QUICK_SPATIAL, tmp_path, budget=KEY))
+    assert study.budget_drum(st) == budget.TABLE1
+    st = study.load_study(_variant(QUICK_SPATIAL, tmp_path, budget={**KEY, "drum": {"l_u0_m": 12.0}}))
+    drum = study.budget_drum(st)
+    assert drum.l_u0 == 12.0 and drum.k_w == budget.TABLE1.k_w and drum.q_max == budget.TABLE1.q_max
+    for bad in ({"l_u0_m": -1.0}, {"radius_m": 0.1}):
+        path = _variant(QUICK_SPATIAL, tmp_path, budget={**KEY, "drum": bad})
+        with pytest.raises(study.ConfigError) as err:
+            study.load_study(path)
+        message = str(err.value)
+        assert "\n" not in message and str(path) in message and "budget.drum" in message
+
+
+def test_the_drum_goes_on_cables_without_a_winch_of_their_own():
+    robot = study.load_study(QUICK_SPATIAL).robot_models["CoGiRo"]
+    drum = study.params_from_mapping({"l_u0_m": 12.0}, "test")
+    own = study.params_from_mapping({"l_u0_m": 7.0}, "test")
+    mixed = budget.dataclasses.replace(
+        robot, cables=(budget.dataclasses.replace(robot.cables[0], winch=own), *robot.cables[1:])
+    )
+    out = budget.with_drums(mixed, drum)
+    assert out.cables[0].winch == own and all(c.winch == drum for c in out.cables[1:])
+    # the drum decides the winch entries only: a longer uncoiled length at q0 moves the drum's
+    # range of l_pm up by the same amount (l_pm = l_u0 + k_w (q0 - q) - |e(q) - a|, Métillon eq. 17)
+    q = np.linspace(0.0, drum.q_max, 5)
+    shift = budget.winch_model.l_pm_of_q(drum, q) - budget.winch_model.l_pm_of_q(budget.TABLE1, q)
+    assert np.allclose(shift, 12.0 - budget.TABLE1.l_u0, atol=1e-12)

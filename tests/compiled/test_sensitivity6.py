@@ -1,0 +1,214 @@
+"""The compiled 6-DoF sensitivities (cdpr.compiled.sensitivity6) equal the numpy reference
+(cdpr.models.sensitivity6) on the spatial robots (CoGiRo, wall pulleys with horizontal axes, ...) at
+random tilted poses with slack cables, and on a point-mass robot; the engine registry chooses them.
+
+The compiled dF6/dθ is analytic, the reference's a central difference of the balance (steps 1e-7 m
+and 1e-6 relative): their difference is the reference's round-off, O(eps L / δ) amplified by the
+Jacobian's conditioning, measured up to 3.3e-6 of a column (CoGiRo, wall pulleys; median 5e-8).
+The tests check that it is round-off: it falls about tenfold when the reference's steps are ten
+times longer. The flags, the tension margins and the condition numbers agree to 1e-9."""
+
+import numpy as np
+import pytest
+from numba import njit
+
+from cdpr.compiled import sensitivity6 as fast
+from cdpr.compiled._kernels import (
+    C_DLD,
+    C_DLDP,
+    C_DLH,
+    C_DLR,
+    C_DUDP,
+    C_DUH,
+    C_DUR,
+    C_L,
+    C_U,
+    NCOL,
+    cable_partials_axis,
+)
+from cdpr.compiled.equilibrium6 import solve_spatial as solve_fast
+from cdpr.errors import CdprError
+from cdpr.models import sensitivity6 as ref
+from cdpr.models.equilibrium6 import L_TS_pose, pose_arrays, solve_spatial
+from cdpr.models.platform import rotvec_of
+from cdpr.robot import load_robot, with_pulleys
+from cdpr.solve import spatial_sensitivities, spatial_sensitivities_at
+from tests.compiled.test_equilibrium6 import BOXES, _cables, _poses, _random_pulleys
+from tests.conftest import ROBOTS
+
+#: The reference's central-difference round-off bound, relative to a column of S (measured 3.3e-6).
+FD_ROUNDOFF = 1e-5
+N = 60
+
+
+def _errors(x, y, smooth, rigid):
+    """max |x - y| per (pose, column) over the rows, relative to the column's max |y|, at the
+    smooth poses; a column that is 0 in y must be 0 in x."""
+    x, y = x[smooth], y[smooth]
+    if not rigid:
+        x, y = x[:, :3], y[:, :3]
+    cm = np.abs(y).max(axis=1)
+    zero = cm == 0
+    assert (np.abs(x).max(axis=1)[zero] == 0).all()
+    return np.where(zero, 0.0, np.abs(x - y).max(axis=1) / np.where(zero, 1.0, cm))
+
+
+def _cases():
+    out = {}
+    for name in BOXES:  # cogiro, ipanema_like, wall_pulleys (horizontal axes), hang4_6dof
+        r = load_robot(ROBOTS / name)
+        p, rv, L0 = _poses(r, BOXES[name], N, seed=len(name))
+        out[name] = (r, p, rv, L0)
+    r = with_pulleys(load_robot(ROBOTS / "cdpr4.yaml"), kind="DR")
+    g = np.random.default_rng(5)
+    P = np.column_stack([g.uniform(-2.4, 2.4, N), g.uniform(-2.4, 2.4, N), g.uniform(0.2, 4.8, N)])
+    L0 = L_TS_pose(r, *pose_arrays(r, P)) * (1.0 + g.uniform(-1e-3, 3e-3, (N, r.m)))
+    out["cdpr4 DR (point mass)"] = (r, P, None, L0)
+    return out
+
+
+CASES = _cases()
+
+
+@pytest.mark.parametrize("name", list(CASES))
+def test_compiled_equals_numpy_reference_at_the_same_equilibria(name, monkeypatch):
+    r, p, rv, L0 = CASES[name]
+    res = solve_spatial(r, p, rv, L0=L0)
+    a, b = ref.sensitivities_at(r, res), fast.sensitivities_at(r, res)
+    assert a["names"] == b["names"] == ref.parameter_names6(r.m)
+    ok = res["status"] == "ok"
+    assert ok.sum() > N // 2 and ((res["n_taut"] < r.m) & ok).sum() > 10  # slack cables (taut subsets)
+    np.testing.assert_array_equal(a["smooth"], b["smooth"])
+    np.testing.assert_array_equal(np.isnan(a["S"]), np.isnan(b["S"]))
+    assert np.isnan(b["S"][~ok]).all() and np.isfinite(b["S"][ok]).all()
+    np.testing.assert_allclose(b["margin_t"], a["margin_t"], rtol=1e-9, atol=1e-9)
+    np.testing.assert_allclose(b["cond"], a["cond"], rtol=1e-9)
+    if r.point_mass:
+        assert (b["S"][ok][:, 3:] == 0).all()
+    sm = a["smooth"]
+    assert sm.sum() > N // 2
+    e1 = _errors(b["S"], a["S"], sm, not r.point_mass).max()
+    assert e1 < FD_ROUNDOFF, e1
+    step = ref._step  # the reference with ten times its steps: its round-off falls tenfold
+    monkeypatch.setattr(ref, "_step", lambda nm, cab: 10.0 * step(nm, cab))
+    e10 = _errors(b["S"], ref.sensitivities_at(r, res)["S"], sm, not r.point_mass).max()
+    assert e10 < 0.25 * e1, (e1, e10)
+
+
+def test_names_subset_and_order():
+    r, p, rv, L0 = CASES["cogiro.yaml"]
+    res = solve_fast(r, p[:10], rv[:10], L0=L0[:10])
+    names = ["M", "b_3_y", "E_1", "c_z", "A_8_x"]
+    full = fast.sensitivities_at(r, res)
+    part = fast.sensitivities_at(r, res, names)
+    idx = [ref.parameter_names6(r.m).index(nm) for nm in names]
+    assert part["names"] == names
+    np.testing.assert_array_equal(part["S"], full["S"][:, :, idx])
+    with pytest.raises(CdprError, match="unknown 6-DoF parameter.*'r_p_9'.*allowed: parameter_names6"):
+        fast.sensitivities_at(r, res, ["E_1", "r_p_9"])
+
+
+@pytest.mark.parametrize(
+    "pose",
+    [
+        [0, 0, 2.0, 0, 0, 0],
+        [1, 1, 1.5, 0, 0, 0],
+        [0, 0, 2.0, np.radians(15), 0, 0],
+        [-1.5, 0.8, 2.5, 0.1, -0.2, 0.15],
+    ],
+)
+def test_spatial_sensitivities_compiled_equal_numpy_on_cogiro(pose):
+    """End to end (each engine its own solve): same statuses and flags, S within the reference's
+    round-off, poses within 1e-9."""
+    r = load_robot(ROBOTS / "cogiro.yaml")
+    a = spatial_sensitivities(r, [pose], engine="numpy")
+    b = spatial_sensitivities(r, [pose])  # the default: compiled
+    np.testing.assert_array_equal(a["status"], b["status"])
+    np.testing.assert_array_equal(a["smooth"], b["smooth"])
+    assert a["smooth"].all()
+    assert np.abs(a["P_s"] - b["P_s"]).max() < 1e-9
+    assert _errors(b["S"], a["S"], a["smooth"], True).max() < FD_ROUNDOFF
+
+
+def test_compiled_equals_finite_differences_of_the_compiled_solve():
+    """Physics: dx*/dθ of the kernel = central differences of the compiled solve of the perturbed
+    robot (attachments, anchors, mass, centre of mass) on a tilted CoGiRo pose."""
+    from tests.models.test_sensitivity6 import changed
+
+    r = load_robot(ROBOTS / "cogiro.yaml")
+    pose = [[0.3, -0.2, 2.0, 0.1, -0.05, 0.2]]
+    res = fast.spatial_sensitivities(r, pose, names=["b_1_x", "b_4_z", "A_2_y", "h_3", "c_z", "M"])
+    assert res["smooth"][0]
+    for k, name in enumerate(res["names"]):
+        h = 1e-4 if name == "M" else 1e-6
+        out = []
+        for s in (1, -1):
+            q = solve_fast(
+                changed(r, name, s * h), res["P_s"], rotvec_of(res["R_s"]), L0=res["L0"], restarts=False
+            )
+            out.append((q["P_s"][0], q["R_s"][0]))
+        fd = np.concatenate([(out[0][0] - out[1][0]) / (2 * h), rotvec_of(out[0][1] @ out[1][1].T) / (2 * h)])
+        assert np.abs(res["S"][0, :, k] - fd).max() <= 1e-4 * np.abs(fd).max() + 1e-12, name
+
+
+def test_engine_registry():
+    r = load_robot(ROBOTS / "cogiro.yaml")
+    res = solve_fast(r, [[0, 0, 2.0]])
+    a = spatial_sensitivities_at(r, res, ["E_1", "M"])
+    b = fast.sensitivities_at(r, res, ["E_1", "M"])
+    np.testing.assert_array_equal(a["S"], b["S"])  # compiled by default
+    c = spatial_sensitivities_at(r, res, ["E_1", "M"], engine="numpy")
+    np.testing.assert_array_equal(c["S"], ref.sensitivities_at(r, res, ["E_1", "M"])["S"])
+    for call in (
+        lambda: spatial_sensitivities_at(r, res, engine="numba"),
+        lambda: spatial_sensitivities(r, [[0, 0, 2.0]], engine="numba"),
+    ):
+        with pytest.raises(CdprError, match="unknown engine 'numba'; allowed: compiled, numpy"):
+            call()
+
+
+@njit(cache=True)
+def _rows(B, A, kind, h, rp, d, inward, frame, ident):
+    """cable_partials_axis at B (N, m, 3): rows (N, m, NCOL)."""
+    n, m = B.shape[0], B.shape[1]
+    out = np.empty((n, m, NCOL))
+    for i in range(n):
+        for c in range(m):
+            cable_partials_axis(
+                B[i, c, 0], B[i, c, 1], B[i, c, 2], A[c, 0], A[c, 1], A[c, 2],
+                kind[c], h[c], rp[c], d[c], inward[c, 0], inward[c, 1], ident[c], frame[c], out[i, c],
+            )  # fmt: skip
+    return out
+
+
+def test_general_axis_cable_partials_equal_the_kernel_and_finite_differences():
+    """``_kernels.cable_partials_axis`` with random pulley axes: L, u, dL/dB, du/dB those of
+    ``cable_axis`` + ``cable_derivatives``; dL/dh, du/dh, dL/dr_p, du/dr_p, dL/dd central differences
+    of the kernel in h, r_p, d."""
+    B, A, kind, h, rp, d, inward, frame = _random_pulleys(21)
+    B = B[:60]
+    ident = np.zeros(len(A), dtype=np.bool_)
+    rows = _rows(B, A, kind, h, rp, d, inward, frame, ident)
+    L, u, dL, du, ins, _ = _cables(B, A, kind, h, rp, d, inward, frame, ident)
+    ok = ~ins
+    assert ok.mean() > 0.9
+    np.testing.assert_allclose(rows[..., C_L][ok], L[ok], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(rows[..., C_U : C_U + 3][ok], u[ok], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(rows[..., C_DLDP : C_DLDP + 3][ok], dL[ok], rtol=0, atol=1e-10)
+    np.testing.assert_allclose(rows[..., C_DUDP : C_DUDP + 9][ok], du[ok].reshape(-1, 9), rtol=0, atol=1e-9)
+    eps = 1e-7
+    for key, cl, cu in (("h", C_DLH, C_DUH), ("rp", C_DLR, C_DUR), ("d", C_DLD, None)):
+        pulley = kind > 0 if key != "d" else np.ones(len(A), dtype=bool)
+        vals = {"h": h, "rp": rp, "d": d}
+        out = []
+        for s in (1.0, -1.0):
+            v = dict(vals)
+            v[key] = vals[key] + s * eps * pulley
+            out.append(_cables(B, A, kind, v["h"], v["rp"], v["d"], inward, frame, ident)[:2])
+        fdL = (out[0][0] - out[1][0]) / (2 * eps)
+        good = ok & pulley[None, :]
+        np.testing.assert_allclose(rows[..., cl][good], fdL[good], rtol=0, atol=1e-6)
+        if cu is not None:
+            fdu = (out[0][1] - out[1][1]) / (2 * eps)
+            scale = np.abs(fdu[good]).max()
+            np.testing.assert_allclose(rows[..., cu : cu + 3][good], fdu[good], rtol=0, atol=1e-5 * scale)
