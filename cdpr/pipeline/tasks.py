@@ -222,7 +222,9 @@ def volume_view(st, label, tables, figure):
     n = st["volumes"]["n"]
     lims = st["volumes"]["limits_m"]
     rv = [
-        workspace.error_limited_volume(df, n, workspace.frame_box(robot), lim, robot.envelope_volume)["R_V"]
+        workspace.error_limited_volume(
+            df, n, workspace.frame_box(robot), lim, workspace.envelope_volume(robot)
+        )["R_V"]
         for lim in lims
     ]
     plots.fig13_volume_view(
