@@ -40,8 +40,9 @@ def declared(study=STUDY):
     return [p.removeprefix("R/") for p in Layout(load_study(study), "R").targets()]
 
 
-#: The tables of tests/test_workflow.py's TABLES the spatial study writes (no uncertainty section:
-#: refused for a spatial robot), then its per-path and per-plane tables (paths under results/quick_spatial/).
+#: The tables of tests/test_workflow.py's TABLES the spatial study writes (its uncertainty section runs
+#: in physical mode, pipeline.uq6: the tables carry δφ columns beside ‖δp‖'s), then its per-path and
+#: per-plane tables (paths under results/quick_spatial/).
 #: The plane tables are compared here (not for the point-mass quick study): the per-point pose of
 #: the 6-DoF equilibrium, of which the summary keeps only the extremes.
 TABLES = [
@@ -59,6 +60,11 @@ TABLES = [
     "elasticity/crossings.csv",
     "dead_length/dead_length.csv",
     "winch/winch.csv",
+    "uncertainty/bands.csv",
+    "uncertainty/agreement.csv",
+    "uncertainty/sobol.csv",
+    "uncertainty/SRopt_uncompensated_path.csv",
+    "uncertainty/SRopt_compensated_map.csv",
 ] + [
     p
     for p in declared()

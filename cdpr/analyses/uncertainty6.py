@@ -1,14 +1,21 @@
 """Pose error of a rigid 6-DoF platform under parameter vectors θ (``parameter_names6``): the
 spatial counterpart of ``uncertainty.PoseErrorModel`` (physical mode, the only mode of a spatial
-robot). Responses: ‖δp‖ [m] and δφ [rad] (angle of R*ᵀR_d). First step of issues 17/19: the
-uncompensated case (nominal L_TS at the desired pose), full solves and the linearisation by the
-implicit-function theorem (``sensitivity6.sensitivities_at``). Not yet wired into the study."""
+robot). Responses: ‖δp‖ [m] and δφ [rad] (angle of R*ᵀR_d). Cases (issue 19): ``uncompensated``
+(the nominal robot's L_TS at the desired pose) and ``compensated`` (the nominal robot's rest lengths
+under its minimum-norm tension distribution, ``distribution6.compensated_lengths``); full solves and
+the linearisation by the implicit-function theorem (``sensitivity6.sensitivities_at``), also as
+two ``uncertainty.Linearisation`` objects (position and rotation vector) in the point-mass
+parameter columns the study's drivers set (``linearisations``)."""
 
 import numpy as np
 
-from cdpr.models.equilibrium6 import L_TS_pose, pose_arrays, solve_spatial
+from cdpr.analyses.uncertainty import CASES, Linearisation
+from cdpr.models.distribution6 import compensated_lengths
+from cdpr.models.equilibrium6 import L_TS_pose, pose_arrays
+from cdpr.models.platform import rotvec_of
 from cdpr.models.sensitivity6 import sensitivities_at
-from cdpr.parameters import parameter_names6, parameter_values6, robot_with_parameters6
+from cdpr.parameters import parameter_names6, parameter_values, parameter_values6, robot_with_parameters6
+from cdpr.solve import solve_spatial_any
 
 
 def spatial_theta(robot, theta):
@@ -35,6 +42,24 @@ def spatial_theta(robot, theta):
     return out
 
 
+def spatial_columns(m, columns):
+    """The ``parameter_names6`` columns of point-mass parameter columns (``spatial_theta``'s map).
+
+    Parameters
+    ----------
+    m : int
+        Number of cables.
+    columns : array_like (k,) of int
+        Columns of ``parameter_names(m)``.
+
+    Returns
+    -------
+    columns6 : ndarray (k,) of int
+    """
+    c = np.asarray(columns, dtype=np.intp)
+    return np.where(c < 7 * m, c, 10 * m + 3)
+
+
 class PoseErrorModel6:
     """‖δp‖ and δφ of a spatial robot at desired poses when its parameters are θ.
 
@@ -46,15 +71,41 @@ class PoseErrorModel6:
         Desired positions.
     rotvec : array (N, 3) or (3,) [rad], optional
         Desired orientations (default identity).
+    case : {"uncompensated", "compensated"}
+        The commanded rest lengths: the nominal L_TS, or the nominal robot's compensated lengths
+        (``compensation``: method and t_min_N of ``distribution6.compensated_lengths``, default
+        min_norm, 100 N; poses without a feasible distribution are not solved, never ok).
+    engine : {"compiled", "numpy", None}
+        Engine of the full solves (``solve.solve_spatial_any``; None is compiled).
+    threads : int, optional
     """
 
-    def __init__(self, robot, p, rotvec=None):
+    def __init__(
+        self, robot, p, rotvec=None, case="uncompensated", compensation=None, engine=None, threads=None
+    ):
         self.robot = robot
+        self.case = case
+        self.engine = engine
+        self.threads = threads
         self.p, self.R = pose_arrays(robot, p, rotvec)
         self.rotvec = (
             np.zeros((len(self.p), 3)) if rotvec is None else np.broadcast_to(rotvec, (len(self.p), 3))
         )
-        self.L0 = L_TS_pose(robot, self.p, self.R)
+        if case == "uncompensated":
+            self.L0 = L_TS_pose(robot, self.p, self.R)
+            self.feasible = np.ones(len(self.p), dtype=bool)
+        elif case == "compensated":
+            c = compensation or {}
+            comp = compensated_lengths(
+                robot, self.p, self.rotvec, t_min=c.get("t_min_N", 100.0), method=c.get("method", "min_norm")
+            )
+            self.L0, self.feasible = comp["L0"], np.asarray(comp["feasible"], dtype=bool)
+        else:
+            raise ValueError(f"unknown case {case!r}; allowed: {', '.join(CASES)}")
+
+    def _solve(self, robot):
+        f = self.feasible
+        return solve_spatial_any(robot, self.p[f], self.rotvec[f], self.engine, self.threads, L0=self.L0[f])
 
     def solve(self, theta):
         """Full solves: ‖δp‖ (n, N) [m], δφ (n, N) [rad], ok (n, N) for θ (n, 10 m + 4)."""
@@ -62,21 +113,67 @@ class PoseErrorModel6:
         n, N = len(th), len(self.p)
         dp, dphi = np.full((n, N), np.nan), np.full((n, N), np.nan)
         ok = np.zeros((n, N), dtype=bool)
+        f = self.feasible
         for i, t in enumerate(th):
-            res = solve_spatial(robot_with_parameters6(self.robot, t), self.p, self.rotvec, L0=self.L0)
-            ok[i] = res["status"] == "ok"
-            dp[i], dphi[i] = res["dp"], res["dphi"]
+            res = self._solve(robot_with_parameters6(self.robot, t))
+            ok[i, f] = res["status"] == "ok"
+            dp[i, f], dphi[i, f] = res["dp"], res["dphi"]
         return dp, dphi, ok
 
     def linearise(self):
-        """Nominal pose error x0 = (δp, δφ) (N, 6) [m, rad] and S = dx*/dθ (N, 6, 10 m + 4)."""
-        res = solve_spatial(self.robot, self.p, self.rotvec, L0=self.L0)
+        """Nominal pose (P_s (N, 3) [m], R_s (N, 3, 3)) and S = dx*/dθ (N, 6, 10 m + 4), x = (p, φ)
+        (``sensitivity6.sensitivities_at``; NaN rows where the pose is infeasible or not ok)."""
+        N, f = len(self.p), self.feasible
+        res = self._solve(self.robot)
         sens = sensitivities_at(self.robot, res, parameter_names6(self.robot.m))
+        P_s, R_s = np.full((N, 3), np.nan), np.full((N, 3, 3), np.nan)
+        S = np.full((N, 6, sens["S"].shape[2]), np.nan)
+        smooth, status = np.zeros(N, dtype=bool), np.full(N, "infeasible", dtype=object)
+        P_s[f], R_s[f], S[f], smooth[f], status[f] = (
+            res["P_s"],
+            res["R_s"],
+            sens["S"],
+            sens["smooth"],
+            res["status"],
+        )
         return {
-            "P_s": res["P_s"],
-            "R_s": res["R_s"],
-            "S": sens["S"],
-            "smooth": sens["smooth"],
+            "P_s": P_s,
+            "R_s": R_s,
+            "S": S,
+            "smooth": smooth,
             "theta0": parameter_values6(self.robot),
-            "status": res["status"],
+            "status": status,
         }
+
+    def linearisations(self, columns):
+        """The first-order propagation of ‖δp‖ and of δφ in point-mass parameter columns.
+
+        Position: δp(θ) = δp_0 + S_p (τ(θ) - τ(θ_0)); orientation: the rotation vector of R* R_dᵀ,
+        φ(θ) = φ_0 + S_φ (τ(θ) - τ(θ_0)) (first order in the base-frame rotation increment, for a
+        small φ_0), δφ = ‖φ‖; τ as ``uncertainty.Linearisation`` (1/E for the moduli).
+
+        Parameters
+        ----------
+        columns : array_like (k,) of int
+            Columns of ``parameter_names(m)`` (the study's drivers, ``uncertainty.driver_columns``).
+
+        Returns
+        -------
+        position, orientation : Linearisation
+            Over θ (n, 7 m + 1) [Pa, m, kg]: ``dp`` gives ‖δp‖ [m], resp. δφ [rad].
+        """
+        m = self.robot.m
+        cols = np.asarray(columns, dtype=np.intp)
+        lin = self.linearise()
+        ok = (lin["status"] == "ok")[:, None]
+        S = lin["S"][..., spatial_columns(m, cols)]
+        R_d = self.R
+        with np.errstate(invalid="ignore"):
+            phi0 = np.where(
+                ok, rotvec_of(np.where(ok[..., None], lin["R_s"], np.eye(3)) @ np.swapaxes(R_d, 1, 2)), 0.0
+            )
+        th0 = parameter_values(self.robot)
+        dp0 = np.where(ok, lin["P_s"] - self.p, 0.0)
+        pos = Linearisation(dp0[:, None], S[:, None, :3], ok, lin["smooth"], th0, m, cols)
+        rot = Linearisation(phi0[:, None], S[:, None, 3:], ok, lin["smooth"], th0, m, cols)
+        return pos, rot

@@ -1884,3 +1884,346 @@ def robot_view(geom, out, boxes=None, mode=None):
     ax.set_title(f"{geom['name']} at the desired pose {pose}{_mode(mode)}", fontsize=9, wrap=True)
     fig.legend(handles=handles, loc="outside lower center", ncol=3, fontsize=7, frameon=False)
     return save(fig, out)
+
+
+# ---- uncertainty of a spatial robot (cdpr.pipeline.uq6): a ‖δp‖ and a δφ panel for each ------------------
+#: The two responses of a rigid platform: name -> (label, unit, scale to it, the columns of each table:
+#: global index, full/linearised index, path quantile suffix, path nominal, Sobol output, map columns).
+UQ6_RESPONSES = {
+    "dp": {
+        "label": "‖δp‖",
+        "unit": "mm",
+        "scale": 1e3,
+        "index": "index_m",
+        "full": "index_full_m",
+        "lin": "index_lin_m",
+        "q": "_m",
+        "nominal": "dp_nominal_m",
+        "output": "index",
+        "dominant": "dominant",
+        "share": "share",
+        "rms": "rms_m",
+    },
+    "phi": {
+        "label": "δφ",
+        "unit": "mrad",
+        "scale": 1e3,
+        "index": "index_phi_rad",
+        "full": "index_phi_full_rad",
+        "lin": "index_phi_lin_rad",
+        "q": "_phi_rad",
+        "nominal": "dphi_nominal_rad",
+        "output": "index_phi",
+        "dominant": "dominant_phi",
+        "share": "share_phi",
+        "rms": "rms_phi_rad",
+    },
+}
+
+
+def uq6_index_distribution(linear, tolerances, index_vs_E, out, mode=None):
+    """``uq_index_distribution`` of a rigid platform: the global index of ‖δp‖ (top) and of δφ
+    (bottom) of each optimal design under per-cable moduli (violins), beside the common-E band of
+    the elasticity sweep (bar, uncompensated) and under every declared parameter (Saltelli's rows);
+    columns: the cases. ``linear``, ``tolerances``: {(design, case): ``uq6.linear_samples`` table, resp.
+    ``uq6.sobol``'s rows}; ``index_vs_E``: the elasticity sweep (design, E_Pa, index_m,
+    index_phi_rad) or None."""
+    designs, cases = _uq_designs(linear), _uq_cases(linear)
+    fig, axes = plt.subplots(
+        2, len(cases), figsize=(4.5 + 3.5 * len(cases), 8.5), squeeze=False, layout="constrained"
+    )
+    colours = dict(zip(designs, OKABE_ITO))
+    for i, r in enumerate(UQ6_RESPONSES.values()):
+        col, k = r["index"], r["scale"]
+        for ax, case in zip(axes[i], cases):
+            ticks, labels, x = [], [], 0.0
+            for dk in designs:
+                lin = linear.get((dk, case))
+                if lin is None:
+                    continue
+                nominal = lin.loc[lin["sample"] == -1, col].iloc[0] * k
+                vals = lin.loc[lin["sample"] >= 0, col].dropna().to_numpy() * k
+                parts = ax.violinplot([vals], positions=[x], widths=0.7, showextrema=True, showmedians=True)
+                _colour_violin(parts, colours[dk], 0.45)
+                ax.plot([x - 0.35, x + 0.35], [nominal, nominal], "k:", lw=1)
+                ticks.append(x)
+                labels.append(f"{dk}\nper-cable E\nn = {len(vals)}")
+                x += 1.0
+                g = index_vs_E[index_vs_E.design == dk] if index_vs_E is not None else []
+                if case == "uncompensated" and len(g) and col in g:
+                    ax.vlines(x, g[col].min() * k, g[col].max() * k, color=colours[dk], lw=6, alpha=0.7)
+                    ax.plot(x, nominal, "k_", ms=14)
+                    ticks.append(x)
+                    labels.append(f"{dk}\ncommon E")
+                    x += 1.0
+                tol = tolerances.get((dk, case))
+                if tol is not None and len(tol) and col in tol:
+                    parts = ax.violinplot([tol[col].dropna().to_numpy() * k], positions=[x], widths=0.7)
+                    _colour_violin(parts, colours[dk], 0.2)
+                    ticks.append(x)
+                    labels.append(f"{dk}\nall param.\nn = {len(tol)}")
+                    x += 1.5
+            ax.set_xticks(ticks, labels, fontsize=7)
+            ax.set(
+                xlabel="design and sampling [-]",
+                ylabel=f"global index mean {r['label']} over RW_C [{r['unit']}]",
+                title=f"{case}: {r['label']}",
+            )
+            ax.grid(alpha=0.3, axis="y")
+    key = [Patch(color=colours[d], alpha=0.6, label=d) for d in designs] + [
+        Line2D([], [], color="k", ls=":", label="nominal robot (dotted)"),
+        Line2D([], [], color="0.4", lw=6, alpha=0.7, label="common-E band [min, max] (bar)"),
+        Patch(color="0.4", alpha=0.45, label="violin: samples; whiskers: min, median, max"),
+    ]
+    fig.legend(handles=key, loc="outside lower center", ncol=2, fontsize=7)
+    fig.suptitle(f"Global indices of ‖δp‖ and δφ under per-cable moduli\n{_mode(mode)[3:]}", fontsize=10)
+    return save(fig, out)
+
+
+def uq6_path_bands(bands, common, out, mode=None):
+    """``uq_path_bands`` of a rigid platform: the 5-50-95 % band of ‖δp‖ and of δφ along the section
+    5.2 path under per-cable moduli, per design (columns) and case x response (rows), uncompensated
+    beside the common-E curves of the elasticity section. ``bands``: {(design, case):
+    ``uq6.path_bands`` table}; ``common``: {"dp": [...], "phi": [...]} of (design, E [Pa], s [m],
+    value [m or rad]) along the common-E paths."""
+    designs, cases = _uq_designs(bands), _uq_cases(bands)
+    rows = [(case, key) for case in cases for key in UQ6_RESPONSES]
+    fig, axes = plt.subplots(
+        len(rows),
+        len(designs),
+        figsize=(6.5 * len(designs), 3.6 * len(rows)),
+        squeeze=False,
+        layout="constrained",
+    )
+    Es = sorted({c[1] for c in common.get("dp", [])})
+    styles = dict(zip(Es, [":", "-", "--"] if len(Es) == 3 else ["-"] * len(Es)))
+    for j, dk in enumerate(designs):
+        for i, (case, key) in enumerate(rows):
+            r, ax = UQ6_RESPONSES[key], axes[i, j]
+            b = bands.get((dk, case))
+            if b is None:
+                ax.set_visible(False)
+                continue
+            k, q = r["scale"], r["q"]
+            ax.fill_between(
+                b.s,
+                b[f"q05{q}"] * k,
+                b[f"q95{q}"] * k,
+                color=OKABE_ITO[0],
+                alpha=0.3,
+                label="5-95 % per-cable E",
+            )
+            ax.plot(b.s, b[f"q50{q}"] * k, color=OKABE_ITO[0], label="median per-cable E")
+            ax.plot(b.s, b[r["nominal"]] * k, "k", lw=0.8, alpha=0.6, label="nominal")
+            if case == "uncompensated":
+                for d, E, s, v in common.get(key, []):
+                    if d == dk:
+                        ax.plot(
+                            s,
+                            v * k,
+                            styles.get(E, "-"),
+                            color=OKABE_ITO[1],
+                            lw=1,
+                            label=f"common E = {E / 1e9:g} GPa",
+                        )
+            ax.set(
+                xlabel="position along the path s [m]",
+                ylabel=f"{r['label']} [{r['unit']}]",
+                title=f"{dk} {case}: {r['label']}",
+            )
+            ax.grid(alpha=0.3)
+            ax.legend(fontsize=6, loc="upper center", bbox_to_anchor=(0.5, -0.25), ncol=2, frameon=False)
+    fig.suptitle(
+        f"‖δp‖ and δφ along the section 5.2 path under per-cable moduli\n{_mode(mode)[3:]}", fontsize=10
+    )
+    return save(fig, out)
+
+
+def uq6_sobol(tab, out, mode=None):
+    """``uq_sobol`` of a rigid platform: Sobol total (bars) and first-order (dots) indices with their
+    95 % intervals of the global index of ‖δp‖ and of δφ (rows, per case), per parameter group (left)
+    and per parameter (right), per design."""
+    designs = list(dict.fromkeys(tab.design))
+    cases = [c for c in UQ_CASES if c in set(tab.case)]
+    rows = [(case, key) for case in cases for key in UQ6_RESPONSES]
+    fig, axes = plt.subplots(
+        len(rows),
+        2 * len(designs),
+        figsize=(7.5 * len(designs) + 1, 3.4 * len(rows)),
+        squeeze=False,
+        layout="constrained",
+        gridspec_kw={"width_ratios": [1, 3] * len(designs)},
+    )
+    for j, dk in enumerate(designs):
+        for i, (case, key) in enumerate(rows):
+            r = UQ6_RESPONSES[key]
+            g = tab[(tab.output == r["output"]) & (tab.design == dk) & (tab.case == case)]
+            lo = max(-1.0, min(0.0, float((g.S1 - g.S1_conf).min()) - 0.05)) if len(g) else 0.0
+            for k, level in enumerate(("group", "parameter")):
+                ax = axes[i, 2 * j + k]
+                d = g[g.level == level]
+                x = np.arange(len(d))
+                ax.bar(
+                    x, d.ST, yerr=d.ST_conf, color=OKABE_ITO[0], alpha=0.7, capsize=2, label="total ST ± 95 %"
+                )
+                ax.errorbar(
+                    x,
+                    d.S1,
+                    yerr=d.S1_conf,
+                    fmt="o",
+                    color="k",
+                    ms=3,
+                    capsize=2,
+                    label="first order S1 ± 95 %",
+                )
+                ax.axhline(0, color="0.5", lw=0.6)
+                ax.set_xticks(
+                    x,
+                    d.name,
+                    rotation=90 if level == "parameter" else 0,
+                    fontsize=6 if level == "parameter" else 8,
+                )
+                ax.set(
+                    xlabel=f"{level} [-]",
+                    ylabel="Sobol index [-]" if k == 0 else "",
+                    title=f"{dk} {case}, index of {r['label']}: {'groups' if k == 0 else 'per parameter'}",
+                    ylim=(lo, 1.05),
+                )
+                ax.title.set_fontsize(8)
+                ax.grid(alpha=0.3, axis="y")
+                if k == 1:
+                    ax.tick_params(labelleft=False)
+    handles, names = axes[0, 0].get_legend_handles_labels()
+    fig.legend(handles, names, loc="outside lower center", ncol=2, fontsize=7)
+    fig.suptitle(
+        f"Which uncertainty drives the global indices of ‖δp‖ and δφ (SALib){_mode(mode)}", fontsize=10
+    )
+    return save(fig, out)
+
+
+def uq6_dominant_map(maps, A, z, out, mode=None):
+    """``uq_dominant_map`` of a rigid platform: the parameter with the largest first-order
+    contribution to the spread of ‖δp‖ and, below it, of δφ on the plane z (columns: designs; rows:
+    case x response); hatched where it explains less than half of the spread."""
+    designs, cases = _uq_designs(maps), _uq_cases(maps)
+    rows = [(case, key) for case in cases for key in UQ6_RESPONSES]
+    names = sorted(
+        {
+            n
+            for df in maps.values()
+            for r in UQ6_RESPONSES.values()
+            for n in df[r["dominant"]].dropna().unique()
+            if n
+        }
+    )
+    cmap = plt.get_cmap("tab20", max(len(names), 1))
+    code = {n: k for k, n in enumerate(names)}
+    fig, axes = plt.subplots(
+        len(rows),
+        len(designs),
+        figsize=(5 * len(designs) + 2, 4.0 * len(rows)),
+        squeeze=False,
+        layout="constrained",
+    )
+    for j, dk in enumerate(designs):
+        for i, (case, key) in enumerate(rows):
+            r, ax = UQ6_RESPONSES[key], axes[i, j]
+            df = maps.get((dk, case))
+            if df is None:
+                ax.set_visible(False)
+                continue
+            ax.set_facecolor(NOT_OK_COLOUR)
+            val = df[r["dominant"]].map(lambda n: code.get(n, np.nan)).astype(float)
+            xs, ys, Z = _grid(df, val.to_numpy())
+            _, _, share = _grid(df, df[r["share"]].to_numpy())
+            ax.pcolormesh(xs, ys, Z, cmap=cmap, vmin=-0.5, vmax=len(names) - 0.5, shading="nearest")
+            if np.nanmin(np.where(np.isfinite(share), share, 1.0)) < 0.5:
+                ax.contourf(
+                    xs,
+                    ys,
+                    np.where(share < 0.5, 1.0, np.nan),
+                    levels=[0.5, 1.5],
+                    colors="none",
+                    hatches=["///"],
+                )
+            _anchors(ax, A)
+            ax.set(
+                xlabel="x [m]", ylabel="y [m]", title=f"{dk} {case}: spread of {r['label']}", aspect="equal"
+            )
+            ax.title.set_fontsize(9)
+    handles = [Patch(color=cmap(code[n]), label=n) for n in names]
+    fig.legend(handles=handles, loc="outside right center", fontsize=7, title="dominant")
+    fig.suptitle(
+        f"Dominant uncertain parameter at z = {z:g} m (hatched: < 50 %)\n{_mode(mode)[3:]}", fontsize=10
+    )
+    return save(fig, out)
+
+
+def uq6_residual_map(maps, A, z, out, mode=None):
+    """``uq_residual_map`` of a rigid platform: on the plane z, per design (columns) and case, the
+    nominal robot's ‖δp‖ and δφ and their first-order spreads under the declared parameters (RMS of
+    the per-parameter contributions, ``uq6.dominant_map``); grey: not ok."""
+    designs, cases = _uq_designs(maps), _uq_cases(maps)
+    cols = [(key, c) for key in UQ6_RESPONSES for c in ("nominal", "rms")]
+    rows = [(case, key, c) for case in cases for key, c in cols]
+    fig, axes = plt.subplots(
+        len(rows),
+        len(designs),
+        figsize=(6 * len(designs) + 1.5, 3.9 * len(rows)),
+        squeeze=False,
+        layout="constrained",
+    )
+    for i, (case, key, c) in enumerate(rows):
+        r = UQ6_RESPONSES[key]
+        what = f"nominal robot {r['label']}" if c == "nominal" else f"spread of {r['label']} (RMS)"
+        for j, dk in enumerate(designs):
+            ax = axes[i, j]
+            df = maps.get((dk, case))
+            if df is None:
+                ax.set_visible(False)
+                continue
+            xs, ys, Z = _grid(df, df[r[c]].to_numpy() * r["scale"])
+            ax.set_facecolor(NOT_OK_COLOUR)
+            finite = Z[np.isfinite(Z)]
+            top = float(np.abs(finite).max()) if finite.size else 0.0
+            if top < 1e-6:  # the compensated nominal residual: zero up to rounding, stated
+                grey = np.where(np.isfinite(Z), 0.0, np.nan)
+                ax.pcolormesh(xs, ys, grey, cmap="Greys", vmin=0, vmax=1, shading="nearest")
+                label = f"max {top:.1g} {r['unit']} (round trip)"
+            else:
+                levels = _round_levels(float(finite.min()), float(finite.max()), 10)
+                cf = ax.contourf(xs, ys, Z, levels=levels, cmap="viridis")
+                fig.colorbar(cf, ax=ax, label=f"{r['label']} [{r['unit']}]", shrink=0.8)
+                label = f"{finite.min():.3g} to {finite.max():.3g} {r['unit']}"
+            _anchors(ax, A)
+            ax.set(xlabel="x [m]", ylabel="y [m]", title=f"{dk} {case}: {what}\n{label}", aspect="equal")
+            ax.title.set_fontsize(8)
+    fig.suptitle(f"What compensation leaves at z = {z:g} m\n{_mode(mode)[3:]}", fontsize=10)
+    return save(fig, out)
+
+
+def uq6_agreement(mc, out, mode=None):
+    """``uq_agreement`` of a rigid platform: the global index of ‖δp‖ (top) and of δφ (bottom) of
+    each full-solve Monte Carlo sample against its linearised value, per design and case, with the
+    line of equality."""
+    keys = sorted(mc)
+    fig, axes = plt.subplots(
+        2, len(keys), figsize=(max(3.8 * len(keys), 7.0), 7.6), squeeze=False, layout="constrained"
+    )
+    for i, r in enumerate(UQ6_RESPONSES.values()):
+        for ax, key in zip(axes[i], keys):
+            df, k = mc[key], r["scale"]
+            ax.plot(df[r["full"]] * k, df[r["lin"]] * k, "o", ms=3, color=OKABE_ITO[0])
+            lo = np.nanmin([df[r["full"]].min(), df[r["lin"]].min()]) * k
+            hi = np.nanmax([df[r["full"]].max(), df[r["lin"]].max()]) * k
+            ax.plot([lo, hi], [lo, hi], "k:", lw=1)
+            ax.set(
+                xlabel=f"full solves [{r['unit']}]",
+                ylabel=f"linearised [{r['unit']}]",
+                title=f"{key[0]} {key[1]}: index of {r['label']}",
+            )
+            ax.title.set_fontsize(9)
+            ax.tick_params(axis="x", labelrotation=30, labelsize=7)
+            ax.grid(alpha=0.3)
+    fig.suptitle(f"Global indices per sample: linearised against full solves\n{_mode(mode)[3:]}", fontsize=10)
+    return save(fig, out)

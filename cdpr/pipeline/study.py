@@ -95,6 +95,13 @@ def uq_cases(st):
     return CASES if u.get("redundancy", "paper") == "physical" else CASES[:1]
 
 
+def uq_spatial(st):
+    """Whether the uncertainty study's robot (``doe.robot``) is spatial (a rigid 6-DoF platform:
+    ``pipeline.uq6``, responses ‖δp‖ and δφ) rather than a point mass (``pipeline.uq``)."""
+    r = (st.robot_models or {}).get(st["doe"]["robot"])
+    return r is not None and not r.suspended_point_mass
+
+
 def robot_of(st, robot_key, **overrides):
     """The study's robot ``robot_key`` with keyword overrides (``robot.apply_overrides``)."""
     return load_robot(st["robots"][robot_key], **overrides)
@@ -430,7 +437,8 @@ def check_spatial_study(st, robots):
     """The problems of a study with spatial robots (``Robot.suspended_point_mass`` false: a rigid
     platform or tilted pulley axes, solved in 6 DoF by ``equilibrium6.solve_spatial``): such a robot
     has the physical mode only (paper mode and its "best 3 of m" rule are the point-mass rule), is
-    not scored against the papers (``paper_comparison``), has no uncertainty study yet; and
+    not scored against the papers (``paper_comparison``), runs the uncertainty study in physical
+    mode only (``uq6``: ‖δp‖ and δφ of the 6-DoF equilibrium); and
     ``rotvec_rad`` (the platform orientation) and ``budget`` (the error budget of a rigid platform,
     on the DOE robot) apply to spatial robots only, and the volumes on δφ (``volumes.dphi_limits_rad``,
     ``volumes.dphi_sweep_rad``) to robots with a rigid platform only (a point mass has no δφ).
@@ -470,16 +478,6 @@ def check_spatial_study(st, robots):
                     "uncertainty.redundancy",
                     f"{what}: paper mode (the best 3 of m cables) is the point-mass rule; "
                     f"use uncertainty.redundancy: physical, got {u.get('redundancy', 'paper')!r}",
-                )
-            )
-        elif u:
-            out.append(
-                ConfigError(
-                    src,
-                    "uncertainty",
-                    f"{what}: the uncertainty study (per-cable Monte Carlo, Sobol indices) has no 6-DoF "
-                    "version yet (its sensitivities and compensation are the point-mass ones); remove "
-                    "the uncertainty section",
                 )
             )
         if st.get("paper_comparison"):

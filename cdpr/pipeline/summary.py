@@ -506,7 +506,53 @@ def headline_rows(st, res):
                     )
                 )
     rows += _budget_rows(res)
+    rows += _uq_spatial_rows(st, res)
     return pd.DataFrame(rows, columns=COLUMNS)
+
+
+def _uq_spatial_rows(st, res):
+    """The uncertainty study of a spatial robot (``uncertainty/bands.csv`` and ``sobol.csv``, written by
+    ``pipeline.uq6``): per design and case the per-cable-E Monte Carlo median of the global index of
+    ‖δp‖ [mm] and of δφ [mrad] (linearised; the note gives the 5-95 % range and the full solves'
+    median), and the largest total Sobol index of each response per parameter group and per
+    parameter (the note names the three largest with their 95 % half-widths); no rows when the
+    tables are absent."""
+    b, t = _read(res, _rel("uncertainty", "bands")), _read(res, _rel("uncertainty", "sobol"))
+    rows = []
+    if b is not None and "index_phi_q50_rad" in b:
+        for (design, case), g in b.groupby(["design", "case"], sort=False):
+            lin, full = g[g.method == "linearised"].iloc[0], g[g.method == "full"].iloc[0]
+            for what, col, unit in (("‖δp‖", "index", "mm"), ("δφ", "index_phi", "mrad")):
+                u = "_m" if col == "index" else "_rad"
+                rows.append(
+                    _headline(
+                        f"{design} {case} index of {what} under per-cable E (median)",
+                        "uncertainty/bands.csv",
+                        float(lin[f"{col}_q50{u}"]) * 1e3,
+                        unit,
+                        f"linearised, n = {int(lin.n)}; 5-95 %: {lin[f'{col}_q05{u}'] * 1e3:.3g}-"
+                        f"{lin[f'{col}_q95{u}'] * 1e3:.3g} {unit}; full solves (n = {int(full.n)}) median "
+                        f"{full[f'{col}_q50{u}'] * 1e3:.3g} {unit}; nominal {lin[f'{col}_nominal{u}'] * 1e3:.3g} {unit}",
+                    )
+                )
+    if t is not None and "index_phi" in set(t.output):
+        for (design, case), g in t.groupby(["design", "case"], sort=False):
+            for what, out in (("‖δp‖", "index"), ("δφ", "index_phi")):
+                for level, word in (("group", "group"), ("parameter", "parameter")):
+                    h = g[(g.output == out) & (g.level == level)].sort_values("ST", ascending=False)
+                    if h.empty:
+                        continue
+                    top = ", ".join(f"{r.name} {r.ST:.2f}±{r.ST_conf:.2f}" for r in h.head(3).itertuples())
+                    rows.append(
+                        _headline(
+                            f"{design} {case} largest total Sobol index on the index of {what} ({word})",
+                            "uncertainty/sobol.csv",
+                            float(h.ST.iloc[0]),
+                            "-",
+                            f"{h.name.iloc[0]}; largest ST: {top}",
+                        )
+                    )
+    return rows
 
 
 #: The error budget's entries in the summary (``cdpr.analyses.budget``), with their words.

@@ -22,7 +22,7 @@ from cdpr.errors import CdprError
 from cdpr.models import winch
 from cdpr.pipeline import comparison as cm
 from cdpr.pipeline import conclusions as robot_conclusions
-from cdpr.pipeline import plots, study, uq
+from cdpr.pipeline import plots, study, uq, uq6
 from cdpr.pipeline import summary as sm
 from cdpr.pipeline.results import ComparisonLayout
 from cdpr.pipeline.study import budget_designs
@@ -747,7 +747,8 @@ def _overlay_data(st, res):
 # ---- uncertainty and sensitivity (beyond the paper: cdpr.analyses.uncertainty) ---------------------------
 def uq_shard(st, design, case, shard, box_file, table, points, threads=None):
     """One Monte Carlo shard by full solves with the linearised propagation of the same samples."""
-    samples, pts = uq.mc_shard(st, design, case, study.read_box(box_file), int(shard), threads)
+    ex = uq6 if study.uq_spatial(st) else uq  # a rigid platform: ‖δp‖ and δφ
+    samples, pts = ex.mc_shard(st, design, case, study.read_box(box_file), int(shard), threads)
     table_io.write_table(samples, table)
     table_io.write_table(pts, points)
 
@@ -756,12 +757,13 @@ def uq_design(st, design, case, box_file, table, path, sobol, tolerances, map, t
     """Every sample linearised over RW_C, the path bands, the Sobol indices and the dominant-parameter
     map of one design and case."""
     box = study.read_box(box_file)
-    table_io.write_table(uq.linear_samples(st, design, case, box, threads), table)
-    table_io.write_table(uq.path_bands(st, design, case, threads), path)
-    indices, rows = uq.sobol(st, design, case, box, threads)
+    ex = uq6 if study.uq_spatial(st) else uq  # a rigid platform: ‖δp‖ and δφ
+    table_io.write_table(ex.linear_samples(st, design, case, box, threads), table)
+    table_io.write_table(ex.path_bands(st, design, case, threads), path)
+    indices, rows = ex.sobol(st, design, case, box, threads)
     table_io.write_table(indices, sobol)
     table_io.write_table(rows, tolerances)
-    table_io.write_table(uq.dominant_map(st, design, case, threads), map)
+    table_io.write_table(ex.dominant_map(st, design, case, threads), map)
 
 
 _UQ = r"(?P<design>[A-Za-z0-9]+)_(?P<case>uncompensated|compensated)"
@@ -818,6 +820,10 @@ def uncertainty(
             common.setdefault("paths", []).append(
                 (m["design"], float(m["E"]), df.s.to_numpy(), df.dp.where(df.status == "ok").to_numpy())
             )
+            if "dphi" in df:  # a rigid platform: δφ along the path too
+                common.setdefault("phi_paths", []).append(
+                    (m["design"], float(m["E"]), df.s.to_numpy(), df.dphi.where(df.status == "ok").to_numpy())
+                )
     rows, agree = [], []
     for design in u["designs"]:
         for case in study.uq_cases(st):
@@ -854,11 +860,15 @@ def uncertainty(
                 ],
                 ignore_index=True,
             )
+            if "index_phi_rad" in read["linear"][key]:  # a rigid platform: the δφ band beside
+                b = pd.concat([b, uq6.phi_bands(read["linear"][key], read["mc"][key], tol)], axis=1)
             b.insert(0, "case", case)
             b.insert(0, "design", design)
             b["index_n"] = [u["monte_carlo"]["index_n"]] * 2 + [u["sobol"]["index_n"]]
             rows.append(b)
             a = uq.agreement(read["mc"][key], read["points"][key], u["monte_carlo"]["agree_tol_m"])
+            if "index_phi_full_rad" in read["mc"][key]:
+                a.update(uq6.phi_agreement(read["mc"][key], read["points"][key]))
             agree.append({"design": design, "case": case, **a})
     bands_tab = pd.concat(rows, ignore_index=True)
     agree_tab = pd.DataFrame(agree)
@@ -875,6 +885,19 @@ def uncertainty(
     paper_bands = _paper_uq_bands(st)
     robot = study.robot_of(st, st["doe"]["robot"])
     mode = u.get("redundancy", "paper")  # the model of the uncompensated robot
+    if study.uq_spatial(st):  # a rigid platform: a ‖δp‖ and a δφ panel in every figure
+        z = st["plane"]["z_m"]
+        plots.uq6_index_distribution(
+            read["linear"], read["tolerances"], common.get("index_vs_E"), figure, mode=mode
+        )
+        paths6 = {"dp": common.get("paths", []), "phi": common.get("phi_paths", [])}
+        plots.uq6_path_bands(read["path"], paths6, paths_figure, mode=mode)
+        plots.uq6_sobol(sobol_tab, sobol_figure, mode=mode)
+        plots.uq6_dominant_map(read["map"], robot.A, z, map_figure, mode=mode)
+        plots.uq6_agreement(read["mc"], agreement_figure, mode=mode)
+        if residual_figure:
+            plots.uq6_residual_map(read["map"], robot.A, z, residual_figure, mode=mode)
+        return
     plots.uq_index_distribution(
         read["linear"], read["tolerances"], common.get("index_vs_E"), paper_bands, figure, mode=mode
     )

@@ -5,11 +5,18 @@ and orientation); the implicit-function linearisation predicts a small modulus c
 import numpy as np
 import pytest
 
-from cdpr.analyses.uncertainty import drivers, mc_uniforms, parameter_samples, sobol_analysis
-from cdpr.analyses.uncertainty6 import PoseErrorModel6, spatial_theta
+from cdpr.analyses.uncertainty import (
+    PoseErrorModel,
+    driver_columns,
+    drivers,
+    mc_uniforms,
+    parameter_samples,
+    sobol_analysis,
+)
+from cdpr.analyses.uncertainty6 import PoseErrorModel6, spatial_columns, spatial_theta
 from cdpr.models.equilibrium6 import solve_spatial
 from cdpr.models.platform import rotation_error
-from cdpr.parameters import parameter_names6, parameter_values6, robot_with_parameters6
+from cdpr.parameters import parameter_names6, parameter_values, parameter_values6, robot_with_parameters6
 from cdpr.robot import load_robot
 from tests.conftest import ROBOTS
 
@@ -107,3 +114,81 @@ def test_sobol_indices_of_spatial_responses_are_bounded(cogiro):
     assert np.all(idx["ST"] <= 1 + idx["ST_conf"]) and np.all(idx["ST"] >= -idx["ST_conf"])
     for _, g in idx.groupby("output"):
         assert g["S1"].sum() <= 1 + g["S1_conf"].sum()
+
+
+# ---- the study's model (issue 19): both cases, the linearisations in the drivers' columns ---------
+SMALL = {  # per-cable E within ±1 % and dead lengths within ±1 mm (first order must hold)
+    "young_modulus_Pa": {"dist": "uniform", "low": 0.99 * 102.2e9, "high": 1.01 * 102.2e9, "per_cable": True},
+    "dead_length_offset_m": {"dist": "uniform", "low": -1e-3, "high": 1e-3, "per_cable": True},
+}
+
+
+@pytest.mark.parametrize("case", ["uncompensated", "compensated"])
+def test_linearised_norms_agree_with_full_solves_for_small_tolerances(cogiro, case):
+    """‖δp‖ and δφ of the first-order propagation (``linearisations``: 1/E columns, rotation vector)
+    against full solves of each sample: the change from the nominal pose error is predicted within
+    5 % (uncompensated), and the compensated error itself (nominal 0) within 5 %."""
+    drs = drivers(SMALL, cogiro.m)
+    th = parameter_samples(cogiro, drs, mc_uniforms(11, 0, 5, len(drs)))
+    model = PoseErrorModel6(cogiro, P, case=case)
+    pos, rot = model.linearisations(driver_columns(drs))
+    dp_f, phi_f, ok = model.solve(spatial_theta(cogiro, th))
+    assert ok.all() and pos.ok.all()
+    dp0, phi0, _ = model.solve(spatial_theta(cogiro, parameter_values(cogiro)))
+    for full, lin, nominal in ((dp_f, pos.dp(th), dp0), (phi_f, rot.dp(th), phi0)):
+        change = np.abs(full - nominal)
+        assert np.all(change > 0)
+        scale = change if case == "uncompensated" else full
+        assert np.all(np.abs(lin - full) < 0.05 * scale)
+    if case == "compensated":  # the nominal robot holds the pose: a round trip
+        assert np.all(dp0 < 1e-8) and np.all(phi0 < 1e-8)
+
+
+def test_a_parameter_without_variance_has_zero_sobol_indices(cogiro):
+    """A mass drawn from a degenerate uniform (low = high = the nominal mass) never moves the pose:
+    its first-order and total Sobol indices on ‖δp‖ and δφ are exactly 0; the dead lengths' not."""
+    M = cogiro.platform.mass
+    spec = {
+        "dead_length_offset_m": {"dist": "uniform", "low": -1e-3, "high": 1e-3, "per_cable": False},
+        "mass_kg": {"dist": "uniform", "low": M, "high": M},
+    }
+    drs = drivers(spec, cogiro.m)
+    model = PoseErrorModel6(cogiro, P[:1])
+
+    def evaluate(theta):
+        dp, dphi, ok = model.solve(spatial_theta(cogiro, theta))
+        assert ok.all()
+        return np.column_stack([dp[:, 0], dphi[:, 0]])
+
+    idx, _, _ = sobol_analysis(evaluate, drs, cogiro, 16, 5, ["dp", "dphi"])
+    m_rows, d_rows = idx[idx.name == "M"], idx[idx.name == "d_all"]
+    assert len(m_rows) == 2 and np.all(m_rows[["S1", "ST"]].to_numpy() == 0.0)
+    assert np.all(d_rows["ST"] > 0.5)
+
+
+def test_on_a_point_mass_robot_dphi_is_zero_and_dp_is_the_point_mass_model(cdpr4):
+    """The 6-DoF model of a suspended point mass: δφ = 0 (no orientation), and ‖δp‖ and its
+    linearisation agree with the point-mass physical model (``uncertainty.PoseErrorModel``, an
+    independent solver) for per-cable moduli."""
+    p = np.array([[0.0, 0.0, 1.5], [0.8, -0.6, 1.0]])
+    spec = {"young_modulus_Pa": {"dist": "uniform", "low": 67.2e9, "high": 137.2e9, "per_cable": True}}
+    drs = drivers(spec, cdpr4.m)
+    th = parameter_samples(cdpr4, drs, mc_uniforms(3, 0, 4, len(drs)))
+    six = PoseErrorModel6(cdpr4, p)
+    point = PoseErrorModel(cdpr4, p, redundancy="physical")
+    dp6, phi6, ok6 = six.solve(spatial_theta(cdpr4, th))
+    dp3, ok3 = point.solve(th)
+    assert ok6.all() and ok3.all()
+    assert np.all(phi6 == 0.0)
+    np.testing.assert_allclose(dp6, dp3, rtol=1e-6, atol=1e-9)
+    pos, rot = six.linearisations(driver_columns(drs))
+    np.testing.assert_allclose(pos.dp(th), point.linearise(driver_columns(drs)).dp(th), rtol=1e-5, atol=1e-9)
+    assert np.all(rot.dp(th) == 0.0)
+
+
+def test_spatial_columns_map_the_mass_to_the_last_6dof_column(cogiro):
+    m = cogiro.m
+    th = parameter_values(cogiro)
+    cols = np.arange(7 * m + 1)
+    np.testing.assert_array_equal(spatial_theta(cogiro, th)[0, spatial_columns(m, cols)], th)
+    assert parameter_names6(m)[spatial_columns(m, [7 * m])[0]] == "M"

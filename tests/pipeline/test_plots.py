@@ -235,6 +235,36 @@ def test_colliding_contour_labels_are_hidden_and_others_kept():
     plt.close(fig)
 
 
+def test_spatial_uncertainty_figures_have_dphi_panels_with_their_unit(tmp_path, monkeypatch):
+    """Issue 19: the uncertainty figures of a rigid platform (plots.uq6_*, drawn from the quick
+    spatial study's reference tables) have a δφ panel beside each ‖δp‖ one, in mrad, the mode in the
+    title and a unit in every axis label; and the mechanical layout check finds nothing."""
+    import pandas as pd
+
+    from tests.conftest import ROOT
+
+    ref = ROOT / "tests" / "reference" / "quick_spatial" / "uncertainty"
+    figs, _ = _captured(monkeypatch)
+    A = np.array([[-7.0, -5.0, 5.4], [7.0, -5.0, 5.4], [7.0, 5.0, 5.4], [-7.0, 5.0, 5.4]])
+    path = {("SRopt", "uncompensated"): pd.read_csv(ref / "SRopt_uncompensated_path.csv")}
+    maps = {("SRopt", "compensated"): pd.read_csv(ref / "SRopt_compensated_map.csv")}
+    plots.uq6_path_bands(path, {}, tmp_path / "path.png", mode="physical")
+    plots.uq6_sobol(pd.read_csv(ref / "sobol.csv"), tmp_path / "sobol.png", mode="physical")
+    plots.uq6_dominant_map(maps, A, 2.0, tmp_path / "dominant.png", mode="physical")
+    plots.uq6_residual_map(maps, A, 2.0, tmp_path / "residual.png", mode="physical")
+    titles = [[ax.get_title() for ax in f.axes] for f in figs]
+    ylabels = [[ax.get_ylabel() for ax in f.axes] for f in figs]
+    assert ylabels[0] == ["‖δp‖ [mm]", "δφ [mrad]"]
+    assert sum("δφ" in t for t in titles[1]) == sum("‖δp‖" in t for t in titles[1]) == 4  # 2 cases x 2 levels
+    assert any("δφ" in t for t in titles[2]) and any("δφ [mrad]" == y for y in ylabels[3])
+    for f in figs:
+        assert "physical" in f.get_suptitle()
+        for ax in f.axes:
+            for lab in (ax.get_xlabel(), ax.get_ylabel()):
+                assert not lab or "[" in lab, lab
+        assert figure_checks.mode_problems([f.get_suptitle()], "physical") == []
+
+
 def test_a_three_cable_difference_panel_counts_the_points_where_the_modes_differ(tmp_path, monkeypatch):
     """Without redundancy both modes solve the same equations, but they can land on different
     solutions: the panel must not call them equal then."""

@@ -101,11 +101,23 @@ def test_uncertainty_in_paper_mode_on_a_spatial_robot_is_refused(tmp_path):
     assert "key 'uncertainty.redundancy'" in message and "uncertainty.redundancy: physical" in message
 
 
-def test_the_uncertainty_study_of_a_spatial_robot_is_refused_as_not_done(tmp_path):
+def test_the_uncertainty_study_of_a_spatial_robot_loads_in_physical_mode(tmp_path):
+    """Issue 19: a spatial robot runs the uncertainty study (pipeline.uq6) in physical mode, both
+    cases; its experiments are the 6-DoF ones (``uq_spatial``), a point-mass study's are not."""
     u = yaml.safe_load((ROOT / "config" / "studies" / "quick_physical.yaml").read_text())["uncertainty"]
     u["designs"] = ["SRopt", "DRopt"]
+    for key in ("h_offset_m", "r_p_offset_m"):  # CoGiRo's SR pulley has h = r_p: no room for offsets
+        u["parameters"].pop(key)
+    st = study.load_study(_spatial_variant(tmp_path, uncertainty=u))
+    assert study.uq_spatial(st) and study.uq_cases(st) == ("uncompensated", "compensated")
+    assert not study.uq_spatial(study.load_study(ROOT / "config" / "studies" / "quick_physical.yaml"))
+
+
+def test_lever_arm_offsets_that_break_the_pulley_rule_of_a_spatial_design_are_refused(tmp_path):
+    u = yaml.safe_load((ROOT / "config" / "studies" / "quick_physical.yaml").read_text())["uncertainty"]
+    u["designs"] = ["SRopt"]  # h = r_p = 50 mm: a lower h and a larger r_p break h >= r_p - 1 mm
     message = _refusal(_spatial_variant(tmp_path, uncertainty=u))
-    assert "key 'uncertainty'" in message and "remove the uncertainty section" in message
+    assert "key 'uncertainty.parameters.h_offset_m'" in message and "pulley rule" in message
 
 
 def test_an_orientation_on_a_point_mass_study_is_refused(tmp_path):

@@ -1,0 +1,119 @@
+"""The uncertainty study's experiments on a spatial robot (cdpr.pipeline.uq6) on the quick spatial
+study: shards reproducible whatever their number, uq's columns kept (uq.bands and uq.agreement read
+the tables) with δφ beside them, the linearised nominal row equal to the full solves of the nominal
+robot, and the compensated nominal robot a round trip."""
+
+import copy
+import os
+import shutil
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from cdpr.pipeline import summary, uq, uq6
+from cdpr.pipeline.study import Study, load_study
+from tests.conftest import ROOT
+
+QUICK_SPATIAL = ROOT / "config" / "studies" / "quick_spatial.yaml"
+BOX = [-3.0, 3.0, -2.0, 2.0, 1.0, 3.5]  # inside CoGiRo's RW_C
+
+
+@pytest.fixture(scope="module")
+def spatial():
+    cwd = os.getcwd()
+    os.chdir(ROOT)
+    try:
+        yield load_study(QUICK_SPATIAL)
+    finally:
+        os.chdir(cwd)
+
+
+def _study(st, **mc):
+    s = Study(copy.deepcopy(dict(st)))
+    s.path, s.robot_models = st.path, st.robot_models
+    s["uncertainty"]["monte_carlo"].update(mc)
+    return s
+
+
+def test_spatial_monte_carlo_reproducible_across_shard_counts(spatial):
+    one = uq6.mc_shard(_study(spatial, full_samples=4, shards=1), "SRopt", "uncompensated", BOX, 0)[0]
+    two = pd.concat(
+        [
+            uq6.mc_shard(_study(spatial, full_samples=4, shards=2), "SRopt", "uncompensated", BOX, k)[0]
+            for k in (0, 1)
+        ],
+        ignore_index=True,
+    )
+    pd.testing.assert_frame_equal(one, two)
+    assert one["index_phi_full_rad"].nunique() == 4 and (one["index_phi_full_rad"] > 0).all()
+
+
+@pytest.mark.parametrize("case", ["uncompensated", "compensated"])
+def test_spatial_tables_keep_uq_columns_and_the_nominal_row_is_the_full_solve(spatial, case):
+    samples, points = uq6.mc_shard(spatial, "SRopt", case, BOX, 0)
+    linear = uq6.linear_samples(spatial, "SRopt", case, BOX)
+    b = uq.bands(linear, samples)  # the point-mass aggregation reads the spatial tables
+    assert list(b.method) == ["linearised", "full"] and np.isfinite(b.index_q50_m).all()
+    a = uq.agreement(samples, points, spatial["uncertainty"]["monte_carlo"]["agree_tol_m"])
+    assert a["n"] == len(samples)
+    # sample -1: the linearisation's nominal answer is the nominal robot's full solve on the same grid
+    nom = linear[linear["sample"] == -1].iloc[0]
+    np.testing.assert_allclose(nom.index_m, points.dp_nominal_m.mean(), rtol=1e-12)
+    np.testing.assert_allclose(nom.index_phi_rad, points.dphi_nominal_rad.mean(), rtol=1e-12)
+    phi = uq6.phi_bands(linear, samples, linear[linear["sample"] >= 0])
+    assert len(phi) == 3 and (phi.index_phi_min_rad <= phi.index_phi_max_rad).all()
+    if case == "compensated":  # compensated lengths hold the nominal robot at the pose
+        assert nom.index_m < 1e-8 and nom.index_phi_rad < 1e-8
+        assert (samples.index_full_m > 1e-5).all()  # the per-cable moduli move it
+    else:
+        assert nom.index_m > 0.05 and nom.index_phi_rad > 1e-3  # CoGiRo's L_TS error: 0.1-0.2 m
+
+
+def test_spatial_path_bands_bracket_their_median(spatial):
+    b = uq6.path_bands(spatial, "SRopt", "uncompensated")
+    assert (b.ok_share == 1).all()
+    for q in ("_m", "_phi_rad"):
+        assert (b[f"q05{q}"] <= b[f"q50{q}"]).all() and (b[f"q50{q}"] <= b[f"q95{q}"]).all()
+
+
+def test_spatial_sobol_covers_both_responses_and_every_declared_driver(spatial):
+    indices, rows = uq6.sobol(spatial, "SRopt", "uncompensated", BOX)
+    outputs = set(indices.output)
+    assert {"index", "index_phi", "dp@(0, 0, 2)", "dphi@(0, 0, 2)"} == outputs
+    groups = set(indices[indices.level == "group"].name)
+    assert groups == {"E", "d", "A", "M"}
+    assert {"index_m", "index_phi_rad"} <= set(rows.columns)
+    assert len(rows) == 2 * spatial["uncertainty"]["sobol"]["base_samples"]
+
+
+def test_spatial_dominant_map_names_a_driver_for_each_response(spatial):
+    m = uq6.dominant_map(spatial, "SRopt", "uncompensated")
+    ok = m.dominant != ""
+    assert ok.any() and (m.dominant_phi[ok] != "").all()
+    assert ((m.share[ok] > 0) & (m.share[ok] <= 1)).all() and (m.rms_phi_rad[ok] > 0).all()
+
+
+def test_summary_rows_of_the_spatial_uncertainty_study(spatial, tmp_path):
+    """results/<study>/summary: per design and case the median indices of ‖δp‖ and δφ and the largest
+    total Sobol index of each response (group and parameter), read from the reference tables of
+    tests/reference/quick_spatial/uncertainty/."""
+    ref = ROOT / "tests" / "reference" / "quick_spatial" / "uncertainty"
+    (tmp_path / "uncertainty").mkdir()
+    for name in ("bands.csv", "sobol.csv"):
+        shutil.copy(ref / name, tmp_path / "uncertainty" / name)
+    rows = pd.DataFrame(summary._uq_spatial_rows(spatial, tmp_path))
+    sob = pd.read_csv(ref / "sobol.csv")
+    for case in ("uncompensated", "compensated"):
+        for what, out in (("‖δp‖", "index"), ("δφ", "index_phi")):
+            g = sob[(sob.case == case) & (sob.output == out) & (sob.level == "group")]
+            r = rows[
+                rows.quantity == f"SRopt {case} largest total Sobol index on the index of {what} (group)"
+            ]
+            assert len(r) == 1 and r.ours.iloc[0] == g.ST.max()
+            assert r.note.iloc[0].startswith(g.loc[g.ST.idxmax(), "name"] + ";")
+        band = pd.read_csv(ref / "bands.csv")
+        b = band[(band.case == case) & (band.method == "linearised")].iloc[0]
+        r = rows[rows.quantity == f"SRopt {case} index of δφ under per-cable E (median)"]
+        np.testing.assert_allclose(r.ours.iloc[0], b.index_phi_q50_rad * 1e3)
+        assert (r.unit == "mrad").all()
