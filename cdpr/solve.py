@@ -151,6 +151,37 @@ def solve_points_any(
     return mark_below_floor(res, p)
 
 
+def solve_points_batch_any(robots, p, redundancy="physical", L0=None, L=None, engine=None, threads=None):
+    """``solve_points_any(robot, p, redundancy=redundancy, L0=L0, L=L)`` of every robot (suspended
+    point masses with the same cables, no orientation) by the chosen engine. Compiled (default): one
+    parallel pass over every (robot, point) pair, the same per-point kernel and results as one solve
+    per robot (``cdpr.compiled.equilibrium.solve_physical_batch``, physical mode, commanded rest
+    lengths ``L0`` (N, m) [m]; ``cdpr.compiled.subsets.solve_points_batch``, paper mode, commanded
+    total lengths ``L`` (N, m) [m]); numpy: the references (``equilibrium.solve_physical_batch``,
+    ``subsets.solve_points`` per robot). The points below the floor are marked inaccessible
+    (``mark_below_floor``). Returns one result dict per robot."""
+    p = np.atleast_2d(np.asarray(p, dtype=float))
+    check_redundancy(redundancy)
+    if any(not r.suspended_point_mass for r in robots) or p.shape[1] != 3:
+        raise CdprError("batched solves take suspended point-mass robots and positions (N, 3)")
+    compiled = check_engine(engine, "newton") == "compiled"
+    if redundancy == "physical":
+        if L is not None:
+            raise CdprError("physical mode commands rest lengths L0, not total lengths L")
+        if compiled:
+            res = compiled_equilibrium.solve_physical_batch(robots, p, L0=L0, threads=threads)
+        else:
+            res = equilibrium.solve_physical_batch(robots, p, L0=L0)
+    else:
+        if L0 is not None or L is None:
+            raise CdprError("batched paper-mode solves command total lengths L, not rest lengths L0")
+        if compiled:
+            res = compiled_subsets.solve_points_batch(robots, p, L, threads=threads)
+        else:
+            res = [solve_points(r, p, method="newton", L=L) for r in robots]
+    return [mark_below_floor(r, p) for r in res]
+
+
 def sensitivities(
     robot,
     p,

@@ -58,7 +58,14 @@ from cdpr.analyses.compensation import compensate
 from cdpr.errors import ConfigError
 from cdpr.models.inverse import L_TS
 from cdpr.parameters import parameter_values, robot_with_parameters
-from cdpr.solve import check_engine, linear_dp, sensitivities, solve_points_any, subset_sensitivities
+from cdpr.solve import (
+    check_engine,
+    linear_dp,
+    sensitivities,
+    solve_points_any,
+    solve_points_batch_any,
+    subset_sensitivities,
+)
 
 #: Study keys of ``uncertainty.parameters``: key -> (parameter group, "value" or "offset"), in the
 #: order drivers are numbered.
@@ -422,6 +429,10 @@ def linear_stats(lin, theta, batch=64, threads=None):
     )
 
 
+#: (sample, point) pairs per batched physical solve of ``PoseErrorModel.solve`` (memory ~100 bytes each).
+BATCH_POINTS = 2**20
+
+
 class PoseErrorModel:
     """‖δp‖ of one design at points p when the robot's parameters are θ (module docstring).
 
@@ -486,6 +497,17 @@ class PoseErrorModel:
         n, N = len(th), len(self.p)
         dp = np.full((n, N), np.nan)
         ok = np.zeros((n, N), dtype=bool)
+        if self.robot.suspended_point_mass:
+            # BATCH_POINTS (sample, point) pairs per batched solve (the same results as one by one)
+            k = max(1, BATCH_POINTS // max(len(self._pv), 1))
+            run = {"engine": self.engine, "threads": self.threads, "redundancy": self.mode}
+            lengths = {"L": self._Lv} if self.mode == "paper" else {"L0": self._Lv}
+            for i in range(0, n, k):
+                robots = [robot_with_parameters(self.robot, t) for t in th[i : i + k]]
+                for j, res in enumerate(solve_points_batch_any(robots, self._pv, **lengths, **run)):
+                    dp[i + j, self.feasible] = res["dp"]
+                    ok[i + j, self.feasible] = res["status"] == "ok"
+            return dp, ok
         for i, t in enumerate(th):
             res = self._solve(robot_with_parameters(self.robot, t))
             dp[i, self.feasible] = res["dp"]

@@ -14,7 +14,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit, prange
 
-from cdpr.compiled._kernels import CHUNK, DET_EPS, cable, cable_arrays, newton_options, set_threads
+from cdpr.compiled._kernels import CHUNK, DET_EPS, Cables, cable, cable_arrays, newton_options, set_threads
 from cdpr.models.equilibrium import (
     ARMIJO_C,
     FTOL_REL,
@@ -339,3 +339,80 @@ def solve_physical_fast(robot, p, L0=None, P0=None, tol=None, maxiter=None, max_
         _solve_points(p, P0, L0, cable_arrays(robot), physical_load(robot), opts, out)
     P, t, resid, it, conv, ins = out
     return physical_result(robot, p, P, t, resid, it, conv, ins[:, None], halfplanes=hull_halfplanes(robot))
+
+
+@njit(cache=True, parallel=True, error_model="numpy")
+def _solve_batch(p, P0, L0, A, kind, h, rp, d, inward, ES, E, T_a, loads, opts, P, t, resid, it, conv, ins):
+    # robot k's solve_point over the chunks of points: every (robot, chunk) pair is one parallel job
+    K, n = P0.shape[0], p.shape[0]
+    m = A.shape[1]
+    nchunks = (n + CHUNK - 1) // CHUNK
+    for job in prange(K * nchunks):
+        k, ch = job // nchunks, job % nchunks
+        cab = Cables(A[k], kind[k], h[k], rp[k], d[k], inward[k], ES[k], E[k], T_a[k])
+        load = Load(loads[k, 0], loads[k, 1], loads[k, 2], loads[k, 3], loads[k, 4])
+        out = PhysicalOut(P[k], t[k], resid[k], it[k], conv[k], ins[k])
+        tcur = np.empty(m)
+        ttry = np.empty(m)
+        for i in range(ch * CHUNK, min(n, (ch + 1) * CHUNK)):
+            solve_point(i, p, P0[k], L0, cab, load, opts, out, tcur, ttry)
+
+
+def solve_physical_batch(robots, p, L0=None, tol=None, maxiter=None, max_step=None, threads=None):
+    """Compiled ``equilibrium.solve_physical_batch``: ``solve_physical_fast`` of every robot at the
+    same points and rest lengths in one parallel pass over (robot, chunk of points) pairs, so that
+    many small solves (Monte Carlo and Sobol samples) do not each start and stop numba's threads.
+    Each point runs the same kernel on the same inputs as ``solve_physical_fast`` (equal results).
+
+    Parameters
+    ----------
+    robots : sequence of Robot
+        Robots with the same number of cables m.
+    p : array_like, shape (N, 3) [m]
+    L0 : array_like, shape (N, m) [m], optional
+        Rest lengths of every robot, default L_TS(p) (eq. 2) of each robot.
+    tol, maxiter, max_step : optional, defaults ``equilibrium.PHYSICAL_DEFAULTS``.
+    threads : int, optional
+
+    Returns
+    -------
+    list of dict
+        ``equilibrium.solve_physical`` of each robot.
+    """
+    robots = list(robots)
+    p = np.ascontiguousarray(np.atleast_2d(np.asarray(p, dtype=float)))
+    if not robots:
+        return []
+    n, m = len(p), robots[0].m
+    if any(r.m != m for r in robots):
+        raise ValueError("solve_physical_batch: every robot needs the same number of cables")
+    if L0 is None:
+        L0s = [np.ascontiguousarray(L_TS(r, p), dtype=float) for r in robots]
+    else:
+        L0s = [np.ascontiguousarray(np.broadcast_to(np.asarray(L0, dtype=float), (n, m)), dtype=float)] * len(
+            robots
+        )
+    if n == 0 or L0 is None:  # rest lengths per robot: one solve each
+        return [
+            solve_physical_fast(r, p, L, None, tol, maxiter, max_step, threads) for r, L in zip(robots, L0s)
+        ]
+    K = len(robots)
+    cabs = [cable_arrays(r) for r in robots]
+    stack = [np.ascontiguousarray(np.stack([c[j] for c in cabs])) for j in range(len(Cables._fields))]
+    loads = np.array([tuple(physical_load(r)) for r in robots], dtype=float)
+    P0 = np.ascontiguousarray(np.stack([start_points(r, p) for r in robots]))
+    P = np.empty((K, n, 3))
+    t = np.empty((K, n, m))
+    resid = np.empty((K, n))
+    it = np.empty((K, n), dtype=np.int32)
+    conv = np.empty((K, n), dtype=np.bool_)
+    ins = np.empty((K, n), dtype=np.bool_)
+    set_threads(threads)
+    opts = newton_options(PHYSICAL_DEFAULTS, tol, maxiter, max_step)
+    _solve_batch(p, P0, L0s[0], *stack, loads, opts, P, t, resid, it, conv, ins)
+    return [
+        physical_result(
+            r, p, P[k], t[k], resid[k], it[k], conv[k], ins[k][:, None], halfplanes=hull_halfplanes(r)
+        )
+        for k, r in enumerate(robots)
+    ]

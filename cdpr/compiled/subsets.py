@@ -19,6 +19,7 @@ from cdpr.compiled._kernels import (
     CHUNK,
     DET_EPS,
     NEWTON_DEFAULTS,
+    Cables,
     cable_arrays,
     cable_of,
     cable_params,
@@ -534,3 +535,86 @@ def solve_points_fast(robot, p, tol=None, maxiter=None, threads=None, prune=True
         "status": np.asarray(STATUSES)[out.st],
         "subset_solves": out.work,
     }
+
+
+@njit(cache=True, parallel=True, error_model="numpy")
+def _solve_batch(p, Lin, A, kind, h, rp, d, inward, ES, E, T_a, idx, edges, margin, b, opts, prune, out):
+    # robot k's solve_point over the chunks of points: every (robot, chunk) pair is one parallel job
+    K, n = b.shape[0], p.shape[0]
+    ns, m = idx.shape[0], A.shape[1]
+    P_s, dp, t, sub, it, st, work = out
+    nchunks = (n + CHUNK - 1) // CHUNK
+    for job in prange(K * nchunks):
+        k, ch = job // nchunks, job % nchunks
+        cab = Cables(A[k], kind[k], h[k], rp[k], d[k], inward[k], ES[k], E[k], T_a[k])
+        subs = Subsets(idx, edges[k], margin[k])
+        o = PaperOut(P_s[k], dp[k], t[k], sub[k], it[k], st[k], work[k])
+        scr = paper_scratch(m, ns)
+        for i in range(ch * CHUNK, min(n, (ch + 1) * CHUNK)):
+            solve_point(i, p, Lin, cab, subs, b[k], opts, prune, o, scr)
+
+
+def solve_points_batch(robots, p, L, tol=None, maxiter=None, threads=None, prune=True):
+    """``solve_points_fast`` of every robot at the same points and commanded total lengths in one
+    parallel pass over (robot, chunk of points) pairs, so that many small solves (Monte Carlo and
+    Sobol samples) do not each start and stop numba's threads. Each point runs the same kernel on
+    the same inputs as ``solve_points_fast`` (equal results); the numpy reference is
+    ``redundancy.solve_points`` of each robot.
+
+    Parameters
+    ----------
+    robots : sequence of Robot
+        Robots with the same number of cables m and the same subsets.
+    p : array_like, shape (N, 3) [m]
+    L : array_like, shape (N, m) [m]
+        Commanded total lengths of every robot.
+    tol, maxiter : optional, defaults ``direct.NEWTON_DEFAULTS``.
+    threads : int, optional
+    prune : bool
+
+    Returns
+    -------
+    list of dict
+        ``solve_points_fast`` of each robot.
+    """
+    robots = list(robots)
+    p = np.ascontiguousarray(np.atleast_2d(np.asarray(p, dtype=float)))
+    if not robots:
+        return []
+    n, m, K = len(p), robots[0].m, len(robots)
+    subs = [subset_arrays(r) for r in robots]
+    if any(r.m != m for r in robots) or any(not np.array_equal(s.idx, subs[0].idx) for s in subs):
+        raise ValueError("solve_points_batch: every robot needs the same cables and subsets")
+    Lin = commanded_input(L, n, m)
+    cabs = [cable_arrays(r) for r in robots]
+    stack = [np.ascontiguousarray(np.stack([c[j] for c in cabs])) for j in range(len(Cables._fields))]
+    edges = np.ascontiguousarray(np.stack([s.edges for s in subs]))
+    margin = np.ascontiguousarray(np.stack([s.margin for s in subs]))
+    b = np.ascontiguousarray(np.stack([-r.platform.w_ext for r in robots]), dtype=float)
+    out = PaperOut(
+        np.empty((K, n, 3)),
+        np.empty((K, n)),
+        np.empty((K, n, m)),
+        np.empty((K, n, 3), dtype=np.intp),
+        np.empty((K, n), dtype=np.int32),
+        np.empty((K, n), dtype=np.int8),
+        np.empty((K, n), dtype=np.int32),
+    )
+    set_threads(threads)
+    if n:
+        opts = newton_options(NEWTON_DEFAULTS, tol, maxiter)
+        _solve_batch(p, Lin, *stack, subs[0].idx, edges, margin, b, opts, prune, out)
+    return [
+        {
+            "p": p,
+            "P_s": out.P_s[k],
+            "dp": out.dp[k],
+            "t": out.t[k],
+            "subset": out.sub[k],
+            "iterations": out.it[k],
+            "status_code": out.st[k],
+            "status": np.asarray(STATUSES)[out.st[k]],
+            "subset_solves": out.work[k],
+        }
+        for k in range(K)
+    ]

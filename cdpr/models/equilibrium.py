@@ -414,6 +414,30 @@ def solve_physical(robot, p, L0=None, P0=None, tol=None, maxiter=None, max_step=
     return physical_result(robot, p, P, cur["t"], np.linalg.norm(cur["F"], axis=1), iters, conv, g.inside)
 
 
+def solve_physical_batch(robots, p, L0=None, tol=None, maxiter=None, max_step=None):
+    """``solve_physical`` of several robots at the same points and rest lengths (Monte Carlo and
+    Sobol samples of one design): the numpy reference of ``cdpr.compiled.equilibrium``'s batch
+    kernel, which solves every (robot, point) pair in one parallel pass.
+
+    Parameters
+    ----------
+    robots : sequence of Robot
+        Robots with the same number of cables m.
+    p : array_like, shape (N, 3) [m]
+        Desired positions.
+    L0 : array_like, shape (N, m) [m], optional
+        Commanded rest lengths of every robot; default L_TS(p) (eq. 2) of each robot.
+    tol, maxiter, max_step : float [m], int, float [m], optional
+        As ``solve_physical``.
+
+    Returns
+    -------
+    list of dict
+        ``solve_physical`` of each robot.
+    """
+    return [solve_physical(r, p, L0, None, tol, maxiter, max_step) for r in robots]
+
+
 def physical_result(robot, p, P, t, residual, iters, conv, inside, halfplanes=None):
     """The result dict of ``solve_physical`` from the solved arrays (the compiled engines build
     theirs with it too): the taut cables (t > ``TAUT_MIN``), |dp| = |P* - p| (Paty 2021 eq. 14) and

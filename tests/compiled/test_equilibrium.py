@@ -6,10 +6,17 @@ import numpy as np
 import pytest
 
 from cdpr.analyses.workspace import frame_box, grid_points
-from cdpr.compiled.equilibrium import solve_physical_fast
-from cdpr.models.equilibrium import FTOL_REL, solve_physical
+from cdpr.compiled.equilibrium import solve_physical_batch, solve_physical_fast
+from cdpr.models.equilibrium import (
+    FTOL_REL,
+    solve_physical,
+)
+from cdpr.models.equilibrium import (
+    solve_physical_batch as solve_physical_batch_numpy,
+)
 from cdpr.models.inverse import L_TS
 from cdpr.models.pulleys import total_length_and_direction
+from cdpr.parameters import parameter_values, robot_with_parameters
 from cdpr.robot import load_robot, with_pulleys
 from tests.conftest import ROBOTS
 
@@ -61,3 +68,42 @@ def test_compiled_answers_are_equilibria_of_the_numpy_pulley_model(kind):
     w = r.platform.w_ext
     F = np.einsum("ni,nij->nj", hooke, g.u) + w
     assert np.linalg.norm(F, axis=1).max() <= 1.01 * FTOL_REL * np.linalg.norm(w) + 1e-6
+
+
+def _perturbed(r, n, seed=2):
+    """n copies of r with every parameter (anchors, pulleys, dead lengths, moduli, mass) scaled by
+    1 + U(-1 %, 1 %): the robots of a batch differ everywhere."""
+    rng = np.random.default_rng(seed)
+    th = parameter_values(r)
+    return [robot_with_parameters(r, th * (1.0 + rng.uniform(-0.01, 0.01, th.shape))) for _ in range(n)]
+
+
+@pytest.mark.parametrize("kind", ["SR", "DR"])
+def test_batch_equals_one_solve_per_robot(kind):
+    """Every (robot, point) pair of the batched kernel gives exactly the numbers of one
+    solve_physical_fast per robot (same kernel, same inputs), several chunks of points per robot,
+    and the numpy batch reference agrees with it as solve_physical does."""
+    r, p, L0 = _case(kind, seed=3)
+    robots = _perturbed(r, 5)
+    batch = solve_physical_batch(robots, p, L0=L0, threads=2)
+    ref = solve_physical_batch_numpy(robots[:2], p, L0=L0)
+    assert len(batch) == len(robots) and len(p) >= 2 * 256  # two chunks per robot
+    for k, rk in enumerate(robots):
+        one = solve_physical_fast(rk, p, L0=L0)
+        assert set(one) == set(batch[k])
+        for key in one:
+            np.testing.assert_array_equal(batch[k][key], one[key], err_msg=key)
+    assert {"ok", "inaccessible"} <= set(batch[0]["status"])
+    assert not np.array_equal(batch[0]["P_s"], batch[1]["P_s"], equal_nan=True)  # the robots differ
+    for k in range(2):
+        np.testing.assert_array_equal(ref[k]["status"], batch[k]["status"])
+        unique = ref[k]["converged"] & (ref[k]["n_taut"] >= 2)
+        assert np.abs(ref[k]["P_s"] - batch[k]["P_s"])[unique].max() < 1e-9
+
+
+def test_batch_without_rest_lengths_commands_each_robots_L_TS():
+    r, p, _ = _case("SR", seed=4)
+    robots = _perturbed(r, 2)
+    for rk, b in zip(robots, solve_physical_batch(robots, p)):
+        np.testing.assert_array_equal(b["status"], solve_physical_fast(rk, p)["status"])
+        np.testing.assert_array_equal(b["P_s"], solve_physical_fast(rk, p)["P_s"])

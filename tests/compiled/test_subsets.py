@@ -6,8 +6,10 @@ import pandas as pd
 import pytest
 
 from cdpr.analyses.workspace import grid_points
-from cdpr.compiled.subsets import solve_points_fast
+from cdpr.compiled.subsets import solve_points_batch, solve_points_fast
+from cdpr.models.inverse import L_TS
 from cdpr.models.subsets import solve_points
+from cdpr.parameters import parameter_values, robot_with_parameters
 from cdpr.robot import with_pulleys
 from cdpr.tables import solve_table
 
@@ -63,3 +65,31 @@ def test_thread_count_does_not_change_results(cdpr4):
     c = solve_table(cdpr4, P, engine="numpy")
     assert (a.status == c.status).all() and (a.subset == c.subset).all()
     np.testing.assert_allclose(a.dp, c.dp, atol=1e-9)
+
+
+@pytest.mark.parametrize("kind", ["SR", "DR"])
+def test_batch_equals_one_solve_per_robot(cdpr4, kind):
+    """Every (robot, point) pair of the batched paper-mode kernel gives exactly the numbers of one
+    solve_points_fast per robot at the same commanded lengths (same kernel, same inputs), with
+    robots that differ in every parameter and several chunks of points per robot."""
+    r = with_pulleys(cdpr4, kind=kind)
+    P = grid_points(BOX, 10)
+    L = L_TS(r, P)
+    rng = np.random.default_rng(5)
+    th = parameter_values(r)
+    robots = [robot_with_parameters(r, th * (1.0 + rng.uniform(-0.01, 0.01, th.shape))) for _ in range(4)]
+    batch = solve_points_batch(robots, P, L, threads=2)
+    assert len(P) > 2 * 256
+    for k, rk in enumerate(robots):
+        one = solve_points_fast(rk, P, L=L)
+        assert set(one) == set(batch[k])
+        for key in one:
+            np.testing.assert_array_equal(batch[k][key], one[key], err_msg=key)
+    assert set(batch[0]["status"]) >= {"ok", "slack"}
+    assert not np.array_equal(batch[0]["dp"], batch[1]["dp"], equal_nan=True)
+
+
+def test_batch_rejects_robots_with_different_cables(cdpr3, cdpr4):
+    P = grid_points(BOX, 3)
+    with pytest.raises(ValueError, match="same cables"):
+        solve_points_batch([cdpr4, cdpr3], P, L_TS(cdpr4, P))
