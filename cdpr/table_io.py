@@ -16,9 +16,10 @@ from cdpr.errors import CdprError
 from cdpr.io import CSV_DIGITS, TABLE_SUFFIXES, atomic
 
 
-def write_table(df, path):
+def write_table(df, path, float_format=None):
     """Write a DataFrame as parquet (.parquet) or CSV (.csv, floats with CSV_DIGITS significant
-    digits), atomically."""
+    digits, or ``float_format`` such as ``"%.4f"`` where fewer digits are what the computation
+    determines), atomically."""
     suffix = Path(path).suffix
     if suffix == ".parquet":
         # uncompressed (float columns barely compress; snappy triples the write time) and dictionary
@@ -28,7 +29,8 @@ def write_table(df, path):
         atomic(path, lambda tmp: pq.write_table(table, tmp, compression=None, use_dictionary=cats or False))
     elif suffix == ".csv":
         df = _rounded_objects(df)
-        atomic(path, lambda tmp: df.to_csv(tmp, index=False, float_format=f"%.{CSV_DIGITS}g"))
+        fmt = float_format or f"%.{CSV_DIGITS}g"
+        atomic(path, lambda tmp: df.to_csv(tmp, index=False, float_format=fmt))
     else:
         raise CdprError(f"{path}: unknown table format '{suffix}'; allowed: .parquet, .csv")
 

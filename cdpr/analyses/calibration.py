@@ -2075,12 +2075,25 @@ def info_rows(robot, P, L0, index, sd, sigma=SIGMA_DEFAULT, model="exact", engin
     return prob.jacobian(np.zeros(len(index)))[: 3 * len(P)].reshape(len(P), 3, len(index))
 
 
+#: log det differences [-] below which two D-optimal candidates tie (broken by candidate order): a
+#: symmetric robot on a symmetric candidate grid has exact ties, which round-off would otherwise break
+#: differently on different CPUs (1e-9 in log det is a relative 1e-9 in the determinant).
+LOGDET_TIE = 1e-9
+
+
+def _first_within(values, tol):
+    """Lowest index whose value lies within ``tol`` of the largest of ``values``."""
+    values = np.asarray(values, dtype=float)
+    return int(np.flatnonzero(values >= values.max() - tol)[0])
+
+
 def d_optimal(rows, n, exchange=True):
     """Greedy D-optimal choice of n candidates maximising det(Σ J_kᵀ J_k + I), then one exchange pass.
 
     Each greedy step adds the candidate with the largest det(I + J_k C J_kᵀ), C the current
     posterior covariance (matrix determinant lemma); the exchange pass swaps a chosen candidate for
-    an unchosen one whenever the determinant grows.
+    an unchosen one whenever the determinant grows. Candidates within ``LOGDET_TIE`` of the best tie
+    and the first in candidate order is taken, so the plan does not depend on the last bits.
 
     Parameters
     ----------
@@ -2106,7 +2119,7 @@ def d_optimal(rows, n, exchange=True):
     for _ in range(n):
         C = np.linalg.inv(info)
         M = np.eye(nr) + np.einsum("cik,kl,cjl->cij", rows, C, rows)
-        j = int(np.argmax(np.linalg.slogdet(M)[1]))
+        j = _first_within(np.linalg.slogdet(M)[1], LOGDET_TIE)
         chosen.append(j)
         info += rows[j].T @ rows[j]
     chosen = np.array(chosen)
@@ -2115,7 +2128,7 @@ def d_optimal(rows, n, exchange=True):
             rest = info - rows[chosen[pos]].T @ rows[chosen[pos]]
             C = np.linalg.inv(rest)
             M = np.eye(nr) + np.einsum("cik,kl,cjl->cij", rows, C, rows)
-            j = int(np.argmax(np.linalg.slogdet(M)[1]))
+            j = _first_within(np.linalg.slogdet(M)[1], LOGDET_TIE)
             chosen[pos] = j
             info = rest + rows[j].T @ rows[j]
     return chosen, float(np.linalg.slogdet(info)[1])

@@ -16,6 +16,7 @@ import numpy as np
 import pandas as pd
 import yaml
 
+from cdpr import table_io
 from cdpr.analyses import calibration as cal
 from cdpr.analyses.compensation import compensated_pose
 from cdpr.errors import CdprError, ConfigError
@@ -77,6 +78,12 @@ STUDY_MODELS = {
     "pulleys + elasticity": ("exact", ["anchors", "dead_lengths", "pulleys", "moduli"]),
     "pulleys + elasticity + winch": ("exact", ["anchors", "dead_lengths", "pulleys", "moduli"]),
 }
+#: Floats of the fitted parameters and per-sample tables: six significant digits. The fit ends
+#: where least_squares' xtol holds: the estimates are fixed to ~1e-8 relative on CDPR4 and ~1e-6 on
+#: CoGiRo (whose fit ends at a kink of the residual: slack cables), and the last bits differ between
+#: CPUs, so more digits would not be the same on another machine.
+FIT_FORMAT = "%.6g"
+
 #: The model that knows the drums (the nominal robot with the study's winch on every cable); the
 #: others take the commanded lengths as rest lengths.
 WINCH_MODEL = "pulleys + elasticity + winch"
@@ -259,14 +266,14 @@ def run_calibration_study(study_path, out):
     row("truth robot (noise floor)", 0, *validate(truth))
     headline = pd.DataFrame(rows)
     headline["rank"] = headline["rank"].astype("Int64")
-    headline.to_csv(out / "headline.csv", index=False, float_format="%.4f")
+    table_io.write_table(headline, out / "headline.csv", float_format="%.4f")
 
     exact = fits[best]
     pt = exact.parameter_table()
     pt["truth"] = calibration_values(truth)[exact.index]
-    pt.to_csv(out / "parameters.csv", index=False, float_format="%.9g")
+    table_io.write_table(pt, out / "parameters.csv", float_format=FIT_FORMAT)
     calibration_figures(exact, out / "exact")
-    exact.table.to_csv(out / "exact" / "samples.csv", index=False, float_format="%.9g")
+    table_io.write_table(exact.table, out / "exact" / "samples.csv", float_format=FIT_FORMAT)
 
     # learning curves, exact model: random poses vs D-optimal poses among the admissible candidates
     # (the best model: with a winch the one that knows the drums)
@@ -300,7 +307,7 @@ def run_calibration_study(study_path, out):
                 }
             )
     curve = pd.DataFrame(curve)
-    curve.to_csv(out / "learning_curve.csv", index=False, float_format="%.4f")
+    table_io.write_table(curve, out / "learning_curve.csv", float_format="%.4f")
     _learning_figure(curve, float(headline.iloc[-1]["predict_rms_mm"]), out / "learning_curve.png", best)
 
     # encoder data: offsets unknown; with poses, with tensions only, alone; validated on encoder
@@ -344,7 +351,7 @@ def run_calibration_study(study_path, out):
                 "result": "; ".join(s["unidentified"][:4]) or "all directions seen",
             }
         )
-    pd.DataFrame(enc_rows).to_csv(out / "encoder.csv", index=False, float_format="%.4f")
+    table_io.write_table(pd.DataFrame(enc_rows), out / "encoder.csv", float_format="%.4f")
 
     elapsed = time.perf_counter() - t0
     _write_markdown(

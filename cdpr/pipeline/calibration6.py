@@ -17,11 +17,18 @@ import numpy as np
 import pandas as pd
 import yaml
 
+from cdpr import table_io
 from cdpr.analyses import calibration as cal
 from cdpr.errors import ConfigError
 from cdpr.models.platform import rotation_matrix
 from cdpr.parameters import calibration_values, is_spatial, select_groups
-from cdpr.pipeline.calibration import _md_table, _stats, calibration_figures, run_calibration_study
+from cdpr.pipeline.calibration import (
+    FIT_FORMAT,
+    _md_table,
+    _stats,
+    calibration_figures,
+    run_calibration_study,
+)
 from cdpr.pipeline.plots import plt, save
 from cdpr.robot import load_robot
 
@@ -251,15 +258,15 @@ def run_calibration_study6(study_path, out):
         )
     headline = pd.DataFrame(rows)
     headline["rank"] = headline["rank"].astype("Int64")
-    headline.to_csv(out / "headline.csv", index=False, float_format="%.4f")
-    vt.to_csv(out / "validation.csv", index=False, float_format="%.6g")
+    table_io.write_table(headline, out / "headline.csv", float_format="%.4f")
+    table_io.write_table(vt, out / "validation.csv", float_format="%.6g")
 
     exact = fits[EXACT6]
     pt = exact.parameter_table()
     pt["truth"] = calibration_values(truth)[exact.index]
-    pt.to_csv(out / "parameters.csv", index=False, float_format="%.9g")
+    table_io.write_table(pt, out / "parameters.csv", float_format=FIT_FORMAT)
     calibration_figures(exact, out / "exact")
-    exact.table.to_csv(out / "exact" / "samples.csv", index=False, float_format="%.9g")
+    table_io.write_table(exact.table, out / "exact" / "samples.csv", float_format=FIT_FORMAT)
     _error_figure(vt, headline, pt_err, out / "validation_errors.png", robot.name, command)
     elapsed = time.perf_counter() - t0
     _write_markdown6(out, st, robot, headline, ident_lines, vt, len(train.sample), (taut_pt, second_pt))
