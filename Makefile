@@ -57,12 +57,22 @@ test-docs-browser: $(STAMP)
 # on all cables, config/studies/physical.yaml differs only in name and redundancy), the studies of
 # the reproduce-extra hook, then their comparison and the error budget (results/comparison.md and
 # results/comparison/; config/comparisons/paper_vs_physical.yaml).
+# The paper and physical studies write disjoint folders and read none of each other's files: they
+# run side by side, one core each (Snakemake scales each solver job's threads down to 1; the tables
+# do not depend on the thread count), the calibration studies after the paper study on its core.
+# On 2 cores that keeps both cores busy, where one 2-thread solver job at a time left part of them
+# idle (benchmarks/README.md). Both streams finish before the CoGiRo study, whose conclusions read
+# results/physical; a failure in either stops make with its exit status.
 PHYSICAL := --config study=config/studies/physical.yaml results=results/physical
 COMPARISON_RULES := budget_design budget comparison
+REPRODUCE_CALIBRATION := calibration_study calibration_cogiro
+REPRODUCE_COGIRO := --config study=config/studies/cogiro.yaml results=results/cogiro
 reproduce: $(STAMP)
-	$(BIN)/snakemake --cores all --forceall reproduce_paper
-	$(BIN)/snakemake --cores all --forceall reproduce_paper $(PHYSICAL)
-	$(MAKE) --no-print-directory reproduce-extra
+	( $(BIN)/snakemake --cores 1 --forceall reproduce_paper && \
+	  $(BIN)/snakemake --cores 1 --forceall $(REPRODUCE_CALIBRATION) ) & paper=$$!; \
+	$(BIN)/snakemake --cores 1 --forceall reproduce_paper $(PHYSICAL) & physical=$$!; \
+	wait $$paper; a=$$?; wait $$physical; b=$$?; test $$a -eq 0 && test $$b -eq 0
+	$(BIN)/snakemake --cores all --forceall reproduce_paper $(REPRODUCE_COGIRO)
 	$(BIN)/snakemake reproduce_comparison --cores all --forcerun $(COMPARISON_RULES)
 
 # Snakemake's HTML reports of what make reproduce wrote (every figure with its caption, from
@@ -72,11 +82,12 @@ report: $(STAMP)
 	$(BIN)/snakemake reproduce_paper --report results/report/physical.html $(PHYSICAL)
 	$(BIN)/snakemake reproduce_comparison --report results/report/comparison.html
 
-# Hook: studies that make reproduce runs after the paper and physical studies and before the
-# comparison (e.g. the uncertainty study adds its snakemake command here).
+# The studies make reproduce runs beside and after the paper and physical studies and before the
+# comparison (the calibration studies, the CoGiRo study), on their own: to rerun them without the
+# two long studies (the CoGiRo study needs a complete results/physical).
 reproduce-extra: $(STAMP)
-	$(BIN)/snakemake --cores all --forceall calibration_study calibration_cogiro
-	$(BIN)/snakemake --cores all --forceall reproduce_paper --config study=config/studies/cogiro.yaml results=results/cogiro
+	$(BIN)/snakemake --cores all --forceall $(REPRODUCE_CALIBRATION)
+	$(BIN)/snakemake --cores all --forceall reproduce_paper $(REPRODUCE_COGIRO)
 
 # After an interruption (Ctrl-C, a killed process, a lost machine): release Snakemake's lock and
 # finish only what is missing or incomplete. Targets come before --config (both take lists).
