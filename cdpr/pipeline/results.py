@@ -362,6 +362,8 @@ class Layout:
         }
         if self.st.get("budget"):  # the study's error budget (a spatial study with a `budget` key)
             out["budget"] = self.path("study_budget", "table")
+        if self.st["volumes"].get("dphi_limits_rad"):  # R_V on δφ (a spatial study's volumes keys)
+            out["volumes_dphi"] = self.path("volumes_dphi", "table")
         return out
 
     def comparison_inputs(self):

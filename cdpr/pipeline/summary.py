@@ -362,7 +362,8 @@ def _ok_range(df, column, scale):
 def headline_rows(st, res):
     """The headline numbers of a study of spatial robots (``paper_comparison: false``, no paper
     values): per design the plane's and the paths' ‖δp‖ [mm] and δφ [mrad] ranges over the ok points
-    and the paths' largest tension [N]; R_V at the study's limits; RW_C's volume; the DOE's best and
+    and the paths' largest tension [N]; R_V at the study's limits (on ‖δp‖, and on δφ where the study
+    sets ``volumes.dphi_limits_rad``); RW_C's volume; the DOE's best and
     worst test and largest effect on both indices; the optimal lines; the common-E band of each
     optimal design. Columns ``COLUMNS`` (paper and tolerance empty)."""
     rows = []
@@ -404,6 +405,18 @@ def headline_rows(st, res):
             rows.append(
                 _headline(
                     f"{r.robot} {r.pulley} R_V at ‖δp‖ < {r.limit_m * 1e3:g} mm",
+                    "volumes",
+                    float(r.R_V),
+                    "-",
+                    f"V_L = {r.V_L_m3:.4g} m^3 of V_T = {r.V_T_m3:.4g} m^3",
+                )
+            )
+    vol = _read(res, _rel("volumes_dphi")) if st["volumes"].get("dphi_limits_rad") else None
+    if vol is not None:
+        for r in vol[vol.study_limit].itertuples():
+            rows.append(
+                _headline(
+                    f"{r.robot} {r.pulley} R_V at δφ < {r.limit_rad * 1e3:g} mrad",
                     "volumes",
                     float(r.R_V),
                     "-",

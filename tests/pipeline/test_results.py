@@ -224,3 +224,10 @@ def test_the_robot_view_and_the_dphi_volumes_are_outputs_of_spatial_studies_only
     point = Layout(load_study(QUICK), "r")
     assert point.wildcards("robot_view") == [] and point.wildcards("volumes_dphi") == []
     assert not [t for t in point.targets() if "robot/" in t or "dphi" in t]
+
+
+def test_the_summary_reads_the_dphi_volumes_only_where_the_study_sets_their_limits():
+    spatial = Layout(load_study(ROOT / "config" / "studies" / "quick_spatial.yaml"), "r").summary_inputs()
+    assert spatial["volumes_dphi"] == "r/volumes/volumes_dphi.csv"
+    point = Layout(load_study(ROOT / "config" / "studies" / "quick.yaml"), "r").summary_inputs()
+    assert "volumes_dphi" not in point
