@@ -162,35 +162,41 @@ def trajectories(st, tables, table, figure, minmax_figure):
 
 
 # ---- volumes (Fig. 13-14) ----------------------------------------------------------------------
-def volumes(st, tables, table, figure):
-    """V_L and R_V per robot x pulley design at the paper's limits and over the sweep (Fig. 14)."""
+def _volume_rows(st, tables, what, column, limits, limit_col, flag_col, flagged):
+    """One row per robot x pulley design x limit: V_L and R_V of the frame grids' shards on the
+    error ``column`` ("dp" [m] or "dphi" [rad]) at each of ``limits``, the limit under ``limit_col``
+    and ``flag_col`` true for the limits in ``flagged``; ``what`` names the job in errors."""
     n = st["volumes"]["n"]
     groups = _shards(tables, r"(?P<label>[A-Za-z0-9]+_[A-Za-z0-9]+)_(?P<shard>\d+)", "volume shard", "label")
-    lims = study.volume_limits(st)
     rows = []
     for rk in st["robots"]:
         for pk in st["pulleys"]:
             label = f"{rk}_{pk}"
             if label not in groups:
-                raise CdprError(f"volumes: no shard of {label} among the inputs")
+                raise CdprError(f"{what}: no shard of {label} among the inputs")
             robot = study.design_robot(st, rk, st["pulleys"][pk])
-            df = concat(groups[label])
-            box = workspace.frame_box(robot)
-            for lim in lims:
-                v = workspace.error_limited_volume(df, n, box, lim, workspace.envelope_volume(robot))
+            df, box, V_T = concat(groups[label]), workspace.frame_box(robot), workspace.envelope_volume(robot)
+            for lim in limits:
+                v = workspace.error_limited_volume(df, n, box, lim, V_T, column=column)
                 rows.append(
                     {
                         "robot": rk,
                         "pulley": pk,
-                        "limit_m": lim,
-                        "V_T_m3": workspace.envelope_volume(robot),
+                        limit_col: lim,
+                        "V_T_m3": V_T,
                         "V_L_m3": v["V_L"],
                         "R_V": v["R_V"],
                         "V_L_err_m3": v["V_L_err"],
-                        "paper_limit": lim in st["volumes"]["limits_m"],
+                        flag_col: lim in flagged,
                     }
                 )
-    tab = pd.DataFrame(rows)
+    return pd.DataFrame(rows)
+
+
+def volumes(st, tables, table, figure):
+    """V_L and R_V per robot x pulley design at the paper's limits and over the sweep (Fig. 14)."""
+    lims = study.volume_limits(st)
+    tab = _volume_rows(st, tables, "volumes", "dp", lims, "limit_m", "paper_limit", st["volumes"]["limits_m"])
     table_io.write_table(tab, table)
     plots.fig14_rv(tab, _paper_rv(st), figure, mode=study.redundancy(st))
 
@@ -253,33 +259,16 @@ def volumes_dphi(st, tables, table, figure):
     """V_L and R_V on the orientation error δφ (beyond the paper) per robot x pulley design at the
     study's limits and over its sweep (``volumes.dphi_limits_rad``, ``volumes.dphi_sweep_rad``), from
     the same frame grids as ``volumes``."""
-    n = st["volumes"]["n"]
-    groups = _shards(tables, r"(?P<label>[A-Za-z0-9]+_[A-Za-z0-9]+)_(?P<shard>\d+)", "volume shard", "label")
-    rows = []
-    for rk in st["robots"]:
-        for pk in st["pulleys"]:
-            label = f"{rk}_{pk}"
-            if label not in groups:
-                raise CdprError(f"volumes-dphi: no shard of {label} among the inputs")
-            robot = study.design_robot(st, rk, st["pulleys"][pk])
-            df, box = concat(groups[label]), workspace.frame_box(robot)
-            for lim in study.dphi_volume_limits(st):
-                v = workspace.error_limited_volume(
-                    df, n, box, lim, workspace.envelope_volume(robot), column="dphi"
-                )
-                rows.append(
-                    {
-                        "robot": rk,
-                        "pulley": pk,
-                        "limit_rad": lim,
-                        "V_T_m3": workspace.envelope_volume(robot),
-                        "V_L_m3": v["V_L"],
-                        "R_V": v["R_V"],
-                        "V_L_err_m3": v["V_L_err"],
-                        "study_limit": lim in st["volumes"]["dphi_limits_rad"],
-                    }
-                )
-    tab = pd.DataFrame(rows)
+    tab = _volume_rows(
+        st,
+        tables,
+        "volumes-dphi",
+        "dphi",
+        study.dphi_volume_limits(st),
+        "limit_rad",
+        "study_limit",
+        st["volumes"]["dphi_limits_rad"],
+    )
     table_io.write_table(tab, table)
     plots.fig14_rv_dphi(tab, figure, mode=study.redundancy(st))
 
