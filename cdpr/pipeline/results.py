@@ -228,14 +228,6 @@ class Layout:
             models = {k: load_robot(p) for k, p in self.st["robots"].items()}
         return [k for k, robot in models.items() if robot.m > 3]
 
-    def spatial_robots(self):
-        """Robots solved in 6 DoF (not suspended point masses): the 3-D view (``robot_view``) is drawn
-        for them."""
-        models = self.st.robot_models
-        if models is None:
-            models = {k: load_robot(p) for k, p in self.st["robots"].items()}
-        return [k for k, robot in models.items() if not robot.suspended_point_mass]
-
     def E_values(self):
         """Young's moduli of the index-versus-E sweep, as written in file names."""
         return [f"{e:.6g}" for e in E_values(self.st)]
@@ -266,7 +258,7 @@ class Layout:
                 robot=robots, pulley=pulleys, shard=range(st["volumes"]["shards"])
             ),
             "volume_view": lambda: _product(label=[f"{r}_{p}" for r in robots for p in pulleys]),
-            "robot_view": lambda: _product(robot=self.spatial_robots()),
+            "robot_view": lambda: _product(robot=robots),  # every robot: point masses and rigid platforms
             "workspace_grid": lambda: _product(test=self.tests()),
             "index_shard": lambda: _product(test=self.tests(), shard=range(st["doe"]["shards"])),
             "map_kind": lambda: _product(kind=self.map_kinds()),

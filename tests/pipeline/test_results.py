@@ -212,7 +212,7 @@ def test_the_spatial_study_layout_is_the_dag_and_names_its_paths(at_root, tmp_pa
     assert sum("--wrench-feasible" in ln for ln in solves) == 8  # the 8 DOE workspace grids
 
 
-def test_the_robot_view_and_the_dphi_volumes_are_outputs_of_spatial_studies_only(at_root):
+def test_every_robot_has_its_view_and_only_spatial_studies_have_dphi_volumes(at_root):
     spatial = Layout(load_study(ROOT / "config" / "studies" / "quick_spatial.yaml"), "r")
     assert spatial.wildcards("robot_view") == [{"robot": "CoGiRo"}]
     assert {
@@ -222,8 +222,10 @@ def test_the_robot_view_and_the_dphi_volumes_are_outputs_of_spatial_studies_only
         "r/volumes/R_V_dphi.png",
     } <= set(spatial.targets())
     point = Layout(load_study(QUICK), "r")
-    assert point.wildcards("robot_view") == [] and point.wildcards("volumes_dphi") == []
-    assert not [t for t in point.targets() if "robot/" in t or "dphi" in t]
+    robots = list(point.st["robots"])
+    assert len(robots) >= 2 and point.wildcards("robot_view") == [{"robot": r} for r in robots]
+    assert {f"r/robot/{r}.png" for r in robots} <= set(point.targets())
+    assert point.wildcards("volumes_dphi") == [] and not [t for t in point.targets() if "dphi" in t]
 
 
 def test_the_summary_reads_the_dphi_volumes_only_where_the_study_sets_their_limits():

@@ -8,7 +8,7 @@ import pandas as pd
 import pytest
 
 from cdpr import table_io
-from cdpr.analyses import workspace
+from cdpr.analyses import scans, workspace
 from cdpr.pipeline import plots, study, tasks
 from tests.conftest import ROOT
 
@@ -38,6 +38,32 @@ def test_robot_view_puts_the_platform_at_the_centre_of_rw_c(st, tmp_path, monkey
     robot = study.robot_of(st, "CoGiRo")
     assert list(kw["boxes"].values())[0] == workspace.frame_box(robot)
     assert out.stat().st_size > 10_000 and out.with_suffix(".pdf").stat().st_size > 0
+
+
+def test_robot_view_of_a_point_mass_study_draws_each_robot(tmp_path, monkeypatch):
+    """The paper's robots (point masses) get their view too: the DOE robot (CDPR4) at RW_C's centre
+    with its box, the other (CDPR3) at ``scans.view_position`` with the frame box alone."""
+    monkeypatch.chdir(ROOT)
+    st = study.load_study(ROOT / "config" / "studies" / "quick.yaml")
+    box = [-0.6, 0.6, -0.4, 0.8, 1.0, 2.2]
+    (tmp_path / "rw_c.json").write_text(json.dumps({"box": box}), encoding="utf-8")
+    seen = []
+    real = plots.robot_view
+    monkeypatch.setattr(
+        plots, "robot_view", lambda geom, out, **kw: seen.append((geom, kw)) or real(geom, out, **kw)
+    )
+    doe_robot = st["doe"]["robot"]
+    other = next(k for k in st["robots"] if k != doe_robot)
+    for key in (doe_robot, other):
+        tasks.robot_view(st, key, str(tmp_path / "rw_c.json"), str(tmp_path / "robot" / f"{key}.png"))
+    (g1, kw1), (g2, kw2) = seen
+    assert g1["point_mass"] and g2["point_mass"]
+    assert g1["p"].tolist() == pytest.approx([0.0, 0.2, 1.6]) and list(kw1["boxes"].values())[1] == box
+    assert len(kw2["boxes"]) == 1 and kw1["mode"] == kw2["mode"] == study.redundancy(st)
+    robot = study.robot_of(st, other)
+    assert g2["p"].tolist() == pytest.approx(scans.view_position(robot).tolist())
+    for key in (doe_robot, other):
+        assert (tmp_path / "robot" / f"{key}.png").stat().st_size > 10_000
 
 
 def test_volumes_dphi_counts_the_voxels_of_each_design(st, tmp_path):

@@ -1,4 +1,4 @@
-# A 3-D picture of each spatial robot of the study (issue 19): frame box, pulleys with their swivel
+# A 3-D picture of each robot of the study (issue 19; point masses too): frame box, pulleys with their swivel
 # axes, platform and cables at the study's orientation, and the RW_C box of the DOE robot.
 
 
