@@ -2,7 +2,8 @@
 
 The public face: the names of ``__all__`` are what the README's quick start uses, re-exported from
 the layer that defines them (``_EXPORTS``). They load on first use (a module ``__getattr__``,
-PEP 562), so ``import cdpr`` itself imports neither numpy nor numba and ``cdpr --help`` stays quick.
+PEP 562), so ``import cdpr`` itself imports neither numpy nor numba and ``cdpr --help`` stays quick. It
+first pins the OpenBLAS kernels on x86-64 (``cdpr.blas``: the same bytes on every CPU).
 
     >>> import cdpr
     >>> robot = cdpr.load_robot("config/robots/cdpr4.yaml")        # doctest: +SKIP
@@ -10,6 +11,11 @@ PEP 562), so ``import cdpr`` itself imports neither numpy nor numba and ``cdpr -
 """
 
 from importlib import import_module
+
+from cdpr.blas import pin_openblas_core
+
+# Before anything loads numpy: the same OpenBLAS kernels on every x86-64 CPU (same bytes everywhere).
+pin_openblas_core()
 
 #: Public name -> the module that defines it.
 _EXPORTS = {
