@@ -32,7 +32,7 @@ import copy
 import dataclasses
 import itertools
 import math
-from functools import cached_property
+from functools import cached_property, lru_cache
 from pathlib import Path
 from typing import NamedTuple
 
@@ -261,7 +261,7 @@ class Robot:
         n = np.linalg.norm(v, axis=1, keepdims=True)
         inward = np.where(n > 0, v / np.where(n > 0, n, 1.0), np.array([1.0, 0.0]))
         axis = np.array([c.pulley.axis for c in self.cables], dtype=float)
-        frame = np.array([pulley_frame(c.pulley.axis, c.pulley.zero) for c in self.cables])
+        frame = np.array([_pulley_frame_of(c.pulley.axis, c.pulley.zero) for c in self.cables])
         vertical = np.array([c.pulley.axis == (0.0, 0.0, 1.0) and c.pulley.zero is None for c in self.cables])
         # the fallback pulley plane (B_i on the axis): `zero` if given, else toward the anchors'
         # centroid perpendicular to k_i (today's `inward` for axis +z), else i_i; in the frame (i_i, j_i)
@@ -433,6 +433,16 @@ def pulley_frame(axis, zero=None):
         i = np.asarray(zero, dtype=float)
     i = i / np.linalg.norm(i)
     return np.array([i, np.cross(k, i), k])
+
+
+@lru_cache(maxsize=1024)
+def _pulley_frame_of(axis, zero):
+    """``pulley_frame`` of the tuples (axis, zero) of a ``Pulley``, computed once per distinct pulley
+    orientation (read-only): the sample robots of an uncertainty study rebuild their arrays by the
+    thousand with unchanged pulley axes."""
+    frame = pulley_frame(axis, zero)
+    frame.flags.writeable = False
+    return frame
 
 
 def _vector(value, source, key, dimension="m"):

@@ -20,7 +20,7 @@ from cdpr.compiled import sensitivity6 as compiled_sensitivity6
 from cdpr.compiled import subsets as compiled_subsets
 from cdpr.errors import CdprError
 from cdpr.models import equilibrium, sensitivity, sensitivity6
-from cdpr.models.equilibrium6 import solve_spatial
+from cdpr.models.equilibrium6 import solve_spatial, solve_spatial_batch
 from cdpr.models.results import mark_below_floor
 from cdpr.models.subsets import solve_points
 
@@ -83,6 +83,17 @@ def solve_spatial_any(robot, p, rotvec=None, engine=None, threads=None, **option
     if spatial_engine(engine) == "compiled":
         return compiled_equilibrium6.solve_spatial(robot, p, rotvec, threads=threads, **options)
     return solve_spatial(robot, p, rotvec, **options)
+
+
+def solve_spatial_batch_any(robots, p, rotvec=None, engine=None, threads=None, **options):
+    """``solve_spatial_any`` of every robot at the same poses (the samples of one design) by the
+    chosen engine: compiled (default), one parallel pass over every (robot, pose) pair for the
+    first Newton pass, the same kernel and results as one solve per robot
+    (``cdpr.compiled.equilibrium6.solve_spatial_batch``); numpy, the reference per robot
+    (``equilibrium6.solve_spatial_batch``). Returns one result dict per robot."""
+    if spatial_engine(engine) == "compiled":
+        return compiled_equilibrium6.solve_spatial_batch(robots, p, rotvec, threads=threads, **options)
+    return solve_spatial_batch(robots, p, rotvec, **options)
 
 
 def solve_points_any(

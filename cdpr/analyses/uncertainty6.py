@@ -15,7 +15,7 @@ from cdpr.models.equilibrium6 import L_TS_pose, pose_arrays
 from cdpr.models.platform import rotvec_of
 from cdpr.models.sensitivity6 import sensitivities_at
 from cdpr.parameters import parameter_names6, parameter_values, parameter_values6, robot_with_parameters6
-from cdpr.solve import solve_spatial_any
+from cdpr.solve import solve_spatial_any, solve_spatial_batch_any
 
 
 def spatial_theta(robot, theta):
@@ -114,8 +114,11 @@ class PoseErrorModel6:
         dp, dphi = np.full((n, N), np.nan), np.full((n, N), np.nan)
         ok = np.zeros((n, N), dtype=bool)
         f = self.feasible
-        for i, t in enumerate(th):
-            res = self._solve(robot_with_parameters6(self.robot, t))
+        robots = [robot_with_parameters6(self.robot, t) for t in th]
+        results = solve_spatial_batch_any(
+            robots, self.p[f], self.rotvec[f], self.engine, self.threads, L0=self.L0[f]
+        )  # every sample in one parallel pass (the same results as one solve per sample)
+        for i, res in enumerate(results):
             ok[i, f] = res["status"] == "ok"
             dp[i, f], dphi[i, f] = res["dp"], res["dphi"]
         return dp, dphi, ok

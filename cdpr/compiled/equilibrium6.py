@@ -30,6 +30,7 @@ from numba import njit, prange
 from cdpr.compiled._kernels import (
     CHUNK,
     DET_EPS,
+    Cables,
     cable_arrays,
     cable_axis,
     cable_derivatives,
@@ -39,7 +40,7 @@ from cdpr.compiled._kernels import (
     set_threads,
 )
 from cdpr.models.equilibrium import ARMIJO_C, LS_SKIP, MAX_HALVINGS, PHYSICAL_DEFAULTS, TAUT_MIN
-from cdpr.models.equilibrium6 import RCOND, SHIFT_REL, _Cables6, solve_with
+from cdpr.models.equilibrium6 import RCOND, SHIFT_REL, _Cables6, finish, set_up, solve_with, stop_rules
 
 #: Sweeps of the one-sided Jacobi SVD (``pinv_solve6``) at most; it stops when every column pair
 #: is orthogonal to ``JACOBI_EPS`` (relative).
@@ -1074,6 +1075,144 @@ def solve_spatial(
     return solve_with(
         robot, cab, newton6_fast, p, rotvec, L0, P0, tol, maxiter, max_step, restarts, L_TS_fast
     )
+
+
+@njit(cache=True, parallel=True, error_model="numpy")
+def _solve_poses_batch(
+    p_ref, P0, R0, L0, A, kind, h, rp, d, inward, ES, E, T_a, b, frame, ident, com, f, scal, flags, opts, out
+):
+    # robot k's solve_pose over the chunks of poses: every (robot, chunk) pair is one parallel job
+    K, n = P0.shape[0], P0.shape[1]
+    m = A.shape[1]
+    nchunks = (n + CHUNK - 1) // CHUNK
+    for job in prange(K * nchunks):
+        k, ch = job // nchunks, job % nchunks
+        cab = Cables(A[k], kind[k], h[k], rp[k], d[k], inward[k], ES[k], E[k], T_a[k])
+        body = Body(
+            b[k],
+            frame[k],
+            ident[k],
+            com[k],
+            f[k],
+            scal[k, 0],
+            scal[k, 1],
+            scal[k, 2],
+            flags[k, 0],
+            flags[k, 1],
+        )
+        o = Out6(
+            out.P[k],
+            out.R[k],
+            out.F[k],
+            out.M[k],
+            out.t[k],
+            out.merit[k],
+            out.J[k],
+            out.it[k],
+            out.conv[k],
+            out.inside[k],
+            out.gamma[k],
+            out.stable[k],
+            out.rotvec[k],
+        )
+        w = _scratch(m)
+        for i in range(ch * CHUNK, min(n, (ch + 1) * CHUNK)):
+            solve_pose(i, p_ref[k], P0[k], R0[k], L0[k], cab, body, opts, o, w)
+
+
+#: Sample-pose pairs of one batched pass (``solve_spatial_batch``): about 50 MB of outputs.
+BATCH_POSES = 1 << 16
+
+
+def _stack(records, n, m):
+    """The kernel's arrays of K robots: Cables and Body fields stacked (K, ...), their scalars as
+    (K, 3) floats (ftol, size, ztop) and (K, 2) flags (rigid, suspended), and an ``Out6`` (K, n, ...)."""
+    cabs = [
+        np.ascontiguousarray(np.stack([r.cables[j] for r in records])) for j in range(len(Cables._fields))
+    ]
+    bodies = [np.ascontiguousarray(np.stack([r.body[j] for r in records])) for j in range(5)]
+    scal = np.array([(r.body.ftol, r.body.size, r.body.ztop) for r in records], dtype=float)
+    flags = np.array([(r.body.rigid, r.body.suspended) for r in records], dtype=np.bool_)
+    one = outputs6(n, m)
+    out = Out6(*(np.empty((len(records),) + a.shape, dtype=a.dtype) for a in one))
+    return cabs, bodies, scal, flags, out
+
+
+def solve_spatial_batch(
+    robots, p, rotvec=None, L0=None, tol=None, maxiter=None, max_step=None, restarts=True, threads=None
+):
+    """Compiled ``equilibrium6.solve_spatial_batch``: ``solve_spatial`` of every robot at the same
+    poses and rest lengths, the first Newton pass of all of them in one parallel pass over (robot,
+    chunk of poses) pairs (``BATCH_POSES`` pairs at a time), so that many small solves (the Monte
+    Carlo and Sobol samples of a design) neither start numba's threads nor set up the engine one by
+    one. Each pose runs ``solve_pose`` on the same inputs as ``solve_spatial``'s, and the restarts
+    and the result are ``solve_with``'s (``equilibrium6.finish``): the results are equal.
+
+    Parameters
+    ----------
+    robots : sequence of Robot
+        Robots with the same number of cables m.
+    p : array_like (N, 3) or (N, 6) [m, rad]
+        Desired positions, or poses.
+    rotvec : array_like (N, 3) or (3,) [rad], optional
+    L0 : array_like (N, m) [m], optional
+        Rest lengths of every robot, default L_TS at the desired pose of each robot.
+    tol, maxiter, max_step, restarts
+        As ``solve_spatial``.
+    threads : int, optional
+
+    Returns
+    -------
+    list of dict
+        ``solve_spatial`` of each robot.
+    """
+    robots = list(robots)
+    if not robots:
+        return []
+    m = robots[0].m
+    if any(r.m != m for r in robots):
+        raise ValueError("solve_spatial_batch: every robot needs the same number of cables")
+    tol, maxiter, max_step = stop_rules(tol, maxiter, max_step)
+    set_threads(threads)
+    opts = newton_options(PHYSICAL_DEFAULTS, tol, maxiter, max_step)
+    n = len(np.atleast_2d(np.asarray(p, dtype=float)))
+    per = max(1, BATCH_POSES // max(n, 1))
+    results = []
+    for start in range(0, len(robots), per):
+        group = robots[start : start + per]
+        records = [_Compiled6(r) for r in group]
+        poses = [set_up(r, p, rotvec, L0, None, L_TS_fast) for r in group]
+        cabs, bodies, scal, flags, out = _stack(records, n, m)
+        if n:
+            f = np.ascontiguousarray
+            _solve_poses_batch(
+                f(np.stack([q.p for q in poses]), dtype=float),
+                f(np.stack([q.p0 for q in poses]), dtype=float),
+                f(np.stack([q.R_d for q in poses]), dtype=float),
+                f(np.stack([q.L0 for q in poses]), dtype=float),
+                *cabs,
+                *bodies,
+                scal,
+                flags,
+                opts,
+                out,
+            )
+        for k, (robot, rec, pose) in enumerate(zip(group, records, poses)):
+            o = Out6(*(a[k].copy() for a in out))
+            cur = {
+                "F": o.F,
+                "M": o.M,
+                "t": o.t,
+                "merit": o.merit,
+                "J": o.J,
+                "inside": o.inside,
+                "gamma": o.gamma,
+                "stable": o.stable,
+                "rotvec": o.rotvec,
+            }
+            first = (o.P, o.R, cur, o.it, o.conv)
+            results.append(finish(robot, rec, newton6_fast, pose, first, tol, maxiter, max_step, restarts))
+    return results
 
 
 @njit(cache=True, parallel=True, error_model="numpy")

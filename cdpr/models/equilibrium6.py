@@ -52,6 +52,8 @@ matrix, elastic cables).
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from cdpr.models.equilibrium import (
@@ -437,10 +439,66 @@ def solve_with(robot, cab, newton, p, rotvec, L0, P0, tol, maxiter, max_step, re
     ----------
     Paty et al. 2021, eq. (2)-(5), (10)-(14); Pott 2018, ch. 3.
     """
+    tol, maxiter, max_step = stop_rules(tol, maxiter, max_step)
+    pose = set_up(robot, p, rotvec, L0, P0, standard)
+    first = newton(cab, pose.p0, pose.R_d.copy(), pose.L0, pose.p, tol, maxiter, max_step)
+    return finish(robot, cab, newton, pose, first, tol, maxiter, max_step, restarts)
+
+
+class Setup(NamedTuple):
+    """The poses of a 6-DoF solve (``set_up``): p (N, 3) [m] desired positions, R_d (N, 3, 3) and
+    rv_d (N, 3) [rad] desired orientations, L0 (N, m) [m] rest lengths, p0 (N, 3) [m] the start."""
+
+    p: np.ndarray
+    R_d: np.ndarray
+    rv_d: np.ndarray
+    L0: np.ndarray
+    p0: np.ndarray
+
+
+def stop_rules(tol=None, maxiter=None, max_step=None):
+    """Newton's stop rules, ``equilibrium.PHYSICAL_DEFAULTS`` where None.
+
+    Parameters
+    ----------
+    tol : float [m], optional
+    maxiter : int, optional
+    max_step : float [m], optional
+
+    Returns
+    -------
+    tuple
+        (tol [m], maxiter, max_step [m]).
+    """
     o = PHYSICAL_DEFAULTS
-    tol = o["tol"] if tol is None else tol
-    maxiter = o["maxiter"] if maxiter is None else maxiter
-    max_step = o["max_step"] if max_step is None else max_step
+    return (
+        o["tol"] if tol is None else tol,
+        o["maxiter"] if maxiter is None else maxiter,
+        o["max_step"] if max_step is None else max_step,
+    )
+
+
+def set_up(robot, p, rotvec=None, L0=None, P0=None, standard=None):
+    """The desired poses, rest lengths and Newton's start of ``solve_with``.
+
+    Parameters
+    ----------
+    robot : Robot
+    p : array_like (N, 3) or (N, 6) [m, rad]
+        Desired positions, or poses.
+    rotvec : array_like (N, 3) or (3,) [rad], optional
+        Desired orientations, default identity.
+    L0 : array_like (N, m) [m], optional
+        Rest lengths, default ``standard(robot, p, R)``.
+    P0 : array_like (N, 3) [m], optional
+        Newton's starting positions (default p; ``start_poses``).
+    standard : callable, optional
+        Default rest lengths, ``L_TS_pose`` when None.
+
+    Returns
+    -------
+    Setup
+    """
     given = np.atleast_2d(np.asarray(p, dtype=float))
     p, R_d = pose_arrays(robot, p, rotvec)
     if given.shape[1] == 6:
@@ -454,14 +512,70 @@ def solve_with(robot, cab, newton, p, rotvec, L0, P0, tol, maxiter, max_step, re
         L0 = (L_TS_pose if standard is None else standard)(robot, p, R_d)
     L0 = np.broadcast_to(np.asarray(L0, dtype=float), (n, robot.m)).copy()
     p0 = start_poses(robot, p if P0 is None else np.atleast_2d(np.asarray(P0, dtype=float)))
-    P, R, cur, iters, conv = newton(cab, p0, R_d.copy(), L0, p, tol, maxiter, max_step)
+    return Setup(p, R_d, rv_d, L0, p0)
+
+
+def finish(robot, cab, newton, pose, first, tol, maxiter, max_step, restarts):
+    """``solve_with`` after its first Newton pass: the restarts (by ``newton``) and the result.
+
+    Parameters
+    ----------
+    robot : Robot
+    cab : _Cables6
+    newton : callable
+        As ``solve_with`` (it solves the restarts).
+    pose : Setup
+        ``set_up``'s poses.
+    first : tuple
+        ``newton(cab, pose.p0, pose.R_d, pose.L0, pose.p, tol, maxiter, max_step)``.
+    tol, maxiter, max_step : float [m], int, float [m]
+        Stop rules (``stop_rules``).
+    restarts : bool
+        As ``solve_spatial``.
+
+    Returns
+    -------
+    dict
+        As ``solve_spatial``.
+    """
+    P, R, cur, iters, conv = first
+    n = len(pose.p)
     if restarts and cab.rigid and n:
         P, R, cur, iters, conv, unique, alternatives = _restart(
-            cab, p, R_d, L0, P, R, cur, iters, conv, tol, maxiter, max_step, newton
+            cab, pose.p, pose.R_d, pose.L0, P, R, cur, iters, conv, tol, maxiter, max_step, newton
         )
     else:
         unique, alternatives = np.ones(n, dtype=bool), [[] for _ in range(n)]
-    return _result6(robot, cab, p, R_d, rv_d, L0, P, R, cur, iters, conv, unique, alternatives)
+    return _result6(
+        robot, cab, pose.p, pose.R_d, pose.rv_d, pose.L0, P, R, cur, iters, conv, unique, alternatives
+    )
+
+
+def solve_spatial_batch(
+    robots, p, rotvec=None, L0=None, tol=None, maxiter=None, max_step=None, restarts=True
+):
+    """``solve_spatial`` of several robots at the same poses and rest lengths (the Monte Carlo and
+    Sobol samples of one design): the numpy reference of ``cdpr.compiled.equilibrium6``'s batch,
+    which runs every robot's first Newton pass in one parallel pass over (robot, chunk of poses).
+
+    Parameters
+    ----------
+    robots : sequence of Robot
+        Robots with the same number of cables m.
+    p : array_like (N, 3) or (N, 6) [m, rad]
+        Desired positions, or poses.
+    rotvec : array_like (N, 3) or (3,) [rad], optional
+    L0 : array_like (N, m) [m], optional
+        Commanded rest lengths of every robot; default L_TS at the desired pose of each robot.
+    tol, maxiter, max_step, restarts
+        As ``solve_spatial``.
+
+    Returns
+    -------
+    list of dict
+        ``solve_spatial`` of each robot.
+    """
+    return [solve_spatial(r, p, rotvec, L0, None, tol, maxiter, max_step, restarts) for r in robots]
 
 
 def _needs_restart(cab, cur, conv):

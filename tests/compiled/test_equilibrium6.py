@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 from numba import njit
 
+from cdpr.compiled import equilibrium6 as compiled6
 from cdpr.compiled._kernels import cable, cable_axis, cable_derivatives
 from cdpr.compiled.equilibrium import solve_physical_fast
 from cdpr.compiled.equilibrium6 import lu_solve6, pinv_solve6, positive_definite6, rotvec_of_matrix
@@ -16,7 +17,9 @@ from cdpr.models.equilibrium6 import RCOND, L_TS_pose, pose_arrays, pose_state, 
 from cdpr.models.platform import rotation_error, rotation_matrix, rotvec_of
 from cdpr.models.pulleys import total_length_and_direction
 from cdpr.models.statics import direction_gradient, length_gradient
+from cdpr.parameters import parameter_values6, robot_with_parameters6
 from cdpr.robot import load_robot, pulley_frame, with_pulleys
+from cdpr.solve import solve_spatial_batch_any
 from tests.conftest import ROBOTS
 
 #: Per robot: the box [x0, x1, y0, y1, z0, z1] [m] of the random desired positions.
@@ -281,3 +284,41 @@ def test_rotation_vector_of_a_matrix_equals_scipys():
     R = rotation_matrix(rv)
     assert np.abs(_rotvecs(R) - rotvec_of(R)).max() < 1e-12
     assert np.abs(_rotvecs(R) - rv).max() < 1e-9
+
+
+def _equal_results(a, b):
+    """Two ``solve_spatial`` results element for element (arrays equal, alternatives equal)."""
+    assert set(a) == set(b)
+    for key in a:
+        if key == "alternatives":
+            assert [[sorted(u) for u in x] for x in a[key]] == [[sorted(u) for u in x] for x in b[key]]
+            for x, y in zip(a[key], b[key]):
+                for u, v in zip(x, y):
+                    for k in u:
+                        np.testing.assert_array_equal(np.asarray(u[k]), np.asarray(v[k]))
+        else:
+            np.testing.assert_array_equal(np.asarray(a[key]), np.asarray(b[key]), err_msg=key)
+
+
+@pytest.mark.parametrize("name, scale", [("cogiro.yaml", 1.0), ("wall_pulleys.yaml", 1.01)])
+def test_the_batched_solve_equals_one_solve_per_robot(name, scale, monkeypatch):
+    """``solve_spatial_batch`` (the uncertainty samples' solver) of robots with perturbed anchors,
+    dead lengths, moduli and mass gives each robot's ``solve_spatial`` exactly, restarts and several
+    equilibria included (wall_pulleys, 1 % long), also when the robots are split into several passes."""
+    r = load_robot(ROBOTS / name)
+    p, rv, L0 = _poses(r, BOXES[name], 60, seed=7)
+    theta0 = parameter_values6(r)
+    g = np.random.default_rng(11)
+    robots = [
+        robot_with_parameters6(r, theta0 * (1.0 + 1e-3 * g.standard_normal(theta0.shape))) for _ in range(5)
+    ]
+    monkeypatch.setattr(compiled6, "BATCH_POSES", 2 * 60)  # three passes of two, two and one robot
+    batch = compiled6.solve_spatial_batch(robots, p, rv, L0=L0 * scale)
+    assert len(batch) == len(robots)
+    for robot, res in zip(robots, batch):
+        _equal_results(solve_fast(robot, p, rv, L0=L0 * scale), res)
+    if scale > 1.0:
+        assert sum((~res["unique"]).sum() for res in batch) > 20  # restarts found several equilibria
+    ref = solve_spatial_batch_any(robots[:2], p[:20], rv[:20], engine="numpy", L0=L0[:20] * scale)
+    for a, b in zip(ref, batch[:2]):
+        _same(a, {k: v[:20] for k, v in b.items()})
