@@ -21,14 +21,21 @@ def st(monkeypatch):
     return study.load_study(QUICK_SPATIAL)
 
 
-def test_robot_view_puts_the_platform_at_the_centre_of_rw_c(st, tmp_path, monkeypatch):
-    box = [-3.0, 3.0, -2.0, 1.0, 0.5, 3.5]
+def _record_views(tmp_path, box, monkeypatch):
+    """Write ``box`` as tmp_path/rw_c.json and record every ``plots.robot_view`` call (geometry,
+    keywords) while it still draws: the list it appends to."""
     (tmp_path / "rw_c.json").write_text(json.dumps({"box": box}), encoding="utf-8")
     seen = []
     real = plots.robot_view
     monkeypatch.setattr(
         plots, "robot_view", lambda geom, out, **kw: seen.append((geom, kw)) or real(geom, out, **kw)
     )
+    return seen
+
+
+def test_robot_view_puts_the_platform_at_the_centre_of_rw_c(st, tmp_path, monkeypatch):
+    box = [-3.0, 3.0, -2.0, 1.0, 0.5, 3.5]
+    seen = _record_views(tmp_path, box, monkeypatch)
     out = tmp_path / "robot" / "CoGiRo.png"
     tasks.robot_view(st, "CoGiRo", str(tmp_path / "rw_c.json"), str(out))
     ((geom, kw),) = seen
@@ -46,12 +53,7 @@ def test_robot_view_of_a_point_mass_study_draws_each_robot(tmp_path, monkeypatch
     monkeypatch.chdir(ROOT)
     st = study.load_study(ROOT / "config" / "studies" / "quick.yaml")
     box = [-0.6, 0.6, -0.4, 0.8, 1.0, 2.2]
-    (tmp_path / "rw_c.json").write_text(json.dumps({"box": box}), encoding="utf-8")
-    seen = []
-    real = plots.robot_view
-    monkeypatch.setattr(
-        plots, "robot_view", lambda geom, out, **kw: seen.append((geom, kw)) or real(geom, out, **kw)
-    )
+    seen = _record_views(tmp_path, box, monkeypatch)
     doe_robot = st["doe"]["robot"]
     other = next(k for k in st["robots"] if k != doe_robot)
     for key in (doe_robot, other):
