@@ -973,6 +973,23 @@ class _Compiled6(_Cables6):
         self.body = body_arrays(self)
 
 
+def _first_pass(out):
+    """``newton6_fast``'s result from the kernel's ``Out6``: (P, R, the evaluation dict that
+    ``equilibrium6.finish`` reads, iterations, converged)."""
+    cur = {
+        "F": out.F,
+        "M": out.M,
+        "t": out.t,
+        "merit": out.merit,
+        "J": out.J,
+        "inside": out.inside,
+        "gamma": out.gamma,
+        "stable": out.stable,
+        "rotvec": out.rotvec,
+    }
+    return out.P, out.R, cur, out.it, out.conv
+
+
 def newton6_fast(cab, p0, R0, L0, p_ref, tol, maxiter, max_step):
     """The compiled ``equilibrium6._newton6`` (same parameters and results) over N poses.
 
@@ -1014,18 +1031,7 @@ def newton6_fast(cab, p0, R0, L0, p_ref, tol, maxiter, max_step):
             opts,
             out,
         )
-    cur = {
-        "F": out.F,
-        "M": out.M,
-        "t": out.t,
-        "merit": out.merit,
-        "J": out.J,
-        "inside": out.inside,
-        "gamma": out.gamma,
-        "stable": out.stable,
-        "rotvec": out.rotvec,
-    }
-    return out.P, out.R, cur, out.it, out.conv
+    return _first_pass(out)
 
 
 def solve_spatial(
@@ -1198,19 +1204,7 @@ def solve_spatial_batch(
                 out,
             )
         for k, (robot, rec, pose) in enumerate(zip(group, records, poses)):
-            o = Out6(*(a[k].copy() for a in out))
-            cur = {
-                "F": o.F,
-                "M": o.M,
-                "t": o.t,
-                "merit": o.merit,
-                "J": o.J,
-                "inside": o.inside,
-                "gamma": o.gamma,
-                "stable": o.stable,
-                "rotvec": o.rotvec,
-            }
-            first = (o.P, o.R, cur, o.it, o.conv)
+            first = _first_pass(Out6(*(a[k].copy() for a in out)))
             results.append(finish(robot, rec, newton6_fast, pose, first, tol, maxiter, max_step, restarts))
     return results
 
