@@ -162,7 +162,9 @@ def solve_points_any(
     return mark_below_floor(res, p)
 
 
-def solve_points_batch_any(robots, p, redundancy="physical", L0=None, L=None, engine=None, threads=None):
+def solve_points_batch_any(
+    robots, p, redundancy="physical", L0=None, L=None, engine=None, threads=None, P0=None
+):
     """``solve_points_any(robot, p, redundancy=redundancy, L0=L0, L=L)`` of every robot (suspended
     point masses with the same cables, no orientation) by the chosen engine. Compiled (default): one
     parallel pass over every (robot, point) pair, the same per-point kernel and results as one solve
@@ -170,7 +172,9 @@ def solve_points_batch_any(robots, p, redundancy="physical", L0=None, L=None, en
     lengths ``L0`` (N, m) [m]; ``cdpr.compiled.subsets.solve_points_batch``, paper mode, commanded
     total lengths ``L`` (N, m) [m]); numpy: the references (``equilibrium.solve_physical_batch``,
     ``subsets.solve_points`` per robot). The points below the floor are marked inaccessible
-    (``mark_below_floor``). Returns one result dict per robot."""
+    (``mark_below_floor``). ``P0`` (N, 3) or (K, N, 3) [m]: Newton's starting points of the
+    physical mode (default p; the paper rule's subset solves start at p). Returns one result dict
+    per robot."""
     p = np.atleast_2d(np.asarray(p, dtype=float))
     check_redundancy(redundancy)
     if any(not r.suspended_point_mass for r in robots) or p.shape[1] != 3:
@@ -180,10 +184,14 @@ def solve_points_batch_any(robots, p, redundancy="physical", L0=None, L=None, en
         if L is not None:
             raise CdprError("physical mode commands rest lengths L0, not total lengths L")
         if compiled:
-            res = compiled_equilibrium.solve_physical_batch(robots, p, L0=L0, threads=threads)
+            res = compiled_equilibrium.solve_physical_batch(robots, p, L0=L0, threads=threads, P0=P0)
         else:
-            res = equilibrium.solve_physical_batch(robots, p, L0=L0)
+            res = equilibrium.solve_physical_batch(robots, p, L0=L0, P0=P0)
     else:
+        if P0 is not None:
+            raise CdprError(
+                "the paper rule's subset solves start at the desired points: P0 is for physical mode"
+            )
         if L0 is not None or L is None:
             raise CdprError("batched paper-mode solves command total lengths L, not rest lengths L0")
         if compiled:
@@ -251,6 +259,16 @@ def subset_sensitivities(robot, p, L=None, columns=None, engine=None, threads=No
             robot, p, L=L, columns=columns, threads=threads, **solver
         )
     return sensitivity.subset_sensitivities(robot, p, L=L, columns=columns, **solver)
+
+
+def linear_positions(dp0, S, delta, engine=None, threads=None):
+    """The linearised P*(θ) - p (n, N, 3) [m] of one slot for every parameter change
+    (``models.sensitivity.linear_positions``, the reference, whose docstring gives the equation), by
+    the chosen engine (``"compiled"`` default: ``cdpr.compiled.sensitivity.linear_positions``, points
+    in parallel); another engine raises CdprError."""
+    if check_engine(engine, "newton") == "compiled":
+        return compiled_sensitivity.linear_positions(dp0, S, delta, threads=threads)
+    return sensitivity.linear_positions(dp0, S, delta)
 
 
 def linear_dp(dp0, S, valid, delta, t0=None, St=None, T_a=None, engine=None, threads=None):

@@ -55,12 +55,13 @@ from SALib.sample import sobol as sobol_sample
 from scipy.stats import norm, truncnorm
 
 from cdpr.analyses.compensation import compensate
-from cdpr.errors import ConfigError
+from cdpr.errors import CdprError, ConfigError
 from cdpr.models.inverse import L_TS
 from cdpr.parameters import parameter_values, robot_with_parameters
 from cdpr.solve import (
     check_engine,
     linear_dp,
+    linear_positions,
     sensitivities,
     solve_points_any,
     solve_points_batch_any,
@@ -78,6 +79,8 @@ PARAMETER_KEYS = {
     "mass_kg": ("M", "value"),
 }
 CASES = ("uncompensated", "compensated")
+#: Where ``PoseErrorModel``'s physical full solves start Newton.
+STARTS = ("linear", "desired")
 #: Quantiles of the bands (5, 50, 95 %).
 QUANTILES = (0.05, 0.5, 0.95)
 #: u is kept in [U_EPS, 1 - U_EPS] so that an unbounded normal's inverse CDF stays finite.
@@ -395,6 +398,15 @@ class Linearisation:
         t = (self.t0, self.St, self.T_a) if self.has_t else (None, None, None)
         return linear_dp(self.dp0, self.S, self.valid, delta, *t, engine=engine, threads=threads)
 
+    def shift(self, theta, engine=None, threads=None):
+        """The linearised P*(θ) - p (n, N, 3) [m] of each point's nominal slot (``best``), zero
+        where no slot is admissible (``solve.linear_positions``; the same engines as ``dp``)."""
+        delta = self._delta(theta)
+        idx = np.arange(len(self.best))
+        dp0 = np.where(self.ok[:, None], self.dp0[idx, self.best], 0.0)
+        S = np.where(self.ok[:, None, None], self.S[idx, self.best], 0.0)
+        return linear_positions(dp0, S, delta, engine=engine, threads=threads)
+
     def nominal(self):
         """(dp_0 (N, 3), S (N, 3, k)) of the nominal answer, with S in dP/dθ (not compliance)."""
         idx = np.arange(len(self.best))
@@ -452,12 +464,30 @@ class PoseErrorModel:
     engine : {"compiled", "numpy", None}
         Engine of every solve (``solve.check_engine``: None is compiled; another value raises
         CdprError).
+    start : {"linear", "desired"}
+        Where the full solves of the physical mode start Newton: at the linearised equilibrium of
+        each sample, p + dp_0 + S (τ(θ) - τ(θ_0)) (``Linearisation.shift``; the desired point where
+        the nominal answer is not ok), or at the desired point p. Both converge to the same
+        equilibrium within the solver's tolerance; the linear start takes about half the Newton
+        iterations (benchmarks/README.md). The paper rule's subset solves start at p either way.
     """
 
     def __init__(
-        self, robot, p, case="uncompensated", redundancy="paper", compensation=None, threads=None, engine=None
+        self,
+        robot,
+        p,
+        case="uncompensated",
+        redundancy="paper",
+        compensation=None,
+        threads=None,
+        engine=None,
+        start="linear",
     ):
+        if start not in STARTS:
+            raise CdprError(f"unknown start {start!r}; allowed: {', '.join(STARTS)}")
         self.robot = robot
+        self.start = start
+        self._nominal_sens = self._start_lin = None
         self.engine = check_engine(engine, "newton")
         self.p = np.atleast_2d(np.asarray(p, dtype=float))
         self.case = case
@@ -484,6 +514,23 @@ class PoseErrorModel:
         self._pv = np.ascontiguousarray(self.p[self.feasible])
         self._Lv = np.ascontiguousarray(self.L[self.feasible])
 
+    def _nominal(self):
+        """``solve.sensitivities`` of the nominal robot at the feasible points (computed once)."""
+        if self._nominal_sens is None:
+            run = {"engine": self.engine, "threads": self.threads}
+            self._nominal_sens = sensitivities(self.robot, self._pv, redundancy=self.mode, L=self._Lv, **run)
+        return self._nominal_sens
+
+    def _starts(self, theta):
+        """Newton's starting points (n, N_feasible, 3) [m] of the physical full solves of θ, or None
+        (start at p: ``start`` "desired", or the paper rule)."""
+        if self.mode != "physical" or self.start != "linear":
+            return None
+        if self._start_lin is None:
+            self._start_lin = self.linearise()
+        shift = self._start_lin.shift(theta, engine=self.engine, threads=self.threads)
+        return self._pv[None] + shift[:, self.feasible]
+
     def _solve(self, robot, sens=False):
         run = {"engine": self.engine, "threads": self.threads}
         if sens:
@@ -504,7 +551,8 @@ class PoseErrorModel:
             lengths = {"L": self._Lv} if self.mode == "paper" else {"L0": self._Lv}
             for i in range(0, n, k):
                 robots = [robot_with_parameters(self.robot, t) for t in th[i : i + k]]
-                for j, res in enumerate(solve_points_batch_any(robots, self._pv, **lengths, **run)):
+                P0 = self._starts(th[i : i + k])
+                for j, res in enumerate(solve_points_batch_any(robots, self._pv, **lengths, **run, P0=P0)):
                     dp[i + j, self.feasible] = res["dp"]
                     ok[i + j, self.feasible] = res["status"] == "ok"
             return dp, ok
@@ -522,7 +570,7 @@ class PoseErrorModel:
         cols = np.arange(7 * m + 1) if columns is None else np.asarray(columns, dtype=np.intp)
         N = len(self.p)
         run = {"engine": self.engine, "threads": self.threads}
-        nom = sensitivities(self.robot, self._pv, redundancy=self.mode, L=self._Lv, **run)
+        nom = self._nominal()
         smooth = np.zeros(N, dtype=bool)
         smooth[self.feasible] = nom["smooth"]
         extra = {}

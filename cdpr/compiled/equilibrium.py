@@ -21,6 +21,7 @@ from cdpr.models.equilibrium import (
     LS_SKIP,
     MAX_HALVINGS,
     PHYSICAL_DEFAULTS,
+    batch_starts,
     hull_halfplanes,
     physical_result,
     start_points,
@@ -358,7 +359,7 @@ def _solve_batch(p, P0, L0, A, kind, h, rp, d, inward, ES, E, T_a, loads, opts, 
             solve_point(i, p, P0[k], L0, cab, load, opts, out, tcur, ttry)
 
 
-def solve_physical_batch(robots, p, L0=None, tol=None, maxiter=None, max_step=None, threads=None):
+def solve_physical_batch(robots, p, L0=None, tol=None, maxiter=None, max_step=None, threads=None, P0=None):
     """Compiled ``equilibrium.solve_physical_batch``: ``solve_physical_fast`` of every robot at the
     same points and rest lengths in one parallel pass over (robot, chunk of points) pairs, so that
     many small solves (Monte Carlo and Sobol samples) do not each start and stop numba's threads.
@@ -373,6 +374,8 @@ def solve_physical_batch(robots, p, L0=None, tol=None, maxiter=None, max_step=No
         Rest lengths of every robot, default L_TS(p) (eq. 2) of each robot.
     tol, maxiter, max_step : optional, defaults ``equilibrium.PHYSICAL_DEFAULTS``.
     threads : int, optional
+    P0 : array_like, shape (N, 3) or (K, N, 3) [m], optional
+        Newton's starting points, as ``equilibrium.solve_physical_batch`` (default p).
 
     Returns
     -------
@@ -392,15 +395,17 @@ def solve_physical_batch(robots, p, L0=None, tol=None, maxiter=None, max_step=No
         L0s = [np.ascontiguousarray(np.broadcast_to(np.asarray(L0, dtype=float), (n, m)), dtype=float)] * len(
             robots
         )
+    starts = batch_starts(robots, p, P0)
     if n == 0 or L0 is None:  # rest lengths per robot: one solve each
         return [
-            solve_physical_fast(r, p, L, None, tol, maxiter, max_step, threads) for r, L in zip(robots, L0s)
+            solve_physical_fast(r, p, L, P, tol, maxiter, max_step, threads)
+            for r, L, P in zip(robots, L0s, starts)
         ]
     K = len(robots)
     cabs = [cable_arrays(r) for r in robots]
     stack = [np.ascontiguousarray(np.stack([c[j] for c in cabs])) for j in range(len(Cables._fields))]
     loads = np.array([tuple(physical_load(r)) for r in robots], dtype=float)
-    P0 = np.ascontiguousarray(np.stack([start_points(r, p) for r in robots]))
+    P0 = np.ascontiguousarray(np.stack(starts))
     P = np.empty((K, n, 3))
     t = np.empty((K, n, m))
     resid = np.empty((K, n))

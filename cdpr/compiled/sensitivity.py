@@ -617,3 +617,40 @@ def linear_dp(dp0, S, valid, delta, t0=None, St=None, T_a=None, threads=None):
         out,
     )
     return out
+
+
+@njit(cache=True, parallel=True, error_model="numpy")
+def _linear_positions(dp0, S, delta, out):
+    """out[s, i] = dp0[i] + S[i] delta[s] (``models.sensitivity.linear_positions``)."""
+    N, k = S.shape[0], S.shape[2]
+    for i in prange(N):
+        for s in range(delta.shape[0]):
+            for a in range(3):
+                v = dp0[i, a]
+                for q in range(k):
+                    v += S[i, a, q] * delta[s, q]
+                out[s, i, a] = v
+
+
+def linear_positions(dp0, S, delta, threads=None):
+    """Compiled ``models.sensitivity.linear_positions``: dp0 + S δ of one slot for every parameter
+    change, points in parallel.
+
+    Parameters
+    ----------
+    dp0 : ndarray, shape (N, 3) [m]
+    S : ndarray, shape (N, 3, k) [m per unit of τ]
+    delta : ndarray, shape (n, k) [unit of τ]
+    threads : int, optional
+
+    Returns
+    -------
+    ndarray, shape (n, N, 3) [m]
+    """
+    set_threads(threads)
+    delta = np.ascontiguousarray(np.atleast_2d(delta), dtype=float)
+    out = np.empty((len(delta), len(dp0), 3))
+    _linear_positions(
+        np.ascontiguousarray(dp0, dtype=float), np.ascontiguousarray(S, dtype=float), delta, out
+    )
+    return out

@@ -88,6 +88,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from cdpr.errors import CdprError
 from cdpr.models.inverse import L_TS
 from cdpr.models.pulleys import total_length_and_direction
 from cdpr.models.results import STATUSES
@@ -414,7 +415,7 @@ def solve_physical(robot, p, L0=None, P0=None, tol=None, maxiter=None, max_step=
     return physical_result(robot, p, P, cur["t"], np.linalg.norm(cur["F"], axis=1), iters, conv, g.inside)
 
 
-def solve_physical_batch(robots, p, L0=None, tol=None, maxiter=None, max_step=None):
+def solve_physical_batch(robots, p, L0=None, tol=None, maxiter=None, max_step=None, P0=None):
     """``solve_physical`` of several robots at the same points and rest lengths (Monte Carlo and
     Sobol samples of one design): the numpy reference of ``cdpr.compiled.equilibrium``'s batch
     kernel, which solves every (robot, point) pair in one parallel pass.
@@ -429,13 +430,33 @@ def solve_physical_batch(robots, p, L0=None, tol=None, maxiter=None, max_step=No
         Commanded rest lengths of every robot; default L_TS(p) (eq. 2) of each robot.
     tol, maxiter, max_step : float [m], int, float [m], optional
         As ``solve_physical``.
+    P0 : array_like, shape (N, 3) or (K, N, 3) [m], optional
+        Newton's starting points: the same for every robot, or robot k's in ``P0[k]`` (a warm start
+        near each robot's equilibrium, ``uncertainty.PoseErrorModel``); default p.
 
     Returns
     -------
     list of dict
         ``solve_physical`` of each robot.
     """
-    return [solve_physical(r, p, L0, None, tol, maxiter, max_step) for r in robots]
+    starts = batch_starts(robots, p, P0)
+    return [solve_physical(r, p, L0, P, tol, maxiter, max_step) for r, P in zip(robots, starts)]
+
+
+def batch_starts(robots, p, P0=None):
+    """The starting points of every robot of a batched solve: ``start_points`` of robot k at p
+    (default), at P0 (N, 3) or at P0[k] (P0 (K, N, 3)) [m]; a list of K (N, 3) arrays."""
+    p = np.atleast_2d(np.asarray(p, dtype=float))
+    if P0 is None:
+        return [start_points(r, p) for r in robots]
+    P0 = np.asarray(P0, dtype=float)
+    if P0.shape not in ((len(p), 3), (len(robots), len(p), 3)):
+        raise CdprError(
+            f"P0 has shape {P0.shape}; allowed: (N, 3) or (K, N, 3) = ({len(robots)}, {len(p)}, 3)"
+        )
+    if P0.ndim == 2:
+        P0 = np.broadcast_to(P0, (len(robots), *P0.shape))
+    return [start_points(r, P) for r, P in zip(robots, P0)]
 
 
 def physical_result(robot, p, P, t, residual, iters, conv, inside, halfplanes=None):

@@ -532,3 +532,31 @@ def linear_dp(dp0, S, valid, delta, t0=None, St=None, T_a=None):
         norm = np.where(adm, np.linalg.norm(v, axis=3), np.inf)
         out[i : i + BATCH] = norm.min(axis=2)
     return np.where(np.isfinite(out), out, np.nan)
+
+
+def linear_positions(dp0, S, delta):
+    """First-order positions of one slot for every parameter change: the linearised P*(θ) - p
+    (the numpy reference of ``uncertainty.Linearisation.shift``; ``cdpr.compiled.sensitivity.
+    linear_positions`` is its compiled twin). Full solves start from p + this (a warm start).
+
+    .. math:: P^*(\\theta) - p \\approx dp_0 + S \\delta, \\quad \\delta = \\tau(\\theta) - \\tau(\\theta_0)
+
+    Parameters
+    ----------
+    dp0 : ndarray, shape (N, 3) [m]
+        Nominal error P*(θ_0) - p of the slot.
+    S : ndarray, shape (N, 3, k) [m per unit of τ]
+        Its sensitivities (in τ, see ``uncertainty.Linearisation``).
+    delta : ndarray, shape (n, k) [unit of τ]
+        τ(θ) - τ(θ_0) per sample.
+
+    Returns
+    -------
+    ndarray, shape (n, N, 3) [m]
+
+    References
+    ----------
+    Paty et al. 2021, eq. (8)-(13) (the sensitivities), section 3.2.
+    """
+    N, _, k = S.shape
+    return (S.reshape(N * 3, k) @ np.asarray(delta, dtype=float).T).T.reshape(len(delta), N, 3) + dp0

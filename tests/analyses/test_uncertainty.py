@@ -9,7 +9,7 @@ import pytest
 
 from cdpr.analyses import uncertainty as uq
 from cdpr.analyses.workspace import grid_points
-from cdpr.errors import ConfigError
+from cdpr.errors import CdprError, ConfigError
 from cdpr.parameters import parameter_names, parameter_values
 from cdpr.pipeline.study import Study, check_study, load_study
 from cdpr.robot import with_pulleys
@@ -131,6 +131,42 @@ def test_linearisation_error_is_second_order_when_compensated(cdpr4):
         assert ok.all()
         errs.append(np.abs(lin.dp(th) - dp).max() / np.abs(dp).max())
     assert errs[1] < errs[0] / 30, errs
+
+
+@pytest.mark.parametrize("case", ["uncompensated", "compensated"])
+def test_full_solves_from_the_linearised_start_equal_those_from_p(cdpr4, case):
+    """The physical full solves start Newton at each sample's linearised equilibrium
+    (``start="linear"``, the default) or at p: the same ‖δp‖ within the solver's tolerance and
+    the same ok points, over every declared parameter (all drivers vary); the starts are
+    p + Linearisation.shift, which the compiled and numpy engines compute alike."""
+    robot = with_pulleys(cdpr4, kind="SR", h=0.1077, r_p=0.035)
+    dr = uq.drivers(PARAMS, 4)
+    th = uq.parameter_samples(robot, dr, uq.mc_uniforms(7, 0, 12, len(dr)))
+    pts = grid_points(RW_C, 7)
+    models = {
+        s: uq.PoseErrorModel(robot, pts, case, redundancy="physical", start=s) for s in ("linear", "desired")
+    }
+    (dl, okl), (dd, okd) = (models[s].solve(th) for s in ("linear", "desired"))
+    np.testing.assert_array_equal(okl, okd)
+    assert okl.mean() > 0.5
+    assert np.abs(dl - dd)[okl].max() < 1e-9
+    # the starts: p + dp0 + S delta of the nominal slot, by either engine, and their definition
+    lin = models["linear"].linearise()
+    shift = lin.shift(th)
+    np.testing.assert_allclose(lin.shift(th, engine="numpy"), shift, rtol=0, atol=1e-15)
+    i = np.flatnonzero(lin.ok)[3]
+    want = lin.dp0[i, lin.best[i]] + lin.S[i, lin.best[i]] @ (lin.tau(th[2]) - lin.tau(lin.theta0))[0]
+    np.testing.assert_allclose(shift[2, i], want, rtol=0, atol=1e-15)
+    assert (shift[:, ~lin.ok] == 0).all()
+    # the linearised start is far closer to the equilibrium than p (a lower bound of its distance)
+    start = models["linear"]._starts(th)
+    P = pts[models["linear"].feasible][None] + 0  # desired points
+    with np.errstate(invalid="ignore"):
+        miss = np.abs(np.linalg.norm(start - P, axis=2) - dl[:, models["linear"].feasible])
+    miss = np.where(okl[:, models["linear"].feasible], miss, np.nan)
+    assert np.nanmedian(miss) < 0.05 * np.nanmedian(dl)
+    with pytest.raises(CdprError, match="unknown start 'nominal'; allowed: linear, desired"):
+        uq.PoseErrorModel(robot, pts, case, start="nominal")
 
 
 def test_sobol_indices_of_a_model_with_a_known_answer(cdpr4):

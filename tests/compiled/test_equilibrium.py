@@ -7,6 +7,7 @@ import pytest
 
 from cdpr.analyses.workspace import frame_box, grid_points
 from cdpr.compiled.equilibrium import solve_physical_batch, solve_physical_fast
+from cdpr.errors import CdprError
 from cdpr.models.equilibrium import (
     FTOL_REL,
     solve_physical,
@@ -107,3 +108,36 @@ def test_batch_without_rest_lengths_commands_each_robots_L_TS():
     for rk, b in zip(robots, solve_physical_batch(robots, p)):
         np.testing.assert_array_equal(b["status"], solve_physical_fast(rk, p)["status"])
         np.testing.assert_array_equal(b["P_s"], solve_physical_fast(rk, p)["P_s"])
+
+
+@pytest.mark.parametrize("kind", ["SR", "DR"])
+def test_batch_from_given_starts_equals_one_solve_per_robot_from_them(kind):
+    """Starting points per robot (P0 (K, N, 3)): each robot's rows are solve_physical_fast from its
+    own P0[k], the numpy batch reference agrees as solve_physical does, and a start near the
+    equilibrium reaches the same equilibrium as the start at p in fewer iterations."""
+    r, p, L0 = _case(kind, seed=5)
+    robots = _perturbed(r, 3)
+    cold = solve_physical_batch(robots, p, L0=L0)
+    # a start 0.1 mm from each robot's equilibrium where it converged, p elsewhere
+    rng = np.random.default_rng(6)
+    near = [np.where(c["converged"][:, None], c["P_s"], p) + rng.uniform(-1e-4, 1e-4, p.shape) for c in cold]
+    P0 = np.stack(near)
+    warm = solve_physical_batch(robots, p, L0=L0, P0=P0, threads=2)
+    ref = solve_physical_batch_numpy(robots[:1], p, L0=L0, P0=P0[:1])
+    for k, rk in enumerate(robots):
+        one = solve_physical_fast(rk, p, L0=L0, P0=P0[k])
+        for key in one:
+            np.testing.assert_array_equal(warm[k][key], one[key], err_msg=key)
+        unique = cold[k]["converged"] & (cold[k]["n_taut"] >= 3) & (cold[k]["status"] == "ok")
+        assert unique.sum() > 100
+        np.testing.assert_array_equal(warm[k]["status"][unique], cold[k]["status"][unique])
+        assert np.abs(warm[k]["P_s"] - cold[k]["P_s"])[unique].max() < 1e-9
+        assert warm[k]["iterations"][unique].sum() < 0.8 * cold[k]["iterations"][unique].sum()
+    np.testing.assert_array_equal(ref[0]["status"], warm[0]["status"])
+    both = ref[0]["converged"] & (ref[0]["n_taut"] >= 2)
+    assert np.abs(ref[0]["P_s"] - warm[0]["P_s"])[both].max() < 1e-9
+    # one start for every robot, and a start of the wrong shape
+    same = solve_physical_batch(robots[:2], p, L0=L0, P0=P0[0])
+    np.testing.assert_array_equal(same[1]["P_s"], solve_physical_fast(robots[1], p, L0=L0, P0=P0[0])["P_s"])
+    with pytest.raises(CdprError, match=r"P0 has shape \(2, 3\); allowed"):
+        solve_physical_batch(robots, p, L0=L0, P0=np.zeros((2, 3)))
