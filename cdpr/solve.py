@@ -172,9 +172,9 @@ def solve_points_batch_any(
     lengths ``L0`` (N, m) [m]; ``cdpr.compiled.subsets.solve_points_batch``, paper mode, commanded
     total lengths ``L`` (N, m) [m]); numpy: the references (``equilibrium.solve_physical_batch``,
     ``subsets.solve_points`` per robot). The points below the floor are marked inaccessible
-    (``mark_below_floor``). ``P0`` (N, 3) or (K, N, 3) [m]: Newton's starting points of the
-    physical mode (default p; the paper rule's subset solves start at p). Returns one result dict
-    per robot."""
+    (``mark_below_floor``). ``P0``: Newton's starting points (default p), (N, 3) or (K, N, 3) [m]
+    in physical mode, (K, N, n_subsets, 3) [m] (every subset of every robot) in paper mode. Returns
+    one result dict per robot."""
     p = np.atleast_2d(np.asarray(p, dtype=float))
     check_redundancy(redundancy)
     if any(not r.suspended_point_mass for r in robots) or p.shape[1] != 3:
@@ -188,16 +188,13 @@ def solve_points_batch_any(
         else:
             res = equilibrium.solve_physical_batch(robots, p, L0=L0, P0=P0)
     else:
-        if P0 is not None:
-            raise CdprError(
-                "the paper rule's subset solves start at the desired points: P0 is for physical mode"
-            )
         if L0 is not None or L is None:
             raise CdprError("batched paper-mode solves command total lengths L, not rest lengths L0")
+        starts = [None] * len(robots) if P0 is None else P0
         if compiled:
-            res = compiled_subsets.solve_points_batch(robots, p, L, threads=threads)
+            res = compiled_subsets.solve_points_batch(robots, p, L, threads=threads, P0=P0)
         else:
-            res = [solve_points(r, p, method="newton", L=L) for r in robots]
+            res = [solve_points(r, p, method="newton", L=L, P0=P) for r, P in zip(robots, starts)]
     return [mark_below_floor(r, p) for r in res]
 
 

@@ -398,10 +398,17 @@ class Linearisation:
         t = (self.t0, self.St, self.T_a) if self.has_t else (None, None, None)
         return linear_dp(self.dp0, self.S, self.valid, delta, *t, engine=engine, threads=threads)
 
-    def shift(self, theta, engine=None, threads=None):
-        """The linearised P*(θ) - p (n, N, 3) [m] of each point's nominal slot (``best``), zero
-        where no slot is admissible (``solve.linear_positions``; the same engines as ``dp``)."""
+    def shift(self, theta, every_slot=False, engine=None, threads=None):
+        """The linearised P*(θ) - p [m] of each point's nominal slot (``best``), (n, N, 3), zero
+        where no slot is admissible; with ``every_slot`` that of every slot, (n, N, C, 3), zero
+        where the slot is not valid (``solve.linear_positions``; the same engines as ``dp``)."""
         delta = self._delta(theta)
+        if every_slot:
+            N, C, _, k = self.S.shape
+            out = linear_positions(
+                self.dp0.reshape(N * C, 3), self.S.reshape(N * C, 3, k), delta, engine=engine, threads=threads
+            )
+            return out.reshape(len(delta), N, C, 3)
         idx = np.arange(len(self.best))
         dp0 = np.where(self.ok[:, None], self.dp0[idx, self.best], 0.0)
         S = np.where(self.ok[:, None, None], self.S[idx, self.best], 0.0)
@@ -465,11 +472,11 @@ class PoseErrorModel:
         Engine of every solve (``solve.check_engine``: None is compiled; another value raises
         CdprError).
     start : {"linear", "desired"}
-        Where the full solves of the physical mode start Newton: at the linearised equilibrium of
-        each sample, p + dp_0 + S (τ(θ) - τ(θ_0)) (``Linearisation.shift``; the desired point where
-        the nominal answer is not ok), or at the desired point p. Both converge to the same
-        equilibrium within the solver's tolerance; the linear start takes about half the Newton
-        iterations (benchmarks/README.md). The paper rule's subset solves start at p either way.
+        Where the full solves start Newton: at each sample's linearised solution,
+        p + dp_0 + S (τ(θ) - τ(θ_0)) (``Linearisation.shift``: the equilibrium in physical mode,
+        every subset's solution in paper mode; the desired point where the nominal one is not
+        valid), or at the desired point p. Both converge to the same solutions within the solver's
+        tolerance; the linear start takes about half the Newton iterations (benchmarks/README.md).
     """
 
     def __init__(
@@ -522,14 +529,27 @@ class PoseErrorModel:
         return self._nominal_sens
 
     def _starts(self, theta):
-        """Newton's starting points (n, N_feasible, 3) [m] of the physical full solves of θ, or None
-        (start at p: ``start`` "desired", or the paper rule)."""
-        if self.mode != "physical" or self.start != "linear":
+        """Newton's starting points [m] of the full solves of θ: (n, N_feasible, 3) in physical
+        mode, (n, N_feasible, n_subsets, 3) in paper mode; None (start at p) for ``start``
+        "desired". p + ``Linearisation.shift`` of the feasible points, computed in one pass from
+        the slots' p + dp_0 and S, which are kept."""
+        if self.start != "linear":
             return None
         if self._start_lin is None:
-            self._start_lin = self.linearise()
-        shift = self._start_lin.shift(theta, engine=self.engine, threads=self.threads)
-        return self._pv[None] + shift[:, self.feasible]
+            lin = self.linearise()
+            f = self.feasible
+            if self.mode == "physical":
+                idx = np.arange(len(lin.best))
+                dp0 = np.where(lin.ok[:, None], lin.dp0[idx, lin.best], 0.0)[f][:, None]
+                S = np.where(lin.ok[:, None, None], lin.S[idx, lin.best], 0.0)[f][:, None]
+            else:
+                dp0, S = lin.dp0[f], lin.S[f]
+            N, C, _, k = S.shape
+            base = (self._pv[:, None] + dp0).reshape(N * C, 3)
+            self._start_lin = (lin, base, np.ascontiguousarray(S.reshape(N * C, 3, k)), C)
+        lin, base, S, C = self._start_lin
+        P0 = linear_positions(base, S, lin._delta(theta), engine=self.engine, threads=self.threads)
+        return P0.reshape(len(P0), -1, 3) if self.mode == "physical" else P0.reshape(len(P0), -1, C, 3)
 
     def _solve(self, robot, sens=False):
         run = {"engine": self.engine, "threads": self.threads}

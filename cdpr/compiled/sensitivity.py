@@ -212,8 +212,9 @@ def _paper_points(p, Lin, cables, subs, b, mass, opts, gap_tol, out, S, gap_out,
         cs = np.empty(3, np.int64)
         Lc = np.empty(3)
         w = np.empty((8, 3, 3))
+        P0 = np.empty((0, ns, 3))  # every subset starts at p
         for i in range(ch * CHUNK, min(n, (ch + 1) * CHUNK)):
-            paper_point(i, p, Lin, cables, subs, b, opts, True, out, scr)
+            paper_point(i, p, Lin, cables, subs, b, opts, True, out, scr, P0)
             gap_out[i] = np.nan
             tm_out[i] = np.nan
             cond_out[i] = np.inf

@@ -27,6 +27,7 @@ from cdpr.compiled._kernels import (
     newton_options,
     set_threads,
 )
+from cdpr.errors import CdprError
 from cdpr.models.results import STATUSES
 from cdpr.models.subsets import TIE_TOL
 
@@ -349,9 +350,15 @@ def solve_subset(k, i, p, cab, subsets, Lall, b, opts, scr):
     """Subset k (row of ``subsets`` (ns, 3)) at point i from P = p[i] with commanded lengths Lall
     (m,) [m] and force b (3,) [N] (``_newton``): writes row k of scr.Ps, ts, its, conv, exi, dps
     (``PaperScratch``)."""
+    solve_subset_from(k, i, p, p[i, 0], p[i, 1], p[i, 2], cab, subsets, Lall, b, opts, scr)
+
+
+@njit(cache=True, error_model="numpy")
+def solve_subset_from(k, i, p, sx, sy, sz, cab, subsets, Lall, b, opts, scr):
+    """``solve_subset`` with Newton started at (sx, sy, sz) [m] instead of p[i]."""
     s0, s1, s2 = subsets[k, 0], subsets[k, 1], subsets[k, 2]
     px, py, pz, t0, t1, t2, it, cv, ex = _newton(
-        p[i, 0], p[i, 1], p[i, 2], s0, s1, s2, cab, Lall[s0], Lall[s1], Lall[s2], b[0], b[1], b[2], opts
+        sx, sy, sz, s0, s1, s2, cab, Lall[s0], Lall[s1], Lall[s2], b[0], b[1], b[2], opts
     )
     Ps, ts = scr.Ps, scr.ts
     Ps[k, 0], Ps[k, 1], Ps[k, 2] = px, py, pz
@@ -368,17 +375,19 @@ def _solve_points(p, Lin, cab, subs, b, opts, prune, out):
     nchunks = (n + CHUNK - 1) // CHUNK
     for ch in prange(nchunks):
         scr = paper_scratch(m, ns)
+        P0 = np.empty((0, ns, 3))
         for i in range(ch * CHUNK, min(n, (ch + 1) * CHUNK)):
-            solve_point(i, p, Lin, cab, subs, b, opts, prune, out, scr)
+            solve_point(i, p, Lin, cab, subs, b, opts, prune, out, scr, P0)
 
 
 @njit(cache=True, error_model="numpy")
-def solve_point(i, p, Lin, cab, subs, b, opts, prune, out, scr):
+def solve_point(i, p, Lin, cab, subs, b, opts, prune, out, scr, P0):
     """Point i: solve the subsets (pruned, see solve_points_fast) and choose as redundancy.solve_points.
 
     p (N, 3) [m]; Lin (N, m) or (0, m) [m] the commanded lengths (none: L_TS at p[i], eq. 2); cab
     ``Cables``; subs ``Subsets``; b (3,) [N] = -w_ext; opts ``Newton``; prune bool; writes row i
-    of out (``PaperOut``); scr a ``PaperScratch`` (left holding every subset's result at point i)."""
+    of out (``PaperOut``); scr a ``PaperScratch`` (left holding every subset's result at point i);
+    P0 (N, ns, 3) [m] Newton's start of every subset at every point, or (0, ns, 3): start at p[i]."""
     subsets, edges, margin = subs.idx, subs.edges, subs.margin
     A, T_a = cab.A, cab.T_a
     P_s, dp_out, t_out, sub_out, it_out, st_out, work = out
@@ -409,7 +418,12 @@ def solve_point(i, p, Lin, cab, subs, b, opts, prune, out, scr):
                 continue
             if pss == 2 and best < np.inf:
                 break
-            solve_subset(k, i, p, cab, subsets, Lall, b, opts, scr)
+            if P0.shape[0] > 0:
+                solve_subset_from(
+                    k, i, p, P0[i, k, 0], P0[i, k, 1], P0[i, k, 2], cab, subsets, Lall, b, opts, scr
+                )
+            else:
+                solve_subset(k, i, p, cab, subsets, Lall, b, opts, scr)
             solved[k] = True
             if (
                 conv[k]
@@ -538,8 +552,9 @@ def solve_points_fast(robot, p, tol=None, maxiter=None, threads=None, prune=True
 
 
 @njit(cache=True, parallel=True, error_model="numpy")
-def _solve_batch(p, Lin, A, kind, h, rp, d, inward, ES, E, T_a, idx, edges, margin, b, opts, prune, out):
-    # robot k's solve_point over the chunks of points: every (robot, chunk) pair is one parallel job
+def _solve_batch(p, Lin, A, kind, h, rp, d, inward, ES, E, T_a, idx, edges, margin, b, opts, prune, P0, out):
+    # robot k's solve_point over the chunks of points: every (robot, chunk) pair is one parallel job;
+    # P0 (K, N, ns, 3) the starts of every robot, or (0, N, ns, 3): start at p
     K, n = b.shape[0], p.shape[0]
     ns, m = idx.shape[0], A.shape[1]
     P_s, dp, t, sub, it, st, work = out
@@ -550,11 +565,12 @@ def _solve_batch(p, Lin, A, kind, h, rp, d, inward, ES, E, T_a, idx, edges, marg
         subs = Subsets(idx, edges[k], margin[k])
         o = PaperOut(P_s[k], dp[k], t[k], sub[k], it[k], st[k], work[k])
         scr = paper_scratch(m, ns)
+        P0k = P0[k] if P0.shape[0] > 0 else np.empty((0, ns, 3))
         for i in range(ch * CHUNK, min(n, (ch + 1) * CHUNK)):
-            solve_point(i, p, Lin, cab, subs, b[k], opts, prune, o, scr)
+            solve_point(i, p, Lin, cab, subs, b[k], opts, prune, o, scr, P0k)
 
 
-def solve_points_batch(robots, p, L, tol=None, maxiter=None, threads=None, prune=True):
+def solve_points_batch(robots, p, L, tol=None, maxiter=None, threads=None, prune=True, P0=None):
     """``solve_points_fast`` of every robot at the same points and commanded total lengths in one
     parallel pass over (robot, chunk of points) pairs, so that many small solves (Monte Carlo and
     Sobol samples) do not each start and stop numba's threads. Each point runs the same kernel on
@@ -571,6 +587,9 @@ def solve_points_batch(robots, p, L, tol=None, maxiter=None, threads=None, prune
     tol, maxiter : optional, defaults ``direct.NEWTON_DEFAULTS``.
     threads : int, optional
     prune : bool
+    P0 : array_like, shape (K, N, ns, 3) [m], optional
+        Newton's start of every robot's subsets at every point (a warm start near each solution,
+        ``uncertainty.PoseErrorModel``); default p.
 
     Returns
     -------
@@ -600,10 +619,17 @@ def solve_points_batch(robots, p, L, tol=None, maxiter=None, threads=None, prune
         np.empty((K, n), dtype=np.int8),
         np.empty((K, n), dtype=np.int32),
     )
+    ns = len(subs[0].idx)
+    if P0 is None:
+        P0 = np.empty((0, n, ns, 3))
+    else:
+        P0 = np.ascontiguousarray(P0, dtype=float)
+        if P0.shape != (K, n, ns, 3):
+            raise CdprError(f"P0 has shape {P0.shape}; allowed: (K, N, subsets, 3) = ({K}, {n}, {ns}, 3)")
     set_threads(threads)
     if n:
         opts = newton_options(NEWTON_DEFAULTS, tol, maxiter)
-        _solve_batch(p, Lin, *stack, subs[0].idx, edges, margin, b, opts, prune, out)
+        _solve_batch(p, Lin, *stack, subs[0].idx, edges, margin, b, opts, prune, P0, out)
     return [
         {
             "p": p,

@@ -444,8 +444,22 @@ def solve_physical_batch(robots, p, L0=None, tol=None, maxiter=None, max_step=No
 
 
 def batch_starts(robots, p, P0=None):
-    """The starting points of every robot of a batched solve: ``start_points`` of robot k at p
-    (default), at P0 (N, 3) or at P0[k] (P0 (K, N, 3)) [m]; a list of K (N, 3) arrays."""
+    """The starting points of every robot of a batched solve.
+
+    Parameters
+    ----------
+    robots : sequence of Robot
+        K robots.
+    p : array_like, shape (N, 3) [m]
+        Desired positions.
+    P0 : array_like, shape (N, 3) or (K, N, 3) [m], optional
+        One start for every robot, or robot k's in ``P0[k]``; default p.
+
+    Returns
+    -------
+    list of ndarray, shape (N, 3) [m]
+        ``start_points`` of robot k at its start.
+    """
     p = np.atleast_2d(np.asarray(p, dtype=float))
     if P0 is None:
         return [start_points(r, p) for r in robots]

@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from cdpr.errors import CdprError
 from cdpr.models.direct import degm_e
 from cdpr.models.inverse import L_TS
 
@@ -36,7 +37,7 @@ from cdpr.models.inverse import L_TS
 TIE_TOL = 1e-9
 
 
-def solve_points(robot, p, method="newton", L=None, **options):
+def solve_points(robot, p, method="newton", L=None, P0=None, **options):
     """Solve DEGM_E at desired points p (N, 3) over all 3-cable subsets; choose per point.
 
     Every subset is commanded the lengths ``L`` (default the standard lengths L_TS(p), Paty 2021
@@ -54,6 +55,8 @@ def solve_points(robot, p, method="newton", L=None, **options):
         DEGM_E solver (``direct.degm_e``).
     L : array_like (N, m) [m], optional
         Commanded total lengths of every cable; default L_TS(p) of ``robot`` (eq. 2).
+    P0 : array_like (N, n_subsets, 3) [m], optional
+        The solver's start of every subset at every point (``direct.degm_e``); default p.
     options : tolerances passed to ``direct.degm_e``.
 
     Returns
@@ -76,8 +79,13 @@ def solve_points(robot, p, method="newton", L=None, **options):
     its = np.zeros((ns, n), dtype=np.int32)
     conv = np.zeros((ns, n), dtype=bool)
     exists = np.zeros((ns, n), dtype=bool)
+    if P0 is not None:
+        P0 = np.asarray(P0, dtype=float)
+        if P0.shape != (n, ns, 3):
+            raise CdprError(f"P0 has shape {P0.shape}; allowed: (N, subsets, 3) = ({n}, {ns}, 3)")
     for k, s in enumerate(subsets):
-        r = degm_e(robot, p, subset=s, L=L_all[:, s], method=method, **options)
+        start = None if P0 is None else P0[:, k]
+        r = degm_e(robot, p, subset=s, L=L_all[:, s], method=method, P0=start, **options)
         Ps[k], ts[k], its[k], conv[k], exists[k] = r.P, r.t, r.iterations, r.converged, r.exists
     dp = np.linalg.norm(Ps - p, axis=2)
     t_ok_low = (ts >= 0).all(axis=2)

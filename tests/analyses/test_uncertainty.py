@@ -133,18 +133,22 @@ def test_linearisation_error_is_second_order_when_compensated(cdpr4):
     assert errs[1] < errs[0] / 30, errs
 
 
-@pytest.mark.parametrize("case", ["uncompensated", "compensated"])
-def test_full_solves_from_the_linearised_start_equal_those_from_p(cdpr4, case):
-    """The physical full solves start Newton at each sample's linearised equilibrium
-    (``start="linear"``, the default) or at p: the same ‖δp‖ within the solver's tolerance and
-    the same ok points, over every declared parameter (all drivers vary); the starts are
-    p + Linearisation.shift, which the compiled and numpy engines compute alike."""
+@pytest.mark.parametrize(
+    "case,redundancy",
+    [("uncompensated", "physical"), ("compensated", "physical"), ("uncompensated", "paper")],
+)
+def test_full_solves_from_the_linearised_start_equal_those_from_p(cdpr4, case, redundancy):
+    """The full solves start Newton at each sample's linearised solution (``start="linear"``, the
+    default: the equilibrium in physical mode, every subset in paper mode) or at p: the same ‖δp‖
+    within the solver's tolerance and the same ok points, over every declared parameter (all
+    drivers vary); the starts are p + Linearisation.shift, which the compiled and numpy engines
+    compute alike."""
     robot = with_pulleys(cdpr4, kind="SR", h=0.1077, r_p=0.035)
     dr = uq.drivers(PARAMS, 4)
     th = uq.parameter_samples(robot, dr, uq.mc_uniforms(7, 0, 12, len(dr)))
     pts = grid_points(RW_C, 7)
     models = {
-        s: uq.PoseErrorModel(robot, pts, case, redundancy="physical", start=s) for s in ("linear", "desired")
+        s: uq.PoseErrorModel(robot, pts, case, redundancy=redundancy, start=s) for s in ("linear", "desired")
     }
     (dl, okl), (dd, okd) = (models[s].solve(th) for s in ("linear", "desired"))
     np.testing.assert_array_equal(okl, okd)
@@ -158,6 +162,12 @@ def test_full_solves_from_the_linearised_start_equal_those_from_p(cdpr4, case):
     want = lin.dp0[i, lin.best[i]] + lin.S[i, lin.best[i]] @ (lin.tau(th[2]) - lin.tau(lin.theta0))[0]
     np.testing.assert_allclose(shift[2, i], want, rtol=0, atol=1e-15)
     assert (shift[:, ~lin.ok] == 0).all()
+    if redundancy == "paper":  # every subset's start: its slot's shift where valid, p elsewhere
+        every = lin.shift(th, every_slot=True)
+        start = models["linear"]._starts(th)
+        np.testing.assert_allclose(start - pts[None, :, None], every, rtol=0, atol=1e-12)
+        assert (every[:, ~lin.valid] == 0).all() and lin.valid.sum() > len(pts)
+        return
     # the linearised start is far closer to the equilibrium than p (a lower bound of its distance)
     start = models["linear"]._starts(th)
     P = pts[models["linear"].feasible][None] + 0  # desired points

@@ -7,6 +7,8 @@ import pytest
 
 from cdpr.analyses.workspace import grid_points
 from cdpr.compiled.subsets import solve_points_batch, solve_points_fast
+from cdpr.errors import CdprError
+from cdpr.models.direct import degm_e
 from cdpr.models.inverse import L_TS
 from cdpr.models.subsets import solve_points
 from cdpr.parameters import parameter_values, robot_with_parameters
@@ -87,6 +89,45 @@ def test_batch_equals_one_solve_per_robot(cdpr4, kind):
             np.testing.assert_array_equal(batch[k][key], one[key], err_msg=key)
     assert set(batch[0]["status"]) >= {"ok", "slack"}
     assert not np.array_equal(batch[0]["dp"], batch[1]["dp"], equal_nan=True)
+
+
+@pytest.mark.parametrize("kind", ["SR", "DR"])
+def test_batch_from_given_starts_finds_the_same_solutions(cdpr4, kind):
+    """Starts per robot, point and subset (P0 (K, N, ns, 3)) near each subset's solution: the
+    same statuses, subsets and P* (to 1e-9 m) as the start at p in fewer iterations, and the numpy
+    reference from the same starts agrees; a start of the wrong shape is one CdprError."""
+    r = with_pulleys(cdpr4, kind=kind)
+    P = grid_points(BOX, 10)
+    L = L_TS(r, P)
+    rng = np.random.default_rng(8)
+    th = parameter_values(r)
+    robots = [robot_with_parameters(r, th * (1.0 + rng.uniform(-0.01, 0.01, th.shape))) for _ in range(3)]
+    ns = len(r.subsets)
+    # every subset's own solution (the numpy reference solves them all) moved by up to 0.1 mm
+    ref = [solve_points(rk, P, L=L) for rk in robots]
+    P0 = np.empty((len(robots), len(P), ns, 3))
+    for k, rk in enumerate(robots):
+        for c, sub in enumerate(rk.subsets):
+            d = degm_e(rk, P, subset=sub, L=L[:, sub])
+            P0[k, :, c] = np.where(d.converged[:, None], d.P, P) + rng.uniform(-1e-4, 1e-4, P.shape)
+    cold = solve_points_batch(robots, P, L, threads=2)
+    warm = solve_points_batch(robots, P, L, threads=2, P0=P0)
+    for k in range(len(robots)):
+        ok = cold[k]["status"] == "ok"
+        assert ok.sum() > 100
+        np.testing.assert_array_equal(warm[k]["status"], cold[k]["status"])
+        np.testing.assert_array_equal(warm[k]["subset"][ok], cold[k]["subset"][ok])
+        assert np.abs(warm[k]["P_s"] - cold[k]["P_s"])[ok].max() < 1e-9
+        assert warm[k]["iterations"][ok].sum() < 0.8 * cold[k]["iterations"][ok].sum()
+    numpy_warm = solve_points(robots[0], P, L=L, P0=P0[0])
+    np.testing.assert_array_equal(numpy_warm["status"], warm[0]["status"])
+    ok = warm[0]["status"] == "ok"
+    assert np.abs(numpy_warm["P_s"] - warm[0]["P_s"])[ok].max() < 1e-9
+    assert np.abs(numpy_warm["P_s"] - ref[0]["P_s"])[ok].max() < 1e-9
+    with pytest.raises(CdprError, match=r"P0 has shape \(3, 1000, 3\); allowed"):
+        solve_points_batch(robots, P, L, P0=np.zeros((3, len(P), 3)))
+    with pytest.raises(CdprError, match=r"P0 has shape \(1000, 3\); allowed"):
+        solve_points(robots[0], P, L=L, P0=np.zeros((len(P), 3)))
 
 
 def test_batch_rejects_robots_with_different_cables(cdpr3, cdpr4):
