@@ -494,7 +494,8 @@ class PoseErrorModel:
             raise CdprError(f"unknown start {start!r}; allowed: {', '.join(STARTS)}")
         self.robot = robot
         self.start = start
-        self._nominal_sens = self._start_lin = None
+        self._nominal_sens = None
+        self._linearisations, self._start_slots = {}, {}
         self.engine = check_engine(engine, "newton")
         self.p = np.atleast_2d(np.asarray(p, dtype=float))
         self.case = case
@@ -528,15 +529,16 @@ class PoseErrorModel:
             self._nominal_sens = sensitivities(self.robot, self._pv, redundancy=self.mode, L=self._Lv, **run)
         return self._nominal_sens
 
-    def _starts(self, theta):
+    def _starts(self, theta, columns):
         """Newton's starting points [m] of the full solves of θ: (n, N_feasible, 3) in physical
         mode, (n, N_feasible, n_subsets, 3) in paper mode; None (start at p) for ``start``
-        "desired". p + ``Linearisation.shift`` of the feasible points, computed in one pass from
-        the slots' p + dp_0 and S, which are kept."""
-        if self.start != "linear":
+        "desired" or where no column varies. p + ``Linearisation.shift`` over the varying
+        ``columns`` of θ, computed in one pass from the slots' p + dp_0 and S, which are kept."""
+        if self.start != "linear" or len(columns) == 0:
             return None
-        if self._start_lin is None:
-            lin = self.linearise()
+        key = tuple(columns)
+        if key not in self._start_slots:
+            lin = self.linearise(columns)
             f = self.feasible
             if self.mode == "physical":
                 idx = np.arange(len(lin.best))
@@ -546,8 +548,8 @@ class PoseErrorModel:
                 dp0, S = lin.dp0[f], lin.S[f]
             N, C, _, k = S.shape
             base = (self._pv[:, None] + dp0).reshape(N * C, 3)
-            self._start_lin = (lin, base, np.ascontiguousarray(S.reshape(N * C, 3, k)), C)
-        lin, base, S, C = self._start_lin
+            self._start_slots[key] = (lin, base, np.ascontiguousarray(S.reshape(N * C, 3, k)), C)
+        lin, base, S, C = self._start_slots[key]
         P0 = linear_positions(base, S, lin._delta(theta), engine=self.engine, threads=self.threads)
         return P0.reshape(len(P0), -1, 3) if self.mode == "physical" else P0.reshape(len(P0), -1, C, 3)
 
@@ -569,9 +571,12 @@ class PoseErrorModel:
             k = max(1, BATCH_POINTS // max(len(self._pv), 1))
             run = {"engine": self.engine, "threads": self.threads, "redundancy": self.mode}
             lengths = {"L": self._Lv} if self.mode == "paper" else {"L0": self._Lv}
+            # the linear start covers the columns that vary over θ (a Monte Carlo of the moduli: 4
+            # columns; Saltelli's rows: every declared parameter), linearised once per set
+            varying = np.flatnonzero((th != parameter_values(self.robot)).any(axis=0))
             for i in range(0, n, k):
                 robots = [robot_with_parameters(self.robot, t) for t in th[i : i + k]]
-                P0 = self._starts(th[i : i + k])
+                P0 = self._starts(th[i : i + k], varying)
                 for j, res in enumerate(solve_points_batch_any(robots, self._pv, **lengths, **run, P0=P0)):
                     dp[i + j, self.feasible] = res["dp"]
                     ok[i + j, self.feasible] = res["status"] == "ok"
@@ -585,9 +590,17 @@ class PoseErrorModel:
     def linearise(self, columns=None):
         """The ``Linearisation`` at the nominal parameters for the parameter columns ``columns``
         (default all): paper mode every subset (``solve.subset_sensitivities``), physical mode
-        the equilibrium (``solve.sensitivities``), by the model's engine."""
+        the equilibrium (``solve.sensitivities``), by the model's engine; computed once per set
+        of columns (the full solves' linear start uses the same one)."""
         m = self.robot.m
         cols = np.arange(7 * m + 1) if columns is None else np.asarray(columns, dtype=np.intp)
+        key = tuple(int(c) for c in cols)
+        if key not in self._linearisations:
+            self._linearisations[key] = self._linearise(cols)
+        return self._linearisations[key]
+
+    def _linearise(self, cols):
+        m = self.robot.m
         N = len(self.p)
         run = {"engine": self.engine, "threads": self.threads}
         nom = self._nominal()

@@ -164,12 +164,12 @@ def test_full_solves_from_the_linearised_start_equal_those_from_p(cdpr4, case, r
     assert (shift[:, ~lin.ok] == 0).all()
     if redundancy == "paper":  # every subset's start: its slot's shift where valid, p elsewhere
         every = lin.shift(th, every_slot=True)
-        start = models["linear"]._starts(th)
+        start = models["linear"]._starts(th, np.flatnonzero((th != parameter_values(robot)).any(axis=0)))
         np.testing.assert_allclose(start - pts[None, :, None], every, rtol=0, atol=1e-12)
         assert (every[:, ~lin.valid] == 0).all() and lin.valid.sum() > len(pts)
         return
     # the linearised start is far closer to the equilibrium than p (a lower bound of its distance)
-    start = models["linear"]._starts(th)
+    start = models["linear"]._starts(th, np.flatnonzero((th != parameter_values(robot)).any(axis=0)))
     P = pts[models["linear"].feasible][None] + 0  # desired points
     with np.errstate(invalid="ignore"):
         miss = np.abs(np.linalg.norm(start - P, axis=2) - dl[:, models["linear"].feasible])
