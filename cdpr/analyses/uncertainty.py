@@ -50,9 +50,6 @@ import dataclasses
 
 import numpy as np
 import pandas as pd
-from SALib.analyze import sobol as sobol_analyze
-from SALib.sample import sobol as sobol_sample
-from scipy.stats import norm, truncnorm
 
 from cdpr.analyses.compensation import compensate
 from cdpr.errors import CdprError, ConfigError
@@ -109,6 +106,8 @@ class Distribution:
         )
 
     def _trunc(self):
+        from scipy.stats import truncnorm  # lazy: scipy.stats is 0.4 s of every job's start-up
+
         a = -np.inf if self.low is None else (self.low - self.mean) / self.sd
         b = np.inf if self.high is None else (self.high - self.mean) / self.sd
         return truncnorm(a, b, loc=self.mean, scale=self.sd)
@@ -119,6 +118,8 @@ class Distribution:
         if self.dist == "uniform":
             return self.low + u * (self.high - self.low)
         if self.low is None and self.high is None:
+            from scipy.stats import norm  # lazy: scipy.stats is 0.4 s of every job's start-up
+
             return norm.ppf(u, loc=self.mean, scale=self.sd)
         return self._trunc().ppf(u)
 
@@ -662,6 +663,9 @@ def sobol_analysis(evaluate, drivers_, robot, base_samples, seed, outputs, group
     ----------
     Saltelli et al. 2010; SALib (Herman and Usher 2017).
     """
+    from SALib.analyze import sobol as sobol_analyze  # lazy: SALib loads scipy.stats, 0.4 s of start-up
+    from SALib.sample import sobol as sobol_sample  # lazy: the Sobol jobs only
+
     D = len(drivers_)
     problem = {"num_vars": D, "names": [d.name for d in drivers_], "bounds": [[0.0, 1.0]] * D}
     if groups:

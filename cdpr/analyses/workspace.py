@@ -15,10 +15,12 @@ pulley kinematics and cable elasticity. Mechanism and Machine Theory 159, 104263
 
 from __future__ import annotations
 
-import numpy as np
-from scipy.spatial import ConvexHull
+import json
+from pathlib import Path
 
-from cdpr.errors import CdprError
+import numpy as np
+
+from cdpr.errors import CdprError, ConfigError
 
 
 def check_box(box):
@@ -42,6 +44,36 @@ def check_box(box):
     return b
 
 
+def read_box(path):
+    """The ``box`` of a JSON file written by the regular-workspace job (six numbers [m]).
+
+    Parameters
+    ----------
+    path : str or Path
+        A JSON object whose key ``box`` holds XMIN XMAX YMIN YMAX ZMIN ZMAX [m].
+
+    Returns
+    -------
+    box : list of 6 float [m]
+        Checked by ``check_box``; a missing file or a malformed box is one ConfigError naming the file.
+    """
+    p = Path(path)
+    try:
+        box = json.loads(p.read_text(encoding="utf-8"))["box"]
+    except FileNotFoundError:
+        raise ConfigError(p, None, "the box file does not exist") from None
+    except (ValueError, KeyError, TypeError) as exc:
+        raise ConfigError(
+            p,
+            "box",
+            f"expected a JSON object whose key 'box' holds six numbers XMIN XMAX YMIN YMAX ZMIN ZMAX ({exc})",
+        ) from None
+    try:
+        return check_box(box).tolist()
+    except (CdprError, ValueError, TypeError) as exc:
+        raise ConfigError(p, "box", str(exc)) from None
+
+
 def envelope_volume(robot):
     """Volume V_T of the outer envelope [m^3] (Paty 2021 section 3.3.3): the anchors' horizontal
     convex hull from z = 0 to the lowest anchor height (a 5 m cube for CDPR4, a 54.13 m^3 prism for
@@ -56,6 +88,8 @@ def envelope_volume(robot):
     -------
     float [m^3]
     """
+    from scipy.spatial import ConvexHull  # lazy: scipy.spatial is 0.2 s of every grid job's start-up
+
     A = robot.A
     area = ConvexHull(A[:, :2]).volume  # the area of a 2-D hull
     if not robot.suspended_point_mass:

@@ -527,14 +527,12 @@ def _check_size(n_points, what):
 
 def cmd_grid(args):
     # lazy: the grid, the solvers and pandas, for this command only
-    from cdpr.analyses.workspace import check_box, frame_box, grid_points, shard_range
+    from cdpr.analyses.workspace import check_box, frame_box, grid_points, read_box, shard_range
     from cdpr.tables import solve_table
 
     robot = _load(args)
     io.check_output(args.out)
     if args.box_file:
-        from cdpr.pipeline.study import read_box  # lazy: --box-file only
-
         box = read_box(args.box_file)
     elif args.frame:
         box = check_box(frame_box(robot))

@@ -12,7 +12,6 @@ Snakemake pipeline all go through it.
 from __future__ import annotations
 
 import contextlib
-import json
 import math
 import os
 from pathlib import Path
@@ -193,21 +192,6 @@ def dphi_volume_limits(st):
     sw = v.get("dphi_sweep_rad")
     sweep = set(np.round(np.linspace(sw["from"], sw["to"], sw["steps"]), 12)) if sw else set()
     return sorted(float(x) for x in sweep | set(v.get("dphi_limits_rad") or []))
-
-
-def read_box(path):
-    """The ``box`` of a JSON file written by the regular-workspace job (six numbers [m])."""
-    p = Path(path)
-    try:
-        return check_box(json.loads(p.read_text(encoding="utf-8"))["box"]).tolist()
-    except FileNotFoundError:
-        raise ConfigError(p, None, "the box file does not exist") from None
-    except (ValueError, KeyError, TypeError) as exc:
-        raise ConfigError(
-            p,
-            "box",
-            f"expected a JSON object whose key 'box' holds six numbers XMIN XMAX YMIN YMAX ZMIN ZMAX ({exc})",
-        ) from None
 
 
 # ------------------------------------------------------------------------------------------------

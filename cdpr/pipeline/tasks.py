@@ -354,7 +354,7 @@ def robot_view(st, robot_key, box_file, figure):
     boxes = {"frame box (the volumes' grid)": workspace.frame_box(robot)}
     p = scans.view_position(robot)
     if robot_key == st["doe"]["robot"]:
-        rwc = study.read_box(box_file)
+        rwc = workspace.read_box(box_file)
         boxes[f"RW_C ({Path(box_file).name}, {st['doe']['rw_c']})"] = rwc
         p = np.array([0.5 * (rwc[2 * a] + rwc[2 * a + 1]) for a in range(3)])
     plots.robot_view(
@@ -392,7 +392,7 @@ def doe_results(st, tables, table, effects, figure, effects_figure):
 def map_rows(st, kind, box_file, table, threads=None):
     """Global index over every map cell (h, r_p), r_p < h, for one pulley kind (Fig. 17)."""
     n = st["maps"]["index_n"]
-    box = study.read_box(box_file)
+    box = workspace.read_box(box_file)
     rows = []
     for h, r_p in study.map_cells(st):
         robot = study.design_robot(st, st["doe"]["robot"], {"kind": kind, "h_m": h, "r_p_m": r_p})
@@ -414,7 +414,7 @@ def maps(st, tables, box_file, map, lines, figure, threads=None):
     table_io.write_table(tab, map)
     lv = st["doe"]["levels"]
     n = st["doe"]["index_n"]
-    box = study.read_box(box_file)
+    box = workspace.read_box(box_file)
     out, valleys = [], {}
     for kind in study.map_kinds(st):
         g = tab[tab.kind == kind]
@@ -533,7 +533,7 @@ def elasticity(st, tables, paths, table, bands, crossings, figure, paths_figure)
 def dead_length_point(st, d, box_file, table, threads=None):
     """Paper-comparable numbers at dead length d: the plane extremes of each pulley design on the
     DOE robot, and each optimal design's index at E_min, E_mean, E_max."""
-    box, n = study.read_box(box_file), st["dead_length"]["index_n"]
+    box, n = workspace.read_box(box_file), st["dead_length"]["index_n"]
     row = {"d_m": d}
     for pk in st["pulleys"]:
         robot = study.design_robot(st, st["doe"]["robot"], st["pulleys"][pk], dead_length=d)
@@ -590,7 +590,7 @@ def budget_design(st, comparison, label, box_file, table, path_table, threads=No
     rk, spec = designs[label]
     robot = study.design_robot(st, rk, spec)
     b = cmp["budget"]
-    P = workspace.grid_points(study.read_box(box_file), b["index_n"])
+    P = workspace.grid_points(workspace.read_box(box_file), b["index_n"])
     rows = [
         _budget_rows(label, "RW_C", budget.summarise(budget.error_budget(robot, P, b["t_min_N"], threads)))
     ]
@@ -639,7 +639,7 @@ def study_budget_design(st, design, box_file, table, threads=None):
     robot = budget.with_drums(
         study.design_robot(st, st["doe"]["robot"], st["optimal"][design]), study.budget_drum(st)
     )
-    P = workspace.grid_points(study.read_box(box_file), b["index_n"])
+    P = workspace.grid_points(workspace.read_box(box_file), b["index_n"])
     res = budget.error_budget(robot, P, b["t_min_N"], threads, rotvec=study.rotvec(st))
     tab = budget.summarise(res).assign(design=design, region="RW_C")
     tab["entry_ok_points"] = [int((res[k]["status"] == "ok").sum()) for k in tab.entry]
@@ -737,7 +737,7 @@ def _overlay_data(st, res):
 def uq_shard(st, design, case, shard, box_file, table, points, threads=None):
     """One Monte Carlo shard by full solves with the linearised propagation of the same samples."""
     ex = uq6 if study.uq_spatial(st) else uq  # a rigid platform: ‖δp‖ and δφ
-    samples, pts = ex.mc_shard(st, design, case, study.read_box(box_file), int(shard), threads)
+    samples, pts = ex.mc_shard(st, design, case, workspace.read_box(box_file), int(shard), threads)
     table_io.write_table(samples, table)
     table_io.write_table(pts, points)
 
@@ -745,7 +745,7 @@ def uq_shard(st, design, case, shard, box_file, table, points, threads=None):
 def uq_design(st, design, case, box_file, table, path, sobol, tolerances, map, threads=None):
     """Every sample linearised over RW_C, the path bands, the Sobol indices and the dominant-parameter
     map of one design and case."""
-    box = study.read_box(box_file)
+    box = workspace.read_box(box_file)
     ex = uq6 if study.uq_spatial(st) else uq  # a rigid platform: ‖δp‖ and δφ
     table_io.write_table(ex.linear_samples(st, design, case, box, threads), table)
     table_io.write_table(ex.path_bands(st, design, case, threads), path)

@@ -112,3 +112,37 @@ def test_error_limited_volume_refuses_a_missing_or_unknown_column():
         workspace.error_limited_volume(df.drop(columns="dphi"), n, box, 0.01, 27.0, column="dphi")
     with pytest.raises(CdprError, match="column must be one of dp, dphi"):
         workspace.error_limited_volume(df, n, box, 0.01, 27.0, column="tension")
+
+
+def test_read_box_round_trip_and_one_line_errors(tmp_path):
+    good = tmp_path / "rw_c.json"
+    good.write_text('{"box": [-2.32, 2.32, -2.32, 2.32, 0.0, 3.73]}', encoding="utf-8")
+    assert workspace.read_box(good) == [-2.32, 2.32, -2.32, 2.32, 0.0, 3.73]
+    with pytest.raises(CdprError, match="missing.json.*does not exist"):
+        workspace.read_box(tmp_path / "missing.json")
+    bad = tmp_path / "bad.json"
+    for text in ('{"box": [1, 2, 3]}', '{"corners": []}', "not json"):
+        bad.write_text(text, encoding="utf-8")
+        with pytest.raises(CdprError, match="bad.json.*box"):
+            workspace.read_box(bad)
+    flat = tmp_path / "flat.json"
+    flat.write_text('{"box": [0, 1, 0, 1, 2, 2]}', encoding="utf-8")  # zmin = zmax
+    with pytest.raises(CdprError, match="ZMIN < ZMAX"):
+        workspace.read_box(flat)
+
+
+def test_solver_commands_do_not_load_the_sobol_or_plotting_libraries():
+    """What a ``cdpr grid --box-file`` job and every job that reads a study import (start-up, issue
+    16/19): not SALib and scipy.stats (0.4 s, the Sobol analysis and the truncated normal import
+    them), not scipy.spatial (0.2 s, the envelope volume and the physical mode's hull import it)."""
+    import subprocess
+    import sys
+
+    from tests.conftest import ROOT
+
+    code = (
+        "import sys; import cdpr.cli.commands, cdpr.analyses.workspace, cdpr.tables, cdpr.pipeline.study;"
+        "print(*[m for m in ('SALib', 'scipy.stats', 'scipy.spatial', 'matplotlib') if m in sys.modules])"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT, check=True)
+    assert out.stdout.strip() == "", f"loaded at start-up: {out.stdout.strip()}"
