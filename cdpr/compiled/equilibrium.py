@@ -24,6 +24,7 @@ from cdpr.models.equilibrium import (
     batch_starts,
     hull_halfplanes,
     physical_result,
+    physical_results,
     start_points,
 )
 from cdpr.models.inverse import L_TS
@@ -415,9 +416,4 @@ def solve_physical_batch(robots, p, L0=None, tol=None, maxiter=None, max_step=No
     set_threads(threads)
     opts = newton_options(PHYSICAL_DEFAULTS, tol, maxiter, max_step)
     _solve_batch(p, P0, L0s[0], *stack, loads, opts, P, t, resid, it, conv, ins)
-    return [
-        physical_result(
-            r, p, P[k], t[k], resid[k], it[k], conv[k], ins[k][:, None], halfplanes=hull_halfplanes(r)
-        )
-        for k, r in enumerate(robots)
-    ]
+    return physical_results(robots, p, P, t, resid, it, conv, ins[..., None])

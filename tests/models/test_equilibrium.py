@@ -324,3 +324,43 @@ def test_compiled_equals_numpy_reference(cdpr3, cdpr4, name):
         assert (a["residual"][lone] <= 1e-9 * 2943.0).all() and (b["residual"][lone] <= 1e-9 * 2943.0).all()
     if kw.get("maxiter") is None:
         assert {"ok", "inaccessible"} <= set(a["status"]) and unique.sum() > 300
+
+
+def test_statuses_of_a_batch_equal_each_robots_and_the_frame_is_the_anchors_hull():
+    """statuses_batch groups robots by their hulls' number of edges: a square robot (4 edges) and
+    the same robot with one anchor pulled inside the triangle of the others (3 edges) give, in one
+    batch, each robot's own statuses; outside_frame is the anchors' horizontal hull (scipy's
+    Delaunay, away from the edges) and the height of the lowest anchor."""
+    from scipy.spatial import Delaunay
+
+    from cdpr.models.equilibrium import TAUT_MIN, hull_halfplanes, outside_frame, statuses, statuses_batch
+    from cdpr.parameters import parameter_values, robot_with_parameters
+
+    square = with_pulleys(robot_from_dict(read_yaml(ROBOTS / "cdpr4.yaml")), kind="SR")
+    th = parameter_values(square)
+    m = square.m
+    th[4 * m : 4 * m + 2] = 0.3 * th[4 * m : 4 * m + 2]  # anchor 1 inside the others' triangle
+    dent = robot_with_parameters(square, th)
+    robots = [square, dent, square]
+    rng = np.random.default_rng(11)
+    p = rng.uniform([-3.0, -3.0, -0.5], [3.0, 3.0, 5.5], (400, 3))
+    P = p[None] + rng.normal(0.0, 0.05, (3, 400, 3))
+    P[0, :5] = np.nan
+    t = rng.uniform(-50.0, 1.2 * square.T_a.max(), (3, 400, m))
+    t[:, 7] = 0.0  # no cable pulls
+    conv = rng.uniform(size=(3, 400)) > 0.05
+    inside = rng.uniform(size=(3, 400, 1)) > 0.97
+    batch = statuses_batch(robots, p, P, t, conv, inside)
+    for k, r in enumerate(robots):
+        np.testing.assert_array_equal(batch[k], statuses(r, p, P[k], t[k], conv[k], inside[k]))
+        hull = Delaunay(r.A[:, :2])
+        out = outside_frame(r, p)
+        hp = hull_halfplanes(r)
+        clear = np.abs(p[:, :2] @ hp[:, :2].T + hp[:, 2]).min(axis=1) > 1e-6  # not on an edge's line
+        expect = (hull.find_simplex(p[:, :2]) < 0) | (p[:, 2] >= r.A[:, 2].min())
+        np.testing.assert_array_equal(out[clear], expect[clear])
+        assert outside_frame(r, p[0]).shape == () and outside_frame(r, p[None]).shape == (1, 400)
+    assert len({len(batch[0]), len(batch[1])}) == 1 and not np.array_equal(batch[0], batch[1])
+    codes = set(np.unique(batch))
+    assert len(codes) == 4, codes  # ok, over_tension, inaccessible, not_converged all occur
+    assert (batch[:, 7] != 0).all() and TAUT_MIN > 0
