@@ -429,6 +429,12 @@ def agreement(full, points, agree_tol):
         sensitivities flag as not smooth), z_disagree_min_m / z_disagree_max_m (where they are).
     """
     d = (full["index_lin_m"] - full["index_full_m"]).abs()
+    # one row per point: the shards' tables repeat every point (its samples split between them),
+    # so a point disagrees when some shard's samples do, whatever the shard count
+    points = points.groupby(["x", "y", "z"], sort=False).agg(
+        smooth=("smooth", "first"), max_diff_m=("max_diff_m", "max"), n_disagree=("n_disagree", "sum")
+    )
+    points = points.reset_index()
     bad = points["n_disagree"] > 0
     with np.errstate(all="ignore"):
         return {
