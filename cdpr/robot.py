@@ -651,7 +651,13 @@ def apply_overrides(data, pulley=None, h=None, r_p=None, dead_length=None, E=Non
 
 def load_robot(path, **overrides):
     """Read a robot YAML file into a validated Robot; keyword overrides as in ``apply_overrides``."""
-    data = read_yaml(path)
+    return robot_from_file_data(read_yaml(path), path, **overrides)
+
+
+def robot_from_file_data(data, path, **overrides):
+    """``load_robot`` of the mapping ``data`` already read from the robot file ``path``
+    (``read_yaml``): the same validated Robot, without reading the file again (many designs of one
+    robot, e.g. the cells of the h-r_p maps)."""
     given = {k: v for k, v in overrides.items() if v is not None}
     source = str(path)
     if given:

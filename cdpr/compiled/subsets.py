@@ -495,25 +495,23 @@ def solve_point(i, p, Lin, cab, subs, b, opts, prune, out, scr, P0):
 
 def subset_edges(robot):
     """Outward edge lines (n_x, n_y, c) of each subset's anchor triangle seen from above, so that
-    n . p - c is the signed distance of p outside that edge; and the margin max(h + r_p)."""
-    subs = robot.subsets
-    edges = np.empty((len(subs), 3, 3))
-    margin = np.empty(len(subs))
-    for k, s in enumerate(subs):
-        xy = robot.A[s, :2]
-        e1, e2 = xy[1] - xy[0], xy[2] - xy[0]
-        area2 = e1[0] * e2[1] - e1[1] * e2[0]
-        for e in range(3):
-            a, b = xy[e], xy[(e + 1) % 3]
-            v = b - a
-            nrm = np.array([v[1], -v[0]]) * (1.0 if area2 > 0 else -1.0)
-            ln = np.linalg.norm(nrm)
-            nrm = nrm / ln if ln > 0 else nrm
-            edges[k, e] = (nrm[0], nrm[1], nrm @ a)
-        if abs(area2) < 1e-12:  # degenerate triangle: never prune it on geometry
-            edges[k, :, :] = 0.0
-            edges[k, :, 2] = np.inf
-        margin[k] = float(np.max(robot.h[s] + robot.r_p[s]))
+    n . p - c is the signed distance of p outside that edge; and the margin max(h + r_p). Every
+    subset at once (a Sobol job builds this for each of its ~18,000 sampled robots)."""
+    subs = np.asarray(robot.subsets, dtype=np.intp).reshape(-1, 3)
+    xy = robot.A[:, :2][subs]  # (subsets, 3 corners, 2)
+    e1, e2 = xy[:, 1] - xy[:, 0], xy[:, 2] - xy[:, 0]
+    area2 = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
+    v = xy[:, [1, 2, 0]] - xy  # corner e to corner e + 1
+    sign = np.where(area2 > 0, 1.0, -1.0)[:, None]
+    nx, ny = v[..., 1] * sign, -v[..., 0] * sign
+    ln = np.sqrt(nx * nx + ny * ny)
+    scale = np.where(ln > 0, ln, 1.0)
+    nx, ny = nx / scale, ny / scale
+    edges = np.stack([nx, ny, nx * xy[..., 0] + ny * xy[..., 1]], axis=2)
+    flat = np.abs(area2) < 1e-12  # degenerate triangle: never prune it on geometry
+    edges[flat, :, :2] = 0.0
+    edges[flat, :, 2] = np.inf
+    margin = (robot.h + robot.r_p)[subs].max(axis=1)
     return edges, margin
 
 

@@ -23,7 +23,14 @@ from cdpr.analyses import doe
 from cdpr.analyses.uncertainty import CASES, PARAMETER_KEYS, Distribution
 from cdpr.analyses.workspace import check_box
 from cdpr.errors import ConfigError, raise_problems
-from cdpr.robot import TABLE1, check_pulley, load_robot, params_from_mapping, robot_from_dict
+from cdpr.robot import (
+    TABLE1,
+    check_pulley,
+    load_robot,
+    params_from_mapping,
+    robot_from_dict,
+    robot_from_file_data,
+)
 from cdpr.validation import read_yaml, validate
 
 
@@ -101,18 +108,29 @@ def uq_spatial(st):
     return r is not None and not r.suspended_point_mass
 
 
-def robot_of(st, robot_key, **overrides):
-    """The study's robot ``robot_key`` with keyword overrides (``robot.apply_overrides``)."""
+def robot_of(st, robot_key, data=None, **overrides):
+    """The study's robot ``robot_key`` with keyword overrides (``robot.apply_overrides``); ``data``:
+    its file's mapping already read (``robot_file_data``), to build many variants of it."""
+    if data is not None:
+        return robot_from_file_data(data, st["robots"][robot_key], **overrides)
     return load_robot(st["robots"][robot_key], **overrides)
 
 
-def design_robot(st, robot_key, pulley, E=None, dead_length=None):
+def robot_file_data(st, robot_key):
+    """The mapping of the study's robot file ``robot_key`` (``robot.read_yaml``), read once for
+    ``design_robot(..., data=)``."""
+    return read_yaml(st["robots"][robot_key])
+
+
+def design_robot(st, robot_key, pulley, E=None, dead_length=None, data=None):
     """Robot ``robot_key`` of the study with a pulley design {kind, h_m, r_p_m} on every cable, the
-    study's dead length (or ``dead_length`` [m]) and optionally Young's modulus ``E`` [Pa]."""
+    study's dead length (or ``dead_length`` [m]) and optionally Young's modulus ``E`` [Pa];
+    ``data``: the robot file's mapping already read (``robot_file_data``)."""
     fixed = pulley["kind"] == "fixed"
     return robot_of(
         st,
         robot_key,
+        data,
         pulley=pulley["kind"],
         h=None if fixed else pulley.get("h_m", 0.0),
         r_p=None if fixed else pulley.get("r_p_m", 0.0),

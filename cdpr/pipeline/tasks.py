@@ -394,8 +394,9 @@ def map_rows(st, kind, box_file, table, threads=None):
     n = st["maps"]["index_n"]
     box = workspace.read_box(box_file)
     rows = []
+    data = study.robot_file_data(st, st["doe"]["robot"])  # read once, a robot per cell
     for h, r_p in study.map_cells(st):
-        robot = study.design_robot(st, st["doe"]["robot"], {"kind": kind, "h_m": h, "r_p_m": r_p})
+        robot = study.design_robot(st, st["doe"]["robot"], {"kind": kind, "h_m": h, "r_p_m": r_p}, data=data)
         (ix, bad), phi = _grid_index(st, robot, box, n, threads, dphi=True)
         row = {"kind": kind, "h_m": h, "r_p_m": r_p, "index_m": ix}
         if not robot.suspended_point_mass:  # a rigid platform: the orientation index beside it

@@ -192,3 +192,23 @@ def test_a_reversed_dphi_sweep_and_a_sweep_without_limits_are_refused(tmp_path):
     path = tmp_path / "nolimits.yaml"
     path.write_text(yaml.safe_dump(data), encoding="utf-8")
     assert "dphi_limits_rad" in _refusal(path)
+
+
+@pytest.mark.parametrize("name", ["paper.yaml", "quick_spatial.yaml"])
+def test_a_design_from_the_robot_file_read_once_is_the_design_read_each_time(name):
+    """design_robot(..., data=robot_file_data(...)) (the h-r_p maps read the robot file once for
+    their 870 cells) builds the same robot as reading the file for every design."""
+    st = study.load_study(Path("config/studies") / name)
+    key = st["doe"]["robot"]
+    data = study.robot_file_data(st, key)
+    for spec, kw in (
+        ({"kind": "SR", "h_m": 0.035, "r_p_m": 0.02}, {}),
+        ({"kind": "DR", "h_m": 0.15, "r_p_m": 0.145}, {"E": 9.0e10, "dead_length": 1.5}),
+        ({"kind": "fixed"}, {}),
+    ):
+        once = study.design_robot(st, key, spec, data=data, **kw)
+        each = study.design_robot(st, key, spec, **kw)
+        assert once == each and once.source == each.source
+        for a, b in zip(once.arrays, each.arrays):
+            np.testing.assert_array_equal(a, b)
+    assert study.robot_file_data(st, key) == data  # building robots did not change the mapping
