@@ -354,6 +354,7 @@ def statuses(robot, p, P, t, converged, inside, halfplanes=None):
         Index into ``results.STATUSES``.
     """
     hp = [hull_halfplanes(robot) if halfplanes is None else halfplanes]
+    inside = np.asarray(inside).reshape(len(p), -1)  # (N,) or (N, m')
     P, t, converged, inside = (np.asarray(x)[None] for x in (P, t, converged, inside))
     return statuses_batch([robot], p, P, t, converged, inside, hp)[0]
 
@@ -574,6 +575,7 @@ def physical_result(robot, p, P, t, residual, iters, conv, inside, halfplanes=No
         status_code (index into ``results.STATUSES``), status.
     """
     hp = None if halfplanes is None else [halfplanes]
+    inside = np.asarray(inside).reshape(len(p), -1)  # (N,) or (N, 1)
     arrays = (np.asarray(x)[None] for x in (P, t, residual, iters, conv, inside))
     return physical_results([robot], p, *arrays, halfplanes=hp)[0]
 

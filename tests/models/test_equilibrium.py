@@ -353,6 +353,7 @@ def test_statuses_of_a_batch_equal_each_robots_and_the_frame_is_the_anchors_hull
     batch = statuses_batch(robots, p, P, t, conv, inside)
     for k, r in enumerate(robots):
         np.testing.assert_array_equal(batch[k], statuses(r, p, P[k], t[k], conv[k], inside[k]))
+        np.testing.assert_array_equal(batch[k], statuses(r, p, P[k], t[k], conv[k], inside[k][:, 0]))  # (N,)
         hull = Delaunay(r.A[:, :2])
         out = outside_frame(r, p)
         hp = hull_halfplanes(r)
