@@ -1506,6 +1506,15 @@ def uq_path_bands(bands, common, out, mode=None, common_mode=None):
     return save(fig, out)
 
 
+def _sobol_top(tab):
+    """Top of a Sobol panel's y axis: 1.05, raised to show the upper whiskers (index + 95 %
+    interval) of the estimates that pass it, up to 1.5 (few base samples give wider intervals)."""
+    if not len(tab):
+        return 1.05
+    whisker = max(float((tab.ST + tab.ST_conf).max()), float((tab.S1 + tab.get("S1_conf", 0)).max()))
+    return float(min(1.5, max(1.05, whisker + 0.05)))
+
+
 def uq_sobol(tab, out, mode=None):
     """Sobol total (bars) and first-order (dots) indices of the global index, both with their 95 %
     confidence intervals, per parameter group (left of each pair) and per parameter (right: each
@@ -1559,7 +1568,7 @@ def uq_sobol(tab, out, mode=None):
                     xlabel=f"{level} [-]",
                     ylabel="Sobol index [-]" if k == 0 else "",
                     title=f"{dk} {case}: {'groups' if k == 0 else 'per parameter'}",
-                    ylim=(lo, 1.05),
+                    ylim=(lo, _sobol_top(pair)),
                 )
                 ax.title.set_fontsize(8)
                 ax.grid(alpha=0.3, axis="y")
@@ -2090,7 +2099,7 @@ def uq6_sobol(tab, out, mode=None):
                     xlabel=f"{level} [-]",
                     ylabel="Sobol index [-]" if k == 0 else "",
                     title=f"{dk} {case}, index of {r['label']}: {'groups' if k == 0 else 'per parameter'}",
-                    ylim=(lo, 1.05),
+                    ylim=(lo, _sobol_top(g)),
                 )
                 ax.title.set_fontsize(8)
                 ax.grid(alpha=0.3, axis="y")

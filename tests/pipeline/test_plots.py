@@ -284,3 +284,29 @@ def test_a_three_cable_difference_panel_counts_the_points_where_the_modes_differ
     assert "equal at" not in titles[0]
     assert f"modes equal at {len(t) - 1} points" in titles[1] and "1 differ by up to 4 mm" in titles[1]
     assert "both modes equal" not in titles[1]
+
+
+def test_sobol_panels_show_the_upper_whiskers_up_to_1_5(tmp_path, monkeypatch):
+    """The Sobol figures' y axis reaches the top of every interval (an estimate plus its 95 % interval
+    can pass 1 with few base samples: CoGiRo's compensated d group, 0.99 + 0.28), from 1.05 up to 1.5,
+    and stays at 1.05 where every whisker is below 1."""
+    import pandas as pd
+    import pytest
+
+    from tests.conftest import ROOT
+
+    tab = pd.read_csv(ROOT / "tests" / "reference" / "quick_spatial" / "uncertainty" / "sobol.csv")
+    figs, _ = _captured(monkeypatch)
+    low = tab.assign(ST=0.3, ST_conf=0.1, S1=0.2, S1_conf=0.1)
+    high = low.copy()
+    high.loc[high.index[0], ["ST", "ST_conf"]] = (0.99, 0.28)  # the first design and case's panels
+    huge = low.assign(ST_conf=5.0)
+    for t, name in ((low, "low"), (high, "high"), (huge, "huge")):
+        plots.uq6_sobol(t, tmp_path / f"{name}.png", mode="physical")
+    tops = [
+        sorted({round(ax.get_ylim()[1], 6) for ax in f.axes if ax.get_ylabel() or ax.get_xlabel()})
+        for f in figs
+    ]
+    assert tops[0] == [1.05]
+    assert max(tops[1]) == pytest.approx(0.99 + 0.28 + 0.05) and min(tops[1]) == 1.05
+    assert tops[2] == [1.5]
