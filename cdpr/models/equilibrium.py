@@ -594,7 +594,8 @@ def physical_results(robots, p, P, t, residual, iters, conv, inside, halfplanes=
     residual : ndarray (K, N) [N]
     iters : ndarray (K, N) int
     conv : ndarray (K, N) bool
-    inside : ndarray (K, N, 1) bool
+    inside : ndarray (K, N, m') bool
+        P* inside a sheave (m' = 1: one flag per point, as the kernels give it).
     halfplanes : list of ndarray (n_edges, 3), optional
 
     Returns
