@@ -129,4 +129,4 @@ def test_no_partition_account_or_cpu_override():
 def test_group_job_count(dry_run):
     """The number of SLURM jobs the README states (solver jobs / group-components, per group)."""
     study, _, groups = dry_run
-    assert groups == {"quick": 5, "paper": 5, "quick_spatial": 4}[study]
+    assert groups == {"quick": 3, "paper": 3, "quick_spatial": 3}[study]

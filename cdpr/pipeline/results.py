@@ -20,7 +20,7 @@ from pathlib import Path
 
 from cdpr.analyses.uncertainty import CASES
 from cdpr.errors import CdprError
-from cdpr.pipeline.study import E_values, budget_designs, doe_tests, map_kinds, uq_cases
+from cdpr.pipeline.study import budget_designs, doe_tests, map_kinds, uq_cases
 from cdpr.robot import load_robot
 
 #: rule -> output name -> path under the results folder ({wildcards} filled by ``Layout.wildcards``).
@@ -55,7 +55,7 @@ STUDY_OUTPUTS = {
     "workspace_grid": {"table": "shards/workspace/test{test}.parquet"},
     "regular_workspace": {"table": "doe/rw_max.csv", "json": "doe/rw_c.json"},
     "robot_view": {"figure": "robot/{robot}.png", "pdf": "robot/{robot}.pdf"},
-    "index_shard": {"table": "shards/doe/test{test}_{shard}.parquet"},
+    "index_shard": {"table": "shards/doe/tests_{shard}.parquet"},
     "doe": {
         "table": "doe/doe.csv",
         "effects": "doe/effects.csv",
@@ -71,7 +71,7 @@ STUDY_OUTPUTS = {
         "figure": "maps/maps.png",
         "pdf": "maps/maps.pdf",
     },
-    "elasticity_shard": {"table": "shards/elasticity/{design}_E{E}_{shard}.parquet"},
+    "elasticity_shard": {"table": "shards/elasticity/{design}_{shard}.parquet"},
     "elasticity_path": {"table": "elasticity/path_{design}_E{E}.csv"},
     "elasticity": {
         "table": "elasticity/index_vs_E.csv",
@@ -139,11 +139,11 @@ STUDY_LOGS = {
     "workspace_grid": "logs/workspace_test{test}.log",
     "regular_workspace": "logs/regular_workspace.log",
     "robot_view": "logs/robot_view_{robot}.log",
-    "index_shard": "logs/doe_test{test}_{shard}.log",
+    "index_shard": "logs/doe_tests_{shard}.log",
     "doe": "logs/doe.log",
     "map_kind": "logs/map_{kind}.log",
     "maps": "logs/maps.log",
-    "elasticity_shard": "logs/elasticity_{design}_E{E}_{shard}.log",
+    "elasticity_shard": "logs/elasticity_{design}_{shard}.log",
     "elasticity_path": "logs/elasticity_path_{design}_E{E}.log",
     "elasticity": "logs/elasticity.log",
     "dead_length_point": "logs/dead_length_{d}.log",
@@ -228,10 +228,6 @@ class Layout:
             models = {k: load_robot(p) for k, p in self.st["robots"].items()}
         return [k for k, robot in models.items() if robot.m > 3]
 
-    def E_values(self):
-        """Young's moduli of the index-versus-E sweep, as written in file names."""
-        return [f"{e:.6g}" for e in E_values(self.st)]
-
     def E_path(self):
         """Young's moduli of the section 5.2 paths, as written in file names."""
         return [f"{float(e):.6g}" for e in self.st["elasticity"]["E_path_Pa"]]
@@ -260,11 +256,9 @@ class Layout:
             "volume_view": lambda: _product(label=[f"{r}_{p}" for r in robots for p in pulleys]),
             "robot_view": lambda: _product(robot=robots),  # every robot: point masses and rigid platforms
             "workspace_grid": lambda: _product(test=self.tests()),
-            "index_shard": lambda: _product(test=self.tests(), shard=range(st["doe"]["shards"])),
+            "index_shard": lambda: _product(shard=range(st["doe"]["shards"])),
             "map_kind": lambda: _product(kind=self.map_kinds()),
-            "elasticity_shard": lambda: _product(
-                design=designs, E=self.E_values(), shard=range(st["elasticity"]["shards"])
-            ),
+            "elasticity_shard": lambda: _product(design=designs, shard=range(st["elasticity"]["shards"])),
             "elasticity_path": lambda: _product(design=designs, E=self.E_path()),
             "dead_length_point": lambda: _product(d=[f"{d:g}" for d in st["dead_length"]["values_m"]]),
             "uq_shard": lambda: _product(

@@ -281,10 +281,16 @@ def check_sizes(st):
     n_designs = len(st["pulleys"]) * len(st["robots"])
     _check_grid(st, "volumes.n", v["n"], v["shards"], jobs=n_designs)
     _check_grid(st, "doe.workspace_n", d["workspace_n"], jobs=8)
-    _check_grid(st, "doe.index_n", d["index_n"], d["shards"], jobs=8)
+    _check_grid(st, "doe.index_n", d["index_n"], jobs=8)
     _check_grid(st, "maps.index_n", st["maps"]["index_n"], jobs=len(map_cells(st)) * len(map_kinds(st)))
-    n_e = st["elasticity"]["E_Pa"]["steps"] * len(st["optimal"])
-    _check_grid(st, "elasticity.index_n", e["index_n"], e["shards"], jobs=n_e)
+    moduli = len(E_values(st))
+    if e["shards"] > moduli:
+        raise ConfigError(
+            st.path,
+            "elasticity.shards",
+            f"{e['shards']} shards for {moduli} moduli (elasticity.E_Pa and E_path_Pa): at most one shard per modulus",
+        )
+    _check_grid(st, "elasticity.index_n", e["index_n"], jobs=moduli * len(st["optimal"]))
     _check_grid(st, "dead_length.index_n", dl["index_n"], jobs=len(dl["values_m"]))
     u = st.get("uncertainty")
     if u:

@@ -55,17 +55,6 @@ def _shards(paths, pattern, what, key):
     return {k: [p for _, p in sorted(v)] for k, v in groups.items()}
 
 
-def _index(df):
-    return doe.global_index(df["dp"].to_numpy(), df["status"].astype(str).to_numpy())
-
-
-def _dphi_index(df):
-    """The orientation index (``doe.orientation_index``) of a table with ``dphi`` [rad], else NaN."""
-    if "dphi" not in df:
-        return float("nan")
-    return doe.orientation_index(df["dphi"].to_numpy(), df["status"].astype(str).to_numpy())[0]
-
-
 def _solver(st, threads=None):
     """The solver options of every solve a task runs: method, threads, the redundancy mode and the
     study's fixed platform orientation (``rotvec_rad``, when set)."""
@@ -363,17 +352,44 @@ def robot_view(st, robot_key, box_file, figure):
 
 
 # ---- DOE (Fig. 15-16) --------------------------------------------------------------------------
-def doe_results(st, tables, table, effects, figure, effects_figure):
-    """Global index of every DOE test (eq. 15), the effects and interactions, Fig. 15-16."""
+def index_shard(st, shard, box_file, table, threads=None):
+    """Global index (eq. 15) of the DOE tests of shard ``shard`` (Table 2's tests cut into
+    ``doe.shards`` contiguous slices) over the RW_C grid (``doe.index_n``), one row per test: test,
+    index_m, index_phi_rad (the orientation index, a rigid platform only), not_ok_points. One
+    process solves every test of its slice (the robot file read once), one solve per orbit of the
+    grid's symmetries (``_grid_index``). Written as parquet: the indices keep every bit for the
+    effects."""
+    box, n = workspace.read_box(box_file), st["doe"]["index_n"]
     tests = study.doe_tests(st)
-    groups = _shards(tables, r"test(?P<test>\d+)_(?P<shard>\d+)", "DOE shard", "test")
-    frames = [concat(groups[str(t)]) for t in tests.test]
-    idx = [_index(df) for df in frames]
-    tests["index_m"] = [i for i, _ in idx]
-    spatial = all("dphi" in df for df in frames)
+    start, stop = workspace.shard_range(len(tests), int(shard), st["doe"]["shards"])
+    data = study.robot_file_data(st, st["doe"]["robot"])
+    rows = []
+    for t in tests.iloc[start:stop].itertuples():
+        spec = {"kind": t.kind, "h_m": t.h_m, "r_p_m": t.r_p_m}
+        robot = study.design_robot(st, st["doe"]["robot"], spec, data=data)
+        (ix, bad), phi = _grid_index(st, robot, box, n, threads, dphi=True)
+        row = {"test": int(t.test), "index_m": ix}
+        if not robot.suspended_point_mass:
+            row["index_phi_rad"] = phi
+        rows.append({**row, "not_ok_points": bad})
+    table_io.write_table(pd.DataFrame(rows), table)
+
+
+def doe_results(st, tables, table, effects, figure, effects_figure):
+    """Global index of every DOE test (eq. 15) from the ``index_shard`` tables, the effects and
+    interactions, Fig. 15-16."""
+    tests = study.doe_tests(st)
+    _by_stem(tables, r"tests_\d+", "DOE shard")  # a stranger among the inputs: error
+    rows = concat(tables).drop_duplicates("test").set_index("test")
+    missing = sorted(set(tests.test.astype(int)) - set(rows.index))
+    if missing:
+        raise CdprError(f"doe: no shard of DOE test(s) {', '.join(map(str, missing))} among the inputs")
+    rows = rows.loc[tests.test.astype(int)]
+    tests["index_m"] = rows.index_m.to_numpy()
+    spatial = "index_phi_rad" in rows
     if spatial:  # a rigid platform: the orientation index beside the position index
-        tests["index_phi_rad"] = [_dphi_index(df) for df in frames]
-    tests["not_ok_points"] = [k for _, k in idx]
+        tests["index_phi_rad"] = rows.index_phi_rad.to_numpy()
+    tests["not_ok_points"] = rows.not_ok_points.to_numpy()
     tests["N"] = st["doe"]["index_n"] ** 3
     table_io.write_table(tests, table)
     X = tests[["joint_c", "h_c", "r_p_c"]].to_numpy()
@@ -454,28 +470,42 @@ def maps(st, tables, box_file, map, lines, figure, threads=None):
 
 
 # ---- elasticity (Fig. 18-19) -------------------------------------------------------------------
-def elasticity(st, tables, paths, table, bands, crossings, figure, paths_figure):
-    """Index versus E (Fig. 18), its band around the nominal modulus, ‖δp‖ along the section 5.2
-    path at E_min, E_mean, E_max (Fig. 19) and where the E_max and E_min curves cross."""
-    groups = _shards(
-        tables,
-        r"(?P<design>[A-Za-z0-9]+)_E(?P<E>[0-9.e+-]+)_(?P<shard>\d+)",
-        "elasticity shard",
-        ("design", "E"),
-    )
+def elasticity_shard(st, design, shard, box_file, table, threads=None):
+    """Global index (eq. 15) of optimal design ``design`` over the RW_C grid (``elasticity.index_n``)
+    at each Young's modulus of shard ``shard`` (the sweep ``study.E_values`` cut into
+    ``elasticity.shards`` contiguous slices), one row per modulus: design, E_Pa, index_m,
+    index_phi_rad (the orientation index, a rigid platform only), not_ok_points. One process solves
+    every modulus of its slice (the robot file read once), one solve per orbit of the grid's
+    symmetries (``_grid_index``). Written as parquet: the indices keep every bit for the bands."""
+    box, n, e = workspace.read_box(box_file), st["elasticity"]["index_n"], st["elasticity"]
+    moduli = study.E_values(st)
+    start, stop = workspace.shard_range(len(moduli), int(shard), e["shards"])
+    data = study.robot_file_data(st, st["doe"]["robot"])
     rows = []
+    for E in moduli[start:stop]:
+        robot = study.design_robot(st, st["doe"]["robot"], st["optimal"][design], E=E, data=data)
+        (ix, bad), phi = _grid_index(st, robot, box, n, threads, dphi=True)
+        row = {"design": design, "E_Pa": E, "index_m": ix}
+        if not robot.suspended_point_mass:
+            row["index_phi_rad"] = phi
+        rows.append({**row, "not_ok_points": bad})
+    table_io.write_table(pd.DataFrame(rows), table)
+
+
+def elasticity(st, tables, paths, table, bands, crossings, figure, paths_figure):
+    """Index versus E (Fig. 18) from the ``elasticity_shard`` tables, its band around the nominal
+    modulus, ‖δp‖ along the section 5.2 path at E_min, E_mean, E_max (Fig. 19) and where the E_max
+    and E_min curves cross."""
+    _by_stem(tables, r"[A-Za-z0-9]+_\d+", "elasticity shard")  # a stranger among the inputs: error
+    rows = concat(tables)
+    parts = []
     for dk in st["optimal"]:
         for E in study.E_values(st):
-            key = next((k for k in groups if k[0] == dk and np.isclose(float(k[1]), E, rtol=1e-5)), None)
-            if key is None:
+            at = rows[(rows.design == dk) & np.isclose(rows.E_Pa, E, rtol=1e-5, atol=0)]
+            if at.empty:
                 raise CdprError(f"elasticity: no shard of design {dk} at E = {E:g} Pa among the inputs")
-            df = concat(groups[key])
-            ix, bad = _index(df)
-            row = {"design": dk, "E_Pa": E, "index_m": ix}
-            if "dphi" in df:
-                row["index_phi_rad"] = _dphi_index(df)
-            rows.append({**row, "not_ok_points": bad})
-    tab = pd.DataFrame(rows)
+            parts.append(at.iloc[:1])
+    tab = pd.concat(parts, ignore_index=True)
     table_io.write_table(tab, table)
     E_min, E_mean, E_max = st["elasticity"]["E_path_Pa"]
     out = []

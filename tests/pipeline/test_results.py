@@ -136,10 +136,10 @@ def test_summary_of_an_incomplete_folder_names_what_is_missing(at_root, tmp_path
         ("h_m: [0.100, 0.150]", "h_m: [0.1, 0.1]", "doe.levels.h_m", "the two levels must differ"),
         ("joint: [SR, DR]", "joint: [DR, DR]", "doe.levels.joint", "got [DR, DR]"),
         (
-            "  index_n: 8\n  shards: 2\n  path:",
-            "  index_n: 2\n  shards: 9\n  path:",
+            "  index_n: 8\n  shards: 2 ",
+            "  index_n: 8\n  shards: 4 ",
             "elasticity.shards",
-            "9 shards",
+            "4 shards for 3 moduli",
         ),
     ],
 )
@@ -155,8 +155,9 @@ def test_a_huge_index_grid_is_refused_with_its_memory_and_time(at_root, tmp_path
     with pytest.raises(ConfigError) as exc:
         load_study(path)
     msg = str(exc.value)
-    # 1e15 points in 2 shards at 600 bytes each: 2.8e8 GiB per job; 8 tests at 250,000 points/s
-    assert "100000^3 = 1,000,000,000,000,000 points" in msg and "279,396,772.4 GiB" in msg
+    # 1e15 points per job (a job solves whole grids; doe.shards splits the tests) at 600 bytes each:
+    # 5.6e8 GiB per job; 8 tests at 250,000 points/s
+    assert "100000^3 = 1,000,000,000,000,000 points" in msg and "558,793,544.8 GiB" in msg
     assert f"{8e15 / 250_000 / 86400:,.1f} days of solver time" in msg
 
 

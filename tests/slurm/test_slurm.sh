@@ -10,12 +10,13 @@ set -euo pipefail
 cd "$(dirname "$0")/../.."
 
 OUT=results/test_slurm
-# The studies, each with the most SLURM jobs it may submit: the quick study makes 5 (2 + 3 group jobs
-# of the two solver groups, every other rule local; 82 jobs without them), the quick spatial study
-# 4 (tests/test_cluster_profile.py counts them in a dry run). More means the profile's groups or the
+# The studies, each with the most SLURM jobs it may submit: the quick study makes 3 (2 + 1 group jobs
+# of the two solver groups, every other rule local; 82 jobs without them and before the DOE and E
+# sweep indices became one job per shard of tests / moduli), the quick spatial study 3
+# (tests/test_cluster_profile.py counts them in a dry run). More means the profile's groups or the
 # localrules were lost. `TEST_SLURM_STUDIES="quick"` runs only the first.
 STUDIES=${TEST_SLURM_STUDIES:-"quick quick_spatial"}
-declare -A MAX_JOBS=([quick]=6 [quick_spatial]=5)
+declare -A MAX_JOBS=([quick]=4 [quick_spatial]=4)
 SUDO=
 [ "$(id -u)" = 0 ] || SUDO=sudo
 

@@ -1,4 +1,4 @@
-# DOE of Paty 2021 section 4.2: RW_max of each test, RW_C, the global index per test (shards), effects.
+# DOE of Paty 2021 section 4.2: RW_max of each test, RW_C, the global index of the tests (shards of them), effects.
 rule workspace_grid:
     input:
         robot=DOE_ROBOT,
@@ -42,15 +42,13 @@ rule index_shard:
         **outputs("index_shard"),
     params:
         **COMMON,
-        design=lambda w: test_args(int(w.test)),
-        n=DOE["index_n"],
-        shards=DOE["shards"],
+        study=uses("doe", "dead_length_m", "solver", "redundancy", "rotvec_rad"),
     log:
         LAYOUT.log("index_shard"),
     threads: SOLVER_THREADS
     shell:
-        "{params.cdpr} grid --threads {threads} --robot {input.robot:q} {params.design} --box-file {input.box:q} --n {params.n}"
-        " --shard {wildcards.shard} --shards {params.shards} --out {output.table:q}" + TO_LOG
+        "{params.cdpr} job index-shard --threads {threads} --study {params.study_file:q} --shard {wildcards.shard}"
+        " --box-file {input.box:q} --table {output.table:q}" + TO_LOG
 
 
 rule doe:

@@ -9,15 +9,13 @@ rule elasticity_shard:
         **outputs("elasticity_shard"),
     params:
         **COMMON,
-        design=lambda w: pulley_args(OPT[w.design], E=w.E),
-        n=EL["index_n"],
-        shards=EL["shards"],
+        study=uses("elasticity", "optimal", "doe", "dead_length_m", "solver", "redundancy", "rotvec_rad"),
     log:
         LAYOUT.log("elasticity_shard"),
     threads: SOLVER_THREADS
     shell:
-        "{params.cdpr} grid --threads {threads} --robot {input.robot:q} {params.design} --box-file {input.box:q} --n {params.n}"
-        " --shard {wildcards.shard} --shards {params.shards} --out {output.table:q}" + TO_LOG
+        "{params.cdpr} job elasticity-shard --threads {threads} --study {params.study_file:q} --design {wildcards.design}"
+        " --shard {wildcards.shard} --box-file {input.box:q} --table {output.table:q}" + TO_LOG
 
 
 rule elasticity_path:
