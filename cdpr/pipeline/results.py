@@ -82,7 +82,7 @@ STUDY_OUTPUTS = {
         "paths_figure": "elasticity/paths.png",
         "paths_pdf": "elasticity/paths.pdf",
     },
-    "dead_length_point": {"table": "shards/dead_length/d{d}.csv"},
+    "dead_length_point": {"table": "shards/dead_length/points.csv"},
     "dead_length": {
         "table": "dead_length/dead_length.csv",
         "figure": "dead_length/dead_length.png",
@@ -146,7 +146,7 @@ STUDY_LOGS = {
     "elasticity_shard": "logs/elasticity_{design}_{shard}.log",
     "elasticity_path": "logs/elasticity_path_{design}_E{E}.log",
     "elasticity": "logs/elasticity.log",
-    "dead_length_point": "logs/dead_length_{d}.log",
+    "dead_length_point": "logs/dead_length_point.log",
     "dead_length": "logs/dead_length.log",
     "uq_shard": "logs/uq_shard_{design}_{case}_{shard}.log",
     "uq_design": "logs/uq_design_{design}_{case}.log",
@@ -260,7 +260,6 @@ class Layout:
             "map_kind": lambda: _product(kind=self.map_kinds()),
             "elasticity_shard": lambda: _product(design=designs, shard=range(st["elasticity"]["shards"])),
             "elasticity_path": lambda: _product(design=designs, E=self.E_path()),
-            "dead_length_point": lambda: _product(d=[f"{d:g}" for d in st["dead_length"]["values_m"]]),
             "uq_shard": lambda: _product(
                 design=self.uq_designs(), case=uq_cases(st), shard=range(u["monte_carlo"]["shards"])
             ),

@@ -561,22 +561,27 @@ def elasticity(st, tables, paths, table, bands, crossings, figure, paths_figure)
 
 
 # ---- dead-length calibration -------------------------------------------------------------------
-def dead_length_point(st, d, box_file, table, threads=None):
-    """Paper-comparable numbers at dead length d: the plane extremes of each pulley design on the
-    DOE robot, and each optimal design's index at E_min, E_mean, E_max."""
+def dead_length_point(st, box_file, table, d=None, threads=None):
+    """Paper-comparable numbers at dead length ``d`` [m] (default: every value of
+    ``dead_length.values_m``, one row each, in one process): the plane extremes of each pulley design
+    on the DOE robot, and each optimal design's index at E_min, E_mean, E_max."""
     box, n = workspace.read_box(box_file), st["dead_length"]["index_n"]
-    row = {"d_m": d}
-    for pk in st["pulleys"]:
-        robot = study.design_robot(st, st["doe"]["robot"], st["pulleys"][pk], dead_length=d)
-        lo, hi = scans.ok_extremes(
-            scans.plane(robot, st["plane"]["z_m"], st["dead_length"]["plane_n"], **_solver(st, threads))
-        )
-        row[f"plane_{pk}_min_m"], row[f"plane_{pk}_max_m"] = lo, hi
-    for dk, spec in st["optimal"].items():
-        for tag, E in zip(("Emin", "Emean", "Emax"), st["elasticity"]["E_path_Pa"]):
-            robot = study.design_robot(st, st["doe"]["robot"], spec, E=E, dead_length=d)
-            row[f"{dk}_{tag}_index_m"], _ = _grid_index(st, robot, box, n, threads)
-    table_io.write_table(pd.DataFrame([row]), table)
+    data = study.robot_file_data(st, st["doe"]["robot"])
+    rows = []
+    for dv in st["dead_length"]["values_m"] if d is None else [d]:
+        row = {"d_m": dv}
+        for pk in st["pulleys"]:
+            robot = study.design_robot(st, st["doe"]["robot"], st["pulleys"][pk], dead_length=dv, data=data)
+            lo, hi = scans.ok_extremes(
+                scans.plane(robot, st["plane"]["z_m"], st["dead_length"]["plane_n"], **_solver(st, threads))
+            )
+            row[f"plane_{pk}_min_m"], row[f"plane_{pk}_max_m"] = lo, hi
+        for dk, spec in st["optimal"].items():
+            for tag, E in zip(("Emin", "Emean", "Emax"), st["elasticity"]["E_path_Pa"]):
+                robot = study.design_robot(st, st["doe"]["robot"], spec, E=E, dead_length=dv, data=data)
+                row[f"{dk}_{tag}_index_m"], _ = _grid_index(st, robot, box, n, threads)
+        rows.append(row)
+    table_io.write_table(pd.DataFrame(rows), table)
 
 
 def dead_length(st, tables, table, figure):

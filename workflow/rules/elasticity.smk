@@ -69,7 +69,7 @@ rule dead_length_point:
         LAYOUT.log("dead_length_point"),
     threads: SOLVER_THREADS
     shell:
-        "{params.cdpr} job dead-length-point --threads {threads} --study {params.study_file:q} --d {wildcards.d}"
+        "{params.cdpr} job dead-length-point --threads {threads} --study {params.study_file:q}"
         " --box-file {input.box:q} --table {output.table:q}" + TO_LOG
 
 
