@@ -123,12 +123,23 @@ def _round_levels(lo, hi, target=8):
 
 
 def _anchors(ax, A):
-    """Draw the anchors' footprint (the frame's outline seen from above) with cable numbers (1-based)."""
+    """Draw the anchors' footprint (the frame's outline seen from above) with cable numbers (1-based).
+    Anchors closer than 4 % of the footprint's span seen from above share one label ("3,4": the
+    crossed cables of a spatial robot leave their pulleys in pairs), written above and right of the
+    group's outermost marker so that it covers none of them (``_anchor_groups``)."""
     hull = A[ConvexHull(A[:, :2]).vertices, :2]
     ax.plot(*np.vstack([hull, hull[:1]]).T, color="k", lw=0.6, ls="--")
-    for i, (x, y) in enumerate(A[:, :2], start=1):
+    xy = A[:, :2]
+    span = float((xy.max(axis=0) - xy.min(axis=0)).max())
+    first = {g[0]: g for g in _anchor_groups(xy, span)}
+    for i, (x, y) in enumerate(xy):
         ax.plot(x, y, "k^", ms=6)
-        ax.annotate(str(i), (x, y), textcoords="offset points", xytext=(4, 4), fontsize=8)
+        if i in first:
+            g = first[i]
+            # the group's top-right corner (the anchor itself when alone)
+            at = (xy[g, 0].max(), xy[g, 1].max())
+            label = ",".join(str(k + 1) for k in g)
+            ax.annotate(label, at, textcoords="offset points", xytext=(4, 4), fontsize=8)
     # the anchors and their numbers inside the axes (a number above the top edge met the title)
     lo, hi = A[:, :2].min(axis=0), A[:, :2].max(axis=0)
     pad = 0.08 * (hi - lo).max()
@@ -1810,7 +1821,7 @@ def _box_edges(box):
 
 
 def _anchor_groups(A, span):
-    """Cable numbers (1-based) grouped by anchors closer than 4 % of ``span`` [m]: one label per group
+    """Indices (0-based) of the anchors grouped by distance below 4 % of ``span`` [m]: one label per group
     (the crossed cables of a robot leave their pulleys in pairs, whose numbers would overlap)."""
     groups = []
     for i, a in enumerate(A):

@@ -310,3 +310,26 @@ def test_sobol_panels_show_the_upper_whiskers_up_to_1_5(tmp_path, monkeypatch):
     assert tops[0] == [1.05]
     assert max(tops[1]) == pytest.approx(0.99 + 0.28 + 0.05) and min(tops[1]) == 1.05
     assert tops[2] == [1.5]
+
+
+def test_close_anchors_share_one_label_that_covers_no_marker():
+    """CoGiRo's crossed cables leave their pulleys in pairs: one label per pair ("3,4"), none of
+    them over an anchor's marker; a point-mass robot keeps one number per anchor."""
+    from cdpr.robot import load_robot
+    from tests.conftest import ROOT
+
+    for name, labels in (("cogiro", ["1,2", "3,4", "5,6", "7,8"]), ("cdpr4", ["1", "2", "3", "4"])):
+        A = load_robot(ROOT / "config" / "robots" / f"{name}.yaml").A
+        fig, ax = plt.subplots(figsize=(6, 5))
+        plots._anchors(ax, A)
+        fig.canvas.draw()
+        texts = sorted(t.get_text() for t in ax.texts)
+        assert texts == labels, name
+        pix = ax.transData.transform(A[:, :2])
+        for t in ax.texts:
+            box = t.get_window_extent().expanded(1.0, 1.0)
+            inside = (
+                (box.x0 <= pix[:, 0]) & (pix[:, 0] <= box.x1) & (box.y0 <= pix[:, 1]) & (pix[:, 1] <= box.y1)
+            )
+            assert not inside.any(), (name, t.get_text())
+        plt.close(fig)
