@@ -77,6 +77,17 @@ def _grid_index(st, robot, box, n, threads=None, dphi=False):
     return ix, phi
 
 
+def _index_row(st, robot, box, n, threads=None):
+    """The columns of one design in an index table (``index_shard``, ``elasticity_shard``): index_m
+    (eq. 15) over the n^3 grid of ``box``, index_phi_rad (the orientation index, a rigid platform
+    only) and not_ok_points, one solve per orbit of the grid's symmetries (``_grid_index``)."""
+    (ix, bad), phi = _grid_index(st, robot, box, n, threads, dphi=True)
+    row = {"index_m": ix}
+    if not robot.suspended_point_mass:
+        row["index_phi_rad"] = phi
+    return {**row, "not_ok_points": bad}
+
+
 # ---- winch (Métillon Fig. 7) -------------------------------------------------------------------
 def winch_figure(st, table, figure):
     """Fig. 7 of the winch seed from ``winch.csv``."""
@@ -367,11 +378,7 @@ def index_shard(st, shard, box_file, table, threads=None):
     for t in tests.iloc[start:stop].itertuples():
         spec = {"kind": t.kind, "h_m": t.h_m, "r_p_m": t.r_p_m}
         robot = study.design_robot(st, st["doe"]["robot"], spec, data=data)
-        (ix, bad), phi = _grid_index(st, robot, box, n, threads, dphi=True)
-        row = {"test": int(t.test), "index_m": ix}
-        if not robot.suspended_point_mass:
-            row["index_phi_rad"] = phi
-        rows.append({**row, "not_ok_points": bad})
+        rows.append({"test": int(t.test), **_index_row(st, robot, box, n, threads)})
     table_io.write_table(pd.DataFrame(rows), table)
 
 
@@ -484,11 +491,7 @@ def elasticity_shard(st, design, shard, box_file, table, threads=None):
     rows = []
     for E in moduli[start:stop]:
         robot = study.design_robot(st, st["doe"]["robot"], st["optimal"][design], E=E, data=data)
-        (ix, bad), phi = _grid_index(st, robot, box, n, threads, dphi=True)
-        row = {"design": design, "E_Pa": E, "index_m": ix}
-        if not robot.suspended_point_mass:
-            row["index_phi_rad"] = phi
-        rows.append({**row, "not_ok_points": bad})
+        rows.append({"design": design, "E_Pa": E, **_index_row(st, robot, box, n, threads)})
     table_io.write_table(pd.DataFrame(rows), table)
 
 
