@@ -64,7 +64,7 @@ rule dead_length_point:
         **outputs("dead_length_point"),
     params:
         **COMMON,
-        study=uses("dead_length", "pulleys", "plane", "optimal", "elasticity", "doe", "solver", "redundancy"),
+        study=uses("dead_length", "pulleys", "plane", "optimal", "elasticity", "doe", "solver", "redundancy", "rotvec_rad"),
     log:
         LAYOUT.log("dead_length_point"),
     threads: SOLVER_THREADS
