@@ -28,12 +28,24 @@ from cdpr.models.subsets import solve_points
 ENGINES = {"compiled": ("newton",), "numpy": ("newton", "fixed_point")}
 
 
-def check_engine(engine, method):
-    """The engine to use: ``engine``, or when None the default for ``method`` (compiled for Newton,
-    numpy for the fixed point). Raises CdprError for a pair that does not exist (never falls back
-    silently)."""
+#: A process that solves fewer poses than this and then exits (``cdpr point``) is answered by the
+#: numpy reference unless an engine is named: the compiled engine's first call in a process costs
+#: about 0.3 s on the 2-core machine (numba loads its implementation modules and, through its BLAS
+#: check, scipy.linalg), more than the numpy reference needs for 500 poses in any mode (17-430 µs
+#: per pose, point-mass physical to 6-DoF sensitivities; ``benchmarks/startup.py``).
+ONE_SHOT_POSES = 500
+
+
+def check_engine(engine, method, one_shot=None):
+    """The engine to use: ``engine``, or when None the default for ``method``: compiled for Newton,
+    numpy for the fixed point, and numpy for Newton too when ``one_shot`` (the number of poses of
+    a process that solves them and exits: the command line's ``point``) is below
+    ``ONE_SHOT_POSES``. The two engines give the same statuses and poses to 1e-9 m (tests/compiled).
+    Raises CdprError for a pair that does not exist (never falls back silently)."""
     if engine is None:
-        return "compiled" if method == "newton" else "numpy"
+        if method != "newton" or (one_shot is not None and one_shot < ONE_SHOT_POSES):
+            return "numpy"
+        return "compiled"
     if engine not in ENGINES:
         raise CdprError(f"unknown engine {engine!r}; allowed: {', '.join(ENGINES)}")
     if method not in ENGINES[engine]:

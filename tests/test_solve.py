@@ -65,6 +65,17 @@ def test_check_engine_defaults_and_refusals():
         solve.check_engine("compiled", "fixed_point")
 
 
+def test_a_one_shot_process_below_the_threshold_defaults_to_numpy():
+    n = solve.ONE_SHOT_POSES
+    assert solve.check_engine(None, "newton", one_shot=1) == "numpy"
+    assert solve.check_engine(None, "newton", one_shot=n - 1) == "numpy"
+    assert solve.check_engine(None, "newton", one_shot=n) == "compiled"
+    assert solve.check_engine(None, "fixed_point", one_shot=n) == "numpy"
+    assert solve.check_engine("compiled", "newton", one_shot=1) == "compiled"  # a named engine is kept
+    with pytest.raises(CdprError, match=UNKNOWN):
+        solve.check_engine("nope", "newton", one_shot=1)
+
+
 def test_every_entry_point_refuses_an_unknown_engine(robot):
     calls = _entry_points(robot)
     assert len(calls) == 10

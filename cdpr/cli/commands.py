@@ -231,10 +231,10 @@ def cmd_inverse(args):
         )
 
 
-def _solve_sensitivities(robot, P, args, L0=None, rv=None):
-    """The solve plus the sensitivities for --sensitivities: dP*/dθ (``solve.sensitivities``) on a
-    suspended point mass (an orientation plays no part there and is carried through), dp*/dθ and
-    dφ*/dθ (``solve.spatial_sensitivities``, compiled unless --engine numpy) on any other robot."""
+def _solve_sensitivities(robot, P, args, L0=None, rv=None, engine=None):
+    """The solve plus the sensitivities for --sensitivities by ``engine``: dP*/dθ
+    (``solve.sensitivities``) on a suspended point mass (an orientation plays no part there and is
+    carried through), dp*/dθ and dφ*/dθ (``solve.spatial_sensitivities``) on any other robot."""
     from cdpr.solve import check_spatial, sensitivities, spatial_sensitivities  # lazy: --sensitivities only
 
     if args.method != "newton":
@@ -243,22 +243,26 @@ def _solve_sensitivities(robot, P, args, L0=None, rv=None):
         )
     if not robot.suspended_point_mass:
         check_spatial(robot, None, args.redundancy)
-        return spatial_sensitivities(robot, P, rv, L0=L0, engine=args.engine, threads=args.threads)
+        return spatial_sensitivities(robot, P, rv, L0=L0, engine=engine, threads=args.threads)
     return sensitivities(
         robot,
         P,
         redundancy=args.redundancy,
         L=L0,
-        engine=args.engine or "compiled",
+        engine=engine,
         threads=args.threads,
     )
 
 
 def cmd_point(args):
-    from cdpr.solve import solve_points_any  # lazy: the solvers, for the solver commands only
+    """One pose (--at) or a table of poses (--points): the solved pose, tensions and status. Without
+    --engine, fewer than ``solve.ONE_SHOT_POSES`` poses are answered by the numpy reference (the
+    compiled engine's load would be most of the process), more by the compiled engine."""
+    from cdpr.solve import check_engine, solve_points_any  # lazy: the solvers, for the solver commands only
 
     robot = _load(args)
     P = _points(args)
+    engine = check_engine(args.engine, args.method, one_shot=len(P))
     L0 = None
     if args.lengths is not None and args.q is not None:
         raise CdprError("give the commanded cables either as --lengths or as drum angles --q, not both")
@@ -278,13 +282,13 @@ def cmd_point(args):
             raise CdprError(
                 "commanded lengths need physical mode (--redundancy physical); paper mode commands L_TS at the desired point"
             )
-        res = _solve_sensitivities(robot, P, args, L0, rv)
+        res = _solve_sensitivities(robot, P, args, L0, rv, engine)
     else:
         res = solve_points_any(
             robot,
             P,
             method=args.method,
-            engine=args.engine,
+            engine=engine,
             threads=args.threads,
             redundancy=args.redundancy,
             L0=L0,
@@ -311,7 +315,7 @@ def cmd_point(args):
         out["taut"] = [int(i) + 1 for i in np.flatnonzero(res["taut"][0])]
     else:
         out["subset"] = [int(i) + 1 for i in res["subset"][0] if i >= 0]
-    out.update(status=str(res["status"][0]), iterations=int(res["iterations"][0]))
+    out.update(status=str(res["status"][0]), iterations=int(res["iterations"][0]), engine=engine)
     if "unique" in res:
         out.update(unique=bool(res["unique"][0]), alternatives=res["alternatives"][0])
     if args.sensitivities:
@@ -362,8 +366,8 @@ def cmd_point(args):
                 for (name, vec), unit in zip(out["sensitivities"].items(), parameter_units6(robot.m))
             ]
             smooth = smooth.replace("subset or taut set may switch", "taut set may switch or J is singular")
-            engine = "numpy reference" if args.engine == "numpy" else "compiled engine"
-            print(f"sensitivities dp*/dθ and dφ*/dθ at fixed commanded lengths ({engine}){smooth}:")
+            label = "numpy reference" if engine == "numpy" else "compiled engine"
+            print(f"sensitivities dp*/dθ and dφ*/dθ at fixed commanded lengths ({label}){smooth}:")
             headers = ["θ", "unit", "dx", "dy", "dz", "unit", "dφx", "dφy", "dφz"]
             print(_table(rows, headers))
             return
@@ -548,7 +552,7 @@ def cmd_grid(args):
         from cdpr.tables import to_frame  # lazy: --sensitivities only
 
         res = _solve_sensitivities(
-            robot, P, args, rv=None if args.rotvec is None else np.asarray(args.rotvec)
+            robot, P, args, rv=None if args.rotvec is None else np.asarray(args.rotvec), engine=args.engine
         )
         df = to_frame(robot, res, args.redundancy)
     else:

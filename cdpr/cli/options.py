@@ -121,7 +121,7 @@ def solver_options(sp):
         "--engine",
         choices=ENGINES,
         default=None,
-        help="compiled numba kernel (default for newton; Newton only) or the numpy reference (default for fixed_point)",
+        help="compiled numba kernel (default for newton; Newton only) or the numpy reference (default for fixed_point, and for `point` below 500 poses)",
     )
     sp.add_argument(
         "--threads",

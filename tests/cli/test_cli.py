@@ -31,7 +31,17 @@ def test_inverse_json(capsys):
 
 def test_point_json(capsys):
     out = run_json(capsys, "point", "--robot", R4, "--pulley", "DR", "--at", "0.5", "0.2", "2.5")
-    assert set(out) == {"desired", "solved", "dp_norm", "tensions", "subset", "status", "iterations"}
+    assert set(out) == {
+        "desired",
+        "solved",
+        "dp_norm",
+        "tensions",
+        "subset",
+        "status",
+        "iterations",
+        "engine",
+    }
+    assert out["engine"] == "numpy"  # one pose: the numpy reference unless --engine names one
     assert out["status"] == "ok" and len(out["subset"]) == 3 and min(out["subset"]) >= 1
     assert sum(t is None for t in out["tensions"]) == 1
     assert out["dp_norm"] == pytest.approx(np.linalg.norm(np.subtract(out["solved"], out["desired"])))
@@ -50,6 +60,20 @@ def test_point_json(capsys):
         "2.5",
     )
     assert abs(fp["dp_norm"] - out["dp_norm"]) < 5e-5
+
+
+@pytest.mark.parametrize("extra", [[], ["--redundancy", "physical"]])
+def test_point_one_pose_engines_agree(capsys, extra):
+    """One pose defaults to the numpy reference (solve.ONE_SHOT_POSES); --engine compiled gives the
+    same status, subset or taut set, and pose to 1e-9 m."""
+    args = ["point", "--robot", R4, "--at", "0.5", "0.2", "2.5", *extra]
+    ref = run_json(capsys, *args)
+    fast = run_json(capsys, *args, "--engine", "compiled")
+    assert (ref["engine"], fast["engine"]) == ("numpy", "compiled")
+    assert ref["status"] == fast["status"] == "ok"
+    assert ref.get("subset") == fast.get("subset") and ref.get("taut") == fast.get("taut")
+    assert np.allclose(ref["solved"], fast["solved"], rtol=0, atol=1e-9)
+    assert ref["solved"] != ref["desired"]
 
 
 def test_point_overrides_change_the_answer(capsys):
@@ -163,7 +187,7 @@ def test_point_physical_json_and_commanded_lengths(capsys):
         "--redundancy",
         "physical",
     )
-    assert set(out) == {"desired", "solved", "dp_norm", "tensions", "taut", "status", "iterations"}
+    assert set(out) == {"desired", "solved", "dp_norm", "tensions", "taut", "status", "iterations", "engine"}
     assert out["status"] == "ok" and out["taut"] == [1, 2, 3, 4] and all(t > 0 for t in out["tensions"])
     # the lengths of `compensate` commanded explicitly bring the platform to the desired point
     comp = run_json(capsys, "compensate", "--robot", R4, "--pulley", "DR", "--at", "0.5", "0.2", "2.5")

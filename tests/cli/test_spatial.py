@@ -235,10 +235,11 @@ DATA = Path(__file__).parent / "data"
 SENS = ["--redundancy", "physical", "--sensitivities"]
 
 
-@pytest.mark.parametrize("engine", [None, "numpy"])
+@pytest.mark.parametrize("engine", [None, "numpy", "compiled"])
 def test_point_sensitivities_on_cogiro_equal_the_library(capsys, engine):
     """--sensitivities on a rigid platform: the JSON's dp*/dθ and dφ*/dθ are the library's numbers,
-    the compiled engine's by default, the numpy reference's with --engine numpy."""
+    the numpy reference's by default (one pose, solve.ONE_SHOT_POSES) and with --engine numpy, the
+    compiled engine's with --engine compiled."""
     from cdpr.models.sensitivity6 import parameter_names6
     from cdpr.robot import load_robot
     from cdpr.solve import spatial_sensitivities
@@ -259,7 +260,8 @@ def test_point_sensitivities_on_cogiro_equal_the_library(capsys, engine):
         *SENS,
         *extra,
     )
-    lib = spatial_sensitivities(load_robot(COGIRO), [[0.2, 0.1, 2.0]], rv, engine=engine)
+    assert out["engine"] == (engine or "numpy")  # one pose: the numpy reference by default
+    lib = spatial_sensitivities(load_robot(COGIRO), [[0.2, 0.1, 2.0]], rv, engine=out["engine"])
     names = parameter_names6(8)
     assert list(out["sensitivities"]) == names == list(out["sensitivities_phi"]) and len(names) == 8 * 10 + 4
     S = lib["S"][0]
@@ -272,12 +274,12 @@ def test_point_sensitivities_on_cogiro_equal_the_library(capsys, engine):
 def test_point_sensitivities_table_on_cogiro(capsys):
     assert main(["point", "--robot", COGIRO, "--at", "0", "0", "2", *SENS]) == 0
     text = capsys.readouterr().out
-    assert "sensitivities dp*/dθ and dφ*/dθ at fixed commanded lengths (compiled engine):" in text
+    assert "sensitivities dp*/dθ and dφ*/dθ at fixed commanded lengths (numpy reference):" in text
     row = next(line for line in text.splitlines() if line.strip().startswith("E_1 "))
     assert row.split()[1] == "m/Pa" and row.split()[5] == "rad/Pa"
     assert "b_8_z   m/m" in text and "    M  m/kg" in text
-    assert main(["point", "--robot", COGIRO, "--at", "0", "0", "2", *SENS, "--engine", "numpy"]) == 0
-    assert "at fixed commanded lengths (numpy reference):" in capsys.readouterr().out
+    assert main(["point", "--robot", COGIRO, "--at", "0", "0", "2", *SENS, "--engine", "compiled"]) == 0
+    assert "at fixed commanded lengths (compiled engine):" in capsys.readouterr().out
     assert main(["point", "--robot", COGIRO, "--at", "0", "0", "2", "--sensitivities"]) == 2
     assert "paper mode (3-cable subsets) is the point-mass rule" in capsys.readouterr().err
 
@@ -285,10 +287,20 @@ def test_point_sensitivities_table_on_cogiro(capsys):
 @pytest.mark.parametrize("mode", ["paper", "physical"])
 def test_point_mass_sensitivities_json_is_unchanged(capsys, mode):
     """CDPR4's --sensitivities output, byte for byte as before the spatial sensitivities (files written
-    by the previous version of the command); with --rotvec the orientation is carried through."""
+    by the previous version of the command with the compiled engine, its default then; the JSON has
+    gained the key "engine"); with --rotvec the orientation is carried through. One pose now defaults
+    to the numpy reference: the same subset or taut set, pose to 1e-9 m, sensitivities to 1e-6."""
     args = ["point", "--robot", R4, "--pulley", "DR", "--at", "0.5", "0.2", "2.5", "--redundancy", mode]
-    assert main([*args, "--sensitivities", "--json"]) == 0
-    assert capsys.readouterr().out == (DATA / f"point_sensitivities_cdpr4_{mode}.json").read_text()
+    ref = json.loads((DATA / f"point_sensitivities_cdpr4_{mode}.json").read_text())
+    fast = run_json(capsys, *args, "--sensitivities", "--engine", "compiled")
+    assert fast.pop("engine") == "compiled" and fast == ref
+    default = run_json(capsys, *args, "--sensitivities")
+    assert default.pop("engine") == "numpy"
+    assert default.get("subset") == ref.get("subset") and default.get("taut") == ref.get("taut")
+    assert np.allclose(default["solved"], ref["solved"], rtol=0, atol=1e-9)
+    for name, vec in ref["sensitivities"].items():
+        assert np.allclose(default["sensitivities"][name], vec, rtol=1e-6, atol=1e-12), name
+    args = [*args, "--engine", "compiled"]
     if mode == "paper":
         assert main([*args, "--sensitivities"]) == 0
         assert capsys.readouterr().out == (DATA / "point_sensitivities_cdpr4_paper.txt").read_text()
