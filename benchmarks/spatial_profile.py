@@ -1,4 +1,4 @@
-"""Where the compiled 6-DoF Newton's time goes (issue 17): one ``_eval6`` (the energy, gradient,
+"""Where the compiled 6-DoF Newton's time goes (issue 17): one ``eval6`` (the energy, gradient,
 tensions and 6 x 6 Jacobian at one pose, every cable through the shared ``_kernels.cable_axis``)
 timed alone on one thread, beside the whole compiled Newton ``newton6_fast`` on one thread, on the
 same CoGiRo poses as ``spatial_throughput.py``. Prints the cost of one evaluation, of one solve,
@@ -16,7 +16,7 @@ import numba
 import numpy as np
 from numba import njit
 
-from cdpr.compiled.equilibrium6 import _Compiled6, _eval6, _scratch, newton6_fast
+from cdpr.compiled.equilibrium6 import Compiled6, eval6, newton6_fast, scratch6
 from cdpr.models.equilibrium import PHYSICAL_DEFAULTS
 from cdpr.models.equilibrium6 import L_TS_pose, pose_arrays
 from cdpr.robot import load_robot
@@ -26,13 +26,13 @@ ROOT = Path(__file__).resolve().parents[1]
 
 @njit
 def _evals(pp, R, L0, cab, body):
-    """One ``_eval6`` at each pose (pose i, rest lengths L0[i]); returns the summed merit."""
-    w = _scratch(cab.A.shape[0])
+    """One ``eval6`` at each pose (pose i, rest lengths L0[i]); returns the summed merit."""
+    w = scratch6(cab.A.shape[0])
     s = 0.0
     for i in range(pp.shape[0]):
         Ri = R[i].copy()
         x, y, z = pp[i, 0], pp[i, 1], pp[i, 2]
-        _eval6(x, y, z, Ri, x, y, z, cab, body, L0, i, w.t, w.J, w.e6, w.g6, w)
+        eval6(x, y, z, Ri, x, y, z, cab, body, L0, i, w.t, w.J, w.e6, w.g6, w)
         s += w.e6[12]
     return s
 
@@ -46,7 +46,7 @@ def main():
     p = np.column_stack([g.uniform(-3, 3, n), g.uniform(-2, 2, n), g.uniform(1.0, 3.0, n)])
     rv = g.normal(size=(n, 3))
     rv *= (np.radians(10) * g.uniform(0, 1, (n, 1))) / np.linalg.norm(rv, axis=1, keepdims=True)
-    cab = _Compiled6(cog)
+    cab = Compiled6(cog)
     pp, R = pose_arrays(cog, p, rv)
     L0 = L_TS_pose(cog, pp, R)
     o = PHYSICAL_DEFAULTS
@@ -62,7 +62,7 @@ def main():
     tk = (time.perf_counter() - t0) / n
     ev = it.mean() + 1
     print(
-        f"CoGiRo (m = {cog.m}), one thread: one _eval6 {te * 1e6:.2f} us ({te / cog.m * 1e9:.0f} ns per "
+        f"CoGiRo (m = {cog.m}), one thread: one eval6 {te * 1e6:.2f} us ({te / cog.m * 1e9:.0f} ns per "
         f"cable); one Newton solve {tk * 1e6:.2f} us; {ev:.2f} evaluations per solve, "
         f"{ev * te * 1e6:.2f} us = {ev * te / tk:.0%} of the solve"
     )

@@ -27,7 +27,7 @@ import numba
 import numpy as np
 
 from cdpr.compiled.equilibrium import solve_physical_fast
-from cdpr.compiled.equilibrium6 import _Compiled6, newton6_fast
+from cdpr.compiled.equilibrium6 import Compiled6, newton6_fast
 from cdpr.compiled.equilibrium6 import solve_spatial as solve_spatial_fast
 from cdpr.compiled.sensitivity6 import sensitivities_at as sensitivities_at_fast
 from cdpr.compiled.sensitivity6 import spatial_sensitivities as spatial_sensitivities_fast
@@ -118,7 +118,7 @@ def main():
         f"{'same statuses and taut sets' if same else 'DIFFERENT'}, max |dP| {dev:.1e} m"
     )
     sensitivity_rates(cog, p, rv, res, n, nn, args.repeat)
-    cab = _Compiled6(cog)
+    cab = Compiled6(cog)
     pp, R = pose_arrays(cog, p, rv)
     L0 = L_TS_pose(cog, pp, R)
     o = PHYSICAL_DEFAULTS

@@ -158,7 +158,7 @@ def main():
     n_pts = args.n**3
     print()
     line("cdpr --help", help_m)
-    line("cdpr point --at (default: numpy, 1 pose)", point_m)
+    line("cdpr point --at (default: numpy)", point_m)
     line("cdpr point --at --engine compiled", point_c)
     line(f"cdpr grid --n {args.n} (whole process)", grid_m)
     g_med, g_min = line(f"cdpr grid --n {args.n}, per point", grid_m, per=n_pts)

@@ -75,7 +75,8 @@ TABLE1 = WinchParams(
     k_w=0.07460068, l_u0=5.9261, q0=94.2478, q_max=188.4956, l_AE1=2.6848, l_E1E2=0.06, alpha_E1=1.6906
 )
 
-_PARAM_KEYS = {
+#: A winch mapping's keys (robot files, winch files) -> (WinchParams field, unit).
+WINCH_KEYS = {
     "k_w_m": ("k_w", "m"),
     "l_u0_m": ("l_u0", "m"),
     "q0_rad": ("q0", "rad"),
@@ -87,7 +88,7 @@ _PARAM_KEYS = {
 
 
 def params_from_mapping(data, source, key=""):
-    """WinchParams from a mapping of the keys of ``_PARAM_KEYS`` (k_w_m, l_u0_m, q0_rad, q_max_rad,
+    """WinchParams from a mapping of the keys of ``WINCH_KEYS`` (k_w_m, l_u0_m, q0_rad, q_max_rad,
     l_AE1_m, l_E1E2_m, alpha_E1_rad; SI values or strings with units); missing keys take Table 1's
     values. Errors name ``source`` and ``key`` (the mapping's place in its file).
 
@@ -117,9 +118,9 @@ def params_from_mapping(data, source, key=""):
     prefix = f"{key}." if key else ""
     values = dataclasses.asdict(TABLE1)
     for k, val in data.items():
-        if k not in _PARAM_KEYS:
-            raise ConfigError(source, prefix + str(k), f"unknown key; allowed: {', '.join(_PARAM_KEYS)}")
-        field, dim = _PARAM_KEYS[k]
+        if k not in WINCH_KEYS:
+            raise ConfigError(source, prefix + str(k), f"unknown key; allowed: {', '.join(WINCH_KEYS)}")
+        field, dim = WINCH_KEYS[k]
         v = quantity(val, dim, source, prefix + k)
         if field != "alpha_E1" and (v < 0 or (v == 0 and field != "q0")):
             raise ConfigError(

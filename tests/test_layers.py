@@ -91,3 +91,59 @@ def test_no_import_inside_a_function_outside_the_cli():
                     and not (rel in STARTUP and "# lazy:" in lines[sub.lineno - 1])
                 ]
     assert not found, "imports inside functions (move them to the module top):\n" + "\n".join(found)
+
+
+def private_crossings(path, rel):
+    """Where the file at ``path`` uses another cdpr module's private name: ``from cdpr.x import _y``
+    (a private *module*, such as ``cdpr.compiled._kernels``, may be imported: its names are public
+    inside it) or ``alias._y`` on a cdpr module imported as ``alias``."""
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    modules, found = {}, []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            for a in node.names:
+                if a.name.startswith("cdpr") and a.asname:
+                    modules[a.asname] = a.name
+        elif isinstance(node, ast.ImportFrom) and (node.module or "").startswith("cdpr"):
+            for a in node.names:
+                full = f"{node.module}.{a.name}"
+                is_module = (ROOT / (full.replace(".", "/") + ".py")).exists() or (
+                    ROOT / full.replace(".", "/")
+                ).is_dir()
+                if is_module:
+                    modules[a.asname or a.name] = full
+                elif a.name.startswith("_"):
+                    found.append(f"{rel}:{node.lineno} from {node.module} import {a.name}")
+    for node in ast.walk(tree):
+        if (
+            isinstance(node, ast.Attribute)
+            and isinstance(node.value, ast.Name)
+            and node.value.id in modules
+            and node.attr.startswith("_")
+            and not node.attr.startswith("__")
+        ):
+            found.append(f"{rel}:{node.lineno} {modules[node.value.id]}.{node.attr}")
+    return found
+
+
+def test_private_crossings_are_found(tmp_path):
+    f = tmp_path / "m.py"
+    f.write_text(
+        "from cdpr.robot import _hidden, load_robot\n"
+        "from cdpr.pipeline import comparison as cm\n"
+        "from cdpr.compiled import _kernels\n"
+        "x = cm._read, cm.verdict, _kernels.CHUNK, cm.__name__\n"
+    )
+    assert private_crossings(f, "m.py") == [
+        "m.py:1 from cdpr.robot import _hidden",
+        "m.py:4 cdpr.pipeline.comparison._read",
+    ]
+
+
+def test_no_private_name_crosses_a_module_boundary():
+    """Issue 16: a module uses only the public names of another (public names inside private
+    modules such as ``compiled/_kernels.py``)."""
+    found = []
+    for path in sorted((ROOT / "cdpr").rglob("*.py")):
+        found += private_crossings(path, path.relative_to(ROOT).as_posix())
+    assert not found, "private names used across modules (make them public):\n" + "\n".join(found)

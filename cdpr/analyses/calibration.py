@@ -87,8 +87,7 @@ from cdpr.parameters import (
     robot_with_parameters6,
     select_groups,
 )
-from cdpr.robot import _PARAM_KEYS as WINCH_KEYS
-from cdpr.robot import with_pulleys
+from cdpr.robot import WINCH_KEYS, with_pulleys
 from cdpr.solve import sensitivities
 from cdpr.solve import spatial_sensitivities as solve_spatial_sensitivities
 from cdpr.units import quantity

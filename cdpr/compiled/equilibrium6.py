@@ -40,7 +40,7 @@ from cdpr.compiled._kernels import (
     set_threads,
 )
 from cdpr.models.equilibrium import ARMIJO_C, LS_SKIP, MAX_HALVINGS, PHYSICAL_DEFAULTS, TAUT_MIN
-from cdpr.models.equilibrium6 import RCOND, SHIFT_REL, _Cables6, finish, set_up, solve_with, stop_rules
+from cdpr.models.equilibrium6 import RCOND, SHIFT_REL, Cables6, finish, set_up, solve_with, stop_rules
 
 #: Sweeps of the one-sided Jacobi SVD (``pinv_solve6``) at most; it stops when every column pair
 #: is orthogonal to ``JACOBI_EPS`` (relative).
@@ -58,7 +58,7 @@ class Body(NamedTuple):
     """The platform and pulley frames for the 6-DoF kernel (``body_arrays``): b (m, 3) [m]
     attachments in the platform frame; frame (m, 3, 3) [-] pulley frames (rows i, j, k); ident (m,)
     bool (frame is the identity); com (3,) [m]; f (3,) [N] gravity force; ftol [N]; size [m] the
-    platform's size l; ztop [m] the lowest joint height; rigid, suspended (``_Cables6``)."""
+    platform's size l; ztop [m] the lowest joint height; rigid, suspended (``Cables6``)."""
 
     b: np.ndarray
     frame: np.ndarray
@@ -94,7 +94,7 @@ class Out6(NamedTuple):
 
 
 def body_arrays(cab):
-    """The ``Body`` record of a ``_Cables6`` (the reference's evaluation record)."""
+    """The ``Body`` record of a ``Cables6`` (the reference's evaluation record)."""
     a = cab.robot.arrays
     frame = np.ascontiguousarray(a.frame, dtype=float)
     ident = np.array([(fr == np.eye(3)).all() for fr in frame], dtype=np.bool_)
@@ -141,7 +141,7 @@ class _Scratch(NamedTuple):
     tt: np.ndarray  # (m,) tensions of the trial pose
     J: np.ndarray  # (6, 6) current Jacobian
     Jt: np.ndarray  # (6, 6) trial Jacobian
-    e6: np.ndarray  # (14,) current F (3), M (3), Fn (6), merit, kappa... see _eval6
+    e6: np.ndarray  # (14,) current F (3), M (3), Fn (6), merit, kappa... see eval6
     et: np.ndarray  # (14,) trial
     g6: np.ndarray  # (8,) current grad (6), kappa (2)
     gt: np.ndarray  # (8,) trial
@@ -161,7 +161,7 @@ class _Scratch(NamedTuple):
 
 
 @njit(cache=True)
-def _scratch(m):
+def scratch6(m):
     return _Scratch(
         np.empty(m),
         np.empty(m),
@@ -235,8 +235,8 @@ def _add_cable_jacobian(J, g00, g01, g02, g10, g11, g12, g20, g21, g22, rx, ry, 
 
 
 @njit(cache=True, error_model="numpy")
-def _eval6(px, py, pz, R, rfx, rfy, rfz, cab, body, L0, i, t, J, e6, g6, w):
-    """``equilibrium6._Cables6.evaluate`` at one pose (p, R) with rest lengths L0[i], merit relative
+def eval6(px, py, pz, R, rfx, rfy, rfz, cab, body, L0, i, t, J, e6, g6, w):
+    """``equilibrium6.Cables6.evaluate`` at one pose (p, R) with rest lengths L0[i], merit relative
     to p_ref = (rfx, rfy, rfz): writes the tensions t (m,), J (6, 6), e6 = (F (3), M (3), Fn (6),
     merit, inside), g6 = (grad (6), kappa (2)); ``w`` the scratch record."""
     A, kind, h, rp, d, inward, ES = cab.A, cab.kind, cab.h, cab.rp, cab.d, cab.inward, cab.ES
@@ -836,7 +836,7 @@ def solve_pose(i, p_ref, P0, R0, L0, cab, body, opts, out, w):
         for c in range(3):
             R[a, c] = R0[i, a, c]
     t, J, e6, g6 = w.t, w.J, w.e6, w.g6
-    _eval6(px, py, pz, R, rfx, rfy, rfz, cab, body, L0, i, t, J, e6, g6, w)
+    eval6(px, py, pz, R, rfx, rfy, rfz, cab, body, L0, i, t, J, e6, g6, w)
     conv = False
     it = 0
     prev = 0.0
@@ -907,7 +907,7 @@ def solve_pose(i, p_ref, P0, R0, L0, cab, body, opts, out, w):
                 for a in range(3):
                     for c in range(3):
                         Rt[a, c] = R[a, c]
-            _eval6(qx, qy, qz, Rt, rfx, rfy, rfz, cab, body, L0, i, w.tt, w.Jt, w.et, w.gt, w)
+            eval6(qx, qy, qz, Rt, rfx, rfy, rfz, cab, body, L0, i, w.tt, w.Jt, w.et, w.gt, w)
             if whole or w.et[12] <= merit + ARMIJO_C * alpha * slope or hv == MAX_HALVINGS:
                 px, py, pz = qx, qy, qz
                 for a in range(3):
@@ -958,13 +958,13 @@ def _solve_poses(p_ref, P0, R0, L0, cab, body, opts, out):
     m = cab.A.shape[0]
     nchunks = (n + CHUNK - 1) // CHUNK
     for ch in prange(nchunks):
-        w = _scratch(m)
+        w = scratch6(m)
         for i in range(ch * CHUNK, min(n, (ch + 1) * CHUNK)):
             solve_pose(i, p_ref, P0, R0, L0, cab, body, opts, out, w)
 
 
-class _Compiled6(_Cables6):
-    """The reference's evaluation record (``equilibrium6._Cables6``: the robot, its load and
+class Compiled6(Cables6):
+    """The reference's evaluation record (``equilibrium6.Cables6``: the robot, its load and
     tolerances, read by the restarts and the result) with the kernel's ``Cables`` and ``Body``."""
 
     def __init__(self, robot):
@@ -995,7 +995,7 @@ def newton6_fast(cab, p0, R0, L0, p_ref, tol, maxiter, max_step):
 
     Parameters
     ----------
-    cab : _Compiled6
+    cab : Compiled6
     p0 : ndarray (N, 3) [m]
         Start positions.
     R0 : ndarray (N, 3, 3) [-]
@@ -1077,7 +1077,7 @@ def solve_spatial(
     Paty et al. 2021, eq. (2)-(5), (10)-(14); Pott 2018, ch. 3.
     """
     set_threads(threads)
-    cab = _Compiled6(robot)
+    cab = Compiled6(robot)
     return solve_with(
         robot, cab, newton6_fast, p, rotvec, L0, P0, tol, maxiter, max_step, restarts, L_TS_fast
     )
@@ -1121,7 +1121,7 @@ def _solve_poses_batch(
             out.stable[k],
             out.rotvec[k],
         )
-        w = _scratch(m)
+        w = scratch6(m)
         for i in range(ch * CHUNK, min(n, (ch + 1) * CHUNK)):
             solve_pose(i, p_ref[k], P0[k], R0[k], L0[k], cab, body, opts, o, w)
 
@@ -1186,7 +1186,7 @@ def solve_spatial_batch(
     results = []
     for start in range(0, len(robots), per):
         group = robots[start : start + per]
-        records = [_Compiled6(r) for r in group]
+        records = [Compiled6(r) for r in group]
         poses = [set_up(r, p, rotvec, L0, None, L_TS_fast) for r in group]
         cabs, bodies, scal, flags, out = _stack(records, n, m)
         if n:

@@ -3,7 +3,7 @@
 
 At each equilibrium (p*, R*) of a ``solve_spatial`` result (either engine; ``spatial_sensitivities``
 runs the compiled one) the balance's 6 x 6 Jacobian dF6/dx is the solver's own
-(``equilibrium6._eval6``, the compiled ``equilibrium6._jacobian``) and dF6/dθ at fixed pose is
+(``equilibrium6.eval6``, the compiled ``equilibrium6._jacobian``) and dF6/dθ at fixed pose is
 analytic, cable by cable, from the shared cable kernel (``_kernels.cable_partials_axis``: the
 scalar ``cable_partials`` in each pulley's frame). With w_i = t_i (u_i, r_i × u_i), t_i = a_i k_i
 (L_TE,i - L0_i), k_i = E_i S_i / L0_i, r_i = R b_i, B_i = p + r_i::
@@ -51,7 +51,7 @@ from cdpr.compiled._kernels import (
     cable_partials_axis,
     set_threads,
 )
-from cdpr.compiled.equilibrium6 import _Compiled6, _eval6, _scratch, lu_solve6, solve_spatial
+from cdpr.compiled.equilibrium6 import Compiled6, eval6, lu_solve6, scratch6, solve_spatial
 from cdpr.errors import CdprError
 from cdpr.models.sensitivity import COND_MAX, T_TOL
 from cdpr.parameters import parameter_names6
@@ -308,7 +308,7 @@ def scaled_condition6(J, ell, rigid, Js):
 
 @njit(cache=True, error_model="numpy")
 def _sens_pose(i, P, R, L0, ok, cab, body, mass, cols, rcond, S, margin, cond, w, rows, dF, Js, Jp):
-    """dx*/dθ at pose i into S[i], margin[i], cond[i] (``sensitivities_at``); w the ``_scratch``
+    """dx*/dθ at pose i into S[i], margin[i], cond[i] (``sensitivities_at``); w the ``scratch6``
     record, rows (m, NCOL), dF (6, 10 m + 4), Js, Jp (6, 6) work arrays."""
     K = cols.shape[0]
     for a in range(6):
@@ -318,7 +318,7 @@ def _sens_pose(i, P, R, L0, ok, cab, body, mass, cols, rcond, S, margin, cond, w
     cond[i] = np.inf
     if not ok[i]:
         return
-    _eval6(
+    eval6(
         P[i, 0],
         P[i, 1],
         P[i, 2],
@@ -380,7 +380,7 @@ def _sens_poses(P, R, L0, ok, cab, body, mass, cols, rcond, S, margin, cond):
     m = cab.A.shape[0]
     nchunks = (n + CHUNK - 1) // CHUNK
     for ch in prange(nchunks):
-        w = _scratch(m)
+        w = scratch6(m)
         rows = np.empty((m, NCOL))
         dF = np.empty((6, 10 * m + 4))
         Js = np.empty((6, 6))
@@ -437,7 +437,7 @@ def sensitivities_at(robot, res, names=None, t_tol=T_TOL, threads=None):
     margin = np.empty(n)
     cond = np.empty(n)
     if n:
-        cab = _Compiled6(robot)
+        cab = Compiled6(robot)
         _sens_poses(
             P,
             f(res["R_s"], dtype=float),

@@ -154,7 +154,7 @@ def L_TS_pose(robot, p, R):
     return np.linalg.norm(B - robot.A, axis=-1) + robot.d
 
 
-class _Cables6:
+class Cables6:
     """Force/moment balance, energy and Jacobian of a robot's cables at poses."""
 
     def __init__(self, robot):
@@ -408,14 +408,14 @@ def solve_spatial(
     ----------
     Paty et al. 2021, eq. (2)-(5), (10)-(14); Pott 2018, ch. 3.
     """
-    return solve_with(robot, _Cables6(robot), _newton6, p, rotvec, L0, P0, tol, maxiter, max_step, restarts)
+    return solve_with(robot, Cables6(robot), _newton6, p, rotvec, L0, P0, tol, maxiter, max_step, restarts)
 
 
 def solve_with(robot, cab, newton, p, rotvec, L0, P0, tol, maxiter, max_step, restarts, standard=None):
     """``solve_spatial`` with its Newton iteration given: ``newton(cab, p0, R0, L0, p_ref, tol,
     maxiter, max_step)`` returns (p, R, evaluation dict with at least F, M, t, merit, J, iterations,
     converged) as ``_newton6`` does (the numpy one, or the compiled engine's); ``cab`` a
-    ``_Cables6`` (or a subclass the given ``newton`` reads); ``standard(robot, p, R)`` the default
+    ``Cables6`` (or a subclass the given ``newton`` reads); ``standard(robot, p, R)`` the default
     rest lengths (``L_TS_pose`` when None). The pose set-up, the restarts and the result are this
     module's. The evaluation dict may also carry, at the final poses, ``stable`` (N,) (points shown
     positive definite, not checked again by ``_needs_restart``), ``inside``, ``gamma`` (N, m) (the
@@ -424,7 +424,7 @@ def solve_with(robot, cab, newton, p, rotvec, L0, P0, tol, maxiter, max_step, re
     Parameters
     ----------
     robot : Robot
-    cab : _Cables6
+    cab : Cables6
     newton : callable
     p, rotvec, L0, P0, tol, maxiter, max_step, restarts
         As ``solve_spatial``.
@@ -521,7 +521,7 @@ def finish(robot, cab, newton, pose, first, tol, maxiter, max_step, restarts):
     Parameters
     ----------
     robot : Robot
-    cab : _Cables6
+    cab : Cables6
     newton : callable
         As ``solve_with`` (it solves the restarts).
     pose : Setup

@@ -27,7 +27,7 @@ import copy
 
 import numpy as np
 
-from cdpr.models.equilibrium6 import _Cables6, solve_spatial
+from cdpr.models.equilibrium6 import Cables6, solve_spatial
 from cdpr.models.pulleys import total_length_and_direction
 from cdpr.models.sensitivity import COND_MAX, T_TOL
 from cdpr.models.statics import length_gradient
@@ -188,7 +188,7 @@ def tension_partials6(robot, P, R, L0, names=None):
     Paty et al. 2021, eq. (5), (10), (13) (the total length and Hooke's law at B_i).
     """
     names = parameter_names6(robot.m) if names is None else list(names)
-    cab = _Cables6(robot)
+    cab = Cables6(robot)
     cab.mass = robot.platform.mass
     cab.E = robot.arrays.E
     r = np.einsum("nab,mb->nma", R, cab.b)
@@ -239,7 +239,7 @@ def scaled_condition(J, ell, rigid=True):
     J : ndarray (N, 6, 6) [N/m, N/rad, N m/m, N m/rad]
         d(F, M)/d(dp, dphi) (``equilibrium6._jacobian``).
     ell : float [m]
-        The platform's size (``_Cables6.size``).
+        The platform's size (``Cables6.size``).
     rigid : bool
         Whether the moment rows count.
 
@@ -302,7 +302,7 @@ def sensitivities_at(robot, res, names=None, t_tol=T_TOL):
     ok = np.asarray(res["status"]) == "ok"
     idx = np.flatnonzero(ok)
     if idx.size:
-        cab = _Cables6(robot)
+        cab = Cables6(robot)
         cab.mass = robot.platform.mass
         cab.E = robot.arrays.E
         P, R, L0 = res["P_s"][idx], res["R_s"][idx], np.asarray(res["L0"])[idx]
@@ -400,7 +400,7 @@ def rest_length_sensitivities(robot, P, R, L0):
     ----------
     Paty et al. 2021, eq. (10)-(13); implicit-function theorem.
     """
-    cab = _Cables6(robot)
+    cab = Cables6(robot)
     ev = cab.evaluate(P, R, L0, P)
     g = ev["g"]
     k = cab.ES / L0

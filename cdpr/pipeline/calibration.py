@@ -162,7 +162,7 @@ def load_calibration_study(path):
     return out
 
 
-def _stats(err):
+def error_stats(err):
     """median, 95 % and max of an error array [m] -> [mm], NaN-free."""
     e = np.asarray(err)[np.isfinite(err)]
     if not len(e):
@@ -240,9 +240,9 @@ def run_calibration_study(study_path, out):
 
     def row(label, n_par, err_pred, err_comp, extra=None):
         r = {"model": label, "parameters": n_par}
-        r.update({f"predict_{k}": v for k, v in _stats(err_pred).items()})
+        r.update({f"predict_{k}": v for k, v in error_stats(err_pred).items()})
         r["predict_rms_mm"] = 1e3 * float(np.sqrt(np.nanmean(err_pred**2)))
-        r.update({f"compensated_{k}": v for k, v in _stats(err_comp).items()})
+        r.update({f"compensated_{k}": v for k, v in error_stats(err_comp).items()})
         r["compensated_points"] = int(np.isfinite(err_comp).sum())
         r.update(extra or {})
         rows.append(r)
@@ -302,7 +302,7 @@ def run_calibration_study(study_path, out):
                     "n": n,
                     "design": design,
                     "predict_rms_mm": 1e3 * float(np.sqrt(np.nanmean(err**2))),
-                    **{f"predict_{k}": v for k, v in _stats(err).items()},
+                    **{f"predict_{k}": v for k, v in error_stats(err).items()},
                     "median_sd_ratio": float(np.median(c.ident["ratio"])),
                 }
             )
@@ -372,7 +372,8 @@ def _learning_figure(curve, floor_mm, path, label="pulleys + elasticity"):
     save(fig, path)
 
 
-def _md_table(df, cols, fmt="{:.3g}"):
+def md_table(df, cols, fmt="{:.3g}"):
+    """A markdown table of the columns ``cols`` of ``df``, floats written with ``fmt``."""
     head = "| " + " | ".join(cols) + " |\n|" + "---|" * len(cols) + "\n"
     lines = []
     for _, r in df.iterrows():
@@ -408,7 +409,7 @@ def _write_markdown(out, st, headline, curve, enc, ident_lines, left_out, n_val,
         "",
         "## Headline: validation error per model",
         "",
-        _md_table(
+        md_table(
             headline,
             [
                 "model",
@@ -431,12 +432,12 @@ def _write_markdown(out, st, headline, curve, enc, ident_lines, left_out, n_val,
         "",
         f"## Learning curve ({best} model)",
         "",
-        _md_table(
+        md_table(
             curve,
             [c for c in ("n", "design", "predict_rms_mm", "predict_p95_mm", "median_sd_ratio") if c in curve],
         ),
         "## Encoder data (unknown offsets)",
         "",
-        _md_table(enc, list(enc.columns)),
+        md_table(enc, list(enc.columns)),
     ]
     (out / "summary.md").write_text("\n".join(text), encoding="utf-8")

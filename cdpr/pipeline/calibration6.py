@@ -24,9 +24,9 @@ from cdpr.models.platform import rotation_matrix
 from cdpr.parameters import calibration_values, is_spatial, select_groups
 from cdpr.pipeline.calibration import (
     FIT_FORMAT,
-    _md_table,
-    _stats,
     calibration_figures,
+    error_stats,
+    md_table,
     run_calibration_study,
 )
 from cdpr.pipeline.plots import plt, save
@@ -210,9 +210,9 @@ def run_calibration_study6(study_path, out):
         ok = reach["status"] == "ok"
         dp = np.where(ok, np.linalg.norm(reach["P_s"] - p[fin], axis=1), np.nan)
         r = {"model": label, "parameters": n_par, "rank": rank}
-        r.update({f"predict_{k}": v for k, v in _stats(pos).items()})
+        r.update({f"predict_{k}": v for k, v in error_stats(pos).items()})
         r["predict_rms_mm"] = 1e3 * float(np.sqrt(np.nanmean(pos**2)))
-        r.update({f"orient_{k.replace('mm', 'mrad')}": v for k, v in _stats(ang).items()})
+        r.update({f"orient_{k.replace('mm', 'mrad')}": v for k, v in error_stats(ang).items()})
         r["orient_rms_mrad"] = 1e3 * float(np.sqrt(np.nanmean(ang**2)))
         r["unflagged_rms_mm"] = 1e3 * float(np.sqrt(np.nanmean(pos[~flagged] ** 2)))
         r["unflagged_max_mm"] = 1e3 * float(np.nanmax(pos[~flagged])) if (~flagged).any() else np.nan
@@ -221,7 +221,7 @@ def run_calibration_study6(study_path, out):
         r["same_taut_set_rms_mm"] = (
             1e3 * float(np.sqrt(np.nanmean(pos[~differs] ** 2))) if (~differs).any() else np.nan
         )
-        r.update({f"compensated_{k}": v for k, v in _stats(dp).items()})
+        r.update({f"compensated_{k}": v for k, v in error_stats(dp).items()})
         r["compensated_all_taut"] = int((ok & (reach["n_taut"] == robot.m)).sum())
         r["compensated_points"] = int(np.isfinite(dp).sum())
         rows.append(r)
@@ -251,7 +251,7 @@ def run_calibration_study6(study_path, out):
         pos, ang, _ = _errors(rob, val_pt)
         pt_err[label] = (pos, ang)
         rows[-1].update(
-            {f"pretensioned_{k}": v for k, v in _stats(pos).items()},
+            {f"pretensioned_{k}": v for k, v in error_stats(pos).items()},
             pretensioned_rms_mm=1e3 * float(np.sqrt(np.nanmean(pos**2))),
             pretensioned_orient_rms_mrad=1e3 * float(np.sqrt(np.nanmean(ang**2))),
             pretensioned_points=int(np.isfinite(pos).sum()),
@@ -320,7 +320,7 @@ def _write_markdown6(out, st, robot, headline, ident_lines, vt, n_train, pretens
         "",
         "## Headline: validation error per model",
         "",
-        _md_table(
+        md_table(
             headline,
             [
                 "model",
@@ -344,7 +344,7 @@ def _write_markdown6(out, st, robot, headline, ident_lines, vt, n_train, pretens
         "",
         "## Compensated commands of each model",
         "",
-        _md_table(
+        md_table(
             headline,
             [
                 "model",
@@ -361,7 +361,7 @@ def _write_markdown6(out, st, robot, headline, ident_lines, vt, n_train, pretens
         "",
         "## Pretensioned validation",
         "",
-        _md_table(
+        md_table(
             headline,
             [
                 "model",

@@ -108,7 +108,8 @@ def load_comparison(path):
 # ------------------------------------------------------------------------------------------------
 # Verdicts
 # ------------------------------------------------------------------------------------------------
-def _missing(v):
+def is_missing(v):
+    """True for a value a verdict cannot use: None or a non-finite float."""
     return v is None or (isinstance(v, float) and not math.isfinite(v))
 
 
@@ -128,7 +129,7 @@ def verdict(paper_mode, physical, tolerance=None, claim=None):
     -------
     str, one of ``VERDICTS``.
     """
-    if _missing(paper_mode) or _missing(physical):
+    if is_missing(paper_mode) or is_missing(physical):
         return "undetermined"
     if claim is not None and bool(claim[0]) != bool(claim[1]):
         return "reverses"
@@ -161,7 +162,7 @@ def printed_values():
     return out
 
 
-def _kinds(st):
+def first_designs(st):
     """The study's first pulley design of each kind: kind -> design key (e.g. {'SR': 'SR', 'DR': 'DR'})."""
     out = {}
     for key, spec in st["pulleys"].items():
@@ -175,7 +176,9 @@ def plane_extremes(res, robot, pulley):
     return (np.nan, np.nan) if df is None else scans.ok_extremes(df)
 
 
-def _rv(res, robot, pulley, limit):
+def regular_volume(res, robot, pulley, limit):
+    """R_V [m^3] of ``robot`` with ``pulley`` at the pose-error limit ``limit`` [m] in the results
+    folder ``res`` (``volumes`` table), NaN when absent."""
     v = _read(res, _rel("volumes"))
     if v is None:
         return np.nan
@@ -183,19 +186,23 @@ def _rv(res, robot, pulley, limit):
     return float(r.R_V.iloc[0]) if len(r) else np.nan
 
 
-def _doe(res):
+def doe_tables(res):
+    """(DOE table, effects indexed by term without the mean) of the results folder ``res``; None
+    for a table that is absent."""
     d = _read(res, _rel("doe"))
     e = _read(res, _rel("doe", "effects"))
     return d, (None if e is None else e[e.term != "mean"].set_index("term"))
 
 
-def _line(res, kind, col):
+def line_value(res, kind, col):
+    """Column ``col`` of the optimal line of pulley ``kind`` (``maps/lines``) in ``res``, NaN when absent."""
     li = _read(res, _rel("maps", "lines"))
     r = None if li is None else li[li.kind == kind]
     return np.nan if r is None or r.empty else float(r[col].iloc[0])
 
 
-def _band(res, design, col):
+def band_value(res, design, col):
+    """Column ``col`` of ``design``'s Young's-modulus band (``elasticity/bands``) in ``res``, NaN when absent."""
     b = _read(res, _rel("elasticity", "bands"))
     r = None if b is None else b[b.design == design]
     return np.nan if r is None or r.empty else float(r[col].iloc[0])
@@ -236,7 +243,7 @@ def conclusions(st, paper_res, physical_res):
         scale = 1e3 if unit == "mm" else 1.0
         if tol is None:
             tol = ptol * scale if ptol is not None else None
-        if tol is None and not isinstance(a, str) and not _missing(a):
+        if tol is None and not isinstance(a, str) and not is_missing(a):
             tol = DEFAULT_REL * abs(a)
         rows.append(
             {
@@ -256,7 +263,7 @@ def conclusions(st, paper_res, physical_res):
             }
         )
 
-    kinds = _kinds(st)
+    kinds = first_designs(st)
     pair = "SR" in kinds and "DR" in kinds
     # -- plane z (section 3.3.2, Fig. 12)
     z = st["plane"]["z_m"]
@@ -302,13 +309,17 @@ def conclusions(st, paper_res, physical_res):
                     f"{rk}_{pk} R_V at {lim:g} m",
                     f"share of the frame with ‖δp‖ <= {lim:g} m",
                     "-",
-                    _rv(paper_res, rk, pk, lim),
-                    _rv(physical_res, rk, pk, lim),
+                    regular_volume(paper_res, rk, pk, lim),
+                    regular_volume(physical_res, rk, pk, lim),
                     tol=0.05,
                     pq=f"{rk}_{pk} R_V at {lim:g} m",
                 )
             if pair:
-                d = [_rv(res[m], rk, kinds["DR"], lim) - _rv(res[m], rk, kinds["SR"], lim) for m in res]
+                d = [
+                    regular_volume(res[m], rk, kinds["DR"], lim)
+                    - regular_volume(res[m], rk, kinds["SR"], lim)
+                    for m in res
+                ]
                 add(
                     "volumes",
                     f"{rk} R_V(DR) - R_V(SR) at {lim:g} m",
@@ -321,7 +332,7 @@ def conclusions(st, paper_res, physical_res):
                     headline=True,
                 )
     # -- DOE (section 4.2, Fig. 15-16)
-    doe_ = {m: _doe(res[m]) for m in res}
+    doe_ = {m: doe_tables(res[m]) for m in res}
     if all(d is not None for d, _ in doe_.values()):
         rank = {m: " < ".join(str(t) for t in d.sort_values("index_m").test) for m, (d, _) in doe_.items()}
         add(
@@ -373,7 +384,7 @@ def conclusions(st, paper_res, physical_res):
     # -- optimal lines and designs (section 4.3, Fig. 17, Table 3)
     slopes = {}
     for kind, pq in (("SR", "D_SR slope h/r_p"), ("DR", "D_DR slope h/r_p")):
-        slopes[kind] = [_line(res[m], kind, "slope_k") for m in res]
+        slopes[kind] = [line_value(res[m], kind, "slope_k") for m in res]
         add(
             "maps",
             f"D_{kind} slope h / r_p",
@@ -388,7 +399,7 @@ def conclusions(st, paper_res, physical_res):
             ("r_p_opt_m", "r_p", "mm", 1e3, f"I_{kind} r_p"),
             ("index_opt_m", "index", "mm", 1e3, f"index at our I_{kind}"),
         ):
-            a, b = (_line(res[m], kind, col) * scale for m in res)
+            a, b = (line_value(res[m], kind, col) * scale for m in res)
             add(
                 "maps",
                 f"I_{kind} {what}",
@@ -410,7 +421,10 @@ def conclusions(st, paper_res, physical_res):
             k["SR"][1] - k["DR"][1],
             claim=(k["SR"][0] > k["DR"][0], k["SR"][1] > k["DR"][1]),
         )
-        ix = [(_line(res[m], "DR", "index_opt_m") - _line(res[m], "SR", "index_opt_m")) * 1e3 for m in res]
+        ix = [
+            (line_value(res[m], "DR", "index_opt_m") - line_value(res[m], "SR", "index_opt_m")) * 1e3
+            for m in res
+        ]
         add(
             "maps",
             "index at I_DR - index at I_SR",
@@ -427,7 +441,7 @@ def conclusions(st, paper_res, physical_res):
     for dk in opt:
         kind = st["optimal"][dk]["kind"]
         star = f"{kind}*"
-        totals[dk] = [_band(res[m], dk, "total_m") * 1e3 for m in res]
+        totals[dk] = [band_value(res[m], dk, "total_m") * 1e3 for m in res]
         add(
             "elasticity",
             f"{dk} E band total",
@@ -439,7 +453,7 @@ def conclusions(st, paper_res, physical_res):
             headline=True,
         )
         for col in ("minus_m", "plus_m"):
-            a, b = (_band(res[m], dk, col) * 1e3 for m in res)
+            a, b = (band_value(res[m], dk, col) * 1e3 for m in res)
             add(
                 "elasticity",
                 f"{dk} E band {col[:-2]}",

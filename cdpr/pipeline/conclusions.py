@@ -88,7 +88,7 @@ def conclusion_inputs(st, results):
 def _effects(res):
     """The DOE effects on the ‖δp‖ index (term -> effect [m]); a spatial study's table also has
     the δφ index's rows (``response``), left out."""
-    d, e = cm._doe(res)
+    d, e = cm.doe_tables(res)
     if e is not None and "response" in e.columns:
         e = e[e.response == "index_m"]
     return d, e
@@ -125,7 +125,7 @@ def robot_conclusions(ref_st, ref_res, st, res):
     ):
         """One row; ``paper``: the paper's own value of the row: True for a statement it concludes,
         or the quantity of its printed number (``printed_values``)."""
-        if tol is None and claim is None and not isinstance(a, str) and not cm._missing(a):
+        if tol is None and claim is None and not isinstance(a, str) and not cm.is_missing(a):
             tol = REL * abs(a)
         if paper is True:  # the paper concludes the statement: its truth on the robot is the verdict
             pv = "yes"
@@ -159,10 +159,10 @@ def robot_conclusions(ref_st, ref_res, st, res):
         return [f(s, r) for s, r in sides]
 
     def claim(values, test):
-        return None if any(cm._missing(v) for v in values) else tuple(test(v) for v in values)
+        return None if any(cm.is_missing(v) for v in values) else tuple(test(v) for v in values)
 
     names = both(lambda s, r: s["doe"]["robot"])
-    kinds = both(lambda s, r: cm._kinds(s))
+    kinds = both(lambda s, r: cm.first_designs(s))
     pair = all("SR" in k and "DR" in k for k in kinds)
     on = f"{names[0]} / {names[1]}"
     # -- the plane (section 3.3.2, Fig. 12)
@@ -187,7 +187,7 @@ def robot_conclusions(ref_st, ref_res, st, res):
         limits = both(lambda s, r_: list(s["volumes"]["limits_m"]))
         for la, lb in zip(*limits):
             d = [
-                cm._rv(res_, rk, k["DR"], lim) - cm._rv(res_, rk, k["SR"], lim)
+                cm.regular_volume(res_, rk, k["DR"], lim) - cm.regular_volume(res_, rk, k["SR"], lim)
                 for (_, res_), rk, k, lim in zip(sides, names, kinds, (la, lb))
             ]
             add(
@@ -249,7 +249,7 @@ def robot_conclusions(ref_st, ref_res, st, res):
     # -- the optimal lines (section 4.3, Fig. 17, Table 3)
     slopes = {}
     for kind in ("SR", "DR"):
-        slopes[kind] = both(lambda s, r_, kind=kind: cm._line(r_, kind, "slope_k"))
+        slopes[kind] = both(lambda s, r_, kind=kind: cm.line_value(r_, kind, "slope_k"))
         add(
             "maps",
             f"D_{kind} slope h / r_p",
@@ -269,7 +269,10 @@ def robot_conclusions(ref_st, ref_res, st, res):
         claim=claim(s, lambda v: v > 0),
         paper=True,
     )
-    ix = [(cm._line(r_, "DR", "index_opt_m") - cm._line(r_, "SR", "index_opt_m")) * 1e3 for _, r_ in sides]
+    ix = [
+        (cm.line_value(r_, "DR", "index_opt_m") - cm.line_value(r_, "SR", "index_opt_m")) * 1e3
+        for _, r_ in sides
+    ]
     add(
         "maps",
         "index at I_DR - index at I_SR",
@@ -284,7 +287,8 @@ def robot_conclusions(ref_st, ref_res, st, res):
     sr, dr = both(lambda s, r_: _opt(s, "SR")), both(lambda s, r_: _opt(s, "DR"))
     if all(sr) and all(dr):
         ratio = [
-            cm._band(r_, a, "total_m") / cm._band(r_, b, "total_m") for (_, r_), a, b in zip(sides, sr, dr)
+            cm.band_value(r_, a, "total_m") / cm.band_value(r_, b, "total_m")
+            for (_, r_), a, b in zip(sides, sr, dr)
         ]
         add(
             "elasticity",
@@ -303,7 +307,7 @@ def robot_conclusions(ref_st, ref_res, st, res):
 def _fmt(v, unit):
     if isinstance(v, str):
         return v
-    if cm._missing(v):
+    if cm.is_missing(v):
         return "—"
     return f"{v:.4g}" + ("" if unit == "-" else f" {unit}")
 

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from cdpr.models.equilibrium import solve_physical
-from cdpr.models.equilibrium6 import _Cables6, pose_arrays, pose_state, solve_spatial
+from cdpr.models.equilibrium6 import Cables6, pose_arrays, pose_state, solve_spatial
 from cdpr.models.platform import external_wrench, rotation_matrix, wrench_matrix
 from cdpr.robot import robot_from_dict, with_pulleys
 
@@ -99,7 +99,7 @@ def test_analytic_jacobian_equals_finite_differences(kind):
     r = robot8(kind, com=(0.02, -0.01, 0.05))
     p, rv = np.array([[0.3, -0.2, 1.4]]), np.array([[0.05, -0.1, 0.2]])
     L0 = pretensioned(r, p, rv)
-    cab = _Cables6(r)
+    cab = Cables6(r)
     _, R = pose_arrays(r, p, rv)
     J = cab.evaluate(p, R, L0, p)["J"][0]
     h = 1e-7
