@@ -334,7 +334,8 @@ def cable(px, py, pz, Ax, Ay, Az, kind, h, rp, d, inx, iny):
     -------
     tuple
         (L [m]; ux, uy, uz [-]; l_E = |D - P| [m]; inside; swivel [-] = D_s / rho (0 on the axis);
-        e_perp x, y [-]; arm [-]; beta x, y, z [-]; eps x, y, z [-]; uC_beta [-]).
+        e_perp x, y [-]; arm [-]; beta x, y, z [-]; eps x, y, z [-]; uC_beta [-]; gamma [rad], the
+        wrap angle of eq. (5)).
 
     References
     ----------
@@ -364,6 +365,7 @@ def cable(px, py, pz, Ax, Ay, Az, kind, h, rp, d, inx, iny):
         ens * esy,
         enw,
         uCb,
+        g.gamma,
     )
 
 
@@ -437,18 +439,18 @@ def cable_axis(px, py, pz, Ax, Ay, Az, kind, h, rp, d, inx, iny, ident, f):
     -------
     tuple
         (L [m]; ux, uy, uz [-]; l_E [m]; inside; swivel [-]; e_perp x, y, z [-]; arm [-]; beta x, y, z
-        [-]; eps x, y, z [-]; uC_beta [-]), vectors in the base frame.
+        [-]; eps x, y, z [-]; uC_beta [-]; gamma [rad]), vectors in the base frame.
 
     References
     ----------
     Paty et al. 2021, eq. (3)-(5), (12).
     """
     qx, qy, qz, ax, ay, az = in_frame(px, py, pz, Ax, Ay, Az, ident, f)
-    (L, ux, uy, uz, lE, ins, sw, epx, epy, arm, btx, bty, btz, ex, ey, ez, uCb) = cable(
+    (L, ux, uy, uz, lE, ins, sw, epx, epy, arm, btx, bty, btz, ex, ey, ez, uCb, gam) = cable(
         qx, qy, qz, ax, ay, az, kind, h, rp, d, inx, iny
     )
     if ident:
-        return (L, ux, uy, uz, lE, ins, sw, epx, epy, 0.0, arm, btx, bty, btz, ex, ey, ez, uCb)
+        return (L, ux, uy, uz, lE, ins, sw, epx, epy, 0.0, arm, btx, bty, btz, ex, ey, ez, uCb, gam)
     return (
         L,
         f[0, 0] * ux + f[1, 0] * uy + f[2, 0] * uz,
@@ -468,6 +470,7 @@ def cable_axis(px, py, pz, Ax, Ay, Az, kind, h, rp, d, inx, iny, ident, f):
         f[0, 1] * ex + f[1, 1] * ey + f[2, 1] * ez,
         f[0, 2] * ex + f[1, 2] * ey + f[2, 2] * ez,
         uCb,
+        gam,
     )
 
 

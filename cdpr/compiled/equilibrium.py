@@ -96,7 +96,7 @@ def _eval(px, py, pz, rx, ry, rz, cab, L0, i, load, tbuf):
     nact = 0
     inside_any = False
     for c in range(m):
-        (L, ux, uy, uz, lE, ins, sw, epx, epy, arm, bx, by, bz, ex, ey, ez, uCb) = cable(
+        (L, ux, uy, uz, lE, ins, sw, epx, epy, arm, bx, by, bz, ex, ey, ez, uCb, _gam) = cable(
             px, py, pz, A[c, 0], A[c, 1], A[c, 2], kind[c], h[c], rp[c], d[c], inward[c, 0], inward[c, 1]
         )
         inside_any = inside_any or ins

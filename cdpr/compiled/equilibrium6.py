@@ -34,9 +34,7 @@ from cdpr.compiled._kernels import (
     cable_arrays,
     cable_axis,
     cable_derivatives,
-    in_frame,
     newton_options,
-    pulley_geometry,
     set_threads,
 )
 from cdpr.models.equilibrium import ARMIJO_C, LS_SKIP, MAX_HALVINGS, PHYSICAL_DEFAULTS, TAUT_MIN
@@ -152,6 +150,8 @@ class _Scratch(NamedTuple):
     cab_dL: np.ndarray  # (m, 3)
     cab_r: np.ndarray  # (m, 3)
     cab_k: np.ndarray  # (m,)
+    cab_inside: np.ndarray  # (m,) bool: the pulleys' state at the last evaluated pose (the result's
+    cab_gamma: np.ndarray  # (m,) [rad]   inside and gamma: a solve ends on its last evaluation)
     A6: np.ndarray  # (6, 6) SVD / eigen work
     V6: np.ndarray  # (6, 6)
     s6: np.ndarray  # (6,) step
@@ -177,6 +177,8 @@ def scratch6(m):
         np.empty((m, 3)),
         np.empty((m, 3)),
         np.empty((m, 3)),
+        np.empty(m),
+        np.empty(m, dtype=np.bool_),
         np.empty(m),
         np.empty((6, 6)),
         np.empty((6, 6)),
@@ -261,7 +263,7 @@ def eval6(px, py, pz, R, rfx, rfy, rfz, cab, body, L0, i, t, J, e6, g6, w):
         rx = R[0, 0] * b[c, 0] + R[0, 1] * b[c, 1] + R[0, 2] * b[c, 2]
         ry = R[1, 0] * b[c, 0] + R[1, 1] * b[c, 1] + R[1, 2] * b[c, 2]
         rz = R[2, 0] * b[c, 0] + R[2, 1] * b[c, 1] + R[2, 2] * b[c, 2]
-        (L, ux, uy, uz, lE, ins, sw, epx, epy, epz, arm, btx, bty, btz, ex, ey, ez, uCb) = cable_axis(
+        (L, ux, uy, uz, lE, ins, sw, epx, epy, epz, arm, btx, bty, btz, ex, ey, ez, uCb, gam) = cable_axis(
             px + rx,
             py + ry,
             pz + rz,
@@ -343,6 +345,8 @@ def eval6(px, py, pz, R, rfx, rfy, rfz, cab, body, L0, i, t, J, e6, g6, w):
         w.cab_dL[c, 0], w.cab_dL[c, 1], w.cab_dL[c, 2] = dLx, dLy, dLz
         w.cab_r[c, 0], w.cab_r[c, 1], w.cab_r[c, 2] = rx, ry, rz
         w.cab_k[c] = k
+        w.cab_inside[c] = ins
+        w.cab_gamma[c] = gam
     # gravity: F += f, M += rc x f, J[3:, 3:] += rc f^T - (rc . f) I
     Fx += fx
     Fy += fy
@@ -653,35 +657,6 @@ def positive_definite6(J, A):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def _final_state(px, py, pz, R, cab, body, i, out):
-    """The pulleys' state at the pose (p, R) for the result (``pulleys.pulley_state``: inside, gamma)."""
-    A, b = cab.A, body.b
-    for c in range(A.shape[0]):
-        rx = R[0, 0] * b[c, 0] + R[0, 1] * b[c, 1] + R[0, 2] * b[c, 2]
-        ry = R[1, 0] * b[c, 0] + R[1, 1] * b[c, 1] + R[1, 2] * b[c, 2]
-        rz = R[2, 0] * b[c, 0] + R[2, 1] * b[c, 1] + R[2, 2] * b[c, 2]
-        qx, qy, qz, ax, ay, az = in_frame(
-            px + rx, py + ry, pz + rz, A[c, 0], A[c, 1], A[c, 2], body.ident[c], body.frame[c]
-        )
-        g = pulley_geometry(
-            qx,
-            qy,
-            qz,
-            ax,
-            ay,
-            az,
-            cab.kind[c],
-            cab.h[c],
-            cab.rp[c],
-            cab.d[c],
-            cab.inward[c, 0],
-            cab.inward[c, 1],
-        )
-        out.inside[i, c] = g.inside
-        out.gamma[i, c] = g.gamma
-
-
-@njit(cache=True, inline="always", error_model="numpy")
 def rotvec_of_matrix(R, out):
     """The rotation vector of a rotation matrix (``platform.rotvec_of``, scipy's from_matrix then
     as_rotvec, scalar form): the unit quaternion q = (x, y, z, w) from the largest of R00, R11, R22
@@ -948,7 +923,9 @@ def solve_pose(i, p_ref, P0, R0, L0, cab, body, opts, out, w):
     for c in range(m):
         n_taut += t[c] > TAUT_MIN
     out.stable[i] = rigid and conv and n_taut >= 6 and positive_definite6(J, w.A6)
-    _final_state(px, py, pz, R, cab, body, i, out)
+    for c in range(m):  # the pulleys' state at the result: the last evaluation was at (p, R)
+        out.inside[i, c] = w.cab_inside[c]
+        out.gamma[i, c] = w.cab_gamma[c]
     rotvec_of_matrix(R, out.rotvec[i])
 
 

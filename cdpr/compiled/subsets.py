@@ -113,9 +113,11 @@ def _residual(px, py, pz, c0, c1, c2, Ea, Eb, Eg, L0, L1, L2, bx, by, bz):
     allocation in the hot loop.
 
     Returns (F (3), t (3), J (9, row-major), dt/dP (9, row-major), valid)."""
-    (La, ax, ay, az, la, ia, sa, pax, pay, qa, bax, bay, baz, eax, eay, eaz, ca) = cable_of(px, py, pz, c0)
-    (Lb, bx_, by_, bz_, lb, ib, sb, pbx, pby, qb, bbx, bby, bbz, ebx, eby, ebz, cb) = cable_of(px, py, pz, c1)
-    (Lg, cx, cy, cz, lg, ig, sg, pgx, pgy, qg, bgx, bgy, bgz, egx, egy, egz, cg) = cable_of(px, py, pz, c2)
+    (La, ax, ay, az, la, ia, sa, pax, pay, qa, bax, bay, baz, eax, eay, eaz, ca, _) = cable_of(px, py, pz, c0)
+    (Lb, bx_, by_, bz_, lb, ib, sb, pbx, pby, qb, bbx, bby, bbz, ebx, eby, ebz, cb, _) = cable_of(
+        px, py, pz, c1
+    )
+    (Lg, cx, cy, cz, lg, ig, sg, pgx, pgy, qg, bgx, bgy, bgz, egx, egy, egz, cg, _) = cable_of(px, py, pz, c2)
     valid = not (ia or ib or ig) and pz < c0[2] and pz < c1[2] and pz < c2[2]
     # cofactor rows of M = [u_a u_b u_c]: M^{-1} = [r0; r1; r2] / det
     r0x, r0y, r0z = by_ * cz - bz_ * cy, bz_ * cx - bx_ * cz, bx_ * cy - by_ * cx

@@ -120,14 +120,14 @@ def test_point_mass_robots_give_the_compiled_point_mass_mode(cdpr4, cdpr3, kind)
 @njit(cache=True)
 def _cables(B, A, kind, h, rp, d, inward, frame, ident):
     """cable_axis and cable_derivatives at B (N, m, 3): L (N, m), u (N, m, 3), dL (N, m, 3),
-    du (N, m, 3, 3), inside (N, m) and the 18 outputs of cable_axis (N, m, 18)."""
+    du (N, m, 3, 3), inside (N, m) and the 19 outputs of cable_axis (N, m, 19)."""
     n, m = B.shape[0], B.shape[1]
     L, ins = np.empty((n, m)), np.empty((n, m), dtype=np.bool_)
     u, dL, du = np.empty((n, m, 3)), np.empty((n, m, 3)), np.empty((n, m, 3, 3))
-    raw = np.empty((n, m, 18))
+    raw = np.empty((n, m, 19))
     for i in range(n):
         for c in range(m):
-            (L_, ux, uy, uz, lE, ins_, sw, epx, epy, epz, arm, btx, bty, btz, ex, ey, ez, uCb) = cable_axis(
+            (L_, ux, uy, uz, lE, ins_, sw, epx, epy, epz, arm, btx, bty, btz, ex, ey, ez, uCb, gam) = cable_axis(
                 B[i, c, 0], B[i, c, 1], B[i, c, 2], A[c, 0], A[c, 1], A[c, 2],
                 kind[c], h[c], rp[c], d[c], inward[c, 0], inward[c, 1], ident[c], frame[c],
             )  # fmt: skip
@@ -157,25 +157,45 @@ def _cables(B, A, kind, h, rp, d, inward, frame, ident):
                 ey,
                 ez,
                 uCb,
+                gam,
             )
-            for k in range(18):
+            for k in range(19):
                 raw[i, c, k] = vals[k]
     return L, u, dL, du, ins, raw
 
 
 @njit(cache=True)
 def _point_mass_cables(B, A, kind, h, rp, d, inward):
-    """The scalar kernel ``cable`` itself at B (N, m, 3): its 17 outputs (N, m, 17)."""
+    """The scalar kernel ``cable`` itself at B (N, m, 3): its 18 outputs (N, m, 18)."""
     n, m = B.shape[0], B.shape[1]
-    out = np.empty((n, m, 17))
+    out = np.empty((n, m, 18))
     for i in range(n):
         for c in range(m):
-            (L, ux, uy, uz, lE, ins, sw, epx, epy, arm, btx, bty, btz, ex, ey, ez, uCb) = cable(
+            (L, ux, uy, uz, lE, ins, sw, epx, epy, arm, btx, bty, btz, ex, ey, ez, uCb, gam) = cable(
                 B[i, c, 0], B[i, c, 1], B[i, c, 2], A[c, 0], A[c, 1], A[c, 2],
                 kind[c], h[c], rp[c], d[c], inward[c, 0], inward[c, 1],
             )  # fmt: skip
-            vals = (L, ux, uy, uz, lE, 1.0 if ins else 0.0, sw, epx, epy, arm, btx, bty, btz, ex, ey, ez, uCb)
-            for k in range(17):
+            vals = (
+                L,
+                ux,
+                uy,
+                uz,
+                lE,
+                1.0 if ins else 0.0,
+                sw,
+                epx,
+                epy,
+                arm,
+                btx,
+                bty,
+                btz,
+                ex,
+                ey,
+                ez,
+                uCb,
+                gam,
+            )
+            for k in range(18):
                 out[i, c, k] = vals[k]
     return out
 
@@ -240,7 +260,7 @@ def test_identity_frame_is_bit_identical_to_the_point_mass_kernel(cdpr4):
         args = (a.A, a.kind.astype(np.int64), a.h, a.r_p, a.d, a.inward)
         raw = _cables(B, *args, np.ascontiguousarray(a.frame), ident)[5]
         ref = _point_mass_cables(B, *args)
-        np.testing.assert_array_equal(raw[..., [*range(9), *range(10, 18)]], ref)
+        np.testing.assert_array_equal(raw[..., [*range(9), *range(10, 19)]], ref)
         assert (raw[..., 9] == 0).all()
         # and the frame arithmetic with F = I agrees to round-off
         raw2 = _cables(B, *args, np.ascontiguousarray(a.frame), ~ident)[5]

@@ -78,9 +78,10 @@ def test_cable_equals_vectorised_pulley_model(cdpr4, design):
     close = dict(rtol=1e-12, atol=1e-12)
     for i, p in enumerate(P):
         for c in range(r.m):
-            (L, ux, uy, uz, lE, ins, sw, epx, epy, arm, bx, by, bz, ex, ey, ez, uCb) = cable(
+            (L, ux, uy, uz, lE, ins, sw, epx, epy, arm, bx, by, bz, ex, ey, ez, uCb, gam) = cable(
                 *_args(cab, c, p)
             )
+            np.testing.assert_allclose(gam, st.gamma[i, c], **close)
             np.testing.assert_allclose(L, g.L_TE[i, c], **close)
             np.testing.assert_allclose([ux, uy, uz], g.u[i, c], **close)
             np.testing.assert_allclose(lE, g.l_E[i, c], **close)
