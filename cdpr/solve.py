@@ -28,11 +28,11 @@ from cdpr.models.subsets import solve_points
 ENGINES = {"compiled": ("newton",), "numpy": ("newton", "fixed_point")}
 
 
-#: A process that solves fewer poses than this and then exits (``cdpr point``) is answered by the
-#: numpy reference unless an engine is named: the compiled engine's first call in a process costs
-#: about 0.3 s on the 2-core machine (numba loads its implementation modules and, through its BLAS
-#: check, scipy.linalg), more than the numpy reference needs for 500 poses in any mode (17-430 µs
-#: per pose, point-mass physical to 6-DoF sensitivities; ``benchmarks/startup.py``).
+#: A process that solves fewer poses than this and then exits (``cdpr point``, ``cdpr compensate``)
+#: is answered by the numpy reference unless an engine is named: the compiled engine's first call
+#: in a process costs about 0.3 s on the 2-core machine (numba loads its implementation modules
+#: and, through its BLAS check, scipy.linalg), more than the numpy reference needs for 500 poses in
+#: any mode (17-430 µs per pose, point-mass physical to 6-DoF sensitivities; ``benchmarks/startup.py``).
 ONE_SHOT_POSES = 500
 
 

@@ -384,13 +384,16 @@ def cmd_point(args):
 
 def cmd_compensate(args):
     """Compensated rest lengths (inverse elasto-geometric model) and, as a check, the pose the
-    platform takes when they are commanded (to the same robot, or to one with --actual-E-cables)."""
+    platform takes when they are commanded (to the same robot, or to one with --actual-E-cables).
+    The engine's default is ``point``'s (``solve.check_engine`` with ``one_shot``)."""
     import dataclasses  # lazy: --actual-E-cables only
 
     from cdpr.analyses.compensation import compensated_pose  # lazy: this command only
+    from cdpr.solve import check_engine  # lazy: the solvers, for the solver commands only
 
     robot = _load(args)
     P = _points(args)
+    engine = check_engine(args.engine, "newton", one_shot=len(P))
     actual = None
     if args.actual_E_cables is not None:
         if len(args.actual_E_cables) != robot.m:
@@ -407,8 +410,7 @@ def cmd_compensate(args):
         raise CdprError(f"--t-min must be below --t-max, got {args.t_min:g} N and {t_max:g} N")
     rv = _rotvec(args, len(P))
     if rv is not None or not robot.suspended_point_mass:
-        return _compensate_spatial(args, robot, actual, P, rv, t_max)
-    engine = args.engine or "compiled"
+        return _compensate_spatial(args, robot, actual, P, rv, t_max, engine)
     res = compensated_pose(
         robot, P, actual=actual, method=args.distribution, engine=engine, t_min=args.t_min, t_max=t_max
     )
@@ -431,6 +433,7 @@ def cmd_compensate(args):
         "status": status,
         "solved": res["P_s"][0].tolist(),
         "dp_norm": float(res["dp"][0]),
+        "engine": engine,
     }
     if all(w is not None for w in robot.winches):
         from cdpr.models.drive import drum_angles  # lazy: robots with winches only
@@ -457,10 +460,10 @@ def cmd_compensate(args):
     )
 
 
-def _compensate_spatial(args, robot, actual, P, rv, t_max):
+def _compensate_spatial(args, robot, actual, P, rv, t_max, engine):
     """``compensate`` at poses (rigid platform or --rotvec): the --distribution (min_norm, closed_form or
     closed_form_improved) at the pose (``distribution6``), compensated rest lengths, and the check solve
-    (6-DoF, ``solve.solve_spatial_any``: compiled unless --engine numpy)."""
+    (6-DoF, ``solve.solve_spatial_any`` by ``engine``)."""
     # lazy: the 6-DoF models, for poses only
     from cdpr.models.distribution6 import compensated_lengths
     from cdpr.solve import solve_spatial_any
@@ -473,7 +476,7 @@ def _compensate_spatial(args, robot, actual, P, rv, t_max):
     c = compensated_lengths(robot, P, rv, t_min=args.t_min, t_max=t_max, method=args.distribution)
     ok = c["feasible"]
     L0 = np.where(ok[:, None], c["L0"], 1.0)
-    res = solve_spatial_any(actual or robot, P, rv, args.engine, args.threads, L0=L0)
+    res = solve_spatial_any(actual or robot, P, rv, engine, args.threads, L0=L0)
     status = np.where(ok, res["status"], "infeasible")
     if args.points or args.out:
         from cdpr.tables import to_frame6  # lazy: tables only (pandas)
@@ -497,6 +500,7 @@ def _compensate_spatial(args, robot, actual, P, rv, t_max):
         "solved_rotvec": res["rotvec_s"][0].tolist() if ok[0] else None,
         "dp_norm": float(res["dp"][0]) if ok[0] else None,
         "dphi": float(res["dphi"][0]) if ok[0] else None,
+        "engine": engine,
     }
     if args.json:
         print(json.dumps(io.clean_json(out), indent=2))

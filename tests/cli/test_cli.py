@@ -192,10 +192,26 @@ def test_point_physical_json_and_commanded_lengths(capsys):
     # the lengths of `compensate` commanded explicitly bring the platform to the desired point
     comp = run_json(capsys, "compensate", "--robot", R4, "--pulley", "DR", "--at", "0.5", "0.2", "2.5")
     assert (
-        set(comp) == {"desired", "lengths", "tensions", "status", "solved", "dp_norm"}
+        set(comp) == {"desired", "lengths", "tensions", "status", "solved", "dp_norm", "engine"}
         and comp["status"] == "ok"
     )
-    assert comp["dp_norm"] < 1e-9
+    assert comp["dp_norm"] < 1e-9 and comp["engine"] == "numpy"  # one pose: solve.ONE_SHOT_POSES
+    fast = run_json(
+        capsys,
+        "compensate",
+        "--robot",
+        R4,
+        "--pulley",
+        "DR",
+        "--at",
+        "0.5",
+        "0.2",
+        "2.5",
+        "--engine",
+        "compiled",
+    )
+    assert fast["engine"] == "compiled" and fast["status"] == "ok" and fast["dp_norm"] < 1e-9
+    assert np.allclose(fast["lengths"], comp["lengths"], rtol=0, atol=1e-9)
     back = run_json(
         capsys,
         "point",
