@@ -88,7 +88,7 @@ from cdpr.parameters import (
     select_groups,
 )
 from cdpr.robot import WINCH_KEYS, with_pulleys
-from cdpr.solve import sensitivities
+from cdpr.solve import check_engine, sensitivities
 from cdpr.solve import spatial_sensitivities as solve_spatial_sensitivities
 from cdpr.units import quantity
 
@@ -623,13 +623,13 @@ class Problem:
         Estimated parameters, into ``calibration_names(robot.m)``.
     sd : ndarray, shape (len(index),)
         Prior sd [Pa, m, kg].
-    engine : {"compiled", "numpy"}
-        Engine of the solves and sensitivities.
+    engine : {"compiled", "numpy"} or None
+        Engine of the solves and sensitivities (None: ``solve.check_engine``'s default, compiled).
     solver : dict
         tol, maxiter, max_step of the physical solve.
     """
 
-    def __init__(self, robot, data, index, sd, engine="compiled", solver=None):
+    def __init__(self, robot, data, index, sd, engine=None, solver=None):
         self.robot, self.data, self.index, self.sd = robot, data, np.asarray(index), np.asarray(sd, float)
         self.engine = engine
         self.solver = dict(solver or {})
@@ -1012,10 +1012,14 @@ def tension_sensitivities6(robot, P, R, L0, S, cols6, w_L=None, w_d=None):
     return tp["t"], dt
 
 
-def _problem(base, data, index, sd, engine="compiled", solver=None):
-    """The MAP problem of the robot's kind: ``Problem`` (point mass) or ``Problem6``."""
+def _problem(base, data, index, sd, engine=None, solver=None):
+    """The MAP problem of the robot's kind: ``Problem`` (point mass) or ``Problem6``. A named
+    ``engine`` is checked (``solve.check_engine``) and used by either; None is each problem's
+    default (``Problem``: ``check_engine``'s, compiled; ``Problem6``: the numpy reference)."""
+    if engine is not None:
+        engine = check_engine(engine, "newton")
     if is_spatial(base):
-        return Problem6(base, data, index, sd, solver=solver)
+        return Problem6(base, data, index, sd, engine=engine or "numpy", solver=solver)
     return Problem(base, data, index, sd, engine=engine, solver=solver)
 
 
@@ -1319,7 +1323,7 @@ def usable(data, robot):
     return np.flatnonzero(has), np.flatnonzero(~has)
 
 
-def fit(robot, data, groups, priors=None, model="exact", loss="linear", engine="compiled", solver=None):
+def fit(robot, data, groups, priors=None, model="exact", loss="linear", engine=None, solver=None):
     """MAP estimate of the parameters of ``groups`` from ``data`` (module docstring).
 
     Encoder-only data with ``model="standard"`` go to the rigid self-calibration with unknown poses
@@ -1342,7 +1346,9 @@ def fit(robot, data, groups, priors=None, model="exact", loss="linear", engine="
     model : {"exact", "standard"}
     loss : str
         ``least_squares`` loss: "linear" (default) or a robust one ("soft_l1", "huber", "cauchy").
-    engine : {"compiled", "numpy"}
+    engine : {"compiled", "numpy"} or None
+        None: ``solve.check_engine``'s default (compiled) on a point mass, the numpy reference on a
+        6-DoF platform (``Problem6``); a named engine is used by either.
     solver : dict, optional
         tol, maxiter, max_step of the physical solve.
 
@@ -1646,7 +1652,7 @@ def write_robot(path, cal, data_source):
 
 
 # --- check ----------------------------------------------------------------------------------------
-def check(robot, data, engine="compiled"):
+def check(robot, data, engine=None):
     """The robot's prediction (physical equilibrium under the commanded lengths) against every sample.
 
     Parameters
@@ -1729,7 +1735,7 @@ def simulate(
     sigma=SIGMA_DEFAULT,
     rng=None,
     offsets=None,
-    engine="compiled",
+    engine=None,
     tensions=False,
     sigma_t=SIGMA_T_DEFAULT,
     rotvec=None,
@@ -2005,7 +2011,7 @@ def default_box(robot):
     return [c[0] - w[0], c[0] + w[0], c[1] - w[1], c[1] + w[1], zlo, zhi]
 
 
-def candidates(robot, box, n_axis=7, model="exact", engine="compiled", targets=False, command="standard"):
+def candidates(robot, box, n_axis=7, model="exact", engine=None, targets=False, command="standard"):
     """Admissible candidate poses of a box and their scaled measurement rows.
 
     A candidate is the grid point p commanded with L_TS(p); admissible when the nominal equilibrium
@@ -2045,7 +2051,7 @@ def candidates(robot, box, n_axis=7, model="exact", engine="compiled", targets=F
     return res["P_s"][ok], L0[ok]
 
 
-def info_rows(robot, P, L0, index, sd, sigma=SIGMA_DEFAULT, model="exact", engine="compiled"):
+def info_rows(robot, P, L0, index, sd, sigma=SIGMA_DEFAULT, model="exact", engine=None):
     """Scaled measurement rows per candidate: -dP*/dθ σ_prior / σ, shape (c, 3, k); for a 6-DoF
     platform (P (c, 6)) also the orientation rows -dφ*/dθ σ_prior / σ_rad (``SIGMA_RAD_DEFAULT``),
     shape (c, 6, k)."""
@@ -2060,7 +2066,7 @@ def info_rows(robot, P, L0, index, sd, sigma=SIGMA_DEFAULT, model="exact", engin
             source="<plan>",
             rotvec=P[:, 3:],
         )
-        prob = Problem6(base, data, index, sd)
+        prob = _problem(base, data, index, sd, engine=engine)
         return prob.jacobian(np.zeros(len(index)))[: 6 * len(P)].reshape(len(P), 6, len(index))
     data = Data(
         sample=np.arange(len(P)).astype(str),
@@ -2070,7 +2076,7 @@ def info_rows(robot, P, L0, index, sd, sigma=SIGMA_DEFAULT, model="exact", engin
         encoder=False,
         source="<plan>",
     )
-    prob = Problem(base, data, index, sd, engine=engine)
+    prob = _problem(base, data, index, sd, engine=engine)
     return prob.jacobian(np.zeros(len(index)))[: 3 * len(P)].reshape(len(P), 3, len(index))
 
 

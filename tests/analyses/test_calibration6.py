@@ -284,3 +284,29 @@ def test_cli_plan_on_cogiro_and_a_fully_constrained_robot(tmp_path, capsys):
     pm = ["calibrate", "plan", "--robot", str(ROBOTS / "cdpr4.yaml"), "--estimate", "anchors", "--n", "4"]
     assert main([*pm, "--grid", "3", "--command", "compensated"]) == 2
     assert "allowed for robot CDPR4: standard" in capsys.readouterr().err
+
+
+def test_a_named_engine_reaches_the_6dof_problem(cogiro):
+    """fit, info_rows and the plan build their MAP problem through _problem: a named engine is used
+    on a 6-DoF platform too (it was dropped there), None keeps the numpy reference (Problem6's
+    default), an unknown engine is refused in one line naming the allowed ones."""
+    index, sd = np.arange(3), np.ones(3)
+
+    def data(m, spatial):
+        return cal.Data(
+            sample=np.array(["s1"]),
+            L=np.full((1, m), 3.0),
+            pose=np.array([[0.0, 0.0, 2.0]]),
+            sigma=np.array([1e-3]),
+            encoder=False,
+            source="<test>",
+            rotvec=np.zeros((1, 3)) if spatial else None,
+        )
+
+    d6 = data(cogiro.m, True)
+    assert cal._problem(cogiro, d6, index, sd).engine == "numpy"
+    assert cal._problem(cogiro, d6, index, sd, engine="compiled").engine == "compiled"
+    point_mass = load_robot(ROBOTS / "cdpr4.yaml")
+    assert cal._problem(point_mass, data(4, False), index, sd).engine is None  # check_engine: compiled
+    with pytest.raises(CdprError, match="unknown engine 'nope'; allowed: compiled, numpy"):
+        cal._problem(cogiro, d6, index, sd, engine="nope")
