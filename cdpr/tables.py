@@ -103,12 +103,14 @@ def to_frame6(robot, res):
     return df
 
 
-#: Points solved per batch: bounds memory (about 2 kB per point and subset) and keeps arrays in cache.
-CHUNK = 20000
+#: Points solved per batch by ``solve_table``: bounds memory (about 2 kB per point and subset) and
+#: keeps arrays in cache (the compiled kernels' own chunk of points per thread is
+#: ``cdpr.compiled._kernels.CHUNK``).
+TABLE_BATCH = 20000
 
 
 def solve_table(
-    robot, p, method="newton", chunk=CHUNK, engine=None, threads=None, redundancy="paper", L0=None, **options
+    robot, p, method="newton", chunk=TABLE_BATCH, engine=None, threads=None, redundancy="paper", L0=None, **options
 ):
     """Solve DEGM_E at points p with the paper-mode subset choice, as a DataFrame (``to_frame``).
 

@@ -55,9 +55,8 @@ def test_the_wheel_is_what_runs(installed):
     tmp, py = installed
     out = _run([py, "-c", "import cdpr; print(cdpr.__file__)"], tmp, env=_env()).stdout.strip()
     assert out.startswith(str(tmp / "venv")) and "site-packages" in out, out
-    # the public face: `import cdpr; cdpr.solve_table` once cdpr/__init__.py exports it (house
-    # refactor, another branch); until then the engine's module
-    code = "import cdpr\ntry:\n    cdpr.solve_table\nexcept AttributeError:\n    from cdpr.solve import solve_table"
+    # the public face: `import cdpr; cdpr.solve_table` (issue 16), a function of the installed package
+    code = "import cdpr\nf = cdpr.solve_table\nassert callable(f) and f.__module__ == 'cdpr.tables', f.__module__"
     _run([py, "-c", code], tmp, env=_env())
 
 

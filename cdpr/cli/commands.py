@@ -21,10 +21,8 @@ import numpy as np
 from cdpr import io
 from cdpr.errors import CdprError
 from cdpr.models import winch
+from cdpr.pipeline.study import BYTES_PER_POINT
 from cdpr.robot import TABLE1, load_robot, load_winch_params
-
-#: Bytes of memory per grid point while solving and writing (measured peak RSS / points, rounded up).
-BYTES_PER_POINT = 600
 
 
 def _read_table(path):
