@@ -40,6 +40,7 @@ _EXPORTS = {
     "solve_table": "cdpr.tables",
     "to_frame": "cdpr.tables",
     "sensitivities": "cdpr.solve",
+    "spatial_sensitivities": "cdpr.solve",
     "subset_sensitivities": "cdpr.solve",
     "compensate": "cdpr.analyses.compensation",
     "compensated_pose": "cdpr.analyses.compensation",

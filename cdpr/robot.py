@@ -38,7 +38,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from cdpr.errors import ConfigError, raise_problems
+from cdpr.errors import CdprError, ConfigError, raise_problems
 from cdpr.units import quantity
 from cdpr.validation import read_yaml, validate  # noqa: F401  (read_yaml re-exported)
 
@@ -236,6 +236,43 @@ class CableArrays(NamedTuple):
     frame: np.ndarray = None
     b: np.ndarray = None
     com: np.ndarray = None
+
+
+def require_point_mass(robot, what, instead, suspended=False, P=None):
+    """Refuse, in one line, a robot or points that the point-mass model function ``what`` does not
+    model, naming ``instead`` (the function that takes them): a rigid platform (attachments b_i or a
+    centre of mass off the reference point, ``Robot.point_mass``), with ``suspended`` also pulleys
+    whose swivel axes are not +z (``Robot.suspended_point_mass``: paper mode and the point-mass
+    physical solver), and points ``P`` whose last axis is not 3 (poses (N, 6)).
+
+    Parameters
+    ----------
+    robot : Robot
+    what, instead : str
+        The refusing function's name and what to call instead.
+    suspended : bool
+        Also require axes +z.
+    P : array_like, optional
+        The points given to ``what``.
+
+    Raises
+    ------
+    CdprError
+    """
+    if P is not None and np.shape(P)[-1:] != (3,):
+        raise CdprError(
+            f"{what} takes positions (..., 3) [m], got shape {np.shape(P)}; poses (N, 6) go to {instead}"
+        )
+    if not robot.point_mass:
+        raise CdprError(
+            f"{robot.source}: {what} is the point-mass model and this robot is a rigid platform (attachments "
+            f"or centre of mass off its reference point); use {instead}"
+        )
+    if suspended and not robot.suspended_point_mass:
+        raise CdprError(
+            f"{robot.source}: {what} is the model of a point mass under pulleys with +z axes and this robot's "
+            f"pulleys have other axes; use {instead}"
+        )
 
 
 @dataclasses.dataclass(frozen=True)

@@ -23,6 +23,7 @@ from cdpr.models import equilibrium, sensitivity, sensitivity6
 from cdpr.models.equilibrium6 import solve_spatial, solve_spatial_batch
 from cdpr.models.results import mark_below_floor
 from cdpr.models.subsets import solve_points
+from cdpr.robot import require_point_mass
 
 #: The (engine, method) pairs that exist: the compiled kernel implements Newton only.
 ENGINES = {"compiled": ("newton",), "numpy": ("newton", "fixed_point")}
@@ -226,6 +227,7 @@ def sensitivities(
     pass, ``threads`` caps the threads) or ``"numpy"`` (the reference
     ``cdpr.models.sensitivity.sensitivities``). Newton only; same parameters and result as the
     reference, whose docstring gives the equations; another engine raises CdprError."""
+    require_point_mass(robot, "sensitivities", "cdpr.solve.spatial_sensitivities", True, p)
     p = np.atleast_2d(np.asarray(p, dtype=float))
     check_redundancy(redundancy)
     if check_engine(engine, "newton") == "compiled":
@@ -263,6 +265,9 @@ def subset_sensitivities(robot, p, L=None, columns=None, engine=None, threads=No
     (``"compiled"`` default: ``cdpr.compiled.sensitivity.subset_sensitivities``; ``"numpy"``: the
     reference ``cdpr.models.sensitivity.subset_sensitivities``, whose docstring gives the result);
     another engine raises CdprError."""
+    require_point_mass(
+        robot, "subset_sensitivities (paper mode)", "cdpr.solve.spatial_sensitivities", True, p
+    )
     if check_engine(engine, "newton") == "compiled":
         return compiled_sensitivity.subset_sensitivities(
             robot, p, L=L, columns=columns, threads=threads, **solver

@@ -110,7 +110,15 @@ TABLE_BATCH = 20000
 
 
 def solve_table(
-    robot, p, method="newton", chunk=TABLE_BATCH, engine=None, threads=None, redundancy="paper", L0=None, **options
+    robot,
+    p,
+    method="newton",
+    chunk=TABLE_BATCH,
+    engine=None,
+    threads=None,
+    redundancy="paper",
+    L0=None,
+    **options,
 ):
     """Solve DEGM_E at points p with the paper-mode subset choice, as a DataFrame (``to_frame``).
 

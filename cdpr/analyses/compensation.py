@@ -32,11 +32,14 @@ from __future__ import annotations
 
 import numpy as np
 
+from cdpr.errors import CdprError
+from cdpr.models.distribution6 import compensated_lengths
+from cdpr.models.equilibrium6 import pose_arrays
 from cdpr.models.inverse import igm_e
 from cdpr.models.results import STATUSES
 from cdpr.models.statics import tensions
 from cdpr.models.tension_distribution import METHODS, T_MIN_DEFAULT, distribute, wrench_matrix
-from cdpr.solve import check_engine, solve_points_any
+from cdpr.solve import check_engine, solve_points_any, solve_spatial_any
 
 COMP_METHODS = (*METHODS, "subset")
 #: Statuses of a compensated pose: the physical ones, and ``infeasible`` where no tension
@@ -81,15 +84,50 @@ def _subset_tensions(robot, p, engine):
     return t, ok, np.where(has[:, None], sub, -1)
 
 
-def compensate(robot, p, method="min_norm", t_min=T_MIN_DEFAULT, t_max=None, engine=None, **options):
+def at_poses(robot, p, rotvec=None):
+    """True when ``compensate`` and ``compensated_pose`` take the 6-DoF path: a robot that is not a
+    suspended point mass (``Robot.suspended_point_mass``), poses p (N, 6) or an orientation
+    ``rotvec`` given (the command line's rule for ``compensate``).
+
+    Parameters
+    ----------
+    robot : Robot
+    p : ndarray (N, 3) or (N, 6) [m, rad]
+    rotvec : array_like (3,) or (N, 3) [rad], optional
+
+    Returns
+    -------
+    bool
+    """
+    return rotvec is not None or p.shape[1] == 6 or not robot.suspended_point_mass
+
+
+def _compensate6(robot, p, rotvec, method, t_min, t_max, options):
+    """``compensate`` at poses: ``distribution6.compensated_lengths`` (Paty 2021 eq. (10), (13) with
+    the 6 x m wrench matrix)."""
+    if method not in METHODS:
+        raise CdprError(
+            f"compensation at a pose (rigid platform, poses or rotvec) takes method {', '.join(METHODS)}, "
+            f"got {method!r} (the 3-cable subset is the point-mass rule)"
+        )
+    if options:
+        raise CdprError(f"compensation at a pose takes no distribution options, got {', '.join(options)}")
+    pos, R = pose_arrays(robot, p, rotvec)
+    c = compensated_lengths(robot, pos, rotvec if p.shape[1] == 3 else p[:, 3:], t_min, t_max, method)
+    return {"p": pos, "R": R, "L0": c["L0"], "t": c["t"], "L_TE": c["L_TE"], "feasible": c["feasible"]}
+
+
+def compensate(
+    robot, p, method="min_norm", t_min=T_MIN_DEFAULT, t_max=None, engine=None, rotvec=None, **options
+):
     """Compensated rest lengths that hold the platform of ``robot`` at p with planned tensions.
 
     Parameters
     ----------
     robot : Robot
         The model used to compensate (its geometry and E_i S_i).
-    p : array_like, shape (N, 3) [m]
-        Desired positions.
+    p : array_like, shape (N, 3) [m] or (N, 6) [m, rad]
+        Desired positions, or poses of a rigid platform.
     method : {"min_norm", "closed_form", "closed_form_improved", "subset"}
     t_min, t_max : float or array_like (m,) [N]
         Tension bounds of the distribution (``t_max`` default T_a,i); not used by ``subset``
@@ -97,6 +135,10 @@ def compensate(robot, p, method="min_norm", t_min=T_MIN_DEFAULT, t_max=None, eng
     engine : {"compiled", "numpy", None}
         Paper-mode engine for ``subset`` (``solve.check_engine``: None is compiled; another value
         raises CdprError).
+    rotvec : array_like (3,) or (N, 3) [rad], optional
+        Desired orientation (default identity). With it, with poses p (N, 6) or on a robot that is
+        not a suspended point mass (``at_poses``) the compensation is the 6-DoF one
+        (``distribution6.compensated_lengths``: no ``subset`` method, no options).
     options : passed to ``distribution.distribute``.
 
     Returns
@@ -104,7 +146,7 @@ def compensate(robot, p, method="min_norm", t_min=T_MIN_DEFAULT, t_max=None, eng
     dict
         p (N, 3) [m]; L0 (N, m) [m], NaN where infeasible; t (N, m) [N] planned tensions;
         L_TE (N, m) [m] at p; feasible (N,) bool; subset (N, 3) 0-based for ``subset`` (else
-        absent).
+        absent); at poses also R (N, 3, 3), the desired orientations.
 
     References
     ----------
@@ -112,6 +154,8 @@ def compensate(robot, p, method="min_norm", t_min=T_MIN_DEFAULT, t_max=None, eng
     """
     p = np.atleast_2d(np.asarray(p, dtype=float))
     engine = check_engine(engine, "newton")
+    if at_poses(robot, p, rotvec):
+        return _compensate6(robot, p, rotvec, method, t_min, t_max, options)
     L_TE = igm_e(robot, p).L_TE
     out = {"p": p}
     if method == "subset":
@@ -136,6 +180,8 @@ def compensated_pose(
     t_max=None,
     solver=None,
     realise=None,
+    rotvec=None,
+    threads=None,
     **options,
 ):
     """Compensate with ``robot``, then let the platform settle on the ``actual`` robot.
@@ -149,7 +195,8 @@ def compensated_pose(
     ----------
     robot : Robot
         The model used to compensate.
-    p : array_like, shape (N, 3) [m]
+    p : array_like, shape (N, 3) [m] or (N, 6) [m, rad]
+        Desired positions, or poses (``compensate``).
     actual : Robot, optional
         The robot that executes the lengths (same anchors, pulleys and cables, other values).
     method, t_min, t_max, options : as ``compensate``.
@@ -161,27 +208,48 @@ def compensated_pose(
         L0 (k, m) [m] -> the rest lengths the actual robot realises (k, m) [m] under those commands,
         NaN where it cannot (e.g. through its drums, ``calibration.executed_lengths``); default the
         identity. Points it cannot realise are ``infeasible``.
+    rotvec : array_like (3,) or (N, 3) [rad], optional
+        Desired orientation: at poses (``at_poses``) the 6-DoF compensation and the 6-DoF
+        equilibrium of ``actual`` (``solve.solve_spatial_any``).
+    threads : int, optional
+        Threads of the compiled engine.
 
     Returns
     -------
     dict
-        As ``solve_physical``, plus L0 (N, m) [m], t_planned (N, m) [N] and ``statuses``
-        (``COMP_STATUSES``): status ``infeasible`` (P_s, dp, t NaN) where no distribution exists.
+        As ``solve_physical`` (at poses ``equilibrium6.solve_spatial``), plus L0 (N, m) [m],
+        t_planned (N, m) [N] and ``statuses`` (``COMP_STATUSES``): status ``infeasible`` (P_s, dp,
+        t NaN; at poses also rotvec_s and dphi) where no distribution exists.
     """
     p = np.atleast_2d(np.asarray(p, dtype=float))
     actual = robot if actual is None else actual
     if actual.m != robot.m:
         raise ValueError(f"the actual robot has {actual.m} cables, the model {robot.m}")
-    comp = compensate(robot, p, method=method, t_min=t_min, t_max=t_max, engine=engine, **options)
+    six = at_poses(robot, p, rotvec)
+    comp = compensate(
+        robot, p, method=method, t_min=t_min, t_max=t_max, engine=engine, rotvec=rotvec, **options
+    )
     ok = comp["feasible"]
     L_act = comp["L0"]
     if realise is not None:
         L_act = np.full(comp["L0"].shape, np.nan)
         L_act[ok] = realise(comp["L0"][ok])
         ok = ok & np.isfinite(L_act).all(axis=1)
-    res = solve_points_any(
-        actual, p[ok], engine=engine, redundancy="physical", L0=L_act[ok], **(solver or {})
-    )
+    if six:
+        rv = p[:, 3:].copy() if p.shape[1] == 6 else _rotvecs(p, rotvec)
+        p6 = np.concatenate([comp["p"], rv], axis=1)
+        res = solve_spatial_any(actual, p6[ok], None, engine, threads, L0=L_act[ok], **(solver or {}))
+    else:
+        res = solve_points_any(
+            actual,
+            p[ok],
+            engine=engine,
+            threads=threads,
+            redundancy="physical",
+            L0=L_act[ok],
+            **(solver or {}),
+        )
+    p = comp["p"]
     n, m = len(p), robot.m
     out = {"p": p}
     fill = {
@@ -193,6 +261,8 @@ def compensated_pose(
         "residual": (np.nan, (n,)),
         "iterations": (0, (n,)),
     }
+    if six:
+        fill.update(rotvec_s=(np.nan, (n, 3)), dphi=(np.nan, (n,)), unique=(True, (n,)))
     for key, (value, shape) in fill.items():
         arr = np.full(shape, value, dtype=res[key].dtype)
         arr[ok] = res[key]
@@ -208,4 +278,20 @@ def compensated_pose(
     )
     if "subset" in comp:
         out["subset"] = comp["subset"]
+    if six:
+        out["rotvec"] = rv
+        alternatives = [[] for _ in range(n)]
+        for k, alt in zip(np.flatnonzero(ok), res["alternatives"]):
+            alternatives[k] = alt
+        out["alternatives"] = alternatives
     return out
+
+
+def _rotvecs(p, rotvec):
+    """The desired rotation vectors (N, 3) [rad] of positions p with ``rotvec`` (default identity)."""
+    n = len(p)
+    return (
+        np.zeros((n, 3))
+        if rotvec is None
+        else np.broadcast_to(np.asarray(rotvec, dtype=float), (n, 3)).copy()
+    )

@@ -22,6 +22,10 @@ import numpy as np
 
 from cdpr.errors import CdprError, ConfigError
 
+#: Bytes of memory per grid point while solving and writing (measured peak RSS / points, rounded up):
+#: the bound ``cdpr grid --n`` and the study's size check (``pipeline.study``) apply.
+BYTES_PER_POINT = 600
+
 
 def check_box(box):
     """Validate a box (xmin, xmax, ymin, ymax, zmin, zmax) [m]; returns it as a float array.

@@ -19,9 +19,9 @@ import time
 import numpy as np
 
 from cdpr import io
+from cdpr.analyses.workspace import BYTES_PER_POINT
 from cdpr.errors import CdprError
 from cdpr.models import winch
-from cdpr.pipeline.study import BYTES_PER_POINT
 from cdpr.robot import TABLE1, load_robot, load_winch_params
 
 

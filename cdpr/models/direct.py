@@ -25,6 +25,7 @@ import numpy as np
 from cdpr.models.inverse import L_TS
 from cdpr.models.pulleys import pulley_state, total_length_and_direction
 from cdpr.models.statics import length_gradient, solve3, stretched_length, tension_gradient, tensions
+from cdpr.robot import require_point_mass
 
 #: Newton defaults: position tolerance [m] (see _newton), iteration cap, largest step [m].
 NEWTON_DEFAULTS = {"tol": 1e-10, "maxiter": 40, "max_step": 0.5}
@@ -234,6 +235,9 @@ def degm_e(robot, p, subset=(0, 1, 2), L=None, method="newton", P0=None, **optio
         P (N, 3) [m], t (N, 3) [N], iterations (N,), converged (N,) bool, exists (N,) bool;
         tensions are evaluated at the returned P.
     """
+    require_point_mass(
+        robot, "paper mode (degm_e)", 'cdpr.solve_points_any(robot, p, redundancy="physical")', True, p
+    )
     p = np.atleast_2d(np.asarray(p, dtype=float))
     s = np.asarray(subset, dtype=np.intp)
     sub = _Subset(robot, s)

@@ -93,6 +93,7 @@ from cdpr.models.inverse import L_TS
 from cdpr.models.pulleys import total_length_and_direction
 from cdpr.models.results import STATUSES
 from cdpr.models.statics import direction_gradient, length_gradient, solve3
+from cdpr.robot import require_point_mass
 
 #: Newton defaults: position tolerance [m], iteration cap, largest step [m].
 PHYSICAL_DEFAULTS = {"tol": 1e-10, "maxiter": 60, "max_step": 0.5}
@@ -474,6 +475,9 @@ def solve_physical(robot, p, L0=None, P0=None, tol=None, maxiter=None, max_step=
     tol = o["tol"] if tol is None else tol
     maxiter = o["maxiter"] if maxiter is None else maxiter
     max_step = o["max_step"] if max_step is None else max_step
+    require_point_mass(
+        robot, "solve_physical", 'cdpr.solve_points_any(robot, p, redundancy="physical")', True, p
+    )
     p = np.atleast_2d(np.asarray(p, dtype=float))
     L0 = (
         L_TS(robot, p)

@@ -1,7 +1,9 @@
 """Inverse geometric models: standard IGM_S (Paty 2021 eq. 1-2) and extended IGM_E (eq. 3-7).
 
-The platform is a point mass (b_i = 0) and the winch exit C_i lies the dead length d_i straight below
-the pulley joint point A_i (the paper's a_i collinear with z_b, |a_i| = d_i).
+The paper's platform is a point mass (b_i = 0): the models take its positions P, and on a rigid
+platform (attachments b_i) poses, each cable at its attachment point B_i = p + R b_i. The winch exit
+C_i lies the dead length d_i from the pulley joint point A_i along the swivel axis (straight below
+for the paper's vertical axes: a_i collinear with z_b, |a_i| = d_i).
 
 References
 ----------
@@ -13,32 +15,68 @@ from __future__ import annotations
 
 import numpy as np
 
+from cdpr.errors import CdprError
+from cdpr.models.platform import attachment_points, rotation_matrix
 from cdpr.models.pulleys import pulley_state
 
 
-def l_S(robot, P):
-    """Standard useful length l_S,i = |P - A_i| (Paty 2021 eq. 1 with b_i = 0).
-
-    .. math:: l_{S,i} = \\lVert p - a_i - c_i \\rVert = \\lVert P - A_i \\rVert
+def attachments(robot, P, rotvec=None):
+    """The points the inverse models take: P itself on a point-mass platform, else the attachment
+    points B_i = p + R b_i of each cable at poses (no paper equation; Paty 2021 section 2.1).
 
     Parameters
     ----------
     robot : Robot
-        Supplies the joint points A (m, 3) [m].
-    P : array_like (..., 3) [m]
-        Platform positions.
+    P : array_like (..., 3) [m] or (N, 6) [m, rad]
+        Positions, or poses (x, y, z, rx, ry, rz). On a point-mass robot an orientation plays no
+        part (B_i = p).
+    rotvec : array_like (3,) or (N, 3) [rad], optional
+        Orientation of positions P (default identity; ignored when P holds poses).
+
+    Returns
+    -------
+    B : ndarray (..., 3) or (N, m, 3) [m]
+    per_cable : bool
+        True when B holds one point per cable (a rigid platform).
+    """
+    P = np.asarray(P, dtype=float)
+    if P.shape[-1:] not in ((3,), (6,)):
+        raise CdprError(f"positions (..., 3) [m] or poses (N, 6) [m, rad] expected, got shape {P.shape}")
+    if robot.point_mass:
+        return (P[..., :3] if P.shape[-1] == 6 else P), False
+    P = np.atleast_2d(P)
+    if P.ndim != 2:
+        raise CdprError(f"poses of a rigid platform are (N, 3) or (N, 6), got shape {P.shape}")
+    p, rv = (P[:, :3], P[:, 3:]) if P.shape[1] == 6 else (P, rotvec)
+    rv = np.zeros_like(p) if rv is None else np.broadcast_to(np.asarray(rv, dtype=float), p.shape)
+    return attachment_points(p, rotation_matrix(rv), robot.arrays.b), True
+
+
+def l_S(robot, P, rotvec=None):
+    """Standard useful length l_S,i = |B_i - A_i| (Paty 2021 eq. 1), B_i = P on a point mass.
+
+    .. math:: l_{S,i} = \\lVert p + R\\,b_i - a_i - c_i \\rVert = \\lVert B_i - A_i \\rVert
+
+    Parameters
+    ----------
+    robot : Robot
+        Supplies the joint points A (m, 3) [m] (and the attachments b_i of a rigid platform).
+    P : array_like (..., 3) [m] or (N, 6) [m, rad]
+        Platform positions or poses (``attachments``).
+    rotvec : array_like (3,) or (N, 3) [rad], optional
+        Orientation of a rigid platform at positions P (default identity).
 
     Returns
     -------
     l_S : ndarray (..., m) [m]
-        Distance from each joint point A_i to P.
+        Distance from each joint point A_i to its attachment point.
     """
-    P = np.asarray(P, dtype=float)
-    return np.linalg.norm(P[..., None, :] - robot.A, axis=-1)
+    B, per_cable = attachments(robot, P, rotvec)
+    return np.linalg.norm((B if per_cable else B[..., None, :]) - robot.A, axis=-1)
 
 
-def L_TS(robot, P):
-    """Standard total length L_TS,i = |P - A_i| + d_i (Paty 2021 eq. 2).
+def L_TS(robot, P, rotvec=None):
+    """Standard total length L_TS,i = |B_i - A_i| + d_i (Paty 2021 eq. 2), B_i = P on a point mass.
 
     .. math:: L_{TS,i} = \\lVert l_{S,i} \\rVert + \\lVert l_{d,i} \\rVert, \\quad \\lVert l_{d,i} \\rVert = d_i
 
@@ -49,26 +87,31 @@ def L_TS(robot, P):
     ----------
     robot : Robot
         Supplies the joint points A (m, 3) [m] and the dead lengths d (m,) [m].
-    P : array_like (..., 3) [m]
-        Platform positions.
+    P : array_like (..., 3) [m] or (N, 6) [m, rad]
+        Platform positions or poses (``attachments``).
+    rotvec : array_like (3,) or (N, 3) [rad], optional
+        Orientation of a rigid platform at positions P (default identity).
 
     Returns
     -------
     L_TS : ndarray (..., m) [m]
-        Standard total cable lengths, winch exit C_i to P.
+        Standard total cable lengths, winch exit C_i to B_i.
     """
-    return l_S(robot, P) + robot.d
+    return l_S(robot, P, rotvec) + robot.d
 
 
-def igm_e(robot, P):
-    """Extended inverse model IGM_E of every cable at P (Paty 2021 eq. 3-7), ``pulleys.pulley_state``.
+def igm_e(robot, P, rotvec=None):
+    """Extended inverse model IGM_E of every cable at its attachment point (Paty 2021 eq. 3-7),
+    ``pulleys.pulley_state``; B_i = P on a point mass, p + R b_i at poses of a rigid platform.
 
     Parameters
     ----------
     robot : Robot
         Supplies A (m, 3) [m], kind (m,), h, r_p, d (m,) [m] and inward (m, 2).
-    P : array_like (..., 3) [m]
-        Platform positions.
+    P : array_like (..., 3) [m] or (N, 6) [m, rad]
+        Platform positions or poses (``attachments``).
+    rotvec : array_like (3,) or (N, 3) [rad], optional
+        Orientation of a rigid platform at positions P (default identity).
 
     Returns
     -------
@@ -76,5 +119,6 @@ def igm_e(robot, P):
         Arrays (..., m) and points (..., m, 3) [m]; ``L_TE`` (..., m) [m] is the extended total
         length of eq. (5).
     """
+    B, per_cable = attachments(robot, P, rotvec)
     frame = None if robot.suspended_point_mass else robot.arrays.frame
-    return pulley_state(P, robot.A, robot.kind, robot.h, robot.r_p, robot.d, robot.inward, frame)
+    return pulley_state(B, robot.A, robot.kind, robot.h, robot.r_p, robot.d, robot.inward, frame, per_cable)

@@ -32,6 +32,7 @@ import numpy as np
 from cdpr.errors import CdprError
 from cdpr.models.direct import degm_e
 from cdpr.models.inverse import L_TS
+from cdpr.robot import require_point_mass
 
 #: |dp| difference [m] under which two admissible subsets count as tied.
 TIE_TOL = 1e-9
@@ -68,6 +69,9 @@ def solve_points(robot, p, method="newton", L=None, P0=None, **options):
         dp_subsets (N, n_subsets) [m] and admissible_subsets (N, n_subsets) bool for maps such as
         Fig. 9.
     """
+    require_point_mass(
+        robot, "paper mode (solve_points)", 'cdpr.solve_points_any(robot, p, redundancy="physical")', True, p
+    )
     p = np.atleast_2d(np.asarray(p, dtype=float))
     n = p.shape[0]
     subsets = robot.subsets

@@ -21,7 +21,7 @@ import pandas as pd
 
 from cdpr.analyses import doe
 from cdpr.analyses.uncertainty import CASES, PARAMETER_KEYS, Distribution
-from cdpr.analyses.workspace import check_box
+from cdpr.analyses.workspace import BYTES_PER_POINT, check_box
 from cdpr.errors import ConfigError, raise_problems
 from cdpr.robot import (
     TABLE1,
@@ -215,9 +215,6 @@ def dphi_volume_limits(st):
 # ------------------------------------------------------------------------------------------------
 # Checks a schema cannot express
 # ------------------------------------------------------------------------------------------------
-#: Bytes of memory per grid point while solving and writing (measured peak RSS / points, rounded up;
-#: the same bound ``cdpr grid --n`` applies).
-BYTES_PER_POINT = 600
 #: Points per second of ``cdpr grid`` (the measured 282,000-334,000 of benchmarks/README.md, rounded
 #: down): the solver time a refused size would need.
 POINTS_PER_SECOND = 250_000
