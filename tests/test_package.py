@@ -55,9 +55,8 @@ def test_the_wheel_is_what_runs(installed):
     tmp, py = installed
     out = _run([py, "-c", "import cdpr; print(cdpr.__file__)"], tmp, env=_env()).stdout.strip()
     assert out.startswith(str(tmp / "venv")) and "site-packages" in out, out
-    # the public face: `import cdpr; cdpr.solve_table` once cdpr/__init__.py exports it (house
-    # refactor, another branch); until then the engine's module
-    code = "import cdpr\ntry:\n    cdpr.solve_table\nexcept AttributeError:\n    from cdpr.solve import solve_table"
+    # the public face: `import cdpr; cdpr.solve_table` (cdpr/__init__.py exports it, from cdpr.tables)
+    code = "import cdpr\ncdpr.solve_table"
     _run([py, "-c", code], tmp, env=_env())
 
 

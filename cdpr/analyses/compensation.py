@@ -97,7 +97,7 @@ def compensate(robot, p, method="min_norm", t_min=T_MIN_DEFAULT, t_max=None, eng
     engine : {"compiled", "numpy", None}
         Paper-mode engine for ``subset`` (``solve.check_engine``: None is compiled; another value
         raises CdprError).
-    options : passed to ``distribution.distribute``.
+    options : passed to ``cdpr.models.tension_distribution.distribute``.
 
     Returns
     -------
