@@ -5,7 +5,7 @@ import sys
 
 
 def run():
-    """``cli.main`` with Python's cyclic garbage collector off.
+    """``cdpr.cli.main.main`` with Python's cyclic garbage collector off.
 
     A command is a short-lived process whose objects are mostly the ~10^6 long-lived ones of the
     modules it loads (numpy, pandas, numba's compiler). Collecting them while they load and again at

@@ -124,7 +124,8 @@ def solve_points_any(
     """Per-point results as a dict of arrays from the chosen model and engine.
 
     ``redundancy="paper"``: DEGM_E on every 3-cable subset and the paper's choice
-    (``redundancy.solve_points`` keys), commanded total lengths ``L`` (N, m) [m] or L_TS at p.
+    (``cdpr.models.subsets.solve_points`` keys), commanded total lengths ``L`` (N, m) [m] or L_TS
+    at p.
     ``redundancy="physical"``: the equilibrium on all cables (``equilibrium.solve_physical`` keys),
     commanded rest lengths ``L0`` (N, m) [m] or L_TS at p. A robot that is not a suspended point
     mass, an orientation ``rotvec`` ((3,) or (N, 3) [rad]) or poses p (N, 6) go to the 6-DoF

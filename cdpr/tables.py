@@ -131,9 +131,10 @@ def solve_table(
         DEGM_E solver (``direct.degm_e``).
     engine : {"compiled", "numpy", None}
         None (default): compiled for Newton, numpy for the fixed point. ``"compiled"`` runs the numba kernel of ``cdpr.compiled.subsets`` over all points in parallel
-        (``threads`` caps the threads); Newton only. ``"numpy"`` runs ``redundancy.solve_points`` in
-        chunks of ``chunk`` points: the reference implementation, and the only one for the fixed
-        point. Both give the same table (tested). Another pair raises CdprError.
+        (``threads`` caps the threads); Newton only. ``"numpy"`` runs
+        ``cdpr.models.subsets.solve_points`` in chunks of ``chunk`` points: the reference
+        implementation, and the only one for the fixed point. Both give the same table (tested).
+        Another pair raises CdprError.
 
     redundancy : {"paper", "physical"}
         The paper's 3-cable subset rule, or the physical equilibrium on all cables

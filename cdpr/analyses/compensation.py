@@ -139,7 +139,7 @@ def compensate(
         Desired orientation (default identity). With it, with poses p (N, 6) or on a robot that is
         not a suspended point mass (``at_poses``) the compensation is the 6-DoF one
         (``distribution6.compensated_lengths``: no ``subset`` method, no options).
-    options : passed to ``distribution.distribute``.
+    options : passed to ``cdpr.models.tension_distribution.distribute``.
 
     Returns
     -------

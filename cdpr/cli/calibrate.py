@@ -3,7 +3,7 @@
 ``fit`` estimates the parameter groups ``--estimate`` from a data table (docs/calibration.md) and
 writes the calibrated robot file; ``check`` compares a robot's prediction with measured samples;
 ``plan`` picks D-optimal poses to measure. JSON with ``--json`` (SI units), a readable table
-without; every bad input is one line on stderr and exit code 2 (``cdpr.cli.commands.main``).
+without; every bad input is one line on stderr and exit code 2 (``cdpr.cli.main.main``).
 
 Its options are defined in ``cdpr.cli.parser`` (``calibrate_parser``), which loads this module only
 to run a command.

@@ -1,10 +1,11 @@
 """Compiled DEGM_E over many points: the batched-Newton solver and the paper-mode subset choice
-of ``redundancy.solve_points``, fused into one numba kernel that runs in parallel over points.
+of ``cdpr.models.subsets.solve_points``, fused into one numba kernel that runs in parallel over
+points.
 
 Same equations, same analytic-Jacobian Newton and stop rule, same tolerances, tie-break and
-status rules as the numpy path (``direct._newton`` + ``redundancy.solve_points``); a test checks
-that both give the same table. The numpy path stays the reference; this one is what the CLI and
-pipeline use.
+status rules as the numpy path (``cdpr.models.direct._newton`` +
+``cdpr.models.subsets.solve_points``); a test checks that both give the same table. The numpy path
+stays the reference; this one is what the CLI and pipeline use.
 """
 
 from __future__ import annotations
@@ -384,7 +385,8 @@ def _solve_points(p, Lin, cab, subs, b, opts, prune, out):
 
 @njit(cache=True, error_model="numpy")
 def solve_point(i, p, Lin, cab, subs, b, opts, prune, out, scr, P0):
-    """Point i: solve the subsets (pruned, see solve_points_fast) and choose as redundancy.solve_points.
+    """Point i: solve the subsets (pruned, see solve_points_fast) and choose as
+    cdpr.models.subsets.solve_points.
 
     p (N, 3) [m]; Lin (N, m) or (0, m) [m] the commanded lengths (none: L_TS at p[i], eq. 2); cab
     ``Cables``; subs ``Subsets``; b (3,) [N] = -w_ext; opts ``Newton``; prune bool; writes row i
@@ -441,7 +443,7 @@ def solve_point(i, p, Lin, cab, subs, b, opts, prune, out, scr, P0):
     for k in range(ns):
         nsolved += solved[k]
     work[i] = nsolved
-    # paper-mode choice, as redundancy.solve_points
+    # paper-mode choice, as cdpr.models.subsets.solve_points
     any_adm, any_conv, any_low, any_nc = False, False, False, False
     for k in range(ns):
         if not solved[k]:
@@ -524,10 +526,11 @@ def subset_arrays(robot):
 
 
 def solve_points_fast(robot, p, tol=None, maxiter=None, threads=None, prune=True, L=None):
-    """Fast equivalent of ``redundancy.solve_points(robot, p, method="newton", L=L)`` (same keys
-    except the per-subset arrays). ``threads`` caps numba's threads (default: all cores). ``L``
-    (N, m) [m]: commanded total lengths of every cable, default L_TS(p) of ``robot`` (eq. 2); give
-    them to command a robot whose parameters differ from the model that computed the lengths."""
+    """Fast equivalent of ``cdpr.models.subsets.solve_points(robot, p, method="newton", L=L)``
+    (same keys except the per-subset arrays). ``threads`` caps numba's threads (default: all
+    cores). ``L`` (N, m) [m]: commanded total lengths of every cable, default L_TS(p) of ``robot``
+    (eq. 2); give them to command a robot whose parameters differ from the model that computed the
+    lengths."""
     p = np.ascontiguousarray(np.atleast_2d(np.asarray(p, dtype=float)))
     n, m = len(p), robot.m
     Lin = commanded_input(L, n, m)
@@ -575,7 +578,7 @@ def solve_points_batch(robots, p, L, tol=None, maxiter=None, threads=None, prune
     parallel pass over (robot, chunk of points) pairs, so that many small solves (Monte Carlo and
     Sobol samples) do not each start and stop numba's threads. Each point runs the same kernel on
     the same inputs as ``solve_points_fast`` (equal results); the numpy reference is
-    ``redundancy.solve_points`` of each robot.
+    ``cdpr.models.subsets.solve_points`` of each robot.
 
     Parameters
     ----------

@@ -350,7 +350,7 @@ def sensitivities(
     Returns
     -------
     dict
-        The solve's result (``redundancy.solve_points`` / ``equilibrium.solve_physical`` keys)
+        The solve's result (``subsets.solve_points`` / ``equilibrium.solve_physical`` keys)
         plus: S (N, 3, 7 m + 1) [m per unit of θ], NaN where the status is not ok; names (list of
         7 m + 1 str, ``parameter_names``); smooth (N,) bool; margin_t (N,) [N] the tension margin;
         cond (N,) the condition number of J (inf where singular or not ok); paper mode also
