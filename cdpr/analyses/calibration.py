@@ -62,7 +62,7 @@ from cdpr.analyses.workspace import check_box, grid_points
 from cdpr.errors import CdprError, ConfigError
 from cdpr.models.distribution6 import compensated_lengths
 from cdpr.models.drive import commanded_for, has_winches, realised_rest_lengths
-from cdpr.models.equilibrium6 import L_TS_pose, pose_arrays, solve_spatial
+from cdpr.models.equilibrium6 import L_TS_pose, pose_arrays
 from cdpr.models.inverse import L_TS
 from cdpr.models.platform import rotation_matrix, rotvec_of, skew
 from cdpr.models.pulleys import total_length_and_direction
@@ -88,7 +88,7 @@ from cdpr.parameters import (
     select_groups,
 )
 from cdpr.robot import WINCH_KEYS, with_pulleys
-from cdpr.solve import check_engine, sensitivities
+from cdpr.solve import check_engine, sensitivities, solve_spatial_any
 from cdpr.solve import spatial_sensitivities as solve_spatial_sensitivities
 from cdpr.units import quantity
 
@@ -1019,13 +1019,31 @@ def _problem(base, data, index, sd, engine=None, solver=None):
     if engine is not None:
         engine = check_engine(engine, "newton")
     if is_spatial(base):
-        return Problem6(base, data, index, sd, engine=engine or "numpy", solver=solver)
+        return Problem6(base, data, index, sd, engine=engine6(engine), solver=solver)
     return Problem(base, data, index, sd, engine=engine, solver=solver)
 
 
-def solve6(robot, P, L0, rotvec=None, solver=None):
+def engine6(engine):
+    """The engine of the 6-DoF calibration (fits, plans, checks, simulations): a named engine,
+    checked by ``solve.check_engine``, or for None the numpy reference: the tracked CoGiRo
+    calibration tables were computed with it, and the compiled twin (analytic dF6/dθ) moves the
+    misfit models' fits (the exact model's in the 4th digit).
+
+    Parameters
+    ----------
+    engine : {"compiled", "numpy"} or None
+
+    Returns
+    -------
+    str
+    """
+    return "numpy" if engine is None else check_engine(engine, "newton")
+
+
+def solve6(robot, P, L0, rotvec=None, solver=None, engine=None):
     """The 6-DoF equilibria under commanded rest lengths L0 started at poses (P, rotvec): the
-    ``solve_spatial`` result with ``smooth`` (``smooth6``) added.
+    ``solve_spatial`` result (``solve.solve_spatial_any`` by ``engine6(engine)``) with ``smooth``
+    (``smooth6``) added.
 
     Parameters
     ----------
@@ -1034,12 +1052,14 @@ def solve6(robot, P, L0, rotvec=None, solver=None):
     L0 : ndarray, shape (n, m) [m]
     rotvec : ndarray, shape (n, 3) [rad], optional
     solver : dict, optional
+    engine : {"compiled", "numpy"} or None
+        ``engine6``.
 
     Returns
     -------
     dict
     """
-    res = solve_spatial(robot, P, rotvec, L0=L0, **dict(solver or {}))
+    res = solve_spatial_any(robot, P, rotvec, engine6(engine), L0=L0, **dict(solver or {}))
     _, hooke, cond = rest_length_sensitivities(robot, res["P_s"], res["R_s"], res["L0"])
     res["smooth"] = smooth6(hooke, cond)
     return res
@@ -1672,7 +1692,7 @@ def check(robot, data, engine=None):
     if data.encoder:
         raise CdprError(f"{data.source}: check needs commanded lengths L1..L{robot.m}, not encoder readings")
     if is_spatial(robot):
-        return _check6(robot, data)
+        return _check6(robot, data, engine)
     L0 = realised_lengths(robot, data.L)
     drum = np.isfinite(L0).all(axis=1)
     res = sensitivities(
@@ -1696,13 +1716,13 @@ def check(robot, data, engine=None):
     }
 
 
-def _check6(robot, data):
+def _check6(robot, data, engine=None):
     """``check`` for a 6-DoF platform: the equilibrium under the commanded lengths (through the
     drums of a robot with winches, ``realised_lengths``) started at the measured pose."""
     L0 = realised_lengths(robot, data.L)
     drum = np.isfinite(L0).all(axis=1)
     L0 = _drum_or_standard(robot, L0, drum, data.pose, np.nan_to_num(data.rotvec))
-    res = solve6(robot, data.pose, L0, rotvec=data.rotvec)
+    res = solve6(robot, data.pose, L0, rotvec=data.rotvec, engine=engine)
     res["status"] = np.where(drum, res["status"], DRUM_RANGE)
     ok = res["status"] == "ok"
     err = np.linalg.norm(res["P_s"] - data.pose, axis=1)
@@ -1788,6 +1808,7 @@ def simulate(
             command,
             tensions=tensions,
             sigma_t=sigma_t,
+            engine=engine,
         )
     _check_command(command, truth)
     L0 = L_TS(nominal, P)
@@ -1863,8 +1884,9 @@ def _simulate6(
     command="standard",
     tensions=False,
     sigma_t=SIGMA_T_DEFAULT,
+    engine=None,
 ):
-    """``simulate`` for a 6-DoF platform (its docstring)."""
+    """``simulate`` for a 6-DoF platform (its docstring; the solves by ``engine6(engine)``)."""
     p, R = pose_arrays(nominal, P, rotvec)
     rv = rotvec_of(R)
     L0 = commanded_lengths(nominal, p, R, command)
@@ -1872,7 +1894,7 @@ def _simulate6(
     p, R, rv, L0 = p[fin], R[fin], rv[fin], L0[fin]
     L_real = realised_lengths(truth, L0)  # through the true robot's drums when it has winches
     drum = np.isfinite(L_real).all(axis=1)
-    res = solve6(truth, p, np.where(drum[:, None], L_real, L0), rotvec=rv)
+    res = solve6(truth, p, np.where(drum[:, None], L_real, L0), rotvec=rv, engine=engine)
     ok = (res["status"] == "ok") & res["smooth"] & drum
     y, Rs = res["P_s"][ok], res["R_s"][ok]
     if rng is not None:
@@ -2037,7 +2059,7 @@ def candidates(robot, box, n_axis=7, model="exact", engine=None, targets=False, 
         p, L0 = p[fin], L0[fin]
         L_real = realised_lengths(base, L0)  # through the drums of a robot with winches
         drum = np.isfinite(L_real).all(axis=1)
-        res = solve6(base, p, np.where(drum[:, None], L_real, L0))
+        res = solve6(base, p, np.where(drum[:, None], L_real, L0), engine=engine)
         ok = (res["status"] == "ok") & res["smooth"] & (res["n_taut"] >= min(6, robot.m)) & drum
         P6 = np.concatenate([res["P_s"], res["rotvec_s"]], axis=1)
         return (P6[ok], L0[ok], p[ok]) if targets else (P6[ok], L0[ok])

@@ -13,9 +13,8 @@ from cdpr.analyses.uncertainty import CASES, Linearisation
 from cdpr.models.distribution6 import compensated_lengths
 from cdpr.models.equilibrium6 import L_TS_pose, pose_arrays
 from cdpr.models.platform import rotvec_of
-from cdpr.models.sensitivity6 import sensitivities_at
 from cdpr.parameters import parameter_names6, parameter_values, parameter_values6, robot_with_parameters6
-from cdpr.solve import solve_spatial_any, solve_spatial_batch_any
+from cdpr.solve import solve_spatial_any, solve_spatial_batch_any, spatial_sensitivities_at
 
 
 def spatial_theta(robot, theta):
@@ -128,7 +127,10 @@ class PoseErrorModel6:
         (``sensitivity6.sensitivities_at``; NaN rows where the pose is infeasible or not ok)."""
         N, f = len(self.p), self.feasible
         res = self._solve(self.robot)
-        sens = sensitivities_at(self.robot, res, parameter_names6(self.robot.m))
+        # the numpy reference (central differences of the balance), through the engine switch: the
+        # tracked CoGiRo uncertainty tables were computed with it; the compiled twin's analytic
+        # dF6/dθ agrees to 1.4e-6 of a column (benchmarks/README.md) but not to the digits written
+        sens = spatial_sensitivities_at(self.robot, res, parameter_names6(self.robot.m), engine="numpy")
         P_s, R_s = np.full((N, 3), np.nan), np.full((N, 3, 3), np.nan)
         S = np.full((N, 6, sens["S"].shape[2]), np.nan)
         smooth, status = np.zeros(N, dtype=bool), np.full(N, "infeasible", dtype=object)

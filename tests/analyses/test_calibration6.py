@@ -310,3 +310,10 @@ def test_a_named_engine_reaches_the_6dof_problem(cogiro):
     assert cal._problem(point_mass, data(4, False), index, sd).engine is None  # check_engine: compiled
     with pytest.raises(CdprError, match="unknown engine 'nope'; allowed: compiled, numpy"):
         cal._problem(cogiro, d6, index, sd, engine="nope")
+    # the plan, the simulator and the check on a 6-DoF platform check and use a named engine too
+    assert cal.engine6(None) == "numpy" and cal.engine6("compiled") == "compiled"
+    with pytest.raises(CdprError, match="unknown engine 'nope'"):
+        cal.candidates(cogiro, [-1, 1, -1, 1, 1.5, 2.5], n_axis=2, engine="nope")
+    P, L0 = cal.candidates(cogiro, [-1, 1, -1, 1, 1.5, 2.5], n_axis=2)
+    Pc, L0c = cal.candidates(cogiro, [-1, 1, -1, 1, 1.5, 2.5], n_axis=2, engine="compiled")
+    assert np.allclose(Pc, P, rtol=0, atol=1e-9) and np.array_equal(L0c, L0)
