@@ -348,6 +348,9 @@ def cmd_point(args):
     else:
         print(f"  subset         : {subset_label(res['subset'][0]) or '-'}")
     print(f"  status         : {out['status']}  ({out['iterations']} iterations)")
+    if out.get("unique") is False:  # another equilibrium holds the same lengths (equilibrium6: restarts)
+        n = len(out["alternatives"])
+        print(f"  equilibrium    : not unique ({n} alternative{'s' * (n != 1)}; --json lists them)")
     if args.sensitivities:
         num = lambda v: "nan" if v is None else f"{v:.6g}"  # noqa: E731
         smooth = (

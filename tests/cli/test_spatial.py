@@ -354,3 +354,21 @@ def test_largest_wrench_feasible_box_of_a_spatial_grid(tmp_path, capsys):
         == 0
     )
     assert "needs the whole grid (--shards 1)" in capsys.readouterr().out
+
+
+def test_point_text_says_when_the_equilibrium_is_not_unique(capsys):
+    """The readable output names a non-unique equilibrium (the JSON's unique: false) in one extra
+    line; every other line is the same, and a unique equilibrium prints no such line."""
+    base = ["point", "--robot", COGIRO, "--redundancy", "physical", "--engine", "numpy"]
+    js = run_json(capsys, *base, "--at", "0", "0", "9")
+    assert js["unique"] is False and js["alternatives"]
+    assert main([*base, "--at", "0", "0", "9"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    n = len(js["alternatives"])
+    assert lines[-1] == f"  equilibrium    : not unique ({n} alternative{'s' * (n != 1)}; --json lists them)"
+    assert lines[-2].startswith("  status         : ok  (")
+    assert main([*base, "--at", "0", "0", "2"]) == 0
+    assert (
+        "equilibrium    :" not in capsys.readouterr().out
+        and run_json(capsys, *base, "--at", "0", "0", "2")["unique"]
+    )
