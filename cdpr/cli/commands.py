@@ -51,7 +51,9 @@ def _load(args):
 
 
 def _points(args):
-    """(N, 3) points of --at or --points; refuses non-finite coordinates and a missing --out."""
+    """(N, 3) points of --at or --points; refuses non-finite coordinates, a missing --out and an
+    orientation given twice (--rotvec and rx, ry, rz columns). A table's orientations go to
+    ``args.table_rotvec`` (``_rotvec``). Runs before any solve (inverse, point, compensate)."""
     if args.at is not None:
         if args.out:
             io.check_output(args.out)
@@ -81,6 +83,10 @@ def _points(args):
         if len(rot) != 3:
             raise CdprError(
                 f"{args.points}: an orientation needs all three columns rx, ry, rz [rad], got {', '.join(rot)}"
+            )
+        if getattr(args, "rotvec", None) is not None:  # two orientations: neither may win silently
+            raise CdprError(
+                f"give the orientation either as --rotvec or as rx, ry, rz columns of --points ({args.points}), not both"
             )
         rv = df[["rx", "ry", "rz"]].to_numpy(dtype=float)
         bad = ~np.isfinite(rv).all(axis=1)

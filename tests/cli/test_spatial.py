@@ -372,3 +372,41 @@ def test_point_text_says_when_the_equilibrium_is_not_unique(capsys):
         "equilibrium    :" not in capsys.readouterr().out
         and run_json(capsys, *base, "--at", "0", "0", "2")["unique"]
     )
+
+
+@pytest.mark.parametrize("robot", [R4, COGIRO])
+@pytest.mark.parametrize("command", ["inverse", "point", "compensate"])
+def test_rotvec_and_orientation_columns_together_are_refused_before_any_solve(
+    tmp_path, capsys, monkeypatch, command, robot
+):
+    """--rotvec was silently ignored when the --points table had rx, ry, rz: now one line naming
+    both sources, exit code 2, nothing solved and no table written."""
+    import cdpr.analyses.compensation
+    import cdpr.models.distribution6
+    import cdpr.models.equilibrium6
+    import cdpr.models.inverse
+    import cdpr.solve
+
+    def no_solve(*args, **kwargs):
+        raise AssertionError("solved before refusing")
+
+    for module, name in [
+        (cdpr.solve, "solve_points_any"),
+        (cdpr.solve, "solve_spatial_any"),
+        (cdpr.models.inverse, "igm_e"),
+        (cdpr.models.equilibrium6, "pose_state"),
+        (cdpr.analyses.compensation, "compensated_pose"),
+        (cdpr.models.distribution6, "compensated_lengths"),
+    ]:
+        monkeypatch.setattr(module, name, no_solve)
+    pts, out = tmp_path / "poses.csv", tmp_path / "out.csv"
+    pd.DataFrame({"x": [0.0], "y": [0.0], "z": [2.0], "rx": [0.1], "ry": [0.0], "rz": [0.0]}).to_csv(
+        pts, index=False
+    )
+    args = [command, "--robot", robot, "--points", str(pts), "--out", str(out), "--rotvec", "0", "0", "0.2"]
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert err == (
+        f"cdpr: error: give the orientation either as --rotvec or as rx, ry, rz columns of --points ({pts}), not both\n"
+    )
+    assert not out.exists()
