@@ -149,6 +149,8 @@ def cmd_inverse(args):
         import pandas as pd  # lazy: a table of points only
 
         cols = {"x": P[:, 0], "y": P[:, 1], "z": P[:, 2]}
+        if rv is not None:  # the orientation it was given (--rotvec or the table's), any robot
+            cols.update({"rx": rv[:, 0], "ry": rv[:, 1], "rz": rv[:, 2]})
         for i in range(robot.m):
             c = i + 1
             cols.update(
@@ -301,7 +303,7 @@ def cmd_point(args):
     if args.points or args.out:
         from cdpr.tables import to_frame  # lazy: a table of points only (pandas)
 
-        df = to_frame(robot, res, args.redundancy)
+        df = to_frame(robot, res, args.redundancy, rotvec=rv)
         _write_table(df, args.out)
         _report(df, args.out, args, float("nan"))
         return
@@ -562,10 +564,9 @@ def cmd_grid(args):
     if args.sensitivities:
         from cdpr.tables import to_frame  # lazy: --sensitivities only
 
-        res = _solve_sensitivities(
-            robot, P, args, rv=None if args.rotvec is None else np.asarray(args.rotvec), engine=args.engine
-        )
-        df = to_frame(robot, res, args.redundancy)
+        rv = None if args.rotvec is None else np.asarray(args.rotvec, dtype=float)
+        res = _solve_sensitivities(robot, P, args, rv=rv, engine=args.engine)
+        df = to_frame(robot, res, args.redundancy, rotvec=rv)
     else:
         df = solve_table(
             robot,
