@@ -39,7 +39,7 @@ from typing import NamedTuple
 import numpy as np
 
 from cdpr.errors import CdprError, ConfigError, raise_problems
-from cdpr.units import quantity
+from cdpr.units import DIMENSIONLESS, quantity
 from cdpr.validation import read_yaml, validate  # noqa: F401  (read_yaml re-exported)
 
 PULLEY_KINDS = ("fixed", "SR", "DR")
@@ -484,33 +484,39 @@ def _pulley_frame_of(axis, zero):
 
 
 def _vector(value, source, key, dimension="m"):
-    """A list of 3 quantities as a tuple of floats; ConfigError when not finite."""
+    """A list of 3 quantities of ``dimension`` (``DIMENSIONLESS``: plain numbers) as a tuple of
+    floats; ConfigError when not finite."""
     v = tuple(quantity(x, dimension, source, f"{key}[{j}]") for j, x in enumerate(value))
     if not all(math.isfinite(x) for x in v):
         raise ConfigError(source, key, f"must be 3 finite numbers, got {list(value)!r}")
     return v
 
 
+def _plain(v):
+    """A vector as a list of plain floats, for messages ('[0.0, 0.0, 1.0]', no numpy reprs)."""
+    return [float(x) for x in v]
+
+
 def _axis_zero(merged, source, key):
     """The pulley's ``axis`` (unit) and ``zero`` (unit, ⟂ axis, or None), checked."""
     axis = (0.0, 0.0, 1.0)
     if merged.get("axis") is not None:
-        a = np.array(_vector(merged["axis"], source, key + ".axis"))
+        a = np.array(_vector(merged["axis"], source, key + ".axis", DIMENSIONLESS))
         n = float(np.linalg.norm(a))
         if not n > 1e-12:
             raise ConfigError(
-                source, key + ".axis", f"the swivel axis must be a non-zero vector, got {list(a)}"
+                source, key + ".axis", f"the swivel axis must be a non-zero vector, got {_plain(a)}"
             )
         axis = tuple(float(x) for x in a / n)
     zero = None
     if merged.get("zero") is not None:
-        z = np.array(_vector(merged["zero"], source, key + ".zero"))
+        z = np.array(_vector(merged["zero"], source, key + ".zero", DIMENSIONLESS))
         nz = float(np.linalg.norm(z))
         if not nz > 1e-12 or abs(z @ np.array(axis)) > 1e-9 * nz:
             raise ConfigError(
                 source,
                 key + ".zero",
-                f"must be a non-zero vector perpendicular to the pulley axis {list(axis)}, got {list(z)}",
+                f"must be a non-zero vector perpendicular to the pulley axis {_plain(axis)}, got {_plain(z)}",
             )
         zero = tuple(float(x) for x in z / nz)
     return axis, zero

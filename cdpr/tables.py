@@ -16,7 +16,7 @@ from cdpr.models.results import STATUSES, pose_columns, subset_codes, taut_label
 from cdpr.solve import check_engine, check_redundancy, solve_points_any
 
 
-def to_frame(robot, res, redundancy="paper"):
+def to_frame(robot, res, redundancy="paper", rotvec=None):
     """One row per point of a ``solve_points_any`` (or ``sensitivities``, or
     ``compensation.compensated_pose``) result, with stable column names (SI units).
 
@@ -28,6 +28,12 @@ def to_frame(robot, res, redundancy="paper"):
         The per-point arrays (``models.results``).
     redundancy : {"paper", "physical"}
         The mode that produced ``res``.
+    rotvec : array (3,) or (N, 3) [rad], optional
+        The orientation the solve was given (``--rotvec`` or a points table's rx, ry, rz), or None.
+        A point-mass robot carries it through: its table then has the orientation columns of
+        ``to_frame6`` too (rx, ry, rz given, rx_s, ry_s, rz_s = the given ones, dphi = 0; unique
+        where ``res`` has it). None (default): the table has no orientation columns (a rigid
+        platform's has them always).
 
     Returns
     -------
@@ -44,7 +50,17 @@ def to_frame(robot, res, redundancy="paper"):
     """
     if check_redundancy(redundancy) == "physical" and "rotvec_s" in res and not robot.point_mass:
         return to_frame6(robot, res)
-    return _frame(robot, res, redundancy)
+    df = _frame(robot, res, redundancy)
+    if rotvec is not None:  # a point mass given an orientation: carried through (docs/spatial.md)
+        rv = np.broadcast_to(np.asarray(rotvec, dtype=float), (len(df), 3))
+        _orientation_columns(
+            df,
+            res.get("rotvec", rv),
+            res.get("rotvec_s", rv),
+            res.get("dphi", np.zeros(len(df))),
+            res.get("unique"),
+        )
+    return df
 
 
 def _frame(robot, res, redundancy):
@@ -93,14 +109,21 @@ def to_frame6(robot, res):
     DataFrame
     """
     df = _frame(robot, res, "physical")
+    _orientation_columns(df, res["rotvec"], res["rotvec_s"], res["dphi"], res["unique"])
+    return df
+
+
+def _orientation_columns(df, rotvec, rotvec_s, dphi, unique=None):
+    """Insert rx, ry, rz (given), rx_s, ry_s, rz_s (reached) [rad] and dphi [rad] after dp, and
+    append unique when given (in place): the orientation columns of ``to_frame6``."""
     at = list(df.columns).index("dp") + 1
     for k, name in enumerate(("rx", "ry", "rz")):
-        df.insert(at + k, name, res["rotvec"][:, k])
+        df.insert(at + k, name, rotvec[:, k])
     for k, name in enumerate(("rx_s", "ry_s", "rz_s")):
-        df.insert(at + 3 + k, name, res["rotvec_s"][:, k])
-    df.insert(at + 6, "dphi", res["dphi"])
-    df["unique"] = res["unique"]
-    return df
+        df.insert(at + 3 + k, name, rotvec_s[:, k])
+    df.insert(at + 6, "dphi", dphi)
+    if unique is not None:
+        df["unique"] = unique
 
 
 #: Points solved per batch by ``solve_table``: bounds memory (about 2 kB per point and subset) and
@@ -144,11 +167,14 @@ def solve_table(
 
     Returns
     -------
-    DataFrame, one row per point (``to_frame``)."""
+    DataFrame, one row per point (``to_frame``; given ``rotvec``, with its orientation columns)."""
     p = np.atleast_2d(np.asarray(p, dtype=float))
     if redundancy != "paper" or L0 is not None or not robot.suspended_point_mass or "rotvec" in options:
         return to_frame(
-            robot, solve_points_any(robot, p, method, engine, threads, redundancy, L0, **options), redundancy
+            robot,
+            solve_points_any(robot, p, method, engine, threads, redundancy, L0, **options),
+            redundancy,
+            options.get("rotvec"),
         )
     engine = check_engine(engine, method)
     if engine == "compiled":

@@ -2,7 +2,8 @@
 
 A value is either a plain number, taken in the SI unit named by its key (``h_m: 0.1``), or a
 string with a unit (``h_m: "100 mm"``, ``young_modulus_Pa: "102.2 GPa"``). Everything inside the
-library is SI (m, N, Pa, kg, rad).
+library is SI (m, N, Pa, kg, rad). A dimensionless value (``DIMENSIONLESS``: a pulley's ``axis``,
+its ``zero``) is a plain number, or a string holding one; it takes no unit.
 """
 
 import math
@@ -20,6 +21,9 @@ UNITS = {
     "rad": {"rad": 1.0, "deg": math.pi / 180.0},
 }
 
+#: The dimension of a pure number (a direction's components): no unit is accepted.
+DIMENSIONLESS = "-"
+
 _QUANTITY = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*([A-Za-z/^0-9]*)\s*$")
 
 
@@ -27,8 +31,10 @@ def quantity(value, dimension, source, key):
     """Convert a configuration value to a float in the SI unit of ``dimension``.
 
     Raises ConfigError naming ``source`` and ``key`` when the value is not a number, has a unit of
-    another dimension, or is not finite.
+    another dimension, or is not finite. ``dimension`` ``DIMENSIONLESS`` accepts a plain number only.
     """
+    if dimension == DIMENSIONLESS:
+        return _pure_number(value, source, key)
     allowed = ", ".join(UNITS[dimension])
     if isinstance(value, bool):
         raise ConfigError(
@@ -59,6 +65,25 @@ def quantity(value, dimension, source, key):
             key,
             f"expected a number in {dimension} (or a string with one of the units {allowed}), got {type(value).__name__} {value!r}",
         )
+    if not math.isfinite(out):
+        raise ConfigError(source, key, f"must be finite, got {value!r}")
+    return out
+
+
+def _pure_number(value, source, key):
+    """A dimensionless configuration value as a float: a number, or a string holding one, no unit."""
+    expected = "expected a plain number (dimensionless, no unit)"
+    if isinstance(value, bool) or not isinstance(value, (int, float, str)):
+        raise ConfigError(source, key, f"{expected}, got {type(value).__name__} {value!r}")
+    if isinstance(value, str):
+        match = _QUANTITY.match(value)
+        if not match:
+            raise ConfigError(source, key, f"cannot read {value!r} as a number; {expected}")
+        number, unit = match.groups()
+        if unit:
+            raise ConfigError(source, key, f"{expected}, got {value!r} with the unit '{unit}'")
+        value = number
+    out = float(value)
     if not math.isfinite(out):
         raise ConfigError(source, key, f"must be finite, got {value!r}")
     return out

@@ -183,6 +183,54 @@ def test_bad_spatial_keys_give_one_sentence(tmp_path, mutate, message):
     assert message in str(exc.value) and str(path) in str(exc.value)
 
 
+AXIS_ZERO_BAD = [  # (pulley keys of cable 0, key, the whole detail of the message)
+    ({"axis": [0, 0, 0]}, "axis", "the swivel axis must be a non-zero vector, got [0.0, 0.0, 0.0]"),
+    (
+        {"axis": [0, 0, 1], "zero": [0, 0.5, 1]},
+        "zero",
+        "must be a non-zero vector perpendicular to the pulley axis [0.0, 0.0, 1.0], got [0.0, 0.5, 1.0]",
+    ),
+    (
+        {"axis": [0, 0, 1], "zero": [0, 0, 0]},
+        "zero",
+        "must be a non-zero vector perpendicular to the pulley axis [0.0, 0.0, 1.0], got [0.0, 0.0, 0.0]",
+    ),
+    (
+        {"axis": ["nan", 0, 1]},
+        "axis[0]",
+        "cannot read 'nan' as a number; expected a plain number (dimensionless, no unit)",
+    ),
+    (
+        {"axis": ["5 mm", 0, 1]},
+        "axis[0]",
+        "expected a plain number (dimensionless, no unit), got '5 mm' with the unit 'mm'",
+    ),
+    (
+        {"axis": [0, 0, 1], "zero": [1, "1 cm", 0]},
+        "zero[1]",
+        "expected a plain number (dimensionless, no unit), got '1 cm' with the unit 'cm'",
+    ),
+]
+
+
+@pytest.mark.parametrize("pulley,key,detail", AXIS_ZERO_BAD)
+def test_axis_and_zero_messages_are_plain_and_dimensionless(tmp_path, pulley, key, detail):
+    """Plain numbers (no numpy reprs), no length units for a direction, one line naming file and key."""
+    d = spatial_base()
+    d["cables"][0]["pulley"] = pulley
+    path = write(tmp_path, d, "zeroaxis.yaml")
+    with pytest.raises(ConfigError) as exc:
+        load_robot(path)
+    assert str(exc.value) == f"{path}: key 'cables[0].pulley.{key}': {detail}"
+
+
+def test_axis_and_zero_take_plain_numbers_written_as_strings(tmp_path):
+    d = spatial_base()
+    d["cables"][0]["pulley"] = {"axis": ["0", 0, "2"], "zero": ["1e0", 0, 0]}
+    p = load_robot(write(tmp_path, d)).cables[0].pulley
+    assert (p.axis, p.zero) == ((0.0, 0.0, 1.0), (1.0, 0.0, 0.0))
+
+
 def test_suspended_point_mass_rules_stay(tmp_path):
     d = base()
     d["cables"][0]["A_m"] = [-2.5, -2.5, 0.0]

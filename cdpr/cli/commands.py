@@ -51,7 +51,9 @@ def _load(args):
 
 
 def _points(args):
-    """(N, 3) points of --at or --points; refuses non-finite coordinates and a missing --out."""
+    """(N, 3) points of --at or --points; refuses non-finite coordinates, a missing --out and an
+    orientation given twice (--rotvec and rx, ry, rz columns). A table's orientations go to
+    ``args.table_rotvec`` (``_rotvec``). Runs before any solve (inverse, point, compensate)."""
     if args.at is not None:
         if args.out:
             io.check_output(args.out)
@@ -81,6 +83,10 @@ def _points(args):
         if len(rot) != 3:
             raise CdprError(
                 f"{args.points}: an orientation needs all three columns rx, ry, rz [rad], got {', '.join(rot)}"
+            )
+        if getattr(args, "rotvec", None) is not None:  # two orientations: neither may win silently
+            raise CdprError(
+                f"give the orientation either as --rotvec or as rx, ry, rz columns of --points ({args.points}), not both"
             )
         rv = df[["rx", "ry", "rz"]].to_numpy(dtype=float)
         bad = ~np.isfinite(rv).all(axis=1)
@@ -143,6 +149,8 @@ def cmd_inverse(args):
         import pandas as pd  # lazy: a table of points only
 
         cols = {"x": P[:, 0], "y": P[:, 1], "z": P[:, 2]}
+        if rv is not None:  # the orientation it was given (--rotvec or the table's), any robot
+            cols.update({"rx": rv[:, 0], "ry": rv[:, 1], "rz": rv[:, 2]})
         for i in range(robot.m):
             c = i + 1
             cols.update(
@@ -295,7 +303,7 @@ def cmd_point(args):
     if args.points or args.out:
         from cdpr.tables import to_frame  # lazy: a table of points only (pandas)
 
-        df = to_frame(robot, res, args.redundancy)
+        df = to_frame(robot, res, args.redundancy, rotvec=rv)
         _write_table(df, args.out)
         _report(df, args.out, args, float("nan"))
         return
@@ -348,6 +356,9 @@ def cmd_point(args):
     else:
         print(f"  subset         : {subset_label(res['subset'][0]) or '-'}")
     print(f"  status         : {out['status']}  ({out['iterations']} iterations)")
+    if out.get("unique") is False:  # another equilibrium holds the same lengths (equilibrium6: restarts)
+        n = len(out["alternatives"])
+        print(f"  equilibrium    : not unique ({n} alternative{'s' * (n != 1)}; --json lists them)")
     if args.sensitivities:
         num = lambda v: "nan" if v is None else f"{v:.6g}"  # noqa: E731
         smooth = (
@@ -553,10 +564,9 @@ def cmd_grid(args):
     if args.sensitivities:
         from cdpr.tables import to_frame  # lazy: --sensitivities only
 
-        res = _solve_sensitivities(
-            robot, P, args, rv=None if args.rotvec is None else np.asarray(args.rotvec), engine=args.engine
-        )
-        df = to_frame(robot, res, args.redundancy)
+        rv = None if args.rotvec is None else np.asarray(args.rotvec, dtype=float)
+        res = _solve_sensitivities(robot, P, args, rv=rv, engine=args.engine)
+        df = to_frame(robot, res, args.redundancy, rotvec=rv)
     else:
         df = solve_table(
             robot,

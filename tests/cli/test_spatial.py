@@ -354,3 +354,129 @@ def test_largest_wrench_feasible_box_of_a_spatial_grid(tmp_path, capsys):
         == 0
     )
     assert "needs the whole grid (--shards 1)" in capsys.readouterr().out
+
+
+def test_point_text_says_when_the_equilibrium_is_not_unique(capsys):
+    """The readable output names a non-unique equilibrium (the JSON's unique: false) in one extra
+    line; every other line is the same, and a unique equilibrium prints no such line."""
+    base = ["point", "--robot", COGIRO, "--redundancy", "physical", "--engine", "numpy"]
+    js = run_json(capsys, *base, "--at", "0", "0", "9")
+    assert js["unique"] is False and js["alternatives"]
+    assert main([*base, "--at", "0", "0", "9"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    n = len(js["alternatives"])
+    assert lines[-1] == f"  equilibrium    : not unique ({n} alternative{'s' * (n != 1)}; --json lists them)"
+    assert lines[-2].startswith("  status         : ok  (")
+    assert main([*base, "--at", "0", "0", "2"]) == 0
+    assert (
+        "equilibrium    :" not in capsys.readouterr().out
+        and run_json(capsys, *base, "--at", "0", "0", "2")["unique"]
+    )
+
+
+@pytest.mark.parametrize("robot", [R4, COGIRO])
+@pytest.mark.parametrize("command", ["inverse", "point", "compensate"])
+def test_rotvec_and_orientation_columns_together_are_refused_before_any_solve(
+    tmp_path, capsys, monkeypatch, command, robot
+):
+    """--rotvec was silently ignored when the --points table had rx, ry, rz: now one line naming
+    both sources, exit code 2, nothing solved and no table written."""
+    import cdpr.analyses.compensation
+    import cdpr.models.distribution6
+    import cdpr.models.equilibrium6
+    import cdpr.models.inverse
+    import cdpr.solve
+
+    def no_solve(*args, **kwargs):
+        raise AssertionError("solved before refusing")
+
+    for module, name in [
+        (cdpr.solve, "solve_points_any"),
+        (cdpr.solve, "solve_spatial_any"),
+        (cdpr.models.inverse, "igm_e"),
+        (cdpr.models.equilibrium6, "pose_state"),
+        (cdpr.analyses.compensation, "compensated_pose"),
+        (cdpr.models.distribution6, "compensated_lengths"),
+    ]:
+        monkeypatch.setattr(module, name, no_solve)
+    pts, out = tmp_path / "poses.csv", tmp_path / "out.csv"
+    pd.DataFrame({"x": [0.0], "y": [0.0], "z": [2.0], "rx": [0.1], "ry": [0.0], "rz": [0.0]}).to_csv(
+        pts, index=False
+    )
+    args = [command, "--robot", robot, "--points", str(pts), "--out", str(out), "--rotvec", "0", "0", "0.2"]
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert err == (
+        f"cdpr: error: give the orientation either as --rotvec or as rx, ry, rz columns of --points ({pts}), not both\n"
+    )
+    assert not out.exists()
+
+
+ORIENTATION = ["rx", "ry", "rz", "rx_s", "ry_s", "rz_s", "dphi"]
+
+
+BOX = ["--box", "-1", "1", "-1", "1", "1", "3", "--n", "2"]
+GIVEN_ORIENTATION = [  # (command and its points, where the orientation comes from)
+    (["point", "--points", "{p}"], "--rotvec"),
+    (["point"], "columns"),
+    (["grid", *BOX], "--rotvec"),
+    (["grid", *BOX, "--sensitivities"], "--rotvec"),
+    (["plane", "--z", "2.5", "--n", "2"], "--rotvec"),
+    (["trajectory", "--start", "-1", "0", "1.5", "--end", "1", "0", "2", "--n", "3"], "--rotvec"),
+]
+
+
+@pytest.mark.parametrize("mode", ["paper", "physical"])
+@pytest.mark.parametrize("command,source", GIVEN_ORIENTATION, ids=lambda v: v if isinstance(v, str) else v[0])
+def test_point_mass_tables_carry_a_given_orientation(tmp_path, capsys, command, source, mode):
+    """A point-mass robot given an orientation writes it as the spatial tables do: rx, ry, rz and
+    rx_s, ry_s, rz_s (the same: carried through), dphi = 0 after dp, unique where the JSON has it
+    (physical mode, not with --sensitivities); every other column equals the table solved without
+    the orientation (the same P*). Without one, no orientation column (the tables as before)."""
+    rv = [0.1, -0.2, 0.3]
+    P = {"x": [0.0, 0.5], "y": [0.0, 0.2], "z": [2.5, 2.5]}
+    pd.DataFrame(P).to_csv(tmp_path / "p.csv", index=False)
+    R = {"rx": [rv[0]] * 2, "ry": [rv[1]] * 2, "rz": [rv[2]] * 2}
+    pd.DataFrame({**P, **R}).to_csv(tmp_path / "pr.csv", index=False)
+    command = [c.format(p=tmp_path / "p.csv") for c in command]
+    base = ["--robot", R4, "--redundancy", mode, "--engine", "numpy"]
+    plain, rot = tmp_path / "plain.csv", tmp_path / "rot.csv"
+    if source == "columns":
+        assert main([*command, *base, "--points", str(tmp_path / "p.csv"), "--out", str(plain)]) == 0
+        assert main([*command, *base, "--points", str(tmp_path / "pr.csv"), "--out", str(rot)]) == 0
+    else:
+        assert main([*command, *base, "--out", str(plain)]) == 0
+        assert main([*command, *base, "--rotvec", *map(str, rv), "--out", str(rot)]) == 0
+    capsys.readouterr()
+    a, b = pd.read_csv(plain), pd.read_csv(rot)
+    assert not set(ORIENTATION + ["unique"]) & set(a.columns)  # no orientation given: no such columns
+    at = list(a.columns).index("dp") + 1
+    extra = ["unique"] if mode == "physical" and "--sensitivities" not in command else []
+    assert list(b.columns) == list(a.columns)[:at] + ORIENTATION + list(a.columns)[at:] + extra
+    for k, c in enumerate(("rx", "ry", "rz")):
+        assert (b[c] == rv[k]).all() and (b[c + "_s"] == rv[k]).all()
+    assert (b["dphi"] == 0).all() and (not extra or b["unique"].all())
+    pd.testing.assert_frame_equal(b[a.columns], a, atol=1e-9)
+
+
+@pytest.mark.parametrize("robot", [R4, COGIRO])
+def test_inverse_tables_write_the_orientation_they_were_given(tmp_path, capsys, robot):
+    P = {"x": [0.0, 0.5], "y": [0.0, 0.2], "z": [2.0, 2.5]}
+    R = {"rx": [0.01, 0.0], "ry": [0.0, 0.02], "rz": [0.0, -0.03]}
+    pd.DataFrame(P).to_csv(tmp_path / "p.csv", index=False)
+    pd.DataFrame({**P, **R}).to_csv(tmp_path / "pr.csv", index=False)
+    out = tmp_path / "o.csv"
+    assert main(["inverse", "--robot", robot, "--points", str(tmp_path / "p.csv"), "--out", str(out)]) == 0
+    assert list(pd.read_csv(out).columns[:4]) == ["x", "y", "z", "L_TS1"]  # none given: none written
+    assert main(["inverse", "--robot", robot, "--points", str(tmp_path / "pr.csv"), "--out", str(out)]) == 0
+    df = pd.read_csv(out)
+    assert list(df.columns[:7]) == ["x", "y", "z", "rx", "ry", "rz", "L_TS1"]
+    assert df[["rx", "ry", "rz"]].to_dict("list") == R
+    rotvec = ["--rotvec", "0.01", "0", "0"]
+    assert (
+        main(["inverse", "--robot", robot, "--points", str(tmp_path / "p.csv"), *rotvec, "--out", str(out)])
+        == 0
+    )
+    capsys.readouterr()
+    df = pd.read_csv(out)
+    assert (df["rx"] == 0.01).all() and (df["ry"] == 0).all() and (df["rz"] == 0).all()
