@@ -4,6 +4,7 @@ import shutil
 import subprocess
 import sys
 import tempfile
+from fnmatch import fnmatch
 from pathlib import Path
 
 # The test suite writes only under temporary folders: numba's cache of compiled kernels (by default
@@ -12,6 +13,13 @@ from pathlib import Path
 if "NUMBA_CACHE_DIR" not in os.environ:
     os.environ["NUMBA_CACHE_DIR"] = tempfile.mkdtemp(prefix="cdpr-tests-numba-")
     atexit.register(shutil.rmtree, os.environ["NUMBA_CACHE_DIR"], True)
+# Hypothesis' storage (.hypothesis/ in the current folder by default; with database=None below it
+# still caches the constants it collects from the tested modules there) goes to one for the session
+# too. Hypothesis reads the variable when it first writes, after this (its pytest plugin is loaded
+# before this file but writes nothing at import).
+if "HYPOTHESIS_STORAGE_DIRECTORY" not in os.environ:
+    os.environ["HYPOTHESIS_STORAGE_DIRECTORY"] = tempfile.mkdtemp(prefix="cdpr-tests-hypothesis-")
+    atexit.register(shutil.rmtree, os.environ["HYPOTHESIS_STORAGE_DIRECTORY"], True)
 
 import pytest
 from hypothesis import settings
@@ -21,6 +29,8 @@ from tests.quick_runs import make_workdir, run_quick
 
 ROOT = Path(__file__).resolve().parents[1]
 ROBOTS = ROOT / "config" / "robots"
+_TREE_BEFORE = pytest.StashKey[set]()
+_TREE_WRITES = pytest.StashKey[list]()
 
 # The test suite writes only under pytest's temporary folders: no hypothesis example database
 # (.hypothesis/) and no bytecode caches (__pycache__/), here or in the processes the tests start.
@@ -28,6 +38,65 @@ settings.register_profile("cdpr", database=None)
 settings.load_profile("cdpr")
 sys.dont_write_bytecode = True
 os.environ["PYTHONDONTWRITEBYTECODE"] = "1"
+
+
+#: Names a file or folder may have in the tree without counting as a write of the test session:
+#: Python's bytecode caches (none are written: PYTHONDONTWRITEBYTECODE above; a developer's own runs
+#: leave them) and what an editor creates beside a file it opens while the tests run.
+NOT_WRITES = ("__pycache__", "*.swp", "*.swo", "*~", ".#*", "#*#")
+
+
+def tree_paths(root=ROOT):
+    """Every file and folder under ``root`` (relative POSIX paths, folders with a trailing slash),
+    without .git/ and the names of ``NOT_WRITES`` (and what is under them)."""
+    paths = set()
+    for folder, dirs, files in os.walk(root):
+        rel = Path(folder).relative_to(root)
+        dirs[:] = [d for d in dirs if d != ".git" and not any(fnmatch(d, pat) for pat in NOT_WRITES)]
+        paths.update((rel / d).as_posix() + "/" for d in dirs)
+        paths.update((rel / f).as_posix() for f in files if not any(fnmatch(f, pat) for pat in NOT_WRITES))
+    return paths
+
+
+def new_paths(before, after):
+    """The paths of ``after`` not in ``before``, without those under a new folder (the folder names
+    them), sorted."""
+    new = sorted(set(after) - set(before))
+    return [p for p in new if not any(p != q and p.startswith(q) for q in new if q.endswith("/"))]
+
+
+def pytest_sessionstart(session):
+    """The tree's files and folders before the session (in the process that runs the session: not in
+    a pytest-xdist worker, whose tests the controller's session covers)."""
+    if not hasattr(session.config, "workerinput"):
+        session.config.stash[_TREE_BEFORE] = tree_paths()
+
+
+def pytest_sessionfinish(session, exitstatus):
+    """The test suite writes only under temporary folders: a session that leaves a new file or
+    folder in the working tree fails, naming them (ignored by git or not; see ``NOT_WRITES``). A file
+    rewritten in place is not seen, nor a path created and removed again."""
+    before = session.config.stash.get(_TREE_BEFORE, None)
+    if before is None:
+        return
+    written = new_paths(before, tree_paths())
+    if written:
+        session.config.stash[_TREE_WRITES] = written
+        if session.exitstatus == pytest.ExitCode.OK:
+            session.exitstatus = pytest.ExitCode.TESTS_FAILED
+
+
+def pytest_terminal_summary(terminalreporter, config):
+    written = config.stash.get(_TREE_WRITES, None)
+    if written:
+        terminalreporter.section("files written into the working tree", red=True)
+        terminalreporter.line(
+            f"the test session left {len(written)} new path(s) under {ROOT} (tests must write under "
+            "tmp_path or another temporary folder; something else that created a file there meanwhile "
+            "is listed too):"
+        )
+        for p in written:
+            terminalreporter.line(f"  {p}")
 
 
 def copy_sources(dest):

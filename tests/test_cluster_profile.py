@@ -12,6 +12,7 @@ import pytest
 import yaml
 
 from tests.conftest import ROOT
+from tests.quick_runs import make_workdir
 
 PROFILE = yaml.safe_load((ROOT / "workflow" / "profiles" / "slurm" / "config.yaml").read_text())
 CLUSTER_SMK = (ROOT / "workflow" / "rules" / "cluster.smk").read_text()
@@ -38,14 +39,24 @@ def profile_args():
     return args
 
 
+@pytest.fixture(scope="module")
+def work(tmp_path_factory):
+    """Snakemake's working folder: outside the tree (Snakemake writes .snakemake/ there, even for a dry
+    run), with ``config/`` linked to the repository's, so that config/studies/... and the study files'
+    robot paths resolve as from the repository (``make_workdir``)."""
+    return make_workdir(tmp_path_factory.mktemp("snakemake") / "work", studies=())
+
+
 @pytest.fixture(scope="module", params=["quick", "paper", "quick_spatial"])
-def dry_run(request):
+def dry_run(request, work):
     """(study, rule -> has a shell command, number of group jobs) of a dry run with the profile's groups."""
     exe = Path(sys.executable).with_name("snakemake")
     p = subprocess.run(
         [
             str(exe),
             "reproduce_paper",
+            "--snakefile",
+            str(ROOT / "Snakefile"),
             "-n",
             "-p",
             "--forceall",
@@ -56,7 +67,7 @@ def dry_run(request):
             f"study=config/studies/{request.param}.yaml",
             f"results=results/dry_{request.param}",
         ],
-        cwd=ROOT,
+        cwd=work,
         capture_output=True,
         text=True,
     )
@@ -82,19 +93,21 @@ def test_every_rule_is_either_local_or_grouped(dry_run):
     )
 
 
-def defined_rules():
-    """Every rule the workflow defines (``snakemake --list-rules``), whether a study's DAG has it or not
-    (``conclusions`` runs only in a study that names a reference)."""
+def defined_rules(work):
+    """Every rule the workflow defines (``snakemake --list-rules`` in the working folder ``work``),
+    whether a study's DAG has it or not (``conclusions`` runs only in a study that names a reference)."""
     exe = Path(sys.executable).with_name("snakemake")
     p = subprocess.run(
         [
             str(exe),
             "--list-rules",
+            "--snakefile",
+            str(ROOT / "Snakefile"),
             "--config",
             "study=config/studies/quick.yaml",
             "results=results/dry_quick",
         ],
-        cwd=ROOT,
+        cwd=work,
         capture_output=True,
         text=True,
     )
@@ -102,18 +115,18 @@ def defined_rules():
     return set(p.stdout.split())
 
 
-def test_profile_and_cluster_name_only_defined_rules():
+def test_profile_and_cluster_name_only_defined_rules(work):
     grouped, local = set(PROFILE["groups"]), localrules()
-    assert (grouped | local) - defined_rules() == set(), (
+    assert (grouped | local) - defined_rules(work) == set(), (
         "rules named in the profile or cluster.smk that the workflow lacks"
     )
 
 
-def test_profile_names_only_existing_rules(dry_run):
+def test_profile_names_only_existing_rules(dry_run, work):
     """Every rule the profile gives resources is defined (``defined_rules``: a rule need not be in
     the quick or paper DAG, as ``study_budget_design`` of a spatial study)."""
     _, rules, _ = dry_run
-    assert set(PROFILE["set-resources"]) - defined_rules() == set()
+    assert set(PROFILE["set-resources"]) - defined_rules(work) == set()
     assert set(PROFILE["set-resources"]) == set(PROFILE["groups"]), (
         "every solver rule needs measured resources"
     )

@@ -51,7 +51,8 @@ def test_find_cycle_finds_and_names_a_cycle():
 
 
 def test_no_import_cycle_between_modules():
-    graph = grimp.build_graph("cdpr", include_external_packages=False)
+    # cache_dir=None: no .grimp_cache/ in the current folder (grimp's default cache)
+    graph = grimp.build_graph("cdpr", include_external_packages=False, cache_dir=None)
     assert {"cdpr.solve", "cdpr.models.results", "cdpr.pipeline.uq"} <= graph.modules
     cycle = find_cycle(graph)
     assert cycle is None, "import cycle: " + " -> ".join(cycle)

@@ -14,17 +14,15 @@ must exist, and every figure pass the layout checks of tests/pipeline/test_figur
 baseline at the same RMS tolerance."""
 
 import json
-import shutil
 from pathlib import Path
 
 import pytest
-from matplotlib.testing.compare import compare_images
 
 from cdpr.pipeline import figure_checks
 from cdpr.pipeline.results import Layout
 from cdpr.pipeline.study import load_study
 from tests.conftest import ROOT
-from tests.pipeline.test_figures import OUTPUT, RMS_TOL
+from tests.pipeline.test_figures import compare_with_baseline
 from tests.quick_runs import SPATIAL_STUDY, make_workdir, run_quick_spatial
 from tests.test_workflow import assert_table_matches
 
@@ -121,15 +119,11 @@ def test_every_figure_has_a_baseline():
 
 @pytest.mark.parametrize("figure", FIGURES)
 def test_figure_matches_its_baseline(spatial, figure, tmp_path):
-    """A failing comparison copies the figure and its difference image to tests/output/quick_spatial/
-    (ignored by git, kept by CI), as tests/pipeline/test_figures.py does."""
-    ours = tmp_path / Path(figure).name
-    shutil.copy(spatial / figure, ours)
-    err = compare_images(str(BASELINE / figure), str(ours), tol=RMS_TOL, in_decorator=True)
-    if err is None:
-        return
-    out = OUTPUT / SPATIAL_STUDY / figure
-    out.parent.mkdir(parents=True, exist_ok=True)
-    shutil.copy(ours, out)
-    shutil.copy(err["diff"], out.with_name(Path(err["diff"]).name))
-    pytest.fail(f"{SPATIAL_STUDY}/{figure}: RMS {err['rms']:.2f} > {RMS_TOL}; difference image beside {out}")
+    """A failing comparison leaves the figure and its difference image in the test's temporary
+    folder, and copies them to ``$CDPR_TEST_OUTPUT/quick_spatial/`` when that variable names a folder,
+    as tests/pipeline/test_figures.py does (``compare_with_baseline``); nothing goes into the tree."""
+    failure = compare_with_baseline(
+        spatial / figure, BASELINE / figure, tmp_path, f"{SPATIAL_STUDY}/{figure}"
+    )
+    if failure:
+        pytest.fail(failure)

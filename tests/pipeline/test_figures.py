@@ -7,8 +7,14 @@ The quick studies (both modes) and their comparison run ONCE per session (tests/
 with tests/test_workflow.py), with ``CDPR_FIGURE_AUDIT`` set so that ``plots.save`` writes each
 figure's layout audit beside it.
 ``CDPR_FIGURE_RUNS=<folder>`` reuses a folder such a run wrote (same layout: quick/,
-quick_physical/, quick_comparison/). A failing baseline comparison writes its difference image under
-tests/output/ (ignored by git, kept by CI). ``make update-references`` refreshes the baselines.
+quick_physical/, quick_comparison/). ``make update-references`` refreshes the baselines.
+
+Nothing is written into the working tree: each baseline comparison copies the figure into the test's
+own temporary folder (``tmp_path``), where a failing one leaves the figure and its difference image
+(``*-failed-diff.png``; pytest keeps the temporary folders of its last three sessions, the failure
+message names the files). To keep them elsewhere for inspection, name a folder explicitly:
+``CDPR_TEST_OUTPUT=<folder>`` copies a failing comparison's figure and difference image to
+``<folder>/<run>/<figure>`` (``compare_with_baseline``; tests/test_workflow_spatial.py does the same).
 """
 
 import json
@@ -23,7 +29,8 @@ from cdpr.pipeline import figure_checks, plots
 
 ROOT = Path(__file__).resolve().parents[2]
 BASELINE = ROOT / "tests" / "baseline"
-OUTPUT = ROOT / "tests" / "output"
+#: The environment variable naming a folder that keeps failing comparisons' figures (none by default).
+OUTPUT_ENV = "CDPR_TEST_OUTPUT"
 #: run folder -> (study file, redundancy mode named in its figures' titles; None: both modes drawn)
 RUNS = {
     "quick": ("config/studies/quick.yaml", "paper"),
@@ -81,18 +88,33 @@ def test_figure_layout(runs, run, figure):
     assert problems == [], f"{run}/{figure}:\n" + "\n".join(problems)
 
 
-@pytest.mark.parametrize("run,figure", FIGURES, ids=[f"{r}/{f}" for r, f in FIGURES])
-def test_figure_matches_its_baseline(runs, run, figure):
+def compare_with_baseline(image, baseline, tmp_path, name):
+    """Compare a copy of the PNG ``image``, made in the test's temporary folder ``tmp_path``, with the
+    PNG ``baseline`` at ``RMS_TOL``: None when they match, else the failure message. A failing
+    comparison leaves the copy and its difference image in ``tmp_path`` and, when ``CDPR_TEST_OUTPUT``
+    names a folder, copies both to ``<folder>/<name>`` (``name``: the figure's path, e.g.
+    ``quick/plane/x.png``); nothing is written anywhere else."""
     from matplotlib.testing.compare import compare_images
 
-    out = OUTPUT / run / figure
-    out.parent.mkdir(parents=True, exist_ok=True)
-    shutil.copy(runs / run / figure, out)
-    err = compare_images(str(BASELINE / run / figure), str(out), tol=RMS_TOL, in_decorator=True)
+    ours = tmp_path / Path(name).name
+    shutil.copy(image, ours)
+    err = compare_images(str(baseline), str(ours), tol=RMS_TOL, in_decorator=True)
     if err is None:
-        out.unlink()
-        return
-    pytest.fail(f"{run}/{figure}: RMS {err['rms']:.2f} > {RMS_TOL}; difference image {err['diff']}")
+        return None
+    kept = [ours, Path(err["diff"])]
+    folder = os.environ.get(OUTPUT_ENV)
+    if folder:
+        out = Path(folder) / name
+        out.parent.mkdir(parents=True, exist_ok=True)
+        kept = [Path(shutil.copy(f, out.with_name(f.name))) for f in kept]
+    return f"{name}: RMS {err['rms']:.2f} > {RMS_TOL}; figure and difference image: {kept[0]}, {kept[1]}"
+
+
+@pytest.mark.parametrize("run,figure", FIGURES, ids=[f"{r}/{f}" for r, f in FIGURES])
+def test_figure_matches_its_baseline(runs, run, figure, tmp_path):
+    failure = compare_with_baseline(runs / run / figure, BASELINE / run / figure, tmp_path, f"{run}/{figure}")
+    if failure:
+        pytest.fail(failure)
 
 
 # ---- the checks themselves can fail -------------------------------------------------------------------

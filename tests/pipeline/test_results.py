@@ -13,6 +13,7 @@ from cdpr.pipeline import results
 from cdpr.pipeline.results import STUDY_LOGS, STUDY_OUTPUTS, ComparisonLayout, Layout
 from cdpr.pipeline.study import MAX_SHARDS, load_study
 from tests.conftest import ROOT
+from tests.quick_runs import make_workdir
 
 QUICK = ROOT / "config" / "studies" / "quick.yaml"
 
@@ -20,6 +21,22 @@ QUICK = ROOT / "config" / "studies" / "quick.yaml"
 @pytest.fixture
 def at_root(monkeypatch):
     monkeypatch.chdir(ROOT)  # robot paths of the study files are relative to the repository
+
+
+@pytest.fixture
+def work(tmp_path):
+    """Snakemake's working folder: outside the tree (Snakemake writes .snakemake/ there, even for a dry
+    run), with ``config/`` linked to the repository's, so that config/studies/... and the study files'
+    robot paths resolve as from the repository (``make_workdir``)."""
+    return make_workdir(tmp_path / "work", studies=())
+
+
+def _snakemake(work, *args):
+    """Run the repository's Snakefile in the working folder ``work`` with ``args``."""
+    exe = Path(sys.executable).with_name("snakemake")
+    return subprocess.run(
+        [str(exe), "--snakefile", str(ROOT / "Snakefile"), *args], cwd=work, capture_output=True, text=True
+    )
 
 
 def _study(tmp_path, old, new):
@@ -30,15 +47,10 @@ def _study(tmp_path, old, new):
     return path
 
 
-def _dry_run_jobs(*config, target="reproduce_paper", cwd=ROOT):
-    """Jobs per rule of a Snakemake dry run (``-n --quiet rules``) on an empty results folder."""
-    exe = Path(sys.executable).with_name("snakemake")
-    p = subprocess.run(
-        [str(exe), target, "-n", "--quiet", "rules", "--cores", "1", "--config", *config],
-        cwd=cwd,
-        capture_output=True,
-        text=True,
-    )
+def _dry_run_jobs(work, *config, target="reproduce_paper"):
+    """Jobs per rule of a Snakemake dry run (``-n --quiet rules``) on an empty results folder, in the
+    working folder ``work``."""
+    p = _snakemake(work, target, "-n", "--quiet", "rules", "--cores", "1", "--config", *config)
     assert p.returncode == 0, p.stderr[-2000:]
     jobs = {}
     for line in (p.stdout + p.stderr).splitlines():
@@ -56,12 +68,12 @@ def test_every_rule_has_its_outputs_and_log():
                 assert pattern[:-4] + ".pdf" in outs.values(), (rule, name)
 
 
-def test_layout_is_the_dag(at_root, tmp_path):
+def test_layout_is_the_dag(at_root, tmp_path, work):
     """A dry run on an empty folder schedules, per rule, as many jobs as the layout has wildcard
     values, and the layout's targets are distinct files: the rules and the layout agree."""
     st = load_study(QUICK)
     layout = Layout(st, tmp_path / "r")
-    jobs = _dry_run_jobs("study=config/studies/quick.yaml", f"results={tmp_path / 'r'}")
+    jobs = _dry_run_jobs(work, "study=config/studies/quick.yaml", f"results={tmp_path / 'r'}")
     expected = {rule: len(layout.wildcards(rule)) for rule in layout.rules()}
     assert jobs == {**expected, "reproduce_paper": 1}
     targets = layout.targets()
@@ -161,27 +173,21 @@ def test_a_huge_index_grid_is_refused_with_its_memory_and_time(at_root, tmp_path
     assert f"{8e15 / 250_000 / 86400:,.1f} days of solver time" in msg
 
 
-def test_bad_size_stops_the_pipeline_before_any_job(tmp_path):
+def test_bad_size_stops_the_pipeline_before_any_job(tmp_path, work):
     bad = _study(tmp_path, "h_m: [0.100, 0.150]", "h_m: [0.1, 0.1]")
-    exe = Path(sys.executable).with_name("snakemake")
-    p = subprocess.run(
-        [str(exe), "-n", "--cores", "1", "--config", f"study={bad}", f"results={tmp_path / 'r'}"],
-        cwd=ROOT,
-        capture_output=True,
-        text=True,
-    )
+    p = _snakemake(work, "-n", "--cores", "1", "--config", f"study={bad}", f"results={tmp_path / 'r'}")
     assert p.returncode != 0 and "key 'doe.levels.h_m': the two levels must differ" in p.stdout + p.stderr
     assert not (tmp_path / "r").exists()
 
 
-def test_the_spatial_study_layout_is_the_dag_and_names_its_paths(at_root, tmp_path):
+def test_the_spatial_study_layout_is_the_dag_and_names_its_paths(at_root, tmp_path, work):
     """quick_spatial.yaml (CoGiRo, issue 19): the rules and the layout agree; its two paths of one
     robot are named by their labels; every solver job gets the study's orientation and the workspace
     grids the wrench-feasible flag."""
     path = ROOT / "config" / "studies" / "quick_spatial.yaml"
     st = load_study(path)
     layout = Layout(st, tmp_path / "r")
-    jobs = _dry_run_jobs(f"study={path.relative_to(ROOT)}", f"results={tmp_path / 'r'}")
+    jobs = _dry_run_jobs(work, f"study={path.relative_to(ROOT)}", f"results={tmp_path / 'r'}")
     expected = {rule: len(layout.wildcards(rule)) for rule in layout.rules()}
     assert jobs == {**expected, "reproduce_paper": 1}
     targets = layout.targets()
@@ -190,22 +196,16 @@ def test_the_spatial_study_layout_is_the_dag_and_names_its_paths(at_root, tmp_pa
     assert not [t for t in targets if t.endswith("parity.png")]
     for rel in ("uncertainty/sobol.png", "uncertainty/SRopt_compensated_map.csv"):  # issue 19: both cases
         assert f"{tmp_path}/r/{rel}" in targets
-    exe = Path(sys.executable).with_name("snakemake")
-    p = subprocess.run(
-        [
-            str(exe),
-            "reproduce_paper",
-            "-n",
-            "-p",
-            "--cores",
-            "1",
-            "--config",
-            f"study={path}",
-            f"results={tmp_path / 'r'}",
-        ],
-        cwd=ROOT,
-        capture_output=True,
-        text=True,
+    p = _snakemake(
+        work,
+        "reproduce_paper",
+        "-n",
+        "-p",
+        "--cores",
+        "1",
+        "--config",
+        f"study={path}",
+        f"results={tmp_path / 'r'}",
     )
     assert p.returncode == 0, p.stderr[-2000:]
     solves = [ln for ln in p.stdout.splitlines() if " -m cdpr grid " in ln or " -m cdpr plane " in ln]
