@@ -196,17 +196,19 @@ class Cable:
 
 @dataclasses.dataclass(frozen=True)
 class Platform:
-    """Moving platform: mass M [kg], gravity g [m/s^2] (along -z) and centre of mass c in the
-    platform frame [m] (0 for a point mass)."""
+    """Moving platform: mass M [kg], gravity g [m/s^2] along the unit vector ``down`` (-z; robot files
+    do not set it: it lets a test turn a whole robot together with its gravity) and centre of mass c
+    in the platform frame [m] (0 for a point mass)."""
 
     mass: float
     g: float = G_STANDARD
     com: tuple = (0.0, 0.0, 0.0)
+    down: tuple = (0.0, 0.0, -1.0)
 
     @property
     def w_ext(self):
-        """External wrench (force part) on the platform, (0, 0, -M g) [N]."""
-        return np.array([0.0, 0.0, -self.mass * self.g])
+        """External wrench (force part) on the platform, M g ``down`` = (0, 0, -M g) [N]."""
+        return self.mass * self.g * np.asarray(self.down, dtype=float)
 
 
 class CableArrays(NamedTuple):

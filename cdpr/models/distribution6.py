@@ -84,7 +84,7 @@ def pose_wrench(robot, p, R):
     u = st.D - B
     u = u / np.linalg.norm(u, axis=-1, keepdims=True)
     W = wrench_matrix(u, B - p[:, None, :])
-    w = -external_wrench(robot.platform.mass, robot.platform.g, robot.arrays.com, R)
+    w = -external_wrench(robot.platform.mass, robot.platform.g, robot.arrays.com, R, robot.platform.down)
     return W, w, st
 
 

@@ -163,7 +163,7 @@ class Cables6:
         self.args = _args(robot)
         self.b, self.com = a.b, a.com
         self.ES = a.ES
-        self.f = np.array([0.0, 0.0, -robot.platform.mass * robot.platform.g])
+        self.f = robot.platform.w_ext
         self.ftol = FTOL_REL * float(np.linalg.norm(self.f))
         size = max(float(np.linalg.norm(a.b, axis=1).max()), float(np.linalg.norm(a.com)))
         self.size = size if size > 0 else 1.0

@@ -152,8 +152,8 @@ def wrench_matrix(u, r):
     return np.swapaxes(col, -1, -2)
 
 
-def external_wrench(mass, g, com, R):
-    """Gravity wrench on the platform about p: [f ; (R c) x f], f = (0, 0, -M g).
+def external_wrench(mass, g, com, R, down=(0.0, 0.0, -1.0)):
+    """Gravity wrench on the platform about p: [f ; (R c) x f], f = M g ``down`` = (0, 0, -M g).
 
     .. math:: w_{ext} = \\begin{bmatrix} f \\\\ (R c) \\times f \\end{bmatrix}
 
@@ -162,11 +162,13 @@ def external_wrench(mass, g, com, R):
     mass : float [kg]
         Platform mass M.
     g : float [m/s^2]
-        Gravity (along -z).
+        Gravity.
     com : array_like (3,) [m]
         Centre of mass c in the platform frame.
     R : array_like (..., 3, 3) [-]
         Orientation.
+    down : array_like (3,) [-]
+        Unit vector of gravity in the base frame (``Platform.down``, -z).
 
     Returns
     -------
@@ -178,7 +180,7 @@ def external_wrench(mass, g, com, R):
     Pott 2018, section 3.3 (the applied wrench).
     """
     R = np.asarray(R, dtype=float)
-    f = np.broadcast_to(np.array([0.0, 0.0, -mass * g]), R.shape[:-2] + (3,))
+    f = np.broadcast_to(mass * g * np.asarray(down, dtype=float), R.shape[:-2] + (3,))
     rc = np.einsum("...ab,b->...a", R, np.asarray(com, dtype=float))
     return np.concatenate([f, np.cross(rc, f)], axis=-1)
 

@@ -1,13 +1,17 @@
 """Physical equilibrium of a rigid 6-DoF platform (issue 17): the point-mass mode as its special
 case, symmetry, rotation invariance, a pendulum, the analytic Jacobian, several equilibria."""
 
+import dataclasses
+
 import numpy as np
 import pytest
 
+from cdpr.models.distribution6 import compensated_lengths
 from cdpr.models.equilibrium import solve_physical
 from cdpr.models.equilibrium6 import Cables6, pose_arrays, pose_state, solve_spatial
 from cdpr.models.platform import external_wrench, rotation_matrix, wrench_matrix
 from cdpr.robot import robot_from_dict, with_pulleys
+from cdpr.solve import solve_spatial_any
 
 rng = np.random.default_rng(2024)
 PTS = np.column_stack([rng.uniform(-2.4, 2.4, 200), rng.uniform(-2.4, 2.4, 200), rng.uniform(0.2, 4.8, 200)])
@@ -168,3 +172,65 @@ def test_several_equilibria_are_found_and_the_lowest_is_returned():
     for i in range(len(p)):
         assert res["unique"][i] == (len(res["alternatives"][i]) == 0)
         assert all(a["energy"] >= res["energy"][i] for a in res["alternatives"][i])
+
+
+def robot8_turned(kind, Q, com=(0.02, -0.01, 0.05)):
+    """``robot8`` with every pulley's ``zero`` given (so that the pulley frames turn with the robot)
+    and the whole robot — anchors, swivel axes, zeros and gravity — turned by the rotation Q."""
+    Q = np.asarray(Q, dtype=float)
+    cables = []
+    for sx, sy in ((1, 1), (-1, 1), (-1, -1), (1, -1)):
+        for z, bz, axis in ((3.0, 0.15, [0, 0, 1]), (0.0, -0.15, [0, 0, -1])):
+            cables.append(
+                {
+                    "A_m": (Q @ [3 * sx, 2 * sy, z]).tolist(),
+                    "B_m": [-0.3 * sx, 0.2 * sy, bz],
+                    "pulley": {"axis": (Q @ axis).tolist(), "zero": (Q @ [1.0, 0.0, 0.0]).tolist()},
+                }
+            )
+    pulley = {"kind": kind} | ({} if kind == "fixed" else {"h_m": 0.06, "r_p_m": 0.05})
+    r = robot_from_dict(
+        {
+            "platform": {"mass_kg": 50.0, "com_m": list(com)},
+            "cable": {"young_modulus_Pa": 1e11, "diameter_m": 0.004, "max_tension_N": 5000},
+            "pulley": pulley,
+            "dead_length_m": 2.0,
+            "cables": cables,
+        }
+    )
+    down = tuple(float(v) for v in Q @ [0.0, 0.0, -1.0])
+    return dataclasses.replace(r, platform=dataclasses.replace(r.platform, down=down))
+
+
+@pytest.mark.parametrize("kind", ["fixed", "SR", "DR"])
+def test_rotating_the_whole_robot_and_gravity_rotates_the_solution(kind):
+    """Any rotation Q of the whole robot together with its gravity: the equilibrium under the same
+    rest lengths is Q times the old one (positions Q p*, orientations Q R*), with the same tensions,
+    taut sets and statuses; the compensated lengths at the turned poses are the same numbers."""
+    from scipy.spatial.transform import Rotation
+
+    Q = Rotation.from_rotvec([0.4, -0.7, 1.1]).as_matrix()
+    a, b = robot8_turned(kind, np.eye(3)), robot8_turned(kind, Q)
+    assert np.allclose(b.platform.w_ext, Q @ a.platform.w_ext, rtol=0, atol=1e-12)
+    p = np.array([[0.3, -0.2, 1.4], [-0.5, 0.4, 1.7], [0.0, 0.0, 1.5]])
+    rv = np.array([[0.05, -0.1, 0.2], [0.2, 0.1, -0.1], [0.0, 0.0, 0.0]])
+    rv_b = (Rotation.from_matrix(Q) * Rotation.from_rotvec(rv)).as_rotvec()
+    L0 = pretensioned(a, p, rv)
+    assert np.abs(pretensioned(b, p @ Q.T, rv_b) - L0).max() < 1e-9  # the lengths do not see Q
+    ra = solve_spatial(a, p, rv, L0=L0)
+    rb = solve_spatial(b, p @ Q.T, rv_b, L0=L0)
+    assert (ra["status"] == "ok").all() and (ra["status"] == rb["status"]).all()
+    assert (ra["taut"] == rb["taut"]).all()
+    assert np.abs(ra["P_s"] @ Q.T - rb["P_s"]).max() < 1e-9
+    assert np.abs(Q @ ra["R_s"] - rb["R_s"]).max() < 1e-9
+    assert np.abs(ra["t"] - rb["t"]).max() < 1e-6
+    assert np.abs(ra["dp"] - rb["dp"]).max() < 1e-9 and np.abs(ra["dphi"] - rb["dphi"]).max() < 1e-9
+    assert ra["dp"].max() > 1e-4  # the pulleys and the weight do move the platform
+    fast = solve_spatial_any(b, p @ Q.T, rv_b, "compiled", L0=L0)  # the kernel sees the turned gravity too
+    assert (fast["status"] == rb["status"]).all() and np.abs(fast["P_s"] - rb["P_s"]).max() < 1e-9
+    ca, cb = compensated_lengths(a, p, rv), compensated_lengths(b, p @ Q.T, rv_b)
+    ok = ca[
+        "feasible"
+    ]  # (the symmetric pose's wrench matrix has rank 5: no distribution holds the offset com)
+    assert (ok == cb["feasible"]).all()
+    assert np.allclose(ca["L0"][ok], cb["L0"][ok], rtol=0, atol=1e-9)
