@@ -33,7 +33,7 @@ import pandas as pd
 from cdpr import io, table_io
 from cdpr.analyses import scans
 from cdpr.errors import ConfigError
-from cdpr.pipeline.results import STUDY_OUTPUTS
+from cdpr.pipeline.results import rel_path
 from cdpr.pipeline.study import load_study, redundancy
 from cdpr.pipeline.summary import paper_values
 from cdpr.validation import read_yaml, validate
@@ -141,9 +141,6 @@ def verdict(paper_mode, physical, tolerance=None, claim=None):
 # ------------------------------------------------------------------------------------------------
 # Numbers from a results folder
 # ------------------------------------------------------------------------------------------------
-def _rel(rule, name="table", **wildcards):
-    """Where ``rule`` writes its output ``name`` in a results folder (``cdpr.pipeline.results``)."""
-    return STUDY_OUTPUTS[rule][name].format(**wildcards)
 
 
 def _read(res, rel):
@@ -172,14 +169,14 @@ def first_designs(st):
 
 def plane_extremes(res, robot, pulley):
     """(min, max) ‖δp‖ [m] over the ok points of a plane table, NaN when absent."""
-    df = _read(res, _rel("plane_table", robot=robot, pulley=pulley))
+    df = _read(res, rel_path("plane_table", robot=robot, pulley=pulley))
     return (np.nan, np.nan) if df is None else scans.ok_extremes(df)
 
 
 def regular_volume(res, robot, pulley, limit):
     """R_V [m^3] of ``robot`` with ``pulley`` at the pose-error limit ``limit`` [m] in the results
     folder ``res`` (``volumes`` table), NaN when absent."""
-    v = _read(res, _rel("volumes"))
+    v = _read(res, rel_path("volumes"))
     if v is None:
         return np.nan
     r = v[(v.robot == robot) & (v.pulley == pulley) & np.isclose(v.limit_m, limit)]
@@ -189,27 +186,27 @@ def regular_volume(res, robot, pulley, limit):
 def doe_tables(res):
     """(DOE table, effects indexed by term without the mean) of the results folder ``res``; None
     for a table that is absent."""
-    d = _read(res, _rel("doe"))
-    e = _read(res, _rel("doe", "effects"))
+    d = _read(res, rel_path("doe"))
+    e = _read(res, rel_path("doe", "effects"))
     return d, (None if e is None else e[e.term != "mean"].set_index("term"))
 
 
 def line_value(res, kind, col):
     """Column ``col`` of the optimal line of pulley ``kind`` (``maps/lines``) in ``res``, NaN when absent."""
-    li = _read(res, _rel("maps", "lines"))
+    li = _read(res, rel_path("maps", "lines"))
     r = None if li is None else li[li.kind == kind]
     return np.nan if r is None or r.empty else float(r[col].iloc[0])
 
 
 def band_value(res, design, col):
     """Column ``col`` of ``design``'s Young's-modulus band (``elasticity/bands``) in ``res``, NaN when absent."""
-    b = _read(res, _rel("elasticity", "bands"))
+    b = _read(res, rel_path("elasticity", "bands"))
     r = None if b is None else b[b.design == design]
     return np.nan if r is None or r.empty else float(r[col].iloc[0])
 
 
 def _crossing(res, design, near):
-    c = _read(res, _rel("elasticity", "crossings"))
+    c = _read(res, rel_path("elasticity", "crossings"))
     s = [] if c is None else c[c.design == design].s_m.tolist()
     if not s:
         return np.nan
@@ -576,8 +573,8 @@ def difference_table(paper_res, physical_res, robot, pulley):
     """‖δp‖_physical - ‖δp‖_paper [m] on the plane of one design, per point (x, y), NaN where either
     mode is not ok; also both statuses. Returns a DataFrame x, y, dp_paper, dp_physical, diff,
     status_paper, status_physical."""
-    a = table_io.read_table(Path(paper_res) / _rel("plane_table", robot=robot, pulley=pulley))
-    b = table_io.read_table(Path(physical_res) / _rel("plane_table", robot=robot, pulley=pulley))
+    a = table_io.read_table(Path(paper_res) / rel_path("plane_table", robot=robot, pulley=pulley))
+    b = table_io.read_table(Path(physical_res) / rel_path("plane_table", robot=robot, pulley=pulley))
     if len(a) != len(b) or not (np.allclose(a.x, b.x) and np.allclose(a.y, b.y)):
         raise ValueError(f"plane tables of {robot}_{pulley} are not on the same grid")
     ok = (a.status == "ok").to_numpy() & (b.status == "ok").to_numpy()

@@ -123,6 +123,14 @@ STUDY_OUTPUTS = {
     "conclusions": {"markdown": "conclusions.md", "table": "conclusions.csv"},
 }
 
+
+def rel_path(rule, name="table", **wildcards):
+    """Where ``rule`` writes its output ``name`` in a study's results folder (``STUDY_OUTPUTS``), a
+    relative path with ``wildcards`` filled in: the one spelling of a results file that
+    ``summary``, ``comparison`` and the tasks read (the rules take ``Layout``)."""
+    return STUDY_OUTPUTS[rule][name].format(**wildcards)
+
+
 #: rule -> its log under the results folder (one per job: the wildcards of its outputs).
 STUDY_LOGS = {
     "winch_table": "logs/winch_table.log",

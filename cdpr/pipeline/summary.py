@@ -23,7 +23,7 @@ import yaml
 from cdpr import io, table_io
 from cdpr.analyses import scans
 from cdpr.models import winch
-from cdpr.pipeline.results import STUDY_OUTPUTS, Layout, check_complete
+from cdpr.pipeline.results import Layout, check_complete, rel_path
 from cdpr.pipeline.study import spatial_robots
 from cdpr.robot import TABLE1
 
@@ -35,11 +35,6 @@ COLUMNS = ["quantity", "source", "paper", "ours", "unit", "tolerance", "verdict"
 def paper_values(path=PAPER_VALUES):
     """The entries of ``cdpr/data/paper_values.yaml`` as a list of dicts."""
     return yaml.safe_load(Path(path).read_text(encoding="utf-8"))
-
-
-def _rel(rule, name="table", **wildcards):
-    """Where ``rule`` writes its output ``name`` in a results folder (``cdpr.pipeline.results``)."""
-    return STUDY_OUTPUTS[rule][name].format(**wildcards)
 
 
 def _read(res, rel):
@@ -54,12 +49,12 @@ def _path_length(st, res, robot):
 
 
 def _path(st, res, robot, pulley, stat):
-    df = _read(res, _rel("trajectory_table", path=robot, pulley=pulley))
+    df = _read(res, rel_path("trajectory_table", path=robot, pulley=pulley))
     return None if df is None else (scans.ok_extremes(df)[stat == "max"], "")
 
 
 def _path_reach(st, res, robot, pulley):
-    mm = _read(res, _rel("trajectory_figure"))
+    mm = _read(res, rel_path("trajectory_figure"))
     r = None if mm is None else mm[mm.design == f"{robot}_{pulley}"]
     return (
         None
@@ -78,7 +73,7 @@ def _path_reach_order(st, res, robot, first, second):
 
 
 def _plane(st, res, robot, pulley, stat):
-    df = _read(res, _rel("plane_table", robot=robot, pulley=pulley))
+    df = _read(res, rel_path("plane_table", robot=robot, pulley=pulley))
     if df is None:
         return None
     if stat == "centre":
@@ -88,7 +83,7 @@ def _plane(st, res, robot, pulley, stat):
 
 
 def _volumes_row(res, robot, pulley=None, limit_m=None):
-    vol = _read(res, _rel("volumes"))
+    vol = _read(res, rel_path("volumes"))
     if vol is None:
         return None
     sel = vol.robot == robot
@@ -109,7 +104,7 @@ def _V_T(st, res, robot):
 
 
 def _rw_c(res):
-    p = Path(res) / _rel("regular_workspace", "json")
+    p = Path(res) / rel_path("regular_workspace", "json")
     return json.loads(p.read_text(encoding="utf-8")) if p.exists() else None
 
 
@@ -133,7 +128,7 @@ def _smallest_rw_max_test(st, res):
 
 
 def _doe_index(st, res, stat):
-    d = _read(res, _rel("doe"))
+    d = _read(res, rel_path("doe"))
     if d is None:
         return None
     i = d.index_m.idxmin() if stat == "min" else d.index_m.idxmax()
@@ -141,7 +136,7 @@ def _doe_index(st, res, stat):
 
 
 def _doe_test(st, res, stat):
-    d = _read(res, _rel("doe"))
+    d = _read(res, rel_path("doe"))
     return (
         None
         if d is None
@@ -150,7 +145,7 @@ def _doe_test(st, res, stat):
 
 
 def _doe_two_best(st, res, tests):
-    d = _read(res, _rel("doe"))
+    d = _read(res, rel_path("doe"))
     if d is None:
         return None
     two = sorted(d.nsmallest(2, "index_m").test.astype(int).tolist())
@@ -158,7 +153,7 @@ def _doe_two_best(st, res, tests):
 
 
 def _doe_worst(st, res, joint):
-    d = _read(res, _rel("doe"))
+    d = _read(res, rel_path("doe"))
     return (
         None
         if d is None or not (d.kind == joint).any()
@@ -168,7 +163,7 @@ def _doe_worst(st, res, joint):
 
 def _effects(res, response="index_m"):
     """The effects of one response (``index_m``, or ``index_phi_rad`` of a spatial study) without the mean."""
-    e = _read(res, _rel("doe", "effects"))
+    e = _read(res, rel_path("doe", "effects"))
     if e is None:
         return None
     if "response" in e:
@@ -192,7 +187,7 @@ def _third_order_smallest(st, res):
 
 
 def _line(st, res, pulley, column, scale=1.0):
-    lines = _read(res, _rel("maps", "lines"))
+    lines = _read(res, rel_path("maps", "lines"))
     r = None if lines is None else lines[lines.kind == pulley]
     if r is None or r.empty:
         return None
@@ -205,7 +200,7 @@ def _line(st, res, pulley, column, scale=1.0):
 
 
 def _band(st, res, design, column, scale=1.0):
-    b = _read(res, _rel("elasticity", "bands"))
+    b = _read(res, rel_path("elasticity", "bands"))
     r = None if b is None else b[b.design == design]
     if r is None or r.empty:
         return None
@@ -215,7 +210,7 @@ def _band(st, res, design, column, scale=1.0):
 
 
 def _crossing(st, res, design, near=None):
-    cr = _read(res, _rel("elasticity", "crossings"))
+    cr = _read(res, rel_path("elasticity", "crossings"))
     if cr is None:
         return None
     c = cr[cr.design == design].s_m.tolist()
@@ -227,7 +222,7 @@ def _crossing(st, res, design, near=None):
 def _uq_band(st, res, design, case, column, method="linearised", scale=1.0):
     """A column of uncertainty/bands.csv (one design, case and method); the note gives the 5-95 %
     range of the index, the sample count and grid, and our common-E band for comparison."""
-    b = _read(res, _rel("uncertainty", "bands"))
+    b = _read(res, rel_path("uncertainty", "bands"))
     r = None if b is None else b[(b.design == design) & (b.case == case) & (b.method == method)]
     if r is None or r.empty:
         return None
@@ -236,7 +231,7 @@ def _uq_band(st, res, design, case, column, method="linearised", scale=1.0):
         f"{method}, n = {int(r.n)} samples on {int(r.index_n)}^3 RW_C points; index 5-95 %: "
         f"{r.index_q05_m * 1e3:.2f}-{r.index_q95_m * 1e3:.2f} mm"
     )
-    common = _read(res, _rel("elasticity", "bands"))
+    common = _read(res, rel_path("elasticity", "bands"))
     c = None if common is None else common[common.design == design]
     if case == "uncompensated" and c is not None and not c.empty:
         c = c.iloc[0]
@@ -249,7 +244,7 @@ def _uq_band(st, res, design, case, column, method="linearised", scale=1.0):
 def _uq_sobol_top(st, res, design, case, rank=1, output="index"):
     """The rank-th largest Sobol total index of one output (parameters, not groups); the note names
     the three largest with their 95 % confidence half-widths."""
-    t = _read(res, _rel("uncertainty", "sobol"))
+    t = _read(res, rel_path("uncertainty", "sobol"))
     if t is None:
         return None
     g = t[(t.design == design) & (t.case == case) & (t.level == "parameter") & (t.output == output)]
@@ -261,7 +256,7 @@ def _uq_sobol_top(st, res, design, case, rank=1, output="index"):
 
 
 def _winch_dl(st, res, l_pm_m, scale=1000.0):
-    w = _read(res, _rel("winch_table"))
+    w = _read(res, rel_path("winch_table"))
     return None if w is None else (float(np.interp(l_pm_m, w.l_pm, w.dl)) * scale, "")
 
 
@@ -369,7 +364,7 @@ def headline_rows(st, res):
     rows = []
     for rk in st["robots"]:
         for pk in st["pulleys"]:
-            df = _read(res, _rel("plane_table", robot=rk, pulley=pk))
+            df = _read(res, rel_path("plane_table", robot=rk, pulley=pk))
             if df is None:
                 continue
             n_ok = int((df.status == "ok").sum())
@@ -385,7 +380,7 @@ def headline_rows(st, res):
                 rows.append(_headline(f"{rk} {pk} plane δφ max", src, hi, "mrad"))
     for path in st["trajectories"]["paths"]:
         for pk in st["pulleys"]:
-            df = _read(res, _rel("trajectory_table", path=path, pulley=pk))
+            df = _read(res, rel_path("trajectory_table", path=path, pulley=pk))
             if df is None:
                 continue
             src = f"path {path}"
@@ -399,7 +394,7 @@ def headline_rows(st, res):
                 rows.append(
                     _headline(f"{path} {pk} largest tension", src, float(np.nanmax(t.to_numpy())), "N")
                 )
-    vol = _read(res, _rel("volumes"))
+    vol = _read(res, rel_path("volumes"))
     if vol is not None:
         for r in vol[vol.paper_limit].itertuples():
             rows.append(
@@ -411,7 +406,7 @@ def headline_rows(st, res):
                     f"V_L = {r.V_L_m3:.4g} m^3 of V_T = {r.V_T_m3:.4g} m^3",
                 )
             )
-    vol = _read(res, _rel("volumes_dphi")) if st["volumes"].get("dphi_limits_rad") else None
+    vol = _read(res, rel_path("volumes_dphi")) if st["volumes"].get("dphi_limits_rad") else None
     if vol is not None:
         for r in vol[vol.study_limit].itertuples():
             rows.append(
@@ -428,26 +423,26 @@ def headline_rows(st, res):
         rows.append(
             _headline(
                 "RW_C volume",
-                "doe/rw_c.json",
+                rel_path("regular_workspace", "json"),
                 float(rw["computed_volume_m3"]),
                 "m^3",
                 f"box {np.round(rw['computed'], 3).tolist()} on a {rw['grid_n']}^3 grid; the index uses the "
                 + ("study's doe.paper_rw_c_m box" if rw["use"] == "paper" else "computed box"),
             )
         )
-    rwm = _read(res, _rel("regular_workspace"))
+    rwm = _read(res, rel_path("regular_workspace"))
     if rwm is not None and "wrench_feasible_m3" in rwm:
         for r in rwm.itertuples():
             rows.append(
                 _headline(
                     f"DOE test {int(r.test)} wrench-feasible workspace",
-                    "doe/rw_max.csv",
+                    rel_path("regular_workspace"),
                     float(r.wrench_feasible_m3),
                     "m^3",
                     f"{r.kind}, h = {r.h_m * 1e3:g} mm, r_p = {r.r_p_m * 1e3:g} mm; RW_max {r.volume_m3:.4g} m^3",
                 )
             )
-    d = _read(res, _rel("doe"))
+    d = _read(res, rel_path("doe"))
     if d is not None:
         for col, unit, scale, what in (("index_m", "mm", 1e3, "I"), ("index_phi_rad", "mrad", 1e3, "I_φ")):
             if col not in d:
@@ -456,7 +451,7 @@ def headline_rows(st, res):
             rows.append(
                 _headline(
                     f"DOE lowest {what}",
-                    "doe/doe.csv",
+                    rel_path("doe"),
                     float(d[col][lo]) * scale,
                     unit,
                     f"test {int(d.test[lo])} ({d.kind[lo]}, h = {d.h_m[lo] * 1e3:g} mm, r_p = {d.r_p_m[lo] * 1e3:g} mm)",
@@ -465,7 +460,7 @@ def headline_rows(st, res):
             rows.append(
                 _headline(
                     f"DOE highest {what}",
-                    "doe/doe.csv",
+                    rel_path("doe"),
                     float(d[col][hi]) * scale,
                     unit,
                     f"test {int(d.test[hi])}",
@@ -477,32 +472,32 @@ def headline_rows(st, res):
                 rows.append(
                     _headline(
                         f"DOE largest effect on {what}",
-                        "doe/effects.csv",
+                        rel_path("doe", "effects"),
                         float(e.effect[top]) * scale,
                         unit,
                         f"term {top}",
                     )
                 )
-    lines = _read(res, _rel("maps", "lines"))
+    lines = _read(res, rel_path("maps", "lines"))
     if lines is not None:
         for r in lines.itertuples():
             rows.append(
                 _headline(
                     f"line D_{r.kind}: optimal index",
-                    "maps/lines.csv",
+                    rel_path("maps", "lines"),
                     float(r.index_opt_m) * 1e3,
                     "mm",
                     f"slope k = {r.slope_k:.4g} from {int(r.valley_points)} valley points; "
                     f"h = {r.h_opt_m * 1e3:.4g} mm, r_p = {r.r_p_opt_m * 1e3:.4g} mm",
                 )
             )
-    b = _read(res, _rel("elasticity", "bands"))
+    b = _read(res, rel_path("elasticity", "bands"))
     if b is not None:
         for r in b.itertuples():
             rows.append(
                 _headline(
                     f"{r.design} index at E_mean",
-                    "elasticity/bands.csv",
+                    rel_path("elasticity", "bands"),
                     float(r.index_mean_m) * 1e3,
                     "mm",
                     f"common-E band +{r.plus_m * 1e3:.3g} / -{r.minus_m * 1e3:.3g} mm",
@@ -512,7 +507,7 @@ def headline_rows(st, res):
                 rows.append(
                     _headline(
                         f"{r.design} orientation index at E_mean",
-                        "elasticity/bands.csv",
+                        rel_path("elasticity", "bands"),
                         float(r.index_phi_mean_rad) * 1e3,
                         "mrad",
                         f"common-E band +{r.phi_plus_rad * 1e3:.3g} / -{r.phi_minus_rad * 1e3:.3g} mrad",
@@ -530,7 +525,7 @@ def _uq_spatial_rows(st, res):
     median), and the largest total Sobol index of each response per parameter group and per
     parameter (the note names the three largest with their 95 % half-widths); no rows when the
     tables are absent."""
-    b, t = _read(res, _rel("uncertainty", "bands")), _read(res, _rel("uncertainty", "sobol"))
+    b, t = _read(res, rel_path("uncertainty", "bands")), _read(res, rel_path("uncertainty", "sobol"))
     rows = []
     if b is not None and "index_phi_q50_rad" in b:
         for (design, case), g in b.groupby(["design", "case"], sort=False):
@@ -540,7 +535,7 @@ def _uq_spatial_rows(st, res):
                 rows.append(
                     _headline(
                         f"{design} {case} index of {what} under per-cable E (median)",
-                        "uncertainty/bands.csv",
+                        rel_path("uncertainty", "bands"),
                         float(lin[f"{col}_q50{u}"]) * 1e3,
                         unit,
                         f"linearised, n = {int(lin.n)}; 5-95 %: {lin[f'{col}_q05{u}'] * 1e3:.3g}-"
@@ -559,7 +554,7 @@ def _uq_spatial_rows(st, res):
                     rows.append(
                         _headline(
                             f"{design} {case} largest total Sobol index on the index of {what} ({word})",
-                            "uncertainty/sobol.csv",
+                            rel_path("uncertainty", "sobol"),
                             float(h.ST.iloc[0]),
                             "-",
                             f"{h.name.iloc[0]}; largest ST: {top}",
@@ -581,7 +576,7 @@ def _budget_rows(res):
     """The study's error budget (``budget/budget.csv``, a spatial study with a ``budget`` key): per
     design the mean ‖δp‖ [mm] of the three terms alone and together, with the mean ‖δφ‖ and the
     points the means are over (ok in every entry); no rows when the table is absent."""
-    t = _read(res, _rel("study_budget"))
+    t = _read(res, rel_path("study_budget"))
     if t is None:
         return []
     rows = []
@@ -589,7 +584,7 @@ def _budget_rows(res):
         rows.append(
             _headline(
                 f"{r.design} budget: {BUDGET_TERMS[r.entry]}",
-                "budget/budget.csv",
+                rel_path("study_budget"),
                 float(r.mean_m) * 1e3,
                 "mm",
                 f"mean ‖δφ‖ {r.mean_rad * 1e3:.3g} mrad; over the {int(r.ok_points)} of {int(r.points)} RW_C points "

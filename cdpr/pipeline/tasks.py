@@ -24,7 +24,7 @@ from cdpr.pipeline import comparison as cm
 from cdpr.pipeline import conclusions as robot_conclusions
 from cdpr.pipeline import plots, study, uq, uq6
 from cdpr.pipeline import summary as sm
-from cdpr.pipeline.results import ComparisonLayout
+from cdpr.pipeline.results import ComparisonLayout, rel_path
 from cdpr.pipeline.study import budget_designs
 from cdpr.robot import TABLE1
 
@@ -757,15 +757,15 @@ def _overlay_data(st, res):
     res = Path(res)
     out = {"paths": {}, "paths_E": []}
     for pk in st["pulleys"]:
-        p = res / "trajectories" / f"CDPR4_{pk}.csv"
+        p = res / rel_path("trajectory_table", path="CDPR4", pulley=pk)
         if p.exists():
             out["paths"][f"CDPR4_{pk}"] = table_io.read_table(p)
-    for key, rel in (("volumes", "volumes/volumes.csv"), ("index_vs_E", "elasticity/index_vs_E.csv")):
+    for key, rel in (("volumes", rel_path("volumes")), ("index_vs_E", rel_path("elasticity"))):
         if (res / rel).exists():
             out[key] = table_io.read_table(res / rel)
     E_mean = float(st["elasticity"]["E_path_Pa"][1])
     for dk in st["optimal"]:
-        p = res / "elasticity" / f"path_{dk}_E{E_mean:.6g}.csv"
+        p = res / rel_path("elasticity_path", design=dk, E=f"{E_mean:.6g}")
         if p.exists():
             df = table_io.read_table(p)
             out["paths_E"].append((dk, df.s.to_numpy(), df.dp.where(df.status == "ok").to_numpy()))
