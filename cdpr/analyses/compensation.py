@@ -34,7 +34,6 @@ import numpy as np
 
 from cdpr.errors import CdprError
 from cdpr.models.distribution6 import compensated_lengths
-from cdpr.models.equilibrium6 import pose_arrays
 from cdpr.models.inverse import igm_e
 from cdpr.models.results import STATUSES
 from cdpr.models.statics import tensions
@@ -112,9 +111,8 @@ def _compensate6(robot, p, rotvec, method, t_min, t_max, options):
         )
     if options:
         raise CdprError(f"compensation at a pose takes no distribution options, got {', '.join(options)}")
-    pos, R = pose_arrays(robot, p, rotvec)
-    c = compensated_lengths(robot, pos, rotvec if p.shape[1] == 3 else p[:, 3:], t_min, t_max, method)
-    return {"p": pos, "R": R, "L0": c["L0"], "t": c["t"], "L_TE": c["L_TE"], "feasible": c["feasible"]}
+    c = compensated_lengths(robot, p, rotvec, t_min, t_max, method)  # poses (N, 6) carry their rotvec
+    return {key: c[key] for key in ("p", "R", "L0", "t", "L_TE", "feasible")}
 
 
 def compensate(

@@ -190,26 +190,14 @@ def test_point_physical_json_and_commanded_lengths(capsys):
     assert set(out) == {"desired", "solved", "dp_norm", "tensions", "taut", "status", "iterations", "engine"}
     assert out["status"] == "ok" and out["taut"] == [1, 2, 3, 4] and all(t > 0 for t in out["tensions"])
     # the lengths of `compensate` commanded explicitly bring the platform to the desired point
-    comp = run_json(capsys, "compensate", "--robot", R4, "--pulley", "DR", "--at", "0.5", "0.2", "2.5")
+    compensate = ["compensate", "--robot", R4, "--pulley", "DR", "--at", "0.5", "0.2", "2.5"]
+    comp = run_json(capsys, *compensate)
     assert (
         set(comp) == {"desired", "lengths", "tensions", "status", "solved", "dp_norm", "engine"}
         and comp["status"] == "ok"
     )
     assert comp["dp_norm"] < 1e-9 and comp["engine"] == "numpy"  # one pose: solve.ONE_SHOT_POSES
-    fast = run_json(
-        capsys,
-        "compensate",
-        "--robot",
-        R4,
-        "--pulley",
-        "DR",
-        "--at",
-        "0.5",
-        "0.2",
-        "2.5",
-        "--engine",
-        "compiled",
-    )
+    fast = run_json(capsys, *compensate, "--engine", "compiled")
     assert fast["engine"] == "compiled" and fast["status"] == "ok" and fast["dp_norm"] < 1e-9
     assert np.allclose(fast["lengths"], comp["lengths"], rtol=0, atol=1e-9)
     back = run_json(
