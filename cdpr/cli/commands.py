@@ -470,41 +470,46 @@ def cmd_compensate(args):
 
 
 def _compensate_spatial(args, robot, actual, P, rv, t_max, engine):
-    """``compensate`` at poses (rigid platform or --rotvec): the --distribution (min_norm, closed_form or
-    closed_form_improved) at the pose (``distribution6``), compensated rest lengths, and the check solve
-    (6-DoF, ``solve.solve_spatial_any`` by ``engine``)."""
-    # lazy: the 6-DoF models, for poses only
-    from cdpr.models.distribution6 import compensated_lengths
-    from cdpr.solve import solve_spatial_any
+    """``compensate`` at poses (rigid platform or --rotvec): ``compensation.compensated_pose`` with the
+    --distribution (min_norm, closed_form or closed_form_improved) at the pose (``distribution6``) and
+    the 6-DoF check solve by ``engine``; a pose with no tension distribution is ``infeasible`` and is
+    not solved (its solved columns are empty)."""
+    from cdpr.analyses.compensation import compensated_pose  # lazy: this command only
 
     if args.distribution == "subset":
         raise CdprError(
             "--distribution subset (the paper's 3-cable subset) is not available at a pose (rigid platform or "
             "--rotvec); use min_norm, closed_form or closed_form_improved"
         )
-    c = compensated_lengths(robot, P, rv, t_min=args.t_min, t_max=t_max, method=args.distribution)
-    ok = c["feasible"]
-    L0 = np.where(ok[:, None], c["L0"], 1.0)
-    res = solve_spatial_any(actual or robot, P, rv, engine, args.threads, L0=L0)
-    status = np.where(ok, res["status"], "infeasible")
+    res = compensated_pose(
+        robot,
+        P,
+        actual=actual,
+        method=args.distribution,
+        engine=engine,
+        t_min=args.t_min,
+        t_max=t_max,
+        rotvec=rv,
+        threads=args.threads,
+    )
+    ok = res["status"] != "infeasible"
     if args.points or args.out:
         from cdpr.tables import to_frame6  # lazy: tables only (pandas)
 
         df = to_frame6(robot, res)
-        df["status"] = status
         for i in range(robot.m):
-            df[f"L0_{i + 1}"] = c["L0"][:, i]
+            df[f"L0_{i + 1}"] = res["L0"][:, i]
         for i in range(robot.m):
-            df[f"t_planned{i + 1}"] = c["t"][:, i]
+            df[f"t_planned{i + 1}"] = res["t_planned"][:, i]
         _write_table(df, args.out)
         print(f"wrote {len(df)} poses to {args.out}; {int((~ok).sum())} infeasible (no tension distribution)")
         return
     out = {
         "desired": list(map(float, args.at)),
         "rotvec": res["rotvec"][0].tolist(),
-        "lengths": c["L0"][0].tolist(),
-        "tensions": c["t"][0].tolist(),
-        "status": str(status[0]),
+        "lengths": res["L0"][0].tolist(),
+        "tensions": res["t_planned"][0].tolist(),
+        "status": str(res["status"][0]),
         "solved": res["P_s"][0].tolist() if ok[0] else None,
         "solved_rotvec": res["rotvec_s"][0].tolist() if ok[0] else None,
         "dp_norm": float(res["dp"][0]) if ok[0] else None,

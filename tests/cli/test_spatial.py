@@ -158,6 +158,31 @@ def test_compensate_at_a_pose_round_trips(capsys):
     assert hang["status"] == "infeasible" and hang["lengths"] == [None] * 4
 
 
+
+def test_compensate_table_leaves_infeasible_poses_unsolved(tmp_path, capsys):
+    """A pose with no tension distribution is ``infeasible`` and never solved: its solved columns
+    are empty (no equilibrium of placeholder lengths), its feasible neighbours are solved and hold
+    the pose; the table equals the library's ``compensated_pose`` row for row."""
+    from cdpr.analyses.compensation import compensated_pose
+    from cdpr.robot import load_robot
+
+    pts = tmp_path / "p.csv"
+    pts.write_text("x,y,z,rx,ry,rz\n0,0,2,0,0,0\n0,0,2,0.8,0,0\n0.5,-0.3,1.0,0,0.1,0\n0,0,2,0.2618,0,0\n")
+    wall = str(ROBOTS / "wall_pulleys.yaml")
+    out = tmp_path / "c.csv"
+    assert main(["compensate", "--robot", wall, "--points", str(pts), "--out", str(out), "--t-min", "10"]) == 0
+    df = pd.read_csv(out)
+    bad = df["status"] == "infeasible"
+    assert bad.any() and (~bad).any()
+    solved = ["x_s", "y_s", "z_s", "dp", "rx_s", "ry_s", "rz_s", "dphi", "t1", "L0_1"]
+    assert df.loc[bad, solved].isna().all().all() and (df.loc[bad, "iterations"] == 0).all()
+    assert (df.loc[~bad, "status"] == "ok").all()
+    assert df.loc[~bad, "dp"].max() < 1e-9 and df.loc[~bad, "dphi"].max() < 1e-9
+    P = pd.read_csv(pts).to_numpy()
+    lib = compensated_pose(load_robot(wall), P, t_min=10.0)
+    assert list(lib["status"]) == list(df["status"])
+    np.testing.assert_allclose(df[["x_s", "y_s", "z_s"]].to_numpy(), lib["P_s"], rtol=0, atol=1e-12)
+
 def test_view_writes_a_picture(tmp_path, capsys):
     out = tmp_path / "robot.png"
     assert (
