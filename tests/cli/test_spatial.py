@@ -158,7 +158,6 @@ def test_compensate_at_a_pose_round_trips(capsys):
     assert hang["status"] == "infeasible" and hang["lengths"] == [None] * 4
 
 
-
 def test_compensate_table_leaves_infeasible_poses_unsolved(tmp_path, capsys):
     """A pose with no tension distribution is ``infeasible`` and never solved: its solved columns
     are empty (no equilibrium of placeholder lengths), its feasible neighbours are solved and hold
@@ -170,7 +169,9 @@ def test_compensate_table_leaves_infeasible_poses_unsolved(tmp_path, capsys):
     pts.write_text("x,y,z,rx,ry,rz\n0,0,2,0,0,0\n0,0,2,0.8,0,0\n0.5,-0.3,1.0,0,0.1,0\n0,0,2,0.2618,0,0\n")
     wall = str(ROBOTS / "wall_pulleys.yaml")
     out = tmp_path / "c.csv"
-    assert main(["compensate", "--robot", wall, "--points", str(pts), "--out", str(out), "--t-min", "10"]) == 0
+    assert (
+        main(["compensate", "--robot", wall, "--points", str(pts), "--out", str(out), "--t-min", "10"]) == 0
+    )
     df = pd.read_csv(out)
     bad = df["status"] == "infeasible"
     assert bad.any() and (~bad).any()
@@ -182,6 +183,7 @@ def test_compensate_table_leaves_infeasible_poses_unsolved(tmp_path, capsys):
     lib = compensated_pose(load_robot(wall), P, t_min=10.0)
     assert list(lib["status"]) == list(df["status"])
     np.testing.assert_allclose(df[["x_s", "y_s", "z_s"]].to_numpy(), lib["P_s"], rtol=0, atol=1e-12)
+
 
 def test_view_writes_a_picture(tmp_path, capsys):
     out = tmp_path / "robot.png"
