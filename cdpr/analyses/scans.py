@@ -260,7 +260,7 @@ ARC_POINTS = 181
 
 
 def pulley_plane_geometry(robot, i, B):
-    """Every point of one pulley that a picture of its cable plane draws, from the extended inverse
+    r"""Every point of one pulley that a picture of its cable plane draws, from the extended inverse
     model of that cable (``models.pulleys.pulley_state``, Paty 2021 eq. 3-7) with the attachment
     point B: the plane through the swivel axis k_i (through A_i) that contains B, with in-plane
     coordinates (s, w), origin A_i, s perpendicular to k_i toward B, w along k_i:
