@@ -19,9 +19,9 @@ import numpy as np
 import pandas as pd
 
 from cdpr.analyses.workspace import cell_centres, frame_box
-from cdpr.models import winch
+from cdpr.models import pulleys, winch
 from cdpr.models.equilibrium6 import pose_arrays, pose_state
-from cdpr.robot import TABLE1
+from cdpr.robot import KIND_CODE, TABLE1
 from cdpr.tables import solve_table
 
 
@@ -251,6 +251,97 @@ def pose_geometry(robot, p, rotvec=None):
         "rotvec": np.zeros(3) if rotvec is None else np.asarray(rotvec, dtype=float).copy(),
         "com": p_[0] + R[0] @ a.com,
         "point_mass": robot.point_mass,
+        "name": robot.name,
+    }
+
+
+#: Points of the sheave circle and of the wrapped arc in ``pulley_plane_geometry``.
+ARC_POINTS = 181
+
+
+def pulley_plane_geometry(robot, i, B):
+    r"""Every point of one pulley that a picture of its cable plane draws, from the extended inverse
+    model of that cable (``models.pulleys.pulley_state``, Paty 2021 eq. 3-7) with the attachment
+    point B: the plane through the swivel axis k_i (through A_i) that contains B, with in-plane
+    coordinates (s, w), origin A_i, s perpendicular to k_i toward B, w along k_i:
+
+    .. math:: s = (X - A_i)\cdot\mathbf e_s,\qquad w = (X - A_i)\cdot\mathbf k_i,
+        \qquad C_i = A_i - d_i\,\mathbf k_i
+
+    No equilibrium is solved and nothing else of the robot is used.
+
+    Parameters
+    ----------
+    robot : Robot
+        Supplies the pulley of cable ``i`` (A_i, kind, h, r_p, d, frame, fallback plane).
+    i : int
+        Cable index (0-based).
+    B : array_like (3,) [m]
+        Attachment point (base frame).
+
+    Returns
+    -------
+    dict
+        ``plane``: name -> (s, w) [m] of the points C (winch exit), A (joint point), H (sheave
+        centre), K (entry tangent point), D (exit tangent point), B; ``points``: the same names ->
+        (3,) base-frame points [m]; ``arc`` (ARC_POINTS, 2) [m] the wrapped arc K -> D over the +k
+        side and ``sheave`` (ARC_POINTS, 2) [m] the sheave circle (NaN for a fixed pulley), in (s, w);
+        ``top``: name -> components along (i_i, j_i) [m] of B - A_i and of H - A_i, and ``e_s``
+        (2,) [-] the plane's direction in (i_i, j_i); ``frame`` (3, 3) [-] rows i_i, j_i, k_i;
+        ``e_s3`` (3,) [-]; ``swivel`` [rad] (``pulleys.swivel``); ``gamma`` wrap [rad]; ``L_TE``,
+        ``l_E`` = |B - D|, ``l_d`` = |K - C| [m]; ``kind`` (str), ``h``, ``r_p``, ``d`` [m];
+        ``cable`` (1-based) and ``name`` (the robot's).
+
+    References
+    ----------
+    Paty et al. 2021, eq. (3)-(7).
+    """
+    a = robot.arrays
+    sl = slice(i, i + 1)
+    B = np.asarray(B, dtype=float).reshape(1, 3)
+    args = (a.A[sl], a.kind[sl], a.h[sl], a.r_p[sl], a.d[sl], a.inward[sl], a.frame[sl])
+    st = pulleys.pulley_state(B, *args, per_cable=True)
+    A, F = a.A[i], a.frame[i]
+    e_s3, k = st.e_s3[0], F[2]
+    pts = {
+        "C": A - a.d[i] * k,
+        "A": A.copy(),
+        "H": st.H[0],
+        "K": st.K[0],
+        "D": st.D[0],
+        "B": B[0].copy(),
+    }
+    plane = {n: np.array([(X - A) @ e_s3, (X - A) @ k]) for n, X in pts.items()}
+    r_p, gamma = float(a.r_p[i]), float(st.gamma[0])
+    Hs, Hw = plane["H"]
+    th_K = np.arctan2(plane["K"][1] - Hw, plane["K"][0] - Hs)
+    t = np.linspace(0.0, 1.0, ARC_POINTS)
+    th = th_K - gamma * t  # from K over the +k side to D
+    arc = np.column_stack([Hs + r_p * np.cos(th), Hw + r_p * np.sin(th)])
+    full = 2.0 * np.pi * t
+    sheave = np.column_stack([Hs + r_p * np.cos(full), Hw + r_p * np.sin(full)])
+    if r_p <= 0:
+        sheave[:] = np.nan
+    code = int(a.kind[i])
+    return {
+        "plane": plane,
+        "points": pts,
+        "arc": arc,
+        "sheave": sheave,
+        "top": {n: np.array([(pts[n] - A) @ F[0], (pts[n] - A) @ F[1]]) for n in ("B", "H")},
+        "e_s": st.e_s[0].copy(),
+        "frame": F.copy(),
+        "e_s3": e_s3.copy(),
+        "swivel": float(pulleys.swivel(B, a.A[sl], a.frame[sl], a.inward[sl], per_cable=True)[0]),
+        "gamma": gamma,
+        "L_TE": float(st.L_TE[0]),
+        "l_E": float(st.l_E[0]),
+        "l_d": float(st.l_d[0]),
+        "kind": next(n for n, c in KIND_CODE.items() if c == code),
+        "h": float(a.h[i]),
+        "r_p": r_p,
+        "d": float(a.d[i]),
+        "cable": i + 1,
         "name": robot.name,
     }
 

@@ -1,7 +1,11 @@
 """The 3-D figures of spatial studies (issue 19): the robot view (``plots.robot_view``, what ``cdpr
 view`` and the study's robot_view rule draw) and the error-limited volumes on δφ (a δφ row in Fig. 13,
-Fig. 14 on δφ). Every figure passes the layout audit (``plots.audit``: no overlapping text, none off
-the canvas, labelled axes with units) and names the mode."""
+Fig. 14 on δφ), and the pulley-axis figure of docs/spatial.md (``plots.pulley_axis_figure``, drawn
+at the docs' build by docs/hooks/pulley_figure.py). Every figure passes the layout audit
+(``plots.audit``: no overlapping text, none off the canvas, labelled axes with units) and the study
+figures name the mode."""
+
+import importlib.util
 
 import matplotlib.pyplot as plt
 import numpy as np
@@ -11,8 +15,8 @@ from mpl_toolkits.mplot3d.art3d import Text3D
 
 from cdpr.analyses import scans, workspace
 from cdpr.pipeline import plots
-from cdpr.robot import load_robot
-from tests.conftest import ROBOTS
+from cdpr.robot import load_robot, with_pulleys
+from tests.conftest import ROBOTS, ROOT
 
 
 def _captured(monkeypatch):
@@ -150,3 +154,106 @@ def test_rv_on_dphi_figure_marks_the_study_limits(tmp_path, monkeypatch):
         0.5,
     ]
     plt.close(fig)
+
+
+# ---- the pulley-axis figure of docs/spatial.md (plots.pulley_axis_figure, docs/hooks/pulley_figure.py) ----
+def _pulley_hook():
+    """docs/hooks/pulley_figure.py, the MkDocs hook that draws the figure at build time, as a module."""
+    spec = importlib.util.spec_from_file_location(
+        "pulley_figure_hook", ROOT / "docs" / "hooks" / "pulley_figure.py"
+    )
+    hook = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(hook)
+    return hook
+
+
+def _hook_geometries(hook):
+    robot = load_robot(hook.ROBOT)
+    i = hook.CABLE - 1
+    B = robot.A[i] + np.asarray(hook.B_MINUS_A)
+    return [
+        scans.pulley_plane_geometry(
+            with_pulleys(robot, kind=k, h=h, r_p=r, dead_length=hook.DEAD_LENGTH), i, B
+        )
+        for k, h, r in hook.DESIGNS
+    ]
+
+
+def test_pulley_plane_geometry_is_the_pulley_model():
+    """SR with h = r_p: K on the axis at A; D on the sheave and |B - D| = l_E tangent; L_TE = d + r_p γ +
+    l_E; the in-plane coordinates keep every 3-D distance (all points lie in the plane through k_i and
+    B); the arc runs from K to D and is r_p γ long. DR: the arm |A H| = h and K a tangent point from C."""
+    sr, dr = _hook_geometries(_pulley_hook())
+    for g in (sr, dr):
+        X, P, r = g["points"], g["plane"], g["r_p"]
+        k = g["frame"][2]
+        assert (
+            abs(np.linalg.norm(X["D"] - X["H"]) - r) < 1e-12
+            and abs(np.linalg.norm(X["K"] - X["H"]) - r) < 1e-12
+        )
+        assert abs(np.linalg.norm(X["B"] - X["D"]) - g["l_E"]) < 1e-12
+        assert abs((X["D"] - X["H"]) @ (X["B"] - X["D"])) < 1e-12
+        assert abs((X["K"] - X["H"]) @ (X["K"] - X["C"])) < 1e-12
+        assert abs(g["L_TE"] - (g["l_d"] + r * g["gamma"] + g["l_E"])) < 1e-12
+        assert abs(np.linalg.norm(X["H"] - X["A"]) - g["h"]) < 1e-12
+        assert (
+            np.abs(X["C"] - (X["A"] - g["d"] * k)).max() < 1e-12
+            and np.abs(P["C"] - [0.0, -g["d"]]).max() < 1e-12
+        )
+        names = list(X)
+        for a in names:
+            for b in names:
+                assert abs(np.linalg.norm(P[a] - P[b]) - np.linalg.norm(X[a] - X[b])) < 1e-12
+        assert np.abs(g["arc"][0] - P["K"]).max() < 1e-12 and np.abs(g["arc"][-1] - P["D"]).max() < 1e-12
+        seg = np.linalg.norm(np.diff(g["arc"], axis=0), axis=1).sum()
+        assert seg == pytest.approx(r * g["gamma"], rel=1e-4)
+        assert P["B"][0] > 0  # s points toward B
+    assert sr["kind"] == "SR" and sr["h"] == sr["r_p"]
+    assert np.linalg.norm(sr["points"]["K"] - sr["points"]["A"]) < 1e-12 and abs(sr["l_d"] - sr["d"]) < 1e-12
+    assert dr["kind"] == "DR" and np.linalg.norm(dr["points"]["K"] - dr["points"]["A"]) > 0.05
+    # the swivel angle drawn is atan2(w . j_i, w . i_i), w = B - A
+    w = sr["points"]["B"] - sr["points"]["A"]
+    assert sr["swivel"] == pytest.approx(np.arctan2(w @ sr["frame"][1], w @ sr["frame"][0]), abs=1e-12)
+
+
+def test_pulley_axis_figure_draws_the_models_points(tmp_path, monkeypatch):
+    figs = _captured(monkeypatch)
+    hook = _pulley_hook()
+    hook.draw(tmp_path / "pulley_axis.png")
+    ((fig, rec),) = figs
+    assert rec["problems"] == []
+    geoms = _hook_geometries(hook)
+    for ax, g in zip(fig.axes[:2], geoms):
+        P = g["plane"]
+        same = np.linalg.norm(P["K"] - P["A"]) < 1e-9
+        dots = sorted(tuple(ln.get_xydata()[0]) for ln in ax.lines if ln.get_marker() == "o")
+        want = sorted(tuple(xy) for n, xy in P.items() if not (same and n == "K"))
+        assert np.allclose(dots, want, atol=1e-12)
+        cable = [ln.get_xydata() for ln in ax.lines if ln.get_color() == "tab:blue"]
+        assert np.allclose(cable[0], [P["C"], P["K"]]) and np.allclose(cable[1], g["arc"])
+        assert np.allclose(cable[2], [P["D"], P["B"]])
+        texts = {t.get_text() for t in ax.texts}
+        assert {"$C_i$", "$H_i$", "$D_i$", "$B_i$", "$h$", r"$\mathbf{k}_i$"} <= texts
+        assert ("$A_i = K_i$" in texts) == same and ("$K_i$" in texts) == (not same)
+        assert "[m]" in ax.get_xlabel() and "[m]" in ax.get_ylabel()
+    assert [g["kind"] for g in geoms] == ["SR", "DR"]
+    assert any("swivel" in t.get_text() for t in fig.axes[2].texts)
+    plt.close(fig)
+
+
+def test_the_docs_build_adds_the_pulley_figure_without_writing_into_docs():
+    """The hook's on_files adds figures/pulley_axis.png to the site as a generated file (PNG bytes);
+    nothing is written under docs/."""
+    from types import SimpleNamespace
+
+    from mkdocs.structure.files import Files
+
+    hook = _pulley_hook()
+    before = sorted((ROOT / "docs").rglob("*"))
+    plugins = SimpleNamespace(_current_plugin=None)
+    config = SimpleNamespace(site_dir="/nonexistent-site", use_directory_urls=True, plugins=plugins)
+    files = hook.on_files(Files([]), config)
+    f = files.get_file_from_path(hook.URI)
+    assert f is not None and f.generated_by is not None
+    assert f.content_bytes[:8] == b"\x89PNG\r\n\x1a\n"
+    assert sorted((ROOT / "docs").rglob("*")) == before
