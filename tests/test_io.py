@@ -1,78 +1,109 @@
-"""Unreadable tables (cdpr.table_io.read_table): the message says what was found, and the hint about an
-interrupted run is given only for a truncated table."""
+"""Atomic output, output checks, JSON and number spellings (cdpr.io): a file appears complete or not
+at all, an output path is refused before any work with one line naming it, NaN becomes null, and a
+points table's numbers are plain decimal or exponent notation."""
 
-import pandas as pd
+import json
+import math
+import os
+import stat
+
 import pytest
 
-from cdpr import table_io
+from cdpr import io
 from cdpr.errors import CdprError
 
-TRUNCATED = "probably truncated by an interrupted run"
+
+def _listing(folder):
+    return sorted(p.name for p in folder.iterdir())
 
 
-def _message(path):
-    with pytest.raises(CdprError) as exc:
-        table_io.read_table(path)
-    msg = str(exc.value)
-    assert msg.startswith(str(path)) and "\n" not in msg
-    return msg
+def test_atomic_writes_the_whole_file_with_the_mode_open_would_give(tmp_path):
+    target = tmp_path / "sub" / "out.txt"  # the folder is created
+    io.atomic(target, lambda tmp: open(tmp, "w").write("done\n"))
+    assert target.read_text() == "done\n" and _listing(target.parent) == ["out.txt"]
+    mask = os.umask(0)
+    os.umask(mask)
+    assert stat.S_IMODE(target.stat().st_mode) == 0o666 & ~mask  # not mkstemp's 0600
 
 
-def test_a_folder_is_named_a_folder(tmp_path):
-    (tmp_path / "plane.csv").mkdir()
-    msg = _message(tmp_path / "plane.csv")
-    assert "is a folder, not a csv table" in msg and TRUNCATED not in msg
+def test_an_interrupted_write_leaves_the_old_file_and_no_temporary(tmp_path):
+    target = tmp_path / "out.txt"
+    target.write_text("old\n")
+
+    def half(tmp):
+        open(tmp, "w").write("ne")
+        raise KeyboardInterrupt  # a BaseException, as Ctrl-C
+
+    with pytest.raises(KeyboardInterrupt):
+        io.atomic(target, half)
+    assert target.read_text() == "old\n" and _listing(tmp_path) == ["out.txt"]
 
 
-def test_binary_data_in_a_csv_is_named(tmp_path):
-    p = tmp_path / "t.csv"
-    p.write_bytes(b"\x89PNG\r\n\x1a\n" + bytes(range(256)))
-    msg = _message(p)
-    assert "holds binary data, not CSV text" in msg and TRUNCATED not in msg
+def test_write_json_writes_standard_json_with_nan_and_inf_as_null(tmp_path):
+    obj = {"a": [1.0, math.nan, (math.inf, -math.inf)], "b": {"c": 2, "d": "x"}}
+    io.write_json(obj, tmp_path / "o.json")
+    text = (tmp_path / "o.json").read_text()
+    assert "NaN" not in text and "Infinity" not in text and text.endswith("}\n")
+    assert json.loads(text) == {"a": [1.0, None, [None, None]], "b": {"c": 2, "d": "x"}}
+    io.write_text("é\n", tmp_path / "t.md")
+    assert (tmp_path / "t.md").read_bytes() == "é\n".encode()
 
 
-def test_a_parquet_file_named_csv_is_named(tmp_path):
-    pq = tmp_path / "t.parquet"
-    table_io.write_table(pd.DataFrame({"x": [1.0, 2.0]}), pq)
-    p = tmp_path / "t.csv"
-    p.write_bytes(pq.read_bytes())
-    msg = _message(p)
-    assert "it is a parquet file, not CSV text" in msg and TRUNCATED not in msg
+@pytest.mark.parametrize(
+    "name,suffixes",
+    [
+        ("t.csv", None),
+        ("t.parquet", None),
+        ("f.png", None),
+        ("r.json", None),
+        ("s.md", None),
+        ("r.yaml", (".yaml",)),
+    ],
+)
+def test_check_output_accepts_the_formats_of_its_kind(tmp_path, name, suffixes):
+    path = tmp_path / "new" / name
+    assert io.check_output(path, suffixes) == path and path.parent.is_dir() and not path.exists()
 
 
-def test_a_text_file_named_parquet_is_not_called_truncated(tmp_path):
-    p = tmp_path / "t.parquet"
-    p.write_text("x,y\n1,2\n")
-    msg = _message(p)
-    assert "it is not a parquet file (it starts with b'x,y" in msg and TRUNCATED not in msg
+def test_check_output_refuses_in_one_line_naming_the_path(tmp_path):
+    cases = [
+        (tmp_path / "t.txt", None, "unknown output format '.txt'; allowed: .parquet, .csv"),
+        (tmp_path / "f.pdf", (".png",), "unknown output format '.pdf'; allowed: .png"),
+        (tmp_path / "dir.csv", None, "is a folder, not a file name"),
+    ]
+    (tmp_path / "dir.csv").mkdir()
+    blocker = tmp_path / "file"
+    blocker.write_text("")
+    cases.append((blocker / "t.csv", None, "cannot create its folder"))
+    for path, suffixes, words in cases:
+        with pytest.raises(CdprError) as exc:
+            io.check_output(path, suffixes)
+        msg = str(exc.value)
+        assert msg.startswith(f"{path}: ") and words in msg and "\n" not in msg, msg
 
 
-def test_a_cut_parquet_file_is_called_truncated(tmp_path):
-    full = tmp_path / "full.parquet"
-    table_io.write_table(pd.DataFrame({"x": range(100)}), full)
-    p = tmp_path / "cut.parquet"
-    p.write_bytes(full.read_bytes()[: full.stat().st_size // 2])
-    assert "without its footer" in (msg := _message(p)) and TRUNCATED in msg
+@pytest.mark.parametrize("text", ["2.5", "-1e-3", ".5", "5.", "+3E+2", " 7 ", "nan", "-inf", "Infinity"])
+def test_plain_numbers_are_numbers(text):
+    assert io.is_plain_number(text)
 
 
-@pytest.mark.parametrize("content", [b"", b"x,y\n1,2\n3,4,5,6\n"], ids=["empty", "ragged"])
-def test_an_empty_or_cut_csv_is_called_truncated(tmp_path, content):
-    p = tmp_path / "t.csv"
-    p.write_bytes(content)
-    assert TRUNCATED in _message(p)
+@pytest.mark.parametrize("text", ["1_0", "0x10", "0,5", "1e", "e3", "", "2.5 m", "--1", "1.2.3"])
+def test_other_spellings_are_not(text):
+    assert not io.is_plain_number(text)
 
 
-def test_a_good_table_reads_back(tmp_path):
-    df = pd.DataFrame({"x": [0.1, 0.2], "s": ["ok", "é"]})
-    for name in ("t.csv", "t.parquet"):
-        table_io.write_table(df, tmp_path / name)
-        pd.testing.assert_frame_equal(table_io.read_table(tmp_path / name), df)
-
-
-def test_numbers_in_a_text_column_are_written_to_the_same_digits_as_a_float_column(tmp_path):
-    # 0.1 + 0.2 is 0.30000000000000004: the last bits of a sum must not reach the file
-    df = pd.DataFrame({"value": ["best 1", 0.1 + 0.2, 206.44006573099998, float("nan")], "x": 0.1 + 0.2})
-    path = tmp_path / "t.csv"
-    table_io.write_table(df, path)
-    lines = path.read_text().splitlines()
-    assert lines[1:] == ["best 1,0.3", "0.3,0.3", "206.440065731,0.3", ",0.3"]
+def test_check_csv_rows_names_file_row_and_column(tmp_path):
+    p = tmp_path / "points.csv"
+    p.write_text("x,y,z,label\n0,1,2,a\n\n1.5,2e-1,3,b\n")
+    io.check_csv_rows(p, ["x", "y", "z"])  # a blank line is skipped; the label column is not a number
+    for text, words in [
+        ("x,y,z\n0,1,2\n0,1\n", "row 2 has 2 fields, the header has 3 (x, y, z)"),
+        ("x,y,z\n0,1,2\n0,1,2,3\n", "row 2 has 4 fields"),
+        ('x,y,z\n"0,5",1,2\n', "row 1, column x: '0,5' is not a number (use a decimal point, not a comma)"),
+        ("x,y,z\n0,1_0,2\n", "row 1, column y: '1_0' is not a number; allowed: plain decimal"),
+        ("", "the table is empty; it needs a header row (x, y, z)"),
+    ]:
+        p.write_text(text)
+        with pytest.raises(CdprError) as exc:
+            io.check_csv_rows(p, ["x", "y", "z"])
+        assert str(exc.value).startswith(f"{p}: ") and words in str(exc.value), str(exc.value)

@@ -1,12 +1,11 @@
-"""CASPR import (issue 17): hand-written XML files in CASPR's format become robot files."""
+"""CASPR import (issue 17): hand-written XML files in CASPR's format become robot files (the command
+line that writes them: tests/cli/test_caspr.py)."""
 
 import numpy as np
 import pytest
-import yaml
 
-from cdpr.cli.main import main
 from cdpr.errors import ConfigError
-from cdpr.robot import load_robot, robot_from_dict
+from cdpr.robot import robot_from_dict
 from cdpr.robot_import import robot_dict_from_caspr
 
 BODIES = """<?xml version="1.0" encoding="utf-8"?>
@@ -87,28 +86,6 @@ def test_attachment_reference_com_moves_to_the_platform_frame(tmp_path):
     b, c = files(tmp_path, ref="com")
     r = robot_from_dict(robot_dict_from_caspr(b, c), "x")
     assert r.arrays.b[0] == pytest.approx(np.array([-0.2, -0.1, 0.1]) + [0.01, -0.02, 0.1])
-
-
-def test_command_line_writes_a_robot_file_that_loads(tmp_path, capsys):
-    b, c = files(tmp_path)
-    out = tmp_path / "robot.yaml"
-    args = [
-        "import",
-        "caspr",
-        "--bodies",
-        str(b),
-        "--cables",
-        str(c),
-        "--cable-set",
-        "other",
-        "--out",
-        str(out),
-    ]
-    assert main(args) == 0
-    assert "6 cables" in capsys.readouterr().out
-    r = load_robot(out)
-    assert r.m == 6 and not r.point_mass
-    assert yaml.safe_load(out.read_text())["cables"][0]["pulley"]["axis"] == [0.0, 0.0, 1.0]
 
 
 @pytest.mark.parametrize(

@@ -144,25 +144,3 @@ def test_linear_dp_engines_agree():
     d = solve.linear_dp(*args[:4])
     np.testing.assert_allclose(c, d, rtol=1e-12, atol=0)
     assert (np.nan_to_num(c, nan=np.inf) <= np.nan_to_num(a, nan=np.inf)).all()
-
-
-def test_one_to_frame_for_both_modes_and_the_sensitivities(robot):
-    """The same leading columns in both modes; paper mode labels the subset, physical mode the taut
-    cables; the sensitivity columns follow when the result has them and equal S."""
-    lead = ["x", "y", "z", "x_s", "y_s", "z_s", "dp", "t1", "t2", "t3", "t4"]
-    paper = tables.to_frame(robot, solve.solve_points_any(robot, PTS))
-    assert list(paper.columns) == [*lead, "subset", "iterations", "status"]
-    res = solve.solve_points_any(robot, PTS, redundancy="physical")
-    phys = tables.to_frame(robot, res, "physical")
-    assert list(phys.columns) == [*lead, "taut", "n_taut", "iterations", "status"]
-    assert list(phys["status"].astype(str)) == list(res["status"])
-    assert set(paper["subset"].astype(str)[paper["status"] == "ok"]) <= {"1-2-3", "1-2-4", "1-3-4", "2-3-4"}
-    sens = solve.sensitivities(robot, PTS)
-    df = tables.to_frame(robot, sens)
-    names = sens["names"]
-    assert list(df.columns[: len(paper.columns)]) == list(paper.columns)
-    assert list(df.columns[len(paper.columns) :]) == [f"d{a}_d{n}" for n in names for a in "xyz"] + ["smooth"]
-    k = names.index("M")
-    np.testing.assert_array_equal(df["dz_dM"].to_numpy(), sens["S"][:, 2, k])
-    with pytest.raises(CdprError, match="allowed: paper, physical"):
-        tables.to_frame(robot, res, "both")

@@ -2,7 +2,7 @@
 
 This module is imported to build the parser, also for ``cdpr --help``: it must not import numpy, pandas or
 any layer of cdpr above the ground floor (``cdpr.io`` is standard library only). The choices that belong to those layers are spelled here and a
-test (tests/cli/test_house.py) checks them against their owners (``cdpr.robot.PULLEY_KINDS``,
+test (tests/cli/test_options.py) checks them against their owners (``cdpr.robot.PULLEY_KINDS``,
 ``cdpr.solve.ENGINES``, ``cdpr.solve.REDUNDANCY``).
 """
 

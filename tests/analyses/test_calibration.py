@@ -391,36 +391,6 @@ def test_robust_loss_lists_the_outlier_and_resists_it(cdpr4):
     assert err_rob.max() < 4 and err_lin.max() > 2 * err_rob.max()
 
 
-def test_calibration_study_file_is_checked(tmp_path):
-    import yaml
-
-    from cdpr.pipeline.calibration import load_calibration_study
-    from tests.conftest import ROOT
-
-    path = ROOT / "config" / "studies" / "calibration.yaml"
-    st = load_calibration_study(path)
-    assert st["deviation_groups"] == ["anchors", "dead_lengths", "pulleys", "moduli"]
-    assert st["truth_deviations"]["anchors"] == pytest.approx(5e-3)
-    good = yaml.safe_load(path.read_text())
-    for key, value, words in [
-        ("n_train", 0, "expected a positive integer"),
-        ("validation_box_m", [0, 1], "expected 6 numbers"),
-        ("truth_deviations", {"anchors": "0mm"}, "must be > 0"),
-        ("truth_deviations", {"wheels": "1mm"}, "unknown group 'wheels'"),
-        ("colour", "red", "unknown key"),
-    ]:
-        bad = dict(good, **{key: value})
-        f = tmp_path / "s.yaml"
-        f.write_text(yaml.safe_dump(bad))
-        with pytest.raises(CdprError, match=words):
-            load_calibration_study(f)
-    bad = dict(good)
-    del bad["seed"]
-    f.write_text(yaml.safe_dump(bad))
-    with pytest.raises(ConfigError, match="key 'seed': missing"):
-        load_calibration_study(f)
-
-
 def test_plan_refuses_a_bad_box(cdpr4):
     with pytest.raises(CdprError, match="XMIN < XMAX"):
         cal.plan(cdpr4, ["dead_lengths"], 5, box=[1, -1, -1, 1, 0.5, 3])

@@ -137,25 +137,3 @@ def test_standard_model_and_spatial_winches(cdpr4w):
     prob = cal.Problem6(cogw, data, np.arange(8), np.ones(8))
     assert prob.winch and list(prob.evaluate(np.zeros(8))["status"]) == [cal.DRUM_RANGE]
     assert cal.check(cogw, data)["samples"][0]["status"] == cal.DRUM_RANGE
-
-
-def test_study_winch_key_is_checked(tmp_path):
-    import yaml
-
-    from cdpr.errors import ConfigError
-    from cdpr.pipeline.calibration import load_calibration_study
-    from cdpr.robot import TABLE1
-    from tests.conftest import ROOT
-
-    path = ROOT / "config" / "studies" / "calibration.yaml"
-    assert load_calibration_study(path)["winch"] == TABLE1
-    base = yaml.safe_load(path.read_text())
-    for value, words in ((3, "expected a mapping of winch parameters"), ({"k_w": 0.07}, "unknown key")):
-        bad = tmp_path / "s.yaml"
-        bad.write_text(yaml.safe_dump(dict(base, winch=value)))
-        with pytest.raises(ConfigError, match=words) as exc:
-            load_calibration_study(bad)
-        assert "\n" not in str(exc.value) and "winch" in str(exc.value)
-    del base["winch"]
-    bad.write_text(yaml.safe_dump(base))
-    assert "winch" not in load_calibration_study(bad)

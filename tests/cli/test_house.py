@@ -1,50 +1,23 @@
-"""The command line's house: the job registry read from the tasks, the rules' commands and options
-exist, the parser's choices agree with their owners, and start-up loads only what a command needs."""
+"""The command line's house: the rules' commands and options exist (the job registry itself:
+tests/cli/test_job.py; the parser's choices against their owners: tests/cli/test_options.py), every
+import inside a function says why, and start-up loads only what a command needs."""
 
 import argparse
 import ast
-import inspect
 import re
 import subprocess
 import sys
 
 import pytest
 
-from cdpr.cli import job, options
-from cdpr.cli.main import main
+from cdpr.cli import job
 from cdpr.cli.parser import build_parser
-from cdpr.pipeline import tasks
 from tests.conftest import ROBOTS, ROOT
 
 RULES = sorted((ROOT / "workflow" / "rules").glob("*.smk")) + [ROOT / "Snakefile"]
 CLI = sorted((ROOT / "cdpr" / "cli").glob("*.py")) + [
     ROOT / "cdpr" / "__main__.py",
     ROOT / "cdpr" / "__init__.py",
-]
-#: The job names users and the rules know (issue 16: every one kept exactly).
-KNOWN_JOBS = [
-    "winch-figure",
-    "plane-figure",
-    "subsets-figure",
-    "trajectories",
-    "volumes",
-    "volume-view",
-    "volumes-dphi",
-    "rw",
-    "robot-view",
-    "doe",
-    "map",
-    "maps",
-    "elasticity",
-    "dead-length-point",
-    "dead-length",
-    "summary",
-    "budget-design",
-    "budget",
-    "comparison",
-    "uq-shard",
-    "uq-design",
-    "uncertainty",
 ]
 
 
@@ -102,68 +75,6 @@ def test_the_design_options_of_common_smk_exist():
         assert used <= option_strings(subparser(command)), command
 
 
-def test_every_public_task_has_a_job_and_every_known_name_stays():
-    public = {
-        n
-        for n, f in vars(tasks).items()
-        if inspect.isfunction(f) and f.__module__ == tasks.__name__ and not n.startswith("_")
-    }
-    assert public - set(job.HELPERS) == set(job.task_functions())
-    assert {job.JOBS[j].func.__name__ for j in job.JOBS} == public - set(job.HELPERS)
-    # every known name stays, in its order (the order of tasks.py, shown by --help); new jobs may join
-    assert [j for j in job.JOBS if j in KNOWN_JOBS] == KNOWN_JOBS
-    assert set(job.HELPERS) <= public  # a helper that disappears from tasks.py is dropped from HELPERS too
-
-
-def test_job_options_follow_the_signatures():
-    for name, j in job.JOBS.items():
-        sig = inspect.signature(j.func).parameters
-        assert list(sig)[0] == "st" and j.params == tuple(list(sig)[1:]), name
-        assert j.required == tuple(p for p in j.params if sig[p].default is inspect.Parameter.empty), name
-    assert job.JOBS["map"].required == ("kind", "box_file", "table")  # threads has a default
-    ap = subparser("job")
-    helps = {a.option_strings[0]: a.help for a in ap._actions if a.option_strings}
-    for n in {n for j in job.JOBS.values() for n in j.params}:
-        assert helps[job.option(n)] == job.OPTIONS[n].help, n
-    assert set(job.OPTIONS) == {n for j in job.JOBS.values() for n in j.params}  # no stale entry
-
-
-def test_a_task_parameter_without_an_option_entry_is_refused(monkeypatch):
-    def new_task(st, table, colour):
-        """A task with a parameter OPTIONS does not know."""
-
-    monkeypatch.setattr(tasks, "new_task", new_task, raising=False)
-    new_task.__module__ = tasks.__name__
-    with pytest.raises(TypeError, match="new_task: parameter.*colour"):
-        job.registry()
-
-
-def test_job_missing_options_and_outputs_are_named(tmp_path, capsys):
-    study = str(ROOT / "config" / "studies" / "quick.yaml")
-    assert main(["job", "maps", "--study", study, "--tables", "a.csv", "--box-file", "b.json"]) == 2
-    assert capsys.readouterr().err == "cdpr: error: job maps needs --map, --lines, --figure\n"
-    code = main(
-        ["job", "dead-length", "--study", study, "--tables", "a.csv", "--table", str(tmp_path / "t.txt")]
-        + ["--figure", str(tmp_path / "f.png")]
-    )
-    err = capsys.readouterr().err
-    assert code == 2 and "t.txt" in err and err.count("\n") == 1
-
-
-def test_choices_agree_with_their_owners():
-    from cdpr.robot import PULLEY_KINDS
-    from cdpr.solve import ENGINES, REDUNDANCY
-
-    assert options.PULLEY_KINDS == PULLEY_KINDS
-    assert options.ENGINES == tuple(ENGINES)
-    assert set(options.METHODS) == {m for ms in ENGINES.values() for m in ms}
-    assert options.REDUNDANCY == REDUNDANCY
-    from cdpr.analyses import calibration
-
-    assert options.CALIBRATION_MODELS == calibration.MODELS
-    assert options.CALIBRATION_SIGMA == calibration.SIGMA_DEFAULT
-
-
 def test_every_import_inside_a_function_says_why():
     bad = []
     for f in CLI:
@@ -215,12 +126,3 @@ def test_one_point_loads_no_pandas():
     # the engine switch (cdpr.solve) imports every compiled twin; numba loads a kernel's cached
     # machine code on its first call only, so the other twins cost their module's import (~20 ms)
     assert "cdpr.pipeline.tasks" not in mods and "cdpr.tables" not in mods and "cdpr.table_io" not in mods
-
-
-def test_job_help_lists_every_job_and_option(capsys):
-    with pytest.raises(SystemExit) as exc:
-        main(["job", "--help"])
-    out = capsys.readouterr().out
-    assert exc.value.code == 0
-    assert all(j in out for j in KNOWN_JOBS)
-    assert all(job.option(n) in out for n in job.OPTIONS)

@@ -1,8 +1,6 @@
 """The four commands on the shipped robot files, JSON keys, overrides, clean errors."""
 
 import json
-import subprocess
-import sys
 
 import numpy as np
 import pandas as pd
@@ -141,35 +139,6 @@ def test_winch_json(capsys):
     out = run_json(capsys, "winch", "--steps", "3")
     assert [set(r) for r in out] == [{"l_pm", "q1", "q2", "q_nw", "dl"}] * 3
     assert out[0]["dl"] == pytest.approx(1.46e-3, abs=1e-5)
-
-
-def test_errors_are_one_sentence_without_traceback(tmp_path):
-    bad = tmp_path / "bad.yaml"
-    bad.write_text((ROBOTS / "cdpr4.yaml").read_text().replace("r_p_m: 0.0665", "r_p_m: -0.0665"))
-    for args in (
-        ["point", "--robot", str(bad), "--at", "0", "0", "1"],
-        ["point", "--robot", R4, "--pulley", "DR", "--h", "0.05", "--at", "0", "0", "1"],
-        [
-            "grid",
-            "--robot",
-            R4,
-            "--box",
-            "1",
-            "0",
-            "0",
-            "1",
-            "0",
-            "1",
-            "--n",
-            "2",
-            "--out",
-            str(tmp_path / "x.csv"),
-        ],
-    ):
-        p = subprocess.run([sys.executable, "-m", "cdpr", *args], capture_output=True, text=True)
-        assert p.returncode == 2
-        assert "Traceback" not in p.stderr and p.stderr.startswith("cdpr: error:")
-        assert len(p.stderr.strip().splitlines()) == 1
 
 
 def test_point_physical_json_and_commanded_lengths(capsys):

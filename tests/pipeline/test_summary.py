@@ -1,0 +1,89 @@
+"""The papers' numbers beside ours (cdpr.pipeline.summary): the verdict rule at its boundaries, the
+paper-values file well formed (every extractor known, a number or none where the paper prints none,
+each quantity once), and build_rows on a results folder holding only what a test writes: the rows
+whose tables exist, our numbers from the models (the winch's physical root passes through
+(l_pm0, q0); its length error at both ends of Métillon's Fig. 7b), and no score for a study that is
+not the paper's."""
+
+import math
+
+import numpy as np
+import pytest
+
+from cdpr import table_io
+from cdpr.analyses import scans
+from cdpr.models import winch
+from cdpr.pipeline import study, summary
+from cdpr.pipeline.results import rel_path
+from cdpr.robot import TABLE1
+from tests.conftest import ROOT
+
+
+@pytest.fixture
+def st(monkeypatch):
+    monkeypatch.chdir(ROOT)  # robot paths of the study files are relative to the repository
+    return study.load_study(ROOT / "config" / "studies" / "quick.yaml")
+
+
+def test_verdict_at_the_boundaries():
+    assert summary.verdict(1.0, 1.25, 0.25) == "reproduced"  # |ours - paper| = tolerance, exactly
+    assert summary.verdict(1.0, 0.75, 0.25) == "reproduced"
+    assert summary.verdict(1.0, 1.2500001, 0.25) == "not reproduced"
+    assert (
+        summary.verdict(1.0, 2.0, 0.25, "the figure is read by eye")
+        == "not reproduced (the figure is read by eye)"
+    )
+    for ours in (None, math.nan, math.inf):
+        assert summary.verdict(1.0, ours, 10.0).startswith("not reproduced")
+    assert summary.verdict(None, 1.0, 0.1) == "no paper value"
+    assert summary.verdict(1.0, 1.0, 0.1, "another experiment", scored=False) == (
+        "beside the paper, not scored (another experiment)"
+    )
+
+
+def test_the_paper_values_are_well_formed():
+    values = summary.paper_values()
+    assert len(values) > 50
+    for v in values:
+        assert {"quantity", "source", "value", "unit", "tolerance", "ours"} <= set(v), v
+        assert v["ours"]["kind"] in summary.EXTRACTORS, v
+        assert v["tolerance"] >= 0 and (v["value"] is None or isinstance(v["value"], (int, float))), v
+        assert v.get("scored", True) or v.get("reason"), v  # an unscored row says why
+    keys = [(v["quantity"], v["source"]) for v in values]
+    assert len(set(keys)) == len(keys)
+
+
+def test_rows_come_only_from_tables_that_exist_and_from_the_models(st, tmp_path):
+    """An empty results folder: the path lengths of the study file and the winch root, no more."""
+    df = summary.build_rows(st, tmp_path)
+    assert list(df.columns) == summary.COLUMNS
+    assert list(df["quantity"]) == ["CDPR3 path length", "CDPR4 path length", "winch q1 at l_pm0"]
+    paths = st["trajectories"]["paths"]
+    for robot in ("CDPR3", "CDPR4"):
+        row = df[df["quantity"] == f"{robot} path length"].iloc[0]
+        length = np.linalg.norm(np.subtract(paths[robot]["end_m"], paths[robot]["start_m"]))
+        assert row["ours"] == pytest.approx(length, rel=1e-15) and row["verdict"] == "reproduced"
+    # the physical root passes through (l_pm0, q0): Métillon's drum starts there
+    q1 = df[df["quantity"] == "winch q1 at l_pm0"].iloc[0]
+    assert q1["ours"] == pytest.approx(TABLE1.q0, abs=1e-9) and q1["verdict"] == "reproduced"
+
+
+def test_the_winch_rows_read_the_winch_table(st, tmp_path):
+    path = tmp_path / rel_path("winch_table")
+    table_io.write_table(scans.winch_table(TABLE1, 0.0, 5.0, 501), path)
+    df = summary.build_rows(st, tmp_path).set_index("quantity")
+    for l_pm, name in ((0.0, "winch dl at l_pm = 0"), (5.0, "winch dl at l_pm = 5 m")):
+        assert df.loc[name, "ours"] == pytest.approx(1e3 * winch.length_error(TABLE1, l_pm), abs=1e-9)
+        assert df.loc[name, "unit"] == "mm" and df.loc[name, "verdict"] == "reproduced"
+    # a drum whose length error is off by 0.1 mm: not reproduced
+    table = scans.winch_table(TABLE1, 0.0, 5.0, 501)
+    table_io.write_table(table.assign(dl=table["dl"] + 1e-4), path)
+    assert summary.build_rows(st, tmp_path).set_index("quantity").loc["winch dl at l_pm = 0", "verdict"] == (
+        "not reproduced"
+    )
+
+
+def test_a_study_that_is_not_the_paper_s_is_not_scored(st, tmp_path):
+    df = summary.build_rows(dict(st, paper_comparison=False), tmp_path)
+    assert len(df) == 3 and df["paper"].isna().all() and df["tolerance"].isna().all()
+    assert set(df["verdict"]) == {"not scored (not the paper's study)"}
