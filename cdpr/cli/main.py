@@ -23,10 +23,10 @@ def main(argv=None):
         module, func = args.run
         # lazy: the command's module (numpy, the models) is loaded only once the arguments are read
         getattr(importlib.import_module(module), func)(args)
+        sys.stdout.flush()  # a full disk or a closed pipe shows here, not at interpreter exit
     except CdprError as exc:
         print(f"cdpr: error: {exc}", file=sys.stderr)
         return 2
-        sys.stdout.flush()  # a full disk or a closed pipe shows here, not at interpreter exit
     except BrokenPipeError:  # e.g. `cdpr ... | head`: the reader left; stop quietly
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())

@@ -5,6 +5,7 @@ that raise, so each exit path is tested without solving anything; one test runs 
 in a process of their own."""
 
 import errno
+import io
 import subprocess
 import sys
 
@@ -63,6 +64,30 @@ def test_a_failed_write_is_one_line_and_exit_1(monkeypatch, capsys, exc, words):
     monkeypatch.setattr(commands, "cmd_winch", _raising(exc))
     assert main(WINCH) == 1
     assert capsys.readouterr().err == f"cdpr: error: {words}\n"
+
+
+def test_output_that_cannot_be_flushed_is_one_line_and_exit_1(monkeypatch, capsys, tmp_path):
+    """A command that succeeded but whose buffered output cannot reach a full disk: ``main`` flushes
+    standard output itself, so the failure is its one line and exit 1, not an error at interpreter
+    exit after a 0 was returned."""
+
+    class FullDisk(io.StringIO):
+        def __init__(self, fd):
+            super().__init__()
+            self.fd = fd
+
+        def flush(self):
+            if self.getvalue():
+                raise OSError(errno.ENOSPC, "No space left on device")
+
+        def fileno(self):
+            return self.fd
+
+    monkeypatch.setattr(commands, "cmd_winch", lambda args: print("all of the output"))
+    with open(tmp_path / "stdout", "w") as real:
+        monkeypatch.setattr(sys, "stdout", FullDisk(real.fileno()))
+        assert main(WINCH) == 1
+    assert capsys.readouterr().err == "cdpr: error: cannot write the output (No space left on device)\n"
 
 
 def test_a_closed_pipe_ends_quietly_and_sends_what_is_left_nowhere(monkeypatch, capsys, tmp_path):
