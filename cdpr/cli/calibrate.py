@@ -203,5 +203,5 @@ def cmd_study(args):
     from cdpr.pipeline.calibration6 import run_study  # lazy: the study only
 
     res = run_study(args.study, args.out)
-    print((Path(args.out) / "summary.md").read_text(encoding="utf-8"))
+    print(Path(res["summary"]).read_text(encoding="utf-8"))
     print(f"calibration study: {res['elapsed_s']:.1f} s")

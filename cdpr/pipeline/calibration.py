@@ -22,18 +22,28 @@ from cdpr.analyses.compensation import compensated_pose
 from cdpr.errors import CdprError, ConfigError
 from cdpr.parameters import calibration_values, select_groups
 from cdpr.pipeline.plots import plt, save
+from cdpr.pipeline.results import rel_path
 from cdpr.robot import TABLE1, load_robot, params_from_mapping
 
+#: The figures of ``calibration_figures``.
+FIT_FIGURES = ("residuals", "estimates", "correlation")
 
-def calibration_figures(result, folder):
+
+def calibration_figures(result, folder, names=None):
     """Three figures of a ``calibration.fit`` result in ``folder``: residuals.png, estimates.png,
-    correlation.png.
+    correlation.png (a PDF beside each).
 
     Parameters
     ----------
     result : Calibration
     folder : Path
+    names : dict, optional
+        Figure (``FIT_FIGURES``) -> its path relative to ``folder``; the calibration studies pass
+        their results layout's (``cdpr.pipeline.results.CALIBRATION_OUTPUTS``). Default
+        ``<figure>.png``.
     """
+    names = names or {k: f"{k}.png" for k in FIT_FIGURES}
+    folder = Path(folder)
     t = result.table
     fig, ax = plt.subplots(figsize=(7, 3.5))
     x = np.arange(len(t))
@@ -43,7 +53,7 @@ def calibration_figures(result, folder):
     ax.set_ylabel("|measured - predicted| [mm]")
     ax.legend()
     ax.set_title("Pose residual per sample")
-    save(fig, folder / "residuals.png")
+    save(fig, folder / names["residuals"])
 
     pt = result.parameter_table()
     fig, ax = plt.subplots(figsize=(7, max(2.5, 0.22 * len(pt) + 1)))
@@ -58,7 +68,7 @@ def calibration_figures(result, folder):
     ax.invert_yaxis()
     ax.legend(fontsize=7)
     ax.set_title("Estimates against the prior")
-    save(fig, folder / "estimates.png")
+    save(fig, folder / names["estimates"])
 
     fig, ax = plt.subplots(figsize=(6, 5))
     im = ax.imshow(result.correlation, vmin=-1, vmax=1, cmap="RdBu_r")
@@ -67,7 +77,7 @@ def calibration_figures(result, folder):
     ax.set_yticks(range(n), result.names, fontsize=6)
     fig.colorbar(im, ax=ax, label="posterior correlation")
     ax.set_title("Posterior correlation")
-    save(fig, folder / "correlation.png")
+    save(fig, folder / names["correlation"])
 
 
 # --- the calibration study ------------------------------------------------------------------------
@@ -87,6 +97,8 @@ FIT_FORMAT = "%.6g"
 #: The model that knows the drums (the nominal robot with the study's winch on every cable); the
 #: others take the commanded lengths as rest lengths.
 WINCH_MODEL = "pulleys + elasticity + winch"
+#: The study's outputs under its folder: ``cdpr.pipeline.results.CALIBRATION_OUTPUTS[RULE]``.
+RULE = "calibration_study"
 #: Keys of config/studies/calibration.yaml.
 STUDY_KEYS = {
     "name",
@@ -184,8 +196,9 @@ def run_calibration_study(study_path, out):
     cable, commanded through a controller that neglects the exit point's motion), synthetic tracker
     data, calibrations with the standard, pulley, pulley + elasticity and (with a winch) pulley +
     elasticity + winch models, each predicting and compensating a validation set over RW_C; learning curves (random and D-optimal poses); encoder data with and
-    without tensions. Writes headline.csv/.md, learning_curve.csv/.png, encoder.csv,
-    identifiability.md, parameters.csv and the exact fit's figures under ``out``.
+    without tensions. Writes headline.csv, summary.md, learning_curve.csv/.png, encoder.csv,
+    parameters.csv and the exact fit's samples and figures (exact/) under ``out``: the files of
+    ``cdpr.pipeline.results.CALIBRATION_OUTPUTS["calibration_study"]``.
 
     Parameters
     ----------
@@ -197,7 +210,7 @@ def run_calibration_study(study_path, out):
     Returns
     -------
     dict
-        The headline rows.
+        headline (DataFrame), elapsed_s, summary (the path of summary.md).
     """
 
     t0 = time.perf_counter()
@@ -266,14 +279,14 @@ def run_calibration_study(study_path, out):
     row("truth robot (noise floor)", 0, *validate(truth))
     headline = pd.DataFrame(rows)
     headline["rank"] = headline["rank"].astype("Int64")
-    table_io.write_table(headline, out / "headline.csv", float_format="%.4f")
+    table_io.write_table(headline, out / rel_path(RULE, "headline"), float_format="%.4f")
 
     exact = fits[best]
     pt = exact.parameter_table()
     pt["truth"] = calibration_values(truth)[exact.index]
-    table_io.write_table(pt, out / "parameters.csv", float_format=FIT_FORMAT)
-    calibration_figures(exact, out / "exact")
-    table_io.write_table(exact.table, out / "exact" / "samples.csv", float_format=FIT_FORMAT)
+    table_io.write_table(pt, out / rel_path(RULE, "parameters"), float_format=FIT_FORMAT)
+    calibration_figures(exact, out, {k: rel_path(RULE, k) for k in FIT_FIGURES})
+    table_io.write_table(exact.table, out / rel_path(RULE, "samples"), float_format=FIT_FORMAT)
 
     # learning curves, exact model: random poses vs D-optimal poses among the admissible candidates
     # (the best model: with a winch the one that knows the drums)
@@ -307,8 +320,8 @@ def run_calibration_study(study_path, out):
                 }
             )
     curve = pd.DataFrame(curve)
-    table_io.write_table(curve, out / "learning_curve.csv", float_format="%.4f")
-    _learning_figure(curve, float(headline.iloc[-1]["predict_rms_mm"]), out / "learning_curve.png", best)
+    table_io.write_table(curve, out / rel_path(RULE, "curve"), float_format="%.4f")
+    _learning_figure(curve, float(headline.iloc[-1]["predict_rms_mm"]), out / rel_path(RULE, "figure"), best)
 
     # encoder data: offsets unknown; with poses, with tensions only, alone; validated on encoder
     # readings of the validation commands
@@ -351,13 +364,13 @@ def run_calibration_study(study_path, out):
                 "result": "; ".join(s["unidentified"][:4]) or "all directions seen",
             }
         )
-    table_io.write_table(pd.DataFrame(enc_rows), out / "encoder.csv", float_format="%.4f")
+    table_io.write_table(pd.DataFrame(enc_rows), out / rel_path(RULE, "encoder"), float_format="%.4f")
 
     elapsed = time.perf_counter() - t0
     _write_markdown(
         out, st, headline, curve, pd.DataFrame(enc_rows), ident_lines, n_val_left_out, len(val.sample), best
     )
-    return {"headline": headline, "elapsed_s": elapsed}
+    return {"headline": headline, "elapsed_s": elapsed, "summary": out / rel_path(RULE, "summary")}
 
 
 def _learning_figure(curve, floor_mm, path, label="pulleys + elasticity"):
@@ -440,4 +453,4 @@ def _write_markdown(out, st, headline, curve, enc, ident_lines, left_out, n_val,
         "",
         md_table(enc, list(enc.columns)),
     ]
-    (out / "summary.md").write_text("\n".join(text), encoding="utf-8")
+    (out / rel_path(RULE, "summary")).write_text("\n".join(text), encoding="utf-8")

@@ -23,6 +23,7 @@ from cdpr.errors import ConfigError
 from cdpr.models.platform import rotation_matrix
 from cdpr.parameters import calibration_values, is_spatial, select_groups
 from cdpr.pipeline.calibration import (
+    FIT_FIGURES,
     FIT_FORMAT,
     calibration_figures,
     error_stats,
@@ -30,8 +31,11 @@ from cdpr.pipeline.calibration import (
     run_calibration_study,
 )
 from cdpr.pipeline.plots import plt, save
+from cdpr.pipeline.results import rel_path
 from cdpr.robot import load_robot
 
+#: The study's outputs under its folder: ``cdpr.pipeline.results.CALIBRATION_OUTPUTS[RULE6]``.
+RULE6 = "calibration_cogiro"
 #: The study's models on a 6-DoF platform: label -> (fit model, groups); in order of fidelity.
 STUDY_MODELS6 = {
     "standard": ("standard", ["anchors", "attachments", "dead_lengths"]),
@@ -145,8 +149,9 @@ def _errors(robot, data):
 
 def run_calibration_study6(study_path, out):
     """The calibration study of a 6-DoF platform (module docstring). Writes headline.csv,
-    validation.csv, parameters.csv, summary.md, validation_errors.png and the exact fit's figures
-    (exact/) under ``out``.
+    validation.csv, parameters.csv, summary.md, validation_errors.png and the exact fit's samples
+    and figures (exact/) under ``out``: the files of
+    ``cdpr.pipeline.results.CALIBRATION_OUTPUTS["calibration_cogiro"]``.
 
     Parameters
     ----------
@@ -158,7 +163,7 @@ def run_calibration_study6(study_path, out):
     Returns
     -------
     dict
-        headline (DataFrame), elapsed_s.
+        headline (DataFrame), elapsed_s, summary (the path of summary.md).
     """
     t0 = time.perf_counter()
     st = load_calibration_study6(study_path)
@@ -258,19 +263,19 @@ def run_calibration_study6(study_path, out):
         )
     headline = pd.DataFrame(rows)
     headline["rank"] = headline["rank"].astype("Int64")
-    table_io.write_table(headline, out / "headline.csv", float_format="%.4f")
-    table_io.write_table(vt, out / "validation.csv", float_format="%.6g")
+    table_io.write_table(headline, out / rel_path(RULE6, "headline"), float_format="%.4f")
+    table_io.write_table(vt, out / rel_path(RULE6, "validation"), float_format="%.6g")
 
     exact = fits[EXACT6]
     pt = exact.parameter_table()
     pt["truth"] = calibration_values(truth)[exact.index]
-    table_io.write_table(pt, out / "parameters.csv", float_format=FIT_FORMAT)
-    calibration_figures(exact, out / "exact")
-    table_io.write_table(exact.table, out / "exact" / "samples.csv", float_format=FIT_FORMAT)
-    _error_figure(vt, headline, pt_err, out / "validation_errors.png", robot.name, command)
+    table_io.write_table(pt, out / rel_path(RULE6, "parameters"), float_format=FIT_FORMAT)
+    calibration_figures(exact, out, {k: rel_path(RULE6, k) for k in FIT_FIGURES})
+    table_io.write_table(exact.table, out / rel_path(RULE6, "samples"), float_format=FIT_FORMAT)
+    _error_figure(vt, headline, pt_err, out / rel_path(RULE6, "figure"), robot.name, command)
     elapsed = time.perf_counter() - t0
     _write_markdown6(out, st, robot, headline, ident_lines, vt, len(train.sample), (taut_pt, second_pt))
-    return {"headline": headline, "elapsed_s": elapsed}
+    return {"headline": headline, "elapsed_s": elapsed, "summary": out / rel_path(RULE6, "summary")}
 
 
 def _error_figure(vt, headline, pretensioned, path, name, command):
@@ -394,4 +399,4 @@ def _write_markdown6(out, st, robot, headline, ident_lines, vt, n_train, pretens
         "statistic but `unflagged_rms_mm`.",
         "",
     ]
-    (out / "summary.md").write_text("\n".join(text), encoding="utf-8")
+    (out / rel_path(RULE6, "summary")).write_text("\n".join(text), encoding="utf-8")

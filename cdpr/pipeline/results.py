@@ -11,6 +11,11 @@ tables through it.
 Snakemake's ``{wildcard}`` fields; ``Layout(study, folder)`` expands them over the study's robots,
 pulley designs, DOE tests, shards, Young's moduli, ... (``Layout.wildcards``). Logs go to
 ``logs/<rule>...log`` (``STUDY_LOGS``), which are not results and not targets.
+
+The calibration studies (``config/studies/calibration*.yaml``, ``cdpr calibrate study``) have a
+folder each (``CALIBRATION_FOLDERS``) and their files in ``CALIBRATION_OUTPUTS`` and
+``CALIBRATION_LOGS``: ``cdpr.pipeline.calibration`` and ``calibration6`` write them by these names
+(``rel_path``) and ``workflow/rules/calibration.smk`` declares them (``calibration_outputs``).
 """
 
 from __future__ import annotations
@@ -124,11 +129,75 @@ STUDY_OUTPUTS = {
 }
 
 
+#: The calibration studies (``cdpr calibrate study``, ``workflow/rules/calibration.smk``): rule ->
+#: output name -> path under the study's results folder (``CALIBRATION_FOLDERS``), as
+#: ``STUDY_OUTPUTS``. ``calibration_study`` is the CDPR4 study (``cdpr.pipeline.calibration``),
+#: ``calibration_cogiro`` the 6-DoF one (``cdpr.pipeline.calibration6``); ``exact/`` holds the fit
+#: of the best model (its samples and the three figures of ``calibration_figures``).
+CALIBRATION_OUTPUTS = {
+    "calibration_study": {
+        "headline": "headline.csv",
+        "summary": "summary.md",
+        "curve": "learning_curve.csv",
+        "encoder": "encoder.csv",
+        "parameters": "parameters.csv",
+        "figure": "learning_curve.png",
+        "pdf": "learning_curve.pdf",
+        "samples": "exact/samples.csv",
+        "residuals": "exact/residuals.png",
+        "residuals_pdf": "exact/residuals.pdf",
+        "estimates": "exact/estimates.png",
+        "estimates_pdf": "exact/estimates.pdf",
+        "correlation": "exact/correlation.png",
+        "correlation_pdf": "exact/correlation.pdf",
+    },
+    "calibration_cogiro": {
+        "headline": "headline.csv",
+        "summary": "summary.md",
+        "validation": "validation.csv",
+        "parameters": "parameters.csv",
+        "figure": "validation_errors.png",
+        "pdf": "validation_errors.pdf",
+        "samples": "exact/samples.csv",
+        "residuals": "exact/residuals.png",
+        "residuals_pdf": "exact/residuals.pdf",
+        "estimates": "exact/estimates.png",
+        "estimates_pdf": "exact/estimates.pdf",
+        "correlation": "exact/correlation.png",
+        "correlation_pdf": "exact/correlation.pdf",
+    },
+}
+#: rule -> the results folder the pipeline gives the calibration study (``--out``).
+CALIBRATION_FOLDERS = {
+    "calibration_study": "results/calibration",
+    "calibration_cogiro": "results/calibration/cogiro",
+}
+#: rule -> its log under its results folder.
+CALIBRATION_LOGS = {
+    "calibration_study": "logs/calibration_study.log",
+    "calibration_cogiro": "logs/calibration_cogiro.log",
+}
+
+
 def rel_path(rule, name="table", **wildcards):
-    """Where ``rule`` writes its output ``name`` in a study's results folder (``STUDY_OUTPUTS``), a
-    relative path with ``wildcards`` filled in: the one spelling of a results file that
-    ``summary``, ``comparison`` and the tasks read (the rules take ``Layout``)."""
-    return STUDY_OUTPUTS[rule][name].format(**wildcards)
+    """Where ``rule`` writes its output ``name`` in a study's results folder (``STUDY_OUTPUTS``, or
+    ``CALIBRATION_OUTPUTS`` for a calibration study), a relative path with ``wildcards`` filled in:
+    the one spelling of a results file that ``summary``, ``comparison``, the tasks and the
+    calibration studies read and write (the rules take ``Layout`` and ``calibration_outputs``)."""
+    outputs = CALIBRATION_OUTPUTS if rule in CALIBRATION_OUTPUTS else STUDY_OUTPUTS
+    return outputs[rule][name].format(**wildcards)
+
+
+def calibration_outputs(rule, folder=None):
+    """Output name -> path of a calibration rule (``CALIBRATION_OUTPUTS``) under ``folder`` (default
+    its ``CALIBRATION_FOLDERS`` entry): the rule's ``output``."""
+    folder = CALIBRATION_FOLDERS[rule] if folder is None else folder
+    return {name: _join(folder, rel) for name, rel in CALIBRATION_OUTPUTS[rule].items()}
+
+
+def calibration_log(rule, folder=None):
+    """The log of a calibration rule under ``folder`` (default its ``CALIBRATION_FOLDERS`` entry)."""
+    return _join(CALIBRATION_FOLDERS[rule] if folder is None else folder, CALIBRATION_LOGS[rule])
 
 
 #: rule -> its log under the results folder (one per job: the wildcards of its outputs).

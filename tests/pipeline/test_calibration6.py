@@ -13,6 +13,7 @@ from cdpr.errors import CdprError, ConfigError
 from cdpr.models.equilibrium6 import L_TS_pose
 from cdpr.models.platform import rotation_matrix
 from cdpr.pipeline import calibration6 as c6
+from cdpr.pipeline.results import CALIBRATION_OUTPUTS
 from cdpr.robot import load_robot
 from tests.conftest import ROBOTS, ROOT
 
@@ -43,6 +44,10 @@ def test_study_wiring(tiny):
     for name in ("headline.csv", "validation.csv", "parameters.csv", "summary.md", "validation_errors.png"):
         assert (out / name).is_file(), name
     assert (out / "exact" / "samples.csv").is_file()
+    # the study writes the files cdpr.pipeline.results describes (the rule's outputs), no other
+    written = {f.relative_to(out).as_posix() for f in out.rglob("*") if f.is_file()}
+    assert written == set(CALIBRATION_OUTPUTS["calibration_cogiro"].values())
+    assert res["summary"] == out / "summary.md"
     h = pd.read_csv(out / "headline.csv")
     assert list(h["model"]) == ["nominal (uncalibrated)", *c6.STUDY_MODELS6, "truth robot (noise floor)"]
     assert list(h["parameters"]) == [0, 56, 56, 64, 0]

@@ -10,7 +10,17 @@ import pytest
 
 from cdpr.errors import CdprError, ConfigError
 from cdpr.pipeline import results
-from cdpr.pipeline.results import STUDY_LOGS, STUDY_OUTPUTS, ComparisonLayout, Layout
+from cdpr.pipeline.results import (
+    CALIBRATION_FOLDERS,
+    CALIBRATION_LOGS,
+    CALIBRATION_OUTPUTS,
+    STUDY_LOGS,
+    STUDY_OUTPUTS,
+    ComparisonLayout,
+    Layout,
+    calibration_outputs,
+    rel_path,
+)
 from cdpr.pipeline.study import MAX_SHARDS, load_study
 from tests.conftest import ROOT
 from tests.quick_runs import make_workdir
@@ -62,10 +72,61 @@ def _dry_run_jobs(work, *config, target="reproduce_paper"):
 
 def test_every_rule_has_its_outputs_and_log():
     assert set(STUDY_LOGS) == set(STUDY_OUTPUTS)
-    for rule, outs in STUDY_OUTPUTS.items():
+    assert set(CALIBRATION_LOGS) == set(CALIBRATION_FOLDERS) == set(CALIBRATION_OUTPUTS)
+    assert not set(CALIBRATION_OUTPUTS) & set(STUDY_OUTPUTS)  # rel_path finds a rule in either
+    for rule, outs in {**STUDY_OUTPUTS, **CALIBRATION_OUTPUTS}.items():
         for name, pattern in outs.items():
             if pattern.endswith(".png"):  # every figure has its PDF beside it, also an output
                 assert pattern[:-4] + ".pdf" in outs.values(), (rule, name)
+
+
+def _dag_outputs(work, *config, targets=("reproduce_paper",)):
+    """Rule -> the set of its outputs over every job of the DAG of ``targets``, as Snakemake lists
+    them (``--summary``: one row per output file, with its rule), in the working folder ``work``."""
+    p = _snakemake(work, *targets, "--summary", "--cores", "1", "--config", *config)
+    assert p.returncode == 0, p.stderr[-2000:]
+    rows = [line.split("\t") for line in p.stdout.splitlines()]
+    assert rows[0][:3] == ["output_file", "date", "rule"], rows[0]
+    out = {}
+    for row in rows[1:]:
+        out.setdefault(row[2], set()).add(row[0])
+    return out
+
+
+@pytest.mark.parametrize("name", ["quick", "quick_spatial"])
+def test_every_output_of_the_dag_is_a_file_of_the_layout(at_root, tmp_path, work, name):
+    """Every output of every job of the DAG (a study's rules and the two calibration studies) is a
+    path of cdpr.pipeline.results under its rule, and every path it lists there is an output:
+    no rule spells a results file of its own."""
+    st = load_study(ROOT / "config" / "studies" / f"{name}.yaml")
+    res = tmp_path / "r"
+    layout = Layout(st, res)
+    dag = _dag_outputs(
+        work,
+        f"study=config/studies/{name}.yaml",
+        f"results={res}",
+        targets=("reproduce_paper", *CALIBRATION_OUTPUTS),
+    )
+    expected = {rule: set(layout.rule_outputs(rule)) for rule in layout.rules()}
+    expected.update({rule: set(calibration_outputs(rule).values()) for rule in CALIBRATION_OUTPUTS})
+    assert dag == expected
+    assert "results/calibration/exact/samples.csv" in dag["calibration_study"]
+    assert "results/calibration/cogiro/validation_errors.pdf" in dag["calibration_cogiro"]
+
+
+def test_the_calibration_files_are_named_once():
+    """The calibration studies' folders nest (CoGiRo's inside CDPR4's) without sharing a file, and
+    rel_path spells their files as it spells a study's."""
+    files = [
+        f"{CALIBRATION_FOLDERS[rule]}/{rel}"
+        for rule, outs in CALIBRATION_OUTPUTS.items()
+        for rel in outs.values()
+    ]
+    assert len(files) == len(set(files))
+    assert rel_path("calibration_study", "curve") == "learning_curve.csv"
+    assert rel_path("calibration_cogiro", "figure") == "validation_errors.png"
+    assert rel_path("doe", "effects") == "doe/effects.csv"
+    assert calibration_outputs("calibration_cogiro", "out")["samples"] == "out/exact/samples.csv"
 
 
 def test_layout_is_the_dag(at_root, tmp_path, work):

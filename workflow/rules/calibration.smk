@@ -3,8 +3,10 @@
 # has a drum on every cable), validation over RW_C,
 # learning curves, encoder cases. Independent of the paper study; `make reproduce` runs it
 # (reproduce-extra hook). About 15-30 s on the 2-core machine.
+# Every output path and the results folders come from cdpr.pipeline.results (CALIBRATION_OUTPUTS).
+from cdpr.pipeline.results import CALIBRATION_FOLDERS, calibration_log, calibration_outputs
+
 CALIBRATION_STUDY = "config/studies/calibration.yaml"
-CALIBRATION_RES = "results/calibration"
 
 
 rule calibration_study:
@@ -12,28 +14,21 @@ rule calibration_study:
         study=CALIBRATION_STUDY,
         robot="config/robots/cdpr4.yaml",
     output:
-        headline=f"{CALIBRATION_RES}/headline.csv",
-        summary=f"{CALIBRATION_RES}/summary.md",
-        curve=f"{CALIBRATION_RES}/learning_curve.csv",
-        encoder=f"{CALIBRATION_RES}/encoder.csv",
-        parameters=f"{CALIBRATION_RES}/parameters.csv",
-        figure=f"{CALIBRATION_RES}/learning_curve.png",
+        **calibration_outputs("calibration_study"),
     params:
-        cdpr=CDPR,
-        code=CODE,
-        out=CALIBRATION_RES,
+        **common(CALIBRATION_STUDY),
+        out=CALIBRATION_FOLDERS["calibration_study"],
     log:
-        f"{CALIBRATION_RES}/logs/calibration_study.log",
+        calibration_log("calibration_study"),
     threads: 1
     shell:
-        "NUMBA_NUM_THREADS=1 {params.cdpr} calibrate study --study {input.study:q} --out {params.out:q}" + TO_LOG
+        "NUMBA_NUM_THREADS=1 {params.cdpr} calibrate study --study {params.study_file:q} --out {params.out:q}" + TO_LOG
 
 
 # The 6-DoF part (CoGiRo): a seeded true CoGiRo, synthetic tracker data (position and orientation),
 # the standard / pulley / pulley + elasticity models, validation poses in CoGiRo's workspace
 # (cdpr.pipeline.calibration6). About 40-60 s on the 2-core machine (the rigid models' stiff solves).
 CALIBRATION6_STUDY = "config/studies/calibration_cogiro.yaml"
-CALIBRATION6_RES = f"{CALIBRATION_RES}/cogiro"
 
 
 rule calibration_cogiro:
@@ -41,18 +36,13 @@ rule calibration_cogiro:
         study=CALIBRATION6_STUDY,
         robot="config/robots/cogiro.yaml",
     output:
-        headline=f"{CALIBRATION6_RES}/headline.csv",
-        summary=f"{CALIBRATION6_RES}/summary.md",
-        validation=f"{CALIBRATION6_RES}/validation.csv",
-        parameters=f"{CALIBRATION6_RES}/parameters.csv",
-        figure=f"{CALIBRATION6_RES}/validation_errors.png",
+        **calibration_outputs("calibration_cogiro"),
     params:
-        cdpr=CDPR,
-        code=CODE,
-        out=CALIBRATION6_RES,
+        **common(CALIBRATION6_STUDY),
+        out=CALIBRATION_FOLDERS["calibration_cogiro"],
     log:
-        f"{CALIBRATION6_RES}/logs/calibration_cogiro.log",
+        calibration_log("calibration_cogiro"),
     threads: 1
     shell:
-        "NUMBA_NUM_THREADS=1 OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 {params.cdpr} calibrate study --study {input.study:q}"
+        "NUMBA_NUM_THREADS=1 OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 {params.cdpr} calibrate study --study {params.study_file:q}"
         " --out {params.out:q}" + TO_LOG

@@ -47,8 +47,17 @@ def _code_version():
 
 
 CODE = _code_version()
-# the params every rule that runs the library declares: its command, the study file, the code version
-COMMON = {"cdpr": CDPR, "study_file": STUDY_FILE, "code": CODE}
+
+
+def common(study_file=STUDY_FILE, **more):
+    """The params every rule that runs the library declares: its command, the study file it reads
+    (the pipeline's study; a comparison or calibration rule names its own) and the code version,
+    with ``more`` (the comparison file ...)."""
+    return {"cdpr": CDPR, "study_file": study_file, "code": CODE, **more}
+
+
+# the params of every rule of the pipeline's study
+COMMON = common()
 # the end of every shell command: the job's output and errors go to its log, and when the job fails
 # the log's last line (the library's one-line error) reaches the console too, with the exit status
 TO_LOG = (

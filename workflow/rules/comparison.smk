@@ -16,7 +16,7 @@ if CMP_FILE:
     CMP_STUDY = CMP["paper"]["study"]  # the designs; the physical study differs only in name and redundancy
     CMP_DESIGNS = CMP_LAYOUT.labels()
     # the params of every comparison rule: the command, the paper study and the comparison file, the code
-    CMP_COMMON = {**COMMON, "study_file": CMP_STUDY, "comparison_file": CMP_FILE}
+    CMP_COMMON = common(CMP_STUDY, comparison_file=CMP_FILE)
 
     def cmp_outputs(rule, **reports):
         """The outputs of a comparison rule (cdpr.pipeline.results), figures in the report."""
