@@ -397,7 +397,7 @@ def cmd_compensate(args):
     The engine's default is ``point``'s (``solve.check_engine`` with ``one_shot``)."""
     import dataclasses  # lazy: --actual-E-cables only
 
-    from cdpr.analyses.compensation import compensated_pose  # lazy: this command only
+    from cdpr.analyses.compensation import at_poses, compensated_pose  # lazy: this command only
     from cdpr.solve import check_engine  # lazy: the solvers, for the solver commands only
 
     robot = _load(args)
@@ -418,22 +418,41 @@ def cmd_compensate(args):
     if t_max is not None and not args.t_min < t_max:
         raise CdprError(f"--t-min must be below --t-max, got {args.t_min:g} N and {t_max:g} N")
     rv = _rotvec(args, len(P))
-    if rv is not None or not robot.suspended_point_mass:
-        return _compensate_spatial(args, robot, actual, P, rv, t_max, engine)
+    six = at_poses(robot, P, rv)  # a rigid platform or --rotvec: the 6-DoF compensation
+    if six and args.distribution == "subset":
+        raise CdprError(
+            "--distribution subset (the paper's 3-cable subset) is not available at a pose (rigid platform or "
+            "--rotvec); use min_norm, closed_form or closed_form_improved"
+        )
+    # a pose with no tension distribution is infeasible and not solved (its solved columns are empty)
     res = compensated_pose(
-        robot, P, actual=actual, method=args.distribution, engine=engine, t_min=args.t_min, t_max=t_max
+        robot,
+        P,
+        actual=actual,
+        method=args.distribution,
+        engine=engine,
+        t_min=args.t_min,
+        t_max=t_max,
+        rotvec=rv,
+        threads=args.threads,
     )
     if args.points or args.out:
-        from cdpr.tables import to_frame  # lazy: tables only (pandas)
+        from cdpr.tables import to_frame, to_frame6  # lazy: tables only (pandas)
 
-        df = to_frame(robot, res, "physical")
+        df = to_frame6(robot, res) if six else to_frame(robot, res, "physical")
         for i in range(robot.m):
             df[f"L0_{i + 1}"] = res["L0"][:, i]
         for i in range(robot.m):
             df[f"t_planned{i + 1}"] = res["t_planned"][:, i]
         _write_table(df, args.out)
-        _report(df, args.out, args, float("nan"))
+        if six:
+            n_bad = int((res["status"] == "infeasible").sum())
+            print(f"wrote {len(df)} poses to {args.out}; {n_bad} infeasible (no tension distribution)")
+        else:
+            _report(df, args.out, args, float("nan"))
         return
+    if six:
+        return _compensate_pose_report(args, robot, res, engine)
     status = str(res["status"][0])
     out = {
         "desired": list(map(float, args.at)),
@@ -469,51 +488,20 @@ def cmd_compensate(args):
     )
 
 
-def _compensate_spatial(args, robot, actual, P, rv, t_max, engine):
-    """``compensate`` at poses (rigid platform or --rotvec): ``compensation.compensated_pose`` with the
-    --distribution (min_norm, closed_form or closed_form_improved) at the pose (``distribution6``) and
-    the 6-DoF check solve by ``engine``; a pose with no tension distribution is ``infeasible`` and is
-    not solved (its solved columns are empty)."""
-    from cdpr.analyses.compensation import compensated_pose  # lazy: this command only
-
-    if args.distribution == "subset":
-        raise CdprError(
-            "--distribution subset (the paper's 3-cable subset) is not available at a pose (rigid platform or "
-            "--rotvec); use min_norm, closed_form or closed_form_improved"
-        )
-    res = compensated_pose(
-        robot,
-        P,
-        actual=actual,
-        method=args.distribution,
-        engine=engine,
-        t_min=args.t_min,
-        t_max=t_max,
-        rotvec=rv,
-        threads=args.threads,
-    )
-    ok = res["status"] != "infeasible"
-    if args.points or args.out:
-        from cdpr.tables import to_frame6  # lazy: tables only (pandas)
-
-        df = to_frame6(robot, res)
-        for i in range(robot.m):
-            df[f"L0_{i + 1}"] = res["L0"][:, i]
-        for i in range(robot.m):
-            df[f"t_planned{i + 1}"] = res["t_planned"][:, i]
-        _write_table(df, args.out)
-        print(f"wrote {len(df)} poses to {args.out}; {int((~ok).sum())} infeasible (no tension distribution)")
-        return
+def _compensate_pose_report(args, robot, res, engine):
+    """``compensate --at`` at a pose (rigid platform or --rotvec): the JSON or the text of the one
+    pose of ``res`` (``compensation.compensated_pose``)."""
+    ok = res["status"][0] != "infeasible"
     out = {
         "desired": list(map(float, args.at)),
         "rotvec": res["rotvec"][0].tolist(),
         "lengths": res["L0"][0].tolist(),
         "tensions": res["t_planned"][0].tolist(),
         "status": str(res["status"][0]),
-        "solved": res["P_s"][0].tolist() if ok[0] else None,
-        "solved_rotvec": res["rotvec_s"][0].tolist() if ok[0] else None,
-        "dp_norm": float(res["dp"][0]) if ok[0] else None,
-        "dphi": float(res["dphi"][0]) if ok[0] else None,
+        "solved": res["P_s"][0].tolist() if ok else None,
+        "solved_rotvec": res["rotvec_s"][0].tolist() if ok else None,
+        "dp_norm": float(res["dp"][0]) if ok else None,
+        "dphi": float(res["dphi"][0]) if ok else None,
         "engine": engine,
     }
     if args.json:
@@ -522,7 +510,7 @@ def _compensate_spatial(args, robot, actual, P, rv, t_max, engine):
     print(
         f"{robot.name} ({robot.pulley_summary()}, {robot.material_summary()}), distribution {args.distribution} at a pose"
     )
-    if not ok[0]:
+    if not ok:
         print(
             "status: infeasible (no tension distribution within the bounds holds the platform at this pose)"
         )
