@@ -129,6 +129,18 @@ STUDY_OUTPUTS = {
 }
 
 
+#: The fit of the best model that both calibration studies write under ``exact/`` (its samples and
+#: the three figures of ``calibration_figures``).
+_EXACT = {
+    "samples": "exact/samples.csv",
+    "residuals": "exact/residuals.png",
+    "residuals_pdf": "exact/residuals.pdf",
+    "estimates": "exact/estimates.png",
+    "estimates_pdf": "exact/estimates.pdf",
+    "correlation": "exact/correlation.png",
+    "correlation_pdf": "exact/correlation.pdf",
+}
+
 #: The calibration studies (``cdpr calibrate study``, ``workflow/rules/calibration.smk``): rule ->
 #: output name -> path under the study's results folder (``CALIBRATION_FOLDERS``), as
 #: ``STUDY_OUTPUTS``. ``calibration_study`` is the CDPR4 study (``cdpr.pipeline.calibration``),
@@ -143,13 +155,7 @@ CALIBRATION_OUTPUTS = {
         "parameters": "parameters.csv",
         "figure": "learning_curve.png",
         "pdf": "learning_curve.pdf",
-        "samples": "exact/samples.csv",
-        "residuals": "exact/residuals.png",
-        "residuals_pdf": "exact/residuals.pdf",
-        "estimates": "exact/estimates.png",
-        "estimates_pdf": "exact/estimates.pdf",
-        "correlation": "exact/correlation.png",
-        "correlation_pdf": "exact/correlation.pdf",
+        **_EXACT,
     },
     "calibration_cogiro": {
         "headline": "headline.csv",
@@ -158,13 +164,7 @@ CALIBRATION_OUTPUTS = {
         "parameters": "parameters.csv",
         "figure": "validation_errors.png",
         "pdf": "validation_errors.pdf",
-        "samples": "exact/samples.csv",
-        "residuals": "exact/residuals.png",
-        "residuals_pdf": "exact/residuals.pdf",
-        "estimates": "exact/estimates.png",
-        "estimates_pdf": "exact/estimates.pdf",
-        "correlation": "exact/correlation.png",
-        "correlation_pdf": "exact/correlation.pdf",
+        **_EXACT,
     },
 }
 #: rule -> the results folder the pipeline gives the calibration study (``--out``).
