@@ -21,7 +21,7 @@ import pandas as pd
 from cdpr.analyses.workspace import cell_centres, frame_box
 from cdpr.models import pulleys, winch
 from cdpr.models.equilibrium6 import pose_arrays, pose_state
-from cdpr.robot import KIND_CODE, TABLE1
+from cdpr.robot import TABLE1
 from cdpr.tables import solve_table
 
 
@@ -322,7 +322,6 @@ def pulley_plane_geometry(robot, i, B):
     sheave = np.column_stack([Hs + r_p * np.cos(full), Hw + r_p * np.sin(full)])
     if r_p <= 0:
         sheave[:] = np.nan
-    code = int(a.kind[i])
     return {
         "plane": plane,
         "points": pts,
@@ -337,7 +336,7 @@ def pulley_plane_geometry(robot, i, B):
         "L_TE": float(st.L_TE[0]),
         "l_E": float(st.l_E[0]),
         "l_d": float(st.l_d[0]),
-        "kind": next(n for n, c in KIND_CODE.items() if c == code),
+        "kind": robot.cables[i].pulley.kind,
         "h": float(a.h[i]),
         "r_p": r_p,
         "d": float(a.d[i]),
