@@ -20,6 +20,7 @@ from cdpr.compiled import sensitivity6 as compiled_sensitivity6
 from cdpr.compiled import subsets as compiled_subsets
 from cdpr.errors import CdprError
 from cdpr.models import equilibrium, sensitivity, sensitivity6
+from cdpr.models.direct import check_method
 from cdpr.models.equilibrium6 import solve_spatial, solve_spatial_batch
 from cdpr.models.results import mark_below_floor
 from cdpr.models.subsets import solve_points
@@ -69,14 +70,14 @@ def check_redundancy(redundancy):
 
 
 def check_spatial(robot, engine, redundancy):
-    """The engine for a robot that is not a suspended point mass (``Robot.suspended_point_mass``):
-    such robots have the 6-DoF physical mode only (``cdpr.models.equilibrium6``); paper mode (3 of
-    m) raises CdprError in one line. The engine is ``engine`` or, when None, the one default of
-    ``check_engine`` (``spatial_engine``)."""
+    """The engine for a rigid platform (``Robot.point_mass`` false: attachments b_i or a centre of
+    mass off the reference point): such robots have the 6-DoF physical mode only
+    (``cdpr.models.equilibrium6``); paper mode (3 of m) raises CdprError in one line. The engine is
+    ``engine`` or, when None, the one default of ``check_engine`` (``spatial_engine``)."""
     if redundancy != "physical":
         raise CdprError(
             f"{robot.source}: paper mode (3-cable subsets) is the point-mass rule; this robot has platform "
-            "attachments or pulley axes other than +z: use redundancy: physical (--redundancy physical)"
+            "attachments or a centre of mass off its reference point: use redundancy: physical (--redundancy physical)"
         )
     return spatial_engine(engine)
 
@@ -127,17 +128,19 @@ def solve_points_any(
     (``cdpr.models.subsets.solve_points`` keys), commanded total lengths ``L`` (N, m) [m] or L_TS
     at p.
     ``redundancy="physical"``: the equilibrium on all cables (``equilibrium.solve_physical`` keys),
-    commanded rest lengths ``L0`` (N, m) [m] or L_TS at p. A robot that is not a suspended point
-    mass, an orientation ``rotvec`` ((3,) or (N, 3) [rad]) or poses p (N, 6) go to the 6-DoF
-    solver (``equilibrium6.solve_spatial``, physical mode; ``check_spatial``), compiled by default and
-    the numpy reference with ``engine="numpy"`` (``solve_spatial_any``); paper mode on a point mass ignores
-    the orientation. An engine/method/model combination that does not exist raises CdprError."""
+    commanded rest lengths ``L0`` (N, m) [m] or L_TS at p. In physical mode a robot that is not a
+    suspended point mass, an orientation ``rotvec`` ((3,) or (N, 3) [rad]) or poses p (N, 6) go to
+    the 6-DoF solver (``equilibrium6.solve_spatial``), compiled by default and the numpy reference
+    with ``engine="numpy"`` (``solve_spatial_any``). Paper mode takes every point-mass robot, pulleys
+    at any axis (the suspended robots' accessibility and floor rules, and the fixed point, for
+    suspended ones only), ignores the orientation, and refuses a rigid platform
+    (``check_spatial``). An engine/method/model combination that does not exist raises CdprError."""
     p = np.atleast_2d(np.asarray(p, dtype=float))
     check_redundancy(redundancy)
     if not robot.suspended_point_mass or rotvec is not None or p.shape[1] == 6:
-        if not robot.suspended_point_mass:
+        if not robot.point_mass:
             check_spatial(robot, engine, redundancy)
-        if redundancy == "physical" or not robot.suspended_point_mass:
+        if redundancy == "physical" or not robot.point_mass:
             if method != "newton":
                 raise CdprError(
                     "physical mode has one solver (Newton on the force balance); --method fixed_point applies to paper mode"
@@ -167,13 +170,14 @@ def solve_points_any(
             "commanded lengths need physical mode (--redundancy physical); paper mode commands L_TS at the desired point"
         )
     engine = check_engine(engine, method)
+    check_method(robot, method)
     if L is not None:
         options["L"] = L
     if engine == "compiled":
         res = compiled_subsets.solve_points_fast(robot, p, threads=threads, **options)
     else:
         res = solve_points(robot, p, method=method, **options)
-    return mark_below_floor(res, p)
+    return mark_below_floor(res, p) if robot.suspended_point_mass else res
 
 
 def solve_points_batch_any(

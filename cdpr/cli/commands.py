@@ -248,6 +248,11 @@ def _solve_sensitivities(robot, P, args, L0=None, rv=None, engine=None):
             "--sensitivities needs --method newton (the implicit-function theorem uses its Jacobian at the solution)"
         )
     if not robot.suspended_point_mass:
+        if robot.point_mass and args.redundancy == "paper":
+            raise CdprError(
+                f"{robot.source}: paper-mode sensitivities are written for pulleys with +z axes and this robot's "
+                "pulleys have other axes; use --redundancy physical (dp*/dθ of the 6-DoF equilibrium)"
+            )
         check_spatial(robot, None, args.redundancy)
         return spatial_sensitivities(robot, P, rv, L0=L0, engine=engine, threads=args.threads)
     return sensitivities(

@@ -237,7 +237,7 @@ def _paper_points(p, Lin, cables, subs, b, mass, opts, gap_tol, out, S, gap_out,
                 if k == choice:
                     continue
                 if not solved[k] and gap[k] <= best + gap_tol:  # skipped by the pruning, could be close
-                    solve_subset(k, i, p, cables, subsets, Lall, b, opts, scr)
+                    solve_subset(k, i, p, cables, subs, Lall, b, opts, scr)
                     solved[k] = True
                     adm[k] = conv[k]
                     for j in range(3):
@@ -443,7 +443,8 @@ def sensitivities_fast(
 
 
 @njit(cache=True, parallel=True, error_model="numpy")
-def _subsets_points(p, Lin, cables, subsets, b, mass, opts, cols, P_out, t_out, conv_out, S_out, St_out):
+def _subsets_points(p, Lin, cables, subs, b, mass, opts, cols, P_out, t_out, conv_out, S_out, St_out):
+    subsets = subs.idx
     n = p.shape[0]
     ns = subsets.shape[0]
     m = cables.A.shape[0]
@@ -461,7 +462,7 @@ def _subsets_points(p, Lin, cables, subsets, b, mass, opts, cols, P_out, t_out, 
         for i in range(ch * CHUNK, min(n, (ch + 1) * CHUNK)):
             commanded_lengths(i, p, Lin, cables, Lall)
             for k in range(ns):
-                solve_subset(k, i, p, cables, subsets, Lall, b, opts, scr)
+                solve_subset(k, i, p, cables, subs, Lall, b, opts, scr)
                 conv_out[i, k] = False
                 for a in range(3):
                     P_out[i, k, a] = Ps[k, a]
@@ -523,7 +524,7 @@ def subset_sensitivities(robot, p, L=None, columns=None, threads=None, **solver)
     St = np.empty((n, ns, 3, len(cols)))
     if n:
         _subsets_points(
-            p, Lin, cable_arrays(robot), subset_arrays(robot).idx, -robot.platform.w_ext, robot.platform.mass,
+            p, Lin, cable_arrays(robot), subset_arrays(robot), -robot.platform.w_ext, robot.platform.mass,
             opts, cols.astype(np.int64), P, t, conv, S, St,
         )  # fmt: skip
     T_a = robot.T_a[robot.subsets]

@@ -22,6 +22,8 @@ from cdpr.compiled._kernels import (
     NEWTON_DEFAULTS,
     Cables,
     cable_arrays,
+    cable_axis,
+    cable_derivatives,
     cable_of,
     cable_params,
     commanded_input,
@@ -39,11 +41,18 @@ ST_OK, ST_SLACK, ST_OVER, ST_INACC, ST_NOCONV = (
 
 class Subsets(NamedTuple):
     """The 3-cable subsets of paper mode for the kernels (``subset_arrays``): idx (ns, 3) int64 cable
-    indices; edges (ns, 3, 3) and margin (ns,) [m] as ``subset_edges``."""
+    indices; edges (ns, 3, 3) and margin (ns,) [m] as ``subset_edges``; and how the robot's
+    pulleys are evaluated: suspended (bool, ``Robot.suspended_point_mass``: axes +z, ``_residual``
+    and the rule that P lies below the pulleys), else every cable in its pulley frame
+    (``_residual_axis``) with frame (m, 3, 3) [-] (rows i_i, j_i, k_i) and ident (m,) bool (the
+    frame is the identity)."""
 
     idx: np.ndarray
     edges: np.ndarray
     margin: np.ndarray
+    suspended: bool
+    frame: np.ndarray
+    ident: np.ndarray
 
 
 class PaperOut(NamedTuple):
@@ -252,10 +261,120 @@ def _residual(px, py, pz, c0, c1, c2, Ea, Eb, Eg, L0, L1, L2, bx, by, bz):
     )
 
 
+@njit(cache=True, inline="always", error_model="numpy")
+def _cable_rows(px, py, pz, cp, ident, f):
+    """One cable at P for ``_residual_axis``: (L_TE [m], u (3) [-], dL_TE/dP (3) [-], du/dP (9,
+    row-major) [1/m], inside) from ``cable_axis`` (the pulley's frame) and ``cable_derivatives``."""
+    (L, ux, uy, uz, lE, ins, sw, epx, epy, epz, arm, btx, bty, btz, ex, ey, ez, uCb, _) = cable_axis(
+        px, py, pz, cp[0], cp[1], cp[2], cp[3], cp[4], cp[5], cp[6], cp[7], cp[8], ident, f
+    )
+    dv = cable_derivatives(ux, uy, uz, lE, sw, epx, epy, epz, arm, btx, bty, btz, ex, ey, ez, uCb)
+    return L, ux, uy, uz, dv, ins
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _residual_axis(px, py, pz, c0, c1, c2, i0, i1, i2, f0, f1, f2, Ea, Eb, Eg, L0, L1, L2, bx, by, bz):
+    """``_residual`` for pulleys at any axis (each cable in its frame: ``cable_axis``, with ident
+    i0, i1, i2 and frames f0, f1, f2 (3, 3)): the same equations written with each cable's full
+    gradients (``cable_derivatives``)::
+
+        t = M^-1 b,  G = sum_j t_j du_j/dP,  dt/dP = -M^-1 G,
+        J = dL_TE/dP - diag(L / E S) dt/dP
+
+    (``direct._Subset.residual`` with the pulley frames). No accessibility rule: P may lie at any
+    side of the pulleys (``Robot.suspended_point_mass`` false).
+
+    Returns (F (3), t (3), J (9, row-major), dt/dP (9, row-major), valid) as ``_residual``."""
+    La, ax, ay, az, da, ia = _cable_rows(px, py, pz, c0, i0, f0)
+    Lb, bx_, by_, bz_, db, ib = _cable_rows(px, py, pz, c1, i1, f1)
+    Lg, cx, cy, cz, dg, ig = _cable_rows(px, py, pz, c2, i2, f2)
+    r0x, r0y, r0z = by_ * cz - bz_ * cy, bz_ * cx - bx_ * cz, bx_ * cy - by_ * cx
+    r1x, r1y, r1z = cy * az - cz * ay, cz * ax - cx * az, cx * ay - cy * ax
+    r2x, r2y, r2z = ay * bz_ - az * by_, az * bx_ - ax * bz_, ax * by_ - ay * bx_
+    det = ax * r0x + ay * r0y + az * r0z
+    if abs(det) < DET_EPS:
+        nan = np.nan
+        return (
+            nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan,
+            nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan,
+            False,
+        )  # fmt: skip
+    idet = 1.0 / det
+    t0 = (r0x * bx + r0y * by + r0z * bz) * idet
+    t1 = (r1x * bx + r1y * by + r1z * bz) * idet
+    t2 = (r2x * bx + r2y * by + r2z * bz) * idet
+    F0 = La - L0 * (1.0 + t0 / Ea)
+    F1 = Lb - L1 * (1.0 + t1 / Eb)
+    F2 = Lg - L2 * (1.0 + t2 / Eg)
+    valid = not (ia or ib or ig) and math.isfinite(F0) and math.isfinite(F1) and math.isfinite(F2)
+    # G = sum_j t_j du_j/dP (du_j/dP row-major: items 3..11 of cable_derivatives)
+    Gxx = t0 * da[3] + t1 * db[3] + t2 * dg[3]
+    Gxy = t0 * da[4] + t1 * db[4] + t2 * dg[4]
+    Gxz = t0 * da[5] + t1 * db[5] + t2 * dg[5]
+    Gyx = t0 * da[6] + t1 * db[6] + t2 * dg[6]
+    Gyy = t0 * da[7] + t1 * db[7] + t2 * dg[7]
+    Gyz = t0 * da[8] + t1 * db[8] + t2 * dg[8]
+    Gzx = t0 * da[9] + t1 * db[9] + t2 * dg[9]
+    Gzy = t0 * da[10] + t1 * db[10] + t2 * dg[10]
+    Gzz = t0 * da[11] + t1 * db[11] + t2 * dg[11]
+    # dt/dP = -M^{-1} G (row j: -(r_j G)/det)
+    T00 = -(r0x * Gxx + r0y * Gyx + r0z * Gzx) * idet
+    T01 = -(r0x * Gxy + r0y * Gyy + r0z * Gzy) * idet
+    T02 = -(r0x * Gxz + r0y * Gyz + r0z * Gzz) * idet
+    T10 = -(r1x * Gxx + r1y * Gyx + r1z * Gzx) * idet
+    T11 = -(r1x * Gxy + r1y * Gyy + r1z * Gzy) * idet
+    T12 = -(r1x * Gxz + r1y * Gyz + r1z * Gzz) * idet
+    T20 = -(r2x * Gxx + r2y * Gyx + r2z * Gzx) * idet
+    T21 = -(r2x * Gxy + r2y * Gyy + r2z * Gzy) * idet
+    T22 = -(r2x * Gxz + r2y * Gyz + r2z * Gzz) * idet
+    k0, k1, k2 = L0 / Ea, L1 / Eb, L2 / Eg
+    return (
+        F0, F1, F2, t0, t1, t2,
+        da[0] - k0 * T00, da[1] - k0 * T01, da[2] - k0 * T02,
+        db[0] - k1 * T10, db[1] - k1 * T11, db[2] - k1 * T12,
+        dg[0] - k2 * T20, dg[1] - k2 * T21, dg[2] - k2 * T22,
+        T00, T01, T02, T10, T11, T12, T20, T21, T22,
+        valid,
+    )  # fmt: skip
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _subset_residual(px, py, pz, c0, c1, c2, s0, s1, s2, subs, Ea, Eb, Eg, L0, L1, L2, bx, by, bz):
+    """``_residual`` (suspended robots: today's arithmetic) or ``_residual_axis`` (pulleys at any
+    axis) of cables s0, s1, s2 as ``subs.suspended`` says."""
+    if subs.suspended:
+        return _residual(px, py, pz, c0, c1, c2, Ea, Eb, Eg, L0, L1, L2, bx, by, bz)
+    fr, idn = subs.frame, subs.ident
+    return _residual_axis(
+        px,
+        py,
+        pz,
+        c0,
+        c1,
+        c2,
+        idn[s0],
+        idn[s1],
+        idn[s2],
+        fr[s0],
+        fr[s1],
+        fr[s2],
+        Ea,
+        Eb,
+        Eg,
+        L0,
+        L1,
+        L2,
+        bx,
+        by,
+        bz,
+    )
+
+
 @njit(cache=True, error_model="numpy")
-def _newton(p0x, p0y, p0z, s0, s1, s2, cab, L0, L1, L2, bx, by, bz, opts):
+def _newton(p0x, p0y, p0z, s0, s1, s2, cab, subs, L0, L1, L2, bx, by, bz, opts):
     """direct._newton (analytic Jacobian, same stop rule) for one point and one subset; ``cab`` the
-    ``Cables`` record, ``opts`` the ``Newton`` record.
+    ``Cables`` record, ``subs`` the ``Subsets`` record (how the pulleys are evaluated), ``opts``
+    the ``Newton`` record.
 
     Returns (Px, Py, Pz, t0, t1, t2, iterations, converged, exists)."""
     tol, maxiter, max_step = opts.tol, opts.maxiter, opts.max_step
@@ -293,7 +412,7 @@ def _newton(p0x, p0y, p0z, s0, s1, s2, cab, L0, L1, L2, bx, by, bz, opts):
             T21,
             T22,
             valid,
-        ) = _residual(px, py, pz, c0, c1, c2, Ea, Eb, Eg, L0, L1, L2, bx, by, bz)
+        ) = _subset_residual(px, py, pz, c0, c1, c2, s0, s1, s2, subs, Ea, Eb, Eg, L0, L1, L2, bx, by, bz)
         # solve J step = -F by cofactors (statics.solve3); columns (jx., jy., jz.)
         q0x, q0y, q0z = jy1 * jz2 - jy2 * jz1, jy2 * jz0 - jy0 * jz2, jy0 * jz1 - jy1 * jz0
         q1x, q1y, q1z = jz1 * jx2 - jz2 * jx1, jz2 * jx0 - jz0 * jx2, jz0 * jx1 - jz1 * jx0
@@ -327,7 +446,7 @@ def _newton(p0x, p0y, p0z, s0, s1, s2, cab, L0, L1, L2, bx, by, bz, opts):
         pz += sz * scale
         prev = norm * scale
     else:  # iteration cap: evaluate at the last P
-        out = _residual(px, py, pz, c0, c1, c2, Ea, Eb, Eg, L0, L1, L2, bx, by, bz)
+        out = _subset_residual(px, py, pz, c0, c1, c2, s0, s1, s2, subs, Ea, Eb, Eg, L0, L1, L2, bx, by, bz)
         t0, t1, t2, valid = out[3], out[4], out[5], out[-1]
     exists = exists and valid
     return px, py, pz, t0, t1, t2, it, conv and exists, exists
@@ -349,19 +468,20 @@ def commanded_lengths(i, p, Lin, cab, Lall):
 
 
 @njit(cache=True, error_model="numpy")
-def solve_subset(k, i, p, cab, subsets, Lall, b, opts, scr):
-    """Subset k (row of ``subsets`` (ns, 3)) at point i from P = p[i] with commanded lengths Lall
-    (m,) [m] and force b (3,) [N] (``_newton``): writes row k of scr.Ps, ts, its, conv, exi, dps
-    (``PaperScratch``)."""
-    solve_subset_from(k, i, p, p[i, 0], p[i, 1], p[i, 2], cab, subsets, Lall, b, opts, scr)
+def solve_subset(k, i, p, cab, subs, Lall, b, opts, scr):
+    """Subset k (row k of ``subs.idx`` (ns, 3), ``subs`` the ``Subsets`` record) at point i from
+    P = p[i] with commanded lengths Lall (m,) [m] and force b (3,) [N] (``_newton``): writes row k of
+    scr.Ps, ts, its, conv, exi, dps (``PaperScratch``)."""
+    solve_subset_from(k, i, p, p[i, 0], p[i, 1], p[i, 2], cab, subs, Lall, b, opts, scr)
 
 
 @njit(cache=True, error_model="numpy")
-def solve_subset_from(k, i, p, sx, sy, sz, cab, subsets, Lall, b, opts, scr):
+def solve_subset_from(k, i, p, sx, sy, sz, cab, subs, Lall, b, opts, scr):
     """``solve_subset`` with Newton started at (sx, sy, sz) [m] instead of p[i]."""
+    subsets = subs.idx
     s0, s1, s2 = subsets[k, 0], subsets[k, 1], subsets[k, 2]
     px, py, pz, t0, t1, t2, it, cv, ex = _newton(
-        sx, sy, sz, s0, s1, s2, cab, Lall[s0], Lall[s1], Lall[s2], b[0], b[1], b[2], opts
+        sx, sy, sz, s0, s1, s2, cab, subs, Lall[s0], Lall[s1], Lall[s2], b[0], b[1], b[2], opts
     )
     Ps, ts = scr.Ps, scr.ts
     Ps[k, 0], Ps[k, 1], Ps[k, 2] = px, py, pz
@@ -424,10 +544,10 @@ def solve_point(i, p, Lin, cab, subs, b, opts, prune, out, scr, P0):
                 break
             if P0.shape[0] > 0:
                 solve_subset_from(
-                    k, i, p, P0[i, k, 0], P0[i, k, 1], P0[i, k, 2], cab, subsets, Lall, b, opts, scr
+                    k, i, p, P0[i, k, 0], P0[i, k, 1], P0[i, k, 2], cab, subs, Lall, b, opts, scr
                 )
             else:
-                solve_subset(k, i, p, cab, subsets, Lall, b, opts, scr)
+                solve_subset(k, i, p, cab, subs, Lall, b, opts, scr)
             solved[k] = True
             if (
                 conv[k]
@@ -520,9 +640,19 @@ def subset_edges(robot):
 
 
 def subset_arrays(robot):
-    """The ``Subsets`` record of ``robot``: its paper-mode subsets and their ``subset_edges``."""
+    """The ``Subsets`` record of ``robot``: its paper-mode subsets, their ``subset_edges`` and its
+    pulley frames. A robot that is not suspended (pulleys at other axes than +z) is never pruned:
+    the anchor triangles seen from above bound nothing there (every edge is made degenerate)."""
     edges, margin = subset_edges(robot)
-    return Subsets(np.ascontiguousarray(robot.subsets, dtype=np.int64), edges, margin)
+    suspended = robot.suspended_point_mass
+    frame = np.ascontiguousarray(robot.arrays.frame, dtype=float)
+    ident = np.array([(f == np.eye(3)).all() for f in frame], dtype=np.bool_)
+    if not suspended:
+        edges[:, :, :2] = 0.0
+        edges[:, :, 2] = np.inf
+    return Subsets(
+        np.ascontiguousarray(robot.subsets, dtype=np.int64), edges, margin, suspended, frame, ident
+    )
 
 
 def solve_points_fast(robot, p, tol=None, maxiter=None, threads=None, prune=True, L=None):
@@ -562,10 +692,15 @@ def _solve_batch(p, Lin, A, kind, h, rp, d, inward, ES, E, T_a, idx, edges, marg
     ns, m = idx.shape[0], A.shape[1]
     P_s, dp, t, sub, it, st, work = out
     nchunks = (n + CHUNK - 1) // CHUNK
+    frame = np.zeros((m, 3, 3))  # suspended robots only (solve_points_batch): identity frames
+    for c in range(m):
+        for a in range(3):
+            frame[c, a, a] = 1.0
+    ident = np.ones(m, np.bool_)
     for job in prange(K * nchunks):
         k, ch = job // nchunks, job % nchunks
         cab = Cables(A[k], kind[k], h[k], rp[k], d[k], inward[k], ES[k], E[k], T_a[k])
-        subs = Subsets(idx, edges[k], margin[k])
+        subs = Subsets(idx, edges[k], margin[k], True, frame, ident)
         o = PaperOut(P_s[k], dp[k], t[k], sub[k], it[k], st[k], work[k])
         scr = paper_scratch(m, ns)
         P0k = P0[k] if P0.shape[0] > 0 else np.empty((0, ns, 3))
@@ -603,6 +738,8 @@ def solve_points_batch(robots, p, L, tol=None, maxiter=None, threads=None, prune
     p = np.ascontiguousarray(np.atleast_2d(np.asarray(p, dtype=float)))
     if not robots:
         return []
+    if any(not r.suspended_point_mass for r in robots):
+        raise CdprError("solve_points_batch takes suspended point-mass robots (pulley axes +z) only")
     n, m, K = len(p), robots[0].m, len(robots)
     subs = [subset_arrays(r) for r in robots]
     if any(r.m != m for r in robots) or any(not np.array_equal(s.idx, subs[0].idx) for s in subs):

@@ -22,6 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from cdpr.errors import CdprError
 from cdpr.models.inverse import L_TS
 from cdpr.models.pulleys import pulley_state, total_length_and_direction
 from cdpr.models.statics import length_gradient, solve3, stretched_length, tension_gradient, tensions
@@ -58,9 +59,13 @@ class _Subset:
         self.A = self.args[0]
         self.ES = robot.ES[s]
         self.w_ext = robot.platform.w_ext
+        # a suspended robot (axes +z) keeps today's arithmetic (frame None) and its accessibility
+        # rule (P below every pulley); pulleys at other axes are evaluated in their frames
+        self.suspended = robot.suspended_point_mass
+        self.frame = None if self.suspended else robot.arrays.frame[s]
 
     def geometry(self, P):
-        return total_length_and_direction(P, *self.args)
+        return total_length_and_direction(P, *self.args, frame=self.frame)
 
     def residual(self, P, L, jacobian=False):
         """F = L_TE(P) - L (1 + t(P)/(E S)), its tensions, a validity flag and, if asked
@@ -68,9 +73,9 @@ class _Subset:
         g = self.geometry(P)
         t, M_inv = tensions(g.u, self.w_ext)
         F = g.L_TE - stretched_length(L, t, self.ES)
-        valid = (
-            ~g.inside.any(axis=-1) & np.isfinite(F).all(axis=-1) & (P[:, None, 2] < self.A[:, 2]).all(axis=-1)
-        )
+        valid = ~g.inside.any(axis=-1) & np.isfinite(F).all(axis=-1)
+        if self.suspended:
+            valid &= (P[:, None, 2] < self.A[:, 2]).all(axis=-1)
         if not jacobian:
             return F, t, valid
         dt = tension_gradient(t, M_inv, g)
@@ -208,6 +213,29 @@ def _fixed_point(sub, P0, L0, tol, max_inner, max_outer):
     return P, iters, conv, exists
 
 
+def check_method(robot, method):
+    """Refuse, in one line, a DEGM_E solver that does not model ``robot``: the paper's fixed point
+    intersects spheres and keeps their lower point (eq. 9), the rule of a platform hanging below its
+    pulleys, so it takes suspended point-mass robots only (``Robot.suspended_point_mass``); Newton
+    takes any point-mass robot, pulleys at any axis.
+
+    Parameters
+    ----------
+    robot : Robot
+    method : {"newton", "fixed_point"}
+
+    Raises
+    ------
+    CdprError
+    """
+    if method == "fixed_point" and not robot.suspended_point_mass:
+        raise CdprError(
+            f"{robot.source}: the paper's fixed point (--method fixed_point) keeps the lower intersection of "
+            "spheres, the rule of a platform hanging below pulleys with +z axes; this robot's pulleys have "
+            "other axes: use --method newton"
+        )
+
+
 def degm_e(robot, p, subset=(0, 1, 2), L=None, method="newton", P0=None, **options):
     """Solve DEGM_E for one 3-cable subset at N points.
 
@@ -236,8 +264,9 @@ def degm_e(robot, p, subset=(0, 1, 2), L=None, method="newton", P0=None, **optio
         tensions are evaluated at the returned P.
     """
     require_point_mass(
-        robot, "paper mode (degm_e)", 'cdpr.solve_points_any(robot, p, redundancy="physical")', True, p
+        robot, "paper mode (degm_e)", 'cdpr.solve_points_any(robot, p, redundancy="physical")', P=p
     )
+    check_method(robot, method)
     p = np.atleast_2d(np.asarray(p, dtype=float))
     s = np.asarray(subset, dtype=np.intp)
     sub = _Subset(robot, s)

@@ -440,8 +440,10 @@ def check_study(st):
 
 def check_spatial_study(st, robots):
     """The problems of a study with spatial robots (``Robot.suspended_point_mass`` false: a rigid
-    platform or tilted pulley axes, solved in 6 DoF by ``equilibrium6.solve_spatial``): such a robot
-    has the physical mode only (paper mode and its "best 3 of m" rule are the point-mass rule), is
+    platform or tilted pulley axes, solved in 6 DoF by ``equilibrium6.solve_spatial``): a study runs
+    such a robot in physical mode only (paper mode and its "best 3 of m" rule are the point-mass
+    rule; the library and ``cdpr point``/``grid`` take it on a point mass with tilted axes, a study's
+    jobs on suspended point masses only), is
     not scored against the papers (``paper_comparison``), runs the uncertainty study in physical
     mode only (``uq6``: ‖δp‖ and δφ of the 6-DoF equilibrium); and
     ``rotvec_rad`` (the platform orientation) and ``budget`` (the error budget of a rigid platform,
@@ -471,8 +473,8 @@ def check_spatial_study(st, robots):
                 ConfigError(
                     src,
                     "redundancy",
-                    f"{what}: paper mode (the best 3 of m cables) is the point-mass rule; "
-                    f"use redundancy: physical, got {redundancy(st)!r}",
+                    f"{what}: paper mode (the best 3 of m cables) is the point-mass rule, run by a study on "
+                    f"suspended point masses only; use redundancy: physical, got {redundancy(st)!r}",
                 )
             )
         u = st.get("uncertainty")
@@ -481,8 +483,8 @@ def check_spatial_study(st, robots):
                 ConfigError(
                     src,
                     "uncertainty.redundancy",
-                    f"{what}: paper mode (the best 3 of m cables) is the point-mass rule; "
-                    f"use uncertainty.redundancy: physical, got {u.get('redundancy', 'paper')!r}",
+                    f"{what}: paper mode (the best 3 of m cables) is the point-mass rule, run by a study on "
+                    f"suspended point masses only; use uncertainty.redundancy: physical, got {u.get('redundancy', 'paper')!r}",
                 )
             )
         if st.get("paper_comparison"):
