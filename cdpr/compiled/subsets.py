@@ -33,6 +33,7 @@ from cdpr.compiled._kernels import (
 from cdpr.errors import CdprError
 from cdpr.models.results import STATUSES
 from cdpr.models.subsets import TIE_TOL
+from cdpr.robot import require_point_mass
 
 ST_OK, ST_SLACK, ST_OVER, ST_INACC, ST_NOCONV = (
     STATUSES.index(s) for s in ("ok", "slack", "over_tension", "inaccessible", "not_converged")
@@ -661,6 +662,9 @@ def solve_points_fast(robot, p, tol=None, maxiter=None, threads=None, prune=True
     cores). ``L`` (N, m) [m]: commanded total lengths of every cable, default L_TS(p) of ``robot``
     (eq. 2); give them to command a robot whose parameters differ from the model that computed the
     lengths."""
+    require_point_mass(
+        robot, "paper mode (solve_points_fast)", 'cdpr.solve_points_any(robot, p, redundancy="physical")', P=p
+    )
     p = np.ascontiguousarray(np.atleast_2d(np.asarray(p, dtype=float)))
     n, m = len(p), robot.m
     Lin = commanded_input(L, n, m)

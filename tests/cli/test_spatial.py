@@ -507,3 +507,41 @@ def test_inverse_tables_write_the_orientation_they_were_given(tmp_path, capsys, 
     capsys.readouterr()
     df = pd.read_csv(out)
     assert (df["rx"] == 0.01).all() and (df["ry"] == 0).all() and (df["rz"] == 0).all()
+
+
+def _leaning_cdpr4(tmp_path):
+    """CDPR4's file with every pulley axis leaning 20° toward the frame's centre (a point mass whose
+    pulleys are not +z: not suspended)."""
+    import yaml
+
+    d = yaml.safe_load(Path(R4).read_text())
+    s, c = np.sin(np.radians(20)), np.cos(np.radians(20))
+    for cab in d["cables"]:
+        a = np.asarray(cab["A_m"][:2], dtype=float)
+        a /= np.linalg.norm(a)
+        cab["pulley"] = {"axis": [float(-s * a[0]), float(-s * a[1]), float(c)]}
+    path = tmp_path / "leaning.yaml"
+    path.write_text(yaml.safe_dump(d))
+    return str(path)
+
+
+def test_paper_mode_on_a_point_mass_with_leaning_pulleys(capsys, tmp_path):
+    """Paper mode takes a point mass whose pulley axes lean: both engines give the same subset,
+    status and P* (1e-9 m); the fixed point and paper-mode sensitivities are refused in one line."""
+    robot = _leaning_cdpr4(tmp_path)
+    at = ["--at", "0.5", "0.2", "2.5"]
+    a = run_json(capsys, "point", "--robot", robot, *at, "--engine", "numpy")
+    b = run_json(capsys, "point", "--robot", robot, *at, "--engine", "compiled")
+    assert a["status"] == b["status"] == "ok" and a["subset"] == b["subset"]
+    assert len(a["subset"]) == 3 and a["dp_norm"] > 1e-3
+    assert np.allclose(a["solved"], b["solved"], rtol=0, atol=1e-9)
+    # the pulleys lean, so the answer is not the suspended robot's
+    c = run_json(capsys, "point", "--robot", R4, *at, "--engine", "numpy")
+    assert abs(c["dp_norm"] - a["dp_norm"]) > 1e-4
+    for extra, words in (
+        (["--method", "fixed_point"], "use --method newton"),
+        (["--sensitivities"], "use --redundancy physical"),
+    ):
+        assert main(["point", "--robot", robot, *at, *extra]) == 2
+        err = capsys.readouterr().err.strip()
+        assert words in err and len(err.splitlines()) == 1
