@@ -224,6 +224,11 @@ def check_method(robot, method):
     robot : Robot
     method : {"newton", "fixed_point"}
 
+    Returns
+    -------
+    None
+        Returns when ``method`` models ``robot``.
+
     Raises
     ------
     CdprError
