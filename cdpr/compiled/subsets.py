@@ -116,11 +116,75 @@ def paper_outputs(n, m):
     )
 
 
+@njit(cache=True, inline="always")
+def _no_residual():
+    """What ``_residual`` returns where M = [u_a u_b u_c] is singular: NaN everywhere, not valid."""
+    nan = np.nan
+    return (
+        nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan,
+        nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan,
+        False,
+    )  # fmt: skip
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _tensions3(ax, ay, az, bx_, by_, bz_, cx, cy, cz, bx, by, bz):
+    """t = M^-1 b for M = [u_a u_b u_c] (statics.tensions, scalar form) by cofactors.
+
+    Returns (cofactor rows r0, r1, r2 (9 values: M^-1 = [r0; r1; r2] / det), 1/det, t0, t1, t2,
+    solvable = |det| >= DET_EPS)."""
+    r0x, r0y, r0z = by_ * cz - bz_ * cy, bz_ * cx - bx_ * cz, bx_ * cy - by_ * cx
+    r1x, r1y, r1z = cy * az - cz * ay, cz * ax - cx * az, cx * ay - cy * ax
+    r2x, r2y, r2z = ay * bz_ - az * by_, az * bx_ - ax * bz_, ax * by_ - ay * bx_
+    det = ax * r0x + ay * r0y + az * r0z
+    if abs(det) < DET_EPS:
+        return r0x, r0y, r0z, r1x, r1y, r1z, r2x, r2y, r2z, 0.0, 0.0, 0.0, 0.0, False
+    idet = 1.0 / det
+    t0 = (r0x * bx + r0y * by + r0z * bz) * idet
+    t1 = (r1x * bx + r1y * by + r1z * bz) * idet
+    t2 = (r2x * bx + r2y * by + r2z * bz) * idet
+    return r0x, r0y, r0z, r1x, r1y, r1z, r2x, r2y, r2z, idet, t0, t1, t2, True
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _close(r, idet, t0, t1, t2, G, dL, La, Lb, Lg, L0, L1, L2, Ea, Eb, Eg, valid):
+    """The end of both residuals: F = L_TE - L (1 + t/(E S)), dt/dP = -M^-1 G (row j: -(r_j G)/det)
+    and J = dL_TE/dP - diag(L/ES) dt/dP, from the cofactor rows r (9) and 1/det of ``_tensions3``,
+    G = sum_j t_j du_j/dP (9, row-major) and dL_TE/dP of the three cables (9, row j cable j).
+
+    Returns (F (3), t (3), J (9, row-major), dt/dP (9, row-major), valid and F finite)."""
+    r0x, r0y, r0z, r1x, r1y, r1z, r2x, r2y, r2z = r
+    Gxx, Gxy, Gxz, Gyx, Gyy, Gyz, Gzx, Gzy, Gzz = G
+    F0 = La - L0 * (1.0 + t0 / Ea)
+    F1 = Lb - L1 * (1.0 + t1 / Eb)
+    F2 = Lg - L2 * (1.0 + t2 / Eg)
+    valid = valid and math.isfinite(F0) and math.isfinite(F1) and math.isfinite(F2)
+    T00 = -(r0x * Gxx + r0y * Gyx + r0z * Gzx) * idet
+    T01 = -(r0x * Gxy + r0y * Gyy + r0z * Gzy) * idet
+    T02 = -(r0x * Gxz + r0y * Gyz + r0z * Gzz) * idet
+    T10 = -(r1x * Gxx + r1y * Gyx + r1z * Gzx) * idet
+    T11 = -(r1x * Gxy + r1y * Gyy + r1z * Gzy) * idet
+    T12 = -(r1x * Gxz + r1y * Gyz + r1z * Gzz) * idet
+    T20 = -(r2x * Gxx + r2y * Gyx + r2z * Gzx) * idet
+    T21 = -(r2x * Gxy + r2y * Gyy + r2z * Gzy) * idet
+    T22 = -(r2x * Gxz + r2y * Gyz + r2z * Gzz) * idet
+    k0, k1, k2 = L0 / Ea, L1 / Eb, L2 / Eg
+    return (
+        F0, F1, F2, t0, t1, t2,
+        dL[0] - k0 * T00, dL[1] - k0 * T01, dL[2] - k0 * T02,
+        dL[3] - k1 * T10, dL[4] - k1 * T11, dL[5] - k1 * T12,
+        dL[6] - k2 * T20, dL[7] - k2 * T21, dL[8] - k2 * T22,
+        T00, T01, T02, T10, T11, T12, T20, T21, T22,
+        valid,
+    )  # fmt: skip
+
+
 @njit(cache=True, inline="always", error_model="numpy")
 def _residual(px, py, pz, c0, c1, c2, Ea, Eb, Eg, L0, L1, L2, bx, by, bz):
     """F = L_TE(P) - Lc (1 + t/(E S)) (E S per cable) for the subset of cables with parameters
     c0, c1, c2 (``cable_params``) and axial stiffnesses Ea, Eb, Eg [N], t from equilibrium
-    (statics.tensions), the Jacobian dF/dP and dt/dP (direct._Subset.residual). Scalars only: no
+    (statics.tensions), the Jacobian dF/dP and dt/dP (direct._Subset.residual), for pulleys with +z
+    axes: G and dL_TE/dP written with the vertical cable plane's terms. Scalars only: no
     allocation in the hot loop.
 
     Returns (F (3), t (3), J (9, row-major), dt/dP (9, row-major), valid)."""
@@ -130,48 +194,11 @@ def _residual(px, py, pz, c0, c1, c2, Ea, Eb, Eg, L0, L1, L2, bx, by, bz):
     )
     (Lg, cx, cy, cz, lg, ig, sg, pgx, pgy, qg, bgx, bgy, bgz, egx, egy, egz, cg, _) = cable_of(px, py, pz, c2)
     valid = not (ia or ib or ig) and pz < c0[2] and pz < c1[2] and pz < c2[2]
-    # cofactor rows of M = [u_a u_b u_c]: M^{-1} = [r0; r1; r2] / det
-    r0x, r0y, r0z = by_ * cz - bz_ * cy, bz_ * cx - bx_ * cz, bx_ * cy - by_ * cx
-    r1x, r1y, r1z = cy * az - cz * ay, cz * ax - cx * az, cx * ay - cy * ax
-    r2x, r2y, r2z = ay * bz_ - az * by_, az * bx_ - ax * bz_, ax * by_ - ay * bx_
-    det = ax * r0x + ay * r0y + az * r0z
-    if abs(det) < DET_EPS:
-        nan = np.nan
-        return (
-            nan,
-            nan,
-            nan,
-            nan,
-            nan,
-            nan,
-            nan,
-            nan,
-            nan,
-            nan,
-            nan,
-            nan,
-            nan,
-            nan,
-            nan,
-            nan,
-            nan,
-            nan,
-            nan,
-            nan,
-            nan,
-            nan,
-            nan,
-            nan,
-            False,
-        )
-    idet = 1.0 / det
-    t0 = (r0x * bx + r0y * by + r0z * bz) * idet
-    t1 = (r1x * bx + r1y * by + r1z * bz) * idet
-    t2 = (r2x * bx + r2y * by + r2z * bz) * idet
-    F0 = La - L0 * (1.0 + t0 / Ea)
-    F1 = Lb - L1 * (1.0 + t1 / Eb)
-    F2 = Lg - L2 * (1.0 + t2 / Eg)
-    valid = valid and math.isfinite(F0) and math.isfinite(F1) and math.isfinite(F2)
+    r0x, r0y, r0z, r1x, r1y, r1z, r2x, r2y, r2z, idet, t0, t1, t2, ok = _tensions3(
+        ax, ay, az, bx_, by_, bz_, cx, cy, cz, bx, by, bz
+    )
+    if not ok:
+        return _no_residual()
     # G = sum_j t_j du_j/dP (statics.tension_gradient): the symmetric part, the swivel term in the
     # horizontal normal e_perp of each cable plane, and the DR arm term v_j eps_j^T
     wa, wb, wg = t0 / la, t1 / lb, t2 / lg
@@ -208,58 +235,26 @@ def _residual(px, py, pz, c0, c1, c2, Ea, Eb, Eg, L0, L1, L2, bx, by, bz):
     )
     Syz = wa * ay * az + wb * by_ * bz_ + wg * cy * cz
     Szz = -ws + wa * az * az + wb * bz_ * bz_ + wg * cz * cz
-    Gxx = Sxx + vax * eax + vbx * ebx + vgx * egx
-    Gxy = Sxy + vax * eay + vbx * eby + vgx * egy
-    Gxz = Sxz + vax * eaz + vbx * ebz + vgx * egz
-    Gyx = Sxy + vay * eax + vby * ebx + vgy * egx
-    Gyy = Syy + vay * eay + vby * eby + vgy * egy
-    Gyz = Syz + vay * eaz + vby * ebz + vgy * egz
-    Gzx = Sxz + vaz * eax + vbz * ebx + vgz * egx
-    Gzy = Syz + vaz * eay + vbz * eby + vgz * egy
-    Gzz = Szz + vaz * eaz + vbz * ebz + vgz * egz
-    # dt/dP = -M^{-1} G (row j: -(r_j G)/det)
-    T00 = -(r0x * Gxx + r0y * Gyx + r0z * Gzx) * idet
-    T01 = -(r0x * Gxy + r0y * Gyy + r0z * Gzy) * idet
-    T02 = -(r0x * Gxz + r0y * Gyz + r0z * Gzz) * idet
-    T10 = -(r1x * Gxx + r1y * Gyx + r1z * Gzx) * idet
-    T11 = -(r1x * Gxy + r1y * Gyy + r1z * Gzy) * idet
-    T12 = -(r1x * Gxz + r1y * Gyz + r1z * Gzz) * idet
-    T20 = -(r2x * Gxx + r2y * Gyx + r2z * Gzx) * idet
-    T21 = -(r2x * Gxy + r2y * Gyy + r2z * Gzy) * idet
-    T22 = -(r2x * Gxz + r2y * Gyz + r2z * Gzz) * idet
-    # J = dL_TE/dP - diag(L/ES) dt/dP, dL_TE/dP = -u + arm ((u + u_C) . beta) eps (statics.length_gradient)
-    k0, k1, k2 = L0 / Ea, L1 / Eb, L2 / Eg
-    ma, mb, mg = qa * (uba + ca), qb * (ubb + cb), qg * (ubg + cg)
-    J00, J01, J02 = -ax + ma * eax - k0 * T00, -ay + ma * eay - k0 * T01, -az + ma * eaz - k0 * T02
-    J10, J11, J12 = -bx_ + mb * ebx - k1 * T10, -by_ + mb * eby - k1 * T11, -bz_ + mb * ebz - k1 * T12
-    J20, J21, J22 = -cx + mg * egx - k2 * T20, -cy + mg * egy - k2 * T21, -cz + mg * egz - k2 * T22
-    return (
-        F0,
-        F1,
-        F2,
-        t0,
-        t1,
-        t2,
-        J00,
-        J01,
-        J02,
-        J10,
-        J11,
-        J12,
-        J20,
-        J21,
-        J22,
-        T00,
-        T01,
-        T02,
-        T10,
-        T11,
-        T12,
-        T20,
-        T21,
-        T22,
-        valid,
+    G = (
+        Sxx + vax * eax + vbx * ebx + vgx * egx,
+        Sxy + vax * eay + vbx * eby + vgx * egy,
+        Sxz + vax * eaz + vbx * ebz + vgx * egz,
+        Sxy + vay * eax + vby * ebx + vgy * egx,
+        Syy + vay * eay + vby * eby + vgy * egy,
+        Syz + vay * eaz + vby * ebz + vgy * egz,
+        Sxz + vaz * eax + vbz * ebx + vgz * egx,
+        Syz + vaz * eay + vbz * eby + vgz * egy,
+        Szz + vaz * eaz + vbz * ebz + vgz * egz,
     )
+    # dL_TE/dP = -u + arm ((u + u_C) . beta) eps (statics.length_gradient)
+    ma, mb, mg = qa * (uba + ca), qb * (ubb + cb), qg * (ubg + cg)
+    dL = (
+        -ax + ma * eax, -ay + ma * eay, -az + ma * eaz,
+        -bx_ + mb * ebx, -by_ + mb * eby, -bz_ + mb * ebz,
+        -cx + mg * egx, -cy + mg * egy, -cz + mg * egz,
+    )  # fmt: skip
+    r = (r0x, r0y, r0z, r1x, r1y, r1z, r2x, r2y, r2z)
+    return _close(r, idet, t0, t1, t2, G, dL, La, Lb, Lg, L0, L1, L2, Ea, Eb, Eg, valid)
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -289,54 +284,27 @@ def _residual_axis(px, py, pz, c0, c1, c2, i0, i1, i2, f0, f1, f2, Ea, Eb, Eg, L
     La, ax, ay, az, da, ia = _cable_rows(px, py, pz, c0, i0, f0)
     Lb, bx_, by_, bz_, db, ib = _cable_rows(px, py, pz, c1, i1, f1)
     Lg, cx, cy, cz, dg, ig = _cable_rows(px, py, pz, c2, i2, f2)
-    r0x, r0y, r0z = by_ * cz - bz_ * cy, bz_ * cx - bx_ * cz, bx_ * cy - by_ * cx
-    r1x, r1y, r1z = cy * az - cz * ay, cz * ax - cx * az, cx * ay - cy * ax
-    r2x, r2y, r2z = ay * bz_ - az * by_, az * bx_ - ax * bz_, ax * by_ - ay * bx_
-    det = ax * r0x + ay * r0y + az * r0z
-    if abs(det) < DET_EPS:
-        nan = np.nan
-        return (
-            nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan,
-            nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan,
-            False,
-        )  # fmt: skip
-    idet = 1.0 / det
-    t0 = (r0x * bx + r0y * by + r0z * bz) * idet
-    t1 = (r1x * bx + r1y * by + r1z * bz) * idet
-    t2 = (r2x * bx + r2y * by + r2z * bz) * idet
-    F0 = La - L0 * (1.0 + t0 / Ea)
-    F1 = Lb - L1 * (1.0 + t1 / Eb)
-    F2 = Lg - L2 * (1.0 + t2 / Eg)
-    valid = not (ia or ib or ig) and math.isfinite(F0) and math.isfinite(F1) and math.isfinite(F2)
+    r0x, r0y, r0z, r1x, r1y, r1z, r2x, r2y, r2z, idet, t0, t1, t2, ok = _tensions3(
+        ax, ay, az, bx_, by_, bz_, cx, cy, cz, bx, by, bz
+    )
+    if not ok:
+        return _no_residual()
     # G = sum_j t_j du_j/dP (du_j/dP row-major: items 3..11 of cable_derivatives)
-    Gxx = t0 * da[3] + t1 * db[3] + t2 * dg[3]
-    Gxy = t0 * da[4] + t1 * db[4] + t2 * dg[4]
-    Gxz = t0 * da[5] + t1 * db[5] + t2 * dg[5]
-    Gyx = t0 * da[6] + t1 * db[6] + t2 * dg[6]
-    Gyy = t0 * da[7] + t1 * db[7] + t2 * dg[7]
-    Gyz = t0 * da[8] + t1 * db[8] + t2 * dg[8]
-    Gzx = t0 * da[9] + t1 * db[9] + t2 * dg[9]
-    Gzy = t0 * da[10] + t1 * db[10] + t2 * dg[10]
-    Gzz = t0 * da[11] + t1 * db[11] + t2 * dg[11]
-    # dt/dP = -M^{-1} G (row j: -(r_j G)/det)
-    T00 = -(r0x * Gxx + r0y * Gyx + r0z * Gzx) * idet
-    T01 = -(r0x * Gxy + r0y * Gyy + r0z * Gzy) * idet
-    T02 = -(r0x * Gxz + r0y * Gyz + r0z * Gzz) * idet
-    T10 = -(r1x * Gxx + r1y * Gyx + r1z * Gzx) * idet
-    T11 = -(r1x * Gxy + r1y * Gyy + r1z * Gzy) * idet
-    T12 = -(r1x * Gxz + r1y * Gyz + r1z * Gzz) * idet
-    T20 = -(r2x * Gxx + r2y * Gyx + r2z * Gzx) * idet
-    T21 = -(r2x * Gxy + r2y * Gyy + r2z * Gzy) * idet
-    T22 = -(r2x * Gxz + r2y * Gyz + r2z * Gzz) * idet
-    k0, k1, k2 = L0 / Ea, L1 / Eb, L2 / Eg
-    return (
-        F0, F1, F2, t0, t1, t2,
-        da[0] - k0 * T00, da[1] - k0 * T01, da[2] - k0 * T02,
-        db[0] - k1 * T10, db[1] - k1 * T11, db[2] - k1 * T12,
-        dg[0] - k2 * T20, dg[1] - k2 * T21, dg[2] - k2 * T22,
-        T00, T01, T02, T10, T11, T12, T20, T21, T22,
-        valid,
-    )  # fmt: skip
+    G = (
+        t0 * da[3] + t1 * db[3] + t2 * dg[3],
+        t0 * da[4] + t1 * db[4] + t2 * dg[4],
+        t0 * da[5] + t1 * db[5] + t2 * dg[5],
+        t0 * da[6] + t1 * db[6] + t2 * dg[6],
+        t0 * da[7] + t1 * db[7] + t2 * dg[7],
+        t0 * da[8] + t1 * db[8] + t2 * dg[8],
+        t0 * da[9] + t1 * db[9] + t2 * dg[9],
+        t0 * da[10] + t1 * db[10] + t2 * dg[10],
+        t0 * da[11] + t1 * db[11] + t2 * dg[11],
+    )
+    dL = (da[0], da[1], da[2], db[0], db[1], db[2], dg[0], dg[1], dg[2])
+    r = (r0x, r0y, r0z, r1x, r1y, r1z, r2x, r2y, r2z)
+    valid = not (ia or ib or ig)
+    return _close(r, idet, t0, t1, t2, G, dL, La, Lb, Lg, L0, L1, L2, Ea, Eb, Eg, valid)
 
 
 @njit(cache=True, inline="always", error_model="numpy")
