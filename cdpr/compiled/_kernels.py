@@ -61,6 +61,7 @@ __all__ = [
     "commanded_input",
     "in_frame",
     "newton_options",
+    "pulley_frames",
     "pulley_geometry",
     "set_threads",
 ]
@@ -128,6 +129,24 @@ def cable_arrays(robot):
         f(a.E, dtype=float),
         f(a.T_a, dtype=float),
     )
+
+
+def pulley_frames(robot):
+    """The pulley frames as the kernels take them: frame (m, 3, 3) [-] contiguous (rows i_i, j_i,
+    k_i, ``robot.CableArrays.frame``) and ident (m,) bool, the frame is the identity (axis +z
+    without ``zero``: ``cable_axis`` then runs the scalar kernel on B and A themselves).
+
+    Parameters
+    ----------
+    robot : Robot
+
+    Returns
+    -------
+    tuple of ndarray
+        (frame (m, 3, 3), ident (m,)).
+    """
+    frame = np.ascontiguousarray(robot.arrays.frame, dtype=float)
+    return frame, np.array([(f == np.eye(3)).all() for f in frame], dtype=np.bool_)
 
 
 class Newton(NamedTuple):

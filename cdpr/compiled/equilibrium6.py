@@ -35,6 +35,7 @@ from cdpr.compiled._kernels import (
     cable_axis,
     cable_derivatives,
     newton_options,
+    pulley_frames,
     set_threads,
 )
 from cdpr.models.equilibrium import ARMIJO_C, LS_SKIP, MAX_HALVINGS, PHYSICAL_DEFAULTS, TAUT_MIN
@@ -94,8 +95,7 @@ class Out6(NamedTuple):
 def body_arrays(cab):
     """The ``Body`` record of a ``Cables6`` (the reference's evaluation record)."""
     a = cab.robot.arrays
-    frame = np.ascontiguousarray(a.frame, dtype=float)
-    ident = np.array([(fr == np.eye(3)).all() for fr in frame], dtype=np.bool_)
+    frame, ident = pulley_frames(cab.robot)
     if cab.suspended:  # the reference takes the identity frame (equilibrium6._args)
         frame = np.ascontiguousarray(np.broadcast_to(np.eye(3), frame.shape))
         ident[:] = True

@@ -28,6 +28,7 @@ from cdpr.compiled._kernels import (
     cable_params,
     commanded_input,
     newton_options,
+    pulley_frames,
     set_threads,
 )
 from cdpr.errors import CdprError
@@ -614,8 +615,7 @@ def subset_arrays(robot):
     the anchor triangles seen from above bound nothing there (every edge is made degenerate)."""
     edges, margin = subset_edges(robot)
     suspended = robot.suspended_point_mass
-    frame = np.ascontiguousarray(robot.arrays.frame, dtype=float)
-    ident = np.array([(f == np.eye(3)).all() for f in frame], dtype=np.bool_)
+    frame, ident = pulley_frames(robot)
     if not suspended:
         edges[:, :, :2] = 0.0
         edges[:, :, 2] = np.inf
