@@ -232,9 +232,14 @@ def sensitivities(
     pass, ``threads`` caps the threads) or ``"numpy"`` (the reference
     ``cdpr.models.sensitivity.sensitivities``). Newton only; same parameters and result as the
     reference, whose docstring gives the equations; another engine raises CdprError."""
-    require_point_mass(robot, "sensitivities", "cdpr.solve.spatial_sensitivities", True, p)
-    p = np.atleast_2d(np.asarray(p, dtype=float))
     check_redundancy(redundancy)
+    # paper mode takes any point mass (pulleys at any axis); the point-mass physical solver takes
+    # suspended ones (axes +z), the others go to the 6-DoF equilibrium
+    require_point_mass(
+        robot, f"sensitivities ({redundancy} mode)", "cdpr.solve.spatial_sensitivities (redundancy: physical, the 6-DoF equilibrium)",
+        redundancy == "physical", p,
+    )  # fmt: skip
+    p = np.atleast_2d(np.asarray(p, dtype=float))
     if check_engine(engine, "newton") == "compiled":
         return compiled_sensitivity.sensitivities_fast(
             robot, p, redundancy=redundancy, L=L, threads=threads, gap_tol=gap_tol, t_tol=t_tol, **solver
@@ -271,7 +276,10 @@ def subset_sensitivities(robot, p, L=None, columns=None, engine=None, threads=No
     reference ``cdpr.models.sensitivity.subset_sensitivities``, whose docstring gives the result);
     another engine raises CdprError."""
     require_point_mass(
-        robot, "subset_sensitivities (paper mode)", "cdpr.solve.spatial_sensitivities", True, p
+        robot,
+        "subset_sensitivities (paper mode)",
+        "cdpr.solve.spatial_sensitivities (redundancy: physical, the 6-DoF equilibrium)",
+        P=p,
     )
     if check_engine(engine, "newton") == "compiled":
         return compiled_sensitivity.subset_sensitivities(

@@ -239,20 +239,16 @@ def cmd_inverse(args):
 
 def _solve_sensitivities(robot, P, args, L0=None, rv=None, engine=None):
     """The solve plus the sensitivities for --sensitivities by ``engine``: dP*/dθ
-    (``solve.sensitivities``) on a suspended point mass (an orientation plays no part there and is
-    carried through), dp*/dθ and dφ*/dθ (``solve.spatial_sensitivities``) on any other robot."""
+    (``solve.sensitivities``) on a suspended point mass and, in paper mode, on any point mass (an
+    orientation plays no part there and is carried through), dp*/dθ and dφ*/dθ
+    (``solve.spatial_sensitivities``) on any other robot."""
     from cdpr.solve import check_spatial, sensitivities, spatial_sensitivities  # lazy: --sensitivities only
 
     if args.method != "newton":
         raise CdprError(
             "--sensitivities needs --method newton (the implicit-function theorem uses its Jacobian at the solution)"
         )
-    if not robot.suspended_point_mass:
-        if robot.point_mass and args.redundancy == "paper":
-            raise CdprError(
-                f"{robot.source}: paper-mode sensitivities are written for pulleys with +z axes and this robot's "
-                "pulleys have other axes; use --redundancy physical (dp*/dθ of the 6-DoF equilibrium)"
-            )
+    if not robot.suspended_point_mass and not (robot.point_mass and args.redundancy == "paper"):
         check_spatial(robot, None, args.redundancy)
         return spatial_sensitivities(robot, P, rv, L0=L0, engine=engine, threads=args.threads)
     return sensitivities(

@@ -28,6 +28,7 @@ from cdpr.models.equilibrium import (
     start_points,
 )
 from cdpr.models.inverse import L_TS
+from cdpr.robot import require_point_mass
 
 
 class Load(NamedTuple):
@@ -329,6 +330,9 @@ def solve_physical_fast(robot, p, L0=None, P0=None, tol=None, maxiter=None, max_
     dict
         As ``equilibrium.solve_physical``.
     """
+    require_point_mass(  # as the numpy twin: the kernel evaluates pulleys with +z axes only
+        robot, "solve_physical_fast", 'cdpr.solve_points_any(robot, p, redundancy="physical")', True, p
+    )
     p = np.ascontiguousarray(np.atleast_2d(np.asarray(p, dtype=float)))
     n, m = len(p), robot.m
     L0 = L_TS(robot, p) if L0 is None else np.broadcast_to(np.asarray(L0, dtype=float), (n, m))

@@ -37,6 +37,7 @@ from cdpr.compiled._kernels import (
     NEWTON_DEFAULTS,
     cable_arrays,
     cable_partials_at,
+    cable_partials_axis,
     commanded_input,
     newton_options,
     set_threads,
@@ -52,11 +53,13 @@ from cdpr.compiled.subsets import (
     subset_arrays,
 )
 from cdpr.compiled.subsets import solve_point as paper_point
+from cdpr.errors import CdprError
 from cdpr.models.equilibrium import PHYSICAL_DEFAULTS, hull_halfplanes, physical_result, start_points
 from cdpr.models.inverse import L_TS
 from cdpr.models.results import STATUSES
 from cdpr.models.sensitivity import COND_MAX, GAP_TOL, T_TOL
 from cdpr.parameters import parameter_names
+from cdpr.robot import require_point_mass
 
 
 @njit(cache=True, inline="always")
@@ -128,16 +131,25 @@ def _put_t(St, S, i, col, T, pt):
 
 
 @njit(cache=True, error_model="numpy")
-def _paper_sens(i, Px, Py, Pz, cs, Lc, cables, bz, mass, rows, S, w, St, want_t):
+def _paper_sens(i, Px, Py, Pz, cs, Lc, cables, subs, b, mass, rows, S, w, St, want_t):
     """dP*/dθ of paper mode at P* for the subset cs (3 cables) with commanded lengths Lc (3), written
     to S[i] (``sensitivity.paper_jacobian_terms`` and ``implicit_solve``); returns the subset's
     tensions at P* and the condition number of J (inf where singular). ``cables`` the ``Cables``
-    record, ``rows`` (3, NCOL) and ``w`` (8, 3, 3): scratch. With ``want_t``, also the total
-    dt/dθ = dt/dP dP*/dθ + dt/dθ|_P into St[i]."""
+    record, ``subs`` the ``Subsets`` record (a robot that is not suspended has each cable evaluated
+    in its pulley frame, ``cable_partials_axis``), b (3,) [N] = -w_ext, ``rows`` (3, NCOL) and ``w``
+    (8, 3, 3): scratch. With ``want_t``, also the total dt/dθ = dt/dP dP*/dθ + dt/dθ|_P into St[i]."""
     ES, E = cables.ES, cables.E
     m = cables.A.shape[0]
     for j in range(3):
-        cable_partials_at(Px, Py, Pz, cables, cs[j], rows[j])
+        c = cs[j]
+        if subs.suspended:
+            cable_partials_at(Px, Py, Pz, cables, c, rows[j])
+        else:
+            A, inward = cables.A, cables.inward
+            cable_partials_axis(
+                Px, Py, Pz, A[c, 0], A[c, 1], A[c, 2], cables.kind[c], cables.h[c], cables.rp[c],
+                cables.d[c], inward[c, 0], inward[c, 1], subs.ident[c], subs.frame[c], rows[j],
+            )  # fmt: skip
     # M_u = [u_0 u_1 u_2] (columns); M_u^-1 rows r_j / det
     u, r, G, J, Jinv, T = w[0], w[1], w[2], w[3], w[4], w[7]
     t, kL, du, f, pt = w[5, 0], w[5, 1], w[5, 2], w[6, 0], w[6, 1]
@@ -154,7 +166,7 @@ def _paper_sens(i, Px, Py, Pz, cs, Lc, cables, bz, mass, rows, S, w, St, want_t)
         return np.nan, np.nan, np.nan, np.inf
     idet = 1.0 / det
     for j in range(3):
-        t[j] = r[j, 2] * bz * idet
+        t[j] = (r[j, 0] * b[0] + r[j, 1] * b[1] + r[j, 2] * b[2]) * idet
         kL[j] = Lc[j] / ES[cs[j]]
     for a in range(3):
         for b in range(3):
@@ -259,7 +271,8 @@ def _paper_points(p, Lin, cables, subs, b, mass, opts, gap_tol, out, S, gap_out,
                 cs,
                 Lc,
                 cables,
-                b[2],
+                subs,
+                b,
                 mass,
                 rows,
                 S,
@@ -373,6 +386,12 @@ def sensitivities_fast(
     ----------
     Paty et al. 2021, eq. (3)-(5), (10)-(14).
     """
+    if redundancy not in ("paper", "physical"):
+        raise CdprError(f"unknown redundancy {redundancy!r}; allowed: paper, physical")
+    require_point_mass(
+        robot, f"sensitivities_fast ({redundancy} mode)", "cdpr.solve.spatial_sensitivities (redundancy: physical, the 6-DoF equilibrium)",
+        redundancy == "physical", p,
+    )  # fmt: skip
     p = np.ascontiguousarray(np.atleast_2d(np.asarray(p, dtype=float)))
     n, m = len(p), robot.m
     K = 7 * m + 1
@@ -417,7 +436,7 @@ def sensitivities_fast(
             "dp_gap": gap,
         }
         smooth = (st == ST_OK) & (gap > gap_tol) & (tm > t_tol) & (cond < COND_MAX)
-    elif redundancy == "physical":
+    else:
         opts = newton_options({**PHYSICAL_DEFAULTS, **solver})
         L0 = L_TS(robot, p) if L is None else np.broadcast_to(np.asarray(L, dtype=float), (n, m))
         L0 = np.ascontiguousarray(L0, dtype=float)
@@ -436,8 +455,6 @@ def sensitivities_fast(
         tm = np.where(ok, tm, np.nan)
         cond = np.where(ok, cond, np.inf)
         smooth = ok & (tm > t_tol) & (cond < COND_MAX)
-    else:
-        raise ValueError(f"unknown redundancy {redundancy!r}; allowed: 'paper', 'physical'")
     res.update(S=S, names=parameter_names(m), smooth=smooth, margin_t=tm, cond=cond)
     return res
 
@@ -480,7 +497,7 @@ def _subsets_points(p, Lin, cables, subs, b, mass, opts, cols, P_out, t_out, con
                         S1[0, a, q] = 0.0
                         St1[0, a, q] = 0.0
                 t0, t1, t2, cond = _paper_sens(
-                    0, Ps[k, 0], Ps[k, 1], Ps[k, 2], cs, Lc, cables, b[2], mass, rows, S1, w, St1, True
+                    0, Ps[k, 0], Ps[k, 1], Ps[k, 2], cs, Lc, cables, subs, b, mass, rows, S1, w, St1, True
                 )
                 if not cond < np.inf:
                     continue
@@ -510,6 +527,12 @@ def subset_sensitivities(robot, p, L=None, columns=None, threads=None, **solver)
     dict
         As ``sensitivity.subset_sensitivities``.
     """
+    require_point_mass(
+        robot,
+        "subset_sensitivities (paper mode)",
+        "cdpr.solve.spatial_sensitivities (redundancy: physical, the 6-DoF equilibrium)",
+        P=p,
+    )
     p = np.ascontiguousarray(np.atleast_2d(np.asarray(p, dtype=float)))
     n, m = len(p), robot.m
     cols = np.arange(7 * m + 1) if columns is None else np.asarray(columns, dtype=np.int64)

@@ -86,18 +86,19 @@ class CablePartials(NamedTuple):
     du: np.ndarray
 
 
-def cable_partials(P, A, kind, h, r_p, d, inward):
+def cable_partials(P, A, kind, h, r_p, d, inward, frame=None):
     """Partial derivatives of every cable's total length L_TE and direction u at P with respect to
     its own pulley parameters and joint point (module docstring)::
 
         dL_TE/dh = (u + u_C) . b,      du/dh = (I - u u^T) b / |l_E|
         dL_TE/dr_p = gamma,            du/dr_p = n_D / |l_E|
-        dL_TE/dd = u_C . z,            du/dd = 0
+        dL_TE/dd = u_C . k,            du/dd = 0
         dL_TE/dA = -dL_TE/dP,          du/dA = -du/dP
 
-    with b the arm direction (SR and fixed: e_s; DR: the bisector), u_C the unit vector from the
-    winch exit C toward the entry point K, gamma the wrap angle, n_D = (u . z) e_s - (u . e_s) z the
-    sheave's outward normal at D (in the cable plane, perpendicular to u).
+    with k the pulley's swivel axis (+z in the paper), b the arm direction (SR and fixed: e_s, the
+    cable plane's direction perpendicular to k; DR: the bisector), u_C the unit vector from the
+    winch exit C = A - d k toward the entry point K, gamma the wrap angle, n_D = (u . k) e_s -
+    (u . e_s) k the sheave's outward normal at D (in the cable plane, perpendicular to u).
 
     Parameters
     ----------
@@ -111,6 +112,9 @@ def cable_partials(P, A, kind, h, r_p, d, inward):
         Lever arms, sheave radii, dead lengths.
     inward : ndarray, shape (m, 2)
         Fallback pulley-plane directions (``robot.CableArrays``).
+    frame : ndarray, shape (m, 3, 3), optional
+        Pulley frames, rows i_i, j_i, k_i (``Robot.arrays.frame``); None: k = +z with today's
+        arithmetic (the suspended robots of the paper).
 
     Returns
     -------
@@ -123,26 +127,35 @@ def cable_partials(P, A, kind, h, r_p, d, inward):
     Paty et al. 2021, eq. (3)-(5).
     """
     P = np.asarray(P, dtype=float)
-    st = pulley_state(P, A, kind, h, r_p, d, inward)
-    g = total_length_and_direction(P, A, kind, h, r_p, d, inward)
-    zero = np.zeros_like(st.rho)
-    e3 = np.stack([st.e_s[..., 0], st.e_s[..., 1], zero], axis=-1)
-    z = np.array([0.0, 0.0, 1.0])
+    st = pulley_state(P, A, kind, h, r_p, d, inward, frame)
+    g = total_length_and_direction(P, A, kind, h, r_p, d, inward, frame)
     u = g.u
     l_d = np.where(st.l_d > 0, st.l_d, 1.0)
-    u_C = (st.K - A + d[:, None] * z) / l_d[..., None]  # C = A - d z
+    if frame is None:  # k = +z: the components directly (today's arithmetic, bit for bit)
+        zero = np.zeros_like(st.rho)
+        e3 = np.stack([st.e_s[..., 0], st.e_s[..., 1], zero], axis=-1)
+        z = np.array([0.0, 0.0, 1.0])
+        u_C = (st.K - A + d[:, None] * z) / l_d[..., None]  # C = A - d z
+        beta_k, u_k, uC_k = g.beta[..., 2:3], u[..., 2:3], u_C[..., 2]
+    else:
+        e3 = st.e_s3
+        z = frame[:, 2]  # the swivel axes k_i (m, 3)
+        u_C = (st.K - A + d[:, None] * z) / l_d[..., None]  # C = A - d k
+        beta_k = np.einsum("...ma,ma->...m", g.beta, z)[..., None]
+        u_k = np.einsum("...ma,ma->...m", u, z)[..., None]
+        uC_k = np.einsum("...ma,ma->...m", u_C, z)
     # arm direction: DR the bisector (beta rotated back by 90 degrees in the plane), else e_s
-    bis = g.beta[..., 2:3] * e3 - np.einsum("...i,...i->...", g.beta, e3)[..., None] * z
+    bis = beta_k * e3 - np.einsum("...i,...i->...", g.beta, e3)[..., None] * z
     b = np.where((np.asarray(kind) == 2)[:, None], bis, e3)
     u_e = np.einsum("...i,...i->...", u, e3)
-    n_D = u[..., 2:3] * e3 - u_e[..., None] * z
+    n_D = u_k * e3 - u_e[..., None] * z
     lE = g.l_E[..., None]
     ub = np.einsum("...i,...i->...", u, b)
     dL = np.stack(
         [
             np.einsum("...i,...i->...", u + u_C, b),
             st.gamma,
-            u_C[..., 2],
+            uC_k,
         ],
         axis=-1,
     )
@@ -205,7 +218,8 @@ def paper_jacobian_terms(robot, P, subset, L):
     s = np.asarray(subset, dtype=np.intp)
     m = robot.m
     K = 7 * m + 1
-    cp = cable_partials(P, a.A[s], a.kind[s], a.h[s], a.r_p[s], a.d[s], a.inward[s])
+    frame = None if robot.suspended_point_mass else a.frame[s]  # as ``direct.degm_e``
+    cp = cable_partials(P, a.A[s], a.kind[s], a.h[s], a.r_p[s], a.d[s], a.inward[s], frame)
     t, Minv = tensions(cp.u, robot.platform.w_ext)
     ES = a.ES[s]
     kL = L / ES  # (n, 3)

@@ -15,11 +15,14 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from cdpr.analyses.workspace import grid_points
+from cdpr.compiled.equilibrium import solve_physical_fast
+from cdpr.compiled.sensitivity import sensitivities_fast
 from cdpr.compiled.subsets import solve_points_fast
 from cdpr.errors import CdprError
 from cdpr.models.direct import _Subset, degm_e
 from cdpr.models.inverse import L_TS
 from cdpr.models.subsets import solve_points
+from cdpr.parameters import parameter_names, parameter_values, robot_with_parameters
 from cdpr.robot import load_robot, with_pulleys
 from cdpr.solve import sensitivities, solve_points_any, subset_sensitivities
 from cdpr.tables import solve_table
@@ -285,14 +288,123 @@ def test_the_fixed_point_still_runs_on_suspended_robots(pair):
     assert list(res["status"]) == ["ok"]
 
 
+# ---- paper-mode sensitivities dP*/dθ on the turned robot ----------------------------------------
+#: Points of CDPR4 away from its diagonals and axes (where two subsets tie and a point is not smooth).
+SENS_POINTS = np.array(
+    [[0.7, -1.3, 0.4], [-1.6, 0.5, 1.9], [1.1, 1.9, 3.1], [-0.4, -2.0, 2.6], [2.1, 0.3, 1.2]]
+)
+
+
+def _full_solve(robot, q, L):
+    return solve_points_fast(robot, q, L=L, tol=1e-13)["P_s"]
+
+
+@pytest.mark.parametrize("kind", ["SR", "DR", "fixed"])
+def test_sensitivities_on_the_turned_robot_equal_central_differences(kind):
+    """dP*/dθ by the implicit-function theorem, each cable's partials taken in its pulley frame,
+    against central differences of full paper-mode solves (every subset and the paper's choice) of
+    the turned robot with each parameter moved (relative step 1e-4 for E and M, 1e-6 m otherwise);
+    the compiled engine equals the numpy reference."""
+    h, r_p = {"SR": (0.1077, 0.035), "DR": (0.1, 0.08), "fixed": (0.0, 0.0)}[kind]
+    R = rotation("small")
+    robot = turned(with_pulleys(load_robot(CDPR4), kind=kind, h=h, r_p=r_p), R)
+    q = SENS_POINTS @ R.T
+    a = sensitivities(robot, q, engine="numpy")
+    b = sensitivities(robot, q, engine="compiled")
+    assert a["smooth"].all() and b["smooth"].all()
+    assert np.abs(a["S"] - b["S"]).max() <= 1e-9 * np.abs(a["S"]).max()
+    L = L_TS(robot, q)
+    th = parameter_values(robot)
+    names = parameter_names(robot.m)
+    for k, name in enumerate(names):
+        step = 1e-4 * th[k] if name[0] in "EM" else 1e-6
+        up, down = th.copy(), th.copy()
+        up[k] += step
+        down[k] -= step
+        fd = (_full_solve(robot_with_parameters(robot, up), q, L) - _full_solve(
+            robot_with_parameters(robot, down), q, L)) / (2 * step)  # fmt: skip
+        err = np.linalg.norm(a["S"][:, :, k] - fd, axis=1)
+        bound = 1e-5 * np.linalg.norm(fd, axis=1) + 1e-13 / step
+        assert (err <= bound).all(), (name, a["S"][:, :, k], fd)
+        if name[0] != "E" and not (kind == "fixed" and name[:2] in ("h_", "r_")):
+            # the parameters of the three taut cables move the point: the test compares no zeros
+            assert np.abs(fd).max() > 1e-6 or np.abs(a["S"][:, :, k]).max() == 0.0, name
+
+
 @pytest.mark.parametrize("engine", ["numpy", "compiled"])
-def test_paper_mode_sensitivities_are_refused_on_the_turned_robot(tilted, engine):
+@pytest.mark.parametrize("name", ["identity", "small", "large"])
+def test_sensitivities_turn_with_the_robot(pair, name, engine):
+    """Turning the whole robot by R turns dP*/dθ: R S for the scalar parameters (E, h, r_p, d, M)
+    and R S_A Rᵀ for the joint points A_i; the same smoothness flags and gaps. The suspended robot's
+    sensitivities (frame-free arithmetic) are the reference."""
+    a, _ = pair
+    R = rotation(name)
+    b = turned(a, R)
+    p = SENS_POINTS
+    ra = sensitivities(a, p, engine=engine)
+    rb = sensitivities(b, p @ R.T, engine=engine)
+    assert (ra["status"] == rb["status"]).all() and (ra["smooth"] == rb["smooth"]).all()
+    assert ra["smooth"].all()
+    names = ra["names"]
+    scale = np.abs(ra["S"]).max(axis=(0, 1))
+    for k, nm in enumerate(names):
+        if nm.startswith("A_"):
+            continue
+        assert np.abs(rb["S"][:, :, k] - ra["S"][:, :, k] @ R.T).max() <= 1e-9 * scale[k] + 1e-300, nm
+    for c in range(a.m):
+        cols = [names.index(f"A_{c + 1}_{x}") for x in "xyz"]
+        want = R @ ra["S"][:, :, cols] @ R.T
+        assert np.abs(rb["S"][:, :, cols] - want).max() <= 1e-9 * np.abs(want).max() + 1e-12, c
+    assert np.allclose(rb["dp_gap"], ra["dp_gap"], rtol=0, atol=1e-9)
+    assert np.allclose(rb["margin_t"], ra["margin_t"], rtol=1e-9, atol=1e-6)
+
+
+def test_compiled_sensitivities_equal_numpy_on_the_turned_robot(tilted):
+    """Over ok, slack and lone-cable points: the same statuses and smoothness flags, NaN at the same
+    places, dP*/dθ within 1e-9 of each column's scale; and every subset's (``subset_sensitivities``)."""
+    q = workspace_points(60) @ rotation("small").T
+    a = sensitivities(tilted, q, engine="numpy")
+    b = sensitivities(tilted, q, engine="compiled")
+    assert (a["status"] == b["status"]).all() and (a["smooth"] == b["smooth"]).all()
+    assert {"ok", "slack"} <= set(a["status"])
+    assert np.array_equal(np.isnan(a["S"]), np.isnan(b["S"]))
+    ok = a["status"] == "ok"
+    scale = np.nanmax(np.abs(a["S"][ok]), axis=0)
+    assert (np.abs(a["S"][ok] - b["S"][ok]) <= 1e-9 * scale).all()
+    c = subset_sensitivities(tilted, q[:12], engine="numpy")
+    d = subset_sensitivities(tilted, q[:12], engine="compiled")
+    assert (c["converged"] == d["converged"]).all() and (c["admissible"] == d["admissible"]).all()
+    cv = c["converged"]
+    assert cv.sum() > 20
+    for key in ("S", "St"):
+        sc = np.abs(c[key][cv]).max(axis=0)
+        assert (np.abs(c[key][cv] - d[key][cv]) <= 1e-9 * sc + 1e-12).all(), key
+
+
+@pytest.mark.parametrize("engine", ["numpy", "compiled"])
+def test_physical_point_mass_sensitivities_are_refused_on_the_turned_robot(tilted, engine):
+    """The point-mass physical solver evaluates pulleys with +z axes: physical-mode point-mass
+    sensitivities on leaning pulleys are refused in one line naming the 6-DoF function."""
     q = workspace_points(5) @ rotation("small").T
     with pytest.raises(CdprError) as exc:
-        sensitivities(tilted, q, engine=engine)
-    _one_line(exc)
+        sensitivities(tilted, q, redundancy="physical", engine=engine)
+    assert "spatial_sensitivities" in _one_line(exc)
+
+
+@pytest.mark.parametrize(
+    "call",
+    [
+        lambda r, q: sensitivities_fast(r, q, redundancy="physical"),
+        lambda r, q: solve_physical_fast(r, q),
+    ],
+    ids=["sensitivities_fast", "solve_physical_fast"],
+)
+def test_compiled_point_mass_physical_entries_refuse_leaning_pulleys(tilted, call):
+    """Called directly, the compiled point-mass physical kernels refuse pulleys at other axes (their
+    cable kernel takes +z axes) as their numpy twins do, instead of ignoring the axes."""
+    q = workspace_points(5) @ rotation("small").T
     with pytest.raises(CdprError) as exc:
-        subset_sensitivities(tilted, q, engine=engine)
+        call(tilted, q)
     _one_line(exc)
 
 
@@ -313,6 +425,10 @@ def cogiro():
         lambda r, p: solve_points(r, p),
         lambda r, p: degm_e(r, p),
         lambda r, p: solve_points_fast(r, p),
+        lambda r, p: sensitivities(r, p, engine="numpy"),
+        lambda r, p: sensitivities(r, p),
+        lambda r, p: subset_sensitivities(r, p),
+        lambda r, p: sensitivities_fast(r, p),
     ],
     ids=[
         "any-numpy",
@@ -322,6 +438,10 @@ def cogiro():
         "solve_points",
         "degm_e",
         "solve_points_fast",
+        "sensitivities-numpy",
+        "sensitivities",
+        "subset_sensitivities",
+        "sensitivities_fast",
     ],
 )
 def test_paper_mode_still_refuses_a_rigid_platform(cogiro, call):
