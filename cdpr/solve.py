@@ -20,7 +20,6 @@ from cdpr.compiled import sensitivity6 as compiled_sensitivity6
 from cdpr.compiled import subsets as compiled_subsets
 from cdpr.errors import CdprError
 from cdpr.models import equilibrium, sensitivity, sensitivity6
-from cdpr.models.direct import check_method
 from cdpr.models.equilibrium6 import solve_spatial, solve_spatial_batch
 from cdpr.models.results import mark_below_floor
 from cdpr.models.subsets import solve_points
@@ -132,8 +131,8 @@ def solve_points_any(
     suspended point mass, an orientation ``rotvec`` ((3,) or (N, 3) [rad]) or poses p (N, 6) go to
     the 6-DoF solver (``equilibrium6.solve_spatial``), compiled by default and the numpy reference
     with ``engine="numpy"`` (``solve_spatial_any``). Paper mode takes every point-mass robot, pulleys
-    at any axis (the suspended robots' accessibility and floor rules, and the fixed point, for
-    suspended ones only), ignores the orientation, and refuses a rigid platform
+    at any axis (the suspended robots' accessibility and floor rules for suspended ones only),
+    Newton or the paper's fixed point, ignores the orientation, and refuses a rigid platform
     (``check_spatial``). An engine/method/model combination that does not exist raises CdprError."""
     p = np.atleast_2d(np.asarray(p, dtype=float))
     check_redundancy(redundancy)
@@ -170,7 +169,6 @@ def solve_points_any(
             "commanded lengths need physical mode (--redundancy physical); paper mode commands L_TS at the desired point"
         )
     engine = check_engine(engine, method)
-    check_method(robot, method)
     if L is not None:
         options["L"] = L
     if engine == "compiled":

@@ -22,7 +22,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from cdpr.errors import CdprError
 from cdpr.models.inverse import L_TS
 from cdpr.models.pulleys import pulley_state, total_length_and_direction
 from cdpr.models.statics import length_gradient, solve3, stretched_length, tension_gradient, tensions
@@ -63,6 +62,8 @@ class _Subset:
         # rule (P below every pulley); pulleys at other axes are evaluated in their frames
         self.suspended = robot.suspended_point_mass
         self.frame = None if self.suspended else robot.arrays.frame[s]
+        down = np.asarray(robot.platform.down, dtype=float)
+        self.down = None if self.suspended else down / np.linalg.norm(down)  # gravity's direction
 
     def geometry(self, P):
         return total_length_and_direction(P, *self.args, frame=self.frame)
@@ -126,12 +127,18 @@ def _newton(sub, P0, L, tol, maxiter, max_step):
     return P, iters, conv, exists, t_at, valid_at, fresh
 
 
-def trilaterate_low(c, R):
+def trilaterate_low(c, R, down=None):
     """Lower intersection of three spheres with centres c (N, 3, 3) and radii R (N, 3), eq. (9).
 
     Paty 2021 eq. (9): |P - H_j|^2 = R_j^2, j = 1, 2, 3, with the sheave centres H_j and the radii
     R_j = sqrt((L_j - |l_d,j| - gamma_j r_p,j)^2 + r_p,j^2) of eq. (8); of the two solutions the
     "low" one (smaller z) is kept, the only one a hanging platform reaches.
+
+    With ``down`` (gravity's direction, for pulleys at any axis) the kept solution is the one on
+    gravity's side of the plane of the centres, base + z e_z with e_z . down > 0 (the paper's rule
+    for down = -z): three cables pulling the platform toward that plane can hold it against gravity
+    with positive tensions only from that side (n . u_j > 0 for the normal n toward the plane, and
+    sum t_j u_j = -M g down needs n . down < 0), and the rule turns with the robot.
 
     Parameters
     ----------
@@ -139,6 +146,8 @@ def trilaterate_low(c, R):
         Sphere centres, one per row (``c[:, j]`` is H_j).
     R : ndarray (N, 3) [m]
         Sphere radii.
+    down : ndarray (3,) [-], optional
+        Unit gravity direction; None: -z with the paper's arithmetic (smaller z).
 
     Returns
     -------
@@ -166,8 +175,11 @@ def trilaterate_low(c, R):
     exists = z2 >= 0
     z = np.sqrt(np.maximum(z2, 0.0))
     base = c1 + x[:, None] * ex + y[:, None] * ey
-    # the lower of base +/- z ez
-    sign = np.where(ez[:, 2] > 0, -1.0, 1.0)
+    # the lower of base +/- z ez (along gravity: the side ez . down > 0)
+    if down is None:
+        sign = np.where(ez[:, 2] > 0, -1.0, 1.0)
+    else:
+        sign = np.where(ez @ down > 0, 1.0, -1.0)
     return base + (sign * z)[:, None] * ez, exists
 
 
@@ -175,7 +187,8 @@ def _fixed_point(sub, P0, L0, tol, max_inner, max_outer):
     """The paper's nested scheme (Fig. 6): an inner DGM_E loop of sphere intersections (eq. 8-9)
     updating the pulleys at fixed lengths, and an outer loop updating tensions and stretched
     lengths (eq. 11-13). Both stop when the position moves less than ``tol``. ``iterations`` counts
-    sphere intersections."""
+    sphere intersections. Pulleys at any axis: each in its frame, the intersection kept on
+    gravity's side (``trilaterate_low`` with ``down``)."""
     A, kind, h, r_p, d, inward = sub.args
     n = P0.shape[0]
     P = P0.copy()
@@ -192,10 +205,10 @@ def _fixed_point(sub, P0, L0, tol, max_inner, max_outer):
         for _inner in range(max_inner):
             if inner.size == 0:
                 break
-            st = pulley_state(P[inner], A, kind, h, r_p, d, inward)
+            st = pulley_state(P[inner], A, kind, h, r_p, d, inward, sub.frame)
             arm = L[inner] - st.l_d - st.gamma * r_p
             R = np.sqrt(arm**2 + r_p**2)
-            Pn, ok = trilaterate_low(st.H, R)
+            Pn, ok = trilaterate_low(st.H, R, sub.down)
             ok &= ~st.inside.any(axis=1) & (arm > 0).all(axis=1)
             iters[inner] += 1
             exists[inner[~ok]] = False
@@ -211,34 +224,6 @@ def _fixed_point(sub, P0, L0, tol, max_inner, max_outer):
         conv[active[done]] = True
         active = active[~done]
     return P, iters, conv, exists
-
-
-def check_method(robot, method):
-    """Refuse, in one line, a DEGM_E solver that does not model ``robot``: the paper's fixed point
-    intersects spheres and keeps their lower point (eq. 9), the rule of a platform hanging below its
-    pulleys, so it takes suspended point-mass robots only (``Robot.suspended_point_mass``); Newton
-    takes any point-mass robot, pulleys at any axis.
-
-    Parameters
-    ----------
-    robot : Robot
-    method : {"newton", "fixed_point"}
-
-    Returns
-    -------
-    None
-        Returns when ``method`` models ``robot``.
-
-    Raises
-    ------
-    CdprError
-    """
-    if method == "fixed_point" and not robot.suspended_point_mass:
-        raise CdprError(
-            f"{robot.source}: the paper's fixed point (--method fixed_point) keeps the lower intersection of "
-            "spheres, the rule of a platform hanging below pulleys with +z axes; this robot's pulleys have "
-            "other axes: use --method newton"
-        )
 
 
 def degm_e(robot, p, subset=(0, 1, 2), L=None, method="newton", P0=None, **options):
@@ -271,7 +256,6 @@ def degm_e(robot, p, subset=(0, 1, 2), L=None, method="newton", P0=None, **optio
     require_point_mass(
         robot, "paper mode (degm_e)", 'cdpr.solve_points_any(robot, p, redundancy="physical")', P=p
     )
-    check_method(robot, method)
     p = np.atleast_2d(np.asarray(p, dtype=float))
     s = np.asarray(subset, dtype=np.intp)
     sub = _Subset(robot, s)

@@ -30,7 +30,7 @@ from __future__ import annotations
 import numpy as np
 
 from cdpr.errors import CdprError
-from cdpr.models.direct import check_method, degm_e
+from cdpr.models.direct import degm_e
 from cdpr.models.inverse import L_TS
 from cdpr.robot import require_point_mass
 
@@ -72,7 +72,6 @@ def solve_points(robot, p, method="newton", L=None, P0=None, **options):
     require_point_mass(
         robot, "paper mode (solve_points)", 'cdpr.solve_points_any(robot, p, redundancy="physical")', P=p
     )
-    check_method(robot, method)
     p = np.atleast_2d(np.asarray(p, dtype=float))
     n = p.shape[0]
     subsets = robot.subsets

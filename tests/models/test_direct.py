@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+from scipy.spatial.transform import Rotation
 
 from cdpr.models.direct import degm_e, trilaterate_low
 from cdpr.models.inverse import L_TS, igm_e
@@ -78,6 +79,28 @@ def test_trilateration_takes_the_low_solution():
     assert ok.all() and np.allclose(sol, P)
     _, ok = trilaterate_low(c, R * 0.1)
     assert not ok.any()
+
+
+def test_trilateration_keeps_the_solution_on_gravitys_side():
+    """With ``down`` the kept intersection is the one on gravity's side of the centres' plane:
+    down = -z gives the paper's (smaller z) solution bit for bit, down = +z the mirror one, and a
+    rotated configuration (centres, point and gravity) gives the rotated point."""
+    rng = np.random.default_rng(3)
+    c = rng.uniform(-3, 3, (50, 3, 3)) + [0.0, 0.0, 5.0]
+    P = rng.uniform(-1, 1, (50, 3))
+    R = np.linalg.norm(c - P[:, None, :], axis=2)
+    low, ok = trilaterate_low(c, R)
+    assert ok.all()
+    same, _ = trilaterate_low(c, R, np.array([0.0, 0.0, -1.0]))
+    assert np.array_equal(same, low)
+    up, _ = trilaterate_low(c, R, np.array([0.0, 0.0, 1.0]))
+    assert (up[:, 2] >= low[:, 2]).all() and np.abs(up - low).max() > 0.1
+    # each solution lies on the spheres
+    for sol in (low, up):
+        assert np.abs(np.linalg.norm(c - sol[:, None, :], axis=2) - R).max() < 1e-9
+    Q = Rotation.from_rotvec([2.5, -0.4, 0.7]).as_matrix()
+    turned, _ = trilaterate_low(c @ Q.T, R, Q @ [0.0, 0.0, -1.0])
+    assert np.abs(turned - low @ Q.T).max() < 1e-9
 
 
 def test_unknown_method(cdpr4):
