@@ -256,7 +256,8 @@ def parameter_samples(robot, drivers_, U, active=None):
 
 def check_samples(robot, theta, source="<study>", key="uncertainty.parameters"):
     """Refuse parameter vectors a robot cannot have (E, M, r_p > 0 or >= 0, h >= r_p for SR and
-    h > r_p for DR, d >= 0, anchors above the floor), naming the first bad sample.
+    h > r_p for DR, d >= 0, and, for a suspended point mass, anchors above the floor: every other
+    robot has its anchors anywhere, e.g. IPAnema's at z = 0), naming the first bad sample.
 
     Parameters
     ----------
@@ -282,7 +283,7 @@ def check_samples(robot, theta, source="<study>", key="uncertainty.parameters"):
         (E <= 0, "a Young's modulus <= 0"),
         (th[:, [7 * m]] <= 0, "a payload mass <= 0"),
         (d < 0, "a negative dead length"),
-        (Az <= 0, "an anchor at or below the floor"),
+        ((Az <= 0) & robot.suspended_point_mass, "an anchor at or below the floor"),
         ((r_p < 0) | (h < 0), "a negative lever arm or sheave radius"),
         ((kind == 1) & sized & (h < r_p), "an SR pulley with h < r_p"),
         ((kind == 2) & sized & (h <= r_p), "a DR pulley with h <= r_p"),

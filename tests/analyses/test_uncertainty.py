@@ -12,7 +12,7 @@ from cdpr.analyses.workspace import grid_points
 from cdpr.errors import CdprError, ConfigError
 from cdpr.parameters import parameter_names, parameter_values
 from cdpr.pipeline.study import Study, check_study, load_study
-from cdpr.robot import with_pulleys
+from cdpr.robot import load_robot, with_pulleys
 from tests.conftest import ROOT
 
 QUICK = ROOT / "config" / "studies" / "quick.yaml"
@@ -85,6 +85,24 @@ def test_parameter_samples_and_physical_checks(cdpr4):
     bad[7, 4] = 0.05  # DR lever arm below the sheave radius
     with pytest.raises(ConfigError, match="sample 7 gives a DR pulley with h <= r_p"):
         uq.check_samples(robot, bad, "s.yaml")
+
+
+def test_the_floor_check_is_for_suspended_robots_only(cdpr4):
+    """An anchor drawn at or below the floor is refused on a suspended point mass (CDPR4) and
+    allowed on a robot whose anchors lie anywhere (IPAnema's lower anchors are at z = 0, so every
+    sample with a downward anchor offset would have been refused)."""
+    dr = uq.drivers({"anchor_offset_m": {"dist": "normal", "mean": 0.0, "sd": 0.002}}, 4)
+    U = uq.mc_uniforms(5, 0, 20, len(dr))
+    bad = uq.parameter_samples(cdpr4, dr, U)
+    bad[3, 4 * 4 + 2] = 0.0  # A_1_z
+    with pytest.raises(ConfigError, match="sample 3 gives an anchor at or below the floor"):
+        uq.check_samples(cdpr4, bad, "s.yaml")
+    ipa = load_robot(ROOT / "config" / "robots" / "ipanema_like.yaml")
+    assert not ipa.suspended_point_mass
+    dr8 = uq.drivers({"anchor_offset_m": {"dist": "normal", "mean": 0.0, "sd": 0.002}}, ipa.m)
+    th = uq.parameter_samples(ipa, dr8, uq.mc_uniforms(5, 0, 20, len(dr8)))
+    assert (th[:, 4 * ipa.m + 2 : 7 * ipa.m : 3] < 0).any()  # lower anchors drawn below z = 0
+    uq.check_samples(ipa, th, "s.yaml")
 
 
 @pytest.mark.parametrize("kind", ["SR", "DR"])
