@@ -7,6 +7,14 @@ The study file's ``uncertainty.parameters`` declares a distribution per paramete
     young_modulus_Pa: {dist: uniform, low: 67.2e9, high: 137.2e9, per_cable: true}    # E_i [Pa]
     anchor_offset_m:  {dist: normal, mean: 0, sd: 0.002, per_cable: true}           # A_i + offset [m]
     mass_kg:          {dist: normal, mean: 300, sd: 10, low: 270, high: 330}        # M [kg], truncated
+    attachment_offset_m: {dist: normal, mean: 0, sd: 0.001, per_cable: true}        # b_i + offset [m]
+    com_offset_m:     {dist: uniform, low: -0.01, high: 0.01}                      # c + offset [m]
+
+The last two are a rigid platform's (a spatial study): the attachments b_i (platform frame, x, y,
+z of each cable drawn independently with ``per_cable: true``, one draw per axis for all cables
+otherwise) and the centre of mass c (one draw per axis). Their drivers set columns after the
+point-mass parameters: θ = (E, h, r_p, d, A, M, b, c) (``nominal_theta``), which
+``uncertainty6.spatial_theta`` reorders to ``parameter_names6``.
 
 ``uniform`` takes low and high; ``normal`` takes mean and sd, and optional low/high that truncate
 it. Keys ending in ``_offset_m`` are deviations added to each cable's nominal value (the designs
@@ -74,7 +82,13 @@ PARAMETER_KEYS = {
     "dead_length_offset_m": ("d", "offset"),
     "anchor_offset_m": ("A", "offset"),
     "mass_kg": ("M", "value"),
+    # a rigid platform's (``Robot.point_mass`` false; spatial studies, ``uncertainty6``): after every
+    # point-mass key, so that the drivers of a study without them keep their numbers
+    "attachment_offset_m": ("b", "offset"),
+    "com_offset_m": ("c", "offset"),
 }
+#: Groups of a rigid platform only: their drivers set columns after the point-mass θ (``nominal_theta``).
+RIGID_GROUPS = ("b", "c")
 CASES = ("uncompensated", "compensated")
 #: Where ``PoseErrorModel``'s physical full solves start Newton.
 STARTS = ("linear", "desired")
@@ -169,6 +183,7 @@ def drivers(parameters, m):
     list of Driver
     """
     base = {"E": 0, "h": m, "r_p": 2 * m, "d": 3 * m}
+    vec = {"A": 4 * m, "b": 7 * m + 1}  # per-cable 3-vectors: first column
     out = []
     for key, (group, kind) in PARAMETER_KEYS.items():
         if key not in parameters:
@@ -179,16 +194,20 @@ def drivers(parameters, m):
         per_cable = spec.get("per_cable", True) and group != "M"
         if group == "M":
             out.append(Driver("M", key, group, (7 * m,), offset, dist))
-        elif group == "A":
+        elif group == "c":
+            out += [
+                Driver(f"c_{ax}", key, group, (10 * m + 1 + a,), offset, dist) for a, ax in enumerate("xyz")
+            ]
+        elif group in vec:
             for a, ax in enumerate("xyz"):
                 if per_cable:
                     out += [
-                        Driver(f"A_{c + 1}_{ax}", key, group, (4 * m + 3 * c + a,), offset, dist)
+                        Driver(f"{group}_{c + 1}_{ax}", key, group, (vec[group] + 3 * c + a,), offset, dist)
                         for c in range(m)
                     ]
                 else:
-                    cols = tuple(4 * m + 3 * c + a for c in range(m))
-                    out.append(Driver(f"A_all_{ax}", key, group, cols, offset, dist))
+                    cols = tuple(vec[group] + 3 * c + a for c in range(m))
+                    out.append(Driver(f"{group}_all_{ax}", key, group, cols, offset, dist))
         elif per_cable:
             out += [
                 Driver(f"{group}_{c + 1}", key, group, (base[group] + c,), offset, dist) for c in range(m)
@@ -196,7 +215,7 @@ def drivers(parameters, m):
         else:
             cols = tuple(base[group] + c for c in range(m))
             out.append(Driver(f"{group}_all", key, group, cols, offset, dist))
-    # anchors: per cable x, y, z together (A_1_x, A_1_y, A_1_z, A_2_x, ...)
+    # anchors and attachments: per cable x, y, z together (A_1_x, A_1_y, A_1_z, A_2_x, ...)
     return sorted(out, key=lambda d: (list(PARAMETER_KEYS).index(d.key), d.columns))
 
 
@@ -223,6 +242,30 @@ def mc_uniforms(seed, start, stop, n_drivers):
     ).reshape(stop - start, n_drivers)
 
 
+def nominal_theta(robot, drivers_=None, rigid=False):
+    """The nominal parameter vector in the column space of the drivers: ``parameter_values``
+    (E, h, r_p, d, A, M: 7 m + 1 columns) and, when a driver sets a rigid platform's attachments or
+    centre of mass (groups ``RIGID_GROUPS``) or with ``rigid``, the attachments b (3 m, platform
+    frame) and the centre of mass c (3) after it (10 m + 4 columns).
+
+    Parameters
+    ----------
+    robot : Robot
+    drivers_ : list of Driver, optional
+    rigid : bool
+        Append b and c whatever the drivers.
+
+    Returns
+    -------
+    theta0 : ndarray, shape (7 m + 1,) or (10 m + 4,) [Pa, m, kg]
+    """
+    th0 = parameter_values(robot)
+    if rigid or any(d.group in RIGID_GROUPS for d in drivers_ or ()):
+        a = robot.arrays
+        th0 = np.concatenate([th0, np.asarray(a.b, dtype=float).ravel(), np.asarray(a.com, dtype=float)])
+    return th0
+
+
 def parameter_samples(robot, drivers_, U, active=None):
     """Parameter vectors of uniform numbers: each active driver's inverse CDF sets its columns
     (offsets are added to the nominal values); inactive drivers leave the nominal values.
@@ -240,10 +283,11 @@ def parameter_samples(robot, drivers_, U, active=None):
     Returns
     -------
     theta : ndarray, shape (n, 7 m + 1) [Pa, m, kg]
-        In the order of ``parameters.parameter_names``.
+        In the order of ``parameters.parameter_names``; (n, 10 m + 4) with attachments and centre
+        of mass after it where a driver sets them (``nominal_theta``).
     """
     U = np.atleast_2d(np.asarray(U, dtype=float))
-    th0 = parameter_values(robot)
+    th0 = nominal_theta(robot, drivers_)
     th = np.tile(th0, (len(U), 1))
     for k, dr in enumerate(drivers_):
         if active is not None and not active[k]:
@@ -383,7 +427,8 @@ class Linearisation:
     def tau(self, theta):
         """τ(θ) on the covered columns, shape (n, k)."""
         th = np.atleast_2d(np.asarray(theta, dtype=float))[:, self.columns]
-        return np.where(self.is_E, 1.0 / th, th)
+        # 1/θ on the moduli only (an attachment or anchor coordinate may be 0)
+        return np.where(self.is_E, 1.0 / np.where(self.is_E, th, 1.0), th)
 
     def _delta(self, theta):
         th = np.atleast_2d(np.asarray(theta, dtype=float))

@@ -9,24 +9,26 @@ parameter columns the study's drivers set (``linearisations``)."""
 
 import numpy as np
 
-from cdpr.analyses.uncertainty import CASES, Linearisation
+from cdpr.analyses.uncertainty import CASES, Linearisation, nominal_theta
 from cdpr.models.distribution6 import compensated_lengths
 from cdpr.models.equilibrium6 import L_TS_pose, pose_arrays
 from cdpr.models.platform import rotvec_of
-from cdpr.parameters import parameter_names6, parameter_values, parameter_values6, robot_with_parameters6
+from cdpr.parameters import parameter_names6, parameter_values6, robot_with_parameters6
 from cdpr.solve import solve_spatial_any, solve_spatial_batch_any, spatial_sensitivities_at
 
 
 def spatial_theta(robot, theta):
-    """6-DoF parameter vectors of point-mass ones (``parameter_names``, as ``uncertainty.drivers``
-    and ``parameter_samples`` build them): E, h, r_p, d and A keep their columns, M moves to the
-    last column, the attachments b and the centre of mass c keep their nominal values.
+    """6-DoF parameter vectors of the drivers' ones (``uncertainty.drivers``, ``parameter_samples``):
+    E, h, r_p, d and A keep their columns, M moves to the last column; the attachments b and the
+    centre of mass c come from the columns after M where θ has them (10 m + 4 columns,
+    ``uncertainty.nominal_theta``), else keep their nominal values.
 
     Parameters
     ----------
     robot : Robot
         The nominal spatial robot.
-    theta : array_like (n, 7 m + 1) [Pa, m, kg]
+    theta : array_like (n, 7 m + 1) or (n, 10 m + 4) [Pa, m, kg]
+        (E, h, r_p, d, A, M) or (E, h, r_p, d, A, M, b, c).
 
     Returns
     -------
@@ -38,25 +40,27 @@ def spatial_theta(robot, theta):
     out = np.tile(parameter_values6(robot), (len(th), 1))
     out[:, : 7 * m] = th[:, : 7 * m]
     out[:, -1] = th[:, 7 * m]
+    if th.shape[1] == 10 * m + 4:
+        out[:, 7 * m : 10 * m + 3] = th[:, 7 * m + 1 :]
     return out
 
 
 def spatial_columns(m, columns):
-    """The ``parameter_names6`` columns of point-mass parameter columns (``spatial_theta``'s map).
+    """The ``parameter_names6`` columns of the drivers' parameter columns (``spatial_theta``'s map).
 
     Parameters
     ----------
     m : int
         Number of cables.
     columns : array_like (k,) of int
-        Columns of ``parameter_names(m)``.
+        Columns of (E, h, r_p, d, A, M, b, c): ``parameter_names(m)`` and, after it, b and c.
 
     Returns
     -------
     columns6 : ndarray (k,) of int
     """
     c = np.asarray(columns, dtype=np.intp)
-    return np.where(c < 7 * m, c, 10 * m + 3)
+    return np.where(c < 7 * m, c, np.where(c == 7 * m, 10 * m + 3, c - 1))
 
 
 class PoseErrorModel6:
@@ -160,12 +164,14 @@ class PoseErrorModel6:
         Parameters
         ----------
         columns : array_like (k,) of int
-            Columns of ``parameter_names(m)`` (the study's drivers, ``uncertainty.driver_columns``).
+            Columns of ``parameter_names(m)`` and, after it, b and c (the study's drivers,
+            ``uncertainty.driver_columns``).
 
         Returns
         -------
         position, orientation : Linearisation
-            Over θ (n, 7 m + 1) [Pa, m, kg]: ``dp`` gives ‖δp‖ [m], resp. δφ [rad].
+            Over θ (n, 7 m + 1) or, with b and c, (n, 10 m + 4) [Pa, m, kg]: ``dp`` gives ‖δp‖
+            [m], resp. δφ [rad].
         """
         m = self.robot.m
         cols = np.asarray(columns, dtype=np.intp)
@@ -177,7 +183,7 @@ class PoseErrorModel6:
             phi0 = np.where(
                 ok, rotvec_of(np.where(ok[..., None], lin["R_s"], np.eye(3)) @ np.swapaxes(R_d, 1, 2)), 0.0
             )
-        th0 = parameter_values(self.robot)
+        th0 = nominal_theta(self.robot, rigid=True)  # takes θ with or without b and c
         dp0 = np.where(ok, lin["P_s"] - self.p, 0.0)
         pos = Linearisation(dp0[:, None], S[:, None, :3], ok, lin["smooth"], th0, m, cols)
         rot = Linearisation(phi0[:, None], S[:, None, 3:], ok, lin["smooth"], th0, m, cols)

@@ -507,6 +507,18 @@ def check_spatial_study(st, robots):
                 "config/comparisons/*.yaml)",
             )
         )
+    params = (st.get("uncertainty") or {}).get("parameters") or {}
+    for key in ("attachment_offset_m", "com_offset_m"):
+        if key in params and doe_robot is not None and doe_robot.suspended_point_mass:
+            out.append(
+                ConfigError(
+                    src,
+                    f"uncertainty.parameters.{key}",
+                    f"a rigid platform's parameter (attachments b_i, centre of mass c); robot {st['doe']['robot']} "
+                    "(doe.robot) is a suspended point mass, whose uncertainty study draws young_modulus_Pa, "
+                    "h_offset_m, r_p_offset_m, dead_length_offset_m, anchor_offset_m and mass_kg: remove the key",
+                )
+            )
     masses = [k for k, r in robots.items() if r.point_mass]
     for key in ("dphi_limits_rad", "dphi_sweep_rad"):
         if st["volumes"].get(key) is not None and masses:

@@ -18,12 +18,12 @@ from cdpr.analyses.uncertainty import (
     driver_columns,
     linear_stats,
     local_contributions,
+    nominal_theta,
     sample_stats,
     sobol_analysis,
 )
 from cdpr.analyses.uncertainty6 import PoseErrorModel6, spatial_theta
 from cdpr.analyses.workspace import grid_points, shard_range
-from cdpr.parameters import parameter_values
 from cdpr.pipeline.study import design_robot, rotvec
 from cdpr.pipeline.uq import mc_parameters, study_drivers
 
@@ -165,7 +165,12 @@ def linear_samples(st, design, case, box, threads=None):
     mc = st["uncertainty"]["monte_carlo"]
     m_ = model(st, design, case, grid_points(box, mc["index_n"]), threads)
     lin_p, lin_r = m_.linearisations(_active_columns(st, m_.robot))
-    th = np.vstack([parameter_values(m_.robot), mc_parameters(st, m_.robot, 0, mc["samples"])])
+    th = np.vstack(
+        [
+            nominal_theta(m_.robot, study_drivers(st, m_.robot)[0]),
+            mc_parameters(st, m_.robot, 0, mc["samples"]),
+        ]
+    )
     out = linear_stats(lin_p, th, threads=threads)
     phi = linear_stats(lin_r, th, threads=threads).drop(columns="not_ok").rename(columns=_PHI)
     out = pd.concat([out, phi], axis=1)
@@ -201,7 +206,7 @@ def path_bands(st, design, case, threads=None):
     mc = st["uncertainty"]["monte_carlo"]
     th = mc_parameters(st, m_.robot, 0, mc["samples"])
     dp, phi, ok = m_.solve(spatial_theta(m_.robot, th))
-    dp0, phi0, ok0 = m_.solve(spatial_theta(m_.robot, parameter_values(m_.robot)))
+    dp0, phi0, ok0 = m_.solve(spatial_theta(m_.robot, nominal_theta(m_.robot)))
     q, qp = _quantiles(dp, ok), _quantiles(phi, ok)
     return pd.DataFrame(
         {

@@ -11,6 +11,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from cdpr.errors import ConfigError
 from cdpr.pipeline import summary, uq, uq6
 from cdpr.pipeline.study import Study, load_study
 from tests.conftest import ROOT
@@ -117,3 +118,52 @@ def test_summary_rows_of_the_spatial_uncertainty_study(spatial, tmp_path):
         r = rows[rows.quantity == f"SRopt {case} index of δφ under per-cable E (median)"]
         np.testing.assert_allclose(r.ours.iloc[0], b.index_phi_q50_rad * 1e3)
         assert (r.unit == "mrad").all()
+
+
+# ---- the attachments b_i and the centre of mass c as the study's uncertain parameters ------------
+RIGID_KEYS = {
+    "attachment_offset_m": {"dist": "uniform", "low": -0.001, "high": 0.001, "per_cable": True},
+    "com_offset_m": {"dist": "normal", "mean": 0.0, "sd": 0.003, "low": -0.009, "high": 0.009},
+}
+
+
+@pytest.fixture(scope="module")
+def rigid(spatial):
+    s = _study(spatial, vary=["young_modulus_Pa", "attachment_offset_m", "com_offset_m"], full_samples=3)
+    s["uncertainty"]["parameters"].update(copy.deepcopy(RIGID_KEYS))
+    return s
+
+
+def test_rigid_platform_keys_run_through_the_spatial_uncertainty_study(rigid):
+    """With attachment_offset_m and com_offset_m declared and varied: the Monte Carlo's full solves
+    and the linearised propagation of the same samples agree (within the study's tolerance on
+    ‖δp‖), the linearised nominal row is the nominal robot's full solve, and Sobol and the dominant
+    map name the b and c drivers and groups."""
+    samples, points = uq6.mc_shard(rigid, "SRopt", "uncompensated", BOX, 0)
+    assert (samples["index_full_m"] > 0).all()
+    assert (points["max_diff_m"] < rigid["uncertainty"]["monte_carlo"]["agree_tol_m"]).all()
+    linear = uq6.linear_samples(rigid, "SRopt", "uncompensated", BOX)
+    nom = linear[linear["sample"] == -1].iloc[0]
+    np.testing.assert_allclose(nom.index_m, points.dp_nominal_m.mean(), rtol=1e-12)
+    lin = linear[linear["sample"] >= 0].reset_index(drop=True)
+    np.testing.assert_allclose(lin.index_m[: len(samples)], samples.index_full_m, rtol=2e-2)
+    indices, _ = uq6.sobol(rigid, "SRopt", "uncompensated", BOX)
+    assert {"b", "c"} <= set(indices[indices.level == "group"].name)
+    assert {"b_1_x", "c_z"} <= set(indices[indices.level == "parameter"].name)
+    m = uq6.dominant_map(rigid, "SRopt", "uncompensated")
+    assert (m.dominant != "").any()
+
+
+def test_a_point_mass_study_refuses_the_rigid_platform_keys_in_one_line(tmp_path):
+    import yaml
+
+    src = ROOT / "config" / "studies" / "quick.yaml"
+    data = yaml.safe_load(src.read_text(encoding="utf-8"))
+    data["robots"] = {k: str(ROOT / v) for k, v in data["robots"].items()}
+    data["uncertainty"]["parameters"]["com_offset_m"] = RIGID_KEYS["com_offset_m"]
+    path = tmp_path / "study.yaml"
+    path.write_text(yaml.safe_dump(data), encoding="utf-8")
+    with pytest.raises(ConfigError) as err:
+        load_study(path)
+    msg = str(err.value)
+    assert "\n" not in msg and "uncertainty.parameters.com_offset_m" in msg and "point mass" in msg
