@@ -2,9 +2,12 @@
 tensions and 6 x 6 Jacobian at one pose, every cable through the shared ``_kernels.cable_axis``)
 timed alone on one thread, beside the whole compiled Newton ``newton6_fast`` on one thread, on the
 same CoGiRo poses as ``spatial_throughput.py``. Prints the cost of one evaluation, of one solve,
-the evaluations per solve (iterations + 1) and the evaluations' share of the solve.
+the evaluations per solve (iterations + 1) and the evaluations' share of the solve; then the numpy
+reference (``equilibrium6.solve_spatial``, with its restarts, as ``spatial_throughput.py``) on the
+first ``--n-numpy`` poses and the largest compiled/numpy ratio a Newton with these evaluations could
+reach on all cores: a solve that did nothing but its evaluations, with perfect scaling over the cores.
 
-    .venv/bin/python benchmarks/spatial_profile.py [--n 20000]
+    .venv/bin/python benchmarks/spatial_profile.py [--n 20000] [--n-numpy 2000]
 """
 
 import argparse
@@ -18,7 +21,7 @@ from numba import njit
 
 from cdpr.compiled.equilibrium6 import Compiled6, eval6, newton6_fast, scratch6
 from cdpr.models.equilibrium import PHYSICAL_DEFAULTS
-from cdpr.models.equilibrium6 import L_TS_pose, pose_arrays
+from cdpr.models.equilibrium6 import L_TS_pose, pose_arrays, solve_spatial
 from cdpr.robot import load_robot
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -40,7 +43,9 @@ def _evals(pp, R, L0, cab, body):
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--n", type=int, default=20000)
-    n = ap.parse_args().n
+    ap.add_argument("--n-numpy", type=int, default=2000)
+    args = ap.parse_args()
+    n, nn = args.n, args.n_numpy
     g = np.random.default_rng(0)
     cog = load_robot(ROOT / "config/robots/cogiro.yaml")
     p = np.column_stack([g.uniform(-3, 3, n), g.uniform(-2, 2, n), g.uniform(1.0, 3.0, n)])
@@ -65,6 +70,15 @@ def main():
         f"CoGiRo (m = {cog.m}), one thread: one eval6 {te * 1e6:.2f} us ({te / cog.m * 1e9:.0f} ns per "
         f"cable); one Newton solve {tk * 1e6:.2f} us; {ev:.2f} evaluations per solve, "
         f"{ev * te * 1e6:.2f} us = {ev * te / tk:.0%} of the solve"
+    )
+    solve_spatial(cog, p[:5], rv[:5])
+    t0 = time.perf_counter()
+    solve_spatial(cog, p[:nn], rv[:nn])
+    tn = (time.perf_counter() - t0) / nn
+    cores = numba.config.NUMBA_NUM_THREADS
+    print(
+        f"numpy reference {tn * 1e6:.0f} us per solve (N = {nn}); evaluations only, {cores} cores, perfect "
+        f"scaling: {ev * te / cores * 1e6:.2f} us per solve, a ratio of at most {tn / (ev * te / cores):.0f}"
     )
     print(f"load after {os.getloadavg()}")
 

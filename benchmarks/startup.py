@@ -6,6 +6,8 @@
     ``--engine compiled`` (the numba kernel's load counted);
   * ``cdpr grid`` over the n^3 (default 63^3 = 250,047) cell-centred grid of the paper's RW_C box, CDPR4
     with DR pulleys, compiled engine, parquet written;
+  * a bare process (``BARE``: no command line, no table, no file) that loads the robot and the compiled
+    kernel and solves the same grid: the floor of any command built on numba;
   * the numpy reference (``engine="numpy"``, Newton, the same points' solver) on a smaller grid, timed
     inside this process (solve and table only, no start-up: its best case), as seconds per point;
 
@@ -42,12 +44,28 @@ ROBOT = "config/robots/cdpr4.yaml"
 POINT = ["point", "--robot", ROBOT, "--at", "0.5", "0.2", "2.5"]
 
 
+#: The floor of any command built on the compiled engine: a bare process that imports the robot
+#: loader and the paper-mode kernel, solves the same grid as ``cdpr grid`` and exits (no command
+#: line, no table, no file written; argv: n, then threads or nothing).
+BARE = """
+import sys
+from cdpr.analyses.workspace import grid_points
+from cdpr.compiled.subsets import solve_points_fast
+from cdpr.robot import load_robot
+robot = load_robot("%s", pulley="DR")
+threads = int(sys.argv[2]) if len(sys.argv) > 2 else None
+solve_points_fast(robot, grid_points(%r, int(sys.argv[1])), threads=threads)
+""" % (ROBOT, RW_C)
+
+
 def run_once(argv, env):
-    """(wall seconds, CPU seconds) of one ``python -m cdpr argv`` process."""
+    """(wall seconds, CPU seconds) of one ``python -m cdpr argv`` process (``python -c BARE argv``
+    when argv starts with "-c")."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
+    cmd = ["-c", BARE, *argv[1:]] if argv[:1] == ["-c"] else ["-m", "cdpr", *argv]
     p = subprocess.run(
-        [sys.executable, "-m", "cdpr", *argv],
+        [sys.executable, *cmd],
         cwd=ROOT,
         env=env,
         stdout=subprocess.DEVNULL,
@@ -154,6 +172,9 @@ def main():
             [] if args.threads is None else ["--threads", str(args.threads)]
         )
         grid_m = measure(grid, args.runs, env)
+    bare_m = measure(
+        ["-c", str(args.n)] + ([] if args.threads is None else [str(args.threads)]), args.runs, env
+    )
     refs = {m: numpy_reference(args.n_ref, max(3, args.runs // 2), m) for m in ("newton", "fixed_point")}
     n_pts = args.n**3
     print()
@@ -162,6 +183,7 @@ def main():
     line("cdpr point --at --engine compiled", point_c)
     line(f"cdpr grid --n {args.n} (whole process)", grid_m)
     g_med, g_min = line(f"cdpr grid --n {args.n}, per point", grid_m, per=n_pts)
+    b_med, b_min = line("bare solve process, per point", bare_m, per=n_pts)
     for m, ref in refs.items():
         r_med = {k: statistics.median(v) for k, v in ref.items()}
         r_min = {k: min(v) for k, v in ref.items()}
@@ -174,6 +196,10 @@ def main():
             f"  ratio numpy {m} / whole cdpr grid process, per point: wall median "
             f"{r_med['wall'] / g_med['wall']:.1f}x (min/min {r_min['wall'] / g_min['wall']:.1f}x), "
             f"cpu median {r_med['cpu'] / g_med['cpu']:.1f}x (min/min {r_min['cpu'] / g_min['cpu']:.1f}x)"
+        )
+        print(
+            f"  ratio numpy {m} / bare solve process (the floor of any numba command), per point: wall "
+            f"median {r_med['wall'] / b_med['wall']:.1f}x (min/min {r_min['wall'] / b_min['wall']:.1f}x)"
         )
     importtime_top(["--help"], env)
     importtime_top(POINT, env)

@@ -93,6 +93,38 @@ def test_monte_carlo_linear_agrees_with_full_solves_for_small_spreads(cogiro):
         assert np.all(np.linalg.norm(full["P_s"] - pred, axis=1) < 0.05 * step)
 
 
+def first_pose_errors(model, robot):
+    """The Sobol evaluator of ``model`` (a ``PoseErrorModel6`` at one pose): θ samples (k, ·) ->
+    (k, 2) = (‖δp‖, δφ), every solve ``ok``."""
+
+    def evaluate(theta):
+        dp, dphi, ok = model.solve(spatial_theta(robot, theta))
+        assert ok.all()
+        return np.column_stack([dp[:, 0], dphi[:, 0]])
+
+    return evaluate
+
+
+def linearised_against_full(robot, spec, seed, case, min_change):
+    """Five samples of ``spec`` on ``robot`` at the poses P: asserts that every sample moves ‖δp‖
+    and δφ from the nominal by more than ``min_change`` and that the first-order propagation
+    (``linearisations``) predicts the full solves' change within 5 % (uncompensated), or the
+    compensated error itself within 5 %. Returns the nominal (‖δp‖, δφ)."""
+    drs = drivers(spec, robot.m)
+    th = parameter_samples(robot, drs, mc_uniforms(seed, 0, 5, len(drs)))
+    model = PoseErrorModel6(robot, P, case=case)
+    pos, rot = model.linearisations(driver_columns(drs))
+    dp_f, phi_f, ok = model.solve(spatial_theta(robot, th))
+    assert ok.all() and pos.ok.all()
+    dp0, phi0, _ = model.solve(spatial_theta(robot, parameter_values(robot)))
+    for full, lin, nominal in ((dp_f, pos.dp(th), dp0), (phi_f, rot.dp(th), phi0)):
+        change = np.abs(full - nominal)
+        assert np.all(change > min_change)
+        scale = change if case == "uncompensated" else full
+        assert np.all(np.abs(lin - full) < 0.05 * scale)
+    return dp0, phi0
+
+
 def test_sobol_indices_of_spatial_responses_are_bounded(cogiro):
     """SALib Sobol indices of ‖δp‖ and δφ under common E (±10 %) and dead lengths (±1 mm): every
     index within [-conf, 1 + conf] and the first-order indices sum to at most 1 + conf."""
@@ -103,11 +135,7 @@ def test_sobol_indices_of_spatial_responses_are_bounded(cogiro):
     }
     drs = drivers(spec, cogiro.m)
     model = PoseErrorModel6(cogiro, P[:1])
-
-    def evaluate(theta):
-        dp, dphi, ok = model.solve(spatial_theta(cogiro, theta))
-        assert ok.all()
-        return np.column_stack([dp[:, 0], dphi[:, 0]])
+    evaluate = first_pose_errors(model, cogiro)
 
     idx, Y, _ = sobol_analysis(evaluate, drs, cogiro, 32, 3, ["dp_norm_m", "dphi_rad"])
     assert len(idx) == 4 and np.all(np.isfinite(idx[["S1", "ST"]].to_numpy()))
@@ -128,18 +156,7 @@ def test_linearised_norms_agree_with_full_solves_for_small_tolerances(cogiro, ca
     """‖δp‖ and δφ of the first-order propagation (``linearisations``: 1/E columns, rotation vector)
     against full solves of each sample: the change from the nominal pose error is predicted within
     5 % (uncompensated), and the compensated error itself (nominal 0) within 5 %."""
-    drs = drivers(SMALL, cogiro.m)
-    th = parameter_samples(cogiro, drs, mc_uniforms(11, 0, 5, len(drs)))
-    model = PoseErrorModel6(cogiro, P, case=case)
-    pos, rot = model.linearisations(driver_columns(drs))
-    dp_f, phi_f, ok = model.solve(spatial_theta(cogiro, th))
-    assert ok.all() and pos.ok.all()
-    dp0, phi0, _ = model.solve(spatial_theta(cogiro, parameter_values(cogiro)))
-    for full, lin, nominal in ((dp_f, pos.dp(th), dp0), (phi_f, rot.dp(th), phi0)):
-        change = np.abs(full - nominal)
-        assert np.all(change > 0)
-        scale = change if case == "uncompensated" else full
-        assert np.all(np.abs(lin - full) < 0.05 * scale)
+    dp0, phi0 = linearised_against_full(cogiro, SMALL, 11, case, min_change=0.0)
     if case == "compensated":  # the nominal robot holds the pose: a round trip
         assert np.all(dp0 < 1e-8) and np.all(phi0 < 1e-8)
 
@@ -154,11 +171,7 @@ def test_a_parameter_without_variance_has_zero_sobol_indices(cogiro):
     }
     drs = drivers(spec, cogiro.m)
     model = PoseErrorModel6(cogiro, P[:1])
-
-    def evaluate(theta):
-        dp, dphi, ok = model.solve(spatial_theta(cogiro, theta))
-        assert ok.all()
-        return np.column_stack([dp[:, 0], dphi[:, 0]])
+    evaluate = first_pose_errors(model, cogiro)
 
     idx, _, _ = sobol_analysis(evaluate, drs, cogiro, 16, 5, ["dp", "dphi"])
     m_rows, d_rows = idx[idx.name == "M"], idx[idx.name == "d_all"]
@@ -243,18 +256,7 @@ def test_attachment_and_com_tolerances_linearised_against_full_solves(cogiro, ca
     (dp*/dθ and dφ*/dθ of b_i and c by the implicit-function theorem) predicts the full solves'
     change of ‖δp‖ and δφ within 5 % (uncompensated) and the compensated error itself within 5 %;
     the tolerances do move the pose."""
-    drs = drivers(RIGID, cogiro.m)
-    th = parameter_samples(cogiro, drs, mc_uniforms(12, 0, 5, len(drs)))
-    model = PoseErrorModel6(cogiro, P, case=case)
-    pos, rot = model.linearisations(driver_columns(drs))
-    dp_f, phi_f, ok = model.solve(spatial_theta(cogiro, th))
-    assert ok.all() and pos.ok.all()
-    dp0, phi0, _ = model.solve(spatial_theta(cogiro, parameter_values(cogiro)))
-    for full, lin, nominal in ((dp_f, pos.dp(th), dp0), (phi_f, rot.dp(th), phi0)):
-        change = np.abs(full - nominal)
-        assert np.all(change > 1e-6)
-        scale = change if case == "uncompensated" else full
-        assert np.all(np.abs(lin - full) < 0.05 * scale)
+    linearised_against_full(cogiro, RIGID, 12, case, min_change=1e-6)
 
 
 def test_com_offset_alone_tilts_the_platform_and_has_sobol_weight(cogiro):
@@ -263,11 +265,7 @@ def test_com_offset_alone_tilts_the_platform_and_has_sobol_weight(cogiro):
     spec = {"com_offset_m": {"dist": "uniform", "low": -0.02, "high": 0.02}}
     drs = drivers(spec, cogiro.m)
     model = PoseErrorModel6(cogiro, P[:1])
-
-    def evaluate(theta):
-        dp, dphi, ok = model.solve(spatial_theta(cogiro, theta))
-        assert ok.all()
-        return np.column_stack([dp[:, 0], dphi[:, 0]])
+    evaluate = first_pose_errors(model, cogiro)
 
     idx, _, _ = sobol_analysis(evaluate, drs, cogiro, 16, 5, ["dp", "dphi"])
     phi = idx[idx.output == "dphi"]
