@@ -31,6 +31,9 @@ def main(argv=None):
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())
         return 0
+    except FileNotFoundError as exc:  # an input that is not there (outputs' folders are created)
+        print(f"cdpr: error: {exc.filename or exc}: no such file or folder", file=sys.stderr)
+        return 2
     except OSError as exc:  # e.g. a full disk (ENOSPC), for standard output or an output file
         where = f" {exc.filename}" if exc.filename else " the output"
         print(f"cdpr: error: cannot write{where} ({exc.strerror or exc})", file=sys.stderr)

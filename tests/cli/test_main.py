@@ -15,7 +15,7 @@ from cdpr.cli import commands
 from cdpr.cli import main as main_module
 from cdpr.cli.main import main
 from cdpr.errors import CdprError, ConfigError
-from tests.conftest import ROBOTS
+from tests.conftest import ROBOTS, ROOT
 
 R4 = str(ROBOTS / "cdpr4.yaml")
 #: A command line that reaches ``commands.cmd_winch`` (replaced by a stand-in in these tests).
@@ -64,6 +64,30 @@ def test_a_failed_write_is_one_line_and_exit_1(monkeypatch, capsys, exc, words):
     monkeypatch.setattr(commands, "cmd_winch", _raising(exc))
     assert main(WINCH) == 1
     assert capsys.readouterr().err == f"cdpr: error: {words}\n"
+
+
+def test_a_missing_input_file_is_one_line_naming_it_and_exit_2(tmp_path, capsys):
+    """A job run by hand on input tables that are not there (Snakemake would have made them): one
+    line naming the missing file, exit 2 (a refused input), not "cannot write"."""
+    missing = tmp_path / "none" / "CDPR4_SR.csv"
+    argv = [
+        "job",
+        "plane-figure",
+        "--study",
+        str(ROOT / "config" / "studies" / "paper.yaml"),
+        "--robot-key",
+        "CDPR4",
+    ]
+    argv += [
+        "--tables",
+        str(missing),
+        str(tmp_path / "none" / "CDPR4_DR.csv"),
+        "--figure",
+        str(tmp_path / "f.png"),
+    ]
+    assert main(argv) == 2
+    assert capsys.readouterr().err == f"cdpr: error: {missing}: no such file or folder\n"
+    assert not (tmp_path / "f.png").exists()
 
 
 def test_output_that_cannot_be_flushed_is_one_line_and_exit_1(monkeypatch, capsys, tmp_path):
