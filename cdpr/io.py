@@ -99,13 +99,18 @@ def is_plain_number(text):
 def check_csv_rows(path, columns):
     """Refuse a CSV table whose rows do not all have the header's number of fields, or whose
     ``columns`` hold something other than a plain number (a decimal comma, a digit separator, a
-    word), with one line naming the file, the row (1 = the first row after the header) and the
-    column."""
+    word), or that names one of ``columns`` twice in its header, with one line naming the file, the
+    row (1 = the first row after the header) and the column."""
     with open(path, newline="", encoding="utf-8") as f:
         reader = csv.reader(f)
         header = next(reader, None)
         if header is None:
             raise CdprError(f"{path}: the table is empty; it needs a header row ({', '.join(columns)})")
+        twice = [c for c in columns if header.count(c) > 1]
+        if twice:
+            raise CdprError(
+                f"{path}: column {twice[0]} appears {header.count(twice[0])} times in the header; give it once"
+            )
         where = {c: header.index(c) for c in columns if c in header}
         for row_no, row in enumerate(reader, start=1):
             if not row:

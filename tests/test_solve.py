@@ -144,3 +144,18 @@ def test_linear_dp_engines_agree():
     d = solve.linear_dp(*args[:4])
     np.testing.assert_allclose(c, d, rtol=1e-12, atol=0)
     assert (np.nan_to_num(c, nan=np.inf) <= np.nan_to_num(a, nan=np.inf)).all()
+
+
+@pytest.mark.parametrize("engine", ["numpy", "compiled"])
+@pytest.mark.parametrize("redundancy", ["paper", "physical"])
+def test_zero_points_give_empty_results_in_both_modes(robot, engine, redundancy):
+    """Solving no point (a caller's selection of feasible points can be empty) returns empty arrays of
+    the right shapes in both modes and engines, and so do the sensitivities: no error."""
+    P = np.zeros((0, 3))
+    res = solve.solve_points_any(robot, P, redundancy=redundancy, engine=engine)
+    assert res["P_s"].shape == (0, 3) and res["dp"].shape == (0,) and len(res["status"]) == 0
+    if redundancy == "physical":
+        res = solve.solve_points_any(robot, P, redundancy=redundancy, engine=engine, L0=np.zeros((0, 4)))
+        assert res["P_s"].shape == (0, 3) and res["t"].shape == (0, 4)
+    sens = solve.sensitivities(robot, P, redundancy=redundancy, engine=engine)
+    assert len(sens["status"]) == 0

@@ -20,9 +20,13 @@ import numpy as np
 
 from cdpr import io
 from cdpr.analyses.workspace import BYTES_PER_POINT
+from cdpr.cli.options import MAX_COORDINATE_M
 from cdpr.errors import CdprError
 from cdpr.models import winch
 from cdpr.robot import TABLE1, load_robot, load_winch_params
+
+#: The columns of a ``--points`` table: the position [m] and, optional, the orientation [rad].
+POINT_COLUMNS = ("x", "y", "z", "rx", "ry", "rz")
 
 
 def _read_table(path):
@@ -62,7 +66,7 @@ def _points(args):
         raise CdprError("--points needs --out FILE for the result table")
     io.check_output(args.out)
     if str(args.points).endswith(".csv") and os.path.isfile(args.points):
-        io.check_csv_rows(args.points, "xyz")  # rows as wide as the header, plain numbers
+        io.check_csv_rows(args.points, POINT_COLUMNS)  # rows as wide as the header, plain numbers
     try:
         df = _read_table(args.points)
     except FileNotFoundError:
@@ -72,11 +76,24 @@ def _points(args):
         raise CdprError(
             f"{args.points}: missing column(s) {', '.join(missing)}; a points table needs columns x, y, z [m]"
         )
+    if len(df) == 0:
+        raise CdprError(
+            f"{args.points}: the table has no rows; a points table needs at least one row of x, y, z [m]"
+        )
+    for c in POINT_COLUMNS:  # a parquet or CSV column of text (a CSV's cells are checked above)
+        if c in df.columns and df[c].dtype.kind not in "iuf":
+            raise CdprError(f"{args.points}: column {c} holds {df[c].dtype} values; it must hold numbers")
     P = df[["x", "y", "z"]].to_numpy(dtype=float)
     bad = ~np.isfinite(P).all(axis=1)
     if bad.any():
         raise CdprError(
             f"{args.points}: row {int(np.flatnonzero(bad)[0]) + 1} has a non-finite coordinate; every x, y, z must be a finite number"
+        )
+    far = (np.abs(P) > MAX_COORDINATE_M).any(axis=1)
+    if far.any():
+        raise CdprError(
+            f"{args.points}: row {int(np.flatnonzero(far)[0]) + 1} has a coordinate beyond ±{MAX_COORDINATE_M:g} m; "
+            "a position must be within it"
         )
     rot = [c for c in ("rx", "ry", "rz") if c in df.columns]
     if rot:
@@ -475,6 +492,9 @@ def cmd_compensate(args):
     print(
         f"{robot.name} ({robot.pulley_summary()}, {robot.material_summary()}, {robot.dead_length_summary()}), distribution {args.distribution}"
     )
+    if status == "infeasible":
+        print(INFEASIBLE_LINE)
+        return
     rows = [
         [str(i + 1), f"{L:.6f}", f"{t:.2f}"] for i, (L, t) in enumerate(zip(out["lengths"], out["tensions"]))
     ]
@@ -487,6 +507,12 @@ def cmd_compensate(args):
     print(
         f"status: {status}; commanded to {check}, the platform settles {out['dp_norm']:.3g} m from the desired point"
     )
+
+
+#: The text report of ``compensate --at`` where no tension distribution exists (nothing is solved).
+INFEASIBLE_LINE = (
+    "status: infeasible (no tension distribution within the bounds holds the platform at this pose)"
+)
 
 
 def _compensate_pose_report(args, robot, res, engine):
@@ -512,9 +538,7 @@ def _compensate_pose_report(args, robot, res, engine):
         f"{robot.name} ({robot.pulley_summary()}, {robot.material_summary()}), distribution {args.distribution} at a pose"
     )
     if not ok:
-        print(
-            "status: infeasible (no tension distribution within the bounds holds the platform at this pose)"
-        )
+        print(INFEASIBLE_LINE)
         return
     rows = [
         [str(i + 1), f"{L:.6f}", f"{t:.2f}"] for i, (L, t) in enumerate(zip(out["lengths"], out["tensions"]))

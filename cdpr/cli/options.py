@@ -64,6 +64,21 @@ def finite(text):
     return v
 
 
+#: The largest coordinate of a position [m] the commands take (1000 km): beyond it squared distances
+#: lose every digit of a robot's size, and near 1e154 they overflow to inf.
+MAX_COORDINATE_M = 1e6
+
+
+def coordinate(text):
+    """argparse type: a position coordinate [m], a finite float within ±``MAX_COORDINATE_M``."""
+    v = finite(text)
+    if abs(v) > MAX_COORDINATE_M:
+        raise argparse.ArgumentTypeError(
+            f"{text!r} is beyond ±{MAX_COORDINATE_M:g} m; a position must be within it"
+        )
+    return v
+
+
 def positive(text):
     """argparse type: a finite float > 0."""
     v = finite(text)
@@ -158,7 +173,7 @@ def rotvec_option(
 def points_options(sp, what):
     """--at X Y Z or --points FILE, --out FILE and --rotvec."""
     g = sp.add_mutually_exclusive_group(required=True)
-    g.add_argument("--at", nargs=3, type=finite, metavar=("X", "Y", "Z"), help=f"{what} [m]")
+    g.add_argument("--at", nargs=3, type=coordinate, metavar=("X", "Y", "Z"), help=f"{what} [m]")
     g.add_argument(
         "--points",
         metavar="FILE",

@@ -7,7 +7,7 @@ Standard library and ``cdpr.cli.options`` only: ``cdpr.cli.parser`` registers it
 
 from __future__ import annotations
 
-from cdpr.cli.options import finite
+from cdpr.cli.options import coordinate, finite
 
 
 def add_parser(sub):
@@ -17,7 +17,11 @@ def add_parser(sub):
     )
     sp.add_argument("--robot", required=True, metavar="FILE", help="robot YAML file")
     sp.add_argument(
-        "--at", nargs=3, type=finite, metavar=("X", "Y", "Z"), help="platform position [m] (default: centre)"
+        "--at",
+        nargs=3,
+        type=coordinate,
+        metavar=("X", "Y", "Z"),
+        help="platform position [m] (default: centre)",
     )
     sp.add_argument("--rotvec", nargs=3, type=finite, metavar=("RX", "RY", "RZ"), help="orientation [rad]")
     sp.add_argument(

@@ -326,6 +326,13 @@ def backtrack(trial_at, accept, merit, slope, whole):
     return alpha
 
 
+def per_point(a, n):
+    """``a`` of shape (N,) or (N, k) as (N, k) rows per point; (0, 1) when there are no points (a
+    reshape to (0, -1) is undefined)."""
+    a = np.asarray(a)
+    return a.reshape(n, -1) if n else a.reshape(0, 1)
+
+
 def statuses(robot, p, P, t, converged, inside, halfplanes=None):
     """Status codes (N,) int8 of ``STATUSES`` (module docstring, 'Edge cases'): inaccessible if p
     or P* is outside the frame (``outside_frame``) or P* inside a sheave or not finite, else
@@ -355,7 +362,7 @@ def statuses(robot, p, P, t, converged, inside, halfplanes=None):
         Index into ``results.STATUSES``.
     """
     hp = [hull_halfplanes(robot) if halfplanes is None else halfplanes]
-    inside = np.asarray(inside).reshape(len(p), -1)  # (N,) or (N, m')
+    inside = per_point(inside, len(p))  # (N,) or (N, m')
     P, t, converged, inside = (np.asarray(x)[None] for x in (P, t, converged, inside))
     return statuses_batch([robot], p, P, t, converged, inside, hp)[0]
 
@@ -579,7 +586,7 @@ def physical_result(robot, p, P, t, residual, iters, conv, inside, halfplanes=No
         status_code (index into ``results.STATUSES``), status.
     """
     hp = None if halfplanes is None else [halfplanes]
-    inside = np.asarray(inside).reshape(len(p), -1)  # (N,) or (N, 1)
+    inside = per_point(inside, len(p))  # (N,) or (N, 1)
     arrays = (np.asarray(x)[None] for x in (P, t, residual, iters, conv, inside))
     return physical_results([robot], p, *arrays, halfplanes=hp)[0]
 

@@ -1,9 +1,11 @@
 """Bad and edge inputs, as a new user meets them: each row is a command and what must come out
 (exit code and a fragment of the one-line message). No traceback, no silent NaN, no work first."""
 
+import json
 import subprocess
 import sys
 
+import pandas as pd
 import pytest
 import yaml
 
@@ -41,6 +43,10 @@ def files(tmp_path):
         "p.csv": "x,y,z\n0,0,2\nnan,0,2\n",
         "p2.csv": "x,y,z\n0,0,2\n0.5,0.2,2.5\n",
         "p3.csv": "a,b\n1,2\n",
+        "p4.csv": "x,y,z,rx,ry,rz\n0,0,2,abc,0,0\n",
+        "p5.csv": "x,y,z\n",
+        "p6.csv": "x,y,z,x\n0,0,2,1\n",
+        "p7.csv": "x,y,z\n0,0,2\n1e300,0,2\n",
     }
     names = {
         "floor": "floor.yaml",
@@ -52,12 +58,21 @@ def files(tmp_path):
         "pts_nan": "p.csv",
         "pts": "p2.csv",
         "pts_cols": "p3.csv",
+        "pts_rot_text": "p4.csv",
+        "pts_no_rows": "p5.csv",
+        "pts_twice": "p6.csv",
+        "pts_far": "p7.csv",
     }
     for key, name in names.items():
         f[key] = tmp_path / name
         f[key].write_text(contents[name])
     f["out"] = tmp_path / "out.parquet"
     f["missing"] = tmp_path / "nope.yaml"
+    # parquet tables: a column of text, and no rows
+    f["pts_text_pq"] = tmp_path / "text.parquet"
+    table_io.write_table(pd.DataFrame({"x": [0.0], "y": ["a"], "z": [2.0]}), f["pts_text_pq"])
+    f["pts_empty_pq"] = tmp_path / "empty.parquet"
+    table_io.write_table(pd.DataFrame({"x": [], "y": [], "z": []}, dtype=float), f["pts_empty_pq"])
     return {k: str(v) for k, v in f.items()}
 
 
@@ -96,6 +111,14 @@ CASES = [  # (argv with {file} placeholders, exit code, fragment of stderr)
     ("point --robot {R4} --points {pts_cols} --out {out}", 2, "missing column(s) x, y, z"),
     ("point --robot {R4} --points {missing}.csv --out {out}", 2, "does not exist"),
     ("point --robot {R4} --points {pts} --out {out}", 0, ""),
+    ("point --robot {R4} --points {pts_rot_text} --out {out}", 2, "row 1, column rx: 'abc' is not a number"),
+    ("inverse --robot {R4} --points {pts_text_pq} --out {out}", 2, "column y holds"),
+    ("point --robot {R4} --points {pts_no_rows} --out {out}", 2, "the table has no rows"),
+    ("compensate --robot {R4} --points {pts_empty_pq} --out {out}", 2, "the table has no rows"),
+    ("point --robot {R4} --points {pts_twice} --out {out}", 2, "column x appears 2 times"),
+    ("inverse --robot {R4} --points {pts_far} --out {out}", 2, "row 2 has a coordinate beyond"),
+    ("inverse --robot {R4} --at 1e300 0 2", 2, "is beyond ±1e+06 m"),
+    ("view --robot {R4} --at 0 1e7 2 --out {out}.png", 2, "is beyond ±1e+06 m"),
     ("inverse --robot {R4} --points {pts} --out {out}", 0, ""),
     ("point --robot {R4} --at 0 0 2 --threads 0", 2, "outside the allowed range"),
     ("point --robot {R4} --at 0 0 2 --threads 1000", 2, "outside the allowed range"),
@@ -159,6 +182,22 @@ def test_bad_input_table(tmp_path, capsys, argv, code, fragment):
         assert (
             err.startswith("cdpr: error:") and len(err.strip().splitlines()) == 1 and "Traceback" not in err
         )
+
+
+@pytest.mark.parametrize("json_out", [False, True])
+def test_compensate_at_a_point_with_no_tension_distribution_is_flagged(capsys, json_out):
+    """CDPR4 at a point outside its anchors' hull (and at the centre with a 200 N ceiling): no
+    tension distribution exists, so nothing is solved; the point is reported ``infeasible``, exit 0,
+    not a traceback from a solve of zero points."""
+    for at, extra in ((["3", "0", "2"], []), (["0", "0", "2"], ["--t-max", "200"])):
+        argv = ["compensate", "--robot", R4, "--at", *at, *extra] + (["--json"] if json_out else [])
+        code, out, err = run(argv, capsys)
+        assert code == 0 and err == ""
+        if json_out:
+            got = json.loads(out)
+            assert got["status"] == "infeasible" and got["dp_norm"] is None and got["lengths"] == [None] * 4
+        else:
+            assert out.splitlines()[-1].startswith("status: infeasible (no tension distribution")
 
 
 def test_broken_pipe_ends_quietly():
