@@ -25,6 +25,7 @@ simulation platform for the research community. IEEE/RSJ IROS, 3004-3011.
 
 from __future__ import annotations
 
+import math
 import xml.etree.ElementTree as ET
 
 from cdpr.errors import ConfigError
@@ -33,34 +34,49 @@ from cdpr.errors import ConfigError
 ATTACHMENTS = ("attachment", "base_rotating_pulley")
 
 
-def _parse(path):
+def _parse(path, root_tag):
+    """The root element of the XML file ``path``, which must be ``<root_tag>``."""
     try:
-        return ET.parse(path).getroot()
+        root = ET.parse(path).getroot()
     except OSError as exc:
         raise ConfigError(str(path), None, f"cannot read the file ({exc.strerror})") from None
     except ET.ParseError as exc:
         raise ConfigError(str(path), None, f"not valid XML ({exc})") from None
+    if root.tag != root_tag:
+        raise ConfigError(
+            str(path), None, f"the root element is <{root.tag}>; a CASPR file of this kind has <{root_tag}>"
+        )
+    return root
 
 
 def _vector(el, path, where):
+    """The 3 finite numbers of element ``el`` (``where`` names it in an error)."""
     if el is None or el.text is None:
         raise ConfigError(str(path), where, "missing; expected 3 numbers")
     try:
         v = [float(x) for x in el.text.split()]
     except ValueError:
         raise ConfigError(str(path), where, f"expected 3 numbers, got {el.text.strip()!r}") from None
-    if len(v) != 3:
-        raise ConfigError(str(path), where, f"expected 3 numbers, got {el.text.strip()!r}")
+    if len(v) != 3 or not all(math.isfinite(x) for x in v):
+        raise ConfigError(str(path), where, f"expected 3 finite numbers, got {el.text.strip()!r}")
     return v
 
 
-def _number(el, path, where):
+def _number(el, path, where, low=None, strict=False):
+    """The finite number of element ``el``, at least ``low`` (above it when ``strict``) when given."""
     if el is None or el.text is None:
         raise ConfigError(str(path), where, "missing; expected a number")
     try:
-        return float(el.text)
+        v = float(el.text)
     except ValueError:
         raise ConfigError(str(path), where, f"expected a number, got {el.text.strip()!r}") from None
+    if not math.isfinite(v):
+        raise ConfigError(str(path), where, f"expected a finite number, got {el.text.strip()!r}")
+    if low is not None and (v <= low if strict else v < low):
+        raise ConfigError(
+            str(path), where, f"must be {'>' if strict else '>='} {low:g}, got {el.text.strip()!r}"
+        )
+    return v
 
 
 def read_caspr_bodies(path):
@@ -76,7 +92,7 @@ def read_caspr_bodies(path):
     dict
         ``{"mass_kg": M, "com_m": [x, y, z], "name": link name}``.
     """
-    root = _parse(path)
+    root = _parse(path, "bodies_system")
     links = root.find("links")
     if links is None:
         raise ConfigError(str(path), "links", "missing element <links>")
@@ -94,7 +110,7 @@ def read_caspr_bodies(path):
     phys = link.find("physical")
     if phys is None:
         raise ConfigError(str(path), "link_rigid.physical", "missing element <physical>")
-    mass = _number(phys.find("mass"), path, "link_rigid.physical.mass")
+    mass = _number(phys.find("mass"), path, "link_rigid.physical.mass", low=0.0, strict=True)
     com = _vector(phys.find("com_location"), path, "link_rigid.physical.com_location")
     return {"mass_kg": mass, "com_m": com, "name": link.get("name", "")}
 
@@ -116,9 +132,23 @@ def read_caspr_cables(path, cable_set=None, com=(0.0, 0.0, 0.0)):
     list of dict
         One entry per cable: ``A_m``, ``B_m``, ``pulley`` and ``cable: {max_tension_N}`` when given.
     """
-    root = _parse(path)
+    root = _parse(path, "cables")
     wanted = cable_set or root.get("default_cable_set")
+    ids = [s.get("id") for s in root.findall("cable_set")]
+    twice = sorted({i for i in ids if ids.count(i) > 1}, key=str)
+    if twice:
+        raise ConfigError(
+            str(path),
+            "cable_set",
+            f"the id {twice[0]!r} names {ids.count(twice[0])} cable sets; each id must be unique",
+        )
     sets = {s.get("id"): s for s in root.findall("cable_set")}
+    if wanted is None:
+        raise ConfigError(
+            str(path),
+            "cables.default_cable_set",
+            f"the file names no default cable set; give --cable-set ID (the file has: {', '.join(map(str, sets)) or 'none'})",
+        )
     if wanted not in sets:
         raise ConfigError(
             str(path),
@@ -154,7 +184,9 @@ def read_caspr_cables(path, cable_set=None, com=(0.0, 0.0, 0.0)):
             entry["A_m"] = _vector(
                 base.find("fixed_location"), path, f"{where}.base_rotating_pulley.fixed_location"
             )
-            r = _number(base.find("pulley_radius"), path, f"{where}.base_rotating_pulley.pulley_radius")
+            r = _number(
+                base.find("pulley_radius"), path, f"{where}.base_rotating_pulley.pulley_radius", low=0.0
+            )
             axis = _vector(
                 base.find("cable_entry_vector"), path, f"{where}.base_rotating_pulley.cable_entry_vector"
             )
@@ -176,7 +208,9 @@ def read_caspr_cables(path, cable_set=None, com=(0.0, 0.0, 0.0)):
         entry["B_m"] = b
         fmax = cab.find("properties/force_max")
         if fmax is not None:
-            entry["cable"] = {"max_tension_N": _number(fmax, path, f"{where}.properties.force_max")}
+            entry["cable"] = {
+                "max_tension_N": _number(fmax, path, f"{where}.properties.force_max", low=0.0, strict=True)
+            }
         out.append(entry)
     if not out:
         raise ConfigError(str(path), f"cable_set[{wanted}]", "no cables")

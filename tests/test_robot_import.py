@@ -112,3 +112,45 @@ def test_multi_link_models_and_unknown_sets_are_refused(tmp_path):
     b.write_text(BODIES.replace("</link_rigid>", "</link_rigid><link_rigid num='2'/>"))
     with pytest.raises(ConfigError, match="only single-link models"):
         robot_dict_from_caspr(b, c)
+
+
+@pytest.mark.parametrize(
+    "which,old,new,message",
+    [
+        (
+            "b",
+            "<mass>40.5</mass>",
+            "<mass>nan</mass>",
+            "key 'link_rigid.physical.mass': expected a finite number",
+        ),
+        ("b", "<mass>40.5</mass>", "<mass>0</mass>", "key 'link_rigid.physical.mass': must be > 0"),
+        ("b", "0.01 -0.02 0.1</com", "0.01 inf 0.1</com", "com_location': expected 3 finite numbers"),
+        (
+            "b",
+            "bodies_system>",
+            "robot>",
+            "the root element is <robot>; a CASPR file of this kind has <bodies_system>",
+        ),
+        ("c", "<pulley_radius>0.05<", "<pulley_radius>-0.05<", "pulley_radius': must be >= 0"),
+        ("c", "<force_max>3000<", "<force_max>nan<", "properties.force_max': expected a finite number"),
+        ("c", '<cable_set id="other">', '<cable_set id="main">', "the id 'main' names 2 cable sets"),
+        (
+            "c",
+            ' default_cable_set="main"',
+            "",
+            "names no default cable set; give --cable-set ID (the file has: main, other)",
+        ),
+        ("c", "cables", "wires", "the root element is <wires>; a CASPR file of this kind has <cables>"),
+    ],
+)
+def test_bad_values_are_named_in_the_file_that_holds_them(tmp_path, which, old, new, message):
+    """A bad number, a duplicate or missing cable-set id, or the wrong root element: one line naming
+    the XML file that holds it (not the robot file made from it) and the element."""
+    b, c = files(tmp_path)
+    f = b if which == "b" else c
+    text = f.read_text()
+    assert old in text
+    f.write_text(text.replace(old, new))
+    with pytest.raises(ConfigError) as exc:
+        robot_dict_from_caspr(b, c)
+    assert str(exc.value).startswith(f"{f}:") and message in str(exc.value) and "\n" not in str(exc.value)
