@@ -131,17 +131,20 @@ DRUM_RANGE = "outside the drum's range"
 
 
 # --- priors ---------------------------------------------------------------------------------------
-def parse_priors(text, source="--prior"):
+def parse_priors(text, source="--prior", estimate=None):
     """Prior standard deviations from ``G=SD,...`` (``anchors=5mm,moduli=20%``).
 
     Length groups take a length with its unit (or a bare number in m), ``moduli`` and ``mass`` a
-    percentage (or a bare fraction). Missing groups keep ``DEFAULT_PRIORS``.
+    percentage (or a bare fraction), below 100 % (a bare ``moduli=20`` would be 2000 %). Missing
+    groups keep ``DEFAULT_PRIORS``.
 
     Parameters
     ----------
     text : str or None
     source : str
         Named in the error message.
+    estimate : sequence of str, optional
+        The groups estimated: a prior given for another group is refused (it would do nothing).
 
     Returns
     -------
@@ -165,6 +168,16 @@ def parse_priors(text, source="--prior"):
             sd = quantity(v, "m", source, g)
         if not (math.isfinite(sd) and sd > 0):
             raise CdprError(f"{source}: the prior sd of {g} must be > 0, got {v!r}")
+        if g in RELATIVE and sd >= 1.0:
+            raise CdprError(
+                f"{source}: the prior sd of {g} is relative and must be below 100 %, got {v!r} "
+                f"({sd:.0%}); give a percentage, e.g. {g}=20%"
+            )
+        if estimate is not None and g not in estimate:
+            raise CdprError(
+                f"{source}: a prior for {g}, which is not estimated (--estimate {','.join(estimate)}); "
+                f"remove it or add {g} to --estimate"
+            )
         out[g] = sd
     return out
 
@@ -351,7 +364,7 @@ def read_data(path, robot):
         if bad.any():
             r = int(np.flatnonzero(bad)[0])
             raise ConfigError(
-                src, "sigma_m", f"row {r + 1}: {sigma[r]!r}; sigma_m must be finite and > 0 [m]"
+                src, "sigma_m", f"row {r + 1}: {float(sigma[r])!r}; sigma_m must be finite and > 0 [m]"
             )
     else:
         sigma = np.full(len(df), SIGMA_DEFAULT)
@@ -410,7 +423,9 @@ def _read_data6(df, src, robot, enc, cols):
             bad = ~(np.isfinite(v) & (v > 0))
             if bad.any():
                 r = int(np.flatnonzero(bad)[0])
-                raise ConfigError(src, c, f"row {r + 1}: {v[r]!r}; {c} must be finite and > 0 [{unit}]")
+                raise ConfigError(
+                    src, c, f"row {r + 1}: {float(v[r])!r}; {c} must be finite and > 0 [{unit}]"
+                )
             sig[c] = v
         else:
             sig[c] = np.full(len(df), default)
@@ -477,7 +492,7 @@ def _lengths(df, cols, src):
         bad = ~np.isfinite(L[:, j]) | (L[:, j] <= 0)
         if bad.any():
             r = int(np.flatnonzero(bad)[0])
-            raise ConfigError(src, c, f"row {r + 1}: {L[r, j]!r}; lengths must be finite and > 0 [m]")
+            raise ConfigError(src, c, f"row {r + 1}: {float(L[r, j])!r}; lengths must be finite and > 0 [m]")
     return L
 
 

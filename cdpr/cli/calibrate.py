@@ -34,7 +34,7 @@ def cmd_fit(args):
     """``cdpr calibrate fit``: estimate, report, write the calibrated robot."""
     io.check_output(args.out, (".yaml", ".yml"))
     robot = load_robot(args.robot)
-    priors = cal.parse_priors(args.prior)
+    priors = cal.parse_priors(args.prior, estimate=args.estimate)
     data = cal.read_data(args.data, robot)
     result = cal.fit(robot, data, args.estimate, priors=priors, model=args.model, loss=args.loss)
     cal.write_robot(args.out, result, args.data)
@@ -139,7 +139,7 @@ def cmd_plan(args):
     if args.out:
         io.check_output(args.out, (".csv",))
     robot = load_robot(args.robot)
-    priors = cal.parse_priors(args.prior)
+    priors = cal.parse_priors(args.prior, estimate=args.estimate)
     res = cal.plan(
         robot,
         args.estimate,

@@ -279,6 +279,16 @@ def test_bad_fit_requests(cdpr3, tmp_path):
         with pytest.raises(CdprError):
             cal.parse_priors(bad)
     assert cal.parse_priors("anchors=2mm,moduli=10%")["anchors"] == pytest.approx(2e-3)
+    # a bare relative number is a fraction: 20 would be 2000 %, refused with the percentage asked for
+    with pytest.raises(
+        CdprError, match=r"must be below 100 %, got '20' \(2000%\); give a percentage, e.g. moduli=20%"
+    ):
+        cal.parse_priors("moduli=20")
+    assert cal.parse_priors("moduli=0.2")["moduli"] == cal.parse_priors("moduli=20%")["moduli"] == 0.2
+    # a prior for a group that is not estimated would do nothing: refused, naming it
+    with pytest.raises(CdprError, match="a prior for mass, which is not estimated"):
+        cal.parse_priors("anchors=3mm,mass=5%", estimate=["anchors"])
+    assert cal.parse_priors("anchors=3mm", estimate=["anchors"])["anchors"] == pytest.approx(3e-3)
 
 
 def test_samples_without_equilibrium_are_flagged_not_dropped(cdpr4):
