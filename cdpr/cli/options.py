@@ -79,6 +79,18 @@ def coordinate(text):
     return v
 
 
+class BoxAction(argparse.Action):
+    """argparse action of ``--box XMIN XMAX YMIN YMAX ZMIN ZMAX``: each minimum below its maximum, so
+    that a reversed box is refused by the parser, naming the option, before any work."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        if not (values[0] < values[1] and values[2] < values[3] and values[4] < values[5]):
+            raise argparse.ArgumentError(
+                self, f"a box needs XMIN < XMAX, YMIN < YMAX and ZMIN < ZMAX, got {values}"
+            )
+        setattr(namespace, self.dest, values)
+
+
 def positive(text):
     """argparse type: a finite float > 0."""
     v = finite(text)

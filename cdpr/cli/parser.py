@@ -14,6 +14,7 @@ from cdpr.cli.options import (
     DISTRIBUTIONS,
     ENGINES,
     MAX_STEPS,
+    BoxAction,
     Parser,
     count,
     finite,
@@ -116,7 +117,13 @@ def build_parser(jobs=True):
     robot_options(sp)
     solver_options(sp)
     box = sp.add_mutually_exclusive_group()  # one box: giving two would silently ignore one
-    box.add_argument("--box", nargs=6, type=finite, metavar=("XMIN", "XMAX", "YMIN", "YMAX", "ZMIN", "ZMAX"))
+    box.add_argument(
+        "--box",
+        nargs=6,
+        type=finite,
+        action=BoxAction,
+        metavar=("XMIN", "XMAX", "YMIN", "YMAX", "ZMIN", "ZMAX"),
+    )
     box.add_argument(
         "--box-file", metavar="FILE", help="JSON file whose key 'box' holds the six numbers (e.g. rw_c.json)"
     )
@@ -250,6 +257,7 @@ def calibrate_parser(subparsers):
         "--box",
         nargs=6,
         type=finite,
+        action=BoxAction,
         metavar=("XMIN", "XMAX", "YMIN", "YMAX", "ZMIN", "ZMAX"),
         help="candidate box [m] (default: middle 80 %% of the anchors' extent, z 10-70 %% of their height)",
     )

@@ -7,7 +7,7 @@ Standard library and ``cdpr.cli.options`` only: ``cdpr.cli.parser`` registers it
 
 from __future__ import annotations
 
-from cdpr.cli.options import coordinate, finite
+from cdpr.cli.options import BoxAction, coordinate, finite
 
 
 def add_parser(sub):
@@ -28,6 +28,7 @@ def add_parser(sub):
         "--box",
         nargs=6,
         type=finite,
+        action=BoxAction,
         metavar=("XMIN", "XMAX", "YMIN", "YMAX", "ZMIN", "ZMAX"),
         help="a box [m] drawn as a wireframe (e.g. the RW_C box of doe/rw_c.json)",
     )
