@@ -328,7 +328,19 @@ def backtrack(trial_at, accept, merit, slope, whole):
 
 def per_point(a, n):
     """``a`` of shape (N,) or (N, k) as (N, k) rows per point; (0, 1) when there are no points (a
-    reshape to (0, -1) is undefined)."""
+    reshape to (0, -1) is undefined).
+
+    Parameters
+    ----------
+    a : array_like, shape (N,) or (N, k)
+        A per-point quantity.
+    n : int
+        The number of points N.
+
+    Returns
+    -------
+    ndarray (N, k)
+    """
     a = np.asarray(a)
     return a.reshape(n, -1) if n else a.reshape(0, 1)
 
