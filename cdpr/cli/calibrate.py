@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import json
 import sys
+from collections import Counter
 from pathlib import Path
 
 import numpy as np
@@ -115,7 +116,9 @@ def cmd_check(args):
         print(json.dumps(out, indent=2, allow_nan=False))
         return
     if out["n"] == 0:
-        print(f"no sample has an equilibrium ({len(out['samples'])} samples)")
+        counts = Counter(s["status"] for s in out["samples"])
+        what = ", ".join(f"{k} {v}" for k, v in sorted(counts.items()))
+        print(f"no sample has an ok equilibrium ({len(out['samples'])} samples: {what})")
         return
     print(
         f"{out['n']} samples: RMS {out['rms_m'] * 1e3:.4g} mm, median {out['median_m'] * 1e3:.4g} mm, "

@@ -4,6 +4,7 @@ shipped robots, and one-line errors."""
 import json
 
 import numpy as np
+import pandas as pd
 import pytest
 
 from cdpr.analyses import calibration as cal
@@ -214,3 +215,19 @@ def test_encoder_only_data_exact_refuses_standard_self_calibrates(tmp_path, caps
     assert "biased" in cap.err
     assert s["rank"] == 4 and s["n_parameters"] == 8
     assert "d_1 against offset_1 (not seen by the data)" in s["unidentified"]
+
+
+def test_check_where_no_sample_is_ok_counts_the_statuses(measured, tmp_path, capsys):
+    """Every measured pose moved far outside the anchors' hull (the lengths unchanged): a suspended
+    point mass's status is judged there, so no sample is ok; the text says so with the count of each
+    status, not a bare "no equilibrium"."""
+
+    d, _, _ = measured
+    df = pd.read_csv(d / "v.csv")
+    df["x_m"] = df["y_m"] = 100.0
+    df.to_csv(tmp_path / "far.csv", index=False)
+    assert main(["calibrate", "check", "--robot", R4, "--data", str(tmp_path / "far.csv")]) == 0
+    assert (
+        capsys.readouterr().out.strip()
+        == f"no sample has an ok equilibrium ({len(df)} samples: inaccessible {len(df)})"
+    )
