@@ -91,6 +91,19 @@ class BoxAction(argparse.Action):
         setattr(namespace, self.dest, values)
 
 
+def box_option(parser, help=None):
+    """Adds ``--box XMIN XMAX YMIN YMAX ZMIN ZMAX`` [m] to ``parser`` (a parser or a group): six finite
+    numbers, a reversed box refused by ``BoxAction``."""
+    parser.add_argument(
+        "--box",
+        nargs=6,
+        type=finite,
+        action=BoxAction,
+        metavar=("XMIN", "XMAX", "YMIN", "YMAX", "ZMIN", "ZMAX"),
+        help=help,
+    )
+
+
 def positive(text):
     """argparse type: a finite float > 0."""
     v = finite(text)

@@ -14,8 +14,8 @@ from cdpr.cli.options import (
     DISTRIBUTIONS,
     ENGINES,
     MAX_STEPS,
-    BoxAction,
     Parser,
+    box_option,
     count,
     finite,
     groups,
@@ -117,13 +117,7 @@ def build_parser(jobs=True):
     robot_options(sp)
     solver_options(sp)
     box = sp.add_mutually_exclusive_group()  # one box: giving two would silently ignore one
-    box.add_argument(
-        "--box",
-        nargs=6,
-        type=finite,
-        action=BoxAction,
-        metavar=("XMIN", "XMAX", "YMIN", "YMAX", "ZMIN", "ZMAX"),
-    )
+    box_option(box)
     box.add_argument(
         "--box-file", metavar="FILE", help="JSON file whose key 'box' holds the six numbers (e.g. rw_c.json)"
     )
@@ -253,13 +247,8 @@ def calibrate_parser(subparsers):
     sp.add_argument("--estimate", required=True, type=groups, metavar="GROUPS", help=_GROUPS_HELP)
     sp.add_argument("--prior", metavar="G=SD,...", help=_PRIOR_HELP)
     sp.add_argument("--n", type=count(1, 10000), default=30, help="poses in the plan (default 30)")
-    sp.add_argument(
-        "--box",
-        nargs=6,
-        type=finite,
-        action=BoxAction,
-        metavar=("XMIN", "XMAX", "YMIN", "YMAX", "ZMIN", "ZMAX"),
-        help="candidate box [m] (default: middle 80 %% of the anchors' extent, z 10-70 %% of their height)",
+    box_option(
+        sp, "candidate box [m] (default: middle 80 %% of the anchors' extent, z 10-70 %% of their height)"
     )
     sp.add_argument(
         "--grid", type=count(1, 10000), default=7, help="candidates per axis of the box (default 7)"

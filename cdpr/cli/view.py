@@ -7,7 +7,7 @@ Standard library and ``cdpr.cli.options`` only: ``cdpr.cli.parser`` registers it
 
 from __future__ import annotations
 
-from cdpr.cli.options import BoxAction, coordinate, finite
+from cdpr.cli.options import box_option, coordinate, finite
 
 
 def add_parser(sub):
@@ -24,13 +24,6 @@ def add_parser(sub):
         help="platform position [m] (default: centre)",
     )
     sp.add_argument("--rotvec", nargs=3, type=finite, metavar=("RX", "RY", "RZ"), help="orientation [rad]")
-    sp.add_argument(
-        "--box",
-        nargs=6,
-        type=finite,
-        action=BoxAction,
-        metavar=("XMIN", "XMAX", "YMIN", "YMAX", "ZMIN", "ZMAX"),
-        help="a box [m] drawn as a wireframe (e.g. the RW_C box of doe/rw_c.json)",
-    )
+    box_option(sp, "a box [m] drawn as a wireframe (e.g. the RW_C box of doe/rw_c.json)")
     sp.add_argument("--out", required=True, metavar="FILE", help="output .png (a .pdf is written beside it)")
     sp.set_defaults(run=("cdpr.cli.commands", "cmd_view"))
