@@ -140,6 +140,6 @@ def test_no_partition_account_or_cpu_override():
 
 
 def test_group_job_count(dry_run):
-    """The number of SLURM jobs the README states (solver jobs / group-components, per group)."""
+    """The number of SLURM jobs docs/pipeline.md states (solver jobs / group-components, per group)."""
     study, _, groups = dry_run
     assert groups == {"quick": 3, "paper": 3, "quick_spatial": 3}[study]
