@@ -21,7 +21,7 @@ from cdpr.analyses import doe
 from cdpr.analyses.symmetry import solve_grid
 from cdpr.analyses.workspace import grid_points
 from cdpr.robot import load_robot, with_pulleys
-from cdpr.solve import solve_points_any
+from cdpr.solve import solve
 
 ROOT = Path(__file__).resolve().parents[1]
 RW_C = [-2.32, 2.32, -2.32, 2.32, 0.0, 3.73]
@@ -63,8 +63,8 @@ def main():
         for kind, hr in cells.items():
             hr = hr[: args.cells]
             robots = [with_pulleys(base, kind=kind, h=h, r_p=r) for h, r in hr]
-            solve_points_any(robots[0], P[:10], redundancy=mode)  # load the kernel
-            tf, full = best(lambda: [solve_points_any(r, P, redundancy=mode) for r in robots], args.repeat)
+            solve(robots[0], P[:10], redundancy=mode)  # load the kernel
+            tf, full = best(lambda: [solve(r, P, redundancy=mode) for r in robots], args.repeat)
             ts, sym = best(
                 lambda: [solve_grid(r, RW_C, args.n, redundancy=mode) for r in robots], args.repeat
             )

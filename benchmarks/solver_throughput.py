@@ -32,7 +32,7 @@ import numpy as np
 
 from cdpr.analyses.compensation import compensate, compensated_pose
 from cdpr.analyses.workspace import grid_points
-from cdpr.compiled.equilibrium import solve_physical_fast
+from cdpr.compiled.equilibrium import solve_points as solve_physical_fast
 from cdpr.compiled.subsets import solve_points_fast
 from cdpr.models.subsets import solve_points
 from cdpr.robot import load_robot, with_pulleys

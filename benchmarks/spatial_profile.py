@@ -3,7 +3,7 @@ tensions and 6 x 6 Jacobian at one pose, every cable through the shared ``_kerne
 timed alone on one thread, beside the whole compiled Newton ``newton6_fast`` on one thread, on the
 same CoGiRo poses as ``spatial_throughput.py``. Prints the cost of one evaluation, of one solve,
 the evaluations per solve (iterations + 1) and the evaluations' share of the solve; then the numpy
-reference (``equilibrium6.solve_spatial``, with its restarts, as ``spatial_throughput.py``) on the
+reference (``models.equilibrium.solve``, with its restarts, as ``spatial_throughput.py``) on the
 first ``--n-numpy`` poses and the largest compiled/numpy ratio a Newton with these evaluations could
 reach on all cores: a solve that did nothing but its evaluations, with perfect scaling over the cores.
 
@@ -19,9 +19,14 @@ import numba
 import numpy as np
 from numba import njit
 
-from cdpr.compiled.equilibrium6 import Compiled6, eval6, newton6_fast, scratch6
+from cdpr.compiled.equilibrium import CompiledCables as Compiled6
+from cdpr.compiled.equilibrium import evaluate as eval6
+from cdpr.compiled.equilibrium import newton as newton6_fast
+from cdpr.compiled.equilibrium import scratch as scratch6
 from cdpr.models.equilibrium import PHYSICAL_DEFAULTS
-from cdpr.models.equilibrium6 import L_TS_pose, pose_arrays, solve_spatial
+from cdpr.models.equilibrium import solve as solve_spatial
+from cdpr.models.inverse import L_TS
+from cdpr.models.platform import pose_arrays
 from cdpr.robot import load_robot
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -52,8 +57,8 @@ def main():
     rv = g.normal(size=(n, 3))
     rv *= (np.radians(10) * g.uniform(0, 1, (n, 1))) / np.linalg.norm(rv, axis=1, keepdims=True)
     cab = Compiled6(cog)
-    pp, R = pose_arrays(cog, p, rv)
-    L0 = L_TS_pose(cog, pp, R)
+    pp, R = pose_arrays(p, rv)
+    L0 = L_TS(cog, pp, R=R)
     o = PHYSICAL_DEFAULTS
     print(f"load before {os.getloadavg()}")
     _evals(pp[:10], R[:10], L0[:10], cab.cables, cab.body)

@@ -2,8 +2,8 @@
 in one run.
 
 CoGiRo (config/robots/cogiro.yaml) commanded with L_TS at N random poses in a box round the centre
-(|rotation| up to 10 deg), solved by the compiled engine ``cdpr.compiled.equilibrium6.solve_spatial``
-(warm: compiled before the clock starts) and by the numpy reference ``equilibrium6.solve_spatial``
+(|rotation| up to 10 deg), solved by the compiled engine ``cdpr.compiled.equilibrium.solve``
+(warm: compiled before the clock starts) and by the numpy reference ``models.equilibrium.solve``
 (on the first ``--n-numpy`` of them, it is slow), both with the restarts; the ratio; the compiled
 Newton kernel alone (``newton6_fast``, without the numpy set-up and result); the 6-DoF sensitivities
 dp*/dθ, dφ*/dθ of all 84 parameters at those equilibria (``sensitivities_at``: compiled
@@ -26,15 +26,19 @@ from pathlib import Path
 import numba
 import numpy as np
 
-from cdpr.compiled.equilibrium import solve_physical_fast
-from cdpr.compiled.equilibrium6 import Compiled6, newton6_fast
-from cdpr.compiled.equilibrium6 import solve_spatial as solve_spatial_fast
+from cdpr.compiled.equilibrium import CompiledCables as Compiled6
+from cdpr.compiled.equilibrium import newton as newton6_fast
+from cdpr.compiled.equilibrium import solve as solve_spatial_fast
+from cdpr.compiled.equilibrium import solve_points as solve_physical_fast
 from cdpr.compiled.sensitivity6 import sensitivities_at as sensitivities_at_fast
 from cdpr.compiled.sensitivity6 import spatial_sensitivities as spatial_sensitivities_fast
-from cdpr.models.equilibrium import PHYSICAL_DEFAULTS, solve_physical
-from cdpr.models.equilibrium6 import L_TS_pose, pose_arrays, solve_spatial
+from cdpr.models.equilibrium import PHYSICAL_DEFAULTS
+from cdpr.models.equilibrium import solve as solve_spatial
+from cdpr.models.inverse import L_TS
+from cdpr.models.platform import pose_arrays
 from cdpr.models.sensitivity6 import sensitivities_at, spatial_sensitivities
 from cdpr.robot import load_robot
+from tests.point_mass import solve_physical
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -119,8 +123,8 @@ def main():
     )
     sensitivity_rates(cog, p, rv, res, n, nn, args.repeat)
     cab = Compiled6(cog)
-    pp, R = pose_arrays(cog, p, rv)
-    L0 = L_TS_pose(cog, pp, R)
+    pp, R = pose_arrays(p, rv)
+    L0 = L_TS(cog, pp, R=R)
     o = PHYSICAL_DEFAULTS
     tk, ck, _ = best(
         lambda: newton6_fast(cab, pp, R, L0, pp, o["tol"], o["maxiter"], o["max_step"]), args.repeat
@@ -131,9 +135,21 @@ def main():
     solve_physical_fast(r4, P[:10])  # compile
     t4, c4, _ = best(lambda: solve_physical_fast(r4, P), args.repeat)
     t4n, _, _ = best(lambda: solve_physical(r4, P[:nn]), max(1, args.repeat - 1))
+    solve_spatial_fast(r4, P[:10])  # the pose kernel on the point mass (compiled above for CoGiRo)
+    t4p, c4p, viap = best(lambda: solve_spatial_fast(r4, P), args.repeat)
+    fast = solve_physical_fast(r4, P)
+    same4 = (fast["status"] == viap["status"]).all()
+    both = (fast["status"] == "ok") & (fast["n_taut"] >= 2)
+    dev4 = np.abs(fast["P_s"] - viap["P_s"])[both].max(initial=0.0)
     print(
-        f"CDPR4 SR point mass: compiled {n / t4:,.0f} /s ({c4 / n * 1e6:.1f} us cpu per solve), "
+        f"CDPR4 SR point mass: compiled 3-DoF kernel {n / t4:,.0f} /s ({c4 / n * 1e6:.1f} us cpu per solve), "
         f"numpy {nn / t4n:,.0f} /s"
+    )
+    print(
+        f"  CDPR4 through the pose kernel (cdpr.compiled.equilibrium.solve): {n / t4p:,.0f} /s "
+        f"({c4p / n * 1e6:.1f} us cpu per solve): the 3-DoF kernel is {t4p / t4:.2f}x faster "
+        f"(kept as the fast path where > 1.3x); statuses {'same' if same4 else 'DIFFERENT'}, "
+        f"max |dP| {dev4:.1e} m on the ok points held by 2 or more cables"
     )
     print(f"load after {os.getloadavg()}")
 

@@ -21,7 +21,7 @@ import numpy as np
 
 from cdpr.analyses import uncertainty as uq
 from cdpr.analyses.workspace import grid_points
-from cdpr.compiled.equilibrium import solve_physical_fast
+from cdpr.compiled.equilibrium import solve_points as solve_physical_fast
 from cdpr.compiled.subsets import solve_points_fast
 from cdpr.robot import load_robot, with_pulleys
 from cdpr.solve import sensitivities

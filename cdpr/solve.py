@@ -1,12 +1,21 @@
-"""The engine registry: every choice between a numba kernel (``cdpr.compiled``) and its numpy
-reference (``cdpr.models``) is made here, through ``check_engine``, and nowhere else.
+"""One door per concept for every robot, and the engine registry: every choice between a model
+(paper mode's 3-cable subsets, the physical equilibrium) and between a numba kernel
+(``cdpr.compiled``) and its numpy reference (``cdpr.models``) is made here, and nowhere else.
 
-``solve_points_any`` solves the pose (per-point arrays; ``cdpr.tables.solve_table`` gives a DataFrame);
-``sensitivities`` and ``subset_sensitivities`` add dP*/dθ (``spatial_sensitivities`` and
-``spatial_sensitivities_at`` dp*/dθ and dφ*/dθ of a rigid platform); ``linear_dp`` propagates them. Each takes
-``engine`` in ``ENGINES`` or None for the default (compiled for Newton, numpy for the fixed point);
-an unknown engine or an engine/method pair that does not exist raises CdprError naming the allowed
-values, never a silent fall-back. No pandas here: ``cdpr point`` solves one point without it.
+``solve`` solves poses of any robot (per-point arrays; ``cdpr.tables.solve_table`` gives a
+DataFrame) and ``solve_batch`` the same poses for many robots (the uncertainty samples);
+``sensitivities`` adds dp*/dθ (and dφ*/dθ on a rigid platform), ``sensitivities_at`` at the
+equilibria of a result, ``subset_sensitivities`` every 3-cable subset of paper mode;
+``linear_dp`` and ``linear_positions`` propagate them. A point mass is the rigid platform with
+b = 0 and c = 0: physical mode solves both with ``models.equilibrium``; a suspended point mass
+(pulley axes +z) solved without an orientation takes the 3-DoF fast path of the compiled engine
+and answers with the point-mass keys (``results.POINT_KEYS``) from either engine. Paper mode is the
+point-mass rule (refused in one line on a rigid platform).
+
+Each door takes ``engine`` in ``ENGINES`` or None for the default (compiled for Newton, numpy for
+the fixed point); an unknown engine or an engine/method pair that does not exist raises CdprError
+naming the allowed values, never a silent fall-back. No pandas here: ``cdpr point`` solves one
+point without it.
 """
 
 from __future__ import annotations
@@ -14,14 +23,12 @@ from __future__ import annotations
 import numpy as np
 
 from cdpr.compiled import equilibrium as compiled_equilibrium
-from cdpr.compiled import equilibrium6 as compiled_equilibrium6
 from cdpr.compiled import sensitivity as compiled_sensitivity
 from cdpr.compiled import sensitivity6 as compiled_sensitivity6
 from cdpr.compiled import subsets as compiled_subsets
 from cdpr.errors import CdprError
 from cdpr.models import equilibrium, sensitivity, sensitivity6
-from cdpr.models.equilibrium6 import solve_spatial, solve_spatial_batch
-from cdpr.models.results import mark_below_floor
+from cdpr.models.results import mark_below_floor, point_keys
 from cdpr.models.subsets import solve_points
 from cdpr.robot import require_point_mass
 
@@ -61,148 +68,172 @@ def check_engine(engine, method, one_shot=None):
 REDUNDANCY = ("paper", "physical")
 
 
-def check_redundancy(redundancy):
-    """``redundancy`` if it is one of ``REDUNDANCY``, else CdprError naming the allowed values."""
+def check_redundancy(redundancy, robot=None):
+    """``redundancy`` if it is one of ``REDUNDANCY``, else CdprError naming the allowed values. None
+    with a ``robot``: the robot's default, paper mode for a point mass and physical mode for a
+    rigid platform (its only mode)."""
+    if redundancy is None and robot is not None:
+        return "paper" if robot.point_mass else "physical"
     if redundancy not in REDUNDANCY:
         raise CdprError(f"unknown redundancy {redundancy!r}; allowed: {', '.join(REDUNDANCY)}")
     return redundancy
 
 
-def check_spatial(robot, engine, redundancy):
-    """The engine for a rigid platform (``Robot.point_mass`` false: attachments b_i or a centre of
-    mass off the reference point): such robots have the 6-DoF physical mode only
-    (``cdpr.models.equilibrium6``); paper mode (3 of m) raises CdprError in one line. The engine is
-    ``engine`` or, when None, the one default of ``check_engine`` (``spatial_engine``)."""
-    if redundancy != "physical":
+def _check_physical(method, L):
+    """Physical mode has one method and commands rest lengths: CdprError otherwise."""
+    if method != "newton":
+        raise CdprError(
+            "physical mode has one solver (Newton on the force balance); --method fixed_point applies to paper mode"
+        )
+    if L is not None:
+        raise CdprError("physical mode commands rest lengths L0, not total lengths L")
+
+
+def _check_paper(robot):
+    """Paper mode (3 of m) is the point-mass rule: CdprError in one line on a rigid platform."""
+    if not robot.point_mass:
         raise CdprError(
             f"{robot.source}: paper mode (3-cable subsets) is the point-mass rule; this robot has platform "
             "attachments or a centre of mass off its reference point: use redundancy: physical (--redundancy physical)"
         )
-    return spatial_engine(engine)
 
 
-def spatial_engine(engine):
-    """The engine of the 6-DoF solver (a Newton method): ``engine`` ("compiled" or "numpy"), or when
-    None the default of ``check_engine`` (compiled: ``cdpr.compiled.equilibrium6``, tested equal to
-    the numpy reference to 1e-9 m and rad); an unknown engine raises CdprError naming the allowed
-    values."""
-    return check_engine(engine, "newton")
+def _fast_point(robot, p, rotvec):
+    """True where the 3-DoF paths apply: a suspended point mass at positions (N, 3), no orientation."""
+    return robot.suspended_point_mass and rotvec is None and p.shape[1] == 3
 
 
-def solve_spatial_any(robot, p, rotvec=None, engine=None, threads=None, **options):
-    """``equilibrium6.solve_spatial`` by the chosen engine (``spatial_engine``): the numpy reference
-    or the compiled twin ``cdpr.compiled.equilibrium6.solve_spatial`` (``threads`` caps its
-    threads); same parameters and result."""
-    if spatial_engine(engine) == "compiled":
-        return compiled_equilibrium6.solve_spatial(robot, p, rotvec, threads=threads, **options)
-    return solve_spatial(robot, p, rotvec, **options)
+def solve(
+    robot, p, rotvec=None, *, redundancy=None, method="newton", engine=None, threads=None, L0=None, L=None, **options
+):  # fmt: skip
+    """Poses of any robot from the chosen model and engine, as per-point arrays.
 
+    Parameters
+    ----------
+    robot : Robot
+    p : array_like (N, 3) or (N, 6) [m, rad]
+        Desired positions, or poses (x, y, z, rx, ry, rz).
+    rotvec : array_like (3,) or (N, 3) [rad], optional
+        Desired orientations (rotation vectors); ignored by paper mode (a point mass).
+    redundancy : {"paper", "physical"}, optional
+        The paper's 3-cable subsets (DEGM_E on every subset, point masses only) or the physical
+        equilibrium on all cables (``models.equilibrium``); default paper for a point mass,
+        physical for a rigid platform (``check_redundancy``).
+    method : {"newton", "fixed_point"}
+        Paper mode's DEGM_E solver; physical mode has Newton only.
+    engine : {"compiled", "numpy"}, optional
+        ``check_engine``'s default when None.
+    threads : int, optional
+        Caps the compiled engine's threads.
+    L0 : array_like (N, m) [m], optional
+        Commanded rest lengths (physical mode), default L_TS at the desired pose.
+    L : array_like (N, m) [m], optional
+        Commanded total lengths (paper mode), default L_TS at p.
+    **options
+        The solver's stop rules (tol, maxiter, max_step) and starts (P0).
 
-def solve_spatial_batch_any(robots, p, rotvec=None, engine=None, threads=None, **options):
-    """``solve_spatial_any`` of every robot at the same poses (the samples of one design) by the
-    chosen engine: compiled (default), one parallel pass over every (robot, pose) pair for the
-    first Newton pass, the same kernel and results as one solve per robot
-    (``cdpr.compiled.equilibrium6.solve_spatial_batch``); numpy, the reference per robot
-    (``equilibrium6.solve_spatial_batch``). Returns one result dict per robot."""
-    if spatial_engine(engine) == "compiled":
-        return compiled_equilibrium6.solve_spatial_batch(robots, p, rotvec, threads=threads, **options)
-    return solve_spatial_batch(robots, p, rotvec, **options)
+    Returns
+    -------
+    dict
+        Paper mode: ``models.subsets.solve_points``'s keys. Physical mode: a suspended point mass
+        solved without an orientation gets ``results.POINT_KEYS``; every other robot, or a given
+        orientation, ``models.equilibrium.solve``'s keys (rotvec_s, dphi, unique, ...). The desired
+        points below the floor of a suspended robot are ``inaccessible`` (``mark_below_floor``).
 
-
-def solve_points_any(
-    robot,
-    p,
-    method="newton",
-    engine=None,
-    threads=None,
-    redundancy="paper",
-    L0=None,
-    L=None,
-    rotvec=None,
-    **options,
-):
-    """Per-point results as a dict of arrays from the chosen model and engine.
-
-    ``redundancy="paper"``: DEGM_E on every 3-cable subset and the paper's choice
-    (``cdpr.models.subsets.solve_points`` keys), commanded total lengths ``L`` (N, m) [m] or L_TS
-    at p.
-    ``redundancy="physical"``: the equilibrium on all cables (``equilibrium.solve_physical`` keys),
-    commanded rest lengths ``L0`` (N, m) [m] or L_TS at p. In physical mode a robot that is not a
-    suspended point mass, an orientation ``rotvec`` ((3,) or (N, 3) [rad]) or poses p (N, 6) go to
-    the 6-DoF solver (``equilibrium6.solve_spatial``), compiled by default and the numpy reference
-    with ``engine="numpy"`` (``solve_spatial_any``). Paper mode takes every point-mass robot, pulleys
-    at any axis (the suspended robots' accessibility and floor rules for suspended ones only),
-    Newton or the paper's fixed point, ignores the orientation, and refuses a rigid platform
-    (``check_spatial``). An engine/method/model combination that does not exist raises CdprError."""
+    Raises
+    ------
+    CdprError
+        An engine/method/model combination that does not exist, paper mode on a rigid platform.
+    """
     p = np.atleast_2d(np.asarray(p, dtype=float))
-    check_redundancy(redundancy)
-    if not robot.suspended_point_mass or rotvec is not None or p.shape[1] == 6:
-        if not robot.point_mass:
-            check_spatial(robot, engine, redundancy)
-        if redundancy == "physical" or not robot.point_mass:
-            if method != "newton":
-                raise CdprError(
-                    "physical mode has one solver (Newton on the force balance); --method fixed_point applies to paper mode"
-                )
-            if L is not None:
-                raise CdprError("physical mode commands rest lengths L0, not total lengths L")
-            res = solve_spatial_any(robot, p, rotvec, engine, threads, L0=L0, **options)
-            return mark_below_floor(res, p) if robot.suspended_point_mass else res
-        p = p[:, :3]  # paper mode on a point mass: the orientation plays no part
-    if redundancy == "physical":
-        if method != "newton":
+    redundancy = check_redundancy(redundancy, robot)
+    if redundancy == "paper":
+        _check_paper(robot)
+        if L0 is not None:
             raise CdprError(
-                "physical mode has one solver (Newton on the force balance); --method fixed_point applies to paper mode"
+                "commanded lengths need physical mode (--redundancy physical); paper mode commands L_TS at the desired point"
             )
+        engine = check_engine(engine, method)
         if L is not None:
-            raise CdprError("physical mode commands rest lengths L0, not total lengths L")
-        engine = check_engine(engine, "newton")
+            options["L"] = L
+        p = p[:, :3]  # a point mass: the orientation plays no part
+        if engine == "compiled":
+            res = compiled_subsets.solve_points_fast(robot, p, threads=threads, **options)
+        else:
+            res = solve_points(robot, p, method=method, **options)
+        return mark_below_floor(res, p) if robot.suspended_point_mass else res
+    _check_physical(method, L)
+    engine = check_engine(engine, "newton")
+    if _fast_point(robot, p, rotvec):
         if L0 is not None:
             L0 = np.broadcast_to(np.asarray(L0, dtype=float), (len(p), robot.m))
-        if engine == "compiled":
-            res = compiled_equilibrium.solve_physical_fast(robot, p, L0=L0, threads=threads, **options)
+        if engine == "compiled":  # the 3-DoF fast path of a suspended point mass
+            res = compiled_equilibrium.solve_points(robot, p, L0=L0, threads=threads, **options)
         else:
-            res = equilibrium.solve_physical(robot, p, L0=L0, **options)
+            res = point_keys(equilibrium.solve(robot, p, L0=L0, **options))
         return mark_below_floor(res, p)
-    if L0 is not None:
-        raise CdprError(
-            "commanded lengths need physical mode (--redundancy physical); paper mode commands L_TS at the desired point"
-        )
-    engine = check_engine(engine, method)
-    if L is not None:
-        options["L"] = L
     if engine == "compiled":
-        res = compiled_subsets.solve_points_fast(robot, p, threads=threads, **options)
+        res = compiled_equilibrium.solve(robot, p, rotvec, L0=L0, threads=threads, **options)
     else:
-        res = solve_points(robot, p, method=method, **options)
+        res = equilibrium.solve(robot, p, rotvec, L0=L0, **options)
     return mark_below_floor(res, p) if robot.suspended_point_mass else res
 
 
-def solve_points_batch_any(
-    robots, p, redundancy="physical", L0=None, L=None, engine=None, threads=None, P0=None
-):
-    """``solve_points_any(robot, p, redundancy=redundancy, L0=L0, L=L)`` of every robot (suspended
-    point masses with the same cables, no orientation) by the chosen engine. Compiled (default): one
-    parallel pass over every (robot, point) pair, the same per-point kernel and results as one solve
-    per robot (``cdpr.compiled.equilibrium.solve_physical_batch``, physical mode, commanded rest
-    lengths ``L0`` (N, m) [m]; ``cdpr.compiled.subsets.solve_points_batch``, paper mode, commanded
-    total lengths ``L`` (N, m) [m]); numpy: the references (``equilibrium.solve_physical_batch``,
-    ``subsets.solve_points`` per robot). The points below the floor are marked inaccessible
-    (``mark_below_floor``). ``P0``: Newton's starting points (default p), (N, 3) or (K, N, 3) [m]
-    in physical mode, (K, N, n_subsets, 3) [m] (every subset of every robot) in paper mode. Returns
-    one result dict per robot."""
+def solve_batch(
+    robots, p, rotvec=None, *, redundancy="physical", L0=None, L=None, engine=None, threads=None, P0=None, **options
+):  # fmt: skip
+    """``solve`` of every robot at the same poses (the Monte Carlo and Sobol samples of one design),
+    by the chosen engine. Compiled (default): one parallel pass over every (robot, point) pair, the
+    same kernel and results as one solve per robot; numpy: the references per robot.
+
+    Parameters
+    ----------
+    robots : sequence of Robot
+        Robots with the same number of cables m (all point masses or all rigid platforms).
+    p : array_like (N, 3) or (N, 6) [m, rad]
+        Desired positions, or poses.
+    rotvec : array_like (3,) or (N, 3) [rad], optional
+        Desired orientations.
+    redundancy : {"paper", "physical"}
+        Paper mode (suspended point masses, commanded total lengths ``L``) or physical mode.
+    L0 : array_like (N, m) [m], optional
+        Commanded rest lengths (physical mode).
+    L : array_like (N, m) [m], optional
+        Commanded total lengths (paper mode; required there).
+    engine : {"compiled", "numpy"}, optional
+    threads : int, optional
+    P0 : array_like, optional
+        Newton's starting points (default p): (N, 3) or (K, N, 3) [m] in physical mode on suspended
+        point masses, (K, N, n_subsets, 3) [m] (every subset of every robot) in paper mode.
+    **options
+        Stop rules of the pose solver (tol, maxiter, max_step, restarts), rigid platforms.
+
+    Returns
+    -------
+    list of dict
+        ``solve`` of each robot (the points below the floor marked, ``mark_below_floor``).
+    """
+    robots = list(robots)
     p = np.atleast_2d(np.asarray(p, dtype=float))
     check_redundancy(redundancy)
-    if any(not r.suspended_point_mass for r in robots) or p.shape[1] != 3:
-        raise CdprError("batched solves take suspended point-mass robots and positions (N, 3)")
     compiled = check_engine(engine, "newton") == "compiled"
+    if not all(_fast_point(r, p, rotvec) for r in robots):
+        if redundancy != "physical" or P0 is not None or L is not None:
+            raise CdprError(
+                "batched solves of rigid platforms or at given orientations are physical mode, from the desired poses"
+            )
+        if compiled:
+            res = compiled_equilibrium.solve_batch(robots, p, rotvec, L0=L0, threads=threads, **options)
+        else:
+            res = equilibrium.solve_batch(robots, p, rotvec, L0=L0, **options)
+        return [mark_below_floor(r, p) if rk.suspended_point_mass else r for r, rk in zip(res, robots)]
     if redundancy == "physical":
         if L is not None:
             raise CdprError("physical mode commands rest lengths L0, not total lengths L")
         if compiled:
-            res = compiled_equilibrium.solve_physical_batch(robots, p, L0=L0, threads=threads, P0=P0)
+            res = compiled_equilibrium.solve_points_batch(robots, p, L0=L0, threads=threads, P0=P0)
         else:
-            res = equilibrium.solve_physical_batch(robots, p, L0=L0, P0=P0)
+            res = [point_keys(r) for r in equilibrium.solve_batch(robots, p, L0=L0, P0=P0)]
     else:
         if L0 is not None or L is None:
             raise CdprError("batched paper-mode solves command total lengths L, not rest lengths L0")
@@ -217,7 +248,9 @@ def solve_points_batch_any(
 def sensitivities(
     robot,
     p,
-    redundancy="paper",
+    rotvec=None,
+    *,
+    redundancy=None,
     L=None,
     engine=None,
     threads=None,
@@ -225,20 +258,55 @@ def sensitivities(
     t_tol=sensitivity.T_TOL,
     **solver,
 ):
-    """The solve plus dP*/dθ of every parameter, by the chosen engine: ``"compiled"`` (default,
-    ``cdpr.compiled.sensitivity.sensitivities_fast``: the solve and the sensitivities in one compiled
-    pass, ``threads`` caps the threads) or ``"numpy"`` (the reference
-    ``cdpr.models.sensitivity.sensitivities``). Newton only; same parameters and result as the
-    reference, whose docstring gives the equations; another engine raises CdprError."""
-    check_redundancy(redundancy)
-    # paper mode takes any point mass (pulleys at any axis); the point-mass physical solver takes
-    # suspended ones (axes +z), the others go to the 6-DoF equilibrium
-    require_point_mass(
-        robot, f"sensitivities ({redundancy} mode)", "cdpr.solve.spatial_sensitivities (redundancy: physical, the 6-DoF equilibrium)",
-        redundancy == "physical", p,
-    )  # fmt: skip
+    """The solve plus dp*/dθ of every parameter θ (and dφ*/dθ on a rigid platform or at a given
+    orientation), by the chosen engine (Newton only).
+
+    A point mass in paper mode, or a suspended point mass in physical mode without an orientation:
+    ``models.sensitivity.sensitivities`` (compiled twin ``cdpr.compiled.sensitivity``), S (N, 3, n).
+    Every other robot in physical mode (a rigid platform, pulleys at any axis, a given orientation):
+    the pose sensitivities ``models.sensitivity6.spatial_sensitivities`` (compiled twin
+    ``cdpr.compiled.sensitivity6``), S (N, 6, n) with the rows dφ*/dθ. The references' docstrings
+    give the equations and the result.
+
+    Parameters
+    ----------
+    robot : Robot
+    p : array_like (N, 3) or (N, 6) [m, rad]
+        Desired positions, or poses.
+    rotvec : array_like (3,) or (N, 3) [rad], optional
+        Desired orientations (physical mode).
+    redundancy : {"paper", "physical"}, optional
+        Default as ``solve``.
+    L : array_like (N, m) [m], optional
+        Commanded lengths held fixed (total lengths in paper mode, rest lengths in physical mode),
+        default L_TS at the desired pose.
+    engine : {"compiled", "numpy"}, optional
+    threads : int, optional
+    gap_tol : float [m]
+        Paper mode's subset-switch tolerance (point masses).
+    t_tol : float [N]
+        Tension margin below which a cable is near its slack switch.
+    **solver
+        The solver's stop rules.
+
+    Returns
+    -------
+    dict
+        The solve's result with names (n,), S (N, 3, n) or (N, 6, n) and smooth (N,).
+    """
+    redundancy = check_redundancy(redundancy, robot)
     p = np.atleast_2d(np.asarray(p, dtype=float))
-    if check_engine(engine, "newton") == "compiled":
+    engine = check_engine(engine, "newton")
+    if redundancy == "paper":
+        _check_paper(robot)
+        p = p[:, :3]
+    elif not _fast_point(robot, p, rotvec):
+        if engine == "compiled":
+            return compiled_sensitivity6.spatial_sensitivities(
+                robot, p, rotvec, L0=L, threads=threads, t_tol=t_tol, **solver
+            )
+        return sensitivity6.spatial_sensitivities(robot, p, rotvec, L0=L, t_tol=t_tol, **solver)
+    if engine == "compiled":
         return compiled_sensitivity.sensitivities_fast(
             robot, p, redundancy=redundancy, L=L, threads=threads, gap_tol=gap_tol, t_tol=t_tol, **solver
         )
@@ -247,22 +315,12 @@ def sensitivities(
     )
 
 
-def spatial_sensitivities(robot, p, rotvec=None, L0=None, engine=None, threads=None, **solver):
-    """The 6-DoF solve plus dp*/dθ and dφ*/dθ (``sensitivity6.spatial_sensitivities``, whose docstring
-    gives the equations and the result), by the chosen engine: ``"compiled"`` (default, as for the
-    point-mass sensitivities: ``cdpr.compiled.sensitivity6.spatial_sensitivities``, the compiled
-    solve and analytic dF6/dθ in parallel over poses, ``threads`` caps the threads) or ``"numpy"``
-    (the reference); another engine raises CdprError naming the allowed values."""
-    if check_engine(engine, "newton") == "compiled":
-        return compiled_sensitivity6.spatial_sensitivities(robot, p, rotvec, L0=L0, threads=threads, **solver)
-    return sensitivity6.spatial_sensitivities(robot, p, rotvec, L0=L0, **solver)
-
-
-def spatial_sensitivities_at(robot, res, names=None, t_tol=sensitivity.T_TOL, engine=None, threads=None):
-    """dp*/dθ and dφ*/dθ at the equilibria of a ``solve_spatial`` result of either engine
-    (``sensitivity6.sensitivities_at``, whose docstring gives the equations and the result), by the
-    chosen engine: ``"compiled"`` (default: ``cdpr.compiled.sensitivity6.sensitivities_at``) or
-    ``"numpy"``; another engine raises CdprError naming the allowed values."""
+def sensitivities_at(robot, res, names=None, t_tol=sensitivity.T_TOL, engine=None, threads=None):
+    """dp*/dθ and dφ*/dθ at the equilibria of a physical-mode pose result (``solve`` with all keys:
+    P_s, R_s, L0, status) of either engine (``sensitivity6.sensitivities_at``, whose docstring gives
+    the equations and the result), by the chosen engine: ``"compiled"`` (default:
+    ``cdpr.compiled.sensitivity6.sensitivities_at``) or ``"numpy"``; another engine raises CdprError
+    naming the allowed values."""
     if check_engine(engine, "newton") == "compiled":
         return compiled_sensitivity6.sensitivities_at(robot, res, names, t_tol, threads=threads)
     return sensitivity6.sensitivities_at(robot, res, names, t_tol)
@@ -276,7 +334,7 @@ def subset_sensitivities(robot, p, L=None, columns=None, engine=None, threads=No
     require_point_mass(
         robot,
         "subset_sensitivities (paper mode)",
-        "cdpr.solve.spatial_sensitivities (redundancy: physical, the 6-DoF equilibrium)",
+        "cdpr.solve.sensitivities (redundancy: physical, the pose equilibrium)",
         P=p,
     )
     if check_engine(engine, "newton") == "compiled":

@@ -13,11 +13,11 @@ import pandas as pd
 
 from cdpr.models import sensitivity, sensitivity6
 from cdpr.models.results import STATUSES, pose_columns, subset_codes, taut_labels
-from cdpr.solve import check_engine, check_redundancy, solve_points_any
+from cdpr.solve import check_engine, check_redundancy, solve
 
 
 def to_frame(robot, res, redundancy="paper", rotvec=None):
-    """One row per point of a ``solve_points_any`` (or ``sensitivities``, or
+    """One row per point of a ``solve.solve`` (or ``sensitivities``, or
     ``compensation.compensated_pose``) result, with stable column names (SI units).
 
     Parameters
@@ -45,7 +45,7 @@ def to_frame(robot, res, redundancy="paper", rotvec=None):
         When ``res`` holds sensitivities (key ``S``): then dx_d<θ>, dy_d<θ>, dz_d<θ> per parameter
         [m per unit of θ] (``sensitivity.sensitivity_columns``) and smooth; a 6-DoF result's also
         dphix_d<θ>, dphiy_d<θ>, dphiz_d<θ> [rad per unit] (``sensitivity6.sensitivity_columns6``). A 6-DoF result of a
-        rigid platform (``equilibrium6.solve_spatial``, key ``rotvec_s``, robot not a point mass):
+        rigid platform (``equilibrium.solve``, key ``rotvec_s``, robot not a point mass):
         the columns of ``to_frame6``.
     """
     if check_redundancy(redundancy) == "physical" and "rotvec_s" in res and not robot.point_mass:
@@ -94,7 +94,7 @@ def _frame(robot, res, redundancy):
 
 
 def to_frame6(robot, res):
-    """One row per pose of a ``equilibrium6.solve_spatial`` result: the physical mode's columns
+    """One row per pose of an ``equilibrium.solve`` result: the physical mode's columns
     (x, y, z, x_s, y_s, z_s, dp, t1..tm, taut, n_taut, iterations, status) and rx, ry, rz
     (desired) and rx_s, ry_s, rz_s (reached) rotation vectors [rad], dphi [rad], unique.
 
@@ -102,7 +102,7 @@ def to_frame6(robot, res):
     ----------
     robot : Robot
     res : dict
-        A ``solve_spatial`` result.
+        An ``equilibrium.solve`` result.
 
     Returns
     -------
@@ -139,48 +139,50 @@ def solve_table(
     chunk=TABLE_BATCH,
     engine=None,
     threads=None,
-    redundancy="paper",
+    redundancy=None,
     L0=None,
     **options,
 ):
-    """Solve DEGM_E at points p with the paper-mode subset choice, as a DataFrame (``to_frame``).
+    """Solve poses of any robot (``solve.solve``) as a DataFrame (``to_frame``).
 
     Parameters
     ----------
     robot : Robot
-    p : array (N, 3) [m]
-        Desired platform positions.
+    p : array (N, 3) or (N, 6) [m, rad]
+        Desired platform positions, or poses.
     method : {"newton", "fixed_point"}
-        DEGM_E solver (``direct.degm_e``).
+        DEGM_E solver of paper mode (``direct.degm_e``).
+    chunk : int
+        Points per numpy solve of paper mode (bounds memory).
     engine : {"compiled", "numpy", None}
-        None (default): compiled for Newton, numpy for the fixed point. ``"compiled"`` runs the numba kernel of ``cdpr.compiled.subsets`` over all points in parallel
-        (``threads`` caps the threads); Newton only. ``"numpy"`` runs
-        ``cdpr.models.subsets.solve_points`` in chunks of ``chunk`` points: the reference
-        implementation, and the only one for the fixed point. Both give the same table (tested).
+        None (default): compiled for Newton, numpy for the fixed point. ``"compiled"`` runs the
+        numba kernels over all points in parallel (``threads`` caps the threads); Newton only.
+        ``"numpy"`` runs the references (paper mode: ``cdpr.models.subsets.solve_points`` in chunks
+        of ``chunk`` points, the only one for the fixed point). Both give the same table (tested).
         Another pair raises CdprError.
-
-    redundancy : {"paper", "physical"}
-        The paper's 3-cable subset rule, or the physical equilibrium on all cables
-        (``solve_points_any``); ``L0`` (N, m) [m] commanded rest lengths, physical mode only.
-        A robot that is not a suspended point mass, or ``rotvec`` in the options (a fixed
-        orientation [rad]), is solved by ``solve_points_any`` (the 6-DoF solver, physical mode).
+    threads : int, optional
+    redundancy : {"paper", "physical"}, optional
+        The paper's 3-cable subset rule (point masses), or the physical equilibrium on all cables;
+        default paper for a point mass, physical for a rigid platform (``solve.check_redundancy``).
+    L0 : array (N, m) [m], optional
+        Commanded rest lengths, physical mode only.
+    **options
+        ``rotvec`` (a fixed orientation [rad], (3,) or (N, 3)) and the solver's options.
 
     Returns
     -------
     DataFrame, one row per point (``to_frame``; given ``rotvec``, with its orientation columns)."""
     p = np.atleast_2d(np.asarray(p, dtype=float))
+    redundancy = check_redundancy(redundancy, robot)
+    run = {"method": method, "threads": threads, "redundancy": redundancy}
     if redundancy != "paper" or L0 is not None or not robot.suspended_point_mass or "rotvec" in options:
-        return to_frame(
-            robot,
-            solve_points_any(robot, p, method, engine, threads, redundancy, L0, **options),
-            redundancy,
-            options.get("rotvec"),
-        )
+        res = solve(robot, p, engine=engine, L0=L0, **run, **options)
+        return to_frame(robot, res, redundancy, options.get("rotvec"))
     engine = check_engine(engine, method)
     if engine == "compiled":
-        return to_frame(robot, solve_points_any(robot, p, method, engine, threads, **options))
+        return to_frame(robot, solve(robot, p, engine=engine, **run, **options))
     starts = range(0, len(p), chunk) if len(p) else [0]
     frames = [
-        to_frame(robot, solve_points_any(robot, p[i : i + chunk], method, engine, **options)) for i in starts
+        to_frame(robot, solve(robot, p[i : i + chunk], engine=engine, **run, **options)) for i in starts
     ]
     return pd.concat(frames, ignore_index=True)

@@ -86,7 +86,7 @@ SPATIAL_STUDY = "quick_spatial"
 
 
 #: The first job of the spatial run, run alone (a plane of CoGiRo, a couple of seconds once
-#: compiled): it compiles the 6-DoF kernels (cdpr/compiled/equilibrium6.py, about 100 s of one core)
+#: compiled): it compiles the 6-DoF kernels (cdpr/compiled/equilibrium.py, about 100 s of one core)
 #: into the numba cache, which every later job loads. Started together, the first two solver jobs
 #: each compiled them: twice the CPU on a shared machine.
 SPATIAL_FIRST = "plane/CoGiRo_SR.csv"

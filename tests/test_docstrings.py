@@ -27,7 +27,6 @@ MODEL_MODULES = [
     "analyses.budget",
     "analyses.symmetry",
     "models.platform",
-    "models.equilibrium6",
     "models.distribution6",
     "models.sensitivity6",
     "compiled.sensitivity6",

@@ -11,7 +11,8 @@ import pytest
 import cdpr
 from cdpr.errors import CdprError
 from cdpr.models.distribution6 import compensated_lengths
-from cdpr.models.equilibrium6 import L_TS_pose, pose_arrays, pose_state
+from cdpr.models.inverse import L_TS, pose_state
+from cdpr.models.platform import pose_arrays
 from tests.conftest import ROBOTS
 
 P = np.array([[0.0, 0.0, 2.0], [1.0, 1.0, 1.5]])
@@ -38,7 +39,7 @@ FUNCTIONS = [n for n in cdpr.__all__ if n != "__version__" and _takes_robot_and_
 
 
 def test_the_face_lists_its_point_functions():
-    assert {"L_TS", "igm_e", "degm_e", "solve_points", "solve_physical", "solve_points_any"} <= set(FUNCTIONS)
+    assert {"L_TS", "igm_e", "degm_e", "solve_points"} <= set(FUNCTIONS)
     assert {"solve_table", "sensitivities", "compensate", "compensated_pose"} <= set(FUNCTIONS)
 
 
@@ -55,15 +56,15 @@ def test_every_point_function_answers_a_rigid_platform_or_refuses_it(cogiro, nam
 
 
 def test_standard_and_extended_lengths_at_poses(cogiro):
-    p, R = pose_arrays(cogiro, P, RV)
+    p, R = pose_arrays(P, RV)
     B, st = pose_state(cogiro, p, R)
-    want = L_TS_pose(cogiro, p, R)
+    want = L_TS(cogiro, p, R=R)
     assert np.array_equal(cdpr.L_TS(cogiro, P, RV), want)
     assert np.array_equal(cdpr.L_TS(cogiro, np.hstack([P, RV])), want)
     assert np.array_equal(cdpr.igm_e(cogiro, P, RV).L_TE, st.L_TE)
     # positions alone: the identity orientation, each cable at its own attachment point
-    p0, R0 = pose_arrays(cogiro, P)
-    assert np.array_equal(cdpr.L_TS(cogiro, P), L_TS_pose(cogiro, p0, R0))
+    p0, R0 = pose_arrays(P)
+    assert np.array_equal(cdpr.L_TS(cogiro, P), L_TS(cogiro, p0, R=R0))
     assert not np.allclose(cdpr.L_TS(cogiro, P), np.linalg.norm(P[:, None] - cogiro.A, axis=-1) + cogiro.d)
 
 

@@ -69,7 +69,7 @@ STARTUP = {
     "cdpr/__init__.py",
     "cdpr/__main__.py",
     "cdpr/models/platform.py",
-    "cdpr/models/equilibrium.py",
+    "cdpr/models/results.py",
     "cdpr/analyses/workspace.py",
     "cdpr/analyses/uncertainty.py",
 }

@@ -37,10 +37,10 @@ def _entry_points(robot):
     lin = _linear_inputs()
     theta = parameter_values(robot) * np.r_[np.full(4, 0.9), np.ones(7 * 4 - 4 + 1)]
     return [
-        ("solve_points_any", lambda e: solve.solve_points_any(robot, PTS, engine=e)),
+        ("solve_points_any", lambda e: solve.solve(robot, PTS, engine=e)),
         (
             "solve_points_any physical",
-            lambda e: solve.solve_points_any(robot, PTS, engine=e, redundancy="physical"),
+            lambda e: solve.solve(robot, PTS, engine=e, redundancy="physical"),
         ),
         ("solve_table", lambda e: tables.solve_table(robot, PTS, engine=e)),
         ("sensitivities", lambda e: solve.sensitivities(robot, PTS, engine=e)),
@@ -86,11 +86,11 @@ def test_every_entry_point_refuses_an_unknown_engine(robot):
 
 
 def test_a_pair_that_does_not_exist_is_refused(robot):
-    for call in (solve.solve_points_any, tables.solve_table):
+    for call in (solve.solve, tables.solve_table):
         with pytest.raises(CdprError, match="the compiled engine has no 'fixed_point' solver"):
             call(robot, PTS, method="fixed_point", engine="compiled")
     with pytest.raises(CdprError, match="physical mode has one solver"):
-        solve.solve_points_any(robot, PTS, method="fixed_point", redundancy="physical")
+        solve.solve(robot, PTS, method="fixed_point", redundancy="physical")
     with pytest.raises(CdprError, match="unknown redundancy 'both'; allowed: paper, physical"):
         solve.sensitivities(robot, PTS, redundancy="both")
 
@@ -116,7 +116,7 @@ def test_the_default_is_the_compiled_engine_everywhere(robot):
     for name, call in _entry_points(robot):
         default, compiled = call(None), call("compiled")
         _same(default, compiled, name)
-    res = {e: solve.solve_points_any(robot, PTS, engine=e) for e in ("compiled", "numpy")}
+    res = {e: solve.solve(robot, PTS, engine=e) for e in ("compiled", "numpy")}
     np.testing.assert_array_equal(res["compiled"]["status"], res["numpy"]["status"])
     ok = res["numpy"]["status"] == "ok"
     assert ok.sum() >= 3
@@ -152,10 +152,10 @@ def test_zero_points_give_empty_results_in_both_modes(robot, engine, redundancy)
     """Solving no point (a caller's selection of feasible points can be empty) returns empty arrays of
     the right shapes in both modes and engines, and so do the sensitivities: no error."""
     P = np.zeros((0, 3))
-    res = solve.solve_points_any(robot, P, redundancy=redundancy, engine=engine)
+    res = solve.solve(robot, P, redundancy=redundancy, engine=engine)
     assert res["P_s"].shape == (0, 3) and res["dp"].shape == (0,) and len(res["status"]) == 0
     if redundancy == "physical":
-        res = solve.solve_points_any(robot, P, redundancy=redundancy, engine=engine, L0=np.zeros((0, 4)))
+        res = solve.solve(robot, P, redundancy=redundancy, engine=engine, L0=np.zeros((0, 4)))
         assert res["P_s"].shape == (0, 3) and res["t"].shape == (0, 4)
     sens = solve.sensitivities(robot, P, redundancy=redundancy, engine=engine)
     assert len(sens["status"]) == 0

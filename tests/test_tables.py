@@ -26,9 +26,9 @@ def test_one_to_frame_for_both_modes_and_the_sensitivities(robot):
     cables; the sensitivity columns follow when the result has them and equal S. (The numpy engine:
     the table does not depend on it, tests/test_solve.py; no kernel to compile here.)"""
     lead = ["x", "y", "z", "x_s", "y_s", "z_s", "dp", "t1", "t2", "t3", "t4"]
-    paper = tables.to_frame(robot, solve.solve_points_any(robot, PTS, engine="numpy"))
+    paper = tables.to_frame(robot, solve.solve(robot, PTS, engine="numpy"))
     assert list(paper.columns) == [*lead, "subset", "iterations", "status"]
-    res = solve.solve_points_any(robot, PTS, engine="numpy", redundancy="physical")
+    res = solve.solve(robot, PTS, engine="numpy", redundancy="physical")
     phys = tables.to_frame(robot, res, "physical")
     assert list(phys.columns) == [*lead, "taut", "n_taut", "iterations", "status"]
     assert list(phys["status"].astype(str)) == list(res["status"])
@@ -45,7 +45,7 @@ def test_one_to_frame_for_both_modes_and_the_sensitivities(robot):
 
 
 def test_the_columns_hold_the_solver_s_numbers(robot):
-    res = solve.solve_points_any(robot, PTS, engine="numpy")
+    res = solve.solve(robot, PTS, engine="numpy")
     df = tables.to_frame(robot, res)
     np.testing.assert_array_equal(df[["x_s", "y_s", "z_s"]].to_numpy(), res["P_s"])
     np.testing.assert_array_equal(df[[f"t{i}" for i in range(1, 5)]].to_numpy(), res["t"])
@@ -63,7 +63,7 @@ def test_the_columns_hold_the_solver_s_numbers(robot):
 
 def test_a_point_mass_given_an_orientation_carries_it_through(robot):
     rv = np.array([0.1, -0.2, 0.3])
-    res = solve.solve_points_any(robot, PTS, engine="numpy")
+    res = solve.solve(robot, PTS, engine="numpy")
     df = tables.to_frame(robot, res, rotvec=rv)
     assert list(df.columns) == [*LEAD[:7], *ORIENTATION, *LEAD[7:], "subset", "iterations", "status"]
     np.testing.assert_array_equal(df[["rx", "ry", "rz"]].to_numpy(), np.tile(rv, (4, 1)))
@@ -75,7 +75,7 @@ def test_a_point_mass_given_an_orientation_carries_it_through(robot):
 def test_a_rigid_platform_s_table_has_its_orientation_columns():
     cogiro = load_robot(ROBOTS / "cogiro.yaml")
     P, rv = np.array([[0.5, -0.3, 2.0], [0.0, 0.0, 2.5]]), np.array([0.05, 0.0, 0.1])
-    res = solve.solve_points_any(cogiro, P, engine="numpy", redundancy="physical", rotvec=rv)
+    res = solve.solve(cogiro, P, engine="numpy", redundancy="physical", rotvec=rv)
     df = tables.to_frame(cogiro, res, "physical")
     t = [f"t{i}" for i in range(1, cogiro.m + 1)]
     assert list(df.columns) == [

@@ -46,11 +46,11 @@ its own direction û = δp_all / ‖δp_all‖: ‖δp_all‖ = Σ_k δp_k · û
 A rigid platform (a robot that is not a suspended point mass, or any robot given an orientation
 ``rotvec``): the same budget at the fixed desired orientation R_d = exp([rotvec]x) (default the
 identity). The model's rest lengths are taken at the attachment points B_i = p + R_d b_i: the rigid
-cable's length L_TE(B_i) of the 6-DoF inverse model (``equilibrium6.pose_state``, the pulley
+cable's length L_TE(B_i) of the 6-DoF inverse model (``inverse.pose_state``, the pulley
 geometry at B_i, as ``cdpr inverse`` gives it), or with ``elasticity`` in the model the compensated
 lengths of ``distribution6.compensated_lengths`` (the minimum-norm distribution of the 6 x m wrench
 matrix, at least ``t_min`` in every cable); the actual robot settles at its 6-DoF equilibrium
-(p*, R*) (``equilibrium6``, through ``solve.solve_points_any``) under the realised lengths, and
+(p*, R*) (``equilibrium``, through ``solve.solve``) under the realised lengths, and
 every entry also gets the orientation error δφ = rotvec(R* R_dᵀ) (N, 3) [rad] (its interaction
 δφ_all - Σ_k δφ_k, first order in the small rotations), summarised by its mean and largest norm.
 A point-mass robot given ``rotvec`` goes the same way (its moment rows vanish): equal to the
@@ -75,12 +75,11 @@ import pandas as pd
 from cdpr.analyses.compensation import compensate
 from cdpr.models import winch as winch_model
 from cdpr.models.distribution6 import compensated_lengths
-from cdpr.models.equilibrium6 import pose_arrays, pose_state
-from cdpr.models.inverse import igm_e
-from cdpr.models.platform import rotvec_of
+from cdpr.models.inverse import igm_e, pose_state
+from cdpr.models.platform import pose_arrays, rotvec_of
 from cdpr.models.tension_distribution import T_MIN_DEFAULT
 from cdpr.robot import TABLE1
-from cdpr.solve import check_engine, solve_points_any
+from cdpr.solve import check_engine, solve
 
 #: The effects the standard model neglects, in the order of the budget.
 EFFECTS = ("pulley", "elasticity", "winch")
@@ -190,7 +189,7 @@ def model_lengths(design, p, model, t_min=T_MIN_DEFAULT, rotvec=None):
     if spatial(design, rotvec):
         if "elasticity" in _names(model):
             return compensated_lengths(robot, p, rotvec, t_min=t_min, method="min_norm")["L0"]
-        return pose_state(robot, *pose_arrays(robot, p, rotvec))[1].L_TE
+        return pose_state(robot, *pose_arrays(p, rotvec))[1].L_TE
     if "elasticity" in _names(model):
         return compensate(robot, p, method="min_norm", t_min=t_min)["L0"]
     return igm_e(robot, p).L_TE
@@ -284,7 +283,7 @@ def variant(design, p, actual, model, t_min=T_MIN_DEFAULT, threads=None, engine=
         rv = None
         if rotvec is not None:
             rv = np.broadcast_to(np.asarray(rotvec, dtype=float), p.shape)[good]
-        res = solve_points_any(
+        res = solve(
             effect_robot(design, actual),
             p[good],
             engine=engine,
@@ -296,7 +295,7 @@ def variant(design, p, actual, model, t_min=T_MIN_DEFAULT, threads=None, engine=
         dp[good] = res["P_s"] - p[good]
         status[good] = res["status"]
         if six:
-            _, R_d = pose_arrays(design, p[good], rv)
+            _, R_d = pose_arrays(p[good], rv)
             dphi[good] = rotvec_of(res["R_s"] @ np.swapaxes(R_d, 1, 2))
     out = {"dp": dp, "status": status.astype(str)}
     if six:

@@ -62,9 +62,8 @@ from cdpr.analyses.workspace import check_box, grid_points
 from cdpr.errors import CdprError, ConfigError
 from cdpr.models.distribution6 import compensated_lengths
 from cdpr.models.drive import commanded_for, has_winches, realised_rest_lengths
-from cdpr.models.equilibrium6 import L_TS_pose, pose_arrays
 from cdpr.models.inverse import L_TS
-from cdpr.models.platform import rotation_matrix, rotvec_of, skew
+from cdpr.models.platform import pose_arrays, rotation_matrix, rotvec_of, skew
 from cdpr.models.pulleys import total_length_and_direction
 from cdpr.models.sensitivity import (
     COND_MAX,
@@ -88,8 +87,7 @@ from cdpr.parameters import (
     select_groups,
 )
 from cdpr.robot import WINCH_KEYS, with_pulleys
-from cdpr.solve import check_engine, sensitivities, solve_spatial_any
-from cdpr.solve import spatial_sensitivities as solve_spatial_sensitivities
+from cdpr.solve import check_engine, sensitivities, solve
 from cdpr.units import quantity
 
 #: How the candidate and simulated poses are commanded: standard lengths L_TS (the point mass's only
@@ -834,7 +832,7 @@ class Problem6:
     measured pose is solved from ``_centre`` at the identity orientation. On a robot file with
     ``winch:`` the commanded lengths go through the drums (``drive.realised_rest_lengths``) with
     the chain rule of ``Problem.evaluate`` on the offsets and dead lengths. The solve and the
-    sensitivities by ``engine`` (``solve.spatial_sensitivities``), the numpy reference by default:
+    sensitivities by ``engine`` (``solve.sensitivities``), the numpy reference by default:
     the compiled twin (analytic dF6/dθ) changes the tracked CoGiRo tables (the misfit models' fits
     move; the exact model's in the 4th digit), so the study stays on numpy.
 
@@ -897,8 +895,8 @@ class Problem6:
         rv = np.where(hp[:, None], data.rotvec, 0.0)
         drum = np.isfinite(L0).all(axis=1)
         L0 = _drum_or_standard(rob, L0, drum, start, rv)
-        res = solve_spatial_sensitivities(
-            rob, start, rv, L0=L0, engine=self.engine, names=self._names6, **self.solver
+        res = sensitivities(
+            rob, start, rv, redundancy="physical", L=L0, engine=self.engine, names=self._names6, **self.solver
         )
         SL, hooke, cond = rest_length_sensitivities(rob, res["P_s"], res["R_s"], L0)
         if not drum.all():  # a command the drum cannot pay out: no equilibrium, flagged by the fit
@@ -969,7 +967,7 @@ def _drum_or_standard(robot, L0, drum, p, rv):
     ``DRUM_RANGE`` afterwards."""
     if drum.all():
         return L0
-    return np.where(drum[:, None], L0, L_TS_pose(robot, p, rotation_matrix(rv)))
+    return np.where(drum[:, None], L0, L_TS(robot, p, R=rotation_matrix(rv)))
 
 
 def tension_sensitivities6(robot, P, R, L0, S, cols6, w_L=None, w_d=None):
@@ -1057,7 +1055,7 @@ def engine6(engine):
 
 def solve6(robot, P, L0, rotvec=None, solver=None, engine=None):
     """The 6-DoF equilibria under commanded rest lengths L0 started at poses (P, rotvec): the
-    ``solve_spatial`` result (``solve.solve_spatial_any`` by ``engine6(engine)``) with ``smooth``
+    ``solve_spatial`` result (``solve.solve`` by ``engine6(engine)``) with ``smooth``
     (``smooth6``) added.
 
     Parameters
@@ -1074,7 +1072,8 @@ def solve6(robot, P, L0, rotvec=None, solver=None, engine=None):
     -------
     dict
     """
-    res = solve_spatial_any(robot, P, rotvec, engine6(engine), L0=L0, **dict(solver or {}))
+    rv = np.zeros((len(np.atleast_2d(P)), 3)) if rotvec is None else rotvec  # the pose keys (R_s)
+    res = solve(robot, P, rv, redundancy="physical", engine=engine6(engine), L0=L0, **dict(solver or {}))
     _, hooke, cond = rest_length_sensitivities(robot, res["P_s"], res["R_s"], res["L0"])
     res["smooth"] = smooth6(hooke, cond)
     return res
@@ -1866,7 +1865,7 @@ def _check_command(command, robot):
 
 
 def commanded_lengths(robot, p, R, command="standard"):
-    """Rest lengths commanded at 6-DoF poses: ``L_TS_pose`` (standard) or the compensated rest
+    """Rest lengths commanded at 6-DoF poses: ``inverse.L_TS`` (standard) or the compensated rest
     lengths of the minimum-norm tensions (``distribution6.compensated_lengths``, NaN where no
     admissible distribution exists).
 
@@ -1883,7 +1882,7 @@ def commanded_lengths(robot, p, R, command="standard"):
     """
     _check_command(command, robot)
     if command == "standard":
-        return L_TS_pose(robot, p, R)
+        return L_TS(robot, p, R=R)
     return compensated_lengths(robot, p, rotvec_of(R))["L0"]
 
 
@@ -1902,7 +1901,7 @@ def _simulate6(
     engine=None,
 ):
     """``simulate`` for a 6-DoF platform (its docstring; the solves by ``engine6(engine)``)."""
-    p, R = pose_arrays(nominal, P, rotvec)
+    p, R = pose_arrays(P, rotvec)
     rv = rotvec_of(R)
     L0 = commanded_lengths(nominal, p, R, command)
     fin = np.isfinite(L0).all(axis=1)

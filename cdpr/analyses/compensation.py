@@ -38,7 +38,7 @@ from cdpr.models.inverse import igm_e
 from cdpr.models.results import STATUSES
 from cdpr.models.statics import tensions
 from cdpr.models.tension_distribution import METHODS, T_MIN_DEFAULT, distribute, wrench_matrix
-from cdpr.solve import check_engine, solve_points_any, solve_spatial_any
+from cdpr.solve import check_engine, solve
 
 COMP_METHODS = (*METHODS, "subset")
 #: Statuses of a compensated pose: the physical ones, and ``infeasible`` where no tension
@@ -68,7 +68,7 @@ def rest_lengths(L_TE, t, ES):
 
 def _subset_tensions(robot, p, engine):
     """Paper mode's subset at p and the tensions it needs at p; the other cables at zero."""
-    res = solve_points_any(robot, p, engine=engine)
+    res = solve(robot, p, redundancy="paper", engine=engine)
     sub = res["subset"]
     has = sub[:, 0] >= 0
     n = len(p)
@@ -185,7 +185,7 @@ def compensated_pose(
     """Compensate with ``robot``, then let the platform settle on the ``actual`` robot.
 
     The rest lengths of ``compensate(robot, p, ...)`` are commanded to ``actual`` (default: the same
-    robot, which returns p itself); its physical equilibrium P* (``solve.solve_points_any`` in
+    robot, which returns p itself); its physical equilibrium P* (``solve.solve`` in
     physical mode) gives the residual error |dp| = |P* - p|,
     e.g. for cables whose real moduli differ from the modelled one.
 
@@ -208,14 +208,14 @@ def compensated_pose(
         identity. Points it cannot realise are ``infeasible``.
     rotvec : array_like (3,) or (N, 3) [rad], optional
         Desired orientation: at poses (``at_poses``) the 6-DoF compensation and the 6-DoF
-        equilibrium of ``actual`` (``solve.solve_spatial_any``).
+        equilibrium of ``actual`` (``solve.solve``).
     threads : int, optional
         Threads of the compiled engine.
 
     Returns
     -------
     dict
-        As ``solve_physical`` (at poses ``equilibrium6.solve_spatial``), plus L0 (N, m) [m],
+        As ``solve_physical`` (at poses ``equilibrium.solve``), plus L0 (N, m) [m],
         t_planned (N, m) [N] and ``statuses`` (``COMP_STATUSES``): status ``infeasible`` (P_s, dp,
         t NaN; at poses also rotvec_s and dphi) where no distribution exists.
     """
@@ -236,9 +236,17 @@ def compensated_pose(
     if six:
         rv = p[:, 3:].copy() if p.shape[1] == 6 else _rotvecs(p, rotvec)
         p6 = np.concatenate([comp["p"], rv], axis=1)
-        res = solve_spatial_any(actual, p6[ok], None, engine, threads, L0=L_act[ok], **(solver or {}))
+        res = solve(
+            actual,
+            p6[ok],
+            redundancy="physical",
+            engine=engine,
+            threads=threads,
+            L0=L_act[ok],
+            **(solver or {}),
+        )
     else:
-        res = solve_points_any(
+        res = solve(
             actual,
             p[ok],
             engine=engine,

@@ -20,7 +20,8 @@ import pandas as pd
 
 from cdpr.analyses.workspace import cell_centres, frame_box
 from cdpr.models import pulleys, winch
-from cdpr.models.equilibrium6 import pose_arrays, pose_state
+from cdpr.models.inverse import pose_state
+from cdpr.models.platform import pose_arrays
 from cdpr.robot import TABLE1
 from cdpr.tables import solve_table
 
@@ -225,7 +226,7 @@ def pose_geometry(robot, p, rotvec=None):
         about H_i, in the plane of k_i and D_i - H_i; empty for a fixed pulley: NaN); ``p`` (3,)
         [m]; ``R`` (3, 3) [-] and ``rotvec`` (3,) [rad] the orientation; ``com`` (3,) [m] the centre of mass; ``point_mass`` bool; ``name``.
     """
-    p_, R = pose_arrays(robot, [p], None if rotvec is None else [rotvec])
+    p_, R = pose_arrays([p], None if rotvec is None else [rotvec])
     B, st = pose_state(robot, p_, R)
     a = robot.arrays
     B, H, K, D = B[0], st.H[0], st.K[0], st.D[0]

@@ -39,7 +39,7 @@ from functools import lru_cache
 import numpy as np
 
 from cdpr.analyses.workspace import check_box, grid_points
-from cdpr.solve import solve_points_any
+from cdpr.solve import solve
 
 #: The eight elements of D4 as 2 x 2 integer matrices acting on centred (x, y).
 D4 = tuple(
@@ -166,7 +166,7 @@ def solve_grid(robot, box, n, symmetric=True, **solver):
     n : int
     symmetric : bool
         False solves every point (the reference the symmetric solve is tested against).
-    solver : passed to ``solve.solve_points_any`` (method, engine, threads, redundancy); commanded
+    solver : passed to ``solve.solve`` (method, engine, threads, redundancy); commanded
         lengths ``L0`` are not allowed (they need not share the symmetry).
 
     Returns
@@ -190,7 +190,7 @@ def solve_grid_columns(robot, box, n, keys, symmetric=True, **solver):
     box : array_like (6,) [m]
     n : int
     keys : sequence of str
-        Keys of the ``solve.solve_points_any`` result; ``dphi`` [rad] is 0 for a point-mass
+        Keys of the ``solve.solve`` result; ``dphi`` [rad] is 0 for a point-mass
         solve that has none (a point has no orientation).
     symmetric : bool
     solver : as ``solve_grid`` (a fixed orientation ``rotvec`` is allowed: a robot that is not a
@@ -209,7 +209,7 @@ def solve_grid_columns(robot, box, n, keys, symmetric=True, **solver):
         symmetric = False  # an orientation breaks the horizontal symmetries of the frame
     transforms = grid_symmetries(robot, box) if symmetric else [D4[0]]
     P, inverse = _orbit_points(tuple(check_box(box).tolist()), int(n), tuple(T.tobytes() for T in transforms))
-    res = solve_points_any(robot, P, **solver)
+    res = solve(robot, P, **solver)
     out = {}
     for k in keys:
         v = np.asarray(res[k]) if k in res or k != "dphi" else np.zeros(len(P))

@@ -68,8 +68,8 @@ from cdpr.solve import (
     linear_dp,
     linear_positions,
     sensitivities,
-    solve_points_any,
-    solve_points_batch_any,
+    solve,
+    solve_batch,
     subset_sensitivities,
 )
 
@@ -605,7 +605,7 @@ class PoseErrorModel:
         if sens:
             return sensitivities(robot, self._pv, redundancy=self.mode, L=self._Lv, **run)
         lengths = {"L": self._Lv} if self.mode == "paper" else {"L0": self._Lv}
-        return solve_points_any(robot, self._pv, redundancy=self.mode, **lengths, **run)
+        return solve(robot, self._pv, redundancy=self.mode, **lengths, **run)
 
     def solve(self, theta):
         """Full solves: ‖δp‖ (n, N) [m] and ok (n, N) for parameter vectors θ (n, 7 m + 1)."""
@@ -624,7 +624,7 @@ class PoseErrorModel:
             for i in range(0, n, k):
                 robots = [robot_with_parameters(self.robot, t) for t in th[i : i + k]]
                 P0 = self._starts(th[i : i + k], varying)
-                for j, res in enumerate(solve_points_batch_any(robots, self._pv, **lengths, **run, P0=P0)):
+                for j, res in enumerate(solve_batch(robots, self._pv, **lengths, **run, P0=P0)):
                     dp[i + j, self.feasible] = res["dp"]
                     ok[i + j, self.feasible] = res["status"] == "ok"
             return dp, ok

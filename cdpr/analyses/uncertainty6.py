@@ -11,10 +11,10 @@ import numpy as np
 
 from cdpr.analyses.uncertainty import CASES, Linearisation, nominal_theta
 from cdpr.models.distribution6 import compensated_lengths
-from cdpr.models.equilibrium6 import L_TS_pose, pose_arrays
-from cdpr.models.platform import rotvec_of
+from cdpr.models.inverse import L_TS
+from cdpr.models.platform import pose_arrays, rotvec_of
 from cdpr.parameters import parameter_names6, parameter_values6, robot_with_parameters6
-from cdpr.solve import solve_spatial_any, solve_spatial_batch_any, spatial_sensitivities_at
+from cdpr.solve import sensitivities_at, solve, solve_batch
 
 
 def spatial_theta(robot, theta):
@@ -79,7 +79,7 @@ class PoseErrorModel6:
         (``compensation``: method and t_min_N of ``distribution6.compensated_lengths``, default
         min_norm, 100 N; poses without a feasible distribution are not solved, never ok).
     engine : {"compiled", "numpy", None}
-        Engine of the full solves (``solve.solve_spatial_any``; None is compiled).
+        Engine of the full solves (``solve.solve``; None is compiled).
     threads : int, optional
     """
 
@@ -90,12 +90,12 @@ class PoseErrorModel6:
         self.case = case
         self.engine = engine
         self.threads = threads
-        self.p, self.R = pose_arrays(robot, p, rotvec)
+        self.p, self.R = pose_arrays(p, rotvec)
         self.rotvec = (
             np.zeros((len(self.p), 3)) if rotvec is None else np.broadcast_to(rotvec, (len(self.p), 3))
         )
         if case == "uncompensated":
-            self.L0 = L_TS_pose(robot, self.p, self.R)
+            self.L0 = L_TS(robot, self.p, R=self.R)
             self.feasible = np.ones(len(self.p), dtype=bool)
         elif case == "compensated":
             c = compensation or {}
@@ -108,7 +108,15 @@ class PoseErrorModel6:
 
     def _solve(self, robot):
         f = self.feasible
-        return solve_spatial_any(robot, self.p[f], self.rotvec[f], self.engine, self.threads, L0=self.L0[f])
+        return solve(
+            robot,
+            self.p[f],
+            self.rotvec[f],
+            redundancy="physical",
+            engine=self.engine,
+            threads=self.threads,
+            L0=self.L0[f],
+        )
 
     def solve(self, theta):
         """Full solves: ‖δp‖ (n, N) [m], δφ (n, N) [rad], ok (n, N) for θ (n, 10 m + 4)."""
@@ -118,8 +126,8 @@ class PoseErrorModel6:
         ok = np.zeros((n, N), dtype=bool)
         f = self.feasible
         robots = [robot_with_parameters6(self.robot, t) for t in th]
-        results = solve_spatial_batch_any(
-            robots, self.p[f], self.rotvec[f], self.engine, self.threads, L0=self.L0[f]
+        results = solve_batch(
+            robots, self.p[f], self.rotvec[f], engine=self.engine, threads=self.threads, L0=self.L0[f]
         )  # every sample in one parallel pass (the same results as one solve per sample)
         for i, res in enumerate(results):
             ok[i, f] = res["status"] == "ok"
@@ -134,7 +142,7 @@ class PoseErrorModel6:
         # the numpy reference (central differences of the balance), through the engine switch: the
         # tracked CoGiRo uncertainty tables were computed with it; the compiled twin's analytic
         # dF6/dθ agrees to 1.4e-6 of a column (benchmarks/README.md) but not to the digits written
-        sens = spatial_sensitivities_at(self.robot, res, parameter_names6(self.robot.m), engine="numpy")
+        sens = sensitivities_at(self.robot, res, parameter_names6(self.robot.m), engine="numpy")
         P_s, R_s = np.full((N, 3), np.nan), np.full((N, 3, 3), np.nan)
         S = np.full((N, 6, sens["S"].shape[2]), np.nan)
         smooth, status = np.zeros(N, dtype=bool), np.full(N, "infeasible", dtype=object)

@@ -144,8 +144,8 @@ def _vec(v):
 
 def cmd_inverse(args):
     # lazy: the inverse model, for this command only
-    from cdpr.models.equilibrium6 import L_TS_pose, pose_arrays, pose_state
-    from cdpr.models.inverse import L_TS, igm_e
+    from cdpr.models.inverse import L_TS, igm_e, pose_state
+    from cdpr.models.platform import pose_arrays
     from cdpr.models.pulleys import swivel
 
     robot = _load(args)
@@ -156,9 +156,9 @@ def cmd_inverse(args):
         lts = L_TS(robot, P)
         B = np.repeat(P[:, None, :], robot.m, axis=1)
     else:
-        p_, R = pose_arrays(robot, P, rv)
+        p_, R = pose_arrays(P, rv)
         B, st = pose_state(robot, p_, R)
-        lts = L_TS_pose(robot, p_, R)
+        lts = L_TS(robot, p_, R=R)
     a = robot.arrays
     sw = swivel(B, a.A, None if robot.suspended_point_mass else a.frame, a.inward, per_cable=True)
     over = st.gamma > 1.5 * np.pi
@@ -255,22 +255,19 @@ def cmd_inverse(args):
 
 
 def _solve_sensitivities(robot, P, args, L0=None, rv=None, engine=None):
-    """The solve plus the sensitivities for --sensitivities by ``engine``: dP*/dθ
-    (``solve.sensitivities``) on a suspended point mass and, in paper mode, on any point mass (an
-    orientation plays no part there and is carried through), dp*/dθ and dφ*/dθ
-    (``solve.spatial_sensitivities``) on any other robot."""
-    from cdpr.solve import check_spatial, sensitivities, spatial_sensitivities  # lazy: --sensitivities only
+    """The solve plus the sensitivities for --sensitivities by ``engine`` (``solve.sensitivities``):
+    dP*/dθ on a suspended point mass and, in paper mode, on any point mass (an orientation plays no
+    part there and is carried through), dp*/dθ and dφ*/dθ on any other robot."""
+    from cdpr.solve import sensitivities  # lazy: --sensitivities only
 
     if args.method != "newton":
         raise CdprError(
             "--sensitivities needs --method newton (the implicit-function theorem uses its Jacobian at the solution)"
         )
-    if not robot.suspended_point_mass and not (robot.point_mass and args.redundancy == "paper"):
-        check_spatial(robot, None, args.redundancy)
-        return spatial_sensitivities(robot, P, rv, L0=L0, engine=engine, threads=args.threads)
     return sensitivities(
         robot,
         P,
+        None if robot.suspended_point_mass else rv,
         redundancy=args.redundancy,
         L=L0,
         engine=engine,
@@ -282,7 +279,7 @@ def cmd_point(args):
     """One pose (--at) or a table of poses (--points): the solved pose, tensions and status. Without
     --engine, fewer than ``solve.ONE_SHOT_POSES`` poses are answered by the numpy reference (the
     compiled engine's load would be most of the process), more by the compiled engine."""
-    from cdpr.solve import check_engine, solve_points_any  # lazy: the solvers, for the solver commands only
+    from cdpr.solve import check_engine, solve  # lazy: the solvers, for the solver commands only
 
     robot = _load(args)
     P = _points(args)
@@ -308,7 +305,7 @@ def cmd_point(args):
             )
         res = _solve_sensitivities(robot, P, args, L0, rv, engine)
     else:
-        res = solve_points_any(
+        res = solve(
             robot,
             P,
             method=args.method,
@@ -374,7 +371,7 @@ def cmd_point(args):
     else:
         print(f"  subset         : {subset_label(res['subset'][0]) or '-'}")
     print(f"  status         : {out['status']}  ({out['iterations']} iterations)")
-    if out.get("unique") is False:  # another equilibrium holds the same lengths (equilibrium6: restarts)
+    if out.get("unique") is False:  # another equilibrium holds the same lengths (equilibrium: restarts)
         n = len(out["alternatives"])
         print(f"  equilibrium    : not unique ({n} alternative{'s' * (n != 1)}; --json lists them)")
     if args.sensitivities:

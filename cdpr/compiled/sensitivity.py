@@ -42,8 +42,8 @@ from cdpr.compiled._kernels import (
     newton_options,
     set_threads,
 )
-from cdpr.compiled.equilibrium import physical_load, physical_outputs
-from cdpr.compiled.equilibrium import solve_point as physical_point
+from cdpr.compiled._point_mass import physical_load, physical_outputs
+from cdpr.compiled._point_mass import solve_point as physical_point
 from cdpr.compiled.subsets import (
     ST_OK,
     commanded_lengths,
@@ -54,9 +54,9 @@ from cdpr.compiled.subsets import (
 )
 from cdpr.compiled.subsets import solve_point as paper_point
 from cdpr.errors import CdprError
-from cdpr.models.equilibrium import PHYSICAL_DEFAULTS, hull_halfplanes, physical_result, start_points
+from cdpr.models.equilibrium import PHYSICAL_DEFAULTS, start_points
 from cdpr.models.inverse import L_TS
-from cdpr.models.results import STATUSES
+from cdpr.models.results import STATUSES, hull_halfplanes, physical_result
 from cdpr.models.sensitivity import COND_MAX, GAP_TOL, T_TOL
 from cdpr.parameters import parameter_names
 from cdpr.robot import require_point_mass
@@ -389,7 +389,7 @@ def sensitivities_fast(
     if redundancy not in ("paper", "physical"):
         raise CdprError(f"unknown redundancy {redundancy!r}; allowed: paper, physical")
     require_point_mass(
-        robot, f"sensitivities_fast ({redundancy} mode)", "cdpr.solve.spatial_sensitivities (redundancy: physical, the 6-DoF equilibrium)",
+        robot, f"sensitivities_fast ({redundancy} mode)", "cdpr.solve.sensitivities (redundancy: physical, the pose equilibrium)",
         redundancy == "physical", p,
     )  # fmt: skip
     p = np.ascontiguousarray(np.atleast_2d(np.asarray(p, dtype=float)))
@@ -530,7 +530,7 @@ def subset_sensitivities(robot, p, L=None, columns=None, threads=None, **solver)
     require_point_mass(
         robot,
         "subset_sensitivities (paper mode)",
-        "cdpr.solve.spatial_sensitivities (redundancy: physical, the 6-DoF equilibrium)",
+        "cdpr.solve.sensitivities (redundancy: physical, the pose equilibrium)",
         P=p,
     )
     p = np.ascontiguousarray(np.atleast_2d(np.asarray(p, dtype=float)))

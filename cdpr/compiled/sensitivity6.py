@@ -3,7 +3,7 @@
 
 At each equilibrium (p*, R*) of a ``solve_spatial`` result (either engine; ``spatial_sensitivities``
 runs the compiled one) the balance's 6 x 6 Jacobian dF6/dx is the solver's own
-(``equilibrium6.eval6``, the compiled ``equilibrium6._jacobian``) and dF6/dθ at fixed pose is
+(``compiled.equilibrium.evaluate``, the compiled ``models.equilibrium._jacobian``) and dF6/dθ at fixed pose is
 analytic, cable by cable, from the shared cable kernel (``_kernels.cable_partials_axis``: the
 scalar ``cable_partials`` in each pulley's frame). With w_i = t_i (u_i, r_i × u_i), t_i = a_i k_i
 (L_TE,i - L0_i), k_i = E_i S_i / L0_i, r_i = R b_i, B_i = p + r_i::
@@ -16,7 +16,7 @@ scalar ``cable_partials`` in each pulley's frame). With w_i = t_i (u_i, r_i × u
     dF6/dc_a = (0, R e_a × f),   dF6/dM = (f, R c × f) / M     (f = -M g e_z)
 
 (the moment rows zero on a point mass), then S = -pinv(dF6/dx) dF6/dθ with the reference's rcond:
-J^-1 by LU where ``equilibrium6.lu_solve6``'s bound shows that the cut keeps every singular value
+J^-1 by LU where ``_linalg.lu_solve``'s bound shows that the cut keeps every singular value
 (then pinv = J^-1), ``numpy.linalg.pinv`` otherwise (a point mass: the rotation rows are zero). The numpy reference takes dF6/dθ by central differences of the balance
 (steps 1e-7 m, 1e-6 relative): the two agree to its O(δ²) truncation and round-off, tested. Same
 flags (smooth, margin_t, cond) as the reference.
@@ -51,7 +51,9 @@ from cdpr.compiled._kernels import (
     cable_partials_axis,
     set_threads,
 )
-from cdpr.compiled.equilibrium6 import Compiled6, eval6, lu_solve6, scratch6, solve_spatial
+from cdpr.compiled._linalg import lu_solve
+from cdpr.compiled.equilibrium import CompiledCables, evaluate, scratch
+from cdpr.compiled.equilibrium import solve as solve_spatial
 from cdpr.errors import CdprError
 from cdpr.models.sensitivity import COND_MAX, T_TOL
 from cdpr.parameters import parameter_names6
@@ -308,7 +310,7 @@ def scaled_condition6(J, ell, rigid, Js):
 
 @njit(cache=True, error_model="numpy")
 def _sens_pose(i, P, R, L0, ok, cab, body, mass, cols, rcond, S, margin, cond, w, rows, dF, Js, Jp):
-    """dx*/dθ at pose i into S[i], margin[i], cond[i] (``sensitivities_at``); w the ``scratch6``
+    """dx*/dθ at pose i into S[i], margin[i], cond[i] (``sensitivities_at``); w the ``scratch``
     record, rows (m, NCOL), dF (6, 10 m + 4), Js, Jp (6, 6) work arrays."""
     K = cols.shape[0]
     for a in range(6):
@@ -318,7 +320,7 @@ def _sens_pose(i, P, R, L0, ok, cab, body, mass, cols, rcond, S, margin, cond, w
     cond[i] = np.inf
     if not ok[i]:
         return
-    eval6(
+    evaluate(
         P[i, 0],
         P[i, 1],
         P[i, 2],
@@ -344,13 +346,13 @@ def _sens_pose(i, P, R, L0, ok, cab, body, mass, cols, rcond, S, margin, cond, w
             finite = finite and math.isfinite(J[a, c])
     if not finite:
         return
-    lu = body.rigid  # J^-1 by LU where it equals the pseudo-inverse (``lu_solve6``'s bound)
+    lu = body.rigid  # J^-1 by LU where it equals the pseudo-inverse (``lu_solve``'s bound)
     for c in range(6):
         if not lu:
             break
         for a in range(6):
             w.w6[a] = 1.0 if a == c else 0.0
-        lu = lu_solve6(J, w.w6, w.A6, w.V6, w.piv, w.s6, rcond)
+        lu = lu_solve(J, w.w6, w.A6, w.V6, w.piv, w.s6, rcond)
         for a in range(6):
             Jp[a, c] = w.s6[a]
     if lu:  # ||J_s||_F ||J_s^-1||_F with J_s^-1 = D J^-1 D
@@ -380,7 +382,7 @@ def _sens_poses(P, R, L0, ok, cab, body, mass, cols, rcond, S, margin, cond):
     m = cab.A.shape[0]
     nchunks = (n + CHUNK - 1) // CHUNK
     for ch in prange(nchunks):
-        w = scratch6(m)
+        w = scratch(m)
         rows = np.empty((m, NCOL))
         dF = np.empty((6, 10 * m + 4))
         Js = np.empty((6, 6))
@@ -437,7 +439,7 @@ def sensitivities_at(robot, res, names=None, t_tol=T_TOL, threads=None):
     margin = np.empty(n)
     cond = np.empty(n)
     if n:
-        cab = Compiled6(robot)
+        cab = CompiledCables(robot)
         _sens_poses(
             P,
             f(res["R_s"], dtype=float),

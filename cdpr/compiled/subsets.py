@@ -631,7 +631,7 @@ def solve_points_fast(robot, p, tol=None, maxiter=None, threads=None, prune=True
     (eq. 2); give them to command a robot whose parameters differ from the model that computed the
     lengths."""
     require_point_mass(
-        robot, "paper mode (solve_points_fast)", 'cdpr.solve_points_any(robot, p, redundancy="physical")', P=p
+        robot, "paper mode (solve_points_fast)", 'cdpr.solve.solve(robot, p, redundancy="physical")', P=p
     )
     p = np.ascontiguousarray(np.atleast_2d(np.asarray(p, dtype=float)))
     n, m = len(p), robot.m

@@ -253,9 +253,7 @@ def degm_e(robot, p, subset=(0, 1, 2), L=None, method="newton", P0=None, **optio
         P (N, 3) [m], t (N, 3) [N], iterations (N,), converged (N,) bool, exists (N,) bool;
         tensions are evaluated at the returned P.
     """
-    require_point_mass(
-        robot, "paper mode (degm_e)", 'cdpr.solve_points_any(robot, p, redundancy="physical")', P=p
-    )
+    require_point_mass(robot, "paper mode (degm_e)", 'cdpr.solve.solve(robot, p, redundancy="physical")', P=p)
     p = np.atleast_2d(np.asarray(p, dtype=float))
     s = np.asarray(subset, dtype=np.intp)
     sub = _Subset(robot, s)

@@ -44,8 +44,8 @@ import itertools
 
 import numpy as np
 
-from cdpr.models.equilibrium6 import pose_arrays, pose_state
-from cdpr.models.platform import external_wrench, wrench_matrix
+from cdpr.models.inverse import pose_state
+from cdpr.models.platform import external_wrench, pose_arrays, wrench_matrix
 from cdpr.models.tension_distribution import (
     FEAS_TOL,
     METHODS,
@@ -204,7 +204,7 @@ def distribute_pose(robot, p, rotvec=None, t_min=T_MIN_DEFAULT, t_max=None, meth
     """
     if method not in METHODS:
         raise ValueError(f"unknown distribution method {method!r}; allowed: {', '.join(METHODS)}")
-    p, R = pose_arrays(robot, p, rotvec)
+    p, R = pose_arrays(p, rotvec)
     W, w, st = pose_wrench(robot, p, R)
     W, w = rank_rows(robot, W, w)
     t_max = robot.T_a if t_max is None else t_max

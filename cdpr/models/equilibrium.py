@@ -1,99 +1,117 @@
-"""Physical equilibrium of a point-mass platform on m >= 3 elastic cables ("redundancy: physical").
+"""Physical equilibrium ("redundancy: physical") of a platform on m elastic cables with pulleys at
+any orientation: the rigid 6-DoF platform, and the point mass as its case b_i = 0, c = 0.
 
-The winches hold commanded rest lengths L0_i (by default the standard model's L_TS,i at the
-desired point p, as in the paper, eq. 2). The platform settles at P* where the cable forces balance
-the external wrench,
+The winches hold commanded rest lengths L0_i (by default the standard model's L_TS,i at the desired
+pose, as in the paper, eq. 2). The platform settles at the pose (p*, R*) where
 
-    F(P*) = sum_i t_i(P*) u_i(P*) + w_ext = 0,    t_i = (E_i S_i / L0_i) max(0, L_TE,i(P*) - L0_i)
+    W(p*, R*) t + w_ext(R*) = 0,   t_i = (E_i S_i / L0_i) max(0, L_TE,i(B_i) - L0_i),   B_i = p + R b_i
 
 (Hooke, eq. 10 and 13, with a cable that cannot push: a cable shorter than its rest length is slack,
-t_i = 0). u_i is the unit vector from P toward the exit point D_i of cable i and L_TE,i its total
-length in the extended model (eq. 3-5, 12). Every cable may go slack: nothing chooses which cables
-hold the platform, unlike the paper's 3-cable subsets (``redundancy``).
+t_i = 0), with W the 6 x m wrench matrix (``platform.wrench_matrix``; column [u_i ; r_i x u_i],
+r_i = R b_i, u_i from B_i toward the exit point D_i of the pulley,
+``pulleys.total_length_and_direction`` at B_i; L_TE,i the extended total length, eq. 3-5, 12) and
+w_ext the gravity wrench at the centre of mass (``platform.external_wrench``). Every cable may go
+slack: nothing chooses which cables hold the platform, unlike the paper's 3-cable subsets. On a
+point mass (b_i = 0, c = 0) the rotation plays no part and the moment rows vanish: the solver works
+on the 3 force rows (rank(W) = 3), F(P*) = sum_i t_i u_i(P*) + w_ext = 0.
 
 Solver
 ------
-Semismooth Newton on the force balance F with the analytic (generalised) Jacobian
+Semismooth Newton on the force and moment balance F6 with its analytic generalised Jacobian in
+the pose increments x = (dp, dphi) (dphi a base-frame rotation vector, R <- exp([dphi]x) R):
+dB_i = dp - [r_i]x dphi, and with G_i = t_i du_i/dB + (E_i S_i / L0_i) a_i u_i (dL_i/dB)^T,
+a_i = [L_TE,i >= L0_i] (``statics.direction_gradient``, ``statics.length_gradient``),
 
-    dF/dP = sum_i [t_i du_i/dP + (E_i S_i / L0_i) a_i u_i (dL_TE,i/dP)^T],   a_i = [L_TE,i >= L0_i]
+    dF/dx = sum_i G_i [I, -[r_i]x]
+    dM/dx = sum_i [r_i]x G_i [I, -[r_i]x] + [0, sum_i t_i (r_i u_i^T - (u_i . r_i) I)]  (``_jacobian``)
 
-(``statics.direction_gradient`` and ``statics.length_gradient``), steps capped at ``max_step``,
-globalised by an Armijo backtracking line search on the potential energy
+The step is the least-squares (pseudo-inverse) Newton step of the 6 x 6 system (a neutral mode,
+such as the rotation of a platform hanging from one point about the vertical, gets no step), the
+3 x 3 solve on a point mass; steps are capped at ``max_step`` and globalised by an Armijo
+backtracking line search (``backtrack``) on the potential energy
 
-    V(P) = -w_ext . (P - p) + sum_i E_i S_i / (2 L0_i) max(0, L_TE,i(P) - L0_i)^2
+    V = sum_i E_i S_i / (2 L0_i) max(0, L_TE,i - L0_i)^2 - w_ext . (p - p_d + R c)
 
-with its exact gradient dV/dP = -w_ext + sum_i t_i dL_TE,i/dP.
+with its exact gradient dV/dx.
 
-* Fixed and SR pulleys: dL_TE/dP = -u, so dV/dP = -F exactly: the equilibrium is the minimum of V.
-  V is convex for fixed pulleys and its Hessian -dF/dP is positive definite as soon as one cable
-  pulls, so the Newton direction descends V and the minimum is unique (tested from several starts).
-* DR pulleys: with our reading of the DR arm (on the bisector of the strand toward P and the
-  strand toward the winch, ``pulleys.sheave_centre``) dL_TE/dP has an arm term, and
-  dV/dP = -F + sum_i t_i arm_i ((u_i + u_C,i) . beta_i) eps_i; on CDPR4_DR equilibria the
-  difference is 5e-7 to 9e-4 of M g (median 1.5e-5), and the minimum of V lies up to 2e-5 m
-  (median 2e-7 m) from the force balance. The force balance is the definition of the equilibrium,
-  so Newton solves F = 0 and V serves only as the merit of the line search far from the solution:
-  Newton steps shorter than ``LS_SKIP`` = 0.1 mm are taken whole, without the descent test or the
-  line search (this is also where V's differences would sink into round-off for any pulley).
-  Convergence is judged on F only.
+* Fixed and SR pulleys: dL_TE/dB = -u, so dV/dx = -F6 exactly: the equilibrium is the minimum of
+  V. On a point mass V is convex for fixed pulleys and its Hessian -dF/dP is positive definite as
+  soon as one cable pulls, so the Newton direction descends V and the minimum is unique.
+* DR pulleys: with our reading of the DR arm (on the bisector of the strand toward B and the
+  strand toward the winch, ``pulleys.sheave_centre``) dL_TE/dB has an arm term, and dV/dB = -F +
+  sum_i t_i arm_i ((u_i + u_C,i) . beta_i) eps_i; on CDPR4_DR equilibria the difference is 5e-7 to
+  9e-4 of M g (median 1.5e-5), and the minimum of V lies up to 2e-5 m (median 2e-7 m) from the
+  force balance. The force balance is the definition of the equilibrium, so Newton solves F6 = 0
+  and V serves only as the merit of the line search far from the solution: Newton steps shorter
+  than ``LS_SKIP`` = 0.1 mm are taken whole, without the descent test or the line search.
+  Convergence is judged on F6 only.
 
 Where the Newton direction does not descend V (an indefinite Hessian from the swivel term next to
-the vertical through a joint point, a singular Jacobian) the step is -dV/dP / kappa,
-kappa = sum_i a_i E_i S_i / L0_i + sum_i t_i / |l_E,i| (a bound of the stiffness). When no cable
-is taut (with L0 = L_TS every DR cable is slack at p by 1-4 cm) the Newton step takes every cable
-as taut, Hooke extended to compression (t_i = k_i e_i < 0 allowed in Newton's force and Jacobian):
-one step then lowers the platform to about where the cables hold it. Trial points at or above the
-lowest joint point have infinite merit (rejected); a start there is moved below it
+the vertical through a joint point, a singular Jacobian) the step is the scaled gradient step
+-dV/dx / kappa (kappa a bound of the stiffness), on a rigid platform the modified Newton step
+(``_modified_newton``). When no cable is taut (with L0 = L_TS every DR cable is slack at p by 1-4
+cm) the Newton step takes every cable as taut, Hooke extended to compression: one step then lowers
+the platform to about where the cables hold it. On a suspended point-mass robot, trial points at or
+above the lowest joint point have infinite merit (rejected) and a start there is moved below it
 (``start_points``).
 
-A point converges when |F| <= ``FTOL_REL`` |w_ext| where it stands, or when a Newton step s_k is
-shorter than ``tol``, or when the error left after it, estimated from the contraction as
-|s_k|^2 / |s_(k-1)| after a full Newton step s_(k-1), is below ``tol`` (``direct._newton``'s rule);
-that step is taken and the cables are evaluated there.
+A point converges when |F| <= ``FTOL_REL`` |w_ext| and |M| <= ``FTOL_REL`` |w_ext| l (l the
+platform's size) where it stands, or when a Newton step s_k is shorter than ``tol``, or when the
+error left after it, estimated from the contraction as |s_k|^2 / |s_(k-1)| after a full Newton
+step s_(k-1), is below ``tol`` (``direct._newton``'s rule).
+
+Several equilibria: a robot with slack cables can hang in more than one pose. Where the converged
+Hessian -dF6/dx is not positive definite or fewer than 6 cables are taut (rigid platforms only),
+the point is solved again from ``RESTARTS`` (the desired pose turned by +-``RESTART_ANGLE`` about
+x, y, z); the lowest-energy equilibrium found is returned, ``unique`` is False where another one
+(more than ``DISTINCT`` apart) exists, and the others are listed under ``alternatives``.
 
 Edge cases (choices)
 --------------------
-* Fewer than 3 taut cables is physical (the platform hangs as a pendulum on 2 cables in the
-  vertical plane through their exit points, or on one cable under its pulley): status ``ok`` when
-  converged; ``taut`` says which cables hold it.
+* Fewer taut cables than degrees of freedom is physical (a point mass hangs as a pendulum on 2
+  cables in the vertical plane through their exit points, or on one cable under its pulley): status
+  ``ok`` when converged; ``taut`` says which cables hold it.
 * ``slack`` (a status of paper mode) never occurs: slackness is part of the model.
-* ``inaccessible``: the desired point or the equilibrium lies at or above the lowest joint point, or
-  outside the anchors' horizontal convex hull (where gravity cannot be balanced by pulling cables,
-  up to the pulley offsets), or the equilibrium lies inside a sheave, or is not finite. P* is still
-  reported.
+* ``inaccessible`` on a suspended point-mass robot (``results.statuses``): the desired point or
+  the equilibrium lies at or above the lowest joint point, or outside the anchors' horizontal
+  convex hull (where gravity cannot be balanced by pulling cables, up to the pulley offsets), or the
+  equilibrium lies inside a sheave, or is not finite. On every other robot a pose is inaccessible
+  only when the equilibrium is not finite or lies inside a sheave. P* is still reported.
 * ``over_tension``: converged, accessible, and some t_i > T_a,i.
-* ``not_converged``: the iteration cap was reached (P* and tensions where Newton stopped), or
-  Newton stopped with every cable slack (a free platform has no equilibrium; this happens only when
-  the cables are so stiff that the stretch needed is below the round-off of P).
+* ``not_converged``: the iteration cap was reached (the pose and tensions where Newton stopped),
+  or Newton stopped with every cable slack (a free platform has no equilibrium).
 * The floor is not modelled (as in paper mode): P* may lie below z = 0.
-* Tensions: exactly 0 on slack cables in the model; the result writes NaN there (like paper mode's
-  slack cables, written null in JSON), with the boolean ``taut`` beside. A cable is taut when
-  t_i > ``TAUT_MIN`` = 1e-6 N (below, the tension is the round-off of a cable resting at exactly its
-  rest length, which happens where the platform hangs on a lone cable, see below).
-* A lone SR or DR cable holding the platform has a circle of equilibria round its joint axis (the
-  swivel, or the U-joint, is neutral: the cable hangs vertically from D wherever the pulley
-  points), so P* there depends on the starting point and on round-off; |F(P*)| is still balanced.
+* Tensions: exactly 0 on slack cables in the model; the result writes NaN there, with the boolean
+  ``taut`` beside (t_i > ``results.TAUT_MIN`` = 1e-6 N).
+* A lone SR or DR cable holding a point mass has a circle of equilibria round its joint axis (the
+  swivel is neutral), so P* there depends on the starting point and on round-off; |F(P*)| is still
+  balanced.
+
+The compiled engine (``cdpr.compiled.equilibrium``) solves the same equations; a suspended point
+mass takes its 3-DoF kernel there (the same Newton with 3 x 3 solves), tested equal to this
+reference to 1e-9 m.
 
 References
 ----------
-Paty et al. 2021, eq. (2)-(5), (10)-(14):
 Paty, T., Binaud, N., Caro, S., Segonds, S. (2021). Cable-driven parallel robot modelling considering
-pulley kinematics and cable elasticity. Mechanism and Machine Theory 159, 104263.
+pulley kinematics and cable elasticity. Mechanism and Machine Theory 159, 104263 (eq. 2-5, 10-14).
 
-Pott, A., Cable-Driven Parallel Robots: Theory and Application, Springer 2018 (force equilibrium and
-elastic cables of redundant CDPRs).
+Pott, A. (2018). Cable-Driven Parallel Robots: Theory and Application. Springer, ch. 3 (wrench
+matrix, elastic cables).
 """
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from cdpr.errors import CdprError
-from cdpr.models.inverse import L_TS
+from cdpr.models.inverse import L_TS, pose_state, pulley_args
+from cdpr.models.platform import pose_arrays, rotation_error, rotation_matrix, rotvec_of, skew
 from cdpr.models.pulleys import total_length_and_direction
-from cdpr.models.results import STATUSES
+from cdpr.models.results import ST, STATUSES, TAUT_MIN, hull_halfplanes, statuses
 from cdpr.models.statics import direction_gradient, length_gradient, solve3
-from cdpr.robot import require_point_mass
 
 #: Newton defaults: position tolerance [m], iteration cap, largest step [m].
 PHYSICAL_DEFAULTS = {"tol": 1e-10, "maxiter": 60, "max_step": 0.5}
@@ -104,185 +122,20 @@ MAX_HALVINGS = 30
 LS_SKIP = 1e-4
 #: A point is balanced when |F| <= FTOL_REL |w_ext|.
 FTOL_REL = 1e-10
-#: A cable counts as taut when its tension exceeds this [N]: below it, the tension is the round-off
-#: of a cable resting at exactly its rest length (stretch ~1e-16 m).
-TAUT_MIN = 1e-6
 #: A start at or above the lowest joint point is moved to this distance [m] below it.
 START_BELOW = 0.05
-#: Distance [m] outside the anchors' horizontal convex hull tolerated as inside.
-HULL_EPS = 1e-9
-ST = {s: i for i, s in enumerate(STATUSES)}
-
-
-def hull_halfplanes(robot):
-    """Half-planes (n_x, n_y, c) of the anchors' horizontal convex hull, n . xy + c <= 0 inside
-    (unit outward normals n), shape (n_edges, 3).
-
-    A helper of the ``inaccessible`` status (no paper equation).
-
-    Parameters
-    ----------
-    robot : Robot
-        Supplies the joint points A (m, 3) [m].
-
-    Returns
-    -------
-    halfplanes : ndarray (n_edges, 3)
-        n_x, n_y [-] and c [m] per hull edge (``scipy.spatial.ConvexHull.equations``).
-    """
-    from scipy.spatial import ConvexHull  # lazy: scipy.spatial is 0.17 s of start-up
-
-    return np.ascontiguousarray(ConvexHull(robot.A[:, :2]).equations)
-
-
-def outside_frame(robot, P, halfplanes=None):
-    """True where P (..., 3) [m] lies outside the anchors' horizontal convex hull (by more than
-    ``HULL_EPS``) or at or above the lowest joint point; shape (...).
-
-    Parameters
-    ----------
-    robot : Robot
-        Supplies the joint points A (m, 3) [m].
-    P : array_like (..., 3) [m]
-        Positions.
-    halfplanes : ndarray (n_edges, 3), optional
-        ``hull_halfplanes(robot)``, computed when not given.
-
-    Returns
-    -------
-    outside : ndarray (...) bool
-        True where P is outside the frame (where gravity cannot be balanced by pulling cables, up
-        to the pulley offsets, or above the pulleys).
-    """
-    hp = hull_halfplanes(robot) if halfplanes is None else halfplanes
-    return _outside(np.asarray(P, dtype=float), hp, robot.A[:, 2].min())
-
-
-def _outside(P, hp, z_top):
-    """``outside_frame`` from the half-planes: P (..., 3) [m], hp (n_edges, 3) or, for a batch of
-    robots, P (K, N, 3), hp (K, n_edges, 3) and z_top (K, 1) [m]. The signed distances are
-    n_x x + n_y y + c, written out (the same operations for one robot and for a batch)."""
-    hp = np.asarray(hp, dtype=float)
-    if hp.ndim == 3:  # a batch: robot k's edges against robot k's points
-        hp = hp[:, None]
-    x, y = P[..., 0], P[..., 1]
-    far = None  # the largest signed distance, edge by edge (no reduction over a short last axis)
-    for e in range(hp.shape[-2]):
-        d = x * hp[..., e, 0] + y * hp[..., e, 1] + hp[..., e, 2]
-        far = d if far is None else np.maximum(far, d)
-    return (far > HULL_EPS) | ~(P[..., 2] < z_top)
-
-
-def _any_last(a):
-    """a.any(axis=-1) for a short last axis (the cables), column by column: the same booleans,
-    several times faster on (K, N, m) batches than numpy's reduction over an inner axis of 3-8."""
-    out = a[..., 0].copy()
-    for j in range(1, a.shape[-1]):
-        out |= a[..., j]
-    return out
-
-
-class _Cables:
-    """A robot's per-cable arrays and the pieces of the equilibrium: force, energy, Jacobian."""
-
-    def __init__(self, robot):
-        a = robot.arrays
-        self.args = (a.A, a.kind, a.h, a.r_p, a.d, a.inward)
-        self.ES = a.ES
-        self.w_ext = robot.platform.w_ext
-        self.ftol = FTOL_REL * float(np.linalg.norm(self.w_ext))
-        self.z_top = float(a.A[:, 2].min())
-
-    def evaluate(self, P, L0, p_ref, jacobian=True):
-        """Cables at P (N, 3) with rest lengths L0 (N, m): dict of F (N, 3) [N], t (N, m) [N],
-        taut (N, m), merit V (N,) [J] (infinite at or above the lowest joint point), the
-        CableGeometry g and, with ``jacobian``: J = dF/dP (N, 3, 3) [N/m], grad = dV/dP (N, 3) [N]
-        and kappa (N,) [N/m]."""
-        g = total_length_and_direction(P, *self.args)
-        e = g.L_TE - L0
-        k = self.ES / L0
-        taut = e > 0.0
-        t = np.where(taut, k * e, 0.0)
-        F = np.einsum("nj,nja->na", t, g.u) + self.w_ext
-        merit = -(P - p_ref) @ self.w_ext + 0.5 * (k * np.where(taut, e, 0.0) ** 2).sum(axis=1)
-        merit = np.where(P[:, 2] < self.z_top, merit, np.inf)
-        out = {"F": F, "t": t, "taut": taut, "merit": merit, "g": g}
-        if jacobian:
-            act = e >= 0.0
-            none = ~act.any(axis=1)
-            act[none] = True  # no cable taut: Hooke extended to compression, in J and in Newton's F
-            out["Fn"] = np.where(none[:, None], F + np.einsum("nj,nja->na", k * e, g.u), F)
-            ka = k * act
-            dL = length_gradient(g)
-            out["J"] = np.einsum("nj,njab->nab", t, direction_gradient(g)) + np.einsum(
-                "nj,nja,njb->nab", ka, g.u, dL
-            )
-            out["grad"] = np.einsum("nj,nja->na", t, dL) - self.w_ext
-            out["kappa"] = ka.sum(axis=1) + (t / g.l_E).sum(axis=1)
-        return out
-
-
-def _take(state, idx, new, sel):
-    """state[key][idx[sel]] = new[key][sel] for every array of a cables' evaluation."""
-    for key in ("F", "Fn", "t", "taut", "merit", "J", "grad", "kappa"):
-        state[key][idx[sel]] = new[key][sel]
-
-
-def _newton(cab, P0, L0, p_ref, tol, maxiter, max_step):
-    """Line-searched semismooth Newton over N points (see the module docstring).
-
-    Returns P (N, 3), the evaluation at P (dict of arrays), iterations (N,), converged (N,)."""
-    n = P0.shape[0]
-    P = P0.copy()
-    cur = cab.evaluate(P, L0, p_ref)
-    cur.pop("g")
-    iters = np.zeros(n, dtype=np.int32)
-    conv = np.zeros(n, dtype=bool)
-    prev = np.zeros(n)
-    prev_full = np.zeros(n, dtype=bool)
-    active = np.arange(n)
-    for _ in range(maxiter):
-        # balanced where it stands (this also stops the neutral swivel of a lone SR cable)
-        here = np.einsum("na,na->n", cur["F"][active], cur["F"][active]) <= cab.ftol**2
-        conv[active[here]] = True
-        active = active[~here]
-        if active.size == 0:
-            break
-        Fn, J, grad, merit, kappa = (cur[k][active] for k in ("Fn", "J", "grad", "merit", "kappa"))
-        s, _ = solve3(J, -Fn)
-        newton = np.isfinite(s).all(axis=1)
-        s = np.where(newton[:, None], s, 0.0)
-        slope = np.einsum("na,na->n", grad, s)
-        newton &= (slope < 0.0) | (np.einsum("na,na->n", s, s) <= LS_SKIP**2)
-        s = np.where(newton[:, None], s, -grad / np.where(kappa > 0, kappa, 1.0)[:, None])
-        slope = np.einsum("na,na->n", grad, s)
-        norm = np.linalg.norm(s, axis=1)
-        done = newton & ((norm < tol) | (prev_full[active] & (norm * norm < tol * prev[active])))
-        scale = np.where(done, 1.0, np.minimum(1.0, max_step / np.maximum(norm, 1e-300)))
-        s *= scale[:, None]
-        slope *= scale
-        whole = done | (norm * scale <= LS_SKIP)
-
-        def trial_at(pending, a):
-            Pt = P[active[pending]] + a[:, None] * s[pending]
-            return cab.evaluate(Pt, L0[active[pending]], p_ref[active[pending]]), Pt
-
-        def accept(pending, trial, Pt, ok):
-            P[active[pending[ok]]] = Pt[ok]
-            _take(cur, active[pending], trial, ok)
-
-        alpha = backtrack(trial_at, accept, merit, slope, whole)
-        iters[active] += 1
-        prev[active] = alpha * norm * scale
-        prev_full[active] = newton & (alpha == 1.0) & (scale == 1.0)
-        conv[active[done]] = True
-        active = active[~done]
-    return P, cur, iters, conv
+#: Restart orientations: the desired one turned by +-RESTART_ANGLE [rad] about x, y and z.
+RESTART_ANGLE = np.radians(20.0)
+RESTARTS = np.array([[s * RESTART_ANGLE * (i == a) for i in range(3)] for a in range(3) for s in (1, -1)])
+#: Two equilibria are distinct when their poses differ by more than this [m] or [rad].
+DISTINCT = 1e-6
+#: Relative singular-value cut of the least-squares Newton step.
+RCOND = 1e-12
 
 
 def backtrack(trial_at, accept, merit, slope, whole):
     """Armijo backtracking line search over a batch of Newton steps (Nocedal & Wright 2006, alg. 3.1),
-    the one both equilibria use (``_newton`` here, ``equilibrium6._newton6``): the step fraction
+    of the equilibrium's Newton iteration (``_newton`` here, and the compiled engines'): the step fraction
     α_k = 2^-h of point k is accepted at the first h with
 
         V(x_k + α_k s_k) <= V(x_k) + c α_k ∇V·s_k,   c = ARMIJO_C,
@@ -326,119 +179,11 @@ def backtrack(trial_at, accept, merit, slope, whole):
     return alpha
 
 
-def per_point(a, n):
-    """``a`` of shape (N,) or (N, k) as (N, k) rows per point; (0, 1) when there are no points (a
-    reshape to (0, -1) is undefined).
-
-    Parameters
-    ----------
-    a : array_like, shape (N,) or (N, k)
-        A per-point quantity.
-    n : int
-        The number of points N.
-
-    Returns
-    -------
-    ndarray (N, k)
-    """
-    a = np.asarray(a)
-    return a.reshape(n, -1) if n else a.reshape(0, 1)
-
-
-def statuses(robot, p, P, t, converged, inside, halfplanes=None):
-    """Status codes (N,) int8 of ``STATUSES`` (module docstring, 'Edge cases'): inaccessible if p
-    or P* is outside the frame (``outside_frame``) or P* inside a sheave or not finite, else
-    not_converged (not converged, or no cable pulls), else over_tension if some t_i > T_a,i, else
-    ok. For a desired point outside the frame, inaccessible wins over not_converged.
-
-    Parameters
-    ----------
-    robot : Robot
-        Supplies the joint points and the admissible tensions T_a (m,) [N].
-    p : ndarray (N, 3) [m]
-        Desired positions.
-    P : ndarray (N, 3) [m]
-        Equilibria P* (may hold NaN).
-    t : ndarray (N, m) [N]
-        Tensions, 0 on slack cables.
-    converged : ndarray (N,) bool
-        Newton converged.
-    inside : ndarray (N, m) bool
-        P* inside a sheave (``CableGeometry.inside``).
-    halfplanes : ndarray (n_edges, 3), optional
-        ``hull_halfplanes(robot)``, computed when not given.
-
-    Returns
-    -------
-    code : ndarray (N,) int8
-        Index into ``results.STATUSES``.
-    """
-    hp = [hull_halfplanes(robot) if halfplanes is None else halfplanes]
-    inside = per_point(inside, len(p))  # (N,) or (N, m')
-    P, t, converged, inside = (np.asarray(x)[None] for x in (P, t, converged, inside))
-    return statuses_batch([robot], p, P, t, converged, inside, hp)[0]
-
-
-def statuses_batch(robots, p, P, t, converged, inside, halfplanes=None):
-    """``statuses`` of K robots solved at the same desired points, on the stacked arrays (one pass
-    per number of hull edges instead of one per robot: the Monte Carlo and Sobol samples).
-
-    Parameters
-    ----------
-    robots : sequence of Robot
-        K robots with the same number of cables m.
-    p : ndarray (N, 3) [m]
-        Desired positions, shared.
-    P : ndarray (K, N, 3) [m]
-        Equilibria P* (may hold NaN).
-    t : ndarray (K, N, m) [N]
-    converged : ndarray (K, N) bool
-    inside : ndarray (K, N, m') bool
-        P* inside a sheave.
-    halfplanes : list of ndarray (n_edges, 3), optional
-        ``hull_halfplanes`` of each robot, computed (once per distinct set of anchors) when not given.
-
-    Returns
-    -------
-    code : ndarray (K, N) int8
-        Index into ``results.STATUSES``.
-    """
-    robots = list(robots)
-    K = len(robots)
-    if halfplanes is None:
-        seen, halfplanes = {}, []
-        for r in robots:
-            key = r.A[:, :2].tobytes()
-            if key not in seen:
-                seen[key] = hull_halfplanes(r)
-            halfplanes.append(seen[key])
-    p = np.asarray(p, dtype=float)
-    finite = ~_any_last(~np.isfinite(P))
-    Pf = np.where(finite[..., None], P, 0.0)
-    z_top = np.array([r.A[:, 2].min() for r in robots]).reshape(K, 1)
-    bad_p = np.empty(finite.shape, dtype=bool)
-    bad_P = np.empty(finite.shape, dtype=bool)
-    by_edges = {}
-    for k, hp in enumerate(halfplanes):
-        by_edges.setdefault(len(hp), []).append(k)
-    for ks in by_edges.values():
-        H = np.stack([halfplanes[k] for k in ks])
-        bad_p[ks] = _outside(np.broadcast_to(p, (len(ks), *p.shape)), H, z_top[ks])
-        bad_P[ks] = _outside(Pf[ks], H, z_top[ks])
-    bad_P |= ~finite | _any_last(inside)
-    T_a = np.stack([r.T_a for r in robots])
-    code = np.full(finite.shape, ST["ok"], dtype=np.int8)
-    code[_any_last(t > T_a[:, None, :])] = ST["over_tension"]
-    code[bad_P] = ST["inaccessible"]
-    code[~converged | ~_any_last(t > TAUT_MIN)] = ST["not_converged"]  # no cable pulls: no equilibrium
-    code[bad_p] = ST["inaccessible"]
-    return code
-
-
 def start_points(robot, P0):
-    """Newton's starting points: P0 (N, 3) [m], moved down to ``START_BELOW`` under the lowest joint
-    point where it lies higher than that (the model means nothing above the pulleys; this happens
-    for a desired point above them, reported inaccessible).
+    """Newton's starting points: P0 (N, 3) [m]; on a suspended point-mass robot moved down to
+    ``START_BELOW`` under the lowest joint point where it lies higher than that (the model means
+    nothing above the pulleys; this happens for a desired point above them, reported
+    inaccessible). Other robots start at P0.
 
     Parameters
     ----------
@@ -450,92 +195,14 @@ def start_points(robot, P0):
     Returns
     -------
     P0 : ndarray (N, 3) [m]
-        A C-contiguous copy; z lowered to (lowest joint height - ``START_BELOW``) where it was
-        above that level.
+        A C-contiguous copy; on a suspended point-mass robot z lowered to (lowest joint height -
+        ``START_BELOW``) where it was above that level.
     """
     P0 = np.array(np.atleast_2d(np.asarray(P0, dtype=float)))
-    top = robot.A[:, 2].min() - START_BELOW
-    P0[:, 2] = np.where(P0[:, 2] < top, P0[:, 2], top)
+    if robot.suspended_point_mass:
+        top = robot.A[:, 2].min() - START_BELOW
+        P0[:, 2] = np.where(P0[:, 2] < top, P0[:, 2], top)
     return np.ascontiguousarray(P0)
-
-
-def solve_physical(robot, p, L0=None, P0=None, tol=None, maxiter=None, max_step=None):
-    """Physical equilibrium P* of the platform on all m cables, with slack cables allowed.
-
-    Solves sum_i t_i u_i(P*) + w_ext = 0 with t_i = E_i S_i max(0, L_TE,i(P*) - L0_i) / L0_i by a
-    line-searched semismooth Newton (module docstring). Numpy reference; ``cdpr.compiled.equilibrium``
-    is the compiled engine (same results, tested).
-
-    Parameters
-    ----------
-    robot : Robot
-    p : array_like, shape (N, 3) [m]
-        Desired positions; the error is |dp| = |P* - p| (eq. 14).
-    L0 : array_like, shape (N, m) [m], optional
-        Commanded rest lengths; default L_TS(p) (eq. 2), as in the paper.
-    P0 : array_like, shape (N, 3) [m], optional
-        Newton's starting point, default p (``start_points``).
-    tol, maxiter, max_step : float [m], int, float [m], optional
-        Step tolerance, iteration cap, largest step; defaults ``PHYSICAL_DEFAULTS``.
-
-    Returns
-    -------
-    dict
-        p (N, 3) [m]; P_s (N, 3) [m] the equilibrium P*; dp (N,) [m]; t (N, m) [N], NaN on slack
-        cables; taut (N, m) bool (t_i > ``TAUT_MIN``); n_taut (N,); residual (N,) [N] = |F(P*)|;
-        iterations (N,); converged (N,) bool; status_code (N,) int8 and status (N,) str of
-        ``results.STATUSES``.
-
-    References
-    ----------
-    Paty et al. 2021, eq. (2)-(5), (10)-(14); physical mode of the project's model reading.
-    """
-    o = PHYSICAL_DEFAULTS
-    tol = o["tol"] if tol is None else tol
-    maxiter = o["maxiter"] if maxiter is None else maxiter
-    max_step = o["max_step"] if max_step is None else max_step
-    require_point_mass(
-        robot, "solve_physical", 'cdpr.solve_points_any(robot, p, redundancy="physical")', True, p
-    )
-    p = np.atleast_2d(np.asarray(p, dtype=float))
-    L0 = (
-        L_TS(robot, p)
-        if L0 is None
-        else np.broadcast_to(np.asarray(L0, dtype=float), (len(p), robot.m)).copy()
-    )
-    P0 = start_points(robot, p if P0 is None else P0)
-    cab = _Cables(robot)
-    P, cur, iters, conv = _newton(cab, P0, L0, p, tol, maxiter, max_step)
-    g = total_length_and_direction(P, *cab.args)
-    return physical_result(robot, p, P, cur["t"], np.linalg.norm(cur["F"], axis=1), iters, conv, g.inside)
-
-
-def solve_physical_batch(robots, p, L0=None, tol=None, maxiter=None, max_step=None, P0=None):
-    """``solve_physical`` of several robots at the same points and rest lengths (Monte Carlo and
-    Sobol samples of one design): the numpy reference of ``cdpr.compiled.equilibrium``'s batch
-    kernel, which solves every (robot, point) pair in one parallel pass.
-
-    Parameters
-    ----------
-    robots : sequence of Robot
-        Robots with the same number of cables m.
-    p : array_like, shape (N, 3) [m]
-        Desired positions.
-    L0 : array_like, shape (N, m) [m], optional
-        Commanded rest lengths of every robot; default L_TS(p) (eq. 2) of each robot.
-    tol, maxiter, max_step : float [m], int, float [m], optional
-        As ``solve_physical``.
-    P0 : array_like, shape (N, 3) or (K, N, 3) [m], optional
-        Newton's starting points: the same for every robot, or robot k's in ``P0[k]`` (a warm start
-        near each robot's equilibrium, ``uncertainty.PoseErrorModel``); default p.
-
-    Returns
-    -------
-    list of dict
-        ``solve_physical`` of each robot.
-    """
-    starts = batch_starts(robots, p, P0)
-    return [solve_physical(r, p, L0, P, tol, maxiter, max_step) for r, P in zip(robots, starts)]
 
 
 def batch_starts(robots, p, P0=None):
@@ -568,86 +235,533 @@ def batch_starts(robots, p, P0=None):
     return [start_points(r, P) for r, P in zip(robots, P0)]
 
 
-def physical_result(robot, p, P, t, residual, iters, conv, inside, halfplanes=None):
-    """The result dict of ``solve_physical`` from the solved arrays (the compiled engines build
-    theirs with it too): the taut cables (t > ``TAUT_MIN``), |dp| = |P* - p| (Paty 2021 eq. 14) and
-    the statuses (``statuses``).
+class Cables:
+    """Force/moment balance, energy and Jacobian of a robot's cables at poses."""
+
+    def __init__(self, robot):
+        a = robot.arrays
+        self.robot = robot
+        self.args = pulley_args(robot)
+        self.b, self.com = a.b, a.com
+        self.ES = a.ES
+        self.f = robot.platform.w_ext
+        self.ftol = FTOL_REL * float(np.linalg.norm(self.f))
+        size = max(float(np.linalg.norm(a.b, axis=1).max()), float(np.linalg.norm(a.com)))
+        self.size = size if size > 0 else 1.0
+        self.rigid = not robot.point_mass
+        self.suspended = robot.suspended_point_mass
+        self.z_top = float(a.A[:, 2].min())
+
+    def evaluate(self, p, R, L0, p_ref, jacobian=True):
+        """Cables at poses (p (N, 3), R (N, 3, 3)) with rest lengths L0 (N, m): F, M (N, 3), t (N, m),
+        merit V (N,) [J] relative to p_ref (N, 3) and, with ``jacobian``, Fn, J (N, 6, 6), grad (N, 6)
+        and kappa (N, 2) (stiffness bounds of translation and rotation)."""
+        r = np.einsum("nab,mb->nma", R, self.b)
+        B = p[:, None, :] + r
+        g = total_length_and_direction(B, *self.args, per_cable=True)
+        e = g.L_TE - L0
+        k = self.ES / L0
+        taut = e > 0.0
+        t = np.where(taut, k * e, 0.0)
+        rc = R @ self.com
+        F = np.einsum("nj,nja->na", t, g.u) + self.f
+        M = np.einsum("nj,nja->na", t, np.cross(r, g.u)) + np.cross(rc, self.f)
+        merit = -(p - p_ref + rc) @ self.f + 0.5 * (k * np.where(taut, e, 0.0) ** 2).sum(axis=1)
+        if self.suspended:
+            merit = np.where(p[:, 2] < self.z_top, merit, np.inf)
+        out = {"F": F, "M": M, "t": t, "merit": merit, "g": g}
+        if jacobian:
+            act = e >= 0.0
+            none = ~act.any(axis=1)
+            act[none] = True  # no cable taut: Hooke extended to compression (as the point-mass mode)
+            tc = np.where(none[:, None], k * e, t)
+            Fn = np.einsum("nj,nja->na", tc, g.u) + self.f
+            Mn = np.einsum("nj,nja->na", tc, np.cross(r, g.u)) + np.cross(rc, self.f)
+            out["Fn"] = np.concatenate(
+                [np.where(none[:, None], Fn, F), np.where(none[:, None], Mn, M)], axis=1
+            )
+            ka = k * act
+            dL = length_gradient(g)
+            out["J"] = _jacobian(t, direction_gradient(g), ka, g.u, dL, r, rc, self.f)
+            out["grad"] = np.concatenate(
+                [np.einsum("nj,nja->na", t, dL) - self.f, np.einsum("nj,nja->na", t, np.cross(r, dL))], axis=1
+            )
+            out["grad"][:, 3:] -= np.cross(rc, self.f)
+            stiff = ka + t / g.l_E
+            rr = np.einsum("nma,nma->nm", r, r)
+            out["kappa"] = np.stack(
+                [
+                    stiff.sum(axis=1),
+                    (stiff * rr + t * np.sqrt(rr)).sum(axis=1)
+                    + np.linalg.norm(self.f) * np.linalg.norm(rc, axis=1),
+                ],
+                axis=1,
+            )
+        return out
+
+
+def _jacobian(t, du, ka, u, dL, r, rc, f):
+    """d(F, M)/d(dp, dphi) (N, 6, 6) of the force and moment balance (module docstring).
+
+    With G_i = t_i du_i/dB + ka_i u_i dL_i^T and dB_i = dp - [r_i]x dphi:
+    dF = sum G_i dB_i; dM = sum [r_i]x G_i dB_i + sum t_i (dphi x r_i) x u_i + (dphi x rc) x f, and
+    (dphi x r) x u = (r u^T - (u . r) I) dphi."""
+    G = t[..., None, None] * du + ka[..., None, None] * u[..., :, None] * dL[..., None, :]
+    Sr = skew(r)
+    eye = np.eye(3)
+    J = np.zeros(t.shape[:1] + (6, 6))
+    J[:, :3, :3] = G.sum(axis=1)
+    J[:, :3, 3:] = -np.einsum("nmab,nmbc->nac", G, Sr)
+    RG = np.einsum("nmab,nmbc->nmac", Sr, G)
+    J[:, 3:, :3] = RG.sum(axis=1)
+    turn = t[..., None, None] * (
+        r[..., :, None] * u[..., None, :] - np.einsum("nma,nma->nm", u, r)[..., None, None] * eye
+    )
+    J[:, 3:, 3:] = -np.einsum("nmab,nmbc->nac", RG, Sr) + turn.sum(axis=1)
+    J[:, 3:, 3:] += rc[:, :, None] * f[None, None, :] - (rc @ f)[:, None, None] * eye
+    return J
+
+
+def _step(J, Fn, rigid):
+    """Newton step s (N, 6) solving J s = -Fn: 3 x 3 (point mass, rotation rows reduced) or the
+    least-squares 6 x 6 step."""
+    s = np.zeros_like(Fn)
+    if not rigid:
+        s[:, :3], _ = solve3(J[:, :3, :3], -Fn[:, :3])
+        return s
+    ok = np.isfinite(J).all(axis=(1, 2))
+    s[ok] = np.einsum("nab,nb->na", np.linalg.pinv(J[ok], rcond=RCOND), -Fn[ok])
+    s[~ok] = np.nan
+    return s
+
+
+#: Shift of the modified Newton step, relative to the largest eigenvalue of the scaled Hessian.
+SHIFT_REL = 1e-6
+
+
+def _modified_newton(J, grad, ell, fallback):
+    """Descent step where the Newton step does not descend the energy: -(H + mu I)^-1 grad with H the
+    symmetric part of -dF6/dx in scaled coordinates (rotations times the platform size ``ell``) and
+    mu the shift that makes it positive definite (``SHIFT_REL`` of its largest eigenvalue beyond
+    the most negative one); the scaled gradient step ``fallback`` where H is not finite."""
+    D = np.array([1.0, 1.0, 1.0, ell, ell, ell])
+    H = -0.5 * (J + np.swapaxes(J, 1, 2)) / D[:, None] / D[None, :]
+    g = grad / D
+    ok = np.isfinite(H).all(axis=(1, 2)) & np.isfinite(g).all(axis=1)
+    out = fallback.copy()
+    if ok.any():
+        lam, V = np.linalg.eigh(H[ok])
+        top = np.abs(lam).max(axis=1, keepdims=True)
+        mu = np.maximum(0.0, -lam[:, :1]) + SHIFT_REL * np.where(top > 0, top, 1.0)
+        c = np.einsum("nab,na->nb", V, g[ok]) / (lam + mu)
+        out[ok] = -np.einsum("nab,nb->na", V, c) / D
+    return out
+
+
+def _take(state, idx, new, sel):
+    for key in ("F", "M", "Fn", "t", "merit", "J", "grad", "kappa"):
+        state[key][idx[sel]] = new[key][sel]
+
+
+def _newton(cab, p0, R0, L0, p_ref, tol, maxiter, max_step):
+    """Line-searched semismooth Newton over N poses; returns p, R, evaluation, iterations, converged."""
+    n = p0.shape[0]
+    p, R = p0.copy(), R0.copy()
+    cur = cab.evaluate(p, R, L0, p_ref)
+    cur.pop("g")
+    iters = np.zeros(n, dtype=np.int32)
+    conv = np.zeros(n, dtype=bool)
+    prev = np.zeros(n)
+    prev_full = np.zeros(n, dtype=bool)
+    active = np.arange(n)
+    ell = cab.size if cab.rigid else 0.0
+    for _ in range(maxiter):
+        F, M = cur["F"][active], cur["M"][active]
+        here = (np.einsum("na,na->n", F, F) <= cab.ftol**2) & (
+            np.einsum("na,na->n", M, M) <= (cab.ftol * cab.size) ** 2
+        )
+        conv[active[here]] = True
+        active = active[~here]
+        if active.size == 0:
+            break
+        Fn, J, grad, merit, kappa = (cur[k][active] for k in ("Fn", "J", "grad", "merit", "kappa"))
+        s = _step(J, Fn, cab.rigid)
+        newton = np.isfinite(s).all(axis=1)
+        s = np.where(newton[:, None], s, 0.0)
+        norm = np.sqrt(
+            np.einsum("na,na->n", s[:, :3], s[:, :3]) + ell**2 * np.einsum("na,na->n", s[:, 3:], s[:, 3:])
+        )
+        slope = np.einsum("na,na->n", grad, s)
+        newton &= (slope < 0.0) | (norm <= LS_SKIP)
+        kp = np.where(kappa[:, 0] > 0, kappa[:, 0], 1.0)
+        kr = np.where(kappa[:, 1] > 0, kappa[:, 1], 1.0)
+        fallback = np.concatenate(
+            [-grad[:, :3] / kp[:, None], -grad[:, 3:] / kr[:, None] * cab.rigid], axis=1
+        )
+        if cab.rigid and not newton.all():
+            bad = ~newton
+            fallback[bad] = _modified_newton(J[bad], grad[bad], cab.size, fallback[bad])
+        s = np.where(newton[:, None], s, fallback)
+        slope = np.einsum("na,na->n", grad, s)
+        norm = np.sqrt(
+            np.einsum("na,na->n", s[:, :3], s[:, :3]) + ell**2 * np.einsum("na,na->n", s[:, 3:], s[:, 3:])
+        )
+        done = newton & ((norm < tol) | (prev_full[active] & (norm * norm < tol * prev[active])))
+        scale = np.where(done, 1.0, np.minimum(1.0, max_step / np.maximum(norm, 1e-300)))
+        s *= scale[:, None]
+        slope *= scale
+        whole = done | (norm * scale <= LS_SKIP)
+
+        def trial_at(pending, a):
+            idx = active[pending]
+            st = a[:, None] * s[pending]
+            pt = p[idx] + st[:, :3]
+            Rt = rotation_matrix(st[:, 3:]) @ R[idx] if cab.rigid else R[idx]
+            return cab.evaluate(pt, Rt, L0[idx], p_ref[idx]), (pt, Rt)
+
+        def accept(pending, trial, state, ok):
+            idx = active[pending]
+            pt, Rt = state
+            p[idx[ok]] = pt[ok]
+            R[idx[ok]] = Rt[ok]
+            _take(cur, idx, trial, ok)
+
+        alpha = backtrack(trial_at, accept, merit, slope, whole)
+        iters[active] += 1
+        prev[active] = alpha * norm * scale
+        prev_full[active] = newton & (alpha == 1.0) & (scale == 1.0)
+        conv[active[done]] = True
+        active = active[~done]
+    return p, R, cur, iters, conv
+
+
+def solve(robot, p, rotvec=None, L0=None, P0=None, tol=None, maxiter=None, max_step=None, restarts=True):
+    """Physical equilibrium (p*, R*) of the platform on all m cables, slack cables allowed (a point
+    mass: P* with the desired orientation carried through).
 
     Parameters
     ----------
     robot : Robot
-    p : ndarray (N, 3) [m]
-        Desired positions.
-    P : ndarray (N, 3) [m]
-        Solved positions P*.
-    t : ndarray (N, m) [N]
-        Hooke tensions at P* (0 for a slack cable).
-    residual : ndarray (N,) [N]
-        |F| of the force balance at P*.
-    iters : ndarray (N,) int
-    conv : ndarray (N,) bool
-    inside : ndarray (N,) or (N, 1) bool
-        p inside the anchors' horizontal convex hull.
-    halfplanes : ndarray (n_edges, 3), optional
-        ``hull_halfplanes(robot)``.
+    p : array_like (N, 3) or (N, 6) [m, rad]
+        Desired positions, or poses (x, y, z, rx, ry, rz).
+    rotvec : array_like (N, 3) or (3,) [rad], optional
+        Desired orientations (rotation vectors, active, base frame), default identity.
+    L0 : array_like (N, m) [m], optional
+        Commanded rest lengths; default the standard model's L_TS at the desired pose.
+    P0 : array_like (N, 3) [m], optional
+        Newton's starting positions (default p); the start orientation is the desired one.
+    tol, maxiter, max_step : float [m], int, float [m], optional
+        As ``equilibrium.PHYSICAL_DEFAULTS``.
+    restarts : bool
+        Look for other equilibria where the solution may not be unique (module docstring).
 
     Returns
     -------
     dict
-        p, P_s, dp, t (NaN where slack), taut, n_taut, residual, iterations, converged,
-        status_code (index into ``results.STATUSES``), status.
+        p (N, 3) [m]; P_s (N, 3) [m] the equilibrium p*; dp (N,) [m] = |p* - p| (Paty 2021
+        eq. 14); t (N, m) [N], NaN on slack cables; taut (N, m) bool (t_i > ``TAUT_MIN``);
+        n_taut (N,); residual (N,) [N] = |(F, M)|; iterations (N,); converged (N,) bool;
+        status_code (N,) int8 and status (N,) str of ``results.STATUSES``; rotvec (N, 3) and
+        rotvec_s (N, 3) [rad],
+        R_s (N, 3, 3), dphi (N,) [rad], energy (N,) [J], unique (N,) bool, alternatives (list of
+        N lists of dicts with P_s, rotvec_s, energy, taut), wrap_over_270 (N, m) bool.
+
+    References
+    ----------
+    Paty et al. 2021, eq. (2)-(5), (10)-(14); Pott 2018, ch. 3.
     """
-    hp = None if halfplanes is None else [halfplanes]
-    inside = per_point(inside, len(p))  # (N,) or (N, 1)
-    arrays = (np.asarray(x)[None] for x in (P, t, residual, iters, conv, inside))
-    return physical_results([robot], p, *arrays, halfplanes=hp)[0]
+    return solve_with(robot, Cables(robot), _newton, p, rotvec, L0, P0, tol, maxiter, max_step, restarts)
 
 
-def physical_results(robots, p, P, t, residual, iters, conv, inside, halfplanes=None):
-    """``physical_result`` of K robots solved at the same desired points, built on the stacked
-    arrays (``statuses_batch``); each robot's dict holds views of its row.
+def solve_with(robot, cab, newton, p, rotvec, L0, P0, tol, maxiter, max_step, restarts, standard=None):
+    """``solve`` with its Newton iteration given: ``newton(cab, p0, R0, L0, p_ref, tol,
+    maxiter, max_step)`` returns (p, R, evaluation dict with at least F, M, t, merit, J, iterations,
+    converged) as ``_newton`` does (the numpy one, or the compiled engine's); ``cab`` a
+    ``Cables`` (or a subclass the given ``newton`` reads); ``standard(robot, p, R)`` the default
+    rest lengths (``L_TS`` when None). The pose set-up, the restarts and the result are this
+    module's. The evaluation dict may also carry, at the final poses, ``stable`` (N,) (points shown
+    positive definite, not checked again by ``_needs_restart``), ``inside``, ``gamma`` (N, m) (the
+    pulleys' state) and ``rotvec`` (N, 3), which the result then takes instead of recomputing them.
+
+    Parameters
+    ----------
+    robot : Robot
+    cab : Cables
+    newton : callable
+    p, rotvec, L0, P0, tol, maxiter, max_step, restarts
+        As ``solve``.
+    standard : callable, optional
+
+    Returns
+    -------
+    dict
+        As ``solve``.
+
+    References
+    ----------
+    Paty et al. 2021, eq. (2)-(5), (10)-(14); Pott 2018, ch. 3.
+    """
+    tol, maxiter, max_step = stop_rules(tol, maxiter, max_step)
+    pose = set_up(robot, p, rotvec, L0, P0, standard)
+    first = newton(cab, pose.p0, pose.R_d.copy(), pose.L0, pose.p, tol, maxiter, max_step)
+    return finish(robot, cab, newton, pose, first, tol, maxiter, max_step, restarts)
+
+
+class Setup(NamedTuple):
+    """The poses of a 6-DoF solve (``set_up``): p (N, 3) [m] desired positions, R_d (N, 3, 3) and
+    rv_d (N, 3) [rad] desired orientations, L0 (N, m) [m] rest lengths, p0 (N, 3) [m] the start."""
+
+    p: np.ndarray
+    R_d: np.ndarray
+    rv_d: np.ndarray
+    L0: np.ndarray
+    p0: np.ndarray
+
+
+def stop_rules(tol=None, maxiter=None, max_step=None):
+    """Newton's stop rules, ``equilibrium.PHYSICAL_DEFAULTS`` where None.
+
+    Parameters
+    ----------
+    tol : float [m], optional
+    maxiter : int, optional
+    max_step : float [m], optional
+
+    Returns
+    -------
+    tuple
+        (tol [m], maxiter, max_step [m]).
+    """
+    o = PHYSICAL_DEFAULTS
+    return (
+        o["tol"] if tol is None else tol,
+        o["maxiter"] if maxiter is None else maxiter,
+        o["max_step"] if max_step is None else max_step,
+    )
+
+
+def set_up(robot, p, rotvec=None, L0=None, P0=None, standard=None):
+    """The desired poses, rest lengths and Newton's start of ``solve_with``.
+
+    Parameters
+    ----------
+    robot : Robot
+    p : array_like (N, 3) or (N, 6) [m, rad]
+        Desired positions, or poses.
+    rotvec : array_like (N, 3) or (3,) [rad], optional
+        Desired orientations, default identity.
+    L0 : array_like (N, m) [m], optional
+        Rest lengths, default ``standard(robot, p, R)``.
+    P0 : array_like (N, 3) [m], optional
+        Newton's starting positions (default p; ``start_points``).
+    standard : callable, optional
+        Default rest lengths, ``L_TS`` when None.
+
+    Returns
+    -------
+    Setup
+    """
+    given = np.atleast_2d(np.asarray(p, dtype=float))
+    p, R_d = pose_arrays(p, rotvec)
+    if given.shape[1] == 6:
+        rv_d = given[:, 3:].copy()
+    elif rotvec is not None:
+        rv_d = np.broadcast_to(np.asarray(rotvec, dtype=float), p.shape).copy()
+    else:
+        rv_d = np.zeros_like(p)
+    n = len(p)
+    if L0 is None:
+        L0 = L_TS(robot, p, R=R_d) if standard is None else standard(robot, p, R_d)
+    L0 = np.broadcast_to(np.asarray(L0, dtype=float), (n, robot.m)).copy()
+    p0 = start_points(robot, p if P0 is None else np.atleast_2d(np.asarray(P0, dtype=float)))
+    return Setup(p, R_d, rv_d, L0, p0)
+
+
+def finish(robot, cab, newton, pose, first, tol, maxiter, max_step, restarts):
+    """``solve_with`` after its first Newton pass: the restarts (by ``newton``) and the result.
+
+    Parameters
+    ----------
+    robot : Robot
+    cab : Cables
+    newton : callable
+        As ``solve_with`` (it solves the restarts).
+    pose : Setup
+        ``set_up``'s poses.
+    first : tuple
+        ``newton(cab, pose.p0, pose.R_d, pose.L0, pose.p, tol, maxiter, max_step)``.
+    tol, maxiter, max_step : float [m], int, float [m]
+        Stop rules (``stop_rules``).
+    restarts : bool
+        As ``solve``.
+
+    Returns
+    -------
+    dict
+        As ``solve``.
+    """
+    P, R, cur, iters, conv = first
+    n = len(pose.p)
+    if restarts and cab.rigid and n:
+        P, R, cur, iters, conv, unique, alternatives = _restart(
+            cab, pose.p, pose.R_d, pose.L0, P, R, cur, iters, conv, tol, maxiter, max_step, newton
+        )
+    else:
+        unique, alternatives = np.ones(n, dtype=bool), [[] for _ in range(n)]
+    return _result(
+        robot, cab, pose.p, pose.R_d, pose.rv_d, pose.L0, P, R, cur, iters, conv, unique, alternatives
+    )
+
+
+def solve_batch(
+    robots, p, rotvec=None, L0=None, tol=None, maxiter=None, max_step=None, restarts=True, P0=None
+):
+    """``solve`` of several robots at the same poses and rest lengths (the Monte Carlo and
+    Sobol samples of one design): the numpy reference of ``cdpr.compiled.equilibrium``'s batch,
+    which runs every robot's first Newton pass in one parallel pass over (robot, chunk of poses).
 
     Parameters
     ----------
     robots : sequence of Robot
-        K robots with the same number of cables m.
-    p : ndarray (N, 3) [m]
-    P : ndarray (K, N, 3) [m]
-    t : ndarray (K, N, m) [N]
-    residual : ndarray (K, N) [N]
-    iters : ndarray (K, N) int
-    conv : ndarray (K, N) bool
-    inside : ndarray (K, N, m') bool
-        P* inside a sheave (m' = 1: one flag per point, as the kernels give it).
-    halfplanes : list of ndarray (n_edges, 3), optional
+        Robots with the same number of cables m.
+    p : array_like (N, 3) or (N, 6) [m, rad]
+        Desired positions, or poses.
+    rotvec : array_like (N, 3) or (3,) [rad], optional
+    L0 : array_like (N, m) [m], optional
+        Commanded rest lengths of every robot; default L_TS at the desired pose of each robot.
+    tol, maxiter, max_step, restarts
+        As ``solve``.
+    P0 : array_like (N, 3) or (K, N, 3) [m], optional
+        Newton's starting positions: the same for every robot, or robot k's in ``P0[k]`` (a warm
+        start near each robot's equilibrium); default p.
 
     Returns
     -------
     list of dict
-        ``physical_result`` of each robot.
+        ``solve`` of each robot.
     """
+    robots = list(robots)
+    starts = [None] * len(robots) if P0 is None else batch_starts(robots, pose_arrays(p)[0], P0)
+    return [solve(r, p, rotvec, L0, P, tol, maxiter, max_step, restarts) for r, P in zip(robots, starts)]
+
+
+def _needs_restart(cab, cur, conv):
+    """Points whose equilibrium may not be unique: fewer than 6 taut cables, or a converged
+    Hessian -dF6/dx (symmetric part) that is not positive definite."""
+    n_taut = (cur["t"] > TAUT_MIN).sum(axis=1)
+    # the points a solver has shown positive definite (the compiled engine's Cholesky) are not redone
+    todo = ~cur["stable"] if "stable" in cur else np.ones(len(conv), dtype=bool)
+    lam = np.full(len(conv), np.inf)
+    J = cur["J"][todo]
+    H = -0.5 * (J + np.swapaxes(J, 1, 2))
+    ok = np.isfinite(H).all(axis=(1, 2))
+    lam_todo = np.full(len(H), -np.inf)
+    lam_todo[ok] = np.linalg.eigvalsh(H[ok])[:, 0]
+    lam[todo] = lam_todo
+    return (n_taut < 6) | ~(lam > 0) | ~conv
+
+
+def _restart(cab, p, R_d, L0, P, R, cur, iters, conv, tol, maxiter, max_step, newton=None):
+    """The points of ``_needs_restart`` solved again from ``RESTARTS`` by ``newton`` (default
+    ``_newton``): the lowest-energy equilibrium, ``unique`` and the ``alternatives`` (module
+    docstring)."""
+    newton = _newton if newton is None else newton
+    n = len(p)
+    unique = np.ones(n, dtype=bool)
+    alternatives = [[] for _ in range(n)]
+    idx = np.flatnonzero(_needs_restart(cab, cur, conv))
+    if idx.size == 0:
+        return P, R, cur, iters, conv, unique, alternatives
+    k = len(RESTARTS)
+    rep = np.repeat(idx, k)
+    Rs = rotation_matrix(np.tile(RESTARTS, (idx.size, 1))) @ R_d[rep]
+    P2, R2, cur2, it2, conv2 = newton(
+        cab, start_points(cab.robot, p[rep]), Rs, L0[rep], p[rep], tol, maxiter, max_step
+    )
+    f, K = idx.size, k + 1
+    cP = np.concatenate([P[idx][:, None], P2.reshape(f, k, 3)], axis=1)  # candidates (f, K, ...)
+    cR = np.concatenate([R[idx][:, None], R2.reshape(f, k, 3, 3)], axis=1)
+    cE = np.concatenate([cur["merit"][idx][:, None], cur2["merit"].reshape(f, k)], axis=1)
+    cT = np.concatenate([cur["t"][idx][:, None], cur2["t"].reshape(f, k, -1)], axis=1)
+    valid = np.concatenate([conv[idx][:, None], conv2.reshape(f, k)], axis=1) & np.isfinite(cE)
+    valid[:, 0] |= ~valid.any(axis=1)  # nothing converged: keep the first solve
+    order = np.argsort(np.where(valid, cE, np.inf), axis=1, kind="stable")
+    sP = np.take_along_axis(cP, order[..., None], axis=1)
+    sR = np.take_along_axis(cR, order[..., None, None], axis=1)
+    sV = np.take_along_axis(valid, order, axis=1)
+    same = (np.linalg.norm(sP[:, :, None] - sP[:, None, :], axis=-1) <= DISTINCT) & (
+        rotation_error(sR[:, :, None], sR[:, None, :]) <= DISTINCT
+    )
+    distinct = np.zeros((f, K), dtype=bool)
+    distinct[:, 0] = True
+    for c in range(1, K):  # over the K candidates, vectorised over the points
+        distinct[:, c] = sV[:, c] & ~(same[:, c, :c] & distinct[:, :c]).any(axis=1)
+    best = order[:, 0]
+    moved = best > 0
+    src = np.arange(f)[moved] * k + best[moved] - 1
+    dst = idx[moved]
+    P[dst], R[dst], conv[dst] = P2[src], R2[src], conv2[src]
+    iters[dst] += it2[src]
+    for key in cur:
+        cur[key][dst] = cur2[key][src]
+    unique[idx] = distinct.sum(axis=1) == 1
+    sE = np.take_along_axis(cE, order, axis=1)
+    sT = np.take_along_axis(cT, order[..., None], axis=1)
+    rv = rotvec_of(sR)
+    for a in np.flatnonzero(~unique[idx]):  # the JSON list of the other equilibria (output only)
+        alternatives[idx[a]] = [
+            {
+                "P_s": sP[a, c].tolist(),
+                "rotvec_s": rv[a, c].tolist(),
+                "energy": float(sE[a, c]),
+                "taut": (np.flatnonzero(sT[a, c] > TAUT_MIN) + 1).tolist(),
+            }
+            for c in np.flatnonzero(distinct[a])[1:]
+        ]
+    return P, R, cur, iters, conv, unique, alternatives
+
+
+def _result(robot, cab, p, R_d, rv_d, L0, P, R, cur, iters, conv, unique, alternatives):
+    t = cur["t"]
     taut = t > TAUT_MIN
-    code = statuses_batch(robots, p, P, t, conv, inside, halfplanes)
-    d = P - p
-    dp = np.sqrt(d[..., 0] * d[..., 0] + d[..., 1] * d[..., 1] + d[..., 2] * d[..., 2])  # |P* - p|
-    tt = np.where(taut, t, np.nan)
-    n_taut = taut[..., 0].astype(np.int8)
-    for j in range(1, taut.shape[-1]):
-        n_taut += taut[..., j]
-    status = np.asarray(STATUSES)[code]
-    return [
-        {
-            "p": p,
-            "P_s": P[k],
-            "dp": dp[k],
-            "t": tt[k],
-            "taut": taut[k],
-            "n_taut": n_taut[k],
-            "residual": residual[k],
-            "iterations": iters[k],
-            "converged": conv[k],
-            "status_code": code[k],
-            "status": status[k],
-        }
-        for k in range(len(code))
-    ]
+    if "inside" in cur:  # the solver gave the pulleys' state at (P, R) (the compiled engine)
+        inside, gamma = cur["inside"], cur["gamma"]
+    else:
+        _, st = pose_state(robot, P, R)
+        inside, gamma = st.inside, st.gamma
+    if robot.suspended_point_mass:
+        code = statuses(robot, p, P, t, conv, inside, hull_halfplanes(robot))
+    else:
+        finite = np.isfinite(P).all(axis=1) & np.isfinite(R).all(axis=(1, 2))
+        code = np.full(len(p), ST["ok"], dtype=np.int8)
+        code[(t > robot.T_a).any(axis=1)] = ST["over_tension"]
+        code[~finite | inside.any(axis=1)] = ST["inaccessible"]
+        code[~conv | ~taut.any(axis=1)] = ST["not_converged"]
+    residual = np.sqrt(np.einsum("na,na->n", cur["F"], cur["F"]) + np.einsum("na,na->n", cur["M"], cur["M"]))
+    if cab.rigid:
+        rv_s = cur["rotvec"] if "rotvec" in cur else rotvec_of(R)
+    else:
+        rv_s = rv_d.copy()
+    R_s = R if cab.rigid else R_d
+    return {
+        "p": p,
+        "P_s": P,
+        "dp": np.linalg.norm(P - p, axis=1),
+        "rotvec": rv_d,
+        "rotvec_s": rv_s,
+        "R_s": R_s,
+        "dphi": rotation_error(R_s, R_d) if cab.rigid else np.zeros(len(p)),
+        "t": np.where(taut, t, np.nan),
+        "taut": taut,
+        "n_taut": taut.sum(axis=1).astype(np.int8),
+        "residual": residual,
+        "iterations": iters,
+        "converged": conv,
+        "status_code": code,
+        "status": np.asarray(STATUSES)[code],
+        "energy": cur["merit"],
+        "unique": unique,
+        "alternatives": alternatives,
+        "wrap_over_270": gamma > 1.5 * np.pi,
+        "L0": L0,
+    }

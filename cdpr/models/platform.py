@@ -213,3 +213,26 @@ def rotation_error(R_s, R_d):
     v = np.stack([Q[..., 2, 1] - Q[..., 1, 2], Q[..., 0, 2] - Q[..., 2, 0], Q[..., 1, 0] - Q[..., 0, 1]], -1)
     tr = Q[..., 0, 0] + Q[..., 1, 1] + Q[..., 2, 2]
     return np.arctan2(0.5 * np.linalg.norm(v, axis=-1), 0.5 * (tr - 1.0))
+
+
+def pose_arrays(p, rotvec=None):
+    """Positions and orientations of poses given as positions and rotation vectors, or as
+    (x, y, z, rx, ry, rz) rows (no paper equation).
+
+    Parameters
+    ----------
+    p : array_like (N, 3) or (N, 6) [m, rad]
+        Positions, or poses (x, y, z, rx, ry, rz).
+    rotvec : array_like (N, 3) or (3,) [rad], optional
+        Rotation vectors (default identity; ignored when p holds poses).
+
+    Returns
+    -------
+    p : ndarray (N, 3) [m]
+    R : ndarray (N, 3, 3) [-]
+    """
+    p = np.atleast_2d(np.asarray(p, dtype=float))
+    if p.shape[1] == 6:
+        p, rotvec = p[:, :3], p[:, 3:]
+    rv = np.zeros_like(p) if rotvec is None else np.broadcast_to(np.asarray(rotvec, dtype=float), p.shape)
+    return np.ascontiguousarray(p), rotation_matrix(rv)

@@ -157,3 +157,297 @@ def pose_columns(robot, res):
     }
     cols.update({f"t{i + 1}": res["t"][:, i] for i in range(robot.m)})
     return cols
+
+
+#: A cable counts as taut when its tension exceeds this [N]: below it, the tension is the round-off
+#: of a cable resting at exactly its rest length (stretch ~1e-16 m).
+TAUT_MIN = 1e-6
+#: Distance [m] outside the anchors' horizontal convex hull tolerated as inside.
+HULL_EPS = 1e-9
+#: Index of each status in ``STATUSES``.
+ST = {s: i for i, s in enumerate(STATUSES)}
+
+
+def hull_halfplanes(robot):
+    """Half-planes (n_x, n_y, c) of the anchors' horizontal convex hull, n . xy + c <= 0 inside
+    (unit outward normals n), shape (n_edges, 3).
+
+    A helper of the ``inaccessible`` status (no paper equation).
+
+    Parameters
+    ----------
+    robot : Robot
+        Supplies the joint points A (m, 3) [m].
+
+    Returns
+    -------
+    halfplanes : ndarray (n_edges, 3)
+        n_x, n_y [-] and c [m] per hull edge (``scipy.spatial.ConvexHull.equations``).
+    """
+    from scipy.spatial import ConvexHull  # lazy: scipy.spatial is 0.17 s of start-up
+
+    return np.ascontiguousarray(ConvexHull(robot.A[:, :2]).equations)
+
+
+def outside_frame(robot, P, halfplanes=None):
+    """True where P (..., 3) [m] lies outside the anchors' horizontal convex hull (by more than
+    ``HULL_EPS``) or at or above the lowest joint point; shape (...).
+
+    Parameters
+    ----------
+    robot : Robot
+        Supplies the joint points A (m, 3) [m].
+    P : array_like (..., 3) [m]
+        Positions.
+    halfplanes : ndarray (n_edges, 3), optional
+        ``hull_halfplanes(robot)``, computed when not given.
+
+    Returns
+    -------
+    outside : ndarray (...) bool
+        True where P is outside the frame (where gravity cannot be balanced by pulling cables, up
+        to the pulley offsets, or above the pulleys).
+    """
+    hp = hull_halfplanes(robot) if halfplanes is None else halfplanes
+    return _outside(np.asarray(P, dtype=float), hp, robot.A[:, 2].min())
+
+
+def _outside(P, hp, z_top):
+    """``outside_frame`` from the half-planes: P (..., 3) [m], hp (n_edges, 3) or, for a batch of
+    robots, P (K, N, 3), hp (K, n_edges, 3) and z_top (K, 1) [m]. The signed distances are
+    n_x x + n_y y + c, written out (the same operations for one robot and for a batch)."""
+    hp = np.asarray(hp, dtype=float)
+    if hp.ndim == 3:  # a batch: robot k's edges against robot k's points
+        hp = hp[:, None]
+    x, y = P[..., 0], P[..., 1]
+    far = None  # the largest signed distance, edge by edge (no reduction over a short last axis)
+    for e in range(hp.shape[-2]):
+        d = x * hp[..., e, 0] + y * hp[..., e, 1] + hp[..., e, 2]
+        far = d if far is None else np.maximum(far, d)
+    return (far > HULL_EPS) | ~(P[..., 2] < z_top)
+
+
+def _any_last(a):
+    """a.any(axis=-1) for a short last axis (the cables), column by column: the same booleans,
+    several times faster on (K, N, m) batches than numpy's reduction over an inner axis of 3-8."""
+    out = a[..., 0].copy()
+    for j in range(1, a.shape[-1]):
+        out |= a[..., j]
+    return out
+
+
+def per_point(a, n):
+    """``a`` of shape (N,) or (N, k) as (N, k) rows per point; (0, 1) when there are no points (a
+    reshape to (0, -1) is undefined).
+
+    Parameters
+    ----------
+    a : array_like, shape (N,) or (N, k)
+        A per-point quantity.
+    n : int
+        The number of points N.
+
+    Returns
+    -------
+    ndarray (N, k)
+    """
+    a = np.asarray(a)
+    return a.reshape(n, -1) if n else a.reshape(0, 1)
+
+
+def statuses(robot, p, P, t, converged, inside, halfplanes=None):
+    """Status codes (N,) int8 of ``STATUSES`` (module docstring, 'Edge cases'): inaccessible if p
+    or P* is outside the frame (``outside_frame``) or P* inside a sheave or not finite, else
+    not_converged (not converged, or no cable pulls), else over_tension if some t_i > T_a,i, else
+    ok. For a desired point outside the frame, inaccessible wins over not_converged.
+
+    Parameters
+    ----------
+    robot : Robot
+        Supplies the joint points and the admissible tensions T_a (m,) [N].
+    p : ndarray (N, 3) [m]
+        Desired positions.
+    P : ndarray (N, 3) [m]
+        Equilibria P* (may hold NaN).
+    t : ndarray (N, m) [N]
+        Tensions, 0 on slack cables.
+    converged : ndarray (N,) bool
+        Newton converged.
+    inside : ndarray (N, m) bool
+        P* inside a sheave (``CableGeometry.inside``).
+    halfplanes : ndarray (n_edges, 3), optional
+        ``hull_halfplanes(robot)``, computed when not given.
+
+    Returns
+    -------
+    code : ndarray (N,) int8
+        Index into ``results.STATUSES``.
+    """
+    hp = [hull_halfplanes(robot) if halfplanes is None else halfplanes]
+    inside = per_point(inside, len(p))  # (N,) or (N, m')
+    P, t, converged, inside = (np.asarray(x)[None] for x in (P, t, converged, inside))
+    return statuses_batch([robot], p, P, t, converged, inside, hp)[0]
+
+
+def statuses_batch(robots, p, P, t, converged, inside, halfplanes=None):
+    """``statuses`` of K robots solved at the same desired points, on the stacked arrays (one pass
+    per number of hull edges instead of one per robot: the Monte Carlo and Sobol samples).
+
+    Parameters
+    ----------
+    robots : sequence of Robot
+        K robots with the same number of cables m.
+    p : ndarray (N, 3) [m]
+        Desired positions, shared.
+    P : ndarray (K, N, 3) [m]
+        Equilibria P* (may hold NaN).
+    t : ndarray (K, N, m) [N]
+    converged : ndarray (K, N) bool
+    inside : ndarray (K, N, m') bool
+        P* inside a sheave.
+    halfplanes : list of ndarray (n_edges, 3), optional
+        ``hull_halfplanes`` of each robot, computed (once per distinct set of anchors) when not given.
+
+    Returns
+    -------
+    code : ndarray (K, N) int8
+        Index into ``results.STATUSES``.
+    """
+    robots = list(robots)
+    K = len(robots)
+    if halfplanes is None:
+        seen, halfplanes = {}, []
+        for r in robots:
+            key = r.A[:, :2].tobytes()
+            if key not in seen:
+                seen[key] = hull_halfplanes(r)
+            halfplanes.append(seen[key])
+    p = np.asarray(p, dtype=float)
+    finite = ~_any_last(~np.isfinite(P))
+    Pf = np.where(finite[..., None], P, 0.0)
+    z_top = np.array([r.A[:, 2].min() for r in robots]).reshape(K, 1)
+    bad_p = np.empty(finite.shape, dtype=bool)
+    bad_P = np.empty(finite.shape, dtype=bool)
+    by_edges = {}
+    for k, hp in enumerate(halfplanes):
+        by_edges.setdefault(len(hp), []).append(k)
+    for ks in by_edges.values():
+        H = np.stack([halfplanes[k] for k in ks])
+        bad_p[ks] = _outside(np.broadcast_to(p, (len(ks), *p.shape)), H, z_top[ks])
+        bad_P[ks] = _outside(Pf[ks], H, z_top[ks])
+    bad_P |= ~finite | _any_last(inside)
+    T_a = np.stack([r.T_a for r in robots])
+    code = np.full(finite.shape, ST["ok"], dtype=np.int8)
+    code[_any_last(t > T_a[:, None, :])] = ST["over_tension"]
+    code[bad_P] = ST["inaccessible"]
+    code[~converged | ~_any_last(t > TAUT_MIN)] = ST["not_converged"]  # no cable pulls: no equilibrium
+    code[bad_p] = ST["inaccessible"]
+    return code
+
+
+def physical_result(robot, p, P, t, residual, iters, conv, inside, halfplanes=None):
+    """The result dict of a point mass's physical solve (``POINT_KEYS``) from the solved arrays (the compiled engines build
+    theirs with it too): the taut cables (t > ``TAUT_MIN``), |dp| = |P* - p| (Paty 2021 eq. 14) and
+    the statuses (``statuses``).
+
+    Parameters
+    ----------
+    robot : Robot
+    p : ndarray (N, 3) [m]
+        Desired positions.
+    P : ndarray (N, 3) [m]
+        Solved positions P*.
+    t : ndarray (N, m) [N]
+        Hooke tensions at P* (0 for a slack cable).
+    residual : ndarray (N,) [N]
+        |F| of the force balance at P*.
+    iters : ndarray (N,) int
+    conv : ndarray (N,) bool
+    inside : ndarray (N,) or (N, 1) bool
+        p inside the anchors' horizontal convex hull.
+    halfplanes : ndarray (n_edges, 3), optional
+        ``hull_halfplanes(robot)``.
+
+    Returns
+    -------
+    dict
+        p, P_s, dp, t (NaN where slack), taut, n_taut, residual, iterations, converged,
+        status_code (index into ``results.STATUSES``), status.
+    """
+    hp = None if halfplanes is None else [halfplanes]
+    inside = per_point(inside, len(p))  # (N,) or (N, 1)
+    arrays = (np.asarray(x)[None] for x in (P, t, residual, iters, conv, inside))
+    return physical_results([robot], p, *arrays, halfplanes=hp)[0]
+
+
+def physical_results(robots, p, P, t, residual, iters, conv, inside, halfplanes=None):
+    """``physical_result`` of K robots solved at the same desired points, built on the stacked
+    arrays (``statuses_batch``); each robot's dict holds views of its row.
+
+    Parameters
+    ----------
+    robots : sequence of Robot
+        K robots with the same number of cables m.
+    p : ndarray (N, 3) [m]
+    P : ndarray (K, N, 3) [m]
+    t : ndarray (K, N, m) [N]
+    residual : ndarray (K, N) [N]
+    iters : ndarray (K, N) int
+    conv : ndarray (K, N) bool
+    inside : ndarray (K, N, m') bool
+        P* inside a sheave (m' = 1: one flag per point, as the kernels give it).
+    halfplanes : list of ndarray (n_edges, 3), optional
+
+    Returns
+    -------
+    list of dict
+        ``physical_result`` of each robot.
+    """
+    taut = t > TAUT_MIN
+    code = statuses_batch(robots, p, P, t, conv, inside, halfplanes)
+    d = P - p
+    dp = np.sqrt(d[..., 0] * d[..., 0] + d[..., 1] * d[..., 1] + d[..., 2] * d[..., 2])  # |P* - p|
+    tt = np.where(taut, t, np.nan)
+    n_taut = taut[..., 0].astype(np.int8)
+    for j in range(1, taut.shape[-1]):
+        n_taut += taut[..., j]
+    status = np.asarray(STATUSES)[code]
+    return [
+        {
+            "p": p,
+            "P_s": P[k],
+            "dp": dp[k],
+            "t": tt[k],
+            "taut": taut[k],
+            "n_taut": n_taut[k],
+            "residual": residual[k],
+            "iterations": iters[k],
+            "converged": conv[k],
+            "status_code": code[k],
+            "status": status[k],
+        }
+        for k in range(len(code))
+    ]
+
+
+#: The keys of a point mass's physical-mode result (``physical_result``).
+POINT_KEYS = (
+    "p", "P_s", "dp", "t", "taut", "n_taut", "residual", "iterations", "converged", "status_code", "status",
+)  # fmt: skip
+
+
+def point_keys(res):
+    """The point-mass keys (``POINT_KEYS``) of a physical-mode result of ``equilibrium.solve``: what
+    both engines return for a suspended point mass solved without an orientation.
+
+    Parameters
+    ----------
+    res : dict
+        A result of ``equilibrium.solve`` (or of the compiled engine).
+
+    Returns
+    -------
+    dict
+        The same arrays under ``POINT_KEYS``.
+    """
+    return {k: res[k] for k in POINT_KEYS}

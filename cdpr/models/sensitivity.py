@@ -53,9 +53,10 @@ import numpy as np
 
 from cdpr.errors import CdprError
 from cdpr.models.direct import degm_e
-from cdpr.models.equilibrium import solve_physical
+from cdpr.models.equilibrium import solve as solve_equilibrium
 from cdpr.models.inverse import L_TS
 from cdpr.models.pulleys import pulley_state, total_length_and_direction
+from cdpr.models.results import point_keys
 from cdpr.models.statics import direction_gradient, inverse3, length_gradient, tensions
 from cdpr.models.subsets import solve_points
 from cdpr.parameters import GROUPS, UNITS, parameter_names  # noqa: F401  (re-exported)
@@ -364,7 +365,7 @@ def sensitivities(
     Returns
     -------
     dict
-        The solve's result (``subsets.solve_points`` / ``equilibrium.solve_physical`` keys)
+        The solve's result (``subsets.solve_points`` / ``results.POINT_KEYS`` of ``equilibrium.solve``)
         plus: S (N, 3, 7 m + 1) [m per unit of θ], NaN where the status is not ok; names (list of
         7 m + 1 str, ``parameter_names``); smooth (N,) bool; margin_t (N,) [N] the tension margin;
         cond (N,) the condition number of J (inf where singular or not ok); paper mode also
@@ -396,7 +397,7 @@ def sensitivities(
         res["dp_gap"] = gap
         smooth = ok & (gap > gap_tol) & (margin > t_tol) & (cond < COND_MAX)
     else:
-        res = solve_physical(robot, p, L0=L, **solver)
+        res = point_keys(solve_equilibrium(robot, p, L0=L, **solver))
         ok = res["status"] == "ok"
         idx = np.flatnonzero(ok)
         margin = np.full(n, np.nan)

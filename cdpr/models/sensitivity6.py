@@ -1,11 +1,11 @@
 """Sensitivities dp*/dθ and dφ*/dθ of a rigid platform's equilibrium (implicit-function theorem).
 
 At the equilibrium x* = (p*, R*) under fixed commanded rest lengths L0 the force and moment
-balance F6(x*, θ) = 0 holds (``equilibrium6``). Differentiating,
+balance F6(x*, θ) = 0 holds (``equilibrium``). Differentiating,
 
     dx*/dθ = -(dF6/dx)^-1 dF6/dθ,
 
-with dF6/dx the solver's analytic 6 x 6 Jacobian (``equilibrium6._jacobian``; dφ a base-frame
+with dF6/dx the solver's analytic 6 x 6 Jacobian (``equilibrium._jacobian``; dφ a base-frame
 rotation vector) and dF6/dθ the partial derivatives of the balance with respect to each parameter
 at fixed pose, taken by central differences of the balance (the balance is evaluated, not solved,
 so these are exact to O(δ²)). θ is the spatial parameter vector of ``cdpr.parameters``
@@ -27,7 +27,8 @@ import copy
 
 import numpy as np
 
-from cdpr.models.equilibrium6 import Cables6, solve_spatial
+from cdpr.models.equilibrium import Cables
+from cdpr.models.equilibrium import solve as solve_spatial
 from cdpr.models.pulleys import total_length_and_direction
 from cdpr.models.sensitivity import COND_MAX, T_TOL
 from cdpr.models.statics import length_gradient
@@ -188,7 +189,7 @@ def tension_partials6(robot, P, R, L0, names=None):
     Paty et al. 2021, eq. (5), (10), (13) (the total length and Hooke's law at B_i).
     """
     names = parameter_names6(robot.m) if names is None else list(names)
-    cab = Cables6(robot)
+    cab = Cables(robot)
     cab.mass = robot.platform.mass
     cab.E = robot.arrays.E
     r = np.einsum("nab,mb->nma", R, cab.b)
@@ -237,9 +238,9 @@ def scaled_condition(J, ell, rigid=True):
     Parameters
     ----------
     J : ndarray (N, 6, 6) [N/m, N/rad, N m/m, N m/rad]
-        d(F, M)/d(dp, dphi) (``equilibrium6._jacobian``).
+        d(F, M)/d(dp, dphi) (``equilibrium._jacobian``).
     ell : float [m]
-        The platform's size (``Cables6.size``).
+        The platform's size (``Cables.size``).
     rigid : bool
         Whether the moment rows count.
 
@@ -302,7 +303,7 @@ def sensitivities_at(robot, res, names=None, t_tol=T_TOL):
     ok = np.asarray(res["status"]) == "ok"
     idx = np.flatnonzero(ok)
     if idx.size:
-        cab = Cables6(robot)
+        cab = Cables(robot)
         cab.mass = robot.platform.mass
         cab.E = robot.arrays.E
         P, R, L0 = res["P_s"][idx], res["R_s"][idx], np.asarray(res["L0"])[idx]
@@ -400,7 +401,7 @@ def rest_length_sensitivities(robot, P, R, L0):
     ----------
     Paty et al. 2021, eq. (10)-(13); implicit-function theorem.
     """
-    cab = Cables6(robot)
+    cab = Cables(robot)
     ev = cab.evaluate(P, R, L0, P)
     g = ev["g"]
     k = cab.ES / L0

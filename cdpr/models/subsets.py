@@ -70,7 +70,7 @@ def solve_points(robot, p, method="newton", L=None, P0=None, **options):
         Fig. 9.
     """
     require_point_mass(
-        robot, "paper mode (solve_points)", 'cdpr.solve_points_any(robot, p, redundancy="physical")', P=p
+        robot, "paper mode (solve_points)", 'cdpr.solve.solve(robot, p, redundancy="physical")', P=p
     )
     p = np.atleast_2d(np.asarray(p, dtype=float))
     n = p.shape[0]

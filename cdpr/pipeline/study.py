@@ -440,7 +440,7 @@ def check_study(st):
 
 def check_spatial_study(st, robots):
     """The problems of a study with spatial robots (``Robot.suspended_point_mass`` false: a rigid
-    platform or tilted pulley axes, solved in 6 DoF by ``equilibrium6.solve_spatial``): a study runs
+    platform or tilted pulley axes, solved in 6 DoF by ``equilibrium.solve``): a study runs
     such a robot in physical mode only (paper mode and its "best 3 of m" rule are the point-mass
     rule; the library and ``cdpr point``/``grid`` take it on a point mass with tilted axes, a study's
     jobs on suspended point masses only), is

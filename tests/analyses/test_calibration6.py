@@ -12,7 +12,7 @@ import pytest
 from cdpr.analyses import calibration as cal
 from cdpr.cli.main import main
 from cdpr.errors import CdprError, ConfigError
-from cdpr.models.equilibrium6 import L_TS_pose
+from cdpr.models.inverse import L_TS
 from cdpr.models.platform import rotation_matrix
 from cdpr.parameters import calibration_names, parameter_names6, select_groups
 from cdpr.robot import load_robot
@@ -131,7 +131,7 @@ def test_a_parameter_the_data_cannot_reach_stays_at_its_prior(cogiro):
     priors = cal.parse_priors("dead_lengths=1mm")
     rng, idx, sd, truth, th = _truth(cogiro, ["dead_lengths"], 11, priors)
     P6 = _poses(rng, 16, tilt=0.05)
-    L = L_TS_pose(cogiro, P6[:, :3], rotation_matrix(P6[:, 3:]))
+    L = L_TS(cogiro, P6[:, :3], R=rotation_matrix(P6[:, 3:]))
     L[:, 7] += 0.5
     data, res = _measure(truth, L, P6)
     slack8 = ~res["taut"][:, 7]

@@ -5,15 +5,15 @@ import numpy as np
 import pytest
 
 from cdpr.analyses.compensation import COMP_STATUSES, compensate, compensated_pose, rest_lengths
-from cdpr.compiled.equilibrium import solve_physical_fast
+from cdpr.compiled.equilibrium import solve_points as solve_physical_fast
 from cdpr.errors import CdprError
-from cdpr.models.equilibrium import solve_physical
 from cdpr.models.inverse import igm_e
 from cdpr.models.statics import stretched_length
 from cdpr.robot import apply_overrides, read_yaml, robot_from_dict, with_pulleys
 from cdpr.tables import to_frame
 from tests.conftest import ROBOTS
 from tests.models.test_equilibrium import mixed_robot
+from tests.point_mass import solve_physical
 
 rng = np.random.default_rng(23)
 PTS = np.column_stack([rng.uniform(-2.0, 2.0, 80), rng.uniform(-2.0, 2.0, 80), rng.uniform(0.2, 4.0, 80)])

@@ -14,7 +14,7 @@ from cdpr.analyses.uncertainty import (
     sobol_analysis,
 )
 from cdpr.analyses.uncertainty6 import PoseErrorModel6, spatial_columns, spatial_theta
-from cdpr.models.equilibrium6 import solve_spatial
+from cdpr.models.equilibrium import solve as solve_spatial
 from cdpr.models.platform import rotation_error
 from cdpr.parameters import parameter_names6, parameter_values, parameter_values6, robot_with_parameters6
 from cdpr.robot import load_robot

@@ -269,7 +269,7 @@ def test_point_sensitivities_on_cogiro_equal_the_library(capsys, engine):
     compiled engine's with --engine compiled."""
     from cdpr.models.sensitivity6 import parameter_names6
     from cdpr.robot import load_robot
-    from cdpr.solve import spatial_sensitivities
+    from cdpr.solve import sensitivities
 
     rv = [0.05, -0.03, 0.02]
     extra = [] if engine is None else ["--engine", engine]
@@ -288,7 +288,9 @@ def test_point_sensitivities_on_cogiro_equal_the_library(capsys, engine):
         *extra,
     )
     assert out["engine"] == (engine or "numpy")  # one pose: the numpy reference by default
-    lib = spatial_sensitivities(load_robot(COGIRO), [[0.2, 0.1, 2.0]], rv, engine=out["engine"])
+    lib = sensitivities(
+        load_robot(COGIRO), [[0.2, 0.1, 2.0]], rv, redundancy="physical", engine=out["engine"]
+    )
     names = parameter_names6(8)
     assert list(out["sensitivities"]) == names == list(out["sensitivities_phi"]) and len(names) == 8 * 10 + 4
     S = lib["S"][0]
@@ -410,7 +412,6 @@ def test_rotvec_and_orientation_columns_together_are_refused_before_any_solve(
     both sources, exit code 2, nothing solved and no table written."""
     import cdpr.analyses.compensation
     import cdpr.models.distribution6
-    import cdpr.models.equilibrium6
     import cdpr.models.inverse
     import cdpr.solve
 
@@ -418,10 +419,9 @@ def test_rotvec_and_orientation_columns_together_are_refused_before_any_solve(
         raise AssertionError("solved before refusing")
 
     for module, name in [
-        (cdpr.solve, "solve_points_any"),
-        (cdpr.solve, "solve_spatial_any"),
+        (cdpr.solve, "solve"),
         (cdpr.models.inverse, "igm_e"),
-        (cdpr.models.equilibrium6, "pose_state"),
+        (cdpr.models.inverse, "pose_state"),
         (cdpr.analyses.compensation, "compensated_pose"),
         (cdpr.models.distribution6, "compensated_lengths"),
     ]:

@@ -11,7 +11,7 @@ import pytest
 
 from cdpr.cli.main import main
 from cdpr.robot import load_robot
-from cdpr.solve import solve_points_any
+from cdpr.solve import solve
 from cdpr.tables import solve_table
 from tests.conftest import ROBOTS, ROOT
 
@@ -126,7 +126,7 @@ def test_below_the_floor_is_inaccessible_everywhere(redundancy, engine):
     points above the floor keep their status."""
     robot = load_robot(R4)
     P = np.array([[0.0, 0.0, -3.0], [0.0, 0.0, 2.5], [0.5, 0.2, -1e-6]])
-    res = solve_points_any(robot, P, engine=engine, redundancy=redundancy)
+    res = solve(robot, P, engine=engine, redundancy=redundancy)
     assert list(res["status"]) == ["inaccessible", "ok", "inaccessible"]
     df = solve_table(robot, P, engine=engine, redundancy=redundancy)
     assert list(df.status) == ["inaccessible", "ok", "inaccessible"]

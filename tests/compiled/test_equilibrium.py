@@ -6,20 +6,17 @@ import numpy as np
 import pytest
 
 from cdpr.analyses.workspace import frame_box, grid_points
-from cdpr.compiled.equilibrium import solve_physical_batch, solve_physical_fast
+from cdpr.compiled.equilibrium import solve_points as solve_physical_fast
+from cdpr.compiled.equilibrium import solve_points_batch as solve_physical_batch
 from cdpr.errors import CdprError
-from cdpr.models.equilibrium import (
-    FTOL_REL,
-    solve_physical,
-)
-from cdpr.models.equilibrium import (
-    solve_physical_batch as solve_physical_batch_numpy,
-)
+from cdpr.models.equilibrium import FTOL_REL
 from cdpr.models.inverse import L_TS
 from cdpr.models.pulleys import total_length_and_direction
 from cdpr.parameters import parameter_values, robot_with_parameters
 from cdpr.robot import load_robot, with_pulleys
 from tests.conftest import ROBOTS
+from tests.point_mass import solve_physical
+from tests.point_mass import solve_physical_batch as solve_physical_batch_numpy
 
 #: a platform heavy enough that the tensions exceed T_a = 5140 N over part of the frame
 HEAVY_KG = 600.0

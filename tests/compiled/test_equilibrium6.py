@@ -1,5 +1,5 @@
-"""The compiled 6-DoF physical equilibrium (cdpr.compiled.equilibrium6) equals the numpy reference
-(cdpr.models.equilibrium6) on the shipped spatial robots at random tilted poses, slack cables and
+"""The compiled 6-DoF physical equilibrium (cdpr.compiled.equilibrium) equals the numpy reference
+(cdpr.models.equilibrium) on the shipped spatial robots at random tilted poses, slack cables and
 several equilibria included; its general-axis cable kernel (``_kernels.cable_axis``) equals the
 numpy pulley model with random axes and its derivatives equal finite differences; point-mass
 robots give the compiled point-mass physical mode."""
@@ -8,18 +8,20 @@ import numpy as np
 import pytest
 from numba import njit
 
-from cdpr.compiled import equilibrium6 as compiled6
+from cdpr.compiled import equilibrium as compiled6
 from cdpr.compiled._kernels import cable, cable_axis, cable_derivatives
-from cdpr.compiled.equilibrium import solve_physical_fast
-from cdpr.compiled.equilibrium6 import lu_solve6, pinv_solve6, positive_definite6, rotvec_of_matrix
-from cdpr.compiled.equilibrium6 import solve_spatial as solve_fast
-from cdpr.models.equilibrium6 import RCOND, L_TS_pose, pose_arrays, pose_state, solve_spatial
-from cdpr.models.platform import rotation_error, rotation_matrix, rotvec_of
+from cdpr.compiled._linalg import lu_solve, pinv_solve, positive_definite, rotvec_of_matrix
+from cdpr.compiled.equilibrium import solve as solve_fast
+from cdpr.compiled.equilibrium import solve_points as solve_physical_fast
+from cdpr.models.equilibrium import RCOND
+from cdpr.models.equilibrium import solve as solve_spatial
+from cdpr.models.inverse import L_TS, pose_state
+from cdpr.models.platform import pose_arrays, rotation_error, rotation_matrix, rotvec_of
 from cdpr.models.pulleys import total_length_and_direction
 from cdpr.models.statics import direction_gradient, length_gradient
 from cdpr.parameters import parameter_values6, robot_with_parameters6
 from cdpr.robot import load_robot, pulley_frame, with_pulleys
-from cdpr.solve import solve_spatial_batch_any
+from cdpr.solve import solve_batch
 from tests.conftest import ROBOTS
 
 #: Per robot: the box [x0, x1, y0, y1, z0, z1] [m] of the random desired positions.
@@ -42,8 +44,8 @@ def _poses(robot, box, n, seed):
     p = np.column_stack([g.uniform(x0, x1, n), g.uniform(y0, y1, n), g.uniform(z0, z1, n)])
     rv = g.normal(size=(n, 3))
     rv *= MAX_TILT * g.uniform(0, 1, (n, 1)) / np.linalg.norm(rv, axis=1, keepdims=True)
-    p_, R = pose_arrays(robot, p, rv)
-    L0 = L_TS_pose(robot, p_, R)
+    p_, R = pose_arrays(p, rv)
+    L0 = L_TS(robot, p_, R=R)
     L_TE = pose_state(robot, p_, R)[1].L_TE
     L0[n // 3 :] = L_TE[n // 3 :] * (1.0 - g.uniform(-0.001, 0.003, (n - n // 3, robot.m)))
     return p, rv, L0
@@ -108,7 +110,7 @@ def test_point_mass_robots_give_the_compiled_point_mass_mode(cdpr4, cdpr3, kind)
     P = np.vstack([P, [[0.0, 0.0, 9.0], [7.0, 7.0, 1.0]]])
     for robot in (cdpr4, cdpr3):
         r = with_pulleys(robot, kind=kind)
-        L0 = L_TS_pose(r, *pose_arrays(r, P)) * (1.0 + g.uniform(-1e-3, 3e-3, (len(P), r.m)))
+        L0 = L_TS(r, *pose_arrays(P)[:1], R=pose_arrays(P)[1]) * (1.0 + g.uniform(-1e-3, 3e-3, (len(P), r.m)))
         a, b = solve_physical_fast(r, P, L0=L0), solve_fast(r, P, L0=L0)
         assert np.abs(a["P_s"] - b["P_s"]).max() < 1e-9
         np.testing.assert_array_equal(a["status"], b["status"])
@@ -277,15 +279,15 @@ def test_lu_step_equals_the_pseudo_inverse_step_and_the_cholesky_test_eigvalsh()
             J[:, 5] = J[:, :5] @ g.normal(size=5)
         rhs = g.normal(size=6)
         ref = np.linalg.pinv(J, rcond=RCOND) @ rhs
-        pinv_solve6(J, rhs, A, V, y, RCOND)
+        pinv_solve(J, rhs, A, V, y, RCOND)
         assert np.abs(y - ref).max() <= 1e-8 * np.abs(ref).max()
-        if lu_solve6(J, rhs, A, V, piv, x, RCOND):
+        if lu_solve(J, rhs, A, V, piv, x, RCOND):
             assert k % 4 != 0
             assert np.abs(x - ref).max() <= 1e-8 * np.abs(ref).max()
         H = -0.5 * (J + J.T) if k % 2 else J @ J.T
-        assert positive_definite6(-H, A) <= (np.linalg.eigvalsh(H)[0] > 0)
+        assert positive_definite(-H, A) <= (np.linalg.eigvalsh(H)[0] > 0)
         if k % 2 == 0 and k % 4 != 0:
-            assert positive_definite6(-H, A)
+            assert positive_definite(-H, A)
 
 
 @njit(cache=True)
@@ -333,12 +335,12 @@ def test_the_batched_solve_equals_one_solve_per_robot(name, scale, monkeypatch):
         robot_with_parameters6(r, theta0 * (1.0 + 1e-3 * g.standard_normal(theta0.shape))) for _ in range(5)
     ]
     monkeypatch.setattr(compiled6, "BATCH_POSES", 2 * 60)  # three passes of two, two and one robot
-    batch = compiled6.solve_spatial_batch(robots, p, rv, L0=L0 * scale)
+    batch = compiled6.solve_batch(robots, p, rv, L0=L0 * scale)
     assert len(batch) == len(robots)
     for robot, res in zip(robots, batch):
         _equal_results(solve_fast(robot, p, rv, L0=L0 * scale), res)
     if scale > 1.0:
         assert sum((~res["unique"]).sum() for res in batch) > 20  # restarts found several equilibria
-    ref = solve_spatial_batch_any(robots[:2], p[:20], rv[:20], engine="numpy", L0=L0[:20] * scale)
+    ref = solve_batch(robots[:2], p[:20], rv[:20], engine="numpy", L0=L0[:20] * scale)
     for a, b in zip(ref, batch[:2]):
         _same(a, {k: v[:20] for k, v in b.items()})

@@ -26,13 +26,14 @@ from cdpr.compiled._kernels import (
     NCOL,
     cable_partials_axis,
 )
-from cdpr.compiled.equilibrium6 import solve_spatial as solve_fast
+from cdpr.compiled.equilibrium import solve as solve_fast
 from cdpr.errors import CdprError
 from cdpr.models import sensitivity6 as ref
-from cdpr.models.equilibrium6 import L_TS_pose, pose_arrays, solve_spatial
-from cdpr.models.platform import rotvec_of
+from cdpr.models.equilibrium import solve as solve_spatial
+from cdpr.models.inverse import L_TS
+from cdpr.models.platform import pose_arrays, rotvec_of
 from cdpr.robot import load_robot, with_pulleys
-from cdpr.solve import spatial_sensitivities, spatial_sensitivities_at
+from cdpr.solve import sensitivities, sensitivities_at
 from tests.compiled.test_equilibrium6 import BOXES, _cables, _poses, _random_pulleys
 from tests.conftest import ROBOTS
 
@@ -62,7 +63,7 @@ def _cases():
     r = with_pulleys(load_robot(ROBOTS / "cdpr4.yaml"), kind="DR")
     g = np.random.default_rng(5)
     P = np.column_stack([g.uniform(-2.4, 2.4, N), g.uniform(-2.4, 2.4, N), g.uniform(0.2, 4.8, N)])
-    L0 = L_TS_pose(r, *pose_arrays(r, P)) * (1.0 + g.uniform(-1e-3, 3e-3, (N, r.m)))
+    L0 = L_TS(r, *pose_arrays(P)[:1], R=pose_arrays(P)[1]) * (1.0 + g.uniform(-1e-3, 3e-3, (N, r.m)))
     out["cdpr4 DR (point mass)"] = (r, P, None, L0)
     return out
 
@@ -121,8 +122,8 @@ def test_spatial_sensitivities_compiled_equal_numpy_on_cogiro(pose):
     """End to end (each engine its own solve): same statuses and flags, S within the reference's
     round-off, poses within 1e-9."""
     r = load_robot(ROBOTS / "cogiro.yaml")
-    a = spatial_sensitivities(r, [pose], engine="numpy")
-    b = spatial_sensitivities(r, [pose])  # the default: compiled
+    a = sensitivities(r, [pose], redundancy="physical", engine="numpy")
+    b = sensitivities(r, [pose], redundancy="physical")  # the default: compiled
     np.testing.assert_array_equal(a["status"], b["status"])
     np.testing.assert_array_equal(a["smooth"], b["smooth"])
     assert a["smooth"].all()
@@ -154,14 +155,14 @@ def test_compiled_equals_finite_differences_of_the_compiled_solve():
 def test_engine_registry():
     r = load_robot(ROBOTS / "cogiro.yaml")
     res = solve_fast(r, [[0, 0, 2.0]])
-    a = spatial_sensitivities_at(r, res, ["E_1", "M"])
+    a = sensitivities_at(r, res, ["E_1", "M"])
     b = fast.sensitivities_at(r, res, ["E_1", "M"])
     np.testing.assert_array_equal(a["S"], b["S"])  # compiled by default
-    c = spatial_sensitivities_at(r, res, ["E_1", "M"], engine="numpy")
+    c = sensitivities_at(r, res, ["E_1", "M"], engine="numpy")
     np.testing.assert_array_equal(c["S"], ref.sensitivities_at(r, res, ["E_1", "M"])["S"])
     for call in (
-        lambda: spatial_sensitivities_at(r, res, engine="numba"),
-        lambda: spatial_sensitivities(r, [[0, 0, 2.0]], engine="numba"),
+        lambda: sensitivities_at(r, res, engine="numba"),
+        lambda: sensitivities(r, [[0, 0, 2.0]], redundancy="physical", engine="numba"),
     ):
         with pytest.raises(CdprError, match="unknown engine 'numba'; allowed: compiled, numpy"):
             call()

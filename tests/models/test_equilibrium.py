@@ -6,10 +6,11 @@ import dataclasses
 import numpy as np
 import pytest
 
-from cdpr.models.equilibrium import FTOL_REL, _Cables, solve_physical
+from cdpr.models.equilibrium import FTOL_REL, Cables
+from cdpr.models.equilibrium import solve as solve_pose
 from cdpr.models.inverse import L_TS
 from cdpr.models.pulleys import total_length_and_direction
-from cdpr.models.results import taut_labels
+from cdpr.models.results import point_keys, taut_labels
 from cdpr.models.subsets import solve_points
 from cdpr.robot import apply_overrides, read_yaml, robot_from_dict, with_pulleys
 from cdpr.tables import to_frame
@@ -57,10 +58,28 @@ def _near(cab, n=60, seed=3):
     return p[keep], P[keep], L0[keep]
 
 
+class _PointCables:
+    """The pose model's ``Cables`` at the identity orientation, seen as a point mass's: F, J = dF/dP
+    (3 x 3), grad = dV/dP (3,) and the taut cables."""
+
+    def __init__(self, robot):
+        self.cables, self.robot, self.args = Cables(robot), robot, Cables(robot).args
+
+    def evaluate(self, P, L0, p, jacobian=True):
+        ev = self.cables.evaluate(P, np.broadcast_to(np.eye(3), (len(P), 3, 3)), L0, p, jacobian)
+        ev["taut"] = ev["t"] > 0.0
+        if jacobian:
+            ev["J"], ev["grad"] = ev["J"][:, :3, :3], ev["grad"][:, :3]
+        return ev
+
+
+def solve_physical(robot, p, **options):
+    """The numpy equilibrium of a point mass with the point-mass keys (what ``cdpr.solve`` returns)."""
+    return point_keys(solve_pose(robot, p, **options))
+
+
 def _cab(r):
-    c = _Cables(r)
-    c.robot = r
-    return c
+    return _PointCables(r)
 
 
 @pytest.mark.parametrize("name", ["fixed", "SR"])
@@ -288,7 +307,7 @@ def test_compiled_equals_numpy_reference(cdpr3, cdpr4, name):
     """Same statuses and convergence everywhere; where the equilibrium is unique (converged, two or
     more taut cables) the same taut sets, P* to 1e-9 m and tensions to 1e-8 relative. A lone SR or
     DR cable has a circle of equilibria (neutral swivel), where P* depends on round-off."""
-    from cdpr.compiled.equilibrium import solve_physical_fast
+    from cdpr.compiled.equilibrium import solve_points as solve_physical_fast
 
     r = with_pulleys(cdpr3, kind=name[6:]) if name.startswith("cdpr3") else robots(cdpr4)[name]
     p = np.vstack([PTS, _grid_with_edges(r)])
@@ -321,7 +340,7 @@ def test_statuses_of_a_batch_equal_each_robots_and_the_frame_is_the_anchors_hull
     Delaunay, away from the edges) and the height of the lowest anchor."""
     from scipy.spatial import Delaunay
 
-    from cdpr.models.equilibrium import TAUT_MIN, hull_halfplanes, outside_frame, statuses, statuses_batch
+    from cdpr.models.results import TAUT_MIN, hull_halfplanes, outside_frame, statuses, statuses_batch
     from cdpr.parameters import parameter_values, robot_with_parameters
 
     square = with_pulleys(robot_from_dict(read_yaml(ROBOTS / "cdpr4.yaml")), kind="SR")

@@ -7,11 +7,13 @@ import numpy as np
 import pytest
 
 from cdpr.models.distribution6 import compensated_lengths
-from cdpr.models.equilibrium import solve_physical
-from cdpr.models.equilibrium6 import Cables6, pose_arrays, pose_state, solve_spatial
-from cdpr.models.platform import external_wrench, rotation_matrix, wrench_matrix
+from cdpr.models.equilibrium import Cables as Cables6
+from cdpr.models.equilibrium import solve as solve_spatial
+from cdpr.models.inverse import pose_state
+from cdpr.models.platform import external_wrench, pose_arrays, rotation_matrix, wrench_matrix
 from cdpr.robot import robot_from_dict, with_pulleys
-from cdpr.solve import solve_spatial_any
+from cdpr.solve import solve as solve_any
+from tests.point_mass import solve_physical
 
 rng = np.random.default_rng(2024)
 PTS = np.column_stack([rng.uniform(-2.4, 2.4, 200), rng.uniform(-2.4, 2.4, 200), rng.uniform(0.2, 4.8, 200)])
@@ -47,7 +49,7 @@ def robot8(kind="fixed", mass=50.0, com=(0.0, 0.0, 0.0), turn=0.0):
 
 def pretensioned(r, p, rv, t0=1000.0):
     """Rest lengths that stretch every cable by t0 [N] at the desired pose."""
-    p_, R = pose_arrays(r, p, rv)
+    p_, R = pose_arrays(p, rv)
     _, st = pose_state(r, p_, R)
     return st.L_TE / (1.0 + t0 / r.ES)
 
@@ -104,7 +106,7 @@ def test_analytic_jacobian_equals_finite_differences(kind):
     p, rv = np.array([[0.3, -0.2, 1.4]]), np.array([[0.05, -0.1, 0.2]])
     L0 = pretensioned(r, p, rv)
     cab = Cables6(r)
-    _, R = pose_arrays(r, p, rv)
+    _, R = pose_arrays(p, rv)
     J = cab.evaluate(p, R, L0, p)["J"][0]
     h = 1e-7
     fd = np.empty((6, 6))
@@ -226,7 +228,9 @@ def test_rotating_the_whole_robot_and_gravity_rotates_the_solution(kind):
     assert np.abs(ra["t"] - rb["t"]).max() < 1e-6
     assert np.abs(ra["dp"] - rb["dp"]).max() < 1e-9 and np.abs(ra["dphi"] - rb["dphi"]).max() < 1e-9
     assert ra["dp"].max() > 1e-4  # the pulleys and the weight do move the platform
-    fast = solve_spatial_any(b, p @ Q.T, rv_b, "compiled", L0=L0)  # the kernel sees the turned gravity too
+    fast = solve_any(
+        b, p @ Q.T, rv_b, redundancy="physical", engine="compiled", L0=L0
+    )  # the kernel sees the turned gravity too
     assert (fast["status"] == rb["status"]).all() and np.abs(fast["P_s"] - rb["P_s"]).max() < 1e-9
     ca, cb = compensated_lengths(a, p, rv), compensated_lengths(b, p @ Q.T, rv_b)
     ok = ca[

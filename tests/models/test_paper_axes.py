@@ -15,7 +15,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from cdpr.analyses.workspace import grid_points
-from cdpr.compiled.equilibrium import solve_physical_fast
+from cdpr.compiled.equilibrium import solve_points as solve_physical_fast
 from cdpr.compiled.sensitivity import sensitivities_fast
 from cdpr.compiled.subsets import solve_points_fast
 from cdpr.errors import CdprError
@@ -24,7 +24,8 @@ from cdpr.models.inverse import L_TS
 from cdpr.models.subsets import solve_points
 from cdpr.parameters import parameter_names, parameter_values, robot_with_parameters
 from cdpr.robot import load_robot, with_pulleys
-from cdpr.solve import sensitivities, solve_points_any, subset_sensitivities
+from cdpr.solve import sensitivities, subset_sensitivities
+from cdpr.solve import solve as solve_any
 from cdpr.tables import solve_table
 from tests.conftest import ROBOTS
 
@@ -89,7 +90,7 @@ def pair(request):
 
 
 def solve(robot, p, engine):
-    return solve_points_any(robot, p, redundancy="paper", engine=engine)
+    return solve_any(robot, p, redundancy="paper", engine=engine)
 
 
 # ---- the turned robot itself -------------------------------------------------------------------
@@ -267,14 +268,14 @@ def test_the_fixed_point_turns_with_the_robot(pair, name):
     R = rotation(name)
     b = turned(a, R)
     p = workspace_points(40)
-    ra = solve_points_any(a, p, method="fixed_point", engine="numpy", tol=1e-10)
-    rb = solve_points_any(b, p @ R.T, method="fixed_point", engine="numpy", tol=1e-10)
+    ra = solve_any(a, p, method="fixed_point", engine="numpy", tol=1e-10)
+    rb = solve_any(b, p @ R.T, method="fixed_point", engine="numpy", tol=1e-10)
     assert (ra["status"] == rb["status"]).all() and (ra["subset"] == rb["subset"]).all()
     assert (ra["iterations"] == rb["iterations"]).all()
     ok = ra["status"] == "ok"
     assert ok.sum() > 30 and {"slack"} <= set(ra["status"])
     assert np.abs(rb["P_s"][ok] - ra["P_s"][ok] @ R.T).max() < 1e-9
-    rn = solve_points_any(b, p @ R.T, engine="numpy")
+    rn = solve_any(b, p @ R.T, engine="numpy")
     assert (rn["status"] == rb["status"]).all() and (rn["subset"] == rb["subset"]).all()
     assert np.abs(rn["P_s"][ok] - rb["P_s"][ok]).max() < 1e-9
 
@@ -297,7 +298,7 @@ def test_the_fixed_point_at_the_papers_tolerance_on_the_turned_robot(tilted):
 
 def test_the_fixed_point_still_runs_on_suspended_robots(pair):
     a, _ = pair
-    res = solve_points_any(a, np.array([[0.5, 0.2, 2.5]]), method="fixed_point", engine="numpy")
+    res = solve_any(a, np.array([[0.5, 0.2, 2.5]]), method="fixed_point", engine="numpy")
     assert list(res["status"]) == ["ok"]
 
 
@@ -395,13 +396,21 @@ def test_compiled_sensitivities_equal_numpy_on_the_turned_robot(tilted):
 
 
 @pytest.mark.parametrize("engine", ["numpy", "compiled"])
-def test_physical_point_mass_sensitivities_are_refused_on_the_turned_robot(tilted, engine):
-    """The point-mass physical solver evaluates pulleys with +z axes: physical-mode point-mass
-    sensitivities on leaning pulleys are refused in one line naming the 6-DoF function."""
+def test_physical_point_mass_sensitivities_on_the_turned_robot_go_through_the_pose_model(tilted, engine):
+    """One door: physical-mode sensitivities of a point mass on leaning pulleys are the pose model's
+    (``sensitivity6.spatial_sensitivities``: dp*/dθ and dφ*/dθ rows), not a refusal; the point's
+    position rows equal the reference's and the rotation rows of a point mass are 0."""
+    from cdpr.models.sensitivity6 import spatial_sensitivities
+
     q = workspace_points(5) @ rotation("small").T
-    with pytest.raises(CdprError) as exc:
-        sensitivities(tilted, q, redundancy="physical", engine=engine)
-    assert "spatial_sensitivities" in _one_line(exc)
+    res = sensitivities(tilted, q, redundancy="physical", engine=engine)
+    ref = spatial_sensitivities(tilted, q)
+    assert res["S"].shape[1] == 6 and list(res["names"]) == list(ref["names"])
+    np.testing.assert_array_equal(res["status"], ref["status"])
+    ok = res["status"] == "ok"
+    assert ok.sum() >= 3
+    scale = np.abs(ref["S"][ok, :3]).max(axis=0, keepdims=True) + 1e-30
+    assert (np.abs(res["S"][ok, :3] - ref["S"][ok, :3]) / scale).max() < 1e-4
 
 
 @pytest.mark.parametrize(
@@ -431,15 +440,15 @@ def cogiro():
 @pytest.mark.parametrize(
     "call",
     [
-        lambda r, p: solve_points_any(r, p, redundancy="paper", engine="numpy"),
-        lambda r, p: solve_points_any(r, p, redundancy="paper", engine="compiled"),
-        lambda r, p: solve_points_any(r, p, redundancy="paper"),
+        lambda r, p: solve_any(r, p, redundancy="paper", engine="numpy"),
+        lambda r, p: solve_any(r, p, redundancy="paper", engine="compiled"),
+        lambda r, p: solve_any(r, p, redundancy="paper"),
         lambda r, p: solve_table(r, p, redundancy="paper"),
         lambda r, p: solve_points(r, p),
         lambda r, p: degm_e(r, p),
         lambda r, p: solve_points_fast(r, p),
-        lambda r, p: sensitivities(r, p, engine="numpy"),
-        lambda r, p: sensitivities(r, p),
+        lambda r, p: sensitivities(r, p, redundancy="paper", engine="numpy"),
+        lambda r, p: sensitivities(r, p, redundancy="paper"),
         lambda r, p: subset_sensitivities(r, p),
         lambda r, p: sensitivities_fast(r, p),
     ],
@@ -528,7 +537,7 @@ def test_suspended_robot_is_still_suspended_and_unchanged(pair):
     P = np.array([[0.0, 0.0, 2.0], [0.0, 0.0, 5.5]])
     _, _, valid = sub.residual(P, L_TS(a, P)[:, :3])
     assert list(valid) == [True, False]
-    res = solve_points_any(a, np.array([[0.0, 0.0, -0.5], [0.0, 0.0, 2.0]]), engine="numpy")
+    res = solve_any(a, np.array([[0.0, 0.0, -0.5], [0.0, 0.0, 2.0]]), engine="numpy")
     assert list(res["status"]) == ["inaccessible", "ok"]
 
 

@@ -5,15 +5,15 @@ import numpy as np
 import pytest
 
 from cdpr.analyses.workspace import grid_points
-from cdpr.compiled.equilibrium import solve_physical_fast
+from cdpr.compiled.equilibrium import solve_points as solve_physical_fast
 from cdpr.compiled.subsets import solve_points_fast
-from cdpr.models.equilibrium import solve_physical
 from cdpr.models.inverse import L_TS, igm_e
 from cdpr.models.sensitivity import GAP_TOL, cable_partials
 from cdpr.models.subsets import solve_points
 from cdpr.parameters import parameter_names, parameter_values, robot_with_parameters
 from cdpr.robot import with_pulleys
 from cdpr.solve import sensitivities
+from tests.point_mass import solve_physical
 
 DESIGNS = {"SR": ("SR", 0.1077, 0.035), "DR": ("DR", 0.100, 0.080), "fixed": ("fixed", 0.0, 0.0)}
 #: a few points in the paper's RW_C, away from the CDPR4 diagonals

@@ -5,7 +5,7 @@ import dataclasses
 import numpy as np
 import pytest
 
-from cdpr.models.equilibrium6 import solve_spatial
+from cdpr.models.equilibrium import solve as solve_spatial
 from cdpr.models.platform import rotvec_of
 from cdpr.models.sensitivity import COND_MAX
 from cdpr.models.sensitivity6 import spatial_sensitivities

@@ -10,7 +10,7 @@ import yaml
 
 from cdpr.analyses import calibration as cal
 from cdpr.errors import CdprError, ConfigError
-from cdpr.models.equilibrium6 import L_TS_pose
+from cdpr.models.inverse import L_TS
 from cdpr.models.platform import rotation_matrix
 from cdpr.pipeline import calibration6 as c6
 from cdpr.pipeline.results import CALIBRATION_OUTPUTS
@@ -98,7 +98,7 @@ def test_equilibrium_flags_count_taut_cables(cogiro):
     data = cal.simulate(cogiro, cogiro, P)
     n_taut, second = cal.equilibrium_flags(cogiro, data)
     assert (n_taut == 8).all() and not second.any()
-    L = L_TS_pose(cogiro, P[:, :3], rotation_matrix(P[:, 3:]))
+    L = L_TS(cogiro, P[:, :3], R=rotation_matrix(P[:, 3:]))
     L[:, 0] += 0.5
     data = cal.Data(
         sample=data.sample,

@@ -16,7 +16,7 @@ from cdpr.analyses import doe, scans, workspace
 from cdpr.analyses.workspace import grid_points
 from cdpr.errors import CdprError
 from cdpr.pipeline import plots, study, tasks
-from cdpr.solve import solve_points_any
+from cdpr.solve import solve
 from tests.conftest import ROOT
 
 BOX = [-2.32, 2.32, -2.32, 2.32, 0.0, 3.73]
@@ -33,7 +33,7 @@ def quick(monkeypatch, tmp_path):
 
 def _full_grid_index(st, robot, n):
     """eq. 15 over every point of the n^3 grid, each solved (no symmetry)."""
-    res = solve_points_any(robot, grid_points(BOX, n), method=st["solver"], redundancy=study.redundancy(st))
+    res = solve(robot, grid_points(BOX, n), method=st["solver"], redundancy=study.redundancy(st))
     return doe.global_index(res["dp"], np.asarray(res["status"]).astype(str))
 
 
