@@ -147,7 +147,7 @@ def solve_points_any(
             if L is not None:
                 raise CdprError("physical mode commands rest lengths L0, not total lengths L")
             res = solve_spatial_any(robot, p, rotvec, engine, threads, L0=L0, **options)
-            return mark_below_floor(res, p) if robot.suspended_point_mass else res
+            return mark_below_floor(res, p, robot.floor_z) if robot.suspended_point_mass else res
         p = p[:, :3]  # paper mode on a point mass: the orientation plays no part
     if redundancy == "physical":
         if method != "newton":
@@ -163,7 +163,7 @@ def solve_points_any(
             res = compiled_equilibrium.solve_physical_fast(robot, p, L0=L0, threads=threads, **options)
         else:
             res = equilibrium.solve_physical(robot, p, L0=L0, **options)
-        return mark_below_floor(res, p)
+        return mark_below_floor(res, p, robot.floor_z)
     if L0 is not None:
         raise CdprError(
             "commanded lengths need physical mode (--redundancy physical); paper mode commands L_TS at the desired point"
@@ -175,7 +175,7 @@ def solve_points_any(
         res = compiled_subsets.solve_points_fast(robot, p, threads=threads, **options)
     else:
         res = solve_points(robot, p, method=method, **options)
-    return mark_below_floor(res, p) if robot.suspended_point_mass else res
+    return mark_below_floor(res, p, robot.floor_z) if robot.suspended_point_mass else res
 
 
 def solve_points_batch_any(
@@ -211,7 +211,7 @@ def solve_points_batch_any(
             res = compiled_subsets.solve_points_batch(robots, p, L, threads=threads, P0=P0)
         else:
             res = [solve_points(r, p, method="newton", L=L, P0=P) for r, P in zip(robots, starts)]
-    return [mark_below_floor(r, p) for r in res]
+    return [mark_below_floor(r, p, rob.floor_z) for r, rob in zip(res, robots)]
 
 
 def sensitivities(
