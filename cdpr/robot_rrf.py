@@ -118,16 +118,17 @@ def parse_rrf(path):
         for letter, val in words[1:]:
             if letter == "K":
                 kinematics = (lineno, val)
-            elif letter == "N":
+                if val not in ("6", "6.0"):
+                    raise CdprError(
+                        f"{path} line {lineno}: 'M669 K{val}': not the Hangprinter kinematics (K6)"
+                    )
+        for letter, val in words[1:]:
+            if letter == "N":
                 n_anchors = _numbers(path, lineno, command, letter, val, 1, integer=True)[0]
             elif letter in ANCHOR_LETTERS:
                 anchors[letter] = _numbers(path, lineno, command, letter, val, 3)
     if kinematics is None:
         raise CdprError(f"{path}: no 'M669 K6' line (RepRapFirmware's Hangprinter kinematics)")
-    if kinematics[1] not in ("6", "6.0"):
-        raise CdprError(
-            f"{path} line {kinematics[0]}: 'M669 K{kinematics[1]}': not the Hangprinter kinematics (K6)"
-        )
     n = n_anchors or 4
     if not 3 <= n <= len(ANCHOR_LETTERS):
         raise CdprError(f"{path}: 'M669 N{n}': a Hangprinter has 3 to {len(ANCHOR_LETTERS)} anchors")
