@@ -516,6 +516,10 @@ def cmd_compensate(args):
 
         q, q_nw = drum_angles(robot, res["L0"][:1])
         out["q"], out["q_no_winch"] = q[0].tolist(), q_nw[0].tolist()
+    if any(p is not None for p in robot.spools):
+        from cdpr.models.drive import spool_motor_angles  # lazy: robots with spools only
+
+        out["motor_deg"] = spool_motor_angles(robot, res["L0"][:1])[0].tolist()
     if args.json:
         print(json.dumps(io.clean_json(out), indent=2))
         return
@@ -532,6 +536,9 @@ def cmd_compensate(args):
     if "q" in out:
         rows = [r + [f"{a:.6f}", f"{b:.6f}"] for r, a, b in zip(rows, out["q"], out["q_no_winch"])]
         headers += ["drum angle q [rad]", "q neglecting the winch [rad]"]
+    if "motor_deg" in out:
+        rows = [r + [f"{a:.2f}"] for r, a in zip(rows, out["motor_deg"])]
+        headers += ["motor angle [deg] (spool)"]
     print(_table(rows, headers))
     check = "the robot with --actual-E-cables" if actual is not None else "the same robot"
     print(
@@ -561,6 +568,10 @@ def _compensate_pose_report(args, robot, res, engine):
         "dphi": float(res["dphi"][0]) if ok else None,
         "engine": engine,
     }
+    if ok and any(p is not None for p in robot.spools):
+        from cdpr.models.drive import spool_motor_angles  # lazy: robots with spools only
+
+        out["motor_deg"] = spool_motor_angles(robot, res["L0"][:1])[0].tolist()
     if args.json:
         print(json.dumps(io.clean_json(out), indent=2))
         return
@@ -573,7 +584,11 @@ def _compensate_pose_report(args, robot, res, engine):
     rows = [
         [str(i + 1), f"{L:.6f}", f"{t:.2f}"] for i, (L, t) in enumerate(zip(out["lengths"], out["tensions"]))
     ]
-    print(_table(rows, ["cable", "rest length L0 [m]", "planned tension [N]"]))
+    headers = ["cable", "rest length L0 [m]", "planned tension [N]"]
+    if "motor_deg" in out:
+        rows = [r + [f"{a:.2f}"] for r, a in zip(rows, out["motor_deg"])]
+        headers += ["motor angle [deg] (spool)"]
+    print(_table(rows, headers))
     print(
         f"status: {out['status']}; the platform settles {out['dp_norm']:.3g} m and {out['dphi']:.3g} rad from the pose"
     )

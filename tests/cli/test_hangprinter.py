@@ -257,3 +257,33 @@ def test_motor_deg_needs_spools(capsys):
         capsys,
     )
     assert code == 2 and "need spool winches" in err
+
+
+def test_compensate_motor_angles_put_the_mover_at_the_point(capsys):
+    """compensate plans tensions (>= 1 N, below the 70 N of the HP4 file) and gives the motor angles
+    of their rest lengths through the spools; commanding those angles, the physical equilibrium is
+    the desired point with the planned tensions (the chain closes through the spool map both ways)."""
+    at = ["0.1", "-0.2", "0.5"]
+    code, out, err = run(["compensate", "--robot", HP4, "--at", *at, "--t-min", "1", "--json"], capsys)
+    assert code == 0, err
+    plan = json.loads(out)
+    assert plan["status"] == "ok" and len(plan["motor_deg"]) == 4
+    code, out, err = run(
+        [
+            "point",
+            "--robot",
+            HP4,
+            "--at",
+            *at,
+            "--redundancy",
+            "physical",
+            "--motor-deg",
+            *map(str, plan["motor_deg"]),
+            "--json",
+        ],
+        capsys,
+    )
+    assert code == 0, err
+    got = json.loads(out)
+    assert got["status"] == "ok" and got["dp_norm"] < 1e-9
+    assert got["tensions"] == pytest.approx(plan["tensions"], abs=1e-6)
