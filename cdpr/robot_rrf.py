@@ -92,9 +92,9 @@ def parse_rrf(path):
     Returns
     -------
     dict
-        ``anchors_mm`` (list of m [x, y, z] [mm]); ``given``: the M666 values found, by letter
-        (Q [mm], W [kg], S [N]: floats; R [mm], X [N], Y [mm]: lists of m floats; U, O, L, H: lists
-        of m ints).
+        ``anchors_mm``: the m anchors (x, y, z) in mm; ``given``: the M666 values found, by
+        letter: Q (mm), W (kg), S (N) floats; R (mm), X (N), Y (mm) lists of m floats; U, O, L, H
+        lists of m ints.
 
     Raises
     ------
