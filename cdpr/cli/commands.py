@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import json
 import os
+import sys
 import time
 
 import numpy as np
@@ -826,8 +827,6 @@ def cmd_import_rrf(args):
     """``cdpr import rrf``: a Hangprinter robot file from a RepRapFirmware configuration's M669 K6 and
     M666 lines (``cdpr.robot_rrf``), validated; the header and one stderr line name every value
     that did not come from the configuration."""
-    import sys
-
     import yaml  # lazy: yaml, for this command only
 
     # lazy: the importer, for this command only
@@ -852,8 +851,6 @@ def cmd_import_rrf(args):
 def _export(args, make):
     """Run an export (``make(robot)`` -> (text, warnings)): warnings on stderr, the text to --out or
     standard output."""
-    import sys
-
     robot = load_robot(args.robot)
     if args.out:
         io.check_output(args.out, (os.path.splitext(args.out)[1],))  # any name: the folder is checked
