@@ -22,8 +22,19 @@ the physics a schema cannot express (h >= r_p, distinct anchors, ...).
 Spatial robots (docs/spatial.md): ``B_m`` per cable is the attachment point b_i in the platform
 frame (default [0, 0, 0]), ``platform.com_m`` the centre of mass c in the platform frame (default
 [0, 0, 0]), ``pulley.zero`` (perpendicular to ``axis``) the zero of the reported swivel angle. A
-robot with every b_i = 0, c = 0 and every axis +z is a *suspended point-mass* robot, today's model:
-only there are anchors required above the floor and not collinear seen from above.
+robot with every b_i = 0, c = 0, every axis +z and every anchor above the floor is a *suspended
+point-mass* robot, today's model: only there are anchors required not collinear seen from above.
+The floor is ``frame: {floor_z_m: ...}`` (default: 0 when every anchor lies above z = 0, else the
+lowest anchor's height); a point mass with anchors at or below it (a Hangprinter: three low
+anchors, one on the ceiling) is solved as the rigid platforms are.
+
+Winches: ``winch:`` (per robot, or per cable over the robot's keys) is the Métillon drum (Table 1
+keys, ``kind: drum`` or no kind) or a spool (``kind: spool``: ``spool_radius_m``,
+``buildup_factor_m``, ``mechanical_advantage``, ``lines_per_spool``, ``motor_gear_teeth``,
+``spool_gear_teeth``; RepRapFirmware's Hangprinter M666 R Q U O L H, ``cdpr.models.winch``). A
+spool's line runs U times between anchor and platform: the cable is U strands of the line whose
+material ``cable:`` describes (axial stiffness U E S), and its tension (the force on the platform,
+``max_tension_N`` included) is U times the line's.
 """
 
 from __future__ import annotations
@@ -155,6 +166,136 @@ def load_winch_params(path):
     return params_from_mapping(read_yaml(path), path)
 
 
+#: The keys of a spool winch (``winch: {kind: spool, ...}``) -> (SpoolParams field, unit, default);
+#: None: required. The M666 letter of RepRapFirmware's Hangprinter kinematics in the comment.
+SPOOL_KEYS = {
+    "spool_radius_m": ("r0", "m", None),  # R (mm there): the spool radius with the mover at the origin
+    "buildup_factor_m": ("Q", "m", 0.0),  # Q (mm there): r^2 = r0^2 - O Q s
+    "mechanical_advantage": ("U", DIMENSIONLESS, 1),  # U: strands between anchor and mover
+    "lines_per_spool": ("lines_per_spool", DIMENSIONLESS, 1),  # O
+    "motor_gear_teeth": ("motor_teeth", DIMENSIONLESS, 1),  # L
+    "spool_gear_teeth": ("spool_teeth", DIMENSIONLESS, 1),  # H
+}
+#: The integer keys of a spool (counts of strands, lines and teeth).
+SPOOL_INTEGER_KEYS = ("mechanical_advantage", "lines_per_spool", "motor_gear_teeth", "spool_gear_teeth")
+
+
+@dataclasses.dataclass(frozen=True)
+class SpoolParams:
+    """A spool winch (RepRapFirmware's Hangprinter kinematics, M666 R Q U O L H; the equations are in
+    ``cdpr.models.winch``): r0 spool radius with the mover at the origin [m]; Q buildup factor [m]
+    (the squared radius drops by O Q per metre of released line); U mechanical advantage (the line
+    runs U times between anchor and mover: U strands, so the cable's axial stiffness is U E S and the
+    spool releases U times the change of the rest length); lines_per_spool O; motor_teeth L and
+    spool_teeth H of the gears (the motor turns H / L times per spool turn)."""
+
+    r0: float
+    Q: float = 0.0
+    U: int = 1
+    lines_per_spool: int = 1
+    motor_teeth: int = 1
+    spool_teeth: int = 1
+
+
+def spool_from_mapping(data, source, key="", partial=False):
+    """SpoolParams from a robot file's ``winch: {kind: spool, ...}`` mapping (keys of ``SPOOL_KEYS``:
+    spool_radius_m required, buildup_factor_m default 0, mechanical_advantage, lines_per_spool,
+    motor_gear_teeth, spool_gear_teeth default 1). Errors name ``source`` and ``key``.
+
+    Parameters
+    ----------
+    data : dict
+        The mapping, ``kind: spool`` included; lengths [m] as numbers or strings with units.
+    source : str
+        Name of the file for error messages.
+    key : str
+        Dotted place of the mapping in that file.
+    partial : bool
+        A robot's default ``winch:`` that its cables complete: spool_radius_m may be absent (the
+        radius is then 1 m, a placeholder; each cable's merged mapping is checked in full).
+
+    Returns
+    -------
+    SpoolParams
+
+    Raises
+    ------
+    ConfigError
+        For an unknown or missing key, a wrong unit, a radius <= 0, a buildup < 0 or a count that is
+        not a positive integer.
+    """
+    prefix = f"{key}." if key else ""
+    values = {}
+    for k, val in data.items():
+        if k == "kind":
+            continue
+        if k not in SPOOL_KEYS:
+            raise ConfigError(
+                source,
+                prefix + str(k),
+                f"unknown key of a spool winch; allowed: kind, {', '.join(SPOOL_KEYS)}",
+            )
+        field, dim, _ = SPOOL_KEYS[k]
+        if k in SPOOL_INTEGER_KEYS:
+            if isinstance(val, bool) or not isinstance(val, (int, float)) or val != int(val) or val < 1:
+                raise ConfigError(source, prefix + k, f"must be a positive integer (a count), got {val!r}")
+            values[field] = int(val)
+            continue
+        v = quantity(val, dim, source, prefix + k)
+        if not math.isfinite(v) or v < 0 or (v == 0 and field == "r0"):
+            word = "strictly positive" if field == "r0" else "non-negative"
+            raise ConfigError(source, prefix + k, f"must be {word} ({dim}), got {val!r}")
+        values[field] = v
+    if "r0" not in values and partial:
+        values["r0"] = 1.0
+    if "r0" not in values:
+        raise ConfigError(source, prefix + "spool_radius_m", "missing required key of a spool winch")
+    return SpoolParams(**values)
+
+
+def spool_mapping(p):
+    """A SpoolParams as the robot file's ``winch:`` mapping (``kind: spool`` and plain SI numbers),
+    the inverse of ``spool_from_mapping``.
+
+    Parameters
+    ----------
+    p : SpoolParams
+
+    Returns
+    -------
+    dict
+    """
+    out = {"kind": "spool"}
+    for k, (field, _, _) in SPOOL_KEYS.items():
+        v = getattr(p, field)
+        out[k] = int(v) if k in SPOOL_INTEGER_KEYS else float(v)
+    return out
+
+
+def _winch_of(w, default, source, key, partial=False):
+    """A cable's winch from its ``winch:`` mapping ``w`` merged over the robot's ``default``: a
+    WinchParams (the Métillon drum, ``kind: drum`` or no kind) or a SpoolParams (``kind: spool``).
+    A cable whose kind differs from the default's takes none of the default's keys."""
+    if not isinstance(w, dict):
+        raise ConfigError(source, key, "expected a mapping of winch parameters")
+    kind = w.get("kind", (default or {}).get("kind", "drum"))
+    merged = dict(w)
+    if (default or {}).get("kind", "drum") == kind:
+        merged = {**(default or {}), **w}
+    if kind not in WINCH_KINDS:
+        raise ConfigError(
+            source, key + ".kind", f"unknown winch kind {kind!r}; allowed: {' | '.join(WINCH_KINDS)}"
+        )
+    if kind == "spool":
+        return spool_from_mapping(merged, source, key, partial=partial)
+    merged.pop("kind", None)
+    return params_from_mapping(merged, source, key)
+
+
+#: The kinds of winch a robot file may give (``winch: {kind: ...}``; default drum).
+WINCH_KINDS = ("drum", "spool")
+
+
 @dataclasses.dataclass(frozen=True)
 class Pulley:
     """Pulley of one cable: kind fixed | SR | DR, lever arm h [m], sheave radius r_p [m], swivel axis
@@ -192,6 +333,14 @@ class Cable:
     material: CableMaterial
     winch: object = None  #: WinchParams of the drum that pays the cable out, or None (no winch model)
     B: tuple = (0.0, 0.0, 0.0)  #: attachment point b_i in the platform frame [m]
+    spool: object = (
+        None  #: SpoolParams of the spool that pays the cable out (``winch: {kind: spool}``), or None
+    )
+
+    @property
+    def strands(self):
+        """Strands of line between anchor and platform: the spool's mechanical advantage U, else 1."""
+        return 1 if self.spool is None else self.spool.U
 
 
 @dataclasses.dataclass(frozen=True)
@@ -216,7 +365,8 @@ class CableArrays(NamedTuple):
 
     A (m, 3) [m]; kind (m,) int8 codes (0 fixed, 1 SR, 2 DR); h, r_p, d (m,) [m]; inward (m, 2)
     horizontal unit vector from A_i toward the anchors' centroid (the pulley plane used when P is
-    on the vertical through A_i); E (m,) [Pa]; S (m,) [m^2]; ES (m,) [N]; T_a (m,) [N].
+    on the vertical through A_i); E (m,) [Pa]; S (m,) [m^2] (U S for the U strands of a spool,
+    ``Cable.strands``); ES (m,) [N]; T_a (m,) [N].
 
     Spatial fields: axis (m, 3) unit swivel axes k_i; frame (m, 3, 3) rows i_i, j_i, k_i of each
     pulley's frame (i_i = ``zero``, j_i = k_i x i_i; the identity for axis +z without ``zero``);
@@ -286,6 +436,17 @@ class Robot:
     cables: tuple
     platform: Platform
     source: str = "<dict>"
+    floor_z_m: float | None = (
+        None  #: the robot file's ``frame.floor_z_m`` [m]; None: the default (``floor_z``)
+    )
+
+    @cached_property
+    def floor_z(self):
+        """Height of the floor [m]: the robot file's ``frame.floor_z_m``, by default 0 when every
+        anchor lies above z = 0, else the lowest anchor's height (the bottom of the frame box)."""
+        if self.floor_z_m is not None:
+            return float(self.floor_z_m)
+        return float(min(0.0, min(c.A[2] for c in self.cables)))
 
     @property
     def m(self):
@@ -316,7 +477,8 @@ class Robot:
         f2[has_zero] = (1.0, 0.0)
         inward = np.where(vertical[:, None], inward, f2)
         E = np.array([c.material.E for c in self.cables], dtype=float)
-        S = np.array([c.material.S for c in self.cables], dtype=float)
+        # U strands of a spool's line share the load: the cable's cross-section is U S (``Cable.strands``)
+        S = np.array([c.material.S * c.strands for c in self.cables], dtype=float)
         return CableArrays(
             A=A,
             kind=np.array([KIND_CODE[c.pulley.kind] for c in self.cables], dtype=np.int8),
@@ -343,10 +505,15 @@ class Robot:
     @cached_property
     def suspended_point_mass(self):
         """True for today's model: a point-mass platform under pulleys whose swivel axes are +z (and
-        no ``zero`` given). Accessibility (hull, lowest anchor), the floor and collinearity checks
-        and paper mode (3 of m) apply to these robots only."""
-        return self.point_mass and all(
-            c.pulley.axis == (0.0, 0.0, 1.0) and c.pulley.zero is None for c in self.cables
+        no ``zero`` given), every anchor above the floor (``floor_z``): the platform hangs below its
+        anchors. Accessibility (hull, lowest anchor), the floor and collinearity checks and paper
+        mode (3 of m) apply to these robots only; a point mass with anchors at or below the floor
+        (a Hangprinter) is solved as the rigid platforms are (a pose is inaccessible only where no
+        equilibrium exists)."""
+        return (
+            self.point_mass
+            and all(c.pulley.axis == (0.0, 0.0, 1.0) and c.pulley.zero is None for c in self.cables)
+            and all(c.A[2] > self.floor_z for c in self.cables)
         )
 
     # Short names for the arrays most models use.
@@ -376,8 +543,13 @@ class Robot:
 
     @property
     def winches(self):
-        """Each cable's WinchParams, or None where the robot file gives no winch."""
+        """Each cable's WinchParams (a Métillon drum), or None where the robot file gives no drum."""
         return tuple(c.winch for c in self.cables)
+
+    @property
+    def spools(self):
+        """Each cable's SpoolParams (``winch: {kind: spool}``), or None where it has no spool."""
+        return tuple(c.spool for c in self.cables)
 
     def material_summary(self):
         """'E = 102.2 GPa' when every cable has the same modulus, else the list per cable."""
@@ -585,7 +757,7 @@ def robot_from_dict(data, source="<dict>"):
     default_dead = data.get("dead_length_m", 0.0)
     default_winch = data.get("winch")
     if default_winch is not None:
-        ok(params_from_mapping, default_winch, source, "winch")
+        ok(_winch_of, default_winch, None, source, "winch", partial=True)
     cables = []
     for i, c in enumerate(data["cables"]):
         key = f"cables[{i}]"
@@ -605,15 +777,14 @@ def robot_from_dict(data, source="<dict>"):
         winch = (
             None
             if w is None
-            else ok(
-                params_from_mapping,
-                {**(default_winch or {}), **w},
-                source,
-                key + ".winch" if "winch" in c else "winch",
-            )
+            else ok(_winch_of, w, default_winch, source, key + ".winch" if "winch" in c else "winch")
         )
+        spool = winch if isinstance(winch, SpoolParams) else None
+        winch = None if spool is not None else winch
         if pulley is not None and material is not None:
-            cables.append(Cable(A=A, pulley=pulley, dead_length=dead, material=material, winch=winch, B=B))
+            cables.append(
+                Cable(A=A, pulley=pulley, dead_length=dead, material=material, winch=winch, B=B, spool=spool)
+            )
     for (i, a), (j, b) in itertools.combinations(enumerate(cables), 2):
         if np.allclose(a.A, b.A, atol=1e-9) and np.allclose(a.B, b.B, atol=1e-9):
             problems.append(
@@ -626,16 +797,15 @@ def robot_from_dict(data, source="<dict>"):
             )
     raise_problems(source, problems)
     name = data.get("name", Path(str(source)).stem)
-    robot = Robot(name=name, cables=tuple(cables), platform=platform, source=str(source))
-    if robot.suspended_point_mass:
-        for i, c in enumerate(cables):
-            if c.A[2] <= 0.0:
-                raise ConfigError(
-                    source,
-                    f"cables[{i}].A_m",
-                    "the anchor of a suspended point-mass robot must lie above the floor z = 0 (the platform "
-                    f"hangs below it), got z = {c.A[2]:g} m",
-                )
+    floor = (data.get("frame") or {}).get("floor_z_m")
+    if floor is not None:
+        floor = quantity(floor, "m", source, "frame.floor_z_m")
+        if not math.isfinite(floor):
+            raise ConfigError(source, "frame.floor_z_m", f"must be a finite height [m], got {floor!r}")
+    robot = Robot(name=name, cables=tuple(cables), platform=platform, source=str(source), floor_z_m=floor)
+    if (
+        robot.suspended_point_mass
+    ):  # every anchor above the floor (a point mass with one at or below is not suspended)
         xy = np.array([c.A[:2] for c in cables])
         centred = xy - xy.mean(axis=0)
         if np.linalg.matrix_rank(centred, tol=1e-9) < 2:

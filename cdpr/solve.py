@@ -161,7 +161,7 @@ def solve(
             res = compiled_subsets.solve_points_fast(robot, p, threads=threads, **options)
         else:
             res = solve_points(robot, p, method=method, **options)
-        return mark_below_floor(res, p) if robot.suspended_point_mass else res
+        return mark_below_floor(res, p, robot.floor_z) if robot.suspended_point_mass else res
     _check_physical(method, L)
     engine = check_engine(engine, "newton")
     if _fast_point(robot, p, rotvec):
@@ -171,12 +171,12 @@ def solve(
             res = compiled_equilibrium.solve_points(robot, p, L0=L0, threads=threads, **options)
         else:
             res = point_keys(equilibrium.solve(robot, p, L0=L0, **options))
-        return mark_below_floor(res, p)
+        return mark_below_floor(res, p, robot.floor_z)
     if engine == "compiled":
         res = compiled_equilibrium.solve(robot, p, rotvec, L0=L0, threads=threads, **options)
     else:
         res = equilibrium.solve(robot, p, rotvec, L0=L0, **options)
-    return mark_below_floor(res, p) if robot.suspended_point_mass else res
+    return mark_below_floor(res, p, robot.floor_z) if robot.suspended_point_mass else res
 
 
 def solve_batch(
@@ -226,7 +226,9 @@ def solve_batch(
             res = compiled_equilibrium.solve_batch(robots, p, rotvec, L0=L0, threads=threads, **options)
         else:
             res = equilibrium.solve_batch(robots, p, rotvec, L0=L0, **options)
-        return [mark_below_floor(r, p) if rk.suspended_point_mass else r for r, rk in zip(res, robots)]
+        return [
+            mark_below_floor(r, p, rk.floor_z) if rk.suspended_point_mass else r for r, rk in zip(res, robots)
+        ]
     if redundancy == "physical":
         if L is not None:
             raise CdprError("physical mode commands rest lengths L0, not total lengths L")
@@ -242,7 +244,7 @@ def solve_batch(
             res = compiled_subsets.solve_points_batch(robots, p, L, threads=threads, P0=P0)
         else:
             res = [solve_points(r, p, method="newton", L=L, P0=P) for r, P in zip(robots, starts)]
-    return [mark_below_floor(r, p) for r in res]
+    return [mark_below_floor(r, p, rk.floor_z) for r, rk in zip(res, robots)]
 
 
 def sensitivities(

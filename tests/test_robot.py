@@ -231,10 +231,20 @@ def test_axis_and_zero_take_plain_numbers_written_as_strings(tmp_path):
     assert (p.axis, p.zero) == ((0.0, 0.0, 1.0), (1.0, 0.0, 0.0))
 
 
-def test_suspended_point_mass_rules_stay(tmp_path):
+def test_suspended_point_mass_rules_only_for_anchors_above_the_floor(tmp_path):
+    """An anchor at or below the floor (default z = 0) no longer refuses the file: the robot is not a
+    suspended one (issue 40/41: the Hangprinter). With the floor below it, the same robot is
+    suspended again, and a suspended robot's anchors collinear seen from above are still refused."""
     d = base()
     d["cables"][0]["A_m"] = [-2.5, -2.5, 0.0]
-    with pytest.raises(ConfigError, match="above the floor"):
+    r = load_robot(write(tmp_path, d))
+    assert r.floor_z == 0.0 and not r.suspended_point_mass
+    d["frame"] = {"floor_z_m": -1.0}
+    r = load_robot(write(tmp_path, d))
+    assert r.floor_z == -1.0 and r.suspended_point_mass
+    for i, c in enumerate(d["cables"]):
+        c["A_m"] = [float(i), float(i), 5.0]
+    with pytest.raises(ConfigError, match="collinear seen from above"):
         load_robot(write(tmp_path, d))
 
 

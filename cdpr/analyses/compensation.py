@@ -215,7 +215,7 @@ def compensated_pose(
     Returns
     -------
     dict
-        As ``solve_physical`` (at poses ``equilibrium.solve``), plus L0 (N, m) [m],
+        As ``solve.solve`` in physical mode, plus L0 (N, m) [m],
         t_planned (N, m) [N] and ``statuses`` (``COMP_STATUSES``): status ``infeasible`` (P_s, dp,
         t NaN; at poses also rotvec_s and dphi) where no distribution exists.
     """

@@ -195,7 +195,7 @@ def view_position(robot):
     """
     A = robot.A
     if robot.suspended_point_mass:
-        z = 0.3 * (A[:, 2].min() + A[:, 2].max())
+        z = robot.floor_z + 0.3 * (A[:, 2].min() + A[:, 2].max() - 2 * robot.floor_z)
     else:
         box = frame_box(robot)
         z = 0.5 * (box[4] + box[5])

@@ -327,7 +327,7 @@ def check_samples(robot, theta, source="<study>", key="uncertainty.parameters"):
         (E <= 0, "a Young's modulus <= 0"),
         (th[:, [7 * m]] <= 0, "a payload mass <= 0"),
         (d < 0, "a negative dead length"),
-        ((Az <= 0) & robot.suspended_point_mass, "an anchor at or below the floor"),
+        ((Az <= robot.floor_z) & robot.suspended_point_mass, "an anchor at or below the floor"),
         ((r_p < 0) | (h < 0), "a negative lever arm or sheave radius"),
         ((kind == 1) & sized & (h < r_p), "an SR pulley with h < r_p"),
         ((kind == 2) & sized & (h <= r_p), "a DR pulley with h <= r_p"),

@@ -80,9 +80,9 @@ def read_box(path):
 
 def envelope_volume(robot):
     """Volume V_T of the outer envelope [m^3] (Paty 2021 section 3.3.3): the anchors' horizontal
-    convex hull from z = 0 to the lowest anchor height (a 5 m cube for CDPR4, a 54.13 m^3 prism for
-    CDPR3); for a robot that is not a suspended point mass, from min(0, lowest anchor) to the
-    highest anchor (issue 17).
+    convex hull from the floor (``Robot.floor_z``, z = 0 by default) to the lowest anchor height (a
+    5 m cube for CDPR4, a 54.13 m^3 prism for CDPR3); for a robot that is not a suspended point
+    mass, from min(floor, lowest anchor) to the highest anchor (issue 17).
 
     Parameters
     ----------
@@ -97,14 +97,14 @@ def envelope_volume(robot):
     A = robot.A
     area = ConvexHull(A[:, :2]).volume  # the area of a 2-D hull
     if not robot.suspended_point_mass:
-        return float(area * (A[:, 2].max() - min(0.0, A[:, 2].min())))
-    return float(area * A[:, 2].min())
+        return float(area * (A[:, 2].max() - min(robot.floor_z, A[:, 2].min())))
+    return float(area * (A[:, 2].min() - robot.floor_z))
 
 
 def frame_box(robot):
-    """Bounding box of the frame [m]: the anchors' horizontal extent, z from 0 to the lowest anchor
-    (suspended point-mass robots); for every other robot z from min(0, lowest anchor) to the
-    highest anchor (the frame's extent, issue 17).
+    """Bounding box of the frame [m]: the anchors' horizontal extent, z from the floor
+    (``Robot.floor_z``, 0 by default) to the lowest anchor (suspended point-mass robots); for every
+    other robot z from min(floor, lowest anchor) to the highest anchor (the frame's extent, issue 17).
 
     Parameters
     ----------
@@ -114,7 +114,7 @@ def frame_box(robot):
     Returns
     -------
     box : list of 6 float [m]
-        xmin, xmax, ymin, ymax of the joint points, zmin = 0, zmax = the lowest joint height.
+        xmin, xmax, ymin, ymax of the joint points, zmin = the floor, zmax = the lowest joint height.
     """
     lo, hi = robot.A[:, :2].min(axis=0), robot.A[:, :2].max(axis=0)
     if not robot.suspended_point_mass:  # the frame's extent: floor (or lowest anchor) to highest anchor
@@ -124,10 +124,10 @@ def frame_box(robot):
             float(hi[0]),
             float(lo[1]),
             float(hi[1]),
-            float(min(0.0, z.min())),
+            float(min(robot.floor_z, z.min())),
             float(z.max()),
         ]
-    return [float(lo[0]), float(hi[0]), float(lo[1]), float(hi[1]), 0.0, float(robot.A[:, 2].min())]
+    return [float(lo[0]), float(hi[0]), float(lo[1]), float(hi[1]), robot.floor_z, float(robot.A[:, 2].min())]
 
 
 def cell_centres(lo, hi, n):

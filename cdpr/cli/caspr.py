@@ -1,5 +1,7 @@
-"""``cdpr import caspr``: its options (the command is ``cdpr.cli.commands.cmd_import_caspr``, which
-builds a robot file from CASPR's bodies and cables XML with ``cdpr.robot_import``).
+"""``cdpr import caspr | rrf`` and ``cdpr export rrf | klipper``: their options (the commands are
+``cdpr.cli.commands.cmd_import_caspr``, which builds a robot file from CASPR's bodies and cables XML
+with ``cdpr.robot_import``, and ``cmd_import_rrf``, ``cmd_export_rrf``, ``cmd_export_klipper`` with
+``cdpr.robot_rrf``: a Hangprinter from and to RepRapFirmware's M669/M666 lines, and to Klipper).
 
 Standard library and ``cdpr.cli.options`` only: ``cdpr.cli.parser`` registers it for ``cdpr --help``.
 """
@@ -10,8 +12,12 @@ from cdpr.cli.options import Parser, non_negative, positive
 
 
 def add_parser(sub):
-    """Register ``import caspr`` on the command line's subparsers ``sub``."""
-    sp = sub.add_parser("import", help="write a robot file from another tool's model (CASPR)")
+    """Register ``import caspr``, ``import rrf``, ``export rrf`` and ``export klipper`` on the command
+    line's subparsers ``sub``."""
+    sp = sub.add_parser(
+        "import",
+        help="write a robot file from another tool's model (CASPR) or a firmware's configuration (RepRapFirmware)",
+    )
     tools = sp.add_subparsers(dest="tool", required=True, parser_class=Parser)
     c = tools.add_parser("caspr", help="single-link spatial CASPR model: X_bodies.xml + X_cables.xml")
     c.add_argument("--bodies", required=True, metavar="FILE", help="CASPR bodies file (X_bodies.xml)")
@@ -26,3 +32,28 @@ def add_parser(sub):
         "--dead-length", type=non_negative, default=0.0, metavar="M", help="dead length d (not in CASPR)"
     )
     c.set_defaults(run=("cdpr.cli.commands", "cmd_import_caspr"))
+    r = tools.add_parser(
+        "rrf", help="Hangprinter robot from a RepRapFirmware configuration (M669 K6 anchors, M666 spools)"
+    )
+    r.add_argument("--config", required=True, metavar="FILE", help="RepRapFirmware configuration (config.g)")
+    r.add_argument("--out", required=True, metavar="FILE", help="robot YAML file to write")
+    r.add_argument("--name", metavar="NAME", help="the robot's name (default: the configuration's file stem)")
+    r.set_defaults(run=("cdpr.cli.commands", "cmd_import_rrf"))
+    sp = sub.add_parser("export", help="a robot file as a firmware's configuration (RepRapFirmware, Klipper)")
+    tools = sp.add_subparsers(dest="tool", required=True, parser_class=Parser)
+    for tool, what in (
+        ("rrf", "RepRapFirmware's M669 K6 and M666 lines of a Hangprinter robot"),
+        (
+            "klipper",
+            "Klipper's [printer] kinematics: winch and [stepper_a..] anchor_x/y/z of a Hangprinter robot",
+        ),
+    ):
+        e = tools.add_parser(tool, help=what)
+        e.add_argument(
+            "--robot",
+            required=True,
+            metavar="FILE",
+            help="robot YAML file (a Hangprinter: spools, fixed pulleys)",
+        )
+        e.add_argument("--out", metavar="FILE", help="file to write (default: standard output)")
+        e.set_defaults(run=("cdpr.cli.commands", f"cmd_export_{tool}"))

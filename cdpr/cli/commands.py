@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import json
 import os
+import sys
 import time
 
 import numpy as np
@@ -162,6 +163,11 @@ def cmd_inverse(args):
     a = robot.arrays
     sw = swivel(B, a.A, None if robot.suspended_point_mass else a.frame, a.inward, per_cable=True)
     over = st.gamma > 1.5 * np.pi
+    motor = None
+    if any(p is not None for p in robot.spools):
+        from cdpr.models.drive import spool_motor_angles  # lazy: robots with spools only
+
+        motor = spool_motor_angles(robot, lts)  # the encoder angles that command L_TS (the spool model)
     if args.points or args.out:
         import pandas as pd  # lazy: a table of points only
 
@@ -182,6 +188,8 @@ def cmd_inverse(args):
             )
             if not robot.suspended_point_mass:
                 cols.update({f"swivel{c}": sw[:, i], f"wrap_over_270{c}": over[:, i]})
+            if motor is not None:
+                cols[f"motor_deg{c}"] = motor[:, i]
         df = pd.DataFrame(cols)
         _write_table(df, args.out)
         print(
@@ -205,6 +213,7 @@ def cmd_inverse(args):
             "swivel": float(sw[0, i]),
             "wrap": float(st.gamma[0, i]),
             "wrap_over_270": bool(over[0, i]),
+            **({} if motor is None else {"motor_deg": float(motor[0, i])}),
         }
         for i in range(robot.m)
     ]
@@ -227,6 +236,7 @@ def cmd_inverse(args):
             _vec(o["D"]),
             "INSIDE" if o["inside"] else "",
         ]
+        + ([] if motor is None else [f"{o['motor_deg']:.2f}"])
         for o in out
     ]
     print(
@@ -245,7 +255,8 @@ def cmd_inverse(args):
                 "K [m]",
                 "D [m]",
                 "sheave",
-            ],
+            ]
+            + ([] if motor is None else ["motor [deg] for L_TS (spool)"]),
         )
     )
     if any(o["inside"] for o in out):
@@ -285,8 +296,15 @@ def cmd_point(args):
     P = _points(args)
     engine = check_engine(args.engine, args.method, one_shot=len(P))
     L0 = None
-    if args.lengths is not None and args.q is not None:
-        raise CdprError("give the commanded cables either as --lengths or as drum angles --q, not both")
+    given = [
+        o
+        for o, v in (("--lengths", args.lengths), ("--q", args.q), ("--motor-deg", args.motor_deg))
+        if v is not None
+    ]
+    if len(given) > 1:
+        raise CdprError(
+            f"give the commanded cables one way: rest lengths --lengths, drum angles --q or motor angles --motor-deg, not {' and '.join(given)}"
+        )
     if args.lengths is not None:
         if len(args.lengths) != robot.m:
             raise CdprError(f"--lengths needs one rest length per cable ({robot.m}), got {len(args.lengths)}")
@@ -297,6 +315,19 @@ def cmd_point(args):
         if len(args.q) != robot.m:
             raise CdprError(f"--q needs one drum angle per cable ({robot.m}), got {len(args.q)}")
         L0 = rest_lengths_from_angles(robot, np.array([args.q]), model="winch")[0]
+    if args.motor_deg is not None:
+        from cdpr.models.drive import spool_rest_lengths  # lazy: --motor-deg only
+
+        if len(args.motor_deg) != robot.m:
+            raise CdprError(
+                f"--motor-deg needs one motor angle per cable ({robot.m}), got {len(args.motor_deg)}"
+            )
+        L0 = spool_rest_lengths(robot, np.array([args.motor_deg]))[0]
+        if not np.isfinite(L0).all():
+            bad = [i + 1 for i in np.flatnonzero(~np.isfinite(L0))]
+            raise CdprError(
+                f"--motor-deg: the spools of cables {bad} cannot pay out that much line (the spool would be empty)"
+            )
     rv = _rotvec(args, len(P))
     if args.sensitivities:
         if L0 is not None and args.redundancy != "physical":
@@ -483,6 +514,10 @@ def cmd_compensate(args):
 
         q, q_nw = drum_angles(robot, res["L0"][:1])
         out["q"], out["q_no_winch"] = q[0].tolist(), q_nw[0].tolist()
+    if any(p is not None for p in robot.spools):
+        from cdpr.models.drive import spool_motor_angles  # lazy: robots with spools only
+
+        out["motor_deg"] = spool_motor_angles(robot, res["L0"][:1])[0].tolist()
     if args.json:
         print(json.dumps(io.clean_json(out), indent=2))
         return
@@ -499,6 +534,9 @@ def cmd_compensate(args):
     if "q" in out:
         rows = [r + [f"{a:.6f}", f"{b:.6f}"] for r, a, b in zip(rows, out["q"], out["q_no_winch"])]
         headers += ["drum angle q [rad]", "q neglecting the winch [rad]"]
+    if "motor_deg" in out:
+        rows = [r + [f"{a:.2f}"] for r, a in zip(rows, out["motor_deg"])]
+        headers += ["motor angle [deg] (spool)"]
     print(_table(rows, headers))
     check = "the robot with --actual-E-cables" if actual is not None else "the same robot"
     print(
@@ -528,6 +566,10 @@ def _compensate_pose_report(args, robot, res, engine):
         "dphi": float(res["dphi"][0]) if ok else None,
         "engine": engine,
     }
+    if ok and any(p is not None for p in robot.spools):
+        from cdpr.models.drive import spool_motor_angles  # lazy: robots with spools only
+
+        out["motor_deg"] = spool_motor_angles(robot, res["L0"][:1])[0].tolist()
     if args.json:
         print(json.dumps(io.clean_json(out), indent=2))
         return
@@ -540,7 +582,11 @@ def _compensate_pose_report(args, robot, res, engine):
     rows = [
         [str(i + 1), f"{L:.6f}", f"{t:.2f}"] for i, (L, t) in enumerate(zip(out["lengths"], out["tensions"]))
     ]
-    print(_table(rows, ["cable", "rest length L0 [m]", "planned tension [N]"]))
+    headers = ["cable", "rest length L0 [m]", "planned tension [N]"]
+    if "motor_deg" in out:
+        rows = [r + [f"{a:.2f}"] for r, a in zip(rows, out["motor_deg"])]
+        headers += ["motor angle [deg] (spool)"]
+    print(_table(rows, headers))
     print(
         f"status: {out['status']}; the platform settles {out['dp_norm']:.3g} m and {out['dphi']:.3g} rad from the pose"
     )
@@ -705,9 +751,9 @@ def cmd_plane(args):
             raise CdprError(
                 f"--z must lie within the frame's height ({lo:g} <= z <= {hi:g} m), got {args.z:g}"
             )
-    elif not 0.0 <= args.z < top:
+    elif not robot.floor_z <= args.z < top:
         raise CdprError(
-            f"--z must lie between the floor and the lowest pulley (0 <= z < {top:g} m), got {args.z:g}"
+            f"--z must lie between the floor and the lowest pulley ({robot.floor_z:g} <= z < {top:g} m), got {args.z:g}"
         )
     t0 = time.perf_counter()
     df = scans.plane(
@@ -772,6 +818,72 @@ def cmd_import_caspr(args):
     with open(args.out, "w", encoding="utf-8") as f:
         f.write(header + yaml.safe_dump(data, sort_keys=False))
     print(f"wrote {args.out}: {robot.m} cables, platform {robot.platform.mass:g} kg")
+
+
+def cmd_import_rrf(args):
+    """``cdpr import rrf``: a Hangprinter robot file from a RepRapFirmware configuration's M669 K6 and
+    M666 lines (``cdpr.robot_rrf``), validated; the header and one stderr line name every value
+    that did not come from the configuration."""
+    import yaml  # lazy: yaml, for this command only
+
+    # lazy: the importer, for this command only
+    from cdpr.robot import robot_from_dict
+    from cdpr.robot_rrf import robot_dict_from_rrf
+
+    io.check_output(args.out, (".yaml", ".yml"))
+    data, assumed = robot_dict_from_rrf(args.config, name=args.name)
+    robot = robot_from_dict(data, source=f"{args.config} (imported)")
+    header = [
+        f"# Imported by `cdpr import rrf` from {os.path.basename(args.config)} (RepRapFirmware, Hangprinter: M669 K6, M666).",
+        "# A point mass on one cable per anchor through fixed pulleys; a spool winch per cable (M666 R Q U O L H);",
+        "# the cable is the U strands of the line (axial stiffness U E S, E S = M666 S); dead length = guy wire / U.",
+    ]
+    if assumed:
+        header.append("# Assumed (not in the configuration): " + "; ".join(assumed) + ".")
+        print("cdpr import rrf: assumed (not in the configuration): " + "; ".join(assumed), file=sys.stderr)
+    io.write_text("\n".join(header) + "\n" + yaml.safe_dump(data, sort_keys=False), args.out)
+    print(f"wrote {args.out}: {robot.m} cables, platform {robot.platform.mass:g} kg")
+
+
+def _export(args, make):
+    """Run an export (``make(robot)`` -> (text, warnings)): warnings on stderr, the text to --out or
+    standard output."""
+    robot = load_robot(args.robot)
+    if args.out:
+        io.check_output(args.out, (os.path.splitext(args.out)[1],))  # any name: the folder is checked
+    text, warnings = make(robot)
+    for w in warnings:
+        print(f"warning: {w}", file=sys.stderr)
+    if args.out:
+        io.write_text(text, args.out)
+        print(f"wrote {args.out}")
+    else:
+        print(text, end="")
+
+
+def cmd_export_rrf(args):
+    """``cdpr export rrf``: RepRapFirmware's M669 and M666 lines of a Hangprinter robot
+    (``cdpr.robot_rrf.rrf_lines``; a per-cable buildup factor is exported as its mean, with a
+    warning)."""
+    from cdpr.robot_rrf import rrf_lines  # lazy: this command only
+
+    def make(robot):
+        lines, warnings = rrf_lines(robot)
+        head = (
+            f"; Hangprinter {robot.name} written by `cdpr export rrf` from {os.path.basename(args.robot)}\n"
+        )
+        return head + "\n".join(lines) + "\n", warnings
+
+    _export(args, make)
+
+
+def cmd_export_klipper(args):
+    """``cdpr export klipper``: Klipper's ``[printer] kinematics: winch`` and ``[stepper_a..]``
+    anchors of a Hangprinter robot (``cdpr.robot_rrf.klipper_text``; Klipper has no buildup model,
+    said on stderr)."""
+    from cdpr.robot_rrf import klipper_text  # lazy: this command only
+
+    _export(args, klipper_text)
 
 
 def cmd_view(args):

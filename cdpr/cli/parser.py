@@ -66,6 +66,14 @@ def build_parser(jobs=True):
         metavar="RAD",
         help="commanded drum angles per cable [rad] (robot with winches; physical mode): mapped to rest lengths by the winch model",
     )
+    sp.add_argument(
+        "--motor-deg",
+        nargs="+",
+        type=finite,
+        metavar="DEG",
+        help="motor angles per cable [deg] from the reference at the origin (robot with spool winches; physical mode): "
+        "mapped to rest lengths by the spool model",
+    )
     sensitivity_options(sp)
     sp.set_defaults(run=("cdpr.cli.commands", "cmd_point"))
     sp = sub.add_parser(

@@ -14,6 +14,15 @@ neglects the exit point's motion commands q_nw (``winch.q_no_winch``, eq. 32). A
 in drum angles realises L0 = d + l_pm(q) with the winch's true geometry; commanding q_nw therefore
 adds the winch's length error δl = k_w (q1 - q_nw) (eq. 31) to the pose error.
 
+A spool winch (``winch: {kind: spool}``, RepRapFirmware's Hangprinter kinematics) is the encoder
+map instead: the motor angle theta_i [deg] turns the spool by phi_i = theta_i L / H, which releases
+s_i = r0 phi_i - O Q phi_i^2 / 4 of line (``winch.released_line``), and the U strands between anchor
+and platform lengthen by s_i / U, so L0_i = L0_ref,i + s_i / U, exactly and in every model (the
+rigid-line model too, where the rest length is the line length). L0_ref,i is the rest length at
+theta = 0, by default the standard model's length L_TS,i with the platform at the origin (the
+Hangprinter's reference: the encoders are zeroed with the mover at the origin, and its firmware
+commands straight lines).
+
 References
 ----------
 Métillon, M., Charron, C., Subrin, K., Caro, S. (2022). Geometrical modelling of a cable-driven
@@ -26,6 +35,7 @@ import numpy as np
 
 from cdpr.errors import CdprError
 from cdpr.models import winch
+from cdpr.models.inverse import L_TS
 
 
 def _winches(robot):
@@ -209,3 +219,110 @@ def commanded_for(robot, L0, tol=1e-13, maxiter=50):
         if not (np.abs(step) > tol).any():  # NaN steps (outside the drum) stop too
             break
     return L
+
+
+# ---- spools (RepRapFirmware's Hangprinter kinematics) --------------------------------------
+def has_spools(robot):
+    """True when every cable of ``robot`` has a spool winch (``winch: {kind: spool}``), False when
+    none has; a robot with spools on some cables only raises CdprError.
+
+    Parameters
+    ----------
+    robot : Robot
+
+    Returns
+    -------
+    bool
+    """
+    sp = robot.spools
+    if all(p is None for p in sp):
+        return False
+    if any(p is None for p in sp):
+        missing = [i + 1 for i, p in enumerate(sp) if p is None]
+        raise CdprError(
+            f"{robot.source}: cables {missing} have no spool; motor angles need a spool on every cable"
+        )
+    return True
+
+
+def spool_reference_lengths(robot):
+    """Rest lengths at motor angle 0 [m]: the standard model's lengths L_TS,i = |A_i - B_i| + d_i with
+    the platform at the origin (Paty 2021 eq. 2, ``inverse.L_TS``), where a Hangprinter's encoders
+    are zeroed.
+
+    Parameters
+    ----------
+    robot : Robot
+
+    Returns
+    -------
+    L0_ref : ndarray (m,) [m]
+    """
+    return np.asarray(L_TS(robot, np.zeros((1, 3))), dtype=float).reshape(-1)[: robot.m]
+
+
+def spool_rest_lengths(robot, motor_deg, L0_ref=None):
+    """Rest lengths that motor angles realise through every cable's spool (``winch.spool_rest_length``).
+
+    .. math:: L_{0,i} = L_{0,ref,i} + \\frac{1}{U_i}\\left(r_{0,i} \\varphi_i
+        - \\frac{O_i Q_i}{4} \\varphi_i^2\\right), \\quad
+        \\varphi_i = \\frac{\\pi}{180} \\theta_i \\frac{L_i}{H_i}
+
+    Parameters
+    ----------
+    robot : Robot
+        Every cable needs a spool.
+    motor_deg : array_like (N, m) [deg]
+        Motor angles relative to the reference, one column per cable (positive: line paid out).
+    L0_ref : array_like (m,) [m], optional
+        Rest lengths at motor angle 0 (default ``spool_reference_lengths``).
+
+    Returns
+    -------
+    L0 : ndarray (N, m) [m]
+        NaN where a spool would be empty.
+    """
+    th = np.atleast_2d(np.asarray(motor_deg, dtype=float))
+    if not has_spools(robot):
+        raise CdprError(f"{robot.source}: motor angles need spool winches (winch: {{kind: spool, ...}})")
+    if th.shape[-1] != robot.m:
+        raise CdprError(f"{robot.m} motor angles needed (one per cable), got {th.shape[-1]}")
+    ref = spool_reference_lengths(robot) if L0_ref is None else np.asarray(L0_ref, dtype=float)
+    out = np.empty(th.shape)
+    for i, p in enumerate(robot.spools):  # one loop per cable, vectorised over samples
+        out[:, i] = winch.spool_rest_length(p, th[:, i], ref[i])
+    return out
+
+
+def spool_motor_angles(robot, L0, L0_ref=None):
+    """Motor angles that give every cable the rest length L0 through its spool, the inverse of
+    ``spool_rest_lengths`` (``winch.spool_motor_angle``).
+
+    .. math:: \\theta_i = \\frac{180}{\\pi} \\frac{H_i}{L_i}
+        \\frac{2 s_i}{r_{0,i} + \\sqrt{r_{0,i}^2 - O_i Q_i s_i}}, \\quad
+        s_i = U_i (L_{0,i} - L_{0,ref,i})
+
+    Parameters
+    ----------
+    robot : Robot
+        Every cable needs a spool.
+    L0 : array_like (N, m) [m]
+        Rest lengths.
+    L0_ref : array_like (m,) [m], optional
+        Rest lengths at motor angle 0 (default ``spool_reference_lengths``).
+
+    Returns
+    -------
+    motor_deg : ndarray (N, m) [deg]
+        NaN where a spool cannot release that much line.
+    """
+    L0 = np.atleast_2d(np.asarray(L0, dtype=float))
+    if not has_spools(robot):
+        raise CdprError(f"{robot.source}: motor angles need spool winches (winch: {{kind: spool, ...}})")
+    if L0.shape[-1] != robot.m:
+        raise CdprError(f"{robot.m} rest lengths needed (one per cable), got {L0.shape[-1]}")
+    ref = spool_reference_lengths(robot) if L0_ref is None else np.asarray(L0_ref, dtype=float)
+    out = np.empty(L0.shape)
+    for i, p in enumerate(robot.spools):
+        out[:, i] = winch.spool_motor_angle(p, L0[:, i], ref[i])
+    return out

@@ -26,13 +26,14 @@ import numpy as np
 
 STATUSES = ("ok", "slack", "over_tension", "inaccessible", "not_converged")
 
-#: The floor of a suspended robot [m]: every anchor lies above it (``cdpr.robot`` checks), and the
-#: platform hangs between it and the pulleys.
+#: The default floor of a suspended robot [m] (``Robot.floor_z``: the robot file's
+#: ``frame.floor_z_m``, 0 by default when every anchor lies above it); the platform hangs between it
+#: and the pulleys.
 FLOOR_Z = 0.0
 
 
-def mark_below_floor(res, p):
-    """Mark the desired points below the floor (z < ``FLOOR_Z``) of a suspended point-mass robot
+def mark_below_floor(res, p, floor_z=FLOOR_Z):
+    """Mark the desired points below the floor (z < ``floor_z``) of a suspended point-mass robot
     ``inaccessible`` in a solver's per-point result, whatever the solver found there: one rule for every command and engine (a
     point under the floor cannot be reached, even where the cable model has an equilibrium).
 
@@ -42,13 +43,15 @@ def mark_below_floor(res, p):
         Per-point arrays of a solver (``status`` and, if present, ``status_code``), changed in place.
     p : array_like, shape (N, 3) [m]
         The desired points.
+    floor_z : float [m]
+        Height of the robot's floor (``Robot.floor_z``).
 
     Returns
     -------
     dict
         ``res``.
     """
-    below = np.asarray(p, dtype=float).reshape(-1, 3)[:, 2] < FLOOR_Z
+    below = np.asarray(p, dtype=float).reshape(-1, 3)[:, 2] < floor_z
     if below.any():
         if "status_code" in res:
             res["status_code"] = np.where(below, STATUSES.index("inaccessible"), res["status_code"]).astype(

@@ -436,3 +436,180 @@ def check_range(p, lpm_from, lpm_to):
             f"at l_pm = {at:.4g} m the drum angle q1 = {float(q1[np.argmax(bad)]):.4g} rad leaves [0, q_max = {p.q_max:g}] rad "
             f"(the cable would be fully coiled or uncoiled): choose l_pm in a range the drum can hold"
         )
+
+
+# ---- the spool winch (RepRapFirmware's Hangprinter kinematics, M666 Q R U O L H) ------------
+# A spool of radius r0 (with the mover at the origin) winds O lines side by side; paying out a line
+# unwinds the wound line's cross-section, so the spool radius r shrinks as line comes off. Line of
+# cross-section a wound on a spool of height h fills an annulus: pi (r0^2 - r^2) h = O a s for the
+# released length s of each of the O lines, i.e. r^2 = r0^2 - O Q s with the buildup factor
+# Q = a / (pi h) [m] (M666 Q; RepRapFirmware's own comment: Q = 0.0078 mm for a 0.5 mm line on an
+# 8 mm high spool). The spool turns by dphi = ds / r, so
+#     phi(s) = integral_0^s ds' / sqrt(r0^2 - O Q s') = 2 (r0 - sqrt(r0^2 - O Q s)) / (O Q),
+# and back s(phi) = r0 phi - O Q phi^2 / 4. This is the model of RepRapFirmware's
+# HangprinterKinematics.cpp (Duet3D/RepRapFirmware, src/Movement/Kinematics; CartesianToMotorSteps
+# and MotorPosToLinePos, with k2 = -U O Q and k0 = 2 (U J H / (2 pi L)) / k2 steps), derived here
+# and written independently.
+def spool_angle(motor_deg, motor_teeth, spool_teeth):
+    """Spool angle from the motor shaft angle through the gears, phi = (pi / 180) theta L / H [rad].
+
+    .. math:: \\varphi = \\frac{\\pi}{180} \\, \\theta_{deg} \\, \\frac{L}{H}
+
+    The motor gear has L teeth and the spool gear H (M666 L and H): the motor turns H / L times per
+    spool turn.
+
+    Parameters
+    ----------
+    motor_deg : float or array_like (...) [deg]
+        Motor shaft angles (the encoder's reading, relative to the reference).
+    motor_teeth : float or array_like [-]
+        Teeth of the motor gear L.
+    spool_teeth : float or array_like [-]
+        Teeth of the spool gear H.
+
+    Returns
+    -------
+    phi : ndarray (...) [rad]
+        Spool angles.
+    """
+    return np.deg2rad(np.asarray(motor_deg, dtype=float)) * np.asarray(motor_teeth, dtype=float) / spool_teeth
+
+
+def motor_degrees(phi, motor_teeth, spool_teeth):
+    """Motor shaft angle of a spool angle, theta = (180 / pi) phi H / L [deg] (inverse of
+    ``spool_angle``).
+
+    .. math:: \\theta_{deg} = \\frac{180}{\\pi} \\, \\varphi \\, \\frac{H}{L}
+
+    Parameters
+    ----------
+    phi : float or array_like (...) [rad]
+        Spool angles.
+    motor_teeth : float or array_like [-]
+        Teeth of the motor gear L.
+    spool_teeth : float or array_like [-]
+        Teeth of the spool gear H.
+
+    Returns
+    -------
+    motor_deg : ndarray (...) [deg]
+        Motor shaft angles.
+    """
+    return np.rad2deg(np.asarray(phi, dtype=float)) * np.asarray(spool_teeth, dtype=float) / motor_teeth
+
+
+def released_line(phi, r0, Q, lines_per_spool=1):
+    """Line released by a spool turned by phi from the origin, with line buildup [m].
+
+    .. math:: s(\\varphi) = r_0 \\varphi - \\frac{O Q}{4} \\varphi^2,
+        \\qquad r(\\varphi) = r_0 - \\frac{O Q}{2} \\varphi
+
+    from r^2 = r0^2 - O Q s and ds = r dphi (module comment above; RepRapFirmware's
+    HangprinterKinematics ``MotorPosToLinePos`` with M666 Q, R, O). Defined while the spool radius
+    stays positive: phi < 2 r0 / (O Q); NaN beyond (the spool would be empty).
+
+    Parameters
+    ----------
+    phi : float or array_like (...) [rad]
+        Spool angles from the reference (positive: line paid out).
+    r0 : float or array_like [m]
+        Spool radius at the reference (mover at the origin; M666 R).
+    Q : float or array_like [m]
+        Buildup factor (M666 Q, given there in mm): the squared radius drops by O Q per metre of
+        released line. Q = 0: a spool of constant radius, s = r0 phi.
+    lines_per_spool : int or array_like [-]
+        Lines wound side by side on the spool, O (M666 O).
+
+    Returns
+    -------
+    s : ndarray (...) [m]
+        Released length of each line (negative when line is wound in).
+    """
+    phi = np.asarray(phi, dtype=float)
+    oq = np.asarray(lines_per_spool, dtype=float) * Q
+    r = r0 - 0.5 * oq * phi  # the spool radius at phi
+    return np.where(r > 0, phi * (r0 - 0.25 * oq * phi), np.nan)
+
+
+def spool_angle_of_line(s, r0, Q, lines_per_spool=1):
+    """Spool angle that releases the length s of line, the inverse of ``released_line`` [rad].
+
+    .. math:: \\varphi(s) = \\frac{2 \\left(r_0 - \\sqrt{r_0^2 - O Q s}\\right)}{O Q}
+        = \\frac{2 s}{r_0 + \\sqrt{r_0^2 - O Q s}}
+
+    (the second form, used here, has no cancellation and holds at Q = 0: phi = s / r0;
+    RepRapFirmware's HangprinterKinematics ``CartesianToMotorSteps``: steps = k0 (sqrt(R^2 + k2 s / U)
+    - R) with k2 = -U O Q). NaN where r0^2 < O Q s (more line than the spool holds).
+
+    Parameters
+    ----------
+    s : float or array_like (...) [m]
+        Released length of each line (negative: wound in).
+    r0 : float or array_like [m]
+        Spool radius at the reference (M666 R).
+    Q : float or array_like [m]
+        Buildup factor (M666 Q).
+    lines_per_spool : int or array_like [-]
+        Lines per spool, O (M666 O).
+
+    Returns
+    -------
+    phi : ndarray (...) [rad]
+        Spool angles.
+    """
+    s = np.asarray(s, dtype=float)
+    disc = r0**2 - np.asarray(lines_per_spool, dtype=float) * Q * s
+    root = np.sqrt(np.where(disc > 0, disc, np.nan))
+    return 2.0 * s / (r0 + root)
+
+
+def spool_rest_length(p, motor_deg, L0_ref):
+    """Rest length of a spool's cable from its motor angle: L0 = L0_ref + s(phi) / U [m].
+
+    .. math:: L_0 = L_{0,ref} + \\frac{1}{U}\\left(r_0 \\varphi - \\frac{O Q}{4}\\varphi^2\\right),
+        \\quad \\varphi = \\frac{\\pi}{180} \\theta_{deg} \\frac{L}{H}
+
+    The line runs U times between anchor and mover (a block-and-tackle of U strands, M666 U), so
+    the anchor-mover rest length changes by the released line / U.
+
+    Parameters
+    ----------
+    p : SpoolParams
+        r0 [m], Q [m], U, O, motor_teeth L, spool_teeth H.
+    motor_deg : float or array_like (...) [deg]
+        Motor angles relative to the reference.
+    L0_ref : float or array_like [m]
+        Rest length at the reference (motor angle 0).
+
+    Returns
+    -------
+    L0 : ndarray (...) [m]
+        NaN where the spool would be empty.
+    """
+    phi = spool_angle(motor_deg, p.motor_teeth, p.spool_teeth)
+    return L0_ref + released_line(phi, p.r0, p.Q, p.lines_per_spool) / p.U
+
+
+def spool_motor_angle(p, L0, L0_ref):
+    """Motor angle that gives a spool's cable the rest length L0, the inverse of
+    ``spool_rest_length`` [deg].
+
+    .. math:: \\theta_{deg} = \\frac{180}{\\pi} \\frac{H}{L}
+        \\frac{2 U (L_0 - L_{0,ref})}{r_0 + \\sqrt{r_0^2 - O Q U (L_0 - L_{0,ref})}}
+
+    Parameters
+    ----------
+    p : SpoolParams
+    L0 : float or array_like (...) [m]
+        Rest lengths.
+    L0_ref : float or array_like [m]
+        Rest length at the reference (motor angle 0).
+
+    Returns
+    -------
+    motor_deg : ndarray (...) [deg]
+        NaN where the spool cannot release that much line.
+    """
+    s = p.U * (np.asarray(L0, dtype=float) - L0_ref)
+    phi = spool_angle_of_line(s, p.r0, p.Q, p.lines_per_spool)
+    return motor_degrees(phi, p.motor_teeth, p.spool_teeth)

@@ -407,11 +407,11 @@ def check_study(st):
     for key, robot in robots.items():
         top = float(robot.A[:, 2].min())
         with _collect(problems):
-            if not 0.0 <= z < top:
+            if not robot.floor_z <= z < top:
                 raise ConfigError(
                     src,
                     "plane.z_m",
-                    f"must lie between the floor and the lowest pulley of robot {key} (0 <= z < {top:g} m), got {z:g}",
+                    f"must lie between the floor and the lowest pulley of robot {key} ({robot.floor_z:g} <= z < {top:g} m), got {z:g}",
                 )
     for key, path in st["trajectories"]["paths"].items():
         if path_robot(st, key) not in robots:

@@ -32,7 +32,7 @@ def files(tmp_path):
     """Helper files some rows refer to as {name}."""
     f = {}
     robot = yaml.safe_load(open(R4))
-    robot["cables"][0]["A_m"] = [-2.5, -2.5, 0.0]
+    robot["frame"] = {"floor_z_m": "2 kg"}
     contents = {
         "floor.yaml": yaml.safe_dump(robot),
         "bad.yaml": "cables: [\n",
@@ -105,7 +105,7 @@ CASES = [  # (argv with {file} placeholders, exit code, fragment of stderr)
     ),
     ("point --robot {missing} --at 0 0 2", 2, "cannot read the file"),
     ("point --robot {malformed} --at 0 0 2", 2, "not valid YAML"),
-    ("point --robot {floor} --at 0 0 2", 2, "above the floor"),
+    ("point --robot {floor} --at 0 0 2", 2, "'frame.floor_z_m'"),
     ("point --robot {R4} --points {pts}", 2, "--points needs --out"),
     ("point --robot {R4} --points {pts_nan} --out {out}", 2, "non-finite coordinate"),
     ("point --robot {R4} --points {pts_cols} --out {out}", 2, "missing column(s) x, y, z"),

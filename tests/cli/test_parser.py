@@ -22,6 +22,7 @@ COMMANDS = {
     "job",
     "calibrate",
     "import",
+    "export",
     "view",
 }
 
@@ -43,6 +44,12 @@ def test_the_commands_are_the_documented_ones():
         ("calibrate", c) for c in ("fit", "check", "plan", "study")
     }
     assert ("import", "caspr") in found
+    assert {p for p in found if p[0] in ("import", "export")} == {
+        ("import", "caspr"),
+        ("import", "rrf"),
+        ("export", "rrf"),
+        ("export", "klipper"),
+    }
 
 
 def test_every_command_runs_a_function_that_exists():

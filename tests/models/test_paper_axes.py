@@ -171,7 +171,7 @@ def test_degm_e_of_one_subset_turns_with_the_robot(pair):
 
 def test_solve_table_on_the_turned_robot(pair):
     """``cdpr.tables.solve_table`` in paper mode on the turned robot: one row per point, the
-    columns of paper mode, the same numbers as ``solve_points_any``."""
+    columns of paper mode, the same numbers as ``solve.solve``."""
     a, _ = pair
     R = rotation("small")
     b = turned(a, R)
