@@ -9,6 +9,7 @@ from cdpr.analyses import calibration as cal
 from cdpr.errors import CdprError, ConfigError
 from cdpr.models.inverse import L_TS
 from cdpr.parameters import calibration_names, select_groups
+from cdpr.pipeline.calibration_files import write_data, write_robot
 
 BOX = [-1.8, 1.8, -1.8, 1.8, 0.8, 3.5]
 
@@ -109,7 +110,7 @@ def test_encoder_data_without_poses_report_the_gauge(cdpr4, tmp_path):
     data = cal.simulate(cdpr4, cdpr4, _poses(rng, 10), offsets=[0.01, -0.02, 0.0, 0.03])
     data.pose[:] = np.nan
     path = tmp_path / "enc.csv"
-    cal.write_data(path, data, cdpr4)
+    write_data(path, data, cdpr4)
     back = cal.read_data(path, cdpr4)
     assert back.encoder and not back.has_pose.any()
     with pytest.raises(
@@ -203,7 +204,7 @@ def test_write_robot_round_trip(cdpr4, tmp_path):
     rng, idx, sd, truth, th = _truth(cdpr4, groups, 8)
     c = cal.fit(cdpr4, cal.simulate(truth, cdpr4, _poses(rng, 30), sigma=2e-4, rng=rng), groups)
     out = tmp_path / "cal.yaml"
-    cal.write_robot(out, c, "m.csv")
+    write_robot(out, c, "m.csv")
     text = out.read_text()
     assert text.startswith("# CDPR4 calibrated by cdpr calibrate fit (exact model) from m.csv")
     back = load_robot(out)

@@ -16,6 +16,7 @@ from cdpr.cli.main import main
 from cdpr.errors import CdprError, ConfigError
 from cdpr.models.drive import has_winches
 from cdpr.parameters import calibration_names, select_groups
+from cdpr.pipeline.calibration_files import write_data
 from cdpr.robot import load_robot
 from tests.analyses.test_calibration6 import COGIRO, _poses, _truth
 from tests.conftest import ROBOTS
@@ -170,7 +171,7 @@ def test_bad_tension_data_is_one_line(cogiro, tmp_path, edit, column, words):
     rng = np.random.default_rng(5)
     data = cal.simulate(cogiro, cogiro, _poses(rng, 3), tensions=True)
     path = tmp_path / "d.csv"
-    cal.write_data(path, data, cogiro)
+    write_data(path, data, cogiro)
     back = cal.read_data(path, cogiro)
     np.testing.assert_array_equal(back.tension, data.tension)
     np.testing.assert_array_equal(back.sigma_t, data.sigma_t)
@@ -188,7 +189,7 @@ def test_pose_less_rows_need_encoder_or_tension_data(cogiro, tmp_path):
     data.pose[1] = np.nan
     data.rotvec[1] = np.nan
     path = tmp_path / "d.csv"
-    cal.write_data(path, data, cogiro)
+    write_data(path, data, cogiro)
     back = cal.read_data(path, cogiro)
     assert list(back.has_pose) == [True, False, True] and back.has_tension.all()
     df = pd.read_csv(path)
@@ -225,7 +226,7 @@ def test_cli_round_trip_encoder_and_tensions(cogiro, tmp_path, capsys):
     off = np.linspace(-0.03, 0.03, 8)
     data = cal.simulate(cogiro, cogiro, _poses(rng, 10), offsets=off, tensions=True, sigma_t=0.5, rng=rng)
     csv = tmp_path / "m.csv"
-    cal.write_data(csv, _encoder_only(data), cogiro)
+    write_data(csv, _encoder_only(data), cogiro)
     row = pd.read_csv(csv).iloc[0]
     assert np.isnan(row["x_m"]) and np.isnan(row["rz_rad"]) and row["t1_N"] > 0
     args = ["calibrate", "fit", "--robot", COGIRO, "--data", str(csv), "--estimate", "offsets"]

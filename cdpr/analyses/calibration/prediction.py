@@ -1,0 +1,98 @@
+"""``check``: a robot's prediction (the physical equilibrium under the commanded lengths, through
+the drums of a robot with winches) against measured samples, position and, for a 6-DoF platform,
+orientation."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from cdpr.analyses.calibration.model import (
+    DRUM_RANGE,
+    drum_or_standard,
+    realised_lengths,
+    solve6,
+)
+from cdpr.analyses.calibration.problem import (
+    orientation_residual,
+)
+from cdpr.errors import CdprError
+from cdpr.models.platform import rotation_matrix
+from cdpr.parameters import (
+    is_spatial,
+)
+from cdpr.solve import sensitivities
+
+
+def check(robot, data, engine=None):
+    """The robot's prediction (physical equilibrium under the commanded lengths) against every sample.
+
+    Parameters
+    ----------
+    robot : Robot
+    data : Data
+        Commanded lengths (not encoder readings: their offsets are unknown) and measured poses.
+
+    Returns
+    -------
+    dict
+        n (samples compared), rms_m (RMS over samples of |P* - y|), max_m, median_m, rms_rad and
+        max_rad (None for a point mass; for a 6-DoF platform the RMS and largest angle of
+        R_meas R*ᵀ), samples: list of {sample, status, error_m} (error None where the equilibrium is
+        not ok; with error_rad for a 6-DoF platform).
+    """
+    if data.encoder:
+        raise CdprError(f"{data.source}: check needs commanded lengths L1..L{robot.m}, not encoder readings")
+    if is_spatial(robot):
+        return _check6(robot, data, engine)
+    L0 = realised_lengths(robot, data.L)
+    drum = np.isfinite(L0).all(axis=1)
+    res = sensitivities(
+        robot, data.pose, redundancy="physical", L=np.where(drum[:, None], L0, data.L), engine=engine
+    )
+    res["status"] = np.where(drum, res["status"], DRUM_RANGE)
+    ok = res["status"] == "ok"
+    err = np.linalg.norm(res["P_s"] - data.pose, axis=1)
+    e = err[ok]
+    return {
+        "n": int(ok.sum()),
+        "rms_m": float(np.sqrt(np.mean(e**2))) if len(e) else None,
+        "max_m": float(e.max()) if len(e) else None,
+        "median_m": float(np.median(e)) if len(e) else None,
+        "rms_rad": None,
+        "max_rad": None,
+        "samples": [
+            {"sample": str(s), "status": str(st), "error_m": float(x) if o else None}
+            for s, st, x, o in zip(data.sample, res["status"], err, ok)
+        ],
+    }
+
+
+def _check6(robot, data, engine=None):
+    """``check`` for a 6-DoF platform: the equilibrium under the commanded lengths (through the
+    drums of a robot with winches, ``realised_lengths``) started at the measured pose."""
+    L0 = realised_lengths(robot, data.L)
+    drum = np.isfinite(L0).all(axis=1)
+    L0 = drum_or_standard(robot, L0, drum, data.pose, np.nan_to_num(data.rotvec))
+    res = solve6(robot, data.pose, L0, rotvec=data.rotvec, engine=engine)
+    res["status"] = np.where(drum, res["status"], DRUM_RANGE)
+    ok = res["status"] == "ok"
+    err = np.linalg.norm(res["P_s"] - data.pose, axis=1)
+    ang = np.linalg.norm(orientation_residual(rotation_matrix(data.rotvec), res["R_s"]), axis=1)
+    e, a = err[ok], ang[ok]
+    return {
+        "n": int(ok.sum()),
+        "rms_m": float(np.sqrt(np.mean(e**2))) if len(e) else None,
+        "max_m": float(e.max()) if len(e) else None,
+        "median_m": float(np.median(e)) if len(e) else None,
+        "rms_rad": float(np.sqrt(np.mean(a**2))) if len(a) else None,
+        "max_rad": float(a.max()) if len(a) else None,
+        "samples": [
+            {
+                "sample": str(s),
+                "status": str(st),
+                "error_m": float(x) if o else None,
+                "error_rad": float(y) if o else None,
+            }
+            for s, st, x, y, o in zip(data.sample, res["status"], err, ang, ok)
+        ],
+    }
