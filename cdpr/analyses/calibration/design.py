@@ -65,7 +65,8 @@ def candidates(robot, box, n_axis=7, model="exact", engine=None, targets=False, 
     A candidate is the grid point p commanded with L_TS(p); admissible when the nominal equilibrium
     is ``ok`` and smooth there. A 6-DoF platform's candidates are at the identity orientation
     (L_TS,i = |p + b_i - A_i| + d_i, or with ``command="compensated"`` the compensated rest lengths,
-    ``commanded_lengths``), admissible with at least min(6, m) taut cables.
+    ``commanded_lengths``), admissible with at least min(6, m) taut cables; a point mass's with at
+    least 3 (solved by the 6-DoF equilibrium, ``solve6``, when a pulley axis is not +z).
 
     Returns
     -------
@@ -92,7 +93,11 @@ def candidates(robot, box, n_axis=7, model="exact", engine=None, targets=False, 
     L0 = L_TS(robot, p)
     L_real = realised_lengths(base, L0)  # through the drums of a robot with winches
     drum = np.isfinite(L_real).all(axis=1)
-    res = sensitivities(base, p, redundancy="physical", L=np.where(drum[:, None], L_real, L0), engine=engine)
+    L_use = np.where(drum[:, None], L_real, L0)
+    if base.suspended_point_mass:
+        res = sensitivities(base, p, redundancy="physical", L=L_use, engine=engine)
+    else:  # a point mass under a tilted pulley axis: the 6-DoF equilibrium, which contains it
+        res = solve6(base, p, L_use, engine=engine)
     ok = (res["status"] == "ok") & res["smooth"] & (res["n_taut"] >= 3) & drum
     if targets:
         return res["P_s"][ok], L0[ok], p[ok]

@@ -194,8 +194,9 @@ def fit(robot, data, groups, priors=None, model="exact", loss="linear", engine=N
     loss : str
         ``least_squares`` loss: "linear" (default) or a robust one ("soft_l1", "huber", "cauchy").
     engine : {"compiled", "numpy"} or None
-        None: ``solve.check_engine``'s default (compiled) on a point mass, the numpy reference on a
-        6-DoF platform (``Problem6``); a named engine is used by either.
+        None: ``solve.check_engine``'s default (compiled) on a suspended point mass, the numpy
+        reference on the 6-DoF equilibrium (``Problem6``: a rigid platform, or a point mass under a
+        tilted pulley axis); a named engine is used by either.
     solver : dict, optional
         tol, maxiter, max_step of the physical solve.
 

@@ -40,7 +40,7 @@ from cdpr.parameters import (
     robot_with_parameters,
 )
 from cdpr.robot import with_pulleys
-from cdpr.solve import check_engine, solve_spatial_any
+from cdpr.solve import check_engine, solve_spatial_any, spatial_sensitivities_at
 
 #: How the candidate and simulated poses are commanded: standard lengths L_TS (the point mass's only
 #: choice) or, for a 6-DoF platform, the compensated rest lengths of the minimum-norm tension
@@ -224,7 +224,10 @@ def engine6(engine):
 def solve6(robot, P, L0, rotvec=None, solver=None, engine=None):
     """The 6-DoF equilibria under commanded rest lengths L0 started at poses (P, rotvec): the
     ``solve_spatial`` result (``solve.solve_spatial_any`` by ``engine6(engine)``) with ``smooth``
-    (``smooth6``) added.
+    added: ``smooth6`` on a rigid platform; on a point mass (a robot the calibration solves here
+    when a pulley axis is not +z), whose 6 × 6 Jacobian has no moment rows, the flag of
+    ``solve.spatial_sensitivities_at`` (the point-mass physical mode's rule on the translation
+    block).
 
     Parameters
     ----------
@@ -241,6 +244,9 @@ def solve6(robot, P, L0, rotvec=None, solver=None, engine=None):
     dict
     """
     res = solve_spatial_any(robot, P, rotvec, engine6(engine), L0=L0, **dict(solver or {}))
+    if robot.point_mass:
+        res["smooth"] = spatial_sensitivities_at(robot, res, names=[], engine=engine6(engine))["smooth"]
+        return res
     _, hooke, cond = rest_length_sensitivities(robot, res["P_s"], res["R_s"], res["L0"])
     res["smooth"] = smooth6(hooke, cond)
     return res

@@ -24,13 +24,19 @@ from cdpr.solve import sensitivities
 
 
 def check(robot, data, engine=None):
-    """The robot's prediction (physical equilibrium under the commanded lengths) against every sample.
+    """The robot's prediction (physical equilibrium under the commanded lengths, through the drums
+    of a robot with winches, started at the measured pose) against every sample: the point-mass
+    physical solve for a suspended point mass, the 6-DoF equilibrium (``solve6``) for a rigid
+    platform and for a point mass under a tilted pulley axis.
 
     Parameters
     ----------
     robot : Robot
     data : Data
         Commanded lengths (not encoder readings: their offsets are unknown) and measured poses.
+    engine : {"compiled", "numpy"} or None
+        Engine of the solves (None: ``solve.check_engine``'s default for a suspended point mass,
+        ``engine6``'s for the 6-DoF equilibrium).
 
     Returns
     -------
@@ -42,18 +48,22 @@ def check(robot, data, engine=None):
     """
     if data.encoder:
         raise CdprError(f"{data.source}: check needs commanded lengths L1..L{robot.m}, not encoder readings")
-    if is_spatial(robot):
-        return _check6(robot, data, engine)
+    spatial = is_spatial(robot)
     L0 = realised_lengths(robot, data.L)
     drum = np.isfinite(L0).all(axis=1)
-    res = sensitivities(
-        robot, data.pose, redundancy="physical", L=np.where(drum[:, None], L0, data.L), engine=engine
-    )
+    if robot.suspended_point_mass:
+        res = sensitivities(
+            robot, data.pose, redundancy="physical", L=np.where(drum[:, None], L0, data.L), engine=engine
+        )
+    else:  # a rigid platform, or a point mass under a tilted pulley axis: the 6-DoF equilibrium
+        rv = np.nan_to_num(data.rotvec) if spatial else np.zeros_like(data.pose)
+        L0 = drum_or_standard(robot, L0, drum, data.pose, rv)
+        res = solve6(robot, data.pose, L0, rotvec=data.rotvec if spatial else None, engine=engine)
     res["status"] = np.where(drum, res["status"], DRUM_RANGE)
     ok = res["status"] == "ok"
     err = np.linalg.norm(res["P_s"] - data.pose, axis=1)
     e = err[ok]
-    return {
+    out = {
         "n": int(ok.sum()),
         "rms_m": float(np.sqrt(np.mean(e**2))) if len(e) else None,
         "max_m": float(e.max()) if len(e) else None,
@@ -65,34 +75,11 @@ def check(robot, data, engine=None):
             for s, st, x, o in zip(data.sample, res["status"], err, ok)
         ],
     }
-
-
-def _check6(robot, data, engine=None):
-    """``check`` for a 6-DoF platform: the equilibrium under the commanded lengths (through the
-    drums of a robot with winches, ``realised_lengths``) started at the measured pose."""
-    L0 = realised_lengths(robot, data.L)
-    drum = np.isfinite(L0).all(axis=1)
-    L0 = drum_or_standard(robot, L0, drum, data.pose, np.nan_to_num(data.rotvec))
-    res = solve6(robot, data.pose, L0, rotvec=data.rotvec, engine=engine)
-    res["status"] = np.where(drum, res["status"], DRUM_RANGE)
-    ok = res["status"] == "ok"
-    err = np.linalg.norm(res["P_s"] - data.pose, axis=1)
-    ang = np.linalg.norm(orientation_residual(rotation_matrix(data.rotvec), res["R_s"]), axis=1)
-    e, a = err[ok], ang[ok]
-    return {
-        "n": int(ok.sum()),
-        "rms_m": float(np.sqrt(np.mean(e**2))) if len(e) else None,
-        "max_m": float(e.max()) if len(e) else None,
-        "median_m": float(np.median(e)) if len(e) else None,
-        "rms_rad": float(np.sqrt(np.mean(a**2))) if len(a) else None,
-        "max_rad": float(a.max()) if len(a) else None,
-        "samples": [
-            {
-                "sample": str(s),
-                "status": str(st),
-                "error_m": float(x) if o else None,
-                "error_rad": float(y) if o else None,
-            }
-            for s, st, x, y, o in zip(data.sample, res["status"], err, ang, ok)
-        ],
-    }
+    if spatial:  # the orientation error angle |log(R_meas R*ᵀ)|
+        ang = np.linalg.norm(orientation_residual(rotation_matrix(data.rotvec), res["R_s"]), axis=1)
+        a = ang[ok]
+        out["rms_rad"] = float(np.sqrt(np.mean(a**2))) if len(a) else None
+        out["max_rad"] = float(a.max()) if len(a) else None
+        for sample, y, o in zip(out["samples"], ang, ok):
+            sample["error_rad"] = float(y) if o else None
+    return out

@@ -4,8 +4,8 @@ The robot is commanded rest lengths L0 and settles at the equilibrium P*(θ, L0)
 the pose y. The residual (``map_residual``, ``map_residual6`` for a 6-DoF platform) is the measured
 minus predicted pose over the tracker noise, then (t_meas - t(θ, L0)) / σ_t for measured tensions,
 then the prior rows (θ - θ_0) / σ_prior. Its Jacobian is exact, from the implicit-function
-sensitivities dP*/dθ (``cdpr.models.sensitivity``; ``cdpr.models.sensitivity6`` for a rigid
-platform), with the encoder offsets' column
+sensitivities dP*/dθ (``cdpr.models.sensitivity``; ``cdpr.models.sensitivity6`` on the 6-DoF
+equilibrium, for a rigid platform and for a point mass under a tilted pulley axis), with the encoder offsets' column
 dP*/do = J^-1 dF/dL0 (``offset_sensitivities``) and the tensions' total derivatives
 (``tension_sensitivities``, ``tension_sensitivities6``); no finite differences inside the fit.
 ``map_problem`` builds the problem of the robot's kind (``Problem`` or ``Problem6``).
@@ -41,12 +41,12 @@ from cdpr.models.sensitivity import (
 )
 from cdpr.models.sensitivity6 import rest_length_sensitivities, tension_partials6
 from cdpr.parameters import (
+    calibrated_robot,
     calibration_names,
     calibration_values,
     is_spatial,
     robot_size,
     robot_with_parameters,
-    robot_with_parameters6,
 )
 from cdpr.solve import check_engine, sensitivities
 from cdpr.solve import spatial_sensitivities as solve_spatial_sensitivities
@@ -314,26 +314,36 @@ def map_residual6(y, P, R_meas, R_pred, sigma, sigma_rad, z):
 
 
 class Problem6:
-    """``Problem`` for a rigid 6-DoF platform: six rows per sample with a measured pose (position /
-    σ_m, orientation error / σ_rad, ``map_residual6``), m tension rows (t_meas - t(θ, L0)) / σ_t per
-    sample with measured tensions (``tension_sensitivities6``), then the prior rows; the exact
-    Jacobian from ``sensitivity6.spatial_sensitivities`` (implicit function) and, for the encoder
-    offsets, ``sensitivity6.rest_length_sensitivities`` (dx*/do_i = -dx*/dL0_i). A sample without a
+    """``Problem`` on the 6-DoF equilibrium (``cdpr.models.equilibrium6``): a rigid 6-DoF platform,
+    or a point mass whose pulleys are not all at +z axes (a tilted axis or a ``zero``), which the
+    point-mass physical solver does not model.
+
+    A rigid platform has six rows per sample with a measured pose (position / σ_m, orientation
+    error / σ_rad, ``map_residual6``); a point mass three (position / σ_m, ``map_residual``: its
+    orientation plays no part, and its calibration vector is the point mass's,
+    ``calibration_names(m)``). Then m tension rows (t_meas - t(θ, L0)) / σ_t per sample with
+    measured tensions (``tension_sensitivities6``), then the prior rows; the exact Jacobian from
+    ``sensitivity6.spatial_sensitivities`` (implicit function) and, for the encoder offsets,
+    ``sensitivity6.rest_length_sensitivities`` (dx*/do_i = -dx*/dL0_i). A sample without a
     measured pose is solved from ``default_start`` at the identity orientation. On a robot file with
     ``winch:`` the commanded lengths go through the drums (``drive.realised_rest_lengths``) with
     the chain rule of ``Problem.evaluate`` on the offsets and dead lengths. The solve and the
     sensitivities by ``engine`` (``solve.spatial_sensitivities``), the numpy reference by default:
     the compiled twin (analytic dF6/dθ) changes the tracked CoGiRo tables (the misfit models' fits
-    move; the exact model's in the 4th digit), so the study stays on numpy.
+    move; the exact model's in the 4th digit), so the study stays on numpy. A sample is smooth
+    where ``smooth6`` says so (a rigid platform) or, for a point mass (whose moment rows vanish, so
+    that the 6 × 6 Jacobian is singular), where ``sensitivity6.sensitivities_at`` says so (the
+    point-mass physical mode's rule on the 3 × 3 translation block).
 
     Parameters
     ----------
     robot : Robot
         Nominal robot (the prior mean), in the chosen model.
     data : Data
-        Samples with a measured pose (position and orientation) or measured tensions.
+        Samples with a measured pose (position, and orientation on a rigid platform) or measured
+        tensions.
     index : ndarray of int
-        Into ``calibration_names(robot.m, spatial=True)``.
+        Into ``calibration_names(robot.m, is_spatial(robot))``.
     sd : ndarray, shape (len(index),)
         Prior sd [Pa, m, kg].
     engine : {"numpy", "compiled"}
@@ -347,20 +357,29 @@ class Problem6:
         self.engine = engine
         self.solver = dict(solver or {})
         self.m = robot.m
-        self.nr = robot_size(self.m, True)
+        #: a rigid platform (False: a point mass under pulleys at other axes than +z)
+        self.spatial = is_spatial(robot)
+        self.nr = robot_size(self.m, self.spatial)
         self.theta0 = calibration_values(robot)
         #: a robot file with ``winch:``: the commanded lengths are mapped through the drums
         self.winch = has_winches(robot)
-        names = calibration_names(self.m, True)
+        names = calibration_names(self.m, self.spatial)
         self._cols6 = self.index[self.index < self.nr]
         self._names6 = [names[k] for k in self._cols6]
         self._cache = None
-        pose = np.flatnonzero(data.has_pose & data.has_orientation)
+        pose = np.flatnonzero(self._measured(data))
         tens = np.flatnonzero(data.has_tension)
+        #: pose rows per sample: position and orientation, or the position of a point mass
+        self.dof = 6 if self.spatial else 3
         #: the sample of every measurement row
-        self.row_sample = np.concatenate([np.repeat(pose, 6), np.repeat(tens, self.m)]).astype(np.intp)
+        self.row_sample = np.concatenate([np.repeat(pose, self.dof), np.repeat(tens, self.m)]).astype(np.intp)
         self._pose, self._tens = pose, tens
         self._R = rotation_matrix(np.nan_to_num(data.rotvec))
+
+    def _measured(self, data):
+        """Where a sample's pose is measured: position and orientation (rigid platform), position
+        (point mass)."""
+        return data.has_pose & data.has_orientation if self.spatial else data.has_pose
 
     def theta(self, z):
         th = self.theta0.copy()
@@ -368,27 +387,31 @@ class Problem6:
         return th
 
     def evaluate(self, z):
-        """Solve at z: P* (n, 3), R* (n, 3, 3), status, smooth (n,), dx*/dθ_free (n, 6, k); with
-        tension data also the tensions t (n, m) [N] and dt/dθ_free (n, m, k)."""
+        """Solve at z: P* (n, 3), R* (n, 3, 3), status, smooth (n,), dx*/dθ_free (n, 6, k) (rows
+        dp, dφ; dφ = 0 on a point mass); with tension data also the tensions t (n, m) [N] and
+        dt/dθ_free (n, m, k)."""
         key = np.asarray(z, float).tobytes()
         if self._cache is not None and self._cache[0] == key:
             return self._cache[1]
         data, nr, m = self.data, self.nr, self.m
         th = self.theta(z)
-        rob = robot_with_parameters6(self.robot, th[:nr])
+        rob = calibrated_robot(self.robot, th[:nr])
         L0 = data.L - th[nr:]
         w_L = w_d = None
         if self.winch:  # the commanded lengths go through the drums (drive.realised_rest_lengths)
             L0, w_L, w_d = realised_rest_lengths(rob, L0)
-        hp = data.has_pose & data.has_orientation
+        hp = self._measured(data)
         start = np.where(hp[:, None], data.pose, default_start(rob))
-        rv = np.where(hp[:, None], data.rotvec, 0.0)
+        rv = np.where(hp[:, None], data.rotvec, 0.0) if self.spatial else np.zeros_like(start)
         drum = np.isfinite(L0).all(axis=1)
         L0 = drum_or_standard(rob, L0, drum, start, rv)
         res = solve_spatial_sensitivities(
             rob, start, rv, L0=L0, engine=self.engine, names=self._names6, **self.solver
         )
         SL, hooke, cond = rest_length_sensitivities(rob, res["P_s"], res["R_s"], L0)
+        # a point mass's 6 x 6 Jacobian is singular (no moment rows): sensitivities_at judges its
+        # 3 x 3 translation block as the point-mass physical mode does
+        smooth = smooth6(hooke, cond) if self.spatial else res["smooth"]
         if not drum.all():  # a command the drum cannot pay out: no equilibrium, flagged by the fit
             res["status"] = np.where(drum, res["status"], DRUM_RANGE)
             res["P_s"][~drum] = np.nan
@@ -401,7 +424,7 @@ class Problem6:
             "P": res["P_s"],
             "R": res["R_s"],
             "status": res["status"],
-            "smooth": smooth6(hooke, cond),
+            "smooth": smooth,
             "S": S[:, :, self.index],
         }
         if len(self._tens):
@@ -418,33 +441,41 @@ class Problem6:
         return out
 
     def residual(self, z):
-        """r(z) = [position and orientation rows ; tension rows ; z] (``map_residual6``)."""
+        """r(z) = [position and orientation rows ; tension rows ; z] (``map_residual6``; the
+        position rows of ``map_residual`` on a point mass)."""
         ev = self.evaluate(z)
         d, p, t = self.data, self._pose, self._tens
-        r = map_residual6(d.pose[p], ev["P"][p], self._R[p], ev["R"][p], d.sigma[p], d.sigma_rad[p], z)
+        if self.spatial:
+            r = map_residual6(d.pose[p], ev["P"][p], self._R[p], ev["R"][p], d.sigma[p], d.sigma_rad[p], z)
+        else:
+            r = map_residual(d.pose[p], ev["P"][p], d.sigma[p], z)
         if len(t):
+            n = self.dof * len(p)
             rt = ((d.tension[t] - ev["t"][t]) / d.sigma_t[t, None]).ravel()
-            r = np.concatenate([r[: 6 * len(p)], rt, r[6 * len(p) :]])
+            r = np.concatenate([r[:n], rt, r[n:]])
         return r
 
     def jacobian(self, z):
-        """dr/dz: per sample [-dp*/dθ σ_prior / σ_m ; -J_r⁻¹(e) dφ*/dθ σ_prior / σ_rad], then
-        -dt/dθ σ_prior / σ_t, then I."""
+        """dr/dz: per sample [-dp*/dθ σ_prior / σ_m ; -J_r⁻¹(e) dφ*/dθ σ_prior / σ_rad] (the
+        position rows alone on a point mass), then -dt/dθ σ_prior / σ_t, then I."""
         ev = self.evaluate(z)
         d, p, t = self.data, self._pose, self._tens
         k = len(self.index)
         S = np.nan_to_num(ev["S"][p]) * self.sd
-        e = orientation_residual(self._R[p], ev["R"][p])
         Jp = -S[:, :3] / d.sigma[p, None, None]
-        Jr = -np.einsum("nab,nbk->nak", log_right_jacobian_inverse(np.nan_to_num(e)), S[:, 3:])
-        Jr /= d.sigma_rad[p, None, None]
-        blocks = [np.concatenate([Jp, Jr], axis=1).reshape(-1, k)]
+        if self.spatial:
+            e = orientation_residual(self._R[p], ev["R"][p])
+            Jr = -np.einsum("nab,nbk->nak", log_right_jacobian_inverse(np.nan_to_num(e)), S[:, 3:])
+            Jr /= d.sigma_rad[p, None, None]
+            Jp = np.concatenate([Jp, Jr], axis=1)
+        blocks = [Jp.reshape(-1, k)]
         if len(t):
             blocks.append((-(np.nan_to_num(ev["St"][t]) * self.sd) / d.sigma_t[t, None, None]).reshape(-1, k))
         return np.vstack([*blocks, np.eye(k)])
 
     def angles(self, ev):
-        """The orientation error angle |log(R_meas R*ᵀ)| (n,) [rad] of every sample (NaN without one)."""
+        """The orientation error angle |log(R_meas R*ᵀ)| (n,) [rad] of every sample (NaN without
+        one; a rigid platform's)."""
         out = np.full(len(self.data.sample), np.nan)
         p = self._pose
         out[p] = np.linalg.norm(orientation_residual(self._R[p], ev["R"][p]), axis=1)
@@ -509,8 +540,8 @@ def tension_sensitivities(robot, P, L0, S, w_L=None, w_d=None):
 
 
 def tension_sensitivities6(robot, P, R, L0, S, cols6, w_L=None, w_d=None):
-    r"""Cable tensions at a rigid platform's equilibrium and their total derivatives by the
-    calibration parameters.
+    r"""Cable tensions at a 6-DoF equilibrium (a rigid platform, or a point mass under pulleys at
+    any axis) and their total derivatives by the calibration parameters.
 
     .. math:: t_i = a_i k_i (L_{TE,i}(x^*) - L0_i),\quad k_i = \frac{E_i S_i}{L0_i},\quad
               \frac{dt_i}{d\theta} = \frac{\partial t_i}{\partial x}\frac{dx^*}{d\theta}
@@ -521,7 +552,9 @@ def tension_sensitivities6(robot, P, R, L0, S, cols6, w_L=None, w_d=None):
     x* = (p*, R*) with the attachment B_i = p + R b_i (``sensitivity6.tension_partials6``: ∂t_i/∂x,
     ∂t_i/∂L0_i = -a_i k_i L_TE,i / L0_i and the fixed-pose partials); L0_i = reading - o_i, so
     dL0_i/do_i = -1, or through a winch (L0_i = W(reading - o_i, d_i), ``drive.realised_rest_lengths``)
-    dL0_i/do_i = -∂W/∂L_cmd and dL0_i/dd_i = ∂W/∂d_i.
+    dL0_i/do_i = -∂W/∂L_cmd and dL0_i/dd_i = ∂W/∂d_i. The calibration vector is the robot's
+    (``calibration_names(m, is_spatial(robot))``: 11 m + 4 entries on a rigid platform, 8 m + 1 on a
+    point mass, whose b_i = 0 make ∂t_i/∂φ = 0).
 
     Parameters
     ----------
@@ -532,11 +565,12 @@ def tension_sensitivities6(robot, P, R, L0, S, cols6, w_L=None, w_d=None):
         Equilibrium orientations.
     L0 : ndarray, shape (n, m) [m]
         Rest lengths.
-    S : ndarray, shape (n, 6, 11 m + 4)
-        dx*/dθ of the calibration parameters (``calibration_names(m, spatial=True)``), the chain
-        rule of the winch included; only the columns ``cols6`` and the offsets need to be filled.
+    S : ndarray, shape (n, 6, K)
+        dx*/dθ of the calibration parameters (``calibration_names(m, is_spatial(robot))``, K of
+        them), the chain rule of the winch included; only the columns ``cols6`` and the offsets
+        need to be filled.
     cols6 : ndarray of int
-        Robot parameters (< 10 m + 4) whose fixed-pose partials count.
+        Robot parameters (before the offsets) whose fixed-pose partials count.
     w_L, w_d : ndarray, shape (n, m) [m/m], optional
         dL0/dL_cmd and dL0/dd of the winch map (None: no winch).
 
@@ -544,15 +578,16 @@ def tension_sensitivities6(robot, P, R, L0, S, cols6, w_L=None, w_d=None):
     -------
     t : ndarray, shape (n, m) [N]
         0 on slack cables.
-    dt : ndarray, shape (n, m, 11 m + 4) [N per unit of θ]
+    dt : ndarray, shape (n, m, K) [N per unit of θ]
 
     References
     ----------
     Paty et al. 2021, eq. (5), (10), (13); implicit-function theorem.
     """
     m = robot.m
-    nr = robot_size(m, True)
-    names = calibration_names(m, True)
+    spatial = is_spatial(robot)
+    nr = robot_size(m, spatial)
+    names = calibration_names(m, spatial)
     tp = tension_partials6(robot, P, R, L0, [names[k] for k in cols6])
     dt = np.einsum("nia,nak->nik", tp["dt_dx"], S)
     dt[:, :, cols6] += tp["dt_dtheta"]
@@ -564,11 +599,31 @@ def tension_sensitivities6(robot, P, R, L0, S, cols6, w_L=None, w_d=None):
 
 
 def map_problem(base, data, index, sd, engine=None, solver=None):
-    """The MAP problem of the robot's kind: ``Problem`` (point mass) or ``Problem6``. A named
-    ``engine`` is checked (``solve.check_engine``) and used by either; None is each problem's
-    default (``Problem``: ``check_engine``'s, compiled; ``Problem6``: the numpy reference)."""
+    """The MAP problem of the robot's kind: ``Problem`` for a suspended point mass (pulley axes +z,
+    the point-mass physical solver), ``Problem6`` on the 6-DoF equilibrium for every other robot (a
+    rigid platform, or a point mass under a tilted pulley axis). A named ``engine`` is checked
+    (``solve.check_engine``) and used by either; None is each problem's default (``Problem``:
+    ``check_engine``'s, compiled; ``Problem6``: the numpy reference, ``engine6``).
+
+    Parameters
+    ----------
+    base : Robot
+        Nominal robot (the prior mean), in the chosen model (``model_robot``).
+    data : Data
+    index : ndarray of int
+        Estimated parameters, into ``calibration_names(base.m, is_spatial(base))``.
+    sd : ndarray, shape (len(index),)
+        Prior sd [Pa, m, kg].
+    engine : {"compiled", "numpy"} or None
+    solver : dict, optional
+        tol, maxiter, max_step of the physical solve.
+
+    Returns
+    -------
+    Problem or Problem6
+    """
     if engine is not None:
         engine = check_engine(engine, "newton")
-    if is_spatial(base):
+    if not base.suspended_point_mass:
         return Problem6(base, data, index, sd, engine=engine6(engine), solver=solver)
     return Problem(base, data, index, sd, engine=engine, solver=solver)

@@ -170,11 +170,11 @@ def robot_file_text(cal, data_source, when):
     cables = []
     for c in rob.cables:
         pul = {"kind": c.pulley.kind, "h_m": float(c.pulley.h), "r_p_m": float(c.pulley.r_p)}
-        if spatial:  # the swivel axis and zero of a spatial robot's pulley (defaults left out)
-            if tuple(c.pulley.axis) != (0.0, 0.0, 1.0):
-                pul["axis"] = [float(x) for x in c.pulley.axis]
-            if c.pulley.zero is not None:
-                pul["zero"] = [float(x) for x in c.pulley.zero]
+        # the pulley's swivel axis and zero (defaults left out), a point mass's as a platform's
+        if tuple(c.pulley.axis) != (0.0, 0.0, 1.0):
+            pul["axis"] = [float(x) for x in c.pulley.axis]
+        if c.pulley.zero is not None:
+            pul["zero"] = [float(x) for x in c.pulley.zero]
         mat = {
             "young_modulus_Pa": float(c.material.E),
             "diameter_m": float(c.material.diameter),
