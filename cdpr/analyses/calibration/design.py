@@ -26,6 +26,7 @@ from cdpr.analyses.calibration.model import (
     check_command,
     commanded_lengths,
     model_robot,
+    point_mass_equilibria,
     realised_lengths,
     solve6,
 )
@@ -41,7 +42,6 @@ from cdpr.parameters import (
     is_spatial,
     select_groups,
 )
-from cdpr.solve import sensitivities
 
 
 def default_box(robot):
@@ -66,7 +66,7 @@ def candidates(robot, box, n_axis=7, model="exact", engine=None, targets=False, 
     is ``ok`` and smooth there. A 6-DoF platform's candidates are at the identity orientation
     (L_TS,i = |p + b_i - A_i| + d_i, or with ``command="compensated"`` the compensated rest lengths,
     ``commanded_lengths``), admissible with at least min(6, m) taut cables; a point mass's with at
-    least 3 (solved by the 6-DoF equilibrium, ``solve6``, when a pulley axis is not +z).
+    least 3 (``point_mass_equilibria``: the 6-DoF equilibrium when a pulley axis is not +z).
 
     Returns
     -------
@@ -93,11 +93,7 @@ def candidates(robot, box, n_axis=7, model="exact", engine=None, targets=False, 
     L0 = L_TS(robot, p)
     L_real = realised_lengths(base, L0)  # through the drums of a robot with winches
     drum = np.isfinite(L_real).all(axis=1)
-    L_use = np.where(drum[:, None], L_real, L0)
-    if base.suspended_point_mass:
-        res = sensitivities(base, p, redundancy="physical", L=L_use, engine=engine)
-    else:  # a point mass under a tilted pulley axis: the 6-DoF equilibrium, which contains it
-        res = solve6(base, p, L_use, engine=engine)
+    res = point_mass_equilibria(base, p, np.where(drum[:, None], L_real, L0), engine=engine)
     ok = (res["status"] == "ok") & res["smooth"] & (res["n_taut"] >= 3) & drum
     if targets:
         return res["P_s"][ok], L0[ok], p[ok]

@@ -40,7 +40,7 @@ from cdpr.parameters import (
     robot_with_parameters,
 )
 from cdpr.robot import with_pulleys
-from cdpr.solve import check_engine, solve_spatial_any, spatial_sensitivities_at
+from cdpr.solve import check_engine, sensitivities, solve_spatial_any, spatial_sensitivities_at
 
 #: How the candidate and simulated poses are commanded: standard lengths L_TS (the point mass's only
 #: choice) or, for a 6-DoF platform, the compensated rest lengths of the minimum-norm tension
@@ -250,3 +250,30 @@ def solve6(robot, P, L0, rotvec=None, solver=None, engine=None):
     _, hooke, cond = rest_length_sensitivities(robot, res["P_s"], res["R_s"], res["L0"])
     res["smooth"] = smooth6(hooke, cond)
     return res
+
+
+def point_mass_equilibria(robot, P, L0, engine=None):
+    """The physical equilibria of a point-mass robot under commanded rest lengths L0, started at P,
+    with the ``smooth`` flag: the point-mass physical solve (``solve.sensitivities``) for a
+    suspended point mass, the 6-DoF equilibrium that contains it (``solve6``) when a pulley axis is
+    not +z (the point-mass solver's refusal).
+
+    Parameters
+    ----------
+    robot : Robot
+        A point mass (``Robot.point_mass``).
+    P : ndarray, shape (n, 3) [m]
+        Start points.
+    L0 : ndarray, shape (n, m) [m]
+        Rest lengths.
+    engine : {"compiled", "numpy"} or None
+        None: ``solve.check_engine``'s default, or ``engine6``'s on the 6-DoF equilibrium.
+
+    Returns
+    -------
+    dict
+        P_s (n, 3) [m], status, smooth, n_taut (n,), t (n, m) [N] and the rest of the solver's result.
+    """
+    if robot.suspended_point_mass:
+        return sensitivities(robot, P, redundancy="physical", L=L0, engine=engine)
+    return solve6(robot, P, L0, engine=engine)

@@ -9,6 +9,7 @@ import numpy as np
 from cdpr.analyses.calibration.model import (
     DRUM_RANGE,
     drum_or_standard,
+    point_mass_equilibria,
     realised_lengths,
     solve6,
 )
@@ -20,14 +21,13 @@ from cdpr.models.platform import rotation_matrix
 from cdpr.parameters import (
     is_spatial,
 )
-from cdpr.solve import sensitivities
 
 
 def check(robot, data, engine=None):
     """The robot's prediction (physical equilibrium under the commanded lengths, through the drums
-    of a robot with winches, started at the measured pose) against every sample: the point-mass
-    physical solve for a suspended point mass, the 6-DoF equilibrium (``solve6``) for a rigid
-    platform and for a point mass under a tilted pulley axis.
+    of a robot with winches, started at the measured pose) against every sample: the 6-DoF
+    equilibrium (``solve6``) of a rigid platform, a point mass's ``point_mass_equilibria`` (the
+    6-DoF equilibrium too when a pulley axis is not +z).
 
     Parameters
     ----------
@@ -51,14 +51,11 @@ def check(robot, data, engine=None):
     spatial = is_spatial(robot)
     L0 = realised_lengths(robot, data.L)
     drum = np.isfinite(L0).all(axis=1)
-    if robot.suspended_point_mass:
-        res = sensitivities(
-            robot, data.pose, redundancy="physical", L=np.where(drum[:, None], L0, data.L), engine=engine
-        )
-    else:  # a rigid platform, or a point mass under a tilted pulley axis: the 6-DoF equilibrium
-        rv = np.nan_to_num(data.rotvec) if spatial else np.zeros_like(data.pose)
-        L0 = drum_or_standard(robot, L0, drum, data.pose, rv)
-        res = solve6(robot, data.pose, L0, rotvec=data.rotvec if spatial else None, engine=engine)
+    if spatial:
+        L0 = drum_or_standard(robot, L0, drum, data.pose, np.nan_to_num(data.rotvec))
+        res = solve6(robot, data.pose, L0, rotvec=data.rotvec, engine=engine)
+    else:
+        res = point_mass_equilibria(robot, data.pose, np.where(drum[:, None], L0, data.L), engine=engine)
     res["status"] = np.where(drum, res["status"], DRUM_RANGE)
     ok = res["status"] == "ok"
     err = np.linalg.norm(res["P_s"] - data.pose, axis=1)

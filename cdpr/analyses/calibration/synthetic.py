@@ -22,6 +22,7 @@ from cdpr.analyses.calibration.data import (
 from cdpr.analyses.calibration.model import (
     check_command,
     commanded_lengths,
+    point_mass_equilibria,
     realised_lengths,
     solve6,
 )
@@ -34,7 +35,6 @@ from cdpr.parameters import (
     calibration_values,
     is_spatial,
 )
-from cdpr.solve import sensitivities
 
 
 def simulate(
@@ -55,8 +55,8 @@ def simulate(
     the pose where the true robot settles under them, plus Gaussian noise. A true robot with
     winches realises the commands through its drums (``realised_lengths``: a controller that
     neglects the exit point's motion, Métillon 2022 eq. 31-32); the data keep the commands. A
-    point mass settles by the point-mass physical solve, or by the 6-DoF equilibrium (``solve6``)
-    when a pulley axis is not +z.
+    point mass settles where ``point_mass_equilibria`` says (the 6-DoF equilibrium when a pulley
+    axis is not +z).
 
     Parameters
     ----------
@@ -105,11 +105,7 @@ def simulate(
     L0 = L_TS(nominal, P)
     L_real = realised_lengths(truth, L0)  # through the true robot's drums when it has winches
     drum = np.isfinite(L_real).all(axis=1)
-    L_use = np.where(drum[:, None], L_real, L0)
-    if truth.suspended_point_mass:
-        res = sensitivities(truth, P, redundancy="physical", L=L_use, engine=engine)
-    else:  # a point mass under a tilted pulley axis: the 6-DoF equilibrium, which contains it
-        res = solve6(truth, P, L_use, engine=engine)
+    res = point_mass_equilibria(truth, P, np.where(drum[:, None], L_real, L0), engine=engine)
     ok = (res["status"] == "ok") & res["smooth"] & drum
     y = res["P_s"][ok]
     if rng is not None:
