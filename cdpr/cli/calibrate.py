@@ -20,6 +20,7 @@ import numpy as np
 
 from cdpr import io
 from cdpr.analyses import calibration as cal
+from cdpr.pipeline.calibration_files import write_robot
 from cdpr.robot import load_robot
 
 
@@ -38,7 +39,7 @@ def cmd_fit(args):
     priors = cal.parse_priors(args.prior, estimate=args.estimate)
     data = cal.read_data(args.data, robot)
     result = cal.fit(robot, data, args.estimate, priors=priors, model=args.model, loss=args.loss)
-    cal.write_robot(args.out, result, args.data)
+    write_robot(args.out, result, args.data)
     if args.model == "standard":
         print(
             "cdpr: warning: the standard model ignores pulley kinematics and cable stretch; its estimates are biased",
@@ -92,16 +93,16 @@ def _print_fit(result, s):
 
 
 def write_report(result, folder):
-    """Per-sample table, per-parameter table, correlation matrix and three figures in ``folder``."""
+    """Per-sample table, per-parameter table, correlation matrix and three figures in ``folder``
+    (each file written atomically, ``cdpr.io.atomic``)."""
     folder.mkdir(parents=True, exist_ok=True)
-    result.table.to_csv(folder / "samples.csv", index=False, float_format="%.9g")
-    pt = result.parameter_table()
-    pt.to_csv(folder / "parameters.csv", index=False, float_format="%.9g")
+    samples, pt = result.table, result.parameter_table()
+    io.atomic(folder / "samples.csv", lambda tmp: samples.to_csv(tmp, index=False, float_format="%.9g"))
+    io.atomic(folder / "parameters.csv", lambda tmp: pt.to_csv(tmp, index=False, float_format="%.9g"))
     import pandas as pd  # lazy: the report's tables only
 
-    pd.DataFrame(result.correlation, index=result.names, columns=result.names).to_csv(
-        folder / "correlation.csv", float_format="%.6f"
-    )
+    corr = pd.DataFrame(result.correlation, index=result.names, columns=result.names)
+    io.atomic(folder / "correlation.csv", lambda tmp: corr.to_csv(tmp, float_format="%.6f"))
     from cdpr.pipeline.calibration import calibration_figures  # lazy: matplotlib, --report only
 
     calibration_figures(result, folder)
@@ -169,7 +170,7 @@ def cmd_plan(args):
         )
         for j in range(res["poses"].shape[1]):  # 6 columns for a 6-DoF platform
             df[cols[j]] = res["poses"][:, j]
-        df.to_csv(args.out, index=False, float_format="%.12g")
+        io.atomic(args.out, lambda tmp: df.to_csv(tmp, index=False, float_format="%.12g"))
     out = {
         "n": args.n,
         "n_candidates": res["n_candidates"],

@@ -16,7 +16,7 @@ import numpy as np
 import pandas as pd
 import yaml
 
-from cdpr import table_io
+from cdpr import io, table_io
 from cdpr.analyses import calibration as cal
 from cdpr.analyses.compensation import compensated_pose
 from cdpr.errors import CdprError, ConfigError
@@ -453,4 +453,4 @@ def _write_markdown(out, st, headline, curve, enc, ident_lines, left_out, n_val,
         "",
         md_table(enc, list(enc.columns)),
     ]
-    (out / rel_path(RULE, "summary")).write_text("\n".join(text), encoding="utf-8")
+    io.write_text("\n".join(text), out / rel_path(RULE, "summary"))

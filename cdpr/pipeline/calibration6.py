@@ -17,7 +17,7 @@ import numpy as np
 import pandas as pd
 import yaml
 
-from cdpr import table_io
+from cdpr import io, table_io
 from cdpr.analyses import calibration as cal
 from cdpr.errors import ConfigError
 from cdpr.models.platform import rotation_matrix
@@ -399,4 +399,4 @@ def _write_markdown6(out, st, robot, headline, ident_lines, vt, n_train, pretens
         "statistic but `unflagged_rms_mm`.",
         "",
     ]
-    (out / rel_path(RULE6, "summary")).write_text("\n".join(text), encoding="utf-8")
+    io.write_text("\n".join(text), out / rel_path(RULE6, "summary"))

@@ -9,6 +9,7 @@ from cdpr.analyses import calibration as cal
 from cdpr.errors import CdprError, ConfigError
 from cdpr.models.inverse import L_TS
 from cdpr.parameters import calibration_names, select_groups
+from cdpr.pipeline.calibration_files import write_data, write_robot
 
 BOX = [-1.8, 1.8, -1.8, 1.8, 0.8, 3.5]
 
@@ -26,22 +27,30 @@ def _truth(robot, groups, seed, priors=None):
     return rng, idx, sd, truth, th
 
 
-def test_noise_free_data_recover_the_truth(cdpr4):
-    """A robot perturbed in anchors, dead lengths, pulleys and moduli (25 parameters), noise-free
-    poses (σ = 1 nm so the prior no longer pulls): every parameter back to 1e-6 relative."""
-    groups = ["anchors", "dead_lengths", "pulleys", "moduli"]
-    rng, idx, sd, truth, th = _truth(cdpr4, groups, 3)
-    data = cal.simulate(truth, cdpr4, _poses(rng, 40), sigma=1e-9)
-    c = cal.fit(cdpr4, data, groups, solver={"tol": 1e-13})
-    assert c.ident["rank"] == len(idx) == 28
+def recovered_noise_free(robot, groups, seed=3):
+    """Fit ``robot`` to noise-free poses (40, σ = 1 nm so the prior no longer pulls) of a truth
+    perturbed in ``groups``: full rank, every parameter back to 1e-6 relative from a truth more
+    than 1e-3 away, the residual below 1 nm. Returns the Calibration and the true robot."""
+    rng, idx, sd, truth, th = _truth(robot, groups, seed)
+    data = cal.simulate(truth, robot, _poses(rng, 40), sigma=1e-9)
+    c = cal.fit(robot, data, groups, solver={"tol": 1e-13})
+    assert c.ident["rank"] == len(idx)
     rel = np.abs(c.estimate - th[idx]) / np.abs(th[idx])
     worst = int(np.argmax(rel))
     assert rel.max() < 1e-6, (c.names[worst], rel[worst])
     # the truth differs from the nominal by far more than that: the test is not comparing nominals
     assert (np.abs(th[idx] - c.nominal) / np.abs(th[idx])).max() > 1e-3
-    assert set(c.ident["labels"]) == {"identified"}
     s = c.summary()
     assert s["samples_used"] == 40 and s["samples_left_out"] == 0 and s["residual_rms_m"] < 1e-9
+    return c, truth
+
+
+def test_noise_free_data_recover_the_truth(cdpr4):
+    """A robot perturbed in anchors, dead lengths, pulleys and moduli (28 parameters), noise-free
+    poses: every parameter back to 1e-6 relative, every one identified."""
+    c, _ = recovered_noise_free(cdpr4, ["anchors", "dead_lengths", "pulleys", "moduli"])
+    assert len(c.index) == 28
+    assert set(c.ident["labels"]) == {"identified"}
 
 
 def test_moduli_and_mass_enter_only_as_their_ratio(cdpr4):
@@ -109,7 +118,7 @@ def test_encoder_data_without_poses_report_the_gauge(cdpr4, tmp_path):
     data = cal.simulate(cdpr4, cdpr4, _poses(rng, 10), offsets=[0.01, -0.02, 0.0, 0.03])
     data.pose[:] = np.nan
     path = tmp_path / "enc.csv"
-    cal.write_data(path, data, cdpr4)
+    write_data(path, data, cdpr4)
     back = cal.read_data(path, cdpr4)
     assert back.encoder and not back.has_pose.any()
     with pytest.raises(
@@ -203,7 +212,7 @@ def test_write_robot_round_trip(cdpr4, tmp_path):
     rng, idx, sd, truth, th = _truth(cdpr4, groups, 8)
     c = cal.fit(cdpr4, cal.simulate(truth, cdpr4, _poses(rng, 30), sigma=2e-4, rng=rng), groups)
     out = tmp_path / "cal.yaml"
-    cal.write_robot(out, c, "m.csv")
+    write_robot(out, c, "m.csv")
     text = out.read_text()
     assert text.startswith("# CDPR4 calibrated by cdpr calibrate fit (exact model) from m.csv")
     back = load_robot(out)

@@ -15,6 +15,7 @@ from cdpr.errors import CdprError, ConfigError
 from cdpr.models.inverse import L_TS
 from cdpr.models.platform import rotation_matrix
 from cdpr.parameters import calibration_names, parameter_names6, select_groups
+from cdpr.pipeline.calibration_files import write_data
 from cdpr.robot import load_robot
 from tests.conftest import ROBOTS
 
@@ -202,7 +203,7 @@ def test_bad_spatial_data(cogiro, tmp_path, drop, column):
     rng = np.random.default_rng(5)
     data = cal.simulate(cogiro, cogiro, _poses(rng, 3))
     path = tmp_path / "d.csv"
-    cal.write_data(path, data, cogiro)
+    write_data(path, data, cogiro)
     back = cal.read_data(path, cogiro)
     np.testing.assert_array_equal(back.rotvec, data.rotvec)
     import pandas as pd
@@ -236,7 +237,7 @@ def test_cli_fit_on_cogiro(cogiro, tmp_path, capsys):
     rng, idx, sd, truth, th = _truth(cogiro, ["anchors", "attachments"], 9)
     data = cal.simulate(truth, cogiro, _poses(rng, 20), sigma=2e-4, sigma_rad=1e-3, rng=rng)
     csv = tmp_path / "m.csv"
-    cal.write_data(csv, data, cogiro)
+    write_data(csv, data, cogiro)
     out = tmp_path / "cal.yaml"
     args = ["calibrate", "fit", "--robot", COGIRO, "--data", str(csv)]
     args += ["--estimate", "anchors,attachments", "--out", str(out), "--json"]
@@ -304,12 +305,12 @@ def test_a_named_engine_reaches_the_6dof_problem(cogiro):
         )
 
     d6 = data(cogiro.m, True)
-    assert cal._problem(cogiro, d6, index, sd).engine == "numpy"
-    assert cal._problem(cogiro, d6, index, sd, engine="compiled").engine == "compiled"
+    assert cal.map_problem(cogiro, d6, index, sd).engine == "numpy"
+    assert cal.map_problem(cogiro, d6, index, sd, engine="compiled").engine == "compiled"
     point_mass = load_robot(ROBOTS / "cdpr4.yaml")
-    assert cal._problem(point_mass, data(4, False), index, sd).engine is None  # check_engine: compiled
+    assert cal.map_problem(point_mass, data(4, False), index, sd).engine is None  # check_engine: compiled
     with pytest.raises(CdprError, match="unknown engine 'nope'; allowed: compiled, numpy"):
-        cal._problem(cogiro, d6, index, sd, engine="nope")
+        cal.map_problem(cogiro, d6, index, sd, engine="nope")
     # the plan, the simulator and the check on a 6-DoF platform check and use a named engine too
     assert cal.engine6(None) == "numpy" and cal.engine6("compiled") == "compiled"
     with pytest.raises(CdprError, match="unknown engine 'nope'"):

@@ -16,6 +16,7 @@ from cdpr.cli.main import main
 from cdpr.errors import CdprError, ConfigError
 from cdpr.models.drive import has_winches
 from cdpr.parameters import calibration_names, select_groups
+from cdpr.pipeline.calibration_files import write_data
 from cdpr.robot import load_robot
 from tests.analyses.test_calibration6 import COGIRO, _poses, _truth
 from tests.conftest import ROBOTS
@@ -77,10 +78,17 @@ def test_tension_rows_jacobian_equals_central_differences(cogiro, cogiro_winch, 
     assert J.shape == (n_pose + n_t + len(idx), len(idx))
     names = [calibration_names(8, True)[k] for k in idx]
     cols = ["E_2", "h_3", "r_p_4", "d_3", "A_1_x", "A_6_z", "b_2_y", "b_5_z", "offset_4", "offset_7", "M"]
-    step = 2e-3
+    assert_columns_match_central_differences(prob, z, J, names, cols, n_pose, n_t)
+
+
+def assert_columns_match_central_differences(prob, z, J, names, cols, n_pose, n_t, step=2e-3):
+    """Each column ``cols`` of the Jacobian J at z against central differences of prob.residual
+    (steps ``step`` prior sd), the pose rows and the tension rows apart (relative 1e-5 of each
+    part's largest change, which must be > 1e-3), and the prior rows exactly the identity."""
+    k = len(names)
     for name in cols:
         j = names.index(name)
-        e = np.zeros(len(idx))
+        e = np.zeros(k)
         e[j] = step
         fd = (prob.residual(z + e) - prob.residual(z - e)) / (2 * step)
         for part, rows in (("pose", slice(0, n_pose)), ("tension", slice(n_pose, n_pose + n_t))):
@@ -88,7 +96,7 @@ def test_tension_rows_jacobian_equals_central_differences(cogiro, cogiro_winch, 
             assert scale > 1e-3, (name, part)  # the column moves these rows
             err = np.abs(J[rows, j] - fd[rows]).max() / scale
             assert err < 1e-5, (name, part, err)
-        np.testing.assert_array_equal(J[n_pose + n_t :, j], np.eye(len(idx))[j])
+        np.testing.assert_array_equal(J[n_pose + n_t :, j], np.eye(k)[j])
 
 
 def test_encoder_only_with_tensions_recovers_offsets_moduli_and_mass(cogiro):
@@ -170,7 +178,7 @@ def test_bad_tension_data_is_one_line(cogiro, tmp_path, edit, column, words):
     rng = np.random.default_rng(5)
     data = cal.simulate(cogiro, cogiro, _poses(rng, 3), tensions=True)
     path = tmp_path / "d.csv"
-    cal.write_data(path, data, cogiro)
+    write_data(path, data, cogiro)
     back = cal.read_data(path, cogiro)
     np.testing.assert_array_equal(back.tension, data.tension)
     np.testing.assert_array_equal(back.sigma_t, data.sigma_t)
@@ -188,7 +196,7 @@ def test_pose_less_rows_need_encoder_or_tension_data(cogiro, tmp_path):
     data.pose[1] = np.nan
     data.rotvec[1] = np.nan
     path = tmp_path / "d.csv"
-    cal.write_data(path, data, cogiro)
+    write_data(path, data, cogiro)
     back = cal.read_data(path, cogiro)
     assert list(back.has_pose) == [True, False, True] and back.has_tension.all()
     df = pd.read_csv(path)
@@ -225,7 +233,7 @@ def test_cli_round_trip_encoder_and_tensions(cogiro, tmp_path, capsys):
     off = np.linspace(-0.03, 0.03, 8)
     data = cal.simulate(cogiro, cogiro, _poses(rng, 10), offsets=off, tensions=True, sigma_t=0.5, rng=rng)
     csv = tmp_path / "m.csv"
-    cal.write_data(csv, _encoder_only(data), cogiro)
+    write_data(csv, _encoder_only(data), cogiro)
     row = pd.read_csv(csv).iloc[0]
     assert np.isnan(row["x_m"]) and np.isnan(row["rz_rad"]) and row["t1_N"] > 0
     args = ["calibrate", "fit", "--robot", COGIRO, "--data", str(csv), "--estimate", "offsets"]

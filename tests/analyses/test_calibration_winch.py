@@ -12,6 +12,7 @@ from cdpr.analyses.compensation import compensated_pose
 from cdpr.models.drive import realised_rest_lengths
 from cdpr.models.inverse import L_TS
 from cdpr.parameters import calibration_names, select_groups
+from cdpr.pipeline.calibration_files import write_robot
 from cdpr.robot import load_robot
 from tests.conftest import ROBOTS
 
@@ -108,7 +109,7 @@ def test_write_robot_keeps_the_winch(cdpr4w, tmp_path):
     rng = np.random.default_rng(9)
     data = cal.simulate(cdpr4w, cdpr4w, _poses(rng, 10), sigma=1e-9, engine=NP)
     c = cal.fit(cdpr4w, data, ["dead_lengths"], engine=NP)
-    cal.write_robot(tmp_path / "r.yaml", c, "x.csv")
+    write_robot(tmp_path / "r.yaml", c, "x.csv")
     back = load_robot(tmp_path / "r.yaml")
     assert back.winches == cdpr4w.winches
 

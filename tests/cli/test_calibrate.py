@@ -10,6 +10,7 @@ import pytest
 from cdpr.analyses import calibration as cal
 from cdpr.cli.main import main
 from cdpr.parameters import select_groups
+from cdpr.pipeline.calibration_files import write_data
 from cdpr.robot import load_robot
 from tests.conftest import ROBOTS
 
@@ -42,8 +43,8 @@ def measured(tmp_path_factory):
     d = tmp_path_factory.mktemp("cal")
     train = cal.simulate(truth, robot, rng.uniform(box[0], box[1], (40, 3)), rng=rng)
     test = cal.simulate(truth, robot, rng.uniform(box[0], box[1], (100, 3)), rng=rng)
-    cal.write_data(d / "m.csv", train, robot)
-    cal.write_data(d / "v.csv", test, robot)
+    write_data(d / "m.csv", train, robot)
+    write_data(d / "v.csv", test, robot)
     return d, th[idx], idx
 
 
@@ -191,7 +192,7 @@ def test_encoder_only_data_exact_refuses_standard_self_calibrates(tmp_path, caps
         robot, robot, rng.uniform([-1.5, -1.5, 1.0], [1.5, 1.5, 3.0], (20, 3)), offsets=[0.01] * 4
     )
     data.pose[:] = np.nan
-    cal.write_data(tmp_path / "enc.csv", data, robot)
+    write_data(tmp_path / "enc.csv", data, robot)
     args = [
         "calibrate",
         "fit",

@@ -10,6 +10,7 @@ import pytest
 from cdpr.analyses import calibration as cal
 from cdpr.cli.main import main
 from cdpr.parameters import select_groups
+from cdpr.pipeline.calibration_files import write_data
 from cdpr.robot import load_robot
 from tests.conftest import ROBOTS
 
@@ -27,7 +28,7 @@ def measured(tmp_path_factory):
     box = np.array([[-1.8, -1.8, 0.8], [1.8, 1.8, 3.5]])
     data = cal.simulate(truth, robot, rng.uniform(box[0], box[1], (30, 3)), sigma=1e-5, rng=rng)
     d = tmp_path_factory.mktemp("calw")
-    cal.write_data(d / "m.csv", data, robot)
+    write_data(d / "m.csv", data, robot)
     return d, th[idx]
 
 
