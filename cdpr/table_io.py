@@ -15,7 +15,6 @@ import pyarrow.parquet as pq
 from cdpr.errors import CdprError
 from cdpr.io import CSV_DIGITS, TABLE_SUFFIXES, atomic
 
-
 #: Rows of one parquet row group: pyarrow's default for ``pq.write_table`` (the smaller of the
 #: table's length and 1024 * 1024). ``write_table_chunks`` cuts its row groups at the same rows so
 #: that a table written in chunks has the bytes of the same table written at once.
@@ -223,10 +222,15 @@ def iter_table(path, columns, chunk_rows):
     path = _check_readable(path)
     try:
         if path.suffix == ".parquet":
-            for batch in pq.ParquetFile(path).iter_batches(batch_size=chunk_rows, columns=list(columns)):
-                yield batch.to_pandas()
+            chunks = (
+                batch.to_pandas()
+                for batch in pq.ParquetFile(path).iter_batches(batch_size=chunk_rows, columns=list(columns))
+            )
         else:
-            yield from pd.read_csv(path, usecols=list(columns), chunksize=chunk_rows)
+            chunks = pd.read_csv(path, usecols=list(columns), chunksize=chunk_rows)
+        for df in chunks:
+            if len(df):  # a header-only CSV reads as one empty chunk of text columns
+                yield df
     except Exception as exc:  # pyarrow.ArrowInvalid, pandas' EmptyDataError/ParserError, ...
         raise _unreadable(path, exc) from None
 

@@ -54,9 +54,7 @@ class Progress:
         if not quiet and self.stream.isatty():
             from tqdm import tqdm  # lazy: only a command over a table on a terminal draws a bar
 
-            self.bar = tqdm(
-                total=total, desc=what, unit=" points", unit_scale=True, file=self.stream, leave=False
-            )
+            self.bar = tqdm(total=total, desc=what, unit=" points", file=self.stream, leave=False)
 
     def update(self, n):
         """Advance the bar by n points."""
