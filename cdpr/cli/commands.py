@@ -29,12 +29,6 @@ from cdpr.robot import TABLE1, load_robot, load_winch_params
 POINT_COLUMNS = ("x", "y", "z", "rx", "ry", "rz")
 
 
-def _read_table(path):
-    from cdpr import table_io  # lazy: pandas and pyarrow, for the commands that read a table only
-
-    return table_io.read_table(path)
-
-
 def _write_table(df, path):
     from cdpr import table_io  # lazy: pandas and pyarrow, for the commands that write a table only
 
