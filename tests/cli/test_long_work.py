@@ -278,7 +278,8 @@ def test_ctrl_c_in_any_command_is_one_line(monkeypatch, capsys):
 
 #: What a 10x longer table may add to the peak memory of ``compensate --points`` [MiB] with a CSV
 #: output, which holds one chunk's work and rows whatever the table's length. Measured on the
-#: 2-core machine: +30 to +45 MiB from 20,000 to 200,000 rows (not attributed further); before chunks the whole table was solved at once: +280 MiB (1.5 kB per row).
+#: 2-core machine: +30 to +45 MiB from 20,000 to 200,000 rows (not attributed further); before
+#: chunks the whole table was solved at once: +280 MiB (1.5 kB per row).
 EXTRA_MIB = 100
 
 
