@@ -340,3 +340,30 @@ def test_grid_loads_its_kernels_before_the_clock_starts(monkeypatch, capsys, tmp
         main(["grid", "--robot", CDPR4, "--frame", "--n", "5", "--out", str(out), "--engine", "numpy"]) == 0
     )
     assert calls == [False, True]  # the numpy reference has nothing to compile
+
+
+@pytest.mark.parametrize("command", [["point", "--redundancy", "physical"], ["compensate"], ["inverse"]])
+def test_chunked_poses_of_a_rigid_platform_have_the_bytes_of_one_chunk(tmp_path, command):
+    """A rigid platform (hang4_6dof) over a table with rx, ry, rz columns: the 6-DoF paths (numpy
+    reference below 500 poses), in chunks of 5 rows against one chunk."""
+    rng = np.random.default_rng(5)
+    n = 23
+    table = tmp_path / "poses.csv"
+    pd.DataFrame(
+        {
+            "x": rng.uniform(-0.5, 0.5, n),
+            "y": rng.uniform(-0.5, 0.5, n),
+            "z": rng.uniform(1.5, 3.0, n),
+            "rx": 0.0,
+            "ry": 0.0,
+            "rz": rng.uniform(-0.05, 0.05, n),
+        }
+    ).to_csv(table, index=False)
+    outs = []
+    for rows in ("5", "1000"):
+        out = tmp_path / f"out_{rows}.parquet"
+        argv = command + ["--robot", str(ROBOTS / "hang4_6dof.yaml"), "--points", str(table)]
+        assert main(argv + ["--out", str(out), "--chunk-rows", rows]) == 0
+        outs.append(out.read_bytes())
+    assert outs[0] == outs[1]
+    assert {"rx", "ry", "rz"} <= set(pd.read_parquet(out).columns)
