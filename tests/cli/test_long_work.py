@@ -217,7 +217,7 @@ def test_the_expected_time_is_said_when_over_a_minute(monkeypatch, capsys):
         monkeypatch.setattr(stream, "ETA_SECONDS", limit)
         assert len(list(stream.solve_chunks(chunks, slow, 100, "compensate", quiet=quiet))) == 10
         err = capsys.readouterr().err
-        assert ("expected to take about 1 s" in err) is said, err
+        assert ("compensate: 100 points, expected to take about " in err) is said, err
         assert err.count("\n") == int(said)
 
 
@@ -367,3 +367,7 @@ def test_chunked_poses_of_a_rigid_platform_have_the_bytes_of_one_chunk(tmp_path,
         outs.append(out.read_bytes())
     assert outs[0] == outs[1]
     assert {"rx", "ry", "rz"} <= set(pd.read_parquet(out).columns)
+
+
+def test_durations_in_words():
+    assert [stream._duration(s) for s in (0.4, 45, 960, 9000)] == ["0 s", "45 s", "16 min", "2.5 h"]
