@@ -13,8 +13,11 @@ def run():
     a third of a 250,000-point ``cdpr grid``. Reference counting still frees everything else; the
     library itself never touches the collector."""
     gc.disable()
-    from cdpr.cli.main import main  # lazy: after the collector is off
-
+    try:
+        from cdpr.cli.main import main  # lazy: after the collector is off
+    except KeyboardInterrupt:  # Ctrl-C while loading: main() says the same for a running command
+        print("cdpr: interrupted (Ctrl-C)", file=sys.stderr)
+        sys.exit(130)
     code = main()
     gc.freeze()  # interpreter exit: do not collect what was loaded
     sys.exit(code)

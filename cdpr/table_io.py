@@ -15,6 +15,11 @@ import pyarrow.parquet as pq
 from cdpr.errors import CdprError
 from cdpr.io import CSV_DIGITS, TABLE_SUFFIXES, atomic
 
+#: Rows of one parquet row group: pyarrow's default for ``pq.write_table`` (the smaller of the
+#: table's length and 1024 * 1024). ``write_table_chunks`` cuts its row groups at the same rows so
+#: that a table written in chunks has the bytes of the same table written at once.
+ROW_GROUP_ROWS = 1024 * 1024
+
 
 def write_table(df, path, float_format=None):
     """Write a DataFrame as parquet (.parquet) or CSV (.csv, floats with CSV_DIGITS significant
@@ -33,6 +38,72 @@ def write_table(df, path, float_format=None):
         atomic(path, lambda tmp: df.to_csv(tmp, index=False, float_format=fmt))
     else:
         raise CdprError(f"{path}: unknown table format '{suffix}'; allowed: .parquet, .csv")
+
+
+def write_table_chunks(frames, path, float_format=None):
+    """Write the DataFrames ``frames`` (an iterable, e.g. a generator that solves one chunk of points
+    per item) one after the other as one table, atomically, holding only part of it in memory.
+
+    The bytes are those of ``write_table(pd.concat(frames), path)`` when every frame has the same
+    columns, dtypes and categories (tests/cli/test_long_work.py): a CSV is written row by row, a
+    parquet file gets the same row groups (``ROW_GROUP_ROWS``), each written from one contiguous
+    table. Memory: one frame for a CSV; up to one row group of the table, in Arrow form (about 8 bytes
+    per number, twice while the group is written), for a parquet file. An exception (also
+    KeyboardInterrupt) leaves no file behind.
+
+    Parameters
+    ----------
+    frames : iterable of DataFrame
+        The table's rows, in order; at least one frame.
+    path : str or Path
+        A .parquet or .csv file.
+    float_format : str, optional
+        As ``write_table``.
+
+    Returns
+    -------
+    int
+        The number of rows written.
+    """
+    suffix = Path(path).suffix
+    if suffix not in TABLE_SUFFIXES:
+        raise CdprError(f"{path}: unknown table format '{suffix}'; allowed: .parquet, .csv")
+    rows = [0]
+
+    def write_csv(tmp):
+        fmt = float_format or f"%.{CSV_DIGITS}g"
+        with open(tmp, "w", encoding="utf-8", newline="") as f:
+            for k, df in enumerate(frames):
+                _rounded_objects(df).to_csv(f, index=False, header=k == 0, float_format=fmt)
+                rows[0] += len(df)
+
+    def write_parquet(tmp):
+        writer, buffered, n_buffered = None, [], 0
+        try:
+            for df in frames:
+                table = pa.Table.from_pandas(df, preserve_index=False)
+                if writer is None:
+                    cats = [c for c in df.columns if isinstance(df[c].dtype, pd.CategoricalDtype)]
+                    writer = pq.ParquetWriter(
+                        tmp, table.schema, compression=None, use_dictionary=cats or False
+                    )
+                buffered.append(table)
+                n_buffered += len(table)
+                rows[0] += len(table)
+                while n_buffered >= ROW_GROUP_ROWS:
+                    whole = pa.concat_tables(buffered).combine_chunks()
+                    writer.write_table(whole.slice(0, ROW_GROUP_ROWS))
+                    rest = whole.slice(ROW_GROUP_ROWS)
+                    buffered, n_buffered = ([rest] if len(rest) else []), len(rest)
+                    del whole
+            if buffered:
+                writer.write_table(pa.concat_tables(buffered).combine_chunks())
+        finally:
+            if writer is not None:
+                writer.close()
+
+    atomic(path, write_parquet if suffix == ".parquet" else write_csv)
+    return rows[0]
 
 
 def _rounded_objects(df):
@@ -87,9 +158,9 @@ def _found(path, suffix):
     return truncated
 
 
-def read_table(path):
-    """Read a .parquet or .csv table; an unreadable file is named, with what was found and what to
-    do (a folder, binary data where CSV text belongs, a truncated table, ...)."""
+def _check_readable(path):
+    """``path`` as a Path, refused unless it names an existing .parquet or .csv file (a folder is
+    named as such; a missing file raises FileNotFoundError)."""
     path = Path(path)
     suffix = path.suffix
     if suffix not in TABLE_SUFFIXES:
@@ -98,12 +169,79 @@ def read_table(path):
         raise CdprError(f"{path}: is a folder, not a {suffix[1:]} table; remove it and run again")
     if not path.exists():
         raise FileNotFoundError(path)
+    return path
+
+
+def _unreadable(path, exc):
+    """The CdprError of a table file that pandas or pyarrow cannot read (``read_table``)."""
+    return CdprError(
+        f"{path}: cannot read this table ({type(exc).__name__}: {' '.join(str(exc).split())[:200]}); "
+        f"{_found(path, path.suffix)}"
+    )
+
+
+def table_columns(path):
+    """The column names of a .parquet or .csv table, read from its schema or header only.
+
+    Parameters
+    ----------
+    path : str or Path
+
+    Returns
+    -------
+    list of str
+        As ``read_table(path).columns`` would give them (a CSV's repeated names get pandas' suffixes).
+    """
+    path = _check_readable(path)
     try:
-        return pd.read_parquet(path) if suffix == ".parquet" else pd.read_csv(path)
+        if path.suffix == ".parquet":
+            return list(pq.ParquetFile(path).schema_arrow.names)
+        return list(pd.read_csv(path, nrows=0).columns)
+    except Exception as exc:  # pyarrow.ArrowInvalid, pandas' EmptyDataError/ParserError, ...
+        raise _unreadable(path, exc) from None
+
+
+def iter_table(path, columns, chunk_rows):
+    """The columns ``columns`` of a .parquet or .csv table, ``chunk_rows`` rows at a time, so that a
+    large table is read with bounded memory (pyarrow's batches of a parquet file, pandas' chunks of
+    a CSV); the values are those of ``read_table(path)[columns]``.
+
+    Parameters
+    ----------
+    path : str or Path
+    columns : list of str
+        Columns that the table has (``table_columns``).
+    chunk_rows : int
+        Rows per chunk (the last one may be shorter).
+
+    Yields
+    ------
+    DataFrame
+        The next ``chunk_rows`` rows of those columns; nothing for a table without rows.
+    """
+    path = _check_readable(path)
+    try:
+        if path.suffix == ".parquet":
+            chunks = (
+                batch.to_pandas()
+                for batch in pq.ParquetFile(path).iter_batches(batch_size=chunk_rows, columns=list(columns))
+            )
+        else:
+            chunks = pd.read_csv(path, usecols=list(columns), chunksize=chunk_rows)
+        for df in chunks:
+            if len(df):  # a header-only CSV reads as one empty chunk of text columns
+                yield df
+    except Exception as exc:  # pyarrow.ArrowInvalid, pandas' EmptyDataError/ParserError, ...
+        raise _unreadable(path, exc) from None
+
+
+def read_table(path):
+    """Read a .parquet or .csv table; an unreadable file is named, with what was found and what to
+    do (a folder, binary data where CSV text belongs, a truncated table, ...)."""
+    path = _check_readable(path)
+    try:
+        return pd.read_parquet(path) if path.suffix == ".parquet" else pd.read_csv(path)
     except FileNotFoundError:
         raise
     except Exception as exc:  # pyarrow.ArrowInvalid, pandas' EmptyDataError/ParserError, ...
-        raise CdprError(
-            f"{path}: cannot read this table ({type(exc).__name__}: {' '.join(str(exc).split())[:200]}); "
-            f"{_found(path, suffix)}"
-        ) from None
+        raise _unreadable(path, exc) from None

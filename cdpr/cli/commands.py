@@ -30,12 +30,6 @@ from cdpr.robot import TABLE1, load_robot, load_winch_params
 POINT_COLUMNS = ("x", "y", "z", "rx", "ry", "rz")
 
 
-def _read_table(path):
-    from cdpr import table_io  # lazy: pandas and pyarrow, for the commands that read a table only
-
-    return table_io.read_table(path)
-
-
 def _write_table(df, path):
     from cdpr import table_io  # lazy: pandas and pyarrow, for the commands that write a table only
 
@@ -55,48 +49,93 @@ def _load(args):
     )
 
 
+class Points:
+    """The points of --at or --points: ``n`` of them, read ``--chunk-rows`` at a time by ``chunks()``.
+
+    ``chunks()`` yields (P (k, 3) [m], rotvec (k, 3) [rad] or None) per chunk: the orientation of the
+    table's rx, ry, rz columns, else of --rotvec, else None. --at is one chunk of one point."""
+
+    def __init__(self, args, n, columns=None):
+        self.args, self.n, self.columns = args, n, columns
+        self.table = args.at is None
+        self.has_rot = columns is not None and "rx" in columns
+
+    def chunks(self):
+        args = self.args
+        if not self.table:
+            P = np.array([args.at], dtype=float)
+            yield P, _rotvec(args, len(P))
+            return
+        from cdpr import table_io  # lazy: pandas and pyarrow, for the commands that read a table only
+
+        for df in table_io.iter_table(args.points, self.columns, args.chunk_rows):
+            P = df[["x", "y", "z"]].to_numpy(dtype=float)
+            if self.has_rot:
+                yield P, df[["rx", "ry", "rz"]].to_numpy(dtype=float)
+            else:
+                yield P, _rotvec(args, len(P))
+
+    def first(self):
+        """The first chunk (P, rotvec): all of --at; a table's first ``--chunk-rows`` rows."""
+        return next(iter(self.chunks()))
+
+
 def _points(args):
-    """(N, 3) points of --at or --points; refuses non-finite coordinates, a missing --out and an
-    orientation given twice (--rotvec and rx, ry, rz columns). A table's orientations go to
-    ``args.table_rotvec`` (``_rotvec``). Runs before any solve (inverse, point, compensate)."""
+    """The ``Points`` of --at or --points; refuses non-finite coordinates, a missing --out and an
+    orientation given twice (--rotvec and rx, ry, rz columns). A table is checked in one pass over
+    its chunks, so that a bad row is refused before any solve (inverse, point, compensate)."""
     if args.at is not None:
         if args.out:
             io.check_output(args.out)
-        return np.array([args.at], dtype=float)
+        return Points(args, 1)
     if not args.out:
         raise CdprError("--points needs --out FILE for the result table")
     io.check_output(args.out)
     if str(args.points).endswith(".csv") and os.path.isfile(args.points):
         io.check_csv_rows(args.points, POINT_COLUMNS)  # rows as wide as the header, plain numbers
+    from cdpr import table_io  # lazy: pandas and pyarrow, for the commands that read a table only
+
     try:
-        df = _read_table(args.points)
+        columns = table_io.table_columns(args.points)
     except FileNotFoundError:
         raise CdprError(f"{args.points}: the points file does not exist") from None
-    missing = [c for c in "xyz" if c not in df.columns]
+    missing = [c for c in "xyz" if c not in columns]
     if missing:
         raise CdprError(
             f"{args.points}: missing column(s) {', '.join(missing)}; a points table needs columns x, y, z [m]"
         )
-    if len(df) == 0:
+    present = [c for c in POINT_COLUMNS if c in columns]
+    rot = [c for c in ("rx", "ry", "rz") if c in columns]
+    n, bad_xyz, far_xyz, bad_rot = 0, None, None, None
+    for df in table_io.iter_table(args.points, present, args.chunk_rows):
+        for c in present:  # a parquet or CSV column of text (a CSV's cells are checked above)
+            if df[c].dtype.kind not in "iuf":
+                raise CdprError(f"{args.points}: column {c} holds {df[c].dtype} values; it must hold numbers")
+        P = df[["x", "y", "z"]].to_numpy(dtype=float)
+        bad = ~np.isfinite(P).all(axis=1)
+        if bad_xyz is None and bad.any():
+            bad_xyz = n + int(np.flatnonzero(bad)[0]) + 1
+        far = (np.abs(P) > MAX_COORDINATE_M).any(axis=1)
+        if far_xyz is None and far.any():
+            far_xyz = n + int(np.flatnonzero(far)[0]) + 1
+        if len(rot) == 3:
+            bad = ~np.isfinite(df[["rx", "ry", "rz"]].to_numpy(dtype=float)).all(axis=1)
+            if bad_rot is None and bad.any():
+                bad_rot = n + int(np.flatnonzero(bad)[0]) + 1
+        n += len(df)
+    if n == 0:
         raise CdprError(
             f"{args.points}: the table has no rows; a points table needs at least one row of x, y, z [m]"
         )
-    for c in POINT_COLUMNS:  # a parquet or CSV column of text (a CSV's cells are checked above)
-        if c in df.columns and df[c].dtype.kind not in "iuf":
-            raise CdprError(f"{args.points}: column {c} holds {df[c].dtype} values; it must hold numbers")
-    P = df[["x", "y", "z"]].to_numpy(dtype=float)
-    bad = ~np.isfinite(P).all(axis=1)
-    if bad.any():
+    if bad_xyz is not None:
         raise CdprError(
-            f"{args.points}: row {int(np.flatnonzero(bad)[0]) + 1} has a non-finite coordinate; every x, y, z must be a finite number"
+            f"{args.points}: row {bad_xyz} has a non-finite coordinate; every x, y, z must be a finite number"
         )
-    far = (np.abs(P) > MAX_COORDINATE_M).any(axis=1)
-    if far.any():
+    if far_xyz is not None:
         raise CdprError(
-            f"{args.points}: row {int(np.flatnonzero(far)[0]) + 1} has a coordinate beyond ±{MAX_COORDINATE_M:g} m; "
+            f"{args.points}: row {far_xyz} has a coordinate beyond ±{MAX_COORDINATE_M:g} m; "
             "a position must be within it"
         )
-    rot = [c for c in ("rx", "ry", "rz") if c in df.columns]
     if rot:
         if len(rot) != 3:
             raise CdprError(
@@ -106,24 +145,59 @@ def _points(args):
             raise CdprError(
                 f"give the orientation either as --rotvec or as rx, ry, rz columns of --points ({args.points}), not both"
             )
-        rv = df[["rx", "ry", "rz"]].to_numpy(dtype=float)
-        bad = ~np.isfinite(rv).all(axis=1)
-        if bad.any():
-            raise CdprError(
-                f"{args.points}: row {int(np.flatnonzero(bad)[0]) + 1} has a non-finite rx, ry or rz"
-            )
-        args.table_rotvec = rv
-    return P
+        if bad_rot is not None:
+            raise CdprError(f"{args.points}: row {bad_rot} has a non-finite rx, ry or rz")
+    return Points(args, n, present)
 
 
 def _rotvec(args, n):
-    """(N, 3) orientations [rad] of --rotvec or the points table's rx, ry, rz; None when neither."""
-    table = getattr(args, "table_rotvec", None)
-    if table is not None:
-        return table
+    """(N, 3) orientations [rad] of --rotvec; None when not given."""
     if getattr(args, "rotvec", None) is None:
         return None
     return np.tile(np.asarray(args.rotvec, dtype=float), (n, 1))
+
+
+def _write_chunks(args, points, solve, what):
+    """Solve ``points`` chunk by chunk with ``solve(P, rotvec)`` (a DataFrame per chunk) and write the
+    frames as one table to --out (``table_io.write_table_chunks``: atomic, the bytes of the table
+    written at once), with a progress bar and the expected time (``stream.solve_chunks``)."""
+    from cdpr import table_io  # lazy: pandas and pyarrow, for the commands that write a table only
+    from cdpr.cli.stream import solve_chunks  # lazy: tqdm, for the commands over a table only
+
+    frames = solve_chunks(points.chunks(), solve, points.n, what, quiet=getattr(args, "quiet", False))
+    table_io.write_table_chunks(frames, args.out)
+
+
+def _warm_up(args, solve):
+    """``stream.warm_up``: one point through the compiled engine before the timed work, so that a
+    cold numba cache's compile is announced on stderr (not with --quiet) and not counted in a rate."""
+    from cdpr.cli.stream import warm_up  # lazy: the compiled solver commands only
+
+    return warm_up(solve, quiet=getattr(args, "quiet", False))
+
+
+class Tally:
+    """The summary of a table written chunk by chunk: points, status counts, the |dp| range of the
+    ok points (what ``_report`` prints)."""
+
+    def __init__(self):
+        self.n, self.counts, self.lo, self.hi = 0, None, float("nan"), float("nan")
+
+    def add(self, df):
+        """Count the frame ``df`` (columns status and dp); returns it."""
+        from cdpr.analyses import scans  # lazy: the solver commands only
+
+        self.n += len(df)
+        counts = df["status"].value_counts(sort=False)
+        self.counts = counts if self.counts is None else self.counts.add(counts, fill_value=0)
+        lo, hi = scans.ok_extremes(df)
+        self.lo, self.hi = float(np.fmin(self.lo, lo)), float(np.fmax(self.hi, hi))
+        return df
+
+    def status(self):
+        """{status: count} of the counted statuses, most frequent first (as ``value_counts``)."""
+        counts = self.counts.sort_values(ascending=False, kind="stable")
+        return {k: int(v) for k, v in counts.items() if v}
 
 
 def _rotvec_option(args):
@@ -150,52 +224,60 @@ def cmd_inverse(args):
     from cdpr.models.pulleys import swivel
 
     robot = _load(args)
-    P = _points(args)
-    rv = _rotvec(args, len(P))
-    if robot.point_mass:
-        st = igm_e(robot, P)
-        lts = L_TS(robot, P)
-        B = np.repeat(P[:, None, :], robot.m, axis=1)
-    else:
-        p_, R = pose_arrays(P, rv)
-        B, st = pose_state(robot, p_, R)
-        lts = L_TS(robot, p_, R=R)
+    points = _points(args)
     a = robot.arrays
-    sw = swivel(B, a.A, None if robot.suspended_point_mass else a.frame, a.inward, per_cable=True)
-    over = st.gamma > 1.5 * np.pi
-    motor = None
-    if any(p is not None for p in robot.spools):
+    spools = any(p is not None for p in robot.spools)
+    if spools:
         from cdpr.models.drive import spool_motor_angles  # lazy: robots with spools only
 
-        motor = spool_motor_angles(robot, lts)  # the encoder angles that command L_TS (the spool model)
+    def state(P, rv):
+        """The extended inverse model at P: lengths L_TS, the pulley states, swivel, wrap > 270°."""
+        if robot.point_mass:
+            st = igm_e(robot, P)
+            lts = L_TS(robot, P)
+            B = np.repeat(P[:, None, :], robot.m, axis=1)
+        else:
+            p_, R = pose_arrays(P, rv)
+            B, st = pose_state(robot, p_, R)
+            lts = L_TS(robot, p_, R=R)
+        sw = swivel(B, a.A, None if robot.suspended_point_mass else a.frame, a.inward, per_cable=True)
+        return lts, st, sw, st.gamma > 1.5 * np.pi
+
     if args.points or args.out:
         import pandas as pd  # lazy: a table of points only
 
-        cols = {"x": P[:, 0], "y": P[:, 1], "z": P[:, 2]}
-        if rv is not None:  # the orientation it was given (--rotvec or the table's), any robot
-            cols.update({"rx": rv[:, 0], "ry": rv[:, 1], "rz": rv[:, 2]})
-        for i in range(robot.m):
-            c = i + 1
-            cols.update(
-                {
-                    f"L_TS{c}": lts[:, i],
-                    f"L_TE{c}": st.L_TE[:, i],
-                    f"gamma{c}": st.gamma[:, i],
-                    f"alpha{c}": st.alpha[:, i],
-                    f"beta{c}": st.beta[:, i] if robot.kind[i] == 2 else np.full(len(P), np.nan),
-                    f"inside{c}": st.inside[:, i],
-                }
-            )
-            if not robot.suspended_point_mass:
-                cols.update({f"swivel{c}": sw[:, i], f"wrap_over_270{c}": over[:, i]})
-            if motor is not None:
-                cols[f"motor_deg{c}"] = motor[:, i]
-        df = pd.DataFrame(cols)
-        _write_table(df, args.out)
-        print(
-            f"wrote {len(df)} points to {args.out}; {int(st.inside.any(axis=1).sum())} inside a sheave (lengths clipped there)"
-        )
+        inside = [0]
+
+        def table(P, rv):
+            lts, st, sw, over = state(P, rv)
+            motor = spool_motor_angles(robot, lts) if spools else None  # the encoder angles of L_TS
+            inside[0] += int(st.inside.any(axis=1).sum())
+            cols = {"x": P[:, 0], "y": P[:, 1], "z": P[:, 2]}
+            if rv is not None:  # the orientation it was given (--rotvec or the table's), any robot
+                cols.update({"rx": rv[:, 0], "ry": rv[:, 1], "rz": rv[:, 2]})
+            for i in range(robot.m):
+                c = i + 1
+                cols.update(
+                    {
+                        f"L_TS{c}": lts[:, i],
+                        f"L_TE{c}": st.L_TE[:, i],
+                        f"gamma{c}": st.gamma[:, i],
+                        f"alpha{c}": st.alpha[:, i],
+                        f"beta{c}": st.beta[:, i] if robot.kind[i] == 2 else np.full(len(P), np.nan),
+                        f"inside{c}": st.inside[:, i],
+                    }
+                )
+                if not robot.suspended_point_mass:
+                    cols.update({f"swivel{c}": sw[:, i], f"wrap_over_270{c}": over[:, i]})
+                if motor is not None:
+                    cols[f"motor_deg{c}"] = motor[:, i]
+            return pd.DataFrame(cols)
+
+        _write_chunks(args, points, table, "inverse")
+        print(f"wrote {points.n} points to {args.out}; {inside[0]} inside a sheave (lengths clipped there)")
         return
+    lts, st, sw, over = state(*points.first())
+    motor = spool_motor_angles(robot, lts) if spools else None  # the encoder angles that command L_TS
     out = [
         {
             "cable": i + 1,
@@ -290,11 +372,12 @@ def cmd_point(args):
     """One pose (--at) or a table of poses (--points): the solved pose, tensions and status. Without
     --engine, fewer than ``solve.ONE_SHOT_POSES`` poses are answered by the numpy reference (the
     compiled engine's load would be most of the process), more by the compiled engine."""
-    from cdpr.solve import check_engine, solve  # lazy: the solvers, for the solver commands only
+    from cdpr.solve import check_engine  # lazy: the solvers, for the solver commands only
+    from cdpr.solve import solve as solve_poses  # lazy: the solvers, for the solver commands only
 
     robot = _load(args)
-    P = _points(args)
-    engine = check_engine(args.engine, args.method, one_shot=len(P))
+    points = _points(args)
+    engine = check_engine(args.engine, args.method, one_shot=points.n)
     L0 = None
     given = [
         o
@@ -328,15 +411,16 @@ def cmd_point(args):
             raise CdprError(
                 f"--motor-deg: the spools of cables {bad} cannot pay out that much line (the spool would be empty)"
             )
-    rv = _rotvec(args, len(P))
     if args.sensitivities:
         if L0 is not None and args.redundancy != "physical":
             raise CdprError(
                 "commanded lengths need physical mode (--redundancy physical); paper mode commands L_TS at the desired point"
             )
-        res = _solve_sensitivities(robot, P, args, L0, rv, engine)
-    else:
-        res = solve(
+
+    def solve(P, rv):
+        if args.sensitivities:
+            return _solve_sensitivities(robot, P, args, L0, rv, engine)
+        return solve_poses(
             robot,
             P,
             method=args.method,
@@ -346,13 +430,24 @@ def cmd_point(args):
             L0=L0,
             rotvec=rv,
         )
+
     if args.points or args.out:
         from cdpr.tables import to_frame  # lazy: a table of points only (pandas)
 
-        df = to_frame(robot, res, args.redundancy, rotvec=rv)
-        _write_table(df, args.out)
-        _report(df, args.out, args, float("nan"))
+        tally = Tally()
+        if engine == "compiled":
+            P, rv = points.first()
+            _warm_up(args, lambda: solve(P[:1], None if rv is None else rv[:1]))
+        _write_chunks(
+            args,
+            points,
+            lambda P, rv: tally.add(to_frame(robot, solve(P, rv), args.redundancy, rotvec=rv)),
+            "point",
+        )
+        _report(tally, args.out, args, float("nan"))
         return
+    P, rv = points.first()
+    res = solve(P, rv)
     t = res["t"][0]
     out = {
         "desired": list(map(float, args.at)),
@@ -447,8 +542,8 @@ def cmd_compensate(args):
     from cdpr.solve import check_engine  # lazy: the solvers, for the solver commands only
 
     robot = _load(args)
-    P = _points(args)
-    engine = check_engine(args.engine, "newton", one_shot=len(P))
+    points = _points(args)
+    engine = check_engine(args.engine, "newton", one_shot=points.n)
     actual = None
     if args.actual_E_cables is not None:
         if len(args.actual_E_cables) != robot.m:
@@ -463,40 +558,51 @@ def cmd_compensate(args):
     t_max = args.t_max if args.t_max is not None else None
     if t_max is not None and not args.t_min < t_max:
         raise CdprError(f"--t-min must be below --t-max, got {args.t_min:g} N and {t_max:g} N")
-    rv = _rotvec(args, len(P))
+    P, rv = points.first()
     six = at_poses(robot, P, rv)  # a rigid platform or --rotvec: the 6-DoF compensation
     if six and args.distribution == "subset":
         raise CdprError(
             "--distribution subset (the paper's 3-cable subset) is not available at a pose (rigid platform or "
             "--rotvec); use min_norm, closed_form or closed_form_improved"
         )
-    # a pose with no tension distribution is infeasible and not solved (its solved columns are empty)
-    res = compensated_pose(
-        robot,
-        P,
-        actual=actual,
-        method=args.distribution,
-        engine=engine,
-        t_min=args.t_min,
-        t_max=t_max,
-        rotvec=rv,
-        threads=args.threads,
-    )
+
+    def solve(P, rv):
+        # a pose with no tension distribution is infeasible and not solved (its solved columns are empty)
+        return compensated_pose(
+            robot,
+            P,
+            actual=actual,
+            method=args.distribution,
+            engine=engine,
+            t_min=args.t_min,
+            t_max=t_max,
+            rotvec=rv,
+            threads=args.threads,
+        )
+
     if args.points or args.out:
         from cdpr.tables import to_frame, to_frame6  # lazy: tables only (pandas)
 
-        df = to_frame6(robot, res) if six else to_frame(robot, res, "physical")
-        for i in range(robot.m):
-            df[f"L0_{i + 1}"] = res["L0"][:, i]
-        for i in range(robot.m):
-            df[f"t_planned{i + 1}"] = res["t_planned"][:, i]
-        _write_table(df, args.out)
+        def table(P, rv):
+            res = solve(P, rv)
+            df = to_frame6(robot, res) if six else to_frame(robot, res, "physical")
+            for i in range(robot.m):
+                df[f"L0_{i + 1}"] = res["L0"][:, i]
+            for i in range(robot.m):
+                df[f"t_planned{i + 1}"] = res["t_planned"][:, i]
+            return tally.add(df)
+
+        tally = Tally()
+        if engine == "compiled":
+            _warm_up(args, lambda: solve(P[:1], None if rv is None else rv[:1]))
+        _write_chunks(args, points, table, "compensate")
         if six:
-            n_bad = int((res["status"] == "infeasible").sum())
-            print(f"wrote {len(df)} poses to {args.out}; {n_bad} infeasible (no tension distribution)")
+            n_bad = tally.status().get("infeasible", 0)
+            print(f"wrote {tally.n} poses to {args.out}; {n_bad} infeasible (no tension distribution)")
         else:
-            _report(df, args.out, args, float("nan"))
+            _report(tally, args.out, args, float("nan"))
         return
+    res = solve(P, rv)
     if six:
         return _compensate_pose_report(args, robot, res, engine)
     status = str(res["status"][0])
@@ -606,6 +712,7 @@ def _check_size(n_points, what):
 def cmd_grid(args):
     # lazy: the grid, the solvers and pandas, for this command only
     from cdpr.analyses.workspace import check_box, frame_box, grid_points, read_box, shard_range
+    from cdpr.solve import check_engine
     from cdpr.tables import solve_table
 
     robot = _load(args)
@@ -620,16 +727,16 @@ def cmd_grid(args):
         raise CdprError("give the grid box with --box, --box-file or --frame")
     start, stop = shard_range(args.n**3, args.shard, args.shards)
     _check_size(stop - start, f"--n {args.n}")
-    t0 = time.perf_counter()
     P = grid_points(box, args.n, start, stop)
-    if args.sensitivities:
-        from cdpr.tables import to_frame  # lazy: --sensitivities only
+    rv = None if args.rotvec is None else np.asarray(args.rotvec, dtype=float)
 
-        rv = None if args.rotvec is None else np.asarray(args.rotvec, dtype=float)
-        res = _solve_sensitivities(robot, P, args, rv=rv, engine=args.engine)
-        df = to_frame(robot, res, args.redundancy, rotvec=rv)
-    else:
-        df = solve_table(
+    def solve(P):
+        if args.sensitivities:
+            from cdpr.tables import to_frame  # lazy: --sensitivities only
+
+            res = _solve_sensitivities(robot, P, args, rv=rv, engine=args.engine)
+            return to_frame(robot, res, args.redundancy, rotvec=rv)
+        return solve_table(
             robot,
             P,
             method=args.method,
@@ -638,6 +745,12 @@ def cmd_grid(args):
             redundancy=args.redundancy,
             **_rotvec_option(args),
         )
+
+    if len(P) and check_engine(args.engine, args.method) == "compiled":
+        # numba loads (or, with a cold cache, compiles: announced) its kernels here, outside the rate
+        _warm_up(args, lambda: solve(P[:1]))
+    t0 = time.perf_counter()
+    df = solve(P)
     extra = {}
     if args.wrench_feasible:
         from cdpr.models.distribution6 import distribute_pose  # lazy: --wrench-feasible only
@@ -709,15 +822,20 @@ def cmd_winch(args):
 
 def _report(df, out, args, dt, extra=None):
     """What a solver command wrote: points, time, statuses and the |dp| range of the ok points (and
-    ``extra`` keys in the JSON, e.g. the wrench-feasible volume and box of ``grid``)."""
-    from cdpr.analyses import scans  # lazy: the solver commands only
-
-    counts = {k: int(v) for k, v in df["status"].value_counts().items() if v}
-    lo, hi = scans.ok_extremes(df)
-    rate = len(df) / dt if dt > 0 else None
+    ``extra`` keys in the JSON, e.g. the wrench-feasible volume and box of ``grid``). ``df``: the
+    table, or the ``Tally`` of a table written in chunks."""
+    if isinstance(df, Tally):
+        tally = df
+    else:
+        tally = Tally()
+        tally.add(df)
+    counts = tally.status()
+    lo, hi = tally.lo, tally.hi
+    n = tally.n
+    rate = n / dt if dt > 0 else None
     summary = {
         "out": out,
-        "points": int(len(df)),
+        "points": int(n),
         "seconds": dt,
         "points_per_second": rate,
         "status": counts,
@@ -729,7 +847,7 @@ def _report(df, out, args, dt, extra=None):
         print(json.dumps(io.clean_json(summary), indent=2))
     else:
         timing = f" in {dt:.2f} s ({rate:.0f} points/s)" if rate else ""
-        print(f"wrote {len(df)} points to {out}{timing}")
+        print(f"wrote {n} points to {out}{timing}")
         print(
             "status: "
             + ", ".join(f"{k} {v}" for k, v in counts.items())

@@ -1,4 +1,5 @@
-"""``main(argv)``: parse the command line, run the command, turn a ``CdprError`` into one line and exit code 2."""
+"""``main(argv)``: parse the command line, run the command, turn a ``CdprError`` into one line and exit code 2,
+and Ctrl-C into one line and exit code 130 (the shell's 128 + SIGINT)."""
 
 from __future__ import annotations
 
@@ -15,8 +16,15 @@ def _command(argv):
     return next((a for a in argv if not a.startswith("-")), None)
 
 
+#: The line and the exit code of a command stopped by Ctrl-C (128 + SIGINT, as a shell reports it).
+INTERRUPTED = "cdpr: interrupted (Ctrl-C); no partial output was left"
+EXIT_INTERRUPTED = 130
+
+
 def main(argv=None):
-    """Run ``cdpr`` with ``argv`` (default ``sys.argv[1:]``); returns the exit code (0, or 2 for a refused input)."""
+    """Run ``cdpr`` with ``argv`` (default ``sys.argv[1:]``); returns the exit code (0, 2 for a refused
+    input, 130 after Ctrl-C: one line, no traceback; every output is written atomically, so none is
+    left half-written)."""
     argv = sys.argv[1:] if argv is None else list(argv)
     try:
         args = build_parser(jobs=_command(argv) == "job").parse_args(argv)
@@ -27,6 +35,9 @@ def main(argv=None):
     except CdprError as exc:
         print(f"cdpr: error: {exc}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:
+        print(INTERRUPTED, file=sys.stderr, flush=True)
+        return EXIT_INTERRUPTED
     except BrokenPipeError:  # e.g. `cdpr ... | head`: the reader left; stop quietly
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())

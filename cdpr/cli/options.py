@@ -27,6 +27,9 @@ REDUNDANCY = ("paper", "physical")
 DISTRIBUTIONS = ("min_norm", "closed_form", "closed_form_improved", "subset")
 #: Largest winch table a command writes.
 MAX_STEPS = 10_000_000
+#: Rows of a ``--points`` table solved and written at a time (``--chunk-rows``): bounds the memory of
+#: a large table (docs/cli.md, "Large tables").
+CHUNK_ROWS = 20_000
 #: ``cdpr calibrate fit --model`` (``cdpr.analyses.calibration.MODELS``).
 CALIBRATION_MODELS = ("exact", "standard")
 #: ``cdpr calibrate plan --sigma`` default [m] (``cdpr.analyses.calibration.SIGMA_DEFAULT``).
@@ -208,6 +211,23 @@ def points_options(sp, what):
         "--out", metavar="FILE", help="write the result table (.csv or .parquet); needed with --points"
     )
     rotvec_option(sp)
+    sp.add_argument(
+        "--chunk-rows",
+        type=count(1, 10_000_000),
+        default=CHUNK_ROWS,
+        metavar="N",
+        help=f"rows of --points read, solved and written at a time (default {CHUNK_ROWS}); bounds the memory",
+    )
+    quiet_option(sp)
+
+
+def quiet_option(sp):
+    """--quiet: nothing on stderr but errors (no progress bar, expected time or compile notice)."""
+    sp.add_argument(
+        "--quiet",
+        action="store_true",
+        help="nothing on stderr but errors (no progress bar, expected time or compile notice)",
+    )
 
 
 def sensitivity_options(sp):

@@ -23,6 +23,7 @@ from cdpr.cli.options import (
     physics_options,
     points_options,
     positive,
+    quiet_option,
     robot_options,
     rotvec_option,
     sensitivity_options,
@@ -150,6 +151,7 @@ def build_parser(jobs=True):
     sp.add_argument("--shards", type=count(1), default=1, help="number of shards (default 1)")
     physics_options(sp)
     sensitivity_options(sp)
+    quiet_option(sp)
     sp.set_defaults(run=("cdpr.cli.commands", "cmd_grid"))
     sp = sub.add_parser("winch", help="winch joint angles and length error versus l_pm (winch seed Fig. 7)")
     sp.add_argument(

@@ -114,7 +114,7 @@ def test_help_and_usage_errors_load_no_numpy():
     for argv in (["--help"], ["point", "--help"], ["point", "--robot", "x.yaml"], ["grid", "--n", "0"]):
         code, mods = imported(*argv)
         assert code in (0, 2) and mods, argv
-        assert not {"numpy", "pandas", "numba", "cdpr.robot", "importlib.metadata"} & mods, argv
+        assert not {"numpy", "pandas", "numba", "tqdm", "cdpr.robot", "importlib.metadata"} & mods, argv
 
 
 def test_one_point_loads_no_pandas():
@@ -126,3 +126,4 @@ def test_one_point_loads_no_pandas():
     # the engine switch (cdpr.solve) imports every compiled twin; numba loads a kernel's cached
     # machine code on its first call only, so the other twins cost their module's import (~20 ms)
     assert "cdpr.pipeline.tasks" not in mods and "cdpr.tables" not in mods and "cdpr.table_io" not in mods
+    assert "tqdm" not in mods  # the progress bar: tables on a terminal only
