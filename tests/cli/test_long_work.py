@@ -26,7 +26,7 @@ from cdpr import table_io
 from cdpr.cli import stream
 from cdpr.cli.main import INTERRUPTED, main
 from cdpr.robot import load_robot
-from cdpr.solve import solve_points_any
+from cdpr.solve import solve
 from cdpr.tables import to_frame
 from tests.conftest import ROBOTS, ROOT
 
@@ -97,7 +97,7 @@ def test_chunked_point_table_is_todays_table(tmp_path, suffix):
     )
     robot = load_robot(CDPR4)
     today = tmp_path / f"today{suffix}"
-    table_io.write_table(to_frame(robot, solve_points_any(robot, P, engine="numpy")), today)
+    table_io.write_table(to_frame(robot, solve(robot, P, engine="numpy")), today)
     assert out.read_bytes() == today.read_bytes()
     statuses = set(pd.read_parquet(out)["status"] if suffix == ".parquet" else pd.read_csv(out)["status"])
     assert len(statuses) > 1, statuses  # the table covers more than ok rows
