@@ -27,7 +27,6 @@ MODEL_MODULES = [
     "analyses.budget",
     "analyses.symmetry",
     "models.platform",
-    "models.distribution6",
     "models.sensitivity6",
     "compiled.sensitivity6",
 ]

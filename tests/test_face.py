@@ -10,9 +10,9 @@ import pytest
 
 import cdpr
 from cdpr.errors import CdprError
-from cdpr.models.distribution6 import compensated_lengths
 from cdpr.models.inverse import L_TS, pose_state
 from cdpr.models.platform import pose_arrays
+from cdpr.models.tension_distribution import compensated_lengths
 from tests.conftest import ROBOTS
 
 P = np.array([[0.0, 0.0, 2.0], [1.0, 1.0, 1.5]])

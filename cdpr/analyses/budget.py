@@ -48,7 +48,7 @@ A rigid platform (a robot that is not a suspended point mass, or any robot given
 identity). The model's rest lengths are taken at the attachment points B_i = p + R_d b_i: the rigid
 cable's length L_TE(B_i) of the 6-DoF inverse model (``inverse.pose_state``, the pulley
 geometry at B_i, as ``cdpr inverse`` gives it), or with ``elasticity`` in the model the compensated
-lengths of ``distribution6.compensated_lengths`` (the minimum-norm distribution of the 6 x m wrench
+lengths of ``tension_distribution.compensated_lengths`` (the minimum-norm distribution of the 6 x m wrench
 matrix, at least ``t_min`` in every cable); the actual robot settles at its 6-DoF equilibrium
 (p*, R*) (``equilibrium``, through ``solve.solve``) under the realised lengths, and
 every entry also gets the orientation error δφ = rotvec(R* R_dᵀ) (N, 3) [rad] (its interaction
@@ -74,10 +74,9 @@ import pandas as pd
 
 from cdpr.analyses.compensation import compensate
 from cdpr.models import winch as winch_model
-from cdpr.models.distribution6 import compensated_lengths
 from cdpr.models.inverse import igm_e, pose_state
 from cdpr.models.platform import pose_arrays, rotvec_of
-from cdpr.models.tension_distribution import T_MIN_DEFAULT
+from cdpr.models.tension_distribution import T_MIN_DEFAULT, compensated_lengths
 from cdpr.robot import TABLE1
 from cdpr.solve import check_engine, solve
 
@@ -171,7 +170,7 @@ def model_lengths(design, p, model, t_min=T_MIN_DEFAULT, rotvec=None):
         Subset of ``EFFECTS`` the model includes.
     t_min : float [N]
         Least planned tension of the elasticity compensation (``compensation.compensate``, or
-        ``distribution6.compensated_lengths`` on the 6-DoF path).
+        ``tension_distribution.compensated_lengths`` on the 6-DoF path).
     rotvec : array_like (3,) or (N, 3) [rad], optional
         Desired orientation of a rigid platform (default identity); given, or for a robot that is
         not a suspended point mass, the 6-DoF path (``spatial``).

@@ -33,11 +33,16 @@ from __future__ import annotations
 import numpy as np
 
 from cdpr.errors import CdprError
-from cdpr.models.distribution6 import compensated_lengths
 from cdpr.models.inverse import igm_e
 from cdpr.models.results import STATUSES
 from cdpr.models.statics import tensions
-from cdpr.models.tension_distribution import METHODS, T_MIN_DEFAULT, distribute, wrench_matrix
+from cdpr.models.tension_distribution import (
+    METHODS,
+    T_MIN_DEFAULT,
+    compensated_lengths,
+    distribute,
+    wrench_matrix,
+)
 from cdpr.solve import check_engine, solve
 
 COMP_METHODS = (*METHODS, "subset")
@@ -102,7 +107,7 @@ def at_poses(robot, p, rotvec=None):
 
 
 def _compensate6(robot, p, rotvec, method, t_min, t_max, options):
-    """``compensate`` at poses: ``distribution6.compensated_lengths`` (Paty 2021 eq. (10), (13) with
+    """``compensate`` at poses: ``tension_distribution.compensated_lengths`` (Paty 2021 eq. (10), (13) with
     the 6 x m wrench matrix)."""
     if method not in METHODS:
         raise CdprError(
@@ -136,7 +141,7 @@ def compensate(
     rotvec : array_like (3,) or (N, 3) [rad], optional
         Desired orientation (default identity). With it, with poses p (N, 6) or on a robot that is
         not a suspended point mass (``at_poses``) the compensation is the 6-DoF one
-        (``distribution6.compensated_lengths``: no ``subset`` method, no options).
+        (``tension_distribution.compensated_lengths``: no ``subset`` method, no options).
     options : passed to ``cdpr.models.tension_distribution.distribute``.
 
     Returns

@@ -2,7 +2,7 @@
 spatial counterpart of ``uncertainty.PoseErrorModel`` (physical mode, the only mode of a spatial
 robot). Responses: ‖δp‖ [m] and δφ [rad] (angle of R*ᵀR_d). Cases (issue 19): ``uncompensated``
 (the nominal robot's L_TS at the desired pose) and ``compensated`` (the nominal robot's rest lengths
-under its minimum-norm tension distribution, ``distribution6.compensated_lengths``); full solves and
+under its minimum-norm tension distribution, ``tension_distribution.compensated_lengths``); full solves and
 the linearisation by the implicit-function theorem (``sensitivity6.sensitivities_at``), also as
 two ``uncertainty.Linearisation`` objects (position and rotation vector) in the point-mass
 parameter columns the study's drivers set (``linearisations``)."""
@@ -10,9 +10,9 @@ parameter columns the study's drivers set (``linearisations``)."""
 import numpy as np
 
 from cdpr.analyses.uncertainty import CASES, Linearisation, nominal_theta
-from cdpr.models.distribution6 import compensated_lengths
 from cdpr.models.inverse import L_TS
 from cdpr.models.platform import pose_arrays, rotvec_of
+from cdpr.models.tension_distribution import compensated_lengths
 from cdpr.parameters import parameter_names6, parameter_values6, robot_with_parameters6
 from cdpr.solve import sensitivities_at, solve, solve_batch
 
@@ -76,7 +76,7 @@ class PoseErrorModel6:
         Desired orientations (default identity).
     case : {"uncompensated", "compensated"}
         The commanded rest lengths: the nominal L_TS, or the nominal robot's compensated lengths
-        (``compensation``: method and t_min_N of ``distribution6.compensated_lengths``, default
+        (``compensation``: method and t_min_N of ``tension_distribution.compensated_lengths``, default
         min_norm, 100 N; poses without a feasible distribution are not solved, never ok).
     engine : {"compiled", "numpy", None}
         Engine of the full solves (``solve.solve``; None is compiled).

@@ -753,7 +753,7 @@ def cmd_grid(args):
     df = solve(P)
     extra = {}
     if args.wrench_feasible:
-        from cdpr.models.distribution6 import distribute_pose  # lazy: --wrench-feasible only
+        from cdpr.models.tension_distribution import distribute_pose  # lazy: --wrench-feasible only
 
         df["feasible"] = distribute_pose(robot, P, args.rotvec, t_min=args.t_min)["feasible"]
         extra = _wrench_feasible_summary(df, box, args)

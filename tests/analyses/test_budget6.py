@@ -86,7 +86,7 @@ def test_interaction_and_summary_of_the_orientation(result):
 
 
 def test_point_mass_through_the_6dof_path_equals_the_point_mass_budget(cdpr4):
-    """CDPR4 (b = 0, c = 0) given an orientation goes through the 6-DoF inverse, distribution6's
+    """CDPR4 (b = 0, c = 0) given an orientation goes through the 6-DoF inverse, tension_distribution's
     compensation and the 6-DoF solver: the same budget as today's point-mass path to 1e-9 m."""
     d = with_pulleys(cdpr4, kind="SR", h=0.1, r_p=0.0665)
     pts = grid_points([-2.32, 2.32, -2.32, 2.32, 0.0, 3.73], 3)

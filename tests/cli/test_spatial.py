@@ -343,7 +343,7 @@ def test_point_mass_sensitivities_json_is_unchanged(capsys, mode):
 def test_compensate_at_a_pose_with_the_closed_forms(capsys, method):
     """--distribution closed_form / closed_form_improved at a pose: the library's lengths, and the check
     solve returns the pose; the paper's subset is refused in one line."""
-    from cdpr.models.distribution6 import compensated_lengths
+    from cdpr.models.tension_distribution import compensated_lengths
     from cdpr.robot import load_robot
 
     base = ["compensate", "--robot", COGIRO, "--at", "0", "0", "2", "--rotvec", TILT, "0", "0"]
@@ -411,8 +411,8 @@ def test_rotvec_and_orientation_columns_together_are_refused_before_any_solve(
     """--rotvec was silently ignored when the --points table had rx, ry, rz: now one line naming
     both sources, exit code 2, nothing solved and no table written."""
     import cdpr.analyses.compensation
-    import cdpr.models.distribution6
     import cdpr.models.inverse
+    import cdpr.models.tension_distribution
     import cdpr.solve
 
     def no_solve(*args, **kwargs):
@@ -423,7 +423,7 @@ def test_rotvec_and_orientation_columns_together_are_refused_before_any_solve(
         (cdpr.models.inverse, "igm_e"),
         (cdpr.models.inverse, "pose_state"),
         (cdpr.analyses.compensation, "compensated_pose"),
-        (cdpr.models.distribution6, "compensated_lengths"),
+        (cdpr.models.tension_distribution, "compensated_lengths"),
     ]:
         monkeypatch.setattr(module, name, no_solve)
     pts, out = tmp_path / "poses.csv", tmp_path / "out.csv"

@@ -6,11 +6,11 @@ import dataclasses
 import numpy as np
 import pytest
 
-from cdpr.models.distribution6 import compensated_lengths
 from cdpr.models.equilibrium import Cables as Cables6
 from cdpr.models.equilibrium import solve as solve_spatial
 from cdpr.models.inverse import pose_state
 from cdpr.models.platform import external_wrench, pose_arrays, rotation_matrix, wrench_matrix
+from cdpr.models.tension_distribution import compensated_lengths
 from cdpr.robot import robot_from_dict, with_pulleys
 from cdpr.solve import solve as solve_any
 from tests.point_mass import solve_physical

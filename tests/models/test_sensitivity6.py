@@ -73,7 +73,7 @@ def test_sensitivities_under_compensated_lengths_at_a_tilted_pose():
     """dp*/dθ and dφ*/dθ of an anchor, an attachment, a modulus and the centre of mass = central
     differences of the re-solved equilibrium, CoGiRo slightly tilted under compensated lengths (every
     cable taut at >= 100 N); the point is smooth and its tension margin is the least of t_i, T_a - t_i."""
-    from cdpr.models.distribution6 import compensated_lengths
+    from cdpr.models.tension_distribution import compensated_lengths
 
     r = load_robot(ROBOTS / "cogiro.yaml")
     pose = [[0.3, -0.2, 2.1, 0.04, -0.03, 0.05]]

@@ -25,7 +25,6 @@ import dataclasses
 import numpy as np
 
 from cdpr.errors import CdprError
-from cdpr.models.distribution6 import compensated_lengths
 from cdpr.models.drive import commanded_for, has_winches, realised_rest_lengths
 from cdpr.models.inverse import L_TS
 from cdpr.models.platform import rotation_matrix, rotvec_of
@@ -34,6 +33,7 @@ from cdpr.models.sensitivity import (
     T_TOL,
 )
 from cdpr.models.sensitivity6 import rest_length_sensitivities
+from cdpr.models.tension_distribution import compensated_lengths
 from cdpr.parameters import (
     is_spatial,
     parameter_values,
@@ -44,7 +44,7 @@ from cdpr.solve import check_engine, sensitivities, sensitivities_at, solve
 
 #: How the candidate and simulated poses are commanded: standard lengths L_TS (the point mass's only
 #: choice) or, for a 6-DoF platform, the compensated rest lengths of the minimum-norm tension
-#: distribution (``distribution6.compensated_lengths``; a fully constrained robot needs them).
+#: distribution (``tension_distribution.compensated_lengths``; a fully constrained robot needs them).
 COMMANDS = ("standard", "compensated")
 #: Model of the robot during the fit (the command line's choices).
 MODELS = ("exact", "standard")
@@ -152,7 +152,7 @@ def check_command(command, robot):
 
 def commanded_lengths(robot, p, R, command="standard"):
     """Rest lengths commanded at 6-DoF poses: ``inverse.L_TS`` (standard) or the compensated rest
-    lengths of the minimum-norm tensions (``distribution6.compensated_lengths``, NaN where no
+    lengths of the minimum-norm tensions (``tension_distribution.compensated_lengths``, NaN where no
     admissible distribution exists).
 
     Parameters

@@ -4,9 +4,8 @@ spatial robots."""
 import numpy as np
 import pytest
 
-from cdpr.models.distribution6 import compensated_lengths, distribute_pose, min_norm_rows
 from cdpr.models.equilibrium import solve as solve_spatial
-from cdpr.models.tension_distribution import distribute
+from cdpr.models.tension_distribution import compensated_lengths, distribute, distribute_pose, min_norm_rows
 from cdpr.robot import load_robot
 from tests.conftest import ROBOTS
 
@@ -94,8 +93,8 @@ def _random_poses(n=200, seed=0):
 
 
 def _wrench(robot, poses):
-    from cdpr.models.distribution6 import pose_wrench
     from cdpr.models.platform import pose_arrays
+    from cdpr.models.tension_distribution import pose_wrench
 
     p, R = pose_arrays(poses)
     W, w, _ = pose_wrench(robot, p, R)
