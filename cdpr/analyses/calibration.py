@@ -1656,6 +1656,7 @@ def write_robot(path, cal, data_source):
             "young_modulus_Pa": float(c.material.E),
             "diameter_m": float(c.material.diameter),
             "max_tension_N": float(c.material.T_a),
+            **({"min_tension_N": float(c.material.T_min)} if c.material.T_min else {}),
         }
         cables.append(
             {

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import json
 import os
+import sys
 import time
 
 import numpy as np
@@ -23,7 +24,7 @@ from cdpr.analyses.workspace import BYTES_PER_POINT
 from cdpr.cli.options import MAX_COORDINATE_M
 from cdpr.errors import CdprError
 from cdpr.models import winch
-from cdpr.robot import TABLE1, load_robot, load_winch_params
+from cdpr.robot import TABLE1, load_robot, load_winch_params, plausibility_warnings
 
 #: The columns of a ``--points`` table: the position [m] and, optional, the orientation [rad].
 POINT_COLUMNS = ("x", "y", "z", "rx", "ry", "rz")
@@ -41,16 +42,40 @@ def _write_table(df, path):
     table_io.write_table(df, path)
 
 
+def checked(robot, args):
+    """The one plausibility check of the command line: every command that reads or writes a robot
+    passes it here once. Each implausible value (``robot.plausibility_warnings``: a unit slip, most
+    likely) is one line on stderr; the list goes to ``args.warnings`` for the ``warnings`` key of the
+    command's JSON object (``emit_json``). The command still runs: a user may mean the value."""
+    warnings = plausibility_warnings(robot)
+    for w in warnings:
+        print(f"cdpr: warning: {robot.source}: {w}", file=sys.stderr)
+    args.warnings = warnings
+    return robot
+
+
+def emit_json(out, args):
+    """Print a command's JSON: an object gets the ``warnings`` list of ``checked`` (empty when the
+    robot is plausible or the command reads none); a list keeps its shape (its warnings are on
+    stderr only)."""
+    if isinstance(out, dict):
+        out = {**out, "warnings": list(getattr(args, "warnings", []))}
+    print(json.dumps(io.clean_json(out), indent=2, allow_nan=False))
+
+
 def _load(args):
-    return load_robot(
-        args.robot,
-        E_cables=getattr(args, "E_cables", None),
-        pulley=args.pulley,
-        h=args.h,
-        r_p=args.rp,
-        dead_length=args.dead_length,
-        E=getattr(args, "E", None),
-        mass=getattr(args, "mass", None),
+    return checked(
+        load_robot(
+            args.robot,
+            E_cables=getattr(args, "E_cables", None),
+            pulley=args.pulley,
+            h=args.h,
+            r_p=args.rp,
+            dead_length=args.dead_length,
+            E=getattr(args, "E", None),
+            mass=getattr(args, "mass", None),
+        ),
+        args,
     )
 
 
@@ -209,7 +234,7 @@ def cmd_inverse(args):
         for i in range(robot.m)
     ]
     if args.json:
-        print(json.dumps(io.clean_json(out), indent=2))
+        emit_json(out, args)
         return
     print(f"{robot.name} ({robot.pulley_summary()}, {robot.dead_length_summary()}) at P = {args.at} m")
     rows = [
@@ -278,6 +303,35 @@ def _solve_sensitivities(robot, P, args, L0=None, rv=None, engine=None):
     )
 
 
+#: A commanded rest length at or below this [m] is a zero-length cable: no stiffness ES/L0 exists.
+ZERO_LENGTH_M = 1e-9
+
+
+def _zero_length(robot, P, rv, L0, redundancy):
+    """(N, m) mask of the cables whose commanded rest length is zero in physical mode (L0, or the
+    standard length L_TS at the desired pose: an attachment at its anchor with no dead length); the
+    physical model has no stiffness ES/L0 there, and the point is flagged with this reason."""
+    from cdpr.models.inverse import L_TS  # lazy: the physical-mode check only
+
+    if redundancy != "physical":
+        return np.zeros((len(P), robot.m), dtype=bool)
+    if L0 is None:
+        L0 = L_TS(robot, P, rv)
+    return np.broadcast_to(np.asarray(L0, dtype=float) <= ZERO_LENGTH_M, (len(P), robot.m))
+
+
+def _zero_length_reason(zero_row):
+    """The reason of a point with zero-length cables (one row of ``_zero_length``), or None."""
+    cables = [int(i) + 1 for i in np.flatnonzero(zero_row)]
+    if not cables:
+        return None
+    which = ", ".join(map(str, cables))
+    return (
+        f"cable{'s' * (len(cables) > 1)} {which} {'has' if len(cables) == 1 else 'have'} zero rest length "
+        "(the attachment at its anchor, no dead length): its stiffness ES/L0 does not exist, no equilibrium"
+    )
+
+
 def cmd_point(args):
     """One pose (--at) or a table of poses (--points): the solved pose, tensions and status. Without
     --engine, fewer than ``solve.ONE_SHOT_POSES`` poses are answered by the numpy reference (the
@@ -301,6 +355,7 @@ def cmd_point(args):
             raise CdprError(f"--q needs one drum angle per cable ({robot.m}), got {len(args.q)}")
         L0 = rest_lengths_from_angles(robot, np.array([args.q]), model="winch")[0]
     rv = _rotvec(args, len(P))
+    zero = _zero_length(robot, P, rv, L0, args.redundancy)
     if args.sensitivities:
         if L0 is not None and args.redundancy != "physical":
             raise CdprError(
@@ -324,6 +379,13 @@ def cmd_point(args):
         df = to_frame(robot, res, args.redundancy, rotvec=rv)
         _write_table(df, args.out)
         _report(df, args.out, args, float("nan"))
+        n_zero = int(zero.any(axis=1).sum())
+        if n_zero:
+            print(
+                f"cdpr: note: {n_zero} point(s) have a cable of zero rest length (the attachment at its anchor): "
+                "no equilibrium exists there, status as solved (not ok)",
+                file=sys.stderr,
+            )
         return
     t = res["t"][0]
     out = {
@@ -342,6 +404,11 @@ def cmd_point(args):
     out.update(status=str(res["status"][0]), iterations=int(res["iterations"][0]), engine=engine)
     if "unique" in res:
         out.update(unique=bool(res["unique"][0]), alternatives=res["alternatives"][0])
+    reason = _zero_length_reason(zero[0])
+    if reason is not None:  # no equilibrium model there: no uniqueness to claim either
+        out["reason"] = reason
+        if "unique" in out:
+            out.update(unique=None, alternatives=[])
     if args.sensitivities:
         S = res["S"][0]
         out["sensitivities"] = {
@@ -354,7 +421,7 @@ def cmd_point(args):
             }
         out["sensitivities_smooth"] = bool(res["smooth"][0])
     if args.json:
-        print(json.dumps(io.clean_json(out), indent=2))
+        emit_json(out, args)
         return
     from cdpr.models.results import subset_label  # lazy: the readable output only
 
@@ -374,6 +441,8 @@ def cmd_point(args):
     else:
         print(f"  subset         : {subset_label(res['subset'][0]) or '-'}")
     print(f"  status         : {out['status']}  ({out['iterations']} iterations)")
+    if "reason" in out:
+        print(f"  reason         : {out['reason']}")
     if out.get("unique") is False:  # another equilibrium holds the same lengths (equilibrium6: restarts)
         n = len(out["alternatives"])
         print(f"  equilibrium    : not unique ({n} alternative{'s' * (n != 1)}; --json lists them)")
@@ -487,7 +556,7 @@ def cmd_compensate(args):
         q, q_nw = drum_angles(robot, res["L0"][:1])
         out["q"], out["q_no_winch"] = q[0].tolist(), q_nw[0].tolist()
     if args.json:
-        print(json.dumps(io.clean_json(out), indent=2))
+        emit_json(out, args)
         return
     print(
         f"{robot.name} ({robot.pulley_summary()}, {robot.material_summary()}, {robot.dead_length_summary()}), distribution {args.distribution}"
@@ -532,7 +601,7 @@ def _compensate_pose_report(args, robot, res, engine):
         "engine": engine,
     }
     if args.json:
-        print(json.dumps(io.clean_json(out), indent=2))
+        emit_json(out, args)
         return
     print(
         f"{robot.name} ({robot.pulley_summary()}, {robot.material_summary()}), distribution {args.distribution} at a pose"
@@ -654,7 +723,7 @@ def cmd_winch(args):
     if args.out:
         _write_table(df, args.out)
     if args.json:
-        print(json.dumps(io.clean_json(df.to_dict(orient="records")), indent=2))
+        emit_json(df.to_dict(orient="records"), args)
         return
     print(f"winch (l_pm0 = {winch.l_pm0(p):.6f} m, q0 = {p.q0:g} rad)")
     rows = [
@@ -683,7 +752,7 @@ def _report(df, out, args, dt, extra=None):
         **(extra or {}),
     }
     if args.json:
-        print(json.dumps(io.clean_json(summary), indent=2))
+        emit_json(summary, args)
     else:
         timing = f" in {dt:.2f} s ({rate:.0f} points/s)" if rate else ""
         print(f"wrote {len(df)} points to {out}{timing}")
@@ -750,31 +819,41 @@ def cmd_trajectory(args):
 
 def cmd_import_caspr(args):
     """``cdpr import caspr``: read CASPR's bodies and cables XML (``cdpr.robot_import``), validate the
-    result as a robot file, write it."""
+    result as a robot file, write it. Every value that did not come from the XML (E, diameter, dead
+    length, ...) is named in the file's header and in one line on stderr, assumed or given; sanity
+    notes (a near-symmetry broken by a possible typo) are lines on stderr, the values kept."""
+    from pathlib import Path  # lazy: this command only
+
     import yaml  # lazy: yaml, for this command only
 
     # lazy: the importer, for this command only
     from cdpr.robot import robot_from_dict
-    from cdpr.robot_import import robot_dict_from_caspr
+    from cdpr.robot_import import import_caspr
 
-    data = robot_dict_from_caspr(
+    got = import_caspr(
         args.bodies,
         args.cables,
         args.cable_set,
         E=args.E,
         diameter=args.diameter,
         dead_length=args.dead_length,
+        name=args.name,
     )
-    robot = robot_from_dict(data, source=f"{args.cables} (imported)")
+    data = got.data
+    default_set = "" if args.cable_set else ", the file's default"
+    robot = checked(robot_from_dict(data, source=f"{args.cables} (imported)"), args)
     io.check_output(args.out, (".yaml", ".yml"))
     header = (
-        f"# Imported by `cdpr import caspr` from {args.bodies} and {args.cables}"
-        f" (cable set {args.cable_set or 'default'}).\n"
-        "# E, the cable diameter and the dead length are not part of CASPR models: given on the command line.\n"
+        f"# Imported by `cdpr import caspr` from {Path(args.bodies).name} and {Path(args.cables).name}"
+        f" (cable set {got.cable_set}{default_set}).\n"
+        "# Not from the CASPR files (CASPR models hold no cable stiffness, diameter or dead length):\n"
+        + "".join(f"#   {a}\n" for a in got.assumed)
     )
-    with open(args.out, "w", encoding="utf-8") as f:
-        f.write(header + yaml.safe_dump(data, sort_keys=False))
-    print(f"wrote {args.out}: {robot.m} cables, platform {robot.platform.mass:g} kg")
+    print(f"cdpr: note: not from the CASPR files: {'; '.join(got.assumed)}", file=sys.stderr)
+    for n in got.notes:
+        print(f"cdpr: note: {args.cables}: {n}", file=sys.stderr)
+    io.write_text(header + yaml.safe_dump(data, sort_keys=False), args.out)
+    print(f"wrote {args.out}: {robot.name}, {robot.m} cables, platform {robot.platform.mass:g} kg")
 
 
 def cmd_view(args):
@@ -785,7 +864,7 @@ def cmd_view(args):
     from cdpr.analyses import scans, workspace
     from cdpr.pipeline import plots
 
-    robot = load_robot(args.robot)
+    robot = checked(load_robot(args.robot), args)
     io.check_output(args.out, (".png",))
     boxes = {"frame box": workspace.frame_box(robot)}
     if args.box is not None:

@@ -22,7 +22,11 @@ def main(argv=None):
         args = build_parser(jobs=_command(argv) == "job").parse_args(argv)
         module, func = args.run
         # lazy: the command's module (numpy, the models) is loaded only once the arguments are read
-        getattr(importlib.import_module(module), func)(args)
+        command = getattr(importlib.import_module(module), func)
+        import numpy as np  # lazy: loaded by every command's module already; not for --help
+
+        with np.errstate(all="ignore"):  # no numpy floating-point warning reaches a user: statuses say it
+            command(args)
         sys.stdout.flush()  # a full disk or a closed pipe shows here, not at interpreter exit
     except CdprError as exc:
         print(f"cdpr: error: {exc}", file=sys.stderr)

@@ -38,7 +38,9 @@ def test_point_json(capsys):
         "status",
         "iterations",
         "engine",
+        "warnings",
     }
+    assert out["warnings"] == []  # CDPR4 is plausible (cdpr.robot.plausibility_warnings)
     assert out["engine"] == "numpy"  # one pose: the numpy reference unless --engine names one
     assert out["status"] == "ok" and len(out["subset"]) == 3 and min(out["subset"]) >= 1
     assert sum(t is None for t in out["tensions"]) == 1
@@ -156,13 +158,23 @@ def test_point_physical_json_and_commanded_lengths(capsys):
         "--redundancy",
         "physical",
     )
-    assert set(out) == {"desired", "solved", "dp_norm", "tensions", "taut", "status", "iterations", "engine"}
+    assert set(out) == {
+        "desired",
+        "solved",
+        "dp_norm",
+        "tensions",
+        "taut",
+        "status",
+        "iterations",
+        "engine",
+        "warnings",
+    }
     assert out["status"] == "ok" and out["taut"] == [1, 2, 3, 4] and all(t > 0 for t in out["tensions"])
     # the lengths of `compensate` commanded explicitly bring the platform to the desired point
     compensate = ["compensate", "--robot", R4, "--pulley", "DR", "--at", "0.5", "0.2", "2.5"]
     comp = run_json(capsys, *compensate)
     assert (
-        set(comp) == {"desired", "lengths", "tensions", "status", "solved", "dp_norm", "engine"}
+        set(comp) == {"desired", "lengths", "tensions", "status", "solved", "dp_norm", "engine", "warnings"}
         and comp["status"] == "ok"
     )
     assert comp["dp_norm"] < 1e-9 and comp["engine"] == "numpy"  # one pose: solve.ONE_SHOT_POSES
