@@ -1,5 +1,5 @@
 """The commands: ``cdpr inverse | point | compensate | grid | winch | plane | trajectory | import caspr |
-view``.
+view | study check``.
 
 JSON with ``--json``, a readable table without. Options given on the command line override the
 robot file exactly as if it had been edited. SI units throughout. Every bad input is refused with
@@ -875,3 +875,18 @@ def cmd_view(args):
     p = scans.view_position(robot) if args.at is None else np.asarray(args.at, dtype=float)
     plots.robot_view(scans.pose_geometry(robot, p, args.rotvec), args.out, boxes=boxes)
     print(f"wrote {args.out}")
+
+
+def cmd_study_check(args):
+    """``cdpr study check FILE``: the validation the pipeline makes before any job
+    (``cdpr.pipeline.study.check_file``), without Snakemake. Each problem is one line on stderr and
+    the exit code is 2; a valid study prints ``ok`` (exit 0)."""
+    from cdpr.pipeline.study import check_file  # lazy: the pipeline (pandas), for this command only
+
+    problems = check_file(args.file, args.results)
+    for p in problems:
+        print(f"cdpr: error: {p}", file=sys.stderr)
+    if problems:
+        return 2
+    print("ok")
+    return 0

@@ -26,7 +26,7 @@ def main(argv=None):
         import numpy as np  # lazy: loaded by every command's module already; not for --help
 
         with np.errstate(all="ignore"):  # no numpy floating-point warning reaches a user: statuses say it
-            command(args)
+            code = command(args)  # None (0), or the exit code of a command that reports its own errors
         sys.stdout.flush()  # a full disk or a closed pipe shows here, not at interpreter exit
     except CdprError as exc:
         print(f"cdpr: error: {exc}", file=sys.stderr)
@@ -43,7 +43,7 @@ def main(argv=None):
         print(f"cdpr: error: cannot write{where} ({exc.strerror or exc})", file=sys.stderr)
         _quiet_stdout()
         return 1
-    return 0
+    return code if isinstance(code, int) else 0
 
 
 def _quiet_stdout():

@@ -198,6 +198,15 @@ def build_parser(jobs=True):
 
         job.add_arguments(sp)
     sp.set_defaults(run=("cdpr.cli.job", "run"))
+    sp = sub.add_parser("study", help="study files: check one without running Snakemake")
+    studies = sp.add_subparsers(dest="study_command", required=True, parser_class=Parser)
+    c = studies.add_parser(
+        "check",
+        help="the pipeline's validation of a study file, without Snakemake: one line per problem (exit 2) or 'ok'",
+    )
+    c.add_argument("file", metavar="FILE", help="study YAML file (config/studies/*.yaml)")
+    c.add_argument("--results", metavar="DIR", help="also check the results folder the study would write")
+    c.set_defaults(run=("cdpr.cli.commands", "cmd_study_check"))
     calibrate_parser(sub)
     caspr.add_parser(sub)
     view.add_parser(sub)

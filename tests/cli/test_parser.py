@@ -23,6 +23,7 @@ COMMANDS = {
     "calibrate",
     "import",
     "view",
+    "study",
 }
 
 
@@ -42,7 +43,7 @@ def test_the_commands_are_the_documented_ones():
     assert {p for p in found if p[0] == "calibrate"} == {
         ("calibrate", c) for c in ("fit", "check", "plan", "study")
     }
-    assert ("import", "caspr") in found
+    assert ("import", "caspr") in found and ("study", "check") in found
 
 
 def test_every_command_runs_a_function_that_exists():
