@@ -187,6 +187,12 @@ def cmd_inverse(args):
     a = robot.arrays
     sw = swivel(B, a.A, None if robot.suspended_point_mass else a.frame, a.inward, per_cable=True)
     over = st.gamma > 1.5 * np.pi
+    # a fixed anchor is a point of passage: no sheave to wrap, no swivel joint (no angle to report)
+    pulley = robot.kind != 0
+    gamma = np.where(pulley, st.gamma, np.nan)
+    alpha = np.where(pulley, st.alpha, np.nan)
+    sw = np.where(pulley, sw, np.nan)
+    over = over & pulley
     if args.points or args.out:
         import pandas as pd  # lazy: a table of points only
 
@@ -199,8 +205,8 @@ def cmd_inverse(args):
                 {
                     f"L_TS{c}": lts[:, i],
                     f"L_TE{c}": st.L_TE[:, i],
-                    f"gamma{c}": st.gamma[:, i],
-                    f"alpha{c}": st.alpha[:, i],
+                    f"gamma{c}": gamma[:, i],
+                    f"alpha{c}": alpha[:, i],
                     f"beta{c}": st.beta[:, i] if robot.kind[i] == 2 else np.full(len(P), np.nan),
                     f"inside{c}": st.inside[:, i],
                 }
@@ -218,17 +224,17 @@ def cmd_inverse(args):
             "cable": i + 1,
             "L_TS": float(lts[0, i]),
             "L_TE": float(st.L_TE[0, i]),
-            "gamma": float(st.gamma[0, i]),
+            "gamma": float(gamma[0, i]),
             "l_d": float(st.l_d[0, i]),
             "l_E": float(st.l_E[0, i]),
-            "alpha": float(st.alpha[0, i]),
+            "alpha": float(alpha[0, i]),
             "beta": float(st.beta[0, i]) if robot.kind[i] == 2 else None,
             "H": st.H[0, i].tolist(),
             "K": st.K[0, i].tolist(),
             "D": st.D[0, i].tolist(),
             "inside": bool(st.inside[0, i]),
             "swivel": float(sw[0, i]),
-            "wrap": float(st.gamma[0, i]),
+            "wrap": float(gamma[0, i]),
             "wrap_over_270": bool(over[0, i]),
         }
         for i in range(robot.m)
@@ -242,8 +248,8 @@ def cmd_inverse(args):
             str(o["cable"]),
             f"{o['L_TS']:.6f}",
             f"{o['L_TE']:.6f}",
-            f"{o['gamma']:.6f}",
-            f"{o['alpha']:.6f}",
+            "-" if o["gamma"] != o["gamma"] else f"{o['gamma']:.6f}",
+            "-" if o["alpha"] != o["alpha"] else f"{o['alpha']:.6f}",
             "-" if o["beta"] is None else f"{o['beta']:.6f}",
             f"{o['l_d']:.6f}",
             f"{o['l_E']:.6f}",

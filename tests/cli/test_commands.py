@@ -267,3 +267,23 @@ def test_grid_physical_writes_taut_sets(tmp_path, capsys):
         "over_tension",
         "not_converged",
     }
+
+
+def test_inverse_reports_no_wrap_or_swivel_on_fixed_anchors(capsys, tmp_path):
+    """Issue 41: a fixed anchor has no sheave and no swivel joint: inverse gives no wrap (gamma) and
+    no swivel angle (alpha, swivel) there, in JSON (null), text ('-') and tables (NaN), and keeps
+    them on a pulley."""
+    fixed = run_json(capsys, "inverse", "--robot", R4, "--pulley", "fixed", "--at", "0.5", "0.2", "2.5")
+    for c in fixed:
+        assert c["gamma"] is c["wrap"] is c["alpha"] is c["swivel"] is None and c["wrap_over_270"] is False
+    sr = run_json(capsys, "inverse", "--robot", R4, "--at", "0.5", "0.2", "2.5")
+    assert all(0 < c["wrap"] < np.pi and c["swivel"] is not None for c in sr)
+    assert main(["inverse", "--robot", R4, "--pulley", "fixed", "--at", "0.5", "0.2", "2.5"]) == 0
+    rows = capsys.readouterr().out.splitlines()[3:]
+    assert len(rows) == 4 and all(r.split()[3:5] == ["-", "-"] for r in rows)
+    pts = tmp_path / "p.csv"
+    pts.write_text("x,y,z\n0.5,0.2,2.5\n")
+    out = tmp_path / "o.csv"
+    assert main(["inverse", "--robot", R4, "--pulley", "fixed", "--points", str(pts), "--out", str(out)]) == 0
+    df = pd.read_csv(out)
+    assert df[[f"gamma{i}" for i in range(1, 5)]].isna().all().all()
