@@ -128,7 +128,7 @@ def _points(args):
             )
         if getattr(args, "rotvec", None) is not None:  # two orientations: neither may win silently
             raise CdprError(
-                f"give the orientation either as --rotvec or as rx, ry, rz columns of --points ({args.points}), not both"
+                f"give the orientation either as --rotvec (or --euler-xyz-deg) or as rx, ry, rz columns of --points ({args.points}), not both"
             )
         rv = df[["rx", "ry", "rz"]].to_numpy(dtype=float)
         bad = ~np.isfinite(rv).all(axis=1)

@@ -15,11 +15,24 @@ def _command(argv):
     return next((a for a in argv if not a.startswith("-")), None)
 
 
+def _euler_to_rotvec(args):
+    """``--euler-xyz-deg A B C`` (CASPR's Euler XYZ angles [deg], intrinsic: R = Rx(A) Ry(B) Rz(C),
+    CASPR's ``SphericalEulerXYZ.RelRotationMatrix``) becomes ``args.rotvec`` [rad], the one
+    orientation the commands read (scipy's ``from_euler('XYZ')``: upper case is intrinsic)."""
+    deg = getattr(args, "euler_xyz_deg", None)
+    if deg is None:
+        return
+    from scipy.spatial.transform import Rotation  # lazy: --euler-xyz-deg only (not for --help)
+
+    args.rotvec = [float(x) for x in Rotation.from_euler("XYZ", deg, degrees=True).as_rotvec()]
+
+
 def main(argv=None):
     """Run ``cdpr`` with ``argv`` (default ``sys.argv[1:]``); returns the exit code (0, or 2 for a refused input)."""
     argv = sys.argv[1:] if argv is None else list(argv)
     try:
         args = build_parser(jobs=_command(argv) == "job").parse_args(argv)
+        _euler_to_rotvec(args)
         module, func = args.run
         # lazy: the command's module (numpy, the models) is loaded only once the arguments are read
         command = getattr(importlib.import_module(module), func)

@@ -434,7 +434,7 @@ def test_rotvec_and_orientation_columns_together_are_refused_before_any_solve(
     assert main(args) == 2
     err = capsys.readouterr().err
     assert err == (
-        f"cdpr: error: give the orientation either as --rotvec or as rx, ry, rz columns of --points ({pts}), not both\n"
+        f"cdpr: error: give the orientation either as --rotvec (or --euler-xyz-deg) or as rx, ry, rz columns of --points ({pts}), not both\n"
     )
     assert not out.exists()
 
