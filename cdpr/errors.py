@@ -31,4 +31,6 @@ def raise_problems(source, problems):
         raise problems[0]
     if problems:
         listed = "; ".join(f"key '{e.key}': {e.detail}" if e.key else e.detail for e in problems)
-        raise ConfigError(source, None, f"{len(problems)} problems: {listed}")
+        exc = ConfigError(source, None, f"{len(problems)} problems: {listed}")
+        exc.problems = problems  # each on its own (``cdpr study check`` prints one line per problem)
+        raise exc

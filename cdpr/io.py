@@ -127,3 +127,14 @@ def check_csv_rows(path, columns):
                         f"{path}: row {row_no}, column {c}: {row[k]!r} is not a number{hint}; "
                         "allowed: plain decimal or exponent notation, e.g. 2.5 or 2.5e-3"
                     )
+
+
+def md_cell(value):
+    """One cell of a Markdown table as text: a ``|`` inside it escaped (``\\|``, e.g. ``||dp||``), a
+    line break made a space, so that the row keeps its header's column count."""
+    return str(value).replace("\r", " ").replace("\n", " ").replace("|", "\\|")
+
+
+def md_row(cells):
+    """A Markdown table row ``| a | b |`` of ``cells`` (each through ``md_cell``)."""
+    return "| " + " | ".join(md_cell(c) for c in cells) + " |"

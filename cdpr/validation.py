@@ -197,4 +197,6 @@ def validate(data, name, source):
     if len(found) == 1:
         raise ConfigError(source, *found[0])
     listed = "; ".join(f"key '{k}': {m}" if k else m for k, m in found)
-    raise ConfigError(source, None, f"{len(found)} problems: {listed}")
+    exc = ConfigError(source, None, f"{len(found)} problems: {listed}")
+    exc.problems = [ConfigError(source, k, m) for k, m in found]  # each on its own (cdpr study check)
+    raise exc

@@ -6,7 +6,7 @@ import pytest
 
 from cdpr.errors import ConfigError
 from cdpr.robot import robot_from_dict
-from cdpr.robot_import import robot_dict_from_caspr
+from cdpr.robot_import import import_caspr, model_name, robot_dict_from_caspr
 
 BODIES = """<?xml version="1.0" encoding="utf-8"?>
 <bodies_system>
@@ -154,3 +154,75 @@ def test_bad_values_are_named_in_the_file_that_holds_them(tmp_path, which, old, 
     with pytest.raises(ConfigError) as exc:
         robot_dict_from_caspr(b, c)
     assert str(exc.value).startswith(f"{f}:") and message in str(exc.value) and "\n" not in str(exc.value)
+
+
+def test_what_the_xml_does_not_hold_is_named_and_force_min_is_kept(tmp_path):
+    """Issue 41: every value not from the XML is listed, assumed or given; force_min becomes the
+    cable's min_tension_N; the name is the model's (not CASPR's link name) and the description
+    names the files without their folders."""
+    b, c = files(tmp_path)
+    got = import_caspr(b, c, E=80e9)
+    text = "; ".join(got.assumed)
+    assert "cable.young_modulus_Pa = 8e+10 Pa (given on the command line, --E" in text
+    assert "cable.diameter_m = 0.004 m (assumed" in text and "dead_length_m = 0 m (assumed" in text
+    assert "max_tension_N" not in text  # every cable has its force_max
+    r = robot_from_dict(got.data, "x")
+    assert [cab.material.T_min for cab in r.cables] == [10.0] * 6
+    assert r.name == "X" and got.data["name"] == model_name(b) != "Plate"
+    assert str(tmp_path) not in got.data["description"] and "X_bodies.xml" in got.data["description"]
+    assert import_caspr(b, c, name="mine").data["name"] == "mine"
+    c.write_text(c.read_text().replace("<force_max>3002</force_max>", ""))
+    assert "cable.max_tension_N = 5000 N for cables 3 (assumed: no force_max)" in import_caspr(b, c).assumed
+
+
+def test_model_name_is_the_file_stem_or_the_folder(tmp_path):
+    assert model_name(tmp_path / "CoGiRo_bodies.xml") == "CoGiRo"
+    (tmp_path / "IPAnema").mkdir()
+    assert model_name(tmp_path / "IPAnema" / "bodies.xml") == "IPAnema"
+
+
+def test_force_min_above_force_max_is_refused_in_one_line(tmp_path):
+    b, c = files(tmp_path)
+    c.write_text(
+        c.read_text().replace(
+            "<force_min>10.0</force_min><force_max>3001<", "<force_min>4000</force_min><force_max>3001<"
+        )
+    )
+    with pytest.raises(ConfigError) as exc:
+        robot_dict_from_caspr(b, c)
+    msg = str(exc.value)
+    assert msg.startswith(f"{c}:") and "force_min 4000 N exceeds force_max 3001 N" in msg and "\n" not in msg
+
+
+def test_translational_model_is_a_point_mass(tmp_path):
+    """CASPR's T_XYZ joint (the platform does not turn) with every cable at the reference point is a
+    point-mass robot; with a cable attached elsewhere it is refused in one line."""
+    b, c = files(tmp_path)
+    b.write_text(
+        BODIES.replace("SPATIAL_EULER_XYZ", "T_XYZ").replace(
+            'q_initial="0 0 2.0 0 0 0"', 'q_initial="0 0 2.0"'
+        )
+    )
+    text = c.read_text()
+    with pytest.raises(ConfigError, match="a translational \\(T_XYZ\\) model is read as a point mass"):
+        robot_dict_from_caspr(b, c)
+    for a in ATTACH:
+        text = text.replace(f"<location>{a}</location>", "<location>0 0 0</location>")
+    c.write_text(text.replace("3 -2 0.2", "3 -2 2.9").replace("-3 -2 0.2", "-3 -2.5 2.9"))
+    got = import_caspr(b, c)
+    r = robot_from_dict(got.data, "x")
+    assert r.point_mass and r.platform.com == (0.0, 0.0, 0.0)
+    assert any("com_location [0.01, -0.02, 0.1] left out" in n for n in got.notes)
+
+
+def test_an_anchor_that_breaks_a_symmetry_by_a_typo_is_reported_not_changed(tmp_path):
+    b, c = files(tmp_path)
+    assert import_caspr(b, c).notes == []  # the anchors are mirror images about x = 0
+    c.write_text(c.read_text().replace("<location>3 2 3</location>", "<location>3.02 2 3</location>"))
+    got = import_caspr(b, c)
+    assert (
+        len(got.notes) == 1
+        and "anchors 3 and 4" in got.notes[0]
+        and "about x = 0 m but for 20 mm" in got.notes[0]
+    )
+    assert got.data["cables"][2]["A_m"] == [3.02, 2.0, 3.0]

@@ -37,9 +37,9 @@ def _entry_points(robot):
     lin = _linear_inputs()
     theta = parameter_values(robot) * np.r_[np.full(4, 0.9), np.ones(7 * 4 - 4 + 1)]
     return [
-        ("solve_points_any", lambda e: solve.solve(robot, PTS, engine=e)),
+        ("solve", lambda e: solve.solve(robot, PTS, engine=e)),
         (
-            "solve_points_any physical",
+            "solve physical",
             lambda e: solve.solve(robot, PTS, engine=e, redundancy="physical"),
         ),
         ("solve_table", lambda e: tables.solve_table(robot, PTS, engine=e)),

@@ -11,7 +11,6 @@ to run a command.
 
 from __future__ import annotations
 
-import json
 import sys
 from collections import Counter
 from pathlib import Path
@@ -20,6 +19,7 @@ import numpy as np
 
 from cdpr import io
 from cdpr.analyses import calibration as cal
+from cdpr.cli.commands import checked, emit_json
 from cdpr.pipeline.calibration_files import write_robot
 from cdpr.robot import load_robot
 
@@ -35,7 +35,7 @@ def _table(rows, headers):
 def cmd_fit(args):
     """``cdpr calibrate fit``: estimate, report, write the calibrated robot."""
     io.check_output(args.out, (".yaml", ".yml"))
-    robot = load_robot(args.robot)
+    robot = checked(load_robot(args.robot), args)
     priors = cal.parse_priors(args.prior, estimate=args.estimate)
     data = cal.read_data(args.data, robot)
     result = cal.fit(robot, data, args.estimate, priors=priors, model=args.model, loss=args.loss)
@@ -49,7 +49,7 @@ def cmd_fit(args):
     if args.report:
         write_report(result, Path(args.report))
     if args.json:
-        print(json.dumps(summary, indent=2, allow_nan=False))
+        emit_json(summary, args)
         return
     _print_fit(result, summary)
 
@@ -110,11 +110,11 @@ def write_report(result, folder):
 
 def cmd_check(args):
     """``cdpr calibrate check``: the robot's prediction against every measured sample."""
-    robot = load_robot(args.robot)
+    robot = checked(load_robot(args.robot), args)
     data = cal.read_data(args.data, robot)
     out = cal.check(robot, data)
     if args.json:
-        print(json.dumps(out, indent=2, allow_nan=False))
+        emit_json(out, args)
         return
     if out["n"] == 0:
         counts = Counter(s["status"] for s in out["samples"])
@@ -142,7 +142,7 @@ def cmd_plan(args):
     """``cdpr calibrate plan``: D-optimal poses and their expected standard errors versus random ones."""
     if args.out:
         io.check_output(args.out, (".csv",))
-    robot = load_robot(args.robot)
+    robot = checked(load_robot(args.robot), args)
     priors = cal.parse_priors(args.prior, estimate=args.estimate)
     res = cal.plan(
         robot,
@@ -186,7 +186,7 @@ def cmd_plan(args):
         "logdet_random_median": res["logdet_random_median"],
     }
     if args.json:
-        print(json.dumps(out, indent=2, allow_nan=False))
+        emit_json(out, args)
         return
     rows = [
         [e["name"], f"{e['prior_sd']:.3g}", f"{e['d_optimal']:.3g}", f"{e['random_median']:.3g}"]

@@ -24,12 +24,28 @@ def add_parser(sub):
     c.add_argument("--cables", required=True, metavar="FILE", help="CASPR cables file (X_cables.xml)")
     c.add_argument("--cable-set", metavar="ID", help="cable set id (default: the file's default_cable_set)")
     c.add_argument("--out", required=True, metavar="FILE", help="robot YAML file to write")
-    c.add_argument("--E", type=positive, default=102.2e9, metavar="PA", help="Young's modulus (not in CASPR)")
     c.add_argument(
-        "--diameter", type=positive, default=0.004, metavar="M", help="cable diameter (not in CASPR)"
+        "--name",
+        metavar="NAME",
+        help="the robot's name (default: the model's file stem, CoGiRo_bodies.xml -> CoGiRo)",
     )
     c.add_argument(
-        "--dead-length", type=non_negative, default=0.0, metavar="M", help="dead length d (not in CASPR)"
+        "--E",
+        type=positive,
+        metavar="PA",
+        help="Young's modulus [Pa] (not in CASPR; default 102.2e9, assumed and said so)",
+    )
+    c.add_argument(
+        "--diameter",
+        type=positive,
+        metavar="M",
+        help="cable diameter [m] (not in CASPR; default 0.004, assumed and said so)",
+    )
+    c.add_argument(
+        "--dead-length",
+        type=non_negative,
+        metavar="M",
+        help="dead length d [m] (not in CASPR; default 0, assumed and said so)",
     )
     c.set_defaults(run=("cdpr.cli.commands", "cmd_import_caspr"))
     r = tools.add_parser(

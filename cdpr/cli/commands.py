@@ -1,5 +1,5 @@
 """The commands: ``cdpr inverse | point | compensate | grid | winch | plane | trajectory | import caspr |
-view``.
+view | study check``.
 
 JSON with ``--json``, a readable table without. Options given on the command line override the
 robot file exactly as if it had been edited. SI units throughout. Every bad input is refused with
@@ -24,7 +24,7 @@ from cdpr.analyses.workspace import BYTES_PER_POINT
 from cdpr.cli.options import MAX_COORDINATE_M
 from cdpr.errors import CdprError
 from cdpr.models import winch
-from cdpr.robot import TABLE1, load_robot, load_winch_params
+from cdpr.robot import TABLE1, load_robot, load_winch_params, plausibility_warnings
 
 #: The columns of a ``--points`` table: the position [m] and, optional, the orientation [rad].
 POINT_COLUMNS = ("x", "y", "z", "rx", "ry", "rz")
@@ -36,16 +36,40 @@ def _write_table(df, path):
     table_io.write_table(df, path)
 
 
+def checked(robot, args):
+    """The one plausibility check of the command line: every command that reads or writes a robot
+    passes it here once. Each implausible value (``robot.plausibility_warnings``: a unit slip, most
+    likely) is one line on stderr; the list goes to ``args.warnings`` for the ``warnings`` key of the
+    command's JSON object (``emit_json``). The command still runs: a user may mean the value."""
+    warnings = plausibility_warnings(robot)
+    for w in warnings:
+        print(f"cdpr: warning: {robot.source}: {w}", file=sys.stderr)
+    args.warnings = warnings
+    return robot
+
+
+def emit_json(out, args):
+    """Print a command's JSON: an object gets the ``warnings`` list of ``checked`` (empty when the
+    robot is plausible or the command reads none); a list keeps its shape (its warnings are on
+    stderr only)."""
+    if isinstance(out, dict):
+        out = {**out, "warnings": list(getattr(args, "warnings", []))}
+    print(json.dumps(io.clean_json(out), indent=2, allow_nan=False))
+
+
 def _load(args):
-    return load_robot(
-        args.robot,
-        E_cables=getattr(args, "E_cables", None),
-        pulley=args.pulley,
-        h=args.h,
-        r_p=args.rp,
-        dead_length=args.dead_length,
-        E=getattr(args, "E", None),
-        mass=getattr(args, "mass", None),
+    return checked(
+        load_robot(
+            args.robot,
+            E_cables=getattr(args, "E_cables", None),
+            pulley=args.pulley,
+            h=args.h,
+            r_p=args.rp,
+            dead_length=args.dead_length,
+            E=getattr(args, "E", None),
+            mass=getattr(args, "mass", None),
+        ),
+        args,
     )
 
 
@@ -143,7 +167,7 @@ def _points(args):
             )
         if getattr(args, "rotvec", None) is not None:  # two orientations: neither may win silently
             raise CdprError(
-                f"give the orientation either as --rotvec or as rx, ry, rz columns of --points ({args.points}), not both"
+                f"give the orientation either as --rotvec (or --euler-xyz-deg) or as rx, ry, rz columns of --points ({args.points}), not both"
             )
         if bad_rot is not None:
             raise CdprError(f"{args.points}: row {bad_rot} has a non-finite rx, ry or rz")
@@ -241,7 +265,11 @@ def cmd_inverse(args):
             B, st = pose_state(robot, p_, R)
             lts = L_TS(robot, p_, R=R)
         sw = swivel(B, a.A, None if robot.suspended_point_mass else a.frame, a.inward, per_cable=True)
-        return lts, st, sw, st.gamma > 1.5 * np.pi
+        # a fixed anchor is a point of passage: no sheave to wrap, no swivel joint (no angle to report)
+        pulley = robot.kind != 0
+        over = (st.gamma > 1.5 * np.pi) & pulley
+        gamma, alpha = np.where(pulley, st.gamma, np.nan), np.where(pulley, st.alpha, np.nan)
+        return lts, st, np.where(pulley, sw, np.nan), over, gamma, alpha
 
     if args.points or args.out:
         import pandas as pd  # lazy: a table of points only
@@ -249,7 +277,7 @@ def cmd_inverse(args):
         inside = [0]
 
         def table(P, rv):
-            lts, st, sw, over = state(P, rv)
+            lts, st, sw, over, gamma, alpha = state(P, rv)
             motor = spool_motor_angles(robot, lts) if spools else None  # the encoder angles of L_TS
             inside[0] += int(st.inside.any(axis=1).sum())
             cols = {"x": P[:, 0], "y": P[:, 1], "z": P[:, 2]}
@@ -261,8 +289,8 @@ def cmd_inverse(args):
                     {
                         f"L_TS{c}": lts[:, i],
                         f"L_TE{c}": st.L_TE[:, i],
-                        f"gamma{c}": st.gamma[:, i],
-                        f"alpha{c}": st.alpha[:, i],
+                        f"gamma{c}": gamma[:, i],
+                        f"alpha{c}": alpha[:, i],
                         f"beta{c}": st.beta[:, i] if robot.kind[i] == 2 else np.full(len(P), np.nan),
                         f"inside{c}": st.inside[:, i],
                     }
@@ -276,31 +304,31 @@ def cmd_inverse(args):
         _write_chunks(args, points, table, "inverse")
         print(f"wrote {points.n} points to {args.out}; {inside[0]} inside a sheave (lengths clipped there)")
         return
-    lts, st, sw, over = state(*points.first())
+    lts, st, sw, over, gamma, alpha = state(*points.first())
     motor = spool_motor_angles(robot, lts) if spools else None  # the encoder angles that command L_TS
     out = [
         {
             "cable": i + 1,
             "L_TS": float(lts[0, i]),
             "L_TE": float(st.L_TE[0, i]),
-            "gamma": float(st.gamma[0, i]),
+            "gamma": float(gamma[0, i]),
             "l_d": float(st.l_d[0, i]),
             "l_E": float(st.l_E[0, i]),
-            "alpha": float(st.alpha[0, i]),
+            "alpha": float(alpha[0, i]),
             "beta": float(st.beta[0, i]) if robot.kind[i] == 2 else None,
             "H": st.H[0, i].tolist(),
             "K": st.K[0, i].tolist(),
             "D": st.D[0, i].tolist(),
             "inside": bool(st.inside[0, i]),
             "swivel": float(sw[0, i]),
-            "wrap": float(st.gamma[0, i]),
+            "wrap": float(gamma[0, i]),
             "wrap_over_270": bool(over[0, i]),
             **({} if motor is None else {"motor_deg": float(motor[0, i])}),
         }
         for i in range(robot.m)
     ]
     if args.json:
-        print(json.dumps(io.clean_json(out), indent=2))
+        emit_json(out, args)
         return
     print(f"{robot.name} ({robot.pulley_summary()}, {robot.dead_length_summary()}) at P = {args.at} m")
     rows = [
@@ -308,8 +336,8 @@ def cmd_inverse(args):
             str(o["cable"]),
             f"{o['L_TS']:.6f}",
             f"{o['L_TE']:.6f}",
-            f"{o['gamma']:.6f}",
-            f"{o['alpha']:.6f}",
+            "-" if o["gamma"] != o["gamma"] else f"{o['gamma']:.6f}",
+            "-" if o["alpha"] != o["alpha"] else f"{o['alpha']:.6f}",
             "-" if o["beta"] is None else f"{o['beta']:.6f}",
             f"{o['l_d']:.6f}",
             f"{o['l_E']:.6f}",
@@ -365,6 +393,35 @@ def _solve_sensitivities(robot, P, args, L0=None, rv=None, engine=None):
         L=L0,
         engine=engine,
         threads=args.threads,
+    )
+
+
+#: A commanded rest length at or below this [m] is a zero-length cable: no stiffness ES/L0 exists.
+ZERO_LENGTH_M = 1e-9
+
+
+def _zero_length(robot, P, rv, L0, redundancy):
+    """(N, m) mask of the cables whose commanded rest length is zero in physical mode (L0, or the
+    standard length L_TS at the desired pose: an attachment at its anchor with no dead length); the
+    physical model has no stiffness ES/L0 there, and the point is flagged with this reason."""
+    from cdpr.models.inverse import L_TS  # lazy: the physical-mode check only
+
+    if redundancy != "physical":
+        return np.zeros((len(P), robot.m), dtype=bool)
+    if L0 is None:
+        L0 = L_TS(robot, P, rv)
+    return np.broadcast_to(np.asarray(L0, dtype=float) <= ZERO_LENGTH_M, (len(P), robot.m))
+
+
+def _zero_length_reason(zero_row):
+    """The reason of a point with zero-length cables (one row of ``_zero_length``), or None."""
+    cables = [int(i) + 1 for i in np.flatnonzero(zero_row)]
+    if not cables:
+        return None
+    which = ", ".join(map(str, cables))
+    return (
+        f"cable{'s' * (len(cables) > 1)} {which} {'has' if len(cables) == 1 else 'have'} zero rest length "
+        "(the attachment at its anchor, no dead length): its stiffness ES/L0 does not exist, no equilibrium"
     )
 
 
@@ -438,15 +495,23 @@ def cmd_point(args):
         if engine == "compiled":
             P, rv = points.first()
             _warm_up(args, lambda: solve(P[:1], None if rv is None else rv[:1]))
-        _write_chunks(
-            args,
-            points,
-            lambda P, rv: tally.add(to_frame(robot, solve(P, rv), args.redundancy, rotvec=rv)),
-            "point",
-        )
+        n_zero = [0]
+
+        def chunk(P, rv):
+            n_zero[0] += int(_zero_length(robot, P, rv, L0, args.redundancy).any(axis=1).sum())
+            return tally.add(to_frame(robot, solve(P, rv), args.redundancy, rotvec=rv))
+
+        _write_chunks(args, points, chunk, "point")
         _report(tally, args.out, args, float("nan"))
+        if n_zero[0]:
+            print(
+                f"cdpr: note: {n_zero[0]} point(s) have a cable of zero rest length (the attachment at its anchor): "
+                "no equilibrium exists there, status as solved (not ok)",
+                file=sys.stderr,
+            )
         return
     P, rv = points.first()
+    zero = _zero_length(robot, P, rv, L0, args.redundancy)
     res = solve(P, rv)
     t = res["t"][0]
     out = {
@@ -465,6 +530,11 @@ def cmd_point(args):
     out.update(status=str(res["status"][0]), iterations=int(res["iterations"][0]), engine=engine)
     if "unique" in res:
         out.update(unique=bool(res["unique"][0]), alternatives=res["alternatives"][0])
+    reason = _zero_length_reason(zero[0])
+    if reason is not None:  # no equilibrium model there: no uniqueness to claim either
+        out["reason"] = reason
+        if "unique" in out:
+            out.update(unique=None, alternatives=[])
     if args.sensitivities:
         S = res["S"][0]
         out["sensitivities"] = {
@@ -477,7 +547,7 @@ def cmd_point(args):
             }
         out["sensitivities_smooth"] = bool(res["smooth"][0])
     if args.json:
-        print(json.dumps(io.clean_json(out), indent=2))
+        emit_json(out, args)
         return
     from cdpr.models.results import subset_label  # lazy: the readable output only
 
@@ -497,6 +567,8 @@ def cmd_point(args):
     else:
         print(f"  subset         : {subset_label(res['subset'][0]) or '-'}")
     print(f"  status         : {out['status']}  ({out['iterations']} iterations)")
+    if "reason" in out:
+        print(f"  reason         : {out['reason']}")
     if out.get("unique") is False:  # another equilibrium holds the same lengths (equilibrium: restarts)
         n = len(out["alternatives"])
         print(f"  equilibrium    : not unique ({n} alternative{'s' * (n != 1)}; --json lists them)")
@@ -625,7 +697,7 @@ def cmd_compensate(args):
 
         out["motor_deg"] = spool_motor_angles(robot, res["L0"][:1])[0].tolist()
     if args.json:
-        print(json.dumps(io.clean_json(out), indent=2))
+        emit_json(out, args)
         return
     print(
         f"{robot.name} ({robot.pulley_summary()}, {robot.material_summary()}, {robot.dead_length_summary()}), distribution {args.distribution}"
@@ -677,7 +749,7 @@ def _compensate_pose_report(args, robot, res, engine):
 
         out["motor_deg"] = spool_motor_angles(robot, res["L0"][:1])[0].tolist()
     if args.json:
-        print(json.dumps(io.clean_json(out), indent=2))
+        emit_json(out, args)
         return
     print(
         f"{robot.name} ({robot.pulley_summary()}, {robot.material_summary()}), distribution {args.distribution} at a pose"
@@ -810,7 +882,7 @@ def cmd_winch(args):
     if args.out:
         _write_table(df, args.out)
     if args.json:
-        print(json.dumps(io.clean_json(df.to_dict(orient="records")), indent=2))
+        emit_json(df.to_dict(orient="records"), args)
         return
     print(f"winch (l_pm0 = {winch.l_pm0(p):.6f} m, q0 = {p.q0:g} rad)")
     rows = [
@@ -844,7 +916,7 @@ def _report(df, out, args, dt, extra=None):
         **(extra or {}),
     }
     if args.json:
-        print(json.dumps(io.clean_json(summary), indent=2))
+        emit_json(summary, args)
     else:
         timing = f" in {dt:.2f} s ({rate:.0f} points/s)" if rate else ""
         print(f"wrote {n} points to {out}{timing}")
@@ -911,31 +983,41 @@ def cmd_trajectory(args):
 
 def cmd_import_caspr(args):
     """``cdpr import caspr``: read CASPR's bodies and cables XML (``cdpr.robot_import``), validate the
-    result as a robot file, write it."""
+    result as a robot file, write it. Every value that did not come from the XML (E, diameter, dead
+    length, ...) is named in the file's header and in one line on stderr, assumed or given; sanity
+    notes (a near-symmetry broken by a possible typo) are lines on stderr, the values kept."""
+    from pathlib import Path  # lazy: this command only
+
     import yaml  # lazy: yaml, for this command only
 
     # lazy: the importer, for this command only
     from cdpr.robot import robot_from_dict
-    from cdpr.robot_import import robot_dict_from_caspr
+    from cdpr.robot_import import import_caspr
 
-    data = robot_dict_from_caspr(
+    got = import_caspr(
         args.bodies,
         args.cables,
         args.cable_set,
         E=args.E,
         diameter=args.diameter,
         dead_length=args.dead_length,
+        name=args.name,
     )
-    robot = robot_from_dict(data, source=f"{args.cables} (imported)")
+    data = got.data
+    default_set = "" if args.cable_set else ", the file's default"
+    robot = checked(robot_from_dict(data, source=f"{args.cables} (imported)"), args)
     io.check_output(args.out, (".yaml", ".yml"))
     header = (
-        f"# Imported by `cdpr import caspr` from {args.bodies} and {args.cables}"
-        f" (cable set {args.cable_set or 'default'}).\n"
-        "# E, the cable diameter and the dead length are not part of CASPR models: given on the command line.\n"
+        f"# Imported by `cdpr import caspr` from {Path(args.bodies).name} and {Path(args.cables).name}"
+        f" (cable set {got.cable_set}{default_set}).\n"
+        "# Not from the CASPR files (CASPR models hold no cable stiffness, diameter or dead length):\n"
+        + "".join(f"#   {a}\n" for a in got.assumed)
     )
-    with open(args.out, "w", encoding="utf-8") as f:
-        f.write(header + yaml.safe_dump(data, sort_keys=False))
-    print(f"wrote {args.out}: {robot.m} cables, platform {robot.platform.mass:g} kg")
+    print(f"cdpr: note: not from the CASPR files: {'; '.join(got.assumed)}", file=sys.stderr)
+    for n in got.notes:
+        print(f"cdpr: note: {args.cables}: {n}", file=sys.stderr)
+    io.write_text(header + yaml.safe_dump(data, sort_keys=False), args.out)
+    print(f"wrote {args.out}: {robot.name}, {robot.m} cables, platform {robot.platform.mass:g} kg")
 
 
 def cmd_import_rrf(args):
@@ -1012,7 +1094,7 @@ def cmd_view(args):
     from cdpr.analyses import scans, workspace
     from cdpr.pipeline import plots
 
-    robot = load_robot(args.robot)
+    robot = checked(load_robot(args.robot), args)
     io.check_output(args.out, (".png",))
     boxes = {"frame box": workspace.frame_box(robot)}
     if args.box is not None:
@@ -1023,3 +1105,18 @@ def cmd_view(args):
     p = scans.view_position(robot) if args.at is None else np.asarray(args.at, dtype=float)
     plots.robot_view(scans.pose_geometry(robot, p, args.rotvec), args.out, boxes=boxes)
     print(f"wrote {args.out}")
+
+
+def cmd_study_check(args):
+    """``cdpr study check FILE``: the validation the pipeline makes before any job
+    (``cdpr.pipeline.study.check_file``), without Snakemake. Each problem is one line on stderr and
+    the exit code is 2; a valid study prints ``ok`` (exit 0)."""
+    from cdpr.pipeline.study import check_file  # lazy: the pipeline (pandas), for this command only
+
+    problems = check_file(args.file, args.results)
+    for p in problems:
+        print(f"cdpr: error: {p}", file=sys.stderr)
+    if problems:
+        return 2
+    print("ok")
+    return 0

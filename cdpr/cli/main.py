@@ -21,6 +21,18 @@ INTERRUPTED = "cdpr: interrupted (Ctrl-C); no partial output was left"
 EXIT_INTERRUPTED = 130
 
 
+def _euler_to_rotvec(args):
+    """``--euler-xyz-deg A B C`` (CASPR's Euler XYZ angles [deg], intrinsic: R = Rx(A) Ry(B) Rz(C),
+    CASPR's ``SphericalEulerXYZ.RelRotationMatrix``) becomes ``args.rotvec`` [rad], the one
+    orientation the commands read (scipy's ``from_euler('XYZ')``: upper case is intrinsic)."""
+    deg = getattr(args, "euler_xyz_deg", None)
+    if deg is None:
+        return
+    from scipy.spatial.transform import Rotation  # lazy: --euler-xyz-deg only (not for --help)
+
+    args.rotvec = [float(x) for x in Rotation.from_euler("XYZ", deg, degrees=True).as_rotvec()]
+
+
 def main(argv=None):
     """Run ``cdpr`` with ``argv`` (default ``sys.argv[1:]``); returns the exit code (0, 2 for a refused
     input, 130 after Ctrl-C: one line, no traceback; every output is written atomically, so none is
@@ -28,9 +40,14 @@ def main(argv=None):
     argv = sys.argv[1:] if argv is None else list(argv)
     try:
         args = build_parser(jobs=_command(argv) == "job").parse_args(argv)
+        _euler_to_rotvec(args)
         module, func = args.run
         # lazy: the command's module (numpy, the models) is loaded only once the arguments are read
-        getattr(importlib.import_module(module), func)(args)
+        command = getattr(importlib.import_module(module), func)
+        import numpy as np  # lazy: loaded by every command's module already; not for --help
+
+        with np.errstate(all="ignore"):  # no numpy floating-point warning reaches a user: statuses say it
+            code = command(args)  # None (0), or the exit code of a command that reports its own errors
         sys.stdout.flush()  # a full disk or a closed pipe shows here, not at interpreter exit
     except CdprError as exc:
         print(f"cdpr: error: {exc}", file=sys.stderr)
@@ -50,7 +67,7 @@ def main(argv=None):
         print(f"cdpr: error: cannot write{where} ({exc.strerror or exc})", file=sys.stderr)
         _quiet_stdout()
         return 1
-    return 0
+    return code if isinstance(code, int) else 0
 
 
 def _quiet_stdout():

@@ -194,8 +194,20 @@ def physics_options(sp):
 def rotvec_option(
     sp, help="platform orientation: rotation vector [rad] (active, base frame; default identity)"
 ):
-    """--rotvec RX RY RZ: the platform's orientation [rad] (spatial robots, docs/spatial.md)."""
-    sp.add_argument("--rotvec", nargs=3, type=finite, metavar=("RX", "RY", "RZ"), help=help)
+    """--rotvec RX RY RZ: the platform's orientation [rad] (spatial robots, docs/spatial.md), or
+    --euler-xyz-deg A B C, the same orientation as CASPR's Euler XYZ angles in degrees (intrinsic
+    x, then y', then z'': R = Rx(A) Ry(B) Rz(C)); one or the other. ``cdpr.cli.main`` turns the
+    angles into ``args.rotvec`` before the command runs."""
+    g = sp.add_mutually_exclusive_group()
+    g.add_argument("--rotvec", nargs=3, type=finite, metavar=("RX", "RY", "RZ"), help=help)
+    g.add_argument(
+        "--euler-xyz-deg",
+        nargs=3,
+        type=finite,
+        metavar=("A", "B", "C"),
+        help="platform orientation as CASPR's Euler XYZ angles [deg] (intrinsic: R = Rx(A) Ry(B) Rz(C)), "
+        "instead of --rotvec",
+    )
 
 
 def points_options(sp, what):

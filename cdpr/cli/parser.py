@@ -31,6 +31,13 @@ from cdpr.cli.options import (
     threads,
 )
 
+#: The exit-code contract, in ``cdpr --help`` and in the commands that report a status.
+STATUS_EPILOG = (
+    "Exit code 0 for every computed result whatever its status (ok, slack, infeasible, not_converged, "
+    "inaccessible, ...): scripts read the 'status' key of --json, not the exit code. Exit code 2: a refused "
+    "input (one line on stderr); 1: an output that could not be written."
+)
+
 
 def build_parser(jobs=True):
     """The ``cdpr`` parser. ``jobs=False`` leaves out the options of ``cdpr job`` (their registry imports the
@@ -38,6 +45,7 @@ def build_parser(jobs=True):
     ap = Parser(
         prog="cdpr",
         description="Pose errors of cable-driven parallel robots from pulleys, cable elasticity and winch geometry.",
+        epilog=STATUS_EPILOG,
     )
     sub = ap.add_subparsers(dest="command", required=True, parser_class=Parser)
     sp = sub.add_parser(
@@ -47,7 +55,9 @@ def build_parser(jobs=True):
     points_options(sp, "platform position")
     sp.set_defaults(run=("cdpr.cli.commands", "cmd_inverse"))
     sp = sub.add_parser(
-        "point", help="DEGM_E at a point (or a table of points): solved pose, |dp|, tensions, subset, status"
+        "point",
+        help="DEGM_E at a point (or a table of points): solved pose, |dp|, tensions, subset, status",
+        epilog=STATUS_EPILOG,
     )
     robot_options(sp)
     solver_options(sp)
@@ -78,7 +88,9 @@ def build_parser(jobs=True):
     sensitivity_options(sp)
     sp.set_defaults(run=("cdpr.cli.commands", "cmd_point"))
     sp = sub.add_parser(
-        "compensate", help="compensated rest lengths: what to command so that the platform reaches --at"
+        "compensate",
+        help="compensated rest lengths: what to command so that the platform reaches --at",
+        epilog=STATUS_EPILOG,
     )
     robot_options(sp)
     sp.add_argument("--E", type=positive, metavar="PA", help="Young's modulus E [Pa] of every cable")
@@ -196,6 +208,15 @@ def build_parser(jobs=True):
 
         job.add_arguments(sp)
     sp.set_defaults(run=("cdpr.cli.job", "run"))
+    sp = sub.add_parser("study", help="study files: check one without running Snakemake")
+    studies = sp.add_subparsers(dest="study_command", required=True, parser_class=Parser)
+    c = studies.add_parser(
+        "check",
+        help="the pipeline's validation of a study file, without Snakemake: one line per problem (exit 2) or 'ok'",
+    )
+    c.add_argument("file", metavar="FILE", help="study YAML file (config/studies/*.yaml)")
+    c.add_argument("--results", metavar="DIR", help="also check the results folder the study would write")
+    c.set_defaults(run=("cdpr.cli.commands", "cmd_study_check"))
     calibrate_parser(sub)
     caspr.add_parser(sub)
     view.add_parser(sub)

@@ -7,7 +7,7 @@ Standard library and ``cdpr.cli.options`` only: ``cdpr.cli.parser`` registers it
 
 from __future__ import annotations
 
-from cdpr.cli.options import box_option, coordinate, finite
+from cdpr.cli.options import box_option, coordinate, rotvec_option
 
 
 def add_parser(sub):
@@ -23,7 +23,7 @@ def add_parser(sub):
         metavar=("X", "Y", "Z"),
         help="platform position [m] (default: centre)",
     )
-    sp.add_argument("--rotvec", nargs=3, type=finite, metavar=("RX", "RY", "RZ"), help="orientation [rad]")
+    rotvec_option(sp, help="orientation [rad]")
     box_option(sp, "a box [m] drawn as a wireframe (e.g. the RW_C box of doe/rw_c.json)")
     sp.add_argument("--out", required=True, metavar="FILE", help="output .png (a .pdf is written beside it)")
     sp.set_defaults(run=("cdpr.cli.commands", "cmd_view"))

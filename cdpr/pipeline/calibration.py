@@ -386,19 +386,23 @@ def _learning_figure(curve, floor_mm, path, label="pulleys + elasticity"):
 
 
 def md_table(df, cols, fmt="{:.3g}"):
-    """A markdown table of the columns ``cols`` of ``df``, floats written with ``fmt``."""
-    head = "| " + " | ".join(cols) + " |\n|" + "---|" * len(cols) + "\n"
+    """A markdown table of the columns ``cols`` of ``df``, floats written with ``fmt`` (a missing
+    value, NaN, as "–": the row's note says why), cells escaped by ``io.md_row``."""
+    head = io.md_row(cols) + "\n|" + "---|" * len(cols) + "\n"
     lines = []
     for _, r in df.iterrows():
-        cells = [fmt.format(r[c]) if isinstance(r[c], float) else str(r[c]) for c in cols]
-        lines.append("| " + " | ".join(cells) + " |")
+        cells = [
+            ("–" if r[c] != r[c] else fmt.format(r[c])) if isinstance(r[c], float) else str(r[c])
+            for c in cols
+        ]
+        lines.append(io.md_row(cells))
     return head + "\n".join(lines) + "\n"
 
 
 def _write_markdown(out, st, headline, curve, enc, ident_lines, left_out, n_val, best="pulleys + elasticity"):
     """results/calibration/summary.md: the headline table, identifiability, learning curve, encoder."""
     text = [
-        "# Calibration study (issue 18)",
+        "# Calibration study: a robot's parameters from simulated measurements",
         "",
         f"True robot: {st['robot']} with deviations drawn (seed {st['seed']}) from "
         + ", ".join(f"{g} {v:g}" for g, v in st["truth_deviations"].items() if g in st["deviation_groups"])

@@ -314,7 +314,7 @@ def _write_markdown6(out, st, robot, headline, ident_lines, vt, n_train, pretens
     fl = vt[vt["flagged"]]
     counts = vt["truth_taut_cables"].value_counts().sort_index()
     text = [
-        f"# Calibration study of a 6-DoF platform: {robot.name} (issue 18)",
+        f"# Calibration study of a 6-DoF platform, {robot.name}: its parameters from simulated measurements",
         "",
         f"True robot: {st['robot']} with deviations drawn (seed {st['seed']}) from "
         + ", ".join(f"{g} {v:g}" for g, v in st["truth_deviations"].items() if g in st["deviation_groups"])

@@ -632,9 +632,9 @@ def _fmt(v, unit=""):
 
 
 def _md_table(df, cols, headers):
-    lines = ["| " + " | ".join(headers) + " |", "|" + "---|" * len(headers)]
+    lines = [io.md_row(headers), "|" + "---|" * len(headers)]
     for r in df.itertuples():
-        lines.append("| " + " | ".join(_fmt(getattr(r, c)) for c in cols) + " |")
+        lines.append(io.md_row(_fmt(getattr(r, c)) for c in cols))
     return lines
 
 

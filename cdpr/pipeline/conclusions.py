@@ -361,9 +361,16 @@ def conclusions_page(ref_st, st, rows):
     ]
     for r in rows[rows.headline].itertuples():
         lines.append(
-            f"| {r.statement} | {_fmt(r.paper, r.unit) if _text(r.paper) else ''} | "
-            f"{_cell(r.reference, r.unit, r.claim_reference)} | {_cell(r.robot, r.unit, r.claim_robot)} | "
-            f"{r.verdict} | {_text(r.verdict_paper)} |"
+            io.md_row(
+                [
+                    r.statement,
+                    _fmt(r.paper, r.unit) if _text(r.paper) else "",
+                    _cell(r.reference, r.unit, r.claim_reference),
+                    _cell(r.robot, r.unit, r.claim_robot),
+                    r.verdict,
+                    _text(r.verdict_paper),
+                ]
+            )
         )
     lines += [
         "",
@@ -374,9 +381,19 @@ def conclusions_page(ref_st, st, rows):
     ]
     for r in rows.itertuples():
         lines.append(
-            f"| {r.group} | {r.quantity} | {r.statement} | {_fmt(r.paper, r.unit) if _text(r.paper) else ''} | "
-            f"{_cell(r.reference, r.unit, r.claim_reference)} | {_cell(r.robot, r.unit, r.claim_robot)} | "
-            f"{r.verdict} | {_text(r.verdict_paper)} | {r.note} |"
+            io.md_row(
+                [
+                    r.group,
+                    r.quantity,
+                    r.statement,
+                    _fmt(r.paper, r.unit) if _text(r.paper) else "",
+                    _cell(r.reference, r.unit, r.claim_reference),
+                    _cell(r.robot, r.unit, r.claim_robot),
+                    r.verdict,
+                    _text(r.verdict_paper),
+                    r.note,
+                ]
+            )
         )
     return "\n".join(lines) + "\n"
 

@@ -65,6 +65,67 @@ def load_study(path):
     return st
 
 
+def check_results_folder(path, source="--config results", key="results"):
+    """Refuse, in one line and before any job, a results folder that cannot be one: an existing
+    file, or a path below an existing file.
+
+    Parameters
+    ----------
+    path : str or Path
+        The results folder (Snakemake's ``--config results=...``, or a study's ``conclusions.results``).
+    source, key : str
+        Where the path was given, for the message.
+
+    Raises
+    ------
+    ConfigError
+        When ``path`` or one of its parents is an existing file.
+    """
+    p = Path(path)
+    for q in (p, *p.parents):
+        if q.exists() and not q.is_dir():
+            what = "is an existing file" if q == p else f"lies below {str(q)!r}, an existing file"
+            raise ConfigError(
+                source, key, f"the results folder {str(path)!r} {what}; give a folder (e.g. results/<study>)"
+            )
+
+
+def check_file(path, results=None):
+    """The whole validation of a study file, as the pipeline makes it before any job, without
+    Snakemake (``cdpr study check``): ``load_study``, and with ``results`` the results folder.
+
+    Parameters
+    ----------
+    path : str or Path
+        The study file.
+    results : str or Path, optional
+        The results folder the study would write (``check_results_folder``).
+
+    Returns
+    -------
+    list of str
+        One line per problem found (empty: the study is valid).
+    """
+    problems = []
+    try:
+        st = load_study(path)
+    except ConfigError as exc:
+        problems += [str(e) for e in getattr(exc, "problems", [exc])]
+    else:
+        ref = (st.get("conclusions") or {}).get("results")
+        if ref is not None:
+            try:
+                check_results_folder(ref, str(path), "conclusions.results")
+            except ConfigError as exc:
+                problems.append(str(exc))
+    if results is not None:
+        try:
+            check_results_folder(results)
+        except ConfigError as exc:
+            problems.append(str(exc))
+    return problems
+
+
 def redundancy(st):
     """The study's redundancy mode: ``paper`` (the paper's 3-cable subset rule, the default) or
     ``physical`` (the equilibrium on all cables, ``equilibrium``)."""

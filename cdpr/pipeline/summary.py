@@ -348,6 +348,21 @@ def _headline(quantity, source, ours, unit, note=""):
     }
 
 
+def _line_note(r):
+    """The note of a ``line D_<kind>`` headline row: its slope and optimum, or in words what is
+    missing (no valley point on the fixed-h line: no slope, no optimum), never ``nan``."""
+    parts = []
+    if int(r.valley_points) >= 2 and math.isfinite(r.slope_k):
+        parts.append(f"slope k = {r.slope_k:.4g} from {int(r.valley_points)} valley points")
+    else:
+        parts.append(f"no slope k: {int(r.valley_points)} valley point(s) on the fixed-h line, 2 needed")
+    if math.isfinite(r.h_opt_m) and math.isfinite(r.r_p_opt_m):
+        parts.append(f"h = {r.h_opt_m * 1e3:.4g} mm, r_p = {r.r_p_opt_m * 1e3:.4g} mm")
+    else:
+        parts.append("no optimal h, r_p (no ok point on the line)")
+    return "; ".join(parts)
+
+
 def _ok_range(df, column, scale):
     """(min, max) of ``column`` times ``scale`` over the ok rows of a point table (NaN when none)."""
     ok = df.loc[df["status"] == "ok", column]
@@ -487,8 +502,7 @@ def headline_rows(st, res):
                     rel_path("maps", "lines"),
                     float(r.index_opt_m) * 1e3,
                     "mm",
-                    f"slope k = {r.slope_k:.4g} from {int(r.valley_points)} valley points; "
-                    f"h = {r.h_opt_m * 1e3:.4g} mm, r_p = {r.r_p_opt_m * 1e3:.4g} mm",
+                    _line_note(r),
                 )
             )
     b = _read(res, rel_path("elasticity", "bands"))
@@ -633,11 +647,40 @@ def write_summary(st, res, out_md, out_csv):
             else "This study is not the paper's (`paper_comparison: false`), so its numbers are not scored against the paper's."
         ),
         "",
+        *summary_table(df),
+    ]
+    io.write_text("\n".join(lines) + "\n", out_md)
+
+
+def summary_table(df):
+    """The Markdown table of the summary's rows ``df`` (columns quantity, source, paper, ours, unit,
+    tolerance, verdict, note): a header and one row each, every cell escaped (``io.md_row``: a
+    quantity such as ``||dp||`` keeps the row's 8 columns).
+
+    Parameters
+    ----------
+    df : pandas.DataFrame
+        The summary's rows (``build_rows`` or ``headline_rows``).
+
+    Returns
+    -------
+    list of str
+        The table's lines.
+    """
+    lines = [
         "| quantity | source | paper | ours | unit | tolerance | verdict | note |",
         "|---|---|---|---|---|---|---|---|",
     ]
     for r in df.itertuples():
-        lines.append(
-            f"| {r.quantity} | {r.source} | {_fmt(r.paper)} | {_fmt(r.ours)} | {r.unit} | {_fmt(r.tolerance)} | {r.verdict} | {r.note} |"
-        )
-    io.write_text("\n".join(lines) + "\n", out_md)
+        cells = [
+            r.quantity,
+            r.source,
+            _fmt(r.paper),
+            _fmt(r.ours),
+            r.unit,
+            _fmt(r.tolerance),
+            r.verdict,
+            r.note,
+        ]
+        lines.append(io.md_row(cells))
+    return lines

@@ -63,7 +63,7 @@ def test_fit_json_keys_and_the_written_robot(measured, capsys):
     ]
     assert main([*args, "--out", str(out), "--json"]) == 0
     s = json.loads(capsys.readouterr().out)
-    assert set(s) == FIT_KEYS
+    assert set(s) == FIT_KEYS | {"warnings"} and s["warnings"] == []
     assert all(set(p) == PARAM_KEYS for p in s["parameters"])
     names = [p["name"] for p in s["parameters"]]
     assert names[:2] == ["h_1", "h_2"] and "r_p_4" in names and "d_1" in names and names[-1] == "A_4_z"
@@ -85,7 +85,7 @@ def test_fit_json_keys_and_the_written_robot(measured, capsys):
     after = json.loads(capsys.readouterr().out)
     assert main(["calibrate", "check", "--robot", R4, "--data", str(d / "v.csv"), "--json"]) == 0
     before = json.loads(capsys.readouterr().out)
-    assert set(after) == {"n", "rms_m", "max_m", "median_m", "rms_rad", "max_rad", "samples"}
+    assert set(after) == {"n", "rms_m", "max_m", "median_m", "rms_rad", "max_rad", "samples", "warnings"}
     assert after["n"] == 100 and after["rms_m"] < 4.5e-4 < 10 * 4.5e-4 < before["rms_m"]
 
 

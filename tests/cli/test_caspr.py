@@ -48,7 +48,10 @@ def test_what_caspr_does_not_hold_is_defaulted_or_given(tmp_path, capsys):
     np.testing.assert_allclose(g.ES, 80e9 * np.pi * 0.006**2 / 4, rtol=1e-12)
     np.testing.assert_array_equal(g.A, d.A)  # the geometry is CASPR's either way
     header = (tmp_path / "g.yaml").read_text().splitlines()[0]
-    assert header.startswith("# Imported by `cdpr import caspr`") and "cable set default" in header
+    assert (
+        header.startswith("# Imported by `cdpr import caspr`")
+        and "cable set main, the file's default" in header
+    )
 
 
 @pytest.mark.parametrize(
@@ -71,3 +74,27 @@ def test_bad_options_are_one_line_and_write_nothing(tmp_path, capsys, monkeypatc
     err = capsys.readouterr().err
     assert code == 2 and words in err and err.count("\n") == 1, err
     assert sorted(p.name for p in tmp_path.iterdir()) == before
+
+
+def test_the_header_and_one_stderr_line_name_what_was_assumed(tmp_path, capsys):
+    """Issue 41: nothing the XML does not hold is passed off as given: the file's header and one
+    stderr line name E, the diameter and the dead length (assumed, or given on the command line); the
+    description names the files without the importing machine's folders; --name names the robot."""
+    b, c = files(tmp_path)
+    out = tmp_path / "robot.yaml"
+    args = ["import", "caspr", "--bodies", str(b), "--cables", str(c), "--out", str(out)]
+    assert main([*args, "--diameter", "0.006"]) == 0
+    err = capsys.readouterr().err
+    notes = [line for line in err.splitlines() if line.startswith("cdpr: note: not from the CASPR files:")]
+    assert len(notes) == 1, err
+    text = out.read_text()
+    header = "\n".join(line for line in text.splitlines() if line.startswith("#"))
+    for where in (notes[0], header):
+        assert "cable.young_modulus_Pa = 1.022e+11 Pa (assumed" in where
+        assert "dead_length_m = 0 m (assumed" in where
+        assert "cable.diameter_m = 0.006 m (given on the command line" in where
+    assert str(tmp_path) not in text
+    data = yaml.safe_load(text)
+    assert data["name"] == "X" and data["cables"][0]["cable"]["min_tension_N"] == 10.0
+    assert main([*args, "--name", "my robot"]) == 0
+    assert load_robot(out).name == "my robot"

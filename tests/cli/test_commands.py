@@ -38,7 +38,9 @@ def test_point_json(capsys):
         "status",
         "iterations",
         "engine",
+        "warnings",
     }
+    assert out["warnings"] == []  # CDPR4 is plausible (cdpr.robot.plausibility_warnings)
     assert out["engine"] == "numpy"  # one pose: the numpy reference unless --engine names one
     assert out["status"] == "ok" and len(out["subset"]) == 3 and min(out["subset"]) >= 1
     assert sum(t is None for t in out["tensions"]) == 1
@@ -156,13 +158,23 @@ def test_point_physical_json_and_commanded_lengths(capsys):
         "--redundancy",
         "physical",
     )
-    assert set(out) == {"desired", "solved", "dp_norm", "tensions", "taut", "status", "iterations", "engine"}
+    assert set(out) == {
+        "desired",
+        "solved",
+        "dp_norm",
+        "tensions",
+        "taut",
+        "status",
+        "iterations",
+        "engine",
+        "warnings",
+    }
     assert out["status"] == "ok" and out["taut"] == [1, 2, 3, 4] and all(t > 0 for t in out["tensions"])
     # the lengths of `compensate` commanded explicitly bring the platform to the desired point
     compensate = ["compensate", "--robot", R4, "--pulley", "DR", "--at", "0.5", "0.2", "2.5"]
     comp = run_json(capsys, *compensate)
     assert (
-        set(comp) == {"desired", "lengths", "tensions", "status", "solved", "dp_norm", "engine"}
+        set(comp) == {"desired", "lengths", "tensions", "status", "solved", "dp_norm", "engine", "warnings"}
         and comp["status"] == "ok"
     )
     assert comp["dp_norm"] < 1e-9 and comp["engine"] == "numpy"  # one pose: solve.ONE_SHOT_POSES
@@ -255,3 +267,23 @@ def test_grid_physical_writes_taut_sets(tmp_path, capsys):
         "over_tension",
         "not_converged",
     }
+
+
+def test_inverse_reports_no_wrap_or_swivel_on_fixed_anchors(capsys, tmp_path):
+    """Issue 41: a fixed anchor has no sheave and no swivel joint: inverse gives no wrap (gamma) and
+    no swivel angle (alpha, swivel) there, in JSON (null), text ('-') and tables (NaN), and keeps
+    them on a pulley."""
+    fixed = run_json(capsys, "inverse", "--robot", R4, "--pulley", "fixed", "--at", "0.5", "0.2", "2.5")
+    for c in fixed:
+        assert c["gamma"] is c["wrap"] is c["alpha"] is c["swivel"] is None and c["wrap_over_270"] is False
+    sr = run_json(capsys, "inverse", "--robot", R4, "--at", "0.5", "0.2", "2.5")
+    assert all(0 < c["wrap"] < np.pi and c["swivel"] is not None for c in sr)
+    assert main(["inverse", "--robot", R4, "--pulley", "fixed", "--at", "0.5", "0.2", "2.5"]) == 0
+    rows = capsys.readouterr().out.splitlines()[3:]
+    assert len(rows) == 4 and all(r.split()[3:5] == ["-", "-"] for r in rows)
+    pts = tmp_path / "p.csv"
+    pts.write_text("x,y,z\n0.5,0.2,2.5\n")
+    out = tmp_path / "o.csv"
+    assert main(["inverse", "--robot", R4, "--pulley", "fixed", "--points", str(pts), "--out", str(out)]) == 0
+    df = pd.read_csv(out)
+    assert df[[f"gamma{i}" for i in range(1, 5)]].isna().all().all()

@@ -24,6 +24,7 @@ COMMANDS = {
     "import",
     "export",
     "view",
+    "study",
 }
 
 
@@ -50,6 +51,7 @@ def test_the_commands_are_the_documented_ones():
         ("export", "rrf"),
         ("export", "klipper"),
     }
+    assert ("study", "check") in found
 
 
 def test_every_command_runs_a_function_that_exists():

@@ -531,7 +531,7 @@ def test_analytic_jacobian_equals_central_differences_on_the_turned_robot(kind, 
 
 def test_suspended_robot_is_still_suspended_and_unchanged(pair):
     """CDPR4 keeps today's model: suspended, the z rule of the residual (a point above the pulleys
-    is not a valid evaluation) and the floor rule in ``solve_points_any``."""
+    is not a valid evaluation) and the floor rule in ``solve.solve``."""
     a, _ = pair
     sub = _Subset(a, (0, 1, 2))
     P = np.array([[0.0, 0.0, 2.0], [0.0, 0.0, 5.5]])

@@ -14,11 +14,12 @@ from pathlib import Path
 
 from cdpr.errors import CdprError
 from cdpr.pipeline.results import Layout
-from cdpr.pipeline.study import doe_tests, load_study, path_robot, rotvec, spatial_robots
+from cdpr.pipeline.study import check_results_folder, doe_tests, load_study, path_robot, rotvec, spatial_robots
 
 STUDY_FILE = config["study"]
 try:
     STUDY = load_study(STUDY_FILE)
+    check_results_folder(config["results"])
 except CdprError as exc:
     raise WorkflowError(f"invalid study configuration: {exc}")
 RES = config["results"]

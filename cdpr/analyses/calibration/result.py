@@ -179,6 +179,7 @@ def robot_file_text(cal, data_source, when):
             "young_modulus_Pa": float(c.material.E),
             "diameter_m": float(c.material.diameter),
             "max_tension_N": float(c.material.T_a),
+            **({"min_tension_N": float(c.material.T_min)} if c.material.T_min else {}),
         }
         cables.append(
             {
