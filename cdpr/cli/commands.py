@@ -58,7 +58,10 @@ def emit_json(out, args):
 
 
 def _load(args):
-    return checked(
+    """The robot of --robot with the command line's overrides, checked for plausibility; a
+    --redundancy left out becomes the robot's default (paper mode for a point mass, physical mode
+    for a rigid platform, its only mode: ``solve.check_redundancy``)."""
+    robot = checked(
         load_robot(
             args.robot,
             E_cables=getattr(args, "E_cables", None),
@@ -71,6 +74,9 @@ def _load(args):
         ),
         args,
     )
+    if hasattr(args, "redundancy") and args.redundancy is None:
+        args.redundancy = "paper" if robot.point_mass else "physical"
+    return robot
 
 
 class Points:

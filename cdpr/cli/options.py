@@ -178,9 +178,10 @@ def physics_options(sp):
     sp.add_argument(
         "--redundancy",
         choices=REDUNDANCY,
-        default="paper",
-        help="paper: the best admissible 3-cable subset (the paper's rule, default); physical: the platform settles where "
-        "the forces of all cables balance, each free to go slack",
+        default=None,
+        help="paper: the best admissible 3-cable subset (the paper's rule; the default for a point mass); physical: the "
+        "platform settles where the forces of all cables balance, each free to go slack (the default, and the only "
+        "mode, for a rigid platform)",
     )
     sp.add_argument(
         "--E-cables",

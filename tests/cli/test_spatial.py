@@ -115,7 +115,7 @@ def test_points_table_with_orientations(tmp_path, capsys):
 @pytest.mark.parametrize(
     "extra,message",
     [
-        ([], "paper mode (3-cable subsets) is the point-mass rule"),
+        (["--redundancy", "paper"], "paper mode (3-cable subsets) is the point-mass rule"),
         (["--redundancy", "physical", "--method", "fixed_point"], "physical mode has one solver"),
     ],
 )
@@ -123,6 +123,19 @@ def test_spatial_refusals_are_one_line(capsys, extra, message):
     assert main(["point", "--robot", COGIRO, "--at", "0", "0", "2", *extra]) == 2
     err = capsys.readouterr().err
     assert message in err and err.count("\n") == 1
+
+
+def test_a_rigid_platform_defaults_to_physical_mode(capsys):
+    """Without --redundancy a rigid platform is solved in physical mode (its only mode), as if it had
+    been given, and a point mass keeps paper mode (issue 41, 'Defaults a newcomer expects')."""
+    at = ["--robot", COGIRO, "--at", "0", "0", "2", "--json"]
+    assert main(["point", *at]) == 0
+    default = json.loads(capsys.readouterr().out)
+    assert main(["point", *at, "--redundancy", "physical"]) == 0
+    assert default == json.loads(capsys.readouterr().out)
+    assert default["status"] == "ok" and "taut" in default and "subset" not in default
+    assert main(["point", "--robot", str(ROBOTS / "cdpr4.yaml"), "--at", "0", "0", "2.5", "--json"]) == 0
+    assert "subset" in json.loads(capsys.readouterr().out)  # a point mass: paper mode, as before
 
 
 def test_the_compiled_engine_solves_spatial_poses_as_the_numpy_one(capsys):
