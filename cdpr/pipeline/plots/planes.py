@@ -61,6 +61,24 @@ def _not_ok_legend(ax, df, A=None):
         )
 
 
+def _category_panels(axes, tables, column, labels, cmap, A, z, robot_name):
+    """One panel per design (``tables``: label -> plane table) of the category in ``column`` at each
+    point (one colour per entry of ``labels``; the points that are not ok grey, counted under the
+    panel), with the anchors ``A``, titled with the robot's name, the design and the height ``z``.
+    Returns the last panel's mesh (for the colour bar), None without tables."""
+    im = None
+    for ax, (label, df) in zip(axes, tables.items()):
+        code = df[column].astype(str).map({s: i for i, s in enumerate(labels)}).astype(float)
+        code[(df.status != "ok").to_numpy()] = np.nan
+        xs, ys, Z = plane_grid(df, code.to_numpy())
+        ax.set_facecolor(NOT_OK_COLOUR)
+        im = ax.pcolormesh(xs, ys, Z, cmap=cmap, vmin=-0.5, vmax=len(labels) - 0.5, shading="nearest")
+        draw_anchors(ax, A)
+        ax.set(xlabel="x [m]", ylabel="y [m]", title=f"{robot_name} {label} at z = {z:g} m", aspect="equal")
+        _not_ok_legend(ax, df, A)
+    return im
+
+
 def fig9_subsets(tables, A, z, robot_name, out, mode=None):
     """Paty 2021 Fig. 9: the 3-cable subset that minimises ‖δp‖ at each point of the plane, one
     panel per pulley design. ``tables`` maps a design label to its plane table."""
@@ -69,15 +87,7 @@ def fig9_subsets(tables, A, z, robot_name, out, mode=None):
     fig, axes = plt.subplots(
         1, len(tables), figsize=(5.2 * len(tables) + 1.5, 5.2), squeeze=False, layout="constrained"
     )
-    for ax, (label, df) in zip(axes[0], tables.items()):
-        code = df.subset.astype(str).map({s: i for i, s in enumerate(labels)}).astype(float)
-        code[(df.status != "ok").to_numpy()] = np.nan
-        xs, ys, Z = plane_grid(df, code.to_numpy())
-        ax.set_facecolor(NOT_OK_COLOUR)
-        im = ax.pcolormesh(xs, ys, Z, cmap=cmap, vmin=-0.5, vmax=len(labels) - 0.5, shading="nearest")
-        draw_anchors(ax, A)
-        ax.set(xlabel="x [m]", ylabel="y [m]", title=f"{robot_name} {label} at z = {z:g} m", aspect="equal")
-        _not_ok_legend(ax, df, A)
+    im = _category_panels(axes[0], tables, "subset", labels, cmap, A, z, robot_name)
     cb = fig.colorbar(im, ax=axes[0].tolist(), ticks=range(len(labels)))
     cb.ax.set_yticklabels([f"cables {s}" for s in labels])
     cb.set_label("subset kept [cable numbers]")
@@ -98,16 +108,7 @@ def fig9_taut(tables, A, z, robot_name, out, mode="physical"):
     fig, axes = plt.subplots(
         1, len(tables), figsize=(5.2 * len(tables) + 1.5, 5.2), squeeze=False, layout="constrained"
     )
-    im = None
-    for ax, (label, df) in zip(axes[0], tables.items()):
-        code = df.taut.astype(str).map({s: i for i, s in enumerate(labels)}).astype(float)
-        code[(df.status != "ok").to_numpy()] = np.nan
-        xs, ys, Z = plane_grid(df, code.to_numpy())
-        ax.set_facecolor(NOT_OK_COLOUR)
-        im = ax.pcolormesh(xs, ys, Z, cmap=cmap, vmin=-0.5, vmax=len(labels) - 0.5, shading="nearest")
-        draw_anchors(ax, A)
-        ax.set(xlabel="x [m]", ylabel="y [m]", title=f"{robot_name} {label} at z = {z:g} m", aspect="equal")
-        _not_ok_legend(ax, df, A)
+    im = _category_panels(axes[0], tables, "taut", labels, cmap, A, z, robot_name)
     if im is not None:
         cb = fig.colorbar(im, ax=axes[0].tolist(), ticks=range(len(labels)))
         cb.ax.set_yticklabels([f"taut {s}" for s in labels])

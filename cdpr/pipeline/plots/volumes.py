@@ -139,16 +139,13 @@ def fig14_rv(tab, paper, out, mode=None):
                 color=line.get_color(),
                 label=f"{rk} {pk}: paper",
             )
-    for lim in sorted(set(paper.limit_m)):
-        ax.axvline(lim * 1e3, color="0.6", ls=":", lw=0.8)
-    ax.set(
-        xlabel=r"error limit $\|\delta p\|_{lim}$ [mm]",
-        ylabel=r"$R_V = V_L / V_T$ [-]",
-        title=f"Error-limited volume ratio (Fig. 14){mode_suffix(mode)}",
+    _finish_rv(
+        ax,
+        paper.limit_m,
+        1e3,
+        r"error limit $\|\delta p\|_{lim}$ [mm]",
+        f"Error-limited volume ratio (Fig. 14){mode_suffix(mode)}",
     )
-    ax.title.set_fontsize(9)
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=7, ncol=1, loc="center left", bbox_to_anchor=(1.01, 0.5))
     return save(fig, out)
 
 
@@ -169,14 +166,22 @@ def fig14_rv_dphi(tab, out, mode=None):
             color=KIND_COLOURS.get(pk),
             label=f"{rk} {pk}",
         )
-    for lim in sorted(set(tab.limit_rad[tab.study_limit.astype(bool)])):
-        ax.axvline(lim * DPHI_SCALE, color="0.6", ls=":", lw=0.8)
-    ax.set(
-        xlabel=f"orientation error limit δφ_lim [{DPHI_UNIT}]",
-        ylabel=r"$R_V = V_L / V_T$ [-]",
-        title=f"Error-limited volume ratio on δφ (Fig. 14 on the orientation){mode_suffix(mode)}",
+    _finish_rv(
+        ax,
+        tab.limit_rad[tab.study_limit.astype(bool)],
+        DPHI_SCALE,
+        f"orientation error limit δφ_lim [{DPHI_UNIT}]",
+        f"Error-limited volume ratio on δφ (Fig. 14 on the orientation){mode_suffix(mode)}",
     )
+    return save(fig, out)
+
+
+def _finish_rv(ax, limits, scale, xlabel, title):
+    """The rest of an R_V panel (Fig. 14): the ``limits`` marked by dotted vertical lines (drawn at
+    ``limits * scale``), the axes' labels, the title, the grid and the legend right of the axes."""
+    for lim in sorted(set(limits)):
+        ax.axvline(lim * scale, color="0.6", ls=":", lw=0.8)
+    ax.set(xlabel=xlabel, ylabel=r"$R_V = V_L / V_T$ [-]", title=title)
     ax.title.set_fontsize(9)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7, ncol=1, loc="center left", bbox_to_anchor=(1.01, 0.5))
-    return save(fig, out)
