@@ -1,6 +1,5 @@
-"""The calibration study (issue 18): a seeded true CDPR4 (with winches),
-synthetic tracker data, calibrations with models of increasing fidelity, and their errors on a
-validation set.
+"""The calibration study (issue 18): a seeded true CDPR4 (with winches), synthetic tracker data,
+calibrations with models of increasing fidelity, and their errors on a validation set.
 
 The figures (residuals before/after per sample, estimates with their 95 % intervals against the
 prior, the posterior correlation matrix, the learning curve) are drawn by
