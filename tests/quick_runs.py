@@ -2,7 +2,7 @@
 and the figure tests (tests/pipeline/test_figures.py): the quick study in paper mode, in physical
 mode, then their comparison, as `make reproduce` does with the paper study, in a working folder
 outside the tree (``make_workdir``) with ``CDPR_FIGURE_AUDIT`` set, so that every figure's layout
-audit is written beside it (the audit does not change the pixels: ``plots.save``).
+audit is written beside it (the audit does not change the pixels: ``cdpr.pipeline.plots.style.save``).
 
 The quick study of a spatial robot (``run_quick_spatial``) runs the same way in a working folder
 of its own, once per run of tests/test_workflow_spatial.py (not with the quick runs: make test

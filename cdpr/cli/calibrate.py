@@ -103,9 +103,9 @@ def write_report(result, folder):
 
     corr = pd.DataFrame(result.correlation, index=result.names, columns=result.names)
     io.atomic(folder / "correlation.csv", lambda tmp: corr.to_csv(tmp, float_format="%.6f"))
-    from cdpr.pipeline.calibration import calibration_figures  # lazy: matplotlib, --report only
+    from cdpr.pipeline.plots import calibration as figures  # lazy: matplotlib, --report only
 
-    calibration_figures(result, folder)
+    figures.calibration_figures(result, folder)
 
 
 def cmd_check(args):

@@ -1,6 +1,6 @@
 """``cdpr view``: its options (the command is ``cdpr.cli.commands.cmd_view``: a 3-D picture of a
 robot (frame box, pulleys with their swivel axes and sheaves, platform, cables, optionally a box) so a
-user checks a robot file by looking at it; drawn by ``cdpr.pipeline.plots.robot_view``).
+user checks a robot file by looking at it; drawn by ``cdpr.pipeline.plots.robot.robot_view``).
 
 Standard library and ``cdpr.cli.options`` only: ``cdpr.cli.parser`` registers it for ``cdpr --help``.
 """

@@ -1,9 +1,9 @@
-"""Calibration figures and the calibration study (issue 18): a seeded true CDPR4 (with winches),
-synthetic tracker data, calibrations with models of increasing fidelity, and their errors on a
-validation set.
+"""The calibration study (issue 18): a seeded true CDPR4 (with winches), synthetic tracker data,
+calibrations with models of increasing fidelity, and their errors on a validation set.
 
-Figures (``calibration_figures``): residuals before/after per sample, estimates with their 95 %
-intervals against the prior, the posterior correlation matrix.
+The figures (residuals before/after per sample, estimates with their 95 % intervals against the
+prior, the posterior correlation matrix, the learning curve) are drawn by
+``cdpr.pipeline.plots.calibration``.
 """
 
 from __future__ import annotations
@@ -21,64 +21,9 @@ from cdpr.analyses import calibration as cal
 from cdpr.analyses.compensation import compensated_pose
 from cdpr.errors import CdprError, ConfigError
 from cdpr.parameters import calibration_values, select_groups
-from cdpr.pipeline.plots import plt, save
+from cdpr.pipeline.plots import calibration as figures
 from cdpr.pipeline.results import rel_path
 from cdpr.robot import TABLE1, load_robot, params_from_mapping
-
-#: The figures of ``calibration_figures``.
-FIT_FIGURES = ("residuals", "estimates", "correlation")
-
-
-def calibration_figures(result, folder, names=None):
-    """Three figures of a ``calibration.fit`` result in ``folder``: residuals.png, estimates.png,
-    correlation.png (a PDF beside each).
-
-    Parameters
-    ----------
-    result : Calibration
-    folder : Path
-    names : dict, optional
-        Figure (``FIT_FIGURES``) -> its path relative to ``folder``; the calibration studies pass
-        their results layout's (``cdpr.pipeline.results.CALIBRATION_OUTPUTS``). Default
-        ``<figure>.png``.
-    """
-    names = names or {k: f"{k}.png" for k in FIT_FIGURES}
-    folder = Path(folder)
-    t = result.table
-    fig, ax = plt.subplots(figsize=(7, 3.5))
-    x = np.arange(len(t))
-    ax.semilogy(x, t["residual_before_m"] * 1e3, "o", ms=3, label="nominal robot")
-    ax.semilogy(x, t["residual_after_m"] * 1e3, "s", ms=3, label=f"calibrated ({result.model} model)")
-    ax.set_xlabel("sample")
-    ax.set_ylabel("|measured - predicted| [mm]")
-    ax.legend()
-    ax.set_title("Pose residual per sample")
-    save(fig, folder / names["residuals"])
-
-    pt = result.parameter_table()
-    fig, ax = plt.subplots(figsize=(7, max(2.5, 0.22 * len(pt) + 1)))
-    y = np.arange(len(pt))
-    z = (pt["estimate"] - pt["nominal"]) / pt["prior_sd"]
-    ax.errorbar(
-        z, y, xerr=1.959964 * pt["sd"] / pt["prior_sd"], fmt="o", ms=3, capsize=2, label="estimate, 95 %"
-    )
-    ax.axvspan(-1.959964, 1.959964, color="0.9", label="prior 95 %")
-    ax.set_yticks(y, pt["name"], fontsize=7)
-    ax.set_xlabel("(estimate - nominal) / prior sd")
-    ax.invert_yaxis()
-    ax.legend(fontsize=7)
-    ax.set_title("Estimates against the prior")
-    save(fig, folder / names["estimates"])
-
-    fig, ax = plt.subplots(figsize=(6, 5))
-    im = ax.imshow(result.correlation, vmin=-1, vmax=1, cmap="RdBu_r")
-    n = len(result.names)
-    ax.set_xticks(range(n), result.names, rotation=90, fontsize=6)
-    ax.set_yticks(range(n), result.names, fontsize=6)
-    fig.colorbar(im, ax=ax, label="posterior correlation")
-    ax.set_title("Posterior correlation")
-    save(fig, folder / names["correlation"])
-
 
 # --- the calibration study ------------------------------------------------------------------------
 #: The study's models: label -> (fit model, groups); in order of fidelity.
@@ -285,7 +230,7 @@ def run_calibration_study(study_path, out):
     pt = exact.parameter_table()
     pt["truth"] = calibration_values(truth)[exact.index]
     table_io.write_table(pt, out / rel_path(RULE, "parameters"), float_format=FIT_FORMAT)
-    calibration_figures(exact, out, {k: rel_path(RULE, k) for k in FIT_FIGURES})
+    figures.calibration_figures(exact, out, {k: rel_path(RULE, k) for k in figures.FIT_FIGURES})
     table_io.write_table(exact.table, out / rel_path(RULE, "samples"), float_format=FIT_FORMAT)
 
     # learning curves, exact model: random poses vs D-optimal poses among the admissible candidates
@@ -321,7 +266,9 @@ def run_calibration_study(study_path, out):
             )
     curve = pd.DataFrame(curve)
     table_io.write_table(curve, out / rel_path(RULE, "curve"), float_format="%.4f")
-    _learning_figure(curve, float(headline.iloc[-1]["predict_rms_mm"]), out / rel_path(RULE, "figure"), best)
+    figures.learning_curve(
+        curve, float(headline.iloc[-1]["predict_rms_mm"]), out / rel_path(RULE, "figure"), best
+    )
 
     # encoder data: offsets unknown; with poses, with tensions only, alone; validated on encoder
     # readings of the validation commands
@@ -371,18 +318,6 @@ def run_calibration_study(study_path, out):
         out, st, headline, curve, pd.DataFrame(enc_rows), ident_lines, n_val_left_out, len(val.sample), best
     )
     return {"headline": headline, "elapsed_s": elapsed, "summary": out / rel_path(RULE, "summary")}
-
-
-def _learning_figure(curve, floor_mm, path, label="pulleys + elasticity"):
-    fig, ax = plt.subplots(figsize=(5.5, 3.5))
-    for design, g in curve.dropna(subset=["predict_rms_mm"]).groupby("design"):
-        ax.loglog(g["n"], g["predict_rms_mm"], "o-", label=design)
-    ax.axhline(floor_mm, color="k", ls=":", label="truth robot (noise floor)")
-    ax.set_xlabel("calibration samples")
-    ax.set_ylabel("validation RMS [mm]")
-    ax.legend()
-    ax.set_title(f"Learning curve, {label} model")
-    save(fig, path)
 
 
 def md_table(df, cols, fmt="{:.3g}"):

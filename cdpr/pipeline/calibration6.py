@@ -23,14 +23,12 @@ from cdpr.errors import ConfigError
 from cdpr.models.platform import rotation_matrix
 from cdpr.parameters import calibration_values, is_spatial, select_groups
 from cdpr.pipeline.calibration import (
-    FIT_FIGURES,
     FIT_FORMAT,
-    calibration_figures,
     error_stats,
     md_table,
     run_calibration_study,
 )
-from cdpr.pipeline.plots import plt, save
+from cdpr.pipeline.plots import calibration as figures
 from cdpr.pipeline.results import rel_path
 from cdpr.robot import load_robot
 
@@ -270,43 +268,19 @@ def run_calibration_study6(study_path, out):
     pt = exact.parameter_table()
     pt["truth"] = calibration_values(truth)[exact.index]
     table_io.write_table(pt, out / rel_path(RULE6, "parameters"), float_format=FIT_FORMAT)
-    calibration_figures(exact, out, {k: rel_path(RULE6, k) for k in FIT_FIGURES})
+    figures.calibration_figures(exact, out, {k: rel_path(RULE6, k) for k in figures.FIT_FIGURES})
     table_io.write_table(exact.table, out / rel_path(RULE6, "samples"), float_format=FIT_FORMAT)
-    _error_figure(vt, headline, pt_err, out / rel_path(RULE6, "figure"), robot.name, command)
+    figures.validation_errors(
+        vt,
+        {label: _key(label) for label in headline["model"]},
+        {label: pt_err[label] for label in (EXACT6, "truth robot (noise floor)")},
+        out / rel_path(RULE6, "figure"),
+        robot.name,
+        command,
+    )
     elapsed = time.perf_counter() - t0
     _write_markdown6(out, st, robot, headline, ident_lines, vt, len(train.sample), (taut_pt, second_pt))
     return {"headline": headline, "elapsed_s": elapsed, "summary": out / rel_path(RULE6, "summary")}
-
-
-def _error_figure(vt, headline, pretensioned, path, name, command):
-    """Sorted prediction errors (position and orientation) of every model on the validation poses
-    (solid), and of the exact model and the truth on the pretensioned validation (dashed)."""
-    fig, axes = plt.subplots(1, 2, figsize=(9, 4.4), layout="constrained")
-    colours = {}
-    for label in headline["model"]:
-        key = _key(label)
-        for ax, col in zip(axes, ("position_mm", "orientation_mrad")):
-            e = np.sort(vt[f"{key}_{col}"].dropna().to_numpy())
-            (line,) = ax.semilogx(e, np.arange(1, len(e) + 1) / len(e), label=label)
-            colours[label] = line.get_color()
-    for label in (EXACT6, "truth robot (noise floor)"):
-        for ax, err in zip(axes, pretensioned[label]):
-            e = np.sort(1e3 * err[np.isfinite(err)])
-            ax.semilogx(
-                e,
-                np.arange(1, len(e) + 1) / len(e),
-                "--",
-                color=colours[label],
-                label=f"{label}, pretensioned",
-            )
-    axes[0].set_xlabel("|predicted - measured| position [mm]")
-    axes[1].set_xlabel("|predicted - measured| orientation [mrad]")
-    for ax in axes:
-        ax.set_ylabel("fraction of validation poses [-]")
-    handles, labels = axes[0].get_legend_handles_labels()
-    fig.legend(handles, labels, loc="outside lower center", ncol=4, fontsize=7)  # off the curves
-    fig.suptitle(f"{name}: validation errors per model (physical mode, {command} commands)")
-    save(fig, path)
 
 
 def _write_markdown6(out, st, robot, headline, ident_lines, vt, n_train, pretensioned):

@@ -3,7 +3,7 @@
 A reviewer's first reading of a figure: can every text be read (no two texts overlap, none leaves the
 canvas), does every axis say what it measures and in which unit, and does the title say which model
 (the paper's 3-of-m rule or the physical equilibrium) drew it. :func:`layout_problems` returns one
-sentence per violation; :func:`cdpr.pipeline.plots.save` writes them beside the figure when the
+sentence per violation; :func:`cdpr.pipeline.plots.style.save` writes them beside the figure when the
 environment variable ``CDPR_FIGURE_AUDIT`` is set (the figure test, tests/pipeline/test_figures.py).
 """
 

@@ -22,8 +22,22 @@ from cdpr.errors import CdprError
 from cdpr.models import winch
 from cdpr.pipeline import comparison as cm
 from cdpr.pipeline import conclusions as robot_conclusions
-from cdpr.pipeline import plots, study, uq, uq6
+from cdpr.pipeline import study, uq, uq6
 from cdpr.pipeline import summary as sm
+from cdpr.pipeline.plots import budget as budget_plots
+from cdpr.pipeline.plots import comparison as comparison_plots
+from cdpr.pipeline.plots import dead_length as dead_length_plots
+from cdpr.pipeline.plots import doe as doe_plots
+from cdpr.pipeline.plots import elasticity as elasticity_plots
+from cdpr.pipeline.plots import maps as maps_plots
+from cdpr.pipeline.plots import parity as parity_plots
+from cdpr.pipeline.plots import planes as planes_plots
+from cdpr.pipeline.plots import robot as robot_plots
+from cdpr.pipeline.plots import trajectories as trajectories_plots
+from cdpr.pipeline.plots import uq as uq_plots
+from cdpr.pipeline.plots import volumes as volumes_plots
+from cdpr.pipeline.plots import winch as winch_plots
+from cdpr.pipeline.plots.style import paper_value
 from cdpr.pipeline.results import ComparisonLayout, rel_path
 from cdpr.pipeline.study import budget_designs
 from cdpr.robot import TABLE1
@@ -92,7 +106,7 @@ def _index_row(st, robot, box, n, threads=None):
 def winch_figure(st, table, figure):
     """Fig. 7 of the winch seed from ``winch.csv``."""
     p = TABLE1
-    plots.fig7_winch(table_io.read_table(table), winch.l_pm0(p), p.q0, figure)
+    winch_plots.fig7_winch(table_io.read_table(table), winch.l_pm0(p), p.q0, figure)
 
 
 # ---- planes (Fig. 9, 12) -----------------------------------------------------------------------
@@ -109,12 +123,12 @@ def plane_figure(st, robot_key, tables, figure):
     robot = study.robot_of(st, robot_key)
     data, z, mode = _plane_tables(st, tables, robot_key), st["plane"]["z_m"], study.redundancy(st)
     paper = {
-        pk: [plots.paper_value(f"{robot_key}_{pk} plane {stat}") for stat in ("min", "centre", "max")]
+        pk: [paper_value(f"{robot_key}_{pk} plane {stat}") for stat in ("min", "centre", "max")]
         for pk in data
     }
-    plots.fig12_plane(data, robot.A, z, robot_key, figure, mode=mode, paper=paper)
+    planes_plots.fig12_plane(data, robot.A, z, robot_key, figure, mode=mode, paper=paper)
     # the minimum-tension (slack margin) map beside it (declared by the rule)
-    plots.fig12_tension(
+    planes_plots.fig12_tension(
         data, robot.A, z, robot_key, 0.0, Path(figure).with_name(f"{robot_key}_tension.png"), mode=mode
     )
 
@@ -123,7 +137,7 @@ def subsets_figure(st, robot_key, tables, figure):
     """Fig. 9 for one robot: the subset minimising ‖δp‖ (paper mode) or the taut cables (physical
     mode), one panel per pulley design."""
     robot = study.robot_of(st, robot_key)
-    draw = plots.fig9_taut if study.redundancy(st) == "physical" else plots.fig9_subsets
+    draw = planes_plots.fig9_taut if study.redundancy(st) == "physical" else planes_plots.fig9_subsets
     draw(
         _plane_tables(st, tables, robot_key),
         robot.A,
@@ -157,8 +171,8 @@ def trajectories(st, tables, table, figure, minmax_figure):
         rows.append(row)
     mm = pd.DataFrame(rows)
     table_io.write_table(mm, table)
-    plots.fig10_trajectories(data, mm, figure, mode=study.redundancy(st))
-    plots.fig11_minmax(mm, minmax_figure, mode=study.redundancy(st))
+    trajectories_plots.fig10_trajectories(data, mm, figure, mode=study.redundancy(st))
+    trajectories_plots.fig11_minmax(mm, minmax_figure, mode=study.redundancy(st))
 
 
 # ---- volumes (Fig. 13-14) ----------------------------------------------------------------------
@@ -198,7 +212,7 @@ def volumes(st, tables, table, figure):
     lims = study.volume_limits(st)
     tab = _volume_rows(st, tables, "volumes", "dp", lims, "limit_m", "paper_limit", st["volumes"]["limits_m"])
     table_io.write_table(tab, table)
-    plots.fig14_rv(tab, _paper_rv(st), figure, mode=study.redundancy(st))
+    volumes_plots.fig14_rv(tab, _paper_rv(st), figure, mode=study.redundancy(st))
 
 
 def _paper_rv(st):
@@ -241,7 +255,7 @@ def volume_view(st, label, tables, figure):
         )["R_V"]
         for lim in phi_lims
     ]
-    plots.fig13_volume_view(
+    volumes_plots.fig13_volume_view(
         df,
         lims,
         rv,
@@ -270,7 +284,7 @@ def volumes_dphi(st, tables, table, figure):
         st["volumes"]["dphi_limits_rad"],
     )
     table_io.write_table(tab, table)
-    plots.fig14_rv_dphi(tab, figure, mode=study.redundancy(st))
+    volumes_plots.fig14_rv_dphi(tab, figure, mode=study.redundancy(st))
 
 
 # ---- regular workspaces (section 4.1.1) --------------------------------------------------------
@@ -357,7 +371,7 @@ def robot_view(st, robot_key, box_file, figure):
         rwc = workspace.read_box(box_file)
         boxes[f"RW_C ({Path(box_file).name}, {st['doe']['rw_c']})"] = rwc
         p = np.array([0.5 * (rwc[2 * a] + rwc[2 * a + 1]) for a in range(3)])
-    plots.robot_view(
+    robot_plots.robot_view(
         scans.pose_geometry(robot, p, study.rotvec(st)), figure, boxes=boxes, mode=study.redundancy(st)
     )
 
@@ -407,8 +421,8 @@ def doe_results(st, tables, table, effects, figure, effects_figure):
         phi.insert(0, "response", "index_phi_rad")
         eff = pd.concat([eff, phi], ignore_index=True)
     table_io.write_table(eff, effects)
-    plots.fig15_doe(tests, figure, mode=study.redundancy(st), paper=not study.spatial_robots(st))
-    plots.fig16_effects(eff, effects_figure, mode=study.redundancy(st))
+    doe_plots.fig15_doe(tests, figure, mode=study.redundancy(st), paper=not study.spatial_robots(st))
+    doe_plots.fig16_effects(eff, effects_figure, mode=study.redundancy(st))
 
 
 # ---- h-r_p maps (Fig. 17, Table 3) -------------------------------------------------------------
@@ -464,7 +478,7 @@ def maps(st, tables, box_file, map, lines, figure, threads=None):
         )
     lines_tab = pd.DataFrame(out)
     table_io.write_table(lines_tab, lines)
-    plots.fig17_maps(
+    maps_plots.fig17_maps(
         tab,
         valleys,
         lines_tab,
@@ -555,12 +569,12 @@ def elasticity(st, tables, paths, table, bands, crossings, figure, paths_figure)
     cross_tab = pd.DataFrame(cross, columns=["design", "s_m"])
     table_io.write_table(cross_tab, crossings)
     mode = study.redundancy(st)
-    paper_cross = {
-        dk: plots.paper_value(f"{dk.replace('opt', '*')} E_max/E_min crossing") for dk in st["optimal"]
-    }
+    paper_cross = {dk: paper_value(f"{dk.replace('opt', '*')} E_max/E_min crossing") for dk in st["optimal"]}
     paper_cross = {dk: v for dk, v in paper_cross.items() if v is not None and st.get("paper_comparison")}
-    plots.fig18_index_vs_E(tab, E_mean, bands_tab, figure, mode=mode, paper=_paper_uq_bands(st))
-    plots.fig19_paths(curves, cross_tab, paths_figure, mode=mode, paper=paper_cross, phi=phi or None)
+    elasticity_plots.fig18_index_vs_E(tab, E_mean, bands_tab, figure, mode=mode, paper=_paper_uq_bands(st))
+    elasticity_plots.fig19_paths(
+        curves, cross_tab, paths_figure, mode=mode, paper=paper_cross, phi=phi or None
+    )
 
 
 # ---- dead-length calibration -------------------------------------------------------------------
@@ -591,7 +605,7 @@ def dead_length(st, tables, table, figure):
     """The dead-length sweep as one table and its figure."""
     tab = concat(tables).sort_values("d_m", ignore_index=True)
     table_io.write_table(tab, table)
-    plots.dead_length_figure(tab, st["dead_length_m"], figure, mode=study.redundancy(st))
+    dead_length_plots.dead_length_figure(tab, st["dead_length_m"], figure, mode=study.redundancy(st))
 
 
 # ---- summary -----------------------------------------------------------------------------------
@@ -603,7 +617,7 @@ def summary(st, results, table, markdown):
 def parity_figure(st, table, figure):
     """The parity chart of every paper number against ours from ``summary.csv``."""
 
-    plots.parity_chart(table_io.read_table(table), figure, mode=study.redundancy(st))
+    parity_plots.parity_chart(table_io.read_table(table), figure, mode=study.redundancy(st))
 
 
 def conclusions(st, results, table, markdown):
@@ -661,8 +675,8 @@ def budget_tables(st, comparison, tables, paths, table, figure, paths_figure):
         g["label"]: p for g, p in _by_stem(paths, r"path_(?P<label>[A-Za-z0-9]+_[A-Za-z0-9]+)", "budget path")
     }
     curves = {lab: table_io.read_table(pfiles[lab]) for lab in order if lab in pfiles}
-    plots.budget_bars(tab, figure)
-    plots.budget_paths({k: v for k, v in curves.items() if len(v)}, paths_figure)
+    budget_plots.budget_bars(tab, figure)
+    budget_plots.budget_paths({k: v for k, v in curves.items() if len(v)}, paths_figure)
 
 
 def study_budget_design(st, design, box_file, table, threads=None):
@@ -699,12 +713,12 @@ def study_budget_design(st, design, box_file, table, threads=None):
 
 def study_budget(st, tables, table, figure):
     """The study's error budget of every optimal design as one table and its stacked bars
-    (``plots.budget_bars``, with the orientation panel when the table has ‖δφ‖)."""
+    (``plots.budget.budget_bars``, with the orientation panel when the table has ‖δφ‖)."""
     found = {g["design"]: p for g, p in _by_stem(tables, r"(?P<design>[A-Za-z0-9_-]+)", "budget table")}
     order = [d for d in st["optimal"] if d in found]
     tab = pd.concat([table_io.read_table(found[d]) for d in order], ignore_index=True)
     table_io.write_table(tab, table)
-    plots.budget_bars(tab, figure, xlabel=f"design [{st['doe']['robot']} optimal]")
+    budget_plots.budget_bars(tab, figure, xlabel=f"design [{st['doe']['robot']} optimal]")
 
 
 def comparison(st, comparison, tables, table, figure, markdown):
@@ -717,9 +731,11 @@ def comparison(st, comparison, tables, table, figure, markdown):
     table_io.write_table(rows, table)
     diffs = {(rk, pk): cm.difference_table(pres, fres, rk, pk) for rk in st["robots"] for pk in st["pulleys"]}
     anchors = {rk: study.robot_of(st, rk).A for rk in st["robots"]}
-    plots.comparison_difference_maps(diffs, anchors, st["plane"]["z_m"], figure)
-    plots.comparison_planes(diffs, anchors, st["plane"]["z_m"], Path(figure).with_name("planes.png"))
-    plots.comparison_overlays(
+    comparison_plots.comparison_difference_maps(diffs, anchors, st["plane"]["z_m"], figure)
+    comparison_plots.comparison_planes(
+        diffs, anchors, st["plane"]["z_m"], Path(figure).with_name("planes.png")
+    )
+    comparison_plots.comparison_overlays(
         {m: _overlay_data(st, cmp[m]["results"]) for m in ("paper", "physical")},
         Path(figure).with_name("overlays.png"),
     )
@@ -915,28 +931,28 @@ def uncertainty(
     mode = u.get("redundancy", "paper")  # the model of the uncompensated robot
     if study.uq_spatial(st):  # a rigid platform: a ‖δp‖ and a δφ panel in every figure
         z = st["plane"]["z_m"]
-        plots.uq6_index_distribution(
+        uq_plots.uq6_index_distribution(
             read["linear"], read["tolerances"], common.get("index_vs_E"), figure, mode=mode
         )
         paths6 = {"dp": common.get("paths", []), "phi": common.get("phi_paths", [])}
-        plots.uq6_path_bands(read["path"], paths6, paths_figure, mode=mode)
-        plots.uq6_sobol(sobol_tab, sobol_figure, mode=mode)
-        plots.uq6_dominant_map(read["map"], robot.A, z, map_figure, mode=mode)
-        plots.uq6_agreement(read["mc"], agreement_figure, mode=mode)
+        uq_plots.uq6_path_bands(read["path"], paths6, paths_figure, mode=mode)
+        uq_plots.uq6_sobol(sobol_tab, sobol_figure, mode=mode)
+        uq_plots.uq6_dominant_map(read["map"], robot.A, z, map_figure, mode=mode)
+        uq_plots.uq6_agreement(read["mc"], agreement_figure, mode=mode)
         if residual_figure:
-            plots.uq6_residual_map(read["map"], robot.A, z, residual_figure, mode=mode)
+            uq_plots.uq6_residual_map(read["map"], robot.A, z, residual_figure, mode=mode)
         return
-    plots.uq_index_distribution(
+    uq_plots.uq_index_distribution(
         read["linear"], read["tolerances"], common.get("index_vs_E"), paper_bands, figure, mode=mode
     )
-    plots.uq_path_bands(
+    uq_plots.uq_path_bands(
         read["path"], common.get("paths", []), paths_figure, mode=mode, common_mode=study.redundancy(st)
     )
-    plots.uq_sobol(sobol_tab, sobol_figure, mode=mode)
-    plots.uq_dominant_map(read["map"], robot.A, st["plane"]["z_m"], map_figure, mode=mode)
-    plots.uq_agreement(read["mc"], agreement_figure, mode=mode)
+    uq_plots.uq_sobol(sobol_tab, sobol_figure, mode=mode)
+    uq_plots.uq_dominant_map(read["map"], robot.A, st["plane"]["z_m"], map_figure, mode=mode)
+    uq_plots.uq_agreement(read["mc"], agreement_figure, mode=mode)
     if residual_figure:
-        plots.uq_residual_map(read["map"], robot.A, st["plane"]["z_m"], residual_figure, mode=mode)
+        uq_plots.uq_residual_map(read["map"], robot.A, st["plane"]["z_m"], residual_figure, mode=mode)
 
 
 def _paper_uq_bands(st):

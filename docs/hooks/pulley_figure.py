@@ -1,6 +1,6 @@
 """MkDocs hook: the figure of "The pulley axis" (spatial.md) drawn from the model at build time.
 
-The picture is ``cdpr.pipeline.plots.pulley_axis_figure`` of ``cdpr.analyses.scans.pulley_plane_geometry``:
+The picture is ``cdpr.pipeline.plots.robot.pulley_axis_figure`` of ``cdpr.analyses.scans.pulley_plane_geometry``:
 a lower wall pulley of config/robots/wall_pulleys.yaml (cable 5, horizontal swivel axis k = +y, the
 file's SR pulley h = r_p = 50 mm) and the same pulley as a DR pulley (h = 80 mm, r_p = 50 mm), with
 an attachment point B near the pulley and the dead length shortened to 0.25 m (the file's 1.5 m
@@ -34,7 +34,7 @@ def draw(out):
     import numpy as np
 
     from cdpr.analyses import scans
-    from cdpr.pipeline import plots
+    from cdpr.pipeline.plots import robot as robot_plots
     from cdpr.robot import load_robot, with_pulleys
 
     robot = load_robot(ROBOT)
@@ -44,7 +44,7 @@ def draw(out):
         scans.pulley_plane_geometry(with_pulleys(robot, kind=k, h=h, r_p=r, dead_length=DEAD_LENGTH), i, B)
         for k, h, r in DESIGNS
     ]
-    return plots.pulley_axis_figure(geoms, out)
+    return robot_plots.pulley_axis_figure(geoms, out)
 
 
 def on_files(files, config):

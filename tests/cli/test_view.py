@@ -1,4 +1,4 @@
-"""``cdpr view`` (cdpr.cli.view, drawn by cdpr.pipeline.plots.robot_view) on a point-mass and a
+"""``cdpr view`` (cdpr.cli.view, drawn by cdpr.pipeline.plots.robot.robot_view) on a point-mass and a
 spatial robot, with a box; a bad box is refused in one line."""
 
 import pytest

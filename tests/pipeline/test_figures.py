@@ -4,7 +4,7 @@ brackets, the title names the redundancy mode of the study that drew it; and eac
 tracked baseline (tests/baseline/<run>/...) at a small RMS tolerance.
 
 The quick studies (both modes) and their comparison run ONCE per session (tests/quick_runs.py, shared
-with tests/test_workflow.py), with ``CDPR_FIGURE_AUDIT`` set so that ``plots.save`` writes each
+with tests/test_workflow.py), with ``CDPR_FIGURE_AUDIT`` set so that ``plots.style.save`` writes each
 figure's layout audit beside it.
 ``CDPR_FIGURE_RUNS=<folder>`` reuses a folder such a run wrote (same layout: quick/,
 quick_physical/, quick_comparison/). ``make update-references`` refreshes the baselines.
@@ -25,7 +25,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from cdpr.pipeline import figure_checks, plots
+from cdpr.pipeline import figure_checks
+from cdpr.pipeline.plots import style as style_plots
 
 ROOT = Path(__file__).resolve().parents[2]
 BASELINE = ROOT / "tests" / "baseline"
@@ -75,7 +76,7 @@ def test_every_declared_figure_has_a_baseline_and_an_audit(runs):
     ours = declared(runs)
     assert ours == FIGURES, {"new (no baseline)": set(ours) - set(FIGURES), "lost": set(FIGURES) - set(ours)}
     for run, rel in ours:
-        assert (runs / run / (rel + ".layout.json")).exists(), f"{run}/{rel}: not written by plots.save"
+        assert (runs / run / (rel + ".layout.json")).exists(), f"{run}/{rel}: not written by plots.style.save"
 
 
 @pytest.mark.parametrize("run,figure", FIGURES, ids=[f"{r}/{f}" for r, f in FIGURES])
@@ -159,7 +160,7 @@ def test_a_figure_has_the_same_pixels_with_and_without_its_audit(tmp_path, monke
             fig.colorbar(cf, ax=ax, label="‖δp‖ [mm]")
             ax.set(xlabel="x [m]", ylabel="y [m]", title="a title\nover two lines")
         fig.suptitle("physical equilibrium")
-        plots.save(fig, out)
+        style_plots.save(fig, out)
 
     monkeypatch.delenv("CDPR_FIGURE_AUDIT", raising=False)
     draw(tmp_path / "plain.png")

@@ -6,7 +6,16 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from cdpr import table_io
-from cdpr.pipeline import figure_checks, plots
+from cdpr.pipeline import figure_checks
+from cdpr.pipeline.plots import comparison as comparison_plots
+from cdpr.pipeline.plots import doe as doe_plots
+from cdpr.pipeline.plots import planes as planes_plots
+from cdpr.pipeline.plots import style as style_plots
+from cdpr.pipeline.plots import trajectories as trajectories_plots
+from cdpr.pipeline.plots import uq as uq_plots
+
+#: The figure modules drawn here: each calls its own ``save`` (``plots.style.save``).
+FIGURE_MODULES = (comparison_plots, doe_plots, planes_plots, trajectories_plots, uq_plots)
 
 
 def test_same_figure_gives_same_bytes(tmp_path):
@@ -15,7 +24,7 @@ def test_same_figure_gives_same_bytes(tmp_path):
         fig, ax = plt.subplots()
         ax.plot([0.0, 1.0, 2.0], [0.0, 1.0, 4.0])
         out = tmp_path / f"f{i}.png"
-        paths = plots.save(fig, out)
+        paths = style_plots.save(fig, out)
         assert [p.suffix for p in paths] == [".png", ".pdf"]
         blobs.append([p.read_bytes() for p in paths])
         time.sleep(1.1)  # a creation date in seconds would differ
@@ -23,16 +32,18 @@ def test_same_figure_gives_same_bytes(tmp_path):
 
 
 def _captured(monkeypatch):
-    """Figures handed to plots.save, kept open for inspection (the files are still written)."""
+    """Figures handed to ``plots.style.save`` by the figure modules, kept open for inspection (the
+    files are still written)."""
     figs = []
-    real = plots.save
+    real = style_plots.save
 
     def keep(fig, out):
         figs.append(fig)
         fig.savefig(str(out), dpi=40)
         return [out]
 
-    monkeypatch.setattr(plots, "save", keep)
+    for module in FIGURE_MODULES:
+        monkeypatch.setattr(module, "save", keep)
     return figs, real
 
 
@@ -54,7 +65,7 @@ def test_plane_figure_has_levels_per_panel_the_paper_iso_values_and_names_the_he
 
     figs, _ = _captured(monkeypatch)
     A = np.array([[-2.5, -2.5, 5], [2.5, -2.5, 5], [2.5, 2.5, 5], [-2.5, 2.5, 5]])
-    plots.fig12_plane(
+    planes_plots.fig12_plane(
         {"SR": _plane_table("SR", 2.0), "DR": _plane_table("DR", 1.0)},
         A,
         2.5,
@@ -63,7 +74,9 @@ def test_plane_figure_has_levels_per_panel_the_paper_iso_values_and_names_the_he
         mode="paper",
         paper={"SR": [0.15], "DR": [None]},
     )
-    plots.fig9_subsets({"SR": _plane_table("SR", 2.0)}, A, 2.5, "CDPR4", tmp_path / "s.png", mode="paper")
+    planes_plots.fig9_subsets(
+        {"SR": _plane_table("SR", 2.0)}, A, 2.5, "CDPR4", tmp_path / "s.png", mode="paper"
+    )
     plane, subsets = figs
     panels = [ax for ax in plane.axes if ax.get_title()]
     assert len(panels) == 2 and all("z = 2.5 m" in ax.get_title() for ax in panels)
@@ -99,8 +112,8 @@ def test_not_ok_counts_put_points_outside_the_footprint_apart():
             "status": ["ok", "slack", "inaccessible", "slack", "inaccessible"],
         }
     )
-    assert plots._not_ok_counts(df, A) == {"outside the footprint": 2, "slack": 1, "inaccessible": 1}
-    assert plots._not_ok_counts(df) == {"slack": 2, "inaccessible": 2}
+    assert planes_plots._not_ok_counts(df, A) == {"outside the footprint": 2, "slack": 1, "inaccessible": 1}
+    assert planes_plots._not_ok_counts(df) == {"slack": 2, "inaccessible": 2}
 
 
 def test_taut_set_map_and_difference_maps(tmp_path, monkeypatch):
@@ -112,11 +125,11 @@ def test_taut_set_map_and_difference_maps(tmp_path, monkeypatch):
     A = np.array([[-2.5, -2.5, 5], [2.5, -2.5, 5], [2.5, 2.5, 5], [-2.5, 2.5, 5]])
     t = _plane_table("SR", 1.0).drop(columns="subset")
     t["taut"] = np.where(np.abs(t.x) > 1.5, "1-2-3", "1-2-3-4")
-    plots.fig9_taut({"SR": t}, A, 2.5, "CDPR4", tmp_path / "t.png")
+    planes_plots.fig9_taut({"SR": t}, A, 2.5, "CDPR4", tmp_path / "t.png")
     labels = [lab.get_text() for lab in figs[0].axes[-1].get_yticklabels()]
     assert labels == ["taut 1-2-3-4", "taut 1-2-3"]
     d = {(r, p): t.assign(diff=s * (t.x - 0.5) * 1e-3) for r in ("A", "B") for p, s in (("SR", 1), ("DR", 3))}
-    plots.comparison_difference_maps(d, {"A": A, "B": A}, 2.5, tmp_path / "d.png")
+    comparison_plots.comparison_difference_maps(d, {"A": A, "B": A}, 2.5, tmp_path / "d.png")
     panels = [ax for ax in figs[1].axes if ax.get_title()]
     meshes = [c for ax in panels for c in ax.collections if hasattr(c, "norm") and c.get_array() is not None]
     assert len(meshes) == 4 and {(c.norm.vmin, c.norm.vmax) for c in meshes} == {(-7.5, 7.5)}
@@ -161,7 +174,7 @@ def test_spatial_tables_get_dphi_panels_with_their_unit(tmp_path, monkeypatch):
     figs, _ = _captured(monkeypatch)
     A = np.array([[-2.5, -2.5, 5], [2.5, -2.5, 5], [2.5, 2.5, 5], [-2.5, 2.5, 5]])
     plane = {"SR": _spatial(_plane_table("SR", 2.0), 0.1), "DR": _spatial(_plane_table("DR", 1.0), 0.2)}
-    plots.fig12_plane(plane, A, 2.0, "CoGiRo", tmp_path / "plane.png", mode="physical")
+    planes_plots.fig12_plane(plane, A, 2.0, "CoGiRo", tmp_path / "plane.png", mode="physical")
     s = np.linspace(0, 3, 7)
     path = pd.DataFrame({"s": s, "dp": 0.1 + 0.01 * s, "status": "ok", "x": s, "y": 0.0, "z": 1.0})
     tables = {"diagonal_SR": _spatial(path, 0.1), "diagonal_DR": _spatial(path, 0.2)}
@@ -176,8 +189,8 @@ def test_spatial_tables_get_dphi_panels_with_their_unit(tmp_path, monkeypatch):
             "path_length_m": [3.0, 3.0],
         }
     )
-    plots.fig10_trajectories(tables, mm, tmp_path / "paths.png", mode="physical")
-    plots.fig11_minmax(mm, tmp_path / "minmax.png", mode="physical")
+    trajectories_plots.fig10_trajectories(tables, mm, tmp_path / "paths.png", mode="physical")
+    trajectories_plots.fig11_minmax(mm, tmp_path / "minmax.png", mode="physical")
     tests = pd.DataFrame(
         {
             "test": range(1, 9),
@@ -188,7 +201,7 @@ def test_spatial_tables_get_dphi_panels_with_their_unit(tmp_path, monkeypatch):
             "index_phi_rad": np.linspace(0.003, 0.03, 8),
         }
     )
-    plots.fig15_doe(tests, tmp_path / "doe.png", mode="physical", paper=False)
+    doe_plots.fig15_doe(tests, tmp_path / "doe.png", mode="physical", paper=False)
     eff = pd.DataFrame(
         {
             "response": ["index_m"] * 3 + ["index_phi_rad"] * 3,
@@ -196,7 +209,7 @@ def test_spatial_tables_get_dphi_panels_with_their_unit(tmp_path, monkeypatch):
             "effect": [0.1, 0.02, -0.01, 0.01, 0.002, -0.001],
         }
     )
-    plots.fig16_effects(eff, tmp_path / "effects.png", mode="physical")
+    doe_plots.fig16_effects(eff, tmp_path / "effects.png", mode="physical")
     ylabels = [[ax.get_ylabel() for ax in f.axes] for f in figs]
     assert sum(y == "δφ [mrad]" for y in ylabels[0]) == 2  # the plane: a δφ colour bar per design
     assert all(any("[mrad]" in y for y in ys) for ys in ylabels)  # every figure has its δφ panel
@@ -220,7 +233,7 @@ def test_colliding_contour_labels_are_hidden_and_others_kept():
     labels = ax.clabel(cs, fmt="%.2f", fontsize=8)
     before = figure_checks.layout_problems(fig)
     assert any("overlap" in p for p in before)
-    rec = plots.audit(fig)
+    rec = style_plots.audit(fig)
     assert not [p for p in rec["problems"] if "overlap" in p], rec["problems"]
     shown = [t for t in labels if t.get_visible()]
     assert 0 < len(shown) < len(labels)
@@ -230,13 +243,13 @@ def test_colliding_contour_labels_are_hidden_and_others_kept():
     ax.set(xlabel="x [m]", ylabel="y [m]")
     cs = ax.contour(X, Y, X, levels=[0.25, 0.5, 0.75])
     labels = ax.clabel(cs, fmt="%.2f")
-    plots.audit(fig)
+    style_plots.audit(fig)
     assert all(t.get_visible() for t in labels)
     plt.close(fig)
 
 
 def test_spatial_uncertainty_figures_have_dphi_panels_with_their_unit(tmp_path, monkeypatch):
-    """Issue 19: the uncertainty figures of a rigid platform (plots.uq6_*, drawn from the quick
+    """Issue 19: the uncertainty figures of a rigid platform (``plots.uq.uq6_*``, drawn from the quick
     spatial study's reference tables) have a δφ panel beside each ‖δp‖ one, in mrad, the mode in the
     title and a unit in every axis label; and the mechanical layout check finds nothing."""
     import pandas as pd
@@ -248,10 +261,10 @@ def test_spatial_uncertainty_figures_have_dphi_panels_with_their_unit(tmp_path, 
     A = np.array([[-7.0, -5.0, 5.4], [7.0, -5.0, 5.4], [7.0, 5.0, 5.4], [-7.0, 5.0, 5.4]])
     path = {("SRopt", "uncompensated"): pd.read_csv(ref / "SRopt_uncompensated_path.csv")}
     maps = {("SRopt", "compensated"): pd.read_csv(ref / "SRopt_compensated_map.csv")}
-    plots.uq6_path_bands(path, {}, tmp_path / "path.png", mode="physical")
-    plots.uq6_sobol(pd.read_csv(ref / "sobol.csv"), tmp_path / "sobol.png", mode="physical")
-    plots.uq6_dominant_map(maps, A, 2.0, tmp_path / "dominant.png", mode="physical")
-    plots.uq6_residual_map(maps, A, 2.0, tmp_path / "residual.png", mode="physical")
+    uq_plots.uq6_path_bands(path, {}, tmp_path / "path.png", mode="physical")
+    uq_plots.uq6_sobol(pd.read_csv(ref / "sobol.csv"), tmp_path / "sobol.png", mode="physical")
+    uq_plots.uq6_dominant_map(maps, A, 2.0, tmp_path / "dominant.png", mode="physical")
+    uq_plots.uq6_residual_map(maps, A, 2.0, tmp_path / "residual.png", mode="physical")
     titles = [[ax.get_title() for ax in f.axes] for f in figs]
     ylabels = [[ax.get_ylabel() for ax in f.axes] for f in figs]
     assert ylabels[0] == ["‖δp‖ [mm]", "δφ [mrad]"]
@@ -276,7 +289,7 @@ def test_a_three_cable_difference_panel_counts_the_points_where_the_modes_differ
     same = t.assign(diff=1e-12 * np.sign(t.x - 0.5))
     one = same.copy()
     one.loc[one.index[0], "diff"] = 0.004
-    plots.comparison_difference_maps(
+    comparison_plots.comparison_difference_maps(
         {("C", "SR"): same, ("C", "DR"): one}, {"C": A3}, 2.5, tmp_path / "d.png"
     )
     titles = [ax.get_title() for ax in figs[0].axes if ax.get_title()]
@@ -302,7 +315,7 @@ def test_sobol_panels_show_the_upper_whiskers_up_to_1_5(tmp_path, monkeypatch):
     high.loc[high.index[0], ["ST", "ST_conf"]] = (0.99, 0.28)  # the first design and case's panels
     huge = low.assign(ST_conf=5.0)
     for t, name in ((low, "low"), (high, "high"), (huge, "huge")):
-        plots.uq6_sobol(t, tmp_path / f"{name}.png", mode="physical")
+        uq_plots.uq6_sobol(t, tmp_path / f"{name}.png", mode="physical")
     tops = [
         sorted({round(ax.get_ylim()[1], 6) for ax in f.axes if ax.get_ylabel() or ax.get_xlabel()})
         for f in figs
@@ -321,7 +334,7 @@ def test_close_anchors_share_one_label_that_covers_no_marker():
     for name, labels in (("cogiro", ["1,2", "3,4", "5,6", "7,8"]), ("cdpr4", ["1", "2", "3", "4"])):
         A = load_robot(ROOT / "config" / "robots" / f"{name}.yaml").A
         fig, ax = plt.subplots(figsize=(6, 5))
-        plots._anchors(ax, A)
+        style_plots.draw_anchors(ax, A)
         fig.canvas.draw()
         texts = sorted(t.get_text() for t in ax.texts)
         assert texts == labels, name

@@ -1,9 +1,9 @@
-"""The 3-D figures of spatial studies (issue 19): the robot view (``plots.robot_view``, what ``cdpr
-view`` and the study's robot_view rule draw) and the error-limited volumes on δφ (a δφ row in Fig. 13,
-Fig. 14 on δφ), and the pulley-axis figure of docs/spatial.md (``plots.pulley_axis_figure``, drawn
-at the docs' build by docs/hooks/pulley_figure.py). Every figure passes the layout audit
-(``plots.audit``: no overlapping text, none off the canvas, labelled axes with units) and the study
-figures name the mode."""
+"""The 3-D figures of spatial studies (issue 19): the robot view (``plots.robot.robot_view``, what
+``cdpr view`` and the study's robot_view rule draw) and the error-limited volumes on δφ (a δφ row in
+Fig. 13, Fig. 14 on δφ), and the pulley-axis figure of docs/spatial.md
+(``plots.robot.pulley_axis_figure``, drawn at the docs' build by docs/hooks/pulley_figure.py). Every
+figure passes the layout audit (``plots.style.audit``: no overlapping text, none off the canvas,
+labelled axes with units) and the study figures name the mode."""
 
 import importlib.util
 
@@ -14,27 +14,31 @@ import pytest
 from mpl_toolkits.mplot3d.art3d import Text3D
 
 from cdpr.analyses import scans, workspace
-from cdpr.pipeline import plots
+from cdpr.pipeline.plots import robot as robot_plots
+from cdpr.pipeline.plots import style as style_plots
+from cdpr.pipeline.plots import volumes as volumes_plots
 from cdpr.robot import load_robot, with_pulleys
 from tests.conftest import ROBOTS, ROOT
 
 
 def _captured(monkeypatch):
-    """Figures handed to plots.save, audited and kept open for inspection (files still written)."""
+    """Figures handed to ``plots.style.save`` by the figure modules, audited and kept open for
+    inspection (files still written)."""
     figs = []
 
     def keep(fig, out):
-        figs.append((fig, plots.audit(fig)))
+        figs.append((fig, style_plots.audit(fig)))
         fig.savefig(str(out), dpi=40)
         return [out]
 
-    monkeypatch.setattr(plots, "save", keep)
+    for module in (robot_plots, volumes_plots):
+        monkeypatch.setattr(module, "save", keep)
     return figs
 
 
 def test_box_edges_are_the_twelve_edges_of_the_box():
     box = [-1.0, 2.0, 0.0, 4.0, 0.5, 1.0]
-    edges = plots._box_edges(box)
+    edges = robot_plots._box_edges(box)
     assert len(edges) == 12
     lengths = sorted(float(np.linalg.norm(e[1] - e[0])) for e in edges)
     assert lengths == pytest.approx([0.5] * 4 + [3.0] * 4 + [4.0] * 4)
@@ -56,7 +60,7 @@ def test_robot_view_of_a_spatial_and_a_point_mass_robot(tmp_path, monkeypatch, n
     robot = load_robot(ROBOTS / name)
     geom = scans.pose_geometry(robot, scans.view_position(robot), rotvec)
     boxes = {"frame box": workspace.frame_box(robot), "RW_C": [-1.0, 1.0, -1.0, 1.0, 1.0, 3.0]}
-    plots.robot_view(geom, tmp_path / "robot.png", boxes=boxes, mode="physical")
+    robot_plots.robot_view(geom, tmp_path / "robot.png", boxes=boxes, mode="physical")
     ((fig, rec),) = figs
     assert rec["problems"] == [] and "physical" in rec["titles"][0] and robot.name in rec["titles"][0]
     ax = fig.axes[0]
@@ -79,7 +83,7 @@ def test_robot_view_of_a_spatial_and_a_point_mass_robot(tmp_path, monkeypatch, n
 def test_robot_view_without_a_mode_or_boxes(tmp_path):
     """``cdpr view``'s call: no mode, no box; a PNG and a PDF."""
     robot = load_robot(ROBOTS / "wall_pulleys.yaml")
-    paths = plots.robot_view(scans.pose_geometry(robot, scans.view_position(robot)), tmp_path / "w.png")
+    paths = robot_plots.robot_view(scans.pose_geometry(robot, scans.view_position(robot)), tmp_path / "w.png")
     assert [p.suffix for p in paths] == [".png", ".pdf"] and all(p.stat().st_size > 10_000 for p in paths)
 
 
@@ -106,8 +110,10 @@ def test_volume_view_draws_a_dphi_row_under_the_dp_row(tmp_path, monkeypatch):
     robot, df = _grid()
     z = float(robot.A[:, 2].min())
     args = (df, [0.15, 0.2], [0.4, 0.6], z, "CoGiRo SR: V_L", tmp_path / "vl.png")
-    plots.fig13_volume_view(*args, A=robot.A, mode="physical", dphi_limits=[0.005, 0.01], dphi_R_V=[0.1, 0.3])
-    plots.fig13_volume_view(*args, A=robot.A, mode="physical")
+    volumes_plots.fig13_volume_view(
+        *args, A=robot.A, mode="physical", dphi_limits=[0.005, 0.01], dphi_R_V=[0.1, 0.3]
+    )
+    volumes_plots.fig13_volume_view(*args, A=robot.A, mode="physical")
     (two, rec2), (one, rec1) = figs
     assert rec2["problems"] == [] and rec1["problems"] == []
     titles = [ax.get_title() for ax in two.axes if hasattr(ax, "zaxis")]
@@ -137,7 +143,7 @@ def test_rv_on_dphi_figure_marks_the_study_limits(tmp_path, monkeypatch):
             "study_limit": [False, True, False, True] * 2,
         }
     )
-    plots.fig14_rv_dphi(tab, tmp_path / "rv.png", mode="physical")
+    volumes_plots.fig14_rv_dphi(tab, tmp_path / "rv.png", mode="physical")
     ((fig, rec),) = figs
     assert rec["problems"] == [] and "physical" in rec["titles"][0]
     ax = fig.axes[0]
@@ -156,7 +162,7 @@ def test_rv_on_dphi_figure_marks_the_study_limits(tmp_path, monkeypatch):
     plt.close(fig)
 
 
-# ---- the pulley-axis figure of docs/spatial.md (plots.pulley_axis_figure, docs/hooks/pulley_figure.py) ----
+# ---- the pulley-axis figure of docs/spatial.md (plots.robot.pulley_axis_figure, docs/hooks/pulley_figure.py) ----
 def _pulley_hook():
     """docs/hooks/pulley_figure.py, the MkDocs hook that draws the figure at build time, as a module."""
     spec = importlib.util.spec_from_file_location(

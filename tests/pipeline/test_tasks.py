@@ -15,7 +15,8 @@ from cdpr import table_io
 from cdpr.analyses import doe, scans, workspace
 from cdpr.analyses.workspace import grid_points
 from cdpr.errors import CdprError
-from cdpr.pipeline import plots, study, tasks
+from cdpr.pipeline import study, tasks
+from cdpr.pipeline.plots import robot as robot_plots
 from cdpr.solve import solve
 from tests.conftest import ROOT
 
@@ -90,13 +91,13 @@ def st(monkeypatch):
 
 
 def _record_views(tmp_path, box, monkeypatch):
-    """Write ``box`` as tmp_path/rw_c.json and record every ``plots.robot_view`` call (geometry,
+    """Write ``box`` as tmp_path/rw_c.json and record every ``plots.robot.robot_view`` call (geometry,
     keywords) while it still draws: the list it appends to."""
     (tmp_path / "rw_c.json").write_text(json.dumps({"box": box}), encoding="utf-8")
     seen = []
-    real = plots.robot_view
+    real = robot_plots.robot_view
     monkeypatch.setattr(
-        plots, "robot_view", lambda geom, out, **kw: seen.append((geom, kw)) or real(geom, out, **kw)
+        robot_plots, "robot_view", lambda geom, out, **kw: seen.append((geom, kw)) or real(geom, out, **kw)
     )
     return seen
 

@@ -1,0 +1,142 @@
+"""The figures of the error budget (pulley geometry, cable elasticity, winch exit point; beyond both
+papers): the budget per design and along the paths.
+"""
+
+from __future__ import annotations
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+from cdpr.pipeline.plots.style import OKABE_ITO, save
+
+#: Colours of the error budget's effects (Okabe & Ito, colour-blind safe).
+EFFECT_COLOURS = {
+    "pulley": OKABE_ITO[0],
+    "elasticity": OKABE_ITO[2],
+    "winch": OKABE_ITO[1],
+    "interaction": "0.6",
+    "all": "k",
+}
+
+
+def budget_bars(tab, out, xlabel="design [robot_pulley]"):
+    """Error budget per design over RW_C: (a) stacked bars of each effect's share of the mean
+    all-effects error (projection on its direction, so the stack sums to the mean ‖δp_all‖, marked
+    by a black tick; negative shares go below zero), beside the mean ‖δp‖ of each effect alone;
+    (b) the mean error left after compensating each effect, and all of them (exactly zero: written
+    as text over its place, a log axis cannot draw it); (c), when the table has ``mean_rad`` (a
+    rigid platform), the mean orientation error ‖δφ‖ of each effect alone, all together, the
+    interaction and after compensating each. ``tab`` is the budget table (design, region, entry,
+    mean_m, share_m, ...); rows of region RW_C are drawn. Legends sit outside."""
+    t = tab[tab.region == "RW_C"]
+    designs = list(dict.fromkeys(t.design))
+    x = np.arange(len(designs))
+    get = lambda d, e, c: float(t[(t.design == d) & (t.entry == e)][c].iloc[0]) * 1e3  # noqa: E731
+    if "mean_rad" in t:
+        fig, (a, b, c) = plt.subplots(1, 3, figsize=(max(16, 3.6 * len(designs)), 5.6), layout="constrained")
+    else:
+        fig, (a, b) = plt.subplots(1, 2, figsize=(max(11, 2.6 * len(designs)), 5.6), layout="constrained")
+    pos, neg = np.zeros(len(designs)), np.zeros(len(designs))
+    for e in ("pulley", "elasticity", "winch", "interaction"):
+        v = np.array([get(d, e, "share_m") for d in designs])
+        base = np.where(v >= 0, pos, neg)
+        a.bar(x - 0.2, v, 0.38, bottom=base, color=EFFECT_COLOURS[e], label=f"{e} (share)")
+        pos, neg = np.where(v >= 0, pos + v, pos), np.where(v < 0, neg + v, neg)
+    tot = np.array([get(d, "all", "mean_m") for d in designs])
+    a.scatter(x - 0.2, tot, marker="_", s=400, color="k", zorder=3, label="mean ‖δp_all‖")
+    bottom = np.zeros(len(designs))
+    for e in ("pulley", "elasticity", "winch"):
+        v = np.array([get(d, e, "mean_m") for d in designs])
+        a.bar(
+            x + 0.2,
+            v,
+            0.38,
+            bottom=bottom,
+            color=EFFECT_COLOURS[e],
+            alpha=0.45,
+            hatch="//",
+            label=f"{e} alone (hatched)",
+        )
+        bottom += v
+    a.axhline(0, color="0.5", lw=0.8)
+    a.set_xticks(x, designs, rotation=20)
+    a.set(
+        xlabel=xlabel,
+        ylabel="mean ‖δp‖ [mm]",
+        title="(a) shares of ‖δp_all‖ (left bar), each effect alone (right)",
+    )
+    a.title.set_fontsize(9)
+    a.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=3, frameon=False)
+    entries = ["all", "compensated_pulley", "compensated_elasticity", "compensated_winch", "compensated_all"]
+    w = 0.8 / len(entries)
+    zero_label = False
+    for i, e in enumerate(entries):
+        v = np.array([get(d, e, "mean_m") for d in designs])
+        xe = x - 0.4 + (i + 0.5) * w
+        b.bar(xe, v, w, color=OKABE_ITO[i], label=e.replace("compensated_", "compensating "))
+        for xx, vv in zip(xe, v):
+            if vv == 0.0:
+                b.annotate("0", (xx, 1e-3), ha="center", va="bottom", fontsize=7, color=OKABE_ITO[i])
+                zero_label = True
+    b.set_xticks(x, designs, rotation=20)
+    b.set_yscale("symlog", linthresh=1e-3)
+    b.set(
+        xlabel=xlabel,
+        ylabel="mean ‖δp‖ [mm]",
+        title="(b) error left after compensating" + (" ('0': exactly zero)" if zero_label else ""),
+    )
+    b.title.set_fontsize(9)
+    b.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=3, frameon=False)
+    if "mean_rad" in t:
+        phi = ["pulley", "elasticity", "winch", "interaction", "all", *entries[1:]]
+        w = 0.8 / len(phi)
+        for i, e in enumerate(phi):
+            v = np.array([get(d, e, "mean_rad") for d in designs])
+            colour = EFFECT_COLOURS.get(e) or OKABE_ITO[entries.index(e)]  # as in (b)
+            hatch = "//" if e.startswith("compensated_") else None  # (b)'s colours: tell them from (a)'s
+            c.bar(
+                x - 0.4 + (i + 0.5) * w,
+                v,
+                w,
+                color=colour,
+                hatch=hatch,
+                edgecolor="w" if hatch else None,
+                label=e.replace("compensated_", "compensating "),
+            )
+        c.set_xticks(x, designs, rotation=20)
+        c.set_yscale("symlog", linthresh=1e-3)
+        c.set(xlabel=xlabel, ylabel="mean ‖δφ‖ [mrad]", title="(c) orientation error of each entry")
+        c.title.set_fontsize(9)
+        c.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=3, frameon=False)
+    fig.suptitle(
+        "Error budget over RW_C: pulley geometry, cable elasticity, winch exit point (physical equilibrium)",
+        fontsize=10,
+    )
+    return save(fig, out)
+
+
+def budget_paths(paths, out):
+    """Error budget along the section 3.3.1 paths: ‖δp‖ of each effect alone, all together, the
+    interaction and the error left after compensating pulley geometry, versus the arc length s; one
+    panel per design, one legend for all under the panels. ``paths`` maps a design label to its
+    budget path table (s and one column of ‖δp‖ [m] per budget entry, NaN where a variant is not ok)."""
+    labels = list(paths)
+    cols = 2 if len(labels) > 1 else 1
+    rows = int(np.ceil(len(labels) / cols))
+    fig, axes = plt.subplots(
+        rows, cols, figsize=(6.5 * cols, 3.8 * rows + 0.8), squeeze=False, layout="constrained"
+    )
+    for ax, label in zip(axes.ravel(), labels):
+        df = paths[label]
+        for e in ("pulley", "elasticity", "winch", "interaction", "all"):
+            ax.plot(df.s, df[e] * 1e3, color=EFFECT_COLOURS[e], lw=1.8 if e == "all" else 1.1, label=e)
+        ax.plot(df.s, df["compensated_pulley"] * 1e3, "k:", lw=1, label="after compensating pulleys")
+        ax.set_yscale("log")
+        ax.set(xlabel="position along the path s [m]", ylabel="‖δp‖ [mm]", title=label)
+        ax.grid(alpha=0.3, which="both")
+    handles, names = axes.ravel()[0].get_legend_handles_labels()
+    fig.legend(handles, names, loc="outside lower center", ncol=6, fontsize=7)
+    for ax in axes.ravel()[len(labels) :]:
+        ax.set_axis_off()
+    fig.suptitle("Error budget along the section 3.3.1 paths (physical equilibrium)", fontsize=10)
+    return save(fig, out)

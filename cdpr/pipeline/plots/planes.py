@@ -1,0 +1,239 @@
+"""The figures of the horizontal plane (Paty 2021 section 3.3.2, the study's ``plane`` part): the
+3-cable subset or taut set at each point (Fig. 9), ‖δp‖ (and δφ) over the plane (Fig. 12), and the
+minimum cable tension over it (beyond the paper).
+"""
+
+from __future__ import annotations
+
+import re
+
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.patches import Patch
+
+from cdpr.pipeline.plots.style import (
+    DPHI_LABEL,
+    DPHI_SCALE,
+    DPHI_UNIT,
+    NOT_OK_COLOUR,
+    draw_anchors,
+    footprint,
+    mode_suffix,
+    plane_grid,
+    round_levels,
+    save,
+)
+
+
+def _not_ok_counts(df, A=None):
+    """Counts of the points that are not ok by status; with anchors ``A``, the points outside the
+    anchors' footprint are counted apart (``outside the footprint``) from the statuses inside."""
+    bad = df[df.status != "ok"]
+    counts = {}
+    if A is not None and len(bad):
+        inside = footprint(A).contains_points(bad[["x", "y"]].to_numpy(), radius=1e-9)
+        if (~inside).any():
+            counts["outside the footprint"] = int((~inside).sum())
+        bad = bad[inside]
+    for k, v in bad.status.value_counts().items():
+        if v > 0:
+            counts[k] = int(v)
+    return counts
+
+
+def _not_ok_legend(ax, df, A=None):
+    """A legend under ``ax`` counting the points that are not ok (grey), by status, with the points
+    outside the anchors' footprint counted apart when ``A`` is given."""
+
+    counts = _not_ok_counts(df, A)
+    if counts:
+        ax.legend(
+            handles=[
+                Patch(
+                    color=NOT_OK_COLOUR,
+                    label="grey, not ok: " + ", ".join(f"{k} {v}" for k, v in counts.items()),
+                )
+            ],
+            fontsize=7,
+            loc="upper center",
+            bbox_to_anchor=(0.5, -0.14),
+            frameon=False,
+        )
+
+
+def _category_panels(axes, tables, column, labels, cmap, A, z, robot_name):
+    """One panel per design (``tables``: label -> plane table) of the category in ``column`` at each
+    point (one colour per entry of ``labels``; the points that are not ok grey, counted under the
+    panel), with the anchors ``A``, titled with the robot's name, the design and the height ``z``.
+    Returns the last panel's mesh (for the colour bar), None without tables."""
+    im = None
+    for ax, (label, df) in zip(axes, tables.items()):
+        code = df[column].astype(str).map({s: i for i, s in enumerate(labels)}).astype(float)
+        code[(df.status != "ok").to_numpy()] = np.nan
+        xs, ys, Z = plane_grid(df, code.to_numpy())
+        ax.set_facecolor(NOT_OK_COLOUR)
+        im = ax.pcolormesh(xs, ys, Z, cmap=cmap, vmin=-0.5, vmax=len(labels) - 0.5, shading="nearest")
+        draw_anchors(ax, A)
+        ax.set(xlabel="x [m]", ylabel="y [m]", title=f"{robot_name} {label} at z = {z:g} m", aspect="equal")
+        _not_ok_legend(ax, df, A)
+    return im
+
+
+def fig9_subsets(tables, A, z, robot_name, out, mode=None):
+    """Paty 2021 Fig. 9: the 3-cable subset that minimises ‖δp‖ at each point of the plane, one
+    panel per pulley design. ``tables`` maps a design label to its plane table."""
+    labels = sorted({s for df in tables.values() for s in df.subset.astype(str).unique() if s})
+    cmap = plt.get_cmap("tab10", max(len(labels), 1))
+    fig, axes = plt.subplots(
+        1, len(tables), figsize=(5.2 * len(tables) + 1.5, 5.2), squeeze=False, layout="constrained"
+    )
+    im = _category_panels(axes[0], tables, "subset", labels, cmap, A, z, robot_name)
+    cb = fig.colorbar(im, ax=axes[0].tolist(), ticks=range(len(labels)))
+    cb.ax.set_yticklabels([f"cables {s}" for s in labels])
+    cb.set_label("subset kept [cable numbers]")
+    fig.suptitle(f"Subset of 3 cables that minimises ‖δp‖ (Fig. 9){mode_suffix(mode)}", fontsize=10)
+    return save(fig, out)
+
+
+def fig9_taut(tables, A, z, robot_name, out, mode="physical"):
+    """Fig. 9 of the physical study: the set of taut cables of the equilibrium at each point of the
+    plane (``redundancy: physical``: every cable may go slack; the paper's Fig. 9 shows instead the
+    3-cable subset its rule keeps), one panel per pulley design. ``tables`` maps a design label to
+    its plane table (column ``taut``, e.g. '1-2-3-4'); points that are not ok are grey."""
+    labels = sorted(
+        {s for df in tables.values() for s in df.taut.astype(str).unique() if s},
+        key=lambda s: (-len(s.split("-")), s),
+    )
+    cmap = plt.get_cmap("tab20" if len(labels) > 10 else "tab10", max(len(labels), 1))
+    fig, axes = plt.subplots(
+        1, len(tables), figsize=(5.2 * len(tables) + 1.5, 5.2), squeeze=False, layout="constrained"
+    )
+    im = _category_panels(axes[0], tables, "taut", labels, cmap, A, z, robot_name)
+    if im is not None:
+        cb = fig.colorbar(im, ax=axes[0].tolist(), ticks=range(len(labels)))
+        cb.ax.set_yticklabels([f"taut {s}" for s in labels])
+        cb.set_label("taut-set map [cable numbers]")
+    fig.suptitle(f"Taut cables at each point (Fig. 9 as a taut-set map){mode_suffix(mode)}", fontsize=10)
+    return save(fig, out)
+
+
+def _labelled_contours(fig, ax, xs, ys, Z, cmap, label, skip=(), top=None):
+    """Filled contours of Z at about ten round levels (``round_levels``) with every level a black
+    line, every other line labelled (but values in ``skip``, whose own labels are drawn elsewhere),
+    and the panel's own colour bar titled ``label``. ``top``: the levels stop there and the values
+    above it take the top colour (the colour bar's triangle), for a field whose few largest values
+    would flatten the rest. Nothing is drawn where Z has under two levels."""
+    high = np.nanmax(Z) if top is None else min(top, np.nanmax(Z))
+    levels = round_levels(np.nanmin(Z), high, 10)
+    if levels is None or len(levels) < 2:
+        return
+    extend = "max" if np.nanmax(Z) > levels[-1] else "neither"
+    cf = ax.contourf(xs, ys, Z, levels=levels, cmap=cmap, extend=extend)
+    cs = ax.contour(xs, ys, Z, levels=levels, colors="k", linewidths=0.4)
+    ax.clabel(cs, [v for v in levels[1:-1:2] if not np.isclose(skip, v).any()], fmt="%g", fontsize=6)
+    fig.colorbar(cf, ax=ax, label=label, shrink=0.8)
+
+
+def fig12_plane(tables, A, z, robot_name, out, mode=None, paper=None):
+    """Paty 2021 Fig. 12: iso-contours of ‖δp‖ over the horizontal plane at height z, one panel per
+    pulley design of the same robot, each on levels fine enough to show its own structure (about
+    ten filled levels, every level a labelled line; its own colour bar). ``paper`` maps a design
+    label to the paper's iso-values [m] (e.g. the min and max it quotes), drawn as red dashed
+    labelled contours. Cells that are not ok are grey, counted by status under the panel with the
+    points outside the anchors' footprint counted apart; the dashed line is the footprint.
+
+    The small closed contour at the centre of CDPR4 with DR pulleys is in the data, not the
+    contouring: the paper's rule takes the least ‖δp‖ of the four 3-cable subsets, which are equal
+    at the centre by symmetry and each fall away from it, so ‖δp‖ has a cusp maximum there."""
+    paper = paper or {}
+    spatial = any("dphi" in df for df in tables.values())
+    fig, axes = plt.subplots(
+        2 if spatial else 1,
+        len(tables),
+        figsize=(5.6 * len(tables), 11.2 if spatial else 5.6),
+        squeeze=False,
+        layout="constrained",
+    )
+    if spatial:  # a rigid platform: the orientation error δφ under the position error
+        for ax, (label, df) in zip(axes[1], tables.items()):
+            _plane_dphi_panel(fig, ax, df, A, f"{robot_name} {label} at z = {z:g} m: δφ")
+    for ax, (label, df) in zip(axes[0], tables.items()):
+        ok = (df.status == "ok").to_numpy()
+        xs, ys, Z = plane_grid(df, np.where(ok, df.dp * 1e3, np.nan))
+        ax.set_facecolor(NOT_OK_COLOUR)
+        if np.isfinite(Z).any():
+            iso = [v * 1e3 for v in paper.get(label, []) if v is not None]
+            _labelled_contours(fig, ax, xs, ys, Z, "viridis", "‖δp‖ [mm]", skip=iso)  # paper's own label wins
+            if iso and np.nanmin(Z) < max(iso) and np.nanmax(Z) > min(iso):
+                cp = ax.contour(xs, ys, Z, levels=sorted(iso), colors="r", linewidths=1.2, linestyles="--")
+                ax.clabel(cp, fmt=lambda v: f"paper {v:g}", fontsize=6)
+        draw_anchors(ax, A)
+        iso_txt = " / ".join(f"{v * 1e3:g}" for v in paper.get(label, []) if v is not None)
+        extra = f"\nred dashed: paper's {iso_txt} mm" if iso_txt else ""
+        ax.set(
+            xlabel="x [m]",
+            ylabel="y [m]",
+            title=f"{robot_name} {label} at z = {z:g} m{extra}",
+            aspect="equal",
+        )
+        ax.title.set_fontsize(9)
+        _not_ok_legend(ax, df, A)
+    what = "‖δp‖ and δφ" if spatial else "‖δp‖"
+    fig.suptitle(f"{what} over the plane (Fig. 12){mode_suffix(mode)}", fontsize=10)
+    return save(fig, out)
+
+
+#: A δφ plane whose largest value exceeds this many times its 75th percentile is drawn to the percentile.
+DPHI_TAIL = 3.0
+
+
+def _plane_dphi_panel(fig, ax, df, A, title):
+    """One panel of the orientation error δφ [mrad] over a plane table (column ``dphi`` [rad]):
+    filled round levels with their own colour bar; cells that are not ok grey, counted below. Where
+    the largest values (near the frame's edges, where the platform hangs on few taut cables) exceed
+    DPHI_TAIL times the 75th percentile, the levels stop at that percentile and the title says so:
+    else the interior, where the platform works, is one colour."""
+    ok = (df.status == "ok").to_numpy()
+    xs, ys, Z = plane_grid(df, np.where(ok, df["dphi"] * DPHI_SCALE, np.nan))
+    ax.set_facecolor(NOT_OK_COLOUR)
+    if np.isfinite(Z).any():
+        q75 = float(np.nanpercentile(Z, 75))
+        top = q75 if np.nanmax(Z) > DPHI_TAIL * q75 else None
+        _labelled_contours(fig, ax, xs, ys, Z, "magma", DPHI_LABEL, top=top)
+        if top is not None:
+            title += f"\nlevels to the 75th percentile; max {np.nanmax(Z):.3g} {DPHI_UNIT}"
+    draw_anchors(ax, A)
+    ax.set(xlabel="x [m]", ylabel="y [m]", title=title, aspect="equal")
+    ax.title.set_fontsize(9)
+    _not_ok_legend(ax, df, A)
+
+
+def fig12_tension(tables, A, z, robot_name, t_min, out, mode=None):
+    """Minimum cable tension over the plane at height z (beyond the paper): min_i t_i at each ok
+    point (physical mode: over every cable, a slack one at 0 N; paper mode: over the 3-cable subset
+    the rule keeps, the others carry no modelled tension), one panel per pulley design, with the tension limit ``t_min`` [N] drawn as a red line
+    (the slack margin is the distance to it). ``tables`` maps a design label to its plane table
+    (columns x, y, status, t1..tm [N])."""
+    fig, axes = plt.subplots(
+        1, len(tables), figsize=(5.6 * len(tables), 5.6), squeeze=False, layout="constrained"
+    )
+    for ax, (label, df) in zip(axes[0], tables.items()):
+        tcols = sorted((c for c in df.columns if re.fullmatch(r"t\d+", c)), key=lambda c: int(c[1:]))
+        ok = (df.status == "ok").to_numpy()
+        tt = df[tcols]
+        if "taut" in df.columns:  # physical mode: a slack cable's tension is written NaN, and is 0 N
+            tt = tt.fillna(0.0)
+        tmin = tt.min(axis=1).to_numpy() if tcols else np.full(len(df), np.nan)
+        xs, ys, Z = plane_grid(df, np.where(ok, tmin, np.nan))
+        ax.set_facecolor(NOT_OK_COLOUR)
+        if np.isfinite(Z).any():
+            _labelled_contours(fig, ax, xs, ys, Z, "cividis", "minimum cable tension min t_i [N]")
+            if t_min is not None and np.nanmin(Z) < t_min < np.nanmax(Z):
+                ax.contour(xs, ys, Z, levels=[t_min], colors="r", linewidths=1.2)
+        draw_anchors(ax, A)
+        ax.set(xlabel="x [m]", ylabel="y [m]", title=f"{robot_name} {label} at z = {z:g} m", aspect="equal")
+        _not_ok_legend(ax, df, A)
+    lim = f"; red: t = {t_min:g} N" if t_min is not None else ""
+    over = "slack cables count as 0 N" if mode == "physical" else "over the 3 cables the rule keeps"
+    fig.suptitle(f"Minimum cable tension over the plane ({over}){lim}{mode_suffix(mode)}", fontsize=10)
+    return save(fig, out)
