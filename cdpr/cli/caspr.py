@@ -1,5 +1,5 @@
 """``cdpr import caspr | rrf`` and ``cdpr export rrf | klipper``: their options (the commands are
-``cdpr.cli.commands.cmd_import_caspr``, which builds a robot file from CASPR's bodies and cables XML
+``cdpr.cli.robot_files.cmd_import_caspr``, which builds a robot file from CASPR's bodies and cables XML
 with ``cdpr.robot_import``, and ``cmd_import_rrf``, ``cmd_export_rrf``, ``cmd_export_klipper`` with
 ``cdpr.robot_rrf``: a Hangprinter from and to RepRapFirmware's M669/M666 lines, and to Klipper).
 
@@ -47,14 +47,14 @@ def add_parser(sub):
         metavar="M",
         help="dead length d [m] (not in CASPR; default 0, assumed and said so)",
     )
-    c.set_defaults(run=("cdpr.cli.commands", "cmd_import_caspr"))
+    c.set_defaults(run=("cdpr.cli.robot_files", "cmd_import_caspr"))
     r = tools.add_parser(
         "rrf", help="Hangprinter robot from a RepRapFirmware configuration (M669 K6 anchors, M666 spools)"
     )
     r.add_argument("--config", required=True, metavar="FILE", help="RepRapFirmware configuration (config.g)")
     r.add_argument("--out", required=True, metavar="FILE", help="robot YAML file to write")
     r.add_argument("--name", metavar="NAME", help="the robot's name (default: the configuration's file stem)")
-    r.set_defaults(run=("cdpr.cli.commands", "cmd_import_rrf"))
+    r.set_defaults(run=("cdpr.cli.robot_files", "cmd_import_rrf"))
     sp = sub.add_parser("export", help="a robot file as a firmware's configuration (RepRapFirmware, Klipper)")
     tools = sp.add_subparsers(dest="tool", required=True, parser_class=Parser)
     for tool, what in (
@@ -72,4 +72,4 @@ def add_parser(sub):
             help="robot YAML file (a Hangprinter: spools, fixed pulleys)",
         )
         e.add_argument("--out", metavar="FILE", help="file to write (default: standard output)")
-        e.set_defaults(run=("cdpr.cli.commands", f"cmd_export_{tool}"))
+        e.set_defaults(run=("cdpr.cli.robot_files", f"cmd_export_{tool}"))

@@ -24,7 +24,8 @@ from cdpr.analyses.workspace import BYTES_PER_POINT
 from cdpr.cli.options import MAX_COORDINATE_M
 from cdpr.errors import CdprError
 from cdpr.models import winch
-from cdpr.robot import TABLE1, load_robot, load_winch_params, plausibility_warnings
+from cdpr.plausibility import plausibility_warnings
+from cdpr.robot import TABLE1, load_robot, load_winch_params
 
 #: The columns of a ``--points`` table: the position [m] and, optional, the orientation [rad].
 POINT_COLUMNS = ("x", "y", "z", "rx", "ry", "rz")
@@ -38,7 +39,7 @@ def _write_table(df, path):
 
 def checked(robot, args):
     """The one plausibility check of the command line: every command that reads or writes a robot
-    passes it here once. Each implausible value (``robot.plausibility_warnings``: a unit slip, most
+    passes it here once. Each implausible value (``plausibility.plausibility_warnings``: a unit slip, most
     likely) is one line on stderr; the list goes to ``args.warnings`` for the ``warnings`` key of the
     command's JSON object (``emit_json``). The command still runs: a user may mean the value."""
     warnings = plausibility_warnings(robot)
@@ -985,144 +986,3 @@ def cmd_trajectory(args):
     )
     _write_table(df, args.out)
     _report(df, args.out, args, time.perf_counter() - t0)
-
-
-def cmd_import_caspr(args):
-    """``cdpr import caspr``: read CASPR's bodies and cables XML (``cdpr.robot_import``), validate the
-    result as a robot file, write it. Every value that did not come from the XML (E, diameter, dead
-    length, ...) is named in the file's header and in one line on stderr, assumed or given; sanity
-    notes (a near-symmetry broken by a possible typo) are lines on stderr, the values kept."""
-    from pathlib import Path  # lazy: this command only
-
-    import yaml  # lazy: yaml, for this command only
-
-    # lazy: the importer, for this command only
-    from cdpr.robot import robot_from_dict
-    from cdpr.robot_import import import_caspr
-
-    got = import_caspr(
-        args.bodies,
-        args.cables,
-        args.cable_set,
-        E=args.E,
-        diameter=args.diameter,
-        dead_length=args.dead_length,
-        name=args.name,
-    )
-    data = got.data
-    default_set = "" if args.cable_set else ", the file's default"
-    robot = checked(robot_from_dict(data, source=f"{args.cables} (imported)"), args)
-    io.check_output(args.out, (".yaml", ".yml"))
-    header = (
-        f"# Imported by `cdpr import caspr` from {Path(args.bodies).name} and {Path(args.cables).name}"
-        f" (cable set {got.cable_set}{default_set}).\n"
-        "# Not from the CASPR files (CASPR models hold no cable stiffness, diameter or dead length):\n"
-        + "".join(f"#   {a}\n" for a in got.assumed)
-    )
-    print(f"cdpr: note: not from the CASPR files: {'; '.join(got.assumed)}", file=sys.stderr)
-    for n in got.notes:
-        print(f"cdpr: note: {args.cables}: {n}", file=sys.stderr)
-    io.write_text(header + yaml.safe_dump(data, sort_keys=False), args.out)
-    print(f"wrote {args.out}: {robot.name}, {robot.m} cables, platform {robot.platform.mass:g} kg")
-
-
-def cmd_import_rrf(args):
-    """``cdpr import rrf``: a Hangprinter robot file from a RepRapFirmware configuration's M669 K6 and
-    M666 lines (``cdpr.robot_rrf``), validated; the header and one stderr line name every value
-    that did not come from the configuration."""
-    import yaml  # lazy: yaml, for this command only
-
-    # lazy: the importer, for this command only
-    from cdpr.robot import robot_from_dict
-    from cdpr.robot_rrf import robot_dict_from_rrf
-
-    io.check_output(args.out, (".yaml", ".yml"))
-    data, assumed = robot_dict_from_rrf(args.config, name=args.name)
-    robot = robot_from_dict(data, source=f"{args.config} (imported)")
-    header = [
-        f"# Imported by `cdpr import rrf` from {os.path.basename(args.config)} (RepRapFirmware, Hangprinter: M669 K6, M666).",
-        "# A point mass on one cable per anchor through fixed pulleys; a spool winch per cable (M666 R Q U O L H);",
-        "# the cable is the U strands of the line (axial stiffness U E S, E S = M666 S); dead length = guy wire / U.",
-    ]
-    if assumed:
-        header.append("# Assumed (not in the configuration): " + "; ".join(assumed) + ".")
-        print("cdpr import rrf: assumed (not in the configuration): " + "; ".join(assumed), file=sys.stderr)
-    io.write_text("\n".join(header) + "\n" + yaml.safe_dump(data, sort_keys=False), args.out)
-    print(f"wrote {args.out}: {robot.m} cables, platform {robot.platform.mass:g} kg")
-
-
-def _export(args, make):
-    """Run an export (``make(robot)`` -> (text, warnings)): warnings on stderr, the text to --out or
-    standard output."""
-    robot = load_robot(args.robot)
-    if args.out:
-        io.check_output(args.out, (os.path.splitext(args.out)[1],))  # any name: the folder is checked
-    text, warnings = make(robot)
-    for w in warnings:
-        print(f"warning: {w}", file=sys.stderr)
-    if args.out:
-        io.write_text(text, args.out)
-        print(f"wrote {args.out}")
-    else:
-        print(text, end="")
-
-
-def cmd_export_rrf(args):
-    """``cdpr export rrf``: RepRapFirmware's M669 and M666 lines of a Hangprinter robot
-    (``cdpr.robot_rrf.rrf_lines``; a per-cable buildup factor is exported as its mean, with a
-    warning)."""
-    from cdpr.robot_rrf import rrf_lines  # lazy: this command only
-
-    def make(robot):
-        lines, warnings = rrf_lines(robot)
-        head = (
-            f"; Hangprinter {robot.name} written by `cdpr export rrf` from {os.path.basename(args.robot)}\n"
-        )
-        return head + "\n".join(lines) + "\n", warnings
-
-    _export(args, make)
-
-
-def cmd_export_klipper(args):
-    """``cdpr export klipper``: Klipper's ``[printer] kinematics: winch`` and ``[stepper_a..]``
-    anchors of a Hangprinter robot (``cdpr.robot_rrf.klipper_text``; Klipper has no buildup model,
-    said on stderr)."""
-    from cdpr.robot_rrf import klipper_text  # lazy: this command only
-
-    _export(args, klipper_text)
-
-
-def cmd_view(args):
-    """``cdpr view``: a 3-D picture of a robot file at a desired pose (frame box, pulleys with their
-    swivel axes and sheaves, platform, cables; ``--box``: a box drawn as a wireframe), drawn by
-    ``cdpr.pipeline.plots.robot.robot_view`` (a .pdf beside the .png)."""
-    # lazy: the pose geometry, the workspace boxes and matplotlib, for `cdpr view` only
-    from cdpr.analyses import scans, workspace
-    from cdpr.pipeline.plots import robot as robot_plots
-
-    robot = checked(load_robot(args.robot), args)
-    io.check_output(args.out, (".png",))
-    boxes = {"frame box": workspace.frame_box(robot)}
-    if args.box is not None:
-        try:
-            boxes["--box"] = workspace.check_box(args.box).tolist()
-        except CdprError as exc:
-            raise CdprError(f"--box: {exc}") from None
-    p = scans.view_position(robot) if args.at is None else np.asarray(args.at, dtype=float)
-    robot_plots.robot_view(scans.pose_geometry(robot, p, args.rotvec), args.out, boxes=boxes)
-    print(f"wrote {args.out}")
-
-
-def cmd_study_check(args):
-    """``cdpr study check FILE``: the validation the pipeline makes before any job
-    (``cdpr.pipeline.study.check_file``), without Snakemake. Each problem is one line on stderr and
-    the exit code is 2; a valid study prints ``ok`` (exit 0)."""
-    from cdpr.pipeline.study import check_file  # lazy: the pipeline (pandas), for this command only
-
-    problems = check_file(args.file, args.results)
-    for p in problems:
-        print(f"cdpr: error: {p}", file=sys.stderr)
-    if problems:
-        return 2
-    print("ok")
-    return 0

@@ -216,7 +216,7 @@ def build_parser(jobs=True):
     )
     c.add_argument("file", metavar="FILE", help="study YAML file (config/studies/*.yaml)")
     c.add_argument("--results", metavar="DIR", help="also check the results folder the study would write")
-    c.set_defaults(run=("cdpr.cli.commands", "cmd_study_check"))
+    c.set_defaults(run=("cdpr.cli.robot_files", "cmd_study_check"))
     calibrate_parser(sub)
     caspr.add_parser(sub)
     view.add_parser(sub)

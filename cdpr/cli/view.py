@@ -1,4 +1,4 @@
-"""``cdpr view``: its options (the command is ``cdpr.cli.commands.cmd_view``: a 3-D picture of a
+"""``cdpr view``: its options (the command is ``cdpr.cli.robot_files.cmd_view``: a 3-D picture of a
 robot (frame box, pulleys with their swivel axes and sheaves, platform, cables, optionally a box) so a
 user checks a robot file by looking at it; drawn by ``cdpr.pipeline.plots.robot.robot_view``).
 
@@ -26,4 +26,4 @@ def add_parser(sub):
     rotvec_option(sp, help="orientation [rad]")
     box_option(sp, "a box [m] drawn as a wireframe (e.g. the RW_C box of doe/rw_c.json)")
     sp.add_argument("--out", required=True, metavar="FILE", help="output .png (a .pdf is written beside it)")
-    sp.set_defaults(run=("cdpr.cli.commands", "cmd_view"))
+    sp.set_defaults(run=("cdpr.cli.robot_files", "cmd_view"))

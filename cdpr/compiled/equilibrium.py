@@ -1,4 +1,4 @@
-"""Compiled 6-DoF physical equilibrium: ``models.equilibrium.solve`` with its Newton iteration as a
+"""Compiled physical equilibrium, the pose kernel: ``models.equilibrium.solve`` with its Newton iteration as a
 numba kernel that runs in parallel over poses (chunks of ``CHUNK``), scalars and 3 x 3 / 6 x 6
 scratch arrays in the hot loop, one cable at a time through the shared kernel
 (``_kernels.cable_axis``: the scalar ``cable`` in each pulley's frame).

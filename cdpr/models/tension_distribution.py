@@ -1,4 +1,5 @@
-"""Tension distribution of a redundant point-mass CDPR at a desired position (m >= 3 cables).
+"""Tension distributions of a redundant CDPR: a point mass at a desired position (3 x m wrench matrix,
+m >= 3 cables) and a rigid platform at a pose (6 x m, the section "At a pose of a rigid platform").
 
 At the position P the extended model (eq. 3-5, 12) gives the wrench matrix W = [u_1 ... u_m]
 (3 x m), u_i the unit vector from P toward the exit point D_i. The tensions must satisfy

@@ -352,10 +352,10 @@ def _line_note(r):
     """The note of a ``line D_<kind>`` headline row: its slope and optimum, or in words what is
     missing (no valley point on the fixed-h line: no slope, no optimum), never ``nan``."""
     parts = []
-    if int(r.valley_points) >= 2 and math.isfinite(r.slope_k):
+    if math.isfinite(r.slope_k):  # a line through the origin: one valley point fixes it
         parts.append(f"slope k = {r.slope_k:.4g} from {int(r.valley_points)} valley points")
     else:
-        parts.append(f"no slope k: {int(r.valley_points)} valley point(s) on the fixed-h line, 2 needed")
+        parts.append("no slope k: no interior valley point on the map (the line D runs through the origin and one)")
     if math.isfinite(r.h_opt_m) and math.isfinite(r.r_p_opt_m):
         parts.append(f"h = {r.h_opt_m * 1e3:.4g} mm, r_p = {r.r_p_opt_m * 1e3:.4g} mm")
     else:

@@ -1,4 +1,4 @@
-"""``cdpr import caspr`` (cdpr.cli.caspr, run by cdpr.cli.commands.cmd_import_caspr): CASPR's XML
+"""``cdpr import caspr`` (cdpr.cli.caspr, run by cdpr.cli.robot_files.cmd_import_caspr): CASPR's XML
 files become a robot file that loads, with the options CASPR does not hold (E, diameter, dead
 length) given on the command line or defaulted, and bad options refused in one line before a file
 is written. The XML reading itself: tests/test_robot_import.py."""

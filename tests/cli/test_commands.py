@@ -40,7 +40,7 @@ def test_point_json(capsys):
         "engine",
         "warnings",
     }
-    assert out["warnings"] == []  # CDPR4 is plausible (cdpr.robot.plausibility_warnings)
+    assert out["warnings"] == []  # CDPR4 is plausible (cdpr.plausibility.plausibility_warnings)
     assert out["engine"] == "numpy"  # one pose: the numpy reference unless --engine names one
     assert out["status"] == "ok" and len(out["subset"]) == 3 and min(out["subset"]) >= 1
     assert sum(t is None for t in out["tensions"]) == 1

@@ -1,7 +1,7 @@
 """Plausibility warnings (issue 41): a value far outside what a real CDPR has — a unit slip, most
 likely — gives one warning line on stderr naming the key, the value and the likely slip, and a
 ``warnings`` list in the command's JSON object; the command still runs (exit 0). The checks are one
-library function, ``cdpr.robot.plausibility_warnings``; the command line calls it once per robot."""
+library function, ``cdpr.plausibility.plausibility_warnings``; the command line calls it once per robot."""
 
 import json
 
@@ -9,7 +9,8 @@ import pytest
 import yaml
 
 from cdpr.cli.main import main
-from cdpr.robot import load_robot, plausibility_warnings
+from cdpr.plausibility import plausibility_warnings
+from cdpr.robot import load_robot
 from tests.conftest import ROBOTS
 
 R4 = ROBOTS / "cdpr4.yaml"
