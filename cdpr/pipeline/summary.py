@@ -355,7 +355,9 @@ def _line_note(r):
     if math.isfinite(r.slope_k):  # a line through the origin: one valley point fixes it
         parts.append(f"slope k = {r.slope_k:.4g} from {int(r.valley_points)} valley points")
     else:
-        parts.append("no slope k: no interior valley point on the map (the line D runs through the origin and one)")
+        parts.append(
+            "no slope k: no interior valley point on the map (the line D runs through the origin and one)"
+        )
     if math.isfinite(r.h_opt_m) and math.isfinite(r.r_p_opt_m):
         parts.append(f"h = {r.h_opt_m * 1e3:.4g} mm, r_p = {r.r_p_opt_m * 1e3:.4g} mm")
     else:
