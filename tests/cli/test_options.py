@@ -102,7 +102,12 @@ def test_negative_numbers_in_exponent_notation_are_values_not_options():
         ["--robot", "r.yaml", "--at", "-1e-1", "-.5", "2", "--rotvec", "-1E-3", "0", "-0.2"]
     )
     assert args.at == [-0.1, -0.5, 2.0] and args.rotvec == [-1e-3, 0.0, -0.2]
-    assert (args.method, args.engine, args.redundancy, args.json) == ("newton", None, "paper", False)
+    assert (args.method, args.engine, args.redundancy, args.json) == (
+        "newton",
+        None,
+        None,
+        False,
+    )  # None: the robot's default (paper mode for a point mass)
 
 
 @pytest.mark.parametrize(

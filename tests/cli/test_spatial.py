@@ -322,8 +322,14 @@ def test_point_sensitivities_table_on_cogiro(capsys):
     assert "b_8_z   m/m" in text and "    M  m/kg" in text
     assert main(["point", "--robot", COGIRO, "--at", "0", "0", "2", *SENS, "--engine", "compiled"]) == 0
     assert "at fixed commanded lengths (compiled engine):" in capsys.readouterr().out
-    assert main(["point", "--robot", COGIRO, "--at", "0", "0", "2", "--sensitivities"]) == 2
+    assert (
+        main(["point", "--robot", COGIRO, "--at", "0", "0", "2", "--sensitivities", "--redundancy", "paper"])
+        == 2
+    )
     assert "paper mode (3-cable subsets) is the point-mass rule" in capsys.readouterr().err
+    # without --redundancy a rigid platform takes physical mode, its only one
+    assert main(["point", "--robot", COGIRO, "--at", "0", "0", "2", "--sensitivities"]) == 0
+    assert "sensitivities dp*/dθ and dφ*/dθ at fixed commanded lengths" in capsys.readouterr().out
 
 
 @pytest.mark.parametrize("mode", ["paper", "physical"])
