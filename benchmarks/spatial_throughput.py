@@ -7,8 +7,8 @@ CoGiRo (config/robots/cogiro.yaml) commanded with L_TS at N random poses in a bo
 (on the first ``--n-numpy`` of them, it is slow), both with the restarts; the ratio; the compiled
 Newton kernel alone (``newton6_fast``, without the numpy set-up and result); the 6-DoF sensitivities
 dp*/dθ, dφ*/dθ of all 84 parameters at those equilibria (``sensitivities_at``: compiled
-``cdpr.compiled.sensitivity6`` on N, numpy ``cdpr.models.sensitivity6`` on ``--n-numpy``, same
-solve result) and end to end (``spatial_sensitivities``: the solve plus the sensitivities, compiled
+``cdpr.compiled.sensitivity`` on N, numpy ``cdpr.models.sensitivity`` on ``--n-numpy``, same
+solve result) and end to end (``pose_sensitivities``: the solve plus the sensitivities, compiled
 on N, numpy on a tenth of ``--n-numpy``); CDPR4 SR physical mode
 at N random points by the point-mass compiled kernel and its numpy reference. The machine's load
 (``os.getloadavg``) and the CPU model (``lscpu``) are printed: on a shared machine the figures are a lower bound. Wall-clock
@@ -30,14 +30,14 @@ from cdpr.compiled.equilibrium import CompiledCables as Compiled6
 from cdpr.compiled.equilibrium import newton as newton6_fast
 from cdpr.compiled.equilibrium import solve as solve_spatial_fast
 from cdpr.compiled.equilibrium import solve_points as solve_physical_fast
-from cdpr.compiled.sensitivity6 import sensitivities_at as sensitivities_at_fast
-from cdpr.compiled.sensitivity6 import spatial_sensitivities as spatial_sensitivities_fast
+from cdpr.compiled.sensitivity import pose_sensitivities as spatial_sensitivities_fast
+from cdpr.compiled.sensitivity import sensitivities_at as sensitivities_at_fast
 from cdpr.models.equilibrium import PHYSICAL_DEFAULTS
 from cdpr.models.equilibrium import solve as solve_spatial
 from cdpr.models.inverse import L_TS
 from cdpr.models.platform import pose_arrays
 from cdpr.models.results import point_keys
-from cdpr.models.sensitivity6 import sensitivities_at, spatial_sensitivities
+from cdpr.models.sensitivity import pose_sensitivities, sensitivities_at
 from cdpr.robot import load_robot
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -67,7 +67,7 @@ def cpu_model():
 
 def sensitivity_rates(cog, p, rv, res, n, nn, repeat):
     """Prints the 6-DoF sensitivities per second, compiled and numpy, at the same equilibria ``res``
-    (``sensitivities_at``) and end to end (``spatial_sensitivities``)."""
+    (``sensitivities_at``) and end to end (``pose_sensitivities``)."""
     sub = {k: v[:nn] for k, v in res.items() if k != "alternatives"}
     sensitivities_at_fast(cog, {k: v[:10] for k, v in sub.items()})  # compile (or load the cache)
     ts, cs, a = best(lambda: sensitivities_at_fast(cog, res), repeat)
@@ -83,9 +83,9 @@ def sensitivity_rates(cog, p, rv, res, n, nn, repeat):
     )
     n3 = max(1, nn // 10)
     te, ce, _ = best(lambda: spatial_sensitivities_fast(cog, p, rv), repeat)
-    ten, _, _ = best(lambda: spatial_sensitivities(cog, p[:n3], rv[:n3]), max(1, repeat - 1))
+    ten, _, _ = best(lambda: pose_sensitivities(cog, p[:n3], rv[:n3]), max(1, repeat - 1))
     print(
-        f"  solve + sensitivities (spatial_sensitivities): compiled {n / te:,.0f} poses/s "
+        f"  solve + sensitivities (pose_sensitivities): compiled {n / te:,.0f} poses/s "
         f"({ce / n * 1e6:.1f} us cpu per pose), numpy {n3 / ten:,.0f} poses/s (N = {n3}): "
         f"ratio {(n / te) / (n3 / ten):,.0f}"
     )

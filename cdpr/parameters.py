@@ -20,7 +20,7 @@ The order of ``parameter_names`` is the order of the sensitivity columns and of 
 A rigid 6-DoF platform (``Robot.point_mass`` False) has more: ``parameter_names6`` adds the
 attachment points ``b_1_x`` .. ``b_m_z`` [m] (platform frame, group ``b``) after the anchors and the
 centre of mass ``c_x``, ``c_y``, ``c_z`` [m] (platform frame, group ``c``) before M; the sensitivities
-dp*/dθ, dφ*/dθ (``cdpr.models.sensitivity6``) and the spatial calibration use that one naming.
+dp*/dθ, dφ*/dθ (``cdpr.models.sensitivity``) and the spatial calibration use that one naming.
 """
 
 from __future__ import annotations
@@ -101,7 +101,7 @@ GROUPS6 = ("E", "h", "r_p", "d", "A", "b", "c", "M")
 
 def parameter_names6(m):
     """Names of θ for a rigid platform on m cables (cables from 1), the order of the columns of
-    ``cdpr.models.sensitivity6.spatial_sensitivities``.
+    ``cdpr.models.sensitivity.pose_sensitivities``.
 
     Parameters
     ----------

@@ -24,10 +24,9 @@ import numpy as np
 
 from cdpr.compiled import equilibrium as compiled_equilibrium
 from cdpr.compiled import sensitivity as compiled_sensitivity
-from cdpr.compiled import sensitivity6 as compiled_sensitivity6
 from cdpr.compiled import subsets as compiled_subsets
 from cdpr.errors import CdprError
-from cdpr.models import equilibrium, sensitivity, sensitivity6
+from cdpr.models import equilibrium, sensitivity
 from cdpr.models.results import mark_below_floor, point_keys
 from cdpr.models.subsets import solve_points
 from cdpr.robot import require_point_mass
@@ -266,8 +265,8 @@ def sensitivities(
     A point mass in paper mode, or a suspended point mass in physical mode without an orientation:
     ``models.sensitivity.sensitivities`` (compiled twin ``cdpr.compiled.sensitivity``), S (N, 3, n).
     Every other robot in physical mode (a rigid platform, pulleys at any axis, a given orientation):
-    the pose sensitivities ``models.sensitivity6.spatial_sensitivities`` (compiled twin
-    ``cdpr.compiled.sensitivity6``), S (N, 6, n) with the rows dφ*/dθ. The references' docstrings
+    the pose sensitivities ``models.sensitivity.pose_sensitivities`` (compiled twin
+    ``cdpr.compiled.sensitivity``), S (N, 6, n) with the rows dφ*/dθ. The references' docstrings
     give the equations and the result.
 
     Parameters
@@ -304,10 +303,10 @@ def sensitivities(
         p = p[:, :3]
     elif not _fast_point(robot, p, rotvec):
         if engine == "compiled":
-            return compiled_sensitivity6.spatial_sensitivities(
+            return compiled_sensitivity.pose_sensitivities(
                 robot, p, rotvec, L0=L, threads=threads, t_tol=t_tol, **solver
             )
-        return sensitivity6.spatial_sensitivities(robot, p, rotvec, L0=L, t_tol=t_tol, **solver)
+        return sensitivity.pose_sensitivities(robot, p, rotvec, L0=L, t_tol=t_tol, **solver)
     if engine == "compiled":
         return compiled_sensitivity.sensitivities_fast(
             robot, p, redundancy=redundancy, L=L, threads=threads, gap_tol=gap_tol, t_tol=t_tol, **solver
@@ -319,13 +318,13 @@ def sensitivities(
 
 def sensitivities_at(robot, res, names=None, t_tol=sensitivity.T_TOL, engine=None, threads=None):
     """dp*/dθ and dφ*/dθ at the equilibria of a physical-mode pose result (``solve`` with all keys:
-    P_s, R_s, L0, status) of either engine (``sensitivity6.sensitivities_at``, whose docstring gives
+    P_s, R_s, L0, status) of either engine (``sensitivity.sensitivities_at``, whose docstring gives
     the equations and the result), by the chosen engine: ``"compiled"`` (default:
-    ``cdpr.compiled.sensitivity6.sensitivities_at``) or ``"numpy"``; another engine raises CdprError
+    ``cdpr.compiled.sensitivity.sensitivities_at``) or ``"numpy"``; another engine raises CdprError
     naming the allowed values."""
     if check_engine(engine, "newton") == "compiled":
-        return compiled_sensitivity6.sensitivities_at(robot, res, names, t_tol, threads=threads)
-    return sensitivity6.sensitivities_at(robot, res, names, t_tol)
+        return compiled_sensitivity.sensitivities_at(robot, res, names, t_tol, threads=threads)
+    return sensitivity.sensitivities_at(robot, res, names, t_tol)
 
 
 def subset_sensitivities(robot, p, L=None, columns=None, engine=None, threads=None, **solver):

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from cdpr.models import sensitivity, sensitivity6
+from cdpr.models import sensitivity
 from cdpr.models.results import STATUSES, pose_columns, subset_codes, taut_labels
 from cdpr.solve import check_engine, check_redundancy, solve
 
@@ -44,7 +44,7 @@ def to_frame(robot, res, redundancy="paper", rotvec=None):
         ``res["statuses"]`` when given (``compensation.COMP_STATUSES``), else ``results.STATUSES``.
         When ``res`` holds sensitivities (key ``S``): then dx_d<θ>, dy_d<θ>, dz_d<θ> per parameter
         [m per unit of θ] (``sensitivity.sensitivity_columns``) and smooth; a 6-DoF result's also
-        dphix_d<θ>, dphiy_d<θ>, dphiz_d<θ> [rad per unit] (``sensitivity6.sensitivity_columns6``). A 6-DoF result of a
+        dphix_d<θ>, dphiy_d<θ>, dphiz_d<θ> [rad per unit] (``sensitivity.pose_sensitivity_columns``). A 6-DoF result of a
         rigid platform (``equilibrium.solve``, key ``rotvec_s``, robot not a point mass):
         the columns of ``to_frame6``.
     """
@@ -84,9 +84,9 @@ def _frame(robot, res, redundancy):
     if "S" in res:
         S = res["S"]
         flat = np.swapaxes(S, 1, 2).reshape(len(S), -1)
-        columns = (sensitivity6.sensitivity_columns6 if S.shape[1] == 6 else sensitivity.sensitivity_columns)(
-            res["names"]
-        )
+        columns = (
+            sensitivity.pose_sensitivity_columns if S.shape[1] == 6 else sensitivity.sensitivity_columns
+        )(res["names"])
         sens = pd.DataFrame(flat, columns=columns)
         sens["smooth"] = res["smooth"]
         df = pd.concat([df, sens], axis=1)

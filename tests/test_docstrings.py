@@ -27,8 +27,7 @@ MODEL_MODULES = [
     "analyses.budget",
     "analyses.symmetry",
     "models.platform",
-    "models.sensitivity6",
-    "compiled.sensitivity6",
+    "compiled._pose_sensitivity",
 ]
 
 #: A numpy section header: a title line underlined by dashes of the same length.

@@ -3,7 +3,7 @@ spatial counterpart of ``uncertainty.PoseErrorModel`` (physical mode, the only m
 robot). Responses: ‖δp‖ [m] and δφ [rad] (angle of R*ᵀR_d). Cases (issue 19): ``uncompensated``
 (the nominal robot's L_TS at the desired pose) and ``compensated`` (the nominal robot's rest lengths
 under its minimum-norm tension distribution, ``tension_distribution.compensated_lengths``); full solves and
-the linearisation by the implicit-function theorem (``sensitivity6.sensitivities_at``), also as
+the linearisation by the implicit-function theorem (``sensitivity.sensitivities_at``), also as
 two ``uncertainty.Linearisation`` objects (position and rotation vector) in the point-mass
 parameter columns the study's drivers set (``linearisations``)."""
 
@@ -136,7 +136,7 @@ class PoseErrorModel6:
 
     def linearise(self):
         """Nominal pose (P_s (N, 3) [m], R_s (N, 3, 3)) and S = dx*/dθ (N, 6, 10 m + 4), x = (p, φ)
-        (``sensitivity6.sensitivities_at``; NaN rows where the pose is infeasible or not ok)."""
+        (``sensitivity.sensitivities_at``; NaN rows where the pose is infeasible or not ok)."""
         N, f = len(self.p), self.feasible
         res = self._solve(self.robot)
         # the numpy reference (central differences of the balance), through the engine switch: the

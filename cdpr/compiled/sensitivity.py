@@ -44,6 +44,7 @@ from cdpr.compiled._kernels import (
 )
 from cdpr.compiled._point_mass import physical_load, physical_outputs
 from cdpr.compiled._point_mass import solve_point as physical_point
+from cdpr.compiled._pose_sensitivity import pose_sensitivities, sensitivities_at  # noqa: F401  (the pose path)
 from cdpr.compiled.subsets import (
     ST_OK,
     commanded_lengths,

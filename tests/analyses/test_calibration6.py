@@ -44,9 +44,9 @@ def _truth(robot, groups, seed, priors=None):
 
 def test_one_naming_of_the_spatial_vector(cogiro):
     """The sensitivities' names are the parameter vector's (cdpr.parameters), attachments b_i_xyz."""
-    from cdpr.models import sensitivity6
+    from cdpr.models import sensitivity
 
-    assert sensitivity6.parameter_names6 is parameter_names6
+    assert sensitivity.parameter_names6 is parameter_names6
     names = calibration_names(8, spatial=True)
     idx = select_groups(cogiro, ["attachments"])
     assert [names[k] for k in idx] == [f"b_{i}_{a}" for i in range(1, 9) for a in "xyz"]

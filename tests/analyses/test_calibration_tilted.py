@@ -1,5 +1,5 @@
 """Calibration of a point mass under a tilted pulley axis (issue 37: it used to be refused with "use
-cdpr.solve.spatial_sensitivities"): such a robot goes to the 6-DoF equilibrium, which contains the
+cdpr.solve.pose_sensitivities"): such a robot goes to the 6-DoF equilibrium, which contains the
 point mass. The point-mass problem on that path equals the point-mass physical one on a suspended
 CDPR4 (same residual and Jacobian), its exact Jacobian (pose and tension rows, offsets, every
 group) equals central differences of the full residual, and noise-free data recover the truth."""

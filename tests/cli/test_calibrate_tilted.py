@@ -1,5 +1,5 @@
 """`cdpr calibrate fit | check | plan` on a point-mass robot with one tilted pulley axis (issue 37:
-it was refused, "use cdpr.solve.spatial_sensitivities"): config/robots/cdpr4.yaml with cable 2's
+it was refused, "use cdpr.solve.pose_sensitivities"): config/robots/cdpr4.yaml with cable 2's
 axis tilted, a true robot deviating by seeded offsets in anchors, dead lengths and pulleys, tracker
 data at 40 poses with σ = 20 µm; the fit recovers the seeded parameters to the noise and the
 calibrated robot file (which keeps the tilted axis) predicts the data at the noise floor."""

@@ -280,7 +280,7 @@ def test_point_sensitivities_on_cogiro_equal_the_library(capsys, engine):
     """--sensitivities on a rigid platform: the JSON's dp*/dθ and dφ*/dθ are the library's numbers,
     the numpy reference's by default (one pose, solve.ONE_SHOT_POSES) and with --engine numpy, the
     compiled engine's with --engine compiled."""
-    from cdpr.models.sensitivity6 import parameter_names6
+    from cdpr.models.sensitivity import parameter_names6
     from cdpr.robot import load_robot
     from cdpr.solve import sensitivities
 

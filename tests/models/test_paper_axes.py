@@ -398,13 +398,13 @@ def test_compiled_sensitivities_equal_numpy_on_the_turned_robot(tilted):
 @pytest.mark.parametrize("engine", ["numpy", "compiled"])
 def test_physical_point_mass_sensitivities_on_the_turned_robot_go_through_the_pose_model(tilted, engine):
     """One door: physical-mode sensitivities of a point mass on leaning pulleys are the pose model's
-    (``sensitivity6.spatial_sensitivities``: dp*/dθ and dφ*/dθ rows), not a refusal; the point's
+    (``sensitivity.pose_sensitivities``: dp*/dθ and dφ*/dθ rows), not a refusal; the point's
     position rows equal the reference's and the rotation rows of a point mass are 0."""
-    from cdpr.models.sensitivity6 import spatial_sensitivities
+    from cdpr.models.sensitivity import pose_sensitivities
 
     q = workspace_points(5) @ rotation("small").T
     res = sensitivities(tilted, q, redundancy="physical", engine=engine)
-    ref = spatial_sensitivities(tilted, q)
+    ref = pose_sensitivities(tilted, q)
     assert res["S"].shape[1] == 6 and list(res["names"]) == list(ref["names"])
     np.testing.assert_array_equal(res["status"], ref["status"])
     ok = res["status"] == "ok"

@@ -31,8 +31,8 @@ from cdpr.models.platform import rotation_matrix, rotvec_of
 from cdpr.models.sensitivity import (
     COND_MAX,
     T_TOL,
+    rest_length_sensitivities,
 )
-from cdpr.models.sensitivity6 import rest_length_sensitivities
 from cdpr.models.tension_distribution import compensated_lengths
 from cdpr.parameters import (
     is_spatial,

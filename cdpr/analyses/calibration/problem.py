@@ -4,7 +4,7 @@ The robot is commanded rest lengths L0 and settles at the equilibrium P*(θ, L0)
 the pose y. The residual (``map_residual``, ``map_residual6`` for a 6-DoF platform) is the measured
 minus predicted pose over the tracker noise, then (t_meas - t(θ, L0)) / σ_t for measured tensions,
 then the prior rows (θ - θ_0) / σ_prior. Its Jacobian is exact, from the implicit-function
-sensitivities dP*/dθ (``cdpr.models.sensitivity``; ``cdpr.models.sensitivity6`` on the 6-DoF
+sensitivities dP*/dθ (``cdpr.models.sensitivity``; ``cdpr.models.sensitivity`` on the 6-DoF
 equilibrium, for a rigid platform and for a point mass under a tilted pulley axis), with the encoder offsets' column
 dP*/do = J^-1 dF/dL0 (``offset_sensitivities``) and the tensions' total derivatives
 (``tension_sensitivities``, ``tension_sensitivities6``); no finite differences inside the fit.
@@ -38,8 +38,9 @@ from cdpr.models.sensitivity import (
     cable_partials,
     implicit_solve,
     physical_jacobian_terms,
+    rest_length_sensitivities,
+    tension_partials,
 )
-from cdpr.models.sensitivity6 import rest_length_sensitivities, tension_partials6
 from cdpr.parameters import (
     calibrated_robot,
     calibration_names,
@@ -322,8 +323,8 @@ class Problem6:
     orientation plays no part, and its calibration vector is the point mass's,
     ``calibration_names(m)``). Then m tension rows (t_meas - t(θ, L0)) / σ_t per sample with
     measured tensions (``tension_sensitivities6``), then the prior rows; the exact Jacobian from
-    ``sensitivity6.spatial_sensitivities`` (implicit function) and, for the encoder offsets,
-    ``sensitivity6.rest_length_sensitivities`` (dx*/do_i = -dx*/dL0_i). A sample without a
+    ``sensitivity.pose_sensitivities`` (implicit function) and, for the encoder offsets,
+    ``sensitivity.rest_length_sensitivities`` (dx*/do_i = -dx*/dL0_i). A sample without a
     measured pose is solved from ``default_start`` at the identity orientation. On a robot file with
     ``winch:`` the commanded lengths go through the drums (``drive.realised_rest_lengths``) with
     the chain rule of ``Problem.evaluate`` on the offsets and dead lengths. The solve and the
@@ -331,7 +332,7 @@ class Problem6:
     the compiled twin (analytic dF6/dθ) changes the tracked CoGiRo tables (the misfit models' fits
     move; the exact model's in the 4th digit), so the study stays on numpy. A sample is smooth
     where ``smooth6`` says so (a rigid platform) or, for a point mass (whose moment rows vanish, so
-    that the 6 × 6 Jacobian is singular), where ``sensitivity6.sensitivities_at`` says so (the
+    that the 6 × 6 Jacobian is singular), where ``sensitivity.sensitivities_at`` says so (the
     point-mass physical mode's rule on the 3 × 3 translation block).
 
     Parameters
@@ -548,7 +549,7 @@ def tension_sensitivities6(robot, P, R, L0, S, cols6, w_L=None, w_d=None):
               + \frac{\partial k_i}{\partial \theta}(L_{TE,i} - L0_i)\right]
               + \frac{\partial t_i}{\partial L0_i}\frac{dL0_i}{d\theta}
 
-    x* = (p*, R*) with the attachment B_i = p + R b_i (``sensitivity6.tension_partials6``: ∂t_i/∂x,
+    x* = (p*, R*) with the attachment B_i = p + R b_i (``sensitivity.tension_partials``: ∂t_i/∂x,
     ∂t_i/∂L0_i = -a_i k_i L_TE,i / L0_i and the fixed-pose partials); L0_i = reading - o_i, so
     dL0_i/do_i = -1, or through a winch (L0_i = W(reading - o_i, d_i), ``drive.realised_rest_lengths``)
     dL0_i/do_i = -∂W/∂L_cmd and dL0_i/dd_i = ∂W/∂d_i. The calibration vector is the robot's
@@ -587,7 +588,7 @@ def tension_sensitivities6(robot, P, R, L0, S, cols6, w_L=None, w_d=None):
     spatial = is_spatial(robot)
     nr = robot_size(m, spatial)
     names = calibration_names(m, spatial)
-    tp = tension_partials6(robot, P, R, L0, [names[k] for k in cols6])
+    tp = tension_partials(robot, P, R, L0, [names[k] for k in cols6])
     dt = np.einsum("nia,nak->nik", tp["dt_dx"], S)
     dt[:, :, cols6] += tp["dt_dtheta"]
     cab = np.arange(m)

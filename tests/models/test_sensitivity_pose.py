@@ -7,8 +7,7 @@ import pytest
 
 from cdpr.models.equilibrium import solve as solve_spatial
 from cdpr.models.platform import rotvec_of
-from cdpr.models.sensitivity import COND_MAX
-from cdpr.models.sensitivity6 import spatial_sensitivities
+from cdpr.models.sensitivity import COND_MAX, pose_sensitivities
 from cdpr.robot import load_robot
 from tests.conftest import ROBOTS
 
@@ -52,7 +51,7 @@ STEPS = {"E_3": 1e5, "M": 1e-4}
 )
 def test_sensitivities_equal_finite_differences_on_cogiro(pose):
     r = load_robot(ROBOTS / "cogiro.yaml")
-    res = spatial_sensitivities(r, [pose], names=NAMES)
+    res = pose_sensitivities(r, [pose], names=NAMES)
     L0 = res["L0"]
     for k, name in enumerate(NAMES):
         h = STEPS.get(name, 1e-6)
@@ -80,7 +79,7 @@ def test_sensitivities_under_compensated_lengths_at_a_tilted_pose():
     comp = compensated_lengths(r, pose, t_min=100.0, t_max=5000.0)
     assert comp["feasible"].all()
     names = ["A_3_x", "b_2_y", "E_5", "c_z"]
-    res = spatial_sensitivities(r, pose, L0=comp["L0"], names=names)
+    res = pose_sensitivities(r, pose, L0=comp["L0"], names=names)
     assert res["status"][0] == "ok" and res["taut"].all()
     assert np.abs(res["P_s"][0] - pose[0][:3]).max() < 1e-9  # compensated: the platform is at the pose
     assert res["smooth"][0] and np.isfinite(res["cond"][0])
@@ -100,12 +99,12 @@ def test_sensitivities_under_compensated_lengths_at_a_tilted_pose():
         S = res["S"][0, :, k]
         assert np.abs(fd).max() > 0
         assert np.abs(S - fd).max() <= 1e-4 * np.abs(fd).max() + 1e-12, name
-    tight = spatial_sensitivities(r, pose, L0=comp["L0"], names=names, t_tol=res["margin_t"][0] + 1.0)
+    tight = pose_sensitivities(r, pose, L0=comp["L0"], names=names, t_tol=res["margin_t"][0] + 1.0)
     assert not tight["smooth"][0]  # a tension within t_tol of a bound: the taut set may change
 
 
 def test_scaled_condition_flags_a_singular_jacobian():
-    from cdpr.models.sensitivity6 import scaled_condition
+    from cdpr.models.sensitivity import scaled_condition
 
     rng = np.random.default_rng(3)
     J = rng.normal(size=(2, 6, 6))
@@ -119,7 +118,7 @@ def test_scaled_condition_flags_a_singular_jacobian():
 
 def test_failed_points_get_nan_and_are_not_smooth():
     r = load_robot(ROBOTS / "cogiro.yaml")
-    res = spatial_sensitivities(r, [[0, 0, 2.0, 0, 0, 0], [0, 0, 20.0, 0, 0, 0]], names=["c_z"])
+    res = pose_sensitivities(r, [[0, 0, 2.0, 0, 0, 0], [0, 0, 20.0, 0, 0, 0]], names=["c_z"])
     bad = res["status"] != "ok"
     assert list(bad) == [False, True] and res["smooth"][0]  # 20 m is above the frame: not converged
     assert np.isnan(res["S"][bad]).all() and not res["smooth"][bad].any()

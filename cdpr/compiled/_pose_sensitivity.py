@@ -1,7 +1,9 @@
-"""Compiled 6-DoF sensitivities dp*/dθ, dφ*/dθ: ``sensitivity6.sensitivities_at`` and
-``spatial_sensitivities`` as a numba kernel in parallel over poses (chunks of ``CHUNK``).
+"""Compiled pose sensitivities dp*/dθ, dφ*/dθ (physical mode of any robot):
+``models.sensitivity.sensitivities_at`` and ``pose_sensitivities`` as a numba kernel in parallel over
+poses (chunks of ``CHUNK``); ``cdpr.compiled.sensitivity`` exposes them beside the point-mass
+kernels.
 
-At each equilibrium (p*, R*) of a ``solve_spatial`` result (either engine; ``spatial_sensitivities``
+At each equilibrium (p*, R*) of a ``models.equilibrium.solve`` result (either engine; ``pose_sensitivities``
 runs the compiled one) the balance's 6 x 6 Jacobian dF6/dx is the solver's own
 (``compiled.equilibrium.evaluate``, the compiled ``models.equilibrium._jacobian``) and dF6/dθ at fixed pose is
 analytic, cable by cable, from the shared cable kernel (``_kernels.cable_partials_axis``: the
@@ -58,9 +60,9 @@ from cdpr.errors import CdprError
 from cdpr.models.sensitivity import COND_MAX, T_TOL
 from cdpr.parameters import parameter_names6
 
-__all__ = ["sensitivities_at", "spatial_sensitivities"]
+__all__ = ["pose_sensitivities", "sensitivities_at"]
 
-#: rcond of the pseudo-inverse of dF6/dx (``sensitivity6.sensitivities_at``).
+#: rcond of the pseudo-inverse of dF6/dx (``models.sensitivity.sensitivities_at``).
 PINV_RCOND = 1e-12
 
 
@@ -79,7 +81,7 @@ def _wrench_col(dF, col, dt, t, ux, uy, uz, dux, duy, duz, rx, ry, rz, qx, qy, q
 def wrench_partials6(P, R, L0, i, cab, body, mass, rows, dF):
     """dF6/dθ (6, 10 m + 4) at the fixed pose (P[i], R[i]) with rest lengths L0[i], columns in the
     order of ``parameter_names6`` (module docstring), into dF; ``rows`` (m, NCOL) the cables'
-    ``cable_partials_axis``. Returns the tension margin of ``sensitivity6.sensitivities_at``
+    ``cable_partials_axis``. Returns the tension margin of ``models.sensitivity.sensitivities_at``
     (min over cables of |Hooke tension| and of T_a minus a positive one) [N].
 
     .. math:: \\frac{\\partial w_i}{\\partial q} = dt_i \\begin{bmatrix} u_i \\\\ r_i \\times u_i
@@ -264,7 +266,7 @@ def wrench_partials6(P, R, L0, i, cab, body, mass, rows, dF):
 
 @njit(cache=True, error_model="numpy")
 def scaled_condition6(J, ell, rigid, Js):
-    """``sensitivity6.scaled_condition`` of one Jacobian: ||J_s||_F ||J_s^-1||_F of
+    """``models.sensitivity.scaled_condition`` of one Jacobian: ||J_s||_F ||J_s^-1||_F of
     J_s = D^-1 J D^-1, D = diag(1, 1, 1, ell, ell, ell) (the 3 x 3 translation block unless
     ``rigid``), from its singular values; inf where J is singular or not finite.
 
@@ -392,8 +394,8 @@ def _sens_poses(P, R, L0, ok, cab, body, mass, cols, rcond, S, margin, cond):
 
 
 def sensitivities_at(robot, res, names=None, t_tol=T_TOL, threads=None):
-    """Compiled ``sensitivity6.sensitivities_at`` (same parameters and result; ``threads`` caps
-    numba's threads): dp*/dθ and dφ*/dθ at the equilibria of a ``solve_spatial`` result.
+    """Compiled ``models.sensitivity.sensitivities_at`` (same parameters and result; ``threads`` caps
+    numba's threads): dp*/dθ and dφ*/dθ at the equilibria of a ``models.equilibrium.solve`` result.
 
     .. math:: \\frac{dx^*}{d\\theta} = -\\left(\\frac{\\partial F_6}{\\partial x}\\right)^{+}
         \\frac{\\partial F_6}{\\partial \\theta}, \\qquad x = (\\mathbf p, \\boldsymbol\\varphi)
@@ -415,7 +417,7 @@ def sensitivities_at(robot, res, names=None, t_tol=T_TOL, threads=None):
     -------
     dict
         names (n,); S (N, 6, n) [m or rad per unit of θ], NaN where the status is not ok; smooth
-        (N,) bool; margin_t (N,) [N]; cond (N,) (as ``sensitivity6.sensitivities_at``).
+        (N,) bool; margin_t (N,) [N]; cond (N,) (as ``models.sensitivity.sensitivities_at``).
 
     References
     ----------
@@ -458,8 +460,8 @@ def sensitivities_at(robot, res, names=None, t_tol=T_TOL, threads=None):
     return {"names": names, "S": S, "smooth": smooth, "margin_t": margin, "cond": cond}
 
 
-def spatial_sensitivities(robot, p, rotvec=None, L0=None, names=None, t_tol=T_TOL, threads=None, **solver):
-    """Compiled ``sensitivity6.spatial_sensitivities``: the compiled ``solve_spatial`` then the
+def pose_sensitivities(robot, p, rotvec=None, L0=None, names=None, t_tol=T_TOL, threads=None, **solver):
+    """Compiled ``models.sensitivity.pose_sensitivities``: the compiled ``solve_spatial`` then the
     compiled ``sensitivities_at`` (same parameters and result; ``threads`` caps numba's threads).
 
     Parameters
@@ -481,7 +483,7 @@ def spatial_sensitivities(robot, p, rotvec=None, L0=None, names=None, t_tol=T_TO
     Returns
     -------
     dict
-        As ``sensitivity6.spatial_sensitivities``.
+        As ``models.sensitivity.pose_sensitivities``.
 
     References
     ----------

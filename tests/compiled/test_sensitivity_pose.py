@@ -1,5 +1,5 @@
-"""The compiled 6-DoF sensitivities (cdpr.compiled.sensitivity6) equal the numpy reference
-(cdpr.models.sensitivity6) on the spatial robots (CoGiRo, wall pulleys with horizontal axes, ...) at
+"""The compiled 6-DoF sensitivities (cdpr.compiled.sensitivity) equal the numpy reference
+(cdpr.models.sensitivity) on the spatial robots (CoGiRo, wall pulleys with horizontal axes, ...) at
 random tilted poses with slack cables, and on a point-mass robot; the engine registry chooses them.
 
 The compiled dF6/dθ is analytic, the reference's a central difference of the balance (steps 1e-7 m
@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 from numba import njit
 
-from cdpr.compiled import sensitivity6 as fast
+from cdpr.compiled import sensitivity as fast
 from cdpr.compiled._kernels import (
     C_DLD,
     C_DLDP,
@@ -28,7 +28,7 @@ from cdpr.compiled._kernels import (
 )
 from cdpr.compiled.equilibrium import solve as solve_fast
 from cdpr.errors import CdprError
-from cdpr.models import sensitivity6 as ref
+from cdpr.models import sensitivity as ref
 from cdpr.models.equilibrium import solve as solve_spatial
 from cdpr.models.inverse import L_TS
 from cdpr.models.platform import pose_arrays, rotvec_of
@@ -134,11 +134,11 @@ def test_spatial_sensitivities_compiled_equal_numpy_on_cogiro(pose):
 def test_compiled_equals_finite_differences_of_the_compiled_solve():
     """Physics: dx*/dθ of the kernel = central differences of the compiled solve of the perturbed
     robot (attachments, anchors, mass, centre of mass) on a tilted CoGiRo pose."""
-    from tests.models.test_sensitivity6 import changed
+    from tests.models.test_sensitivity_pose import changed
 
     r = load_robot(ROBOTS / "cogiro.yaml")
     pose = [[0.3, -0.2, 2.0, 0.1, -0.05, 0.2]]
-    res = fast.spatial_sensitivities(r, pose, names=["b_1_x", "b_4_z", "A_2_y", "h_3", "c_z", "M"])
+    res = fast.pose_sensitivities(r, pose, names=["b_1_x", "b_4_z", "A_2_y", "h_3", "c_z", "M"])
     assert res["smooth"][0]
     for k, name in enumerate(res["names"]):
         h = 1e-4 if name == "M" else 1e-6
