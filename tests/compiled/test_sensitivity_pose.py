@@ -34,7 +34,7 @@ from cdpr.models.inverse import L_TS
 from cdpr.models.platform import pose_arrays, rotvec_of
 from cdpr.robot import load_robot, with_pulleys
 from cdpr.solve import sensitivities, sensitivities_at
-from tests.compiled.test_equilibrium6 import BOXES, _cables, _poses, _random_pulleys
+from tests.compiled.test_equilibrium_pose import BOXES, _cables, _poses, _random_pulleys
 from tests.conftest import ROBOTS
 
 #: The reference's central-difference round-off bound, relative to a column of S (measured 3.3e-6).

@@ -60,7 +60,7 @@ def test_the_key_gates_the_jobs(tmp_path):
 
 def test_the_jobs_write_the_budget_of_every_design(tmp_path, monkeypatch):
     # the numpy reference of the 6-DoF solve: no kernel compilation in this file (the compiled twin
-    # is tested equal to it to 1e-9 m and rad, tests/compiled/test_equilibrium6.py)
+    # is tested equal to it to 1e-9 m and rad, tests/compiled/test_equilibrium_pose.py)
     monkeypatch.setattr(tasks.budget, "error_budget", functools.partial(budget.error_budget, engine="numpy"))
     st = study.load_study(_variant(QUICK_SPATIAL, tmp_path, budget=KEY))
     box = tmp_path / "rw_c.json"
