@@ -126,6 +126,27 @@ def check_file(path, results=None):
     return problems
 
 
+def height_range(robot):
+    """The heights a study's plane, paths and points may take on ``robot``: (bottom [m], top [m], the
+    top's name). A suspended point mass hangs between its floor and its lowest pulley; any other robot
+    (a rigid platform, pulleys at any axis, anchors below the platform) stays within its frame box:
+    from the floor (or its lowest anchor, if lower) to its highest anchor.
+
+    Parameters
+    ----------
+    robot : Robot
+
+    Returns
+    -------
+    tuple
+        (bottom, top, where) with ``where`` "the lowest pulley" or "the highest anchor".
+    """
+    z = robot.A[:, 2]
+    if robot.suspended_point_mass:
+        return robot.floor_z, float(z.min()), "the lowest pulley"
+    return min(robot.floor_z, float(z.min())), float(z.max()), "the highest anchor"
+
+
 def redundancy(st):
     """The study's redundancy mode: ``paper`` (the paper's 3-cable subset rule, the default) or
     ``physical`` (the equilibrium on all cables, ``equilibrium``)."""
@@ -466,25 +487,25 @@ def check_study(st):
             _increasing(st, "winch", w["lpm_from_m"], w["lpm_to_m"], "'lpm_from_m' must be below 'lpm_to_m'")
     z = st["plane"]["z_m"]
     for key, robot in robots.items():
-        top = float(robot.A[:, 2].min())
+        bottom, top, where = height_range(robot)
         with _collect(problems):
-            if not robot.floor_z <= z < top:
+            if not bottom <= z < top:
                 raise ConfigError(
                     src,
                     "plane.z_m",
-                    f"must lie between the floor and the lowest pulley of robot {key} ({robot.floor_z:g} <= z < {top:g} m), got {z:g}",
+                    f"must lie between the floor and {where} of robot {key} ({bottom:g} <= z < {top:g} m), got {z:g}",
                 )
     for key, path in st["trajectories"]["paths"].items():
         if path_robot(st, key) not in robots:
             continue  # unknown or invalid robot: reported above
-        top = float(robots[path_robot(st, key)].A[:, 2].min())
+        _, top, where = height_range(robots[path_robot(st, key)])
         for end in ("start_m", "end_m"):
             with _collect(problems):
                 if path[end][2] > top:
                     raise ConfigError(
                         src,
                         f"trajectories.paths.{key}.{end}",
-                        f"z must not exceed the lowest pulley ({top:g} m), got {path[end][2]:g}",
+                        f"z must not exceed {where} ({top:g} m), got {path[end][2]:g}",
                     )
     for problem in check_spatial_study(st, robots):
         problems.append(problem)
@@ -702,14 +723,13 @@ def check_uncertainty(st, robots):
         raise ConfigError(
             src, "uncertainty.sobol.base_samples", f"must be a power of 2 (Sobol' sequence), got {b}"
         )
-    robot = robots[st["doe"]["robot"]]
-    top = float(robot.A[:, 2].min())
+    _, top, where = height_range(robots[st["doe"]["robot"]])
     for i, pnt in enumerate(u["sobol"]["points_m"]):
         if not pnt[2] < top:
             raise ConfigError(
                 src,
                 f"uncertainty.sobol.points_m[{i}]",
-                f"z must lie below the lowest pulley ({top:g} m), got {pnt[2]:g}",
+                f"z must lie below {where} ({top:g} m), got {pnt[2]:g}",
             )
     _check_offsets(st, u["parameters"])
 
