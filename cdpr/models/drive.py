@@ -38,14 +38,19 @@ from cdpr.models import winch
 from cdpr.models.inverse import L_TS
 
 
+def _on_every_cable(robot, items, what):
+    """``items`` (one per cable) when none is None, else CdprError naming the cables without one:
+    "cables [..] have no <what>" (``what`` also says what to give)."""
+    missing = [i + 1 for i, x in enumerate(items) if x is None]
+    if missing:
+        raise CdprError(f"{robot.source}: cables {missing} have no {what}")
+    return items
+
+
 def _winches(robot):
-    ws = robot.winches
-    if any(w is None for w in ws):
-        missing = [i + 1 for i, w in enumerate(ws) if w is None]
-        raise CdprError(
-            f"{robot.source}: cables {missing} have no winch; give 'winch:' in the robot file (winch: {{}} is Table 1's)"
-        )
-    return ws
+    return _on_every_cable(
+        robot, robot.winches, "winch; give 'winch:' in the robot file (winch: {} is Table 1's)"
+    )
 
 
 def drum_angles(robot, L0):
@@ -237,11 +242,7 @@ def has_spools(robot):
     sp = robot.spools
     if all(p is None for p in sp):
         return False
-    if any(p is None for p in sp):
-        missing = [i + 1 for i, p in enumerate(sp) if p is None]
-        raise CdprError(
-            f"{robot.source}: cables {missing} have no spool; motor angles need a spool on every cable"
-        )
+    _on_every_cable(robot, sp, "spool; motor angles need a spool on every cable")
     return True
 
 
