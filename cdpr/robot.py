@@ -505,6 +505,12 @@ class Robot:
         a = self.arrays
         return bool(not a.b.any() and not a.com.any())
 
+    @property
+    def default_redundancy(self):
+        """The redundancy mode when none is given: "paper" (the paper's 3-cable subsets) for a point
+        mass, "physical" for a rigid platform (its only mode)."""
+        return "paper" if self.point_mass else "physical"
+
     @cached_property
     def suspended_point_mass(self):
         """True for today's model: a point-mass platform under pulleys whose swivel axes are +z (and

@@ -72,7 +72,7 @@ def check_redundancy(redundancy, robot=None):
     with a ``robot``: the robot's default, paper mode for a point mass and physical mode for a
     rigid platform (its only mode)."""
     if redundancy is None and robot is not None:
-        return "paper" if robot.point_mass else "physical"
+        return robot.default_redundancy
     if redundancy not in REDUNDANCY:
         raise CdprError(f"unknown redundancy {redundancy!r}; allowed: {', '.join(REDUNDANCY)}")
     return redundancy

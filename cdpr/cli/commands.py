@@ -60,8 +60,8 @@ def emit_json(out, args):
 
 def _load(args):
     """The robot of --robot with the command line's overrides, checked for plausibility; a
-    --redundancy left out becomes the robot's default (paper mode for a point mass, physical mode
-    for a rigid platform, its only mode: ``solve.check_redundancy``)."""
+    --redundancy left out becomes the robot's default (``Robot.default_redundancy``: paper mode for
+    a point mass, physical mode for a rigid platform, its only mode)."""
     robot = checked(
         load_robot(
             args.robot,
@@ -76,7 +76,7 @@ def _load(args):
         args,
     )
     if hasattr(args, "redundancy") and args.redundancy is None:
-        args.redundancy = "paper" if robot.point_mass else "physical"
+        args.redundancy = robot.default_redundancy
     return robot
 
 
