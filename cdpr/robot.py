@@ -39,7 +39,6 @@ material ``cable:`` describes (axial stiffness U E S), and its tension (the forc
 
 from __future__ import annotations
 
-import copy
 import dataclasses
 import itertools
 import math
@@ -835,69 +834,73 @@ def robot_from_dict(data, source="<dict>"):
     return robot
 
 
-def apply_overrides(data, pulley=None, h=None, r_p=None, dead_length=None, E=None, mass=None, E_cables=None):
-    """Return a copy of the robot mapping with the given values set for every cable, exactly as if
-    the file had been edited (``pulley`` kind, ``h``, ``r_p``, ``dead_length`` [m], ``E`` [Pa],
-    ``mass`` [kg]); ``E_cables`` (m,) [Pa] sets each cable's Young's modulus. ``None`` leaves the
-    file's value. A value set for every cable also replaces the per-cable overrides of that key."""
-    data = copy.deepcopy(data)
-    if not isinstance(data, dict):
-        return data
-    cables = [c for c in data.get("cables") or [] if isinstance(c, dict)]
-    pul_over = {}
-    if pulley is not None:
-        pul_over["kind"] = pulley
-        if pulley == "fixed":
-            pul_over.update(h_m=0.0, r_p_m=0.0)
-    if h is not None:
-        pul_over["h_m"] = h
-    if r_p is not None:
-        pul_over["r_p_m"] = r_p
-    if pul_over and isinstance(data.get("pulley"), dict):
-        data["pulley"].update(pul_over)
-        for c in cables:
-            if isinstance(c.get("pulley"), dict):
-                c["pulley"].update(pul_over)
-    if dead_length is not None:
-        data["dead_length_m"] = dead_length
-        for c in cables:
-            c.pop("dead_length_m", None)
-    if E is not None and isinstance(data.get("cable"), dict):
-        data["cable"]["young_modulus_Pa"] = E
-        for c in cables:
-            if isinstance(c.get("cable"), dict):
-                c["cable"].pop("young_modulus_Pa", None)
-    if E_cables is not None:
-        if len(E_cables) != len(cables):
-            raise ConfigError(
-                data.get("name", "robot"),
-                "cables",
-                f"{len(E_cables)} per-cable Young's moduli given for {len(cables)} cables",
-            )
-        for c, e in zip(cables, E_cables):
-            c.setdefault("cable", {})
-            if isinstance(c["cable"], dict):
-                c["cable"]["young_modulus_Pa"] = e
-    if mass is not None and isinstance(data.get("platform"), dict):
-        data["platform"]["mass_kg"] = mass
-    return data
-
-
 def load_robot(path, **overrides):
-    """Read a robot YAML file into a validated Robot; keyword overrides as in ``apply_overrides``."""
-    return robot_from_file_data(read_yaml(path), path, **overrides)
-
-
-def robot_from_file_data(data, path, **overrides):
-    """``load_robot`` of the mapping ``data`` already read from the robot file ``path``
-    (``read_yaml``): the same validated Robot, without reading the file again (many designs of one
-    robot, e.g. the cells of the h-r_p maps)."""
+    """Read a robot YAML file into a validated Robot, then set the keyword overrides on it as values
+    (``with_values``: ``pulley``, ``h``, ``r_p``, ``dead_length``, ``E``, ``E_cables``, ``mass``; None
+    leaves the file's value); the robot's ``source`` then names them, for the messages."""
+    robot = robot_from_dict(read_yaml(path), source=str(path))
     given = {k: v for k, v in overrides.items() if v is not None}
-    source = str(path)
-    if given:
-        data = apply_overrides(data, **given)
-        source = f"{path} (with command-line overrides: {', '.join(sorted(given))})"
-    return robot_from_dict(data, source=source)
+    if not given:
+        return robot
+    robot = dataclasses.replace(
+        robot, source=f"{path} (with command-line overrides: {', '.join(sorted(given))})"
+    )
+    return with_values(robot, **given)
+
+
+def with_values(robot, pulley=None, h=None, r_p=None, dead_length=None, E=None, E_cables=None, mass=None):
+    """A copy of ``robot`` with values set as if its file had been edited, checked as the file's
+    values are (one line naming the robot's source and the key): every cable's pulley ``pulley``
+    (kind), ``h`` and ``r_p`` [m] (``with_pulleys``), ``dead_length`` [m] and Young's modulus ``E``
+    [Pa]; ``E_cables`` (m,) [Pa] each cable's modulus; ``mass`` [kg] the platform's. None leaves a
+    value as it is. Typed values on the loaded robot (``dataclasses.replace``): the YAML mapping is
+    neither rewritten nor validated again, so a study's many designs of one robot cost no reading.
+
+    Parameters
+    ----------
+    robot : Robot
+        The robot to copy.
+    pulley : str or None
+        Pulley kind for every cable, fixed | SR | DR (fixed sets h = r_p = 0).
+    h, r_p, dead_length : float or str or None
+        Lever arm, sheave radius and dead length of every cable [m] (a string may carry a unit).
+    E : float or str or None
+        Young's modulus of every cable [Pa].
+    E_cables : sequence of float or None
+        (m,) Young's modulus of each cable [Pa].
+    mass : float or str or None
+        Platform mass [kg].
+
+    Returns
+    -------
+    Robot
+    """
+    src = robot.source
+    if pulley is not None and pulley not in PULLEY_KINDS:
+        raise ConfigError(src, "pulley.kind", f"must be one of {' | '.join(PULLEY_KINDS)}, got {pulley!r}")
+    if dead_length is not None:
+        dead_length = _positive(dead_length, "m", src, "dead_length_m", allow_zero=True)
+    if any(v is not None for v in (pulley, h, r_p, dead_length, E)):
+        robot = with_pulleys(robot, kind=pulley, h=h, r_p=r_p, dead_length=dead_length, E=E)
+    if E_cables is not None:
+        if len(E_cables) != robot.m:
+            raise ConfigError(
+                src, "cables", f"{len(E_cables)} per-cable Young's moduli given for {robot.m} cables"
+            )
+        moduli = [
+            _positive(e, "Pa", src, f"cables[{i}].cable.young_modulus_Pa") for i, e in enumerate(E_cables)
+        ]
+        robot = dataclasses.replace(
+            robot,
+            cables=tuple(
+                dataclasses.replace(c, material=dataclasses.replace(c.material, E=e))
+                for c, e in zip(robot.cables, moduli)
+            ),
+        )
+    if mass is not None:
+        mass = _positive(mass, "kg", src, "platform.mass_kg")
+        robot = dataclasses.replace(robot, platform=dataclasses.replace(robot.platform, mass=mass))
+    return robot
 
 
 def with_pulleys(robot, kind=None, h=None, r_p=None, dead_length=None, E=None):
