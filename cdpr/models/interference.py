@@ -55,6 +55,10 @@ DEPTH_TOL = 1e-9
 POINT_EPS = 1e-30
 #: sin^2 of the angle under which two segments count as parallel (only the edge candidates are used).
 PARALLEL_EPS = 1e-14
+#: Segments whose chord depth is computed at a time, and poses per block of ``interference``
+#: (bound the memory of the pairwise candidates: about DEPTH_BLOCK F^2 and POSE_BLOCK m^2 numbers).
+DEPTH_BLOCK = 4096
+POSE_BLOCK = 4096
 #: Distance [m] under which two attachments b_i, b_j or two fixed anchors A_i, A_j are the same point
 #: (the robot file's duplicate check uses the same tolerance).
 SAME_POINT_M = 1e-9
@@ -188,15 +192,22 @@ def clip_segments(X0, X1, faces):
     hit = (lo <= hi) & ~outside
     s_in, s_out = np.where(hit, lo, np.nan), np.where(hit, hi, np.nan)
     # depth: phi_k(s) = -g_k(s) = c_k + e_k s; candidates: the chord's ends and pairwise crossings
-    cc, ee = -g0, -slope
-    de = ee[..., :, None] - ee[..., None, :]
-    ok = de != 0.0
-    cross = (cc[..., None, :] - cc[..., :, None]) / np.where(ok, de, 1.0)
-    cross = np.where(ok, cross, lo[..., None, None]).reshape(cross.shape[:-2] + (-1,))
-    cand = np.concatenate([lo[..., None], hi[..., None], cross], axis=-1)
-    cand = np.clip(cand, lo[..., None], np.maximum(lo, hi)[..., None])
-    phi = np.min(cc[..., None, :] + ee[..., None, :] * cand[..., :, None], axis=-1)
-    depth = np.where(hit, np.maximum(np.max(phi, axis=-1), 0.0), 0.0)
+    # (F^2 candidates per segment: computed for the segments that meet the body, a block at a time)
+    depth = np.zeros(lo.shape)
+    where = np.flatnonzero(hit.ravel())
+    F = faces.shape[0]
+    cc_all, ee_all = -g0.reshape(-1, F), -slope.reshape(-1, F)
+    lo_all, hi_all, flat = lo.ravel(), hi.ravel(), depth.reshape(-1)
+    for start in range(0, len(where), DEPTH_BLOCK):
+        w = where[start : start + DEPTH_BLOCK]
+        cc, ee, a, z = cc_all[w], ee_all[w], lo_all[w], hi_all[w]
+        de = ee[:, :, None] - ee[:, None, :]
+        ok = de != 0.0
+        cross = (cc[:, None, :] - cc[:, :, None]) / np.where(ok, de, 1.0)
+        cross = np.where(ok, cross, a[:, None, None]).reshape(len(w), -1)
+        cand = np.clip(np.concatenate([a[:, None], z[:, None], cross], axis=1), a[:, None], z[:, None])
+        phi = np.min(cc[:, None, :] + ee[:, None, :] * cand[:, :, None], axis=-1)
+        flat[w] = np.maximum(np.max(phi, axis=-1), 0.0)
     return s_in, s_out, depth
 
 
@@ -297,14 +308,31 @@ def interference(robot, p, rotvec=None, R=None):
         p, R = np.atleast_2d(np.asarray(p, dtype=float)), np.asarray(R, dtype=float).reshape(-1, 3, 3)
     if not (np.isfinite(p).all() and np.isfinite(R).all()):
         raise CdprError("interference: every pose must be finite")
-    N, m = len(p), robot.m
-    B, D = cable_segments(robot, p, R)
+    m = robot.m
     shared = shared_pairs(robot)
     skip = {(i, j) for i, j, _ in shared}
     pairs = np.array(
         [(i, j) for i, j in itertools.combinations(range(m), 2) if (i, j) not in skip], dtype=int
     ).reshape(-1, 2)
     radius = np.array([c.material.diameter for c in robot.cables]) / 2.0
+    faces = platform_faces(robot)
+    blocks = [
+        _block(robot, p[k : k + POSE_BLOCK], R[k : k + POSE_BLOCK], pairs, radius, faces)
+        for k in range(0, max(len(p), 1), POSE_BLOCK)
+    ]
+    cat = [np.concatenate([b[f] for b in blocks], axis=0) for f in range(len(blocks[0]))]
+    dist, s, cc, cp, s_in, s_out, length, depth, dmin, dmin_pair = cat
+    free = ~cc.any(axis=1) & ~cp.any(axis=1)
+    return Interference(
+        pairs, dist, s, cc, shared, cp, s_in, s_out, length, depth, free, dmin, dmin_pair, faces is not None
+    )
+
+
+def _block(robot, p, R, pairs, radius, faces):
+    """``interference`` of one block of poses: the arrays of ``Interference`` but pairs, shared,
+    free and has_body."""
+    N, m = len(p), robot.m
+    B, D = cable_segments(robot, p, R)
     if len(pairs):
         i, j = pairs[:, 0], pairs[:, 1]
         dist, si, sj = segment_distance(B[:, i], D[:, i], B[:, j], D[:, j])
@@ -315,10 +343,13 @@ def interference(robot, p, rotvec=None, R=None):
     else:
         dist, s, cc = np.zeros((N, 0)), np.zeros((N, 0, 2)), np.zeros((N, 0), dtype=bool)
         dmin, dmin_pair = np.full(N, np.nan), np.full(N, -1)
-    faces = platform_faces(robot)
-    nan = np.full((N, m), np.nan)
     if faces is None:
-        s_in, s_out, length, depth = nan, nan.copy(), np.zeros((N, m)), np.zeros((N, m))
+        s_in, s_out, length, depth = (
+            np.full((N, m), np.nan),
+            np.full((N, m), np.nan),
+            np.zeros((N, m)),
+            np.zeros((N, m)),
+        )
     else:
         # the segments in the platform frame: x = R^T (X - p)
         Rt = np.swapaxes(R, -1, -2)
@@ -326,12 +357,8 @@ def interference(robot, p, rotvec=None, R=None):
         x1 = np.einsum("nab,nmb->nma", Rt, D - p[:, None, :])
         s_in, s_out, depth = clip_segments(x0, x1, faces)
         length = np.where(np.isnan(s_in), 0.0, (s_out - s_in) * np.linalg.norm(D - B, axis=-1))
-        length = np.nan_to_num(length)
     cp = depth > DEPTH_TOL
-    free = ~cc.any(axis=1) & ~cp.any(axis=1)
-    return Interference(
-        pairs, dist, s, cc, shared, cp, s_in, s_out, length, depth, free, dmin, dmin_pair, faces is not None
-    )
+    return dist, s, cc, cp, s_in, s_out, length, depth, dmin, dmin_pair
 
 
 def report(res, n=0):

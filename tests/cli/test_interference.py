@@ -132,3 +132,28 @@ def test_grid_interference_columns(tmp_path, capsys):
     assert np.isfinite(df["dmin_m"]).all()
     assert main([*args, "--out", str(out)]) == 0
     assert f"interference-free: {s['interference_free_points']} of 27 grid points" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("name", sorted(p.name for p in ROBOTS.glob("*.yaml")))
+def test_every_shipped_robot(capsys, name):
+    """The command runs on every shipped robot at its view position; a point mass lists every pair
+    as shared at B and tests none; a rigid platform tests the pairs it does not list as shared."""
+    from cdpr.analyses.scans import view_position
+    from cdpr.robot import load_robot
+
+    robot = load_robot(ROBOTS / name)
+    p = view_position(robot)
+    out = run_json(capsys, "interference", "--robot", str(ROBOTS / name), "--at", *map(str, p))
+    assert set(out) == KEYS
+    m = robot.m
+    if robot.point_mass:
+        assert (
+            len(out["shared"]) == m * (m - 1) // 2 and out["dmin_pair"] is None and out["interference_free"]
+        )
+    else:
+        assert out["dmin_m"] >= 0 and out["dmin_pair"][0] < out["dmin_pair"][1]
+
+
+def test_unsolved_point_has_no_interference_answer(capsys):
+    out = run_json(capsys, "point", "--robot", R4, "--at", "0", "0", "9")  # above the pulleys
+    assert out["status"] == "inaccessible" and out["interference_free"] is None

@@ -303,3 +303,32 @@ def test_non_finite_pose_refused():
     with pytest.raises(CdprError, match="finite"):
         interference(robot, np.array([[0.0, np.nan, 1.0]]))
     assert interference_free(robot, [0.0, np.nan, 1.0]) is None
+
+
+def test_blocks_give_the_same_answer(monkeypatch):
+    """Poses and chord depths are processed in blocks (memory): small blocks, the same arrays."""
+    import cdpr.models.interference as itf
+
+    robot = load_robot(COGIRO)
+    rng = np.random.default_rng(5)
+    p = rng.uniform([-6, -4, 0], [6, 4, 5], size=(300, 3))
+    rv = rng.normal(scale=0.3, size=(300, 3))
+    whole = interference(robot, p, rv)
+    monkeypatch.setattr(itf, "POSE_BLOCK", 7)
+    monkeypatch.setattr(itf, "DEPTH_BLOCK", 3)
+    small = interference(robot, p, rv)
+    for name in (
+        "distance",
+        "s",
+        "cc",
+        "cp",
+        "s_in",
+        "s_out",
+        "length",
+        "depth",
+        "free",
+        "dmin",
+        "dmin_pair",
+    ):
+        np.testing.assert_array_equal(getattr(small, name), getattr(whole, name), err_msg=name)
+    assert whole.cp.any() and whole.free.any()
