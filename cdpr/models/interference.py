@@ -53,8 +53,6 @@ from cdpr.robot import BoxBody
 DEPTH_TOL = 1e-9
 #: Squared length [m^2] under which a segment is a point (Ericson's EPSILON).
 POINT_EPS = 1e-30
-#: sin^2 of the angle under which two segments count as parallel (only the edge candidates are used).
-PARALLEL_EPS = 1e-14
 #: Segments whose chord depth is computed at a time, and poses per block of ``interference``
 #: (bound the memory of the pairwise candidates: about DEPTH_BLOCK F^2 and POSE_BLOCK m^2 numbers).
 DEPTH_BLOCK = 4096
@@ -74,7 +72,8 @@ def segment_distance(P0, P1, Q0, Q1):
     .. math:: d = \\min_{s, t \\in [0, 1]} \\lVert P_0 + s (P_1 - P_0) - Q_0 - t (Q_1 - Q_0) \\rVert
 
     The squared distance is a convex quadratic of (s, t) over the unit square: its minimum is the
-    closest points of the two lines when they lie on both segments, else on an edge of the square,
+    closest points of the two lines when they lie on both segments (computed from d1 x d2, accurate
+    also near parallel), else on an edge of the square,
     where it is the clamped projection of an end point onto the other segment (Ericson 2005 section
     5.1.9). All five candidates are evaluated and the nearest kept, which covers crossing, parallel,
     collinear and zero-length segments (a point: every parameter is the same point) without a
@@ -106,15 +105,20 @@ def segment_distance(P0, P1, Q0, Q1):
     c, b = _dot(d1, r), _dot(d1, d2)
     a_ = np.where(a > POINT_EPS, a, 1.0)  # a zero-length segment: every s is the same point
     e_ = np.where(e > POINT_EPS, e, 1.0)
-    denom = a * e - b * b
-    general = (a > POINT_EPS) & (e > POINT_EPS) & (denom > PARALLEL_EPS * a * e)
-    dn = np.where(general, denom, 1.0)
+    # the lines' closest points from n = d1 x d2 (no cancellation of a e - b^2 near parallel):
+    # s = ((Q0 - P0) x d2) . n / |n|^2, t = ((Q0 - P0) x d1) . n / |n|^2, whenever n != 0
+    n = np.cross(d1, d2)
+    nn = _dot(n, n)
+    general = (a > POINT_EPS) & (e > POINT_EPS) & (nn > 0.0)
+    nn_ = np.where(general, nn, 1.0)
+    s_line = np.where(general, _dot(np.cross(-r, d2), n) / nn_, 0.0)
+    t_line = np.where(general, _dot(np.cross(-r, d1), n) / nn_, 0.0)
     one, zero = np.ones_like(a), np.zeros_like(a)
     # candidates: the lines' closest points (clamped), and the best point of each edge of the unit
     # square (s = 0, s = 1, t = 0, t = 1): the convex quadratic's minimum over the square is one of
     # them, also for parallel and collinear segments (where the lines' solution does not exist)
-    S = np.stack([np.where(general, (b * f - c * e) / dn, 0.0), zero, one, -c / a_, (b - c) / a_], axis=-1)
-    T = np.stack([np.where(general, (a * f - b * c) / dn, 0.0), f / e_, (b + f) / e_, zero, one], axis=-1)
+    S = np.stack([s_line, zero, one, -c / a_, (b - c) / a_], axis=-1)
+    T = np.stack([t_line, f / e_, (b + f) / e_, zero, one], axis=-1)
     S, T = np.clip(S, 0.0, 1.0), np.clip(T, 0.0, 1.0)
     gap = r[..., None, :] + S[..., None] * d1[..., None, :] - T[..., None] * d2[..., None, :]
     dist = np.sqrt(_dot(gap, gap))

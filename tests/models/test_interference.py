@@ -332,3 +332,11 @@ def test_blocks_give_the_same_answer(monkeypatch):
     ):
         np.testing.assert_array_equal(getattr(small, name), getattr(whole, name), err_msg=name)
     assert whole.cp.any() and whole.free.any()
+
+
+def test_nearly_parallel_segments_crossing_at_a_known_distance():
+    """Two 2 m segments 1e-6 rad apart that cross (seen along z) at their middles, h apart: the
+    closest points are the middles, not an end (an edge candidate would give about 1e-6 m)."""
+    for h in (0.0, 1e-9, 1e-4):
+        d, s, t = segment_distance([-1, 0, 0], [1, 0, 0], [-1, -1e-6, h], [1, 1e-6, h])
+        assert d == pytest.approx(h, abs=1e-15) and s == pytest.approx(0.5) and t == pytest.approx(0.5)
