@@ -345,16 +345,31 @@ class Cable:
         return 1 if self.spool is None else self.spool.U
 
 
+class BoxBody(NamedTuple):
+    """A box-shaped platform body (``platform.body: {box: ...}``): centre and half-sizes in the
+    platform frame [m] (the half-sizes > 0)."""
+
+    centre: tuple
+    half: tuple
+
+
+#: The platform bodies a robot file names (``platform.body``) besides a box (``BoxBody``).
+BODY_KINDS = ("hull", "none")
+
+
 @dataclasses.dataclass(frozen=True)
 class Platform:
     """Moving platform: mass M [kg], gravity g [m/s^2] along the unit vector ``down`` (-z; robot files
     do not set it: it lets a test turn a whole robot together with its gravity) and centre of mass c
-    in the platform frame [m] (0 for a point mass)."""
+    in the platform frame [m] (0 for a point mass). ``body`` is the solid the cable-platform
+    interference test uses (``cdpr.models.interference``): "hull" (the convex hull of the
+    attachments, the default; none when they span no volume), "none", or a ``BoxBody``."""
 
     mass: float
     g: float = G_STANDARD
     com: tuple = (0.0, 0.0, 0.0)
     down: tuple = (0.0, 0.0, -1.0)
+    body: object = "hull"
 
     @property
     def w_ext(self):
@@ -674,6 +689,19 @@ def _vector(value, source, key, dimension="m"):
     return v
 
 
+def _body(value, source, key):
+    """The platform body of ``platform.body`` (after the schema): "hull", "none" or a ``BoxBody``
+    whose half-sizes are > 0."""
+    if isinstance(value, str):
+        return value
+    box = value["box"]
+    centre = _vector(box["centre_m"], source, f"{key}.box.centre_m")
+    half = _vector(box["half_m"], source, f"{key}.box.half_m")
+    if not all(h > 0 for h in half):
+        raise ConfigError(source, f"{key}.box.half_m", f"every half-size must be > 0 m, got {list(half)}")
+    return BoxBody(centre=centre, half=half)
+
+
 def _plain(v):
     """A vector as a list of plain floats, for messages ('[0.0, 0.0, 1.0]', no numpy reprs)."""
     return [float(x) for x in v]
@@ -766,6 +794,7 @@ def robot_from_dict(data, source="<dict>"):
             default=G_STANDARD,
         ),
         com=ok(_vector, plat.get("com_m", (0.0, 0.0, 0.0)), source, "platform.com_m", default=(0.0, 0.0, 0.0)),
+        body=ok(_body, plat.get("body", "hull"), source, "platform.body", default="hull"),
     )  # fmt: skip
     default_material = data["cable"]
     ok(_material, default_material, None, source, "cable")  # the default on its own

@@ -28,6 +28,8 @@ MODEL_MODULES = [
     "analyses.symmetry",
     "models.platform",
     "compiled._pose_sensitivity",
+    "models.interference",
+    "analyses.interference",
 ]
 
 #: A numpy section header: a title line underlined by dashes of the same length.

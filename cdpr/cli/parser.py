@@ -158,6 +158,12 @@ def build_parser(jobs=True):
     sp.add_argument(
         "--t-min", type=non_negative, default=100.0, metavar="N", help="least tension of --wrench-feasible"
     )
+    sp.add_argument(
+        "--interference",
+        action="store_true",
+        help="add the interference columns at each grid pose (interference_free, n_cc, n_cp, dmin_m, cc_pairs, "
+        "cp_cables; docs/interference.md) and print the count of interference-free points",
+    )
     sp.add_argument("--out", required=True, metavar="FILE", help="output .parquet or .csv")
     sp.add_argument("--shard", type=count(0), default=0, help="0-based shard index (default 0)")
     sp.add_argument("--shards", type=count(1), default=1, help="number of shards (default 1)")
@@ -202,6 +208,13 @@ def build_parser(jobs=True):
     rotvec_option(sp)
     physics_options(sp)
     sp.set_defaults(run=("cdpr.cli.commands", "cmd_trajectory"))
+    sp = sub.add_parser(
+        "interference",
+        help="cable-cable and cable-platform interference at a pose (or a table of poses)",
+    )
+    robot_options(sp)
+    points_options(sp, "platform position (reference point)")
+    sp.set_defaults(run=("cdpr.cli.interference", "cmd_interference"))
     sp = sub.add_parser("job", help="a pipeline task: tables in, tables and figures out (run by Snakemake)")
     if jobs:
         from cdpr.cli import job  # lazy: the job registry imports the pipeline (pandas); for `cdpr job` only
