@@ -109,6 +109,10 @@ def test_bad_groups_and_priors():
     with pytest.raises(CdprError, match="a prior for spools, which is not estimated"):
         cal.parse_motor_priors("spools=1mm", ["anchors"])
     assert cal.parse_motor_priors("anchors=150mm", ["anchors"])["anchors"] == pytest.approx(0.15)
+    data = cal.simulate_motor(load_robot(HP4), np.zeros((1, 3)))
+    for groups in (["moduli"], []):
+        with pytest.raises(CdprError, match="estimates anchors, spools"):
+            cal.fit_motor(load_robot(HP4), data, groups, cal.parse_motor_priors(None, []))
 
 
 # ---- the model -----------------------------------------------------------------------------------
@@ -173,6 +177,7 @@ def test_self_calibration_recovers_a_seeded_machine_to_its_noise(hp4, model):
     assert abs(2 * res.cost - dof) < 4 * np.sqrt(2 * dof)
     assert np.sqrt(np.mean(np.sum((res.positions - P) ** 2, axis=1))) < 3e-3
     assert res.ident["rank"] == 20
+    assert np.sqrt(np.diag(res.covariance)) == pytest.approx(res.sd, rel=1e-12)
     assert "6 measured positions fix the frame" in res.gauge
 
 

@@ -492,7 +492,13 @@ class MotorCalibration:
 
     @property
     def sd(self):
+        """Posterior sd [m] (Gauss-Newton at the MAP, the positions marginalised)."""
         return self.ident["ratio"] * self.prior_sd
+
+    @property
+    def covariance(self):
+        """Posterior covariance of the estimated parameters [m^2] (the positions marginalised)."""
+        return self.ident["cov_scaled"] * np.outer(self.prior_sd, self.prior_sd)
 
     def summary(self):
         """The JSON of ``cdpr calibrate fit --json`` on motor-angle data (SI units)."""
@@ -649,6 +655,11 @@ def fit_motor(robot, data, groups, priors=None, model="exact", sigma_line=SIGMA_
     """
     if model not in MOTOR_MODELS:
         raise CdprError(f"--model {model}: motor-angle data take {', '.join(MOTOR_MODELS)}")
+    bad = [g for g in groups if g not in MOTOR_GROUPS]
+    if bad or not groups:
+        raise CdprError(
+            f"--estimate {bad[0] if bad else ''}: a motor-angle calibration estimates {', '.join(MOTOR_GROUPS)}"
+        )
     priors = parse_motor_priors(None, groups) if priors is None else priors
     sm0 = SpoolModel.of(robot)
     m, n = robot.m, len(data.sample)
@@ -735,12 +746,12 @@ def predict_samples(sm, data, model, t_ref):
     Returns
     -------
     list of dict
-        One per sample: sample, x_m, y_m, z_m (solved), error_m (None without a measured position),
-        line_rms_m, status.
+        One per sample: sample, x_m, y_m, z_m (solved from the anchors' centroid, never from the
+        measured position), error_m (None without a measured position), line_rms_m, status.
     """
     f, g = _stretch(model, data, t_ref, sm.K)
-    start = np.where(data.has_pose[:, None], data.pose, sm.A.mean(axis=0))
-    P, rms = solve_positions(sm, data, f, g, start=start)
+    # from the anchors' centroid, never from the measured position (a held-out sample's is the answer)
+    P, rms = solve_positions(sm, data, f, g)
     out = []
     for k in range(len(data.sample)):
         ok = bool(np.isfinite(P[k]).all() and np.isfinite(rms[k]))
@@ -857,8 +868,7 @@ def cross_validate(
         if fixed:
             sm = SpoolModel.of(robot)
             f, g = _stretch(model, tdata, t_ref, sm.K)
-            start = np.where(tdata.has_pose[:, None], tdata.pose, sm.A.mean(axis=0))
-            _, trms = solve_positions(sm, tdata, f, g, start=start)
+            _, trms = solve_positions(sm, tdata, f, g)
             tres = trms[np.isfinite(trms)]
             train_rms = float(np.sqrt(np.mean(tres**2)))
             train_sq.append(tres**2)
