@@ -28,6 +28,7 @@ MODEL_MODULES = [
     "analyses.symmetry",
     "models.platform",
     "compiled._pose_sensitivity",
+    "models.catenary",
 ]
 
 #: A numpy section header: a title line underlined by dashes of the same length.
