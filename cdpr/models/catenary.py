@@ -248,7 +248,8 @@ def complementary_energy(H, V_B, L0, w, EA, l_h, l_v):
     """
     H, V_B, L0, w, EA, l_h, l_v = _arrays(H, V_B, L0, w, EA, l_h, l_v)
     V_D, _, _, _, _, Qh, _, _, _, Qe = _terms(H, V_B, L0, w)
-    intT = 0.5 * L0 * (Qe + H * H * Qh)
+    with np.errstate(invalid="ignore"):
+        intT = 0.5 * L0 * (Qe + np.where(H == 0.0, 0.0, H * H * Qh))
     intT2 = L0 * (H * H + (V_B * V_B + V_B * V_D + V_D * V_D) / 3.0)
     return intT + 0.5 * intT2 / EA - H * l_h - V_B * l_v
 
@@ -279,7 +280,7 @@ def _vertical(l_v, L0, w, EA):
     V_fold = 0.5 * (l_v * w / k - wL)  # folded: V_B < 0 < V_D
     V = np.where(up, V_up, np.where(down, V_down, V_fold))
     code = np.where(up | down, CATENARY, U_SHAPED)
-    infeasible = np.isinf(EA) & ((l_v > L0) | (l_v < -L0))
+    infeasible = np.isinf(EA) & ((l_v >= L0) | (l_v <= -L0))
     code = np.where(infeasible, INFEASIBLE, code)
     V = np.where(infeasible, np.nan, V)
     return V, code
