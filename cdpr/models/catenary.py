@@ -329,7 +329,7 @@ def span_state(l_h, l_v, L0, w, EA, start=None, rtol=None, maxiter=None):
     EA : array_like (...) [N]
         Axial stiffness (> 0; inf: inextensible).
     start : tuple of array_like (...), optional
-        Newton's starting (H, V_B) [N] (H > 0); default ``_start``.
+        Newton's starting (H, V_B) [N]; ``_start`` where not given or not usable (H <= 0, NaN).
     rtol : float, optional
         Residual tolerance relative to L0 + chord (``CATENARY_DEFAULTS``).
     maxiter : int, optional
@@ -377,10 +377,11 @@ def span_state(l_h, l_v, L0, w, EA, start=None, rtol=None, maxiter=None):
     if todo.size:
         args = (L0[todo], w[todo], EA[todo])
         tgt = (l_h[todo], l_v[todo])
-        if start is None:
-            h, v = _start(tgt[0], tgt[1], *args)
-        else:
-            h, v = (np.broadcast_to(np.asarray(x, dtype=float), shape).ravel()[todo].copy() for x in start)
+        h, v = _start(tgt[0], tgt[1], *args)
+        if start is not None:  # a given start where it is usable (H > 0, finite), else the default
+            h1, v1 = (np.broadcast_to(np.asarray(x, dtype=float), shape).ravel()[todo] for x in start)
+            use = (h1 > 0.0) & np.isfinite(h1) & np.isfinite(v1)
+            h, v = np.where(use, h1, h), np.where(use, v1, v)
         h, v, it, ok = _newton(h, v, args, tgt, c[todo], rtol, maxiter)
         H[todo], V[todo], iters[todo], conv[todo] = h, v, it, ok
         VD = v + args[1] * args[0]
@@ -732,3 +733,205 @@ def angle_f_deg(H, V_B, l_h, l_v):
     """
     H, V_B, l_h, l_v = _arrays(H, V_B, l_h, l_v)
     return np.degrees(np.arctan2(np.abs(H * l_v - V_B * l_h), H * l_h + V_B * l_v))
+
+
+class CableState(NamedTuple):
+    """A whole cable solved (``cable_state``): the free span's ``Span`` (H, V_B, V_D, T_B, T_D [N],
+    status_code, status, iterations (outer, over the split), converged) and L0_free [m], the
+    unstrained length of the free span."""
+
+    span: Span
+    L0_free: np.ndarray
+
+
+def cable_state(l_h, l_v, L0, l_dead, w, EA, start=None, maxiter=30):
+    """A whole heavy cable: the free span B-D (an elastic catenary) and a straight weightless part of
+    stretched length l_dead (the dead length and the arc wrapped on the sheave, issue 38's pulley
+    coupling) that carries the tension at D over a frictionless sheave; L0 is the whole cable's
+    unstrained length, split as
+
+    .. math:: L_0 = L_{0,free} + \\frac{l_{dead}}{1 + T_D / EA}
+
+    solved by Newton's method on the split (the function of L0_free above is increasing with slope
+    >= 1), each free span by ``span_state`` warm-started from the last. w = 0 is Hooke's law on
+    the whole length, T = EA ((chord + l_dead)/L0 - 1) (Paty 2021 eq. 10, 13).
+
+    Parameters
+    ----------
+    l_h : array_like (...) [m]
+        Horizontal span from B to D.
+    l_v : array_like (...) [m]
+        Vertical span z_D - z_B.
+    L0 : array_like (...) [m]
+        Unstrained length of the whole cable (C to B: dead length, wrap and free span).
+    l_dead : array_like (...) [m]
+        Stretched length of the part from the winch exit C to D (|l_d| + r_p gamma), >= 0.
+    w : array_like (...) [N/m]
+        Weight per unstrained metre.
+    EA : array_like (...) [N]
+        Axial stiffness (inf allowed).
+    start : tuple of array_like (...), optional
+        (H, V_B) [N] to start the first free-span solve from.
+    maxiter : int
+        Cap of the Newton iterations on the split.
+
+    Returns
+    -------
+    CableState
+        The free span's ``Span`` and its unstrained length L0_free [m]; an inextensible cable whose
+        dead part leaves no free length, or too short for its chord, is ``infeasible``.
+
+    References
+    ----------
+    Irvine, H. M. (1981). Cable Structures. MIT Press, ch. 2.
+    """
+    l_h, l_v, L0, l_dead, w, EA = (np.array(x) for x in _arrays(l_h, l_v, L0, l_dead, w, EA))
+    shape = l_h.shape
+    l_h, l_v, L0, l_dead, w, EA = (x.ravel() for x in (l_h, l_v, L0, l_dead, w, EA))
+    c = np.hypot(l_h, l_v)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        T0 = np.where(c + l_dead > L0, EA * ((c + l_dead) / L0 - 1.0), 0.0)
+        T0 = np.where(np.isfinite(T0), T0, 0.0)
+        L0f = L0 - l_dead * _ratio(EA, T0)
+    bad = ~(L0f > 0.0)
+    L0f = np.where(bad, L0, L0f)  # placeholder; flagged infeasible below
+    if start is None:
+        H0, V0 = np.full(l_h.size, np.nan), np.full(l_h.size, np.nan)
+    else:
+        H0, V0 = (np.broadcast_to(np.asarray(x, dtype=float), shape).ravel().copy() for x in start)
+    fixed = (l_dead == 0.0) | np.isinf(EA)  # the split does not depend on the tension
+    it = np.zeros(l_h.size, dtype=np.int64)
+    for k in range(maxiter):
+        s = span_state(l_h, l_v, L0f, w, EA, start=(H0, V0))
+        H0, V0 = s.H, s.V_B
+        phi = L0f + l_dead * _ratio(EA, s.T_D) - L0
+        dT = _dTD_dL0(s, L0f, w, EA)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            slope = 1.0 - l_dead * EA / (EA + s.T_D) ** 2 * dT
+        slope = np.where(fixed | ~np.isfinite(slope), 1.0, slope)
+        step = np.where(bad | (s.status_code == INFEASIBLE), 0.0, -phi / slope)
+        new = L0f + step
+        new = np.where(new > 0.0, new, 0.5 * L0f)
+        it += 1
+        done = np.abs(new - L0f) <= 4e-16 * L0
+        L0f = new
+        if done.all():
+            break
+    s = span_state(l_h, l_v, L0f, w, EA, start=(H0, V0))
+    code = np.where(bad, INFEASIBLE, s.status_code).astype(np.int8)
+    nan = np.where(bad, np.nan, 1.0)
+    span = Span(
+        *(np.reshape(x * nan, shape) for x in (s.H, s.V_B, s.V_D, s.T_B, s.T_D)),
+        code.reshape(shape),
+        np.asarray(SPAN_STATUSES)[code].reshape(shape),
+        it.reshape(shape),
+        (s.converged & ~bad & done).reshape(shape),
+    )
+    return CableState(span, np.where(bad, np.nan, L0f).reshape(shape))
+
+
+def _ratio(EA, T):
+    """1 / (1 + T/EA) = EA / (EA + T), 1 for EA = inf."""
+    with np.errstate(invalid="ignore"):
+        return np.where(np.isinf(EA), 1.0, EA / (EA + T))
+
+
+def _span_L0_derivative(H, V_D, T_D, EA):
+    """d(l_h, l_v)/dL0 of a span at fixed end forces: the stretched tangent at D, (1/EA + 1/T_D)(H, V_D)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        k = np.where(T_D > 0.0, 1.0 / EA + 1.0 / T_D, 0.0)
+    return k * H, k * V_D
+
+
+def _dTD_dL0(s, L0f, w, EA):
+    """dT_D/dL0 of a span at fixed spans (the cable lengthened at D): (H dH + V_D (dV + w))/T_D with
+    (dH, dV) = -K (d(l_h, l_v)/dL0)."""
+    K = stiffness(s.H, s.V_B, L0f, w, EA)
+    gh, gv = _span_L0_derivative(s.H, s.V_D, s.T_D, EA)
+    dH = -(K[..., 0, 0] * gh + K[..., 0, 1] * gv)
+    dV = -(K[..., 1, 0] * gh + K[..., 1, 1] * gv)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(s.T_D > 0.0, (s.H * dH + s.V_D * (dV + w)) / s.T_D, 0.0)
+
+
+def cable_stiffness(state, l_dead, w, EA):
+    """Stiffness of a whole cable (``cable_state``), d(H, V_B)/d(l_h, l_v) with the split between
+    the free span and the dead part following the tension at D (implicit differentiation of the
+    split equation of ``cable_state``; Irvine 1981, ch. 2, for the span).
+
+    .. math:: K_{eff} = K - K g \\, \\frac{dL_{0,free}}{d l}, \\quad
+        g = \\left(\\frac{1}{EA} + \\frac{1}{T_D}\\right)(H, V_D)
+
+    Parameters
+    ----------
+    state : CableState
+        The solved cables.
+    l_dead : array_like (...) [m]
+        Stretched length of the dead part.
+    w : array_like (...) [N/m]
+        Weight per unstrained metre.
+    EA : array_like (...) [N]
+        Axial stiffness (inf allowed).
+
+    Returns
+    -------
+    K : ndarray (..., 2, 2) [N/m]
+        d(H, V_B)/d(l_h, l_v).
+
+    References
+    ----------
+    Irvine, H. M. (1981). Cable Structures. MIT Press, ch. 2.
+    """
+    s, L0f = state.span, state.L0_free
+    l_dead, w, EA = (np.broadcast_to(np.asarray(x, dtype=float), L0f.shape) for x in (l_dead, w, EA))
+    K = stiffness(s.H, s.V_B, L0f, w, EA)
+    gh, gv = _span_L0_derivative(s.H, s.V_D, s.T_D, EA)
+    Kg = np.stack([K[..., 0, 0] * gh + K[..., 0, 1] * gv, K[..., 1, 0] * gh + K[..., 1, 1] * gv], axis=-1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        inv = np.where(s.T_D > 0.0, 1.0 / s.T_D, 0.0)
+        cpr = np.where(np.isinf(EA), 0.0, l_dead * EA / (EA + s.T_D) ** 2)
+    # T_D at fixed split: dT_D/dl = (H K[0, :] + V_D K[1, :]) / T_D; along the split: _dTD_dL0
+    dT_dl = (s.H[..., None] * K[..., 0, :] + s.V_D[..., None] * K[..., 1, :]) * inv[..., None]
+    dT_dL = (s.H * -Kg[..., 0] + s.V_D * (-Kg[..., 1] + w)) * inv
+    dL_dl = cpr[..., None] * dT_dl / (1.0 - cpr * dT_dL)[..., None]
+    return K - Kg[..., :, None] * dL_dl[..., None, :]
+
+
+def cable_energy(state, l_h, l_v, l_dead, w, EA):
+    """Potential energy of a whole cable (``cable_state``) up to a constant: the free span's
+    -min Phi (``complementary_energy``: strain and weight, by Legendre duality) plus the dead part's
+    strain energy l0_dead T_D^2/(2 EA); its gradient with respect to the attachment B is minus the
+    cable's force on the platform, so the equilibrium minimises it plus the platform's weight.
+
+    .. math:: U = H l_h + V_B l_v - \\int_0^{L_{0,free}}\\left(T + \\frac{T^2}{2EA}\\right) ds
+        + \\frac{l_{dead}}{1 + T_D/EA}\\,\\frac{T_D^2}{2 EA}
+
+    Parameters
+    ----------
+    state : CableState
+        The solved cables.
+    l_h : array_like (...) [m]
+        Horizontal span.
+    l_v : array_like (...) [m]
+        Vertical span.
+    l_dead : array_like (...) [m]
+        Stretched length of the dead part.
+    w : array_like (...) [N/m]
+        Weight per unstrained metre.
+    EA : array_like (...) [N]
+        Axial stiffness (inf allowed).
+
+    Returns
+    -------
+    U : ndarray (...) [J]
+        The energy (w = 0: EA (chord + l_dead - L0)^2 / (2 L0), Hooke's).
+
+    References
+    ----------
+    Irvine, H. M. (1981). Cable Structures. MIT Press, ch. 2.
+    """
+    s = state.span
+    phi = complementary_energy(s.H, s.V_B, state.L0_free, w, EA, l_h, l_v)
+    with np.errstate(invalid="ignore"):
+        dead = np.where(np.isinf(EA), 0.0, l_dead * _ratio(EA, s.T_D) * s.T_D**2 / (2.0 * EA))
+    return dead - phi

@@ -107,6 +107,14 @@ from typing import NamedTuple
 import numpy as np
 
 from cdpr.errors import CdprError
+from cdpr.models.catenary import (
+    angle_f_deg,
+    arc_minus_chord,
+    cable_energy,
+    cable_state,
+    cable_stiffness,
+    sag,
+)
 from cdpr.models.inverse import L_TS, pose_state, pulley_args
 from cdpr.models.platform import pose_arrays, rotation_error, rotation_matrix, rotvec_of, skew
 from cdpr.models.pulleys import total_length_and_direction
@@ -300,6 +308,99 @@ class Cables:
         return out
 
 
+class HeavyCables(Cables):
+    """``Cables`` whose cables have weight (``cable.linear_density_kg_m``, issue 38): each cable's
+    force on the platform at B_i is the end force of Irvine's elastic catenary from B_i to the exit
+    point D_i (``catenary.cable_state``, H toward D_i horizontally and V_B up, "up" against gravity),
+    the dead length carrying the tension at D_i. Fixed pulleys only so far (D_i = A_i, the dead
+    length d_i straight along the axis); with w = 0 it is the massless model computed through the
+    catenary (``heavy=True`` of ``solve``, for the tests)."""
+
+    def __init__(self, robot):
+        super().__init__(robot)
+        a = robot.arrays
+        if (a.kind != 0).any():
+            raise CdprError(
+                f"{robot.source}: heavy cables (cable.linear_density_kg_m > 0) are modelled with fixed pulleys "
+                "only so far (the exit point D = A); SR and DR pulleys with heavy cables are not built yet "
+                "(docs/heavy_cables.md)"
+            )
+        self.A, self.l_dead, self.w, self.EA = a.A, a.d, a.w, a.ES
+        down = np.asarray(robot.platform.down, dtype=float)
+        self.up = -down / np.linalg.norm(down)
+
+    def spans(self, p, R):
+        """The spans of every cable at poses (p (N, 3), R (N, 3, 3)): r_i = R b_i (N, m, 3), l_h, l_v
+        (N, m) [m] and e_h (N, m, 3) the horizontal unit vector from B_i toward D_i (0 when vertical)."""
+        r = np.einsum("nab,mb->nma", R, self.b)
+        v = self.A - (p[:, None, :] + r)
+        l_v = v @ self.up
+        hv = v - l_v[..., None] * self.up
+        l_h = np.linalg.norm(hv, axis=-1)
+        e_h = hv / np.where(l_h > 0.0, l_h, 1.0)[..., None]
+        return r, l_h, l_v, e_h
+
+    def evaluate(self, p, R, L0, p_ref, jacobian=True):
+        """As ``Cables.evaluate``, with each cable's force the catenary's end force at B_i and t_i its
+        tension at B_i."""
+        r, l_h, l_v, e_h = self.spans(p, R)
+        st = cable_state(l_h, l_v, L0, self.l_dead, self.w, self.EA)
+        sp = st.span
+        Fi = sp.H[..., None] * e_h + sp.V_B[..., None] * self.up
+        rc = R @ self.com
+        F = Fi.sum(axis=1) + self.f
+        M = np.cross(r, Fi).sum(axis=1) + np.cross(rc, self.f)
+        U = cable_energy(st, l_h, l_v, self.l_dead, self.w, self.EA)
+        merit = -(p - p_ref + rc) @ self.f + U.sum(axis=1)
+        merit = np.where(np.isfinite(merit), merit, np.inf)
+        if self.suspended:
+            merit = np.where(p[:, 2] < self.z_top, merit, np.inf)
+        t = sp.T_B
+        out = {"F": F, "M": M, "t": t, "merit": merit, "g": None}
+        if jacobian:
+            K = cable_stiffness(st, self.l_dead, self.w, self.EA)
+            up = self.up
+            flat = np.eye(3) - e_h[..., :, None] * e_h[..., None, :] - up[:, None] * up[None, :]
+            with np.errstate(divide="ignore", invalid="ignore"):
+                turn = np.where(l_h > 1e-12 * (1.0 + np.abs(l_v)), sp.H / l_h, K[..., 0, 0])
+            dFdv = (
+                e_h[..., :, None] * (K[..., 0, 0, None] * e_h + K[..., 0, 1, None] * up)[..., None, :]
+                + up[:, None] * (K[..., 1, 0, None] * e_h + K[..., 1, 1, None] * up)[..., None, :]
+                + turn[..., None, None] * flat
+            )
+            G = -dFdv  # dF_i/dB_i: B moves opposite to D - B
+            out["Fn"] = np.concatenate([F, M], axis=1)
+            out["J"] = _jacobian_forces(G, Fi, r, rc, self.f)
+            out["grad"] = -out["Fn"]  # fixed pulleys: the energy's gradient is minus the wrench
+            kc = np.abs(K[..., 0, 0]) + np.abs(K[..., 1, 1]) + np.abs(turn)
+            rr = np.einsum("nma,nma->nm", r, r)
+            out["kappa"] = np.stack(
+                [
+                    kc.sum(axis=1),
+                    (kc * rr + t * np.sqrt(rr)).sum(axis=1)
+                    + np.linalg.norm(self.f) * np.linalg.norm(rc, axis=1),
+                ],
+                axis=1,
+            )
+        return out
+
+
+def _jacobian_forces(G, Fi, r, rc, f):
+    """d(F, M)/d(dp, dphi) (N, 6, 6) from each cable's force Fi (N, m, 3) at B_i and its derivative
+    G_i = dF_i/dB_i (N, m, 3, 3) (``_jacobian`` with G_i given and t_i u_i = F_i)."""
+    Sr = skew(r)
+    eye = np.eye(3)
+    J = np.zeros(Fi.shape[:1] + (6, 6))
+    J[:, :3, :3] = G.sum(axis=1)
+    J[:, :3, 3:] = -np.einsum("nmab,nmbc->nac", G, Sr)
+    RG = np.einsum("nmab,nmbc->nmac", Sr, G)
+    J[:, 3:, :3] = RG.sum(axis=1)
+    turn = r[..., :, None] * Fi[..., None, :] - np.einsum("nma,nma->nm", Fi, r)[..., None, None] * eye
+    J[:, 3:, 3:] = -np.einsum("nmab,nmbc->nac", RG, Sr) + turn.sum(axis=1)
+    J[:, 3:, 3:] += rc[:, :, None] * f[None, None, :] - (rc @ f)[:, None, None] * eye
+    return J
+
+
 def _jacobian(t, du, ka, u, dL, r, rc, f):
     """d(F, M)/d(dp, dphi) (N, 6, 6) of the force and moment balance (module docstring).
 
@@ -435,7 +536,9 @@ def _newton(cab, p0, R0, L0, p_ref, tol, maxiter, max_step):
     return p, R, cur, iters, conv
 
 
-def solve(robot, p, rotvec=None, L0=None, P0=None, tol=None, maxiter=None, max_step=None, restarts=True):
+def solve(
+    robot, p, rotvec=None, L0=None, P0=None, tol=None, maxiter=None, max_step=None, restarts=True, heavy=None
+):
     """Physical equilibrium (p*, R*) of the platform on all m cables, slack cables allowed (a point
     mass: P* with the desired orientation carried through).
 
@@ -454,6 +557,10 @@ def solve(robot, p, rotvec=None, L0=None, P0=None, tol=None, maxiter=None, max_s
         As ``equilibrium.PHYSICAL_DEFAULTS``.
     restarts : bool
         Look for other equilibria where the solution may not be unique (module docstring).
+    heavy : bool, optional
+        Model the cables as heavy (``HeavyCables``: Irvine's elastic catenary, fixed pulleys only so
+        far); default ``robot.heavy`` (a linear density > 0). True with a massless robot runs the
+        massless model through the catenary (w = 0).
 
     Returns
     -------
@@ -470,7 +577,54 @@ def solve(robot, p, rotvec=None, L0=None, P0=None, tol=None, maxiter=None, max_s
     ----------
     Paty et al. 2021, eq. (2)-(5), (10)-(14); Pott 2018, ch. 3.
     """
-    return solve_with(robot, Cables(robot), _newton, p, rotvec, L0, P0, tol, maxiter, max_step, restarts)
+    heavy = robot.heavy if heavy is None else heavy
+    cab = HeavyCables(robot) if heavy else Cables(robot)
+    res = solve_with(robot, cab, _newton, p, rotvec, L0, P0, tol, maxiter, max_step, restarts)
+    if heavy:
+        res.update(heavy_cables(cab, res["P_s"], res["R_s"], res["L0"]))
+    return res
+
+
+def heavy_cables(cab, P, R, L0):
+    """What each heavy cable does at the equilibria (``HeavyCables``; issue 38's per-cable keys):
+    the tensions at B_i and D_i, H, the sag, the arc minus the chord, the angle of the force at B_i
+    to the chord and the catenary status (``catenary.SPAN_STATUSES``).
+
+    Parameters
+    ----------
+    cab : HeavyCables
+        The robot's cables.
+    P : ndarray (N, 3) [m]
+        Platform positions.
+    R : ndarray (N, 3, 3) [-]
+        Platform orientations.
+    L0 : ndarray (N, m) [m]
+        Rest lengths of the whole cables.
+
+    Returns
+    -------
+    dict
+        t_B, t_D, H [N], sag, arc_minus_chord [m], angle_f_deg [deg], cable_status (str), all
+        (N, m), and sag_max (N,) [m].
+
+    References
+    ----------
+    Irvine, H. M. (1981). Cable Structures. MIT Press, ch. 2; Paty et al. 2021, eq. (10)-(13).
+    """
+    _, l_h, l_v, _ = cab.spans(P, R)
+    st = cable_state(l_h, l_v, L0, cab.l_dead, cab.w, cab.EA)
+    sp, a = st.span, (st.L0_free, cab.w, cab.EA)
+    sag_ = sag(sp.H, sp.V_B, *a, l_h, l_v)
+    return {
+        "t_B": sp.T_B,
+        "t_D": sp.T_D,
+        "H": sp.H,
+        "sag": sag_,
+        "arc_minus_chord": arc_minus_chord(sp.H, sp.V_B, *a, l_h, l_v),
+        "angle_f_deg": angle_f_deg(sp.H, sp.V_B, l_h, l_v),
+        "cable_status": sp.status,
+        "sag_max": sag_.max(axis=1),
+    }
 
 
 def solve_with(robot, cab, newton, p, rotvec, L0, P0, tol, maxiter, max_step, restarts, standard=None):

@@ -255,3 +255,51 @@ def test_end_forces_is_vectorised_and_agrees_with_span_state():
 def test_bad_input_is_one_line_naming_it(args, name):
     with pytest.raises(CdprError, match=rf"^catenary: {name} = .* is not allowed; allowed: "):
         cat.span_state(*args)
+
+
+DEAD = 4.0  # [m] a dead length carrying the tension at D
+
+
+def test_whole_cable_splits_its_rest_length_at_the_tension_at_d():
+    """cable_state: L0 = L0_free + l_dead/(1 + T_D/EA); l_dead = 0 is span_state; w = 0 is Hooke's
+    law on the whole length (Paty 2021 eq. 10, 13)."""
+    l_h, l_v, L0, w, ea = _cases()
+    L0 = L0 + DEAD
+    st = cat.cable_state(l_h, l_v, L0, DEAD, w, ea)
+    assert st.span.converged.all()
+    assert (np.abs(st.L0_free + DEAD / (1 + st.span.T_D / ea) - L0) <= 1e-14 * L0).all()
+    lh, lv = cat.span_equations(st.span.H, st.span.V_B, st.L0_free, w, ea)
+    np.testing.assert_allclose(lh, l_h, atol=1e-12)
+    np.testing.assert_allclose(lv, l_v, atol=1e-12)
+    s0 = cat.cable_state(l_h, l_v, L0 - DEAD, 0.0, w, ea).span
+    ref = cat.span_state(l_h, l_v, L0 - DEAD, w, ea)
+    assert (np.abs(s0.H - ref.H) <= 1e-11 * ref.T_B).all()  # the same solution (warm restarts: round-off)
+    assert (np.abs(s0.V_B - ref.V_B) <= 1e-11 * ref.T_B).all()
+    c = np.hypot(l_h, l_v)
+    Lh = (c + DEAD) / (1 + np.array([0.0, 1e-4, 2e-3, 5e-3, 0.0, 1e-3, 3e-4, 1e-3]))
+    hk = cat.cable_state(l_h, l_v, Lh, DEAD, 0.0, ea).span
+    np.testing.assert_allclose(hk.T_B, np.maximum(ea * ((c + DEAD) / Lh - 1), 0), rtol=1e-12, atol=1e-9)
+
+
+def test_whole_cable_stiffness_and_energy_against_central_differences():
+    """d(H, V_B)/d(l_h, l_v) with the split following T_D, and dU/d(l_h, l_v) = (H, V_B)."""
+    l_h, l_v, L0, w, ea = _cases()
+    L0 = L0 + DEAD
+    st = cat.cable_state(l_h, l_v, L0, DEAD, w, ea)
+    K = cat.cable_stiffness(st, DEAD, w, ea)
+    d = 1e-6
+    for j, (dh, dv) in enumerate([(d, 0.0), (0.0, d)]):
+        p = cat.cable_state(l_h + dh, l_v + dv, L0, DEAD, w, ea).span
+        m = cat.cable_state(l_h - dh, l_v - dv, L0, DEAD, w, ea).span
+        fd = np.stack([p.H - m.H, p.V_B - m.V_B], axis=-1) / (2 * d)
+        scale = np.abs(K).max(axis=(1, 2))[:, None]
+        np.testing.assert_allclose(K[:, :, j] / scale, fd / scale, atol=1e-6)
+
+    def U(a, b):
+        return cat.cable_energy(cat.cable_state(a, b, L0, DEAD, w, ea), a, b, DEAD, w, ea)
+
+    d = 1e-5
+    gh = (U(l_h + d, l_v) - U(l_h - d, l_v)) / (2 * d)
+    gv = (U(l_h, l_v + d) - U(l_h, l_v - d)) / (2 * d)
+    np.testing.assert_allclose(gh, st.span.H, rtol=0, atol=1e-6 * st.span.T_B.max())
+    np.testing.assert_allclose(gv, st.span.V_B, rtol=0, atol=1e-6 * st.span.T_B.max())
