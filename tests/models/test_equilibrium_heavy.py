@@ -34,8 +34,9 @@ def heavy(robot, rho=RHO, dead_length=None):
     return dataclasses.replace(robot, cables=cables)
 
 
-def test_weightless_cables_through_the_catenary_give_todays_point_mass(cdpr4):
-    r = with_pulleys(cdpr4, kind="fixed")
+@pytest.mark.parametrize("kind", ["fixed", "SR"])
+def test_weightless_cables_through_the_catenary_give_todays_point_mass(cdpr4, kind):
+    r = with_pulleys(cdpr4, kind=kind)
     a, b = solve(r, PTS), solve(r, PTS, heavy=True)
     assert (a["status"] == "ok").all() and (a["status"] == b["status"]).all()
     assert np.abs(a["P_s"] - b["P_s"]).max() < 1e-12
@@ -44,8 +45,9 @@ def test_weightless_cables_through_the_catenary_give_todays_point_mass(cdpr4):
     assert (b["sag"] == 0).all() and np.abs(b["angle_f_deg"]).max() < 1e-6
 
 
-def test_weightless_cables_through_the_catenary_give_todays_rigid_platform():
-    r = robot8_turned("fixed", np.eye(3))
+@pytest.mark.parametrize("kind", ["fixed", "SR"])
+def test_weightless_cables_through_the_catenary_give_todays_rigid_platform(kind):
+    r = robot8_turned(kind, np.eye(3))
     p = np.array([[0.3, -0.2, 1.4], [-0.5, 0.4, 1.7], [0.0, 0.0, 1.5]])
     rv = np.array([[0.05, -0.1, 0.2], [0.2, 0.1, -0.1], [0.0, 0.0, 0.0]])
     L0 = pretensioned(r, p, rv)
@@ -56,11 +58,12 @@ def test_weightless_cables_through_the_catenary_give_todays_rigid_platform():
     np.testing.assert_allclose(b["t"], a["t"], rtol=1e-9)
 
 
-@pytest.mark.parametrize("dead_length", [0.0, 4.0])
-def test_energy_gradient_is_minus_the_net_force(cdpr4, dead_length):
-    """A point mass hung from fixed points (d = 0, then d = 4 m): -dU/dp by central differences of the
-    merit (the cables' energy plus the weight's) equals the net force, off the equilibrium."""
-    r = heavy(with_pulleys(cdpr4, kind="fixed"), rho=0.5, dead_length=dead_length)
+@pytest.mark.parametrize("kind, dead_length", [("fixed", 0.0), ("fixed", 4.0), ("SR", 4.0)])
+def test_energy_gradient_is_minus_the_net_force(cdpr4, kind, dead_length):
+    """A point mass hung from fixed points (d = 0, then d = 4 m, then SR pulleys): -dU/dp by central
+    differences of the merit (the cables' energy plus the weight's) equals the net force, off the
+    equilibrium."""
+    r = heavy(with_pulleys(cdpr4, kind=kind), rho=0.5, dead_length=dead_length)
     cab = HeavyCables(r)
     p = PTS[:4]
     L0 = solve(r, p)["L0"] * 1.002  # a little longer: sagging, U-shaped spans among them
@@ -134,10 +137,12 @@ def test_analytic_jacobian_equals_finite_differences(cdpr4, point_mass):
     assert np.abs(J - fd).max() < 1e-5 * np.abs(J).max()
 
 
-def test_rotating_the_whole_robot_and_gravity_rotates_the_heavy_solution():
-    """Gravity not along -z: the catenaries' planes follow it (this exercises "up" = -down)."""
+@pytest.mark.parametrize("kind", ["fixed", "SR"])
+def test_rotating_the_whole_robot_and_gravity_rotates_the_heavy_solution(kind):
+    """Gravity not along -z: the catenaries' planes follow it (this exercises "up" = -down, and SR
+    axes along gravity both up and down)."""
     Q = Rotation.from_rotvec([0.4, -0.7, 1.1]).as_matrix()
-    a, b = heavy(robot8_turned("fixed", np.eye(3))), heavy(robot8_turned("fixed", Q))
+    a, b = heavy(robot8_turned(kind, np.eye(3))), heavy(robot8_turned(kind, Q))
     p = np.array([[0.3, -0.2, 1.4], [-0.5, 0.4, 1.7], [0.0, 0.0, 1.5]])
     rv = np.array([[0.05, -0.1, 0.2], [0.2, 0.1, -0.1], [0.0, 0.0, 0.0]])
     rv_b = (Rotation.from_matrix(Q) * Rotation.from_rotvec(rv)).as_rotvec()
@@ -151,8 +156,35 @@ def test_rotating_the_whole_robot_and_gravity_rotates_the_heavy_solution():
     assert ra["sag"].max() > 1e-4
 
 
-@pytest.mark.parametrize("kind", ["SR", "DR"])
-def test_heavy_cables_on_sr_and_dr_pulleys_are_refused_in_one_line(cdpr4, kind):
-    with pytest.raises(CdprError, match=r"fixed pulleys only so far") as exc:
-        solve(heavy(with_pulleys(cdpr4, kind=kind)), PTS[:1])
+def test_heavy_cables_on_dr_pulleys_and_tilted_swivel_axes_are_refused_in_one_line(cdpr4):
+    with pytest.raises(CdprError, match=r"cable 1 has a DR pulley") as exc:
+        solve(heavy(with_pulleys(cdpr4, kind="DR")), PTS[:1])
     assert "\n" not in str(exc.value)
+    r = heavy(with_pulleys(cdpr4, kind="SR"))
+    c0 = r.cables[0]
+    tilted = dataclasses.replace(c0, pulley=dataclasses.replace(c0.pulley, axis=(0.0, 0.6, 0.8)))
+    with pytest.raises(CdprError, match=r"cable 1 has a swivel axis off the vertical"):
+        solve(dataclasses.replace(r, cables=(tilted, *r.cables[1:])), PTS[:1])
+
+
+def test_sr_exit_point_is_where_the_catenary_leaves_the_sheave_tangentially(cdpr4):
+    """SR pulleys: D_i lies on the sheave circle (|D - H| = r_p, in the cable's vertical plane), and
+    the catenary's end tangent at D_i is perpendicular to the radius H -> D_i."""
+    r = heavy(with_pulleys(cdpr4, kind="SR"), rho=0.5)
+    res = solve(r, PTS)
+    assert (res["status"] == "ok").all()
+    cab = HeavyCables(r)
+    R = np.broadcast_to(np.eye(3), (len(PTS), 3, 3))
+    x = cab.exit_points(res["P_s"], R, res["L0"])
+    st = x["state"].span
+    D = res["D"]
+    from cdpr.models.inverse import pose_state
+
+    _, ps = pose_state(r, res["P_s"], R)
+    radius = D - ps.H
+    np.testing.assert_allclose(np.linalg.norm(radius, axis=-1), r.r_p[0], rtol=1e-12)
+    tangent = st.H[..., None] * x["e_h"] + st.V_D[..., None] * cab.up  # along the cable at D
+    cos = np.einsum("nma,nma->nm", tangent, radius) / (st.T_D * r.r_p[0])
+    assert np.abs(cos).max() < 1e-12
+    # the heavy cable leaves the sheave lower than the straight one would (its tangent at D is steeper)
+    assert (np.abs(res["gamma"] - ps.gamma) > 0).all()
