@@ -39,7 +39,6 @@ material ``cable:`` describes (axial stiffness U E S), and its tension (the forc
 
 from __future__ import annotations
 
-import copy
 import dataclasses
 import itertools
 import math
@@ -348,16 +347,31 @@ class Cable:
         return 1 if self.spool is None else self.spool.U
 
 
+class BoxBody(NamedTuple):
+    """A box-shaped platform body (``platform.body: {box: ...}``): centre and half-sizes in the
+    platform frame [m] (the half-sizes > 0)."""
+
+    centre: tuple
+    half: tuple
+
+
+#: The platform bodies a robot file names (``platform.body``) besides a box (``BoxBody``).
+BODY_KINDS = ("hull", "none")
+
+
 @dataclasses.dataclass(frozen=True)
 class Platform:
     """Moving platform: mass M [kg], gravity g [m/s^2] along the unit vector ``down`` (-z; robot files
     do not set it: it lets a test turn a whole robot together with its gravity) and centre of mass c
-    in the platform frame [m] (0 for a point mass)."""
+    in the platform frame [m] (0 for a point mass). ``body`` is the solid the cable-platform
+    interference test uses (``cdpr.models.interference``): "hull" (the convex hull of the
+    attachments, the default; none when they span no volume), "none", or a ``BoxBody``."""
 
     mass: float
     g: float = G_STANDARD
     com: tuple = (0.0, 0.0, 0.0)
     down: tuple = (0.0, 0.0, -1.0)
+    body: object = "hull"
 
     @property
     def w_ext(self):
@@ -711,6 +725,19 @@ def _vector(value, source, key, dimension="m"):
     return v
 
 
+def _body(value, source, key):
+    """The platform body of ``platform.body`` (after the schema): "hull", "none" or a ``BoxBody``
+    whose half-sizes are > 0."""
+    if isinstance(value, str):
+        return value
+    box = value["box"]
+    centre = _vector(box["centre_m"], source, f"{key}.box.centre_m")
+    half = _vector(box["half_m"], source, f"{key}.box.half_m")
+    if not all(h > 0 for h in half):
+        raise ConfigError(source, f"{key}.box.half_m", f"every half-size must be > 0 m, got {list(half)}")
+    return BoxBody(centre=centre, half=half)
+
+
 def _plain(v):
     """A vector as a list of plain floats, for messages ('[0.0, 0.0, 1.0]', no numpy reprs)."""
     return [float(x) for x in v]
@@ -807,6 +834,7 @@ def robot_from_dict(data, source="<dict>"):
             default=G_STANDARD,
         ),
         com=ok(_vector, plat.get("com_m", (0.0, 0.0, 0.0)), source, "platform.com_m", default=(0.0, 0.0, 0.0)),
+        body=ok(_body, plat.get("body", "hull"), source, "platform.body", default="hull"),
     )  # fmt: skip
     default_material = data["cable"]
     ok(_material, default_material, None, source, "cable")  # the default on its own
@@ -875,85 +903,95 @@ def robot_from_dict(data, source="<dict>"):
     return robot
 
 
-def apply_overrides(
-    data,
+def load_robot(path, **overrides):
+    """Read a robot YAML file into a validated Robot, then set the keyword overrides on it as values
+    (``with_values``: ``pulley``, ``h``, ``r_p``, ``dead_length``, ``E``, ``E_cables``, ``mass``,
+    ``linear_density``; None leaves the file's value); the robot's ``source`` then names them, for the messages."""
+    robot = robot_from_dict(read_yaml(path), source=str(path))
+    given = {k: v for k, v in overrides.items() if v is not None}
+    if not given:
+        return robot
+    robot = dataclasses.replace(
+        robot, source=f"{path} (with command-line overrides: {', '.join(sorted(given))})"
+    )
+    return with_values(robot, **given)
+
+
+def with_values(
+    robot,
     pulley=None,
     h=None,
     r_p=None,
     dead_length=None,
     E=None,
-    mass=None,
     E_cables=None,
+    mass=None,
     linear_density=None,
 ):
-    """Return a copy of the robot mapping with the given values set for every cable, exactly as if
-    the file had been edited (``pulley`` kind, ``h``, ``r_p``, ``dead_length`` [m], ``E`` [Pa],
-    ``mass`` [kg], ``linear_density`` [kg/m]); ``E_cables`` (m,) [Pa] sets each cable's Young's
-    modulus. ``None`` leaves the file's value. A value set for every cable also replaces the
-    per-cable overrides of that key."""
-    data = copy.deepcopy(data)
-    if not isinstance(data, dict):
-        return data
-    cables = [c for c in data.get("cables") or [] if isinstance(c, dict)]
-    pul_over = {}
-    if pulley is not None:
-        pul_over["kind"] = pulley
-        if pulley == "fixed":
-            pul_over.update(h_m=0.0, r_p_m=0.0)
-    if h is not None:
-        pul_over["h_m"] = h
-    if r_p is not None:
-        pul_over["r_p_m"] = r_p
-    if pul_over and isinstance(data.get("pulley"), dict):
-        data["pulley"].update(pul_over)
-        for c in cables:
-            if isinstance(c.get("pulley"), dict):
-                c["pulley"].update(pul_over)
+    """A copy of ``robot`` with values set as if its file had been edited, checked as the file's
+    values are (one line naming the robot's source and the key): every cable's pulley ``pulley``
+    (kind), ``h`` and ``r_p`` [m] (``with_pulleys``), ``dead_length`` [m] and Young's modulus ``E``
+    [Pa]; ``E_cables`` (m,) [Pa] each cable's modulus; ``mass`` [kg] the platform's;
+    ``linear_density`` [kg/m] every cable's mass per unstrained metre. None leaves a
+    value as it is. Typed values on the loaded robot (``dataclasses.replace``): the YAML mapping is
+    neither rewritten nor validated again, so a study's many designs of one robot cost no reading.
+
+    Parameters
+    ----------
+    robot : Robot
+        The robot to copy.
+    pulley : str or None
+        Pulley kind for every cable, fixed | SR | DR (fixed sets h = r_p = 0).
+    h, r_p, dead_length : float or str or None
+        Lever arm, sheave radius and dead length of every cable [m] (a string may carry a unit).
+    E : float or str or None
+        Young's modulus of every cable [Pa].
+    E_cables : sequence of float or None
+        (m,) Young's modulus of each cable [Pa].
+    mass : float or str or None
+        Platform mass [kg].
+    linear_density : float or str or None
+        Mass per unstrained metre of every cable [kg/m] (``cable.linear_density_kg_m``; 0: massless).
+
+    Returns
+    -------
+    Robot
+    """
+    src = robot.source
+    if pulley is not None and pulley not in PULLEY_KINDS:
+        raise ConfigError(src, "pulley.kind", f"must be one of {' | '.join(PULLEY_KINDS)}, got {pulley!r}")
     if dead_length is not None:
-        data["dead_length_m"] = dead_length
-        for c in cables:
-            c.pop("dead_length_m", None)
-    if E is not None and isinstance(data.get("cable"), dict):
-        data["cable"]["young_modulus_Pa"] = E
-        for c in cables:
-            if isinstance(c.get("cable"), dict):
-                c["cable"].pop("young_modulus_Pa", None)
-    if linear_density is not None and isinstance(data.get("cable"), dict):
-        data["cable"]["linear_density_kg_m"] = linear_density
-        for c in cables:
-            if isinstance(c.get("cable"), dict):
-                c["cable"].pop("linear_density_kg_m", None)
+        dead_length = _positive(dead_length, "m", src, "dead_length_m", allow_zero=True)
+    if any(v is not None for v in (pulley, h, r_p, dead_length, E)):
+        robot = with_pulleys(robot, kind=pulley, h=h, r_p=r_p, dead_length=dead_length, E=E)
     if E_cables is not None:
-        if len(E_cables) != len(cables):
+        if len(E_cables) != robot.m:
             raise ConfigError(
-                data.get("name", "robot"),
-                "cables",
-                f"{len(E_cables)} per-cable Young's moduli given for {len(cables)} cables",
+                src, "cables", f"{len(E_cables)} per-cable Young's moduli given for {robot.m} cables"
             )
-        for c, e in zip(cables, E_cables):
-            c.setdefault("cable", {})
-            if isinstance(c["cable"], dict):
-                c["cable"]["young_modulus_Pa"] = e
-    if mass is not None and isinstance(data.get("platform"), dict):
-        data["platform"]["mass_kg"] = mass
-    return data
-
-
-def load_robot(path, **overrides):
-    """Read a robot YAML file into a validated Robot; keyword overrides as in ``apply_overrides``."""
-    return robot_from_file_data(read_yaml(path), path, **overrides)
-
-
-def robot_from_file_data(data, path, **overrides):
-    """``load_robot`` of the mapping ``data`` already read from the robot file ``path``
-    (``read_yaml``): the same validated Robot, without reading the file again (many designs of one
-    robot, e.g. the cells of the h-r_p maps)."""
-    given = {k: v for k, v in overrides.items() if v is not None}
-    source = str(path)
-    if given:
-        data = apply_overrides(data, **given)
-        source = f"{path} (with command-line overrides: {', '.join(sorted(given))})"
-    return robot_from_dict(data, source=source)
+        moduli = [
+            _positive(e, "Pa", src, f"cables[{i}].cable.young_modulus_Pa") for i, e in enumerate(E_cables)
+        ]
+        robot = dataclasses.replace(
+            robot,
+            cables=tuple(
+                dataclasses.replace(c, material=dataclasses.replace(c.material, E=e))
+                for c, e in zip(robot.cables, moduli)
+            ),
+        )
+    if linear_density is not None:
+        rho = _positive(linear_density, "kg/m", src, "cable.linear_density_kg_m", allow_zero=True)
+        robot = dataclasses.replace(
+            robot,
+            cables=tuple(
+                dataclasses.replace(c, material=dataclasses.replace(c.material, rho=rho))
+                for c in robot.cables
+            ),
+        )
+    if mass is not None:
+        mass = _positive(mass, "kg", src, "platform.mass_kg")
+        robot = dataclasses.replace(robot, platform=dataclasses.replace(robot.platform, mass=mass))
+    return robot
 
 
 def with_pulleys(robot, kind=None, h=None, r_p=None, dead_length=None, E=None):

@@ -29,6 +29,8 @@ MODEL_MODULES = [
     "models.platform",
     "compiled._pose_sensitivity",
     "models.catenary",
+    "models.interference",
+    "analyses.interference",
 ]
 
 #: A numpy section header: a title line underlined by dashes of the same length.

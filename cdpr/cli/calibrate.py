@@ -1,8 +1,9 @@
-"""``cdpr calibrate fit | check | plan``: a real robot's parameters from measurements (issue 18).
+"""``cdpr calibrate fit | check | cv | plan``: a real robot's parameters from measurements (issue 18).
 
 ``fit`` estimates the parameter groups ``--estimate`` from a data table (docs/calibration.md) and
 writes the calibrated robot file; ``check`` compares a robot's prediction with measured samples;
-``plan`` picks D-optimal poses to measure. JSON with ``--json`` (SI units), a readable table
+``plan`` picks D-optimal poses to measure; ``cv`` cross-validates a calibration from motor-angle data
+(a spool robot such as the Hangprinter; ``fit`` and ``check`` take those data too). JSON with ``--json`` (SI units), a readable table
 without; every bad input is one line on stderr and exit code 2 (``cdpr.cli.main.main``).
 
 Its options are defined in ``cdpr.cli.parser`` (``calibrate_parser``), which loads this module only
@@ -20,7 +21,8 @@ import numpy as np
 from cdpr import io
 from cdpr.analyses import calibration as cal
 from cdpr.cli.commands import checked, emit_json
-from cdpr.pipeline.calibration_files import write_robot
+from cdpr.errors import CdprError
+from cdpr.pipeline.calibration_files import write_motor_robot, write_robot
 from cdpr.robot import load_robot
 
 
@@ -36,6 +38,9 @@ def cmd_fit(args):
     """``cdpr calibrate fit``: estimate, report, write the calibrated robot."""
     io.check_output(args.out, (".yaml", ".yml"))
     robot = checked(load_robot(args.robot), args)
+    if cal.is_motor_table(args.data):
+        _fit_motor(args, robot)
+        return
     priors = cal.parse_priors(args.prior, estimate=args.estimate)
     data = cal.read_data(args.data, robot)
     result = cal.fit(robot, data, args.estimate, priors=priors, model=args.model, loss=args.loss)
@@ -52,6 +57,46 @@ def cmd_fit(args):
         emit_json(summary, args)
         return
     _print_fit(result, summary)
+
+
+def _fit_motor(args, robot):
+    """``cdpr calibrate fit`` on motor-angle data: the self-calibration with every position a nuisance."""
+    priors = cal.parse_motor_priors(args.prior, args.estimate)
+    if args.loss != "linear":
+        raise CdprError(f"--loss {args.loss}: the motor-angle calibration takes the linear loss only")
+    if args.report:
+        raise CdprError("--report: not written for motor-angle data (the JSON has every number)")
+    data = cal.read_motor_data(args.data, robot)
+    result = cal.fit_motor(robot, data, args.estimate, priors=priors, model=args.model)
+    write_motor_robot(args.out, result, args.data)
+    s = result.summary()
+    for w in result.warnings:
+        print(f"cdpr: warning: {w}", file=sys.stderr)
+    if args.json:
+        emit_json({**s, "data_warnings": result.warnings}, args)
+        return
+    rows = [
+        [
+            p["name"],
+            f"{p['nominal']:.6g}",
+            f"{p['estimate']:.6g}",
+            f"{p['sd']:.3g}",
+            f"{p['prior_sd']:.3g}",
+            p["identified"],
+        ]
+        for p in s["parameters"]
+    ]
+    print(_table(rows, ["parameter", "nominal", "estimate", "sd", "prior sd", "identified"]))
+    cond = "inf" if s["condition"] is None else f"{s['condition']:.3g}"
+    pos = "no position measured" if s["residual_rms_m"] is None else f"{s['residual_rms_m'] * 1e3:.4g} mm"
+    print(
+        f"{s['n_parameters']} parameters, rank {s['rank']}, condition {cond}; {s['samples_used']} samples "
+        f"({s['samples_with_position']} with a measured position); line RMS {s['line_rms_m'] * 1e3:.4g} mm, "
+        f"position residual RMS {pos} ({result.model} model)"
+    )
+    print(f"gauge: {s['gauge']}")
+    for w in s["unidentified"]:
+        print(f"weak: {w}")
 
 
 def _print_fit(result, s):
@@ -111,6 +156,14 @@ def write_report(result, folder):
 def cmd_check(args):
     """``cdpr calibrate check``: the robot's prediction against every measured sample."""
     robot = checked(load_robot(args.robot), args)
+    if cal.is_motor_table(args.data):
+        _check_motor(args, robot)
+        return
+    if args.model != "exact":
+        raise CdprError(
+            f"--model {args.model}: check on commanded lengths uses the robot file as it is; "
+            "--model is for motor-angle data (motor_deg_1..)"
+        )
     data = cal.read_data(args.data, robot)
     out = cal.check(robot, data)
     if args.json:
@@ -136,6 +189,91 @@ def cmd_check(args):
             f"{len(bad)} samples without equilibrium: "
             + ", ".join(f"{s['sample']} ({s['status']})" for s in bad)
         )
+
+
+def _check_motor(args, robot):
+    """``cdpr calibrate check`` on motor-angle data: positions solved from the readings vs measured."""
+    data = cal.read_motor_data(args.data, robot)
+    out = cal.check_motor(robot, data, args.model)
+    if args.json:
+        emit_json(out, args)
+        return
+    if out["n"] == 0:
+        print(
+            f"no sample has a measured position ({len(out['samples'])} samples); line RMS {_mm(out['line_rms_m'])}"
+        )
+        return
+    print(
+        f"{out['n']} samples with a measured position: RMS {_mm(out['rms_m'])}, median {_mm(out['median_m'])}, "
+        f"max {_mm(out['max_m'])}; line RMS {_mm(out['line_rms_m'])} over {len(out['samples'])} samples "
+        f"({out['model']} model)"
+    )
+
+
+def _mm(x):
+    return "n/a" if x is None else f"{x * 1e3:.4g} mm"
+
+
+def cmd_cv(args):
+    """``cdpr calibrate cv``: K-fold cross-validation of a motor-angle calibration (or of a given robot, --fixed)."""
+    robot = checked(load_robot(args.robot), args)
+    if args.fixed and args.estimate:
+        raise CdprError("--fixed scores the robot file as given: give no --estimate")
+    if args.fixed and args.prior:
+        raise CdprError("--fixed scores the robot file as given: give no --prior")
+    if not args.fixed and not args.estimate:
+        raise CdprError(f"--estimate: give the groups to fit ({', '.join(cal.MOTOR_GROUPS)}), or --fixed")
+    priors = None if args.fixed else cal.parse_motor_priors(args.prior, args.estimate)
+    data = cal.read_motor_data(args.data, robot)
+    out = cal.cross_validate(
+        robot, data, args.estimate or [], priors, model=args.model, folds=args.folds, fixed=args.fixed
+    )
+    for w in out["data_warnings"]:
+        print(f"cdpr: warning: {w}", file=sys.stderr)
+    if args.json:
+        emit_json(out, args)
+        return
+    rows = [
+        [
+            str(f["fold"]),
+            str(len(f["samples"])),
+            str(f["heldout_with_position"]),
+            _mm(f["heldout_position_rms_m"]),
+            _mm(f["heldout_position_median_m"]),
+            _mm(f["heldout_line_rms_m"]),
+            _mm(f["train_rms_m"]),
+        ]
+        for f in out["folds"]
+    ]
+    rows.append(
+        [
+            "all",
+            str(len(out["per_sample"])),
+            str(out["heldout_with_position"]),
+            _mm(out["heldout_position_rms_m"]),
+            _mm(out["heldout_position_median_m"]),
+            _mm(out["heldout_line_rms_m"]),
+            _mm(out["train_rms_m"]),
+        ]
+    )
+    print(
+        _table(
+            rows,
+            [
+                "fold",
+                "held out",
+                "with position",
+                "position RMS",
+                "position median",
+                "line RMS",
+                "train line RMS",
+            ],
+        )
+    )
+    what = "the robot file as given (--fixed)" if args.fixed else f"fit of {','.join(args.estimate)}"
+    print(f"{args.folds} folds (row i in fold i mod {args.folds}); {what}; {args.model} model")
+    if out["gauge"]:
+        print(f"gauge: {out['gauge']}")
 
 
 def cmd_plan(args):

@@ -113,7 +113,7 @@ class Points:
         return next(iter(self.chunks()))
 
 
-def _points(args):
+def read_points(args):
     """The ``Points`` of --at or --points; refuses non-finite coordinates, a missing --out and an
     orientation given twice (--rotvec and rx, ry, rz columns). A table is checked in one pass over
     its chunks, so that a bad row is refused before any solve (inverse, point, compensate)."""
@@ -257,7 +257,7 @@ def cmd_inverse(args):
     from cdpr.models.pulleys import swivel
 
     robot = _load(args)
-    points = _points(args)
+    points = read_points(args)
     a = robot.arrays
     spools = any(p is not None for p in robot.spools)
     if spools:
@@ -438,11 +438,12 @@ def cmd_point(args):
     """One pose (--at) or a table of poses (--points): the solved pose, tensions and status. Without
     --engine, fewer than ``solve.ONE_SHOT_POSES`` poses are answered by the numpy reference (the
     compiled engine's load would be most of the process), more by the compiled engine."""
+    from cdpr.models.interference import interference_free  # lazy: the solver commands only
     from cdpr.solve import check_engine  # lazy: the solvers, for the solver commands only
     from cdpr.solve import solve as solve_poses  # lazy: the solvers, for the solver commands only
 
     robot = _load(args)
-    points = _points(args)
+    points = read_points(args)
     engine = check_engine(args.engine, args.method, one_shot=points.n)
     L0 = None
     given = [
@@ -537,6 +538,7 @@ def cmd_point(args):
     else:
         out["subset"] = [int(i) + 1 for i in res["subset"][0] if i >= 0]
     out.update(status=str(res["status"][0]), iterations=int(res["iterations"][0]), engine=engine)
+    out["interference_free"] = interference_free(robot, out["solved"], out.get("solved_rotvec"))
     if "unique" in res:
         out.update(unique=bool(res["unique"][0]), alternatives=res["alternatives"][0])
     reason = _zero_length_reason(zero[0])
@@ -620,10 +622,11 @@ def cmd_compensate(args):
     import dataclasses  # lazy: --actual-E-cables only
 
     from cdpr.analyses.compensation import at_poses, compensated_pose  # lazy: this command only
+    from cdpr.models.interference import interference_free  # lazy: this command only
     from cdpr.solve import check_engine  # lazy: the solvers, for the solver commands only
 
     robot = _load(args)
-    points = _points(args)
+    points = read_points(args)
     engine = check_engine(args.engine, "newton", one_shot=points.n)
     actual = None
     if args.actual_E_cables is not None:
@@ -684,8 +687,9 @@ def cmd_compensate(args):
             _report(tally, args.out, args, float("nan"))
         return
     res = solve(P, rv)
+    free = interference_free(robot, args.at, None if rv is None else rv[0])  # at the desired pose
     if six:
-        return _compensate_pose_report(args, robot, res, engine)
+        return _compensate_pose_report(args, robot, res, engine, free)
     status = str(res["status"][0])
     out = {
         "desired": list(map(float, args.at)),
@@ -695,6 +699,7 @@ def cmd_compensate(args):
         "solved": res["P_s"][0].tolist(),
         "dp_norm": float(res["dp"][0]),
         "engine": engine,
+        "interference_free": free,
     }
     if all(w is not None for w in robot.winches):
         from cdpr.models.drive import drum_angles  # lazy: robots with winches only
@@ -737,9 +742,9 @@ INFEASIBLE_LINE = (
 )
 
 
-def _compensate_pose_report(args, robot, res, engine):
+def _compensate_pose_report(args, robot, res, engine, free):
     """``compensate --at`` at a pose (rigid platform or --rotvec): the JSON or the text of the one
-    pose of ``res`` (``compensation.compensated_pose``)."""
+    pose of ``res`` (``compensation.compensated_pose``) and ``free``, its interference_free."""
     ok = res["status"][0] != "infeasible"
     out = {
         "desired": list(map(float, args.at)),
@@ -752,6 +757,7 @@ def _compensate_pose_report(args, robot, res, engine):
         "dp_norm": float(res["dp"][0]) if ok else None,
         "dphi": float(res["dphi"][0]) if ok else None,
         "engine": engine,
+        "interference_free": free,
     }
     if ok and any(p is not None for p in robot.spools):
         from cdpr.models.drive import spool_motor_angles  # lazy: robots with spools only
@@ -793,6 +799,7 @@ def _check_size(n_points, what):
 def cmd_grid(args):
     # lazy: the grid, the solvers and pandas, for this command only
     from cdpr.analyses.workspace import check_box, frame_box, grid_points, read_box, shard_range
+    from cdpr.models.interference import columns, interference
     from cdpr.solve import check_engine
     from cdpr.tables import solve_table
 
@@ -838,6 +845,11 @@ def cmd_grid(args):
 
         df["feasible"] = distribute_pose(robot, P, args.rotvec, t_min=args.t_min)["feasible"]
         extra = _wrench_feasible_summary(df, box, args)
+    if args.interference:  # the interference columns at the grid's poses (docs/interference.md)
+        df = df.assign(**columns(interference(robot, P, rv)))
+        extra["interference_free_points"] = int(df["interference_free"].sum())
+        if not args.json:
+            print(f"interference-free: {extra['interference_free_points']} of {len(df)} grid points")
     _write_table(df, args.out)
     dt = time.perf_counter() - t0
     _report(df, args.out, args, dt, extra)

@@ -20,7 +20,7 @@ from typing import Callable, NamedTuple
 from cdpr import io
 from cdpr.cli.options import non_negative, threads
 from cdpr.errors import CdprError
-from cdpr.pipeline import tasks
+from cdpr.pipeline import solver_tables, tasks
 from cdpr.pipeline.study import load_study
 
 #: Job names that are not the task's name with ``_`` → ``-`` (kept as the rules and users spell them).
@@ -32,6 +32,9 @@ ALIASES = {
 }
 #: Public functions of ``cdpr.pipeline.tasks`` that are helpers of the tasks, not jobs.
 HELPERS = ("concat",)
+#: The modules whose public functions are the jobs: the tasks, and the solver tables of a study's
+#: designs (``cdpr.pipeline.solver_tables``).
+TASK_MODULES = (tasks, solver_tables)
 
 
 class Option(NamedTuple):
@@ -64,6 +67,10 @@ OPTIONS = {
     "results": Option("results folder of the study"),
     "box_file": Option("JSON with the RW_C box"),
     "robot_key": Option("robot label of the study"),
+    "pulley": Option("pulley design label of the study (a key of pulleys)"),
+    "path_label": Option("path label of the study (a key of trajectories.paths)"),
+    "test": Option("DOE test number (Table 2)", type=int),
+    "modulus": Option("label of a Young's modulus of elasticity.E_path_Pa (as in the file name)"),
     "label": Option("robot_pulley label"),
     "kind": Option("pulley kind"),
     "d": Option("dead length [m]", type=non_negative),
@@ -94,13 +101,14 @@ class Job(NamedTuple):
 
 
 def task_functions():
-    """{name: function}: the public functions defined in ``cdpr.pipeline.tasks`` but ``HELPERS``, in
+    """{name: function}: the public functions defined in the ``TASK_MODULES`` but ``HELPERS``, in
     source order."""
     return {
         name: f
-        for name, f in vars(tasks).items()
+        for module in TASK_MODULES
+        for name, f in vars(module).items()
         if inspect.isfunction(f)
-        and f.__module__ == tasks.__name__
+        and f.__module__ == module.__name__
         and not name.startswith("_")
         and name not in HELPERS
     }
@@ -122,11 +130,11 @@ def registry():
     for name, f in task_functions().items():
         params = list(inspect.signature(f).parameters.values())
         if not params or params[0].name != "st":
-            raise TypeError(f"cdpr.pipeline.tasks.{name}: a task's first parameter is the study `st`")
+            raise TypeError(f"{f.__module__}.{name}: a task's first parameter is the study `st`")
         unknown = [p.name for p in params[1:] if p.name not in OPTIONS]
         if unknown:
             raise TypeError(
-                f"cdpr.pipeline.tasks.{name}: parameter(s) {', '.join(unknown)} have no entry in cdpr.cli.job.OPTIONS"
+                f"{f.__module__}.{name}: parameter(s) {', '.join(unknown)} have no entry in cdpr.cli.job.OPTIONS"
             )
         out[job_name(name)] = Job(
             f,

@@ -160,6 +160,12 @@ def build_parser(jobs=True):
     sp.add_argument(
         "--t-min", type=non_negative, default=100.0, metavar="N", help="least tension of --wrench-feasible"
     )
+    sp.add_argument(
+        "--interference",
+        action="store_true",
+        help="add the interference columns at each grid pose (interference_free, n_cc, n_cp, dmin_m, cc_pairs, "
+        "cp_cables; docs/interference.md) and print the count of interference-free points",
+    )
     sp.add_argument("--out", required=True, metavar="FILE", help="output .parquet or .csv")
     sp.add_argument("--shard", type=count(0), default=0, help="0-based shard index (default 0)")
     sp.add_argument("--shards", type=count(1), default=1, help="number of shards (default 1)")
@@ -204,6 +210,13 @@ def build_parser(jobs=True):
     rotvec_option(sp)
     physics_options(sp)
     sp.set_defaults(run=("cdpr.cli.commands", "cmd_trajectory"))
+    sp = sub.add_parser(
+        "interference",
+        help="cable-cable and cable-platform interference at a pose (or a table of poses)",
+    )
+    robot_options(sp)
+    points_options(sp, "platform position (reference point)")
+    sp.set_defaults(run=("cdpr.cli.interference", "cmd_interference"))
     sp = sub.add_parser("job", help="a pipeline task: tables in, tables and figures out (run by Snakemake)")
     if jobs:
         from cdpr.cli import job  # lazy: the job registry imports the pipeline (pandas); for `cdpr job` only
@@ -227,17 +240,18 @@ def build_parser(jobs=True):
 
 _GROUPS_HELP = (
     "comma-separated groups: anchors (A_i), dead_lengths (d_i), moduli (E_i), pulleys (h_i, r_p_i), "
-    "offsets (encoder offsets), mass (M); attachments (b_i) for 6-DoF platforms"
+    "offsets (encoder offsets), mass (M); attachments (b_i) for 6-DoF platforms; on motor-angle data "
+    "(motor_deg_1..m) anchors and spools (r0_i, Q_i)"
 )
 _PRIOR_HELP = (
     "prior sd per group, e.g. anchors=5mm,dead_lengths=50mm,moduli=20%%,pulleys=1mm,offsets=50mm,mass=5%%,"
     "attachments=3mm "
-    "(these are the defaults; moduli and mass relative)"
+    "(these are the defaults; moduli and mass relative); on motor-angle data anchors=5mm,spools=1mm"
 )
 
 
 def calibrate_parser(subparsers):
-    """Add ``calibrate`` with its commands ``fit``, ``check``, ``plan`` and ``study`` (``cdpr.cli.calibrate``)."""
+    """Add ``calibrate`` with its commands ``fit``, ``check``, ``cv``, ``plan`` and ``study`` (``cdpr.cli.calibrate``)."""
     cp = subparsers.add_parser("calibrate", help="identify a robot's parameters from measurements")
     sub = cp.add_subparsers(dest="calibrate_command", required=True, parser_class=Parser)
 
@@ -270,10 +284,53 @@ def calibrate_parser(subparsers):
     sp = sub.add_parser("check", help="a robot's predictions against measured samples")
     sp.add_argument("--robot", required=True, metavar="FILE")
     sp.add_argument(
-        "--data", required=True, metavar="FILE", help="CSV with commanded lengths L1..Lm and poses"
+        "--data",
+        required=True,
+        metavar="FILE",
+        help="CSV with commanded lengths L1..Lm and poses, or motor angles motor_deg_1..m (positions solved from them)",
+    )
+    sp.add_argument(
+        "--model",
+        choices=CALIBRATION_MODELS,
+        default="exact",
+        help="motor-angle data: exact (line stretch from force_N_i where given, default) or standard (rigid lines)",
     )
     sp.add_argument("--json", action="store_true", help="print JSON")
     sp.set_defaults(run=("cdpr.cli.calibrate", "cmd_check"))
+
+    sp = sub.add_parser("cv", help="K-fold cross-validation of a calibration from motor-angle data")
+    sp.add_argument("--robot", required=True, metavar="FILE", help="nominal robot YAML (the prior mean)")
+    sp.add_argument(
+        "--data",
+        required=True,
+        metavar="FILE",
+        help="motor-angle CSV: sample, motor_deg_1..m, optional force_N_1..m, x_m, y_m, z_m",
+    )
+    sp.add_argument(
+        "--estimate",
+        type=groups,
+        metavar="GROUPS",
+        help="anchors, spools (comma-separated); not with --fixed",
+    )
+    sp.add_argument(
+        "--prior", metavar="G=SD,...", help="prior sd, e.g. anchors=150mm,spools=1mm (defaults 5mm, 1mm)"
+    )
+    sp.add_argument(
+        "--model",
+        choices=CALIBRATION_MODELS,
+        default="exact",
+        help="exact: line stretch from the measured forces (default); standard: rigid lines",
+    )
+    sp.add_argument(
+        "--folds",
+        required=True,
+        type=count(2, 100000),
+        metavar="K",
+        help="fold k holds the rows i with i mod K = k; K = number of samples is leave-one-out",
+    )
+    sp.add_argument("--fixed", action="store_true", help="score the robot file as given, without fitting")
+    sp.add_argument("--json", action="store_true", help="print JSON")
+    sp.set_defaults(run=("cdpr.cli.calibrate", "cmd_cv"))
 
     sp = sub.add_parser("plan", help="D-optimal poses to measure for a calibration")
     sp.add_argument("--robot", required=True, metavar="FILE")

@@ -12,6 +12,7 @@ Snakemake pipeline all go through it.
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import math
 import os
 from pathlib import Path
@@ -29,17 +30,61 @@ from cdpr.robot import (
     load_robot,
     params_from_mapping,
     robot_from_dict,
-    robot_from_file_data,
+    with_values,
 )
 from cdpr.validation import read_yaml, validate
 
 
+@dataclasses.dataclass(frozen=True)
+class SolverOptions:
+    """How a study solves, read once from the study file by ``load_study``, each with its one default.
+
+    Attributes
+    ----------
+    redundancy : str
+        ``redundancy``: ``paper`` (the paper's 3-cable subset rule) or ``physical`` (the equilibrium
+        on all cables).
+    method : str
+        ``solver``: the DEGM_E solver of every solve (``newton`` or ``fixed_point``).
+    rotvec : tuple of float or None
+        ``rotvec_rad``: the fixed platform orientation (3,) [rad] of every solve, None: the identity.
+    uq_redundancy : str
+        ``uncertainty.redundancy``: the redundancy mode of the uncertainty study's uncompensated robot.
+    """
+
+    redundancy: str = "paper"
+    method: str = "newton"
+    rotvec: tuple | None = None
+    uq_redundancy: str = "paper"
+
+    @classmethod
+    def of(cls, mapping):
+        """The options of a study mapping: its keys where given, else the defaults above."""
+        u = mapping.get("uncertainty") or {}
+        rv = mapping.get("rotvec_rad")
+        return cls(
+            redundancy=mapping.get("redundancy", cls.redundancy),
+            method=mapping.get("solver", cls.method),
+            rotvec=None if rv is None else tuple(float(x) for x in rv),
+            uq_redundancy=u.get("redundancy", cls.uq_redundancy),
+        )
+
+
 class Study(dict):
-    """A validated study: the parsed YAML mapping, plus ``path`` (the file it was read from) and
-    ``robot_models`` (the Robot of each ``robots`` key, as its file says, built once by the checks)."""
+    """A validated study: the parsed YAML mapping, plus ``path`` (the file it was read from),
+    ``robot_models`` (the Robot of each ``robots`` key, as its file says, built once by the checks)
+    and ``options`` (its :class:`SolverOptions`, read once)."""
 
     path: str = "<dict>"
     robot_models: dict = None
+    _options: SolverOptions = None
+
+    @property
+    def options(self):
+        """The study's :class:`SolverOptions` (read from the mapping the first time)."""
+        if self._options is None:
+            self._options = SolverOptions.of(self)
+        return self._options
 
 
 def load_study(path):
@@ -60,7 +105,7 @@ def load_study(path):
     validate(data, "study", path)
     st = Study(data)
     st.path = str(path)
-    st.setdefault("redundancy", "paper")
+    st.setdefault("redundancy", SolverOptions.redundancy)
     check_study(st)
     return st
 
@@ -148,16 +193,45 @@ def height_range(robot):
 
 
 def redundancy(st):
-    """The study's redundancy mode: ``paper`` (the paper's 3-cable subset rule, the default) or
-    ``physical`` (the equilibrium on all cables, ``equilibrium``)."""
-    return st.get("redundancy", "paper")
+    """The study's redundancy mode (``SolverOptions.redundancy``): ``paper`` (the paper's 3-cable
+    subset rule, the default) or ``physical`` (the equilibrium on all cables, ``equilibrium``)."""
+    return st.options.redundancy
+
+
+def solve_kwargs(st, threads=None):
+    """The keyword arguments of every solve a study runs (``scans``, ``solve_table``): method,
+    threads, the redundancy mode and the fixed platform orientation (``rotvec_rad``, when set), from
+    the study's :class:`SolverOptions`.
+
+    Parameters
+    ----------
+    st : Study
+        The validated study.
+    threads : int, optional
+        Threads of the compiled engine (None: all).
+
+    Returns
+    -------
+    dict
+    """
+    o = st.options
+    out = {"method": o.method, "threads": threads, "redundancy": o.redundancy}
+    if o.rotvec is not None:
+        out["rotvec"] = np.asarray(o.rotvec, dtype=float)
+    return out
+
+
+def uq_redundancy(st):
+    """The redundancy mode of the uncertainty study's uncompensated robot
+    (``SolverOptions.uq_redundancy``, key ``uncertainty.redundancy``)."""
+    return st.options.uq_redundancy
 
 
 def rotvec(st):
     """The study's fixed platform orientation ``rotvec_rad`` (3,) [rad], or None when the study does
     not set it (every solve then takes the identity: the solver's default for spatial robots)."""
-    rv = st.get("rotvec_rad")
-    return None if rv is None else [float(x) for x in rv]
+    rv = st.options.rotvec
+    return None if rv is None else list(rv)
 
 
 def spatial_robots(st):
@@ -179,8 +253,7 @@ def uq_cases(st):
     study's uncompensated robot is physical too (``uncertainty.redundancy: physical``). The
     compensated robot is physical in every study, so a paper-mode study would only copy the
     physical study's tables: they are written once, by the physical study."""
-    u = st.get("uncertainty") or {}
-    return CASES if u.get("redundancy", "paper") == "physical" else CASES[:1]
+    return CASES if uq_redundancy(st) == "physical" else CASES[:1]
 
 
 def uq_spatial(st):
@@ -190,29 +263,26 @@ def uq_spatial(st):
     return r is not None and not r.suspended_point_mass
 
 
-def robot_of(st, robot_key, data=None, **overrides):
-    """The study's robot ``robot_key`` with keyword overrides (``robot.apply_overrides``); ``data``:
-    its file's mapping already read (``robot_file_data``), to build many variants of it."""
-    if data is not None:
-        return robot_from_file_data(data, st["robots"][robot_key], **overrides)
-    return load_robot(st["robots"][robot_key], **overrides)
+def robot_of(st, robot_key, **overrides):
+    """The study's robot ``robot_key`` (the Robot its checks built, ``Study.robot_models``) with
+    values set on it (``robot.with_values``: ``pulley``, ``h``, ``r_p``, ``dead_length``, ``E``,
+    ``mass``); the robot file is not read again."""
+    models = st.robot_models or {}
+    robot = models.get(robot_key)
+    if robot is None:  # a Study built by hand, without load_study's checks
+        robot = load_robot(st["robots"][robot_key])
+    given = {k: v for k, v in overrides.items() if v is not None}
+    return with_values(robot, **given) if given else robot
 
 
-def robot_file_data(st, robot_key):
-    """The mapping of the study's robot file ``robot_key`` (``robot.read_yaml``), read once for
-    ``design_robot(..., data=)``."""
-    return read_yaml(st["robots"][robot_key])
-
-
-def design_robot(st, robot_key, pulley, E=None, dead_length=None, data=None):
+def design_robot(st, robot_key, pulley, E=None, dead_length=None):
     """Robot ``robot_key`` of the study with a pulley design {kind, h_m, r_p_m} on every cable, the
-    study's dead length (or ``dead_length`` [m]) and optionally Young's modulus ``E`` [Pa];
-    ``data``: the robot file's mapping already read (``robot_file_data``)."""
+    study's dead length (or ``dead_length`` [m]) and optionally Young's modulus ``E`` [Pa], set as
+    values on the study's Robot (``robot_of``)."""
     fixed = pulley["kind"] == "fixed"
     return robot_of(
         st,
         robot_key,
-        data,
         pulley=pulley["kind"],
         h=None if fixed else pulley.get("h_m", 0.0),
         r_p=None if fixed else pulley.get("r_p_m", 0.0),
@@ -390,7 +460,7 @@ def check_study(st):
     src = st.path
     problems = []
     with _collect(problems):
-        if redundancy(st) == "physical" and st["solver"] != "newton":
+        if redundancy(st) == "physical" and st.options.method != "newton":
             raise ConfigError(
                 src,
                 "solver",
@@ -560,13 +630,13 @@ def check_spatial_study(st, robots):
                 )
             )
         u = st.get("uncertainty")
-        if u and u.get("redundancy", "paper") != "physical":
+        if u and uq_redundancy(st) != "physical":
             out.append(
                 ConfigError(
                     src,
                     "uncertainty.redundancy",
                     f"{what}: paper mode (the best 3 of m cables) is the point-mass rule, run by a study on "
-                    f"suspended point masses only; use uncertainty.redundancy: physical, got {u.get('redundancy', 'paper')!r}",
+                    f"suspended point masses only; use uncertainty.redundancy: physical, got {uq_redundancy(st)!r}",
                 )
             )
         if st.get("paper_comparison"):

@@ -632,7 +632,7 @@ def write_summary(st, res, out_md, out_csv):
         + (": the papers' numbers beside ours" if scored else ": our numbers"),
         "",
         f"Study file `{st.path}`; dead length d = {st['dead_length_m']} m; solver {st['solver']}; "
-        f"redundancy {st.get('redundancy', 'paper')}; "
+        f"redundancy {st.options.redundancy}; "
         f"global index over N = {st['doe']['index_n']}^3 = {st['doe']['index_n'] ** 3:,} cell-centred points (paper: 250,000); "
         f"h-r_p maps with {st['maps']['index_n']}^3 = {st['maps']['index_n'] ** 3:,} points per cell.",
         "",

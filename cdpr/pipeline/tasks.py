@@ -69,20 +69,11 @@ def _shards(paths, pattern, what, key):
     return {k: [p for _, p in sorted(v)] for k, v in groups.items()}
 
 
-def _solver(st, threads=None):
-    """The solver options of every solve a task runs: method, threads, the redundancy mode and the
-    study's fixed platform orientation (``rotvec_rad``, when set)."""
-    out = {"method": st["solver"], "threads": threads, "redundancy": study.redundancy(st)}
-    if study.rotvec(st) is not None:
-        out["rotvec"] = np.asarray(study.rotvec(st), dtype=float)
-    return out
-
-
 def _grid_index(st, robot, box, n, threads=None, dphi=False):
     """Global index (eq. 15) of ``robot`` over the n^3 grid of ``box`` in the study's redundancy
     mode, one solve per orbit of the symmetries robot and grid share (``symmetry.solve_grid_columns``);
     with ``dphi`` also the orientation index [rad] (``doe.orientation_index``, NaN for a point mass)."""
-    c, _ = solve_grid_columns(robot, box, n, ("dp", "status", "dphi"), **_solver(st, threads))
+    c, _ = solve_grid_columns(robot, box, n, ("dp", "status", "dphi"), **study.solve_kwargs(st, threads))
     status = c["status"].astype(str)
     ix = doe.global_index(c["dp"], status)
     if not dphi:
@@ -381,17 +372,16 @@ def index_shard(st, shard, box_file, table, threads=None):
     """Global index (eq. 15) of the DOE tests of shard ``shard`` (Table 2's tests cut into
     ``doe.shards`` contiguous slices) over the RW_C grid (``doe.index_n``), one row per test: test,
     index_m, index_phi_rad (the orientation index, a rigid platform only), not_ok_points. One
-    process solves every test of its slice (the robot file read once), one solve per orbit of the
+    process solves every test of its slice, one solve per orbit of the
     grid's symmetries (``_grid_index``). Written as parquet: the indices keep every bit for the
     effects."""
     box, n = workspace.read_box(box_file), st["doe"]["index_n"]
     tests = study.doe_tests(st)
     start, stop = workspace.shard_range(len(tests), int(shard), st["doe"]["shards"])
-    data = study.robot_file_data(st, st["doe"]["robot"])
     rows = []
     for t in tests.iloc[start:stop].itertuples():
         spec = {"kind": t.kind, "h_m": t.h_m, "r_p_m": t.r_p_m}
-        robot = study.design_robot(st, st["doe"]["robot"], spec, data=data)
+        robot = study.design_robot(st, st["doe"]["robot"], spec)
         rows.append({"test": int(t.test), **_index_row(st, robot, box, n, threads)})
     table_io.write_table(pd.DataFrame(rows), table)
 
@@ -431,9 +421,8 @@ def map_rows(st, kind, box_file, table, threads=None):
     n = st["maps"]["index_n"]
     box = workspace.read_box(box_file)
     rows = []
-    data = study.robot_file_data(st, st["doe"]["robot"])  # read once, a robot per cell
     for h, r_p in study.map_cells(st):
-        robot = study.design_robot(st, st["doe"]["robot"], {"kind": kind, "h_m": h, "r_p_m": r_p}, data=data)
+        robot = study.design_robot(st, st["doe"]["robot"], {"kind": kind, "h_m": h, "r_p_m": r_p})
         (ix, bad), phi = _grid_index(st, robot, box, n, threads, dphi=True)
         row = {"kind": kind, "h_m": h, "r_p_m": r_p, "index_m": ix}
         if not robot.suspended_point_mass:  # a rigid platform: the orientation index beside it
@@ -496,15 +485,14 @@ def elasticity_shard(st, design, shard, box_file, table, threads=None):
     at each Young's modulus of shard ``shard`` (the sweep ``study.E_values`` cut into
     ``elasticity.shards`` contiguous slices), one row per modulus: design, E_Pa, index_m,
     index_phi_rad (the orientation index, a rigid platform only), not_ok_points. One process solves
-    every modulus of its slice (the robot file read once), one solve per orbit of the grid's
+    every modulus of its slice, one solve per orbit of the grid's
     symmetries (``_grid_index``). Written as parquet: the indices keep every bit for the bands."""
     box, n, e = workspace.read_box(box_file), st["elasticity"]["index_n"], st["elasticity"]
     moduli = study.E_values(st)
     start, stop = workspace.shard_range(len(moduli), int(shard), e["shards"])
-    data = study.robot_file_data(st, st["doe"]["robot"])
     rows = []
     for E in moduli[start:stop]:
-        robot = study.design_robot(st, st["doe"]["robot"], st["optimal"][design], E=E, data=data)
+        robot = study.design_robot(st, st["doe"]["robot"], st["optimal"][design], E=E)
         rows.append({"design": design, "E_Pa": E, **_index_row(st, robot, box, n, threads)})
     table_io.write_table(pd.DataFrame(rows), table)
 
@@ -583,19 +571,20 @@ def dead_length_point(st, box_file, table, d=None, threads=None):
     ``dead_length.values_m``, one row each, in one process): the plane extremes of each pulley design
     on the DOE robot, and each optimal design's index at E_min, E_mean, E_max."""
     box, n = workspace.read_box(box_file), st["dead_length"]["index_n"]
-    data = study.robot_file_data(st, st["doe"]["robot"])
     rows = []
     for dv in st["dead_length"]["values_m"] if d is None else [d]:
         row = {"d_m": dv}
         for pk in st["pulleys"]:
-            robot = study.design_robot(st, st["doe"]["robot"], st["pulleys"][pk], dead_length=dv, data=data)
+            robot = study.design_robot(st, st["doe"]["robot"], st["pulleys"][pk], dead_length=dv)
             lo, hi = scans.ok_extremes(
-                scans.plane(robot, st["plane"]["z_m"], st["dead_length"]["plane_n"], **_solver(st, threads))
+                scans.plane(
+                    robot, st["plane"]["z_m"], st["dead_length"]["plane_n"], **study.solve_kwargs(st, threads)
+                )
             )
             row[f"plane_{pk}_min_m"], row[f"plane_{pk}_max_m"] = lo, hi
         for dk, spec in st["optimal"].items():
             for tag, E in zip(("Emin", "Emean", "Emax"), st["elasticity"]["E_path_Pa"]):
-                robot = study.design_robot(st, st["doe"]["robot"], spec, E=E, dead_length=dv, data=data)
+                robot = study.design_robot(st, st["doe"]["robot"], spec, E=E, dead_length=dv)
                 row[f"{dk}_{tag}_index_m"], _ = _grid_index(st, robot, box, n, threads)
         rows.append(row)
     table_io.write_table(pd.DataFrame(rows), table)
@@ -928,7 +917,7 @@ def uncertainty(
     table_io.write_table(sobol_tab, sobol)
     paper_bands = _paper_uq_bands(st)
     robot = study.robot_of(st, st["doe"]["robot"])
-    mode = u.get("redundancy", "paper")  # the model of the uncompensated robot
+    mode = study.uq_redundancy(st)  # the model of the uncompensated robot
     if study.uq_spatial(st):  # a rigid platform: a ‖δp‖ and a δφ panel in every figure
         z = st["plane"]["z_m"]
         uq_plots.uq6_index_distribution(

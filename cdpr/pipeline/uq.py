@@ -32,7 +32,7 @@ from cdpr.analyses.uncertainty import (
 )
 from cdpr.analyses.workspace import grid_points, shard_range
 from cdpr.parameters import parameter_values
-from cdpr.pipeline.study import design_robot
+from cdpr.pipeline.study import design_robot, uq_redundancy
 
 
 def study_drivers(st, robot):
@@ -98,7 +98,7 @@ def model(st, design, case, points, threads=None):
         design_robot(st, st["doe"]["robot"], st["optimal"][design]),
         points,
         case,
-        redundancy=u.get("redundancy", "paper"),
+        redundancy=uq_redundancy(st),
         compensation=u["compensation"],
         threads=threads,
     )

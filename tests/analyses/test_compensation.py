@@ -9,7 +9,7 @@ from cdpr.compiled.equilibrium import solve_points as solve_physical_fast
 from cdpr.errors import CdprError
 from cdpr.models.inverse import igm_e
 from cdpr.models.statics import stretched_length
-from cdpr.robot import apply_overrides, read_yaml, robot_from_dict, with_pulleys
+from cdpr.robot import read_yaml, robot_from_dict, with_pulleys, with_values
 from cdpr.tables import to_frame
 from tests.conftest import ROBOTS
 from tests.models.test_equilibrium import mixed_robot
@@ -59,7 +59,7 @@ def test_compensated_pose_reports_the_residual_error(cdpr4):
     for kind in ("SR", "DR"):
         model = with_pulleys(cdpr4, kind=kind)
         real = with_pulleys(
-            robot_from_dict(apply_overrides(data, E_cables=[80e9, 120e9, 95e9, 130e9])), kind=kind
+            with_values(robot_from_dict(data), E_cables=[80e9, 120e9, 95e9, 130e9]), kind=kind
         )
         same = compensated_pose(model, PTS)
         assert (same["status"] == "ok").sum() > 40

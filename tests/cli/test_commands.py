@@ -38,6 +38,7 @@ def test_point_json(capsys):
         "status",
         "iterations",
         "engine",
+        "interference_free",
         "warnings",
     }
     assert out["warnings"] == []  # CDPR4 is plausible (cdpr.plausibility.plausibility_warnings)
@@ -167,6 +168,7 @@ def test_point_physical_json_and_commanded_lengths(capsys):
         "status",
         "iterations",
         "engine",
+        "interference_free",
         "warnings",
     }
     assert out["status"] == "ok" and out["taut"] == [1, 2, 3, 4] and all(t > 0 for t in out["tensions"])
@@ -174,7 +176,18 @@ def test_point_physical_json_and_commanded_lengths(capsys):
     compensate = ["compensate", "--robot", R4, "--pulley", "DR", "--at", "0.5", "0.2", "2.5"]
     comp = run_json(capsys, *compensate)
     assert (
-        set(comp) == {"desired", "lengths", "tensions", "status", "solved", "dp_norm", "engine", "warnings"}
+        set(comp)
+        == {
+            "desired",
+            "lengths",
+            "tensions",
+            "status",
+            "solved",
+            "dp_norm",
+            "engine",
+            "interference_free",
+            "warnings",
+        }
         and comp["status"] == "ok"
     )
     assert comp["dp_norm"] < 1e-9 and comp["engine"] == "numpy"  # one pose: solve.ONE_SHOT_POSES

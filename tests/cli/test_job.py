@@ -47,9 +47,11 @@ KNOWN_JOBS = [
 def test_every_public_task_has_a_job_and_every_known_name_stays():
     public = {
         n
-        for n, f in vars(tasks).items()
-        if inspect.isfunction(f) and f.__module__ == tasks.__name__ and not n.startswith("_")
+        for module in job.TASK_MODULES
+        for n, f in vars(module).items()
+        if inspect.isfunction(f) and f.__module__ == module.__name__ and not n.startswith("_")
     }
+    assert tasks in job.TASK_MODULES
     assert public - set(job.HELPERS) == set(job.task_functions())
     assert {job.JOBS[j].func.__name__ for j in job.JOBS} == public - set(job.HELPERS)
     # every known name stays, in its order (the order of tasks.py, shown by --help); new jobs may join

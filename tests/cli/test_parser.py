@@ -19,6 +19,7 @@ COMMANDS = {
     "winch",
     "plane",
     "trajectory",
+    "interference",
     "job",
     "calibrate",
     "import",

@@ -12,7 +12,7 @@ from cdpr.models.inverse import L_TS
 from cdpr.models.pulleys import total_length_and_direction
 from cdpr.models.results import point_keys, taut_labels
 from cdpr.models.subsets import solve_points
-from cdpr.robot import apply_overrides, read_yaml, robot_from_dict, with_pulleys
+from cdpr.robot import read_yaml, robot_from_dict, with_pulleys, with_values
 from cdpr.tables import to_frame
 from tests.conftest import ROBOTS
 
@@ -29,8 +29,7 @@ def mixed_robot():
     data["cables"][1]["pulley"] = {"kind": "DR", "h_m": 0.12, "r_p_m": 0.05}
     data["cables"][2]["dead_length_m"] = 3.0
     data["cables"][3]["pulley"] = {"kind": "DR", "h_m": 0.08, "r_p_m": 0.04}
-    data = apply_overrides(data, E_cables=[80e9, 120e9, 95e9, 130e9])
-    return robot_from_dict(data)
+    return with_values(robot_from_dict(data), E_cables=[80e9, 120e9, 95e9, 130e9])
 
 
 def robots(cdpr4):
@@ -202,7 +201,7 @@ def test_cdpr3_physical_equals_paper_mode(cdpr3, kind):
 def test_per_cable_modulus_equal_to_the_robot_modulus_changes_nothing(cdpr4):
     data = read_yaml(ROBOTS / "cdpr4.yaml")
     E = data["cable"]["young_modulus_Pa"]
-    per_cable = robot_from_dict(apply_overrides(data, E_cables=[E] * 4))
+    per_cable = with_values(robot_from_dict(data), E_cables=[E] * 4)
     for kind in ("SR", "DR"):
         a = solve_physical(with_pulleys(cdpr4, kind=kind), PTS)
         b = solve_physical(with_pulleys(per_cable, kind=kind), PTS)
@@ -213,8 +212,8 @@ def test_per_cable_modulus_equal_to_the_robot_modulus_changes_nothing(cdpr4):
 def test_per_cable_moduli_follow_their_cables(cdpr4):
     """Mirror x -> -x swaps cables 1<->2 and 3<->4: swapping their moduli mirrors the solution."""
     data = read_yaml(ROBOTS / "cdpr4.yaml")
-    a_r = robot_from_dict(apply_overrides(data, E_cables=[80e9, 120e9, 95e9, 130e9]))
-    b_r = robot_from_dict(apply_overrides(data, E_cables=[120e9, 80e9, 130e9, 95e9]))
+    a_r = with_values(robot_from_dict(data), E_cables=[80e9, 120e9, 95e9, 130e9])
+    b_r = with_values(robot_from_dict(data), E_cables=[120e9, 80e9, 130e9, 95e9])
     mirror = np.array([-1.0, 1.0, 1.0])
     a, b = solve_physical(a_r, PTS), solve_physical(b_r, PTS * mirror)
     assert np.linalg.norm(a["P_s"] * mirror - b["P_s"], axis=1).max() < 1e-9

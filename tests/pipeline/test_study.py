@@ -1,5 +1,6 @@
 """The study's sweeps contain the values the summary reads at (issue 21: E_mean in the E sweep)."""
 
+import dataclasses
 from pathlib import Path
 
 import numpy as np
@@ -8,6 +9,7 @@ import yaml
 
 from cdpr.pipeline import study
 from cdpr.pipeline.results import Layout
+from cdpr.robot import load_robot, read_yaml
 
 ROOT = Path(__file__).resolve().parents[2]
 # config/studies/calibration.yaml and calibration_cogiro.yaml are calibration studies (cdpr calibrate
@@ -194,21 +196,61 @@ def test_a_reversed_dphi_sweep_and_a_sweep_without_limits_are_refused(tmp_path):
     assert "dphi_limits_rad" in _refusal(path)
 
 
+def _edited_file_robot(path, tmp_path, spec, E=None, dead_length=None):
+    """The robot of ``path`` with the design written into its YAML mapping, as a user editing the
+    file would: every cable's pulley kind, h, r_p (the robot's and each cable's), the dead length and
+    the modulus (per-cable values dropped), then read back from a file."""
+    data = read_yaml(path)
+    pulley = {"kind": spec["kind"]}
+    if spec["kind"] == "fixed":
+        pulley.update(h_m=0.0, r_p_m=0.0)
+    else:
+        pulley.update(h_m=spec["h_m"], r_p_m=spec["r_p_m"])
+    data["pulley"].update(pulley)
+    for c in data["cables"]:
+        if isinstance(c.get("pulley"), dict):
+            c["pulley"].update(pulley)
+        if dead_length is not None:
+            c.pop("dead_length_m", None)
+        if E is not None and isinstance(c.get("cable"), dict):
+            c["cable"].pop("young_modulus_Pa", None)
+    if dead_length is not None:
+        data["dead_length_m"] = dead_length
+    if E is not None:
+        data["cable"]["young_modulus_Pa"] = E
+    out = tmp_path / "edited.yaml"
+    out.write_text(yaml.safe_dump(data), encoding="utf-8")
+    return load_robot(out)
+
+
 @pytest.mark.parametrize("name", ["paper.yaml", "quick_spatial.yaml"])
-def test_a_design_from_the_robot_file_read_once_is_the_design_read_each_time(name):
-    """design_robot(..., data=robot_file_data(...)) (the h-r_p maps read the robot file once for
-    their 870 cells) builds the same robot as reading the file for every design."""
+def test_a_design_set_as_values_is_the_robot_file_edited(name, tmp_path):
+    """design_robot sets a pulley design, the dead length and E as values on the study's Robot
+    (``with_values``: the YAML mapping is neither rewritten nor validated again); the robot is the
+    one a user gets by editing the robot file (pulley axes and zeros, attachments, winches kept)."""
     st = study.load_study(Path("config/studies") / name)
     key = st["doe"]["robot"]
-    data = study.robot_file_data(st, key)
     for spec, kw in (
         ({"kind": "SR", "h_m": 0.035, "r_p_m": 0.02}, {}),
         ({"kind": "DR", "h_m": 0.15, "r_p_m": 0.145}, {"E": 9.0e10, "dead_length": 1.5}),
         ({"kind": "fixed"}, {}),
     ):
-        once = study.design_robot(st, key, spec, data=data, **kw)
-        each = study.design_robot(st, key, spec, **kw)
-        assert once == each and once.source == each.source
-        for a, b in zip(once.arrays, each.arrays):
+        typed = study.design_robot(st, key, spec, **kw)
+        edited = _edited_file_robot(st["robots"][key], tmp_path, spec, **kw)
+        assert dataclasses.replace(typed, source="") == dataclasses.replace(edited, source="")
+        for a, b in zip(typed.arrays, edited.arrays):
             np.testing.assert_array_equal(a, b)
-    assert study.robot_file_data(st, key) == data  # building robots did not change the mapping
+
+
+def test_a_design_builds_on_the_study_robot_without_reading_its_file(monkeypatch):
+    """The study's Robot (built once by load_study's checks) is the base of every design: reading a
+    robot file during design_robot fails the test."""
+    st = study.load_study(Path("config/studies") / "paper.yaml")
+
+    def no_reading(*args, **kwargs):
+        raise AssertionError("the robot file was read again")
+
+    monkeypatch.setattr(study, "load_robot", no_reading)
+    monkeypatch.setattr("cdpr.robot.read_yaml", no_reading)
+    robot = study.design_robot(st, st["doe"]["robot"], {"kind": "DR", "h_m": 0.15, "r_p_m": 0.1}, E=9e10)
+    assert robot.cables[0].pulley.kind == "DR" and robot.cables[0].material.E == 9e10

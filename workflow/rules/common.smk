@@ -14,7 +14,7 @@ from pathlib import Path
 
 from cdpr.errors import CdprError
 from cdpr.pipeline.results import Layout
-from cdpr.pipeline.study import check_results_folder, doe_tests, load_study, path_robot, rotvec, spatial_robots
+from cdpr.pipeline.study import check_results_folder, load_study, path_robot
 
 STUDY_FILE = config["study"]
 try:
@@ -76,8 +76,15 @@ def outputs(rule, **reports):
 
 
 def uses(*keys):
-    """The study values a job reads, as a param (a change of any of them reruns the job)."""
-    return {k: STUDY.get(k) for k in keys}
+    """The study values a job reads, as a param (a change of any of them reruns the job).
+
+    A key ``"section.sub"`` is the one value ``sub`` of the section (``"volumes.n"``): a job that
+    reads part of a section does not rerun when another part of it changes."""
+    out = {}
+    for k in keys:
+        section, _, sub = k.partition(".")
+        out[k] = (STUDY.get(section) or {}).get(sub) if sub else STUDY.get(section)
+    return out
 
 
 wildcard_constraints:
@@ -86,44 +93,15 @@ wildcard_constraints:
     path="|".join(STUDY["trajectories"]["paths"]),
 
 
-# paper: the 3-of-4 subset rule; physical: the equilibrium on all cables (every solver job gets it)
-REDUNDANCY = STUDY["redundancy"]
-# the fixed platform orientation of every solve (study key rotvec_rad, spatial robots only; absent:
-# the solver's identity), and whether the study's robots are spatial (6-DoF solves, numpy engine)
-ROTVEC = rotvec(STUDY)
-SPATIAL = bool(spatial_robots(STUDY))
-
-
-def pulley_args(p, E=None):
-    """Command-line overrides for a pulley design {kind, h_m, r_p_m} (same as editing the robot
-    file), with the study's dead length, solver and redundancy mode, and optionally E [Pa]."""
-    args = f"--pulley {p['kind']} --dead-length {STUDY['dead_length_m']} --method {STUDY['solver']}"
-    args += f" --redundancy {REDUNDANCY}"
-    if ROTVEC is not None:
-        args += " --rotvec " + " ".join(repr(float(x)) for x in ROTVEC)
-    if p["kind"] != "fixed":
-        args += f" --h {p.get('h_m', 0)} --rp {p.get('r_p_m', 0)}"
-    return args if E is None else f"{args} --E {E}"
-
-
 # Sections of the study used by several rule files.
-PATHS = STUDY["trajectories"]["paths"]
-VOL = STUDY["volumes"]
 DOE = STUDY["doe"]
-DOE_TESTS = doe_tests(STUDY).set_index("test")  # Table 2: number -> kind, h_m, r_p_m
 DOE_ROBOT = ROBOTS[DOE["robot"]]
-EL = STUDY["elasticity"]
 OPT = STUDY["optimal"]
 
 
 def uq_uses(*keys):
     """The part of the study's uncertainty section a job reads (a change of it reruns the job)."""
     return {k: (STUDY.get("uncertainty") or {}).get(k) for k in keys}
-
-
-def test_args(test):
-    """Overrides of DOE test `test` (Table 2)."""
-    return pulley_args(DOE_TESTS.loc[int(test)].to_dict())
 
 
 def all_targets():

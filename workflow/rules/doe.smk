@@ -6,16 +6,14 @@ rule workspace_grid:
         **outputs("workspace_grid"),
     params:
         **COMMON,
-        design=lambda w: test_args(int(w.test)),
-        n=DOE["workspace_n"],
         # a spatial robot's workspace is the wrench-feasible one (tensions in [t_min, T_a] hold the pose)
-        feasible=" --wrench-feasible" if SPATIAL else "",
+        study=uses("doe.robot", "doe.levels", "doe.workspace_n", "dead_length_m", "solver", "redundancy", "rotvec_rad"),
     log:
         LAYOUT.log("workspace_grid"),
     threads: SOLVER_THREADS
     shell:
-        "{params.cdpr} grid --threads {threads} --robot {input.robot:q} {params.design} --frame --n {params.n}{params.feasible}"
-        " --out {output.table:q}" + TO_LOG
+        "{params.cdpr} job workspace-grid --threads {threads} --study {params.study_file:q} --test {wildcards.test}"
+        " --table {output.table:q}" + TO_LOG
 
 
 rule regular_workspace:

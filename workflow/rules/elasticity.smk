@@ -9,7 +9,7 @@ rule elasticity_shard:
         **outputs("elasticity_shard"),
     params:
         **COMMON,
-        study=uses("elasticity", "optimal", "doe", "dead_length_m", "solver", "redundancy", "rotvec_rad"),
+        study=uses("elasticity.path", "elasticity.E_path_Pa", "optimal", "doe.robot", "dead_length_m", "solver", "redundancy", "rotvec_rad"),
     log:
         LAYOUT.log("elasticity_shard"),
     threads: SOLVER_THREADS
@@ -25,14 +25,13 @@ rule elasticity_path:
         **outputs("elasticity_path"),
     params:
         **COMMON,
-        design=lambda w: pulley_args(OPT[w.design], E=w.E),
-        path=EL["path"],
+        study=uses("elasticity", "optimal", "doe", "dead_length_m", "solver", "redundancy", "rotvec_rad"),
     log:
         LAYOUT.log("elasticity_path"),
     threads: SOLVER_THREADS
     shell:
-        "{params.cdpr} trajectory --threads {threads} --robot {input.robot:q} {params.design} --start {params.path[start_m]}"
-        " --end {params.path[end_m]} --n {params.path[points]} --out {output.table:q}" + TO_LOG
+        "{params.cdpr} job elasticity-path --threads {threads} --study {params.study_file:q} --design {wildcards.design}"
+        " --modulus {wildcards.E} --table {output.table:q}" + TO_LOG
 
 
 rule elasticity:

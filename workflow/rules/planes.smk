@@ -8,14 +8,13 @@ rule plane_table:
         **outputs("plane_table"),
     params:
         **COMMON,
-        design=lambda w: pulley_args(PULLEYS[w.pulley]),
-        p=STUDY["plane"],
+        study=uses("plane.z_m", "plane.n", "pulleys", "dead_length_m", "solver", "redundancy", "rotvec_rad"),
     log:
         LAYOUT.log("plane_table"),
     threads: SOLVER_THREADS
     shell:
-        "{params.cdpr} plane --threads {threads} --robot {input.robot:q} {params.design} --z {params.p[z_m]} --n {params.p[n]}"
-        " --out {output.table:q}" + TO_LOG
+        "{params.cdpr} job plane-table --threads {threads} --study {params.study_file:q} --robot-key {wildcards.robot}"
+        " --pulley {wildcards.pulley} --table {output.table:q}" + TO_LOG
 
 
 rule plane_figure:

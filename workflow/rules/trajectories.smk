@@ -8,15 +8,13 @@ rule trajectory_table:
         **outputs("trajectory_table"),
     params:
         **COMMON,
-        design=lambda w: pulley_args(PULLEYS[w.pulley]),
-        path=lambda w: PATHS[w.path],
-        n=STUDY["trajectories"]["points"],
+        study=uses("trajectories.paths", "trajectories.points", "pulleys", "dead_length_m", "solver", "redundancy", "rotvec_rad"),
     log:
         LAYOUT.log("trajectory_table"),
     threads: SOLVER_THREADS
     shell:
-        "{params.cdpr} trajectory --threads {threads} --robot {input.robot:q} {params.design} --start {params.path[start_m]}"
-        " --end {params.path[end_m]} --n {params.n} --out {output.table:q}" + TO_LOG
+        "{params.cdpr} job trajectory-table --threads {threads} --study {params.study_file:q} --path-label {wildcards.path}"
+        " --pulley {wildcards.pulley} --table {output.table:q}" + TO_LOG
 
 
 rule trajectory_figure:

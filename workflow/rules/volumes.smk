@@ -8,15 +8,13 @@ rule volume_shard:
         **outputs("volume_shard"),
     params:
         **COMMON,
-        design=lambda w: pulley_args(PULLEYS[w.pulley]),
-        n=VOL["n"],
-        shards=VOL["shards"],
+        study=uses("volumes.n", "volumes.shards", "pulleys", "dead_length_m", "solver", "redundancy", "rotvec_rad"),
     log:
         LAYOUT.log("volume_shard"),
     threads: SOLVER_THREADS
     shell:
-        "{params.cdpr} grid --threads {threads} --robot {input.robot:q} {params.design} --frame --n {params.n} --shard {wildcards.shard}"
-        " --shards {params.shards} --out {output.table:q}" + TO_LOG
+        "{params.cdpr} job volume-shard --threads {threads} --study {params.study_file:q} --robot-key {wildcards.robot}"
+        " --pulley {wildcards.pulley} --shard {wildcards.shard} --table {output.table:q}" + TO_LOG
 
 
 rule volumes:

@@ -50,6 +50,9 @@ The package, one module a concept (the names below are re-exported here, ``__all
   (``robot_file_text``).
 - ``identify``: identifiability and its words (``identifiability``, ``direction_words``).
 - ``prediction``: a robot against measured samples (``check``).
+- ``motor``: motor-angle data of a spool robot (a Hangprinter: ``read_motor_data``), the
+  self-calibration with every position a nuisance (``fit_motor``), ``check_motor`` and the K-fold
+  cross-validation (``cross_validate``).
 - ``synthetic``: simulated measurements (``simulate``, ``perturbed``, ``random_poses6``).
 - ``design``: the measurement plan (``plan``, ``d_optimal``).
 
@@ -125,6 +128,24 @@ from cdpr.analyses.calibration.model import (
     solve6,
     without_winches,
 )
+from cdpr.analyses.calibration.motor import (
+    MOTOR_GROUPS,
+    MOTOR_MODELS,
+    MotorCalibration,
+    MotorData,
+    SpoolModel,
+    check_motor,
+    cross_validate,
+    fit_motor,
+    fold_of,
+    is_motor_table,
+    motor_robot_mapping,
+    motor_robot_text,
+    parse_motor_priors,
+    predict_samples,
+    read_motor_data,
+    simulate_motor,
+)
 from cdpr.analyses.calibration.prediction import (
     check,
 )
@@ -161,6 +182,10 @@ __all__ = [
     "IDENTIFIED",
     "LOGDET_TIE",
     "MODELS",
+    "MOTOR_GROUPS",
+    "MOTOR_MODELS",
+    "MotorCalibration",
+    "MotorData",
     "ORIENTATION",
     "OUTLIER",
     "PARTLY",
@@ -174,11 +199,14 @@ __all__ = [
     "SIGMA_RAD_DEFAULT",
     "SIGMA_T_DEFAULT",
     "STANDARD_STIFFENING",
+    "SpoolModel",
     "TIE_DIGITS",
     "candidates",
     "check",
     "check_model_groups",
+    "check_motor",
     "commanded_lengths",
+    "cross_validate",
     "d_optimal",
     "data_columns",
     "data_frame",
@@ -189,27 +217,36 @@ __all__ = [
     "ev0_positions",
     "executed_lengths",
     "fit",
+    "fit_motor",
+    "fold_of",
     "identifiability",
     "info_rows",
+    "is_motor_table",
     "log_right_jacobian_inverse",
     "map_problem",
     "map_residual",
     "map_residual6",
     "model_robot",
+    "motor_robot_mapping",
+    "motor_robot_text",
     "offset_sensitivities",
     "orientation_residual",
+    "parse_motor_priors",
     "parse_priors",
     "perturbed",
     "plan",
     "plan_sd",
     "point_mass_equilibria",
+    "predict_samples",
     "prior_sd",
     "random_poses6",
     "read_data",
+    "read_motor_data",
     "realised_lengths",
     "robot_file_text",
     "self_calibrate_standard",
     "simulate",
+    "simulate_motor",
     "smooth6",
     "solve6",
     "sparse_basis",

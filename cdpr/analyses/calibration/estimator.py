@@ -227,13 +227,9 @@ def fit(robot, data, groups, priors=None, model="exact", loss="linear", engine=N
             keep = keep[good]
             continue
         break
+    # fewer equations than parameters is no reason to refuse: every estimated parameter has a prior,
+    # so the MAP is proper; what the data do not see stays at its prior (identifiability says which)
     sub = data.subset(keep)
-    n_eq = (6 if spatial else 3) * int(sub.has_pose.sum()) + robot.m * int(sub.has_tension.sum())
-    if n_eq < len(index):
-        raise CdprError(
-            f"{data.source}: {len(keep)} usable samples give {n_eq} equations for {len(index)} "
-            "parameters; give at least as many equations as parameters"
-        )
     prob = map_problem(base, sub, index, sd, engine=engine, solver=solver)
     lo, hi = _bounds(base, index, sd)
     sol = least_squares(
@@ -407,10 +403,8 @@ def self_calibrate_standard(robot, data, groups, priors=None, sigma_L=SIGMA_L_DE
     sd = prior_sd(base, index, priors)
     th0 = calibration_values(base)
     m, n, k = robot.m, len(data.sample), len(index)
-    if n * m < 3 * n + k:
-        raise CdprError(
-            f"{data.source}: {n} samples give {n * m} equations for {3 * n + k} unknowns (poses and parameters)"
-        )
+    if m < 3:
+        raise CdprError(f"{data.source}: the rigid self-calibration needs at least 3 cables to locate a pose")
 
     def unpack(x):
         th = th0.copy()

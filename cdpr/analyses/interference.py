@@ -1,0 +1,126 @@
+"""The interference-free workspace of a grid at a fixed orientation (issue 39): the share, volume and
+largest axis-aligned box of the cell-centred grid's poses at which no two cables touch and no cable
+runs through the platform (``cdpr.models.interference``), and, if asked, its intersection with the
+wrench-feasible workspace (``tension_distribution.distribute_pose``).
+
+The poses are the desired poses of the grid, not solved equilibria (the workspace of the design,
+as the wrench-feasible workspace of ``cdpr grid --wrench-feasible``).
+
+References
+----------
+Paty, T., Binaud, N., Caro, S., Segonds, S. (2021). Cable-driven parallel robot modelling considering
+pulley kinematics and cable elasticity. Mechanism and Machine Theory 159, 104263 (section 4.1.1: the
+regular workspace as the largest box of admissible voxels).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from cdpr.analyses.workspace import cell_centres, check_box, largest_box
+from cdpr.errors import CdprError
+from cdpr.models.interference import interference
+from cdpr.models.tension_distribution import T_MIN_DEFAULT, distribute_pose
+
+
+def grid_of(box, shape):
+    """The cell-centred (nx, ny, nz) grid of ``box`` in C order (x slowest, z fastest).
+
+    Parameters
+    ----------
+    box : sequence of 6 float [m]
+        xmin, xmax, ymin, ymax, zmin, zmax.
+    shape : int or sequence of 3 int
+        Cells per axis (one int: the same on every axis).
+
+    Returns
+    -------
+    points : ndarray (nx ny nz, 3) [m]
+    shape : tuple of 3 int
+    """
+    b = check_box(box)
+    shape = (int(shape),) * 3 if np.isscalar(shape) else tuple(int(n) for n in shape)
+    if len(shape) != 3 or min(shape) < 1:
+        raise CdprError(f"a grid needs three counts of cells >= 1, got {shape}")
+    axes = [cell_centres(b[2 * a], b[2 * a + 1], shape[a]) for a in range(3)]
+    X, Y, Z = np.meshgrid(*axes, indexing="ij")
+    return np.column_stack([X.ravel(), Y.ravel(), Z.ravel()]), shape
+
+
+def _box_of(mask, box, shape):
+    """The largest box of True voxels of ``mask`` (``workspace.largest_box``): count, bounds [m]
+    (the cells' outer faces, or None) and volume [m^3]."""
+    b = check_box(box)
+    step = (b[1::2] - b[0::2]) / np.asarray(shape)
+    count, cells = largest_box(mask.reshape(shape))
+    if cells is None:
+        return 0, None, 0.0
+    bounds = []
+    for a in range(3):
+        bounds += [
+            float(b[2 * a] + cells[2 * a] * step[a]),
+            float(b[2 * a] + (cells[2 * a + 1] + 1) * step[a]),
+        ]
+    return int(count), bounds, float(count * np.prod(step))
+
+
+def interference_workspace(robot, box, shape, rotvec=None, wrench_feasible=False, t_min=T_MIN_DEFAULT):
+    """Interference-free workspace of the cell-centred grid of ``box`` at one orientation.
+
+    A voxel counts when its centre pose is free of interference (``models.interference``);
+    volumes are voxel counts times the voxel's volume, the box is the largest axis-aligned box of
+    counted voxels (Paty 2021 section 4.1.1's search, ``workspace.largest_box``).
+
+    Parameters
+    ----------
+    robot : Robot
+    box : sequence of 6 float [m]
+        The grid's box (e.g. ``workspace.frame_box(robot)``).
+    shape : int or sequence of 3 int
+        Cells per axis.
+    rotvec : array_like (3,) [rad], optional
+        The fixed orientation (default identity).
+    wrench_feasible : bool
+        Also intersect with the wrench-feasible workspace (a tension distribution in
+        [t_min, T_a] holds the platform at the pose).
+    t_min : float [N]
+        Least tension of the wrench feasibility.
+
+    Returns
+    -------
+    dict
+        points; free_points, fraction (free share), volume_m3, box (6 float [m] or None), box_m3;
+        cc_points and cp_points (poses with a cable-cable, a cable-platform interference); with
+        ``wrench_feasible`` also feasible_points, free_feasible_points, free_feasible_m3,
+        free_feasible_box and free_feasible_box_m3; and the per-voxel masks free (and feasible),
+        arrays (N,) bool in C order.
+    """
+    P, shape = grid_of(box, shape)
+    rv = np.zeros(3) if rotvec is None else np.asarray(rotvec, dtype=float)
+    res = interference(robot, P, rv)
+    voxel = float(np.prod((check_box(box)[1::2] - check_box(box)[0::2]) / np.asarray(shape)))
+    count, bounds, box_m3 = _box_of(res.free, box, shape)
+    out = {
+        "points": len(P),
+        "free_points": int(res.free.sum()),
+        "fraction": float(res.free.mean()),
+        "volume_m3": float(res.free.sum() * voxel),
+        "box": bounds,
+        "box_m3": box_m3,
+        "cc_points": int(res.cc.any(axis=1).sum()),
+        "cp_points": int(res.cp.any(axis=1).sum()),
+        "free": res.free,
+    }
+    if wrench_feasible:
+        feasible = np.asarray(distribute_pose(robot, P, rv, t_min=t_min)["feasible"], dtype=bool)
+        both = feasible & res.free
+        _, fb, fb_m3 = _box_of(both, box, shape)
+        out.update(
+            feasible_points=int(feasible.sum()),
+            free_feasible_points=int(both.sum()),
+            free_feasible_m3=float(both.sum() * voxel),
+            free_feasible_box=fb,
+            free_feasible_box_m3=fb_m3,
+            feasible=feasible,
+        )
+    return out

@@ -1,0 +1,462 @@
+"""Interference of the cables with each other and with the platform body, at poses (issue 39).
+
+Cable i's free span is the straight segment P_i(s) = B_i + s (D_i - B_i), s in [0, 1], from its
+attachment point B_i = p + R b_i (s = 0) to its sheave exit point D_i (s = 1; the tangent point D of
+``pulleys.pulley_state``, Paty 2021 eq. 3-7; D_i = A_i for a fixed pulley). Its radius is ``cable.diameter_m`` / 2.
+
+* **Cable-cable**: the exact distance between two segments (``segment_distance``, Ericson 2005
+  section 5.1.9: crossing, parallel, collinear and zero-length segments); the pair i < j interferes
+  iff d_ij < r_i + r_j. Pairs that share an end point by construction (the same attachment
+  b_i = b_j, at ``B``, or two fixed pulleys at the same A, at ``D``) are not tested but listed as
+  shared; on a point mass every pair meets at P, so it never has cable-cable interference.
+* **Cable-platform**: the platform body is a convex polytope in the platform frame, the half-spaces
+  n_k . x + o_k <= 0 (``platform_faces``): the convex hull of the attachments (``platform.body:
+  hull``, the default; none when they span no volume), a box, or none. The segment (its centre line:
+  the cable's radius plays no part here) is clipped exactly by the faces (Cyrus-Beck,
+  ``clip_segments``); it interferes when one of its points lies deeper than ``DEPTH_TOL`` inside the
+  body, so a cable that touches a face, an edge or a vertex (its own attachment) does not. The chord
+  inside is [s_in, s_out], its length (s_out - s_in) |D_i - B_i| and its depth the largest distance
+  of a chord point to the body's boundary.
+
+Heavy (sagging) cables are not modelled here: the span is the straight line of the massless cable.
+
+References
+----------
+Paty, T., Binaud, N., Caro, S., Segonds, S. (2021). Cable-driven parallel robot modelling considering
+pulley kinematics and cable elasticity. Mechanism and Machine Theory 159, 104263 (the exit point D).
+
+Ericson, C. (2005). Real-Time Collision Detection. Morgan Kaufmann, section 5.1.9 (closest points
+of two segments) and section 5.3.8 (intersecting a segment against a convex polyhedron).
+
+Cyrus, M., Beck, J. (1978). Generalized two- and three-dimensional clipping. Computers & Graphics
+3(1), 23-28.
+
+Lumelsky, V. J. (1985). On fast computation of distance between line segments. Information
+Processing Letters 21(2), 55-61.
+"""
+
+from __future__ import annotations
+
+import itertools
+from typing import NamedTuple
+
+import numpy as np
+from scipy.spatial import ConvexHull
+
+from cdpr.errors import CdprError
+from cdpr.models.inverse import pose_state, pulley_args
+from cdpr.models.platform import pose_arrays
+from cdpr.models.pulleys import pulley_state
+from cdpr.robot import BoxBody
+
+#: Depth [m] beyond which a point of a cable's segment counts as inside the platform body.
+DEPTH_TOL = 1e-9
+#: Squared length [m^2] under which a segment is a point (Ericson's EPSILON).
+POINT_EPS = 1e-30
+#: Segments whose chord depth is computed at a time, and poses per block of ``interference``
+#: (bound the memory of the pairwise candidates: about DEPTH_BLOCK F^2 and POSE_BLOCK m^2 numbers).
+DEPTH_BLOCK = 4096
+POSE_BLOCK = 4096
+#: Distance [m] under which two attachments b_i, b_j or two fixed anchors A_i, A_j are the same point
+#: (the robot file's duplicate check uses the same tolerance).
+SAME_POINT_M = 1e-9
+
+
+def _dot(u, v):
+    return np.einsum("...i,...i->...", u, v)
+
+
+def segment_distance(P0, P1, Q0, Q1):
+    """Exact distance between the segments P0 P1 and Q0 Q1 and the parameters of their closest points.
+
+    .. math:: d = \\min_{s, t \\in [0, 1]} \\lVert P_0 + s (P_1 - P_0) - Q_0 - t (Q_1 - Q_0) \\rVert
+
+    The squared distance is a convex quadratic of (s, t) over the unit square: its minimum is the
+    closest points of the two lines when they lie on both segments (computed from d1 x d2, accurate
+    also near parallel), else on an edge of the square,
+    where it is the clamped projection of an end point onto the other segment (Ericson 2005 section
+    5.1.9). All five candidates are evaluated and the nearest kept, which covers crossing, parallel,
+    collinear and zero-length segments (a point: every parameter is the same point) without a
+    special case.
+
+    Parameters
+    ----------
+    P0, P1 : array_like (..., 3) [m]
+        End points of the first segments.
+    Q0, Q1 : array_like (..., 3) [m]
+        End points of the second segments (broadcast against the first).
+
+    Returns
+    -------
+    d : ndarray (...) [m]
+        Distance between the segments.
+    s : ndarray (...) [-]
+        Parameter in [0, 1] of the closest point on P0 P1.
+    t : ndarray (...) [-]
+        Parameter in [0, 1] of the closest point on Q0 Q1.
+
+    References
+    ----------
+    Ericson, C. (2005). Real-Time Collision Detection, section 5.1.9 (ClosestPtSegmentSegment).
+    """
+    P0, P1, Q0, Q1 = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (P0, P1, Q0, Q1)))
+    d1, d2, r = P1 - P0, Q1 - Q0, P0 - Q0
+    a, e, f = _dot(d1, d1), _dot(d2, d2), _dot(d2, r)
+    c, b = _dot(d1, r), _dot(d1, d2)
+    a_ = np.where(a > POINT_EPS, a, 1.0)  # a zero-length segment: every s is the same point
+    e_ = np.where(e > POINT_EPS, e, 1.0)
+    # the lines' closest points from n = d1 x d2 (no cancellation of a e - b^2 near parallel):
+    # s = ((Q0 - P0) x d2) . n / |n|^2, t = ((Q0 - P0) x d1) . n / |n|^2, whenever n != 0
+    n = np.cross(d1, d2)
+    nn = _dot(n, n)
+    general = (a > POINT_EPS) & (e > POINT_EPS) & (nn > 0.0)
+    nn_ = np.where(general, nn, 1.0)
+    s_line = np.where(general, _dot(np.cross(-r, d2), n) / nn_, 0.0)
+    t_line = np.where(general, _dot(np.cross(-r, d1), n) / nn_, 0.0)
+    one, zero = np.ones_like(a), np.zeros_like(a)
+    # candidates: the lines' closest points (clamped), and the best point of each edge of the unit
+    # square (s = 0, s = 1, t = 0, t = 1): the convex quadratic's minimum over the square is one of
+    # them, also for parallel and collinear segments (where the lines' solution does not exist)
+    S = np.stack([s_line, zero, one, -c / a_, (b - c) / a_], axis=-1)
+    T = np.stack([t_line, f / e_, (b + f) / e_, zero, one], axis=-1)
+    S, T = np.clip(S, 0.0, 1.0), np.clip(T, 0.0, 1.0)
+    gap = r[..., None, :] + S[..., None] * d1[..., None, :] - T[..., None] * d2[..., None, :]
+    dist = np.sqrt(_dot(gap, gap))
+    k = np.argmin(dist, axis=-1)[..., None]
+    take = lambda x: np.take_along_axis(x, k, axis=-1)[..., 0]  # noqa: E731
+    return take(dist), take(S), take(T)
+
+
+def platform_faces(robot):
+    """The platform body as half-spaces n_k . x + o_k <= 0 in the platform frame (``platform.body``).
+
+    ``hull``: the faces of the convex hull of the attachments b_i (scipy.spatial.ConvexHull, Qhull;
+    coplanar triangles merged), None when the attachments span no volume (a point mass, a flat or
+    linear platform); a ``BoxBody``: its six faces; ``none``: None.
+
+    Parameters
+    ----------
+    robot : Robot
+
+    Returns
+    -------
+    faces : ndarray (F, 4) or None
+        Rows (n_x, n_y, n_z, o) with unit outward normals n [-] and offsets o [m]; None: no body.
+    """
+    body = robot.platform.body
+    if isinstance(body, BoxBody):
+        c, h = np.asarray(body.centre, dtype=float), np.asarray(body.half, dtype=float)
+        eye = np.eye(3)
+        return np.concatenate([np.column_stack([eye, -c - h]), np.column_stack([-eye, c - h])], axis=0)
+    if body == "none":
+        return None
+    b = robot.arrays.b
+    if np.linalg.matrix_rank(b - b.mean(axis=0), tol=1e-9) < 3:
+        return None
+    eq = ConvexHull(b).equations
+    eq = eq / np.linalg.norm(eq[:, :3], axis=1, keepdims=True)
+    _, first = np.unique(np.round(eq, 12), axis=0, return_index=True)
+    return eq[np.sort(first)]
+
+
+def clip_segments(X0, X1, faces):
+    """Exact chord of segments X0 X1 inside a convex body (Cyrus-Beck clipping) and its depth.
+
+    With g_k(s) = n_k . X(s) + o_k (affine in s; inside: every g_k <= 0) the chord is
+    [s_in, s_out] = {s in [0, 1]: g_k(s) <= 0 for every k}. Its depth is the largest distance of a
+    chord point to the boundary, max_s min_k (-g_k(s)): the maximum of a concave piecewise-linear
+    function, found among the chord's ends and the crossings of two faces' lines.
+
+    Parameters
+    ----------
+    X0, X1 : ndarray (..., 3) [m]
+        Segment end points in the frame of ``faces``.
+    faces : ndarray (F, 4)
+        Half-spaces n . x + o <= 0 with unit normals (``platform_faces``).
+
+    Returns
+    -------
+    s_in, s_out : ndarray (...) [-]
+        The chord inside the body (closed half-spaces); NaN where the segment misses it.
+    depth : ndarray (...) [m]
+        Largest depth of a chord point (0 where the segment misses the body or only touches it).
+
+    References
+    ----------
+    Cyrus and Beck 1978; Ericson 2005, section 5.3.8.
+    """
+    n, o = faces[:, :3], faces[:, 3]
+    g0 = np.einsum("...a,fa->...f", X0, n) + o
+    slope = np.einsum("...a,fa->...f", X1 - X0, n)
+    moving = slope != 0.0
+    cut = -g0 / np.where(moving, slope, 1.0)
+    lo = np.max(np.where(moving & (slope < 0), cut, 0.0), axis=-1, initial=0.0)
+    hi = np.min(np.where(moving & (slope > 0), cut, 1.0), axis=-1, initial=1.0)
+    outside = np.any(~moving & (g0 > 0), axis=-1)
+    hit = (lo <= hi) & ~outside
+    s_in, s_out = np.where(hit, lo, np.nan), np.where(hit, hi, np.nan)
+    # depth: phi_k(s) = -g_k(s) = c_k + e_k s; candidates: the chord's ends and pairwise crossings
+    # (F^2 candidates per segment: computed for the segments that meet the body, a block at a time)
+    depth = np.zeros(lo.shape)
+    where = np.flatnonzero(hit.ravel())
+    F = faces.shape[0]
+    cc_all, ee_all = -g0.reshape(-1, F), -slope.reshape(-1, F)
+    lo_all, hi_all, flat = lo.ravel(), hi.ravel(), depth.reshape(-1)
+    for start in range(0, len(where), DEPTH_BLOCK):
+        w = where[start : start + DEPTH_BLOCK]
+        cc, ee, a, z = cc_all[w], ee_all[w], lo_all[w], hi_all[w]
+        de = ee[:, :, None] - ee[:, None, :]
+        ok = de != 0.0
+        cross = (cc[:, None, :] - cc[:, :, None]) / np.where(ok, de, 1.0)
+        cross = np.where(ok, cross, a[:, None, None]).reshape(len(w), -1)
+        cand = np.clip(np.concatenate([a[:, None], z[:, None], cross], axis=1), a[:, None], z[:, None])
+        phi = np.min(cc[:, None, :] + ee[:, None, :] * cand[:, :, None], axis=-1)
+        flat[w] = np.maximum(np.max(phi, axis=-1), 0.0)
+    return s_in, s_out, depth
+
+
+def shared_pairs(robot):
+    """The cable pairs that share an end point by construction, not tested for interference: the
+    same attachment b_i = b_j (``at`` "B"; every pair of a point mass) or two fixed pulleys at the
+    same anchor A_i = A_j ("D"); within ``SAME_POINT_M``.
+
+    Parameters
+    ----------
+    robot : Robot
+
+    Returns
+    -------
+    list of (int, int, str)
+        (i, j, at) with 0-based i < j, in ascending order.
+    """
+    a = robot.arrays
+    out = []
+    for i, j in itertools.combinations(range(robot.m), 2):
+        if robot.point_mass or np.allclose(a.b[i], a.b[j], rtol=0.0, atol=SAME_POINT_M):
+            out.append((i, j, "B"))
+        elif a.kind[i] == 0 and a.kind[j] == 0 and np.allclose(a.A[i], a.A[j], rtol=0.0, atol=SAME_POINT_M):
+            out.append((i, j, "D"))
+    return out
+
+
+def cable_segments(robot, p, R):
+    """End points of every cable's free span at poses: B_i = p + R b_i (p itself on a point mass)
+    and the sheave exit points D_i (``pulleys.pulley_state``; A_i for a fixed pulley).
+
+    Parameters
+    ----------
+    robot : Robot
+    p : ndarray (N, 3) [m]
+        Reference points.
+    R : ndarray (N, 3, 3) [-]
+        Orientations (no part on a point mass).
+
+    Returns
+    -------
+    B, D : ndarray (N, m, 3) [m]
+    """
+    if robot.point_mass:
+        st = pulley_state(p, *pulley_args(robot))
+        return np.repeat(p[:, None, :], robot.m, axis=1), st.D
+    B, st = pose_state(robot, p, R)
+    return B, st.D
+
+
+class Interference(NamedTuple):
+    """Interference of the cables at N poses (``interference``); cables and pairs 0-based here.
+
+    pairs (K, 2) the tested pairs i < j; distance (N, K) [m]; s (N, K, 2) [-] parameters of the
+    closest points; cc (N, K) the interfering pairs (distance < r_i + r_j); shared: list of
+    (i, j, at) (``shared_pairs``); cp (N, m) cables through the body; s_in, s_out (N, m) [-] and
+    length, depth (N, m) [m] of the chord inside (NaN, 0 where none); free (N,) no interference;
+    dmin (N,) [m] the smallest tested distance and dmin_pair (N,) its index in pairs (-1: no pair
+    tested); has_body: a platform body was tested.
+    """
+
+    pairs: np.ndarray
+    distance: np.ndarray
+    s: np.ndarray
+    cc: np.ndarray
+    shared: list
+    cp: np.ndarray
+    s_in: np.ndarray
+    s_out: np.ndarray
+    length: np.ndarray
+    depth: np.ndarray
+    free: np.ndarray
+    dmin: np.ndarray
+    dmin_pair: np.ndarray
+    has_body: bool
+
+
+def interference(robot, p, rotvec=None, R=None):
+    """Cable-cable and cable-platform interference at poses (p, R) (the module's conventions).
+
+    Parameters
+    ----------
+    robot : Robot
+    p : array_like (N, 3) [m] or (N, 6) [m, rad]
+        Reference points of the platform, or poses (x, y, z, rx, ry, rz).
+    rotvec : array_like (3,) or (N, 3) [rad], optional
+        Orientations (default identity).
+    R : array_like (N, 3, 3) [-], optional
+        Orientation matrices, in place of ``rotvec``.
+
+    Returns
+    -------
+    Interference
+    """
+    if R is None:
+        p, R = pose_arrays(p, rotvec)
+    else:
+        p, R = np.atleast_2d(np.asarray(p, dtype=float)), np.asarray(R, dtype=float).reshape(-1, 3, 3)
+    if not (np.isfinite(p).all() and np.isfinite(R).all()):
+        raise CdprError("interference: every pose must be finite")
+    m = robot.m
+    shared = shared_pairs(robot)
+    skip = {(i, j) for i, j, _ in shared}
+    pairs = np.array(
+        [(i, j) for i, j in itertools.combinations(range(m), 2) if (i, j) not in skip], dtype=int
+    ).reshape(-1, 2)
+    radius = np.array([c.material.diameter for c in robot.cables]) / 2.0
+    faces = platform_faces(robot)
+    blocks = [
+        _block(robot, p[k : k + POSE_BLOCK], R[k : k + POSE_BLOCK], pairs, radius, faces)
+        for k in range(0, max(len(p), 1), POSE_BLOCK)
+    ]
+    cat = [np.concatenate([b[f] for b in blocks], axis=0) for f in range(len(blocks[0]))]
+    dist, s, cc, cp, s_in, s_out, length, depth, dmin, dmin_pair = cat
+    free = ~cc.any(axis=1) & ~cp.any(axis=1)
+    return Interference(
+        pairs, dist, s, cc, shared, cp, s_in, s_out, length, depth, free, dmin, dmin_pair, faces is not None
+    )
+
+
+def _block(robot, p, R, pairs, radius, faces):
+    """``interference`` of one block of poses: the arrays of ``Interference`` but pairs, shared,
+    free and has_body."""
+    N, m = len(p), robot.m
+    B, D = cable_segments(robot, p, R)
+    if len(pairs):
+        i, j = pairs[:, 0], pairs[:, 1]
+        dist, si, sj = segment_distance(B[:, i], D[:, i], B[:, j], D[:, j])
+        s = np.stack([si, sj], axis=-1)
+        cc = dist < radius[i] + radius[j]
+        k = np.argmin(dist, axis=1)
+        dmin, dmin_pair = dist[np.arange(N), k], k
+    else:
+        dist, s, cc = np.zeros((N, 0)), np.zeros((N, 0, 2)), np.zeros((N, 0), dtype=bool)
+        dmin, dmin_pair = np.full(N, np.nan), np.full(N, -1)
+    if faces is None:
+        s_in, s_out, length, depth = (
+            np.full((N, m), np.nan),
+            np.full((N, m), np.nan),
+            np.zeros((N, m)),
+            np.zeros((N, m)),
+        )
+    else:
+        # the segments in the platform frame: x = R^T (X - p)
+        Rt = np.swapaxes(R, -1, -2)
+        x0 = np.einsum("nab,nmb->nma", Rt, B - p[:, None, :])
+        x1 = np.einsum("nab,nmb->nma", Rt, D - p[:, None, :])
+        s_in, s_out, depth = clip_segments(x0, x1, faces)
+        length = np.where(np.isnan(s_in), 0.0, (s_out - s_in) * np.linalg.norm(D - B, axis=-1))
+    cp = depth > DEPTH_TOL
+    return dist, s, cc, cp, s_in, s_out, length, depth, dmin, dmin_pair
+
+
+def report(res, n=0):
+    """The JSON object of pose ``n`` of an ``Interference`` (cables from 1): interference_free,
+    cable_cable (interfering pairs: cables, distance_m, s), shared (cables, at), cable_platform
+    (cable, length_m, depth_m, s_in, s_out), dmin_m and dmin_pair (the closest tested pair).
+
+    Parameters
+    ----------
+    res : Interference
+    n : int
+        Index of the pose.
+
+    Returns
+    -------
+    dict
+    """
+    k = int(res.dmin_pair[n])
+    return {
+        "interference_free": bool(res.free[n]),
+        "cable_cable": [
+            {
+                "cables": [int(i) + 1, int(j) + 1],
+                "distance_m": float(res.distance[n, q]),
+                "s": [float(res.s[n, q, 0]), float(res.s[n, q, 1])],
+            }
+            for q, (i, j) in enumerate(res.pairs)
+            if res.cc[n, q]
+        ],
+        "shared": [{"cables": [i + 1, j + 1], "at": at} for i, j, at in res.shared],
+        "cable_platform": [
+            {
+                "cable": int(c) + 1,
+                "length_m": float(res.length[n, c]),
+                "depth_m": float(res.depth[n, c]),
+                "s_in": float(res.s_in[n, c]),
+                "s_out": float(res.s_out[n, c]),
+            }
+            for c in np.flatnonzero(res.cp[n])
+        ],
+        "dmin_m": None if k < 0 else float(res.dmin[n]),
+        "dmin_pair": None if k < 0 else [int(res.pairs[k, 0]) + 1, int(res.pairs[k, 1]) + 1],
+    }
+
+
+#: The table columns of interference (``columns``), in order.
+COLUMNS = ("interference_free", "n_cc", "n_cp", "dmin_m", "cc_pairs", "cp_cables")
+
+
+def columns(res):
+    """The table columns of an ``Interference`` (``COLUMNS``): interference_free, n_cc, n_cp,
+    dmin_m, cc_pairs ("i-j;k-l", i < j ascending, cables from 1) and cp_cables ("i;j" ascending),
+    the strings empty when none.
+
+    Parameters
+    ----------
+    res : Interference
+
+    Returns
+    -------
+    dict
+        Column name -> ndarray (N,): bool, int, int, float [m] (NaN: no pair tested), str, str.
+    """
+    labels = [f"{i + 1}-{j + 1}" for i, j in res.pairs]
+    cc_pairs = np.array([";".join(lab for lab, x in zip(labels, row) if x) for row in res.cc], dtype=object)
+    cp_cables = np.array([";".join(str(c + 1) for c in np.flatnonzero(row)) for row in res.cp], dtype=object)
+    return {
+        "interference_free": res.free.copy(),
+        "n_cc": res.cc.sum(axis=1).astype(np.int64),
+        "n_cp": res.cp.sum(axis=1).astype(np.int64),
+        "dmin_m": res.dmin.astype(float),
+        "cc_pairs": cc_pairs,
+        "cp_cables": cp_cables,
+    }
+
+
+def interference_free(robot, p, rotvec=None):
+    """Whether one pose is free of interference (``interference``); None when the pose is not finite
+    (an unsolved point).
+
+    Parameters
+    ----------
+    robot : Robot
+    p : array_like (3,) [m]
+        Reference point.
+    rotvec : array_like (3,) [rad], optional
+        Orientation (default identity).
+
+    Returns
+    -------
+    bool or None
+    """
+    p = np.asarray(p, dtype=float).reshape(1, 3)
+    rv = np.zeros((1, 3)) if rotvec is None else np.asarray(rotvec, dtype=float).reshape(1, 3)
+    if not (np.isfinite(p).all() and np.isfinite(rv).all()):
+        return None
+    return bool(interference(robot, p, rv).free[0])

@@ -1,0 +1,92 @@
+"""Write the HP4 sample tables in cdpr's motor-angle data contract (docs/hangprinter.md).
+
+    .venv/bin/python data/hangprinter/make_cdpr_tables.py
+
+For each HP4 set ``NAME_samples.csv`` (the neutral extraction, README.md) it writes ``NAME_cdpr.csv``
+with the columns ``sample, motor_deg_1..4, [force_N_1..4,] x_m, y_m, z_m``: cable i = anchor A, B,
+C, D; the motor angles as read; the forces where recorded (the eff69f9 alignment, README.md); the
+positions in metres where the set gives one (x_mm, y_mm, z_mm: the positions the author trusts),
+empty elsewhere. Deterministic: the same input gives the same bytes.
+"""
+
+from pathlib import Path
+
+import pandas as pd
+
+HERE = Path(__file__).resolve().parent
+SETS = ("hp4_2022_force_series2", "hp4_2021_12_grid")
+
+
+def table(name):
+    src = pd.read_csv(HERE / f"{name}_samples.csv")
+    out = pd.DataFrame({"sample": src["sample"]})
+    for i, a in enumerate("ABCD", start=1):
+        out[f"motor_deg_{i}"] = src[f"motor_{a}_deg"]
+    if src[[f"force_{a}_N" for a in "ABCD"]].notna().any().any():
+        for i, a in enumerate("ABCD", start=1):
+            out[f"force_N_{i}"] = src[f"force_{a}_N"]
+    for c in "xyz":
+        out[f"{c}_m"] = src[f"{c}_mm"] / 1000.0
+    return out
+
+
+if __name__ == "__main__":
+    for name in SETS:
+        path = HERE / f"{name}_cdpr.csv"
+        table(name).to_csv(path, index=False, float_format="%.12g", lineterminator="\n")
+        print(f"wrote {path.relative_to(HERE.parent.parent)}")
+
+
+#: The community tool's published solutions (README.md's table: anchors [mm], spool radii R [mm],
+#: buildup factor Q [mm]) as robot files over config/robots/hangprinter_hp4.yaml, to score with
+#: ``cdpr calibrate cv --fixed``.
+TOOL = {
+    "hp4_2022_force_series2": {
+        "anchors": [
+            [16.83, -1584.86, -113.17],
+            [1290.18, 1229.19, -157.45],
+            [-1409.88, 742.61, -151.80],
+            [21.85, -0.16, 2343.67],
+        ],
+        "R": [76.017, 76.017, 76.017, 75.657],
+        "Q": 0.06875,
+        "version": "hp_mark_adjusted, 790dca2 (SLSQP)",
+    },
+    "hp4_2021_12_grid": {
+        "anchors": [
+            [14.33, -1621.46, -125.47],
+            [1319.48, 1251.48, -175.61],
+            [-1422.98, 743.22, -152.34],
+            [23.79, 3.19, 2339.33],
+        ],
+        "R": [75.774, 75.849, 75.519, 75.648],
+        "Q": 0.05,
+        "version": "6a417f4 (SLSQP)",
+    },
+}
+
+
+def tool_robot(name):
+    import yaml
+
+    doc = yaml.safe_load((HERE.parent.parent / "config/robots/hangprinter_hp4.yaml").read_text())
+    t = TOOL[name]
+    doc["name"] = f"HP4 ({name}: the Hangprinter tool's solution)"
+    doc["description"] = f"the community calibration tool's published solution for {name}, {t['version']}"
+    for c, a, r in zip(doc["cables"], t["anchors"], t["R"]):
+        c["A_m"] = [round(x / 1000.0, 8) for x in a]
+        c["winch"]["spool_radius_m"] = round(r / 1000.0, 9)
+        c["winch"]["buildup_factor_m"] = round(t["Q"] / 1000.0, 12)
+    head = (
+        f"# The Hangprinter tool's own solution for data/hangprinter/{name} ({t['version']}; README.md),\n"
+        "# over config/robots/hangprinter_hp4.yaml (machine constants, dead lengths, line stiffness).\n"
+        "# Written by data/hangprinter/make_cdpr_tables.py.\n"
+    )
+    return head + yaml.safe_dump(doc, sort_keys=False)
+
+
+if __name__ == "__main__":
+    for name in TOOL:
+        path = HERE / f"tool_{name}.yaml"
+        path.write_text(tool_robot(name))
+        print(f"wrote {path.relative_to(HERE.parent.parent)}")
