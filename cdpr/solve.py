@@ -97,13 +97,13 @@ def _check_paper(robot):
         )
 
 
-#: The per-cable and per-point keys a heavy-cable solve adds (``equilibrium.heavy_cables``).
+#: The per-cable and per-point keys a heavy-cable solve adds (``cables.heavy_cables``).
 HEAVY_KEYS = ("t_B", "t_D", "H", "sag", "arc_minus_chord", "angle_f_deg", "cable_status", "sag_max")
 
 
 def _solve_heavy(robot, p, rotvec, redundancy, engine, L0, L, options):
     """A robot with heavy cables (issue 38): physical mode by the numpy reference only so far
-    (``equilibrium.HeavyCables``); CdprError in one line for anything else."""
+    (``cables.HeavyCables``); CdprError in one line for anything else."""
     if redundancy != "physical":
         raise CdprError(
             f"{robot.source}: heavy cables (cable.linear_density_kg_m > 0) are modelled in physical mode only "
@@ -162,7 +162,7 @@ def solve(
         orientation, ``models.equilibrium.solve``'s keys (rotvec_s, dphi, unique, ...). The desired
         points below the floor of a suspended robot are ``inaccessible`` (``mark_below_floor``).
         A robot with heavy cables (``Robot.heavy``, issue 38) is solved in physical mode by the numpy
-        reference (``equilibrium.HeavyCables``, its engine when none is named) and its result adds
+        reference (``cables.HeavyCables``, its engine when none is named) and its result adds
         ``HEAVY_KEYS``; paper mode or the compiled engine refuse it in one line.
 
     Raises

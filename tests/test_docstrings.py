@@ -29,6 +29,7 @@ MODEL_MODULES = [
     "models.platform",
     "compiled._pose_sensitivity",
     "models.catenary",
+    "models.cables",
     "models.interference",
     "analyses.interference",
 ]

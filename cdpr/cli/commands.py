@@ -23,9 +23,8 @@ from cdpr import io
 from cdpr.analyses.workspace import BYTES_PER_POINT
 from cdpr.cli.options import MAX_COORDINATE_M
 from cdpr.errors import CdprError
-from cdpr.models import winch
 from cdpr.plausibility import plausibility_warnings
-from cdpr.robot import TABLE1, load_robot, load_winch_params, require_massless
+from cdpr.robot import load_robot, require_massless
 
 #: The columns of a ``--points`` table: the position [m] and, optional, the orientation [rad].
 POINT_COLUMNS = ("x", "y", "z", "rx", "ry", "rz")
@@ -238,7 +237,7 @@ def _rotvec_option(args):
     return {} if args.rotvec is None else {"rotvec": np.asarray(args.rotvec, dtype=float)}
 
 
-def _table(rows, headers):
+def text_table(rows, headers):
     cols = [[h] + [r[i] for r in rows] for i, h in enumerate(headers)]
     widths = [max(len(x) for x in c) for c in cols]
     lines = ["  ".join(x.rjust(w) for x, w in zip(r, widths)) for r in [headers] + rows]
@@ -359,7 +358,7 @@ def cmd_inverse(args):
         for o in out
     ]
     print(
-        _table(
+        text_table(
             rows,
             [
                 "cable",
@@ -602,7 +601,7 @@ def cmd_point(args):
             label = "numpy reference" if engine == "numpy" else "compiled engine"
             print(f"sensitivities dp*/dθ and dφ*/dθ at fixed commanded lengths ({label}){smooth}:")
             headers = ["θ", "unit", "dx", "dy", "dz", "unit", "dφx", "dφy", "dφz"]
-            print(_table(rows, headers))
+            print(text_table(rows, headers))
             return
         from cdpr.parameters import UNITS, parameter_groups  # lazy: --sensitivities only
 
@@ -612,7 +611,7 @@ def cmd_point(args):
             for (name, vec), unit in zip(out["sensitivities"].items(), units)
         ]
         print(f"sensitivities dP*/dθ at fixed commanded lengths{smooth}:")
-        print(_table(rows, ["θ", "unit", "dx", "dy", "dz"]))
+        print(text_table(rows, ["θ", "unit", "dx", "dy", "dz"]))
 
 
 def cmd_compensate(args):
@@ -729,7 +728,7 @@ def cmd_compensate(args):
     if "motor_deg" in out:
         rows = [r + [f"{a:.2f}"] for r, a in zip(rows, out["motor_deg"])]
         headers += ["motor angle [deg] (spool)"]
-    print(_table(rows, headers))
+    print(text_table(rows, headers))
     check = "the robot with --actual-E-cables" if actual is not None else "the same robot"
     print(
         f"status: {status}; commanded to {check}, the platform settles {out['dp_norm']:.3g} m from the desired point"
@@ -779,7 +778,7 @@ def _compensate_pose_report(args, robot, res, engine, free):
     if "motor_deg" in out:
         rows = [r + [f"{a:.2f}"] for r, a in zip(rows, out["motor_deg"])]
         headers += ["motor angle [deg] (spool)"]
-    print(_table(rows, headers))
+    print(text_table(rows, headers))
     print(
         f"status: {out['status']}; the platform settles {out['dp_norm']:.3g} m and {out['dphi']:.3g} rad from the pose"
     )
@@ -888,29 +887,6 @@ def _wrench_feasible_summary(df, box, args):
     if not args.json:
         print("\n".join(lines))
     return out
-
-
-def cmd_winch(args):
-    p = load_winch_params(args.params) if args.params else TABLE1
-    if args.out:
-        io.check_output(args.out)
-    if not args.lpm_from < args.lpm_to:
-        raise CdprError(f"--lpm-from must be below --lpm-to, got {args.lpm_from:g} and {args.lpm_to:g}")
-    winch.check_range(p, args.lpm_from, args.lpm_to)
-    from cdpr.analyses import scans  # lazy: pandas, for this command only
-
-    df = scans.winch_table(p, args.lpm_from, args.lpm_to, args.steps)
-    if args.out:
-        _write_table(df, args.out)
-    if args.json:
-        emit_json(df.to_dict(orient="records"), args)
-        return
-    print(f"winch (l_pm0 = {winch.l_pm0(p):.6f} m, q0 = {p.q0:g} rad)")
-    rows = [
-        [f"{r.l_pm:.4f}", f"{r.q1:.6f}", f"{r.q2:.6f}", f"{r.q_nw:.6f}", f"{r.dl * 1e3:.4f}"]
-        for r in df.itertuples()
-    ]
-    print(_table(rows, ["l_pm [m]", "q1 [rad]", "q2 [rad]", "q_nw [rad]", "dl [mm]"]))
 
 
 def _report(df, out, args, dt, extra=None):

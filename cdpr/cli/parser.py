@@ -186,7 +186,7 @@ def build_parser(jobs=True):
     )
     sp.add_argument("--out", metavar="FILE", help="also write the table (.csv or .parquet)")
     sp.add_argument("--json", action="store_true")
-    sp.set_defaults(run=("cdpr.cli.commands", "cmd_winch"))
+    sp.set_defaults(run=("cdpr.cli.winch", "cmd_winch"))
     sp = sub.add_parser("plane", help="DEGM_E over a horizontal plane (Fig. 9, 12); writes a table")
     robot_options(sp)
     solver_options(sp)

@@ -19,9 +19,9 @@ import numpy as np
 from numba import njit, prange
 
 from cdpr.compiled._kernels import CHUNK, DET_EPS, Cables, cable, cable_arrays, newton_options, set_threads
+from cdpr.models.cables import FTOL_REL
 from cdpr.models.equilibrium import (
     ARMIJO_C,
-    FTOL_REL,
     LS_SKIP,
     MAX_HALVINGS,
     PHYSICAL_DEFAULTS,
@@ -83,7 +83,7 @@ def physical_outputs(n, m):
 
 @njit(cache=True, inline="always", error_model="numpy")
 def _eval(px, py, pz, rx, ry, rz, cab, L0, i, load, tbuf):
-    """``models.equilibrium.Cables.evaluate`` of a point mass at one point P with rest lengths L0[i] (``Cables`` cab, ``Load``
+    """``models.cables.Cables.evaluate`` of a point mass at one point P with rest lengths L0[i] (``Cables`` cab, ``Load``
     load): writes the tensions in tbuf and returns (F (3), Newton's F (3), merit, J (9, row-major),
     grad (3), kappa, inside)."""
     A, kind, h, rp, d, inward, ES = cab.A, cab.kind, cab.h, cab.rp, cab.d, cab.inward, cab.ES

@@ -5,7 +5,7 @@ kernels.
 
 At each equilibrium (p*, R*) of a ``models.equilibrium.solve`` result (either engine; ``pose_sensitivities``
 runs the compiled one) the balance's 6 x 6 Jacobian dF6/dx is the solver's own
-(``compiled.equilibrium.evaluate``, the compiled ``models.equilibrium._jacobian``) and dF6/dθ at fixed pose is
+(``compiled.equilibrium.evaluate``, the compiled ``models.cables._jacobian``) and dF6/dθ at fixed pose is
 analytic, cable by cable, from the shared cable kernel (``_kernels.cable_partials_axis``: the
 scalar ``cable_partials`` in each pulley's frame). With w_i = t_i (u_i, r_i × u_i), t_i = a_i k_i
 (L_TE,i - L0_i), k_i = E_i S_i / L0_i, r_i = R b_i, B_i = p + r_i::

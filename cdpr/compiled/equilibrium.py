@@ -3,7 +3,7 @@ numba kernel that runs in parallel over poses (chunks of ``CHUNK``), scalars and
 scratch arrays in the hot loop, one cable at a time through the shared kernel
 (``_kernels.cable_axis``: the scalar ``cable`` in each pulley's frame).
 
-Same equations, Jacobian (``models.equilibrium._jacobian``), energy, least-squares step (a 6 x 6
+Same equations, Jacobian (``models.cables._jacobian``), energy, least-squares step (a 6 x 6
 pseudo-inverse with the reference's ``RCOND`` cut, by a one-sided Jacobi SVD), modified-Newton
 fallback (``SHIFT_REL``), line search, stop rules and constants as the numpy reference; the pose
 set-up, the restarts (``_needs_restart``, the candidates' selection, ``unique``, ``alternatives``)
@@ -198,7 +198,7 @@ def scratch(m):
 
 @njit(cache=True, inline="always", error_model="numpy")
 def _add_cable_jacobian(J, g00, g01, g02, g10, g11, g12, g20, g21, g22, rx, ry, rz, t, ux, uy, uz):
-    """Adds one cable's terms of ``models.equilibrium._jacobian`` to J (6, 6), with G = t du/dB + ka u dL^T
+    """Adds one cable's terms of ``models.cables._jacobian`` to J (6, 6), with G = t du/dB + ka u dL^T
     (3 x 3, g_ab) and S = [r]x: J[:3, :3] += G, J[:3, 3:] -= G S, J[3:, :3] += S G,
     J[3:, 3:] += -S G S + t (r u^T - (u . r) I)."""
     s00, s01, s02 = g01 * rz - g02 * ry, g02 * rx - g00 * rz, g00 * ry - g01 * rx  # (G S)[0]
@@ -245,7 +245,7 @@ def _add_cable_jacobian(J, g00, g01, g02, g10, g11, g12, g20, g21, g22, rx, ry, 
 
 @njit(cache=True, error_model="numpy")
 def evaluate(px, py, pz, R, rfx, rfy, rfz, cab, body, L0, i, t, J, e6, g6, w):
-    """``models.equilibrium.Cables.evaluate`` at one pose (p, R) with rest lengths L0[i], merit relative
+    """``models.cables.Cables.evaluate`` at one pose (p, R) with rest lengths L0[i], merit relative
     to p_ref = (rfx, rfy, rfz): writes the tensions t (m,), J (6, 6), e6 = (F (3), M (3), Fn (6),
     merit, inside), g6 = (grad (6), kappa (2)); ``w`` the scratch record."""
     A, kind, h, rp, d, inward, ES = cab.A, cab.kind, cab.h, cab.rp, cab.d, cab.inward, cab.ES
@@ -619,7 +619,7 @@ def _solve_poses(p_ref, P0, R0, L0, cab, body, opts, out):
 
 
 class CompiledCables(Cables):
-    """The reference's evaluation record (``models.equilibrium.Cables``: the robot, its load and
+    """The reference's evaluation record (``models.cables.Cables``: the robot, its load and
     tolerances, read by the restarts and the result) with the kernel's ``CableArrays`` (``_kernels.Cables``) and ``Body``."""
 
     def __init__(self, robot):

@@ -44,7 +44,7 @@ equilibrium x* = (p*, R*) under fixed commanded rest lengths L0 the force and mo
 
     dx*/dθ = -(dF6/dx)^-1 dF6/dθ,
 
-with dF6/dx the solver's analytic 6 x 6 Jacobian (``equilibrium._jacobian``; dφ a base-frame
+with dF6/dx the solver's analytic 6 x 6 Jacobian (``cables._jacobian``; dφ a base-frame
 rotation vector) and dF6/dθ the partial derivatives of the balance with respect to each parameter
 at fixed pose, taken by central differences of the balance (the balance is evaluated, not solved,
 so these are exact to O(δ²)). θ is the spatial parameter vector of ``cdpr.parameters``
@@ -67,8 +67,8 @@ from typing import NamedTuple
 import numpy as np
 
 from cdpr.errors import CdprError
+from cdpr.models.cables import Cables
 from cdpr.models.direct import degm_e
-from cdpr.models.equilibrium import Cables
 from cdpr.models.equilibrium import solve as solve_equilibrium
 from cdpr.models.inverse import L_TS
 from cdpr.models.pulleys import pulley_state, total_length_and_direction
@@ -785,7 +785,7 @@ def scaled_condition(J, ell, rigid=True):
     Parameters
     ----------
     J : ndarray (N, 6, 6) [N/m, N/rad, N m/m, N m/rad]
-        d(F, M)/d(dp, dphi) (``equilibrium._jacobian``).
+        d(F, M)/d(dp, dphi) (``cables._jacobian``).
     ell : float [m]
         The platform's size (``Cables.size``).
     rigid : bool

@@ -11,14 +11,14 @@ import sys
 
 import pytest
 
-from cdpr.cli import commands
 from cdpr.cli import main as main_module
+from cdpr.cli import winch as commands  # the module of cmd_winch
 from cdpr.cli.main import main
 from cdpr.errors import CdprError, ConfigError
 from tests.conftest import ROBOTS, ROOT
 
 R4 = str(ROBOTS / "cdpr4.yaml")
-#: A command line that reaches ``commands.cmd_winch`` (replaced by a stand-in in these tests).
+#: A command line that reaches ``cdpr.cli.winch.cmd_winch`` (replaced by a stand-in in these tests).
 WINCH = ["winch", "--steps", "3"]
 
 

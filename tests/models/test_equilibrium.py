@@ -6,7 +6,7 @@ import dataclasses
 import numpy as np
 import pytest
 
-from cdpr.models.equilibrium import FTOL_REL, Cables
+from cdpr.models.cables import FTOL_REL, Cables
 from cdpr.models.equilibrium import solve as solve_pose
 from cdpr.models.inverse import L_TS
 from cdpr.models.pulleys import total_length_and_direction

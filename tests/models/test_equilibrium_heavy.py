@@ -1,4 +1,4 @@
-"""The physical equilibrium with heavy cables (cdpr.models.equilibrium.HeavyCables, issue 38; fixed
+"""The physical equilibrium with heavy cables (cdpr.models.cables.HeavyCables, issue 38; fixed
 pulleys so far) tested by physics: w = 0 through the catenary reproduces today's massless answers
 (1e-12 m, 1e-12 rad), the energy's gradient is minus the net force (a point mass hung from fixed
 points, d = 0, and with dead lengths), the solution balances the catenaries' end forces computed
@@ -13,7 +13,8 @@ from scipy.spatial.transform import Rotation
 
 from cdpr.errors import CdprError
 from cdpr.models import catenary as cat
-from cdpr.models.equilibrium import HeavyCables, solve
+from cdpr.models.cables import HeavyCables
+from cdpr.models.equilibrium import solve
 from cdpr.models.platform import pose_arrays, rotation_matrix
 from cdpr.robot import with_pulleys
 from tests.models.test_equilibrium_pose import pretensioned, robot8_turned

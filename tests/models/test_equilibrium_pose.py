@@ -6,7 +6,7 @@ import dataclasses
 import numpy as np
 import pytest
 
-from cdpr.models.equilibrium import Cables as Cables6
+from cdpr.models.cables import Cables as Cables6
 from cdpr.models.equilibrium import solve as solve_spatial
 from cdpr.models.inverse import pose_state
 from cdpr.models.platform import external_wrench, pose_arrays, rotation_matrix, wrench_matrix
