@@ -88,12 +88,13 @@ def main():
     print("|---|---|---|---|---|---|---|---|---|")
     total_lin = total_full = 0.0
     for name, r in robots.items():
-        dr = uq.drivers({"young_modulus_Pa": E_RANGE}, r.m)
+        dr = uq.drivers({"young_modulus_Pa": E_RANGE}, r)
         U = uq.mc_uniforms(SEED, 0, args.samples, len(dr))
         th = uq.parameter_samples(r, dr, U)
         m = uq.PoseErrorModel(r, P)
         t0 = time.perf_counter()
-        dp, ok = m.solve(th[: args.full])
+        values, ok = m.solve(th[: args.full])
+        dp = values["dp"]
         t_full = (time.perf_counter() - t0) / max(args.full, 1)
         full = uq.sample_stats(dp, ok)
         t0 = time.perf_counter()

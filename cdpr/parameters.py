@@ -1,8 +1,8 @@
 """The parameter vector θ of a robot: names, groups, units, nominal values, and the robot they describe.
 
 θ is what the sensitivities differentiate by (``cdpr.models.sensitivity``), what the uncertainty
-study samples (``cdpr.analyses.uncertainty``) and what calibration estimates. One naming for all of
-them, cables numbered from 1:
+study samples (``cdpr.analyses.uncertainty``) and what calibration estimates. One vector for every
+robot, built from the robot, cables numbered from 1:
 
 =========  ==================  =====  ==========================================
 group      names               unit   what
@@ -12,15 +12,15 @@ group      names               unit   what
 ``r_p``    ``r_p_1`` ..        m      sheave radius
 ``d``      ``d_1`` .. ``d_m``  m      dead length (winch exit to the pulley's joint point)
 ``A``      ``A_1_x`` ..        m      pulley joint points (anchors), base frame
+``b``      ``b_1_x`` ..        m      attachment points, platform frame (rigid platform only)
+``c``      ``c_x`` .. ``c_z``  m      centre of mass, platform frame (rigid platform only)
 ``M``      ``M``               kg     platform (and payload) mass
 =========  ==================  =====  ==========================================
 
-The order of ``parameter_names`` is the order of the sensitivity columns and of every θ array.
-
-A rigid 6-DoF platform (``Robot.point_mass`` False) has more: ``parameter_names6`` adds the
-attachment points ``b_1_x`` .. ``b_m_z`` [m] (platform frame, group ``b``) after the anchors and the
-centre of mass ``c_x``, ``c_y``, ``c_z`` [m] (platform frame, group ``c``) before M; the sensitivities
-dp*/dθ, dφ*/dθ (``cdpr.models.sensitivity``) and the spatial calibration use that one naming.
+A point mass (``Robot.point_mass``) has 7 m + 1 parameters (E, h, r_p, d, A, M); a rigid platform
+10 m + 4 (E, h, r_p, d, A, b, c, M): the groups b and c only where the platform rotates. The order
+of ``parameter_names(robot)`` is the order of the sensitivity columns and of every θ array;
+``group_columns`` maps each group to its columns (the uncertainty sampler's drivers set them).
 """
 
 from __future__ import annotations
@@ -31,56 +31,41 @@ import numpy as np
 
 from cdpr.errors import CdprError
 
-#: Parameter groups, in the order of the sensitivity columns.
-GROUPS = ("E", "h", "r_p", "d", "A", "M")
-#: Units of the groups (a sensitivity of group g is in m per this unit).
-UNITS = {"E": "Pa", "h": "m", "r_p": "m", "d": "m", "A": "m", "M": "kg"}
+#: Parameter groups, in the order of θ; ``RIGID_GROUPS`` only on a rigid platform.
+GROUPS = ("E", "h", "r_p", "d", "A", "b", "c", "M")
+#: Groups of a rigid platform only (attachments and centre of mass, platform frame).
+RIGID_GROUPS = ("b", "c")
+#: Units of the groups (a sensitivity of group g is in m or rad per this unit).
+UNITS = {"E": "Pa", "h": "m", "r_p": "m", "d": "m", "A": "m", "b": "m", "c": "m", "M": "kg"}
 
 
-def parameter_names(m):
-    """Names of the 7 m + 1 parameters, in the order of the sensitivity columns.
-
-    E_1..E_m, h_1..h_m, r_p_1..r_p_m, d_1..d_m, A_1_x, A_1_y, A_1_z, ..., A_m_z, M (cables numbered
-    from 1).
-
-    Parameters
-    ----------
-    m : int
-        Number of cables.
-
-    Returns
-    -------
-    names : list of str, length 7 m + 1
-    """
-    c = range(1, m + 1)
-    return (
-        [f"E_{i}" for i in c]
-        + [f"h_{i}" for i in c]
-        + [f"r_p_{i}" for i in c]
-        + [f"d_{i}" for i in c]
-        + [f"A_{i}_{a}" for i in c for a in "xyz"]
-        + ["M"]
-    )
+def _groups_of(m, rigid):
+    return [g for g in GROUPS if rigid or g not in RIGID_GROUPS]
 
 
-def parameter_groups(m):
-    """The group (``GROUPS``) of each parameter of ``parameter_names(m)``.
+def _names(m, rigid):
+    """Names of θ for m cables, with b and c when ``rigid``."""
+    names = []
+    for g in _groups_of(m, rigid):
+        if g in ("A", "b"):
+            names += [f"{g}_{i}_{a}" for i in range(1, m + 1) for a in "xyz"]
+        elif g == "c":
+            names += [f"c_{a}" for a in "xyz"]
+        elif g == "M":
+            names.append("M")
+        else:
+            names += [f"{g}_{i}" for i in range(1, m + 1)]
+    return names
 
-    Parameters
-    ----------
-    m : int
-        Number of cables.
 
-    Returns
-    -------
-    groups : list of str, length 7 m + 1
-        "E", "h", "r_p", "d", "A" or "M".
-    """
-    return ["E"] * m + ["h"] * m + ["r_p"] * m + ["d"] * m + ["A"] * (3 * m) + ["M"]
+def _group_list(m, rigid):
+    size = {"A": 3 * m, "b": 3 * m, "c": 3, "M": 1}
+    return [g for g in _groups_of(m, rigid) for _ in range(size.get(g, m))]
 
 
-def parameter_values(robot):
-    """Nominal values of the parameters of ``parameter_names(robot.m)``.
+def has_rigid_parameters(robot):
+    """Whether θ of ``robot`` has the attachments b and the centre of mass c: a rigid platform
+    (``not Robot.point_mass``: some b_i or c off the reference point).
 
     Parameters
     ----------
@@ -88,81 +73,67 @@ def parameter_values(robot):
 
     Returns
     -------
-    theta : ndarray, shape (7 m + 1,) [Pa, m, kg]
-        E_i [Pa], h_i, r_p_i, d_i, A_i [m], M [kg].
+    bool
     """
-    a = robot.arrays
-    return np.concatenate([a.E, a.h, a.r_p, a.d, a.A.ravel(), [robot.platform.mass]])
+    return not robot.point_mass
 
 
-#: Parameter groups of a rigid 6-DoF platform, in the order of ``parameter_names6``.
-GROUPS6 = ("E", "h", "r_p", "d", "A", "b", "c", "M")
-
-
-def parameter_names6(m):
-    """Names of θ for a rigid platform on m cables (cables from 1), the order of the columns of
-    ``cdpr.models.sensitivity.pose_sensitivities``.
+def parameter_names(robot, rigid=None):
+    """Names of θ, in the order of the sensitivity columns (cables from 1).
 
     Parameters
     ----------
-    m : int
-        Number of cables.
+    robot : Robot
+    rigid : bool, optional
+        With b and c (True: the pose kernels' full set of columns, whatever the platform) or
+        without (False); default ``has_rigid_parameters(robot)``.
 
     Returns
     -------
-    names : list of str, length 10 m + 4
-        E_i, h_i, r_p_i, d_i, A_i_x/y/z, b_i_x/y/z for every cable, then c_x, c_y, c_z and M.
+    names : list of str, length 7 m + 1 (10 m + 4 on a rigid platform)
+        E_1..E_m, h_1..h_m, r_p_1..r_p_m, d_1..d_m, A_1_x, A_1_y, A_1_z, ..., A_m_z, then on a
+        rigid platform b_1_x .. b_m_z and c_x, c_y, c_z, and M last.
     """
-    names = []
-    for key in ("E", "h", "r_p", "d"):
-        names += [f"{key}_{i + 1}" for i in range(m)]
-    for key in ("A", "b"):
-        names += [f"{key}_{i + 1}_{a}" for i in range(m) for a in "xyz"]
-    return names + ["c_x", "c_y", "c_z", "M"]
+    return _names(robot.m, has_rigid_parameters(robot) if rigid is None else rigid)
 
 
-def parameter_units6(m):
-    """Units of the parameters of ``parameter_names6(m)`` (a sensitivity is in m or rad per unit).
+def parameter_groups(robot, rigid=None):
+    """The group (``GROUPS``) of each entry of ``parameter_names(robot, rigid)``.
 
     Parameters
     ----------
-    m : int
-        Number of cables.
+    robot : Robot
+    rigid : bool, optional
+        As ``parameter_names``.
+
+    Returns
+    -------
+    groups : list of str, length 7 m + 1 (10 m + 4 on a rigid platform)
+        "E", "h", "r_p", "d", "A", ("b", "c") or "M".
+    """
+    return _group_list(robot.m, has_rigid_parameters(robot) if rigid is None else rigid)
+
+
+def parameter_units(robot, rigid=None):
+    """Units of the entries of ``parameter_names(robot, rigid)`` (a sensitivity is in m or rad per unit).
+
+    Parameters
+    ----------
+    robot : Robot
+    rigid : bool, optional
+        As ``parameter_names``.
 
     Returns
     -------
     units : list of str
-        'Pa' for E_i, 'kg' for M, 'm' for every length and coordinate (h_i, r_p_i, d_i, A_i, b_i, c).
+        'Pa' for E_i, 'kg' for M, 'm' for every length and coordinate.
     """
-    return ["Pa" if n.startswith("E_") else "kg" if n == "M" else "m" for n in parameter_names6(m)]
+    return [UNITS[g] for g in parameter_groups(robot, rigid)]
 
 
-def parameter_groups6(m):
-    """The group (``GROUPS6``) of each parameter of ``parameter_names6(m)``.
-
-    Parameters
-    ----------
-    m : int
-        Number of cables.
-
-    Returns
-    -------
-    groups : list of str, length 10 m + 4
-    """
-    return (
-        ["E"] * m
-        + ["h"] * m
-        + ["r_p"] * m
-        + ["d"] * m
-        + ["A"] * (3 * m)
-        + ["b"] * (3 * m)
-        + ["c"] * 3
-        + ["M"]
-    )
-
-
-def parameter_values6(robot):
-    """Nominal values of ``parameter_names6(robot.m)``.
+def group_columns(robot):
+    """The columns of θ (``parameter_names(robot)``) of each group: the one mapping from a group
+    (and cable, axis) to θ that the uncertainty sampler's drivers use.
 
     Parameters
     ----------
@@ -170,36 +141,29 @@ def parameter_values6(robot):
 
     Returns
     -------
-    theta : ndarray, shape (10 m + 4,) [Pa, m, kg]
-        E_i [Pa], h_i, r_p_i, d_i, A_i, b_i (platform frame), c (platform frame) [m], M [kg].
+    columns : dict of str -> ndarray of int
+        Group -> its columns in θ order: m for E, h, r_p, d; 3 m for A and b (cable by cable,
+        x y z); 3 for c; 1 for M. Only the groups of the robot's θ.
+    """
+    groups = np.array(parameter_groups(robot), dtype=object)
+    return {g: np.flatnonzero(groups == g) for g in dict.fromkeys(groups)}
+
+
+def parameter_values(robot):
+    """Nominal values of ``parameter_names(robot)``.
+
+    Parameters
+    ----------
+    robot : Robot
+
+    Returns
+    -------
+    theta : ndarray, shape (7 m + 1,) or (10 m + 4,) on a rigid platform [Pa, m, kg]
+        E_i [Pa], h_i, r_p_i, d_i, A_i [m], (b_i, c [m], platform frame), M [kg].
     """
     a = robot.arrays
-    return np.concatenate([a.E, a.h, a.r_p, a.d, a.A.ravel(), a.b.ravel(), a.com, [robot.platform.mass]])
-
-
-def robot_with_parameters6(robot, values):
-    """``robot_with_parameters`` for the spatial vector ``parameter_names6``: also the attachment
-    points b_i and the centre of mass c. Not validated (a sampled or perturbed robot).
-
-    Parameters
-    ----------
-    robot : Robot
-    values : array_like, shape (10 m + 4,) [Pa, m, kg]
-        In the order of ``parameter_names6``.
-
-    Returns
-    -------
-    Robot
-    """
-    m = robot.m
-    v = np.asarray(values, dtype=float)
-    if v.shape != (10 * m + 4,):
-        raise CdprError(f"expected {10 * m + 4} spatial parameter values for {m} cables, got shape {v.shape}")
-    out = robot_with_parameters(robot, np.concatenate([v[: 7 * m], v[-1:]]))
-    b = v[7 * m : 10 * m].reshape(m, 3)
-    cables = tuple(dataclasses.replace(c, B=tuple(float(x) for x in b[i])) for i, c in enumerate(out.cables))
-    platform = dataclasses.replace(out.platform, com=tuple(float(x) for x in v[10 * m : 10 * m + 3]))
-    return dataclasses.replace(out, cables=cables, platform=platform)
+    rigid = [a.b.ravel(), a.com] if has_rigid_parameters(robot) else []
+    return np.concatenate([a.E, a.h, a.r_p, a.d, a.A.ravel(), *rigid, [robot.platform.mass]])
 
 
 def robot_with_parameters(robot, values):
@@ -210,19 +174,23 @@ def robot_with_parameters(robot, values):
     Parameters
     ----------
     robot : Robot
-    values : array_like, shape (7 m + 1,) [Pa, m, kg]
-        In the order of ``parameter_names``.
+    values : array_like, shape (7 m + 1,) or (10 m + 4,) on a rigid platform [Pa, m, kg]
+        In the order of ``parameter_names(robot)``.
 
     Returns
     -------
     Robot
     """
     m = robot.m
+    rigid = has_rigid_parameters(robot)
+    n = 10 * m + 4 if rigid else 7 * m + 1
     v = np.asarray(values, dtype=float)
-    if v.shape != (7 * m + 1,):
-        raise CdprError(f"expected {7 * m + 1} parameter values for {m} cables, got shape {v.shape}")
+    if v.shape != (n,):
+        what = "a rigid platform" if rigid else "a point mass"
+        raise CdprError(f"expected {n} parameter values for {what} on {m} cables, got shape {v.shape}")
     E, h, r_p, d = v[:m], v[m : 2 * m], v[2 * m : 3 * m], v[3 * m : 4 * m]
     A = v[4 * m : 7 * m].reshape(m, 3)
+    b = v[7 * m : 10 * m].reshape(m, 3) if rigid else None
     cables = tuple(
         dataclasses.replace(
             c,
@@ -230,10 +198,12 @@ def robot_with_parameters(robot, values):
             pulley=dataclasses.replace(c.pulley, h=float(h[i]), r_p=float(r_p[i])),
             dead_length=float(d[i]),
             material=dataclasses.replace(c.material, E=float(E[i])),
+            **({"B": tuple(float(x) for x in b[i])} if rigid else {}),
         )
         for i, c in enumerate(robot.cables)
     )
-    platform = dataclasses.replace(robot.platform, mass=float(v[7 * m]))
+    com = {"com": tuple(float(x) for x in v[10 * m : 10 * m + 3])} if rigid else {}
+    platform = dataclasses.replace(robot.platform, mass=float(v[-1]), **com)
     return dataclasses.replace(robot, cables=cables, platform=platform)
 
 
@@ -257,38 +227,53 @@ _CALIBRATION_OF = {
 CENTRE_OF_MASS = "centre_of_mass"
 
 
-def calibration_names(m, spatial=False):
-    """Names of the calibration vector: ``parameter_names(m)`` (``parameter_names6(m)`` for a
-    spatial robot) followed by the encoder offsets ``offset_1`` .. ``offset_m`` [m].
+def calibration_names(robot):
+    """Names of the calibration vector: ``parameter_names(robot)`` followed by the encoder offsets
+    ``offset_1`` .. ``offset_m`` [m].
 
     Parameters
     ----------
-    m : int
-        Number of cables.
-    spatial : bool
-        A rigid 6-DoF platform (``not Robot.point_mass``).
+    robot : Robot
 
     Returns
     -------
-    names : list of str, length 8 m + 1 (11 m + 4 spatial)
+    names : list of str, length 8 m + 1 (11 m + 4 on a rigid platform)
     """
-    return (parameter_names6(m) if spatial else parameter_names(m)) + [f"offset_{i}" for i in range(1, m + 1)]
+    return parameter_names(robot) + [f"offset_{i}" for i in range(1, robot.m + 1)]
 
 
-def robot_size(m, spatial=False):
-    """Length of the robot part of the calibration vector (before the offsets): 7 m + 1, or
-    10 m + 4 for a spatial robot."""
-    return 10 * m + 4 if spatial else 7 * m + 1
+def robot_size(robot):
+    """Length of the robot part of the calibration vector (before the offsets): ``len(parameter_names(robot))``,
+    7 m + 1, or 10 m + 4 on a rigid platform.
+
+    Parameters
+    ----------
+    robot : Robot
+
+    Returns
+    -------
+    int
+    """
+    return 10 * robot.m + 4 if has_rigid_parameters(robot) else 7 * robot.m + 1
 
 
 def is_spatial(robot):
-    """Whether ``robot`` calibrates with the spatial vector: a rigid platform (some b_i or c nonzero)."""
-    return not robot.point_mass
+    """Whether ``robot`` calibrates with the spatial vector: a rigid platform (some b_i or c nonzero,
+    ``has_rigid_parameters``).
+
+    Parameters
+    ----------
+    robot : Robot
+
+    Returns
+    -------
+    bool
+    """
+    return has_rigid_parameters(robot)
 
 
 def calibrated_robot(robot, values):
-    """The robot of the robot part of a calibration vector (``robot_with_parameters`` or
-    ``robot_with_parameters6`` by ``is_spatial``).
+    """The robot of the robot part of a calibration vector (``robot_with_parameters``).
 
     Parameters
     ----------
@@ -299,40 +284,33 @@ def calibrated_robot(robot, values):
     -------
     Robot
     """
-    sp = is_spatial(robot)
-    v = np.asarray(values, dtype=float)[: robot_size(robot.m, sp)]
-    return robot_with_parameters6(robot, v) if sp else robot_with_parameters(robot, v)
+    return robot_with_parameters(robot, np.asarray(values, dtype=float)[: robot_size(robot)])
 
 
-def calibration_groups(m, spatial=False):
+def calibration_groups(robot):
     """The calibration group (``CALIBRATION_GROUPS``; ``CENTRE_OF_MASS`` for c, never estimated) and
-    the 1-based cable (None for the mass and c) of every entry of ``calibration_names(m, spatial)``.
+    the 1-based cable (None for the mass and c) of every entry of ``calibration_names(robot)``.
 
     Parameters
     ----------
-    m : int
-        Number of cables.
-    spatial : bool
-        A rigid 6-DoF platform.
+    robot : Robot
 
     Returns
     -------
-    groups : list of str, length 8 m + 1 (11 m + 4 spatial)
+    groups : list of str, length 8 m + 1 (11 m + 4 on a rigid platform)
     cables : list of int or None, same length
     """
+    m = robot.m
     c = list(range(1, m + 1))
     triple = [i for i in c for _ in range(3)]
-    if spatial:
-        groups = [_CALIBRATION_OF[g] for g in parameter_groups6(m)] + ["offsets"] * m
-        return groups, c * 4 + triple * 2 + [None] * 4 + c
-    groups = [_CALIBRATION_OF[g] for g in parameter_groups(m)] + ["offsets"] * m
-    cables = c * 4 + triple + [None] + c
+    per = {"A": triple, "b": triple, "c": [None] * 3, "M": [None]}
+    groups = [_CALIBRATION_OF[g] for g in parameter_groups(robot)] + ["offsets"] * m
+    cables = [k for g in _groups_of(m, has_rigid_parameters(robot)) for k in per.get(g, c)] + c
     return groups, cables
 
 
 def calibration_values(robot, offsets=None):
-    """Nominal calibration vector: ``parameter_values(robot)`` (``parameter_values6`` for a spatial
-    robot, ``is_spatial``) then the offsets (default 0).
+    """Nominal calibration vector: ``parameter_values(robot)`` then the offsets (default 0).
 
     Parameters
     ----------
@@ -341,15 +319,14 @@ def calibration_values(robot, offsets=None):
 
     Returns
     -------
-    theta : ndarray, shape (8 m + 1,) (11 m + 4 spatial) [Pa, m, kg]
+    theta : ndarray, shape (8 m + 1,) (11 m + 4 on a rigid platform) [Pa, m, kg]
     """
     off = np.zeros(robot.m) if offsets is None else np.asarray(offsets, dtype=float)
-    values = parameter_values6(robot) if is_spatial(robot) else parameter_values(robot)
-    return np.concatenate([values, off])
+    return np.concatenate([parameter_values(robot), off])
 
 
 def select_groups(robot, groups, source="--estimate"):
-    """Indices into ``calibration_names(robot.m, is_spatial(robot))`` of the parameters of ``groups``.
+    """Indices into ``calibration_names(robot)`` of the parameters of ``groups``.
 
     Parameters
     ----------
@@ -378,5 +355,5 @@ def select_groups(robot, groups, source="--estimate"):
             )
     if not groups:
         raise CdprError(f"{source}: no group given; allowed: {', '.join(CALIBRATION_GROUPS[:-1])}")
-    of, _ = calibration_groups(robot.m, is_spatial(robot))
+    of, _ = calibration_groups(robot)
     return np.array([k for k, g in enumerate(of) if g in groups], dtype=np.intp)

@@ -39,7 +39,7 @@ def declared(study=STUDY):
 
 
 #: The tables of tests/test_workflow.py's TABLES the spatial study writes (its uncertainty section runs
-#: in physical mode, pipeline.uq6: the tables carry δφ columns beside ‖δp‖'s), then its per-path and
+#: in physical mode, pipeline.uq: the tables carry δφ columns beside ‖δp‖'s), then its per-path and
 #: per-plane tables (paths under results/quick_spatial/).
 #: The plane tables are compared here (not for the point-mass quick study): the per-point pose of
 #: the 6-DoF equilibrium, of which the summary keeps only the extremes.

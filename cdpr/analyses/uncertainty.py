@@ -12,9 +12,9 @@ The study file's ``uncertainty.parameters`` declares a distribution per paramete
 
 The last two are a rigid platform's (a spatial study): the attachments b_i (platform frame, x, y,
 z of each cable drawn independently with ``per_cable: true``, one draw per axis for all cables
-otherwise) and the centre of mass c (one draw per axis). Their drivers set columns after the
-point-mass parameters: θ = (E, h, r_p, d, A, M, b, c) (``nominal_theta``), which
-``uncertainty6.spatial_theta`` reorders to ``parameter_names6``.
+otherwise) and the centre of mass c (one draw per axis). Every driver sets columns of the robot's
+own θ (``parameters.parameter_names``: E, h, r_p, d, A, then b and c on a rigid platform, M last)
+through ``parameters.group_columns``; a point mass has no b and c, and refuses their keys.
 
 ``uniform`` takes low and high; ``normal`` takes mean and sd, and optional low/high that truncate
 it. Keys ending in ``_offset_m`` are deviations added to each cable's nominal value (the designs
@@ -38,10 +38,13 @@ The pose error of a design (``PoseErrorModel``), for sampled parameters θ:
   rest lengths that hold the nominal robot exactly at p) and the robot with θ settles where its
   forces balance (physical equilibrium): the residual error a real robot would have.
 
-``solve`` does full solves; ``linearise`` gives the first-order propagation of the sensitivities at
-the nominal parameters (``sensitivity``), dp(θ) = dp_0 + S (τ(θ) - τ(θ_0)), with τ the identity
-except for the moduli, linearised in the compliance 1/E_i (the cable stretch t L / (E S) is linear in
-it, so the elastic error is nearly linear in 1/E over the paper's ±35 GPa, not in E).
+Its responses (``RESPONSES``) are ‖δp‖ [m] and, when the robot is solved as a pose (every robot
+but a suspended point mass: a rigid platform, or pulleys at other axes than +z; physical mode, at
+the study's orientation), δφ [rad], the angle of R*ᵀR_d. ``solve`` does full solves;
+``linearisations`` gives the first-order propagation of the sensitivities at the nominal parameters
+(``sensitivity``) of each response, dp(θ) = dp_0 + S (τ(θ) - τ(θ_0)), with τ the identity except
+for the moduli, linearised in the compliance 1/E_i (the cable stretch t L / (E S) is linear in it, so
+the elastic error is nearly linear in 1/E over the paper's ±35 GPa, not in E).
 
 References
 ----------
@@ -62,12 +65,21 @@ import pandas as pd
 from cdpr.analyses.compensation import compensate
 from cdpr.errors import CdprError, ConfigError
 from cdpr.models.inverse import L_TS
-from cdpr.parameters import parameter_values, robot_with_parameters
+from cdpr.models.platform import pose_arrays, rotvec_of
+from cdpr.models.tension_distribution import compensated_lengths
+from cdpr.parameters import (
+    RIGID_GROUPS,
+    group_columns,
+    parameter_names,
+    parameter_values,
+    robot_with_parameters,
+)
 from cdpr.solve import (
     check_engine,
     linear_dp,
     linear_positions,
     sensitivities,
+    sensitivities_at,
     solve,
     solve_batch,
     subset_sensitivities,
@@ -82,14 +94,14 @@ PARAMETER_KEYS = {
     "dead_length_offset_m": ("d", "offset"),
     "anchor_offset_m": ("A", "offset"),
     "mass_kg": ("M", "value"),
-    # a rigid platform's (``Robot.point_mass`` false; spatial studies, ``uncertainty6``): after every
-    # point-mass key, so that the drivers of a study without them keep their numbers
+    # a rigid platform's (``Robot.point_mass`` false; spatial studies): after every point-mass key,
+    # so that the drivers of a study without them keep their numbers
     "attachment_offset_m": ("b", "offset"),
     "com_offset_m": ("c", "offset"),
 }
-#: Groups of a rigid platform only: their drivers set columns after the point-mass θ (``nominal_theta``).
-RIGID_GROUPS = ("b", "c")
 CASES = ("uncompensated", "compensated")
+#: The responses of ``PoseErrorModel``: ‖δp‖ [m] of every robot, δφ [rad] of a robot solved as a pose.
+RESPONSES = ("dp", "dphi")
 #: Where ``PoseErrorModel``'s physical full solves start Newton.
 STARTS = ("linear", "desired")
 #: Quantiles of the bands (5, 50, 95 %).
@@ -156,7 +168,7 @@ class Distribution:
 @dataclasses.dataclass(frozen=True)
 class Driver:
     """One independent draw: its name (E_2, E_all, A_3_z, A_all_z, M), the study key, the parameter
-    group, the columns of the parameter vector (``parameters.parameter_names``) it sets, whether it
+    group, the columns of the robot's θ (``parameters.parameter_names``) it sets, whether it
     is an offset added to the nominal values, and its distribution."""
 
     name: str
@@ -167,54 +179,61 @@ class Driver:
     dist: Distribution
 
 
-def drivers(parameters, m):
+def drivers(parameters, robot):
     """The drivers (independent draws) of ``uncertainty.parameters``, in the fixed order of
-    ``PARAMETER_KEYS`` and cables, whatever the order of the study's keys.
+    ``PARAMETER_KEYS`` and cables, whatever the order of the study's keys (the draw order: the
+    columns they set are the robot's θ's, ``parameters.group_columns``).
 
     Parameters
     ----------
     parameters : dict
         ``PARAMETER_KEYS`` -> distribution spec {dist, low, high, mean, sd, per_cable}.
-    m : int
-        Number of cables.
+    robot : Robot
+        The nominal robot (its θ: b and c on a rigid platform only).
 
     Returns
     -------
     list of Driver
+
+    Raises
+    ------
+    CdprError
+        A key of a rigid platform's group (b, c) on a point mass.
     """
-    base = {"E": 0, "h": m, "r_p": 2 * m, "d": 3 * m}
-    vec = {"A": 4 * m, "b": 7 * m + 1}  # per-cable 3-vectors: first column
+    m = robot.m
+    columns = group_columns(robot)
     out = []
     for key, (group, kind) in PARAMETER_KEYS.items():
         if key not in parameters:
             continue
+        if group not in columns:
+            raise CdprError(
+                f"uncertainty.parameters.{key}: robot {robot.name} is a point mass (no attachments b_i or "
+                f"centre of mass c); allowed for it: {', '.join(k for k, (g, _) in PARAMETER_KEYS.items() if g not in RIGID_GROUPS)}"
+            )
         spec = parameters[key]
         dist = Distribution.from_spec(spec)
         offset = kind == "offset"
         per_cable = spec.get("per_cable", True) and group != "M"
+        col = [int(c) for c in columns[group]]
         if group == "M":
-            out.append(Driver("M", key, group, (7 * m,), offset, dist))
+            out.append(Driver("M", key, group, (col[0],), offset, dist))
         elif group == "c":
-            out += [
-                Driver(f"c_{ax}", key, group, (10 * m + 1 + a,), offset, dist) for a, ax in enumerate("xyz")
-            ]
-        elif group in vec:
+            out += [Driver(f"c_{ax}", key, group, (col[a],), offset, dist) for a, ax in enumerate("xyz")]
+        elif group in ("A", "b"):  # per-cable 3-vectors: cable by cable, x y z
             for a, ax in enumerate("xyz"):
                 if per_cable:
                     out += [
-                        Driver(f"{group}_{c + 1}_{ax}", key, group, (vec[group] + 3 * c + a,), offset, dist)
+                        Driver(f"{group}_{c + 1}_{ax}", key, group, (col[3 * c + a],), offset, dist)
                         for c in range(m)
                     ]
                 else:
-                    cols = tuple(vec[group] + 3 * c + a for c in range(m))
+                    cols = tuple(col[3 * c + a] for c in range(m))
                     out.append(Driver(f"{group}_all_{ax}", key, group, cols, offset, dist))
         elif per_cable:
-            out += [
-                Driver(f"{group}_{c + 1}", key, group, (base[group] + c,), offset, dist) for c in range(m)
-            ]
+            out += [Driver(f"{group}_{c + 1}", key, group, (col[c],), offset, dist) for c in range(m)]
         else:
-            cols = tuple(base[group] + c for c in range(m))
-            out.append(Driver(f"{group}_all", key, group, cols, offset, dist))
+            out.append(Driver(f"{group}_all", key, group, tuple(col), offset, dist))
     # anchors and attachments: per cable x, y, z together (A_1_x, A_1_y, A_1_z, A_2_x, ...)
     return sorted(out, key=lambda d: (list(PARAMETER_KEYS).index(d.key), d.columns))
 
@@ -242,30 +261,6 @@ def mc_uniforms(seed, start, stop, n_drivers):
     ).reshape(stop - start, n_drivers)
 
 
-def nominal_theta(robot, drivers_=None, rigid=False):
-    """The nominal parameter vector in the column space of the drivers: ``parameter_values``
-    (E, h, r_p, d, A, M: 7 m + 1 columns) and, when a driver sets a rigid platform's attachments or
-    centre of mass (groups ``RIGID_GROUPS``) or with ``rigid``, the attachments b (3 m, platform
-    frame) and the centre of mass c (3) after it (10 m + 4 columns).
-
-    Parameters
-    ----------
-    robot : Robot
-    drivers_ : list of Driver, optional
-    rigid : bool
-        Append b and c whatever the drivers.
-
-    Returns
-    -------
-    theta0 : ndarray, shape (7 m + 1,) or (10 m + 4,) [Pa, m, kg]
-    """
-    th0 = parameter_values(robot)
-    if rigid or any(d.group in RIGID_GROUPS for d in drivers_ or ()):
-        a = robot.arrays
-        th0 = np.concatenate([th0, np.asarray(a.b, dtype=float).ravel(), np.asarray(a.com, dtype=float)])
-    return th0
-
-
 def parameter_samples(robot, drivers_, U, active=None):
     """Parameter vectors of uniform numbers: each active driver's inverse CDF sets its columns
     (offsets are added to the nominal values); inactive drivers leave the nominal values.
@@ -282,12 +277,11 @@ def parameter_samples(robot, drivers_, U, active=None):
 
     Returns
     -------
-    theta : ndarray, shape (n, 7 m + 1) [Pa, m, kg]
-        In the order of ``parameters.parameter_names``; (n, 10 m + 4) with attachments and centre
-        of mass after it where a driver sets them (``nominal_theta``).
+    theta : ndarray, shape (n, len(parameter_names(robot))) [Pa, m, kg]
+        In the order of ``parameters.parameter_names``.
     """
     U = np.atleast_2d(np.asarray(U, dtype=float))
-    th0 = nominal_theta(robot, drivers_)
+    th0 = parameter_values(robot)
     th = np.tile(th0, (len(U), 1))
     for k, dr in enumerate(drivers_):
         if active is not None and not active[k]:
@@ -306,7 +300,7 @@ def check_samples(robot, theta, source="<study>", key="uncertainty.parameters"):
     Parameters
     ----------
     robot : Robot
-    theta : array_like, shape (n, 7 m + 1)
+    theta : array_like, shape (n, len(parameter_names(robot)))
     source : str
         File named in the error.
     key : str
@@ -325,7 +319,7 @@ def check_samples(robot, theta, source="<study>", key="uncertainty.parameters"):
     sized = robot.arrays.h > 0
     checks = [
         (E <= 0, "a Young's modulus <= 0"),
-        (th[:, [7 * m]] <= 0, "a payload mass <= 0"),
+        (th[:, [-1]] <= 0, "a payload mass <= 0"),
         (d < 0, "a negative dead length"),
         ((Az <= robot.floor_z) & robot.suspended_point_mass, "an anchor at or below the floor"),
         ((r_p < 0) | (h < 0), "a negative lever arm or sheave radius"),
@@ -391,7 +385,7 @@ class Linearisation:
         Slots with a regular solution (S finite).
     smooth : array (N,) bool
         The sensitivity module's flag of the nominal answer.
-    theta0 : array (7 m + 1,)
+    theta0 : array (len(parameter_names(robot)),)
     m : int
     columns : array (k,) of int
         Columns of θ (``parameters.parameter_names``) that S covers; the others must stay nominal.
@@ -474,7 +468,7 @@ def linear_stats(lin, theta, batch=64, threads=None):
     Parameters
     ----------
     lin : Linearisation
-    theta : array_like, shape (n, 7 m + 1)
+    theta : array_like, shape (n, len(parameter_names(robot)))
     batch : int
     threads : int, optional
 
@@ -495,12 +489,14 @@ def linear_stats(lin, theta, batch=64, threads=None):
     )
 
 
-#: (sample, point) pairs per batched physical solve of ``PoseErrorModel.solve`` (memory ~100 bytes each).
+#: (sample, point) pairs per batched physical solve of ``PoseErrorModel.solve`` of a suspended point
+#: mass (memory ~100 bytes each).
 BATCH_POINTS = 2**20
 
 
 class PoseErrorModel:
-    """‖δp‖ of one design at points p when the robot's parameters are θ (module docstring).
+    """The pose error of one design at points p when the robot's parameters are θ (module
+    docstring): ‖δp‖ of every robot and δφ of a robot solved as a pose (``pose``).
 
     Parameters
     ----------
@@ -510,20 +506,34 @@ class PoseErrorModel:
         Desired positions.
     case : {"uncompensated", "compensated"}
     redundancy : {"paper", "physical"}
-        Model of the uncompensated robot (paper: DEGM_E on the best subset); the compensated robot
-        is always the physical equilibrium.
+        Model of the uncompensated suspended point mass (paper: DEGM_E on the best subset); the
+        compensated robot, and every robot solved as a pose, is the physical equilibrium.
     compensation : dict, optional
-        ``method`` and ``t_min_N`` of ``compensation.compensate`` (default min_norm, 100 N).
+        ``method`` and ``t_min_N`` of ``compensation.compensate`` (of
+        ``tension_distribution.compensated_lengths`` for a pose; default min_norm, 100 N).
     threads : int, optional
     engine : {"compiled", "numpy", None}
         Engine of every solve (``solve.check_engine``: None is compiled; another value raises
-        CdprError).
+        CdprError); the sensitivities of a pose are the numpy reference's.
     start : {"linear", "desired"}
-        Where the full solves start Newton: at each sample's linearised solution,
-        p + dp_0 + S (τ(θ) - τ(θ_0)) (``Linearisation.shift``: the equilibrium in physical mode,
-        every subset's solution in paper mode; the desired point where the nominal one is not
-        valid), or at the desired point p. Both converge to the same solutions within the solver's
-        tolerance; the linear start takes about half the Newton iterations (benchmarks/README.md).
+        Where the full solves of a suspended point mass start Newton: at each sample's linearised
+        solution, p + dp_0 + S (τ(θ) - τ(θ_0)) (``Linearisation.shift``: the equilibrium in
+        physical mode, every subset's solution in paper mode; the desired point where the nominal
+        one is not valid), or at the desired point p. Both converge to the same solutions within
+        the solver's tolerance; the linear start takes about half the Newton iterations
+        (benchmarks/README.md). A pose starts at the desired pose.
+    rotvec : array (N, 3) or (3,) [rad], optional
+        Desired orientations of a pose (default identity).
+    pose : bool, optional
+        Solve as a pose; default every robot but a suspended point mass (True on a suspended point
+        mass: the 6-DoF model, whose δφ is 0, a cross-check of the point-mass model).
+
+    Attributes
+    ----------
+    pose : bool
+        Solved as a pose (every robot but a suspended point mass): responses ‖δp‖ and δφ.
+    responses : tuple of str
+        ``RESPONSES`` of this robot: ("dp",) or ("dp", "dphi").
     """
 
     def __init__(
@@ -536,24 +546,48 @@ class PoseErrorModel:
         threads=None,
         engine=None,
         start="linear",
+        rotvec=None,
+        pose=None,
     ):
         if start not in STARTS:
             raise CdprError(f"unknown start {start!r}; allowed: {', '.join(STARTS)}")
+        if case not in CASES:
+            raise ValueError(f"unknown case {case!r}; allowed: {', '.join(CASES)}")
         self.robot = robot
         self.start = start
-        self._nominal_sens = None
+        self._nominal_sens = self._pose_lin = None
         self._linearisations, self._start_slots = {}, {}
-        self.engine = check_engine(engine, "newton")
-        self.p = np.atleast_2d(np.asarray(p, dtype=float))
         self.case = case
         self.threads = threads
+        self.pose = not robot.suspended_point_mass if pose is None else bool(pose)
+        self.responses = RESPONSES if self.pose else RESPONSES[:1]
+        c = compensation or {}
+        if self.pose:
+            self.engine = engine
+            self.mode = "physical"
+            self.p, self.R = pose_arrays(p, rotvec)
+            n = len(self.p)
+            self.rotvec = np.zeros((n, 3)) if rotvec is None else np.broadcast_to(rotvec, (n, 3))
+            if case == "uncompensated":
+                self.L, self.feasible = L_TS(robot, self.p, R=self.R), np.ones(n, dtype=bool)
+            else:
+                comp = compensated_lengths(
+                    robot,
+                    self.p,
+                    self.rotvec,
+                    t_min=c.get("t_min_N", 100.0),
+                    method=c.get("method", "min_norm"),
+                )
+                self.L, self.feasible = comp["L0"], np.asarray(comp["feasible"], dtype=bool)
+            return
+        self.engine = check_engine(engine, "newton")
+        self.p = np.atleast_2d(np.asarray(p, dtype=float))
         n = len(self.p)
         if case == "uncompensated":
             self.mode = redundancy
             self.L = L_TS(robot, self.p)
             self.feasible = np.ones(n, dtype=bool)
-        elif case == "compensated":
-            c = compensation or {}
+        else:
             comp = compensate(
                 robot,
                 self.p,
@@ -564,8 +598,6 @@ class PoseErrorModel:
             self.mode = "physical"
             self.L = comp["L0"]
             self.feasible = comp["feasible"]
-        else:
-            raise ValueError(f"unknown case {case!r}; allowed: {', '.join(CASES)}")
         self._pv = np.ascontiguousarray(self.p[self.feasible])
         self._Lv = np.ascontiguousarray(self.L[self.feasible])
 
@@ -600,50 +632,96 @@ class PoseErrorModel:
         P0 = linear_positions(base, S, lin._delta(theta), engine=self.engine, threads=self.threads)
         return P0.reshape(len(P0), -1, 3) if self.mode == "physical" else P0.reshape(len(P0), -1, C, 3)
 
-    def _solve(self, robot, sens=False):
-        run = {"engine": self.engine, "threads": self.threads}
-        if sens:
-            return sensitivities(robot, self._pv, redundancy=self.mode, L=self._Lv, **run)
-        lengths = {"L": self._Lv} if self.mode == "paper" else {"L0": self._Lv}
-        return solve(robot, self._pv, redundancy=self.mode, **lengths, **run)
-
     def solve(self, theta):
-        """Full solves: ‖δp‖ (n, N) [m] and ok (n, N) for parameter vectors θ (n, 7 m + 1)."""
+        """Full solves for parameter vectors θ (n, len(parameter_names(robot))).
+
+        Parameters
+        ----------
+        theta : array_like, shape (n, len(parameter_names(robot))) [Pa, m, kg]
+
+        Returns
+        -------
+        values : dict
+            Response (``responses``) -> (n, N): ‖δp‖ [m] under "dp", δφ [rad] under "dphi"; NaN
+            where the point is infeasible.
+        ok : ndarray, shape (n, N), bool
+        """
         th = np.atleast_2d(theta)
         n, N = len(th), len(self.p)
-        dp = np.full((n, N), np.nan)
+        values = {r: np.full((n, N), np.nan) for r in self.responses}
         ok = np.zeros((n, N), dtype=bool)
-        if self.robot.suspended_point_mass:
-            # BATCH_POINTS (sample, point) pairs per batched solve (the same results as one by one)
-            k = max(1, BATCH_POINTS // max(len(self._pv), 1))
-            run = {"engine": self.engine, "threads": self.threads, "redundancy": self.mode}
-            lengths = {"L": self._Lv} if self.mode == "paper" else {"L0": self._Lv}
-            # the linear start covers the columns that vary over θ (a Monte Carlo of the moduli: 4
-            # columns; Saltelli's rows: every declared parameter), linearised once per set
-            varying = np.flatnonzero((th != parameter_values(self.robot)).any(axis=0))
-            for i in range(0, n, k):
-                robots = [robot_with_parameters(self.robot, t) for t in th[i : i + k]]
-                P0 = self._starts(th[i : i + k], varying)
-                for j, res in enumerate(solve_batch(robots, self._pv, **lengths, **run, P0=P0)):
-                    dp[i + j, self.feasible] = res["dp"]
-                    ok[i + j, self.feasible] = res["status"] == "ok"
-            return dp, ok
-        for i, t in enumerate(th):
-            res = self._solve(robot_with_parameters(self.robot, t))
-            dp[i, self.feasible] = res["dp"]
-            ok[i, self.feasible] = res["status"] == "ok"
-        return dp, ok
+        f = self.feasible
+        if self.pose:
+            robots = [robot_with_parameters(self.robot, t) for t in th]
+            results = solve_batch(
+                robots, self.p[f], self.rotvec[f], engine=self.engine, threads=self.threads, L0=self.L[f]
+            )  # every sample in one parallel pass (the same results as one solve per sample)
+            for i, res in enumerate(results):
+                ok[i, f] = res["status"] == "ok"
+                values["dp"][i, f], values["dphi"][i, f] = res["dp"], res["dphi"]
+            return values, ok
+        # a suspended point mass: BATCH_POINTS (sample, point) pairs per batched solve (the same
+        # results as one by one)
+        dp = values["dp"]
+        k = max(1, BATCH_POINTS // max(len(self._pv), 1))
+        run = {"engine": self.engine, "threads": self.threads, "redundancy": self.mode}
+        lengths = {"L": self._Lv} if self.mode == "paper" else {"L0": self._Lv}
+        # the linear start covers the columns that vary over θ (a Monte Carlo of the moduli: 4
+        # columns; Saltelli's rows: every declared parameter), linearised once per set
+        varying = np.flatnonzero((th != parameter_values(self.robot)).any(axis=0))
+        for i in range(0, n, k):
+            robots = [robot_with_parameters(self.robot, t) for t in th[i : i + k]]
+            P0 = self._starts(th[i : i + k], varying)
+            for j, res in enumerate(solve_batch(robots, self._pv, **lengths, **run, P0=P0)):
+                dp[i + j, f] = res["dp"]
+                ok[i + j, f] = res["status"] == "ok"
+        return values, ok
 
     def linearise(self, columns=None):
-        """The ``Linearisation`` at the nominal parameters for the parameter columns ``columns``
-        (default all): paper mode every subset (``solve.subset_sensitivities``), physical mode
-        the equilibrium (``solve.sensitivities``), by the model's engine; computed once per set
-        of columns (the full solves' linear start uses the same one)."""
-        m = self.robot.m
-        cols = np.arange(7 * m + 1) if columns is None else np.asarray(columns, dtype=np.intp)
+        """The ``Linearisation`` of ‖δp‖ at the nominal parameters for the θ columns ``columns``
+        (default all): ``linearisations(columns)["dp"]``.
+
+        Parameters
+        ----------
+        columns : array_like (k,) of int, optional
+            Columns of ``parameters.parameter_names(robot)``.
+
+        Returns
+        -------
+        Linearisation
+        """
+        return self.linearisations(columns)["dp"]
+
+    def linearisations(self, columns=None):
+        """The first-order propagation of every response at the nominal parameters, computed once
+        per set of columns (the full solves' linear start uses the same one).
+
+        A suspended point mass: paper mode every subset (``solve.subset_sensitivities``), physical
+        mode the equilibrium (``solve.sensitivities``), by the model's engine. A pose: position
+        δp(θ) = δp_0 + S_p (τ(θ) - τ(θ_0)); orientation, the rotation vector of R* R_dᵀ,
+        φ(θ) = φ_0 + S_φ (τ(θ) - τ(θ_0)) (first order in the base-frame rotation increment, for a
+        small φ_0), δφ = ‖φ‖ (``sensitivity.sensitivities_at``, the numpy reference).
+
+        Parameters
+        ----------
+        columns : array_like (k,) of int, optional
+            Columns of ``parameters.parameter_names(robot)`` (default all; the study's drivers,
+            ``driver_columns``).
+
+        Returns
+        -------
+        dict
+            Response (``responses``) -> Linearisation over θ (n, len(parameter_names(robot)))
+            [Pa, m, kg]: its ``dp`` gives ‖δp‖ [m], resp. δφ [rad].
+        """
+        n_theta = len(parameter_names(self.robot))
+        cols = np.arange(n_theta) if columns is None else np.asarray(columns, dtype=np.intp)
         key = tuple(int(c) for c in cols)
         if key not in self._linearisations:
-            self._linearisations[key] = self._linearise(cols)
+            if self.pose:
+                self._linearisations[key] = self._linearise_pose(cols)
+            else:
+                self._linearisations[key] = {"dp": self._linearise(cols)}
         return self._linearisations[key]
 
     def _linearise(self, cols):
@@ -675,6 +753,62 @@ class PoseErrorModel:
         ok[self.feasible] = valid
         return Linearisation(dp0, Sall, ok, smooth, parameter_values(self.robot), m, cols, **extra)
 
+    def nominal_pose(self):
+        """The nominal robot's equilibria at the desired poses and their sensitivities (a pose
+        model only; computed once).
+
+        Returns
+        -------
+        dict
+            P_s (N, 3) [m], R_s (N, 3, 3) [-]; S = dx*/dθ (N, 6, len(parameter_names(robot))),
+            x = (p, φ) [m, rad per unit of θ]; smooth (N,) bool; status (N,) ("infeasible" where the
+            compensated lengths do not exist); theta0 (len(θ),) the nominal θ [Pa, m, kg]. NaN rows
+            where the pose is infeasible or not ok.
+        """
+        if self._pose_lin is None:
+            N, f = len(self.p), self.feasible
+            run = {"engine": self.engine, "threads": self.threads}
+            res = solve(self.robot, self.p[f], self.rotvec[f], redundancy="physical", **run, L0=self.L[f])
+            # the numpy reference (central differences of the balance), through the engine switch: the
+            # tracked CoGiRo uncertainty tables were computed with it; the compiled twin's analytic
+            # dF/dθ agrees to 1.4e-6 of a column (benchmarks/README.md) but not to the digits written
+            sens = sensitivities_at(self.robot, res, parameter_names(self.robot), engine="numpy")
+            P_s, R_s = np.full((N, 3), np.nan), np.full((N, 3, 3), np.nan)
+            S = np.full((N, 6, sens["S"].shape[2]), np.nan)
+            smooth, status = np.zeros(N, dtype=bool), np.full(N, "infeasible", dtype=object)
+            P_s[f], R_s[f], S[f], smooth[f], status[f] = (
+                res["P_s"],
+                res["R_s"],
+                sens["S"],
+                sens["smooth"],
+                res["status"],
+            )
+            th0 = parameter_values(self.robot)
+            self._pose_lin = {
+                "P_s": P_s,
+                "R_s": R_s,
+                "S": S,
+                "smooth": smooth,
+                "status": status,
+                "theta0": th0,
+            }
+        return self._pose_lin
+
+    def _linearise_pose(self, cols):
+        m = self.robot.m
+        lin = self.nominal_pose()
+        ok = (lin["status"] == "ok")[:, None]
+        S = lin["S"][..., cols]
+        with np.errstate(invalid="ignore"):
+            phi0 = np.where(
+                ok, rotvec_of(np.where(ok[..., None], lin["R_s"], np.eye(3)) @ np.swapaxes(self.R, 1, 2)), 0.0
+            )
+        th0 = lin["theta0"]
+        dp0 = np.where(ok, lin["P_s"] - self.p, 0.0)
+        pos = Linearisation(dp0[:, None], S[:, None, :3], ok, lin["smooth"], th0, m, cols)
+        rot = Linearisation(phi0[:, None], S[:, None, 3:], ok, lin["smooth"], th0, m, cols)
+        return {"dp": pos, "dphi": rot}
+
 
 def sobol_analysis(evaluate, drivers_, robot, base_samples, seed, outputs, groups=False, source="<study>"):
     """First-order and total Sobol indices of the model outputs with SALib (Saltelli's sampling
@@ -683,7 +817,7 @@ def sobol_analysis(evaluate, drivers_, robot, base_samples, seed, outputs, group
     Parameters
     ----------
     evaluate : callable
-        θ (n, 7 m + 1) -> Y (n, len(outputs)).
+        θ (n, len(parameter_names(robot))) -> Y (n, len(outputs)).
     drivers_ : list of Driver
     robot : Robot
     base_samples : int
@@ -703,7 +837,7 @@ def sobol_analysis(evaluate, drivers_, robot, base_samples, seed, outputs, group
     indices : DataFrame
         Columns output, level, name, S1, S1_conf, ST, ST_conf.
     Y : ndarray, shape (N (D + 2), len(outputs))
-    theta : ndarray, shape (N (D + 2), 7 m + 1)
+    theta : ndarray, shape (N (D + 2), len(parameter_names(robot)))
 
     References
     ----------

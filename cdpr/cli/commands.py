@@ -588,14 +588,14 @@ def cmd_point(args):
             "" if out["sensitivities_smooth"] else " (not smooth here: the subset or taut set may switch)"
         )
         if "sensitivities_phi" in out:
-            from cdpr.parameters import parameter_units6  # lazy: --sensitivities only
+            from cdpr.parameters import parameter_units  # lazy: --sensitivities only
 
             rows = [
                 [name, f"m/{unit}"]
                 + [num(v) for v in vec]
                 + [f"rad/{unit}"]
                 + [num(v) for v in out["sensitivities_phi"][name]]
-                for (name, vec), unit in zip(out["sensitivities"].items(), parameter_units6(robot.m))
+                for (name, vec), unit in zip(out["sensitivities"].items(), parameter_units(robot, rigid=True))
             ]
             smooth = smooth.replace("subset or taut set may switch", "taut set may switch or J is singular")
             label = "numpy reference" if engine == "numpy" else "compiled engine"
@@ -603,9 +603,9 @@ def cmd_point(args):
             headers = ["θ", "unit", "dx", "dy", "dz", "unit", "dφx", "dφy", "dφz"]
             print(text_table(rows, headers))
             return
-        from cdpr.parameters import UNITS, parameter_groups  # lazy: --sensitivities only
+        from cdpr.parameters import parameter_units  # lazy: --sensitivities only
 
-        units = [UNITS[g] for g in parameter_groups(robot.m)]
+        units = parameter_units(robot, rigid=False)
         rows = [
             [name, f"m/{unit}"] + [num(v) for v in vec]
             for (name, vec), unit in zip(out["sensitivities"].items(), units)

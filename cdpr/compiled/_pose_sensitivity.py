@@ -58,7 +58,7 @@ from cdpr.compiled.equilibrium import CompiledCables, evaluate, scratch
 from cdpr.compiled.equilibrium import solve as solve_spatial
 from cdpr.errors import CdprError
 from cdpr.models.sensitivity import COND_MAX, T_TOL
-from cdpr.parameters import parameter_names6
+from cdpr.parameters import parameter_names
 
 __all__ = ["pose_sensitivities", "sensitivities_at"]
 
@@ -80,7 +80,7 @@ def _wrench_col(dF, col, dt, t, ux, uy, uz, dux, duy, duz, rx, ry, rz, qx, qy, q
 @njit(cache=True, error_model="numpy")
 def wrench_partials6(P, R, L0, i, cab, body, mass, rows, dF):
     """dF6/dθ (6, 10 m + 4) at the fixed pose (P[i], R[i]) with rest lengths L0[i], columns in the
-    order of ``parameter_names6`` (module docstring), into dF; ``rows`` (m, NCOL) the cables'
+    order of ``parameter_names(robot, rigid=True)`` (module docstring), into dF; ``rows`` (m, NCOL) the cables'
     ``cable_partials_axis``. Returns the tension margin of ``models.sensitivity.sensitivities_at``
     (min over cables of |Hooke tension| and of T_a minus a positive one) [N].
 
@@ -408,7 +408,7 @@ def sensitivities_at(robot, res, names=None, t_tol=T_TOL, threads=None):
         A ``solve_spatial`` result (P_s (N, 3) [m], R_s (N, 3, 3), L0 (N, m) [m], status (N,)), from
         either engine.
     names : list of str, optional
-        Parameters (default ``parameter_names6(m)``); another name raises CdprError.
+        Parameters (default ``parameter_names(robot, rigid=True)``); another name raises CdprError.
     t_tol : float [N]
         Tension margin under which a point is not smooth (``sensitivity.T_TOL``).
     threads : int, optional
@@ -423,13 +423,13 @@ def sensitivities_at(robot, res, names=None, t_tol=T_TOL, threads=None):
     ----------
     Paty et al. 2021 (parameters); implicit-function theorem on Pott 2018's elastic equilibrium.
     """
-    every = parameter_names6(robot.m)
+    every = parameter_names(robot, rigid=True)
     names = every if names is None else list(names)
     index = {nm: k for k, nm in enumerate(every)}
     bad = [nm for nm in names if nm not in index]
     if bad:
         raise CdprError(
-            f"unknown 6-DoF parameter(s) {', '.join(map(repr, bad))}; allowed: parameter_names6({robot.m}) "
+            f"unknown 6-DoF parameter(s) {', '.join(map(repr, bad))}; allowed: parameter_names(robot, rigid=True) "
             f"({every[0]} ... {every[-1]})"
         )
     set_threads(threads)
@@ -474,7 +474,7 @@ def pose_sensitivities(robot, p, rotvec=None, L0=None, names=None, t_tol=T_TOL, 
     L0 : array_like (N, m) [m], optional
         Commanded rest lengths (default L_TS at the desired pose), held fixed.
     names : list of str, optional
-        Parameters (default ``parameter_names6(m)``).
+        Parameters (default ``parameter_names(robot, rigid=True)``).
     t_tol : float [N]
         Tension margin of the smoothness flag.
     threads : int, optional

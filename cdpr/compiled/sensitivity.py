@@ -456,7 +456,7 @@ def sensitivities_fast(
         tm = np.where(ok, tm, np.nan)
         cond = np.where(ok, cond, np.inf)
         smooth = ok & (tm > t_tol) & (cond < COND_MAX)
-    res.update(S=S, names=parameter_names(m), smooth=smooth, margin_t=tm, cond=cond)
+    res.update(S=S, names=parameter_names(robot, rigid=False), smooth=smooth, margin_t=tm, cond=cond)
     return res
 
 

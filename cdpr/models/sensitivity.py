@@ -48,7 +48,7 @@ with dF6/dx the solver's analytic 6 x 6 Jacobian (``cables._jacobian``; dφ a ba
 rotation vector) and dF6/dθ the partial derivatives of the balance with respect to each parameter
 at fixed pose, taken by central differences of the balance (the balance is evaluated, not solved,
 so these are exact to O(δ²)). θ is the spatial parameter vector of ``cdpr.parameters``
-(``parameter_names6``: E_i, h_i, r_p,i, d_i, A_i, the attachments b_i (platform frame), the centre
+(``parameter_names(robot, rigid=True)``: E_i, h_i, r_p,i, d_i, A_i, the attachments b_i (platform frame), the centre
 of mass c and the mass M).
 
 References
@@ -75,7 +75,7 @@ from cdpr.models.pulleys import pulley_state, total_length_and_direction
 from cdpr.models.results import point_keys
 from cdpr.models.statics import direction_gradient, inverse3, length_gradient, tensions
 from cdpr.models.subsets import solve_points
-from cdpr.parameters import GROUPS, UNITS, parameter_names, parameter_names6, parameter_units6  # noqa: F401  (re-exported)
+from cdpr.parameters import GROUPS, UNITS, parameter_names  # noqa: F401  (re-exported)
 
 #: |dp| gap [m] to the runner-up admissible subset under which a paper-mode point is not smooth.
 GAP_TOL = 1e-6
@@ -425,7 +425,7 @@ def sensitivities(
             margin[idx] = np.minimum(np.abs(hooke).min(axis=1), over.min(axis=1))
         smooth = ok & (margin > t_tol) & (cond < COND_MAX)
     S[~ok] = np.nan
-    res.update(S=S, names=parameter_names(m), smooth=smooth, margin_t=margin, cond=cond)
+    res.update(S=S, names=parameter_names(robot, rigid=False), smooth=smooth, margin_t=margin, cond=cond)
     return res
 
 
@@ -723,7 +723,7 @@ def tension_partials(robot, P, R, L0, names=None):
     L0 : ndarray, shape (n, m) [m]
         Rest lengths.
     names : list of str, optional
-        Parameters (``parameter_names6``; default all).
+        Parameters (``parameter_names(robot, rigid=True)``; default all).
 
     Returns
     -------
@@ -735,7 +735,7 @@ def tension_partials(robot, P, R, L0, names=None):
     ----------
     Paty et al. 2021, eq. (5), (10), (13) (the total length and Hooke's law at B_i).
     """
-    names = parameter_names6(robot.m) if names is None else list(names)
+    names = parameter_names(robot, rigid=True) if names is None else list(names)
     cab = Cables(robot)
     cab.mass = robot.platform.mass
     cab.E = robot.arrays.E
@@ -767,7 +767,7 @@ def pose_sensitivity_columns(names):
     Parameters
     ----------
     names : list of str
-        ``parameter_names6``.
+        ``parameter_names(robot, rigid=True)``.
 
     Returns
     -------
@@ -824,7 +824,7 @@ def sensitivities_at(robot, res, names=None, t_tol=T_TOL):
         A ``solve_spatial`` result (P_s (N, 3) [m], R_s (N, 3, 3), L0 (N, m) [m], status (N,)), from
         either engine.
     names : list of str, optional
-        Parameters (default ``parameter_names6(m)``).
+        Parameters (default ``parameter_names(robot, rigid=True)``).
     t_tol : float [N]
         Tension margin under which a point is not smooth (``sensitivity.T_TOL``).
 
@@ -842,7 +842,7 @@ def sensitivities_at(robot, res, names=None, t_tol=T_TOL):
     ----------
     Paty et al. 2021 (parameters); implicit-function theorem on Pott 2018's elastic equilibrium.
     """
-    names = parameter_names6(robot.m) if names is None else list(names)
+    names = parameter_names(robot, rigid=True) if names is None else list(names)
     n = len(res["P_s"])
     S = np.full((n, 6, len(names)), np.nan)
     margin = np.full(n, np.nan)
@@ -893,7 +893,7 @@ def pose_sensitivities(robot, p, rotvec=None, L0=None, names=None, t_tol=T_TOL, 
     L0 : array_like (N, m) [m], optional
         Commanded rest lengths (default L_TS at the desired pose), held fixed.
     names : list of str, optional
-        Parameters (default ``parameter_names6(m)``).
+        Parameters (default ``parameter_names(robot, rigid=True)``).
     t_tol : float [N]
         Tension margin of the smoothness flag (``sensitivities_at``).
     solver : options of ``solve_spatial`` (tol, maxiter, max_step, restarts, P0).

@@ -257,8 +257,9 @@ def uq_cases(st):
 
 
 def uq_spatial(st):
-    """Whether the uncertainty study's robot (``doe.robot``) is spatial (a rigid 6-DoF platform:
-    ``pipeline.uq6``, responses ‖δp‖ and δφ) rather than a point mass (``pipeline.uq``)."""
+    """Whether the uncertainty study's robot (``doe.robot``) is solved as a pose (not a suspended
+    point mass: ``analyses.uncertainty.PoseErrorModel``'s responses are ‖δp‖ and δφ, the figures
+    have a δφ panel beside each ‖δp‖ one) rather than as a suspended point mass (‖δp‖ only)."""
     r = (st.robot_models or {}).get(st["doe"]["robot"])
     return r is not None and not r.suspended_point_mass
 
@@ -597,7 +598,7 @@ def check_spatial_study(st, robots):
     rule; the library and ``cdpr point``/``grid`` take it on a point mass with tilted axes, a study's
     jobs on suspended point masses only), is
     not scored against the papers (``paper_comparison``), runs the uncertainty study in physical
-    mode only (``uq6``: ‖δp‖ and δφ of the 6-DoF equilibrium); and
+    mode only (``uq``: ‖δp‖ and δφ of the 6-DoF equilibrium); and
     ``rotvec_rad`` (the platform orientation) and ``budget`` (the error budget of a rigid platform,
     on the DOE robot) apply to spatial robots only, and the volumes on δφ (``volumes.dphi_limits_rad``,
     ``volumes.dphi_sweep_rad``) to robots with a rigid platform only (a point mass has no δφ).
@@ -661,13 +662,13 @@ def check_spatial_study(st, robots):
         )
     params = (st.get("uncertainty") or {}).get("parameters") or {}
     for key in ("attachment_offset_m", "com_offset_m"):
-        if key in params and doe_robot is not None and doe_robot.suspended_point_mass:
+        if key in params and doe_robot is not None and doe_robot.point_mass:  # no b, c in its θ
             out.append(
                 ConfigError(
                     src,
                     f"uncertainty.parameters.{key}",
                     f"a rigid platform's parameter (attachments b_i, centre of mass c); robot {st['doe']['robot']} "
-                    "(doe.robot) is a suspended point mass, whose uncertainty study draws young_modulus_Pa, "
+                    "(doe.robot) is a point mass, whose uncertainty study draws young_modulus_Pa, "
                     "h_offset_m, r_p_offset_m, dead_length_offset_m, anchor_offset_m and mass_kg: remove the key",
                 )
             )

@@ -536,7 +536,7 @@ def headline_rows(st, res):
 
 def _uq_spatial_rows(st, res):
     """The uncertainty study of a spatial robot (``uncertainty/bands.csv`` and ``sobol.csv``, written by
-    ``pipeline.uq6``): per design and case the per-cable-E Monte Carlo median of the global index of
+    ``pipeline.uq``): per design and case the per-cable-E Monte Carlo median of the global index of
     ‖δp‖ [mm] and of δφ [mrad] (linearised; the note gives the 5-95 % range and the full solves'
     median), and the largest total Sobol index of each response per parameter group and per
     parameter (the note names the three largest with their 95 % half-widths); no rows when the

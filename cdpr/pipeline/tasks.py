@@ -17,12 +17,12 @@ import pandas as pd
 from cdpr import io, table_io
 from cdpr.analyses import budget, doe, scans, workspace
 from cdpr.analyses.symmetry import solve_grid_columns
-from cdpr.analyses.uncertainty import QUANTILES
+from cdpr.analyses.uncertainty import RESPONSES
 from cdpr.errors import CdprError
 from cdpr.models import winch
 from cdpr.pipeline import comparison as cm
 from cdpr.pipeline import conclusions as robot_conclusions
-from cdpr.pipeline import study, uq, uq6
+from cdpr.pipeline import study, uq
 from cdpr.pipeline import summary as sm
 from cdpr.pipeline.plots import budget as budget_plots
 from cdpr.pipeline.plots import comparison as comparison_plots
@@ -780,8 +780,7 @@ def _overlay_data(st, res):
 # ---- uncertainty and sensitivity (beyond the paper: cdpr.analyses.uncertainty) ---------------------------
 def uq_shard(st, design, case, shard, box_file, table, points, threads=None):
     """One Monte Carlo shard by full solves with the linearised propagation of the same samples."""
-    ex = uq6 if study.uq_spatial(st) else uq  # a rigid platform: ‖δp‖ and δφ
-    samples, pts = ex.mc_shard(st, design, case, workspace.read_box(box_file), int(shard), threads)
+    samples, pts = uq.mc_shard(st, design, case, workspace.read_box(box_file), int(shard), threads)
     table_io.write_table(samples, table)
     table_io.write_table(pts, points)
 
@@ -790,13 +789,12 @@ def uq_design(st, design, case, box_file, table, path, sobol, tolerances, map, t
     """Every sample linearised over RW_C, the path bands, the Sobol indices and the dominant-parameter
     map of one design and case."""
     box = workspace.read_box(box_file)
-    ex = uq6 if study.uq_spatial(st) else uq  # a rigid platform: ‖δp‖ and δφ
-    table_io.write_table(ex.linear_samples(st, design, case, box, threads), table)
-    table_io.write_table(ex.path_bands(st, design, case, threads), path)
-    indices, rows = ex.sobol(st, design, case, box, threads)
+    table_io.write_table(uq.linear_samples(st, design, case, box, threads), table)
+    table_io.write_table(uq.path_bands(st, design, case, threads), path)
+    indices, rows = uq.sobol(st, design, case, box, threads)
     table_io.write_table(indices, sobol)
     table_io.write_table(rows, tolerances)
-    table_io.write_table(ex.dominant_map(st, design, case, threads), map)
+    table_io.write_table(uq.dominant_map(st, design, case, threads), map)
 
 
 _UQ = r"(?P<design>[A-Za-z0-9]+)_(?P<case>uncompensated|compensated)"
@@ -864,44 +862,13 @@ def uncertainty(
             for name in ("mc", "points", "linear", "tolerances"):
                 if key not in read[name]:
                     raise CdprError(f"uncertainty: no {name} table of {design} {case} among the inputs")
-            b = uq.bands(read["linear"][key], read["mc"][key])
-            tol = read["tolerances"][key]
-            q = np.quantile(tol.index_m, QUANTILES)
-            nom = float(b.index_nominal_m.iloc[0])
-            b = pd.concat(
-                [
-                    b,
-                    pd.DataFrame(
-                        [
-                            {
-                                "method": "all_parameters",
-                                "n": len(tol),
-                                "index_nominal_m": nom,
-                                "index_q05_m": q[0],
-                                "index_q50_m": q[1],
-                                "index_q95_m": q[2],
-                                "index_min_m": tol.index_m.min(),
-                                "index_max_m": tol.index_m.max(),
-                                "plus_m": tol.index_m.max() - nom,
-                                "minus_m": nom - tol.index_m.min(),
-                                "median_q50_m": tol.median_m.median(),
-                                "p95_q50_m": tol.p95_m.median(),
-                                "p95_q95_m": tol.p95_m.quantile(0.95),
-                            }
-                        ]
-                    ),
-                ],
-                ignore_index=True,
-            )
-            if "index_phi_rad" in read["linear"][key]:  # a rigid platform: the δφ band beside
-                b = pd.concat([b, uq6.phi_bands(read["linear"][key], read["mc"][key], tol)], axis=1)
+            # the per-cable Monte Carlo (linearised, full) and every declared parameter (Saltelli's rows)
+            b = uq.bands(read["linear"][key], read["mc"][key], rows=read["tolerances"][key])
             b.insert(0, "case", case)
             b.insert(0, "design", design)
             b["index_n"] = [u["monte_carlo"]["index_n"]] * 2 + [u["sobol"]["index_n"]]
             rows.append(b)
             a = uq.agreement(read["mc"][key], read["points"][key], u["monte_carlo"]["agree_tol_m"])
-            if "index_phi_full_rad" in read["mc"][key]:
-                a.update(uq6.phi_agreement(read["mc"][key], read["points"][key]))
             agree.append({"design": design, "case": case, **a})
     bands_tab = pd.concat(rows, ignore_index=True)
     agree_tab = pd.DataFrame(agree)
@@ -918,30 +885,19 @@ def uncertainty(
     paper_bands = _paper_uq_bands(st)
     robot = study.robot_of(st, st["doe"]["robot"])
     mode = study.uq_redundancy(st)  # the model of the uncompensated robot
-    if study.uq_spatial(st):  # a rigid platform: a ‖δp‖ and a δφ panel in every figure
-        z = st["plane"]["z_m"]
-        uq_plots.uq6_index_distribution(
-            read["linear"], read["tolerances"], common.get("index_vs_E"), figure, mode=mode
-        )
-        paths6 = {"dp": common.get("paths", []), "phi": common.get("phi_paths", [])}
-        uq_plots.uq6_path_bands(read["path"], paths6, paths_figure, mode=mode)
-        uq_plots.uq6_sobol(sobol_tab, sobol_figure, mode=mode)
-        uq_plots.uq6_dominant_map(read["map"], robot.A, z, map_figure, mode=mode)
-        uq_plots.uq6_agreement(read["mc"], agreement_figure, mode=mode)
-        if residual_figure:
-            uq_plots.uq6_residual_map(read["map"], robot.A, z, residual_figure, mode=mode)
-        return
+    # a robot solved as a pose: a ‖δp‖ and a δφ panel in every figure
+    responses = RESPONSES if study.uq_spatial(st) else RESPONSES[:1]
+    z = st["plane"]["z_m"]
+    common_paths = {"dp": common.get("paths", []), "dphi": common.get("phi_paths", [])}
     uq_plots.uq_index_distribution(
-        read["linear"], read["tolerances"], common.get("index_vs_E"), paper_bands, figure, mode=mode
+        read["linear"], read["tolerances"], common.get("index_vs_E"), paper_bands, figure, mode, responses
     )
-    uq_plots.uq_path_bands(
-        read["path"], common.get("paths", []), paths_figure, mode=mode, common_mode=study.redundancy(st)
-    )
-    uq_plots.uq_sobol(sobol_tab, sobol_figure, mode=mode)
-    uq_plots.uq_dominant_map(read["map"], robot.A, st["plane"]["z_m"], map_figure, mode=mode)
-    uq_plots.uq_agreement(read["mc"], agreement_figure, mode=mode)
+    uq_plots.uq_path_bands(read["path"], common_paths, paths_figure, mode, study.redundancy(st), responses)
+    uq_plots.uq_sobol(sobol_tab, sobol_figure, mode=mode, responses=responses)
+    uq_plots.uq_dominant_map(read["map"], robot.A, z, map_figure, mode=mode, responses=responses)
+    uq_plots.uq_agreement(read["mc"], agreement_figure, mode=mode, responses=responses)
     if residual_figure:
-        uq_plots.uq_residual_map(read["map"], robot.A, st["plane"]["z_m"], residual_figure, mode=mode)
+        uq_plots.uq_residual_map(read["map"], robot.A, z, residual_figure, mode=mode, responses=responses)
 
 
 def _paper_uq_bands(st):

@@ -3,6 +3,11 @@ and out, no files. The mathematics (distributions, drivers, seeded samples, ``Po
 the linearisation, Sobol indices) is ``cdpr.analyses.uncertainty``; this module applies it to the
 designs of a study (``pipeline.study.design_robot``) for the pipeline's tasks.
 
+Every table has ‖δp‖'s columns (``index_m``, ``index_full_m``, ``q05_m``, ``rms_m``, ``dominant``, ...)
+and, for a robot solved as a pose (``PoseErrorModel.responses``: a rigid platform, or pulleys at
+other axes than +z; physical mode), δφ's beside them, named by ``column`` (``index_phi_rad``,
+``index_phi_full_rad``, ``q05_phi_rad``, ``rms_phi_rad``, ``dominant_phi``, ...).
+
 References
 ----------
 Paty, T., Binaud, N., Caro, S., Segonds, S. (2021). Cable-driven parallel robot modelling considering
@@ -32,7 +37,47 @@ from cdpr.analyses.uncertainty import (
 )
 from cdpr.analyses.workspace import grid_points, shard_range
 from cdpr.parameters import parameter_values
-from cdpr.pipeline.study import design_robot, uq_redundancy
+from cdpr.pipeline.study import design_robot, rotvec, uq_redundancy
+
+#: The tag and unit suffix of each response's columns (``column``).
+_TAGS = {"dp": ("", "_m"), "dphi": ("_phi", "_rad")}
+#: ``sample_stats``'s columns of ‖δp‖.
+_STATS = ("index", "median", "p95")
+
+
+def column(response, stem, kind="", unit=True):
+    """The table column of ``stem`` for a response: ‖δp‖'s ``{stem}[_{kind}]_m``, δφ's
+    ``{stem}_phi[_{kind}]_rad`` (``index_full_m``, ``index_phi_full_rad``, ``q05_phi_rad``, ...);
+    ``unit`` False leaves the unit out (``dominant``, ``dominant_phi``, the Sobol output ``index_phi``).
+
+    Parameters
+    ----------
+    response : {"dp", "dphi"}
+        ``analyses.uncertainty.RESPONSES``.
+    stem : str
+    kind : str
+        "full", "lin" or "" (none).
+    unit : bool
+
+    Returns
+    -------
+    str
+    """
+    tag, u = _TAGS[response]
+    return f"{stem}{tag}{'_' + kind if kind else ''}{u if unit else ''}"
+
+
+def _nominal(response):
+    """The nominal value's column: dp_nominal_m, dphi_nominal_rad."""
+    return f"{response}_nominal{_TAGS[response][1]}"
+
+
+def _stats(values, ok, response, kind=""):
+    """``sample_stats`` of a response with its columns named (``column``); not_ok for ‖δp‖ only."""
+    s = sample_stats(values, ok)
+    if response != "dp":
+        s = s.drop(columns="not_ok")
+    return s.rename(columns={f"{k}_m": column(response, k, kind) for k in _STATS})
 
 
 def study_drivers(st, robot):
@@ -50,7 +95,7 @@ def study_drivers(st, robot):
         The drivers of ``monte_carlo.vary``.
     """
     u = st["uncertainty"]
-    dr = drivers(u["parameters"], robot.m)
+    dr = drivers(u["parameters"], robot)
     vary = u["monte_carlo"]["vary"]
     return dr, np.array([d.key in vary for d in dr], dtype=bool)
 
@@ -68,7 +113,7 @@ def mc_parameters(st, robot, start, stop, varied=True):
 
     Returns
     -------
-    theta : ndarray, shape (stop - start, 7 m + 1)
+    theta : ndarray, shape (stop - start, len(parameter_names(robot)))
     """
     u = st["uncertainty"]
     dr, active = study_drivers(st, robot)
@@ -79,7 +124,8 @@ def mc_parameters(st, robot, start, stop, varied=True):
 
 
 def model(st, design, case, points, threads=None):
-    """The ``PoseErrorModel`` of a design and case at ``points`` with the study's settings.
+    """The ``PoseErrorModel`` of a design and case at ``points`` with the study's settings (and its
+    ``rotvec_rad`` for a robot solved as a pose).
 
     Parameters
     ----------
@@ -101,7 +147,22 @@ def model(st, design, case, points, threads=None):
         redundancy=uq_redundancy(st),
         compensation=u["compensation"],
         threads=threads,
+        rotvec=rotvec(st),
     )
+
+
+def _active_columns(st, robot):
+    """The θ columns of the drivers Monte Carlo varies (``monte_carlo.vary``)."""
+    dr, active = study_drivers(st, robot)
+    return driver_columns([d for d, a in zip(dr, active, strict=True) if a])
+
+
+def _max_diff(full, lin, both, axis):
+    """|full - lin| where both are ok, and its largest value along ``axis`` (NaN where none)."""
+    with np.errstate(all="ignore"):
+        diff = np.where(both, np.abs(full - lin), np.nan)
+        out = np.nanmax(np.where(both, diff, -np.inf), axis=axis) if diff.size else np.nan
+    return diff, np.where(np.isfinite(out), out, np.nan)
 
 
 def mc_shard(st, design, case, box, shard, threads=None):
@@ -124,55 +185,42 @@ def mc_shard(st, design, case, box, shard, threads=None):
     -------
     samples : DataFrame
         sample, index/median/p95 of ‖δp‖ [m] by full solves and linearised, not-ok points, the
-        largest point difference [m], the share of points differing by more than ``agree_tol_m``.
+        largest point difference [m], the share of points differing by more than ``agree_tol_m``;
+        for a pose the same of δφ [rad] after them (index_phi_full_rad, ..., max_diff_phi_rad).
     points : DataFrame
         x, y, z, smooth (the nominal answer's flag), dp_nominal_m, max_diff_m over the shard's
-        samples, n_disagree (samples where the difference exceeds ``agree_tol_m``).
+        samples, n_disagree (samples where the difference exceeds ``agree_tol_m``); for a pose
+        dphi_nominal_rad and max_diff_phi_rad [rad].
     """
     mc = st["uncertainty"]["monte_carlo"]
     start, stop = shard_range(mc["full_samples"], shard, mc["shards"])
     m_ = model(st, design, case, grid_points(box, mc["index_n"]), threads)
     th = mc_parameters(st, m_.robot, start, stop)
-    dr, active = study_drivers(st, m_.robot)
-    dp_f, ok_f = m_.solve(th)
-    lin = m_.linearise(driver_columns([d for d, a in zip(dr, active) if a]))
-    dp_l = lin.dp(th)
-    ok_l = np.isfinite(dp_l)
+    full, ok_f = m_.solve(th)
+    lins = m_.linearisations(_active_columns(st, m_.robot))
+    lin = {r: lins[r].dp(th) for r in m_.responses}
+    ok_l = np.isfinite(lin["dp"])
     both = ok_f & ok_l
-    diff = np.where(both, np.abs(dp_f - dp_l), np.nan)
     tol = mc["agree_tol_m"]
-    sf, sl = sample_stats(dp_f, ok_f), sample_stats(dp_l, ok_l)
-    with np.errstate(all="ignore"):
-        samples = pd.DataFrame(
-            {
-                "sample": np.arange(start, stop),
-                "index_full_m": sf.index_m,
-                "index_lin_m": sl.index_m,
-                "median_full_m": sf.median_m,
-                "median_lin_m": sl.median_m,
-                "p95_full_m": sf.p95_m,
-                "p95_lin_m": sl.p95_m,
-                "not_ok_full": sf.not_ok,
-                "not_ok_lin": sl.not_ok,
-                "max_diff_m": np.nanmax(np.where(both, diff, -np.inf), axis=1),
-                "share_disagree": (diff > tol).sum(axis=1) / np.maximum(both.sum(axis=1), 1),
-            }
-        )
-        dp0 = np.where(lin.ok, np.linalg.norm(lin.nominal()[0], axis=1), np.nan)
-        points = pd.DataFrame(
-            {
-                "x": m_.p[:, 0],
-                "y": m_.p[:, 1],
-                "z": m_.p[:, 2],
-                "smooth": lin.smooth,
-                "dp_nominal_m": dp0,
-                "max_diff_m": np.nanmax(np.where(both, diff, -np.inf), axis=0) if len(th) else np.nan,
-                "n_disagree": (diff > tol).sum(axis=0),
-            }
-        )
-    samples["max_diff_m"] = samples["max_diff_m"].where(np.isfinite(samples["max_diff_m"]))
-    points["max_diff_m"] = points["max_diff_m"].where(np.isfinite(points["max_diff_m"]))
-    return samples, points
+    samples = {"sample": np.arange(start, stop)}
+    points = {"x": m_.p[:, 0], "y": m_.p[:, 1], "z": m_.p[:, 2], "smooth": lins["dp"].smooth}
+    for r in m_.responses:
+        diff, max_s = _max_diff(full[r], lin[r], both, 1)
+        _, max_p = _max_diff(full[r], lin[r], both, 0)
+        sf, sl = _stats(full[r], ok_f, r, "full"), _stats(lin[r], ok_l, r, "lin")
+        for k in _STATS:
+            samples[column(r, k, "full")] = sf[column(r, k, "full")]
+            samples[column(r, k, "lin")] = sl[column(r, k, "lin")]
+        if r == "dp":
+            samples.update(not_ok_full=sf.not_ok, not_ok_lin=sl.not_ok)
+        samples[column(r, "max_diff")] = max_s
+        with np.errstate(all="ignore"):
+            points[_nominal(r)] = np.where(lins[r].ok, np.linalg.norm(lins[r].nominal()[0], axis=1), np.nan)
+        points[column(r, "max_diff")] = max_p if len(th) else np.nan
+        if r == "dp":  # the tolerance is in metres: the points and samples where ‖δp‖ disagrees
+            samples["share_disagree"] = (diff > tol).sum(axis=1) / np.maximum(both.sum(axis=1), 1)
+            points["n_disagree"] = (diff > tol).sum(axis=0)
+    return pd.DataFrame(samples), pd.DataFrame(points)
 
 
 def linear_samples(st, design, case, box, threads=None):
@@ -190,21 +238,30 @@ def linear_samples(st, design, case, box, threads=None):
     Returns
     -------
     DataFrame
-        sample, index_m, median_m, p95_m [m], not_ok.
+        sample, index_m, median_m, p95_m [m], not_ok; for a pose index_phi_rad, median_phi_rad,
+        p95_phi_rad [rad].
     """
     mc = st["uncertainty"]["monte_carlo"]
     m_ = model(st, design, case, grid_points(box, mc["index_n"]), threads)
-    dr, active = study_drivers(st, m_.robot)
-    lin = m_.linearise(driver_columns([d for d, a in zip(dr, active) if a]))
+    lins = m_.linearisations(_active_columns(st, m_.robot))
     th = np.vstack([parameter_values(m_.robot), mc_parameters(st, m_.robot, 0, mc["samples"])])
-    out = linear_stats(lin, th, threads=threads)
+    out = linear_stats(lins["dp"], th, threads=threads)
+    for r in m_.responses[1:]:
+        s = linear_stats(lins[r], th, threads=threads).drop(columns="not_ok")
+        out = pd.concat([out, s.rename(columns={f"{k}_m": column(r, k) for k in _STATS})], axis=1)
     out.insert(0, "sample", np.arange(-1, mc["samples"]))
     return out
 
 
+def _quantiles(values, ok):
+    with np.errstate(all="ignore"), warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        return np.nanquantile(np.where(ok, values, np.nan), QUANTILES, axis=0)
+
+
 def path_bands(st, design, case, threads=None):
     """‖δp‖ quantiles (5, 50, 95 %) along the section 5.2 path (``elasticity.path``) over every
-    Monte Carlo sample, by full solves.
+    Monte Carlo sample, by full solves; and δφ's for a pose.
 
     Parameters
     ----------
@@ -217,7 +274,7 @@ def path_bands(st, design, case, threads=None):
     -------
     DataFrame
         s, x, y, z [m], dp_nominal_m, q05_m, q50_m, q95_m [m], ok_share (share of samples where the
-        point is ok).
+        point is ok); for a pose dphi_nominal_rad, q05_phi_rad, q50_phi_rad, q95_phi_rad [rad].
 
     References
     ----------
@@ -228,32 +285,23 @@ def path_bands(st, design, case, threads=None):
     m_ = model(st, design, case, P, threads)
     mc = st["uncertainty"]["monte_carlo"]
     th = mc_parameters(st, m_.robot, 0, mc["samples"])
-    dp, ok = m_.solve(th)
+    values, ok = m_.solve(th)
     nominal, ok0 = m_.solve(parameter_values(m_.robot)[None])
-    d = np.where(ok, dp, np.nan)
-    with np.errstate(all="ignore"):
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", RuntimeWarning)
-            q = np.nanquantile(d, QUANTILES, axis=0)
-    return pd.DataFrame(
-        {
-            "s": s,
-            "x": P[:, 0],
-            "y": P[:, 1],
-            "z": P[:, 2],
-            "dp_nominal_m": np.where(ok0[0], nominal[0], np.nan),
-            "q05_m": q[0],
-            "q50_m": q[1],
-            "q95_m": q[2],
-            "ok_share": ok.mean(axis=0),
-        }
-    )
+    out = {"s": s, "x": P[:, 0], "y": P[:, 1], "z": P[:, 2]}
+    for r in m_.responses:
+        q = _quantiles(values[r], ok)
+        out[_nominal(r)] = np.where(ok0[0], nominal[r][0], np.nan)
+        out.update({column(r, f"q{k:02d}"): q[j] for j, k in enumerate((5, 50, 95))})
+        if r == "dp":
+            out["ok_share"] = ok.mean(axis=0)
+    return pd.DataFrame(out)
 
 
 def sobol(st, design, case, box, threads=None):
     """Sobol first-order and total indices (SALib) of the global index over the RW_C grid
     (``sobol.index_n``) and of ‖δp‖ at ``sobol.points_m``, for every declared parameter (per driver
-    and per group), by full solves.
+    and per group), by full solves; for a pose also of δφ's global index (output ``index_phi``) and
+    of δφ at the points (``dphi@(x, y, z)``).
 
     Parameters
     ----------
@@ -269,7 +317,8 @@ def sobol(st, design, case, box, threads=None):
         output, level, name, S1, S1_conf, ST, ST_conf.
     rows : DataFrame
         The evaluations of the independent rows A and B of Saltelli's scheme (2 base_samples draws
-        of every parameter): index_m, median_m, p95_m, not_ok over the RW_C grid.
+        of every parameter): index_m, median_m, p95_m, not_ok over the RW_C grid (and index_phi_rad,
+        median_phi_rad, p95_phi_rad for a pose).
     """
     u = st["uncertainty"]
     so = u["sobol"]
@@ -278,7 +327,9 @@ def sobol(st, design, case, box, threads=None):
     m_ = model(st, design, case, np.vstack([grid, pts]), threads)
     dr, _ = study_drivers(st, m_.robot)
     n = len(grid)
-    outputs = ["index"] + [f"dp@({x:g}, {y:g}, {z:g})" for x, y, z in pts]
+    at = [f"({x:g}, {y:g}, {z:g})" for x, y, z in pts]
+    outputs = [column(r, "index", unit=False) for r in m_.responses]
+    outputs += [f"{r}@{a}" for r in m_.responses for a in at]
     stats = []
     # the group analysis repeats rows of the per-parameter one (the A and B matrices, the groups of one
     # driver): each distinct θ row is solved once (row by row the same numbers as solving it again)
@@ -291,10 +342,16 @@ def sobol(st, design, case, box, threads=None):
             if k not in seen and k not in todo:
                 todo[k] = i
         if todo:
-            dp, ok = m_.solve(theta[list(todo.values())])
-            s = sample_stats(dp[:, :n], ok[:, :n])
+            values, ok = m_.solve(theta[list(todo.values())])
+            parts = [_stats(values[r][:, :n], ok[:, :n], r) for r in m_.responses]
+            s = parts[0] if len(parts) == 1 else pd.concat(parts, axis=1)
             done_stats.append(s)
-            done_Y.append(np.column_stack([s.index_m.to_numpy(), np.where(ok[:, n:], dp[:, n:], np.nan)]))
+            done_Y.append(
+                np.column_stack(
+                    [s[column(r, "index")].to_numpy() for r in m_.responses]
+                    + [np.where(ok[:, n:], values[r][:, n:], np.nan) for r in m_.responses]
+                )
+            )
             base = len(seen)
             seen.update((k, base + j) for j, k in enumerate(todo))
         at = np.array([seen[k] for k in keys], dtype=np.intp)
@@ -310,10 +367,29 @@ def sobol(st, design, case, box, threads=None):
     return pd.concat([per, grp], ignore_index=True), rows.reset_index(drop=True)
 
 
+def _dominant(lin, dr, projected):
+    """The nominal value, the dominant driver and its group, its share and the RMS of the
+    first-order contributions (``local_contributions``) at every point."""
+    c = local_contributions(lin, dr, projected=projected)
+    total = c.sum(axis=1)
+    ok = lin.ok & (total > 0)
+    k = np.argmax(np.where(ok[:, None], c, -1.0), axis=1)
+    names = np.array([d.name for d in dr], dtype=object)
+    groups = np.array([d.group for d in dr], dtype=object)
+    with np.errstate(all="ignore"):
+        return (
+            np.where(lin.ok, np.linalg.norm(lin.nominal()[0], axis=1), np.nan),
+            np.where(ok, names[k], ""),
+            np.where(ok, groups[k], ""),
+            np.where(ok, c[np.arange(len(c)), k] / total, np.nan),
+            np.where(ok, np.sqrt(total), np.nan),
+        )
+
+
 def dominant_map(st, design, case, threads=None):
-    """The parameter that dominates the spread of ‖δp‖ on the plane z = ``plane.z_m`` (``map_n``
-    points per side), from the first-order contributions of every declared driver
-    (``local_contributions``).
+    """The parameter that dominates the spread of ‖δp‖ (and of δφ for a pose) on the plane
+    z = ``plane.z_m`` (``map_n`` points per side), from the first-order contributions of every
+    declared driver (``local_contributions``).
 
     Parameters
     ----------
@@ -326,37 +402,24 @@ def dominant_map(st, design, case, threads=None):
     -------
     DataFrame
         x, y, z [m], dp_nominal_m, dominant (driver name), group, share (its part of the sum of
-        contributions), rms_m (the square root of that sum) [m].
+        contributions), rms_m (the square root of that sum) [m]; for a pose dphi_nominal_rad,
+        dominant_phi, group_phi, share_phi and rms_phi_rad [rad].
     """
     u = st["uncertainty"]
     robot = design_robot(st, st["doe"]["robot"], st["optimal"][design])
     P = plane_points(robot, st["plane"]["z_m"], u["map_n"])
     m_ = model(st, design, case, P, threads)
     dr, _ = study_drivers(st, robot)
-    lin = m_.linearise(driver_columns(dr))
-    c = local_contributions(lin, dr, projected=case == "uncompensated")
-    total = c.sum(axis=1)
-    ok = lin.ok & (total > 0)
-    k = np.argmax(np.where(ok[:, None], c, -1.0), axis=1)
-    names = np.array([d.name for d in dr], dtype=object)
-    groups = np.array([d.group for d in dr], dtype=object)
-    dp0 = np.linalg.norm(lin.nominal()[0], axis=1)
-    with np.errstate(all="ignore"):
-        return pd.DataFrame(
-            {
-                "x": P[:, 0],
-                "y": P[:, 1],
-                "z": P[:, 2],
-                "dp_nominal_m": np.where(lin.ok, dp0, np.nan),
-                "dominant": np.where(ok, names[k], ""),
-                "group": np.where(ok, groups[k], ""),
-                "share": np.where(ok, c[np.arange(len(c)), k] / total, np.nan),
-                "rms_m": np.where(ok, np.sqrt(total), np.nan),
-            }
-        )
+    lins = m_.linearisations(driver_columns(dr))
+    out = {"x": P[:, 0], "y": P[:, 1], "z": P[:, 2]}
+    for r in m_.responses:
+        keys = (_nominal(r), column(r, "dominant", unit=False), column(r, "group", unit=False))
+        keys += (column(r, "share", unit=False), column(r, "rms"))
+        out.update(zip(keys, _dominant(lins[r], dr, projected=case == "uncompensated"), strict=True))
+    return pd.DataFrame(out)
 
 
-def bands(linear, full, nominal_common=None):
+def bands(linear, full, nominal_common=None, rows=None):
     """The global-index band of the Monte Carlo samples of one design and case.
 
     Parameters
@@ -367,15 +430,19 @@ def bands(linear, full, nominal_common=None):
         The concatenated ``mc_shard`` samples.
     nominal_common : float [m], optional
         Our index at the nominal common E, default the linear nominal row.
+    rows : DataFrame, optional
+        ``sobol``'s Saltelli rows (every declared parameter): a third row, ``all_parameters``.
 
     Returns
     -------
     DataFrame
-        One row per method (linearised over every sample, full over the full-solve samples):
-        method, n, index_nominal_m, index_q05_m, index_q50_m, index_q95_m, index_min_m,
-        index_max_m, plus_m = max - nominal, minus_m = nominal - min (the paper's band definition),
-        median_q50_m / p95_q50_m (median over samples of each sample's median and 95 % of ‖δp‖ over
-        the points) and p95_q95_m [m].
+        One row per method (linearised over every sample, full over the full-solve samples, and
+        all_parameters with ``rows``): method, n, index_nominal_m, index_q05_m, index_q50_m,
+        index_q95_m, index_min_m, index_max_m, plus_m = max - nominal, minus_m = nominal - min (the
+        paper's band definition), median_q50_m / p95_q50_m (median over samples of each sample's
+        median and 95 % of ‖δp‖ over the points) and p95_q95_m [m]; for a pose (``index_phi_rad``
+        in ``linear``; needs ``rows``) δφ's band beside: index_phi_nominal_rad, index_phi_q05_rad,
+        index_phi_q50_rad, index_phi_q95_rad, index_phi_min_rad, index_phi_max_rad [rad].
 
     References
     ----------
@@ -406,6 +473,53 @@ def bands(linear, full, nominal_common=None):
                 "p95_q95_m": float(np.quantile(p95, 0.95)) if len(p95) else np.nan,
             }
         )
+    b = pd.DataFrame(out)
+    if rows is None:
+        return b
+    q = np.quantile(rows.index_m, QUANTILES)
+    nom = float(b.index_nominal_m.iloc[0])
+    every = {
+        "method": "all_parameters",
+        "n": len(rows),
+        "index_nominal_m": nom,
+        "index_q05_m": q[0],
+        "index_q50_m": q[1],
+        "index_q95_m": q[2],
+        "index_min_m": rows.index_m.min(),
+        "index_max_m": rows.index_m.max(),
+        "plus_m": rows.index_m.max() - nom,
+        "minus_m": nom - rows.index_m.min(),
+        "median_q50_m": rows.median_m.median(),
+        "p95_q50_m": rows.p95_m.median(),
+        "p95_q95_m": rows.p95_m.quantile(0.95),
+    }
+    b = pd.concat([b, pd.DataFrame([every])], ignore_index=True)
+    if "index_phi_rad" in linear:  # a pose: δφ's band beside
+        b = pd.concat([b, _phi_bands(linear, full, rows)], axis=1)
+    return b
+
+
+def _phi_bands(linear, full, rows):
+    """δφ's global-index band for ``bands``'s three rows (linearised, full, all_parameters) [rad]."""
+    nom = float(linear.loc[linear["sample"] == -1, "index_phi_rad"].iloc[0])
+    out = []
+    for idx in (
+        linear.loc[linear["sample"] >= 0, "index_phi_rad"],
+        full["index_phi_full_rad"],
+        rows["index_phi_rad"],
+    ):
+        idx = idx.to_numpy(dtype=float)
+        q = np.quantile(idx, QUANTILES) if len(idx) else [np.nan] * 3
+        out.append(
+            {
+                "index_phi_nominal_rad": nom,
+                "index_phi_q05_rad": q[0],
+                "index_phi_q50_rad": q[1],
+                "index_phi_q95_rad": q[2],
+                "index_phi_min_rad": float(np.min(idx)) if len(idx) else np.nan,
+                "index_phi_max_rad": float(np.max(idx)) if len(idx) else np.nan,
+            }
+        )
     return pd.DataFrame(out)
 
 
@@ -426,18 +540,21 @@ def agreement(full, points, agree_tol):
         n (samples compared), agree_tol_m, max_index_diff_m and max_index_rel (largest difference of
         the global index), max_p95_diff_m, max_point_diff_m, share_points_disagree (points where some
         sample differs by more than ``agree_tol``), share_disagree_flagged (the part of those the
-        sensitivities flag as not smooth), z_disagree_min_m / z_disagree_max_m (where they are).
+        sensitivities flag as not smooth), z_disagree_min_m / z_disagree_max_m (where they are);
+        for a pose (``index_phi_full_rad`` in ``full``) max_index_phi_diff_rad (largest difference
+        of the δφ global index) and max_point_phi_diff_rad (of δφ at a point) [rad].
     """
     d = (full["index_lin_m"] - full["index_full_m"]).abs()
     # one row per point: the shards' tables repeat every point (its samples split between them),
     # so a point disagrees when some shard's samples do, whatever the shard count
+    phi = float(points["max_diff_phi_rad"].max()) if "max_diff_phi_rad" in points else np.nan
     points = points.groupby(["x", "y", "z"], sort=False).agg(
         smooth=("smooth", "first"), max_diff_m=("max_diff_m", "max"), n_disagree=("n_disagree", "sum")
     )
     points = points.reset_index()
     bad = points["n_disagree"] > 0
     with np.errstate(all="ignore"):
-        return {
+        out = {
             "n": int(len(full)),
             "agree_tol_m": agree_tol,
             "max_index_diff_m": float(d.max()) if len(d) else np.nan,
@@ -451,3 +568,8 @@ def agreement(full, points, agree_tol):
             "z_disagree_min_m": float(points.loc[bad, "z"].min()) if bad.any() else np.nan,
             "z_disagree_max_m": float(points.loc[bad, "z"].max()) if bad.any() else np.nan,
         }
+    if "index_phi_full_rad" in full:  # a pose: how far the linearised δφ agrees
+        d = (full["index_phi_lin_rad"] - full["index_phi_full_rad"]).abs()
+        out["max_index_phi_diff_rad"] = float(d.max()) if len(d) else np.nan
+        out["max_point_phi_diff_rad"] = phi
+    return out

@@ -170,7 +170,7 @@ def test_analytic_jacobian_equals_central_differences_of_the_full_residual(cdpr4
     scale = np.abs(fd).max(axis=0)
     assert (scale[: len(idx)] > 1e-3).all()  # every column moves the residual
     err = np.abs(J - fd).max(axis=0) / scale
-    names = [calibration_names(4)[k] for k in idx]
+    names = [calibration_names(prob.robot)[k] for k in idx]
     assert err.max() < 1e-5, (names[int(np.argmax(err))], err.max())
 
 
@@ -356,7 +356,7 @@ def test_jacobian_with_tension_rows(cdpr4):
         fd[:, j] = (prob.residual(z + e) - prob.residual(z - e)) / 2e-5
     scale = np.abs(fd).max(axis=0)
     err = np.abs(J - fd).max(axis=0) / scale
-    assert err.max() < 1e-5, (calibration_names(4)[idx[int(np.argmax(err))]], err.max())
+    assert err.max() < 1e-5, (calibration_names(prob.robot)[idx[int(np.argmax(err))]], err.max())
 
 
 def test_rigid_self_calibration_reports_its_gauge(cdpr4):

@@ -14,7 +14,7 @@ from cdpr.cli.main import main
 from cdpr.errors import CdprError, ConfigError
 from cdpr.models.inverse import L_TS
 from cdpr.models.platform import rotation_matrix
-from cdpr.parameters import calibration_names, parameter_names6, select_groups
+from cdpr.parameters import calibration_names, parameter_names, select_groups
 from cdpr.pipeline.calibration_files import write_data
 from cdpr.robot import load_robot
 from tests.conftest import ROBOTS
@@ -46,8 +46,8 @@ def test_one_naming_of_the_spatial_vector(cogiro):
     """The sensitivities' names are the parameter vector's (cdpr.parameters), attachments b_i_xyz."""
     from cdpr.models import sensitivity
 
-    assert sensitivity.parameter_names6 is parameter_names6
-    names = calibration_names(8, spatial=True)
+    assert sensitivity.parameter_names is parameter_names
+    names = calibration_names(cogiro)
     idx = select_groups(cogiro, ["attachments"])
     assert [names[k] for k in idx] == [f"b_{i}_{a}" for i in range(1, 9) for a in "xyz"]
     assert cal.prior_sd(cogiro, idx, cal.parse_priors(None)) == pytest.approx(np.full(24, 3e-3))
@@ -88,7 +88,7 @@ def test_analytic_jacobian_equals_central_differences_of_the_full_residual(cogir
     ev = prob.evaluate(z)
     assert ((ev["status"] == "ok") & ev["smooth"]).all()
     J = prob.jacobian(z)
-    names = [calibration_names(8, True)[k] for k in idx]
+    names = [calibration_names(cogiro)[k] for k in idx]
     cols = [names.index(n) for n in ("E_2", "d_3", "A_1_x", "A_6_z", "b_2_y", "b_5_z", "offset_4", "M")]
     step = 1e-5
     for j in cols:

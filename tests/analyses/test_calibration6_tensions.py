@@ -76,7 +76,7 @@ def test_tension_rows_jacobian_equals_central_differences(cogiro, cogiro_winch, 
     J = prob.jacobian(z)
     n_pose, n_t = 6 * 2, 8 * 4
     assert J.shape == (n_pose + n_t + len(idx), len(idx))
-    names = [calibration_names(8, True)[k] for k in idx]
+    names = [calibration_names(robot)[k] for k in idx]
     cols = ["E_2", "h_3", "r_p_4", "d_3", "A_1_x", "A_6_z", "b_2_y", "b_5_z", "offset_4", "offset_7", "M"]
     assert_columns_match_central_differences(prob, z, J, names, cols, n_pose, n_t)
 

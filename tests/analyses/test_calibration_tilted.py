@@ -93,7 +93,7 @@ def test_analytic_jacobian_equals_central_differences_of_the_full_residual(tilte
     J = prob.jacobian(z)
     n_pose, n_t = 3 * 4, 4 * 6
     assert J.shape == (n_pose + n_t + len(idx), len(idx))
-    names = [calibration_names(4)[k] for k in idx]
+    names = [calibration_names(prob.robot)[k] for k in idx]
     assert_columns_match_central_differences(prob, z, J, names, names, n_pose, n_t)
 
 

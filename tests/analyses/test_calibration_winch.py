@@ -52,7 +52,7 @@ def test_jacobian_through_the_winch_equals_central_differences(cdpr4w):
         fd[:, j] = (prob.residual(z + e) - prob.residual(z - e)) / 2e-5
     scale = np.abs(fd).max(axis=0)
     err = np.abs(J - fd).max(axis=0) / scale
-    assert err.max() < 1e-5, (calibration_names(4)[idx[int(np.argmax(err))]], err.max())
+    assert err.max() < 1e-5, (calibration_names(prob.robot)[idx[int(np.argmax(err))]], err.max())
     # the chain rule matters: without it the offset and dead-length columns would be off by more
     no_winch = cal.Problem(cal.without_winches(cdpr4w), data, idx, sd, solver={"tol": 1e-14}, engine=NP)
     J0 = no_winch.jacobian(z)

@@ -46,11 +46,11 @@ def _study(st, **mc):
 
 
 def test_drivers_names_columns_and_order(cdpr4):
-    dr = uq.drivers(dict(reversed(list(PARAMS.items()))), 4)  # the study's key order does not matter
+    dr = uq.drivers(dict(reversed(list(PARAMS.items()))), cdpr4)  # the study's key order does not matter
     names = [d.name for d in dr]
     assert names[:4] == ["E_1", "E_2", "E_3", "E_4"] and names[-1] == "M"
     assert names[4:8] == ["h_1", "h_2", "h_3", "h_4"] and "d_all" in names and "A_2_y" in names
-    cols = parameter_names(4)
+    cols = parameter_names(cdpr4)
     for d in dr:
         if d.name in cols:
             assert d.columns == (cols.index(d.name),)
@@ -68,7 +68,7 @@ def test_samples_do_not_depend_on_the_shards():
 
 def test_parameter_samples_and_physical_checks(cdpr4):
     robot = with_pulleys(cdpr4, kind="DR", h=0.1, r_p=0.08)
-    dr = uq.drivers(PARAMS, 4)
+    dr = uq.drivers(PARAMS, robot)
     U = uq.mc_uniforms(3, 0, 200, len(dr))
     th = uq.parameter_samples(robot, dr, U)
     th0 = parameter_values(robot)
@@ -91,7 +91,7 @@ def test_the_floor_check_is_for_suspended_robots_only(cdpr4):
     """An anchor drawn at or below the floor is refused on a suspended point mass (CDPR4) and
     allowed on a robot whose anchors lie anywhere (IPAnema's lower anchors are at z = 0, so every
     sample with a downward anchor offset would have been refused)."""
-    dr = uq.drivers({"anchor_offset_m": {"dist": "normal", "mean": 0.0, "sd": 0.002}}, 4)
+    dr = uq.drivers({"anchor_offset_m": {"dist": "normal", "mean": 0.0, "sd": 0.002}}, cdpr4)
     U = uq.mc_uniforms(5, 0, 20, len(dr))
     bad = uq.parameter_samples(cdpr4, dr, U)
     bad[3, 4 * 4 + 2] = 0.0  # A_1_z
@@ -99,7 +99,7 @@ def test_the_floor_check_is_for_suspended_robots_only(cdpr4):
         uq.check_samples(cdpr4, bad, "s.yaml")
     ipa = load_robot(ROOT / "config" / "robots" / "ipanema_like.yaml")
     assert not ipa.suspended_point_mass
-    dr8 = uq.drivers({"anchor_offset_m": {"dist": "normal", "mean": 0.0, "sd": 0.002}}, ipa.m)
+    dr8 = uq.drivers({"anchor_offset_m": {"dist": "normal", "mean": 0.0, "sd": 0.002}}, ipa)
     th = uq.parameter_samples(ipa, dr8, uq.mc_uniforms(5, 0, 20, len(dr8)))
     assert (th[:, 4 * ipa.m + 2 : 7 * ipa.m : 3] < 0).any()  # lower anchors drawn below z = 0
     uq.check_samples(ipa, th, "s.yaml")
@@ -113,10 +113,11 @@ def test_linearised_propagation_against_full_solves_per_cable_E(cdpr4, kind):
     robot = with_pulleys(
         cdpr4, kind=kind, h=0.1 if kind == "DR" else 0.1077, r_p=0.08 if kind == "DR" else 0.035
     )
-    dr = uq.drivers({"young_modulus_Pa": PARAMS["young_modulus_Pa"]}, 4)
+    dr = uq.drivers({"young_modulus_Pa": PARAMS["young_modulus_Pa"]}, cdpr4)
     th = uq.parameter_samples(robot, dr, uq.mc_uniforms(5, 0, 6, len(dr)))
     m = uq.PoseErrorModel(robot, grid_points(RW_C, 8), "uncompensated")
-    dp, ok = m.solve(th)
+    y, ok = m.solve(th)
+    dp = y["dp"]
     lin = m.linearise(uq.driver_columns(dr))
     dl = lin.dp(th)
     full, linear = uq.sample_stats(dp, ok), uq.sample_stats(dl, np.isfinite(dl))
@@ -145,7 +146,8 @@ def test_linearisation_error_is_second_order_when_compensated(cdpr4):
     errs = []
     for eps in (1e-3, 1e-4):
         th = th0 + eps * direction
-        dp, ok = m.solve(th)
+        y, ok = m.solve(th)
+        dp = y["dp"]
         assert ok.all()
         errs.append(np.abs(lin.dp(th) - dp).max() / np.abs(dp).max())
     assert errs[1] < errs[0] / 30, errs
@@ -162,13 +164,14 @@ def test_full_solves_from_the_linearised_start_equal_those_from_p(cdpr4, case, r
     drivers vary); the starts are p + Linearisation.shift, which the compiled and numpy engines
     compute alike."""
     robot = with_pulleys(cdpr4, kind="SR", h=0.1077, r_p=0.035)
-    dr = uq.drivers(PARAMS, 4)
+    dr = uq.drivers(PARAMS, robot)
     th = uq.parameter_samples(robot, dr, uq.mc_uniforms(7, 0, 12, len(dr)))
     pts = grid_points(RW_C, 7)
     models = {
         s: uq.PoseErrorModel(robot, pts, case, redundancy=redundancy, start=s) for s in ("linear", "desired")
     }
-    (dl, okl), (dd, okd) = (models[s].solve(th) for s in ("linear", "desired"))
+    (yl, okl), (yd, okd) = (models[s].solve(th) for s in ("linear", "desired"))
+    dl, dd = yl["dp"], yd["dp"]
     np.testing.assert_array_equal(okl, okd)
     assert okl.mean() > 0.5
     assert np.abs(dl - dd)[okl].max() < 1e-9
@@ -201,7 +204,7 @@ def test_sobol_indices_of_a_model_with_a_known_answer(cdpr4):
     """Y = sum_k a_k x_k of independent uniform drivers: S1 = ST = a_k^2 / sum a^2 (SALib)."""
     dr = uq.drivers(
         {"mass_kg": {"dist": "uniform", "low": 0.0 + 1, "high": 2.0}, **{"h_offset_m": PARAMS["h_offset_m"]}},
-        4,
+        cdpr4,
     )
     dr = [d for d in dr if d.name in ("M", "h_1", "h_2")]
     a = {"M": 1.0, "h_1": 2.0 / 2e-4, "h_2": 0.5 / 2e-4}  # comparable spreads
@@ -234,7 +237,7 @@ def test_local_contributions_add_up_to_the_linearised_mean_square(cdpr4):
     robot = with_pulleys(cdpr4, kind="DR", h=0.1, r_p=0.08)
     m = uq.PoseErrorModel(robot, np.array([[0.4, -0.6, 1.8], [-1.2, 0.9, 2.9]]), "compensated")
     params = {k: v for k, v in PARAMS.items() if k != "young_modulus_Pa"}  # linear in these
-    dr = uq.drivers(params, 4)
+    dr = uq.drivers(params, robot)
     lin = m.linearise(uq.driver_columns(dr))
     c = uq.local_contributions(lin, dr, projected=False)
     th = uq.parameter_samples(robot, dr, uq.mc_uniforms(9, 0, 4000, len(dr)))

@@ -280,7 +280,7 @@ def test_point_sensitivities_on_cogiro_equal_the_library(capsys, engine):
     """--sensitivities on a rigid platform: the JSON's dp*/dθ and dφ*/dθ are the library's numbers,
     the numpy reference's by default (one pose, solve.ONE_SHOT_POSES) and with --engine numpy, the
     compiled engine's with --engine compiled."""
-    from cdpr.models.sensitivity import parameter_names6
+    from cdpr.parameters import parameter_names
     from cdpr.robot import load_robot
     from cdpr.solve import sensitivities
 
@@ -304,7 +304,7 @@ def test_point_sensitivities_on_cogiro_equal_the_library(capsys, engine):
     lib = sensitivities(
         load_robot(COGIRO), [[0.2, 0.1, 2.0]], rv, redundancy="physical", engine=out["engine"]
     )
-    names = parameter_names6(8)
+    names = parameter_names(load_robot(COGIRO))
     assert list(out["sensitivities"]) == names == list(out["sensitivities_phi"]) and len(names) == 8 * 10 + 4
     S = lib["S"][0]
     assert all(out["sensitivities"][n] == S[:3, k].tolist() for k, n in enumerate(names))

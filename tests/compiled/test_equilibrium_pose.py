@@ -19,7 +19,7 @@ from cdpr.models.inverse import L_TS, pose_state
 from cdpr.models.platform import pose_arrays, rotation_error, rotation_matrix, rotvec_of
 from cdpr.models.pulleys import total_length_and_direction
 from cdpr.models.statics import direction_gradient, length_gradient
-from cdpr.parameters import parameter_values6, robot_with_parameters6
+from cdpr.parameters import parameter_values, robot_with_parameters
 from cdpr.robot import load_robot, pulley_frame, with_pulleys
 from cdpr.solve import solve_batch
 from tests.conftest import ROBOTS
@@ -329,10 +329,10 @@ def test_the_batched_solve_equals_one_solve_per_robot(name, scale, monkeypatch):
     equilibria included (wall_pulleys, 1 % long), also when the robots are split into several passes."""
     r = load_robot(ROBOTS / name)
     p, rv, L0 = _poses(r, BOXES[name], 60, seed=7)
-    theta0 = parameter_values6(r)
+    theta0 = parameter_values(r)
     g = np.random.default_rng(11)
     robots = [
-        robot_with_parameters6(r, theta0 * (1.0 + 1e-3 * g.standard_normal(theta0.shape))) for _ in range(5)
+        robot_with_parameters(r, theta0 * (1.0 + 1e-3 * g.standard_normal(theta0.shape))) for _ in range(5)
     ]
     monkeypatch.setattr(compiled6, "BATCH_POSES", 2 * 60)  # three passes of two, two and one robot
     batch = compiled6.solve_batch(robots, p, rv, L0=L0 * scale)

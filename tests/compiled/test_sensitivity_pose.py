@@ -32,6 +32,7 @@ from cdpr.models import sensitivity as ref
 from cdpr.models.equilibrium import solve as solve_spatial
 from cdpr.models.inverse import L_TS
 from cdpr.models.platform import pose_arrays, rotvec_of
+from cdpr.parameters import parameter_names
 from cdpr.robot import load_robot, with_pulleys
 from cdpr.solve import sensitivities, sensitivities_at
 from tests.compiled.test_equilibrium_pose import BOXES, _cables, _poses, _random_pulleys
@@ -76,7 +77,7 @@ def test_compiled_equals_numpy_reference_at_the_same_equilibria(name, monkeypatc
     r, p, rv, L0 = CASES[name]
     res = solve_spatial(r, p, rv, L0=L0)
     a, b = ref.sensitivities_at(r, res), fast.sensitivities_at(r, res)
-    assert a["names"] == b["names"] == ref.parameter_names6(r.m)
+    assert a["names"] == b["names"] == parameter_names(r, rigid=True)
     ok = res["status"] == "ok"
     assert ok.sum() > N // 2 and ((res["n_taut"] < r.m) & ok).sum() > 10  # slack cables (taut subsets)
     np.testing.assert_array_equal(a["smooth"], b["smooth"])
@@ -102,10 +103,10 @@ def test_names_subset_and_order():
     names = ["M", "b_3_y", "E_1", "c_z", "A_8_x"]
     full = fast.sensitivities_at(r, res)
     part = fast.sensitivities_at(r, res, names)
-    idx = [ref.parameter_names6(r.m).index(nm) for nm in names]
+    idx = [parameter_names(r, rigid=True).index(nm) for nm in names]
     assert part["names"] == names
     np.testing.assert_array_equal(part["S"], full["S"][:, :, idx])
-    with pytest.raises(CdprError, match="unknown 6-DoF parameter.*'r_p_9'.*allowed: parameter_names6"):
+    with pytest.raises(CdprError, match="unknown 6-DoF parameter.*'r_p_9'.*allowed: parameter_names"):
         fast.sensitivities_at(r, res, ["E_1", "r_p_9"])
 
 

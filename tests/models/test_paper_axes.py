@@ -329,7 +329,7 @@ def test_sensitivities_on_the_turned_robot_equal_central_differences(kind):
     assert np.abs(a["S"] - b["S"]).max() <= 1e-9 * np.abs(a["S"]).max()
     L = L_TS(robot, q)
     th = parameter_values(robot)
-    names = parameter_names(robot.m)
+    names = parameter_names(robot)
     for k, name in enumerate(names):
         step = 1e-4 * th[k] if name[0] in "EM" else 1e-6
         up, down = th.copy(), th.copy()

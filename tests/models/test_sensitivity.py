@@ -41,7 +41,7 @@ def _finite_differences(robot, p, mode):
     th = parameter_values(robot)
     fd = np.empty((len(p), 3, len(th)))
     floor = np.empty(len(th))
-    for k, name in enumerate(parameter_names(robot.m)):
+    for k, name in enumerate(parameter_names(robot)):
         step = 1e-4 * th[k] if name[0] in "EM" else 1e-6
         up, down = th.copy(), th.copy()
         up[k] += step
@@ -67,7 +67,7 @@ def test_sensitivities_equal_central_differences_of_full_solves(request, name, d
     bound = RTOL * np.linalg.norm(fd, axis=1) + floor
     worst = np.unravel_index(np.argmax(err / bound), err.shape)
     assert (err <= bound).all(), (
-        f"{parameter_names(robot.m)[worst[1]]} at {p[worst[0]]}: IFT {res['S'][worst[0], :, worst[1]]}, "
+        f"{parameter_names(robot)[worst[1]]} at {p[worst[0]]}: IFT {res['S'][worst[0], :, worst[1]]}, "
         f"FD {fd[worst[0], :, worst[1]]}"
     )
     # the parameters do move the pose: the test is not comparing zeros
@@ -184,7 +184,7 @@ def test_command_line_point_and_grid(tmp_path, capsys):
     args = ["--robot", robot, "--pulley", "DR", "--h", "0.1", "--rp", "0.08"]
     assert main(["point", *args, "--at", "0.7", "-1.3", "0.4", "--sensitivities", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
-    names = parameter_names(4)
+    names = parameter_names(robot_from_file(robot))
     assert list(out["sensitivities"]) == names and out["sensitivities_smooth"] is True
     assert names[0] == "E_1" and names[-1] == "M" and "A_4_z" in names and "r_p_2" in names
     ref = sensitivities(_robot(robot_from_file(robot), "DR"), POINTS[:1])

@@ -248,8 +248,12 @@ def test_colliding_contour_labels_are_hidden_and_others_kept():
     plt.close(fig)
 
 
+#: The responses of a robot solved as a pose (``analyses.uncertainty.RESPONSES``).
+POSE = ("dp", "dphi")
+
+
 def test_spatial_uncertainty_figures_have_dphi_panels_with_their_unit(tmp_path, monkeypatch):
-    """Issue 19: the uncertainty figures of a rigid platform (``plots.uq.uq6_*``, drawn from the quick
+    """Issue 19: the uncertainty figures of a rigid platform (``plots.uq.uq_*`` with responses ‖δp‖ and δφ, drawn from the quick
     spatial study's reference tables) have a δφ panel beside each ‖δp‖ one, in mrad, the mode in the
     title and a unit in every axis label; and the mechanical layout check finds nothing."""
     import pandas as pd
@@ -261,10 +265,10 @@ def test_spatial_uncertainty_figures_have_dphi_panels_with_their_unit(tmp_path, 
     A = np.array([[-7.0, -5.0, 5.4], [7.0, -5.0, 5.4], [7.0, 5.0, 5.4], [-7.0, 5.0, 5.4]])
     path = {("SRopt", "uncompensated"): pd.read_csv(ref / "SRopt_uncompensated_path.csv")}
     maps = {("SRopt", "compensated"): pd.read_csv(ref / "SRopt_compensated_map.csv")}
-    uq_plots.uq6_path_bands(path, {}, tmp_path / "path.png", mode="physical")
-    uq_plots.uq6_sobol(pd.read_csv(ref / "sobol.csv"), tmp_path / "sobol.png", mode="physical")
-    uq_plots.uq6_dominant_map(maps, A, 2.0, tmp_path / "dominant.png", mode="physical")
-    uq_plots.uq6_residual_map(maps, A, 2.0, tmp_path / "residual.png", mode="physical")
+    uq_plots.uq_path_bands(path, {}, tmp_path / "path.png", mode="physical", responses=POSE)
+    uq_plots.uq_sobol(pd.read_csv(ref / "sobol.csv"), tmp_path / "sobol.png", mode="physical", responses=POSE)
+    uq_plots.uq_dominant_map(maps, A, 2.0, tmp_path / "dominant.png", mode="physical", responses=POSE)
+    uq_plots.uq_residual_map(maps, A, 2.0, tmp_path / "residual.png", mode="physical", responses=POSE)
     titles = [[ax.get_title() for ax in f.axes] for f in figs]
     ylabels = [[ax.get_ylabel() for ax in f.axes] for f in figs]
     assert ylabels[0] == ["‖δp‖ [mm]", "δφ [mrad]"]
@@ -315,7 +319,7 @@ def test_sobol_panels_show_the_upper_whiskers_up_to_1_5(tmp_path, monkeypatch):
     high.loc[high.index[0], ["ST", "ST_conf"]] = (0.99, 0.28)  # the first design and case's panels
     huge = low.assign(ST_conf=5.0)
     for t, name in ((low, "low"), (high, "high"), (huge, "huge")):
-        uq_plots.uq6_sobol(t, tmp_path / f"{name}.png", mode="physical")
+        uq_plots.uq_sobol(t, tmp_path / f"{name}.png", mode="physical", responses=POSE)
     tops = [
         sorted({round(ax.get_ylim()[1], 6) for ax in f.axes if ax.get_ylabel() or ax.get_xlabel()})
         for f in figs

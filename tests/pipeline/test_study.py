@@ -104,7 +104,7 @@ def test_uncertainty_in_paper_mode_on_a_spatial_robot_is_refused(tmp_path):
 
 
 def test_the_uncertainty_study_of_a_spatial_robot_loads_in_physical_mode(tmp_path):
-    """Issue 19: a spatial robot runs the uncertainty study (pipeline.uq6) in physical mode, both
+    """Issue 19: a spatial robot runs the uncertainty study (pipeline.uq, ‖δp‖ and δφ) in physical mode, both
     cases; its experiments are the 6-DoF ones (``uq_spatial``), a point-mass study's are not."""
     u = yaml.safe_load((ROOT / "config" / "studies" / "quick_physical.yaml").read_text())["uncertainty"]
     u["designs"] = ["SRopt", "DRopt"]

@@ -233,7 +233,7 @@ def plan(
     return {
         "poses": P[chosen],
         "lengths": L0[chosen],
-        "names": [calibration_names(robot.m, is_spatial(robot))[k] for k in index],
+        "names": [calibration_names(robot)[k] for k in index],
         "sd_d_optimal": ratio * sd,
         "sd_random_median": np.median([r[0] for r in rand], axis=0) * sd,
         "prior_sd": sd,

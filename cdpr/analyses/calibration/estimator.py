@@ -123,7 +123,7 @@ def prior_sd(robot, index, priors):
     ----------
     robot : Robot
     index : ndarray of int
-        Into ``calibration_names(robot.m)``.
+        Into ``calibration_names(robot)``.
     priors : dict
         ``parse_priors``.
 
@@ -131,7 +131,7 @@ def prior_sd(robot, index, priors):
     -------
     sd : ndarray, shape (len(index),) [Pa, m, kg]
     """
-    groups, _ = calibration_groups(robot.m, is_spatial(robot))
+    groups, _ = calibration_groups(robot)
     nominal = calibration_values(robot)
     return np.array(
         [priors[groups[k]] * abs(nominal[k]) if groups[k] in RELATIVE else priors[groups[k]] for k in index]
@@ -215,7 +215,7 @@ def fit(robot, data, groups, priors=None, model="exact", loss="linear", engine=N
     used, no_pose = usable(data, robot)
     status = np.full(len(data.sample), "no pose or tension", dtype=object)
     spatial = is_spatial(robot)
-    names = [calibration_names(robot.m, spatial)[k] for k in index]
+    names = [calibration_names(robot)[k] for k in index]
     keep = used
     for _attempt in range(3):
         sub = data.subset(keep)
@@ -310,8 +310,8 @@ def _why(ev, mask):
 
 def _bounds(base, index, sd):
     """Box bounds in prior-scaled variables: E, M > 1 % of nominal; h, r_p, d >= 0; A and offsets free."""
-    groups, _ = calibration_groups(base.m, is_spatial(base))
-    names = calibration_names(base.m, is_spatial(base))
+    groups, _ = calibration_groups(base)
+    names = calibration_names(base)
     th0 = calibration_values(base)
     lo = np.full(len(index), -np.inf)
     for j, k in enumerate(index):
@@ -453,7 +453,7 @@ def self_calibrate_standard(robot, data, groups, priors=None, sigma_L=SIGMA_L_DE
     J = jacobian(sol.x)[: n * m]
     Q, _ = np.linalg.qr(J[:, : 3 * n])
     Jth = J[:, 3 * n :]
-    names = [calibration_names(m)[c] for c in index]
+    names = [calibration_names(robot)[c] for c in index]
     ident = identifiability(Jth - Q @ (Q.T @ Jth), names)
     th = unpack(sol.x)[0]
     res = residual(sol.x)[: n * m].reshape(n, m) * sigma_L

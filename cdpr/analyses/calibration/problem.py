@@ -130,7 +130,7 @@ class Problem:
     data : Data
         Samples with a measured pose or measured tensions.
     index : ndarray of int
-        Estimated parameters, into ``calibration_names(robot.m)``.
+        Estimated parameters, into ``calibration_names(robot)``.
     sd : ndarray, shape (len(index),)
         Prior sd [Pa, m, kg].
     engine : {"compiled", "numpy"} or None
@@ -321,7 +321,7 @@ class Problem6:
     A rigid platform has six rows per sample with a measured pose (position / σ_m, orientation
     error / σ_rad, ``map_residual6``); a point mass three (position / σ_m, ``map_residual``: its
     orientation plays no part, and its calibration vector is the point mass's,
-    ``calibration_names(m)``). Then m tension rows (t_meas - t(θ, L0)) / σ_t per sample with
+    ``calibration_names(robot)``). Then m tension rows (t_meas - t(θ, L0)) / σ_t per sample with
     measured tensions (``tension_sensitivities6``), then the prior rows; the exact Jacobian from
     ``sensitivity.pose_sensitivities`` (implicit function) and, for the encoder offsets,
     ``sensitivity.rest_length_sensitivities`` (dx*/do_i = -dx*/dL0_i). A sample without a
@@ -343,7 +343,7 @@ class Problem6:
         Samples with a measured pose (position, and orientation on a rigid platform) or measured
         tensions.
     index : ndarray of int
-        Into ``calibration_names(robot.m, is_spatial(robot))``.
+        Into ``calibration_names(robot)``.
     sd : ndarray, shape (len(index),)
         Prior sd [Pa, m, kg].
     engine : {"numpy", "compiled"}
@@ -359,11 +359,11 @@ class Problem6:
         self.m = robot.m
         #: a rigid platform (False: a point mass under pulleys at other axes than +z)
         self.spatial = is_spatial(robot)
-        self.nr = robot_size(self.m, self.spatial)
+        self.nr = robot_size(robot)
         self.theta0 = calibration_values(robot)
         #: a robot file with ``winch:``: the commanded lengths are mapped through the drums
         self.winch = has_winches(robot)
-        names = calibration_names(self.m, self.spatial)
+        names = calibration_names(robot)
         self._cols6 = self.index[self.index < self.nr]
         self._names6 = [names[k] for k in self._cols6]
         self._cache = None
@@ -553,7 +553,7 @@ def tension_sensitivities6(robot, P, R, L0, S, cols6, w_L=None, w_d=None):
     ∂t_i/∂L0_i = -a_i k_i L_TE,i / L0_i and the fixed-pose partials); L0_i = reading - o_i, so
     dL0_i/do_i = -1, or through a winch (L0_i = W(reading - o_i, d_i), ``drive.realised_rest_lengths``)
     dL0_i/do_i = -∂W/∂L_cmd and dL0_i/dd_i = ∂W/∂d_i. The calibration vector is the robot's
-    (``calibration_names(m, is_spatial(robot))``: 11 m + 4 entries on a rigid platform, 8 m + 1 on a
+    (``calibration_names(robot)``: 11 m + 4 entries on a rigid platform, 8 m + 1 on a
     point mass, whose b_i = 0 make ∂t_i/∂φ = 0).
 
     Parameters
@@ -566,7 +566,7 @@ def tension_sensitivities6(robot, P, R, L0, S, cols6, w_L=None, w_d=None):
     L0 : ndarray, shape (n, m) [m]
         Rest lengths.
     S : ndarray, shape (n, 6, K)
-        dx*/dθ of the calibration parameters (``calibration_names(m, is_spatial(robot))``, K of
+        dx*/dθ of the calibration parameters (``calibration_names(robot)``, K of
         them), the chain rule of the winch included; only the columns ``cols6`` and the offsets
         need to be filled.
     cols6 : ndarray of int
@@ -585,9 +585,8 @@ def tension_sensitivities6(robot, P, R, L0, S, cols6, w_L=None, w_d=None):
     Paty et al. 2021, eq. (5), (10), (13); implicit-function theorem.
     """
     m = robot.m
-    spatial = is_spatial(robot)
-    nr = robot_size(m, spatial)
-    names = calibration_names(m, spatial)
+    nr = robot_size(robot)
+    names = calibration_names(robot)
     tp = tension_partials(robot, P, R, L0, [names[k] for k in cols6])
     dt = np.einsum("nia,nak->nik", tp["dt_dx"], S)
     dt[:, :, cols6] += tp["dt_dtheta"]
@@ -611,7 +610,7 @@ def map_problem(base, data, index, sd, engine=None, solver=None):
         Nominal robot (the prior mean), in the chosen model (``model_robot``).
     data : Data
     index : ndarray of int
-        Estimated parameters, into ``calibration_names(base.m, is_spatial(base))``.
+        Estimated parameters, into ``calibration_names(base)``.
     sd : ndarray, shape (len(index),)
         Prior sd [Pa, m, kg].
     engine : {"compiled", "numpy"} or None

@@ -60,7 +60,7 @@ class Calibration:
     def calibrated_robot(self):
         """The robot at the estimate (the model's pulleys; the standard model's E back to the file's)."""
         m = self.robot.m
-        th = self.theta[: robot_size(m, is_spatial(self.base))].copy()
+        th = self.theta[: robot_size(self.base)].copy()
         if self.model in ("standard", "rigid"):
             th[:m] /= STANDARD_STIFFENING
         return calibrated_robot(self.base, th)
@@ -72,11 +72,11 @@ class Calibration:
 
     @property
     def offsets(self):
-        return self.theta[robot_size(self.robot.m, is_spatial(self.base)) :]
+        return self.theta[robot_size(self.base) :]
 
     def parameter_table(self):
         """nominal, estimate, sd, 95 % interval, prior sd, ratio and label per parameter (SI)."""
-        groups, cables = calibration_groups(self.robot.m, is_spatial(self.base))
+        groups, cables = calibration_groups(self.base)
         return pd.DataFrame(
             {
                 "name": self.names,
@@ -165,7 +165,7 @@ def robot_file_text(cal, data_source, when):
         f"# estimated: {', '.join(cal.names)}",
     ]
     spatial = is_spatial(rob)
-    if "offsets" in {calibration_groups(rob.m, spatial)[0][k] for k in cal.index}:
+    if "offsets" in {calibration_groups(rob)[0][k] for k in cal.index}:
         header.append("# encoder offsets [m]: " + ", ".join(f"{o:.9g}" for o in cal.offsets))
     cables = []
     for c in rob.cables:

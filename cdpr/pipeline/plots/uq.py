@@ -1,8 +1,9 @@
 """The figures of the uncertainty study (beyond the paper: ``cdpr.analyses.uncertainty``,
 ``cdpr.pipeline.uq``): the global index under per-cable moduli and every declared parameter, the
 bands along the path, the Sobol indices, the dominant parameter and what compensation leaves on
-the plane, and the agreement of the linearisation with full solves; the ``uq6_*`` figures are the
-same for a rigid platform (``cdpr.pipeline.uq6``), with a ‖δp‖ and a δφ panel for each.
+the plane, and the agreement of the linearisation with full solves. Each figure loops over the
+``responses`` it is given (``RESPONSES``): ‖δp‖ alone for a suspended point mass, ‖δp‖ and δφ (a panel
+for each) for a robot solved as a pose (``cdpr.analyses.uncertainty.PoseErrorModel.responses``).
 """
 
 from __future__ import annotations
@@ -39,341 +40,9 @@ def _uq_cases(tables):
     return [c for c in UQ_CASES if c in cases]
 
 
-def _colour_violin(parts, colour, alpha):
-    """Bodies, whiskers (extrema bars) and medians of a violin in one colour."""
-    for b in parts["bodies"]:
-        b.set_facecolor(colour)
-        b.set_edgecolor(colour)
-        b.set_alpha(alpha)
-    for key in ("cbars", "cmins", "cmaxes", "cmedians"):
-        if key in parts:
-            parts[key].set_color(colour)
-
-
-def uq_index_distribution(linear, tolerances, index_vs_E, paper, out, mode=None):
-    """The global index of each optimal design under per-cable moduli (Monte Carlo, one violin per
-    design) beside the common-E band of the paper's section 5.1 (our sweep, and the paper's numbers
-    when given), and under every declared parameter (Saltelli's independent rows); uncompensated
-    (left) and compensated (right). Each design has one colour (violins, whiskers, bars); the key
-    under the panels says what each mark is. A study without the compensated case (``study.uq_cases``)
-    gets the left panel only.
-
-    ``linear``, ``tolerances``: {(design, case): table} of ``uq.linear_samples`` and of
-    ``uq.sobol``'s rows; ``index_vs_E``: the elasticity sweep (design, E_Pa, index_m) or
-    None; ``paper``: {design: (index, minus, plus)} [m]."""
-
-    designs = _uq_designs(linear)
-    cases = _uq_cases(linear)
-    fig, axes = plt.subplots(
-        1,
-        len(cases),
-        figsize=(5 + 10 * len(cases) / 2, 5.8),
-        gridspec_kw={"width_ratios": [2, 1][: len(cases)]},
-        squeeze=False,
-        layout="constrained",
-    )
-    colours = dict(zip(designs, OKABE_ITO))
-    for ax, case in zip(axes[0], cases):
-        ticks, labels, x = [], [], 0.0
-        for dk in designs:
-            lin = linear.get((dk, case))
-            if lin is None:
-                continue
-            nominal = lin.loc[lin["sample"] == -1, "index_m"].iloc[0] * 1e3
-            vals = lin.loc[lin["sample"] >= 0, "index_m"].dropna().to_numpy() * 1e3
-            parts = ax.violinplot([vals], positions=[x], widths=0.7, showextrema=True, showmedians=True)
-            _colour_violin(parts, colours[dk], 0.45)
-            ax.plot([x - 0.35, x + 0.35], [nominal, nominal], "k:", lw=1)
-            ticks.append(x)
-            labels.append(f"{dk}\nper-cable E\nn = {len(vals)}")
-            x += 1.0
-            if case == "uncompensated" and index_vs_E is not None:
-                g = index_vs_E[index_vs_E.design == dk]
-                if len(g):
-                    lo, hi = g.index_m.min() * 1e3, g.index_m.max() * 1e3
-                    ax.vlines(x, lo, hi, color=colours[dk], lw=6, alpha=0.7)
-                    ax.plot(x, nominal, "k_", ms=14)
-                    ticks.append(x)
-                    labels.append(f"{dk}\ncommon E\nours")
-                    x += 1.0
-                if dk in paper:
-                    mid, minus, plus = (v * 1e3 for v in paper[dk])
-                    ax.vlines(x, mid - minus, mid + plus, color=colours[dk], lw=6, alpha=0.35, hatch="//")
-                    ax.plot(x, mid, "k_", ms=14)
-                    ticks.append(x)
-                    labels.append(f"{dk}\ncommon E\npaper")
-                    x += 1.0
-            tol = tolerances.get((dk, case))
-            if tol is not None and len(tol):
-                parts = ax.violinplot(
-                    [tol.index_m.to_numpy() * 1e3], positions=[x], widths=0.7, showextrema=True
-                )
-                _colour_violin(parts, colours[dk], 0.2)
-                ticks.append(x)
-                labels.append(f"{dk}\nall param.\nn = {len(tol)}")
-                x += 1.5
-        ax.set_xticks(ticks, labels, fontsize=7)
-        ax.set(xlabel="design and sampling [-]", ylabel="global index mean ‖δp‖ over RW_C [mm]", title=case)
-        ax.grid(alpha=0.3, axis="y")
-    key = [Patch(color=colours[d], alpha=0.6, label=d) for d in designs] + [
-        Line2D([], [], color="k", ls=":", label="nominal robot (dotted)"),
-        Line2D([], [], color="0.4", lw=6, alpha=0.7, label="common-E band [min, max] (bar)"),
-        Line2D([], [], color="k", marker="_", ls="", ms=14, label="index at E_mean (tick)"),
-        Patch(color="0.4", alpha=0.45, label="violin: samples; whiskers: min, median, max"),
-    ]
-    fig.legend(handles=key, loc="outside lower center", ncol=len(key), fontsize=7)
-    fig.suptitle(
-        f"Global index under per-cable moduli beside the common-E band (section 5.1){mode_suffix(mode)}",
-        fontsize=10,
-    )
-    return save(fig, out)
-
-
-def uq_path_bands(bands, common, out, mode=None, common_mode=None):
-    """‖δp‖ along the section 5.2 path: 5-50-95 % band under per-cable moduli for each design
-    (columns), uncompensated beside the three common-E curves of the elasticity section (top) and
-    compensated (bottom). ``bands``: {(design, case): ``uncertainty.path_bands`` table}; ``common``:
-    list of (design, E [Pa], s [m], dp [m]) of the common-E paths (Fig. 19), computed in
-    ``common_mode`` (named in the legend when it differs from ``mode``)."""
-    designs, cases = _uq_designs(bands), _uq_cases(bands)
-    fig, axes = plt.subplots(
-        len(cases),
-        len(designs),
-        figsize=(5.5 * len(designs), 3.8 * len(cases)),
-        squeeze=False,
-        layout="constrained",
-    )
-    Es = sorted({c[1] for c in common})
-    styles = dict(zip(Es, [":", "-", "--"] if len(Es) == 3 else ["-"] * len(Es)))
-    other = f" ({MODE_TITLES[common_mode].split(' (')[0]})" if common_mode and common_mode != mode else ""
-    for j, dk in enumerate(designs):
-        for i, case in enumerate(cases):
-            ax = axes[i, j]
-            b = bands.get((dk, case))
-            if b is None:
-                ax.set_visible(False)
-                continue
-            ax.fill_between(
-                b.s, b.q05_m * 1e3, b.q95_m * 1e3, color=OKABE_ITO[0], alpha=0.3, label="5-95 % per-cable E"
-            )
-            ax.plot(b.s, b.q50_m * 1e3, color=OKABE_ITO[0], label="median per-cable E")
-            ax.plot(b.s, b.dp_nominal_m * 1e3, "k", lw=0.8, alpha=0.6, label="nominal")
-            if case == "uncompensated":
-                for d, E, s, dp in common:
-                    if d == dk:
-                        ax.plot(
-                            s,
-                            dp * 1e3,
-                            styles[E],
-                            color=OKABE_ITO[1],
-                            lw=1,
-                            label=f"common E = {E / 1e9:g} GPa{other}",
-                        )
-            ax.set(xlabel="position along the path s [m]", ylabel="‖δp‖ [mm]", title=f"{dk} {case}")
-            ax.grid(alpha=0.3)
-            ax.legend(fontsize=6, loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=2, frameon=False)
-    fig.suptitle(
-        f"‖δp‖ along the section 5.2 path under per-cable moduli (Fig. 19 extended){mode_suffix(mode)}",
-        fontsize=10,
-    )
-    return save(fig, out)
-
-
-def _sobol_top(tab):
-    """Top of a Sobol panel's y axis: 1.05, raised to show the upper whiskers (index + 95 %
-    interval) of the estimates that pass it, up to 1.5 (few base samples give wider intervals)."""
-    if not len(tab):
-        return 1.05
-    whisker = max(float((tab.ST + tab.ST_conf).max()), float((tab.S1 + tab.get("S1_conf", 0)).max()))
-    return float(min(1.5, max(1.05, whisker + 0.05)))
-
-
-def uq_sobol(tab, out, mode=None):
-    """Sobol total (bars) and first-order (dots) indices of the global index, both with their 95 %
-    confidence intervals, per parameter group (left of each pair) and per parameter (right: each
-    cable's E_i, d_i, h_i, r_p_i, anchor coordinates and the mass), for each design before and after
-    compensation (rows)."""
-    g = tab[tab.output == "index"]
-    designs = list(dict.fromkeys(g.design))
-    cases = [c for c in UQ_CASES if c in set(g.case)]
-    fig, axes = plt.subplots(
-        len(cases),
-        2 * len(designs),
-        figsize=(6.5 * len(designs) + 1, 3.75 * len(cases) + 0.5 * (len(cases) == 1)),
-        squeeze=False,
-        layout="constrained",
-        gridspec_kw={"width_ratios": [1, 3] * len(designs)},
-    )
-    for j, dk in enumerate(designs):
-        for i, case in enumerate(cases):
-            for k, level in enumerate(("group", "parameter")):
-                ax = axes[i, 2 * j + k]
-                d = g[(g.design == dk) & (g.case == case) & (g.level == level)]
-                x = np.arange(len(d))
-                ax.bar(
-                    x, d.ST, yerr=d.ST_conf, color=OKABE_ITO[0], alpha=0.7, capsize=2, label="total ST ± 95 %"
-                )
-                ax.errorbar(
-                    x,
-                    d.S1,
-                    yerr=d.S1_conf if "S1_conf" in d else None,
-                    fmt="o",
-                    color="k",
-                    ms=3,
-                    capsize=2,
-                    label="first order S1 ± 95 %",
-                )
-                ax.axhline(0, color="0.5", lw=0.6)
-                ax.set_xticks(
-                    x,
-                    d.name,
-                    rotation=90 if level == "parameter" else 0,
-                    fontsize=6 if level == "parameter" else 8,
-                )
-                # one y range per design and case (groups and parameters), intervals below -1 clipped
-                pair = g[(g.design == dk) & (g.case == case)]
-                lo = (
-                    max(-1.0, min(0.0, float((pair.S1 - pair.get("S1_conf", 0)).min()) - 0.05))
-                    if len(pair)
-                    else 0.0
-                )
-                ax.set(
-                    xlabel=f"{level} [-]",
-                    ylabel="Sobol index [-]" if k == 0 else "",
-                    title=f"{dk} {case}: {'groups' if k == 0 else 'per parameter'}",
-                    ylim=(lo, _sobol_top(pair)),
-                )
-                ax.title.set_fontsize(8)
-                ax.grid(alpha=0.3, axis="y")
-                if k == 1:
-                    ax.tick_params(labelleft=False)
-    handles, names = axes[0, 0].get_legend_handles_labels()
-    fig.legend(handles, names, loc="outside lower center", ncol=2, fontsize=7)
-    fig.suptitle(
-        f"Which uncertainty drives the global index (SALib, Saltelli sampling){mode_suffix(mode)}",
-        fontsize=10,
-    )
-    return save(fig, out)
-
-
-def uq_dominant_map(maps, A, z, out, mode=None):
-    """The parameter whose first-order contribution to the spread of ‖δp‖ is the largest, on the
-    plane z (columns: designs; rows: before and after compensation); hatched where it explains less
-    than half of the spread. ``maps``: {(design, case): ``uq.dominant_map`` table}."""
-    designs = _uq_designs(maps)
-    names = sorted({n for df in maps.values() for n in df.dominant.dropna().unique() if n})
-    cmap = plt.get_cmap("tab20", max(len(names), 1))
-    code = {n: k for k, n in enumerate(names)}
-    cases = _uq_cases(maps)
-    fig, axes = plt.subplots(
-        len(cases),
-        len(designs),
-        figsize=(5 * len(designs) + 2, 4.75 * len(cases)),
-        squeeze=False,
-        layout="constrained",
-    )
-    for j, dk in enumerate(designs):
-        for i, case in enumerate(cases):
-            ax = axes[i, j]
-            df = maps.get((dk, case))
-            if df is None:
-                ax.set_visible(False)
-                continue
-            val = df.dominant.map(lambda n: code.get(n, np.nan)).astype(float)
-            xs, ys, Z = plane_grid(df, val.to_numpy())
-            _, _, share = plane_grid(df, df.share.to_numpy())
-            ax.pcolormesh(xs, ys, Z, cmap=cmap, vmin=-0.5, vmax=len(names) - 0.5, shading="nearest")
-            ax.contourf(
-                xs, ys, np.where(share < 0.5, 1.0, np.nan), levels=[0.5, 1.5], colors="none", hatches=["///"]
-            )
-            draw_anchors(ax, A)
-            ax.set(xlabel="x [m]", ylabel="y [m]", title=f"{dk} {case}", aspect="equal")
-    handles = [Patch(color=cmap(code[n]), label=n) for n in names]
-    fig.legend(handles=handles, loc="outside right center", fontsize=7, title="dominant")
-    fig.suptitle(
-        f"Dominant uncertain parameter at z = {z:g} m (hatched: < 50 %){mode_suffix(mode)}", fontsize=10
-    )
-    return save(fig, out)
-
-
-def uq_residual_map(maps, A, z, out, mode=None):
-    """What compensation leaves, on the plane z (beyond the paper): for each design (columns) and
-    case the study ran, the nominal robot's ‖δp‖ (uncompensated: the pose error the paper studies;
-    compensated: the round-trip residual of the compensated lengths, 0 up to rounding) and the
-    first-order spread of ‖δp‖ under the declared parameters (RMS of the per-parameter
-    contributions, ``uq.dominant_map``'s ``rms_m``). Rows: nominal then spread, per case; grey:
-    not ok. ``maps``: {(design, case): ``uq.dominant_map`` table}."""
-    designs, cases = _uq_designs(maps), _uq_cases(maps)
-    rows = [(case, col) for case in cases for col in ("dp_nominal_m", "rms_m")]
-    fig, axes = plt.subplots(
-        len(rows),
-        len(designs),
-        figsize=(5 * len(designs) + 1.5, 4.4 * len(rows)),
-        squeeze=False,
-        layout="constrained",
-    )
-    what = {"dp_nominal_m": "nominal robot ‖δp‖", "rms_m": "spread of ‖δp‖ (RMS, declared parameters)"}
-    for i, (case, col) in enumerate(rows):
-        for j, dk in enumerate(designs):
-            ax = axes[i, j]
-            df = maps.get((dk, case))
-            if df is None:
-                ax.set_visible(False)
-                continue
-            xs, ys, Z = plane_grid(df, df[col].to_numpy() * 1e3)
-            ax.set_facecolor(NOT_OK_COLOUR)
-            finite = Z[np.isfinite(Z)]
-            top = float(np.abs(finite).max()) if finite.size else 0.0
-            if top < 1e-6:  # the compensated nominal residual: zero up to rounding, stated
-                ax.pcolormesh(
-                    xs,
-                    ys,
-                    np.where(np.isfinite(Z), 0.0, np.nan),
-                    cmap="Greys",
-                    vmin=0,
-                    vmax=1,
-                    shading="nearest",
-                )
-                label = f"max {top:.1g} mm (round trip)"
-            else:
-                levels = round_levels(float(finite.min()), float(finite.max()), 10)
-                cf = ax.contourf(xs, ys, Z, levels=levels, cmap="viridis")
-                fig.colorbar(cf, ax=ax, label=f"{what[col].split(' (')[0]} [mm]", shrink=0.8)
-                label = f"{finite.min():.3g} to {finite.max():.3g} mm"
-            draw_anchors(ax, A)
-            ax.set(xlabel="x [m]", ylabel="y [m]", title=f"{dk} {case}: {what[col]}\n{label}", aspect="equal")
-            ax.title.set_fontsize(8)
-    fig.suptitle(
-        f"What compensation leaves at z = {z:g} m (beyond the paper){mode_suffix(mode)}", fontsize=10
-    )
-    return save(fig, out)
-
-
-def uq_agreement(mc, out, mode=None):
-    """The global index of each full-solve Monte Carlo sample against its linearised value, one
-    panel per design and case, with the line of equality."""
-    keys = sorted(mc)
-    fig, axes = plt.subplots(
-        1, len(keys), figsize=(3.8 * len(keys), 4.2), squeeze=False, layout="constrained"
-    )
-    for ax, key in zip(axes[0], keys):
-        df = mc[key]
-        ax.plot(df.index_full_m * 1e3, df.index_lin_m * 1e3, "o", ms=3, color=OKABE_ITO[0])
-        lo = np.nanmin([df.index_full_m.min(), df.index_lin_m.min()]) * 1e3
-        hi = np.nanmax([df.index_full_m.max(), df.index_lin_m.max()]) * 1e3
-        ax.plot([lo, hi], [lo, hi], "k:", lw=1)
-        ax.set(xlabel="full solves [mm]", ylabel="linearised [mm]", title=f"{key[0]}\n{key[1]}")
-        ax.title.set_fontsize(9)
-        ax.tick_params(axis="x", labelrotation=30, labelsize=7)
-        ax.grid(alpha=0.3)
-    fig.suptitle(f"Global index per sample: linearised against full solves{mode_suffix(mode)}", fontsize=10)
-    return save(fig, out)
-
-
-# ---- uncertainty of a spatial robot (cdpr.pipeline.uq6): a ‖δp‖ and a δφ panel for each ------------------
-#: The two responses of a rigid platform: name -> (label, unit, scale to it, the columns of each table:
-#: global index, full/linearised index, path quantile suffix, path nominal, Sobol output, map columns).
-UQ6_RESPONSES = {
+#: The responses of the figures: label, unit, scale to it, and the columns of each table: global
+#: index, full/linearised index, path quantile suffix, path nominal, Sobol output, map columns.
+RESPONSES = {
     "dp": {
         "label": "‖δp‖",
         "unit": "mm",
@@ -388,7 +57,7 @@ UQ6_RESPONSES = {
         "share": "share",
         "rms": "rms_m",
     },
-    "phi": {
+    "dphi": {
         "label": "δφ",
         "unit": "mrad",
         "scale": 1e3,
@@ -405,19 +74,53 @@ UQ6_RESPONSES = {
 }
 
 
-def uq6_index_distribution(linear, tolerances, index_vs_E, out, mode=None):
-    """``uq_index_distribution`` of a rigid platform: the global index of ‖δp‖ (top) and of δφ
-    (bottom) of each optimal design under per-cable moduli (violins), beside the common-E band of
-    the elasticity sweep (bar, uncompensated) and under every declared parameter (Saltelli's rows);
-    columns: the cases. ``linear``, ``tolerances``: {(design, case): ``uq6.linear_samples`` table, resp.
-    ``uq6.sobol``'s rows}; ``index_vs_E``: the elasticity sweep (design, E_Pa, index_m,
-    index_phi_rad) or None."""
-    designs, cases = _uq_designs(linear), _uq_cases(linear)
-    fig, axes = plt.subplots(
-        2, len(cases), figsize=(4.5 + 3.5 * len(cases), 8.5), squeeze=False, layout="constrained"
-    )
+def _colour_violin(parts, colour, alpha):
+    """Bodies, whiskers (extrema bars) and medians of a violin in one colour."""
+    for b in parts["bodies"]:
+        b.set_facecolor(colour)
+        b.set_edgecolor(colour)
+        b.set_alpha(alpha)
+    for key in ("cbars", "cmins", "cmaxes", "cmedians"):
+        if key in parts:
+            parts[key].set_color(colour)
+
+
+def uq_index_distribution(linear, tolerances, index_vs_E, paper, out, mode=None, responses=("dp",)):
+    """The global index of each optimal design under per-cable moduli (Monte Carlo, one violin per
+    design) beside the common-E band of the paper's section 5.1 (our sweep, and the paper's numbers
+    when given), and under every declared parameter (Saltelli's independent rows); one column per
+    case the study ran (uncompensated, compensated: ``study.uq_cases``), one row per response
+    (‖δp‖, then δφ for a pose). Each design has one colour (violins, whiskers, bars); the key under
+    the panels says what each mark is.
+
+    ``linear``, ``tolerances``: {(design, case): table} of ``uq.linear_samples`` and of
+    ``uq.sobol``'s rows; ``index_vs_E``: the elasticity sweep (design, E_Pa, index_m and, for a
+    pose, index_phi_rad) or None; ``paper``: {design: (index, minus, plus)} [m]; ``responses``:
+    keys of ``RESPONSES``."""
+
+    designs = _uq_designs(linear)
+    cases = _uq_cases(linear)
+    one = len(responses) == 1
+    if one:
+        fig, axes = plt.subplots(
+            1,
+            len(cases),
+            figsize=(5 + 10 * len(cases) / 2, 5.8),
+            gridspec_kw={"width_ratios": [2, 1][: len(cases)]},
+            squeeze=False,
+            layout="constrained",
+        )
+    else:
+        fig, axes = plt.subplots(
+            len(responses),
+            len(cases),
+            figsize=(4.5 + 3.5 * len(cases), 8.5),
+            squeeze=False,
+            layout="constrained",
+        )
     colours = dict(zip(designs, OKABE_ITO))
-    for i, r in enumerate(UQ6_RESPONSES.values()):
+    for i, key in enumerate(responses):
+        r = RESPONSES[key]
         col, k = r["index"], r["scale"]
         for ax, case in zip(axes[i], cases):
             ticks, labels, x = [], [], 0.0
@@ -438,11 +141,20 @@ def uq6_index_distribution(linear, tolerances, index_vs_E, out, mode=None):
                     ax.vlines(x, g[col].min() * k, g[col].max() * k, color=colours[dk], lw=6, alpha=0.7)
                     ax.plot(x, nominal, "k_", ms=14)
                     ticks.append(x)
-                    labels.append(f"{dk}\ncommon E")
+                    labels.append(f"{dk}\ncommon E\nours" if one else f"{dk}\ncommon E")
+                    x += 1.0
+                if case == "uncompensated" and index_vs_E is not None and key == "dp" and dk in paper:
+                    mid, minus, plus = (v * 1e3 for v in paper[dk])
+                    ax.vlines(x, mid - minus, mid + plus, color=colours[dk], lw=6, alpha=0.35, hatch="//")
+                    ax.plot(x, mid, "k_", ms=14)
+                    ticks.append(x)
+                    labels.append(f"{dk}\ncommon E\npaper")
                     x += 1.0
                 tol = tolerances.get((dk, case))
                 if tol is not None and len(tol) and col in tol:
-                    parts = ax.violinplot([tol[col].dropna().to_numpy() * k], positions=[x], widths=0.7)
+                    parts = ax.violinplot(
+                        [tol[col].dropna().to_numpy() * k], positions=[x], widths=0.7, showextrema=True
+                    )
                     _colour_violin(parts, colours[dk], 0.2)
                     ticks.append(x)
                     labels.append(f"{dk}\nall param.\nn = {len(tol)}")
@@ -451,41 +163,54 @@ def uq6_index_distribution(linear, tolerances, index_vs_E, out, mode=None):
             ax.set(
                 xlabel="design and sampling [-]",
                 ylabel=f"global index mean {r['label']} over RW_C [{r['unit']}]",
-                title=f"{case}: {r['label']}",
+                title=case if one else f"{case}: {r['label']}",
             )
             ax.grid(alpha=0.3, axis="y")
     key = [Patch(color=colours[d], alpha=0.6, label=d) for d in designs] + [
         Line2D([], [], color="k", ls=":", label="nominal robot (dotted)"),
         Line2D([], [], color="0.4", lw=6, alpha=0.7, label="common-E band [min, max] (bar)"),
-        Patch(color="0.4", alpha=0.45, label="violin: samples; whiskers: min, median, max"),
     ]
-    fig.legend(handles=key, loc="outside lower center", ncol=2, fontsize=7)
-    fig.suptitle(
-        f"Global indices of ‖δp‖ and δφ under per-cable moduli\n{mode_suffix(mode)[3:]}", fontsize=10
-    )
+    if one:
+        key.append(Line2D([], [], color="k", marker="_", ls="", ms=14, label="index at E_mean (tick)"))
+    key.append(Patch(color="0.4", alpha=0.45, label="violin: samples; whiskers: min, median, max"))
+    fig.legend(handles=key, loc="outside lower center", ncol=len(key) if one else 2, fontsize=7)
+    if one:
+        title = (
+            f"Global index under per-cable moduli beside the common-E band (section 5.1){mode_suffix(mode)}"
+        )
+    else:
+        title = f"Global indices of {_and(responses)} under per-cable moduli\n{mode_suffix(mode)[3:]}"
+    fig.suptitle(title, fontsize=10)
     return save(fig, out)
 
 
-def uq6_path_bands(bands, common, out, mode=None):
-    """``uq_path_bands`` of a rigid platform: the 5-50-95 % band of ‖δp‖ and of δφ along the section
-    5.2 path under per-cable moduli, per design (columns) and case x response (rows), uncompensated
-    beside the common-E curves of the elasticity section. ``bands``: {(design, case):
-    ``uq6.path_bands`` table}; ``common``: {"dp": [...], "phi": [...]} of (design, E [Pa], s [m],
-    value [m or rad]) along the common-E paths."""
+def _and(responses):
+    """'‖δp‖ and δφ': the labels of the responses."""
+    return " and ".join(RESPONSES[k]["label"] for k in responses)
+
+
+def uq_path_bands(bands, common, out, mode=None, common_mode=None, responses=("dp",)):
+    """‖δp‖ (and δφ for a pose) along the section 5.2 path: 5-50-95 % band under per-cable moduli
+    for each design (columns), uncompensated beside the common-E curves of the elasticity section
+    and compensated (rows: case x response). ``bands``: {(design, case): ``uq.path_bands`` table};
+    ``common``: {response: list of (design, E [Pa], s [m], value [m or rad])} of the common-E paths
+    (Fig. 19), computed in ``common_mode`` (named in the legend when it differs from ``mode``)."""
     designs, cases = _uq_designs(bands), _uq_cases(bands)
-    rows = [(case, key) for case in cases for key in UQ6_RESPONSES]
+    one = len(responses) == 1
+    rows = [(case, key) for case in cases for key in responses]
     fig, axes = plt.subplots(
         len(rows),
         len(designs),
-        figsize=(6.5 * len(designs), 3.6 * len(rows)),
+        figsize=(5.5 * len(designs), 3.8 * len(rows)) if one else (6.5 * len(designs), 3.6 * len(rows)),
         squeeze=False,
         layout="constrained",
     )
     Es = sorted({c[1] for c in common.get("dp", [])})
     styles = dict(zip(Es, [":", "-", "--"] if len(Es) == 3 else ["-"] * len(Es)))
+    other = f" ({MODE_TITLES[common_mode].split(' (')[0]})" if common_mode and common_mode != mode else ""
     for j, dk in enumerate(designs):
         for i, (case, key) in enumerate(rows):
-            r, ax = UQ6_RESPONSES[key], axes[i, j]
+            r, ax = RESPONSES[key], axes[i, j]
             b = bands.get((dk, case))
             if b is None:
                 ax.set_visible(False)
@@ -510,41 +235,69 @@ def uq6_path_bands(bands, common, out, mode=None):
                             styles.get(E, "-"),
                             color=OKABE_ITO[1],
                             lw=1,
-                            label=f"common E = {E / 1e9:g} GPa",
+                            label=f"common E = {E / 1e9:g} GPa{other}",
                         )
             ax.set(
                 xlabel="position along the path s [m]",
                 ylabel=f"{r['label']} [{r['unit']}]",
-                title=f"{dk} {case}: {r['label']}",
+                title=f"{dk} {case}" if one else f"{dk} {case}: {r['label']}",
             )
             ax.grid(alpha=0.3)
-            ax.legend(fontsize=6, loc="upper center", bbox_to_anchor=(0.5, -0.25), ncol=2, frameon=False)
-    fig.suptitle(
-        f"‖δp‖ and δφ along the section 5.2 path under per-cable moduli\n{mode_suffix(mode)[3:]}", fontsize=10
-    )
+            ax.legend(
+                fontsize=6,
+                loc="upper center",
+                bbox_to_anchor=(0.5, -0.2 if one else -0.25),
+                ncol=2,
+                frameon=False,
+            )
+    if one:
+        title = (
+            f"‖δp‖ along the section 5.2 path under per-cable moduli (Fig. 19 extended){mode_suffix(mode)}"
+        )
+    else:
+        title = (
+            f"{_and(responses)} along the section 5.2 path under per-cable moduli\n{mode_suffix(mode)[3:]}"
+        )
+    fig.suptitle(title, fontsize=10)
     return save(fig, out)
 
 
-def uq6_sobol(tab, out, mode=None):
-    """``uq_sobol`` of a rigid platform: Sobol total (bars) and first-order (dots) indices with their
-    95 % intervals of the global index of ‖δp‖ and of δφ (rows, per case), per parameter group (left)
-    and per parameter (right), per design."""
-    designs = list(dict.fromkeys(tab.design))
-    cases = [c for c in UQ_CASES if c in set(tab.case)]
-    rows = [(case, key) for case in cases for key in UQ6_RESPONSES]
+def _sobol_top(tab):
+    """Top of a Sobol panel's y axis: 1.05, raised to show the upper whiskers (index + 95 %
+    interval) of the estimates that pass it, up to 1.5 (few base samples give wider intervals)."""
+    if not len(tab):
+        return 1.05
+    whisker = max(float((tab.ST + tab.ST_conf).max()), float((tab.S1 + tab.get("S1_conf", 0)).max()))
+    return float(min(1.5, max(1.05, whisker + 0.05)))
+
+
+def uq_sobol(tab, out, mode=None, responses=("dp",)):
+    """Sobol total (bars) and first-order (dots) indices of the global index of each response, both
+    with their 95 % confidence intervals, per parameter group (left of each pair) and per parameter
+    (right: each cable's E_i, d_i, h_i, r_p_i, anchor coordinates and the mass), for each design
+    before and after compensation (rows: case x response)."""
+    one = len(responses) == 1
+    designs = list(dict.fromkeys(tab[tab.output == "index"].design))
+    cases = [c for c in UQ_CASES if c in set(tab[tab.output == "index"].case)]
+    rows = [(case, key) for case in cases for key in responses]
+    if one:
+        figsize = (6.5 * len(designs) + 1, 3.75 * len(cases) + 0.5 * (len(cases) == 1))
+    else:
+        figsize = (7.5 * len(designs) + 1, 3.4 * len(rows))
     fig, axes = plt.subplots(
         len(rows),
         2 * len(designs),
-        figsize=(7.5 * len(designs) + 1, 3.4 * len(rows)),
+        figsize=figsize,
         squeeze=False,
         layout="constrained",
         gridspec_kw={"width_ratios": [1, 3] * len(designs)},
     )
     for j, dk in enumerate(designs):
         for i, (case, key) in enumerate(rows):
-            r = UQ6_RESPONSES[key]
+            r = RESPONSES[key]
             g = tab[(tab.output == r["output"]) & (tab.design == dk) & (tab.case == case)]
-            lo = max(-1.0, min(0.0, float((g.S1 - g.S1_conf).min()) - 0.05)) if len(g) else 0.0
+            # one y range per design, case and response (groups and parameters), intervals below -1 clipped
+            lo = max(-1.0, min(0.0, float((g.S1 - g.get("S1_conf", 0)).min()) - 0.05)) if len(g) else 0.0
             for k, level in enumerate(("group", "parameter")):
                 ax = axes[i, 2 * j + k]
                 d = g[g.level == level]
@@ -555,7 +308,7 @@ def uq6_sobol(tab, out, mode=None):
                 ax.errorbar(
                     x,
                     d.S1,
-                    yerr=d.S1_conf,
+                    yerr=d.S1_conf if "S1_conf" in d else None,
                     fmt="o",
                     color="k",
                     ms=3,
@@ -569,10 +322,11 @@ def uq6_sobol(tab, out, mode=None):
                     rotation=90 if level == "parameter" else 0,
                     fontsize=6 if level == "parameter" else 8,
                 )
+                what = "groups" if k == 0 else "per parameter"
                 ax.set(
                     xlabel=f"{level} [-]",
                     ylabel="Sobol index [-]" if k == 0 else "",
-                    title=f"{dk} {case}, index of {r['label']}: {'groups' if k == 0 else 'per parameter'}",
+                    title=f"{dk} {case}: {what}" if one else f"{dk} {case}, index of {r['label']}: {what}",
                     ylim=(lo, _sobol_top(g)),
                 )
                 ax.title.set_fontsize(8)
@@ -581,24 +335,27 @@ def uq6_sobol(tab, out, mode=None):
                     ax.tick_params(labelleft=False)
     handles, names = axes[0, 0].get_legend_handles_labels()
     fig.legend(handles, names, loc="outside lower center", ncol=2, fontsize=7)
-    fig.suptitle(
-        f"Which uncertainty drives the global indices of ‖δp‖ and δφ (SALib){mode_suffix(mode)}", fontsize=10
-    )
+    if one:
+        title = f"Which uncertainty drives the global index (SALib, Saltelli sampling){mode_suffix(mode)}"
+    else:
+        title = f"Which uncertainty drives the global indices of {_and(responses)} (SALib){mode_suffix(mode)}"
+    fig.suptitle(title, fontsize=10)
     return save(fig, out)
 
 
-def uq6_dominant_map(maps, A, z, out, mode=None):
-    """``uq_dominant_map`` of a rigid platform: the parameter with the largest first-order
-    contribution to the spread of ‖δp‖ and, below it, of δφ on the plane z (columns: designs; rows:
-    case x response); hatched where it explains less than half of the spread."""
+def uq_dominant_map(maps, A, z, out, mode=None, responses=("dp",)):
+    """The parameter whose first-order contribution to the spread of each response is the largest,
+    on the plane z (columns: designs; rows: case x response); hatched where it explains less than
+    half of the spread. ``maps``: {(design, case): ``uq.dominant_map`` table}."""
     designs, cases = _uq_designs(maps), _uq_cases(maps)
-    rows = [(case, key) for case in cases for key in UQ6_RESPONSES]
+    one = len(responses) == 1
+    rows = [(case, key) for case in cases for key in responses]
     names = sorted(
         {
             n
             for df in maps.values()
-            for r in UQ6_RESPONSES.values()
-            for n in df[r["dominant"]].dropna().unique()
+            for key in responses
+            for n in df[RESPONSES[key]["dominant"]].dropna().unique()
             if n
         }
     )
@@ -607,23 +364,24 @@ def uq6_dominant_map(maps, A, z, out, mode=None):
     fig, axes = plt.subplots(
         len(rows),
         len(designs),
-        figsize=(5 * len(designs) + 2, 4.0 * len(rows)),
+        figsize=(5 * len(designs) + 2, (4.75 if one else 4.0) * len(rows)),
         squeeze=False,
         layout="constrained",
     )
     for j, dk in enumerate(designs):
         for i, (case, key) in enumerate(rows):
-            r, ax = UQ6_RESPONSES[key], axes[i, j]
+            r, ax = RESPONSES[key], axes[i, j]
             df = maps.get((dk, case))
             if df is None:
                 ax.set_visible(False)
                 continue
-            ax.set_facecolor(NOT_OK_COLOUR)
+            if not one:
+                ax.set_facecolor(NOT_OK_COLOUR)
             val = df[r["dominant"]].map(lambda n: code.get(n, np.nan)).astype(float)
             xs, ys, Z = plane_grid(df, val.to_numpy())
             _, _, share = plane_grid(df, df[r["share"]].to_numpy())
             ax.pcolormesh(xs, ys, Z, cmap=cmap, vmin=-0.5, vmax=len(names) - 0.5, shading="nearest")
-            if np.nanmin(np.where(np.isfinite(share), share, 1.0)) < 0.5:
+            if one or np.nanmin(np.where(np.isfinite(share), share, 1.0)) < 0.5:
                 ax.contourf(
                     xs,
                     ys,
@@ -633,35 +391,51 @@ def uq6_dominant_map(maps, A, z, out, mode=None):
                     hatches=["///"],
                 )
             draw_anchors(ax, A)
-            ax.set(
-                xlabel="x [m]", ylabel="y [m]", title=f"{dk} {case}: spread of {r['label']}", aspect="equal"
-            )
-            ax.title.set_fontsize(9)
+            if one:
+                ax.set(xlabel="x [m]", ylabel="y [m]", title=f"{dk} {case}", aspect="equal")
+            else:
+                title = f"{dk} {case}: spread of {r['label']}"
+                ax.set(xlabel="x [m]", ylabel="y [m]", title=title, aspect="equal")
+                ax.title.set_fontsize(9)
     handles = [Patch(color=cmap(code[n]), label=n) for n in names]
     fig.legend(handles=handles, loc="outside right center", fontsize=7, title="dominant")
-    fig.suptitle(
-        f"Dominant uncertain parameter at z = {z:g} m (hatched: < 50 %)\n{mode_suffix(mode)[3:]}", fontsize=10
-    )
+    title = f"Dominant uncertain parameter at z = {z:g} m (hatched: < 50 %)"
+    fig.suptitle(title + (mode_suffix(mode) if one else f"\n{mode_suffix(mode)[3:]}"), fontsize=10)
     return save(fig, out)
 
 
-def uq6_residual_map(maps, A, z, out, mode=None):
-    """``uq_residual_map`` of a rigid platform: on the plane z, per design (columns) and case, the
-    nominal robot's ‖δp‖ and δφ and their first-order spreads under the declared parameters (RMS of
-    the per-parameter contributions, ``uq6.dominant_map``); grey: not ok."""
+def uq_residual_map(maps, A, z, out, mode=None, responses=("dp",)):
+    """What compensation leaves, on the plane z (beyond the paper): for each design (columns) and
+    case the study ran, the nominal robot's ‖δp‖ (uncompensated: the pose error the paper studies;
+    compensated: the round-trip residual of the compensated lengths, 0 up to rounding) and the
+    first-order spread of ‖δp‖ under the declared parameters (RMS of the per-parameter
+    contributions, ``uq.dominant_map``'s ``rms_m``), and the same of δφ for a pose. Rows: nominal
+    then spread, per case and response; grey: not ok. ``maps``: {(design, case):
+    ``uq.dominant_map`` table}."""
     designs, cases = _uq_designs(maps), _uq_cases(maps)
-    cols = [(key, c) for key in UQ6_RESPONSES for c in ("nominal", "rms")]
-    rows = [(case, key, c) for case in cases for key, c in cols]
+    one = len(responses) == 1
+    rows = [(case, key, c) for case in cases for key in responses for c in ("nominal", "rms")]
     fig, axes = plt.subplots(
         len(rows),
         len(designs),
-        figsize=(6 * len(designs) + 1.5, 3.9 * len(rows)),
+        figsize=(5 * len(designs) + 1.5, 4.4 * len(rows))
+        if one
+        else (6 * len(designs) + 1.5, 3.9 * len(rows)),
         squeeze=False,
         layout="constrained",
     )
     for i, (case, key, c) in enumerate(rows):
-        r = UQ6_RESPONSES[key]
-        what = f"nominal robot {r['label']}" if c == "nominal" else f"spread of {r['label']} (RMS)"
+        r = RESPONSES[key]
+        if one:
+            what = (
+                f"nominal robot {r['label']}"
+                if c == "nominal"
+                else f"spread of {r['label']} (RMS, declared parameters)"
+            )
+            bar = f"{what.split(' (')[0]} [{r['unit']}]"
+        else:
+            what = f"nominal robot {r['label']}" if c == "nominal" else f"spread of {r['label']} (RMS)"
+            bar = f"{r['label']} [{r['unit']}]"
         for j, dk in enumerate(designs):
             ax = axes[i, j]
             df = maps.get((dk, case))
@@ -679,24 +453,34 @@ def uq6_residual_map(maps, A, z, out, mode=None):
             else:
                 levels = round_levels(float(finite.min()), float(finite.max()), 10)
                 cf = ax.contourf(xs, ys, Z, levels=levels, cmap="viridis")
-                fig.colorbar(cf, ax=ax, label=f"{r['label']} [{r['unit']}]", shrink=0.8)
+                fig.colorbar(cf, ax=ax, label=bar, shrink=0.8)
                 label = f"{finite.min():.3g} to {finite.max():.3g} {r['unit']}"
             draw_anchors(ax, A)
             ax.set(xlabel="x [m]", ylabel="y [m]", title=f"{dk} {case}: {what}\n{label}", aspect="equal")
             ax.title.set_fontsize(8)
-    fig.suptitle(f"What compensation leaves at z = {z:g} m\n{mode_suffix(mode)[3:]}", fontsize=10)
+    if one:
+        title = f"What compensation leaves at z = {z:g} m (beyond the paper){mode_suffix(mode)}"
+    else:
+        title = f"What compensation leaves at z = {z:g} m\n{mode_suffix(mode)[3:]}"
+    fig.suptitle(title, fontsize=10)
     return save(fig, out)
 
 
-def uq6_agreement(mc, out, mode=None):
-    """``uq_agreement`` of a rigid platform: the global index of ‖δp‖ (top) and of δφ (bottom) of
-    each full-solve Monte Carlo sample against its linearised value, per design and case, with the
-    line of equality."""
+def uq_agreement(mc, out, mode=None, responses=("dp",)):
+    """The global index of each response of each full-solve Monte Carlo sample against its
+    linearised value, one panel per design and case (columns) and response (rows), with the line of
+    equality."""
     keys = sorted(mc)
+    one = len(responses) == 1
     fig, axes = plt.subplots(
-        2, len(keys), figsize=(max(3.8 * len(keys), 7.0), 7.6), squeeze=False, layout="constrained"
+        len(responses),
+        len(keys),
+        figsize=(3.8 * len(keys), 4.2) if one else (max(3.8 * len(keys), 7.0), 7.6),
+        squeeze=False,
+        layout="constrained",
     )
-    for i, r in enumerate(UQ6_RESPONSES.values()):
+    for i, resp in enumerate(responses):
+        r = RESPONSES[resp]
         for ax, key in zip(axes[i], keys):
             df, k = mc[key], r["scale"]
             ax.plot(df[r["full"]] * k, df[r["lin"]] * k, "o", ms=3, color=OKABE_ITO[0])
@@ -706,12 +490,14 @@ def uq6_agreement(mc, out, mode=None):
             ax.set(
                 xlabel=f"full solves [{r['unit']}]",
                 ylabel=f"linearised [{r['unit']}]",
-                title=f"{key[0]} {key[1]}: index of {r['label']}",
+                title=f"{key[0]}\n{key[1]}" if one else f"{key[0]} {key[1]}: index of {r['label']}",
             )
             ax.title.set_fontsize(9)
             ax.tick_params(axis="x", labelrotation=30, labelsize=7)
             ax.grid(alpha=0.3)
-    fig.suptitle(
-        f"Global indices per sample: linearised against full solves\n{mode_suffix(mode)[3:]}", fontsize=10
-    )
+    if one:
+        title = f"Global index per sample: linearised against full solves{mode_suffix(mode)}"
+    else:
+        title = f"Global indices per sample: linearised against full solves\n{mode_suffix(mode)[3:]}"
+    fig.suptitle(title, fontsize=10)
     return save(fig, out)

@@ -1,4 +1,5 @@
-"""Spatial pose-error model (cdpr.analyses.uncertainty6) on CoGiRo: without pulleys the error of
+"""The pose error model of a robot solved as a pose (cdpr.analyses.uncertainty.PoseErrorModel,
+responses ‖δp‖ and δφ) on CoGiRo: without pulleys the error of
 the commanded L_TS is the elastic one alone, so it scales as 1/E and vanishes as E → ∞ (position
 and orientation); the implicit-function linearisation predicts a small modulus change."""
 
@@ -13,10 +14,10 @@ from cdpr.analyses.uncertainty import (
     parameter_samples,
     sobol_analysis,
 )
-from cdpr.analyses.uncertainty6 import PoseErrorModel6, spatial_columns, spatial_theta
+from cdpr.errors import CdprError
 from cdpr.models.equilibrium import solve as solve_spatial
 from cdpr.models.platform import rotation_error
-from cdpr.parameters import parameter_names6, parameter_values, parameter_values6, robot_with_parameters6
+from cdpr.parameters import group_columns, parameter_names, parameter_values, robot_with_parameters
 from cdpr.robot import load_robot
 from tests.conftest import ROBOTS
 
@@ -30,14 +31,15 @@ def cogiro():
 
 def test_pulleyless_error_is_elastic_and_vanishes_as_E_grows(cogiro):
     m = cogiro.m
-    th = parameter_values6(cogiro).copy()
+    th = parameter_values(cogiro).copy()
     th[m : 3 * m] = 0.0  # h_i = r_p_i = 0: L_TS is the exact geometric length
-    model = PoseErrorModel6(robot_with_parameters6(cogiro, th), P)
+    model = PoseErrorModel(robot_with_parameters(cogiro, th), P)
     out = {}
     for s in (1.0, 1e3, 1e6):
         t = th.copy()
         t[:m] *= s
-        dp, dphi, ok = model.solve(t)
+        y, ok = model.solve(t)
+        dp, dphi = y["dp"], y["dphi"]
         assert ok.all()
         out[s] = (dp[0], dphi[0])
     assert np.all(out[1e6][0] < 1e-7) and np.all(out[1e6][1] < 1e-8)
@@ -51,13 +53,13 @@ def test_pulleyless_error_is_elastic_and_vanishes_as_E_grows(cogiro):
     ("name", "rel", "absolute"), [("E_1", 0.01, 0.0), ("d_3", 0.0, 1e-3), ("M", 0.01, 0.0)]
 )
 def test_linearisation_predicts_small_change(cogiro, name, rel, absolute):
-    model = PoseErrorModel6(cogiro, P)
-    th0 = parameter_values6(cogiro)
-    lin = model.linearise()
-    k = parameter_names6(cogiro.m).index(name)
+    model = PoseErrorModel(cogiro, P)
+    th0 = parameter_values(cogiro)
+    lin = model.nominal_pose()
+    k = parameter_names(cogiro).index(name)
     th = th0.copy()
     th[k] += rel * th0[k] + absolute  # 1 % of E or M, 1 mm of a dead length
-    full = solve_spatial(robot_with_parameters6(cogiro, th), model.p, model.rotvec, L0=model.L0)
+    full = solve_spatial(robot_with_parameters(cogiro, th), model.p, model.rotvec, L0=model.L)
     d = th[k] - th0[k]
     pred = lin["P_s"] + lin["S"][:, :3, k] * d
     step = np.linalg.norm(full["P_s"] - lin["P_s"], axis=1)
@@ -79,14 +81,14 @@ def test_monte_carlo_linear_agrees_with_full_solves_for_small_spreads(cogiro):
         },
         "dead_length_offset_m": {"dist": "uniform", "low": -1e-3, "high": 1e-3},
     }
-    drs = drivers(spec, cogiro.m)
+    drs = drivers(spec, cogiro)
     assert len(drs) == 2 * cogiro.m
-    th6 = spatial_theta(cogiro, parameter_samples(cogiro, drs, mc_uniforms(7, 0, 6, len(drs))))
-    model = PoseErrorModel6(cogiro, P[:1])
-    lin = model.linearise()
+    th6 = parameter_samples(cogiro, drs, mc_uniforms(7, 0, 6, len(drs)))
+    model = PoseErrorModel(cogiro, P[:1])
+    lin = model.nominal_pose()
     d = th6 - lin["theta0"]
     for t, dt in zip(th6, d, strict=True):
-        full = solve_spatial(robot_with_parameters6(cogiro, t), model.p, model.rotvec, L0=model.L0)
+        full = solve_spatial(robot_with_parameters(cogiro, t), model.p, model.rotvec, L0=model.L)
         pred = lin["P_s"] + np.einsum("nak,k->na", lin["S"][:, :3], dt)
         step = np.linalg.norm(full["P_s"] - lin["P_s"], axis=1)
         assert np.all(step > 0)
@@ -94,13 +96,13 @@ def test_monte_carlo_linear_agrees_with_full_solves_for_small_spreads(cogiro):
 
 
 def first_pose_errors(model, robot):
-    """The Sobol evaluator of ``model`` (a ``PoseErrorModel6`` at one pose): θ samples (k, ·) ->
+    """The Sobol evaluator of ``model`` (a pose ``PoseErrorModel`` at one pose): θ samples (k, ·) ->
     (k, 2) = (‖δp‖, δφ), every solve ``ok``."""
 
     def evaluate(theta):
-        dp, dphi, ok = model.solve(spatial_theta(robot, theta))
+        y, ok = model.solve(theta)
         assert ok.all()
-        return np.column_stack([dp[:, 0], dphi[:, 0]])
+        return np.column_stack([y["dp"][:, 0], y["dphi"][:, 0]])
 
     return evaluate
 
@@ -110,13 +112,14 @@ def linearised_against_full(robot, spec, seed, case, min_change):
     and δφ from the nominal by more than ``min_change`` and that the first-order propagation
     (``linearisations``) predicts the full solves' change within 5 % (uncompensated), or the
     compensated error itself within 5 %. Returns the nominal (‖δp‖, δφ)."""
-    drs = drivers(spec, robot.m)
+    drs = drivers(spec, robot)
     th = parameter_samples(robot, drs, mc_uniforms(seed, 0, 5, len(drs)))
-    model = PoseErrorModel6(robot, P, case=case)
-    pos, rot = model.linearisations(driver_columns(drs))
-    dp_f, phi_f, ok = model.solve(spatial_theta(robot, th))
+    model = PoseErrorModel(robot, P, case=case)
+    lins = model.linearisations(driver_columns(drs))
+    pos, rot = lins["dp"], lins["dphi"]
+    (y, ok), (y0, _) = model.solve(th), model.solve(parameter_values(robot))
     assert ok.all() and pos.ok.all()
-    dp0, phi0, _ = model.solve(spatial_theta(robot, parameter_values(robot)))
+    dp_f, phi_f, dp0, phi0 = y["dp"], y["dphi"], y0["dp"], y0["dphi"]
     for full, lin, nominal in ((dp_f, pos.dp(th), dp0), (phi_f, rot.dp(th), phi0)):
         change = np.abs(full - nominal)
         assert np.all(change > min_change)
@@ -133,8 +136,8 @@ def test_sobol_indices_of_spatial_responses_are_bounded(cogiro):
         "young_modulus_Pa": {"dist": "uniform", "low": 0.9 * E, "high": 1.1 * E, "per_cable": False},
         "dead_length_offset_m": {"dist": "uniform", "low": -1e-3, "high": 1e-3, "per_cable": False},
     }
-    drs = drivers(spec, cogiro.m)
-    model = PoseErrorModel6(cogiro, P[:1])
+    drs = drivers(spec, cogiro)
+    model = PoseErrorModel(cogiro, P[:1])
     evaluate = first_pose_errors(model, cogiro)
 
     idx, Y, _ = sobol_analysis(evaluate, drs, cogiro, 32, 3, ["dp_norm_m", "dphi_rad"])
@@ -169,8 +172,8 @@ def test_a_parameter_without_variance_has_zero_sobol_indices(cogiro):
         "dead_length_offset_m": {"dist": "uniform", "low": -1e-3, "high": 1e-3, "per_cable": False},
         "mass_kg": {"dist": "uniform", "low": M, "high": M},
     }
-    drs = drivers(spec, cogiro.m)
-    model = PoseErrorModel6(cogiro, P[:1])
+    drs = drivers(spec, cogiro)
+    model = PoseErrorModel(cogiro, P[:1])
     evaluate = first_pose_errors(model, cogiro)
 
     idx, _, _ = sobol_analysis(evaluate, drs, cogiro, 16, 5, ["dp", "dphi"])
@@ -185,26 +188,29 @@ def test_on_a_point_mass_robot_dphi_is_zero_and_dp_is_the_point_mass_model(cdpr4
     independent solver) for per-cable moduli."""
     p = np.array([[0.0, 0.0, 1.5], [0.8, -0.6, 1.0]])
     spec = {"young_modulus_Pa": {"dist": "uniform", "low": 67.2e9, "high": 137.2e9, "per_cable": True}}
-    drs = drivers(spec, cdpr4.m)
+    drs = drivers(spec, cdpr4)
     th = parameter_samples(cdpr4, drs, mc_uniforms(3, 0, 4, len(drs)))
-    six = PoseErrorModel6(cdpr4, p)
+    six = PoseErrorModel(cdpr4, p, pose=True)
     point = PoseErrorModel(cdpr4, p, redundancy="physical")
-    dp6, phi6, ok6 = six.solve(spatial_theta(cdpr4, th))
-    dp3, ok3 = point.solve(th)
+    assert six.responses == ("dp", "dphi") and point.responses == ("dp",)
+    (y6, ok6), (y3, ok3) = six.solve(th), point.solve(th)
     assert ok6.all() and ok3.all()
-    assert np.all(phi6 == 0.0)
-    np.testing.assert_allclose(dp6, dp3, rtol=1e-6, atol=1e-9)
-    pos, rot = six.linearisations(driver_columns(drs))
-    np.testing.assert_allclose(pos.dp(th), point.linearise(driver_columns(drs)).dp(th), rtol=1e-5, atol=1e-9)
-    assert np.all(rot.dp(th) == 0.0)
+    assert np.all(y6["dphi"] == 0.0)
+    np.testing.assert_allclose(y6["dp"], y3["dp"], rtol=1e-6, atol=1e-9)
+    lins = six.linearisations(driver_columns(drs))
+    np.testing.assert_allclose(
+        lins["dp"].dp(th), point.linearise(driver_columns(drs)).dp(th), rtol=1e-5, atol=1e-9
+    )
+    assert np.all(lins["dphi"].dp(th) == 0.0)
 
 
-def test_spatial_columns_map_the_mass_to_the_last_6dof_column(cogiro):
-    m = cogiro.m
-    th = parameter_values(cogiro)
-    cols = np.arange(7 * m + 1)
-    np.testing.assert_array_equal(spatial_theta(cogiro, th)[0, spatial_columns(m, cols)], th)
-    assert parameter_names6(m)[spatial_columns(m, [7 * m])[0]] == "M"
+def test_the_mass_driver_sets_the_last_column_on_both_kinds_of_robot(cogiro, cdpr4):
+    """One θ per robot: M is its last column on a rigid platform (10 m + 4) and on a point mass
+    (7 m + 1), and the drivers keep their draw order (the study's keys, then cables)."""
+    spec = {"mass_kg": {"dist": "uniform", "low": 80.0, "high": 100.0}}
+    for robot in (cogiro, cdpr4):
+        (dr,) = drivers(spec, robot)
+        assert dr.columns == (len(parameter_names(robot)) - 1,) and parameter_names(robot)[-1] == "M"
 
 
 # ---- a rigid platform's attachments b_i and centre of mass c as uncertain parameters -------------
@@ -220,34 +226,36 @@ RIGID = {
 }
 
 
-def test_attachment_and_com_drivers_set_the_columns_after_the_mass(cogiro):
+def test_attachment_and_com_drivers_set_the_b_and_c_columns(cogiro, cdpr4):
     """The drivers of attachment_offset_m (b_i_x/y/z per cable) and com_offset_m (c_x, c_y, c_z)
-    come after every point-mass driver (a study without them keeps its drivers' numbers), set the
-    columns after M of θ = (E, h, r_p, d, A, M, b, c), and ``spatial_theta`` puts them in
-    ``parameter_names6``'s columns: the sampled robot has the drawn attachments and centre of mass."""
+    come after every point-mass driver (a study without them keeps its drivers' numbers) and set the
+    b and c columns of the robot's θ (E, h, r_p, d, A, b, c, M): the sampled robot has the drawn
+    attachments and centre of mass; a point mass refuses them in one line."""
     m = cogiro.m
-    drs = drivers(RIGID, m)
+    drs = drivers(RIGID, cogiro)
     names = [d.name for d in drs]
     assert names[0] == "E_all" and names[1:4] == ["b_1_x", "b_1_y", "b_1_z"]
     assert names[-3:] == ["c_x", "c_y", "c_z"] and len(drs) == 1 + 3 * m + 3
-    assert [d.name for d in drivers({k: RIGID[k] for k in ("young_modulus_Pa",)}, m)] == ["E_all"]
+    assert [d.name for d in drivers({k: RIGID[k] for k in ("young_modulus_Pa",)}, cogiro)] == ["E_all"]
     th = parameter_samples(cogiro, drs, mc_uniforms(4, 0, 6, len(drs)))
     assert th.shape == (6, 10 * m + 4)
+    cols = group_columns(cogiro)
     E = th[:, :m]
     assert np.all(E == E[:, :1]) and np.ptp(E[:, 0]) > 0  # one shared modulus
-    np.testing.assert_array_equal(th[:, m : 7 * m + 1], np.tile(parameter_values(cogiro)[m:], (6, 1)))
+    fixed = np.r_[m : 7 * m, 10 * m + 3]  # h, r_p, d, A and M stay nominal
+    np.testing.assert_array_equal(th[:, fixed], np.tile(parameter_values(cogiro)[fixed], (6, 1)))
     b0, c0 = cogiro.arrays.b.ravel(), cogiro.arrays.com
-    db, dc = th[:, 7 * m + 1 : 10 * m + 1] - b0, th[:, 10 * m + 1 :] - c0
+    db, dc = th[:, cols["b"]] - b0, th[:, cols["c"]] - c0
     assert np.abs(db).max() <= 1e-3 and db.std() > 2e-4 and np.abs(dc).max() <= 5e-3 and dc.std() > 1e-3
-    th6 = spatial_theta(cogiro, th)
-    names6 = parameter_names6(m)
     for k in (0, 5):
-        r = robot_with_parameters6(cogiro, th6[k])
-        np.testing.assert_array_equal(r.arrays.b.ravel(), th[k, 7 * m + 1 : 10 * m + 1])
-        np.testing.assert_array_equal(r.arrays.com, th[k, 10 * m + 1 :])
-        assert r.platform.mass == th[k, 7 * m] == th6[k, names6.index("M")]
-    cols = np.arange(10 * m + 4)
-    np.testing.assert_array_equal(th6[:, spatial_columns(m, cols)], th)
+        r = robot_with_parameters(cogiro, th[k])
+        np.testing.assert_array_equal(r.arrays.b.ravel(), th[k, cols["b"]])
+        np.testing.assert_array_equal(r.arrays.com, th[k, cols["c"]])
+        assert r.platform.mass == th[k, -1] == cogiro.platform.mass
+    with pytest.raises(
+        CdprError, match=r"uncertainty.parameters.attachment_offset_m: robot .* is a point mass"
+    ):
+        drivers(RIGID, cdpr4)
 
 
 @pytest.mark.parametrize("case", ["uncompensated", "compensated"])
@@ -263,8 +271,8 @@ def test_com_offset_alone_tilts_the_platform_and_has_sobol_weight(cogiro):
     """The centre of mass off the reference point turns the platform under gravity (a moment): with
     the moduli held, δφ moves with c, and c's total Sobol index on δφ is large."""
     spec = {"com_offset_m": {"dist": "uniform", "low": -0.02, "high": 0.02}}
-    drs = drivers(spec, cogiro.m)
-    model = PoseErrorModel6(cogiro, P[:1])
+    drs = drivers(spec, cogiro)
+    model = PoseErrorModel(cogiro, P[:1])
     evaluate = first_pose_errors(model, cogiro)
 
     idx, _, _ = sobol_analysis(evaluate, drs, cogiro, 16, 5, ["dp", "dphi"])

@@ -1,6 +1,6 @@
-"""The uncertainty study's experiments on a spatial robot (cdpr.pipeline.uq6) on the quick spatial
-study: shards reproducible whatever their number, uq's columns kept (uq.bands and uq.agreement read
-the tables) with δφ beside them, the linearised nominal row equal to the full solves of the nominal
+"""The uncertainty study's experiments on a robot solved as a pose (cdpr.pipeline.uq, responses ‖δp‖
+and δφ) on the quick spatial study: shards reproducible whatever their number, the point mass's
+columns kept (uq.bands and uq.agreement read the tables) with δφ beside them, the linearised nominal row equal to the full solves of the nominal
 robot, and the compensated nominal robot a round trip."""
 
 import copy
@@ -12,7 +12,7 @@ import pandas as pd
 import pytest
 
 from cdpr.errors import ConfigError
-from cdpr.pipeline import summary, uq, uq6
+from cdpr.pipeline import summary, uq
 from cdpr.pipeline.study import Study, load_study
 from tests.conftest import ROOT
 
@@ -38,10 +38,10 @@ def _study(st, **mc):
 
 
 def test_spatial_monte_carlo_reproducible_across_shard_counts(spatial):
-    one = uq6.mc_shard(_study(spatial, full_samples=4, shards=1), "SRopt", "uncompensated", BOX, 0)[0]
+    one = uq.mc_shard(_study(spatial, full_samples=4, shards=1), "SRopt", "uncompensated", BOX, 0)[0]
     two = pd.concat(
         [
-            uq6.mc_shard(_study(spatial, full_samples=4, shards=2), "SRopt", "uncompensated", BOX, k)[0]
+            uq.mc_shard(_study(spatial, full_samples=4, shards=2), "SRopt", "uncompensated", BOX, k)[0]
             for k in (0, 1)
         ],
         ignore_index=True,
@@ -52,18 +52,21 @@ def test_spatial_monte_carlo_reproducible_across_shard_counts(spatial):
 
 @pytest.mark.parametrize("case", ["uncompensated", "compensated"])
 def test_spatial_tables_keep_uq_columns_and_the_nominal_row_is_the_full_solve(spatial, case):
-    samples, points = uq6.mc_shard(spatial, "SRopt", case, BOX, 0)
-    linear = uq6.linear_samples(spatial, "SRopt", case, BOX)
-    b = uq.bands(linear, samples)  # the point-mass aggregation reads the spatial tables
+    samples, points = uq.mc_shard(spatial, "SRopt", case, BOX, 0)
+    linear = uq.linear_samples(spatial, "SRopt", case, BOX)
+    b = uq.bands(linear, samples)  # without Saltelli's rows: ‖δp‖'s two rows, no δφ band
     assert list(b.method) == ["linearised", "full"] and np.isfinite(b.index_q50_m).all()
+    assert "index_phi_q50_rad" not in b
     a = uq.agreement(samples, points, spatial["uncertainty"]["monte_carlo"]["agree_tol_m"])
     assert a["n"] == len(samples)
     # sample -1: the linearisation's nominal answer is the nominal robot's full solve on the same grid
     nom = linear[linear["sample"] == -1].iloc[0]
     np.testing.assert_allclose(nom.index_m, points.dp_nominal_m.mean(), rtol=1e-12)
     np.testing.assert_allclose(nom.index_phi_rad, points.dphi_nominal_rad.mean(), rtol=1e-12)
-    phi = uq6.phi_bands(linear, samples, linear[linear["sample"] >= 0])
-    assert len(phi) == 3 and (phi.index_phi_min_rad <= phi.index_phi_max_rad).all()
+    phi = uq.bands(linear, samples, rows=linear[linear["sample"] >= 0])
+    assert list(phi.method) == ["linearised", "full", "all_parameters"]
+    assert (phi.index_phi_min_rad <= phi.index_phi_max_rad).all() and np.isfinite(phi.index_phi_q50_rad).all()
+    assert {"max_index_phi_diff_rad", "max_point_phi_diff_rad"} <= set(a)
     if case == "compensated":  # compensated lengths hold the nominal robot at the pose
         assert nom.index_m < 1e-8 and nom.index_phi_rad < 1e-8
         assert (samples.index_full_m > 1e-5).all()  # the per-cable moduli move it
@@ -72,14 +75,14 @@ def test_spatial_tables_keep_uq_columns_and_the_nominal_row_is_the_full_solve(sp
 
 
 def test_spatial_path_bands_bracket_their_median(spatial):
-    b = uq6.path_bands(spatial, "SRopt", "uncompensated")
+    b = uq.path_bands(spatial, "SRopt", "uncompensated")
     assert (b.ok_share == 1).all()
     for q in ("_m", "_phi_rad"):
         assert (b[f"q05{q}"] <= b[f"q50{q}"]).all() and (b[f"q50{q}"] <= b[f"q95{q}"]).all()
 
 
 def test_spatial_sobol_covers_both_responses_and_every_declared_driver(spatial):
-    indices, rows = uq6.sobol(spatial, "SRopt", "uncompensated", BOX)
+    indices, rows = uq.sobol(spatial, "SRopt", "uncompensated", BOX)
     outputs = set(indices.output)
     assert {"index", "index_phi", "dp@(0, 0, 2)", "dphi@(0, 0, 2)"} == outputs
     groups = set(indices[indices.level == "group"].name)
@@ -89,7 +92,7 @@ def test_spatial_sobol_covers_both_responses_and_every_declared_driver(spatial):
 
 
 def test_spatial_dominant_map_names_a_driver_for_each_response(spatial):
-    m = uq6.dominant_map(spatial, "SRopt", "uncompensated")
+    m = uq.dominant_map(spatial, "SRopt", "uncompensated")
     ok = m.dominant != ""
     assert ok.any() and (m.dominant_phi[ok] != "").all()
     assert ((m.share[ok] > 0) & (m.share[ok] <= 1)).all() and (m.rms_phi_rad[ok] > 0).all()
@@ -139,18 +142,18 @@ def test_rigid_platform_keys_run_through_the_spatial_uncertainty_study(rigid):
     and the linearised propagation of the same samples agree (within the study's tolerance on
     ‖δp‖), the linearised nominal row is the nominal robot's full solve, and Sobol and the dominant
     map name the b and c drivers and groups."""
-    samples, points = uq6.mc_shard(rigid, "SRopt", "uncompensated", BOX, 0)
+    samples, points = uq.mc_shard(rigid, "SRopt", "uncompensated", BOX, 0)
     assert (samples["index_full_m"] > 0).all()
     assert (points["max_diff_m"] < rigid["uncertainty"]["monte_carlo"]["agree_tol_m"]).all()
-    linear = uq6.linear_samples(rigid, "SRopt", "uncompensated", BOX)
+    linear = uq.linear_samples(rigid, "SRopt", "uncompensated", BOX)
     nom = linear[linear["sample"] == -1].iloc[0]
     np.testing.assert_allclose(nom.index_m, points.dp_nominal_m.mean(), rtol=1e-12)
     lin = linear[linear["sample"] >= 0].reset_index(drop=True)
     np.testing.assert_allclose(lin.index_m[: len(samples)], samples.index_full_m, rtol=2e-2)
-    indices, _ = uq6.sobol(rigid, "SRopt", "uncompensated", BOX)
+    indices, _ = uq.sobol(rigid, "SRopt", "uncompensated", BOX)
     assert {"b", "c"} <= set(indices[indices.level == "group"].name)
     assert {"b_1_x", "c_z"} <= set(indices[indices.level == "parameter"].name)
-    m = uq6.dominant_map(rigid, "SRopt", "uncompensated")
+    m = uq.dominant_map(rigid, "SRopt", "uncompensated")
     assert (m.dominant != "").any()
 
 
