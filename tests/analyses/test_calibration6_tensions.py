@@ -10,7 +10,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-import cdpr.models.equilibrium as equilibrium
+import cdpr.models.cables as cables
 from cdpr.analyses import calibration as cal
 from cdpr.cli.main import main
 from cdpr.errors import CdprError, ConfigError
@@ -59,7 +59,7 @@ def test_tension_rows_jacobian_equals_central_differences(cogiro, cogiro_winch, 
     re-solved to round-off (FTOL_REL 1e-15) and the steps are 2e-3 prior sd (FD error ~1e-6).
     Length priors of 5 mm: a cable's stiffness E S / L0 ~ 1.3e5 N/m turns 0.1 prior sd of 5 mm
     into ~65 N."""
-    monkeypatch.setattr(equilibrium, "FTOL_REL", 1e-15)
+    monkeypatch.setattr(cables, "FTOL_REL", 1e-15)
     robot = cogiro_winch if winch else cogiro
     groups = ["moduli", "pulleys", "dead_lengths", "anchors", "attachments", "offsets", "mass"]
     rng = np.random.default_rng(4)

@@ -7,7 +7,7 @@ group) equals central differences of the full residual, and noise-free data reco
 import numpy as np
 import pytest
 
-import cdpr.models.equilibrium as equilibrium
+import cdpr.models.cables as cables
 from cdpr.analyses import calibration as cal
 from cdpr.parameters import calibration_names, select_groups
 from cdpr.robot import load_robot
@@ -52,7 +52,7 @@ def test_the_6dof_path_equals_the_point_mass_path_on_a_suspended_point_mass(cdpr
     """Problem6 forced on the suspended CDPR4 (the 6-DoF equilibrium with b = 0, c = 0) against
     Problem (the point-mass physical solver): same equilibria, residual and exact Jacobian, pose and
     tension rows, to the solvers' tolerance."""
-    monkeypatch.setattr(equilibrium, "FTOL_REL", 1e-15)
+    monkeypatch.setattr(cables, "FTOL_REL", 1e-15)
     rng = np.random.default_rng(2)
     data = cal.simulate(cdpr4, cdpr4, _poses(rng, 6), offsets=np.zeros(4), tensions=True)
     data.pose[::3] = np.nan  # two samples with tensions only
@@ -78,7 +78,7 @@ def test_analytic_jacobian_equals_central_differences_of_the_full_residual(tilte
     which re-solves every equilibrium; every group, encoder offsets, two samples without a pose.
     The tension rows are a small difference of large terms, so the equilibria are re-solved to
     round-off (FTOL_REL 1e-15)."""
-    monkeypatch.setattr(equilibrium, "FTOL_REL", 1e-15)
+    monkeypatch.setattr(cables, "FTOL_REL", 1e-15)
     rng = np.random.default_rng(4)
     data = cal.simulate(tilted, tilted, _poses(rng, 40), offsets=np.zeros(4), tensions=True)
     data = data.subset(np.flatnonzero(data.tension.min(axis=1) > 300.0)[:6])  # every cable taut

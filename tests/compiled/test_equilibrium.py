@@ -9,7 +9,7 @@ from cdpr.analyses.workspace import frame_box, grid_points
 from cdpr.compiled.equilibrium import solve_points as solve_physical_fast
 from cdpr.compiled.equilibrium import solve_points_batch as solve_physical_batch
 from cdpr.errors import CdprError
-from cdpr.models.equilibrium import FTOL_REL
+from cdpr.models.cables import FTOL_REL
 from cdpr.models.inverse import L_TS
 from cdpr.models.pulleys import total_length_and_direction
 from cdpr.parameters import parameter_values, robot_with_parameters

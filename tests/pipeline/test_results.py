@@ -269,9 +269,13 @@ def test_the_spatial_study_layout_is_the_dag_and_names_its_paths(at_root, tmp_pa
         f"results={tmp_path / 'r'}",
     )
     assert p.returncode == 0, p.stderr[-2000:]
-    solves = [ln for ln in p.stdout.splitlines() if " -m cdpr grid " in ln or " -m cdpr plane " in ln]
-    assert solves and all("--rotvec 0.0 0.0 0.0" in ln and "--redundancy physical" in ln for ln in solves)
-    assert sum("--wrench-feasible" in ln for ln in solves) == 8  # the 8 DOE workspace grids
+    # the solver jobs read the study's options (physical mode, the fixed orientation) as values
+    kinds = ("plane-table", "volume-shard", "workspace-grid", "trajectory-table", "elasticity-path")
+    solves = [ln for ln in p.stdout.splitlines() if any(f" -m cdpr job {k} " in ln for k in kinds)]
+    assert solves and all(f"--study {path}" in ln and "--redundancy" not in ln for ln in solves)
+    assert st.options.redundancy == "physical" and st.options.rotvec == (0.0, 0.0, 0.0)
+    # the 8 DOE workspace grids: the job adds the wrench-feasible test itself on a spatial study
+    assert sum(" -m cdpr job workspace-grid " in ln for ln in solves) == 8
 
 
 def test_every_robot_has_its_view_and_only_spatial_studies_have_dphi_volumes(at_root):
