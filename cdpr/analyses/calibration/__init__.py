@@ -123,6 +123,7 @@ from cdpr.analyses.calibration.identify import (
     TIE_DIGITS,
     direction_words,
     identifiability,
+    identifiability_without,
     sparse_basis,
 )
 from cdpr.analyses.calibration.model import (
@@ -225,6 +226,7 @@ __all__ = [
     "fit_motor",
     "fold_of",
     "identifiability",
+    "identifiability_without",
     "info_rows",
     "is_motor_table",
     "log_right_jacobian_inverse",

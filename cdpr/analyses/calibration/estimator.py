@@ -32,6 +32,7 @@ from scipy.optimize import least_squares
 from cdpr.analyses.calibration import motor
 from cdpr.analyses.calibration.identify import (
     identifiability,
+    identifiability_without,
 )
 from cdpr.analyses.calibration.model import (
     default_start,
@@ -512,10 +513,8 @@ def self_calibrate_standard(robot, data, groups, priors=None, sigma_L=SIGMA_L_DE
         residual, x0, jac=jacobian, method="trf", ftol=1e-15, xtol=1e-15, gtol=1e-15, max_nfev=200
     )
     J = jacobian(sol.x)[: n * m]
-    Q, _ = np.linalg.qr(J[:, : 3 * n])
-    Jth = J[:, 3 * n :]
     names = [calibration_names(m)[c] for c in index]
-    ident = identifiability(Jth - Q @ (Q.T @ Jth), names)
+    ident = identifiability_without(J[:, 3 * n :], J[:, : 3 * n], names)
     th = unpack(sol.x)[0]
     res = residual(sol.x)[: n * m].reshape(n, m) * sigma_L
     table = pd.DataFrame(
@@ -600,11 +599,9 @@ def fit_motor(robot, data, groups, priors=None, model="exact", sigma_line=SIGMA_
     )
     sm, P = unpack(sol.x)
     J = jacobian(sol.x)[: n * m + 3 * len(ip)]
-    Q, _ = np.linalg.qr(J[:, k:])
-    Jth = J[:, :k]
     names_all = motor_names(m)
     names = [names_all[c] for c in index]
-    ident = identifiability(Jth - Q @ (Q.T @ Jth), names)
+    ident = identifiability_without(J[:, :k], J[:, k:], names)
     res = line_residuals(sm, data, P, f, g)
     perr = np.full(n, np.nan)
     perr[ip] = np.linalg.norm(P[ip] - data.pose[ip], axis=1)

@@ -39,7 +39,8 @@ The fit is ``estimator.fit_motor`` (its result ``result.MotorCalibration``), the
 ``synthetic.simulate_motor``.
 
 The Jacobian is analytic; identifiability is that of θ with the poses eliminated (measurement rows
-projected on the orthogonal complement of the pose columns), as in ``self_calibrate_standard``.
+projected on the orthogonal complement of the pose columns, ``identify.identifiability_without``),
+as in ``self_calibrate_standard``.
 
 References
 ----------
