@@ -309,14 +309,16 @@ class Pulley:
 
 @dataclasses.dataclass(frozen=True)
 class CableMaterial:
-    """Cable material: Young's modulus E [Pa], diameter d_c [m], admissible tension T_a [N] and the
+    """Cable material: Young's modulus E [Pa], diameter d_c [m], admissible tension T_a [N], the
     least tension T_min [N] the robot's controller keeps (``min_tension_N``, default 0; e.g. CASPR's
-    ``force_min``)."""
+    ``force_min``) and the linear density rho [kg/m], mass per unstrained metre
+    (``linear_density_kg_m``, default 0: a massless cable; docs/heavy_cables.md)."""
 
     E: float
     diameter: float
     T_a: float
     T_min: float = 0.0
+    rho: float = 0.0
 
     @property
     def S(self):
@@ -383,7 +385,9 @@ class CableArrays(NamedTuple):
     A (m, 3) [m]; kind (m,) int8 codes (0 fixed, 1 SR, 2 DR); h, r_p, d (m,) [m]; inward (m, 2)
     horizontal unit vector from A_i toward the anchors' centroid (the pulley plane used when P is
     on the vertical through A_i); E (m,) [Pa]; S (m,) [m^2] (U S for the U strands of a spool,
-    ``Cable.strands``); ES (m,) [N]; T_a (m,) [N].
+    ``Cable.strands``); ES (m,) [N]; T_a (m,) [N]; rho (m,) [kg/m] mass per unstrained metre of the
+    line (U rho for the U strands of a spool) and w (m,) [N/m] = rho g its weight per unstrained
+    metre (0: massless, the default).
 
     Spatial fields: axis (m, 3) unit swivel axes k_i; frame (m, 3, 3) rows i_i, j_i, k_i of each
     pulley's frame (i_i = ``zero``, j_i = k_i x i_i; the identity for axis +z without ``zero``);
@@ -405,6 +409,8 @@ class CableArrays(NamedTuple):
     frame: np.ndarray = None
     b: np.ndarray = None
     com: np.ndarray = None
+    rho: np.ndarray = None
+    w: np.ndarray = None
 
 
 def require_point_mass(robot, what, instead, suspended=False, P=None):
@@ -441,6 +447,28 @@ def require_point_mass(robot, what, instead, suspended=False, P=None):
         raise CdprError(
             f"{robot.source}: {what} is the model of a point mass under pulleys with +z axes and this robot's "
             f"pulleys have other axes; use {instead}"
+        )
+
+
+def require_massless(robot, what):
+    """Refuse, in one line, heavy cables (``cable.linear_density_kg_m`` > 0) where ``what`` does not
+    model them yet (docs/heavy_cables.md: what is done so far), rather than drop their weight silently.
+
+    Parameters
+    ----------
+    robot : Robot
+    what : str
+        The refusing command or function.
+
+    Raises
+    ------
+    CdprError
+    """
+    if robot.heavy:
+        rho = "/".join(f"{x:g}" for x in robot.arrays.rho)
+        raise CdprError(
+            f"{robot.source}: {what} does not model heavy cables yet (cable.linear_density_kg_m = {rho} kg/m); "
+            "set it to 0 (--linear-density 0) for the massless model, see docs/heavy_cables.md"
         )
 
 
@@ -496,6 +524,7 @@ class Robot:
         E = np.array([c.material.E for c in self.cables], dtype=float)
         # U strands of a spool's line share the load: the cable's cross-section is U S (``Cable.strands``)
         S = np.array([c.material.S * c.strands for c in self.cables], dtype=float)
+        rho = np.array([c.material.rho * c.strands for c in self.cables], dtype=float)
         return CableArrays(
             A=A,
             kind=np.array([KIND_CODE[c.pulley.kind] for c in self.cables], dtype=np.int8),
@@ -511,7 +540,14 @@ class Robot:
             frame=frame,
             b=np.array([c.B for c in self.cables], dtype=float),
             com=np.array(self.platform.com, dtype=float),
+            rho=rho,
+            w=rho * self.platform.g,
         )
+
+    @property
+    def heavy(self):
+        """True when some cable has a linear density > 0 (``linear_density_kg_m``): heavy cables."""
+        return bool(self.arrays.rho.any())
 
     @cached_property
     def point_mass(self):
@@ -758,11 +794,15 @@ def _material(d, default, source, key):
             key + ".min_tension_N",
             f"the least tension must not exceed max_tension_N = {T_a:g} N, got {T_min:g} N",
         )
+    rho = _positive(
+        merged.get("linear_density_kg_m", 0.0), "kg/m", source, key + ".linear_density_kg_m", allow_zero=True
+    )
     return CableMaterial(
         E=_positive(merged["young_modulus_Pa"], "Pa", source, key + ".young_modulus_Pa"),
         diameter=_positive(merged["diameter_m"], "m", source, key + ".diameter_m"),
         T_a=T_a,
         T_min=T_min,
+        rho=rho,
     )
 
 
@@ -865,8 +905,8 @@ def robot_from_dict(data, source="<dict>"):
 
 def load_robot(path, **overrides):
     """Read a robot YAML file into a validated Robot, then set the keyword overrides on it as values
-    (``with_values``: ``pulley``, ``h``, ``r_p``, ``dead_length``, ``E``, ``E_cables``, ``mass``; None
-    leaves the file's value); the robot's ``source`` then names them, for the messages."""
+    (``with_values``: ``pulley``, ``h``, ``r_p``, ``dead_length``, ``E``, ``E_cables``, ``mass``,
+    ``linear_density``; None leaves the file's value); the robot's ``source`` then names them, for the messages."""
     robot = robot_from_dict(read_yaml(path), source=str(path))
     given = {k: v for k, v in overrides.items() if v is not None}
     if not given:
@@ -877,11 +917,22 @@ def load_robot(path, **overrides):
     return with_values(robot, **given)
 
 
-def with_values(robot, pulley=None, h=None, r_p=None, dead_length=None, E=None, E_cables=None, mass=None):
+def with_values(
+    robot,
+    pulley=None,
+    h=None,
+    r_p=None,
+    dead_length=None,
+    E=None,
+    E_cables=None,
+    mass=None,
+    linear_density=None,
+):
     """A copy of ``robot`` with values set as if its file had been edited, checked as the file's
     values are (one line naming the robot's source and the key): every cable's pulley ``pulley``
     (kind), ``h`` and ``r_p`` [m] (``with_pulleys``), ``dead_length`` [m] and Young's modulus ``E``
-    [Pa]; ``E_cables`` (m,) [Pa] each cable's modulus; ``mass`` [kg] the platform's. None leaves a
+    [Pa]; ``E_cables`` (m,) [Pa] each cable's modulus; ``mass`` [kg] the platform's;
+    ``linear_density`` [kg/m] every cable's mass per unstrained metre. None leaves a
     value as it is. Typed values on the loaded robot (``dataclasses.replace``): the YAML mapping is
     neither rewritten nor validated again, so a study's many designs of one robot cost no reading.
 
@@ -899,6 +950,8 @@ def with_values(robot, pulley=None, h=None, r_p=None, dead_length=None, E=None, 
         (m,) Young's modulus of each cable [Pa].
     mass : float or str or None
         Platform mass [kg].
+    linear_density : float or str or None
+        Mass per unstrained metre of every cable [kg/m] (``cable.linear_density_kg_m``; 0: massless).
 
     Returns
     -------
@@ -924,6 +977,15 @@ def with_values(robot, pulley=None, h=None, r_p=None, dead_length=None, E=None, 
             cables=tuple(
                 dataclasses.replace(c, material=dataclasses.replace(c.material, E=e))
                 for c, e in zip(robot.cables, moduli)
+            ),
+        )
+    if linear_density is not None:
+        rho = _positive(linear_density, "kg/m", src, "cable.linear_density_kg_m", allow_zero=True)
+        robot = dataclasses.replace(
+            robot,
+            cables=tuple(
+                dataclasses.replace(c, material=dataclasses.replace(c.material, rho=rho))
+                for c in robot.cables
             ),
         )
     if mass is not None:

@@ -29,7 +29,7 @@ from cdpr.errors import CdprError
 from cdpr.models import equilibrium, sensitivity
 from cdpr.models.results import mark_below_floor, point_keys
 from cdpr.models.subsets import solve_points
-from cdpr.robot import require_point_mass
+from cdpr.robot import require_massless, require_point_mass
 
 #: The (engine, method) pairs that exist: the compiled kernel implements Newton only.
 ENGINES = {"compiled": ("newton",), "numpy": ("newton", "fixed_point")}
@@ -97,6 +97,29 @@ def _check_paper(robot):
         )
 
 
+#: The per-cable and per-point keys a heavy-cable solve adds (``equilibrium.heavy_cables``).
+HEAVY_KEYS = ("t_B", "t_D", "H", "sag", "arc_minus_chord", "angle_f_deg", "cable_status", "sag_max")
+
+
+def _solve_heavy(robot, p, rotvec, redundancy, engine, L0, L, options):
+    """A robot with heavy cables (issue 38): physical mode by the numpy reference only so far
+    (``equilibrium.HeavyCables``); CdprError in one line for anything else."""
+    if redundancy != "physical":
+        raise CdprError(
+            f"{robot.source}: heavy cables (cable.linear_density_kg_m > 0) are modelled in physical mode only "
+            "(--redundancy physical)"
+        )
+    if engine == "compiled":
+        raise CdprError(
+            f"{robot.source}: heavy cables have no compiled kernel yet; use the numpy reference (--engine numpy)"
+        )
+    _check_physical("newton", L)
+    res = equilibrium.solve(robot, p, rotvec, L0=L0, **options)
+    if _fast_point(robot, p, rotvec):
+        res = {**point_keys(res), **{k: res[k] for k in HEAVY_KEYS}}
+    return mark_below_floor(res, p, robot.floor_z) if robot.suspended_point_mass else res
+
+
 def _fast_point(robot, p, rotvec):
     """True where the 3-DoF paths apply: a suspended point mass at positions (N, 3), no orientation."""
     return robot.suspended_point_mass and rotvec is None and p.shape[1] == 3
@@ -138,6 +161,9 @@ def solve(
         solved without an orientation gets ``results.POINT_KEYS``; every other robot, or a given
         orientation, ``models.equilibrium.solve``'s keys (rotvec_s, dphi, unique, ...). The desired
         points below the floor of a suspended robot are ``inaccessible`` (``mark_below_floor``).
+        A robot with heavy cables (``Robot.heavy``, issue 38) is solved in physical mode by the numpy
+        reference (``equilibrium.HeavyCables``, its engine when none is named) and its result adds
+        ``HEAVY_KEYS``; paper mode or the compiled engine refuse it in one line.
 
     Raises
     ------
@@ -146,6 +172,8 @@ def solve(
     """
     p = np.atleast_2d(np.asarray(p, dtype=float))
     redundancy = check_redundancy(redundancy, robot)
+    if robot.heavy:
+        return _solve_heavy(robot, p, rotvec, redundancy, engine, L0, L, options)
     if redundancy == "paper":
         _check_paper(robot)
         if L0 is not None:
@@ -215,6 +243,8 @@ def solve_batch(
     robots = list(robots)
     p = np.atleast_2d(np.asarray(p, dtype=float))
     check_redundancy(redundancy)
+    for r in robots:
+        require_massless(r, "a batched solve (cdpr.solve.solve_batch)")
     compiled = check_engine(engine, "newton") == "compiled"
     if not all(_fast_point(r, p, rotvec) for r in robots):
         if redundancy != "physical" or P0 is not None or L is not None:
@@ -295,6 +325,7 @@ def sensitivities(
     dict
         The solve's result with names (n,), S (N, 3, n) or (N, 6, n) and smooth (N,).
     """
+    require_massless(robot, "the sensitivities (cdpr.solve.sensitivities)")
     redundancy = check_redundancy(redundancy, robot)
     p = np.atleast_2d(np.asarray(p, dtype=float))
     engine = check_engine(engine, "newton")

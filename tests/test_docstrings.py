@@ -28,6 +28,7 @@ MODEL_MODULES = [
     "analyses.symmetry",
     "models.platform",
     "compiled._pose_sensitivity",
+    "models.catenary",
     "models.interference",
     "analyses.interference",
 ]

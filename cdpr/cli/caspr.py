@@ -8,7 +8,7 @@ Standard library and ``cdpr.cli.options`` only: ``cdpr.cli.parser`` registers it
 
 from __future__ import annotations
 
-from cdpr.cli.options import Parser, non_negative, positive
+from cdpr.cli.options import Parser, linear_density_option, non_negative, positive
 
 
 def add_parser(sub):
@@ -47,6 +47,7 @@ def add_parser(sub):
         metavar="M",
         help="dead length d [m] (not in CASPR; default 0, assumed and said so)",
     )
+    linear_density_option(c)
     c.set_defaults(run=("cdpr.cli.robot_files", "cmd_import_caspr"))
     r = tools.add_parser(
         "rrf", help="Hangprinter robot from a RepRapFirmware configuration (M669 K6 anchors, M666 spools)"

@@ -25,7 +25,7 @@ from cdpr.cli.options import MAX_COORDINATE_M
 from cdpr.errors import CdprError
 from cdpr.models import winch
 from cdpr.plausibility import plausibility_warnings
-from cdpr.robot import TABLE1, load_robot, load_winch_params
+from cdpr.robot import TABLE1, load_robot, load_winch_params, require_massless
 
 #: The columns of a ``--points`` table: the position [m] and, optional, the orientation [rad].
 POINT_COLUMNS = ("x", "y", "z", "rx", "ry", "rz")
@@ -72,9 +72,11 @@ def _load(args):
             dead_length=args.dead_length,
             E=getattr(args, "E", None),
             mass=getattr(args, "mass", None),
+            linear_density=getattr(args, "linear_density", None),
         ),
         args,
     )
+    require_massless(robot, "cdpr " + getattr(args, "run", ("", "this command"))[1].removeprefix("cmd_"))
     if hasattr(args, "redundancy") and args.redundancy is None:
         args.redundancy = robot.default_redundancy
     return robot

@@ -155,9 +155,20 @@ def robot_options(sp):
     sp.add_argument("--json", action="store_true", help="print JSON")
 
 
+def linear_density_option(sp):
+    """--linear-density KG_PER_M: every cable's mass per unstrained metre [kg/m] (heavy cables)."""
+    sp.add_argument(
+        "--linear-density",
+        type=non_negative,
+        metavar="KG_PER_M",
+        help="mass per unstrained metre [kg/m] of every cable (heavy cables; default the robot file's, 0: massless)",
+    )
+
+
 def solver_options(sp):
-    """--E, --mass and the solver switch (--method, --engine, --threads)."""
+    """--E, --linear-density, --mass and the solver switch (--method, --engine, --threads)."""
     sp.add_argument("--E", type=positive, metavar="PA", help="Young's modulus E [Pa] of every cable")
+    linear_density_option(sp)
     sp.add_argument("--mass", type=positive, metavar="KG", help="platform mass M [kg]")
     sp.add_argument("--method", choices=METHODS, default="newton", help="DEGM_E solver (default newton)")
     sp.add_argument(

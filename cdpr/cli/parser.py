@@ -19,6 +19,7 @@ from cdpr.cli.options import (
     count,
     finite,
     groups,
+    linear_density_option,
     non_negative,
     physics_options,
     points_options,
@@ -94,6 +95,7 @@ def build_parser(jobs=True):
     )
     robot_options(sp)
     sp.add_argument("--E", type=positive, metavar="PA", help="Young's modulus E [Pa] of every cable")
+    linear_density_option(sp)
     sp.add_argument(
         "--E-cables",
         nargs="+",

@@ -37,6 +37,12 @@ def cmd_import_caspr(args):
         name=args.name,
     )
     data = got.data
+    if args.linear_density is not None:  # not in CASPR; written only when given (else massless, the default)
+        data["cable"]["linear_density_kg_m"] = args.linear_density
+        got.assumed.append(
+            f"cable.linear_density_kg_m = {args.linear_density:g} kg/m (given on the command line, "
+            "--linear-density; CASPR models hold none)"
+        )
     default_set = "" if args.cable_set else ", the file's default"
     robot = checked(robot_from_dict(data, source=f"{args.cables} (imported)"), args)
     io.check_output(args.out, (".yaml", ".yml"))

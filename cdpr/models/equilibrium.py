@@ -107,9 +107,17 @@ from typing import NamedTuple
 import numpy as np
 
 from cdpr.errors import CdprError
+from cdpr.models.catenary import (
+    angle_f_deg,
+    arc_minus_chord,
+    cable_energy,
+    cable_state,
+    cable_stiffness,
+    sag,
+)
 from cdpr.models.inverse import L_TS, pose_state, pulley_args
 from cdpr.models.platform import pose_arrays, rotation_error, rotation_matrix, rotvec_of, skew
-from cdpr.models.pulleys import total_length_and_direction
+from cdpr.models.pulleys import SWIVEL_RHO_MIN, TWO_PI, pulley_state, total_length_and_direction
 from cdpr.models.results import ST, STATUSES, TAUT_MIN, hull_halfplanes, statuses
 from cdpr.models.statics import direction_gradient, length_gradient, solve3
 
@@ -300,6 +308,203 @@ class Cables:
         return out
 
 
+class HeavyCables(Cables):
+    """``Cables`` whose cables have weight (``cable.linear_density_kg_m``, issue 38): each cable's
+    force on the platform at B_i is the end force of Irvine's elastic catenary from B_i to the exit
+    point D_i (``catenary.cable_state``, H toward D_i horizontally and V_B up, "up" against gravity),
+    the dead length and the wrapped arc carrying the tension at D_i (their weight neglected).
+
+    Pulley coupling (``exit_points``): the cable leaves the sheave along the catenary's end tangent
+    at D_i, tangent to the sheave circle in the sheave plane, D_i = H_i + r_p n with n the in-plane
+    normal of that tangent on the cable's side of the sheave; the wrap gamma_i runs from the entry
+    point K_i (the tangent from the winch exit, as in the massless model) to D_i, and the dead part's
+    stretched length is |l_d| + r_p gamma. D_i and the catenary are solved together by a fixed point
+    (its contraction is of the order r_p / |B_i - D_i|). Fixed pulleys (D_i = A_i) and SR pulleys
+    with swivel axes along gravity (up or down: the sheave plane is then the catenary's vertical
+    plane) so far; DR pulleys and other axes are refused in one line. With w = 0 it is the massless
+    model computed through the catenary (``heavy=True`` of ``solve``, for the tests).
+
+    The Jacobian takes D_i's turn with the swivel (the plane follows B_i) but not its slide on the
+    sheave (of relative size r_p / |B_i - D_i|): Newton's convergence is then linear with that
+    factor near the solution; the stop rule is on the force balance itself, so the answer is not
+    affected. The merit is the energy (``catenary.cable_energy`` plus the free span's weight at the
+    exit point's height above A_i): for fixed pulleys its gradient is minus the wrench exactly;
+    with SR pulleys the weightless dead part makes the model's forces not exactly conservative and
+    the difference is of order w r_p times the dead part's compliance (the merit serves the line
+    search only, as for DR pulleys in the massless model)."""
+
+    def __init__(self, robot):
+        super().__init__(robot)
+        a = robot.arrays
+        down = np.asarray(robot.platform.down, dtype=float)
+        self.up = -down / np.linalg.norm(down)
+        along = np.abs(a.axis @ self.up)
+        bad = (a.kind == 2) | ((a.kind == 1) & (along < 1.0 - 1e-12))
+        if bad.any():
+            raise CdprError(
+                f"{robot.source}: heavy cables (cable.linear_density_kg_m > 0) are modelled with fixed pulleys and "
+                "with SR pulleys whose swivel axes lie along gravity only so far; cable "
+                f"{int(np.flatnonzero(bad)[0]) + 1} has a "
+                + ("DR pulley" if a.kind[np.flatnonzero(bad)[0]] == 2 else "swivel axis off the vertical")
+                + " (docs/heavy_cables.md)"
+            )
+        self.A, self.w, self.EA = a.A, a.w, a.ES
+        self.axis, self.r_p = a.axis, a.r_p
+        self.sr = bool((a.kind == 1).any())
+
+    def exit_points(self, p, R, L0, maxiter=60):
+        """The exit points D_i and the catenaries at poses (p (N, 3), R (N, 3, 3)) under rest
+        lengths L0 (N, m) (the pulley coupling of the class docstring).
+
+        Parameters
+        ----------
+        p : ndarray (N, 3) [m]
+            Platform positions.
+        R : ndarray (N, 3, 3) [-]
+            Platform orientations.
+        L0 : ndarray (N, m) [m]
+            Rest lengths of the whole cables.
+        maxiter : int
+            Cap of the fixed point's iterations.
+
+        Returns
+        -------
+        dict
+            r (N, m, 3) [m] = R b_i; D (N, m, 3) [m] the exit points; v = D - B (N, m, 3) [m]; l_h, l_v (N, m) [m]; e_h (N, m, 3) the
+            horizontal unit vector from B_i toward D_i; l_dead (N, m) [m] = |l_d| + r_p gamma;
+            gamma (N, m) [rad]; state (``catenary.CableState``); swivel (N, m) = D_s/rho and
+            e_perp (N, m, 3) (the plane's turn with B_i); iterations (fixed point).
+        """
+        r = np.einsum("nab,mb->nma", R, self.b)
+        B = p[:, None, :] + r
+        ps = pulley_state(B, *self.args, per_cable=True)
+        k = np.broadcast_to(self.axis, B.shape)
+        e_s = ps.e_s3
+        Hc, D = ps.H, ps.D
+        KH = ps.K - Hc
+        theta_K = np.arctan2(np.einsum("nma,nma->nm", KH, k), np.einsum("nma,nma->nm", KH, e_s))
+        gamma = ps.gamma
+        ell = ps.l_d + self.r_p * gamma
+        start = None
+        it = 0
+        for it in range(1, maxiter + 1):
+            v, l_h, l_v, e_h = self._spans(D, B)
+            st = cable_state(l_h, l_v, L0, ell, self.w, self.EA, start=start)
+            sp = st.span
+            start = (sp.H, sp.V_B)
+            if not self.sr:
+                break
+            with np.errstate(invalid="ignore", divide="ignore"):
+                u = -(sp.H[..., None] * e_h + sp.V_D[..., None] * self.up) / sp.T_D[..., None]
+            n_s = -np.einsum("nma,nma->nm", u, k)
+            n_w = np.einsum("nma,nma->nm", u, e_s)
+            ok = (sp.T_D > 0.0) & np.isfinite(n_s) & np.isfinite(n_w)
+            D_new = np.where(
+                ok[..., None], Hc + self.r_p[:, None] * (n_s[..., None] * e_s + n_w[..., None] * k), D
+            )
+            gamma = np.where(ok, np.mod(theta_K - np.arctan2(n_w, n_s), TWO_PI), gamma)
+            ell = ps.l_d + self.r_p * gamma
+            moved = np.linalg.norm(D_new - D, axis=-1).max(initial=0.0)
+            D = D_new
+            if moved <= 1e-15 * (1.0 + float(np.abs(v).max(initial=0.0))):
+                v, l_h, l_v, e_h = self._spans(D, B)
+                st = cable_state(l_h, l_v, L0, ell, self.w, self.EA, start=start)
+                break
+        e_perp = np.cross(k, e_s)
+        Ds = np.einsum("nma,nma->nm", D - self.A, e_s)
+        swivel = np.where(ps.rho > SWIVEL_RHO_MIN, Ds / np.where(ps.rho > 0.0, ps.rho, 1.0), 0.0)
+        return {
+            "r": r,
+            "D": D,
+            "v": v,
+            "l_h": l_h,
+            "l_v": l_v,
+            "e_h": e_h,
+            "l_dead": ell,
+            "gamma": gamma,
+            "state": st,
+            "swivel": swivel,
+            "e_perp": e_perp,
+            "iterations": it,
+        }
+
+    def _spans(self, D, B):
+        """v = D - B, l_h, l_v [m] and e_h, the horizontal unit vector from B toward D."""
+        v = D - B
+        l_v = v @ self.up
+        hv = v - l_v[..., None] * self.up
+        l_h = np.linalg.norm(hv, axis=-1)
+        e_h = hv / np.where(l_h > 0.0, l_h, 1.0)[..., None]
+        return v, l_h, l_v, e_h
+
+    def evaluate(self, p, R, L0, p_ref, jacobian=True):
+        """As ``Cables.evaluate``, with each cable's force the catenary's end force at B_i and t_i its
+        tension at B_i."""
+        x = self.exit_points(p, R, L0)
+        r, l_h, l_v, e_h, st = x["r"], x["l_h"], x["l_v"], x["e_h"], x["state"]
+        sp = st.span
+        Fi = sp.H[..., None] * e_h + sp.V_B[..., None] * self.up
+        rc = R @ self.com
+        F = Fi.sum(axis=1) + self.f
+        M = np.cross(r, Fi).sum(axis=1) + np.cross(rc, self.f)
+        U = cable_energy(st, l_h, l_v, x["l_dead"], self.w, self.EA)
+        # the free span's weight at the exit point's height above A_i (0 for fixed pulleys): the
+        # weightless dead part makes the model's forces not exactly conservative, and with this term
+        # the merit's gradient is minus the wrench up to w (D - A).up dL0_free/dB (r_p times the
+        # dead part's compliance; the slide of D on the sheave alone would leave w L0_free dz_D/dB)
+        U = U + self.w * st.L0_free * ((x["D"] - self.A) @ self.up)
+        merit = -(p - p_ref + rc) @ self.f + U.sum(axis=1)
+        merit = np.where(np.isfinite(merit), merit, np.inf)
+        if self.suspended:
+            merit = np.where(p[:, 2] < self.z_top, merit, np.inf)
+        t = sp.T_B
+        out = {"F": F, "M": M, "t": t, "merit": merit, "g": None}
+        if jacobian:
+            K = cable_stiffness(st, x["l_dead"], self.w, self.EA)
+            up = self.up
+            flat = np.eye(3) - e_h[..., :, None] * e_h[..., None, :] - up[:, None] * up[None, :]
+            with np.errstate(divide="ignore", invalid="ignore"):
+                turn = np.where(l_h > 1e-12 * (1.0 + np.abs(l_v)), sp.H / l_h, K[..., 0, 0])
+            dFdv = (
+                e_h[..., :, None] * (K[..., 0, 0, None] * e_h + K[..., 0, 1, None] * up)[..., None, :]
+                + up[:, None] * (K[..., 1, 0, None] * e_h + K[..., 1, 1, None] * up)[..., None, :]
+                + turn[..., None, None] * flat
+            )
+            ep = x["e_perp"]
+            dvdB = -np.eye(3) + x["swivel"][..., None, None] * ep[..., :, None] * ep[..., None, :]
+            G = dFdv @ dvdB  # dF_i/dB_i: v = D - B, D turning with the swivel
+            out["Fn"] = np.concatenate([F, M], axis=1)
+            out["J"] = _jacobian_forces(G, Fi, r, rc, self.f)
+            out["grad"] = -out["Fn"]  # fixed and SR pulleys: the energy's gradient is minus the wrench
+            kc = np.abs(K[..., 0, 0]) + np.abs(K[..., 1, 1]) + np.abs(turn)
+            rr = np.einsum("nma,nma->nm", r, r)
+            out["kappa"] = np.stack(
+                [
+                    kc.sum(axis=1),
+                    (kc * rr + t * np.sqrt(rr)).sum(axis=1)
+                    + np.linalg.norm(self.f) * np.linalg.norm(rc, axis=1),
+                ],
+                axis=1,
+            )
+        return out
+
+
+def _jacobian_forces(G, Fi, r, rc, f):
+    """d(F, M)/d(dp, dphi) (N, 6, 6) from each cable's force Fi (N, m, 3) at B_i and its derivative
+    G_i = dF_i/dB_i (N, m, 3, 3) (``_jacobian`` with G_i given and t_i u_i = F_i)."""
+    Sr = skew(r)
+    eye = np.eye(3)
+    J = np.zeros(Fi.shape[:1] + (6, 6))
+    J[:, :3, :3] = G.sum(axis=1)
+    J[:, :3, 3:] = -np.einsum("nmab,nmbc->nac", G, Sr)
+    RG = np.einsum("nmab,nmbc->nmac", Sr, G)
+    J[:, 3:, :3] = RG.sum(axis=1)
+    turn = r[..., :, None] * Fi[..., None, :] - np.einsum("nma,nma->nm", Fi, r)[..., None, None] * eye
+    J[:, 3:, 3:] = -np.einsum("nmab,nmbc->nac", RG, Sr) + turn.sum(axis=1)
+    J[:, 3:, 3:] += rc[:, :, None] * f[None, None, :] - (rc @ f)[:, None, None] * eye
+    return J
+
+
 def _jacobian(t, du, ka, u, dL, r, rc, f):
     """d(F, M)/d(dp, dphi) (N, 6, 6) of the force and moment balance (module docstring).
 
@@ -435,7 +640,9 @@ def _newton(cab, p0, R0, L0, p_ref, tol, maxiter, max_step):
     return p, R, cur, iters, conv
 
 
-def solve(robot, p, rotvec=None, L0=None, P0=None, tol=None, maxiter=None, max_step=None, restarts=True):
+def solve(
+    robot, p, rotvec=None, L0=None, P0=None, tol=None, maxiter=None, max_step=None, restarts=True, heavy=None
+):
     """Physical equilibrium (p*, R*) of the platform on all m cables, slack cables allowed (a point
     mass: P* with the desired orientation carried through).
 
@@ -454,6 +661,10 @@ def solve(robot, p, rotvec=None, L0=None, P0=None, tol=None, maxiter=None, max_s
         As ``equilibrium.PHYSICAL_DEFAULTS``.
     restarts : bool
         Look for other equilibria where the solution may not be unique (module docstring).
+    heavy : bool, optional
+        Model the cables as heavy (``HeavyCables``: Irvine's elastic catenary, fixed pulleys only so
+        far); default ``robot.heavy`` (a linear density > 0). True with a massless robot runs the
+        massless model through the catenary (w = 0).
 
     Returns
     -------
@@ -470,7 +681,56 @@ def solve(robot, p, rotvec=None, L0=None, P0=None, tol=None, maxiter=None, max_s
     ----------
     Paty et al. 2021, eq. (2)-(5), (10)-(14); Pott 2018, ch. 3.
     """
-    return solve_with(robot, Cables(robot), _newton, p, rotvec, L0, P0, tol, maxiter, max_step, restarts)
+    heavy = robot.heavy if heavy is None else heavy
+    cab = HeavyCables(robot) if heavy else Cables(robot)
+    res = solve_with(robot, cab, _newton, p, rotvec, L0, P0, tol, maxiter, max_step, restarts)
+    if heavy:
+        res.update(heavy_cables(cab, res["P_s"], res["R_s"], res["L0"]))
+    return res
+
+
+def heavy_cables(cab, P, R, L0):
+    """What each heavy cable does at the equilibria (``HeavyCables``; issue 38's per-cable keys):
+    the tensions at B_i and D_i, H, the sag, the arc minus the chord, the angle of the force at B_i
+    to the chord and the catenary status (``catenary.SPAN_STATUSES``).
+
+    Parameters
+    ----------
+    cab : HeavyCables
+        The robot's cables.
+    P : ndarray (N, 3) [m]
+        Platform positions.
+    R : ndarray (N, 3, 3) [-]
+        Platform orientations.
+    L0 : ndarray (N, m) [m]
+        Rest lengths of the whole cables.
+
+    Returns
+    -------
+    dict
+        t_B, t_D, H [N], sag, arc_minus_chord [m], angle_f_deg [deg], cable_status (str), all
+        (N, m), sag_max (N,) [m] and the exit points D (N, m, 3) [m] and wraps gamma (N, m) [rad].
+
+    References
+    ----------
+    Irvine, H. M. (1981). Cable Structures. MIT Press, ch. 2; Paty et al. 2021, eq. (10)-(13).
+    """
+    x = cab.exit_points(P, R, L0)
+    l_h, l_v, st = x["l_h"], x["l_v"], x["state"]
+    sp, a = st.span, (st.L0_free, cab.w, cab.EA)
+    sag_ = sag(sp.H, sp.V_B, *a, l_h, l_v)
+    return {
+        "t_B": sp.T_B,
+        "t_D": sp.T_D,
+        "H": sp.H,
+        "sag": sag_,
+        "arc_minus_chord": arc_minus_chord(sp.H, sp.V_B, *a, l_h, l_v),
+        "angle_f_deg": angle_f_deg(sp.H, sp.V_B, l_h, l_v),
+        "cable_status": sp.status,
+        "sag_max": sag_.max(axis=1),
+        "D": x["D"],
+        "gamma": x["gamma"],
+    }
 
 
 def solve_with(robot, cab, newton, p, rotvec, L0, P0, tol, maxiter, max_step, restarts, standard=None):

@@ -43,7 +43,7 @@ def test_the_commands_are_the_documented_ones():
     found = {path for path, _ in leaves(build_parser())}
     assert {p[0] for p in found} == COMMANDS
     assert {p for p in found if p[0] == "calibrate"} == {
-        ("calibrate", c) for c in ("fit", "check", "plan", "study")
+        ("calibrate", c) for c in ("fit", "check", "plan", "study", "cv")
     }
     assert ("import", "caspr") in found
     assert {p for p in found if p[0] in ("import", "export")} == {

@@ -263,3 +263,15 @@ def test_the_docs_build_adds_the_pulley_figure_without_writing_into_docs():
     assert f is not None and f.generated_by is not None
     assert f.content_bytes[:8] == b"\x89PNG\r\n\x1a\n"
     assert sorted((ROOT / "docs").rglob("*")) == before
+
+
+def test_robot_view_title_shows_no_round_off(tmp_path, monkeypatch):
+    """A pose computed through a rotation carries round-off (1.11e-16 m, -0): the title says 0."""
+    figs = _captured(monkeypatch)
+    robot = load_robot(ROBOTS / "cogiro.yaml")
+    p = np.asarray(scans.view_position(robot), dtype=float) + [1.11e-16, -2e-17, 0.0]
+    geom = scans.pose_geometry(robot, p, [-1e-17, 0.0, 0.2])
+    robot_plots.robot_view(geom, tmp_path / "robot.png")
+    ((_, rec),) = figs
+    title = rec["titles"][0]
+    assert "e-1" not in title and "-0," not in title and "rotvec = [0, 0, 0.2] rad" in title

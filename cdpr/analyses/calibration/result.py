@@ -246,6 +246,7 @@ def robot_file_text(cal, data_source, when):
             "diameter_m": float(c.material.diameter),
             "max_tension_N": float(c.material.T_a),
             **({"min_tension_N": float(c.material.T_min)} if c.material.T_min else {}),
+            **({"linear_density_kg_m": float(c.material.rho)} if c.material.rho else {}),
         }
         cables.append(
             {

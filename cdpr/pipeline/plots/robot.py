@@ -93,7 +93,7 @@ def robot_view(geom, out, boxes=None, mode=None):
     ax.set_zlabel("z [m]", labelpad=2)
     ax.tick_params(labelsize=7, pad=0)
     rv = geom["rotvec"]
-    pose = f"p = [{', '.join(f'{x:.3g}' for x in geom['p'])}] m, rotvec = [{', '.join(f'{x:.3g}' for x in rv)}] rad"
+    pose = f"p = [{_numbers(geom['p'])}] m, rotvec = [{_numbers(rv)}] rad"
     ax.set_title(f"{geom['name']} at the desired pose {pose}{mode_suffix(mode)}", fontsize=9, wrap=True)
     fig.legend(handles=handles, loc="outside lower center", ncol=3, fontsize=7, frameon=False)
     return save(fig, out)
@@ -280,3 +280,9 @@ def pulley_axis_figure(geoms, out):
     ]
     fig.legend(handles=handles, loc="outside lower center", ncol=4, fontsize=8, frameon=False)
     return save(fig, out)
+
+
+def _numbers(values, tiny=1e-9):
+    """Values for a title, 3 significant digits, round-off below ``tiny`` (a rotation's 1.11e-16 m,
+    a -0) shown as 0."""
+    return ", ".join(f"{(0.0 if abs(x) < tiny else float(x)):.3g}" for x in values)

@@ -1,0 +1,271 @@
+"""Compiled twin of ``cdpr.models.catenary`` (Irvine's elastic catenary, one heavy cable): the same
+functions under the same names as numba scalar kernels, to be called inside the compiled engines'
+per-cable loops, and ``span_states``, the batch of ``span_state`` in parallel over cables (the test
+of this twin against the numpy reference, and the benchmark).
+
+The arithmetic is the reference's, branch by branch (the cancellation-free forms, the closed forms
+of the weightless and the vertical cable, Newton's start, its Armijo search on the complementary
+energy and its stop rule), so the two agree to round-off, with the same statuses and iteration
+counts. Inputs are not checked here (the numpy reference refuses bad ones).
+
+References
+----------
+Irvine, H. M. (1981). Cable Structures. MIT Press, ch. 2.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from cdpr.models.catenary import (
+    ARMIJO_C,
+    CATENARY,
+    CATENARY_DEFAULTS,
+    INFEASIBLE,
+    MAX_HALVINGS,
+    SLACK,
+    TAUT,
+    U_SHAPED,
+    WHOLE_STEP,
+)
+
+__all__ = [
+    "angle_f_deg",
+    "arc_length",
+    "complementary_energy",
+    "end_forces",
+    "flexibility",
+    "sag",
+    "span_equations",
+    "span_state",
+    "span_states",
+    "stiffness",
+    "tension_at",
+]
+
+_RTOL = CATENARY_DEFAULTS["rtol"]
+_MAXITER = CATENARY_DEFAULTS["maxiter"]
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _terms(H, V_B, L0, w):
+    """(V_D, T_B, T_D, S, Qh, Qv, Qd, Qx, Qe) of ``models.catenary._terms``, one cable."""
+    aH = abs(H)
+    V_D = V_B + w * L0
+    T_B = math.hypot(H, V_B)
+    T_D = math.hypot(H, V_D)
+    S = V_B + V_D
+    wL = w * L0
+    if V_B < 0.0 and V_D > 0.0:
+        Qh = (math.asinh(V_D / aH) - math.asinh(V_B / aH)) / wL
+        Qd = (V_D / T_D - V_B / T_B) / wL
+        Qe = (V_D * T_D - V_B * T_B) / wL
+    else:
+        P = V_D * T_B + V_B * T_D
+        r = S / P if P != 0.0 else 1.0 / aH
+        x = wL * r
+        asinhc = math.asinh(x) / x if x != 0.0 else 1.0
+        Qh = r * asinhc
+        Qd = H * H * r / (T_B * T_D)
+        PE = V_D * T_D + V_B * T_B
+        Qe = S * (H * H + V_D * V_D + V_B * V_B) / PE if PE != 0.0 else aH
+    TT = T_B + T_D
+    if TT > 0.0:
+        Qv = S / TT
+        Qx = -H * S / (TT * T_B * T_D)
+    else:
+        Qv = 0.0
+        Qx = 0.0
+    return V_D, T_B, T_D, S, Qh, Qv, Qd, Qx, Qe
+
+
+@njit(cache=True, error_model="numpy")
+def span_equations(H, V_B, L0, w, EA):
+    """(l_h, l_v) [m] of one cable from its end forces H, V_B [N], unstrained length L0 [m], weight
+    w [N/m] and stiffness EA [N] (``models.catenary.span_equations``)."""
+    _, _, _, S, Qh, Qv, _, _, _ = _terms(H, V_B, L0, w)
+    l_h = 0.0 if (H == 0.0 or L0 == 0.0) else H * L0 * (1.0 / EA + Qh)
+    return l_h, L0 * (0.5 * S / EA + Qv)
+
+
+@njit(cache=True, error_model="numpy")
+def flexibility(H, V_B, L0, w, EA):
+    """(f11, f12, f22) [m/N] of the symmetric flexibility matrix of one cable
+    (``models.catenary.flexibility``)."""
+    _, _, _, _, Qh, _, Qd, Qx, _ = _terms(H, V_B, L0, w)
+    e = L0 / EA
+    return e + L0 * (Qh - Qd), L0 * Qx, e + L0 * Qd
+
+
+@njit(cache=True, error_model="numpy")
+def stiffness(H, V_B, L0, w, EA):
+    """(k11, k12, k22) [N/m], the inverse of ``flexibility`` (``models.catenary.stiffness``); zero
+    for a slack weightless cable."""
+    if w == 0.0 and H == 0.0 and V_B == 0.0:
+        return 0.0, 0.0, 0.0
+    f11, f12, f22 = flexibility(H, V_B, L0, w, EA)
+    det = f11 * f22 - f12 * f12
+    return f22 / det, -f12 / det, f11 / det
+
+
+@njit(cache=True, error_model="numpy")
+def complementary_energy(H, V_B, L0, w, EA, l_h, l_v):
+    """Phi [J] of one cable (``models.catenary.complementary_energy``)."""
+    V_D, _, _, _, Qh, _, _, _, Qe = _terms(H, V_B, L0, w)
+    intT = 0.5 * L0 * (Qe + (0.0 if H == 0.0 else H * H * Qh))
+    intT2 = L0 * (H * H + (V_B * V_B + V_B * V_D + V_D * V_D) / 3.0)
+    return intT + 0.5 * intT2 / EA - H * l_h - V_B * l_v
+
+
+@njit(cache=True, error_model="numpy")
+def tension_at(H, V_B, s, w):
+    """Tension [N] at unstrained arc length s [m] from B (``models.catenary.tension_at``)."""
+    return math.hypot(H, V_B + w * s)
+
+
+@njit(cache=True, error_model="numpy")
+def arc_length(H, V_B, L0, w, EA):
+    """Stretched length [m] of one cable (``models.catenary.arc_length``)."""
+    if L0 == 0.0:
+        return L0
+    _, _, _, _, Qh, _, _, _, Qe = _terms(H, V_B, L0, w)
+    return L0 + 0.5 * L0 * (Qe + (0.0 if H == 0.0 else H * H * Qh)) / EA
+
+
+@njit(cache=True, error_model="numpy")
+def sag(H, V_B, L0, w, EA, l_h, l_v):
+    """Largest deflection [m] of one cable from its chord (``models.catenary.sag``)."""
+    if not (w > 0.0 and l_h > 0.0 and H > 0.0):
+        return 0.0
+    s = min(max((H * l_v / l_h - V_B) / w, 0.0), L0)
+    x, z = span_equations(H, V_B, s, w, EA)
+    return abs(x * l_v - z * l_h) / math.hypot(l_h, l_v)
+
+
+@njit(cache=True, error_model="numpy")
+def angle_f_deg(H, V_B, l_h, l_v):
+    """Angle [deg] of the force at B to the chord (``models.catenary.angle_f_deg``)."""
+    return math.degrees(math.atan2(abs(H * l_v - V_B * l_h), H * l_h + V_B * l_v))
+
+
+@njit(cache=True, error_model="numpy")
+def _vertical(l_v, L0, w, EA):
+    """(V_B, status code) of a vertical heavy cable (``models.catenary._vertical``)."""
+    k = 1.0 + 0.5 * w * L0 / EA
+    wL = w * L0
+    if math.isinf(EA) and (l_v >= L0 or l_v <= -L0):
+        return np.nan, INFEASIBLE
+    if l_v >= L0 * k:
+        return EA * (l_v / L0 - 1.0) - 0.5 * wL, CATENARY
+    if l_v <= -L0 * k:
+        return EA * (l_v / L0 + 1.0) - 0.5 * wL, CATENARY
+    return 0.5 * (l_v * w / k - wL), U_SHAPED
+
+
+@njit(cache=True, error_model="numpy")
+def _start(l_h, l_v, L0, w, EA):
+    """Newton's start (``models.catenary._start``)."""
+    c = math.hypot(l_h, l_v)
+    Le = max(L0, 1.001 * c)
+    rho = math.sqrt(Le * Le - l_v * l_v) / l_h
+    if rho < 3.0:
+        lam = math.sqrt(6.0 * (rho - 1.0))
+    else:
+        lam = math.log(2.0 * rho) + math.log(math.log(2.0 * rho) + 1.0)
+    for _ in range(6):
+        g = math.log(math.sinh(lam) / lam) - math.log(rho)
+        lam = max(lam - g / (1.0 / math.tanh(lam) - 1.0 / lam), 1e-3)
+    H_cat = w * l_h / (2.0 * lam)
+    V_cat = 0.5 * w * (l_v / math.tanh(lam) - Le)
+    T = EA * (c / L0 - 1.0) if c > L0 else 0.0
+    if not math.isfinite(T):
+        T = 0.0
+    H_h = T * l_h / c
+    if H_h > H_cat:
+        return H_h, T * l_v / c - 0.5 * w * L0
+    return H_cat, V_cat
+
+
+@njit(cache=True, error_model="numpy")
+def span_state(l_h, l_v, L0, w, EA, H0=np.nan, V0=np.nan, rtol=_RTOL, maxiter=_MAXITER):
+    """One cable's (H, V_B [N], status code, iterations, converged) (``models.catenary.span_state``;
+    H0, V0 a start, NaN: the default)."""
+    c = math.hypot(l_h, l_v)
+    if w == 0.0:
+        if math.isinf(EA) and c > L0:
+            return np.nan, np.nan, INFEASIBLE, 0, False
+        if c > L0:
+            T = EA * (c / L0 - 1.0)
+            return T * l_h / c, T * l_v / c, TAUT, 0, True
+        return 0.0, 0.0, SLACK, 0, True
+    if l_h == 0.0:
+        V, code = _vertical(l_v, L0, w, EA)
+        if code == INFEASIBLE:
+            return np.nan, np.nan, INFEASIBLE, 0, False
+        return 0.0, V, code, 0, True
+    if math.isinf(EA) and c >= L0:
+        return np.nan, np.nan, INFEASIBLE, 0, False
+    if math.isnan(H0):
+        H, V = _start(l_h, l_v, L0, w, EA)
+    else:
+        H, V = H0, V0
+    tol = rtol * (L0 + c)
+    it = 0
+    conv = False
+    for _ in range(maxiter):
+        lh, lv = span_equations(H, V, L0, w, EA)
+        r1 = lh - l_h
+        r2 = lv - l_v
+        small = math.hypot(r1, r2) <= tol
+        f11, f12, f22 = flexibility(H, V, L0, w, EA)
+        det = f11 * f22 - f12 * f12
+        dH = -(f22 * r1 - f12 * r2) / det
+        dV = -(-f12 * r1 + f11 * r2) / det
+        slope = r1 * dH + r2 * dV
+        alpha = 1.0 if H + dH > 0.0 else 0.5 * H / max(-dH, 1e-300)
+        scale = math.hypot(H, V + 0.5 * w * L0) * L0
+        if not (small or -slope <= WHOLE_STEP * scale):
+            phi0 = complementary_energy(H, V, L0, w, EA, l_h, l_v)
+            for _h in range(MAX_HALVINGS):
+                phi = complementary_energy(H + alpha * dH, V + alpha * dV, L0, w, EA, l_h, l_v)
+                if phi <= phi0 + ARMIJO_C * alpha * slope:
+                    break
+                alpha *= 0.5
+        H += alpha * dH
+        V += alpha * dV
+        it += 1
+        if small or math.hypot(alpha * dH, alpha * dV) <= 1e-15 * scale / L0:
+            conv = True
+            break
+    code = U_SHAPED if (V < 0.0 and V + w * L0 > 0.0) else CATENARY
+    return H, V, code, it, conv
+
+
+@njit(cache=True, error_model="numpy")
+def end_forces(l_h, l_v, L0, w, EA):
+    """(H, V_B) [N] of one cable from its spans (``models.catenary.end_forces``)."""
+    H, V, _, _, _ = span_state(l_h, l_v, L0, w, EA)
+    return H, V
+
+
+@njit(cache=True, parallel=True, error_model="numpy")
+def span_states(l_h, l_v, L0, w, EA):
+    """``span_state`` of n cables in parallel: 1-D float arrays (n,) in; H, V_B (n,) [N], status
+    codes (n,) int8, iterations (n,) int64 and converged (n,) bool out."""
+    n = l_h.shape[0]
+    H = np.empty(n)
+    V = np.empty(n)
+    code = np.empty(n, dtype=np.int8)
+    iters = np.empty(n, dtype=np.int64)
+    conv = np.empty(n, dtype=np.bool_)
+    for i in prange(n):
+        h, v, k, it, ok = span_state(l_h[i], l_v[i], L0[i], w[i], EA[i])
+        H[i] = h
+        V[i] = v
+        code[i] = k
+        iters[i] = it
+        conv[i] = ok
+    return H, V, code, iters, conv

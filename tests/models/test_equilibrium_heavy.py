@@ -1,0 +1,211 @@
+"""The physical equilibrium with heavy cables (cdpr.models.equilibrium.HeavyCables, issue 38; fixed
+pulleys so far) tested by physics: w = 0 through the catenary reproduces today's massless answers
+(1e-12 m, 1e-12 rad), the energy's gradient is minus the net force (a point mass hung from fixed
+points, d = 0, and with dead lengths), the solution balances the catenaries' end forces computed
+independently, the analytic Jacobian equals central differences, w -> 0 is continuous, rotating the
+whole robot with its gravity rotates the answer, and SR/DR pulleys are refused in one line."""
+
+import dataclasses
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+from cdpr.errors import CdprError
+from cdpr.models import catenary as cat
+from cdpr.models.equilibrium import HeavyCables, solve
+from cdpr.models.platform import pose_arrays, rotation_matrix
+from cdpr.robot import with_pulleys
+from tests.models.test_equilibrium_pose import pretensioned, robot8_turned
+
+RHO = 0.0631  # [kg/m] a 4 mm steel cable
+PTS = np.array([[0.0, 0.0, 2.5], [1.0, 0.5, 3.0], [-2.0, 1.5, 1.0], [1.2, -1.1, 4.2], [0.3, 0.2, 0.5]])
+
+
+def heavy(robot, rho=RHO, dead_length=None):
+    cables = tuple(
+        dataclasses.replace(
+            c,
+            material=dataclasses.replace(c.material, rho=rho),
+            dead_length=c.dead_length if dead_length is None else dead_length,
+        )
+        for c in robot.cables
+    )
+    return dataclasses.replace(robot, cables=cables)
+
+
+@pytest.mark.parametrize("kind", ["fixed", "SR"])
+def test_weightless_cables_through_the_catenary_give_todays_point_mass(cdpr4, kind):
+    r = with_pulleys(cdpr4, kind=kind)
+    a, b = solve(r, PTS), solve(r, PTS, heavy=True)
+    assert (a["status"] == "ok").all() and (a["status"] == b["status"]).all()
+    assert np.abs(a["P_s"] - b["P_s"]).max() < 1e-12
+    assert (a["taut"] == b["taut"]).all()
+    np.testing.assert_allclose(b["t"], a["t"], rtol=1e-9)
+    assert (b["sag"] == 0).all() and np.abs(b["angle_f_deg"]).max() < 1e-6
+
+
+@pytest.mark.parametrize("kind", ["fixed", "SR"])
+def test_weightless_cables_through_the_catenary_give_todays_rigid_platform(kind):
+    r = robot8_turned(kind, np.eye(3))
+    p = np.array([[0.3, -0.2, 1.4], [-0.5, 0.4, 1.7], [0.0, 0.0, 1.5]])
+    rv = np.array([[0.05, -0.1, 0.2], [0.2, 0.1, -0.1], [0.0, 0.0, 0.0]])
+    L0 = pretensioned(r, p, rv)
+    a, b = solve(r, p, rv, L0=L0), solve(r, p, rv, L0=L0, heavy=True)
+    assert (a["status"] == "ok").all() and (a["status"] == b["status"]).all()
+    assert np.abs(a["P_s"] - b["P_s"]).max() < 1e-12
+    assert np.abs(a["rotvec_s"] - b["rotvec_s"]).max() < 1e-12
+    np.testing.assert_allclose(b["t"], a["t"], rtol=1e-9)
+
+
+@pytest.mark.parametrize("kind, dead_length", [("fixed", 0.0), ("fixed", 4.0), ("SR", 4.0)])
+def test_energy_gradient_is_minus_the_net_force(cdpr4, kind, dead_length):
+    """A point mass hung from fixed points (d = 0, then d = 4 m, then SR pulleys): -dU/dp by central
+    differences of the merit (the cables' energy plus the weight's) equals the net force, off the
+    equilibrium."""
+    r = heavy(with_pulleys(cdpr4, kind=kind), rho=0.5, dead_length=dead_length)
+    cab = HeavyCables(r)
+    p = PTS[:4]
+    L0 = solve(r, p)["L0"] * 1.002  # a little longer: sagging, U-shaped spans among them
+    R = np.broadcast_to(np.eye(3), (len(p), 3, 3)).copy()
+    F = cab.evaluate(p, R, L0, p)["F"]
+    h = 1e-6
+    grad = np.empty_like(p)
+    for k in range(3):
+        e = np.zeros(3)
+        e[k] = h
+        up = cab.evaluate(p + e, R, L0, p, jacobian=False)["merit"]
+        dn = cab.evaluate(p - e, R, L0, p, jacobian=False)["merit"]
+        grad[:, k] = (up - dn) / (2 * h)
+    assert np.abs(F).max() > 10.0  # off the equilibrium
+    np.testing.assert_allclose(-grad, F, rtol=0, atol=2e-5 * np.abs(F).max())
+
+
+def test_heavy_point_mass_balances_the_catenaries_end_forces(cdpr4):
+    """At the solution, the end forces of the four catenaries from B = P* to D = A_i, computed by
+    ``catenary.end_forces`` (d = 0: the whole rest length is the free span), balance the weight."""
+    r = heavy(with_pulleys(cdpr4, kind="fixed"), dead_length=0.0)
+    res = solve(r, PTS)
+    assert (res["status"] == "ok").all() and res["converged"].all()
+    v = r.A[None] - res["P_s"][:, None]
+    l_h, l_v = np.hypot(v[..., 0], v[..., 1]), v[..., 2]
+    H, V = cat.end_forces(l_h, l_v, res["L0"], r.arrays.w, r.ES)
+    F = (H / l_h)[..., None] * np.concatenate([v[..., :2], np.zeros_like(l_h)[..., None]], -1)
+    F[..., 2] = V
+    net = F.sum(axis=1) + r.platform.w_ext
+    assert np.abs(net).max() < 1e-6 * r.platform.mass * r.platform.g
+    # the cables carry their own weight: the exit points pull harder than the platform feels
+    assert (res["t_D"] > res["t_B"]).all() and (res["sag"] > 0).all()
+    np.testing.assert_allclose(res["sag_max"], res["sag"].max(axis=1))
+    assert (np.abs(res["angle_f_deg"]) > 0).all()
+
+
+def test_weight_to_zero_is_continuous(cdpr4):
+    r = with_pulleys(cdpr4, kind="fixed")
+    a = solve(r, PTS)
+    b = solve(heavy(r, rho=1e-9), PTS)
+    assert np.abs(a["P_s"] - b["P_s"]).max() < 1e-8
+    c = solve(heavy(r), PTS)
+    assert np.abs(a["P_s"] - c["P_s"]).max() > 1e-5  # a real cable's weight does move the platform
+
+
+@pytest.mark.parametrize("point_mass", [True, False])
+def test_analytic_jacobian_equals_finite_differences(cdpr4, point_mass):
+    if point_mass:
+        r = heavy(with_pulleys(cdpr4, kind="fixed"), rho=0.5)
+        p, rv = np.array([[0.4, -0.3, 2.0]]), np.zeros((1, 3))
+        L0 = solve(r, p)["L0"] * 1.001
+    else:
+        r = heavy(robot8_turned("fixed", np.eye(3)), rho=0.5)
+        p, rv = np.array([[0.3, -0.2, 1.4]]), np.array([[0.05, -0.1, 0.2]])
+        L0 = pretensioned(r, p, rv, t0=200.0)
+    cab = HeavyCables(r)
+    _, R = pose_arrays(p, rv)
+    J = cab.evaluate(p, R, L0, p)["J"][0]
+    h = 1e-6
+    fd = np.empty((6, 6))
+    for k in range(6):
+        dx = np.zeros(6)
+        dx[k] = h
+        ev = [
+            cab.evaluate(p + s * dx[:3], rotation_matrix(s * dx[3:]) @ R, L0, p, jacobian=False)
+            for s in (1, -1)
+        ]
+        fd[:, k] = (
+            np.concatenate([ev[0]["F"], ev[0]["M"]], 1) - np.concatenate([ev[1]["F"], ev[1]["M"]], 1)
+        )[0] / (2 * h)
+    assert np.abs(J - fd).max() < 1e-5 * np.abs(J).max()
+
+
+@pytest.mark.parametrize("kind", ["fixed", "SR"])
+def test_rotating_the_whole_robot_and_gravity_rotates_the_heavy_solution(kind):
+    """Gravity not along -z: the catenaries' planes follow it (this exercises "up" = -down, and SR
+    axes along gravity both up and down)."""
+    Q = Rotation.from_rotvec([0.4, -0.7, 1.1]).as_matrix()
+    a, b = heavy(robot8_turned(kind, np.eye(3))), heavy(robot8_turned(kind, Q))
+    p = np.array([[0.3, -0.2, 1.4], [-0.5, 0.4, 1.7], [0.0, 0.0, 1.5]])
+    rv = np.array([[0.05, -0.1, 0.2], [0.2, 0.1, -0.1], [0.0, 0.0, 0.0]])
+    rv_b = (Rotation.from_matrix(Q) * Rotation.from_rotvec(rv)).as_rotvec()
+    L0 = pretensioned(a, p, rv, t0=300.0)
+    ra = solve(a, p, rv, L0=L0)
+    rb = solve(b, p @ Q.T, rv_b, L0=L0)
+    assert (ra["status"] == "ok").all() and (ra["status"] == rb["status"]).all()
+    assert np.abs(ra["P_s"] @ Q.T - rb["P_s"]).max() < 1e-9
+    assert np.abs(Q @ ra["R_s"] - rb["R_s"]).max() < 1e-9
+    assert np.abs(ra["t"] - rb["t"]).max() < 1e-6 and np.abs(ra["sag"] - rb["sag"]).max() < 1e-9
+    assert ra["sag"].max() > 1e-4
+
+
+def test_heavy_cables_on_dr_pulleys_and_tilted_swivel_axes_are_refused_in_one_line(cdpr4):
+    with pytest.raises(CdprError, match=r"cable 1 has a DR pulley") as exc:
+        solve(heavy(with_pulleys(cdpr4, kind="DR")), PTS[:1])
+    assert "\n" not in str(exc.value)
+    r = heavy(with_pulleys(cdpr4, kind="SR"))
+    c0 = r.cables[0]
+    tilted = dataclasses.replace(c0, pulley=dataclasses.replace(c0.pulley, axis=(0.0, 0.6, 0.8)))
+    with pytest.raises(CdprError, match=r"cable 1 has a swivel axis off the vertical"):
+        solve(dataclasses.replace(r, cables=(tilted, *r.cables[1:])), PTS[:1])
+
+
+def test_sr_exit_point_is_where_the_catenary_leaves_the_sheave_tangentially(cdpr4):
+    """SR pulleys: D_i lies on the sheave circle (|D - H| = r_p, in the cable's vertical plane), and
+    the catenary's end tangent at D_i is perpendicular to the radius H -> D_i."""
+    r = heavy(with_pulleys(cdpr4, kind="SR"), rho=0.5)
+    res = solve(r, PTS)
+    assert (res["status"] == "ok").all()
+    cab = HeavyCables(r)
+    R = np.broadcast_to(np.eye(3), (len(PTS), 3, 3))
+    x = cab.exit_points(res["P_s"], R, res["L0"])
+    st = x["state"].span
+    D = res["D"]
+    from cdpr.models.inverse import pose_state
+
+    _, ps = pose_state(r, res["P_s"], R)
+    radius = D - ps.H
+    np.testing.assert_allclose(np.linalg.norm(radius, axis=-1), r.r_p[0], rtol=1e-12)
+    tangent = st.H[..., None] * x["e_h"] + st.V_D[..., None] * cab.up  # along the cable at D
+    cos = np.einsum("nma,nma->nm", tangent, radius) / (st.T_D * r.r_p[0])
+    assert np.abs(cos).max() < 1e-12
+    # the heavy cable leaves the sheave lower than the straight one would (its tangent at D is steeper)
+    assert (np.abs(res["gamma"] - ps.gamma) > 0).all()
+
+
+def test_the_one_door_solves_heavy_robots_with_the_numpy_reference_and_refuses_the_rest(cdpr4):
+    from cdpr import solve as door
+
+    r = heavy(cdpr4)  # SR pulleys, vertical axes
+    res = door.solve(r, PTS[:2], redundancy="physical")
+    ref = solve(r, PTS[:2])
+    assert set(door.HEAVY_KEYS) <= set(res) and (res["status"] == ref["status"]).all()
+    assert np.abs(res["P_s"] - ref["P_s"]).max() == 0.0
+    np.testing.assert_array_equal(res["sag"], ref["sag"])
+    for kwargs, words in [
+        ({"redundancy": "paper"}, "physical mode only"),
+        ({"redundancy": "physical", "engine": "compiled"}, "no compiled kernel yet"),
+    ]:
+        with pytest.raises(CdprError, match=words):
+            door.solve(r, PTS[:1], **kwargs)
+    with pytest.raises(CdprError, match="does not model heavy cables yet"):
+        door.solve_batch([r], PTS[:1])
+    with pytest.raises(CdprError, match="does not model heavy cables yet"):
+        door.sensitivities(r, PTS[:1], redundancy="physical")
