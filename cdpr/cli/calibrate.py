@@ -22,7 +22,7 @@ from cdpr import io
 from cdpr.analyses import calibration as cal
 from cdpr.cli.commands import checked, emit_json
 from cdpr.errors import CdprError
-from cdpr.pipeline.calibration_files import write_motor_robot, write_robot
+from cdpr.pipeline.calibration_files import write_robot
 from cdpr.robot import load_robot
 
 
@@ -68,26 +68,14 @@ def _fit_motor(args, robot):
         raise CdprError("--report: not written for motor-angle data (the JSON has every number)")
     data = cal.read_motor_data(args.data, robot)
     result = cal.fit_motor(robot, data, args.estimate, priors=priors, model=args.model)
-    write_motor_robot(args.out, result, args.data)
+    write_robot(args.out, result, args.data)
     s = result.summary()
     for w in result.warnings:
         print(f"cdpr: warning: {w}", file=sys.stderr)
     if args.json:
         emit_json({**s, "data_warnings": result.warnings}, args)
         return
-    rows = [
-        [
-            p["name"],
-            f"{p['nominal']:.6g}",
-            f"{p['estimate']:.6g}",
-            f"{p['sd']:.3g}",
-            f"{p['prior_sd']:.3g}",
-            p["identified"],
-        ]
-        for p in s["parameters"]
-    ]
-    print(_table(rows, ["parameter", "nominal", "estimate", "sd", "prior sd", "identified"]))
-    cond = "inf" if s["condition"] is None else f"{s['condition']:.3g}"
+    cond = _print_parameters(s)
     pos = "no position measured" if s["residual_rms_m"] is None else f"{s['residual_rms_m'] * 1e3:.4g} mm"
     print(
         f"{s['n_parameters']} parameters, rank {s['rank']}, condition {cond}; {s['samples_used']} samples "
@@ -99,7 +87,8 @@ def _fit_motor(args, robot):
         print(f"weak: {w}")
 
 
-def _print_fit(result, s):
+def _print_parameters(s):
+    """Print the parameter table of a fit's summary ``s``; return its condition number as text."""
     rows = [
         [
             p["name"],
@@ -113,6 +102,11 @@ def _print_fit(result, s):
     ]
     print(_table(rows, ["parameter", "nominal", "estimate", "sd", "prior sd", "identified"]))
     cond = "inf" if s["condition"] is None else f"{s['condition']:.3g}"
+    return cond
+
+
+def _print_fit(result, s):
+    cond = _print_parameters(s)
     rms = "no pose measured" if s["residual_rms_m"] is None else f"{s['residual_rms_m'] * 1e3:.4g} mm"
     print(
         f"{s['n_parameters']} parameters, rank {s['rank']}, condition {cond}; samples used {s['samples_used']}, "
@@ -233,29 +227,8 @@ def cmd_cv(args):
     if args.json:
         emit_json(out, args)
         return
-    rows = [
-        [
-            str(f["fold"]),
-            str(len(f["samples"])),
-            str(f["heldout_with_position"]),
-            _mm(f["heldout_position_rms_m"]),
-            _mm(f["heldout_position_median_m"]),
-            _mm(f["heldout_line_rms_m"]),
-            _mm(f["train_rms_m"]),
-        ]
-        for f in out["folds"]
-    ]
-    rows.append(
-        [
-            "all",
-            str(len(out["per_sample"])),
-            str(out["heldout_with_position"]),
-            _mm(out["heldout_position_rms_m"]),
-            _mm(out["heldout_position_median_m"]),
-            _mm(out["heldout_line_rms_m"]),
-            _mm(out["train_rms_m"]),
-        ]
-    )
+    rows = [_cv_row(str(f["fold"]), len(f["samples"]), f) for f in out["folds"]]
+    rows.append(_cv_row("all", len(out["per_sample"]), out))
     print(
         _table(
             rows,
@@ -274,6 +247,20 @@ def cmd_cv(args):
     print(f"{args.folds} folds (row i in fold i mod {args.folds}); {what}; {args.model} model")
     if out["gauge"]:
         print(f"gauge: {out['gauge']}")
+
+
+def _cv_row(label, n, scores):
+    """A row of the cross-validation table: ``label``, ``n`` held-out samples and the ``scores`` of a
+    fold or of all folds (``calibration.cross_validate``)."""
+    return [
+        label,
+        str(n),
+        str(scores["heldout_with_position"]),
+        _mm(scores["heldout_position_rms_m"]),
+        _mm(scores["heldout_position_median_m"]),
+        _mm(scores["heldout_line_rms_m"]),
+        _mm(scores["train_rms_m"]),
+    ]
 
 
 def cmd_plan(args):

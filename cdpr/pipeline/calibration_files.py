@@ -1,7 +1,7 @@
 """The files of a calibration, written atomically (``cdpr.io.atomic``: a file appears complete or
 not at all, with the mode a plain ``open()`` gives it): the data table (``write_data``, the CSV
 ``cdpr.analyses.calibration.read_data`` reads) and the calibrated robot (``write_robot``, the file
-``cdpr calibrate fit --out`` writes). The analyses layer computes their content
+``cdpr calibrate fit --out`` writes, from commanded lengths or motor angles). The analyses layer computes their content
 (``calibration.data_frame``, ``calibration.robot_file_text``) and writes nothing itself."""
 
 from __future__ import annotations
@@ -9,7 +9,7 @@ from __future__ import annotations
 import datetime
 
 from cdpr import io
-from cdpr.analyses.calibration import data_frame, motor_robot_text, robot_file_text
+from cdpr.analyses.calibration import data_frame, robot_file_text
 
 #: Digits of the data table's floats: every float64 round-trips (the table is an input again).
 DATA_FORMAT = "%.17g"
@@ -36,13 +36,14 @@ def write_data(path, data, robot):
 
 def write_robot(path, cal, data_source, when=None):
     """Write the calibrated robot file of a fit (``calibration.robot_file_text``: the input's
-    schema, per-cable plain SI values, a header naming the data, the model and the time).
+    schema, per-cable plain SI values, or for a motor-angle fit the nominal robot file with the
+    estimated anchors and spools; a header naming the data, the model and the time).
 
     Parameters
     ----------
     path : str or Path
         The .yaml file; its folder is created.
-    cal : calibration.Calibration
+    cal : calibration.Calibration or calibration.MotorCalibration
     data_source : str
         The data file named in the header.
     when : datetime.datetime, optional
@@ -55,27 +56,3 @@ def write_robot(path, cal, data_source, when=None):
     if when is None:
         when = datetime.datetime.now(datetime.timezone.utc)
     io.write_text(robot_file_text(cal, data_source, when), path)
-
-
-def write_motor_robot(path, cal, data_source, when=None):
-    """Write the calibrated robot file of a motor-angle fit (``calibration.motor_robot_text``: the
-    nominal robot file with the estimated anchors and spools, a header naming the data, the model,
-    the gauge and the time).
-
-    Parameters
-    ----------
-    path : str or Path
-        The .yaml file; its folder is created.
-    cal : calibration.MotorCalibration
-    data_source : str
-        The data file named in the header.
-    when : datetime.datetime, optional
-        The time named in the header (default now, UTC).
-
-    Returns
-    -------
-    None
-    """
-    if when is None:
-        when = datetime.datetime.now(datetime.timezone.utc)
-    io.write_text(motor_robot_text(cal, data_source, when), path)

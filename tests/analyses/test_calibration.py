@@ -10,6 +10,8 @@ from cdpr.errors import CdprError, ConfigError
 from cdpr.models.inverse import L_TS
 from cdpr.parameters import calibration_names, select_groups
 from cdpr.pipeline.calibration_files import write_data, write_robot
+from cdpr.robot import BoxBody
+from tests.analyses.one_line import assert_refused_in_one_line
 
 BOX = [-1.8, 1.8, -1.8, 1.8, 0.8, 3.5]
 
@@ -219,6 +221,25 @@ def test_write_robot_round_trip(cdpr4, tmp_path):
     np.testing.assert_array_equal(calibration_values(back)[idx], c.estimate)
 
 
+@pytest.mark.parametrize("body", [BoxBody(centre=(0.01, -0.02, 0.03), half=(0.1, 0.2, 0.05)), "none"])
+def test_write_robot_keeps_the_platform_body(cdpr4, tmp_path, body):
+    """A robot whose platform has a body other than the default hull (a box, none) comes back from
+    the calibrated robot file with that body, not with the hull."""
+    import dataclasses
+
+    from cdpr.robot import load_robot
+
+    robot = dataclasses.replace(cdpr4, platform=dataclasses.replace(cdpr4.platform, body=body))
+    rng, idx, sd, truth, th = _truth(robot, ["anchors"], 3)
+    c = cal.fit(robot, cal.simulate(truth, robot, _poses(rng, 12), sigma=2e-4, rng=rng), ["anchors"])
+    assert c.calibrated_robot().platform.body == body
+    out = tmp_path / "cal.yaml"
+    write_robot(out, c, "m.csv")
+    back = load_robot(out)
+    assert back.platform.body == body
+    np.testing.assert_array_equal(back.A, c.calibrated_robot().A)
+
+
 def test_sr_pulley_may_come_out_slightly_below_its_radius():
     """The loader accepts SR with h >= r_p - 1 mm (calibrated swivel pulleys) and still refuses lower."""
     from cdpr.robot import check_pulley
@@ -264,12 +285,7 @@ def test_sr_pulley_may_come_out_slightly_below_its_radius():
 def test_bad_data_is_one_line_naming_file_and_column(cdpr3, tmp_path, text, column, words):
     path = tmp_path / "bad.csv"
     path.write_text(text)
-    with pytest.raises(ConfigError) as info:
-        cal.read_data(path, cdpr3)
-    msg = str(info.value)
-    assert "\n" not in msg and str(path) in msg and words in msg
-    if column:
-        assert f"key '{column}'" in msg
+    assert_refused_in_one_line(cal.read_data, path, cdpr3, column, words)
 
 
 def test_bad_fit_requests(cdpr3, tmp_path):

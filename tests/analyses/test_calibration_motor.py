@@ -14,6 +14,7 @@ from cdpr.analyses import calibration as cal
 from cdpr.analyses.calibration import motor
 from cdpr.errors import CdprError, ConfigError
 from cdpr.robot import load_robot
+from tests.analyses.one_line import assert_refused_in_one_line
 
 ROOT = Path(__file__).resolve().parents[2]
 HP4 = ROOT / "config/robots/hangprinter_hp4.yaml"
@@ -88,12 +89,7 @@ GOOD = "sample,motor_deg_1,motor_deg_2,motor_deg_3,motor_deg_4"
 def test_bad_data_is_one_line_naming_file_and_column(hp4, tmp_path, text, column, words):
     path = tmp_path / "bad.csv"
     path.write_text(text)
-    with pytest.raises(ConfigError) as info:
-        cal.read_motor_data(path, hp4)
-    msg = str(info.value)
-    assert "\n" not in msg and str(path) in msg and words in msg
-    if column:
-        assert f"key '{column}'" in msg
+    assert_refused_in_one_line(cal.read_motor_data, path, hp4, column, words)
 
 
 def test_motor_angles_need_spools(tmp_path):
@@ -124,8 +120,8 @@ def test_jacobian_matches_central_differences(hp4, model, forces):
     data = cal.simulate_motor(hp4, P, F, measured=[True, False, True, False, False, False])
     sm0 = motor.SpoolModel.of(hp4)
     index = np.arange(20)
-    sd = motor._prior_sd(4, index, motor.DEFAULT_PRIORS)
-    f, g = motor._stretch(model, data, motor.reference_forces(data, model)[0], sm0.K)
+    sd = motor.motor_prior_sd(4, index, motor.DEFAULT_PRIORS)
+    f, g = motor.stretch_factors(model, data, motor.reference_forces(data, model)[0], sm0.K)
     res, jac, _ = motor.motor_problem(sm0, data, index, sd, f, g)
     x = np.concatenate([0.3 * rng.standard_normal(20), (P + 0.01 * rng.standard_normal(P.shape)).ravel()])
     J = jac(x)

@@ -39,21 +39,25 @@ directions in words, and each parameter's posterior-to-prior sd ratio: identifie
 The package, one module a concept (the names below are re-exported here, ``__all__``):
 
 - ``data``: the samples (``Data``), reading and checking the CSV table (``read_data``) and the
-  table back (``data_frame``).
+  table back (``data_frame``); a spool robot's motor-angle samples (``MotorData``,
+  ``read_motor_data``, ``is_motor_table``).
 - ``model``: the robot the fit moves (``model_robot``, ``MODELS``), its drums
   (``realised_lengths``), its commands (``commanded_lengths``) and the 6-DoF solves (``solve6``).
 - ``problem``: the MAP residuals and their exact Jacobians (``Problem``, ``Problem6``,
   ``map_problem``, ``map_residual``, ``tension_sensitivities``).
-- ``estimator``: priors (``parse_priors``, ``prior_sd``), the MAP fit (``fit``) and the rigid
-  self-calibration (``self_calibrate_standard``).
-- ``result``: the ``Calibration`` a fit returns and the calibrated robot file's text
-  (``robot_file_text``).
+- ``motor``: the motor-angle model of a spool robot (a Hangprinter: ``SpoolModel``), its MAP
+  problem with every position a nuisance (``motor_problem``) and each position solved from its
+  readings (``solve_positions``).
+- ``estimator``: priors (``parse_priors``, ``prior_sd``, ``parse_motor_priors``), the MAP fit
+  (``fit``), the rigid self-calibration (``self_calibrate_standard``) and the motor-angle fit
+  (``fit_motor``).
+- ``result``: the ``Calibration`` a fit returns (``MotorCalibration`` from motor angles) and the
+  calibrated robot file's text (``robot_file_text``, both kinds).
 - ``identify``: identifiability and its words (``identifiability``, ``direction_words``).
-- ``prediction``: a robot against measured samples (``check``).
-- ``motor``: motor-angle data of a spool robot (a Hangprinter: ``read_motor_data``), the
-  self-calibration with every position a nuisance (``fit_motor``), ``check_motor`` and the K-fold
-  cross-validation (``cross_validate``).
-- ``synthetic``: simulated measurements (``simulate``, ``perturbed``, ``random_poses6``).
+- ``prediction``: a robot against measured samples (``check``, ``check_motor``).
+- ``cv``: the K-fold cross-validation of a motor-angle calibration (``cross_validate``).
+- ``synthetic``: simulated measurements (``simulate``, ``perturbed``, ``random_poses6``,
+  ``simulate_motor``).
 - ``design``: the measurement plan (``plan``, ``d_optimal``).
 
 This layer writes no file: ``cdpr.pipeline.calibration_files`` writes the data table and the
@@ -69,6 +73,10 @@ Atkinson, A. C., Donev, A. N. (1992). Optimum Experimental Designs, Oxford, ch. 
 and 15 (exchange algorithms).
 """
 
+from cdpr.analyses.calibration.cv import (
+    cross_validate,
+    fold_of,
+)
 from cdpr.analyses.calibration.data import (
     ORIENTATION,
     POSE,
@@ -76,9 +84,12 @@ from cdpr.analyses.calibration.data import (
     SIGMA_RAD_DEFAULT,
     SIGMA_T_DEFAULT,
     Data,
+    MotorData,
     data_columns,
     data_frame,
+    is_motor_table,
     read_data,
+    read_motor_data,
 )
 from cdpr.analyses.calibration.design import (
     LOGDET_TIE,
@@ -97,6 +108,8 @@ from cdpr.analyses.calibration.estimator import (
     check_model_groups,
     ev0_positions,
     fit,
+    fit_motor,
+    parse_motor_priors,
     parse_priors,
     prior_sd,
     self_calibrate_standard,
@@ -110,6 +123,7 @@ from cdpr.analyses.calibration.identify import (
     TIE_DIGITS,
     direction_words,
     identifiability,
+    identifiability_without,
     sparse_basis,
 )
 from cdpr.analyses.calibration.model import (
@@ -131,23 +145,12 @@ from cdpr.analyses.calibration.model import (
 from cdpr.analyses.calibration.motor import (
     MOTOR_GROUPS,
     MOTOR_MODELS,
-    MotorCalibration,
-    MotorData,
     SpoolModel,
-    check_motor,
-    cross_validate,
-    fit_motor,
-    fold_of,
-    is_motor_table,
-    motor_robot_mapping,
-    motor_robot_text,
-    parse_motor_priors,
-    predict_samples,
-    read_motor_data,
-    simulate_motor,
 )
 from cdpr.analyses.calibration.prediction import (
     check,
+    check_motor,
+    predict_samples,
 )
 from cdpr.analyses.calibration.problem import (
     Problem,
@@ -163,6 +166,8 @@ from cdpr.analyses.calibration.problem import (
 )
 from cdpr.analyses.calibration.result import (
     Calibration,
+    MotorCalibration,
+    motor_robot_mapping,
     robot_file_text,
 )
 from cdpr.analyses.calibration.synthetic import (
@@ -170,6 +175,7 @@ from cdpr.analyses.calibration.synthetic import (
     perturbed,
     random_poses6,
     simulate,
+    simulate_motor,
 )
 
 __all__ = [
@@ -220,6 +226,7 @@ __all__ = [
     "fit_motor",
     "fold_of",
     "identifiability",
+    "identifiability_without",
     "info_rows",
     "is_motor_table",
     "log_right_jacobian_inverse",
@@ -228,7 +235,6 @@ __all__ = [
     "map_residual6",
     "model_robot",
     "motor_robot_mapping",
-    "motor_robot_text",
     "offset_sensitivities",
     "orientation_residual",
     "parse_motor_priors",

@@ -6,6 +6,13 @@ writes it).
 Columns (docs/calibration.md): sample, L1..Lm (commanded rest lengths) or L_enc1..L_encm (encoder
 readings = rest length + an unknown offset), x_m, y_m, z_m, and for a 6-DoF platform rx_rad, ry_rad,
 rz_rad; optional sigma_m (and sigma_rad), tensions t1_N..tm_N and sigma_N.
+
+Motor-angle data of a spool robot (a Hangprinter; ``MotorData``, ``read_motor_data``; a contract,
+docs/calibration.md and docs/hangprinter.md): ``sample``, ``motor_deg_1..m`` (the motor shaft angle
+from the encoder [deg], relative to the reference taken with the mover at the origin; positive =
+line paid out), optional ``force_N_1..m`` (the line force the drivers report [N], the force of the
+cable on the mover), optional ``x_m, y_m, z_m`` (measured position, all three or none per sample)
+and optional ``sigma_m``. ``cdpr.analyses.calibration.motor`` turns a motor angle into line.
 """
 
 from __future__ import annotations
@@ -26,10 +33,33 @@ SIGMA_DEFAULT = 0.2e-3
 SIGMA_RAD_DEFAULT = 1e-3
 #: Default tension-sensor noise [N] when the data have tensions but no ``sigma_N`` column.
 SIGMA_T_DEFAULT = 5.0
+#: Default sd of a measured position [m] of motor-angle data without a ``sigma_m`` column.
+SIGMA_POSITION_DEFAULT = 1e-3
+
+POSE = ["x_m", "y_m", "z_m"]
+ORIENTATION = ["rx_rad", "ry_rad", "rz_rad"]
+
+
+class _Samples:
+    """What every table of samples has: ``has_pose`` and ``subset`` (a dataclass whose per-sample
+    fields are arrays with one row per sample, ``pose`` among them)."""
+
+    @property
+    def has_pose(self):
+        return np.isfinite(self.pose).all(axis=1)
+
+    def subset(self, idx):
+        """The samples ``idx`` (every per-sample array field indexed, the rest kept)."""
+        rows = {
+            f.name: getattr(self, f.name)[idx]
+            for f in dataclasses.fields(self)
+            if isinstance(getattr(self, f.name), np.ndarray)
+        }
+        return dataclasses.replace(self, **rows)
 
 
 @dataclasses.dataclass
-class Data:
+class Data(_Samples):
     """Calibration samples (``read_data``).
 
     sample (N,) labels; L (N, m) [m] commanded rest lengths, or encoder readings when ``encoder``;
@@ -65,29 +95,26 @@ class Data:
         return np.isfinite(self.rotvec).all(axis=1)
 
     @property
-    def has_pose(self):
-        return np.isfinite(self.pose).all(axis=1)
-
-    @property
     def has_tension(self):
         return np.isfinite(self.tension).all(axis=1)
 
-    def subset(self, idx):
-        return dataclasses.replace(
-            self,
-            sample=self.sample[idx],
-            L=self.L[idx],
-            pose=self.pose[idx],
-            sigma=self.sigma[idx],
-            tension=self.tension[idx],
-            sigma_t=self.sigma_t[idx],
-            rotvec=self.rotvec[idx],
-            sigma_rad=self.sigma_rad[idx],
-        )
 
+@dataclasses.dataclass
+class MotorData(_Samples):
+    """Motor-angle samples (``read_motor_data``): sample (n,) labels; motor_deg (n, m) [deg]; force
+    (n, m) [N], NaN rows where not measured; pose (n, 3) [m], NaN rows where not measured; sigma (n,)
+    [m] the position sd; source: the file."""
 
-POSE = ["x_m", "y_m", "z_m"]
-ORIENTATION = ["rx_rad", "ry_rad", "rz_rad"]
+    sample: np.ndarray
+    motor_deg: np.ndarray
+    force: np.ndarray
+    pose: np.ndarray
+    sigma: np.ndarray
+    source: str
+
+    @property
+    def has_force(self):
+        return np.isfinite(self.force).all(axis=1)
 
 
 def data_columns(m, encoder=False, spatial=False):
@@ -120,13 +147,7 @@ def read_data(path, robot):
         6-DoF platform a pose needs all six of x_m, y_m, z_m, rx_rad, ry_rad, rz_rad; tensions
         t1_N..tm_N all or none, finite and >= 0, sigma_N > 0 (every robot).
     """
-    src = str(path)
-    try:
-        df = pd.read_csv(path)
-    except FileNotFoundError:
-        raise ConfigError(src, None, "the data file does not exist") from None
-    except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
-        raise ConfigError(src, None, f"cannot read it as CSV ({str(exc).splitlines()[0]})") from None
+    src, df = str(path), _read_csv(path)
     m = robot.m
     cols = list(df.columns)
     enc = any(c.startswith("L_enc") for c in cols)
@@ -265,6 +286,134 @@ def _read_data6(df, src, robot, enc, cols):
         rotvec=six[:, 3:],
         sigma_rad=sig["sigma_rad"],
     )
+
+
+def is_motor_table(path):
+    """True when the CSV at ``path`` has a ``motor_deg_1`` column (a motor-angle table).
+
+    Parameters
+    ----------
+    path : str or Path
+
+    Returns
+    -------
+    bool
+    """
+    try:
+        cols = pd.read_csv(path, nrows=0).columns
+    except (OSError, pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError):
+        return False  # read_data says what is wrong with it
+    return any(str(c).startswith("motor_deg_") for c in cols)
+
+
+def read_motor_data(path, robot):
+    """Read and check a motor-angle table (the module docstring) for ``robot``.
+
+    Parameters
+    ----------
+    path : str or Path
+    robot : Robot
+        Every cable needs a spool winch; its cable count fixes the columns.
+
+    Returns
+    -------
+    MotorData
+
+    Raises
+    ------
+    ConfigError
+        One line naming the file, the column and what is allowed: missing, unknown or extra columns,
+        a column count that does not match the robot, non-numbers, non-finite angles, forces half
+        given or negative, half-given positions, sigma_m <= 0.
+    """
+    src, df = str(path), _read_csv(path)
+    if any(s is None for s in robot.spools):
+        raise ConfigError(
+            src, "motor_deg_1", f"motor angles need a spool winch on every cable; robot {robot.name} has none"
+        )
+    m = robot.m
+    cols = [str(c) for c in df.columns]
+    mcols = [f"motor_deg_{i}" for i in range(1, m + 1)]
+    fcols = [f"force_N_{i}" for i in range(1, m + 1)]
+    allowed = ["sample", *mcols, *fcols, *POSE, "sigma_m"]
+    for c in cols:
+        if c not in allowed:
+            raise ConfigError(
+                src,
+                c,
+                f"unknown column; allowed: sample, motor_deg_1..motor_deg_{m}, force_N_1..force_N_{m}, "
+                "x_m, y_m, z_m, sigma_m (robot "
+                f"{robot.name} has {m} cables)",
+            )
+    for c in ["sample", *mcols]:
+        if c not in cols:
+            raise ConfigError(
+                src, c, f"missing column; a motor-angle table needs sample, motor_deg_1..motor_deg_{m}"
+            )
+    for group, what in (
+        (fcols, "forces need all of force_N_1..force_N_%d" % m),
+        (POSE, "positions need all of x_m, y_m, z_m"),
+    ):
+        given = [c for c in group if c in cols]
+        if given and len(given) != len(group):
+            raise ConfigError(src, next(c for c in group if c not in cols), what + " (or none)")
+    if len(df) == 0:
+        raise ConfigError(src, None, "no samples")
+    deg = _numbers(df, mcols, src)
+    for j, c in enumerate(mcols):
+        bad = ~np.isfinite(deg[:, j])
+        if bad.any():
+            r = int(np.flatnonzero(bad)[0])
+            raise ConfigError(src, c, f"row {r + 1}: {float(deg[r, j])!r}; motor angles must be finite [deg]")
+    n = len(df)
+    force = np.full((n, m), np.nan)
+    if fcols[0] in cols:
+        force = _numbers(df, fcols, src)
+        fin = np.isfinite(force)
+        bad = (fin.any(axis=1) & ~fin.all(axis=1)) | (force < 0).any(axis=1) | np.isinf(force).any(axis=1)
+        if bad.any():
+            r = int(np.flatnonzero(bad)[0])
+            c = fcols[int(np.flatnonzero(~fin[r] | (force[r] < 0) | np.isinf(force[r]))[0])]
+            raise ConfigError(src, c, f"row {r + 1}: forces must be all finite and >= 0 [N] (or all empty)")
+    pose = np.full((n, 3), np.nan)
+    if "x_m" in cols:
+        pose = _numbers(df, POSE, src)
+        fin = np.isfinite(pose)
+        bad = (fin.any(axis=1) & ~fin.all(axis=1)) | np.isinf(pose).any(axis=1)
+        if bad.any():
+            r = int(np.flatnonzero(bad)[0])
+            c = POSE[int(np.flatnonzero(~fin[r])[0])]
+            raise ConfigError(
+                src, c, f"row {r + 1}: a position needs all three finite x_m, y_m, z_m (or none)"
+            )
+    sigma = np.full(n, SIGMA_POSITION_DEFAULT)
+    if "sigma_m" in cols:
+        sigma = _numbers(df, ["sigma_m"], src)[:, 0]
+        bad = np.isfinite(pose).all(axis=1) & ~(np.isfinite(sigma) & (sigma > 0))
+        if bad.any():
+            r = int(np.flatnonzero(bad)[0])
+            raise ConfigError(
+                src, "sigma_m", f"row {r + 1}: {float(sigma[r])!r}; sigma_m must be finite and > 0 [m]"
+            )
+    return MotorData(
+        sample=df["sample"].astype(str).to_numpy(),
+        motor_deg=deg,
+        force=force,
+        pose=pose,
+        sigma=sigma,
+        source=src,
+    )
+
+
+def _read_csv(path):
+    """The CSV at ``path`` as a DataFrame; ConfigError naming the file when it does not exist or is
+    not CSV."""
+    try:
+        return pd.read_csv(path)
+    except FileNotFoundError:
+        raise ConfigError(str(path), None, "the data file does not exist") from None
+    except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
+        raise ConfigError(str(path), None, f"cannot read it as CSV ({str(exc).splitlines()[0]})") from None
 
 
 def _tension_names(cols, src, m):

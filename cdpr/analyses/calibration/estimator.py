@@ -1,9 +1,11 @@
-"""The estimator: priors, the MAP fit and the rigid self-calibration.
+"""The estimator: priors, the MAP fit, the rigid self-calibration and the motor-angle fit.
 
 ``fit`` is the maximum a posteriori (MAP) estimate of θ under a Gaussian prior around the nominal
 robot (``parse_priors``, ``prior_sd``): a weakly identified parameter stays near its prior instead
 of running away. ``scipy.optimize.least_squares`` on the residual of ``problem.map_problem`` with
-its exact Jacobian; the result is a ``result.Calibration``.
+its exact Jacobian; the result is a ``result.Calibration``. ``fit_motor`` is the self-calibration
+from a spool robot's motor angles with every position a nuisance (``cdpr.analyses.calibration.motor``,
+its priors ``parse_motor_priors``); its result is a ``result.MotorCalibration``.
 
 Encoder data (``L_enc1..L_encm``): with elastic cables and no measured tension every set of lengths
 has an equilibrium for every θ, so a sample without a measured pose gives no equation in the exact
@@ -27,17 +29,34 @@ import numpy as np
 import pandas as pd
 from scipy.optimize import least_squares
 
+from cdpr.analyses.calibration import motor
 from cdpr.analyses.calibration.identify import (
     identifiability,
+    identifiability_without,
 )
 from cdpr.analyses.calibration.model import (
     default_start,
     model_robot,
 )
+from cdpr.analyses.calibration.motor import (
+    MOTOR_GROUPS,
+    MOTOR_MODELS,
+    SIGMA_LINE_DEFAULT,
+    SpoolModel,
+    gauge_words,
+    line_residuals,
+    motor_index,
+    motor_names,
+    motor_prior_sd,
+    motor_problem,
+    reference_forces,
+    solve_positions,
+    stretch_factors,
+)
 from cdpr.analyses.calibration.problem import (
     map_problem,
 )
-from cdpr.analyses.calibration.result import Calibration
+from cdpr.analyses.calibration.result import Calibration, MotorCalibration
 from cdpr.errors import CdprError
 from cdpr.parameters import (
     CALIBRATION_GROUPS,
@@ -84,29 +103,40 @@ def parse_priors(text, source="--prior", estimate=None):
     -------
     priors : dict group -> float [m, or relative]
     """
-    out = dict(DEFAULT_PRIORS)
-    if not text:
-        return out
-    for item in str(text).split(","):
-        if "=" not in item:
-            raise CdprError(f"{source}: expected GROUP=SD, got {item!r}; e.g. anchors=5mm,moduli=20%")
-        g, v = (s.strip() for s in item.split("=", 1))
-        if g not in CALIBRATION_GROUPS:
-            raise CdprError(f"{source}: unknown group {g!r}; allowed: {', '.join(CALIBRATION_GROUPS)}")
-        if g in RELATIVE:
-            try:
-                sd = float(v[:-1]) / 100.0 if v.endswith("%") else float(v)
-            except ValueError:
-                raise CdprError(f"{source}: {g}={v!r} is not a percentage (e.g. {g}=20%)") from None
-        else:
-            sd = quantity(v, "m", source, g)
-        if not (math.isfinite(sd) and sd > 0):
-            raise CdprError(f"{source}: the prior sd of {g} must be > 0, got {v!r}")
-        if g in RELATIVE and sd >= 1.0:
+
+    def value(g, v):
+        if g not in RELATIVE:
+            return quantity(v, "m", source, g)
+        try:
+            sd = float(v[:-1]) / 100.0 if v.endswith("%") else float(v)
+        except ValueError:
+            raise CdprError(f"{source}: {g}={v!r} is not a percentage (e.g. {g}=20%)") from None
+        if math.isfinite(sd) and 1.0 <= sd:
             raise CdprError(
                 f"{source}: the prior sd of {g} is relative and must be below 100 %, got {v!r} "
                 f"({sd:.0%}); give a percentage, e.g. {g}=20%"
             )
+        return sd
+
+    priors = _prior_items(text, source, CALIBRATION_GROUPS, "anchors=5mm,moduli=20%", "", value, estimate)
+    return {**DEFAULT_PRIORS, **priors}
+
+
+def _prior_items(text, source, allowed, example, unknown, value, estimate):
+    """The prior sd of each ``G=SD`` item of ``text`` (dict group -> sd, in the order given, empty
+    without text): ``value(group, text)`` reads an sd; CdprError naming ``source`` on an item
+    without ``=``, a group not ``allowed`` (``unknown`` completes that message), an sd not finite
+    and > 0, or a group not in ``estimate`` (None: any)."""
+    out = {}
+    for item in str(text).split(",") if text else []:
+        if "=" not in item:
+            raise CdprError(f"{source}: expected GROUP=SD, got {item!r}; e.g. {example}")
+        g, v = (s.strip() for s in item.split("=", 1))
+        if g not in allowed:
+            raise CdprError(f"{source}: unknown group {g!r}{unknown}; allowed: {', '.join(allowed)}")
+        sd = value(g, v)
+        if not (math.isfinite(sd) and sd > 0):
+            raise CdprError(f"{source}: the prior sd of {g} must be > 0, got {v!r}")
         if estimate is not None and g not in estimate:
             raise CdprError(
                 f"{source}: a prior for {g}, which is not estimated (--estimate {','.join(estimate)}); "
@@ -114,6 +144,38 @@ def parse_priors(text, source="--prior", estimate=None):
             )
         out[g] = sd
     return out
+
+
+def parse_motor_priors(text, estimate, source="--prior"):
+    """Prior sd of a motor-angle calibration from ``G=SD,...`` (``anchors=150mm,spools=1mm``).
+
+    Parameters
+    ----------
+    text : str or None
+    estimate : sequence of str
+        The groups estimated (``motor.MOTOR_GROUPS``); a prior for another group is refused.
+    source : str
+        Named in the error message.
+
+    Returns
+    -------
+    priors : dict group -> float [m]
+    """
+    for g in estimate:
+        if g not in MOTOR_GROUPS:
+            raise CdprError(
+                f"--estimate {g}: a motor-angle calibration estimates {', '.join(MOTOR_GROUPS)} only"
+            )
+    priors = _prior_items(
+        text,
+        source,
+        MOTOR_GROUPS,
+        "anchors=150mm,spools=1mm",
+        " for motor-angle data",
+        lambda g, v: quantity(v, "m", source, g),
+        estimate,
+    )
+    return {**motor.DEFAULT_PRIORS, **priors}
 
 
 def prior_sd(robot, index, priors):
@@ -451,10 +513,8 @@ def self_calibrate_standard(robot, data, groups, priors=None, sigma_L=SIGMA_L_DE
         residual, x0, jac=jacobian, method="trf", ftol=1e-15, xtol=1e-15, gtol=1e-15, max_nfev=200
     )
     J = jacobian(sol.x)[: n * m]
-    Q, _ = np.linalg.qr(J[:, : 3 * n])
-    Jth = J[:, 3 * n :]
     names = [calibration_names(robot)[c] for c in index]
-    ident = identifiability(Jth - Q @ (Q.T @ Jth), names)
+    ident = identifiability_without(J[:, 3 * n :], J[:, : 3 * n], names)
     th = unpack(sol.x)[0]
     res = residual(sol.x)[: n * m].reshape(n, m) * sigma_L
     table = pd.DataFrame(
@@ -479,6 +539,101 @@ def self_calibrate_standard(robot, data, groups, priors=None, sigma_L=SIGMA_L_DE
         theta=th,
         table=table,
         source=data.source,
+        cost=float(sol.cost),
+        nfev=int(sol.nfev),
+    )
+
+
+def fit_motor(robot, data, groups, priors=None, model="exact", sigma_line=SIGMA_LINE_DEFAULT):
+    """MAP self-calibration from motor angles with every position a nuisance (``cdpr.analyses.calibration.motor``).
+
+    Parameters
+    ----------
+    robot : Robot
+        Nominal robot (the prior mean), a point mass on fixed anchors with a spool on every cable.
+    data : MotorData
+    groups : list of str
+        Among ``MOTOR_GROUPS``.
+    priors : dict, optional
+        ``parse_motor_priors`` (default ``DEFAULT_PRIORS``).
+    model : {"exact", "standard"}
+    sigma_line : float [m]
+        Line noise sd.
+
+    Returns
+    -------
+    MotorCalibration
+    """
+    if model not in MOTOR_MODELS:
+        raise CdprError(f"--model {model}: motor-angle data take {', '.join(MOTOR_MODELS)}")
+    bad = [g for g in groups if g not in MOTOR_GROUPS]
+    if bad or not groups:
+        raise CdprError(
+            f"--estimate {bad[0] if bad else ''}: a motor-angle calibration estimates {', '.join(MOTOR_GROUPS)}"
+        )
+    priors = parse_motor_priors(None, groups) if priors is None else priors
+    sm0 = SpoolModel.of(robot)
+    m, n = robot.m, len(data.sample)
+    index = motor_index(m, groups)
+    k = len(index)
+    sd = motor_prior_sd(m, index, priors)
+    th0 = sm0.theta()
+    t_ref, warn = reference_forces(data, model)
+    f, g = stretch_factors(model, data, t_ref, sm0.K)
+    hp = data.has_pose
+    ip = np.flatnonzero(hp)
+    residual, jacobian, unpack = motor_problem(sm0, data, index, sd, f, g, sigma_line)
+    start = np.where(hp[:, None], data.pose, np.nan)
+    P0, _ = solve_positions(sm0, data, f, g, start=np.where(np.isfinite(start), start, sm0.A.mean(axis=0)))
+    x0 = np.concatenate([np.zeros(k), P0.ravel()])
+    sol = least_squares(
+        residual,
+        x0,
+        jac=jacobian,
+        method="trf",
+        x_scale="jac",
+        ftol=1e-12,
+        xtol=1e-12,
+        gtol=1e-12,
+        max_nfev=200,
+    )
+    sm, P = unpack(sol.x)
+    J = jacobian(sol.x)[: n * m + 3 * len(ip)]
+    names_all = motor_names(m)
+    names = [names_all[c] for c in index]
+    ident = identifiability_without(J[:, :k], J[:, k:], names)
+    res = line_residuals(sm, data, P, f, g)
+    perr = np.full(n, np.nan)
+    perr[ip] = np.linalg.norm(P[ip] - data.pose[ip], axis=1)
+    status = np.where((model == "exact") & ~data.has_force, "no forces: rigid lines", "used")
+    table = pd.DataFrame(
+        {
+            "sample": data.sample,
+            "status": status,
+            "x_m": P[:, 0],
+            "y_m": P[:, 1],
+            "z_m": P[:, 2],
+            "line_rms_m": np.sqrt(np.mean(res**2, axis=1)),
+            "position_residual_m": perr,
+        }
+    )
+    return MotorCalibration(
+        robot=robot,
+        model=model,
+        groups=list(groups),
+        index=index,
+        names=names,
+        nominal=th0[index],
+        estimate=sm.theta()[index],
+        prior_sd=sd,
+        ident=ident,
+        spool_model=sm,
+        positions=P,
+        line_residual=res,
+        table=table,
+        source=data.source,
+        gauge=gauge_words(data, groups),
+        warnings=[w for w in (warn,) if w],
         cost=float(sol.cost),
         nfev=int(sol.nfev),
     )

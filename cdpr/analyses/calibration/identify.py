@@ -80,6 +80,28 @@ def identifiability(Jm, names, rank_tol=RANK_TOL):
     }
 
 
+def identifiability_without(Jth, Jn, names):
+    """``identifiability`` of θ with nuisance parameters (the unknown poses of a self-calibration)
+    eliminated: the measurement rows projected on the orthogonal complement of the nuisance
+    columns, Jth - Q Qᵀ Jth with Jn = Q R.
+
+    Parameters
+    ----------
+    Jth : ndarray, shape (rows, k)
+        The θ columns of the measurement rows (rows / σ, columns × prior sd).
+    Jn : ndarray, shape (rows, q)
+        The nuisance columns of the same rows.
+    names : list of str, length k
+
+    Returns
+    -------
+    dict
+        ``identifiability``.
+    """
+    Q, _ = np.linalg.qr(Jn)
+    return identifiability(Jth - Q @ (Q.T @ Jth), names)
+
+
 def sparse_basis(B):
     """A basis of the row space of B (r, k) with one pivot parameter per vector (reduced row echelon
     form), each row normalised: e.g. the directions d_i - offset_i one by one instead of an

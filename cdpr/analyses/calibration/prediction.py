@@ -1,6 +1,7 @@
 """``check``: a robot's prediction (the physical equilibrium under the commanded lengths, through
 the drums of a robot with winches) against measured samples, position and, for a 6-DoF platform,
-orientation."""
+orientation. ``check_motor``: a spool robot's positions solved from its motor angles
+(``predict_samples``, ``cdpr.analyses.calibration.motor``) against the measured ones."""
 
 from __future__ import annotations
 
@@ -12,6 +13,12 @@ from cdpr.analyses.calibration.model import (
     point_mass_equilibria,
     realised_lengths,
     solve6,
+)
+from cdpr.analyses.calibration.motor import (
+    SpoolModel,
+    reference_forces,
+    solve_positions,
+    stretch_factors,
 )
 from cdpr.analyses.calibration.problem import (
     orientation_residual,
@@ -80,3 +87,77 @@ def check(robot, data, engine=None):
         for sample, y, o in zip(out["samples"], ang, ok):
             sample["error_rad"] = float(y) if o else None
     return out
+
+
+def predict_samples(sm, data, model, t_ref):
+    """Positions solved from each sample's readings (and forces in the exact model), their line RMS
+    and, where measured, the position error.
+
+    Parameters
+    ----------
+    sm : SpoolModel
+    data : MotorData
+    model : {"exact", "standard"}
+    t_ref : ndarray (m,) [N]
+        ``reference_forces``.
+
+    Returns
+    -------
+    list of dict
+        One per sample: sample, x_m, y_m, z_m (solved from the anchors' centroid, never from the
+        measured position), error_m (None without a measured position), line_rms_m, status.
+    """
+    f, g = stretch_factors(model, data, t_ref, sm.K)
+    # from the anchors' centroid, never from the measured position (a held-out sample's is the answer)
+    P, rms = solve_positions(sm, data, f, g)
+    out = []
+    for k in range(len(data.sample)):
+        ok = bool(np.isfinite(P[k]).all() and np.isfinite(rms[k]))
+        err = float(np.linalg.norm(P[k] - data.pose[k])) if (ok and data.has_pose[k]) else None
+        st = "ok" if ok else "no solution"
+        if ok and model == "exact" and not data.has_force[k]:
+            st = "no forces: rigid lines"
+        out.append(
+            {
+                "sample": str(data.sample[k]),
+                "x_m": float(P[k, 0]) if ok else None,
+                "y_m": float(P[k, 1]) if ok else None,
+                "z_m": float(P[k, 2]) if ok else None,
+                "error_m": err,
+                "line_rms_m": float(rms[k]) if ok else None,
+                "status": st,
+            }
+        )
+    return out
+
+
+def check_motor(robot, data, model="exact"):
+    """``cdpr calibrate check`` on motor-angle data: each sample's position solved from its readings
+    against the measured one.
+
+    Parameters
+    ----------
+    robot : Robot
+    data : MotorData
+    model : {"exact", "standard"}
+
+    Returns
+    -------
+    dict
+        n (samples with a measured position and a solution), rms_m, max_m, median_m, line_rms_m,
+        model, samples (``predict_samples``).
+    """
+    t_ref, warn = reference_forces(data, model)
+    rows = predict_samples(SpoolModel.of(robot), data, model, t_ref)
+    e = np.array([r["error_m"] for r in rows if r["error_m"] is not None])
+    lr = np.array([r["line_rms_m"] for r in rows if r["line_rms_m"] is not None])
+    return {
+        "n": len(e),
+        "rms_m": float(np.sqrt(np.mean(e**2))) if len(e) else None,
+        "max_m": float(e.max()) if len(e) else None,
+        "median_m": float(np.median(e)) if len(e) else None,
+        "line_rms_m": float(np.sqrt(np.mean(lr**2))) if len(lr) else None,
+        "model": model,
+        "samples": rows,
+        **({"data_warnings": [warn]} if warn else {}),
+    }

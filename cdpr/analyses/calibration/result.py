@@ -1,6 +1,7 @@
-"""The result of a calibration (``Calibration``): estimate, posterior, identifiability, the
-per-sample table, the JSON summary, and the calibrated robot as robot-file text
-(``robot_file_text``; ``cdpr.pipeline.calibration_files.robot_file_text`` writes it)."""
+"""The result of a calibration (``Calibration``; ``MotorCalibration`` from motor angles): estimate,
+posterior, identifiability, the per-sample table, the JSON summary, and the calibrated robot as
+robot-file text (``robot_file_text``; ``cdpr.pipeline.calibration_files.write_robot`` writes
+it)."""
 
 from __future__ import annotations
 
@@ -14,21 +15,25 @@ import yaml
 from cdpr.analyses.calibration.model import (
     STANDARD_STIFFENING,
 )
+from cdpr.errors import CdprError
 from cdpr.parameters import (
     calibrated_robot,
     calibration_groups,
     is_spatial,
     robot_size,
 )
-from cdpr.robot import WINCH_KEYS
+from cdpr.robot import WINCH_KEYS, BoxBody
 
 
 @dataclasses.dataclass
-class Calibration:
-    """The result of ``fit``: estimate, posterior, identifiability and the per-sample table."""
+class _Posterior:
+    """What every fit returns: the nominal robot, the model, the estimated parameters (``index``
+    into the fit's parameter vector, their ``names``, ``nominal`` and ``estimate`` values, prior sd
+    ``prior_sd``), the identifiability ``ident`` (the prior-scaled posterior, Gauss-Newton at the
+    MAP, Tarantola 2005 section 3.2), the per-sample table, the data file and the optimiser's cost
+    and evaluation count."""
 
     robot: object
-    base: object
     model: str
     index: np.ndarray
     names: list
@@ -36,7 +41,6 @@ class Calibration:
     estimate: np.ndarray
     prior_sd: np.ndarray
     ident: dict
-    theta: np.ndarray
     table: pd.DataFrame
     source: str
     cost: float
@@ -44,12 +48,56 @@ class Calibration:
 
     @property
     def sd(self):
-        """Posterior sd [Pa, m, kg] (Gauss-Newton at the MAP)."""
+        """Posterior sd, in the parameters' units [Pa, m, kg] (nuisance positions marginalised)."""
         return self.ident["ratio"] * self.prior_sd
 
     @property
     def covariance(self):
+        """Posterior covariance of the estimated parameters (their units squared)."""
         return self.ident["cov_scaled"] * np.outer(self.prior_sd, self.prior_sd)
+
+    def _summary(self, groups, cables):
+        """The JSON keys every fit's summary starts with: parameters (with ``groups`` and
+        ``cables``, None where a parameter has no cable), n_parameters, rank, condition,
+        singular_values, unidentified."""
+        return {
+            "parameters": [
+                {
+                    "name": nm,
+                    "group": grp,
+                    "cable": cab,
+                    "nominal": float(a),
+                    "estimate": float(b),
+                    "sd": float(s),
+                    "prior_sd": float(p),
+                    "identified": str(lab),
+                }
+                for nm, grp, cab, a, b, s, p, lab in zip(
+                    self.names,
+                    groups,
+                    cables,
+                    self.nominal,
+                    self.estimate,
+                    self.sd,
+                    self.prior_sd,
+                    self.ident["labels"],
+                )
+            ],
+            "n_parameters": len(self.index),
+            "rank": self.ident["rank"],
+            "condition": _json_float(self.ident["condition"]),
+            "singular_values": [float(s) for s in self.ident["singular_values"]],
+            "unidentified": list(self.ident["unidentified"]),
+        }
+
+
+@dataclasses.dataclass
+class Calibration(_Posterior):
+    """The result of ``fit``: estimate, posterior, identifiability and the per-sample table; ``base``
+    is the robot the model moves, ``theta`` its whole parameter vector at the estimate."""
+
+    base: object
+    theta: np.ndarray
 
     @property
     def correlation(self):
@@ -105,29 +153,48 @@ class Calibration:
             ang = ang[np.isfinite(ang)]
             rad = float(np.sqrt(np.mean(ang**2))) if len(ang) else None
         return {
-            "parameters": [
-                {
-                    "name": r.name,
-                    "group": r.group,
-                    "cable": None if pd.isna(r.cable) else int(r.cable),
-                    "nominal": float(r.nominal),
-                    "estimate": float(r.estimate),
-                    "sd": float(r.sd),
-                    "prior_sd": float(r.prior_sd),
-                    "identified": str(r.identified),
-                }
-                for r in pt.itertuples()
-            ],
-            "n_parameters": len(self.index),
-            "rank": self.ident["rank"],
-            "condition": _json_float(self.ident["condition"]),
-            "singular_values": [float(s) for s in self.ident["singular_values"]],
-            "unidentified": list(self.ident["unidentified"]),
+            **self._summary(pt["group"], [None if pd.isna(c) else int(c) for c in pt["cable"]]),
             "residual_rms_m": float(np.sqrt(np.mean(res**2))) if len(res) else None,
             "residual_rms_rad": rad,
             "samples_used": int(used.sum()),
             "samples_left_out": int((~used).sum()),
         }
+
+
+@dataclasses.dataclass
+class MotorCalibration(_Posterior):
+    """The result of ``fit_motor``: the estimate, its posterior and identifiability, the positions;
+    ``spool_model`` is the ``motor.SpoolModel`` at the estimate."""
+
+    groups: list
+    spool_model: object
+    positions: np.ndarray
+    line_residual: np.ndarray
+    gauge: str
+    warnings: list
+
+    def summary(self):
+        """The JSON of ``cdpr calibrate fit --json`` on motor-angle data (SI units)."""
+        m = self.robot.m
+        groups = ["anchors" if k < 3 * m else "spools" for k in self.index]
+        cables = [int(k // 3 + 1) if k < 3 * m else int((k - 3 * m) % m + 1) for k in self.index]
+        out = {
+            **self._summary(groups, cables),
+            "gauge": self.gauge,
+            "model": self.model,
+            "line_rms_m": float(np.sqrt(np.mean(self.line_residual**2))),
+            "residual_rms_m": _rms(self.table["position_residual_m"].to_numpy()),
+            "samples_used": len(self.table),
+            "samples_with_position": int(np.isfinite(self.table["position_residual_m"]).sum()),
+            "samples_left_out": 0,
+        }
+        return out
+
+
+def _rms(x):
+    x = np.asarray(x, dtype=float)
+    x = x[np.isfinite(x)]
+    return float(np.sqrt(np.mean(x**2))) if len(x) else None
 
 
 def _winch_mapping(w):
@@ -140,13 +207,15 @@ def _json_float(x):
 
 
 def robot_file_text(cal, data_source, when):
-    """The calibrated robot as robot-file text (``cdpr.pipeline.calibration_files.robot_file_text``
+    """The calibrated robot as robot-file text (``cdpr.pipeline.calibration_files.write_robot``
     writes it): the input's schema, per-cable plain SI values, and a header saying from which
-    data, with which model, and when (offsets, which are not robot parameters, in the header).
+    data, with which model, and when (offsets, which are not robot parameters, in the header). A
+    motor-angle fit's is the nominal robot file with the estimated anchors and spools per cable
+    (``motor_robot_mapping``), its header naming the gauge too.
 
     Parameters
     ----------
-    cal : Calibration
+    cal : Calibration or MotorCalibration
     data_source : str
         The data file, named in the header.
     when : datetime.datetime
@@ -157,13 +226,10 @@ def robot_file_text(cal, data_source, when):
     str
         YAML with a comment header, ending in a newline.
     """
-
+    if isinstance(cal, MotorCalibration):
+        return _motor_robot_text(cal, data_source, when)
     rob = cal.calibrated_robot()
-    header = [
-        f"# {rob.name} calibrated by cdpr calibrate fit ({cal.model} model) from {data_source}",
-        f"# on {when.isoformat(timespec='seconds')}; nominal robot: {cal.robot.source}",
-        f"# estimated: {', '.join(cal.names)}",
-    ]
+    header = _header(rob.name, f"{cal.model} model", cal, data_source, when)
     spatial = is_spatial(rob)
     if "offsets" in {calibration_groups(rob)[0][k] for k in cal.index}:
         header.append("# encoder offsets [m]: " + ", ".join(f"{o:.9g}" for o in cal.offsets))
@@ -199,6 +265,7 @@ def robot_file_text(cal, data_source, when):
             "mass_kg": float(rob.platform.mass),
             **({"com_m": [float(x) for x in rob.platform.com]} if spatial else {}),
             "gravity_m_per_s2": float(rob.platform.g),
+            **({"body": _body_mapping(rob.platform.body)} if rob.platform.body != "hull" else {}),
         },
         "cable": {
             "young_modulus_Pa": float(first.material.E),
@@ -209,3 +276,62 @@ def robot_file_text(cal, data_source, when):
         "cables": cables,
     }
     return "\n".join(header) + "\n" + yaml.safe_dump(doc, sort_keys=False)
+
+
+def _body_mapping(body):
+    """A platform body (``Platform.body``) as the robot file's ``platform.body`` value."""
+    if isinstance(body, BoxBody):
+        return {"box": {"centre_m": [float(x) for x in body.centre], "half_m": [float(x) for x in body.half]}}
+    return str(body)
+
+
+def motor_robot_mapping(robot_mapping, sm):
+    """A robot file's mapping with the anchors and every cable's spool radius and buildup factor of
+    ``sm`` (plain SI numbers, per cable).
+
+    Parameters
+    ----------
+    robot_mapping : dict
+        The robot file as loaded by YAML.
+    sm : SpoolModel
+
+    Returns
+    -------
+    dict
+    """
+    doc = dict(robot_mapping)
+    cables = []
+    for i, c in enumerate(doc["cables"]):
+        c = dict(c)
+        c["A_m"] = [float(x) for x in sm.A[i]]
+        w = dict(c.get("winch") or {})
+        w["spool_radius_m"] = float(sm.r0[i])
+        w["buildup_factor_m"] = float(sm.Q[i])
+        c["winch"] = w
+        cables.append(c)
+    doc["cables"] = cables
+    return doc
+
+
+def _motor_robot_text(cal, data_source, when):
+    """``robot_file_text`` of a ``MotorCalibration``."""
+    try:
+        with open(cal.robot.source, encoding="utf-8") as fh:
+            doc = yaml.safe_load(fh)
+    except OSError as exc:
+        raise CdprError(f"{cal.robot.source}: cannot read the nominal robot file ({exc})") from None
+    doc = motor_robot_mapping(doc, cal.spool_model)
+    doc["name"] = f"{doc.get('name', cal.robot.name)} (calibrated)"
+    header = _header(cal.robot.name, f"{cal.model} model, motor angles", cal, data_source, when)
+    header.append(f"# gauge: {cal.gauge}")
+    return "\n".join(header) + "\n" + yaml.safe_dump(doc, sort_keys=False)
+
+
+def _header(name, what, cal, data_source, when):
+    """The first comment lines of a calibrated robot file: robot ``name`` calibrated (``what``:
+    the model) from the data, when, from which nominal robot, and the estimated parameters."""
+    return [
+        f"# {name} calibrated by cdpr calibrate fit ({what}) from {data_source}",
+        f"# on {when.isoformat(timespec='seconds')}; nominal robot: {cal.robot.source}",
+        f"# estimated: {', '.join(cal.names)}",
+    ]

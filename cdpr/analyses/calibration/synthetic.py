@@ -1,6 +1,7 @@
 """Synthetic calibration data: a true robot measured at commanded poses (``simulate``), robots
 drawn from the prior (``perturbed``), admissible random 6-DoF poses (``random_poses6``) and the
-taut-cable and second-equilibrium flags of samples (``equilibrium_flags``).
+taut-cable and second-equilibrium flags of samples (``equilibrium_flags``); a spool robot's motor
+angles at given positions (``simulate_motor``).
 
 References
 ----------
@@ -15,9 +16,11 @@ import numpy as np
 
 from cdpr.analyses.calibration.data import (
     SIGMA_DEFAULT,
+    SIGMA_POSITION_DEFAULT,
     SIGMA_RAD_DEFAULT,
     SIGMA_T_DEFAULT,
     Data,
+    MotorData,
 )
 from cdpr.analyses.calibration.model import (
     check_command,
@@ -26,7 +29,9 @@ from cdpr.analyses.calibration.model import (
     realised_lengths,
     solve6,
 )
+from cdpr.analyses.calibration.motor import SpoolModel
 from cdpr.errors import CdprError
+from cdpr.models import winch
 from cdpr.models.inverse import L_TS
 from cdpr.models.platform import pose_arrays, rotation_matrix, rotvec_of
 from cdpr.parameters import (
@@ -277,3 +282,62 @@ def equilibrium_flags(robot, data, kick=(0.05, 0.05), tol=1e-3):
             second |= ok & (np.linalg.norm(r["P_s"] - ref["P_s"], axis=1) > tol)
     n_taut = np.where(ok_ref, ref["taut"].sum(axis=1), 0).astype(int)
     return n_taut, second
+
+
+def simulate_motor(
+    truth, P, force=None, sigma_line=0.0, rng=None, measured=None, sigma=SIGMA_POSITION_DEFAULT
+):
+    """Motor-angle samples of a robot ``truth`` at positions P, the inverse of the model
+    (``cdpr.analyses.calibration.motor``): the line l_i(P) = |A_i - P| + d_i under the force t stretches from the rest length
+    L0 = l / (1 + t / K); the spool released s = U (L0 - L0_ref) with L0_ref = l_i(0) / (1 + t_ref / K),
+    t_ref the forces of the first sample (put it at the origin: the encoders are zeroed there, so it
+    reads 0 without noise); the motor angle releasing s
+    (``winch.spool_angle_of_line``, ``winch.motor_degrees``). Without forces, rigid lines.
+
+    Parameters
+    ----------
+    truth : Robot
+    P : ndarray (n, 3) [m]
+        True positions.
+    force : ndarray (n, m) [N], optional
+        Line forces (recorded in the data); None: rigid lines, no force columns.
+    sigma_line : float [m]
+        Noise sd added to each line (through its motor angle).
+    rng : numpy Generator, optional
+    measured : ndarray of bool (n,), optional
+        Samples whose position is recorded (with noise ``sigma``); default none.
+    sigma : float [m]
+        Position noise sd.
+
+    Returns
+    -------
+    MotorData
+    """
+    sm = SpoolModel.of(truth)
+    P = np.asarray(P, dtype=float)
+    n, m = len(P), len(sm.r0)
+    rng = np.random.default_rng(0) if rng is None else rng
+    ell = np.linalg.norm(P[:, None, :] - sm.A, axis=-1) + sm.d
+    ell0 = np.linalg.norm(sm.A, axis=1) + sm.d
+    if force is None:
+        L0, L0_ref, F = ell, ell0, np.full((n, m), np.nan)
+    else:
+        F = np.asarray(force, dtype=float)
+        L0, L0_ref = ell / (1.0 + F / sm.K), ell0 / (1.0 + F[0] / sm.K)
+    noise = sigma_line * rng.standard_normal((n, m))
+    noise[0] = 0.0  # the encoders are zeroed at the first sample: it reads 0 exactly
+    L0 = L0 + noise
+    s = sm.U * (L0 - L0_ref)
+    phi = winch.spool_angle_of_line(s, sm.r0, sm.Q, sm.lines)
+    deg = np.rad2deg(phi) / sm.ratio
+    meas = np.zeros(n, dtype=bool) if measured is None else np.asarray(measured, dtype=bool)
+    pose = np.full((n, 3), np.nan)
+    pose[meas] = P[meas] + sigma * rng.standard_normal((int(meas.sum()), 3))
+    return MotorData(
+        sample=np.array([str(i) for i in range(n)]),
+        motor_deg=deg,
+        force=F,
+        pose=pose,
+        sigma=np.full(n, sigma),
+        source="simulated",
+    )
