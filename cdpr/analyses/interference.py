@@ -1,4 +1,4 @@
-"""The interference-free workspace of a grid at a fixed orientation (issue 39): the share, volume and
+"""The interference-free workspace of a grid at a fixed orientation: the share, volume and
 largest axis-aligned box of the cell-centred grid's poses at which no two cables touch and no cable
 runs through the platform (``cdpr.models.interference``), and, if asked, its intersection with the
 wrench-feasible workspace (``tension_distribution.distribute_pose``).

@@ -1,4 +1,4 @@
-"""Interference of the cables with each other and with the platform body, at poses (issue 39).
+"""Interference of the cables with each other and with the platform body, at poses.
 
 Cable i's free span is the straight segment P_i(s) = B_i + s (D_i - B_i), s in [0, 1], from its
 attachment point B_i = p + R b_i (s = 0) to its sheave exit point D_i (s = 1; the tangent point D of
