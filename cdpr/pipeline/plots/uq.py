@@ -3,7 +3,7 @@
 bands along the path, the Sobol indices, the dominant parameter and what compensation leaves on
 the plane, and the agreement of the linearisation with full solves. Each figure loops over the
 ``responses`` it is given (``RESPONSES``): ‖δp‖ alone for a suspended point mass, ‖δp‖ and δφ (a panel
-for each) for a robot solved as a pose (``cdpr.analyses.uncertainty.PoseErrorModel.responses``).
+for each) for a robot solved as a pose (the ``responses`` of ``cdpr.analyses.uncertainty.PoseErrorModel``).
 """
 
 from __future__ import annotations
