@@ -44,9 +44,8 @@ import numpy as np
 from scipy.spatial import ConvexHull
 
 from cdpr.errors import CdprError
-from cdpr.models.inverse import pose_state, pulley_args
+from cdpr.models.inverse import pose_state
 from cdpr.models.platform import pose_arrays
-from cdpr.models.pulleys import pulley_state
 from cdpr.robot import BoxBody
 
 #: Depth [m] beyond which a point of a cable's segment counts as inside the platform body.
@@ -255,10 +254,7 @@ def cable_segments(robot, p, R):
     -------
     B, D : ndarray (N, m, 3) [m]
     """
-    if robot.point_mass:
-        st = pulley_state(p, *pulley_args(robot))
-        return np.repeat(p[:, None, :], robot.m, axis=1), st.D
-    B, st = pose_state(robot, p, R)
+    B, st = pose_state(robot, p, R)  # a point mass is the platform with b_i = 0: B_i = p
     return B, st.D
 
 
