@@ -44,7 +44,7 @@ RULE = "hangprinter_study"
 STUDY_KEYS = {"name", "robot", "priors", "folds", "data_sets", "models"}
 #: Keys of one data set and of one model.
 DATA_SET_KEYS = {"data", "tool", "source"}
-MODEL_KEYS = {"label", "model", "estimate", "fixed", "buildup"}
+MODEL_KEYS = {"label", "model", "estimate", "fixed", "buildup", "priors", "reference"}
 #: What ``fixed`` names: the study's robot, or the data set's tool solution.
 FIXED = ("nominal", "tool")
 #: Floats of the tables: six significant digits (the fit ends where least_squares' tolerances hold;
@@ -87,7 +87,7 @@ def load_hangprinter_study(path, check_files=True):
     dict
         name, robot, priors (``parse_motor_priors`` values [m]), folds (list of int, or
         "leave-one-out"), data_sets (name -> data, tool, source), models (name -> label, model,
-        estimate, fixed, buildup [m] or None).
+        estimate, fixed, buildup [m] or None, priors: the model's own prior sd by group [m]).
     """
     try:
         data = yaml.safe_load(open(path, encoding="utf-8"))
@@ -162,12 +162,23 @@ def _model(path, name, m):
         buildup = quantity(buildup, "m", path, f"{key}.buildup")
         if not buildup > 0:
             raise ConfigError(path, f"{key}.buildup", "the prior sd must be > 0")
+    priors = m.get("priors")
+    if priors is not None:
+        if est is None or not isinstance(priors, dict):
+            raise ConfigError(path, f"{key}.priors", "expected a mapping group: sd for a fitted model")
+        priors = cal.parse_motor_priors(
+            ",".join(f"{k}={v}" for k, v in priors.items()), list(est), f"{path}: {key}.priors"
+        )
+        priors = {g: v for g, v in priors.items() if g in m["priors"]}
     return {
         "label": str(m.get("label", name)),
         "model": m["model"],
         "estimate": list(est) if est else None,
         "fixed": fixed,
         "buildup": buildup,
+        "priors": priors or {},
+        # a comparison (another tool's solution or model), not a candidate for the best model
+        "reference": bool(m.get("reference", fixed == "tool")),
     }
 
 
@@ -275,8 +286,8 @@ def run_hangprinter_study(study_path, out):
 
 
 def _priors(st, mod):
-    """The prior sd of a fitted model: the study's, with the model's buildup factor sd."""
-    p = dict(st["priors"])
+    """The prior sd of a fitted model: the study's, with the model's own (``priors``, ``buildup``)."""
+    p = {**st["priors"], **mod["priors"]}
     if mod["buildup"] is not None:
         p["buildup"] = mod["buildup"]
     return p
@@ -393,8 +404,9 @@ def _lengths(ds, name, A, covA, fit, taped):
 
 
 def _best(cv, st):
-    """Data set -> the fitted model with the lowest held-out position RMS at the last fold count."""
-    fitted = [n for n, m in st["models"].items() if m["fixed"] is None]
+    """Data set -> the fitted model (not a ``reference``) with the lowest held-out position RMS at the
+    last fold count."""
+    fitted = [n for n, m in st["models"].items() if m["fixed"] is None and not m["reference"]]
     out = {}
     for ds in st["data_sets"]:
         last = cv[(cv.data_set == ds) & cv.model.isin(fitted)]
@@ -475,21 +487,20 @@ def headline_table(cv, ds, folds):
 
 def _verdict(cv, ds, best, st):
     """Sentences comparing the best cdpr model with the tool's solution on one session, from the numbers."""
-    tool = [n for n, m in st["models"].items() if m["fixed"] == "tool"]
-    if not tool:
-        return []
+    refs = [n for n, m in st["models"].items() if m["reference"]]
     d = cv[cv.data_set == ds]
     K = d.folds.iloc[-1]
     b = d[(d.model == best) & (d.folds == K)].iloc[0]
-    t = d[(d.model == tool[0]) & (d.folds == K)].iloc[0]
     out = []
-    for what, col in (("RMS", "heldout_position_rms_mm"), ("median", "heldout_position_median_mm")):
-        x, y = b[col], t[col]
-        word = "lower (better) than" if x < y else ("equal to" if x == y else "**higher (worse) than**")
-        out.append(
-            f"- {ds}, {K} folds: the best cdpr model ({best}) has a held-out position {what} of {x:.3g} mm, "
-            f"{word} the tool's {y:.3g} mm."
-        )
+    for ref in refs:
+        t = d[(d.model == ref) & (d.folds == K)].iloc[0]
+        for what, col in (("RMS", "heldout_position_rms_mm"), ("median", "heldout_position_median_mm")):
+            x, y = b[col], t[col]
+            word = "lower (better) than" if x < y else ("equal to" if x == y else "**higher (worse) than**")
+            out.append(
+                f"- {ds}, {K} folds: the best cdpr model ({best}) has a held-out position {what} of {x:.3g} mm, "
+                f"{word} the {y:.3g} mm of {st['models'][ref]['label']} ({ref})."
+            )
     return out
 
 
@@ -541,8 +552,10 @@ def _write_summary(out, st, study_path, cv, fits, lengths, best, firmware, sessi
         "## What this shows, and what it does not",
         "",
         "- The tool's solution was fitted by the tool to *all* samples of its session, held-out ones "
-        "included: its numbers are training errors, cdpr's are held-out. A per-fold re-fit of the tool's "
-        "model (the fair comparison) is not in this study.",
+        "included: its numbers are training errors, cdpr's are held-out. The fair comparison is the tool's "
+        "model re-fitted on each fold's training samples (a reference model of the study where it has one: "
+        "cdpr's re-implementation of that model, rigid lines, anchors and spool radii with the one buildup "
+        "factor fixed; not the tool's own code, SLSQP and gauge A_x = D_x = D_y = 0).",
         "- The gear ratio (`gear`) is not a group: a motor angle enters the spool model only through "
         "phi = theta L / H in s = r0 phi - O Q phi^2 / 4, so L / H scaled by c with r0 by 1 / c and Q by "
         "1 / c^2 gives the same line: motor angles cannot see it.",
