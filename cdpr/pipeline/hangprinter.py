@@ -43,7 +43,10 @@ RULE = "hangprinter_study"
 #: Keys of config/studies/hangprinter.yaml.
 STUDY_KEYS = {"name", "robot", "priors", "folds", "data_sets", "models"}
 #: Keys of one data set and of one model.
-DATA_SET_KEYS = {"data", "tool", "source"}
+DATA_SET_KEYS = {"data", "source"}
+#: Optional keys of a data set: the tool's solution, its own nominal robot (default the study's),
+#: the models it runs (default all).
+DATA_SET_OPTIONAL = {"tool", "robot", "models"}
 MODEL_KEYS = {"label", "model", "estimate", "fixed", "buildup", "priors", "reference"}
 #: What ``fixed`` names: the study's robot, or the data set's tool solution.
 FIXED = ("nominal", "tool")
@@ -119,19 +122,42 @@ def load_hangprinter_study(path, check_files=True):
     sets = data["data_sets"]
     if not (isinstance(sets, dict) and sets):
         raise ConfigError(path, "data_sets", "expected a mapping name: {data, tool, source}")
-    for name, d in sets.items():
-        key = f"data_sets.{name}"
-        if not isinstance(d, dict) or set(d) != DATA_SET_KEYS:
-            raise ConfigError(path, key, f"expected the keys {', '.join(sorted(DATA_SET_KEYS))}")
-        for k in sorted(DATA_SET_KEYS):
-            if check_files and not Path(d[k]).is_file():
-                raise ConfigError(path, f"{key}.{k}", f"{d[k]}: no such file")
     models = data["models"]
     if not (isinstance(models, dict) and models):
         raise ConfigError(path, "models", "expected a mapping name: {label, model, estimate | fixed}")
     out["models"] = {name: _model(path, name, m) for name, m in models.items()}
     if not any(m["fixed"] is None for m in out["models"].values()):
         raise ConfigError(path, "models", "no fitted model (every model is fixed): nothing to calibrate")
+    out["data_sets"] = {name: _data_set(path, name, d, out, check_files) for name, d in sets.items()}
+    return out
+
+
+def _data_set(path, name, d, st, check_files):
+    """One checked entry of ``data_sets``: data, source, tool (or None), robot, models (names)."""
+    key = f"data_sets.{name}"
+    allowed = DATA_SET_KEYS | DATA_SET_OPTIONAL
+    if not isinstance(d, dict) or not DATA_SET_KEYS <= set(d) or set(d) - allowed:
+        raise ConfigError(
+            path,
+            key,
+            f"expected the keys {', '.join(sorted(DATA_SET_KEYS))} (and {', '.join(sorted(DATA_SET_OPTIONAL))})",
+        )
+    out = {
+        "data": d["data"],
+        "source": d["source"],
+        "tool": d.get("tool"),
+        "robot": d.get("robot", st["robot"]),
+    }
+    for k in ("data", "source", "tool", "robot"):
+        if check_files and out[k] is not None and not Path(out[k]).is_file():
+            raise ConfigError(path, f"{key}.{k}", f"{out[k]}: no such file")
+    models = d.get("models", list(st["models"]))
+    if not (isinstance(models, list) and models and all(m in st["models"] for m in models)):
+        raise ConfigError(path, f"{key}.models", f"expected a list among {', '.join(st['models'])}")
+    for m in models:
+        if st["models"][m]["fixed"] == "tool" and out["tool"] is None:
+            raise ConfigError(path, f"{key}.models", f"{m} scores the tool's solution: give {key}.tool")
+    out["models"] = list(models)
     return out
 
 
@@ -209,19 +235,22 @@ def run_hangprinter_study(study_path, out):
     t0 = time.time()
     st = load_hangprinter_study(study_path)
     out = Path(out)
-    robot = load_robot(st["robot"])
     cv_rows, sample_rows, par_rows, fit_rows, len_rows, ellipses = [], [], [], [], [], []
     sessions = {}
     for ds, spec in st["data_sets"].items():
+        robot = load_robot(spec["robot"])
         data = cal.read_motor_data(spec["data"], robot)
-        tool = load_robot(spec["tool"])
+        tool = None if spec["tool"] is None else load_robot(spec["tool"])
         taped = _taped(spec["source"], robot.m)
         sessions[ds] = {
             "n": len(data.sample),
             "with_position": int(data.has_pose.sum()),
             "with_forces": int(data.has_force.sum()),
+            "exact": any(st["models"][n]["model"] == "exact" for n in spec["models"]),
+            "taped": bool(np.isfinite(taped).any()),
         }
-        for name, mod in st["models"].items():
+        for name in spec["models"]:
+            mod = st["models"][name]
             fixed_robot = {"nominal": robot, "tool": tool}.get(mod["fixed"])
             priors = None if fixed_robot is not None else _priors(st, mod)
             for k in st["folds"]:
@@ -270,7 +299,7 @@ def run_hangprinter_study(study_path, out):
     _write_csv(pd.DataFrame(fit_rows), out / rel_path(RULE, "fits"))
     _write_csv(pd.DataFrame(len_rows), out / rel_path(RULE, "line_lengths"))
     io.write_text(firmware, out / rel_path(RULE, "firmware"))
-    nominal = cal.SpoolModel.of(robot).A
+    nominal = {ds: cal.SpoolModel.of(load_robot(spec["robot"])).A for ds, spec in st["data_sets"].items()}
     figures.heldout_errors(cv, samples, st, out / rel_path(RULE, "errors_figure"))
     figures.anchor_ellipses(ellipses, nominal, st, CHI2_95_2D, out / rel_path(RULE, "anchors_figure"))
     figures.residuals_against_force(samples, st, out / rel_path(RULE, "force_figure"))
@@ -405,7 +434,7 @@ def _lengths(ds, name, A, covA, fit, taped):
 
 def _best(cv, st):
     """Data set -> the fitted model (not a ``reference``) with the lowest held-out position RMS at the
-    last fold count."""
+    last fold count; a data set without a held-out measured position has none (no firmware lines)."""
     fitted = [n for n, m in st["models"].items() if m["fixed"] is None and not m["reference"]]
     out = {}
     for ds in st["data_sets"]:
@@ -413,20 +442,20 @@ def _best(cv, st):
         last = last[last.folds == last.folds.iloc[-1]] if len(last) else last
         scored = last.dropna(subset=["heldout_position_rms_mm"])
         if not len(scored):
-            raise CdprError(f"{ds}: no held-out measured position: the best model cannot be chosen")
+            continue
         out[ds] = str(scored.sort_values(["heldout_position_rms_mm", "model"], kind="stable").model.iloc[0])
     return out
 
 
 def _firmware(st, best, ellipses, cv):
     """RepRapFirmware's M669/M666 lines of each session's best model (``rrf_lines``), commented."""
-    doc = yaml.safe_load(Path(st["robot"]).read_text(encoding="utf-8"))
     text = [
         "; RepRapFirmware lines (config.g) of the best model of each session of the Hangprinter study",
         f"; ({st['name']}; written by cdpr calibrate study, cdpr.pipeline.hangprinter; nominal robot {st['robot']})",
     ]
     for ds, name in best.items():
         fit = next(e["fit"] for e in ellipses if e["data_set"] == ds and e["model"] == name)
+        doc = yaml.safe_load(Path(st["data_sets"][ds]["robot"]).read_text(encoding="utf-8"))
         robot = robot_from_dict(cal.motor_robot_mapping(doc, fit.spool_model), source=f"{ds}: {name}")
         lines, warnings = rrf_lines(robot)
         row = cv[(cv.data_set == ds) & (cv.model == name)].iloc[-1]
@@ -437,6 +466,9 @@ def _firmware(st, best, ellipses, cv):
             *[f"; warning: {w}" for w in warnings],
             *lines,
         ]
+    for ds in st["data_sets"]:
+        if ds not in best:
+            text += ["", f"; {ds}: no held-out measured position, so no best model: no firmware lines"]
     return "\n".join(text) + "\n"
 
 
@@ -487,7 +519,9 @@ def headline_table(cv, ds, folds):
 
 def _verdict(cv, ds, best, st):
     """Sentences comparing the best cdpr model with the tool's solution on one session, from the numbers."""
-    refs = [n for n, m in st["models"].items() if m["reference"]]
+    refs = [n for n in st["data_sets"][ds]["models"] if st["models"][n]["reference"]]
+    if best is None:
+        return []
     d = cv[cv.data_set == ds]
     K = d.folds.iloc[-1]
     b = d[(d.model == best) & (d.folds == K)].iloc[0]
@@ -527,17 +561,30 @@ def _write_summary(out, st, study_path, cv, fits, lengths, best, firmware, sessi
             "line forces"
             + (
                 " (no forces: the exact model is the rigid one, the same numbers)"
-                if not info["with_forces"]
+                if not info["with_forces"] and info["exact"]
                 else ""
             )
-            + ".",
+            + "."
+            + (
+                " No measured position: only the line residuals are held out, and the frame's rotation about "
+                "the origin is not seen by the data (fixed by the prior alone; see the weak directions below)."
+                if not info["with_position"]
+                else ""
+            ),
             "",
             headline_table(cv, ds, st["folds"]),
-            *_verdict(cv, ds, best[ds], st),
+            *_verdict(cv, ds, best.get(ds), st),
             "",
-            "Line lengths at the origin |A_i| against the taped ones (difference [mm], posterior sd in brackets):",
-            "",
-            _lengths_table(lengths[lengths.data_set == ds], st),
+            *(
+                [
+                    "Line lengths at the origin |A_i| against the taped ones (difference [mm], posterior sd "
+                    "in brackets):",
+                    "",
+                    _lengths_table(lengths[lengths.data_set == ds], st),
+                ]
+                if info["taped"]
+                else ["No taped line lengths in this session (the anchors: anchors.png, parameters.csv).", ""]
+            ),
             "Identifiability of each fit on all samples:",
             "",
             *[

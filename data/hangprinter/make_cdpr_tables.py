@@ -9,6 +9,8 @@ positions in metres where the set gives one (x_mm, y_mm, z_mm: the positions the
 empty elsewhere. Deterministic: the same input gives the same bytes.
 """
 
+import json
+import math
 from pathlib import Path
 
 import pandas as pd
@@ -85,8 +87,68 @@ def tool_robot(name):
     return head + yaml.safe_dump(doc, sort_keys=False)
 
 
+#: HP3 (2018) reports line lengths in mm, with no spool model and no measured position. In cdpr's
+#: motor-angle contract a line change in mm is a "motor angle" in degrees through the identity spool:
+#: U = 1, O = 1, L = H = 1, Q = 0 and r0 = 180/pi mm, so that s = r0 phi = theta mm exactly.
+HP3 = "hp3_2018"
+IDENTITY_R0_M = 0.18 / math.pi
+
+
+def hp3_table():
+    src = pd.read_csv(HERE / f"{HP3}_samples.csv")
+    out = pd.DataFrame({"sample": src["sample"]})
+    for i, a in enumerate("ABCD", start=1):
+        out[f"motor_deg_{i}"] = src[f"dline_{a}_mm"]
+    for c in "xyz":
+        out[f"{c}_m"] = src[f"{c}_mm"] / 1000.0  # all empty: no position was measured
+    return out
+
+
+def hp3_robot():
+    """HP3 as a robot file: the hand-measured anchors of the JSON, fixed anchors, the identity spool
+    (one degree = one mm of line; HP3's firmware converted its steps to mm itself). Mass and line
+    stiffness are placeholders: the rigid-line model (``--model standard``) does not use them."""
+    import yaml
+
+    meta = json.loads((HERE / f"{HP3}.json").read_text())
+    doc = {
+        "name": "HP3 (2018)",
+        "description": "Hangprinter v3, hand-measured anchors; line lengths in mm through the identity spool",
+        "platform": {"mass_kg": 1.0, "gravity_m_per_s2": 9.81},
+        "cable": {"young_modulus_Pa": 1.0e11, "diameter_m": 0.0005, "max_tension_N": 70.0},
+        "pulley": {"kind": "fixed"},
+        "winch": {"kind": "spool", "buildup_factor_m": 0.0},
+        "cables": [
+            {
+                "A_m": [round(x / 1000.0, 8) for x in a],
+                "dead_length_m": 0.0,
+                "winch": {
+                    "spool_radius_m": IDENTITY_R0_M,
+                    "mechanical_advantage": 1,
+                    "lines_per_spool": 1,
+                    "motor_gear_teeth": 1,
+                    "spool_gear_teeth": 1,
+                },
+            }
+            for a in meta["hand_anchors_mm"]
+        ],
+    }
+    head = (
+        f"# HP3 (data/hangprinter/{HP3}.json: hand_anchors_mm) for its line lengths in mm: the identity\n"
+        "# spool (r0 = 180/pi mm, U = O = L = H = 1, Q = 0) makes a line change of x mm a motor angle of x deg.\n"
+        "# Written by data/hangprinter/make_cdpr_tables.py.\n"
+    )
+    return head + yaml.safe_dump(doc, sort_keys=False)
+
+
 if __name__ == "__main__":
     for name in TOOL:
         path = HERE / f"tool_{name}.yaml"
         path.write_text(tool_robot(name))
         print(f"wrote {path.relative_to(HERE.parent.parent)}")
+    path = HERE / f"{HP3}_cdpr.csv"
+    hp3_table().to_csv(path, index=False, float_format="%.12g", lineterminator="\n")
+    print(f"wrote {path.relative_to(HERE.parent.parent)}")
+    path = HERE / f"robot_{HP3}.yaml"
+    path.write_text(hp3_robot())
+    print(f"wrote {path.relative_to(HERE.parent.parent)}")

@@ -11,7 +11,6 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import pytest
-import yaml
 
 from cdpr.analyses import calibration as cal
 from cdpr.analyses.calibration.motor import BUILDUP_PRIOR_SD, motor_index, motor_prior_sd
@@ -114,17 +113,21 @@ def test_the_tracked_table_has_every_row_and_column():
     n = {ds: len(pd.read_csv(ROOT / d["data"])) for ds, d in st["data_sets"].items()}
     expected = [
         (ds, name, n[ds] if k == "leave-one-out" else k)
-        for ds in st["data_sets"]
-        for name in st["models"]
+        for ds, d in st["data_sets"].items()
+        for name in d["models"]
         for k in st["folds"]
     ]
     assert list(zip(cv.data_set, cv.model, cv.folds)) == expected
-    assert np.isfinite(cv.heldout_position_rms_mm).all()
+    assert np.isfinite(cv.heldout_line_rms_mm).all()
+    # a finite held-out position RMS exactly where the session has measured positions
+    measured = {ds: pd.read_csv(ROOT / d["data"]).x_m.notna().any() for ds, d in st["data_sets"].items()}
+    assert (np.isfinite(cv.heldout_position_rms_mm) == cv.data_set.map(measured)).all()
+    assert set(measured.values()) == {True, False}  # HP3 has none
 
 
 def test_the_docs_quote_the_pipeline_table():
     """docs/hangprinter.md carries the study's table of each session as the pipeline writes it."""
-    st = yaml.safe_load(STUDY.read_text())
+    st = hp.load_hangprinter_study(STUDY, check_files=False)
     cv = pd.read_csv(ROOT / "results" / "hangprinter" / "cv.csv")
     docs = (ROOT / "docs" / "hangprinter.md").read_text()
     for ds in st["data_sets"]:
@@ -140,6 +143,12 @@ def test_the_docs_quote_the_pipeline_table():
         ("estimate: [anchors, spools]}", "estimate: [anchors, gear]}", "models.rigid_spools.estimate"),
         ("model: standard, estimate", "model: stiff, estimate", "models.rigid_spools.model"),
         ("hp4_2021_12_grid.json", "missing.json", "data_sets.grid.source"),
+        ("    tool: data/hangprinter/tool_hp4_2021_12_grid.yaml\n", "", "data_sets.grid.models"),
+        (
+            "    source: data/hangprinter/hp4_2021_12_grid.json\n",
+            "    source: data/hangprinter/hp4_2021_12_grid.json\n    models: [other]\n",
+            "data_sets.grid.models",
+        ),
     ],
 )
 def test_a_bad_study_is_refused_in_one_line(at_root, tmp_path, old, new, key):

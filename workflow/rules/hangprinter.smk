@@ -13,10 +13,15 @@ try:
     HANGPRINTER = load_hangprinter_study(HANGPRINTER_STUDY, check_files=False)
 except CdprError as exc:
     raise WorkflowError(f"invalid Hangprinter study: {exc}")
-# every file the study reads: its robot, and per data set the samples, the tool's solution, the JSON
-HANGPRINTER_INPUTS = [HANGPRINTER["robot"]] + [
-    f for d in HANGPRINTER["data_sets"].values() for f in (d["data"], d["tool"], d["source"])
-]
+# every file the study reads: per data set its robot, the samples, the tool's solution, the JSON
+HANGPRINTER_INPUTS = sorted(
+    {
+        f
+        for d in HANGPRINTER["data_sets"].values()
+        for f in (d["robot"], d["data"], d["tool"], d["source"])
+        if f is not None
+    }
+)
 
 
 def _hangprinter_outputs():

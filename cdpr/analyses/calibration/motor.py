@@ -310,8 +310,12 @@ def gauge_words(data, groups):
     return (
         "no measured position: the encoder reference fixes the origin (mover at the origin at zero motor "
         "angle); the frame's rotation about the origin"
-        + (" and its scale (anchors, positions and spool radii together)" if "spools" in groups else "")
-        + " are not seen by the data and are fixed by the priors alone"
+        + (
+            " and its scale (anchors, positions and spool radii together) are"
+            if "spools" in groups
+            else " is"
+        )
+        + " not seen by the data and fixed by the priors alone"
     )
 
 

@@ -18,7 +18,8 @@ def _colours(models):
 
 def heldout_errors(cv, samples, st, out):
     """Held-out position error of every sample with a measured position, per model (dots, at the
-    study's last fold count) with the RMS at each fold count (bars), one panel per data set.
+    study's last fold count) with the RMS at each fold count (bars), one panel per data set; a data
+    set without a measured position shows its held-out line RMS instead.
 
     Parameters
     ----------
@@ -36,16 +37,21 @@ def heldout_errors(cv, samples, st, out):
     list of Path
     """
     sets = list(st["data_sets"])
-    models = list(st["models"])
     fig, axes = plt.subplots(
         1, len(sets), figsize=(5.5 * len(sets), 4.6), layout="constrained", squeeze=False
     )
     for ax, ds in zip(axes[0], sets):
+        models = st["data_sets"][ds]["models"]
         d = cv[cv.data_set == ds]
         ks = list(dict.fromkeys(d.folds))
         width = 0.8 / len(ks)
+        # a session without a measured position: its held-out line residuals instead
+        lines = bool(d.heldout_position_rms_mm.isna().all())
+        col, scol = (
+            ("heldout_line_rms_mm", "line_rms_mm") if lines else ("heldout_position_rms_mm", "error_mm")
+        )
         for j, K in enumerate(ks):
-            rms = [d[(d.model == m) & (d.folds == K)].heldout_position_rms_mm.iloc[0] for m in models]
+            rms = [d[(d.model == m) & (d.folds == K)][col].iloc[0] for m in models]
             x = np.arange(len(models)) - 0.4 + width * (j + 0.5)
             ax.bar(
                 x,
@@ -57,17 +63,15 @@ def heldout_errors(cv, samples, st, out):
         s = samples[(samples.data_set == ds) & (samples.folds == ks[-1])]
         rng = np.random.default_rng(0)  # a fixed jitter: the same figure every run
         for i, m in enumerate(models):
-            e = s[s.model == m].error_mm.dropna().to_numpy()
+            e = s[s.model == m][scol].dropna().to_numpy()
             ax.plot(i + rng.uniform(-0.25, 0.25, len(e)), e, "o", ms=3, color="k", alpha=0.7)
         ax.plot([], [], "o", ms=3, color="k", label=f"each sample, K = {ks[-1]}")
         ax.set_xticks(np.arange(len(models)), models, rotation=30, ha="right", fontsize=8)
-        ax.set_ylabel("held-out position error [mm]")
-        ax.set_title(ds, fontsize=9)
+        ax.set_ylabel("held-out line RMS [mm]" if lines else "held-out position error [mm]")
+        ax.set_title(ds + (" (no measured position: line residuals)" if lines else ""), fontsize=9)
         ax.grid(axis="y", alpha=0.3)
         ax.legend(fontsize=7)
-    fig.suptitle(
-        "Hangprinter: held-out position error per model (cross-validation, identical folds)", fontsize=10
-    )
+    fig.suptitle("Hangprinter: held-out error per model (cross-validation, identical folds)", fontsize=10)
     return save(fig, out)
 
 
@@ -81,8 +85,8 @@ def anchor_ellipses(ellipses, nominal, st, scale, out):
     ----------
     ellipses : list of dict
         data_set, model, A (m, 3) [m], cov (m, 3, 3) [m^2] or None.
-    nominal : ndarray (m, 3) [m]
-        The nominal anchors.
+    nominal : dict data set -> ndarray (m, 3) [m]
+        The nominal anchors of each data set's robot.
     st : dict
         ``load_hangprinter_study``.
     scale : float
@@ -95,7 +99,7 @@ def anchor_ellipses(ellipses, nominal, st, scale, out):
     """
     sets, models = list(st["data_sets"]), list(st["models"])
     colours = _colours(models)
-    m = len(nominal)
+    m = len(next(iter(nominal.values())))
     proj = (("x", "y", (0, 1)), ("x", "z", (0, 2)))
     fig, axes = plt.subplots(
         2 * len(sets), m, figsize=(3.0 * m, 2.7 * 2 * len(sets)), layout="constrained", squeeze=False
@@ -107,7 +111,7 @@ def anchor_ellipses(ellipses, nominal, st, scale, out):
                 for e in ellipses:
                     if e["data_set"] != ds:
                         continue
-                    off = 1e3 * (e["A"][i] - nominal[i])
+                    off = 1e3 * (e["A"][i] - nominal[ds][i])
                     c = colours[e["model"]]
                     ax.plot(off[ia], off[ib], "o" if e["cov"] is not None else "x", color=c, ms=4)
                     if e["cov"] is not None:
@@ -162,7 +166,11 @@ def residuals_against_force(samples, st, out):
     """
     fcols = sorted(c for c in samples.columns if c.startswith("force_N_"))
     sets = [ds for ds in st["data_sets"] if samples[samples.data_set == ds][fcols].notna().any().any()]
-    models = [n for n, m in st["models"].items() if m["fixed"] is None]
+    models = [
+        n
+        for n, m in st["models"].items()
+        if m["fixed"] is None and any(n in st["data_sets"][ds]["models"] for ds in sets)
+    ]
     if not sets:
         fig, ax = plt.subplots(figsize=(5, 2), layout="constrained")
         ax.text(0.5, 0.5, "no data set has line forces", ha="center", va="center")
@@ -182,6 +190,9 @@ def residuals_against_force(samples, st, out):
         for c, name in enumerate(models):
             ax = axes[r, c]
             s = d[d.model == name]
+            if not len(s):
+                ax.set_axis_off()
+                continue
             for i in range(m):
                 ax.plot(
                     s[f"force_N_{i + 1}"],
