@@ -104,16 +104,29 @@ def hp3_table():
     return out
 
 
-def hp3_robot():
+#: The community tool's HP3 solution (README.md's table: 1df0762, mystic; its gauge A_x = D_x = D_y = 0).
+HP3_TOOL = {
+    "anchors": [
+        [0.0, -1113.06, -104.52],
+        [998.67, 575.99, -129.59],
+        [-972.16, 545.72, -104.37],
+        [0.0, 0.0, 2728.76],
+    ],
+    "version": "1df0762 (mystic)",
+}
+
+
+def hp3_robot(anchors_mm=None, what=None):
     """HP3 as a robot file: the hand-measured anchors of the JSON, fixed anchors, the identity spool
     (one degree = one mm of line; HP3's firmware converted its steps to mm itself). Mass and line
     stiffness are placeholders: the rigid-line model (``--model standard``) does not use them."""
     import yaml
 
     meta = json.loads((HERE / f"{HP3}.json").read_text())
+    anchors_mm = meta["hand_anchors_mm"] if anchors_mm is None else anchors_mm
     doc = {
-        "name": "HP3 (2018)",
-        "description": "Hangprinter v3, hand-measured anchors; line lengths in mm through the identity spool",
+        "name": "HP3 (2018)" if what is None else f"HP3 (2018: {what})",
+        "description": f"Hangprinter v3, {what or 'hand-measured anchors'}; line lengths in mm through the identity spool",
         "platform": {"mass_kg": 1.0, "gravity_m_per_s2": 9.81},
         "cable": {"young_modulus_Pa": 1.0e11, "diameter_m": 0.0005, "max_tension_N": 70.0},
         "pulley": {"kind": "fixed"},
@@ -130,11 +143,12 @@ def hp3_robot():
                     "spool_gear_teeth": 1,
                 },
             }
-            for a in meta["hand_anchors_mm"]
+            for a in anchors_mm
         ],
     }
+    src = f"{HP3}.json: hand_anchors_mm" if what is None else f"README.md: {what}"
     head = (
-        f"# HP3 (data/hangprinter/{HP3}.json: hand_anchors_mm) for its line lengths in mm: the identity\n"
+        f"# HP3 (data/hangprinter/{src}) for its line lengths in mm: the identity\n"
         "# spool (r0 = 180/pi mm, U = O = L = H = 1, Q = 0) makes a line change of x mm a motor angle of x deg.\n"
         "# Written by data/hangprinter/make_cdpr_tables.py.\n"
     )
@@ -151,4 +165,7 @@ if __name__ == "__main__":
     print(f"wrote {path.relative_to(HERE.parent.parent)}")
     path = HERE / f"robot_{HP3}.yaml"
     path.write_text(hp3_robot())
+    print(f"wrote {path.relative_to(HERE.parent.parent)}")
+    path = HERE / f"tool_{HP3}.yaml"
+    path.write_text(hp3_robot(HP3_TOOL["anchors"], f"the Hangprinter tool's solution, {HP3_TOOL['version']}"))
     print(f"wrote {path.relative_to(HERE.parent.parent)}")
