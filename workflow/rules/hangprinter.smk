@@ -49,5 +49,5 @@ rule hangprinter_study:
         calibration_log("hangprinter_study"),
     threads: 1
     shell:
-        "NUMBA_NUM_THREADS=1 OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 {params.cdpr} calibrate study"
-        " --study {params.study_file:q} --out {params.out:q}" + TO_LOG
+        "NUMBA_NUM_THREADS=1 OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 {params.cdpr} calibrate study --study {params.study_file:q}"
+        " --out {params.out:q}" + TO_LOG
