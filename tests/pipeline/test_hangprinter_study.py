@@ -4,6 +4,7 @@ layout, deterministically, the tracked table has every data set × model × fold
 columns the docs quote, docs/hangprinter.md quotes the pipeline's table, and a bad study file is
 refused in one line."""
 
+import dataclasses
 import subprocess
 import sys
 from pathlib import Path
@@ -13,7 +14,7 @@ import pandas as pd
 import pytest
 
 from cdpr.analyses import calibration as cal
-from cdpr.analyses.calibration.motor import BUILDUP_PRIOR_SD, motor_index, motor_prior_sd
+from cdpr.analyses.calibration.motor import BUILDUP_PRIOR_SD, line_terms, motor_index, motor_prior_sd
 from cdpr.errors import CdprError, ConfigError
 from cdpr.pipeline import hangprinter as hp
 from cdpr.pipeline.results import CALIBRATION_OUTPUTS, calibration_outputs
@@ -174,3 +175,19 @@ def test_the_buildup_prior_of_a_study(at_root):
         ROOT / "config/studies/calibration.yaml"
     )
     assert cal.SpoolModel.of(robot).Q.shape == (4,)
+
+
+def test_the_gear_ratio_is_not_seen_by_motor_angles():
+    """Why there is no ``gear`` group: L/H scaled by c with r0 by 1/c and Q by 1/c^2 gives the same
+    line for every motor angle (s = r0 phi - O Q phi^2 / 4, phi = theta L / H), to round-off."""
+    robot = load_robot(ROOT / "config" / "robots" / "hangprinter_hp4.yaml")
+    sm = cal.SpoolModel.of(robot)
+    data = cal.read_motor_data(ROOT / "data" / "hangprinter" / "hp4_2022_force_series2_cdpr.csv", robot)
+    f, g = np.ones(data.motor_deg.shape), np.ones(robot.m)
+    c = 1.37
+    other = dataclasses.replace(sm, ratio=sm.ratio * c, r0=sm.r0 / c, Q=sm.Q / c**2)
+    a, _ = line_terms(sm, data.motor_deg, f, g)
+    b, _ = line_terms(other, data.motor_deg, f, g)
+    assert np.abs(a - b).max() < 1e-12
+    changed = dataclasses.replace(sm, ratio=sm.ratio * c)  # the ratio alone does change the lines
+    assert np.abs(line_terms(changed, data.motor_deg, f, g)[0] - a).max() > 0.1
