@@ -6,7 +6,11 @@ For each HP4 set ``NAME_samples.csv`` (the neutral extraction, README.md) it wri
 with the columns ``sample, motor_deg_1..4, [force_N_1..4,] x_m, y_m, z_m``: cable i = anchor A, B,
 C, D; the motor angles as read; the forces where recorded (the eff69f9 alignment, README.md); the
 positions in metres where the set gives one (x_mm, y_mm, z_mm: the positions the author trusts),
-empty elsewhere. Deterministic: the same input gives the same bytes.
+empty elsewhere. For HP3 (line lengths in mm, no position) it writes ``hp3_2018_cdpr.csv`` (the
+line change in mm as the motor angle in degrees), ``robot_hp3_2018.yaml`` (the hand-measured
+anchors with the identity spool) and ``tool_hp3_2018.yaml`` (the tool's HP3 anchors); for each
+HP4 set the tool's solution as ``tool_NAME.yaml``. Deterministic: the same input gives the same
+bytes.
 """
 
 import json
