@@ -33,7 +33,7 @@ from numba import njit, prange
 from cdpr.compiled._kernels import SWIVEL_RHO_MIN, TWO_PI, in_frame, pulley_geometry
 from cdpr.compiled._linalg import add_cable_jacobian
 from cdpr.compiled.catenary import angle_f_deg, arc_length, cable_energy, cable_state, cable_stiffness, sag
-from cdpr.models.catenary import SPAN_STATUSES
+from cdpr.models.catenary import INFEASIBLE, SPAN_STATUSES
 
 __all__ = ["NSTATE", "STATE", "Heavy", "evaluate", "exit_points", "heavy_arrays", "heavy_cables"]
 
@@ -163,7 +163,7 @@ def exit_points(Bx, By, Bz, c, L0c, cab, frame, ident, heavy, start, out):
         ehx, ehy, ehz = hx * il, hy * il, hz * il
         H, V, code, _, _, L0f = cable_state(l_h, l_v, L0c, ell, w, EA, H0, V0, L0f)
         H0, V0 = H, V
-        if last or it > EXIT_MAXITER:
+        if last or it > EXIT_MAXITER or code == INFEASIBLE:
             break
         V_D = V + w * L0f
         T_D = math.hypot(H, V_D)
@@ -182,7 +182,8 @@ def exit_points(Bx, By, Bz, c, L0c, cab, frame, ident, heavy, start, out):
         dth = min(dth, TWO_PI - dth)
         th = th_new
         vmax = max(abs(vx), abs(vy), abs(vz))
-        last = rp * dth <= 1e-15 * (1.0 + vmax)  # then one more pass solves the catenary at the new D
+        # converged: one more pass solves the whole cable at the new D (the loop's last)
+        last = rp * dth <= 1e-15 * (1.0 + vmax)
     T_B = math.hypot(H, V)
     out[_H], out[_V], out[_L0F], out[_TH], out[_READY] = H, V, L0f, th, 1.0
     out[_TB], out[_TD], out[_LH], out[_LV] = T_B, math.hypot(H, V + w * L0f), l_h, l_v
@@ -312,8 +313,9 @@ def evaluate(px, py, pz, R, rfx, rfy, rfz, cab, body, heavy, L0, i, t, J, e6, g6
 
 
 @njit(cache=True, parallel=True, error_model="numpy")
-def _heavy_cables(P, R, L0, cab, frame, ident, heavy, b, out):
+def _heavy_cables(P, R, L0, cab, frame, ident, heavy, b, start, out):
     n, m = P.shape[0], cab.A.shape[0]
+    warm = start.shape[0] == n
     for i in prange(n):
         st = np.zeros(NSTATE)
         for c in range(m):
@@ -321,6 +323,9 @@ def _heavy_cables(P, R, L0, cab, frame, ident, heavy, b, out):
             By = P[i, 1] + R[i, 1, 0] * b[c, 0] + R[i, 1, 1] * b[c, 1] + R[i, 1, 2] * b[c, 2]
             Bz = P[i, 2] + R[i, 2, 0] * b[c, 0] + R[i, 2, 1] * b[c, 1] + R[i, 2, 2] * b[c, 2]
             st[_READY] = 0.0
+            if warm:
+                for a in range(NSTATE):
+                    st[a] = start[i, c, a]
             (H, V, L0f, l_h, l_v, _, _, _, _, _, _, _, _, T_B, _, _, _) = exit_points(
                 Bx, By, Bz, c, L0[i, c], cab, frame, ident, heavy, st, st
             )
@@ -335,9 +340,10 @@ def _heavy_cables(P, R, L0, cab, frame, ident, heavy, b, out):
             o[10] = st[_GAM]
 
 
-def heavy_cables(cab, P, R, L0, threads=None):
+def heavy_cables(cab, P, R, L0, start=None):
     """Compiled ``models.cables.heavy_cables``: what each heavy cable does at the equilibria, each
-    cable solved afresh at (P, R) (``exit_points`` from the reference's start), points in parallel.
+    cable solved afresh at (P, R) by ``exit_points`` (from ``start``, or the reference's start),
+    points in parallel.
 
     Parameters
     ----------
@@ -349,8 +355,8 @@ def heavy_cables(cab, P, R, L0, threads=None):
         Platform orientations.
     L0 : ndarray (N, m) [m]
         Rest lengths of the whole cables.
-    threads : int, optional
-        Unused (the caller sets numba's threads).
+    start : ndarray (N, m, NSTATE), optional
+        The cables' state to start from (``STATE``; the pose kernel's at the result).
 
     Returns
     -------
@@ -368,7 +374,7 @@ def heavy_cables(cab, P, R, L0, threads=None):
     if n:
         _heavy_cables(
             f(P, dtype=float), f(R, dtype=float), f(L0, dtype=float), cab.cables, cab.body.frame,
-            cab.body.ident, cab.heavy, cab.body.b, out,
+            cab.body.ident, cab.heavy, cab.body.b, np.zeros((0, m, NSTATE)) if start is None else f(start), out,
         )  # fmt: skip
     code = out[..., 6].astype(np.int8)
     sag_ = out[..., 3]

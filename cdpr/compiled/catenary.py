@@ -103,6 +103,16 @@ def flexibility(H, V_B, L0, w, EA):
     return e + L0 * (Qh - Qd), L0 * Qx, e + L0 * Qd
 
 
+@njit(cache=True, inline="always", error_model="numpy")
+def _spans_and_flexibility(H, V_B, L0, w, EA):
+    """``span_equations`` and ``flexibility`` of one cable from one ``_terms`` (the same arithmetic
+    as the two: Newton's iteration needs both at every step)."""
+    _, _, _, S, Qh, Qv, Qd, Qx, _ = _terms(H, V_B, L0, w)
+    l_h = 0.0 if (H == 0.0 or L0 == 0.0) else H * L0 * (1.0 / EA + Qh)
+    e = L0 / EA
+    return l_h, L0 * (0.5 * S / EA + Qv), e + L0 * (Qh - Qd), L0 * Qx, e + L0 * Qd
+
+
 @njit(cache=True, error_model="numpy")
 def stiffness(H, V_B, L0, w, EA):
     """(k11, k12, k22) [N/m], the inverse of ``flexibility`` (``models.catenary.stiffness``); zero
@@ -219,11 +229,10 @@ def span_state(l_h, l_v, L0, w, EA, H0=np.nan, V0=np.nan, rtol=_RTOL, maxiter=_M
     it = 0
     conv = False
     for _ in range(maxiter):
-        lh, lv = span_equations(H, V, L0, w, EA)
+        lh, lv, f11, f12, f22 = _spans_and_flexibility(H, V, L0, w, EA)
         r1 = lh - l_h
         r2 = lv - l_v
         small = math.hypot(r1, r2) <= tol
-        f11, f12, f22 = flexibility(H, V, L0, w, EA)
         det = f11 * f22 - f12 * f12
         dH = -(f22 * r1 - f12 * r2) / det
         dV = -(-f12 * r1 + f11 * r2) / det

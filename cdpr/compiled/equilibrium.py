@@ -95,7 +95,9 @@ class Out(NamedTuple):
     """Per-pose results of the kernel (``outputs``): P (N, 3) [m], R (N, 3, 3), F, M (N, 3) [N, N m],
     t (N, m) [N], merit (N,) [J], J (N, 6, 6), it (N,), conv (N,) bool, inside (N, m) bool, gamma
     (N, m) [rad] the pulleys' state at P, R (``pulleys.pulley_state``), stable (N,) bool: converged
-    with 6 or more taut cables and a positive definite -J (``STABLE_REL``), rotvec (N, 3) [rad] of R."""
+    with 6 or more taut cables and a positive definite -J (``STABLE_REL``), rotvec (N, 3) [rad] of R;
+    cat (N, m, ``cables.NSTATE``) heavy cables' state at the result (``cables.STATE``; (0, m, ...)
+    for massless cables)."""
 
     P: np.ndarray
     R: np.ndarray
@@ -110,6 +112,7 @@ class Out(NamedTuple):
     gamma: np.ndarray
     stable: np.ndarray
     rotvec: np.ndarray
+    cat: np.ndarray
 
 
 def body_arrays(cab):
@@ -133,8 +136,8 @@ def body_arrays(cab):
     )
 
 
-def outputs(n, m):
-    """An uninitialised ``Out`` for n poses and m cables."""
+def outputs(n, m, heavy=False):
+    """An uninitialised ``Out`` for n poses and m cables (``heavy``: with the cables' state)."""
     return Out(
         np.empty((n, 3)),
         np.empty((n, 3, 3)),
@@ -149,6 +152,7 @@ def outputs(n, m):
         np.empty((n, m)),
         np.empty(n, dtype=np.bool_),
         np.empty((n, 3)),
+        np.zeros((n if heavy else 0, m, NSTATE)),
     )
 
 
@@ -609,6 +613,10 @@ def solve_pose(i, p_ref, P0, R0, L0, cab, body, opts, out, w, heavy):
         out.inside[i, c] = w.cab_inside[c]
         out.gamma[i, c] = w.cab_gamma[c]
     rotvec_of_matrix(R, out.rotvec[i])
+    if heavy.on:  # the cables' state at the result (``cables.heavy_cables`` starts from it)
+        for c in range(m):
+            for a in range(NSTATE):
+                out.cat[i, c, a] = w.hc[c, a]
 
 
 @njit(cache=True, parallel=True, error_model="numpy")
@@ -658,6 +666,8 @@ def _first_pass(out):
         "stable": out.stable,
         "rotvec": out.rotvec,
     }
+    if len(out.cat):
+        cur["cat"] = out.cat
     return out.P, out.R, cur, out.it, out.conv
 
 
@@ -689,7 +699,7 @@ def newton(cab, p0, R0, L0, p_ref, tol, maxiter, max_step):
     """
     n, m = len(p0), cab.robot.m
     f = np.ascontiguousarray
-    out = outputs(n, m)
+    out = outputs(n, m, cab.heavy.on)
     if n:
         opts = newton_options(PHYSICAL_DEFAULTS, tol, maxiter, max_step)
         _solve_poses(
@@ -756,9 +766,18 @@ def solve(
     set_threads(threads)
     heavy = robot.heavy if heavy is None else heavy
     cab = CompiledHeavyCables(robot) if heavy else CompiledCables(robot)
-    res = solve_with(robot, cab, newton, p, rotvec, L0, P0, tol, maxiter, max_step, restarts, L_TS)
-    if heavy:
-        res.update(heavy_cables(cab, res["P_s"], res["R_s"], res["L0"]))
+    passes = []
+
+    def recorded(*args):
+        passes.append(newton(*args))
+        return passes[-1]
+
+    res = solve_with(robot, cab, recorded, p, rotvec, L0, P0, tol, maxiter, max_step, restarts, L_TS)
+    if heavy:  # the outputs at the result, each cable started from its state there (the first
+        # pass's, into which the restarts' winners are copied: a start only, the answer does not
+        # depend on it)
+        start = passes[0][2]["cat"] if passes and "cat" in passes[0][2] else None
+        res.update(heavy_cables(cab, res["P_s"], res["R_s"], res["L0"], start=start))
     return res
 
 
@@ -799,6 +818,7 @@ def _solve_poses_batch(
             out.gamma[k],
             out.stable[k],
             out.rotvec[k],
+            out.cat[k],
         )
         w = scratch(m)
         massless = Heavy(False, np.zeros(m), np.zeros(3), np.zeros((m, 3)))
