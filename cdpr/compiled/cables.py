@@ -150,6 +150,7 @@ def exit_points(Bx, By, Bz, c, L0c, cab, frame, ident, heavy, start, out):
     Dx = Dy = Dz = 0.0
     it = 0
     last = not sr
+    th_prev = f_prev = np.nan
     for it in range(1, EXIT_MAXITER + 2):
         ct, st = math.cos(th), math.sin(th)
         Dx = Hx + rp * (ct * esx + st * kx)
@@ -175,15 +176,22 @@ def exit_points(Bx, By, Bz, c, L0c, cab, frame, ident, heavy, start, out):
         n_w = cx * esx + cy * esy + cz * esz
         if not (T_D > 0.0 and math.isfinite(n_s) and math.isfinite(n_w)):
             break
-        th_new = math.atan2(n_w, n_s)
-        gamma = (thK - th_new) % TWO_PI
-        ell = g.ld + rp * gamma
-        dth = abs(th_new - th)
-        dth = min(dth, TWO_PI - dth)
-        th = th_new
+        g_th = math.atan2(n_w, n_s)  # the fixed point's map: theta <- g(theta)
+        f = (g_th - th + math.pi) % TWO_PI - math.pi
         vmax = max(abs(vx), abs(vy), abs(vz))
-        # converged: one more pass solves the whole cable at the new D (the loop's last)
-        last = rp * dth <= 1e-15 * (1.0 + vmax)
+        # converged: one more pass solves the whole cable at D = g(theta) (the loop's last)
+        last = rp * abs(f) <= 1e-15 * (1.0 + vmax)
+        th_new = g_th
+        if not last and f_prev == f_prev and th != th_prev:
+            # the secant step on f(theta) = g(theta) - theta where its slope is that of a
+            # contraction (g' = slope + 1 in (-0.5, 0.5)); else the plain fixed-point step
+            slope = (f - f_prev) / (th - th_prev)
+            if -1.5 < slope < -0.5:
+                th_new = th - f / slope
+        th_prev, f_prev = th, f
+        th = th_new
+        gamma = (thK - th) % TWO_PI
+        ell = g.ld + rp * gamma
     T_B = math.hypot(H, V)
     out[_H], out[_V], out[_L0F], out[_TH], out[_READY] = H, V, L0f, th, 1.0
     out[_TB], out[_TD], out[_LH], out[_LV] = T_B, math.hypot(H, V + w * L0f), l_h, l_v
