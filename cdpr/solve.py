@@ -27,7 +27,7 @@ from cdpr.compiled import sensitivity as compiled_sensitivity
 from cdpr.compiled import subsets as compiled_subsets
 from cdpr.errors import CdprError
 from cdpr.models import equilibrium, sensitivity
-from cdpr.models.results import mark_below_floor, point_keys
+from cdpr.models.results import mark_below_floor, mark_out_of_frame, point_keys
 from cdpr.models.subsets import solve_points
 from cdpr.robot import require_massless, require_point_mass
 
@@ -117,7 +117,17 @@ def _solve_heavy(robot, p, rotvec, redundancy, engine, L0, L, options):
     res = equilibrium.solve(robot, p, rotvec, L0=L0, **options)
     if _fast_point(robot, p, rotvec):
         res = {**point_keys(res), **{k: res[k] for k in HEAVY_KEYS}}
-    return mark_below_floor(res, p, robot.floor_z) if robot.suspended_point_mass else res
+    return _mark(res, p, robot)
+
+
+def _mark(res, p, robot, floor=None):
+    """The statuses every door gives whatever the engine: a desired point below the floor of a
+    suspended point mass is ``inaccessible`` (``mark_below_floor``; ``floor`` True/False forces it
+    on or off, None: when the robot is a suspended point mass), a solved pose whose reference point
+    leaves the frame box is ``out_of_frame`` (``mark_out_of_frame``)."""
+    if robot.suspended_point_mass if floor is None else floor:
+        res = mark_below_floor(res, p, robot.floor_z)
+    return mark_out_of_frame(res, robot)
 
 
 def _fast_point(robot, p, rotvec):
@@ -160,7 +170,8 @@ def solve(
         Paper mode: ``models.subsets.solve_points``'s keys. Physical mode: a suspended point mass
         solved without an orientation gets ``results.POINT_KEYS``; every other robot, or a given
         orientation, ``models.equilibrium.solve``'s keys (rotvec_s, dphi, unique, ...). The desired
-        points below the floor of a suspended robot are ``inaccessible`` (``mark_below_floor``).
+        points below the floor of a suspended robot are ``inaccessible`` (``mark_below_floor``), a
+        solved pose whose reference point leaves the frame box ``out_of_frame`` (``mark_out_of_frame``).
         A robot with heavy cables (``Robot.heavy``, issue 38) is solved in physical mode by the numpy
         reference (``cables.HeavyCables``, its engine when none is named) and its result adds
         ``HEAVY_KEYS``; paper mode or the compiled engine refuse it in one line.
@@ -188,7 +199,7 @@ def solve(
             res = compiled_subsets.solve_points_fast(robot, p, threads=threads, **options)
         else:
             res = solve_points(robot, p, method=method, **options)
-        return mark_below_floor(res, p, robot.floor_z) if robot.suspended_point_mass else res
+        return _mark(res, p, robot)
     _check_physical(method, L)
     engine = check_engine(engine, "newton")
     if _fast_point(robot, p, rotvec):
@@ -198,12 +209,12 @@ def solve(
             res = compiled_equilibrium.solve_points(robot, p, L0=L0, threads=threads, **options)
         else:
             res = point_keys(equilibrium.solve(robot, p, L0=L0, **options))
-        return mark_below_floor(res, p, robot.floor_z)
+        return _mark(res, p, robot, floor=True)
     if engine == "compiled":
         res = compiled_equilibrium.solve(robot, p, rotvec, L0=L0, threads=threads, **options)
     else:
         res = equilibrium.solve(robot, p, rotvec, L0=L0, **options)
-    return mark_below_floor(res, p, robot.floor_z) if robot.suspended_point_mass else res
+    return _mark(res, p, robot)
 
 
 def solve_batch(
@@ -255,9 +266,7 @@ def solve_batch(
             res = compiled_equilibrium.solve_batch(robots, p, rotvec, L0=L0, threads=threads, **options)
         else:
             res = equilibrium.solve_batch(robots, p, rotvec, L0=L0, **options)
-        return [
-            mark_below_floor(r, p, rk.floor_z) if rk.suspended_point_mass else r for r, rk in zip(res, robots)
-        ]
+        return [_mark(r, p, rk) for r, rk in zip(res, robots)]
     if redundancy == "physical":
         if L is not None:
             raise CdprError("physical mode commands rest lengths L0, not total lengths L")
@@ -273,7 +282,7 @@ def solve_batch(
             res = compiled_subsets.solve_points_batch(robots, p, L, threads=threads, P0=P0)
         else:
             res = [solve_points(r, p, method="newton", L=L, P0=P) for r, P in zip(robots, starts)]
-    return [mark_below_floor(r, p, rk.floor_z) for r, rk in zip(res, robots)]
+    return [_mark(r, p, rk, floor=True) for r, rk in zip(res, robots)]
 
 
 def sensitivities(
@@ -334,17 +343,21 @@ def sensitivities(
         p = p[:, :3]
     elif not _fast_point(robot, p, rotvec):
         if engine == "compiled":
-            return compiled_sensitivity.pose_sensitivities(
+            res = compiled_sensitivity.pose_sensitivities(
                 robot, p, rotvec, L0=L, threads=threads, t_tol=t_tol, **solver
             )
-        return sensitivity.pose_sensitivities(robot, p, rotvec, L0=L, t_tol=t_tol, **solver)
+        else:
+            res = sensitivity.pose_sensitivities(robot, p, rotvec, L0=L, t_tol=t_tol, **solver)
+        return _mark(res, p, robot, floor=False)
     if engine == "compiled":
-        return compiled_sensitivity.sensitivities_fast(
+        res = compiled_sensitivity.sensitivities_fast(
             robot, p, redundancy=redundancy, L=L, threads=threads, gap_tol=gap_tol, t_tol=t_tol, **solver
         )
-    return sensitivity.sensitivities(
-        robot, p, redundancy=redundancy, L=L, gap_tol=gap_tol, t_tol=t_tol, **solver
-    )
+    else:
+        res = sensitivity.sensitivities(
+            robot, p, redundancy=redundancy, L=L, gap_tol=gap_tol, t_tol=t_tol, **solver
+        )
+    return _mark(res, p, robot, floor=False)
 
 
 def sensitivities_at(robot, res, names=None, t_tol=sensitivity.T_TOL, engine=None, threads=None):

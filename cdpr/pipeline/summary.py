@@ -24,7 +24,7 @@ from cdpr import io, table_io
 from cdpr.analyses import scans
 from cdpr.models import winch
 from cdpr.pipeline.results import Layout, check_complete, rel_path
-from cdpr.pipeline.study import spatial_robots
+from cdpr.pipeline.study import robot_of, spatial_robots
 from cdpr.robot import TABLE1
 
 #: The papers' numbers (package data of the library).
@@ -371,6 +371,38 @@ def _ok_range(df, column, scale):
     return (float(ok.min()) * scale, float(ok.max()) * scale) if len(ok) else (math.nan, math.nan)
 
 
+def hold_note(df, dof):
+    """The note of a plane's headline row: how many points are ok and, beyond "N of N ok", how the
+    platform holds: the ok points that hang on fewer cables than the platform has degrees of freedom
+    (it tilts or swings until it balances), the largest δφ over the ok points, and the count of every
+    other status (``out_of_frame``: a pose that left the frame box).
+
+    Parameters
+    ----------
+    df : DataFrame
+        A point table (``status``; ``n_taut`` and ``dphi`` [rad] when it has them).
+    dof : int
+        Degrees of freedom of the platform: 6 for a rigid platform, 3 for a point mass.
+
+    Returns
+    -------
+    str
+    """
+    ok = df["status"].astype(str) == "ok"
+    parts = [f"{int(ok.sum())} of {len(df)} points ok"]
+    if "n_taut" in df:
+        few = int((ok & (df["n_taut"] < dof)).sum())
+        parts.append(
+            f"{few} of the ok points hang on fewer than {dof} cables (the platform's degrees of freedom)"
+        )
+    if "dphi" in df and ok.any():
+        parts.append(f"largest δφ {float(df.loc[ok, 'dphi'].max()) * 1e3:.4g} mrad")
+    others = df.loc[~ok, "status"].astype(str).value_counts()
+    if len(others):
+        parts.append("not ok: " + ", ".join(f"{n} {s}" for s, n in sorted(others.items())))
+    return "; ".join(parts)
+
+
 def headline_rows(st, res):
     """The headline numbers of a study of spatial robots (``paper_comparison: false``, no paper
     values): per design the plane's and the paths' ‖δp‖ [mm] and δφ [mrad] ranges over the ok points
@@ -384,12 +416,10 @@ def headline_rows(st, res):
             df = _read(res, rel_path("plane_table", robot=rk, pulley=pk))
             if df is None:
                 continue
-            n_ok = int((df.status == "ok").sum())
+            dof = 3 if robot_of(st, rk).point_mass else 6
             src = f"plane z = {st['plane']['z_m']:g} m"
             lo, hi = _ok_range(df, "dp", 1e3)
-            rows.append(
-                _headline(f"{rk} {pk} plane ‖δp‖ min", src, lo, "mm", f"{n_ok} of {len(df)} points ok")
-            )
+            rows.append(_headline(f"{rk} {pk} plane ‖δp‖ min", src, lo, "mm", hold_note(df, dof)))
             rows.append(_headline(f"{rk} {pk} plane ‖δp‖ max", src, hi, "mm"))
             if "dphi" in df:
                 lo, hi = _ok_range(df, "dphi", 1e3)

@@ -87,3 +87,25 @@ def test_a_study_that_is_not_the_paper_s_is_not_scored(st, tmp_path):
     df = summary.build_rows(dict(st, paper_comparison=False), tmp_path)
     assert len(df) == 3 and df["paper"].isna().all() and df["tolerance"].isna().all()
     assert set(df["verdict"]) == {"not scored (not the paper's study)"}
+
+
+def test_hold_note_says_how_the_platform_holds_not_only_how_many_are_ok():
+    """Issue 41: "121 of 121 ok" on a platform hanging on 4-5 of 8 cables tilted 38 degrees hid both
+    facts; the note counts the ok points on fewer cables than the degrees of freedom, the largest
+    δφ and every other status."""
+    import pandas as pd
+
+    from cdpr.pipeline.summary import hold_note
+
+    df = pd.DataFrame(
+        {
+            "status": ["ok", "ok", "ok", "out_of_frame"],
+            "n_taut": [8, 5, 4, 3],
+            "dphi": [0.001, 0.2, 0.66, 1.36],
+        }
+    )
+    note = hold_note(df, 6)
+    assert note.startswith("3 of 4 points ok; 2 of the ok points hang on fewer than 6 cables")
+    assert "largest δφ 660 mrad" in note  # the ok points only
+    assert note.endswith("not ok: 1 out_of_frame")
+    assert hold_note(df.assign(status="ok"), 3).startswith("4 of 4 points ok; 0 of the ok")
