@@ -252,7 +252,55 @@ def _uq_sobol_top(st, res, design, case, rank=1, output="index"):
         return None
     g = g.sort_values("ST", ascending=False)
     top = ", ".join(f"{r.name} {r.ST:.2f}±{r.ST_conf:.2f}" for r in g.head(3).itertuples())
-    return float(g.ST.iloc[rank - 1]), f"largest ST: {top}"
+    return float(g.ST.iloc[rank - 1]), f"largest ST: {top}{_sobol_basis(g)}"
+
+
+#: Base samples N under which the Sobol indices get a caveat line in the summary (``sobol_caveat``):
+#: at N = 512 the paper study's 95 % intervals are about ±0.03; at 128 CoGiRo's reach ±0.28.
+SOBOL_SMALL_N = 512
+#: A 95 % bootstrap half-width above this also gets the caveat, whatever N.
+SOBOL_WIDE_CONF = 0.1
+
+
+def _sobol_basis(t):
+    """What a Sobol note's ± rests on: " (±: 95 % bootstrap, N = 128)", from the rows of a Sobol
+    table (``base_samples``; tables written before that column: the interval only)."""
+    if "base_samples" in t and len(t):
+        return f" (±: 95 % bootstrap, N = {int(t.base_samples.iloc[0])})"
+    return " (±: 95 % bootstrap)"
+
+
+def sobol_caveat(st, res):
+    """The caveat line of a summary whose Sobol indices rest on few samples: N (the study's
+    ``uncertainty.sobol.base_samples``) below ``SOBOL_SMALL_N`` or a 95 % bootstrap half-width of a
+    total or first-order index above ``SOBOL_WIDE_CONF``; None otherwise or without a Sobol table.
+
+    Parameters
+    ----------
+    st : Study
+    res : path
+        The study's results folder.
+
+    Returns
+    -------
+    str or None
+    """
+    t = _read(res, rel_path("uncertainty", "sobol"))
+    so = (st.get("uncertainty") or {}).get("sobol") or {}
+    if t is None or t.empty or "base_samples" not in so:
+        return None
+    n = int(so["base_samples"])
+    wide = float(np.nanmax(t[["S1_conf", "ST_conf"]].to_numpy()))
+    outside = int(((t.ST > 1) | (t.ST < 0) | (t.S1 > 1) | (t.S1 < 0)).sum())
+    if n >= SOBOL_SMALL_N and wide <= SOBOL_WIDE_CONF:
+        return None
+    return (
+        f"Caveat: the Sobol indices rest on N = {n} base samples (Saltelli's scheme, SALib); their 95 % "
+        f"bootstrap intervals (the ± in the notes, S1_conf and ST_conf in uncertainty/sobol.csv) reach "
+        f"±{wide:.2g}, and {outside} of the {len(t)} indices lie outside [0, 1], which only sampling error "
+        "can do. Read them as a ranking within their intervals; more base samples "
+        "(`uncertainty.sobol.base_samples`) narrow the intervals."
+    )
 
 
 def _winch_dl(st, res, l_pm_m, scale=1000.0):
@@ -603,7 +651,7 @@ def _uq_spatial_rows(st, res):
                             rel_path("uncertainty", "sobol"),
                             float(h.ST.iloc[0]),
                             "-",
-                            f"{h.name.iloc[0]}; largest ST: {top}",
+                            f"{h.name.iloc[0]}; largest ST: {top}{_sobol_basis(h)}",
                         )
                     )
     return rows
@@ -679,6 +727,7 @@ def write_summary(st, res, out_md, out_csv):
             else "This study is not the paper's (`paper_comparison: false`), so its numbers are not scored against the paper's."
         ),
         "",
+        *([caveat, ""] if (caveat := sobol_caveat(st, res)) else []),
         *summary_table(df),
     ]
     io.write_text("\n".join(lines) + "\n", out_md)
