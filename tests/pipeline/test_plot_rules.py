@@ -140,3 +140,31 @@ def test_budget_gives_each_effect_one_colour_in_every_panel(figs, tmp_path):
 def _bars(ax):
     """(first patch, legend label) of each bar container of ``ax``."""
     return [(c.patches[0], c.get_label()) for c in ax.containers if c.patches]
+
+
+def test_cdpr_view_plan_adds_a_top_view_of_every_anchor(tmp_path, monkeypatch):
+    """``cdpr view --plan``: a 2-D panel beside the 3-D one, x and y to equal scale, every anchor
+    seen from above, its cable numbers labelled (crossed pairs share one label)."""
+    from cdpr.cli.main import main
+    from cdpr.pipeline.plots import robot as robot_plots
+    from cdpr.robot import load_robot
+    from tests.conftest import ROBOTS
+
+    kept = []
+    monkeypatch.setattr(robot_plots, "save", lambda fig, out: kept.append(fig) or [out])
+    assert (
+        main(["view", "--robot", str(ROBOTS / "cogiro.yaml"), "--plan", "--out", str(tmp_path / "v.png")])
+        == 0
+    )
+    fig = kept[0]
+    plan = [ax for ax in fig.axes if ax.name != "3d"]
+    assert len(fig.axes) == 2 and len(plan) == 1 and plan[0].get_title().startswith("plan (top) view")
+    ax = plan[0]
+    assert ax.get_aspect() == 1.0 and ax.get_xlabel() == "x [m]" and ax.get_ylabel() == "y [m]"
+    A = load_robot(ROBOTS / "cogiro.yaml").A
+    anchors = ax.collections[0].get_offsets()  # the first scatter: the anchors' x, y
+    np.testing.assert_allclose(np.asarray(anchors), A[:, :2])
+    numbers = sorted(int(n) for t in ax.texts for n in t.get_text().split(","))
+    assert numbers == list(range(1, len(A) + 1))
+    assert main(["view", "--robot", str(ROBOTS / "cogiro.yaml"), "--out", str(tmp_path / "w.png")]) == 0
+    assert len(kept[1].axes) == 1  # without --plan: the 3-D view alone, as before
