@@ -27,7 +27,7 @@ from cdpr.compiled import sensitivity as compiled_sensitivity
 from cdpr.compiled import subsets as compiled_subsets
 from cdpr.errors import CdprError
 from cdpr.models import equilibrium, sensitivity
-from cdpr.models.results import mark_below_floor, point_keys
+from cdpr.models.results import mark_below_floor, mark_out_of_frame, point_keys
 from cdpr.models.subsets import solve_points
 from cdpr.robot import require_massless, require_point_mass
 
@@ -117,7 +117,19 @@ def _solve_heavy(robot, p, rotvec, redundancy, engine, L0, L, threads, options):
         res = equilibrium.solve(robot, p, rotvec, L0=L0, **options)
     if _fast_point(robot, p, rotvec):
         res = {**point_keys(res), **{k: res[k] for k in HEAVY_KEYS}}
-    return mark_below_floor(res, p, robot.floor_z) if robot.suspended_point_mass else res
+    return _mark(res, p, robot)
+
+
+def _mark(res, p, robot, floor=None, frame=True):
+    """The statuses every door gives whatever the engine: a desired point below the floor of a
+    suspended point mass is ``inaccessible`` (``mark_below_floor``; ``floor`` True/False forces it
+    on or off, None: when the robot is a suspended point mass), and with ``frame`` (physical mode) a
+    solved pose whose reference point leaves the frame box is ``out_of_frame``
+    (``mark_out_of_frame``). Paper mode passes ``frame=False``: the paper evaluates every point of
+    its volume with its own rule and has no floor or frame."""
+    if robot.suspended_point_mass if floor is None else floor:
+        res = mark_below_floor(res, p, robot.floor_z)
+    return mark_out_of_frame(res, robot) if frame else res
 
 
 def _fast_point(robot, p, rotvec):
@@ -160,11 +172,13 @@ def solve(
         Paper mode: ``models.subsets.solve_points``'s keys. Physical mode: a suspended point mass
         solved without an orientation gets ``results.POINT_KEYS``; every other robot, or a given
         orientation, ``models.equilibrium.solve``'s keys (rotvec_s, dphi, unique, ...). The desired
-        points below the floor of a suspended robot are ``inaccessible`` (``mark_below_floor``).
-        A robot with heavy cables (``Robot.heavy``, issue 38) is solved in physical mode by either
-        engine (``cables.HeavyCables`` and its compiled twin ``cdpr.compiled.cables``; the same
-        statuses and poses to 1e-9 m, tests/compiled) and its result adds ``HEAVY_KEYS``; paper
-        mode refuses it in one line.
+        points below the floor of a suspended robot are ``inaccessible`` (``mark_below_floor``); in
+        physical mode a solved pose whose reference point leaves the frame box is ``out_of_frame``
+        (``mark_out_of_frame``; paper mode follows the paper, which evaluates every point of its
+        volume and has no floor or frame). A robot with heavy cables (``Robot.heavy``, issue 38) is
+        solved in physical mode by either engine (``cables.HeavyCables`` and its compiled twin
+        ``cdpr.compiled.cables``; the same statuses and poses to 1e-9 m, tests/compiled) and its
+        result adds ``HEAVY_KEYS``; paper mode refuses it in one line.
 
     Raises
     ------
@@ -189,7 +203,7 @@ def solve(
             res = compiled_subsets.solve_points_fast(robot, p, threads=threads, **options)
         else:
             res = solve_points(robot, p, method=method, **options)
-        return mark_below_floor(res, p, robot.floor_z) if robot.suspended_point_mass else res
+        return _mark(res, p, robot, frame=False)
     _check_physical(method, L)
     engine = check_engine(engine, "newton")
     if _fast_point(robot, p, rotvec):
@@ -199,12 +213,12 @@ def solve(
             res = compiled_equilibrium.solve_points(robot, p, L0=L0, threads=threads, **options)
         else:
             res = point_keys(equilibrium.solve(robot, p, L0=L0, **options))
-        return mark_below_floor(res, p, robot.floor_z)
+        return _mark(res, p, robot, floor=True)
     if engine == "compiled":
         res = compiled_equilibrium.solve(robot, p, rotvec, L0=L0, threads=threads, **options)
     else:
         res = equilibrium.solve(robot, p, rotvec, L0=L0, **options)
-    return mark_below_floor(res, p, robot.floor_z) if robot.suspended_point_mass else res
+    return _mark(res, p, robot)
 
 
 def solve_batch(
@@ -266,9 +280,7 @@ def solve_batch(
             res = compiled_equilibrium.solve_batch(robots, p, rotvec, L0=L0, threads=threads, **options)
         else:
             res = equilibrium.solve_batch(robots, p, rotvec, L0=L0, **options)
-        return [
-            mark_below_floor(r, p, rk.floor_z) if rk.suspended_point_mass else r for r, rk in zip(res, robots)
-        ]
+        return [_mark(r, p, rk) for r, rk in zip(res, robots)]
     if redundancy == "physical":
         if L is not None:
             raise CdprError("physical mode commands rest lengths L0, not total lengths L")
@@ -284,7 +296,7 @@ def solve_batch(
             res = compiled_subsets.solve_points_batch(robots, p, L, threads=threads, P0=P0)
         else:
             res = [solve_points(r, p, method="newton", L=L, P0=P) for r, P in zip(robots, starts)]
-    return [mark_below_floor(r, p, rk.floor_z) for r, rk in zip(res, robots)]
+    return [_mark(r, p, rk, floor=True, frame=redundancy == "physical") for r, rk in zip(res, robots)]
 
 
 def sensitivities(
@@ -345,17 +357,21 @@ def sensitivities(
         p = p[:, :3]
     elif not _fast_point(robot, p, rotvec):
         if engine == "compiled":
-            return compiled_sensitivity.pose_sensitivities(
+            res = compiled_sensitivity.pose_sensitivities(
                 robot, p, rotvec, L0=L, threads=threads, t_tol=t_tol, **solver
             )
-        return sensitivity.pose_sensitivities(robot, p, rotvec, L0=L, t_tol=t_tol, **solver)
+        else:
+            res = sensitivity.pose_sensitivities(robot, p, rotvec, L0=L, t_tol=t_tol, **solver)
+        return _mark(res, p, robot, floor=False)
     if engine == "compiled":
-        return compiled_sensitivity.sensitivities_fast(
+        res = compiled_sensitivity.sensitivities_fast(
             robot, p, redundancy=redundancy, L=L, threads=threads, gap_tol=gap_tol, t_tol=t_tol, **solver
         )
-    return sensitivity.sensitivities(
-        robot, p, redundancy=redundancy, L=L, gap_tol=gap_tol, t_tol=t_tol, **solver
-    )
+    else:
+        res = sensitivity.sensitivities(
+            robot, p, redundancy=redundancy, L=L, gap_tol=gap_tol, t_tol=t_tol, **solver
+        )
+    return _mark(res, p, robot, floor=False, frame=redundancy == "physical")
 
 
 def sensitivities_at(robot, res, names=None, t_tol=sensitivity.T_TOL, engine=None, threads=None):

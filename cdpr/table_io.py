@@ -222,15 +222,17 @@ def iter_table(path, columns, chunk_rows):
     path = _check_readable(path)
     try:
         if path.suffix == ".parquet":
+            reader = pq.ParquetFile(path)
             chunks = (
                 batch.to_pandas()
-                for batch in pq.ParquetFile(path).iter_batches(batch_size=chunk_rows, columns=list(columns))
+                for batch in reader.iter_batches(batch_size=chunk_rows, columns=list(columns))
             )
         else:
-            chunks = pd.read_csv(path, usecols=list(columns), chunksize=chunk_rows)
-        for df in chunks:
-            if len(df):  # a header-only CSV reads as one empty chunk of text columns
-                yield df
+            reader = chunks = pd.read_csv(path, usecols=list(columns), chunksize=chunk_rows)
+        with reader:  # closed when the reading stops early too (a generator closed after one chunk)
+            for df in chunks:
+                if len(df):  # a header-only CSV reads as one empty chunk of text columns
+                    yield df
     except Exception as exc:  # pyarrow.ArrowInvalid, pandas' EmptyDataError/ParserError, ...
         raise _unreadable(path, exc) from None
 

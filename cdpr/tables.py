@@ -12,7 +12,7 @@ import numpy as np
 import pandas as pd
 
 from cdpr.models import sensitivity
-from cdpr.models.results import STATUSES, pose_columns, subset_codes, taut_labels
+from cdpr.models.results import STATUSES, TAUT_MIN, pose_columns, subset_codes, taut_labels
 from cdpr.solve import check_engine, check_redundancy, solve
 
 
@@ -39,7 +39,7 @@ def to_frame(robot, res, redundancy="paper", rotvec=None):
     -------
     DataFrame
         ``results.pose_columns`` (x, y, z, x_s, y_s, z_s, dp [m], t1..tm [N]); paper mode: subset
-        (label '1-2-3', '' when none), iterations, status; physical mode: taut (label of the taut
+        (label '1-2-3', '' when none), n_taut (the cables with t > ``results.TAUT_MIN``), iterations, status; physical mode: taut (label of the taut
         cables, '1-2-3-4'), n_taut, iterations, status. The status categories are
         ``res["statuses"]`` when given (``compensation.COMP_STATUSES``), else ``results.STATUSES``.
         When ``res`` holds sensitivities (key ``S``): then dx_d<θ>, dy_d<θ>, dz_d<θ> per parameter
@@ -69,6 +69,9 @@ def _frame(robot, res, redundancy):
     if redundancy == "paper":
         codes, labels = subset_codes(robot, res["subset"])
         df["subset"] = pd.Categorical.from_codes(codes, categories=labels)
+        t = np.asarray(res["t"], dtype=float).reshape(len(df), robot.m)
+        with np.errstate(invalid="ignore"):
+            df["n_taut"] = (t > TAUT_MIN).sum(axis=1).astype(np.int8)  # the cables that hold it (NaN: slack)
     else:
         codes, labels = taut_labels(res["taut"])
         df["taut"] = pd.Categorical.from_codes(codes, categories=labels)

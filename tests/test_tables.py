@@ -27,7 +27,7 @@ def test_one_to_frame_for_both_modes_and_the_sensitivities(robot):
     the table does not depend on it, tests/test_solve.py; no kernel to compile here.)"""
     lead = ["x", "y", "z", "x_s", "y_s", "z_s", "dp", "t1", "t2", "t3", "t4"]
     paper = tables.to_frame(robot, solve.solve(robot, PTS, engine="numpy"))
-    assert list(paper.columns) == [*lead, "subset", "iterations", "status"]
+    assert list(paper.columns) == [*lead, "subset", "n_taut", "iterations", "status"]
     res = solve.solve(robot, PTS, engine="numpy", redundancy="physical")
     phys = tables.to_frame(robot, res, "physical")
     assert list(phys.columns) == [*lead, "taut", "n_taut", "iterations", "status"]
@@ -65,7 +65,15 @@ def test_a_point_mass_given_an_orientation_carries_it_through(robot):
     rv = np.array([0.1, -0.2, 0.3])
     res = solve.solve(robot, PTS, engine="numpy")
     df = tables.to_frame(robot, res, rotvec=rv)
-    assert list(df.columns) == [*LEAD[:7], *ORIENTATION, *LEAD[7:], "subset", "iterations", "status"]
+    assert list(df.columns) == [
+        *LEAD[:7],
+        *ORIENTATION,
+        *LEAD[7:],
+        "subset",
+        "n_taut",
+        "iterations",
+        "status",
+    ]
     np.testing.assert_array_equal(df[["rx", "ry", "rz"]].to_numpy(), np.tile(rv, (4, 1)))
     np.testing.assert_array_equal(df[["rx_s", "ry_s", "rz_s"]].to_numpy(), np.tile(rv, (4, 1)))
     assert (df["dphi"] == 0).all()
@@ -108,7 +116,7 @@ def test_solve_table_gives_the_same_table_whatever_the_chunk(robot):
 
 def test_solve_table_of_no_point_has_the_columns_and_no_row(robot):
     empty = tables.solve_table(robot, np.empty((0, 3)), engine="numpy")
-    assert len(empty) == 0 and list(empty.columns) == [*LEAD, "subset", "iterations", "status"]
+    assert len(empty) == 0 and list(empty.columns) == [*LEAD, "subset", "n_taut", "iterations", "status"]
 
 
 def test_solve_table_refuses_an_engine_pair_that_does_not_exist(robot):

@@ -310,6 +310,9 @@ def cmd_plan(args):
         "logdet_d_optimal": res["logdet_d_optimal"],
         "logdet_random_median": res["logdet_random_median"],
     }
+    for w in res.get("warnings", []):  # a group the plan cannot see: one line each on stderr, and in --json
+        print(f"cdpr: warning: {w}", file=sys.stderr)
+        args.warnings = [*getattr(args, "warnings", []), w]
     if args.json:
         emit_json(out, args)
         return

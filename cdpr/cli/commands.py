@@ -108,8 +108,13 @@ class Points:
                 yield P, _rotvec(args, len(P))
 
     def first(self):
-        """The first chunk (P, rotvec): all of --at; a table's first ``--chunk-rows`` rows."""
-        return next(iter(self.chunks()))
+        """The first chunk (P, rotvec): all of --at; a table's first ``--chunk-rows`` rows (the
+        reader is closed at once: no open file left to the garbage collector)."""
+        gen = self.chunks()
+        try:
+            return next(gen)
+        finally:
+            gen.close()
 
 
 def read_points(args):
@@ -421,16 +426,37 @@ def _zero_length(robot, P, rv, L0, redundancy):
     return np.broadcast_to(np.asarray(L0, dtype=float) <= ZERO_LENGTH_M, (len(P), robot.m))
 
 
-def _zero_length_reason(zero_row):
-    """The reason of a point with zero-length cables (one row of ``_zero_length``), or None."""
+def _zero_segment(robot, P, rv):
+    """(N, m) mask of the cables of zero length |B_i - A_i| at the desired poses (the attachment at
+    its anchor): the cable has no direction there, so no tension distribution exists (``compensate``,
+    ``grid --wrench-feasible``; ``tension_distribution.defined_rows`` makes such a point infeasible)."""
+    from cdpr.models.inverse import l_S  # lazy: the zero-length check only
+
+    return np.asarray(l_S(robot, P, rv), dtype=float).reshape(len(P), robot.m) <= ZERO_LENGTH_M
+
+
+def _zero_length_reason(zero_row, what="rest length"):
+    """The reason of a point with zero-length cables (one row of ``_zero_length``, or with ``what``
+    "length" of ``_zero_segment``), or None."""
     cables = [int(i) + 1 for i in np.flatnonzero(zero_row)]
     if not cables:
         return None
     which = ", ".join(map(str, cables))
-    return (
-        f"cable{'s' * (len(cables) > 1)} {which} {'has' if len(cables) == 1 else 'have'} zero rest length "
-        "(the attachment at its anchor, no dead length): its stiffness ES/L0 does not exist, no equilibrium"
-    )
+    has = f"cable{'s' * (len(cables) > 1)} {which} {'has' if len(cables) == 1 else 'have'} zero {what}"
+    if what != "rest length":
+        return f"{has} (the attachment at its anchor): its direction does not exist, no tension distribution"
+    return f"{has} (the attachment at its anchor, no dead length): its stiffness ES/L0 does not exist, no equilibrium"
+
+
+def _zero_length_note(n, what="rest length", status="status as solved (not ok)"):
+    """One stderr line for the ``n`` points of a table that have a cable of zero length (nothing
+    when none): the table's statuses say not ok, this line says why."""
+    if n:
+        print(
+            f"cdpr: note: {n} point(s) have a cable of zero {what} (the attachment at its anchor): "
+            f"no {'equilibrium' if what == 'rest length' else 'tension distribution'} exists there, {status}",
+            file=sys.stderr,
+        )
 
 
 def cmd_point(args):
@@ -512,12 +538,7 @@ def cmd_point(args):
 
         _write_chunks(args, points, chunk, "point")
         _report(tally, args.out, args, float("nan"))
-        if n_zero[0]:
-            print(
-                f"cdpr: note: {n_zero[0]} point(s) have a cable of zero rest length (the attachment at its anchor): "
-                "no equilibrium exists there, status as solved (not ok)",
-                file=sys.stderr,
-            )
+        _zero_length_note(n_zero[0])
         return
     P, rv = points.first()
     zero = _zero_length(robot, P, rv, L0, args.redundancy)
@@ -667,6 +688,7 @@ def cmd_compensate(args):
         from cdpr.tables import to_frame, to_frame6  # lazy: tables only (pandas)
 
         def table(P, rv):
+            n_zero[0] += int(_zero_segment(robot, P, rv).any(axis=1).sum())
             res = solve(P, rv)
             df = to_frame6(robot, res) if six else to_frame(robot, res, "physical")
             for i in range(robot.m):
@@ -676,9 +698,11 @@ def cmd_compensate(args):
             return tally.add(df)
 
         tally = Tally()
+        n_zero = [0]
         if engine == "compiled":
             _warm_up(args, lambda: solve(P[:1], None if rv is None else rv[:1]))
         _write_chunks(args, points, table, "compensate")
+        _zero_length_note(n_zero[0], "length", "status infeasible")
         if six:
             n_bad = tally.status().get("infeasible", 0)
             print(f"wrote {tally.n} poses to {args.out}; {n_bad} infeasible (no tension distribution)")
@@ -687,8 +711,9 @@ def cmd_compensate(args):
         return
     res = solve(P, rv)
     free = interference_free(robot, args.at, None if rv is None else rv[0])  # at the desired pose
+    reason = _zero_length_reason(_zero_segment(robot, P, rv)[0], "length")
     if six:
-        return _compensate_pose_report(args, robot, res, engine, free)
+        return _compensate_pose_report(args, robot, res, engine, free, reason)
     status = str(res["status"][0])
     out = {
         "desired": list(map(float, args.at)),
@@ -700,6 +725,8 @@ def cmd_compensate(args):
         "engine": engine,
         "interference_free": free,
     }
+    if reason is not None:
+        out["reason"] = reason
     if all(w is not None for w in robot.winches):
         from cdpr.models.drive import drum_angles  # lazy: robots with winches only
 
@@ -717,6 +744,8 @@ def cmd_compensate(args):
     )
     if status == "infeasible":
         print(INFEASIBLE_LINE)
+        if reason is not None:
+            print(f"reason: {reason}")
         return
     rows = [
         [str(i + 1), f"{L:.6f}", f"{t:.2f}"] for i, (L, t) in enumerate(zip(out["lengths"], out["tensions"]))
@@ -741,9 +770,10 @@ INFEASIBLE_LINE = (
 )
 
 
-def _compensate_pose_report(args, robot, res, engine, free):
+def _compensate_pose_report(args, robot, res, engine, free, reason=None):
     """``compensate --at`` at a pose (rigid platform or --rotvec): the JSON or the text of the one
-    pose of ``res`` (``compensation.compensated_pose``) and ``free``, its interference_free."""
+    pose of ``res`` (``compensation.compensated_pose``) and ``free``, its interference_free; ``reason``
+    (a zero-length cable) added when given."""
     ok = res["status"][0] != "infeasible"
     out = {
         "desired": list(map(float, args.at)),
@@ -758,6 +788,8 @@ def _compensate_pose_report(args, robot, res, engine, free):
         "engine": engine,
         "interference_free": free,
     }
+    if reason is not None:
+        out["reason"] = reason
     if ok and any(p is not None for p in robot.spools):
         from cdpr.models.drive import spool_motor_angles  # lazy: robots with spools only
 
@@ -770,6 +802,8 @@ def _compensate_pose_report(args, robot, res, engine, free):
     )
     if not ok:
         print(INFEASIBLE_LINE)
+        if reason is not None:
+            print(f"reason: {reason}")
         return
     rows = [
         [str(i + 1), f"{L:.6f}", f"{t:.2f}"] for i, (L, t) in enumerate(zip(out["lengths"], out["tensions"]))
@@ -839,7 +873,9 @@ def cmd_grid(args):
     t0 = time.perf_counter()
     df = solve(P)
     extra = {}
+    _zero_length_note(int(_zero_length(robot, P, rv, None, args.redundancy).any(axis=1).sum()))
     if args.wrench_feasible:
+        _zero_length_note(int(_zero_segment(robot, P, rv).any(axis=1).sum()), "length", "not wrench-feasible")
         from cdpr.models.tension_distribution import distribute_pose  # lazy: --wrench-feasible only
 
         df["feasible"] = distribute_pose(robot, P, args.rotvec, t_min=args.t_min)["feasible"]
@@ -955,6 +991,11 @@ def cmd_plane(args):
     )
     _write_table(df, args.out)
     _report(df, args.out, args, time.perf_counter() - t0)
+    P, rv = (
+        df[["x", "y", "z"]].to_numpy(),
+        None if args.rotvec is None else np.asarray(args.rotvec, dtype=float),
+    )
+    _zero_length_note(int(_zero_length(robot, P, rv, None, args.redundancy).any(axis=1).sum()))
 
 
 def cmd_trajectory(args):

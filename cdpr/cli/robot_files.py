@@ -127,7 +127,8 @@ def cmd_export_klipper(args):
 
 def cmd_view(args):
     """``cdpr view``: a 3-D picture of a robot file at a desired pose (frame box, pulleys with their
-    swivel axes and sheaves, platform, cables; ``--box``: a box drawn as a wireframe), drawn by
+    swivel axes and sheaves, platform, cables; ``--box``: a box drawn as a wireframe; ``--plan``: the
+    plan (top) view beside it), drawn by
     ``cdpr.pipeline.plots.robot.robot_view`` (a .pdf beside the .png)."""
     # lazy: the pose geometry, the workspace boxes and matplotlib, for `cdpr view` only
     from cdpr.analyses import scans, workspace
@@ -142,7 +143,7 @@ def cmd_view(args):
         except CdprError as exc:
             raise CdprError(f"--box: {exc}") from None
     p = scans.view_position(robot) if args.at is None else np.asarray(args.at, dtype=float)
-    robot_plots.robot_view(scans.pose_geometry(robot, p, args.rotvec), args.out, boxes=boxes)
+    robot_plots.robot_view(scans.pose_geometry(robot, p, args.rotvec), args.out, boxes=boxes, plan=args.plan)
     print(f"wrote {args.out}")
 
 

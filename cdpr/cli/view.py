@@ -25,5 +25,8 @@ def add_parser(sub):
     )
     rotvec_option(sp, help="orientation [rad]")
     box_option(sp, "a box [m] drawn as a wireframe (e.g. the RW_C box of doe/rw_c.json)")
+    sp.add_argument(
+        "--plan", action="store_true", help="also draw the plan (top) view, seen from +z, beside the 3-D one"
+    )
     sp.add_argument("--out", required=True, metavar="FILE", help="output .png (a .pdf is written beside it)")
     sp.set_defaults(run=("cdpr.cli.robot_files", "cmd_view"))

@@ -13,6 +13,10 @@ Status of a point (``STATUSES``):
   not_converged  the solver hit its iteration cap;
   inaccessible   no geometric solution (spheres do not meet, point above the pulleys or outside the
                  anchors, point inside a sheave, coplanar cables).
+  out_of_frame   a pose was solved (it would be ok or over_tension) but its reference point P* lies
+                 more than ``FRAME_TOL`` outside the frame box (``frame_bounds``: the anchors'
+                 bounding box extended down to the floor), e.g. a rigid platform on too few cables
+                 hanging below the floor (``mark_out_of_frame``).
 
 References
 ----------
@@ -24,7 +28,7 @@ from __future__ import annotations
 
 import numpy as np
 
-STATUSES = ("ok", "slack", "over_tension", "inaccessible", "not_converged")
+STATUSES = ("ok", "slack", "over_tension", "inaccessible", "not_converged", "out_of_frame")
 
 #: The default floor of a suspended robot [m] (``Robot.floor_z``: the robot file's
 #: ``frame.floor_z_m``, 0 by default when every anchor lies above it); the platform hangs between it
@@ -58,6 +62,73 @@ def mark_below_floor(res, p, floor_z=FLOOR_Z):
                 np.asarray(res["status_code"]).dtype
             )
         res["status"] = np.where(below, "inaccessible", np.asarray(res["status"]).astype(str))
+    return res
+
+
+#: How far [m] a solved reference point P* may lie outside the frame box (``frame_bounds``) and still
+#: count as inside it; beyond it the point is ``out_of_frame`` (``mark_out_of_frame``).
+FRAME_TOL = 1e-3
+
+
+def frame_bounds(robot):
+    """The frame box of a robot: the bounding box of its anchors (joint points A) extended down to
+    its floor (``Robot.floor_z``).
+
+    Parameters
+    ----------
+    robot : Robot
+        Supplies the joint points A (m, 3) [m] and the floor height [m].
+
+    Returns
+    -------
+    lo, hi : ndarray (3,) [m]
+        Lower and upper corners: x, y, z of the anchors' minimum (z: the lower of the floor and the
+        lowest anchor) and maximum.
+    """
+    A = np.asarray(robot.A, dtype=float)
+    lo = A.min(axis=0)
+    lo[2] = min(float(lo[2]), float(robot.floor_z))
+    return lo, A.max(axis=0)
+
+
+def mark_out_of_frame(res, robot, tol=FRAME_TOL):
+    """Mark the solved poses whose reference point P* lies more than ``tol`` outside the robot's
+    frame box (``frame_bounds``) ``out_of_frame`` in a solver's per-point result: only points that
+    are ``ok`` or ``over_tension`` change (a pose was found, but not one the robot can hold inside
+    its frame). One rule for every command and engine of physical mode (``cdpr.solve``; paper mode
+    follows the paper, which evaluates every point of its volume).
+
+    Parameters
+    ----------
+    res : dict
+        Per-point arrays of a solver (``P_s``, ``status`` and, if present, ``status_code``),
+        changed in place.
+    robot : Robot
+        Supplies the frame box.
+    tol : float [m]
+        Distance outside the box tolerated as inside.
+
+    Returns
+    -------
+    dict
+        ``res``.
+    """
+    if "P_s" not in res or "status" not in res:
+        return res
+    P = np.asarray(res["P_s"], dtype=float).reshape(-1, 3)
+    if not len(P):
+        return res
+    lo, hi = frame_bounds(robot)
+    with np.errstate(invalid="ignore"):
+        outside = ((P < lo - tol) | (P > hi + tol)).any(axis=1)
+    status = np.asarray(res["status"]).astype(str)
+    hit = outside & np.isin(status, ("ok", "over_tension"))
+    if hit.any():
+        if "status_code" in res:
+            res["status_code"] = np.where(hit, STATUSES.index("out_of_frame"), res["status_code"]).astype(
+                np.asarray(res["status_code"]).dtype
+            )
+        res["status"] = np.where(hit, "out_of_frame", status)
     return res
 
 

@@ -429,16 +429,40 @@ def distribute(robot, P, method="min_norm", t_min=T_MIN_DEFAULT, t_max=None, **o
     W = wrench_matrix(robot, P)
     w = -robot.platform.w_ext
     t_max = robot.T_a if t_max is None else t_max
+    Ws, defined = defined_rows(W)
     if method == "closed_form":
-        t, ok = closed_form(W, w, t_min, t_max)
+        t, ok = closed_form(Ws, w, t_min, t_max)
     elif method == "closed_form_improved":
-        t, ok = closed_form_improved(W, w, t_min, t_max)
+        t, ok = closed_form_improved(Ws, w, t_min, t_max)
     elif method == "min_norm":
         solver = options.pop("solver", "auto")
-        t, ok = min_norm(W, w, t_min, t_max, method=solver, **options)
+        t, ok = min_norm(Ws, w, t_min, t_max, method=solver, **options)
     else:
         raise ValueError(f"unknown distribution method {method!r}; allowed: {', '.join(METHODS)}")
+    t, ok = np.where(defined[:, None], t, np.nan), ok & defined
     return {"t": t, "feasible": ok, "status": np.where(ok, "ok", "infeasible"), "W": W}
+
+
+def defined_rows(W):
+    """The wrench matrices with the points where W is not finite (a cable of zero length, the
+    attachment at its exit point: its direction u_i = 0/0 does not exist) zeroed, and which points
+    those are: the distributions then run on finite numbers (no LAPACK failure, no warning) and such
+    a point is infeasible (no tension distribution exists where a cable has no direction).
+
+    Parameters
+    ----------
+    W : ndarray (N, r, m) [-, m]
+        Wrench matrices (``wrench_matrix`` or ``pose_wrench``).
+
+    Returns
+    -------
+    W : ndarray (N, r, m) [-, m]
+        W, zero at the points where it is not finite.
+    defined : ndarray (N,) bool
+        True where W is finite.
+    """
+    defined = np.isfinite(W).all(axis=(1, 2))
+    return np.where(defined[:, None, None], W, 0.0), defined
 
 
 #: Cables up to which the active sets are enumerated.
@@ -595,12 +619,14 @@ def distribute_pose(robot, p, rotvec=None, t_min=T_MIN_DEFAULT, t_max=None, meth
     W, w, st = pose_wrench(robot, p, R)
     W, w = rank_rows(robot, W, w)
     t_max = robot.T_a if t_max is None else t_max
+    Ws, defined = defined_rows(W)
     if method == "closed_form":
-        t, ok = closed_form(W, w, t_min, t_max)
+        t, ok = closed_form(Ws, w, t_min, t_max)
     elif method == "closed_form_improved":
-        t, ok = closed_form_improved(W, w, t_min, t_max)
+        t, ok = closed_form_improved(Ws, w, t_min, t_max)
     else:
-        t, ok = min_norm_rows(W, w, t_min, t_max)
+        t, ok = min_norm_rows(Ws, w, t_min, t_max)
+    t, ok = np.where(defined[:, None], t, np.nan), ok & defined
     return {
         "t": t,
         "feasible": ok,

@@ -24,7 +24,7 @@ from cdpr import io, table_io
 from cdpr.analyses import scans
 from cdpr.models import winch
 from cdpr.pipeline.results import Layout, check_complete, rel_path
-from cdpr.pipeline.study import spatial_robots
+from cdpr.pipeline.study import robot_of, spatial_robots
 from cdpr.robot import TABLE1
 
 #: The papers' numbers (package data of the library).
@@ -252,7 +252,55 @@ def _uq_sobol_top(st, res, design, case, rank=1, output="index"):
         return None
     g = g.sort_values("ST", ascending=False)
     top = ", ".join(f"{r.name} {r.ST:.2f}±{r.ST_conf:.2f}" for r in g.head(3).itertuples())
-    return float(g.ST.iloc[rank - 1]), f"largest ST: {top}"
+    return float(g.ST.iloc[rank - 1]), f"largest ST: {top}{_sobol_basis(g)}"
+
+
+#: Base samples N under which the Sobol indices get a caveat line in the summary (``sobol_caveat``):
+#: at N = 512 the paper study's 95 % intervals are about ±0.03; at 128 CoGiRo's reach ±0.28.
+SOBOL_SMALL_N = 512
+#: A 95 % bootstrap half-width above this also gets the caveat, whatever N.
+SOBOL_WIDE_CONF = 0.1
+
+
+def _sobol_basis(t):
+    """What a Sobol note's ± rests on: " (±: 95 % bootstrap, N = 128)", from the rows of a Sobol
+    table (``base_samples``; tables written before that column: the interval only)."""
+    if "base_samples" in t and len(t):
+        return f" (±: 95 % bootstrap, N = {int(t.base_samples.iloc[0])})"
+    return " (±: 95 % bootstrap)"
+
+
+def sobol_caveat(st, res):
+    """The caveat line of a summary whose Sobol indices rest on few samples: N (the study's
+    ``uncertainty.sobol.base_samples``) below ``SOBOL_SMALL_N`` or a 95 % bootstrap half-width of a
+    total or first-order index above ``SOBOL_WIDE_CONF``; None otherwise or without a Sobol table.
+
+    Parameters
+    ----------
+    st : Study
+    res : path
+        The study's results folder.
+
+    Returns
+    -------
+    str or None
+    """
+    t = _read(res, rel_path("uncertainty", "sobol"))
+    so = (st.get("uncertainty") or {}).get("sobol") or {}
+    if t is None or t.empty or "base_samples" not in so:
+        return None
+    n = int(so["base_samples"])
+    wide = float(np.nanmax(t[["S1_conf", "ST_conf"]].to_numpy()))
+    outside = int(((t.ST > 1) | (t.ST < 0) | (t.S1 > 1) | (t.S1 < 0)).sum())
+    if n >= SOBOL_SMALL_N and wide <= SOBOL_WIDE_CONF:
+        return None
+    return (
+        f"Caveat: the Sobol indices rest on N = {n} base samples (Saltelli's scheme, SALib); their 95 % "
+        f"bootstrap intervals (the ± in the notes, S1_conf and ST_conf in uncertainty/sobol.csv) reach "
+        f"±{wide:.2g}, and {outside} of the {len(t)} indices lie outside [0, 1], which only sampling error "
+        "can do. Read them as a ranking within their intervals; more base samples "
+        "(`uncertainty.sobol.base_samples`) narrow the intervals."
+    )
 
 
 def _winch_dl(st, res, l_pm_m, scale=1000.0):
@@ -371,6 +419,38 @@ def _ok_range(df, column, scale):
     return (float(ok.min()) * scale, float(ok.max()) * scale) if len(ok) else (math.nan, math.nan)
 
 
+def hold_note(df, dof):
+    """The note of a plane's headline row: how many points are ok and, beyond "N of N ok", how the
+    platform holds: the ok points that hang on fewer cables than the platform has degrees of freedom
+    (it tilts or swings until it balances), the largest δφ over the ok points, and the count of every
+    other status (``out_of_frame``: a pose that left the frame box).
+
+    Parameters
+    ----------
+    df : DataFrame
+        A point table (``status``; ``n_taut`` and ``dphi`` [rad] when it has them).
+    dof : int
+        Degrees of freedom of the platform: 6 for a rigid platform, 3 for a point mass.
+
+    Returns
+    -------
+    str
+    """
+    ok = df["status"].astype(str) == "ok"
+    parts = [f"{int(ok.sum())} of {len(df)} points ok"]
+    if "n_taut" in df:
+        few = int((ok & (df["n_taut"] < dof)).sum())
+        parts.append(
+            f"{few} of the ok points hang on fewer than {dof} cables (the platform's degrees of freedom)"
+        )
+    if "dphi" in df and ok.any():
+        parts.append(f"largest δφ {float(df.loc[ok, 'dphi'].max()) * 1e3:.4g} mrad")
+    others = df.loc[~ok, "status"].astype(str).value_counts()
+    if len(others):
+        parts.append("not ok: " + ", ".join(f"{n} {s}" for s, n in sorted(others.items())))
+    return "; ".join(parts)
+
+
 def headline_rows(st, res):
     """The headline numbers of a study of spatial robots (``paper_comparison: false``, no paper
     values): per design the plane's and the paths' ‖δp‖ [mm] and δφ [mrad] ranges over the ok points
@@ -384,12 +464,10 @@ def headline_rows(st, res):
             df = _read(res, rel_path("plane_table", robot=rk, pulley=pk))
             if df is None:
                 continue
-            n_ok = int((df.status == "ok").sum())
+            dof = 3 if robot_of(st, rk).point_mass else 6
             src = f"plane z = {st['plane']['z_m']:g} m"
             lo, hi = _ok_range(df, "dp", 1e3)
-            rows.append(
-                _headline(f"{rk} {pk} plane ‖δp‖ min", src, lo, "mm", f"{n_ok} of {len(df)} points ok")
-            )
+            rows.append(_headline(f"{rk} {pk} plane ‖δp‖ min", src, lo, "mm", hold_note(df, dof)))
             rows.append(_headline(f"{rk} {pk} plane ‖δp‖ max", src, hi, "mm"))
             if "dphi" in df:
                 lo, hi = _ok_range(df, "dphi", 1e3)
@@ -573,7 +651,7 @@ def _uq_spatial_rows(st, res):
                             rel_path("uncertainty", "sobol"),
                             float(h.ST.iloc[0]),
                             "-",
-                            f"{h.name.iloc[0]}; largest ST: {top}",
+                            f"{h.name.iloc[0]}; largest ST: {top}{_sobol_basis(h)}",
                         )
                     )
     return rows
@@ -649,6 +727,7 @@ def write_summary(st, res, out_md, out_csv):
             else "This study is not the paper's (`paper_comparison: false`), so its numbers are not scored against the paper's."
         ),
         "",
+        *([caveat, ""] if (caveat := sobol_caveat(st, res)) else []),
         *summary_table(df),
     ]
     io.write_text("\n".join(lines) + "\n", out_md)

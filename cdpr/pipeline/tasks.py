@@ -594,7 +594,9 @@ def dead_length(st, tables, table, figure):
     """The dead-length sweep as one table and its figure."""
     tab = concat(tables).sort_values("d_m", ignore_index=True)
     table_io.write_table(tab, table)
-    dead_length_plots.dead_length_figure(tab, st["dead_length_m"], figure, mode=study.redundancy(st))
+    dead_length_plots.dead_length_figure(
+        tab, st["dead_length_m"], figure, mode=study.redundancy(st), paper=bool(st.get("paper_comparison"))
+    )
 
 
 # ---- summary -----------------------------------------------------------------------------------

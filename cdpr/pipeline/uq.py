@@ -314,7 +314,8 @@ def sobol(st, design, case, box, threads=None):
     Returns
     -------
     indices : DataFrame
-        output, level, name, S1, S1_conf, ST, ST_conf.
+        output, level, name, S1, S1_conf, ST, ST_conf (the half-widths of SALib's 95 % bootstrap
+        confidence intervals), base_samples (N).
     rows : DataFrame
         The evaluations of the independent rows A and B of Saltelli's scheme (2 base_samples draws
         of every parameter): index_m, median_m, p95_m, not_ok over the RW_C grid (and index_phi_rad,
@@ -364,7 +365,9 @@ def sobol(st, design, case, box, threads=None):
     grp, _, _ = sobol_analysis(
         evaluate, dr, m_.robot, so["base_samples"], u["seed"], outputs, groups=True, source=st.path
     )
-    return pd.concat([per, grp], ignore_index=True), rows.reset_index(drop=True)
+    indices = pd.concat([per, grp], ignore_index=True)
+    indices["base_samples"] = int(so["base_samples"])  # N of Saltelli's scheme: what the intervals rest on
+    return indices, rows.reset_index(drop=True)
 
 
 def _dominant(lin, dr, projected):

@@ -270,7 +270,7 @@ def test_cli_plan_on_cogiro_and_a_fully_constrained_robot(tmp_path, capsys):
     args = ["calibrate", "plan", "--robot", COGIRO, "--estimate", "anchors", "--n", "6", "--grid", "3"]
     assert main([*args, "--out", str(out), "--json"]) == 0
     res = json.loads(capsys.readouterr().out)
-    assert res["n_candidates"] == 27 and len(res["poses"][0]) == 6
+    assert res["n_candidates"] == 27 * 7 and len(res["poses"][0]) == 6  # 3^3 points at 7 orientations
     assert (
         out.read_text()
         .splitlines()[0]

@@ -120,6 +120,7 @@ def test_grid_writes_one_row_per_point(tmp_path, capsys, ext):
         "t3",
         "t4",
         "subset",
+        "n_taut",
         "iterations",
         "status",
     ]

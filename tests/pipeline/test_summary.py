@@ -87,3 +87,68 @@ def test_a_study_that_is_not_the_paper_s_is_not_scored(st, tmp_path):
     df = summary.build_rows(dict(st, paper_comparison=False), tmp_path)
     assert len(df) == 3 and df["paper"].isna().all() and df["tolerance"].isna().all()
     assert set(df["verdict"]) == {"not scored (not the paper's study)"}
+
+
+def test_hold_note_says_how_the_platform_holds_not_only_how_many_are_ok():
+    """Issue 41: "121 of 121 ok" on a platform hanging on 4-5 of 8 cables tilted 38 degrees hid both
+    facts; the note counts the ok points on fewer cables than the degrees of freedom, the largest
+    δφ and every other status."""
+    import pandas as pd
+
+    from cdpr.pipeline.summary import hold_note
+
+    df = pd.DataFrame(
+        {
+            "status": ["ok", "ok", "ok", "out_of_frame"],
+            "n_taut": [8, 5, 4, 3],
+            "dphi": [0.001, 0.2, 0.66, 1.36],
+        }
+    )
+    note = hold_note(df, 6)
+    assert note.startswith("3 of 4 points ok; 2 of the ok points hang on fewer than 6 cables")
+    assert "largest δφ 660 mrad" in note  # the ok points only
+    assert note.endswith("not ok: 1 out_of_frame")
+    assert hold_note(df.assign(status="ok"), 3).startswith("4 of 4 points ok; 0 of the ok")
+
+
+def _sobol_table(res, conf, ST=0.5, n=4):
+    import pandas as pd
+
+    t = pd.DataFrame(
+        {
+            "design": "SRopt",
+            "case": "uncompensated",
+            "output": "index",
+            "level": "parameter",
+            "name": ["E_1", "d_1", "A_1"],
+            "S1": [0.2, 0.1, -0.05],
+            "S1_conf": [conf / 2, conf / 2, conf / 2],
+            "ST": [ST, 0.3, 0.1],
+            "ST_conf": [conf, conf / 2, conf / 3],
+            "base_samples": n,
+        }
+    )
+    path = res / rel_path("uncertainty", "sobol")
+    path.parent.mkdir(parents=True, exist_ok=True)
+    table_io.write_table(t, path)
+
+
+def test_sobol_indices_get_their_bootstrap_basis_and_a_caveat_when_few(st, tmp_path):
+    """Issue 41: "a total index of 1.06 > 1 with 16 base samples" was quoted without its interval:
+    the note gives the 95 % bootstrap half-widths and N; a caveat line when N is small or an
+    interval is wide, none for a well-sampled study."""
+    _sobol_table(tmp_path, conf=0.3, ST=1.06, n=st["uncertainty"]["sobol"]["base_samples"])
+    value, note = summary._uq_sobol_top(st, tmp_path, "SRopt", "uncompensated")
+    assert value == 1.06 and note.startswith("largest ST: E_1 1.06±0.30, d_1 0.30±0.15")
+    assert note.endswith(f"(±: 95 % bootstrap, N = {st['uncertainty']['sobol']['base_samples']})")
+    caveat = summary.sobol_caveat(st, tmp_path)
+    assert caveat.startswith(
+        f"Caveat: the Sobol indices rest on N = {st['uncertainty']['sobol']['base_samples']}"
+    )
+    assert "reach ±0.3" in caveat and "2 of the 3 indices lie outside [0, 1]" in caveat
+    big = dict(st["uncertainty"]["sobol"], base_samples=summary.SOBOL_SMALL_N)
+    st["uncertainty"]["sobol"] = big
+    _sobol_table(tmp_path, conf=0.03, n=summary.SOBOL_SMALL_N)
+    assert summary.sobol_caveat(st, tmp_path) is None  # enough samples, narrow intervals
+    _sobol_table(tmp_path, conf=0.3, n=summary.SOBOL_SMALL_N)
+    assert summary.sobol_caveat(st, tmp_path) is not None  # an interval too wide, whatever N

@@ -38,10 +38,38 @@ from cdpr.errors import CdprError
 from cdpr.models.inverse import L_TS
 from cdpr.models.platform import rotation_matrix
 from cdpr.parameters import (
+    calibration_groups,
     calibration_names,
     is_spatial,
     select_groups,
 )
+
+#: The tilt [rad] of a rigid platform's candidate orientations beside the identity (10°): candidates
+#: at one orientation cannot separate an anchor A_i from an attachment b_i (both move the cable the
+#: same way), tilted ones can.
+TILT_RAD = float(np.deg2rad(10.0))
+#: A group whose every parameter keeps at least this share of its prior sd after the plan is one the
+#: plan cannot see (``plan``'s warnings).
+BLIND_RATIO = 0.8
+
+
+def candidate_orientations(robot, tilt=TILT_RAD):
+    """The orientations a robot's candidates are commanded at: the identity only for a point mass;
+    for a rigid platform (``is_spatial``) also ±``tilt`` about x, y and z.
+
+    Parameters
+    ----------
+    robot : Robot
+    tilt : float [rad]
+
+    Returns
+    -------
+    rotvec : ndarray (o, 3) [rad]
+        Rotation vectors, the identity first.
+    """
+    if not is_spatial(robot) or robot.point_mass:
+        return np.zeros((1, 3))
+    return np.vstack([np.zeros(3), *(s * tilt * np.eye(3)[k] for k in range(3) for s in (1.0, -1.0))])
 
 
 def default_box(robot):
@@ -63,9 +91,10 @@ def candidates(robot, box, n_axis=7, model="exact", engine=None, targets=False, 
     """Admissible candidate poses of a box and their scaled measurement rows.
 
     A candidate is the grid point p commanded with L_TS(p); admissible when the nominal equilibrium
-    is ``ok`` and smooth there. A 6-DoF platform's candidates are at the identity orientation
-    (L_TS,i = |p + b_i - A_i| + d_i, or with ``command="compensated"`` the compensated rest lengths,
-    ``commanded_lengths``), admissible with at least min(6, m) taut cables; a point mass's with at
+    is ``ok`` and smooth there. A 6-DoF platform's candidates are at the identity orientation and
+    tilted by ±``TILT_RAD`` about x, y and z (``candidate_orientations``; L_TS,i = |p + R b_i - A_i|
+    + d_i, or with ``command="compensated"`` the compensated rest lengths, ``commanded_lengths``),
+    admissible with at least min(6, m) taut cables; a point mass's with at
     least 3 (``point_mass_equilibria``: the 6-DoF equilibrium when a pulley axis is not +z).
 
     Returns
@@ -81,12 +110,15 @@ def candidates(robot, box, n_axis=7, model="exact", engine=None, targets=False, 
     base = model_robot(robot, model)
     p = grid_points(box, n_axis)
     if is_spatial(robot):
-        L0 = commanded_lengths(robot, p, rotation_matrix(np.zeros_like(p)), command)
+        rv = candidate_orientations(robot)  # every grid point at every orientation, identity first
+        rv = np.repeat(rv, len(p), axis=0)
+        p = np.tile(p, (len(rv) // len(p), 1))
+        L0 = commanded_lengths(robot, p, rotation_matrix(rv), command)
         fin = np.isfinite(L0).all(axis=1)
-        p, L0 = p[fin], L0[fin]
+        p, L0, rv = p[fin], L0[fin], rv[fin]
         L_real = realised_lengths(base, L0)  # through the drums of a robot with winches
         drum = np.isfinite(L_real).all(axis=1)
-        res = solve6(base, p, np.where(drum[:, None], L_real, L0), engine=engine)
+        res = solve6(base, p, np.where(drum[:, None], L_real, L0), rotvec=rv, engine=engine)
         ok = (res["status"] == "ok") & res["smooth"] & (res["n_taut"] >= min(6, robot.m)) & drum
         P6 = np.concatenate([res["P_s"], res["rotvec_s"]], axis=1)
         return (P6[ok], L0[ok], p[ok]) if targets else (P6[ok], L0[ok])
@@ -214,7 +246,8 @@ def plan(
     dict
         poses (n, 3) [m] (n, 6 [m, rad] for a 6-DoF platform: position and rotation vector of the
         expected equilibrium), lengths (n, m) [m], names, sd_d_optimal, sd_random_median (k,) [SI],
-        prior_sd (k,), logdet_d_optimal, logdet_random_median, n_candidates.
+        prior_sd (k,), logdet_d_optimal, logdet_random_median, n_candidates, warnings (one sentence
+        per estimated group the plan cannot see: ``BLIND_RATIO``).
     """
     priors = parse_priors(None) if priors is None else priors
     index = select_groups(robot, groups)
@@ -230,6 +263,17 @@ def plan(
     rng = np.random.default_rng(seed)
     rand = [plan_sd(rows, rng.choice(len(P), n, replace=len(P) < n)) for _ in range(n_random)]
     ratio, _ = plan_sd(rows, chosen)
+    of, _ = calibration_groups(robot)
+    blind = [
+        g
+        for g in dict.fromkeys(of[k] for k in index)
+        if all(ratio[i] >= BLIND_RATIO for i, k in enumerate(index) if of[k] == g)
+    ]
+    warnings = [
+        f"the plan cannot see group {g!r}: every parameter of it keeps at least {BLIND_RATIO:.0%} of its prior sd "
+        "(widen the box or the orientations, or fix the group at its prior)"
+        for g in blind
+    ]
     return {
         "poses": P[chosen],
         "lengths": L0[chosen],
@@ -240,4 +284,5 @@ def plan(
         "logdet_d_optimal": logdet,
         "logdet_random_median": float(np.median([r[1] for r in rand])),
         "n_candidates": len(P),
+        "warnings": warnings,
     }

@@ -19,6 +19,24 @@ EFFECT_COLOURS = {
 }
 
 
+def entry_colour(entry):
+    """The colour of a budget entry, the same in every panel: an effect's own colour
+    (``EFFECT_COLOURS``), and the error left after compensating it (``compensated_<effect>``, drawn
+    hatched) in that effect's colour too.
+
+    Parameters
+    ----------
+    entry : str
+        A budget entry (``pulley``, ..., ``all``, ``compensated_<effect>``).
+
+    Returns
+    -------
+    str
+        A matplotlib colour.
+    """
+    return EFFECT_COLOURS[entry.removeprefix("compensated_")]
+
+
 def budget_bars(tab, out, xlabel="design [robot_pulley]"):
     """Error budget per design over RW_C: (a) stacked bars of each effect's share of the mean
     all-effects error (projection on its direction, so the stack sums to the mean ‖δp_all‖, marked
@@ -26,7 +44,9 @@ def budget_bars(tab, out, xlabel="design [robot_pulley]"):
     (b) the mean error left after compensating each effect, and all of them (exactly zero: written
     as text over its place, a log axis cannot draw it); (c), when the table has ``mean_rad`` (a
     rigid platform), the mean orientation error ‖δφ‖ of each effect alone, all together, the
-    interaction and after compensating each. ``tab`` is the budget table (design, region, entry,
+    interaction and after compensating each. One colour per effect in every panel (``entry_colour``:
+    the error left after compensating an effect is that effect's colour, hatched; all effects
+    black). ``tab`` is the budget table (design, region, entry,
     mean_m, share_m, ...); rows of region RW_C are drawn. Legends sit outside."""
     t = tab[tab.region == "RW_C"]
     designs = list(dict.fromkeys(t.design))
@@ -73,10 +93,19 @@ def budget_bars(tab, out, xlabel="design [robot_pulley]"):
     for i, e in enumerate(entries):
         v = np.array([get(d, e, "mean_m") for d in designs])
         xe = x - 0.4 + (i + 0.5) * w
-        b.bar(xe, v, w, color=OKABE_ITO[i], label=e.replace("compensated_", "compensating "))
+        hatch = "//" if e.startswith("compensated_") else None  # hatched: the error left after compensating
+        b.bar(
+            xe,
+            v,
+            w,
+            color=entry_colour(e),
+            hatch=hatch,
+            edgecolor="w" if hatch else None,
+            label=e.replace("compensated_", "compensating "),
+        )
         for xx, vv in zip(xe, v):
             if vv == 0.0:
-                b.annotate("0", (xx, 1e-3), ha="center", va="bottom", fontsize=7, color=OKABE_ITO[i])
+                b.annotate("0", (xx, 1e-3), ha="center", va="bottom", fontsize=7, color=entry_colour(e))
                 zero_label = True
     b.set_xticks(x, designs, rotation=20)
     b.set_yscale("symlog", linthresh=1e-3)
@@ -92,8 +121,8 @@ def budget_bars(tab, out, xlabel="design [robot_pulley]"):
         w = 0.8 / len(phi)
         for i, e in enumerate(phi):
             v = np.array([get(d, e, "mean_rad") for d in designs])
-            colour = EFFECT_COLOURS.get(e) or OKABE_ITO[entries.index(e)]  # as in (b)
-            hatch = "//" if e.startswith("compensated_") else None  # (b)'s colours: tell them from (a)'s
+            colour = entry_colour(e)  # one colour per effect in every panel
+            hatch = "//" if e.startswith("compensated_") else None  # as in (b)
             c.bar(
                 x - 0.4 + (i + 0.5) * w,
                 v,

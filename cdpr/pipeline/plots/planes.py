@@ -9,6 +9,7 @@ import re
 
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.colors import ListedColormap
 from matplotlib.patches import Patch
 
 from cdpr.pipeline.plots.style import (
@@ -61,16 +62,67 @@ def _not_ok_legend(ax, df, A=None):
         )
 
 
-def _category_panels(axes, tables, column, labels, cmap, A, z, robot_name):
+#: Categories (subsets, taut sets) a map colours apart at most; the rarer ones are one "other" colour.
+MAX_CATEGORIES = 9
+#: The colour of the rare categories grouped as "other" (darker than the grey of the points not ok).
+OTHER_COLOUR = "0.45"
+
+
+def category_colours(tables, column, order=None, keep=MAX_CATEGORIES):
+    """The categories of a map (``column`` of the plane tables, counted over their ok points) that
+    get a colour of their own: the ``keep`` most frequent, the rest grouped as one "other" entry
+    drawn in ``OTHER_COLOUR``, so that no colour is repeated and the legend fits.
+
+    Parameters
+    ----------
+    tables : dict
+        Design label -> plane table (``column``, ``status``).
+    column : str
+        ``subset`` or ``taut``.
+    order : callable, optional
+        Sort key of the kept categories in the legend (default: by name).
+    keep : int
+        Categories with a colour of their own at most (one more when that avoids an "other" of one).
+
+    Returns
+    -------
+    labels : list of str
+        The kept categories, then "other (N sets)" when some are grouped.
+    code : dict
+        Category -> index into ``labels`` (every category of the tables).
+    cmap : matplotlib.colors.ListedColormap
+        One distinct colour per entry of ``labels`` (Okabe-Ito / tab10; "other" grey).
+    """
+    counts = {}
+    for df in tables.values():
+        ok = (df.status == "ok").to_numpy()
+        for cat, n in df.loc[ok, column].astype(str).value_counts().items():
+            if cat:
+                counts[cat] = counts.get(cat, 0) + int(n)
+    ranked = sorted(counts, key=lambda c: (-counts[c], c))
+    if len(ranked) > keep + 1:
+        kept, rare = ranked[:keep], ranked[keep:]
+    else:
+        kept, rare = ranked, []
+    kept = sorted(kept, key=order)
+    labels = kept + ([f"other ({len(rare)} sets)"] if rare else [])
+    code = {c: i for i, c in enumerate(kept)} | {c: len(kept) for c in rare}
+    palette = [plt.get_cmap("tab10")(i) for i in range(10)]
+    colours = palette[: len(kept)] + ([OTHER_COLOUR] if rare else [])
+    return labels, code, ListedColormap(colours or ["w"])
+
+
+def _category_panels(axes, tables, column, labels, cmap, A, z, robot_name, code=None):
     """One panel per design (``tables``: label -> plane table) of the category in ``column`` at each
     point (one colour per entry of ``labels``; the points that are not ok grey, counted under the
     panel), with the anchors ``A``, titled with the robot's name, the design and the height ``z``.
     Returns the last panel's mesh (for the colour bar), None without tables."""
     im = None
+    code = code or {s: i for i, s in enumerate(labels)}
     for ax, (label, df) in zip(axes, tables.items()):
-        code = df[column].astype(str).map({s: i for i, s in enumerate(labels)}).astype(float)
-        code[(df.status != "ok").to_numpy()] = np.nan
-        xs, ys, Z = plane_grid(df, code.to_numpy())
+        c = df[column].astype(str).map(code).astype(float)
+        c[(df.status != "ok").to_numpy()] = np.nan
+        xs, ys, Z = plane_grid(df, c.to_numpy())
         ax.set_facecolor(NOT_OK_COLOUR)
         im = ax.pcolormesh(xs, ys, Z, cmap=cmap, vmin=-0.5, vmax=len(labels) - 0.5, shading="nearest")
         draw_anchors(ax, A)
@@ -82,14 +134,13 @@ def _category_panels(axes, tables, column, labels, cmap, A, z, robot_name):
 def fig9_subsets(tables, A, z, robot_name, out, mode=None):
     """Paty 2021 Fig. 9: the 3-cable subset that minimises ‖δp‖ at each point of the plane, one
     panel per pulley design. ``tables`` maps a design label to its plane table."""
-    labels = sorted({s for df in tables.values() for s in df.subset.astype(str).unique() if s})
-    cmap = plt.get_cmap("tab10", max(len(labels), 1))
+    labels, code, cmap = category_colours(tables, "subset")
     fig, axes = plt.subplots(
         1, len(tables), figsize=(5.2 * len(tables) + 1.5, 5.2), squeeze=False, layout="constrained"
     )
-    im = _category_panels(axes[0], tables, "subset", labels, cmap, A, z, robot_name)
+    im = _category_panels(axes[0], tables, "subset", labels, cmap, A, z, robot_name, code)
     cb = fig.colorbar(im, ax=axes[0].tolist(), ticks=range(len(labels)))
-    cb.ax.set_yticklabels([f"cables {s}" for s in labels])
+    cb.ax.set_yticklabels([s if s.startswith("other") else f"cables {s}" for s in labels])
     cb.set_label("subset kept [cable numbers]")
     fig.suptitle(f"Subset of 3 cables that minimises ‖δp‖ (Fig. 9){mode_suffix(mode)}", fontsize=10)
     return save(fig, out)
@@ -99,19 +150,17 @@ def fig9_taut(tables, A, z, robot_name, out, mode="physical"):
     """Fig. 9 of the physical study: the set of taut cables of the equilibrium at each point of the
     plane (``redundancy: physical``: every cable may go slack; the paper's Fig. 9 shows instead the
     3-cable subset its rule keeps), one panel per pulley design. ``tables`` maps a design label to
-    its plane table (column ``taut``, e.g. '1-2-3-4'); points that are not ok are grey."""
-    labels = sorted(
-        {s for df in tables.values() for s in df.taut.astype(str).unique() if s},
-        key=lambda s: (-len(s.split("-")), s),
-    )
-    cmap = plt.get_cmap("tab20" if len(labels) > 10 else "tab10", max(len(labels), 1))
+    its plane table (column ``taut``, e.g. '1-2-3-4'); points that are not ok are grey. At most
+    ``MAX_CATEGORIES`` sets get a colour of their own, the rarer ones one "other" colour
+    (``category_colours``)."""
+    labels, code, cmap = category_colours(tables, "taut", order=lambda s: (-len(s.split("-")), s))
     fig, axes = plt.subplots(
         1, len(tables), figsize=(5.2 * len(tables) + 1.5, 5.2), squeeze=False, layout="constrained"
     )
-    im = _category_panels(axes[0], tables, "taut", labels, cmap, A, z, robot_name)
+    im = _category_panels(axes[0], tables, "taut", labels, cmap, A, z, robot_name, code)
     if im is not None:
         cb = fig.colorbar(im, ax=axes[0].tolist(), ticks=range(len(labels)))
-        cb.ax.set_yticklabels([f"taut {s}" for s in labels])
+        cb.ax.set_yticklabels([s if s.startswith("other") else f"taut {s}" for s in labels])
         cb.set_label("taut-set map [cable numbers]")
     fig.suptitle(f"Taut cables at each point (Fig. 9 as a taut-set map){mode_suffix(mode)}", fontsize=10)
     return save(fig, out)
@@ -137,7 +186,8 @@ def _labelled_contours(fig, ax, xs, ys, Z, cmap, label, skip=(), top=None):
 def fig12_plane(tables, A, z, robot_name, out, mode=None, paper=None):
     """Paty 2021 Fig. 12: iso-contours of ‖δp‖ over the horizontal plane at height z, one panel per
     pulley design of the same robot, each on levels fine enough to show its own structure (about
-    ten filled levels, every level a labelled line; its own colour bar). ``paper`` maps a design
+    ten filled levels, every level a labelled line; its own colour bar: the title says "colour
+    scale per panel", the designs' errors differ by up to an order of magnitude). ``paper`` maps a design
     label to the paper's iso-values [m] (e.g. the min and max it quotes), drawn as red dashed
     labelled contours. Cells that are not ok are grey, counted by status under the panel with the
     points outside the anchors' footprint counted apart; the dashed line is the footprint.
@@ -179,7 +229,8 @@ def fig12_plane(tables, A, z, robot_name, out, mode=None, paper=None):
         ax.title.set_fontsize(9)
         _not_ok_legend(ax, df, A)
     what = "‖δp‖ and δφ" if spatial else "‖δp‖"
-    fig.suptitle(f"{what} over the plane (Fig. 12){mode_suffix(mode)}", fontsize=10)
+    scale = ", colour scale per panel" if len(tables) > 1 else ""
+    fig.suptitle(f"{what} over the plane (Fig. 12{scale}){mode_suffix(mode)}", fontsize=10)
     return save(fig, out)
 
 
@@ -212,11 +263,13 @@ def fig12_tension(tables, A, z, robot_name, t_min, out, mode=None):
     """Minimum cable tension over the plane at height z (beyond the paper): min_i t_i at each ok
     point (physical mode: over every cable, a slack one at 0 N; paper mode: over the 3-cable subset
     the rule keeps, the others carry no modelled tension), one panel per pulley design, with the tension limit ``t_min`` [N] drawn as a red line
-    (the slack margin is the distance to it). ``tables`` maps a design label to its plane table
+    (the slack margin is the distance to it) where the plane crosses it; the title names the red
+    line only when some panel draws it. ``tables`` maps a design label to its plane table
     (columns x, y, status, t1..tm [N])."""
     fig, axes = plt.subplots(
         1, len(tables), figsize=(5.6 * len(tables), 5.6), squeeze=False, layout="constrained"
     )
+    drawn = False  # the red line of t_min, in some panel
     for ax, (label, df) in zip(axes[0], tables.items()):
         tcols = sorted((c for c in df.columns if re.fullmatch(r"t\d+", c)), key=lambda c: int(c[1:]))
         ok = (df.status == "ok").to_numpy()
@@ -230,10 +283,11 @@ def fig12_tension(tables, A, z, robot_name, t_min, out, mode=None):
             _labelled_contours(fig, ax, xs, ys, Z, "cividis", "minimum cable tension min t_i [N]")
             if t_min is not None and np.nanmin(Z) < t_min < np.nanmax(Z):
                 ax.contour(xs, ys, Z, levels=[t_min], colors="r", linewidths=1.2)
+                drawn = True
         draw_anchors(ax, A)
         ax.set(xlabel="x [m]", ylabel="y [m]", title=f"{robot_name} {label} at z = {z:g} m", aspect="equal")
         _not_ok_legend(ax, df, A)
-    lim = f"; red: t = {t_min:g} N" if t_min is not None else ""
+    lim = f"; red: min t_i = {t_min:g} N" if drawn else ""  # promised only where the plane crosses it
     over = "slack cables count as 0 N" if mode == "physical" else "over the 3 cables the rule keeps"
     fig.suptitle(f"Minimum cable tension over the plane ({over}){lim}{mode_suffix(mode)}", fontsize=10)
     return save(fig, out)

@@ -24,7 +24,37 @@ def _box_edges(box):
     return [corners[[c, c | bit]] for c in range(8) for bit in (4, 2, 1) if not c & bit]
 
 
-def robot_view(geom, out, boxes=None, mode=None):
+def _plan_panel(ax, geom, boxes, span):
+    """The plan (top) view of ``robot_view``: the same elements seen from +z, x and y to equal scale,
+    with every anchor's cable numbers (anchors that coincide from above share one label)."""
+    A, B = geom["A"], geom["B"]
+    for (label, box), (colour, ls) in zip(boxes.items(), BOX_STYLES * 4):
+        x0, x1, y0, y1 = box[:4]
+        ax.plot([x0, x1, x1, x0, x0], [y0, y0, y1, y1, y0], color=colour, ls=ls, lw=0.9)
+    for i in range(len(A)):
+        ax.plot(*np.stack([geom["C"][i], geom["K"][i]])[:, :2].T, color="0.6", lw=0.8)
+        ax.plot(*np.stack([geom["D"][i], B[i]])[:, :2].T, color="tab:blue", lw=1.1)
+        if np.isfinite(geom["sheave"][i]).all():
+            ax.plot(*geom["sheave"][i][:, :2].T, color="tab:orange", lw=0.9)
+    ax.scatter(*A[:, :2].T, color="k", marker="^", s=18, zorder=3)
+    for g in anchor_groups(A[:, :2], span):
+        c = A[g, :2].mean(axis=0)
+        ax.annotate(",".join(str(i + 1) for i in g), c, xytext=(4, 4), textcoords="offset points", fontsize=7)
+    if not geom["point_mass"]:
+        try:
+            hull = ConvexHull(B[:, :2]).vertices
+            ax.plot(*B[np.append(hull, hull[0]), :2].T, color="tab:green", lw=0.8)
+        except Exception:  # attachment points on a line from above: their outline
+            ax.plot(*B[:, :2].T, color="tab:green", lw=0.8)
+        ax.scatter(*geom["com"][:2], color="tab:green", marker="x", s=30, zorder=3)
+    ax.scatter(*geom["p"][:2], color="tab:green", s=20, zorder=3)
+    ax.set(xlabel="x [m]", ylabel="y [m]", aspect="equal", title="plan (top) view, from +z")
+    ax.title.set_fontsize(9)
+    ax.tick_params(labelsize=7)
+    ax.grid(alpha=0.3)
+
+
+def robot_view(geom, out, boxes=None, mode=None, plan=False):
     """A 3-D picture of a robot at a pose: the joint points A_i with their cable numbers, the swivel
     axes k_i, the sheaves, the dead lengths C_i → K_i, the cables D_i → B_i, the platform (the
     attachment points' hull, its centre of mass and reference point) and the given boxes as
@@ -42,6 +72,8 @@ def robot_view(geom, out, boxes=None, mode=None):
         box of the volumes' grid, the study's RW_C), in the styles of ``BOX_STYLES``.
     mode : {"paper", "physical", None}
         The study's redundancy mode, named in the title (``cdpr view`` has none).
+    plan : bool
+        Also draw the plan (top) view, seen from +z, beside the 3-D one (``cdpr view --plan``).
     """
     boxes = dict(boxes or {})
     A, B, axis = geom["A"], geom["B"], geom["axis"]
@@ -49,8 +81,10 @@ def robot_view(geom, out, boxes=None, mode=None):
     lo, hi = allp.min(axis=0), allp.max(axis=0)
     span = float((hi - lo).max())
     lo, hi = lo - 0.03 * span, hi + 0.03 * span
-    fig = plt.figure(figsize=(8.0, 7.0), layout="constrained")
-    ax = fig.add_subplot(projection="3d")
+    fig = plt.figure(figsize=(14.0, 7.0) if plan else (8.0, 7.0), layout="constrained")
+    ax = fig.add_subplot(1, 2 if plan else 1, 1, projection="3d")
+    if plan:
+        _plan_panel(fig.add_subplot(1, 2, 2), geom, boxes, span)
     handles = []
     for (label, box), (colour, ls) in zip(boxes.items(), BOX_STYLES * 4):
         for e in _box_edges(box):
