@@ -26,7 +26,8 @@ from cdpr.compiled import equilibrium as compiled_equilibrium
 from cdpr.compiled import sensitivity as compiled_sensitivity
 from cdpr.compiled import subsets as compiled_subsets
 from cdpr.errors import CdprError
-from cdpr.models import equilibrium, sensitivity
+from cdpr.models import continuation, equilibrium, sensitivity
+from cdpr.models.cables import Cables, HeavyCables, heavy_cables
 from cdpr.models.results import mark_below_floor, point_keys
 from cdpr.models.subsets import solve_points
 from cdpr.robot import require_massless, require_point_mass
@@ -204,6 +205,75 @@ def solve(
     else:
         res = equilibrium.solve(robot, p, rotvec, L0=L0, **options)
     return mark_below_floor(res, p, robot.floor_z) if robot.suspended_point_mass else res
+
+
+#: Which equilibrium physical mode answers with: the one reached by continuation (the default), or
+#: the lowest energy over restarts.
+EQUILIBRIA = ("reached", "global")
+
+
+def check_equilibrium(choice):
+    """``choice`` if it is one of ``EQUILIBRIA`` (None: "reached"), else CdprError naming them."""
+    if choice is None:
+        return "reached"
+    if choice not in EQUILIBRIA:
+        raise CdprError(f"unknown equilibrium {choice!r}; allowed: {', '.join(EQUILIBRIA)}")
+    return choice
+
+
+def reach(robot, p, rotvec=None, *, L0=None, engine=None, threads=None, **start):
+    """The equilibrium reached by continuation (``models.continuation.reach``, whose docstring gives
+    the path, the steps, the folds and the starts), by the chosen engine's local Newton solver:
+    numpy (``equilibrium.local_newton``, the default) or compiled (``compiled.equilibrium.newton``);
+    heavy cables by the numpy reference only.
+
+    Parameters
+    ----------
+    robot : Robot
+    p : array_like (N, 3) or (N, 6) [m, rad]
+        Desired positions, or poses.
+    rotvec : array_like (3,) or (N, 3) [rad], optional
+        Desired orientations.
+    L0 : array_like (N, m) or (m,) [m], optional
+        Target rest lengths, default L_TS at the desired pose.
+    engine : {"compiled", "numpy"}, optional
+        Default numpy.
+    threads : int, optional
+        Caps the compiled engine's threads.
+    **start
+        ``continuation.reach``'s start and path options (start, t_min, t_max, from_p,
+        from_rotvec, from_lengths, schedule).
+
+    Returns
+    -------
+    dict
+        ``continuation.reach``'s result (the points below the floor of a suspended robot marked
+        ``inaccessible``).
+
+    Raises
+    ------
+    CdprError
+        An unknown engine, the compiled engine on heavy cables, a start that does not exist.
+    """
+    engine = check_engine("numpy" if engine is None else engine, "newton")
+    if robot.heavy:
+        if engine == "compiled":
+            raise CdprError(
+                f"{robot.source}: heavy cables have no compiled kernel yet; use the numpy reference (--engine numpy)"
+            )
+        cab, newton, standard = HeavyCables(robot), equilibrium.local_newton, None
+    elif engine == "compiled":
+        compiled_equilibrium.set_threads(threads)
+        cab, newton = compiled_equilibrium.CompiledCables(robot), compiled_equilibrium.newton
+        standard = compiled_equilibrium.L_TS
+    else:
+        cab, newton, standard = Cables(robot), equilibrium.local_newton, None
+    p = np.atleast_2d(np.asarray(p, dtype=float))
+    res = continuation.reach(robot, cab, newton, p, rotvec, L0, standard=standard, **start)
+    if robot.heavy:
+        from_heavy = heavy_cables(cab, res["P_s"], res["R_s"], res["L0"])
+        res.update(from_heavy)
+    return mark_below_floor(res, p[:, :3], robot.floor_z) if robot.suspended_point_mass else res
 
 
 def solve_batch(

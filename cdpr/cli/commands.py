@@ -522,6 +522,14 @@ def cmd_point(args):
     P, rv = points.first()
     zero = _zero_length(robot, P, rv, L0, args.redundancy)
     res = solve(P, rv)
+    two = None
+    if args.redundancy == "physical" and not args.sensitivities:  # issue 39: the reached equilibrium
+        from cdpr.cli import reached  # lazy: physical mode at one pose only
+
+        res_reached = reached.reach_point(robot, args, P, rv, L0, engine)
+        two = reached.both(robot, res_reached, res, rigid="rotvec_s" in res)
+        if args.equilibrium == "reached":
+            res = reached.answer(res, res_reached)
     t = res["t"][0]
     out = {
         "desired": list(map(float, args.at)),
@@ -540,6 +548,8 @@ def cmd_point(args):
     out["interference_free"] = interference_free(robot, out["solved"], out.get("solved_rotvec"))
     if "unique" in res:
         out.update(unique=bool(res["unique"][0]), alternatives=res["alternatives"][0])
+    if two is not None:
+        out.update(equilibrium=args.equilibrium, **two)
     reason = _zero_length_reason(zero[0])
     if reason is not None:  # no equilibrium model there: no uniqueness to claim either
         out["reason"] = reason
@@ -582,6 +592,11 @@ def cmd_point(args):
     if out.get("unique") is False:  # another equilibrium holds the same lengths (equilibrium: restarts)
         n = len(out["alternatives"])
         print(f"  equilibrium    : not unique ({n} alternative{'s' * (n != 1)}; --json lists them)")
+    if two is not None:
+        from cdpr.cli.reached import text  # lazy: physical mode at one pose only
+
+        print(f"  answer         : the {args.equilibrium} equilibrium")
+        print("\n".join(text(out)))
     if args.sensitivities:
         num = lambda v: "nan" if v is None else f"{v:.6g}"  # noqa: E731
         smooth = (
