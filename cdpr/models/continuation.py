@@ -28,6 +28,10 @@ when the step in λ is refined down to ``H_MIN`` = 1e-7. The path then goes on f
 the platform snapped to (the two-half-step solution), and the fold is reported with its λ, the jump
 (position [m], rotation [rad]) and the taut sets before and after.
 
+Where the local solver converges to no equilibrium even at the least step (the model's force is
+not continuous there, e.g. a pulley's wrap angle switching), or a path takes more than
+``MAX_STEPS`` steps, the tracking ends and the point is reported ``not_converged``.
+
 Starts (``start``)
 ------------------
 * ``compensated`` (default): the desired pose held by its minimum-norm compensated rest lengths
@@ -56,21 +60,21 @@ import numpy as np
 from cdpr.errors import CdprError
 from cdpr.models import equilibrium
 from cdpr.models.platform import pose_arrays, rotation_error, rotation_matrix, rotvec_of
-from cdpr.models.results import TAUT_MIN
+from cdpr.models.results import ST, STATUSES, TAUT_MIN
 from cdpr.models.tension_distribution import T_MIN_DEFAULT, compensated_lengths
 
 #: Two solutions of one step agree when they differ by at most this [m + rad].
-AGREE = 1e-10
+AGREE = 1e-9
 #: A step that moves the platform by more than this [m + rad] is refined; at ``H_MIN`` it is a fold.
 JUMP = 0.02
 #: The smallest and the largest step in λ, and the first step.
 H_MIN = 1e-7
 H_MAX = 0.25
 H_FIRST = 0.0625
-#: Newton's tolerance [m] along the path (tighter than the default so that halves agree to AGREE).
-TOL = 1e-12
 #: Newton's iteration cap along the path (a snap may need many line-searched steps).
 MAXITER = 200
+#: The most steps of one path (then the point is reported not converged).
+MAX_STEPS = 5000
 #: The starts of a continuation.
 STARTS = ("compensated", "search", "given")
 
@@ -128,6 +132,8 @@ def _track(cab, newton, P, R, L_start, L_target, p_ref, stop, schedule):
     P, R = P.copy(), R.copy()
     folds = [[] for _ in range(n)]
     lams = [[0.0] for _ in range(n)]
+    stuck = np.zeros(n, dtype=bool)
+    steps = np.zeros(n, dtype=np.int64)
     at = lambda rows, x: L_start[rows] + x[:, None] * dL[rows]  # noqa: E731
     # t at the start (the taut set before a first-step fold)
     _, _, t, conv = _solve(cab, newton, P, R, at(np.arange(n), lam), p_ref, *stop)
@@ -145,7 +151,7 @@ def _track(cab, newton, P, R, L_start, L_target, p_ref, stop, schedule):
             P, R, t, conv = P2, R2, t2, c2
             for i in rows:
                 lams[i].append(float(x))
-        return P, R, t, conv, folds, lams
+        return P, R, t, conv & ~stuck, folds, lams, stuck
     active = np.arange(n)
     while active.size:
         x0, hh = lam[active], h[active]
@@ -159,19 +165,27 @@ def _track(cab, newton, P, R, L_start, L_target, p_ref, stop, schedule):
         smooth = agree & (jump <= JUMP)
         floor = (x1 - x0) <= H_MIN
         take = smooth | floor
+        lost = floor & ~(ca & cm & cb)  # the local solver finds no equilibrium even at the least step
+        lost |= ~take & (steps[active] >= MAX_STEPS)
+        take |= lost
+        stuck[active[lost]] = True
         for k in np.flatnonzero(take & ~smooth & (jump > JUMP)):
             i = active[k]
             folds[i].append(_fold(x1[k], P[i], R[i], Pb[k], Rb[k], t[i], tb[k]))
         rows = active[take]
         P[rows], R[rows], t[rows], conv[rows] = Pb[take], Rb[take], tb[take], cb[take]
         lam[rows] = x1[take]
+        lam[active[lost]] = 1.0  # tracking ends there: reported not converged
+        steps[active] += 1
         for i, x in zip(rows, x1[take]):
             lams[i].append(float(x))
-        h[rows] = np.minimum(2.0 * (x1[take] - x0[take]), H_MAX)
+        # the next step: doubled, but aimed at half the jump limit where the path moves fast
+        grow = np.minimum(2.0, 0.5 * JUMP / np.maximum(jump[take], 1e-300))
+        h[rows] = np.minimum(np.maximum(grow, 1.0) * (x1[take] - x0[take]), H_MAX)
         h[rows[~smooth[take]]] = H_MIN * 2.0  # after a fold or an unresolved step: grow again from small
         h[active[~take]] = 0.5 * (x1[~take] - x0[~take])
         active = active[lam[active] < 1.0]
-    return P, R, t, conv, folds, lams
+    return P, R, t, conv & ~stuck, folds, lams, stuck
 
 
 def _fold(lam, P0, R0, P1, R1, t0, t1):
@@ -252,7 +266,7 @@ def reach(
     if start not in ("compensated", "given"):
         raise CdprError(f"unknown continuation start {start!r}; allowed: compensated, given")
     tol, _, max_step = equilibrium.stop_rules()
-    stop = (min(tol, TOL), MAXITER, max_step)
+    stop = (tol, MAXITER, max_step)
     pose = equilibrium.set_up(robot, p, rotvec, L0, None, standard)
     n, m = len(pose.p), robot.m
     kind = np.full(n, start, dtype=object)
@@ -280,9 +294,12 @@ def reach(
         if bad.size:
             kind[bad] = "search"
             P0[bad], R0[bad] = _nearest(robot, cab, newton, pose, bad)
-    P, R, t, conv, folds, lams = _track(cab, newton, P0, R0, L_start, pose.L0, pose.p, stop, schedule)
+    P, R, t, conv, folds, lams, stuck = _track(cab, newton, P0, R0, L_start, pose.L0, pose.p, stop, schedule)
     first = newton(cab, P, R.copy(), pose.L0, pose.p, *stop)
     res = equilibrium.finish(robot, cab, newton, pose, first, *stop, restarts=False)
+    res["converged"] &= ~stuck
+    res["status_code"][stuck] = ST["not_converged"]
+    res["status"] = np.asarray(STATUSES)[res["status_code"]]
     res.update(
         start=kind.astype(str),
         folds=folds,
