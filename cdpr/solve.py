@@ -276,6 +276,65 @@ def reach(robot, p, rotvec=None, *, L0=None, engine=None, threads=None, **start)
     return mark_below_floor(res, p[:, :3], robot.floor_z) if robot.suspended_point_mass else res
 
 
+#: The per-point keys of a physical-mode result that ``reach_where_multiple`` replaces.
+REACHED_KEYS = (
+    "P_s", "dp", "rotvec_s", "R_s", "dphi", "t", "taut", "n_taut", "residual", "iterations",
+    "converged", "status_code", "status", "energy", "wrap_over_270",
+)  # fmt: skip
+
+
+def reach_where_multiple(robot, res, engine=None, threads=None, **start):
+    """A physical-mode result (``solve`` of a rigid platform or at given orientations, with its
+    keys p, rotvec, L0, unique) answered with the reached equilibrium (``reach``) where the restarts
+    found more than one equilibrium (``unique`` False); elsewhere the unique equilibrium is the
+    reached one and the result is kept as it is (the studies' rule, issue 39).
+
+    Parameters
+    ----------
+    robot : Robot
+    res : dict
+        ``solve``'s result (not modified).
+    engine : {"compiled", "numpy"}, optional
+        The engine of the continuation (``reach``).
+    threads : int, optional
+    **start
+        ``reach``'s start options.
+
+    Returns
+    -------
+    dict
+        ``res`` with ``REACHED_KEYS`` of the reached equilibrium at the points not unique, and
+        n_folds (N,) int (folds crossed on the way), reached_is_global (N,) bool (within
+        ``equilibrium.DISTINCT`` of the lowest energy found), folds (N lists of dicts) and
+        continued (N,) bool (the points continued).
+    """
+    out = dict(res)
+    n = len(res["P_s"])
+    multiple = ~np.asarray(res.get("unique", np.ones(n, dtype=bool)), dtype=bool)
+    out["n_folds"] = np.zeros(n, dtype=np.int32)
+    out["reached_is_global"] = np.ones(n, dtype=bool)
+    out["folds"] = [[] for _ in range(n)]
+    out["continued"] = multiple.copy()
+    idx = np.flatnonzero(multiple)
+    if idx.size == 0:
+        return out
+    r = reach(
+        robot, res["p"][idx], res["rotvec"][idx], L0=res["L0"][idx], engine=engine, threads=threads, **start
+    )
+    for key in REACHED_KEYS:
+        if key in res:
+            out[key] = np.array(res[key], copy=True)
+            out[key][idx] = r[key]
+    out["n_folds"][idx] = r["n_folds"]
+    out["reached_is_global"][idx] = (
+        continuation.pose_distance(r["P_s"], r["R_s"], res["P_s"][idx], res["R_s"][idx])
+        <= equilibrium.DISTINCT
+    )
+    for k, i in enumerate(idx):
+        out["folds"][i] = r["folds"][k]
+    return out
+
+
 def solve_batch(
     robots, p, rotvec=None, *, redundancy="physical", L0=None, L=None, engine=None, threads=None, P0=None, **options
 ):  # fmt: skip

@@ -110,3 +110,21 @@ def test_bad_starts(wall):
         reach(wall, P, RV, L0=L0, start="given", from_p=P[0], from_lengths=[5.0, 5.0])
     with pytest.raises(CdprError, match="allowed"):
         reach(wall, P, RV, L0=L0, start="lowest")
+
+
+def test_reach_where_multiple_continues_only_points_with_several_equilibria(wall, example):
+    """The studies' rule: continuation only where the restarts found more than one equilibrium."""
+    from cdpr.solve import reach_where_multiple
+
+    a, _ = example
+    p = np.array([[0.3, 0.3, 0.7], [0.1, -0.1, 1.4]])
+    rv = np.array([RV, [0.05, 0.0, 0.02]])
+    L = np.array([L0, compensated_lengths(wall, p[1:], rv[1:], 100.0)["L0"][0]])
+    g = solve(wall, p, rv, L0=L, engine="numpy")
+    assert g["unique"].tolist() == [False, True]
+    out = reach_where_multiple(wall, g)
+    assert out["continued"].tolist() == [True, False]
+    assert out["reached_is_global"].tolist() == [False, True] and out["n_folds"].tolist() == [0, 0]
+    assert np.abs(out["P_s"][0] - a["P_s"][0]).max() < 1e-9
+    assert np.array_equal(out["P_s"][1], g["P_s"][1]) and out["status"][1] == g["status"][1]
+    assert np.abs(g["P_s"][0] - a["P_s"][0]).max() > 0.1  # the input is not modified
