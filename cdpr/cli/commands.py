@@ -523,7 +523,7 @@ def cmd_point(args):
     zero = _zero_length(robot, P, rv, L0, args.redundancy)
     res = solve(P, rv)
     two = None
-    if args.redundancy == "physical" and not args.sensitivities:  # issue 39: the reached equilibrium
+    if args.redundancy == "physical" and not args.sensitivities and not zero.any():  # issue 39: reached
         from cdpr.cli import reached  # lazy: physical mode at one pose only
 
         res_reached = reached.reach_point(robot, args, P, rv, L0, engine)
@@ -584,6 +584,11 @@ def cmd_point(args):
     print("  tensions   [N] : " + ", ".join("slack" if v is None else f"{v:.2f}" for v in out["tensions"]))
     if args.redundancy == "physical":
         print(f"  taut cables    : {'-'.join(map(str, out['taut'])) or '-'}")
+        if two is not None:  # the reached equilibrium and the global one (issue 39)
+            from cdpr.cli.reached import text  # lazy: physical mode at one pose only
+
+            print(f"  answer         : the {args.equilibrium} equilibrium")
+            print("\n".join(text(out)))
     else:
         print(f"  subset         : {subset_label(res['subset'][0]) or '-'}")
     print(f"  status         : {out['status']}  ({out['iterations']} iterations)")
@@ -592,11 +597,6 @@ def cmd_point(args):
     if out.get("unique") is False:  # another equilibrium holds the same lengths (equilibrium: restarts)
         n = len(out["alternatives"])
         print(f"  equilibrium    : not unique ({n} alternative{'s' * (n != 1)}; --json lists them)")
-    if two is not None:
-        from cdpr.cli.reached import text  # lazy: physical mode at one pose only
-
-        print(f"  answer         : the {args.equilibrium} equilibrium")
-        print("\n".join(text(out)))
     if args.sensitivities:
         num = lambda v: "nan" if v is None else f"{v:.6g}"  # noqa: E731
         smooth = (

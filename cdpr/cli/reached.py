@@ -41,8 +41,20 @@ def reach_point(robot, args, P, rv, L0, engine):
     return reach(robot, P, rv, L0=L0, engine=engine, **start_options(args, robot))
 
 
-def _object(robot, res, rigid):
-    """The JSON object of one equilibrium of a result (its first pose)."""
+def _energy(robot, res, reference):
+    """The potential energy [J] at the first pose of a result without one (the point-mass fast
+    path's keys), relative to the same origin as ``reference``'s (its desired pose and rest lengths)."""
+    from cdpr.models.cables import Cables, HeavyCables  # lazy: the solver commands only
+
+    cab = HeavyCables(robot) if robot.heavy else Cables(robot)
+    R = reference["R_s"][:1] if "R_s" not in res else res["R_s"][:1]
+    ev = cab.evaluate(res["P_s"][:1], R, reference["L0"][:1], reference["p"][:1], jacobian=False)
+    return ev["merit"][0]
+
+
+def _object(robot, res, rigid, reference):
+    """The JSON object of one equilibrium of a result (its first pose); ``reference`` (the reached
+    result) gives the energy's origin where ``res`` has no energy."""
     from cdpr.models.interference import interference_free  # lazy: the solver commands only
 
     t = res["t"][0]
@@ -51,7 +63,7 @@ def _object(robot, res, rigid):
     if rigid:
         out["solved_rotvec"] = rv
     out.update(
-        energy_J=float(res["energy"][0]),
+        energy_J=float(res["energy"][0] if "energy" in res else _energy(robot, res, reference)),
         taut=[int(i) + 1 for i in np.flatnonzero(res["taut"][0])],
         tensions=[None if np.isnan(v) else float(v) for v in t],
         interference_free=interference_free(robot, out["solved"], rv),
@@ -75,11 +87,11 @@ def both(robot, reached, glob, rigid):
     from cdpr.models.continuation import pose_distance  # lazy: the solver commands only
     from cdpr.models.equilibrium import DISTINCT  # lazy: the solver commands only
 
-    r = _object(robot, reached, rigid)
+    r = _object(robot, reached, rigid, reached)
     r["folds"] = reached["folds"][0]
     r["start"] = str(reached["start"][0])
     r["steps"] = len(reached["lambdas"][0]) - 1
-    g = _object(robot, glob, rigid)
+    g = _object(robot, glob, rigid, reached)
     R_g = glob["R_s"] if rigid else reached["R_s"]
     same = pose_distance(reached["P_s"], reached["R_s"], glob["P_s"], R_g)[0] <= DISTINCT
     return {"reached": r, "global": g, "reached_is_global": bool(same)}

@@ -152,7 +152,11 @@ def _track(cab, newton, P, R, L_start, L_target, p_ref, stop, schedule):
             for i in rows:
                 lams[i].append(float(x))
         return P, R, t, conv & ~stuck, folds, lams, stuck
-    active = np.arange(n)
+    still = np.flatnonzero(~(dL != 0).any(axis=1))  # the lengths do not move: the start is the end
+    lam[still] = 1.0
+    for i in still:
+        lams[i].append(1.0)
+    active = np.flatnonzero(lam < 1.0)
     while active.size:
         x0, hh = lam[active], h[active]
         x1 = np.minimum(x0 + hh, 1.0)
@@ -314,7 +318,8 @@ def reach(
 
 def _nearest(robot, cab, newton, pose, rows):
     """The equilibrium of the multi-start search under the target lengths nearest to the desired
-    pose (|P - p| + δφ) at the poses ``rows``: P (k, 3) [m], R (k, 3, 3)."""
+    pose (|P - p| + δφ) at the poses ``rows``: P (k, 3) [m], R (k, 3, 3). Candidates that no cable
+    holds (a Newton stop with every cable slack) are not equilibria and are passed over."""
     sub = equilibrium.Setup(pose.p[rows], pose.R_d[rows], pose.rv_d[rows], pose.L0[rows], pose.p[rows])
     tol, maxiter, max_step = equilibrium.stop_rules()
     first = newton(cab, sub.p0, sub.R_d.copy(), sub.L0, sub.p, tol, maxiter, max_step)
@@ -322,7 +327,9 @@ def _nearest(robot, cab, newton, pose, rows):
     P, R = res["P_s"].copy(), res["R_s"].copy()
     for k in range(len(rows)):
         best = np.linalg.norm(P[k] - sub.p[k]) + rotation_error(R[k][None], sub.R_d[k][None])[0]
-        for alt in res["alternatives"][k]:
+        if res["status"][k] == "not_converged":
+            best = np.inf
+        for alt in (a for a in res["alternatives"][k] if a["taut"]):  # a platform no cable holds is none
             Ra = rotation_matrix(np.asarray(alt["rotvec_s"]))
             d = (
                 np.linalg.norm(np.asarray(alt["P_s"]) - sub.p[k])
