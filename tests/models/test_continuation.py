@@ -128,3 +128,27 @@ def test_reach_where_multiple_continues_only_points_with_several_equilibria(wall
     assert np.abs(out["P_s"][0] - a["P_s"][0]).max() < 1e-9
     assert np.array_equal(out["P_s"][1], g["P_s"][1]) and out["status"][1] == g["status"][1]
     assert np.abs(g["P_s"][0] - a["P_s"][0]).max() > 0.1  # the input is not modified
+
+
+def test_a_fold_is_reported_and_the_point_stays_ok(wall):
+    """A path of the wall robot across a fold (found among random commanded lengths): the tracked
+    equilibrium ceases to exist near λ = 0.94 and the platform snaps by more than 0.02 m + rad; the
+    fold is reported with λ, the jump and the taut sets, and the point's status stays ok."""
+    p = np.array([[0.020155929528785976, 0.1478999746670242, 0.5790885638375065]])
+    rv = np.array([-0.4387665183814998, -0.24645732048736985, 0.28936617471305015])
+    L = np.array([6.333482321341457, 6.421385277887961, 5.929557081913589, 6.258898991375651, 5.618117964579822, 5.664101186167743, 5.529752668850362, 5.649836611489017])  # fmt: skip
+    a = reach(wall, p, rv, L0=L)
+    assert a["status"][0] == "ok" and a["n_folds"][0] == 1
+    (fold,) = a["folds"][0]
+    assert set(fold) == {"lambda", "jump_m", "jump_rad", "taut_before", "taut_after"}
+    assert 0.9 < fold["lambda"] < 0.97 and fold["jump_m"] + fold["jump_rad"] > 0.02
+    assert fold["jump_m"] == pytest.approx(0.147, abs=0.01) and fold["jump_rad"] == pytest.approx(
+        1.02, abs=0.05
+    )
+    # the step that crossed it is the least one: the λ grid closes in on the fold
+    lam = np.array(a["lambdas"][0])
+    k = int(np.flatnonzero(np.isclose(lam, fold["lambda"], rtol=0, atol=1e-15))[0])
+    assert lam[k] - lam[k - 1] <= 1e-7
+    # the global solve knows the equilibrium the platform snapped to or a lower one
+    g = solve(wall, p, rv, L0=L, engine="numpy")
+    assert g["energy"][0] <= a["energy"][0] + 1e-9
