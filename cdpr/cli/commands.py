@@ -498,6 +498,7 @@ def cmd_point(args):
         )
 
     if args.points or args.out:
+        from cdpr.cli import reached  # lazy: a table of points only
         from cdpr.tables import to_frame  # lazy: a table of points only (pandas)
 
         tally = Tally()
@@ -508,7 +509,8 @@ def cmd_point(args):
 
         def chunk(P, rv):
             n_zero[0] += int(_zero_length(robot, P, rv, L0, args.redundancy).any(axis=1).sum())
-            return tally.add(to_frame(robot, solve(P, rv), args.redundancy, rotvec=rv))
+            res = reached.table_answer(robot, args, solve(P, rv), engine)  # issue 39
+            return tally.add(to_frame(robot, res, args.redundancy, rotvec=rv))
 
         _write_chunks(args, points, chunk, "point")
         _report(tally, args.out, args, float("nan"))

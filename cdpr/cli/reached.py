@@ -72,6 +72,19 @@ def _object(robot, res, rigid, reference):
     return out
 
 
+def table_answer(robot, args, res, engine):
+    """``point --points``: a physical-mode chunk's result answered with the reached equilibrium
+    where the restarts found more than one (``solve.reach_where_multiple``, the studies' rule);
+    unchanged with --equilibrium global, --sensitivities, in paper mode or where all are unique."""
+    from cdpr.solve import reach_where_multiple  # lazy: the solvers, for the solver commands only
+
+    if args.redundancy != "physical" or args.sensitivities or args.equilibrium == "global":
+        return res
+    if "unique" not in res or np.all(res["unique"]):
+        return res
+    return reach_where_multiple(robot, res, engine=engine, threads=args.threads, **start_options(args, robot))
+
+
 #: The keys of a solve result that the reached equilibrium replaces in ``point``'s answer.
 KEYS = ("P_s", "dp", "rotvec_s", "R_s", "dphi", "t", "taut", "n_taut", "status", "iterations", "energy")
 

@@ -96,3 +96,22 @@ def test_bad_starts_are_one_line(capsys, extra, words):
     assert main(EXAMPLE + extra) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and words in err[0]
+
+
+def test_points_table_answers_with_the_reached_equilibrium(tmp_path, capsys):
+    """``point --points``: continuation where the restarts find several equilibria (the studies'
+    rule), with the columns n_folds and reached_is_global; --equilibrium global keeps the lowest."""
+    import pandas as pd
+
+    pts = tmp_path / "p.csv"
+    pts.write_text("x,y,z,rx,ry,rz\n0.3,0.3,0.7,0.12,0.12,0\n")
+    out = tmp_path / "o.csv"
+    base = ["point", "--robot", WALL, "--points", str(pts), "--out", str(out), "--lengths", *L0, "--quiet"]
+    assert main(base) == 0
+    df = pd.read_csv(out)
+    assert df["n_folds"].tolist() == [0] and df["reached_is_global"].tolist() == [False]
+    assert df["dphi"][0] == pytest.approx(0.13, abs=0.01) and not df["unique"][0]
+    assert main(base + ["--equilibrium", "global"]) == 0
+    df = pd.read_csv(out)
+    assert "n_folds" not in df and df["dphi"][0] == pytest.approx(2.56, abs=0.01)
+    capsys.readouterr()
