@@ -26,8 +26,14 @@ from cdpr.compiled import equilibrium as compiled_equilibrium
 from cdpr.compiled import sensitivity as compiled_sensitivity
 from cdpr.compiled import subsets as compiled_subsets
 from cdpr.errors import CdprError
+<<<<<<< HEAD
 from cdpr.models import equilibrium, sensitivity
 from cdpr.models.results import mark_below_floor, mark_out_of_frame, point_keys
+=======
+from cdpr.models import continuation, equilibrium, sensitivity
+from cdpr.models.cables import Cables, HeavyCables, heavy_cables
+from cdpr.models.results import mark_below_floor, point_keys
+>>>>>>> reached
 from cdpr.models.subsets import solve_points
 from cdpr.robot import require_massless, require_point_mass
 
@@ -219,6 +225,134 @@ def solve(
     else:
         res = equilibrium.solve(robot, p, rotvec, L0=L0, **options)
     return _mark(res, p, robot)
+
+
+#: Which equilibrium physical mode answers with: the one reached by continuation (the default), or
+#: the lowest energy over restarts.
+EQUILIBRIA = ("reached", "global")
+
+
+def check_equilibrium(choice):
+    """``choice`` if it is one of ``EQUILIBRIA`` (None: "reached"), else CdprError naming them."""
+    if choice is None:
+        return "reached"
+    if choice not in EQUILIBRIA:
+        raise CdprError(f"unknown equilibrium {choice!r}; allowed: {', '.join(EQUILIBRIA)}")
+    return choice
+
+
+def reach(robot, p, rotvec=None, *, L0=None, engine=None, threads=None, **start):
+    """The equilibrium reached by continuation (``models.continuation.reach``, whose docstring gives
+    the path, the steps, the folds and the starts), by the chosen engine's local Newton solver:
+    numpy (``equilibrium.local_newton``, the default) or compiled (``compiled.equilibrium.newton``);
+    heavy cables by the numpy reference only.
+
+    Parameters
+    ----------
+    robot : Robot
+    p : array_like (N, 3) or (N, 6) [m, rad]
+        Desired positions, or poses.
+    rotvec : array_like (3,) or (N, 3) [rad], optional
+        Desired orientations.
+    L0 : array_like (N, m) or (m,) [m], optional
+        Target rest lengths, default L_TS at the desired pose.
+    engine : {"compiled", "numpy"}, optional
+        Default numpy.
+    threads : int, optional
+        Caps the compiled engine's threads.
+    **start
+        ``continuation.reach``'s start and path options (start, t_min, t_max, from_p,
+        from_rotvec, from_lengths, schedule).
+
+    Returns
+    -------
+    dict
+        ``continuation.reach``'s result (the points below the floor of a suspended robot marked
+        ``inaccessible``).
+
+    Raises
+    ------
+    CdprError
+        An unknown engine, the compiled engine on heavy cables, a start that does not exist.
+    """
+    engine = check_engine("numpy" if engine is None else engine, "newton")
+    if robot.heavy:
+        if engine == "compiled":
+            raise CdprError(
+                f"{robot.source}: heavy cables have no compiled kernel yet; use the numpy reference (--engine numpy)"
+            )
+        cab, newton, standard = HeavyCables(robot), equilibrium.local_newton, None
+    elif engine == "compiled":
+        compiled_equilibrium.set_threads(threads)
+        cab, newton = compiled_equilibrium.CompiledCables(robot), compiled_equilibrium.newton
+        standard = compiled_equilibrium.L_TS
+    else:
+        cab, newton, standard = Cables(robot), equilibrium.local_newton, None
+    p = np.atleast_2d(np.asarray(p, dtype=float))
+    res = continuation.reach(robot, cab, newton, p, rotvec, L0, standard=standard, **start)
+    if robot.heavy:
+        from_heavy = heavy_cables(cab, res["P_s"], res["R_s"], res["L0"])
+        res.update(from_heavy)
+    return mark_below_floor(res, p[:, :3], robot.floor_z) if robot.suspended_point_mass else res
+
+
+#: The per-point keys of a physical-mode result that ``reach_where_multiple`` replaces.
+REACHED_KEYS = (
+    "P_s", "dp", "rotvec_s", "R_s", "dphi", "t", "taut", "n_taut", "residual", "iterations",
+    "converged", "status_code", "status", "energy", "wrap_over_270",
+)  # fmt: skip
+
+
+def reach_where_multiple(robot, res, engine=None, threads=None, **start):
+    """A physical-mode result (``solve`` of a rigid platform or at given orientations, with its
+    keys p, rotvec, L0, unique) answered with the reached equilibrium (``reach``) where the restarts
+    found more than one equilibrium (``unique`` False); elsewhere the unique equilibrium is the
+    reached one and the result is kept as it is (the studies' rule, issue 39).
+
+    Parameters
+    ----------
+    robot : Robot
+    res : dict
+        ``solve``'s result (not modified).
+    engine : {"compiled", "numpy"}, optional
+        The engine of the continuation (``reach``).
+    threads : int, optional
+    **start
+        ``reach``'s start options.
+
+    Returns
+    -------
+    dict
+        ``res`` with ``REACHED_KEYS`` of the reached equilibrium at the points not unique, and
+        n_folds (N,) int (folds crossed on the way), reached_is_global (N,) bool (within
+        ``equilibrium.DISTINCT`` of the lowest energy found), folds (N lists of dicts) and
+        continued (N,) bool (the points continued).
+    """
+    out = dict(res)
+    n = len(res["P_s"])
+    multiple = ~np.asarray(res.get("unique", np.ones(n, dtype=bool)), dtype=bool)
+    out["n_folds"] = np.zeros(n, dtype=np.int32)
+    out["reached_is_global"] = np.ones(n, dtype=bool)
+    out["folds"] = [[] for _ in range(n)]
+    out["continued"] = multiple.copy()
+    idx = np.flatnonzero(multiple)
+    if idx.size == 0:
+        return out
+    r = reach(
+        robot, res["p"][idx], res["rotvec"][idx], L0=res["L0"][idx], engine=engine, threads=threads, **start
+    )
+    for key in REACHED_KEYS:
+        if key in res:
+            out[key] = np.array(res[key], copy=True)
+            out[key][idx] = r[key]
+    out["n_folds"][idx] = r["n_folds"]
+    out["reached_is_global"][idx] = (
+        continuation.pose_distance(r["P_s"], r["R_s"], res["P_s"][idx], res["R_s"][idx])
+        <= equilibrium.DISTINCT
+    )
+    for k, i in enumerate(idx):
+        out["folds"][i] = r["folds"][k]
+    return out
 
 
 def solve_batch(

@@ -13,7 +13,7 @@ import pandas as pd
 
 from cdpr.models import sensitivity
 from cdpr.models.results import STATUSES, TAUT_MIN, pose_columns, subset_codes, taut_labels
-from cdpr.solve import check_engine, check_redundancy, solve
+from cdpr.solve import check_engine, check_equilibrium, check_redundancy, reach_where_multiple, solve
 
 
 def to_frame(robot, res, redundancy="paper", rotvec=None):
@@ -99,7 +99,8 @@ def _frame(robot, res, redundancy):
 def to_frame6(robot, res):
     """One row per pose of an ``equilibrium.solve`` result: the physical mode's columns
     (x, y, z, x_s, y_s, z_s, dp, t1..tm, taut, n_taut, iterations, status) and rx, ry, rz
-    (desired) and rx_s, ry_s, rz_s (reached) rotation vectors [rad], dphi [rad], unique.
+    (desired) and rx_s, ry_s, rz_s (reached) rotation vectors [rad], dphi [rad], unique; and
+    n_folds, reached_is_global where ``res`` has them (``solve.reach_where_multiple``).
 
     Parameters
     ----------
@@ -113,6 +114,9 @@ def to_frame6(robot, res):
     """
     df = _frame(robot, res, "physical")
     _orientation_columns(df, res["rotvec"], res["rotvec_s"], res["dphi"], res["unique"])
+    if "n_folds" in res:  # continued where the equilibrium is not unique (solve.reach_where_multiple)
+        df["n_folds"] = res["n_folds"]
+        df["reached_is_global"] = res["reached_is_global"]
     return df
 
 
@@ -144,6 +148,7 @@ def solve_table(
     threads=None,
     redundancy=None,
     L0=None,
+    equilibrium=None,
     **options,
 ):
     """Solve poses of any robot (``solve.solve``) as a DataFrame (``to_frame``).
@@ -169,6 +174,11 @@ def solve_table(
         default paper for a point mass, physical for a rigid platform (``solve.check_redundancy``).
     L0 : array (N, m) [m], optional
         Commanded rest lengths, physical mode only.
+    equilibrium : {"reached", "global"}, optional
+        Physical mode's answer where the restarts find more than one equilibrium: the one reached
+        by continuation (default, ``solve.reach_where_multiple``; the table then gets the columns
+        n_folds and reached_is_global) or the lowest energy (``global``). Where every point's
+        equilibrium is unique the two are the same and the table is as before.
     **options
         ``rotvec`` (a fixed orientation [rad], (3,) or (N, 3)) and the solver's options.
 
@@ -180,6 +190,10 @@ def solve_table(
     run = {"method": method, "threads": threads, "redundancy": redundancy}
     if redundancy != "paper" or L0 is not None or not robot.suspended_point_mass or "rotvec" in options:
         res = solve(robot, p, engine=engine, L0=L0, **run, **options)
+        multiple = redundancy == "physical" and "unique" in res and not np.all(res["unique"])
+        if multiple and check_equilibrium(equilibrium) == "reached":  # issue 39
+            engine = None if robot.heavy else check_engine(engine, "newton")
+            res = reach_where_multiple(robot, res, engine=engine, threads=threads)
         return to_frame(robot, res, redundancy, options.get("rotvec"))
     engine = check_engine(engine, method)
     if engine == "compiled":

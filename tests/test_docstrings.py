@@ -32,6 +32,7 @@ MODEL_MODULES = [
     "models.cables",
     "models.interference",
     "analyses.interference",
+    "models.continuation",
 ]
 
 #: A numpy section header: a title line underlined by dashes of the same length.

@@ -524,6 +524,7 @@ def cmd_point(args):
         )
 
     if args.points or args.out:
+        from cdpr.cli import reached  # lazy: a table of points only
         from cdpr.tables import to_frame  # lazy: a table of points only (pandas)
 
         tally = Tally()
@@ -534,7 +535,8 @@ def cmd_point(args):
 
         def chunk(P, rv):
             n_zero[0] += int(_zero_length(robot, P, rv, L0, args.redundancy).any(axis=1).sum())
-            return tally.add(to_frame(robot, solve(P, rv), args.redundancy, rotvec=rv))
+            res = reached.table_answer(robot, args, solve(P, rv), engine)  # issue 39
+            return tally.add(to_frame(robot, res, args.redundancy, rotvec=rv))
 
         _write_chunks(args, points, chunk, "point")
         _report(tally, args.out, args, float("nan"))
@@ -543,6 +545,14 @@ def cmd_point(args):
     P, rv = points.first()
     zero = _zero_length(robot, P, rv, L0, args.redundancy)
     res = solve(P, rv)
+    two = None
+    if args.redundancy == "physical" and not args.sensitivities and not zero.any():  # issue 39: reached
+        from cdpr.cli import reached  # lazy: physical mode at one pose only
+
+        res_reached = reached.reach_point(robot, args, P, rv, L0, engine)
+        two = reached.both(robot, res_reached, res, rigid="rotvec_s" in res)
+        if args.equilibrium == "reached":
+            res = reached.answer(res, res_reached)
     t = res["t"][0]
     out = {
         "desired": list(map(float, args.at)),
@@ -561,6 +571,8 @@ def cmd_point(args):
     out["interference_free"] = interference_free(robot, out["solved"], out.get("solved_rotvec"))
     if "unique" in res:
         out.update(unique=bool(res["unique"][0]), alternatives=res["alternatives"][0])
+    if two is not None:
+        out.update(equilibrium=args.equilibrium, **two)
     reason = _zero_length_reason(zero[0])
     if reason is not None:  # no equilibrium model there: no uniqueness to claim either
         out["reason"] = reason
@@ -595,6 +607,11 @@ def cmd_point(args):
     print("  tensions   [N] : " + ", ".join("slack" if v is None else f"{v:.2f}" for v in out["tensions"]))
     if args.redundancy == "physical":
         print(f"  taut cables    : {'-'.join(map(str, out['taut'])) or '-'}")
+        if two is not None:  # the reached equilibrium and the global one (issue 39)
+            from cdpr.cli.reached import text  # lazy: physical mode at one pose only
+
+            print(f"  answer         : the {args.equilibrium} equilibrium")
+            print("\n".join(text(out)))
     else:
         print(f"  subset         : {subset_label(res['subset'][0]) or '-'}")
     print(f"  status         : {out['status']}  ({out['iterations']} iterations)")

@@ -269,3 +269,49 @@ def sensitivity_options(sp):
 def groups(text):
     """argparse type: comma-separated parameter group names (checked by the calibration itself)."""
     return [g.strip() for g in text.split(",") if g.strip()]
+
+
+def reached_options(sp):
+    """--equilibrium and the start of the reached equilibrium (physical mode; docs/interference.md):
+    --t-min/--t-max of the compensated start, or --from X Y Z [--from-rotvec] --from-lengths."""
+    sp.add_argument(
+        "--equilibrium",
+        choices=("reached", "global"),
+        default="reached",
+        help="physical mode's answer: reached (default), the equilibrium the robot reaches when its rest lengths move "
+        "continuously from a known equilibrium to the commanded ones; global: the lowest energy over restarts",
+    )
+    sp.add_argument(
+        "--t-min",
+        type=non_negative,
+        metavar="N",
+        help="least tension of the start's compensated lengths [N] (default: the robot's min_tension_N, 100 where it is 0)",
+    )
+    sp.add_argument(
+        "--t-max",
+        type=positive,
+        metavar="N",
+        help="largest tension of the start's compensated lengths [N] (default: each cable's admissible tension)",
+    )
+    sp.add_argument(
+        "--from",
+        dest="from_p",
+        nargs=3,
+        type=finite,
+        metavar=("X", "Y", "Z"),
+        help="start of the continuation: the robot at equilibrium near this position [m] under --from-lengths",
+    )
+    sp.add_argument(
+        "--from-rotvec",
+        nargs=3,
+        type=finite,
+        metavar=("RX", "RY", "RZ"),
+        help="the start's orientation, a rotation vector [rad] (default identity)",
+    )
+    sp.add_argument(
+        "--from-lengths",
+        nargs="+",
+        type=positive,
+        metavar="L",
+        help="the start's rest lengths per cable [m] (with --from)",
+    )

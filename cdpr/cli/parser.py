@@ -25,6 +25,7 @@ from cdpr.cli.options import (
     points_options,
     positive,
     quiet_option,
+    reached_options,
     robot_options,
     rotvec_option,
     sensitivity_options,
@@ -87,6 +88,7 @@ def build_parser(jobs=True):
         "mapped to rest lengths by the spool model",
     )
     sensitivity_options(sp)
+    reached_options(sp)
     sp.set_defaults(run=("cdpr.cli.commands", "cmd_point"))
     sp = sub.add_parser(
         "compensate",

@@ -346,6 +346,39 @@ def _newton(cab, p0, R0, L0, p_ref, tol, maxiter, max_step):
     return p, R, cur, iters, conv
 
 
+def local_newton(cab, p0, R0, L0, p_ref, tol, maxiter, max_step):
+    """The local solver of the equilibrium, no restarts: the line-searched semismooth Newton
+    iteration of this module (its docstring gives the equations) from given poses, as the
+    continuation of the reached equilibrium (``continuation``) steps it.
+
+    Parameters
+    ----------
+    cab : Cables
+    p0 : ndarray (N, 3) [m]
+        Start positions.
+    R0 : ndarray (N, 3, 3) [-]
+        Start orientations (not modified).
+    L0 : ndarray (N, m) [m]
+        Rest lengths.
+    p_ref : ndarray (N, 3) [m]
+        The energy's origin (the desired positions).
+    tol, maxiter, max_step : float [m], int, float [m]
+        Stop rules (``stop_rules``).
+
+    Returns
+    -------
+    p : ndarray (N, 3) [m]
+    R : ndarray (N, 3, 3) [-]
+    cur : dict
+        F, M (N, 3) [N, N m], t (N, m) [N], merit (N,) [J], J (N, 6, 6) at the last pose.
+    iters : ndarray (N,) int32
+    conv : ndarray (N,) bool
+    """
+    return _newton(
+        cab, np.asarray(p0, dtype=float), np.array(R0, dtype=float), L0, p_ref, tol, maxiter, max_step
+    )
+
+
 def solve(
     robot, p, rotvec=None, L0=None, P0=None, tol=None, maxiter=None, max_step=None, restarts=True, heavy=None
 ):

@@ -170,6 +170,10 @@ def test_point_physical_json_and_commanded_lengths(capsys):
         "iterations",
         "engine",
         "interference_free",
+        "equilibrium",
+        "reached",
+        "global",
+        "reached_is_global",
         "warnings",
     }
     assert out["status"] == "ok" and out["taut"] == [1, 2, 3, 4] and all(t > 0 for t in out["tensions"])
