@@ -29,6 +29,7 @@ from cdpr.models.catenary import (
     cable_state,
     cable_stiffness,
     sag,
+    span_for_tension,
 )
 from cdpr.models.inverse import pulley_args
 from cdpr.models.platform import skew
@@ -221,6 +222,91 @@ class HeavyCables(Cables):
             "state": st,
             "swivel": swivel,
             "e_perp": e_perp,
+            "iterations": it,
+        }
+
+    def inverse(self, p, R, t, maxiter=60):
+        """The heavy inverse of every cable at poses: the exit points D_i, the catenaries that carry
+        the tensions t_i at B_i (``catenary.span_for_tension``) and the whole cables' rest lengths
+        L0_i = L0_free,i + l_dead,i / (1 + T_D,i/EA_i) (``catenary.cable_state``'s split), with the
+        pulley coupling of ``exit_points`` (D_i where the catenary's end tangent touches the sheave,
+        solved by the same fixed point). ``exit_points`` under these L0 gives back the same D_i and
+        the tensions t_i at B_i.
+
+        Parameters
+        ----------
+        p : ndarray (N, 3) [m]
+            Platform positions.
+        R : ndarray (N, 3, 3) [-]
+            Platform orientations.
+        t : ndarray (N, m) [N]
+            Tensions at B_i (> 0).
+        maxiter : int
+            Cap of the fixed point's iterations (SR pulleys).
+
+        Returns
+        -------
+        dict
+            r (N, m, 3) [m] = R b_i; D (N, m, 3) [m]; l_h, l_v (N, m) [m]; e_h (N, m, 3); H, V_B,
+            V_D, T_D (N, m) [N]; f (N, m, 3) [-] the unit force on the platform at B_i; L0_free, L0
+            (N, m) [m]; l_dead (N, m) [m]; gamma (N, m) [rad]; converged (N, m) bool;
+            iterations (fixed point).
+        """
+        t = np.asarray(t, dtype=float)
+        r = np.einsum("nab,mb->nma", R, self.b)
+        B = p[:, None, :] + r
+        ps = pulley_state(B, *self.args, per_cable=True)
+        k = np.broadcast_to(self.axis, B.shape)
+        e_s = ps.e_s3
+        Hc, D = ps.H, ps.D
+        KH = ps.K - Hc
+        theta_K = np.arctan2(np.einsum("nma,nma->nm", KH, k), np.einsum("nma,nma->nm", KH, e_s))
+        gamma = ps.gamma
+        it = 0
+        for it in range(1, maxiter + 1):
+            v, l_h, l_v, e_h = self._spans(D, B)
+            H, V_B, L0f, conv, _ = span_for_tension(l_h, l_v, t, self.w, self.EA)
+            V_D = V_B + self.w * L0f
+            T_D = np.hypot(H, V_D)
+            if not self.sr:
+                break
+            with np.errstate(invalid="ignore", divide="ignore"):
+                u = -(H[..., None] * e_h + V_D[..., None] * self.up) / T_D[..., None]
+            n_s = -np.einsum("nma,nma->nm", u, k)
+            n_w = np.einsum("nma,nma->nm", u, e_s)
+            ok = (T_D > 0.0) & np.isfinite(n_s) & np.isfinite(n_w)
+            D_new = np.where(
+                ok[..., None], Hc + self.r_p[:, None] * (n_s[..., None] * e_s + n_w[..., None] * k), D
+            )
+            gamma = np.where(ok, np.mod(theta_K - np.arctan2(n_w, n_s), TWO_PI), gamma)
+            moved = np.linalg.norm(D_new - D, axis=-1).max(initial=0.0)
+            D = D_new
+            if moved <= 1e-15 * (1.0 + float(np.abs(v).max(initial=0.0))):
+                v, l_h, l_v, e_h = self._spans(D, B)
+                H, V_B, L0f, conv, _ = span_for_tension(l_h, l_v, t, self.w, self.EA)
+                V_D = V_B + self.w * L0f
+                T_D = np.hypot(H, V_D)
+                break
+        ell = ps.l_d + self.r_p * gamma
+        with np.errstate(invalid="ignore"):
+            L0 = L0f + ell * np.where(np.isinf(self.EA), 1.0, self.EA / (self.EA + T_D))
+            f = (H[..., None] * e_h + V_B[..., None] * self.up) / t[..., None]
+        return {
+            "r": r,
+            "D": D,
+            "l_h": l_h,
+            "l_v": l_v,
+            "e_h": e_h,
+            "H": H,
+            "V_B": V_B,
+            "V_D": V_D,
+            "T_D": T_D,
+            "f": f,
+            "L0_free": L0f,
+            "L0": L0,
+            "l_dead": ell,
+            "gamma": gamma,
+            "converged": conv,
             "iterations": it,
         }
 
