@@ -21,7 +21,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from cdpr.errors import CdprError
 from cdpr.models.catenary import (
     angle_f_deg,
     arc_minus_chord,
@@ -33,7 +32,7 @@ from cdpr.models.catenary import (
 )
 from cdpr.models.inverse import pulley_args
 from cdpr.models.platform import skew
-from cdpr.models.pulleys import SWIVEL_RHO_MIN, TWO_PI, pulley_state, total_length_and_direction
+from cdpr.models.pulleys import SWIVEL_RHO_MIN, pulley_state, total_length_and_direction
 from cdpr.models.statics import direction_gradient, length_gradient
 
 #: A point is balanced when |F| <= FTOL_REL |w_ext|.
@@ -111,18 +110,19 @@ class HeavyCables(Cables):
     point D_i (``catenary.cable_state``, H toward D_i horizontally and V_B up, "up" against gravity),
     the dead length and the wrapped arc carrying the tension at D_i (their weight neglected).
 
-    Pulley coupling (``exit_points``): the cable leaves the sheave along the catenary's end tangent
-    at D_i, tangent to the sheave circle in the sheave plane, D_i = H_i + r_p n with n the in-plane
-    normal of that tangent on the cable's side of the sheave; the wrap gamma_i runs from the entry
-    point K_i (the tangent from the winch exit, as in the massless model) to D_i, and the dead part's
-    stretched length is |l_d| + r_p gamma. D_i and the catenary are solved together by a fixed point
-    (its contraction is of the order r_p / |B_i - D_i|). Fixed pulleys (D_i = A_i) and SR pulleys
-    with swivel axes along gravity (up or down: the sheave plane is then the catenary's vertical
-    plane) so far; DR pulleys and other axes are refused in one line. With w = 0 it is the massless
-    model computed through the catenary (``heavy=True`` of ``solve``, for the tests).
+    Pulley coupling (``exit_points``, ``_couple``): the cable leaves the sheave along the catenary's
+    end tangent u_i at D_i, tangent to the sheave circle in the sheave plane. D_i is the tangent point,
+    in the massless pulley model (``pulleys.pulley_state``), of the virtual point
+    P*_i = D_i + |B_i - D_i| u_i on that tangent line: the sheave plane then contains the swivel
+    axis and u_i (the swivel angle that puts the end tangent in the sheave plane, for any axis), and
+    a DR arm bisects the strand to the winch and the direction of P*_i (Paty 2021's rule with P*_i for
+    B_i). The wrap gamma_i and |l_d| are the massless model's at P*_i, and the dead part's stretched
+    length is |l_d| + r_p gamma. A fixed point on P*_i from B_i (its contraction is of the order
+    r_p / |B_i - D_i|). Fixed, SR and DR pulleys, any swivel axis. With w = 0, P*_i = B_i: the
+    massless model computed through the catenary (``heavy=True`` of ``solve``, for the tests).
 
     The Jacobian takes D_i's turn with the swivel (the plane follows B_i) but not its slide on the
-    sheave (of relative size r_p / |B_i - D_i|): Newton's convergence is then linear with that
+    sheave nor a DR arm's turn (of relative size r_p / |B_i - D_i|): Newton's convergence is then linear with that
     factor near the solution; the stop rule is on the force balance itself, so the answer is not
     affected. The merit is the energy (``catenary.cable_energy`` plus the free span's weight at the
     exit point's height above A_i): for fixed pulleys its gradient is minus the wrench exactly;
@@ -135,19 +135,9 @@ class HeavyCables(Cables):
         a = robot.arrays
         down = np.asarray(robot.platform.down, dtype=float)
         self.up = -down / np.linalg.norm(down)
-        along = np.abs(a.axis @ self.up)
-        bad = (a.kind == 2) | ((a.kind == 1) & (along < 1.0 - 1e-12))
-        if bad.any():
-            raise CdprError(
-                f"{robot.source}: heavy cables (cable.linear_density_kg_m > 0) are modelled with fixed pulleys and "
-                "with SR pulleys whose swivel axes lie along gravity only so far; cable "
-                f"{int(np.flatnonzero(bad)[0]) + 1} has a "
-                + ("DR pulley" if a.kind[np.flatnonzero(bad)[0]] == 2 else "swivel axis off the vertical")
-                + " (docs/heavy_cables.md)"
-            )
         self.A, self.w, self.EA = a.A, a.w, a.ES
         self.axis, self.r_p = a.axis, a.r_p
-        self.sr = bool((a.kind == 1).any())
+        self.pulleys = bool((a.kind != 0).any())
 
     def exit_points(self, p, R, L0, maxiter=60):
         """The exit points D_i and the catenaries at poses (p (N, 3), R (N, 3, 3)) under rest
@@ -174,55 +164,68 @@ class HeavyCables(Cables):
         """
         r = np.einsum("nab,mb->nma", R, self.b)
         B = p[:, None, :] + r
-        ps = pulley_state(B, *self.args, per_cable=True)
+        box = {"start": None}
+
+        def span(l_h, l_v, ell):
+            st = cable_state(l_h, l_v, L0, ell, self.w, self.EA, start=box["start"])
+            box["start"] = (st.span.H, st.span.V_B)
+            return st, st.span.H, st.span.V_D, st.span.T_D
+
+        x = self._couple(B, span, maxiter)
+        x.update(r=r)
+        return x
+
+    def _couple(self, B, span, maxiter):
+        """The pulley coupling at the attachment points B (N, m, 3) for the span solver ``span``
+        ((l_h, l_v, l_dead) -> (solved, H, V_D, T_D)): the exit point D_i is the tangent point, on
+        the sheave of the massless pulley model, of the virtual point P*_i = D_i + |B_i - D_i| u_i on
+        the catenary's end tangent u_i at D_i (toward the platform); so the sheave plane contains the
+        swivel axis and u_i (the swivel angle that puts the end tangent in the sheave plane, any axis),
+        u_i touches the sheave circle at D_i, and a DR arm bisects the strand to the winch and the
+        direction of P*_i (Paty 2021's rule, with P*_i for B_i). At w = 0, P*_i = B_i: the massless
+        model. Fixed point on P*_i from B_i, contraction of the order r_p / |B_i - D_i|."""
         k = np.broadcast_to(self.axis, B.shape)
-        e_s = ps.e_s3
-        Hc, D = ps.H, ps.D
-        KH = ps.K - Hc
-        theta_K = np.arctan2(np.einsum("nma,nma->nm", KH, k), np.einsum("nma,nma->nm", KH, e_s))
-        gamma = ps.gamma
-        ell = ps.l_d + self.r_p * gamma
-        start = None
+        Pv = B
         it = 0
         for it in range(1, maxiter + 1):
-            v, l_h, l_v, e_h = self._spans(D, B)
-            st = cable_state(l_h, l_v, L0, ell, self.w, self.EA, start=start)
-            sp = st.span
-            start = (sp.H, sp.V_B)
-            if not self.sr:
+            ps = pulley_state(Pv, *self.args, per_cable=True)
+            ell = ps.l_d + self.r_p * ps.gamma
+            v, l_h, l_v, e_h = self._spans(ps.D, B)
+            st, H, V_D, T_D = span(l_h, l_v, ell)
+            if not self.pulleys:
                 break
             with np.errstate(invalid="ignore", divide="ignore"):
-                u = -(sp.H[..., None] * e_h + sp.V_D[..., None] * self.up) / sp.T_D[..., None]
-            n_s = -np.einsum("nma,nma->nm", u, k)
-            n_w = np.einsum("nma,nma->nm", u, e_s)
-            ok = (sp.T_D > 0.0) & np.isfinite(n_s) & np.isfinite(n_w)
-            D_new = np.where(
-                ok[..., None], Hc + self.r_p[:, None] * (n_s[..., None] * e_s + n_w[..., None] * k), D
-            )
-            gamma = np.where(ok, np.mod(theta_K - np.arctan2(n_w, n_s), TWO_PI), gamma)
-            ell = ps.l_d + self.r_p * gamma
-            moved = np.linalg.norm(D_new - D, axis=-1).max(initial=0.0)
-            D = D_new
+                u = -(H[..., None] * e_h + V_D[..., None] * self.up) / T_D[..., None]
+            ok = (T_D > 0.0) & np.isfinite(u).all(axis=-1)
+            Pv_new = np.where(ok[..., None], ps.D + np.linalg.norm(v, axis=-1)[..., None] * u, B)
+            moved = np.linalg.norm(Pv_new - Pv, axis=-1).max(initial=0.0)
+            Pv = Pv_new
             if moved <= 1e-15 * (1.0 + float(np.abs(v).max(initial=0.0))):
-                v, l_h, l_v, e_h = self._spans(D, B)
-                st = cable_state(l_h, l_v, L0, ell, self.w, self.EA, start=start)
+                ps = pulley_state(Pv, *self.args, per_cable=True)
+                ell = ps.l_d + self.r_p * ps.gamma
+                v, l_h, l_v, e_h = self._spans(ps.D, B)
+                st, H, V_D, T_D = span(l_h, l_v, ell)
                 break
+        e_s = ps.e_s3
         e_perp = np.cross(k, e_s)
-        Ds = np.einsum("nma,nma->nm", D - self.A, e_s)
-        swivel = np.where(ps.rho > SWIVEL_RHO_MIN, Ds / np.where(ps.rho > 0.0, ps.rho, 1.0), 0.0)
+        BA = B - self.A
+        rho = np.linalg.norm(BA - np.einsum("nma,nma->nm", BA, k)[..., None] * k, axis=-1)
+        Ds = np.einsum("nma,nma->nm", ps.D - self.A, e_s)
+        swivel = np.where(rho > SWIVEL_RHO_MIN, Ds / np.where(rho > 0.0, rho, 1.0), 0.0)
         return {
-            "r": r,
-            "D": D,
+            "D": ps.D,
             "v": v,
             "l_h": l_h,
             "l_v": l_v,
             "e_h": e_h,
             "l_dead": ell,
-            "gamma": gamma,
+            "gamma": ps.gamma,
             "state": st,
             "swivel": swivel,
             "e_perp": e_perp,
             "iterations": it,
+            "T_D": T_D,
+            "V_D": V_D,
         }
 
     def inverse(self, p, R, t, maxiter=60):
@@ -255,59 +258,34 @@ class HeavyCables(Cables):
         t = np.asarray(t, dtype=float)
         r = np.einsum("nab,mb->nma", R, self.b)
         B = p[:, None, :] + r
-        ps = pulley_state(B, *self.args, per_cable=True)
-        k = np.broadcast_to(self.axis, B.shape)
-        e_s = ps.e_s3
-        Hc, D = ps.H, ps.D
-        KH = ps.K - Hc
-        theta_K = np.arctan2(np.einsum("nma,nma->nm", KH, k), np.einsum("nma,nma->nm", KH, e_s))
-        gamma = ps.gamma
-        it = 0
-        for it in range(1, maxiter + 1):
-            v, l_h, l_v, e_h = self._spans(D, B)
+
+        def span(l_h, l_v, ell):
             H, V_B, L0f, conv, _ = span_for_tension(l_h, l_v, t, self.w, self.EA)
             V_D = V_B + self.w * L0f
-            T_D = np.hypot(H, V_D)
-            if not self.sr:
-                break
-            with np.errstate(invalid="ignore", divide="ignore"):
-                u = -(H[..., None] * e_h + V_D[..., None] * self.up) / T_D[..., None]
-            n_s = -np.einsum("nma,nma->nm", u, k)
-            n_w = np.einsum("nma,nma->nm", u, e_s)
-            ok = (T_D > 0.0) & np.isfinite(n_s) & np.isfinite(n_w)
-            D_new = np.where(
-                ok[..., None], Hc + self.r_p[:, None] * (n_s[..., None] * e_s + n_w[..., None] * k), D
-            )
-            gamma = np.where(ok, np.mod(theta_K - np.arctan2(n_w, n_s), TWO_PI), gamma)
-            moved = np.linalg.norm(D_new - D, axis=-1).max(initial=0.0)
-            D = D_new
-            if moved <= 1e-15 * (1.0 + float(np.abs(v).max(initial=0.0))):
-                v, l_h, l_v, e_h = self._spans(D, B)
-                H, V_B, L0f, conv, _ = span_for_tension(l_h, l_v, t, self.w, self.EA)
-                V_D = V_B + self.w * L0f
-                T_D = np.hypot(H, V_D)
-                break
-        ell = ps.l_d + self.r_p * gamma
+            return (H, V_B, L0f, conv), H, V_D, np.hypot(H, V_D)
+
+        x = self._couple(B, span, maxiter)
+        (H, V_B, L0f, conv), ell, T_D = x["state"], x["l_dead"], x["T_D"]
         with np.errstate(invalid="ignore"):
             L0 = L0f + ell * np.where(np.isinf(self.EA), 1.0, self.EA / (self.EA + T_D))
-            f = (H[..., None] * e_h + V_B[..., None] * self.up) / t[..., None]
+            f = (H[..., None] * x["e_h"] + V_B[..., None] * self.up) / t[..., None]
         return {
             "r": r,
-            "D": D,
-            "l_h": l_h,
-            "l_v": l_v,
-            "e_h": e_h,
+            "D": x["D"],
+            "l_h": x["l_h"],
+            "l_v": x["l_v"],
+            "e_h": x["e_h"],
             "H": H,
             "V_B": V_B,
-            "V_D": V_D,
+            "V_D": x["V_D"],
             "T_D": T_D,
             "f": f,
             "L0_free": L0f,
             "L0": L0,
             "l_dead": ell,
-            "gamma": gamma,
+            "gamma": x["gamma"],
             "converged": conv,
-            "iterations": it,
+            "iterations": x["iterations"],
         }
 
     def _spans(self, D, B):

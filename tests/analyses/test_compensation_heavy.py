@@ -13,7 +13,7 @@ from cdpr.errors import CdprError
 from cdpr.models import equilibrium
 from cdpr.models.cables import HeavyCables
 from cdpr.models.platform import pose_arrays
-from cdpr.robot import load_robot
+from cdpr.robot import load_robot, with_pulleys
 
 RHO = 0.0631  # [kg/m] a 4 mm steel cable
 P4 = np.array([[0.3, -0.5, 2.0], [1.5, 1.2, 3.5], [0.0, 0.0, 1.0], [-1.8, 0.9, 4.2]])
@@ -31,11 +31,13 @@ def cogiro_heavy():
     return load_robot("config/robots/cogiro.yaml", linear_density=RHO)
 
 
-def test_point_mass_round_trip_from_away(cdpr4_heavy):
-    c = compensate(cdpr4_heavy, P4)
+@pytest.mark.parametrize("kind", ["SR", "DR", "fixed"])
+def test_point_mass_round_trip_from_away(cdpr4_heavy, kind):
+    r = with_pulleys(cdpr4_heavy, kind=kind)
+    c = compensate(r, P4)
     assert c["feasible"].all()
     assert (c["iterations"] >= 2).all() and (c["iterations"] <= 20).all()
-    res = equilibrium.solve(cdpr4_heavy, P4, L0=c["L0"], P0=P4 + [0.05, -0.04, 0.03])
+    res = equilibrium.solve(r, P4, L0=c["L0"], P0=P4 + [0.05, -0.04, 0.03])
     assert (res["status"] == "ok").all()
     assert np.linalg.norm(res["P_s"] - P4, axis=1).max() <= 1e-9
     np.testing.assert_allclose(res["t_B"], c["t"], rtol=1e-8)
