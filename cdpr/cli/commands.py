@@ -21,10 +21,11 @@ import numpy as np
 
 from cdpr import io
 from cdpr.analyses.workspace import BYTES_PER_POINT
+from cdpr.cli import heavy
 from cdpr.cli.options import MAX_COORDINATE_M
 from cdpr.errors import CdprError
 from cdpr.plausibility import plausibility_warnings
-from cdpr.robot import load_robot, require_massless
+from cdpr.robot import load_robot
 
 #: The columns of a ``--points`` table: the position [m] and, optional, the orientation [rad].
 POINT_COLUMNS = ("x", "y", "z", "rx", "ry", "rz")
@@ -57,11 +58,6 @@ def emit_json(out, args):
     print(json.dumps(io.clean_json(out), indent=2, allow_nan=False))
 
 
-#: The commands that model heavy cables (``cable.linear_density_kg_m`` > 0, docs/heavy_cables.md);
-#: the others refuse them in one line (``robot.require_massless``).
-HEAVY_COMMANDS = ("cmd_inverse", "cmd_point", "cmd_compensate")
-
-
 def _load(args):
     """The robot of --robot with the command line's overrides, checked for plausibility; a
     --redundancy left out becomes the robot's default (``Robot.default_redundancy``: paper mode for
@@ -80,11 +76,7 @@ def _load(args):
         ),
         args,
     )
-    command = getattr(args, "run", ("", "this command"))[1]
-    if command not in HEAVY_COMMANDS:
-        require_massless(robot, "cdpr " + command.removeprefix("cmd_"))
-    elif robot.heavy and getattr(args, "engine", None) is None and hasattr(args, "engine"):
-        args.engine = "numpy"  # heavy cables: the numpy reference (no compiled kernel here yet)
+    heavy.check(robot, args)  # heavy cables: refused in one line where not modelled
     if hasattr(args, "redundancy") and args.redundancy is None:
         args.redundancy = robot.default_redundancy
     return robot
@@ -288,18 +280,11 @@ def cmd_inverse(args):
         gamma, alpha = np.where(pulley, st.gamma, np.nan), np.where(pulley, st.alpha, np.nan)
         return lts, st, np.where(pulley, sw, np.nan), over, gamma, alpha
 
-    if args.tensions is not None:
-        if args.points or args.out:
-            raise CdprError("--tensions takes one pose (--at), not a table of points (--points/--out)")
-        if len(args.tensions) != robot.m:
-            raise CdprError(f"--tensions needs one tension per cable ({robot.m}), got {len(args.tensions)}")
-        return _inverse_tensions(args, robot, *points.first())
-    if robot.heavy:
-        print(
-            "cdpr: note: heavy cables (cable.linear_density_kg_m > 0): this is the massless geometry (straight "
-            "cables); give --tensions T1 ... Tm (at the platform) for the catenaries",
-            file=sys.stderr,
-        )
+    done = heavy.inverse_heavy(args, robot, points) if args.tensions is not None or robot.heavy else None
+    if done is not None:  # --tensions: the cables under those tensions
+        out, title, table = done
+        emit_json(out, args) if args.json else print(title + "\n" + text_table(*table))
+        return
     if args.points or args.out:
         import pandas as pd  # lazy: a table of points only
 
@@ -402,58 +387,6 @@ def cmd_inverse(args):
         print(
             "warning: P (or the winch exit) lies inside a sheave circle for the cables marked INSIDE: no tangent exists, their lengths are clipped"
         )
-
-
-def _inverse_tensions(args, robot, P, rv):
-    """``inverse --tensions``: each cable under its tension at the platform B_i
-    (``cables.HeavyCables.inverse``): the catenary from B_i to the exit point D_i, the wrap and the
-    rest length that stretches to it (a massless robot: the straight cable and Hooke's rest length)."""
-    from cdpr.models.cables import HeavyCables, heavy_cables  # lazy: --tensions only
-    from cdpr.models.platform import pose_arrays  # lazy: --tensions only
-
-    p, R = pose_arrays(P, None if robot.point_mass else rv)
-    cab = HeavyCables(robot)
-    t = np.array([args.tensions], dtype=float)
-    inv = cab.inverse(p, R, t)
-    if not inv["converged"].all():
-        bad = [int(i) + 1 for i in np.flatnonzero(~inv["converged"][0])]
-        raise CdprError(f"--tensions: no catenary carries the tension given for cables {bad} at this pose")
-    h = heavy_cables(cab, p, R, inv["L0"])
-    out = [
-        {
-            "cable": i + 1,
-            "L0": float(inv["L0"][0, i]),
-            "L0_free": float(inv["L0_free"][0, i]),
-            "D": inv["D"][0, i].tolist(),
-            "wrap": float(inv["gamma"][0, i]) if robot.kind[i] != 0 else None,
-            **{
-                key: (str(h[k][0, i]) if k == "cable_status" else float(h[k][0, i]))
-                for key, k in HEAVY_CABLE_JSON
-            },
-        }
-        for i in range(robot.m)
-    ]
-    if args.json:
-        emit_json(out, args)
-        return
-    print(
-        f"{robot.name} ({robot.pulley_summary()}, {robot.dead_length_summary()}) at P = {args.at} m, cables under --tensions"
-    )
-    rows = [
-        [
-            str(o["cable"]),
-            f"{o['L0']:.6f}",
-            f"{o['tension_B_N']:.2f}",
-            f"{o['tension_D_N']:.2f}",
-            f"{1e3 * o['sag_m']:.2f}",
-            f"{o['angle_f_deg']:.3f}",
-            _vec(o["D"]),
-            o["status"],
-        ]
-        for o in out
-    ]
-    headers = ["cable", "rest length L0 [m]", "T at B [N]", "T at D [N]", "sag [mm]", "force vs chord [deg]"]
-    print(text_table(rows, headers + ["D [m]", "status"]))
 
 
 def _solve_sensitivities(robot, P, args, L0=None, rv=None, engine=None):
@@ -605,9 +538,7 @@ def cmd_point(args):
     if "rotvec_s" in res or rv is not None:
         out["solved_rotvec"] = (res["rotvec_s"][0] if "rotvec_s" in res else rv[0]).tolist()
         out["dphi"] = float(res["dphi"][0]) if "dphi" in res else 0.0
-    if "t_D" in res:  # heavy cables: tensions at B (above), at the exit points D, and each cable's sag
-        out["tensions_D"] = [None if np.isnan(v) else float(v) for v in res["t_D"][0]]
-        out["sag_m"] = [None if np.isnan(v) else float(v) for v in res["sag"][0]]
+    heavy.point_json(out, res)  # heavy cables: tensions at the exit points D and sags
     if args.redundancy == "physical":
         out["taut"] = [int(i) + 1 for i in np.flatnonzero(res["taut"][0])]
     else:
@@ -648,13 +579,7 @@ def cmd_point(args):
     if "dphi" in out:
         print(f"  rotvec*  [rad] : {fmt(out['solved_rotvec'])}   dphi [rad]: {out['dphi']:.6g}")
     print("  tensions   [N] : " + ", ".join("slack" if v is None else f"{v:.2f}" for v in out["tensions"]))
-    if "sag_m" in out:
-        print(
-            "  tensions at D  : " + ", ".join("nan" if v is None else f"{v:.2f}" for v in out["tensions_D"])
-        )
-        print(
-            "  sag       [mm] : " + ", ".join("nan" if v is None else f"{1e3 * v:.2f}" for v in out["sag_m"])
-        )
+    heavy.point_text(out)
     if args.redundancy == "physical":
         print(f"  taut cables    : {'-'.join(map(str, out['taut'])) or '-'}")
     else:
@@ -783,7 +708,7 @@ def cmd_compensate(args):
         "engine": engine,
         "interference_free": free,
     }
-    _heavy_cables_json(out, res)
+    heavy.compensate_json(out, res)
     if all(w is not None for w in robot.winches):
         from cdpr.models.drive import drum_angles  # lazy: robots with winches only
 
@@ -806,7 +731,7 @@ def cmd_compensate(args):
         [str(i + 1), f"{L:.6f}", f"{t:.2f}"] for i, (L, t) in enumerate(zip(out["lengths"], out["tensions"]))
     ]
     headers = ["cable", "rest length L0 [m]", "planned tension [N]"]
-    rows, headers = _heavy_columns(out, rows, headers)
+    rows, headers = heavy.compensate_columns(out, rows, headers)
     if "q" in out:
         rows = [r + [f"{a:.6f}", f"{b:.6f}"] for r, a, b in zip(rows, out["q"], out["q_no_winch"])]
         headers += ["drum angle q [rad]", "q neglecting the winch [rad]"]
@@ -818,51 +743,6 @@ def cmd_compensate(args):
     print(
         f"status: {status}; commanded to {check}, the platform settles {out['dp_norm']:.3g} m from the desired point"
     )
-
-
-#: ``compensate --json``'s per-cable keys with heavy cables and the keys of ``cables.heavy_cables``.
-HEAVY_CABLE_JSON = (
-    ("tension_B_N", "t_B"),
-    ("tension_D_N", "t_D"),
-    ("H_N", "H"),
-    ("sag_m", "sag"),
-    ("arc_minus_chord_m", "arc_minus_chord"),
-    ("angle_f_deg", "angle_f_deg"),
-    ("status", "cable_status"),
-)
-
-
-def _heavy_columns(out, rows, headers):
-    """``compensate``'s text table with heavy cables: the tension at D, the sag and the angle of the
-    force at B to the chord per cable, and a note on the distribution's fixed point."""
-    if "cables" not in out:
-        return rows, headers
-    c = out["cables"]
-    rows = [
-        r + [f"{o['tension_D_N']:.2f}", f"{1e3 * o['sag_m']:.2f}", f"{o['angle_f_deg']:.3f}", o["status"]]
-        for r, o in zip(rows, c)
-    ]
-    print(
-        f"heavy cables: sag-consistent tension distribution (tensions at B), "
-        f"{out['distribution_iterations']} fixed-point iterations"
-    )
-    return rows, headers + ["tension at D [N]", "sag [mm]", "force vs chord [deg]", "cable"]
-
-
-def _heavy_cables_json(out, res):
-    """With heavy cables (``res`` of ``compensation.compensated_pose`` with planned_cables), add to
-    ``out`` (in place) ``cables``: one object per cable at the desired pose under the compensated
-    lengths (``HEAVY_CABLE_JSON``, issue 38's keys) and ``distribution_iterations``, the sag-consistent
-    distribution's fixed-point iterations."""
-    if "planned_cables" not in res:
-        return
-    h = res["planned_cables"]
-    num = lambda v: None if v != v else float(v)  # noqa: E731
-    out["cables"] = [
-        {key: (str(h[k][0, i]) if k == "cable_status" else num(h[k][0, i])) for key, k in HEAVY_CABLE_JSON}
-        for i in range(h["t_B"].shape[1])
-    ]
-    out["distribution_iterations"] = int(res["iterations_distribution"][0])
 
 
 #: The text report of ``compensate --at`` where no tension distribution exists (nothing is solved).
@@ -888,7 +768,7 @@ def _compensate_pose_report(args, robot, res, engine, free):
         "engine": engine,
         "interference_free": free,
     }
-    _heavy_cables_json(out, res)
+    heavy.compensate_json(out, res)
     if ok and any(p is not None for p in robot.spools):
         from cdpr.models.drive import spool_motor_angles  # lazy: robots with spools only
 
@@ -906,7 +786,7 @@ def _compensate_pose_report(args, robot, res, engine, free):
         [str(i + 1), f"{L:.6f}", f"{t:.2f}"] for i, (L, t) in enumerate(zip(out["lengths"], out["tensions"]))
     ]
     headers = ["cable", "rest length L0 [m]", "planned tension [N]"]
-    rows, headers = _heavy_columns(out, rows, headers)
+    rows, headers = heavy.compensate_columns(out, rows, headers)
     if "motor_deg" in out:
         rows = [r + [f"{a:.2f}"] for r, a in zip(rows, out["motor_deg"])]
         headers += ["motor angle [deg] (spool)"]

@@ -27,8 +27,9 @@ from cdpr.models.catenary import (
     cable_energy,
     cable_state,
     cable_stiffness,
+    flexibility,
     sag,
-    span_for_tension,
+    span_equations,
 )
 from cdpr.models.inverse import pulley_args
 from cdpr.models.platform import skew
@@ -230,7 +231,7 @@ class HeavyCables(Cables):
 
     def inverse(self, p, R, t, maxiter=60):
         """The heavy inverse of every cable at poses: the exit points D_i, the catenaries that carry
-        the tensions t_i at B_i (``catenary.span_for_tension``) and the whole cables' rest lengths
+        the tensions t_i at B_i (``span_for_tension``) and the whole cables' rest lengths
         L0_i = L0_free,i + l_dead,i / (1 + T_D,i/EA_i) (``catenary.cable_state``'s split), with the
         pulley coupling of ``exit_points`` (D_i where the catenary's end tangent touches the sheave,
         solved by the same fixed point). ``exit_points`` under these L0 gives back the same D_i and
@@ -429,3 +430,102 @@ def heavy_cables(cab, P, R, L0):
         "D": x["D"],
         "gamma": x["gamma"],
     }
+
+
+def span_for_tension(l_h, l_v, T_B, w, EA, rtol=1e-15, maxiter=50):
+    """The elastic catenary of given spans that carries the tension T_B at B (the heavy inverse of
+    one span, issue 38): its end forces H = T_B cos psi, V_B = T_B sin psi and its unstrained
+    length L0, the solution (psi, L0) of ``span_equations``(T_B cos psi, T_B sin psi, L0) =
+    (l_h, l_v) by Newton's method with the analytic Jacobian
+
+    .. math:: \\frac{\\partial(l_h, l_v)}{\\partial \\psi} = F\\,(-V_B, H), \\qquad
+        \\frac{\\partial(l_h, l_v)}{\\partial L_0} = \\left(\\frac{1}{EA} + \\frac{1}{T_D}\\right)(H, V_D)
+
+    (F the ``flexibility``; lengthening the span at D at fixed end forces at B adds an element
+    along the stretched tangent at D), started from the straight Hooke spring along the chord
+    (psi = atan2(l_v, l_h), L0 = chord / (1 + T_B/EA)), which is the answer at w = 0.
+
+    Parameters
+    ----------
+    l_h : array_like (...) [m]
+        Horizontal span from B to D (> 0).
+    l_v : array_like (...) [m]
+        Vertical span z_D - z_B.
+    T_B : array_like (...) [N]
+        Tension at B (> 0).
+    w : array_like (...) [N/m]
+        Weight per unstrained metre (>= 0).
+    EA : array_like (...) [N]
+        Axial stiffness (inf allowed).
+    rtol : float
+        Stop when the span residual is below rtol times the chord.
+    maxiter : int
+        Cap of Newton's iterations.
+
+    Returns
+    -------
+    H, V_B : ndarray (...) [N]
+        End forces on the platform at B (H toward D, V_B up).
+    L0 : ndarray (...) [m]
+        Unstrained length of the span.
+    converged : ndarray (...) bool
+        Newton reached the tolerance (False, and NaN outputs, where T_B <= 0 or l_h <= 0).
+    iterations : ndarray (...) int
+        Newton's iterations (0 at w = 0).
+
+    References
+    ----------
+    Irvine, H. M. (1981). Cable Structures. MIT Press, ch. 2.
+    """
+    l_h, l_v, T, w, EA = (
+        np.array(x)
+        for x in np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (l_h, l_v, T_B, w, EA)))
+    )
+    shape = l_h.shape
+    l_h, l_v, T, w, EA = (x.ravel() for x in (l_h, l_v, T, w, EA))
+    c = np.hypot(l_h, l_v)
+    ok = (T > 0.0) & (l_h > 0.0) & np.isfinite(T)
+    psi = np.arctan2(l_v, l_h)
+    with np.errstate(invalid="ignore"):
+        L0 = c * np.where(np.isinf(EA), 1.0, EA / (EA + np.where(ok, T, 0.0)))
+    it = np.zeros(l_h.size, dtype=np.int64)
+    done = ~ok | (w == 0.0)
+    for _ in range(maxiter):
+        if done.all():
+            break
+        a = ~done
+        H, V = T[a] * np.cos(psi[a]), T[a] * np.sin(psi[a])
+        xh, xv = span_equations(H, V, L0[a], w[a], EA[a])
+        rh, rv = xh - l_h[a], xv - l_v[a]
+        small = np.hypot(rh, rv) <= rtol * c[a]
+        F = flexibility(H, V, L0[a], w[a], EA[a])
+        V_D = V + w[a] * L0[a]
+        T_D = np.hypot(H, V_D)
+        with np.errstate(divide="ignore", invalid="ignore"):  # the stretched tangent at D
+            g = np.where(T_D > 0.0, 1.0 / EA[a] + 1.0 / T_D, 0.0)
+        gh, gv = g * H, g * V_D
+        j11 = -F[:, 0, 0] * V + F[:, 0, 1] * H
+        j21 = -F[:, 1, 0] * V + F[:, 1, 1] * H
+        det = j11 * gv - gh * j21
+        with np.errstate(divide="ignore", invalid="ignore"):
+            dpsi = -(gv * rh - gh * rv) / det
+            dL = -(-j21 * rh + j11 * rv) / det
+        dpsi = np.clip(np.where(np.isfinite(dpsi), dpsi, 0.0), -0.5, 0.5)
+        dL = np.where(np.isfinite(dL), dL, 0.0)
+        dL = np.maximum(dL, -0.5 * L0[a])
+        idx = np.flatnonzero(a)
+        step = ~small
+        psi[idx[step]] += dpsi[step]
+        L0[idx[step]] += dL[step]
+        it[idx[step]] += 1
+        done[idx[small]] = True
+    conv = done & ok
+    nan = np.where(conv, 1.0, np.nan)
+    H, V = T * np.cos(psi) * nan, T * np.sin(psi) * nan
+    return (
+        H.reshape(shape),
+        V.reshape(shape),
+        (L0 * nan).reshape(shape),
+        conv.reshape(shape),
+        it.reshape(shape),
+    )

@@ -1,4 +1,4 @@
-"""The heavy inverse of one span (``catenary.span_for_tension``) and of every cable at a pose
+"""The heavy inverse of one span (``cables.span_for_tension``) and of every cable at a pose
 (``cables.HeavyCables.inverse``, issue 38): the span solved forward from the length found carries
 the tension asked for at B (random spans, U-shaped, exit points below the attachment, EA = inf),
 w = 0 is Hooke's spring in closed form, and the exit points and rest lengths of the inverse give back
@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from cdpr.models import catenary as cat
-from cdpr.models.cables import HeavyCables
+from cdpr.models.cables import HeavyCables, span_for_tension
 from cdpr.models.platform import pose_arrays
 from cdpr.robot import load_robot, with_pulleys
 
@@ -23,7 +23,7 @@ def test_span_for_tension_round_trip():
     l_v = rng.uniform(-15.0, 25.0, n)
     # from the weight of a chord's length of cable (U-shaped spans) to 200 times it
     T = W * np.hypot(l_h, l_v) * rng.uniform(1.0, 200.0, n)
-    H, V, L0, ok, it = cat.span_for_tension(l_h, l_v, T, W, EA)
+    H, V, L0, ok, it = span_for_tension(l_h, l_v, T, W, EA)
     assert ok.all() and it.max() <= 30
     s = cat.span_state(l_h, l_v, L0, W, EA)
     np.testing.assert_allclose(s.T_B, T, rtol=1e-8)
@@ -33,10 +33,10 @@ def test_span_for_tension_round_trip():
 
 def test_span_for_tension_inextensible_and_weightless():
     l_h, l_v, T = np.array([4.0, 10.0]), np.array([3.0, -2.0]), np.array([200.0, 900.0])
-    H, V, L0, ok, _ = cat.span_for_tension(l_h, l_v, T, W, np.inf)
+    H, V, L0, ok, _ = span_for_tension(l_h, l_v, T, W, np.inf)
     assert ok.all()
     np.testing.assert_allclose(cat.span_state(l_h, l_v, L0, W, np.inf).T_B, T, rtol=1e-7)
-    H, V, L0, ok, it = cat.span_for_tension(l_h, l_v, T, 0.0, EA)
+    H, V, L0, ok, it = span_for_tension(l_h, l_v, T, 0.0, EA)
     assert ok.all() and (it == 0).all()
     c = np.hypot(l_h, l_v)
     np.testing.assert_allclose(L0, c / (1.0 + T / EA), rtol=1e-15)
@@ -45,7 +45,7 @@ def test_span_for_tension_inextensible_and_weightless():
 
 def test_span_for_tension_flags_what_it_cannot_solve():
     # no tension, and a cable hanging 10 m down from B with less tension at B than 10 m of its weight
-    _, _, L0, ok, _ = cat.span_for_tension([3.0, 3.0, 0.5], [1.0, 1.0, -10.0], [0.0, -5.0, 5.0 * W], W, EA)
+    _, _, L0, ok, _ = span_for_tension([3.0, 3.0, 0.5], [1.0, 1.0, -10.0], [0.0, -5.0, 5.0 * W], W, EA)
     assert not ok.any() and np.isnan(L0).all()
 
 
