@@ -59,7 +59,8 @@ test-docs-browser: $(STAMP)
 # results/comparison/; config/comparisons/paper_vs_physical.yaml).
 # The paper and physical studies write disjoint folders and read none of each other's files: they
 # run side by side, one core each (Snakemake scales each solver job's threads down to 1; the tables
-# do not depend on the thread count), the calibration studies after the paper study on its core.
+# do not depend on the thread count), the calibration studies and the Hangprinter study (real
+# data, results/hangprinter) after the paper study on its core.
 # On 2 cores that keeps both cores busy, where one 2-thread solver job at a time left part of them
 # idle (benchmarks/README.md). Both streams finish before the CoGiRo study, whose conclusions read
 # results/physical; a failure in either stops make with its exit status.
@@ -68,7 +69,7 @@ COMPARISON_RULES := budget_design budget comparison
 # the six short budget_design jobs (4-5 s each, a third of it start-up) one thread each, two at a
 # time on 2 cores: with the study's solver_threads (2) they ran one after the other
 COMPARISON_THREADS := --set-threads budget_design=1
-REPRODUCE_CALIBRATION := calibration_study calibration_cogiro
+REPRODUCE_CALIBRATION := calibration_study calibration_cogiro hangprinter_study
 REPRODUCE_COGIRO := --config study=config/studies/cogiro.yaml results=results/cogiro
 reproduce: $(STAMP)
 	( $(BIN)/snakemake --cores 1 --forceall reproduce_paper && \
@@ -86,7 +87,7 @@ report: $(STAMP)
 	$(BIN)/snakemake reproduce_comparison --report results/report/comparison.html
 
 # The studies make reproduce runs beside and after the paper and physical studies and before the
-# comparison (the calibration studies, the CoGiRo study), on their own: to rerun them without the
+# comparison (the calibration studies, the Hangprinter study, the CoGiRo study), on their own: to rerun them without the
 # two long studies (the CoGiRo study needs a complete results/physical).
 reproduce-extra: $(STAMP)
 	$(BIN)/snakemake --cores all --forceall $(REPRODUCE_CALIBRATION)

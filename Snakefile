@@ -25,6 +25,7 @@ include: "workflow/rules/budget.smk"
 include: "workflow/rules/summary.smk"
 include: "workflow/rules/comparison.smk"
 include: "workflow/rules/calibration.smk"
+include: "workflow/rules/hangprinter.smk"
 include: "workflow/rules/parity.smk"
 include: "workflow/rules/conclusions.smk"
 

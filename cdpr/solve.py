@@ -101,20 +101,20 @@ def _check_paper(robot):
 HEAVY_KEYS = ("t_B", "t_D", "H", "sag", "arc_minus_chord", "angle_f_deg", "cable_status", "sag_max")
 
 
-def _solve_heavy(robot, p, rotvec, redundancy, engine, L0, L, options):
-    """A robot with heavy cables (issue 38): physical mode by the numpy reference only so far
-    (``cables.HeavyCables``); CdprError in one line for anything else."""
+def _solve_heavy(robot, p, rotvec, redundancy, engine, L0, L, threads, options):
+    """A robot with heavy cables (issue 38): physical mode, by the compiled kernel
+    (``cdpr.compiled.equilibrium.solve`` with ``cdpr.compiled.cables``) or the numpy reference
+    (``cables.HeavyCables``), ``check_engine``'s default; CdprError in one line for anything else."""
     if redundancy != "physical":
         raise CdprError(
             f"{robot.source}: heavy cables (cable.linear_density_kg_m > 0) are modelled in physical mode only "
             "(--redundancy physical)"
         )
-    if engine == "compiled":
-        raise CdprError(
-            f"{robot.source}: heavy cables have no compiled kernel yet; use the numpy reference (--engine numpy)"
-        )
     _check_physical("newton", L)
-    res = equilibrium.solve(robot, p, rotvec, L0=L0, **options)
+    if check_engine(engine, "newton") == "compiled":
+        res = compiled_equilibrium.solve(robot, p, rotvec, L0=L0, threads=threads, **options)
+    else:
+        res = equilibrium.solve(robot, p, rotvec, L0=L0, **options)
     if _fast_point(robot, p, rotvec):
         res = {**point_keys(res), **{k: res[k] for k in HEAVY_KEYS}}
     return mark_below_floor(res, p, robot.floor_z) if robot.suspended_point_mass else res
@@ -161,9 +161,10 @@ def solve(
         solved without an orientation gets ``results.POINT_KEYS``; every other robot, or a given
         orientation, ``models.equilibrium.solve``'s keys (rotvec_s, dphi, unique, ...). The desired
         points below the floor of a suspended robot are ``inaccessible`` (``mark_below_floor``).
-        A robot with heavy cables (``Robot.heavy``, issue 38) is solved in physical mode by the numpy
-        reference (``cables.HeavyCables``, its engine when none is named) and its result adds
-        ``HEAVY_KEYS``; paper mode or the compiled engine refuse it in one line.
+        A robot with heavy cables (``Robot.heavy``, issue 38) is solved in physical mode by either
+        engine (``cables.HeavyCables`` and its compiled twin ``cdpr.compiled.cables``; the same
+        statuses and poses to 1e-9 m, tests/compiled) and its result adds ``HEAVY_KEYS``; paper
+        mode refuses it in one line.
 
     Raises
     ------
@@ -173,7 +174,7 @@ def solve(
     p = np.atleast_2d(np.asarray(p, dtype=float))
     redundancy = check_redundancy(redundancy, robot)
     if robot.heavy:
-        return _solve_heavy(robot, p, rotvec, redundancy, engine, L0, L, options)
+        return _solve_heavy(robot, p, rotvec, redundancy, engine, L0, L, threads, options)
     if redundancy == "paper":
         _check_paper(robot)
         if L0 is not None:
@@ -238,13 +239,23 @@ def solve_batch(
     Returns
     -------
     list of dict
-        ``solve`` of each robot (the points below the floor marked, ``mark_below_floor``).
+        ``solve`` of each robot (the points below the floor marked, ``mark_below_floor``). Robots
+        with heavy cables (issue 38) are solved one by one by ``solve`` (physical mode).
     """
     robots = list(robots)
     p = np.atleast_2d(np.asarray(p, dtype=float))
     check_redundancy(redundancy)
-    for r in robots:
-        require_massless(r, "a batched solve (cdpr.solve.solve_batch)")
+    if any(r.heavy for r in robots):  # heavy cables: one solve per robot, by either engine
+        if L is not None:
+            raise CdprError("physical mode commands rest lengths L0, not total lengths L")
+        starts = [None] * len(robots)
+        if P0 is not None:
+            P0 = np.asarray(P0, dtype=float)
+            starts = list(P0) if P0.ndim == 3 else [P0] * len(robots)
+        return [
+            solve(r, p, rotvec, redundancy=redundancy, engine=engine, threads=threads, L0=L0, P0=P, **options)
+            for r, P in zip(robots, starts)
+        ]
     compiled = check_engine(engine, "newton") == "compiled"
     if not all(_fast_point(r, p, rotvec) for r in robots):
         if redundancy != "physical" or P0 is not None or L is not None:

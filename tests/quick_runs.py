@@ -40,11 +40,13 @@ QUICK_STUDIES = ("quick", "quick_physical", "example")
 
 
 def make_workdir(folder, studies=QUICK_STUDIES):
-    """A working folder for Snakemake outside the tree: ``config/`` linked to the repository's,
+    """A working folder for Snakemake outside the tree: ``config/`` and ``data/`` linked to the repository's,
     the ``studies`` (names of config/studies/*.yaml) copied to ``studies/``, and, when both quick
     studies are among them, the quick comparison file naming them."""
     folder.mkdir(parents=True, exist_ok=True)
     (folder / "config").symlink_to(ROOT / "config", target_is_directory=True)
+    # the Hangprinter study's sessions (data/hangprinter/), inputs of its rule
+    (folder / "data").symlink_to(ROOT / "data", target_is_directory=True)
     (folder / "studies").mkdir()
     for name in studies:
         shutil.copy(ROOT / "config" / "studies" / f"{name}.yaml", folder / "studies" / f"{name}.yaml")

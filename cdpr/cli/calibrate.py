@@ -328,7 +328,15 @@ def cmd_plan(args):
 
 
 def cmd_study(args):
-    """``cdpr calibrate study``: run the calibration study and print the headline table."""
+    """``cdpr calibrate study``: run the calibration study and print the headline table (a study
+    with ``data_sets`` is the Hangprinter study, ``cdpr.pipeline.hangprinter``)."""
+    from cdpr.pipeline import hangprinter  # lazy: the study only
+
+    if hangprinter.is_hangprinter_study(args.study):
+        res = hangprinter.run_hangprinter_study(args.study, args.out)
+        print(Path(res["summary"]).read_text(encoding="utf-8"))
+        print(f"Hangprinter study: {res['elapsed_s']:.1f} s")
+        return
     from cdpr.pipeline.calibration6 import run_study  # lazy: the study only
 
     res = run_study(args.study, args.out)

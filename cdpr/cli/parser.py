@@ -369,7 +369,10 @@ def calibrate_parser(subparsers):
     sp.add_argument("--json", action="store_true", help="print JSON")
     sp.set_defaults(run=("cdpr.cli.calibrate", "cmd_plan"))
 
-    sp = sub.add_parser("study", help="the calibration study (config/studies/calibration.yaml)")
+    sp = sub.add_parser(
+        "study",
+        help="a calibration study (config/studies/calibration*.yaml; hangprinter.yaml: the real Hangprinter sessions)",
+    )
     sp.add_argument("--study", required=True, metavar="FILE", help="calibration study YAML")
     sp.add_argument("--out", required=True, metavar="DIR", help="results folder (results/calibration)")
     sp.set_defaults(run=("cdpr.cli.calibrate", "cmd_study"))

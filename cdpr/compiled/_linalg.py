@@ -362,3 +362,50 @@ def solve3(J, nx, ny, nz, x):
     x[0] = -(c00 * nx + c10 * ny + c20 * nz) * idet
     x[1] = -(c01 * nx + c11 * ny + c21 * nz) * idet
     x[2] = -(c02 * nx + c12 * ny + c22 * nz) * idet
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def add_cable_jacobian(J, g00, g01, g02, g10, g11, g12, g20, g21, g22, rx, ry, rz, t, ux, uy, uz):
+    """Adds one cable (or, with t = 1 and u = its force, one heavy cable)'s terms of ``models.cables._jacobian`` to J (6, 6), with G = t du/dB + ka u dL^T
+    (3 x 3, g_ab) and S = [r]x: J[:3, :3] += G, J[:3, 3:] -= G S, J[3:, :3] += S G,
+    J[3:, 3:] += -S G S + t (r u^T - (u . r) I)."""
+    s00, s01, s02 = g01 * rz - g02 * ry, g02 * rx - g00 * rz, g00 * ry - g01 * rx  # (G S)[0]
+    s10, s11, s12 = g11 * rz - g12 * ry, g12 * rx - g10 * rz, g10 * ry - g11 * rx  # (G S)[1]
+    s20, s21, s22 = g21 * rz - g22 * ry, g22 * rx - g20 * rz, g20 * ry - g21 * rx  # (G S)[2]
+    ur = ux * rx + uy * ry + uz * rz
+    J[0, 0] += g00
+    J[0, 1] += g01
+    J[0, 2] += g02
+    J[1, 0] += g10
+    J[1, 1] += g11
+    J[1, 2] += g12
+    J[2, 0] += g20
+    J[2, 1] += g21
+    J[2, 2] += g22
+    J[0, 3] -= s00
+    J[0, 4] -= s01
+    J[0, 5] -= s02
+    J[1, 3] -= s10
+    J[1, 4] -= s11
+    J[1, 5] -= s12
+    J[2, 3] -= s20
+    J[2, 4] -= s21
+    J[2, 5] -= s22
+    J[3, 0] += ry * g20 - rz * g10
+    J[4, 0] += rz * g00 - rx * g20
+    J[5, 0] += rx * g10 - ry * g00
+    J[3, 1] += ry * g21 - rz * g11
+    J[4, 1] += rz * g01 - rx * g21
+    J[5, 1] += rx * g11 - ry * g01
+    J[3, 2] += ry * g22 - rz * g12
+    J[4, 2] += rz * g02 - rx * g22
+    J[5, 2] += rx * g12 - ry * g02
+    J[3, 3] += -(ry * s20 - rz * s10) + t * (rx * ux - ur)
+    J[4, 3] += -(rz * s00 - rx * s20) + t * ry * ux
+    J[5, 3] += -(rx * s10 - ry * s00) + t * rz * ux
+    J[3, 4] += -(ry * s21 - rz * s11) + t * rx * uy
+    J[4, 4] += -(rz * s01 - rx * s21) + t * (ry * uy - ur)
+    J[5, 4] += -(rx * s11 - ry * s01) + t * rz * uy
+    J[3, 5] += -(ry * s22 - rz * s12) + t * rx * uz
+    J[4, 5] += -(rz * s02 - rx * s22) + t * ry * uz
+    J[5, 5] += -(rx * s12 - ry * s02) + t * (rz * uz - ur)

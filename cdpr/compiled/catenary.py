@@ -35,6 +35,9 @@ from cdpr.models.catenary import (
 __all__ = [
     "angle_f_deg",
     "arc_length",
+    "cable_energy",
+    "cable_state",
+    "cable_stiffness",
     "complementary_energy",
     "end_forces",
     "flexibility",
@@ -98,6 +101,16 @@ def flexibility(H, V_B, L0, w, EA):
     _, _, _, _, Qh, _, Qd, Qx, _ = _terms(H, V_B, L0, w)
     e = L0 / EA
     return e + L0 * (Qh - Qd), L0 * Qx, e + L0 * Qd
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _spans_and_flexibility(H, V_B, L0, w, EA):
+    """``span_equations`` and ``flexibility`` of one cable from one ``_terms`` (the same arithmetic
+    as the two: Newton's iteration needs both at every step)."""
+    _, _, _, S, Qh, Qv, Qd, Qx, _ = _terms(H, V_B, L0, w)
+    l_h = 0.0 if (H == 0.0 or L0 == 0.0) else H * L0 * (1.0 / EA + Qh)
+    e = L0 / EA
+    return l_h, L0 * (0.5 * S / EA + Qv), e + L0 * (Qh - Qd), L0 * Qx, e + L0 * Qd
 
 
 @njit(cache=True, error_model="numpy")
@@ -216,11 +229,10 @@ def span_state(l_h, l_v, L0, w, EA, H0=np.nan, V0=np.nan, rtol=_RTOL, maxiter=_M
     it = 0
     conv = False
     for _ in range(maxiter):
-        lh, lv = span_equations(H, V, L0, w, EA)
+        lh, lv, f11, f12, f22 = _spans_and_flexibility(H, V, L0, w, EA)
         r1 = lh - l_h
         r2 = lv - l_v
         small = math.hypot(r1, r2) <= tol
-        f11, f12, f22 = flexibility(H, V, L0, w, EA)
         det = f11 * f22 - f12 * f12
         dH = -(f22 * r1 - f12 * r2) / det
         dV = -(-f12 * r1 + f11 * r2) / det
@@ -269,3 +281,110 @@ def span_states(l_h, l_v, L0, w, EA):
         iters[i] = it
         conv[i] = ok
     return H, V, code, iters, conv
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _ratio(EA, T):
+    """1 / (1 + T/EA) (``models.catenary._ratio``), 1 for EA = inf."""
+    return 1.0 if math.isinf(EA) else EA / (EA + T)
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _usable(H, V):
+    """A start of ``span_state`` where usable (H > 0, both finite, as the reference's), else NaN."""
+    if H > 0.0 and math.isfinite(H) and math.isfinite(V):
+        return H, V
+    return np.nan, np.nan
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _dTD_dL0(H, V_B, T_D, L0f, w, EA):
+    """dT_D/dL0 of a span at fixed spans (``models.catenary._dTD_dL0``)."""
+    if not T_D > 0.0:
+        return 0.0
+    k11, k12, k22 = stiffness(H, V_B, L0f, w, EA)
+    V_D = V_B + w * L0f
+    k = 1.0 / EA + 1.0 / T_D
+    gh, gv = k * H, k * V_D
+    dH = -(k11 * gh + k12 * gv)
+    dV = -(k12 * gh + k22 * gv)
+    return (H * dH + V_D * (dV + w)) / T_D
+
+
+@njit(cache=True, error_model="numpy")
+def cable_state(l_h, l_v, L0, l_dead, w, EA, H0=np.nan, V0=np.nan, L0f0=np.nan, maxiter=30):
+    """One whole heavy cable (``models.catenary.cable_state``): the free span's (H, V_B [N], status
+    code, iterations (outer), converged) and L0_free [m], by Newton's method on the split
+    L0 = L0_free + l_dead / (1 + T_D/EA), each free span by ``span_state`` warm-started from the
+    last. H0, V0 [N] a start of the first span solve and L0f0 [m] one of the split (NaN: the
+    reference's, from Hooke's law on the whole length); the converged answer does not depend on
+    them (a convex span problem, a split function increasing with slope >= 1)."""
+    c = math.hypot(l_h, l_v)
+    T0 = EA * ((c + l_dead) / L0 - 1.0) if c + l_dead > L0 else 0.0
+    if not math.isfinite(T0):
+        T0 = 0.0
+    L0f = L0 - l_dead * _ratio(EA, T0)
+    if not L0f > 0.0:
+        return np.nan, np.nan, INFEASIBLE, 0, False, np.nan
+    if L0f0 > 0.0 and L0f0 < L0:
+        L0f = L0f0
+    fixed = l_dead == 0.0 or math.isinf(EA)
+    it = 0
+    done = False
+    hs, vs = _usable(H0, V0)
+    H = V = np.nan
+    code = INFEASIBLE
+    for _ in range(maxiter):
+        H, V, code, _, _ = span_state(l_h, l_v, L0f, w, EA, hs, vs)
+        hs, vs = _usable(H, V)
+        T_D = math.hypot(H, V + w * L0f)
+        phi = L0f + l_dead * _ratio(EA, T_D) - L0
+        slope = 1.0
+        if not fixed:
+            dT = _dTD_dL0(H, V, T_D, L0f, w, EA)
+            slope = 1.0 - l_dead * EA / (EA + T_D) ** 2 * dT
+            if not math.isfinite(slope):
+                slope = 1.0
+        step = 0.0 if code == INFEASIBLE else -phi / slope
+        new = L0f + step
+        if not new > 0.0:
+            new = 0.5 * L0f
+        it += 1
+        done = abs(new - L0f) <= 4e-16 * L0
+        L0f = new
+        if done:
+            break
+    H, V, code, _, conv = span_state(l_h, l_v, L0f, w, EA, hs, vs)
+    return H, V, code, it, conv and done, L0f
+
+
+@njit(cache=True, error_model="numpy")
+def cable_stiffness(H, V_B, L0f, l_dead, w, EA):
+    """(k11, k12, k21, k22) [N/m], d(H, V_B)/d(l_h, l_v) of a whole cable with the split following
+    the tension at D (``models.catenary.cable_stiffness``; not symmetric in general)."""
+    k11, k12, k22 = stiffness(H, V_B, L0f, w, EA)
+    V_D = V_B + w * L0f
+    T_D = math.hypot(H, V_D)
+    gk = 1.0 / EA + 1.0 / T_D if T_D > 0.0 else 0.0
+    gh, gv = gk * H, gk * V_D
+    Kg0 = k11 * gh + k12 * gv
+    Kg1 = k12 * gh + k22 * gv
+    inv = 1.0 / T_D if T_D > 0.0 else 0.0
+    cpr = 0.0 if math.isinf(EA) else l_dead * EA / (EA + T_D) ** 2
+    dT0 = (H * k11 + V_D * k12) * inv
+    dT1 = (H * k12 + V_D * k22) * inv
+    dTL = (H * -Kg0 + V_D * (-Kg1 + w)) * inv
+    q = 1.0 - cpr * dTL
+    dL0 = cpr * dT0 / q
+    dL1 = cpr * dT1 / q
+    return k11 - Kg0 * dL0, k12 - Kg0 * dL1, k12 - Kg1 * dL0, k22 - Kg1 * dL1
+
+
+@njit(cache=True, error_model="numpy")
+def cable_energy(H, V_B, L0f, l_h, l_v, l_dead, w, EA):
+    """Potential energy [J] of a whole cable up to a constant (``models.catenary.cable_energy``)."""
+    phi = complementary_energy(H, V_B, L0f, w, EA, l_h, l_v)
+    if math.isinf(EA):
+        return -phi
+    T_D = math.hypot(H, V_B + w * L0f)
+    return l_dead * _ratio(EA, T_D) * T_D * T_D / (2.0 * EA) - phi

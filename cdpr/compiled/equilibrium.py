@@ -41,9 +41,19 @@ from cdpr.compiled._kernels import (
     set_threads,
 )
 from cdpr.compiled._kernels import Cables as CableArrays
-from cdpr.compiled._linalg import lu_solve, pinv_solve, positive_definite, rodrigues, rotvec_of_matrix, solve3
+from cdpr.compiled._linalg import (
+    add_cable_jacobian,
+    lu_solve,
+    pinv_solve,
+    positive_definite,
+    rodrigues,
+    rotvec_of_matrix,
+    solve3,
+)
 from cdpr.compiled._point_mass import solve as solve_points  # noqa: F401  (the fast path, cdpr.solve)
 from cdpr.compiled._point_mass import solve_batch as solve_points_batch  # noqa: F401
+from cdpr.compiled.cables import NSTATE, STATE, Heavy, heavy_arrays, heavy_cables
+from cdpr.compiled.cables import evaluate as evaluate_heavy
 from cdpr.models.equilibrium import (
     ARMIJO_C,
     LS_SKIP,
@@ -52,12 +62,15 @@ from cdpr.models.equilibrium import (
     RCOND,
     SHIFT_REL,
     Cables,
+    HeavyCables,
     finish,
     set_up,
     solve_with,
     stop_rules,
 )
 from cdpr.models.results import TAUT_MIN
+
+READY = STATE["ready"]
 
 
 class Body(NamedTuple):
@@ -82,7 +95,9 @@ class Out(NamedTuple):
     """Per-pose results of the kernel (``outputs``): P (N, 3) [m], R (N, 3, 3), F, M (N, 3) [N, N m],
     t (N, m) [N], merit (N,) [J], J (N, 6, 6), it (N,), conv (N,) bool, inside (N, m) bool, gamma
     (N, m) [rad] the pulleys' state at P, R (``pulleys.pulley_state``), stable (N,) bool: converged
-    with 6 or more taut cables and a positive definite -J (``STABLE_REL``), rotvec (N, 3) [rad] of R."""
+    with 6 or more taut cables and a positive definite -J (``STABLE_REL``), rotvec (N, 3) [rad] of R;
+    cat (N, m, ``cables.NSTATE``) heavy cables' state at the result (``cables.STATE``; (0, m, ...)
+    for massless cables)."""
 
     P: np.ndarray
     R: np.ndarray
@@ -97,6 +112,7 @@ class Out(NamedTuple):
     gamma: np.ndarray
     stable: np.ndarray
     rotvec: np.ndarray
+    cat: np.ndarray
 
 
 def body_arrays(cab):
@@ -120,8 +136,8 @@ def body_arrays(cab):
     )
 
 
-def outputs(n, m):
-    """An uninitialised ``Out`` for n poses and m cables."""
+def outputs(n, m, heavy=False):
+    """An uninitialised ``Out`` for n poses and m cables (``heavy``: with the cables' state)."""
     return Out(
         np.empty((n, 3)),
         np.empty((n, 3, 3)),
@@ -136,6 +152,7 @@ def outputs(n, m):
         np.empty((n, m)),
         np.empty(n, dtype=np.bool_),
         np.empty((n, 3)),
+        np.zeros((n if heavy else 0, m, NSTATE)),
     )
 
 
@@ -165,6 +182,8 @@ class _Scratch(NamedTuple):
     w6: np.ndarray  # (6,) work
     fb: np.ndarray  # (6,) fallback step
     piv: np.ndarray  # (6,) int64 LU pivots
+    hc: np.ndarray  # (m, NSTATE) heavy cables: the state of the current pose (``cables.STATE``)
+    ht: np.ndarray  # (m, NSTATE) heavy cables: the state of the trial pose
 
 
 @njit(cache=True)
@@ -193,54 +212,9 @@ def scratch(m):
         np.empty(6),
         np.empty(6),
         np.empty(6, dtype=np.int64),
+        np.zeros((m, NSTATE)),
+        np.zeros((m, NSTATE)),
     )
-
-
-@njit(cache=True, inline="always", error_model="numpy")
-def _add_cable_jacobian(J, g00, g01, g02, g10, g11, g12, g20, g21, g22, rx, ry, rz, t, ux, uy, uz):
-    """Adds one cable's terms of ``models.cables._jacobian`` to J (6, 6), with G = t du/dB + ka u dL^T
-    (3 x 3, g_ab) and S = [r]x: J[:3, :3] += G, J[:3, 3:] -= G S, J[3:, :3] += S G,
-    J[3:, 3:] += -S G S + t (r u^T - (u . r) I)."""
-    s00, s01, s02 = g01 * rz - g02 * ry, g02 * rx - g00 * rz, g00 * ry - g01 * rx  # (G S)[0]
-    s10, s11, s12 = g11 * rz - g12 * ry, g12 * rx - g10 * rz, g10 * ry - g11 * rx  # (G S)[1]
-    s20, s21, s22 = g21 * rz - g22 * ry, g22 * rx - g20 * rz, g20 * ry - g21 * rx  # (G S)[2]
-    ur = ux * rx + uy * ry + uz * rz
-    J[0, 0] += g00
-    J[0, 1] += g01
-    J[0, 2] += g02
-    J[1, 0] += g10
-    J[1, 1] += g11
-    J[1, 2] += g12
-    J[2, 0] += g20
-    J[2, 1] += g21
-    J[2, 2] += g22
-    J[0, 3] -= s00
-    J[0, 4] -= s01
-    J[0, 5] -= s02
-    J[1, 3] -= s10
-    J[1, 4] -= s11
-    J[1, 5] -= s12
-    J[2, 3] -= s20
-    J[2, 4] -= s21
-    J[2, 5] -= s22
-    J[3, 0] += ry * g20 - rz * g10
-    J[4, 0] += rz * g00 - rx * g20
-    J[5, 0] += rx * g10 - ry * g00
-    J[3, 1] += ry * g21 - rz * g11
-    J[4, 1] += rz * g01 - rx * g21
-    J[5, 1] += rx * g11 - ry * g01
-    J[3, 2] += ry * g22 - rz * g12
-    J[4, 2] += rz * g02 - rx * g22
-    J[5, 2] += rx * g12 - ry * g02
-    J[3, 3] += -(ry * s20 - rz * s10) + t * (rx * ux - ur)
-    J[4, 3] += -(rz * s00 - rx * s20) + t * ry * ux
-    J[5, 3] += -(rx * s10 - ry * s00) + t * rz * ux
-    J[3, 4] += -(ry * s21 - rz * s11) + t * rx * uy
-    J[4, 4] += -(rz * s01 - rx * s21) + t * (ry * uy - ur)
-    J[5, 4] += -(rx * s11 - ry * s01) + t * rz * uy
-    J[3, 5] += -(ry * s22 - rz * s12) + t * rx * uz
-    J[4, 5] += -(rz * s02 - rx * s22) + t * ry * uz
-    J[5, 5] += -(rx * s12 - ry * s02) + t * (rz * uz - ur)
 
 
 @njit(cache=True, error_model="numpy")
@@ -329,7 +303,7 @@ def evaluate(px, py, pz, R, rfx, rfy, rfz, cab, body, L0, i, t, J, e6, g6, w):
             kact0 += k
             kact1 += k * rr
         kx, ky, kz = ka * ux, ka * uy, ka * uz
-        _add_cable_jacobian(
+        add_cable_jacobian(
             J,
             tc * d00 + kx * dLx,
             tc * d01 + kx * dLy,
@@ -373,7 +347,7 @@ def evaluate(px, py, pz, R, rfx, rfy, rfz, cab, body, L0, i, t, J, e6, g6, w):
             k = w.cab_k[c]
             kx, ky, kz = k * w.cab_u[c, 0], k * w.cab_u[c, 1], k * w.cab_u[c, 2]
             lx, ly, lz = w.cab_dL[c, 0], w.cab_dL[c, 1], w.cab_dL[c, 2]
-            _add_cable_jacobian(
+            add_cable_jacobian(
                 J,
                 kx * lx,
                 kx * ly,
@@ -473,10 +447,12 @@ def modified_newton(J, grad, ell, fallback, x):
 
 
 @njit(cache=True, error_model="numpy")
-def solve_pose(i, p_ref, P0, R0, L0, cab, body, opts, out, w):
+def solve_pose(i, p_ref, P0, R0, L0, cab, body, opts, out, w, heavy):
     """``models.equilibrium._newton`` for pose i: p_ref (N, 3) [m] the desired positions (the energy's
     origin), P0 (N, 3) [m] and R0 (N, 3, 3) the start, L0 (N, m) [m] the rest lengths, cab
-    ``_kernels.Cables``, body ``Body``, opts ``Newton``; writes row i of out (``Out``); w the scratch."""
+    ``_kernels.Cables``, body ``Body``, opts ``Newton``; writes row i of out (``Out``); w the scratch;
+    heavy a ``cables.Heavy`` record (``heavy.on``: the heavy cables' ``cables.evaluate``, each
+    evaluation started from the cables' state at the current pose, reset at the start of the pose)."""
     tol, maxiter, max_step = opts.tol, opts.maxiter, opts.max_step
     m = cab.A.shape[0]
     rigid = body.rigid
@@ -489,7 +465,12 @@ def solve_pose(i, p_ref, P0, R0, L0, cab, body, opts, out, w):
         for c in range(3):
             R[a, c] = R0[i, a, c]
     t, J, e6, g6 = w.t, w.J, w.e6, w.g6
-    evaluate(px, py, pz, R, rfx, rfy, rfz, cab, body, L0, i, t, J, e6, g6, w)
+    if heavy.on:
+        for c in range(m):
+            w.hc[c, READY] = 0.0
+        evaluate_heavy(px, py, pz, R, rfx, rfy, rfz, cab, body, heavy, L0, i, t, J, e6, g6, w, w.hc, w.hc)
+    else:
+        evaluate(px, py, pz, R, rfx, rfy, rfz, cab, body, L0, i, t, J, e6, g6, w)
     conv = False
     it = 0
     prev = 0.0
@@ -560,7 +541,30 @@ def solve_pose(i, p_ref, P0, R0, L0, cab, body, opts, out, w):
                 for a in range(3):
                     for c in range(3):
                         Rt[a, c] = R[a, c]
-            evaluate(qx, qy, qz, Rt, rfx, rfy, rfz, cab, body, L0, i, w.tt, w.Jt, w.et, w.gt, w)
+            if heavy.on:
+                evaluate_heavy(
+                    qx,
+                    qy,
+                    qz,
+                    Rt,
+                    rfx,
+                    rfy,
+                    rfz,
+                    cab,
+                    body,
+                    heavy,
+                    L0,
+                    i,
+                    w.tt,
+                    w.Jt,
+                    w.et,
+                    w.gt,
+                    w,
+                    w.hc,
+                    w.ht,
+                )
+            else:
+                evaluate(qx, qy, qz, Rt, rfx, rfy, rfz, cab, body, L0, i, w.tt, w.Jt, w.et, w.gt, w)
             if whole or w.et[12] <= merit + ARMIJO_C * alpha * slope or hv == MAX_HALVINGS:
                 px, py, pz = qx, qy, qz
                 for a in range(3):
@@ -575,6 +579,10 @@ def solve_pose(i, p_ref, P0, R0, L0, cab, body, opts, out, w):
                     e6[a] = w.et[a]
                 for a in range(8):
                     g6[a] = w.gt[a]
+                if heavy.on:
+                    for c in range(m):
+                        for a in range(NSTATE):
+                            w.hc[c, a] = w.ht[c, a]
                 break
             alpha *= 0.5
         it += 1
@@ -605,17 +613,21 @@ def solve_pose(i, p_ref, P0, R0, L0, cab, body, opts, out, w):
         out.inside[i, c] = w.cab_inside[c]
         out.gamma[i, c] = w.cab_gamma[c]
     rotvec_of_matrix(R, out.rotvec[i])
+    if heavy.on:  # the cables' state at the result (``cables.heavy_cables`` starts from it)
+        for c in range(m):
+            for a in range(NSTATE):
+                out.cat[i, c, a] = w.hc[c, a]
 
 
 @njit(cache=True, parallel=True, error_model="numpy")
-def _solve_poses(p_ref, P0, R0, L0, cab, body, opts, out):
+def _solve_poses(p_ref, P0, R0, L0, cab, body, opts, out, heavy):
     n = p_ref.shape[0]
     m = cab.A.shape[0]
     nchunks = (n + CHUNK - 1) // CHUNK
     for ch in prange(nchunks):
         w = scratch(m)
         for i in range(ch * CHUNK, min(n, (ch + 1) * CHUNK)):
-            solve_pose(i, p_ref, P0, R0, L0, cab, body, opts, out, w)
+            solve_pose(i, p_ref, P0, R0, L0, cab, body, opts, out, w, heavy)
 
 
 class CompiledCables(Cables):
@@ -626,6 +638,18 @@ class CompiledCables(Cables):
         super().__init__(robot)
         self.cables = cable_arrays(robot)
         self.body = body_arrays(self)
+        self.heavy = heavy_arrays(None, robot.m)
+
+
+class CompiledHeavyCables(HeavyCables):
+    """The reference's heavy-cable record (``models.cables.HeavyCables``: it refuses the pulleys it
+    does not model, in one line) with the kernel's ``CableArrays``, ``Body`` and ``cables.Heavy``."""
+
+    def __init__(self, robot):
+        super().__init__(robot)
+        self.cables = cable_arrays(robot)
+        self.body = body_arrays(self)
+        self.heavy = heavy_arrays(self)
 
 
 def _first_pass(out):
@@ -642,6 +666,8 @@ def _first_pass(out):
         "stable": out.stable,
         "rotvec": out.rotvec,
     }
+    if len(out.cat):
+        cur["cat"] = out.cat
     return out.P, out.R, cur, out.it, out.conv
 
 
@@ -673,7 +699,7 @@ def newton(cab, p0, R0, L0, p_ref, tol, maxiter, max_step):
     """
     n, m = len(p0), cab.robot.m
     f = np.ascontiguousarray
-    out = outputs(n, m)
+    out = outputs(n, m, cab.heavy.on)
     if n:
         opts = newton_options(PHYSICAL_DEFAULTS, tol, maxiter, max_step)
         _solve_poses(
@@ -685,6 +711,7 @@ def newton(cab, p0, R0, L0, p_ref, tol, maxiter, max_step):
             cab.body,
             opts,
             out,
+            cab.heavy,
         )
     return _first_pass(out)
 
@@ -700,10 +727,13 @@ def solve(
     max_step=None,
     restarts=True,
     threads=None,
+    heavy=None,
 ):
     """Compiled ``models.equilibrium.solve`` (same parameters and result; ``threads`` caps numba's
     threads, default all cores): the reference's pose set-up, restarts and result
-    (``models.equilibrium.solve_with``) round the compiled Newton ``newton``.
+    (``models.equilibrium.solve_with``) round the compiled Newton ``newton``; heavy cables
+    (``robot.heavy``, issue 38) through ``cables.evaluate`` and their outputs by
+    ``cables.heavy_cables``, as the reference's.
 
     Parameters
     ----------
@@ -721,6 +751,8 @@ def solve(
     restarts : bool
         Look for other equilibria where the solution may not be unique.
     threads : int, optional
+    heavy : bool, optional
+        Model the cables as heavy (default ``robot.heavy``), as the reference's ``heavy``.
 
     Returns
     -------
@@ -732,8 +764,21 @@ def solve(
     Paty et al. 2021, eq. (2)-(5), (10)-(14); Pott 2018, ch. 3.
     """
     set_threads(threads)
-    cab = CompiledCables(robot)
-    return solve_with(robot, cab, newton, p, rotvec, L0, P0, tol, maxiter, max_step, restarts, L_TS)
+    heavy = robot.heavy if heavy is None else heavy
+    cab = CompiledHeavyCables(robot) if heavy else CompiledCables(robot)
+    passes = []
+
+    def recorded(*args):
+        passes.append(newton(*args))
+        return passes[-1]
+
+    res = solve_with(robot, cab, recorded, p, rotvec, L0, P0, tol, maxiter, max_step, restarts, L_TS)
+    if heavy:  # the outputs at the result, each cable started from its state there (the first
+        # pass's, into which the restarts' winners are copied: a start only, the answer does not
+        # depend on it)
+        start = passes[0][2]["cat"] if passes and "cat" in passes[0][2] else None
+        res.update(heavy_cables(cab, res["P_s"], res["R_s"], res["L0"], start=start))
+    return res
 
 
 @njit(cache=True, parallel=True, error_model="numpy")
@@ -773,10 +818,12 @@ def _solve_poses_batch(
             out.gamma[k],
             out.stable[k],
             out.rotvec[k],
+            out.cat[k],
         )
         w = scratch(m)
+        massless = Heavy(False, np.zeros(m), np.zeros(3), np.zeros((m, 3)))
         for i in range(ch * CHUNK, min(n, (ch + 1) * CHUNK)):
-            solve_pose(i, p_ref[k], P0[k], R0[k], L0[k], cab, body, opts, o, w)
+            solve_pose(i, p_ref[k], P0[k], R0[k], L0[k], cab, body, opts, o, w, massless)
 
 
 #: Sample-pose pairs of one batched pass (``solve_batch``): about 50 MB of outputs.

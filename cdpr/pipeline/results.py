@@ -15,7 +15,9 @@ pulley designs, DOE tests, shards, Young's moduli, ... (``Layout.wildcards``). L
 The calibration studies (``config/studies/calibration*.yaml``, ``cdpr calibrate study``) have a
 folder each (``CALIBRATION_FOLDERS``) and their files in ``CALIBRATION_OUTPUTS`` and
 ``CALIBRATION_LOGS``: ``cdpr.pipeline.calibration`` and ``calibration6`` write them by these names
-(``rel_path``) and ``workflow/rules/calibration.smk`` declares them (``calibration_outputs``).
+(``rel_path``) and ``workflow/rules/calibration.smk`` declares them (``calibration_outputs``); so does
+the Hangprinter study (``hangprinter_study``: ``cdpr.pipeline.hangprinter``,
+``workflow/rules/hangprinter.smk``).
 """
 
 from __future__ import annotations
@@ -166,16 +168,34 @@ CALIBRATION_OUTPUTS = {
         "pdf": "validation_errors.pdf",
         **_EXACT,
     },
+    # the Hangprinter study (``cdpr.pipeline.hangprinter``): real sessions, cross-validated models
+    "hangprinter_study": {
+        "cv": "cv.csv",
+        "per_sample": "per_sample.csv",
+        "parameters": "parameters.csv",
+        "fits": "fits.csv",
+        "line_lengths": "line_lengths.csv",
+        "firmware": "firmware.g",
+        "summary": "summary.md",
+        "errors_figure": "heldout_errors.png",
+        "errors_pdf": "heldout_errors.pdf",
+        "anchors_figure": "anchors.png",
+        "anchors_pdf": "anchors.pdf",
+        "force_figure": "residuals_force.png",
+        "force_pdf": "residuals_force.pdf",
+    },
 }
 #: rule -> the results folder the pipeline gives the calibration study (``--out``).
 CALIBRATION_FOLDERS = {
     "calibration_study": "results/calibration",
     "calibration_cogiro": "results/calibration/cogiro",
+    "hangprinter_study": "results/hangprinter",
 }
 #: rule -> its log under its results folder.
 CALIBRATION_LOGS = {
     "calibration_study": "logs/calibration_study.log",
     "calibration_cogiro": "logs/calibration_cogiro.log",
+    "hangprinter_study": "logs/hangprinter_study.log",
 }
 
 

@@ -102,6 +102,13 @@ def load_study(path):
             "this is a calibration study (truth_deviations, no robots): run it with "
             "`cdpr calibrate study --study FILE`, not as a pipeline study",
         )
+    if "data_sets" in data and "robots" not in data:
+        raise ConfigError(
+            path,
+            None,
+            "this is the Hangprinter study (data_sets, no robots): run it with "
+            "`cdpr calibrate study --study FILE`, not as a pipeline study",
+        )
     validate(data, "study", path)
     st = Study(data)
     st.path = str(path)

@@ -87,3 +87,42 @@ def test_a_start_given_to_the_compiled_kernel_gives_the_same_answer():
         H, V, code, _, conv = ccat.span_state(l_h, l_v, L0, w, EA, H0, V0)
         assert conv and code == ref.status_code
         assert H == pytest.approx(float(ref.H), rel=1e-10) and V == pytest.approx(float(ref.V_B), rel=1e-10)
+
+
+def test_compiled_whole_cable_equals_the_reference():
+    """cable_state (the free span and the dead part, the split of L0 at the tension at D), its
+    stiffness and its energy: compiled = numpy, from the reference's start and from a warm one."""
+    rng = np.random.default_rng(5)
+    n = 400
+    l_h = rng.uniform(0.5, 30.0, n)
+    l_v = rng.uniform(-10.0, 30.0, n)
+    l_dead = rng.choice([0.0, 2.0, 4.5], n)
+    L0 = (np.hypot(l_h, l_v) + l_dead) * rng.uniform(0.998, 1.05, n)
+    w = rng.uniform(0.0, 2.0, n)
+    EA = rng.choice([1.28e6, 5e4, np.inf], n)
+    ref = cat.cable_state(l_h, l_v, L0, l_dead, w, EA)
+    sp = ref.span
+    K = cat.cable_stiffness(ref, l_dead, w, EA)
+    U = cat.cable_energy(ref, l_h, l_v, l_dead, w, EA)
+    seen = set()
+    for i in range(n):
+        args = (l_h[i], l_v[i], L0[i], l_dead[i], w[i], EA[i])
+        H, V, code, it, conv, L0f = ccat.cable_state(*args)
+        assert code == sp.status_code[i]
+        seen.add(int(code))
+        if code == cat.INFEASIBLE:
+            assert np.isnan(H) and np.isnan(sp.H[i])
+            continue
+        T = sp.T_B[i] + 1e-300
+        assert abs(H - sp.H[i]) <= 1e-11 * T and abs(V - sp.V_B[i]) <= 1e-11 * T
+        assert L0f == pytest.approx(ref.L0_free[i], rel=1e-14)
+        # a warm start (the answer perturbed) reaches the same cable
+        H2, V2, code2, _, _, L0f2 = ccat.cable_state(*args, 1.01 * H + 1.0, V - 1.0, 0.999 * L0f)
+        assert code2 == code and abs(H2 - H) <= 1e-11 * T and abs(V2 - V) <= 1e-11 * T
+        assert L0f2 == pytest.approx(L0f, rel=1e-14)
+        k = ccat.cable_stiffness(sp.H[i], sp.V_B[i], ref.L0_free[i], l_dead[i], w[i], EA[i])
+        kr = K[i].ravel()
+        assert np.allclose(k, kr, rtol=1e-9, atol=1e-9 * np.abs(kr).max())
+        e = ccat.cable_energy(sp.H[i], sp.V_B[i], ref.L0_free[i], l_h[i], l_v[i], l_dead[i], w[i], EA[i])
+        assert e == pytest.approx(U[i], rel=1e-10, abs=1e-10 * T * L0[i])
+    assert {cat.CATENARY, cat.TAUT}.issubset(seen)

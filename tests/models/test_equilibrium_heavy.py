@@ -262,18 +262,20 @@ def test_the_one_door_solves_heavy_robots_with_the_numpy_reference_and_refuses_t
     from cdpr import solve as door
 
     r = heavy(cdpr4)  # SR pulleys, vertical axes
-    res = door.solve(r, PTS[:2], redundancy="physical")
+    res = door.solve(r, PTS[:2], redundancy="physical", engine="numpy")
     ref = solve(r, PTS[:2])
     assert set(door.HEAVY_KEYS) <= set(res) and (res["status"] == ref["status"]).all()
     assert np.abs(res["P_s"] - ref["P_s"]).max() == 0.0
     np.testing.assert_array_equal(res["sag"], ref["sag"])
-    for kwargs, words in [
-        ({"redundancy": "paper"}, "physical mode only"),
-        ({"redundancy": "physical", "engine": "compiled"}, "no compiled kernel yet"),
-    ]:
-        with pytest.raises(CdprError, match=words):
-            door.solve(r, PTS[:1], **kwargs)
-    with pytest.raises(CdprError, match="does not model heavy cables yet"):
-        door.solve_batch([r], PTS[:1])
+    with pytest.raises(CdprError, match="physical mode only"):
+        door.solve(r, PTS[:1], redundancy="paper")
     with pytest.raises(CdprError, match="does not model heavy cables yet"):
         door.sensitivities(r, PTS[:1], redundancy="physical")
+
+
+def test_the_compiled_kernel_refuses_dr_pulleys_and_tilted_axes_in_one_line(cdpr4):
+    from cdpr import solve as door
+
+    with pytest.raises(CdprError, match="use the numpy reference") as exc:
+        door.solve(heavy(with_pulleys(cdpr4, kind="DR")), PTS[:1], redundancy="physical", engine="compiled")
+    assert "\n" not in str(exc.value)

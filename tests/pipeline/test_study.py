@@ -12,9 +12,9 @@ from cdpr.pipeline.results import Layout
 from cdpr.robot import load_robot, read_yaml
 
 ROOT = Path(__file__).resolve().parents[2]
-# config/studies/calibration.yaml and calibration_cogiro.yaml are calibration studies (cdpr calibrate
-# study), not pipeline ones
-CALIBRATION_STUDIES = ("calibration", "calibration_cogiro")
+# config/studies/calibration.yaml, calibration_cogiro.yaml and hangprinter.yaml are calibration studies
+# (cdpr calibrate study), not pipeline ones
+CALIBRATION_STUDIES = ("calibration", "calibration_cogiro", "hangprinter")
 STUDIES = sorted(p for p in (ROOT / "config" / "studies").glob("*.yaml") if p.stem not in CALIBRATION_STUDIES)
 
 

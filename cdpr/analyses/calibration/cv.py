@@ -13,6 +13,7 @@ from cdpr.analyses.calibration.estimator import fit_motor
 from cdpr.analyses.calibration.motor import (
     SIGMA_LINE_DEFAULT,
     SpoolModel,
+    line_residuals,
     reference_forces,
     solve_positions,
     stretch_factors,
@@ -69,8 +70,9 @@ def cross_validate(
     -------
     dict
         folds (list: fold, samples, heldout_position_rms_m, heldout_position_median_m,
-        heldout_line_rms_m, train_rms_m), the same four overall, per_sample, n_folds, model,
-        estimate, fixed, gauge, warnings.
+        heldout_line_rms_m, train_rms_m), the same four overall, per_sample (each held-out
+        sample's ``predict_samples`` row with its fold and its m line residuals
+        ``line_residual_m``), n_folds, model, estimate, fixed, gauge, warnings.
     """
     n = len(data.sample)
     fold = fold_of(n, folds)
@@ -94,9 +96,12 @@ def cross_validate(
             train_rms = float(np.sqrt(np.mean(cal.line_residual**2)))
             train_sq.append(np.mean(cal.line_residual**2, axis=1))
             gauge = cal.gauge
-        rows = predict_samples(sm, data.subset(held), model, t_ref)
-        for r in rows:
+        hdata = data.subset(held)
+        rows = predict_samples(sm, hdata, model, t_ref)
+        lres = _line_residuals(sm, hdata, rows, model, t_ref)
+        for r, lr in zip(rows, lres):
             r["fold"] = kf
+            r["line_residual_m"] = lr
         per_sample += rows
         out_folds.append(
             {
@@ -121,6 +126,18 @@ def cross_validate(
         "gauge": gauge,
         "data_warnings": [w for w in (warn,) if w],
     }
+
+
+def _line_residuals(sm, data, rows, model, t_ref):
+    """Each held-out sample's m line residuals [m] at its solved position (``motor.line_residuals``;
+    None where it has no solution)."""
+    f, g = stretch_factors(model, data, t_ref, sm.K)
+    ok = np.array([r["x_m"] is not None for r in rows])
+    P = np.array(
+        [[r["x_m"], r["y_m"], r["z_m"]] if o else [np.nan] * 3 for r, o in zip(rows, ok)], dtype=float
+    )
+    res = line_residuals(sm, data, P, f, g)
+    return [[float(x) for x in res[k]] if ok[k] else None for k in range(len(rows))]
 
 
 def _scores(rows):

@@ -152,7 +152,8 @@ def motor_index(m, groups):
 
 def motor_prior_sd(m, index, priors):
     """Prior sd of the entries ``index`` of ``motor_names(m)``: anchors and spool radii from
-    ``priors``, the buildup factors ``BUILDUP_PRIOR_SD``.
+    ``priors``, the buildup factors ``priors["buildup"]`` where given (a study's wider prior; the
+    command line has no such group), else ``BUILDUP_PRIOR_SD``.
 
     Parameters
     ----------
@@ -161,15 +162,18 @@ def motor_prior_sd(m, index, priors):
     index : ndarray of int
         ``motor_index``.
     priors : dict group -> float [m]
-        ``estimator.parse_motor_priors``.
+        ``estimator.parse_motor_priors``, optionally with ``buildup``.
 
     Returns
     -------
     sd : ndarray (len(index),) [m]
     """
+    q_sd = priors.get("buildup", BUILDUP_PRIOR_SD)
+    if not (np.isfinite(q_sd) and q_sd > 0):
+        raise CdprError(f"the prior sd of the buildup factor must be > 0 m, got {q_sd!r}")
     sd = np.empty(len(index))
     for j, k in enumerate(index):
-        sd[j] = priors["anchors"] if k < 3 * m else (priors["spools"] if k < 4 * m else BUILDUP_PRIOR_SD)
+        sd[j] = priors["anchors"] if k < 3 * m else (priors["spools"] if k < 4 * m else q_sd)
     return sd
 
 
@@ -306,8 +310,12 @@ def gauge_words(data, groups):
     return (
         "no measured position: the encoder reference fixes the origin (mover at the origin at zero motor "
         "angle); the frame's rotation about the origin"
-        + (" and its scale (anchors, positions and spool radii together)" if "spools" in groups else "")
-        + " are not seen by the data and are fixed by the priors alone"
+        + (
+            " and its scale (anchors, positions and spool radii together) are"
+            if "spools" in groups
+            else " is"
+        )
+        + " not seen by the data and fixed by the priors alone"
     )
 
 

@@ -1,0 +1,142 @@
+"""Heavy cables (issue 38): equilibria per second of the compiled heavy-cable kernel beside the
+massless kernels, measured in one run on this machine, and the cost of one catenary solve.
+
+  * CDPR4, point mass, over the n^3 cell-centred grid of the paper's RW_C box, rest lengths L_TS
+    at the desired point (physical mode): the massless 3-DoF fast path (cdpr.solve's default for a
+    suspended point mass), the massless pose kernel (cdpr.compiled.equilibrium.solve), the heavy
+    kernel (0.0631 kg/m, the 4 mm steel cable; cdpr.compiled.equilibrium.solve with
+    cdpr.compiled.cables) and the heavy numpy reference on a slice;
+  * CoGiRo, rigid 6-DoF platform, over an n^3 grid of its central box at the identity orientation:
+    the massless pose kernel, the heavy kernel (0.0631 kg/m) and the heavy numpy reference;
+  * one catenary (cdpr.compiled.catenary.span_states over random taut spans of CoGiRo's size, and
+    cable_state, the whole cable with its dead part): the time per solve beside the hand count of
+    the floating-point operations of one Newton iteration (README, "Heavy cables").
+
+Each figure is the best of --repeat runs after one warm-up (numba compiled and loaded), both
+cores; the load average is printed before and after (the machine is shared).
+
+    .venv/bin/python benchmarks/heavy_throughput.py [--n 20] [--repeat 3]
+"""
+
+import argparse
+import os
+import platform
+import time
+from pathlib import Path
+
+import numba
+import numpy as np
+
+from cdpr import solve as door
+from cdpr.analyses.workspace import grid_points
+from cdpr.compiled import catenary as ccat
+from cdpr.compiled import equilibrium as cequilibrium
+from cdpr.models import equilibrium
+from cdpr.robot import load_robot, with_values
+
+ROOT = Path(__file__).resolve().parents[1]
+RW_C = [-2.32, 2.32, -2.32, 2.32, 0.0, 3.73]
+COGIRO_BOX = [-4.0, 4.0, -3.0, 3.0, 1.0, 3.5]
+RHO = 0.0631  # [kg/m]
+
+
+def best_of(fn, repeat):
+    fn()  # warm-up: numba compiled (or loaded from its cache) and its threads started
+    times = []
+    out = None
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        out = fn()
+        times.append(time.perf_counter() - t0)
+    return min(times), out
+
+
+def row(name, n, seconds, res):
+    ok = float(np.mean(res["status"] == "ok")) if res is not None else float("nan")
+    it = float(np.mean(res["iterations"])) if res is not None and "iterations" in res else float("nan")
+    print(f"{name:<44} {n:>7} {n / seconds:>12,.0f} {1e6 * seconds / n:>9.1f} {it:>6.2f} {ok:>6.3f}")
+    return n / seconds
+
+
+def spans(n, seed=3):
+    """Random taut heavy spans of CoGiRo's size (l_h 1-12 m, l_v 0.5-5 m, 4 mm steel cable)."""
+    rng = np.random.default_rng(seed)
+    l_h = rng.uniform(1.0, 12.0, n)
+    l_v = rng.uniform(0.5, 5.0, n)
+    L0 = np.hypot(l_h, l_v) * rng.uniform(0.9995, 1.0005, n)
+    w = np.full(n, RHO * 9.81)
+    EA = np.full(n, 102.2e9 * np.pi * 0.004**2 / 4)
+    return l_h, l_v, L0, w, EA
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--n", type=int, default=20, help="points per axis of the grids (n^3 poses)")
+    ap.add_argument("--repeat", type=int, default=3, help="best of this many runs")
+    ap.add_argument("--numpy", type=int, default=500, help="poses of the numpy reference's slice")
+    args = ap.parse_args()
+    print(
+        f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
+        f"numba threads {numba.get_num_threads()}, Python {platform.python_version()}"
+    )
+    print("load average before: {:.2f} {:.2f} {:.2f}".format(*os.getloadavg()))
+    print(f"{'solver':<44} {'poses':>7} {'equilibria/s':>12} {'us/pose':>9} {'iters':>6} {'ok':>6}")
+
+    cdpr4 = load_robot(ROOT / "config" / "robots" / "cdpr4.yaml")
+    heavy4 = with_values(cdpr4, linear_density=RHO)
+    P = grid_points(RW_C, args.n)
+    sl = P[:: max(1, len(P) // args.numpy)][: args.numpy]
+    figures = {}
+    t, res = best_of(lambda: door.solve(cdpr4, P, redundancy="physical"), args.repeat)
+    figures["cdpr4 massless 3-DoF"] = row("CDPR4 massless, 3-DoF fast path", len(P), t, res)
+    t, res = best_of(lambda: cequilibrium.solve(cdpr4, P), args.repeat)
+    figures["cdpr4 massless pose"] = row("CDPR4 massless, pose kernel", len(P), t, res)
+    t, res = best_of(lambda: cequilibrium.solve(heavy4, P), args.repeat)
+    figures["cdpr4 heavy"] = row("CDPR4 heavy 0.0631 kg/m, compiled", len(P), t, res)
+    t, ref = best_of(lambda: equilibrium.solve(heavy4, sl), 1)
+    row("CDPR4 heavy 0.0631 kg/m, numpy reference", len(sl), t, ref)
+    sub = cequilibrium.solve(heavy4, sl)
+    print(
+        f"  compiled vs numpy on the slice: same statuses {bool((sub['status'] == ref['status']).all())}, "
+        f"max |dP*| {np.abs(sub['P_s'] - ref['P_s']).max():.1e} m, largest sag "
+        f"{1e3 * sub['sag_max'].max():.1f} mm"
+    )
+
+    cogiro = load_robot(ROOT / "config" / "robots" / "cogiro.yaml")
+    heavyc = with_values(cogiro, linear_density=RHO)
+    Q = grid_points(COGIRO_BOX, args.n)
+    slq = Q[:: max(1, len(Q) // args.numpy)][: args.numpy]
+    t, res = best_of(lambda: cequilibrium.solve(cogiro, Q), args.repeat)
+    figures["cogiro massless pose"] = row("CoGiRo massless, pose kernel", len(Q), t, res)
+    t, res = best_of(lambda: cequilibrium.solve(heavyc, Q), args.repeat)
+    figures["cogiro heavy"] = row("CoGiRo heavy 0.0631 kg/m, compiled", len(Q), t, res)
+    t, ref = best_of(lambda: equilibrium.solve(heavyc, slq), 1)
+    row("CoGiRo heavy 0.0631 kg/m, numpy reference", len(slq), t, ref)
+    sub = cequilibrium.solve(heavyc, slq)
+    print(
+        f"  compiled vs numpy on the slice: same statuses {bool((sub['status'] == ref['status']).all())}, "
+        f"max |dP*| {np.abs(sub['P_s'] - ref['P_s']).max():.1e} m, "
+        f"max |dphi*| {np.abs(sub['rotvec_s'] - ref['rotvec_s']).max():.1e} rad, largest sag "
+        f"{1e3 * sub['sag_max'].max():.1f} mm"
+    )
+
+    n = 200_000
+    l_h, l_v, L0, w, EA = spans(n)
+    t, out = best_of(lambda: ccat.span_states(l_h, l_v, L0, w, EA), args.repeat)
+    iters = float(out[3].mean())
+    threads = numba.get_num_threads()
+    print(
+        f"catenary span_state (cold start), {n} taut CoGiRo-size spans: {n / t:,.0f} solves/s, "
+        f"{1e9 * t * threads / n:.0f} ns per solve per core, {iters:.2f} Newton iterations, "
+        f"{1e9 * t * threads / n / iters:.0f} ns per iteration per core"
+    )
+    print(
+        "load average after: {:.2f} {:.2f} {:.2f}; targets: CDPR4 heavy >= 100,000/s ({:.1%} of it), "
+        "CoGiRo heavy >= 25,000/s ({:.1%})".format(
+            *os.getloadavg(), figures["cdpr4 heavy"] / 1e5, figures["cogiro heavy"] / 2.5e4
+        )
+    )
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,409 @@
+"""Compiled twin of ``cdpr.models.cables``' heavy cables (issue 38): ``HeavyCables.exit_points``
+(one cable: the sheave exit point D_i and the elastic catenary from B_i to D_i solved together),
+``HeavyCables.evaluate`` (a pose: force and moment balance, energy, Jacobian, written in the
+compiled pose kernel's layout, ``equilibrium.evaluate``) and ``heavy_cables`` (the per-cable
+outputs at the equilibria), as numba kernels run inside ``cdpr.compiled.equilibrium``'s Newton.
+
+Same equations, pulley coupling, energy and Jacobian as the numpy reference (whose docstrings give
+them), cable by cable: the fixed point on the exit point, the Newton iteration on the split of the
+unstrained length between the free span and the dead part (``catenary.cable_state``) and the
+span's Newton iteration (``catenary.span_state``). What differs is where they start: the reference
+starts every evaluation from the massless exit point and Hooke's law, the kernel from the state of
+the last accepted evaluation of the same pose (the tangent angle of D on the sheave, the end forces
+and the split; ``STATE``), so that the Newton iterations of the equilibrium, whose poses move
+little, cost one or two catenary steps per cable. Every one of these sub-problems has one
+solution, reached from any start, so the two engines agree to round-off (tests/compiled).
+
+References
+----------
+Irvine, H. M. (1981). Cable Structures. MIT Press, ch. 2.
+
+Paty, T., Binaud, N., Caro, S., Segonds, S. (2021). Cable-driven parallel robot modelling considering
+pulley kinematics and cable elasticity. Mechanism and Machine Theory 159, 104263 (eq. 3-5, 10-14).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+from numba import njit, prange
+
+from cdpr.compiled._kernels import SWIVEL_RHO_MIN, TWO_PI, in_frame, pulley_geometry
+from cdpr.compiled._linalg import add_cable_jacobian
+from cdpr.compiled.catenary import angle_f_deg, arc_length, cable_energy, cable_state, cable_stiffness, sag
+from cdpr.errors import CdprError
+from cdpr.models.catenary import INFEASIBLE, SPAN_STATUSES
+
+__all__ = ["NSTATE", "STATE", "Heavy", "evaluate", "exit_points", "heavy_arrays", "heavy_cables"]
+
+#: Columns of one cable's state (``exit_points``): what the next evaluation starts from and what the
+#: outputs read. H, V_B [N]; L0f [m] the free span's unstrained length; theta [rad] the angle of D on
+#: the sheave (in the sheave plane, from e_s toward k); ready (1: a start is there); T_B, T_D [N];
+#: l_h, l_v [m]; Dx, Dy, Dz [m]; gamma [rad] the wrap to D; code (``catenary.SPAN_STATUSES``);
+#: l_dead [m]; iterations of the exit point's fixed point.
+STATE = {
+    k: i
+    for i, k in enumerate(
+        (
+            "H",
+            "V_B",
+            "L0f",
+            "theta",
+            "ready",
+            "T_B",
+            "T_D",
+            "l_h",
+            "l_v",
+            "Dx",
+            "Dy",
+            "Dz",
+            "gamma",
+            "code",
+            "l_dead",
+            "it",
+        )
+    )
+}
+NSTATE = len(STATE)
+_H, _V, _L0F, _TH, _READY, _TB, _TD, _LH, _LV, _DX, _DY, _DZ, _GAM, _CODE, _ELL, _IT = range(NSTATE)
+#: Cap of the exit point's fixed point (``HeavyCables.exit_points``' maxiter).
+EXIT_MAXITER = 60
+
+
+class Heavy(NamedTuple):
+    """What the pose kernel needs of heavy cables (``heavy_arrays``): on (the robot's cables are
+    heavy: ``HeavyCables.evaluate``, else the massless ``Cables.evaluate``); w (m,) [N/m] the weight
+    per unstrained metre; up (3,) [-] the unit vector against gravity; axis (m, 3) [-] the swivel
+    axes k_i (base frame)."""
+
+    on: bool
+    w: np.ndarray
+    up: np.ndarray
+    axis: np.ndarray
+
+
+def heavy_arrays(cab=None, m=0):
+    """The ``Heavy`` record of a ``models.cables.HeavyCables`` ``cab``, or of a massless robot of m
+    cables when ``cab`` is None (``on`` False).
+
+    Parameters
+    ----------
+    cab : HeavyCables, optional
+    m : int
+        Number of cables (massless record).
+
+    Returns
+    -------
+    Heavy
+    """
+    f = np.ascontiguousarray
+    if cab is None:
+        return Heavy(False, np.zeros(m), f([0.0, 0.0, 1.0]), np.zeros((m, 3)))
+    kind = cab.robot.arrays.kind
+    bad = (kind == 2) | ((kind == 1) & (np.abs(cab.axis @ cab.up) < 1.0 - 1e-12))
+    if bad.any():  # the numpy reference's general pulley coupling has no compiled twin yet
+        raise CdprError(
+            f"{cab.robot.source}: the compiled kernel models heavy cables on fixed pulleys and SR pulleys with swivel "
+            f"axes along gravity only; cable {int(np.flatnonzero(bad)[0]) + 1} has a DR pulley or another axis: "
+            "use the numpy reference (--engine numpy)"
+        )
+    return Heavy(True, f(cab.w, dtype=float), f(cab.up, dtype=float), f(cab.axis, dtype=float))
+
+
+@njit(cache=True, error_model="numpy")
+def exit_points(Bx, By, Bz, c, L0c, cab, frame, ident, heavy, start, out):
+    """``HeavyCables.exit_points`` of cable c at its attachment point B (base frame) with rest
+    length L0c [m]: the exit point D on the sheave where the catenary's end tangent leaves it, the
+    wrap gamma from the entry point K to D, the dead part l_dead = |l_d| + r_p gamma and the
+    catenary (``catenary.cable_state``) from B to D, by a fixed point on D (fixed pulleys: D = A);
+    ``start`` (NSTATE,) the state to start from (``STATE``; ready 0: the reference's start, the
+    massless exit point and Hooke's law), ``out`` (NSTATE,) written (it may be ``start``).
+
+    Returns
+    -------
+    tuple
+        (H, V_B [N], L0f [m], l_h, l_v [m], e_h (3) [-], l_dead [m], swivel [-], e_perp (3) [-],
+        T_B [N], (D - A) . up [m], inside, gamma of the massless model [rad]).
+    """
+    A = cab.A
+    kind, h, rp, d, EA = cab.kind[c], cab.h[c], cab.rp[c], cab.d[c], cab.ES[c]
+    w = heavy.w[c]
+    ux, uy, uz = heavy.up[0], heavy.up[1], heavy.up[2]
+    Ax, Ay, Az = A[c, 0], A[c, 1], A[c, 2]
+    qx, qy, qz, ax, ay, az = in_frame(Bx, By, Bz, Ax, Ay, Az, ident[c], frame[c])
+    g = pulley_geometry(qx, qy, qz, ax, ay, az, kind, h, rp, d, cab.inward[c, 0], cab.inward[c, 1])
+    kx, ky, kz = heavy.axis[c, 0], heavy.axis[c, 1], heavy.axis[c, 2]
+    if ident[c]:
+        esx, esy, esz = g.esx, g.esy, 0.0
+    else:
+        F = frame[c]
+        esx = g.esx * F[0, 0] + g.esy * F[1, 0]
+        esy = g.esx * F[0, 1] + g.esy * F[1, 1]
+        esz = g.esx * F[0, 2] + g.esy * F[1, 2]
+    Hx, Hy, Hz = Ax + g.Hs * esx + g.Hw * kx, Ay + g.Hs * esy + g.Hw * ky, Az + g.Hs * esz + g.Hw * kz
+    thK = math.atan2(g.sK, g.cK) if rp > 0.0 else 0.0
+    if start[_READY] > 0.0:
+        th, H0, V0, L0f = start[_TH], start[_H], start[_V], start[_L0F]
+        gamma = (thK - th) % TWO_PI
+    else:
+        th, H0, V0, L0f = math.atan2(g.sD, g.cD), np.nan, np.nan, np.nan
+        gamma = g.gamma
+    sr = kind == 1 and rp > 0.0
+    ell = g.ld + rp * gamma
+    H = V = np.nan
+    code = 0
+    l_h = l_v = 0.0
+    ehx = ehy = ehz = 0.0
+    Dx = Dy = Dz = 0.0
+    it = 0
+    last = not sr
+    th_prev = f_prev = np.nan
+    for it in range(1, EXIT_MAXITER + 2):
+        ct, st = math.cos(th), math.sin(th)
+        Dx = Hx + rp * (ct * esx + st * kx)
+        Dy = Hy + rp * (ct * esy + st * ky)
+        Dz = Hz + rp * (ct * esz + st * kz)
+        vx, vy, vz = Dx - Bx, Dy - By, Dz - Bz
+        l_v = vx * ux + vy * uy + vz * uz
+        hx, hy, hz = vx - l_v * ux, vy - l_v * uy, vz - l_v * uz
+        l_h = math.sqrt(hx * hx + hy * hy + hz * hz)
+        il = 1.0 / l_h if l_h > 0.0 else 1.0
+        ehx, ehy, ehz = hx * il, hy * il, hz * il
+        H, V, code, _, _, L0f = cable_state(l_h, l_v, L0c, ell, w, EA, H0, V0, L0f)
+        H0, V0 = H, V
+        if last or it > EXIT_MAXITER or code == INFEASIBLE:
+            break
+        V_D = V + w * L0f
+        T_D = math.hypot(H, V_D)
+        # the cable's direction at D toward the sheave, in the sheave plane: (n_s, n_w)
+        cx = -(H * ehx + V_D * ux) / T_D
+        cy = -(H * ehy + V_D * uy) / T_D
+        cz = -(H * ehz + V_D * uz) / T_D
+        n_s = -(cx * kx + cy * ky + cz * kz)
+        n_w = cx * esx + cy * esy + cz * esz
+        if not (T_D > 0.0 and math.isfinite(n_s) and math.isfinite(n_w)):
+            break
+        g_th = math.atan2(n_w, n_s)  # the fixed point's map: theta <- g(theta)
+        f = (g_th - th + math.pi) % TWO_PI - math.pi
+        vmax = max(abs(vx), abs(vy), abs(vz))
+        # converged: one more pass solves the whole cable at D = g(theta) (the loop's last)
+        last = rp * abs(f) <= 1e-15 * (1.0 + vmax)
+        th_new = g_th
+        if not last and f_prev == f_prev and th != th_prev:
+            # the secant step on f(theta) = g(theta) - theta where its slope is that of a
+            # contraction (g' = slope + 1 in (-0.5, 0.5)); else the plain fixed-point step
+            slope = (f - f_prev) / (th - th_prev)
+            if -1.5 < slope < -0.5:
+                th_new = th - f / slope
+        th_prev, f_prev = th, f
+        th = th_new
+        gamma = (thK - th) % TWO_PI
+        ell = g.ld + rp * gamma
+    T_B = math.hypot(H, V)
+    out[_H], out[_V], out[_L0F], out[_TH], out[_READY] = H, V, L0f, th, 1.0
+    out[_TB], out[_TD], out[_LH], out[_LV] = T_B, math.hypot(H, V + w * L0f), l_h, l_v
+    out[_DX], out[_DY], out[_DZ], out[_GAM], out[_CODE], out[_ELL], out[_IT] = (
+        Dx,
+        Dy,
+        Dz,
+        gamma,
+        code,
+        ell,
+        it,
+    )
+    if not math.isfinite(H):
+        out[_READY] = 0.0
+    Ds = g.Hs + rp * math.cos(th)
+    swivel = Ds / g.rho if g.rho > SWIVEL_RHO_MIN else 0.0
+    epx, epy, epz = ky * esz - kz * esy, kz * esx - kx * esz, kx * esy - ky * esx
+    zD = (Dx - Ax) * ux + (Dy - Ay) * uy + (Dz - Az) * uz
+    return H, V, L0f, l_h, l_v, ehx, ehy, ehz, ell, swivel, epx, epy, epz, T_B, zD, g.inside, g.gamma
+
+
+@njit(cache=True, error_model="numpy")
+def evaluate(px, py, pz, R, rfx, rfy, rfz, cab, body, heavy, L0, i, t, J, e6, g6, w, start, state):
+    """``HeavyCables.evaluate`` at one pose (p, R) with rest lengths L0[i], merit relative to p_ref =
+    (rfx, rfy, rfz), in the layout of ``equilibrium.evaluate``: writes the tensions at B t (m,),
+    J (6, 6), e6 = (F (3), M (3), Fn = (F, M) (6), merit, inside), g6 = (grad = -Fn (6), kappa (2))
+    and the cables' state (m, NSTATE) (``exit_points``, started from ``start``, which may be the
+    same array); ``w`` the pose kernel's scratch (its cab_inside, cab_gamma: the massless pulley
+    state at B, which the result reports)."""
+    b, frame, ident, f = body.b, body.frame, body.ident, body.f
+    m = cab.A.shape[0]
+    ux, uy, uz = heavy.up[0], heavy.up[1], heavy.up[2]
+    fx, fy, fz = f[0], f[1], f[2]
+    rcx = R[0, 0] * body.com[0] + R[0, 1] * body.com[1] + R[0, 2] * body.com[2]
+    rcy = R[1, 0] * body.com[0] + R[1, 1] * body.com[1] + R[1, 2] * body.com[2]
+    rcz = R[2, 0] * body.com[0] + R[2, 1] * body.com[1] + R[2, 2] * body.com[2]
+    Fx = Fy = Fz = Mx = My = Mz = 0.0
+    energy = 0.0
+    kap0 = kap1 = 0.0
+    inside = False
+    for a in range(6):
+        for q in range(6):
+            J[a, q] = 0.0
+    for c in range(m):
+        rx = R[0, 0] * b[c, 0] + R[0, 1] * b[c, 1] + R[0, 2] * b[c, 2]
+        ry = R[1, 0] * b[c, 0] + R[1, 1] * b[c, 1] + R[1, 2] * b[c, 2]
+        rz = R[2, 0] * b[c, 0] + R[2, 1] * b[c, 1] + R[2, 2] * b[c, 2]
+        (H, V, L0f, l_h, l_v, ehx, ehy, ehz, ell, sw, epx, epy, epz, T_B, zD, ins, gam) = exit_points(
+            px + rx, py + ry, pz + rz, c, L0[i, c], cab, frame, ident, heavy, start[c], state[c]
+        )
+        inside = inside or ins
+        w.cab_inside[c] = ins
+        w.cab_gamma[c] = gam
+        t[c] = T_B
+        wc, EA = heavy.w[c], cab.ES[c]
+        Fix, Fiy, Fiz = H * ehx + V * ux, H * ehy + V * uy, H * ehz + V * uz
+        Fx += Fix
+        Fy += Fiy
+        Fz += Fiz
+        Mx += ry * Fiz - rz * Fiy
+        My += rz * Fix - rx * Fiz
+        Mz += rx * Fiy - ry * Fix
+        energy += cable_energy(H, V, L0f, l_h, l_v, ell, wc, EA) + wc * L0f * zD
+        k11, k12, k21, k22 = cable_stiffness(H, V, L0f, ell, wc, EA)
+        turn = H / l_h if l_h > 1e-12 * (1.0 + abs(l_v)) else k11
+        # dF/dv = e_h (k11 e_h + k12 up)^T + up (k21 e_h + k22 up)^T + turn (I - e_h e_h^T - up up^T)
+        ah = (k11 * ehx + k12 * ux, k11 * ehy + k12 * uy, k11 * ehz + k12 * uz)
+        av = (k21 * ehx + k22 * ux, k21 * ehy + k22 * uy, k21 * ehz + k22 * uz)
+        a0, a1, a2 = ah
+        v0, v1, v2 = av
+        d00 = ehx * a0 + ux * v0 + turn * (1.0 - ehx * ehx - ux * ux)
+        d01 = ehx * a1 + ux * v1 + turn * (-ehx * ehy - ux * uy)
+        d02 = ehx * a2 + ux * v2 + turn * (-ehx * ehz - ux * uz)
+        d10 = ehy * a0 + uy * v0 + turn * (-ehy * ehx - uy * ux)
+        d11 = ehy * a1 + uy * v1 + turn * (1.0 - ehy * ehy - uy * uy)
+        d12 = ehy * a2 + uy * v2 + turn * (-ehy * ehz - uy * uz)
+        d20 = ehz * a0 + uz * v0 + turn * (-ehz * ehx - uz * ux)
+        d21 = ehz * a1 + uz * v1 + turn * (-ehz * ehy - uz * uy)
+        d22 = ehz * a2 + uz * v2 + turn * (1.0 - ehz * ehz - uz * uz)
+        # G = dF/dB = dF/dv (-I + swivel e_perp e_perp^T)
+        de0 = sw * (d00 * epx + d01 * epy + d02 * epz)
+        de1 = sw * (d10 * epx + d11 * epy + d12 * epz)
+        de2 = sw * (d20 * epx + d21 * epy + d22 * epz)
+        add_cable_jacobian(
+            J,
+            de0 * epx - d00,
+            de0 * epy - d01,
+            de0 * epz - d02,
+            de1 * epx - d10,
+            de1 * epy - d11,
+            de1 * epz - d12,
+            de2 * epx - d20,
+            de2 * epy - d21,
+            de2 * epz - d22,
+            rx, ry, rz, 1.0, Fix, Fiy, Fiz,
+        )  # fmt: skip
+        kc = abs(k11) + abs(k22) + abs(turn)
+        rr = rx * rx + ry * ry + rz * rz
+        kap0 += kc
+        kap1 += kc * rr + T_B * math.sqrt(rr)
+    Fx += fx
+    Fy += fy
+    Fz += fz
+    cfx, cfy, cfz = rcy * fz - rcz * fy, rcz * fx - rcx * fz, rcx * fy - rcy * fx
+    Mx += cfx
+    My += cfy
+    Mz += cfz
+    rc3 = (rcx, rcy, rcz)
+    f3 = (fx, fy, fz)
+    rcf = rcx * fx + rcy * fy + rcz * fz
+    for a in range(3):
+        for q in range(3):
+            J[3 + a, 3 + q] += rc3[a] * f3[q] - (rcf if a == q else 0.0)
+    e6[0], e6[1], e6[2], e6[3], e6[4], e6[5] = Fx, Fy, Fz, Mx, My, Mz
+    e6[6], e6[7], e6[8], e6[9], e6[10], e6[11] = Fx, Fy, Fz, Mx, My, Mz
+    merit = -((px - rfx + rcx) * fx + (py - rfy + rcy) * fy + (pz - rfz + rcz) * fz) + energy
+    if not math.isfinite(merit):
+        merit = np.inf
+    if body.suspended and not pz < body.ztop:
+        merit = np.inf
+    e6[12] = merit
+    e6[13] = 1.0 if inside else 0.0
+    for a in range(6):
+        g6[a] = -e6[6 + a]
+    g6[6] = kap0
+    g6[7] = kap1 + math.sqrt(fx * fx + fy * fy + fz * fz) * math.sqrt(rcx * rcx + rcy * rcy + rcz * rcz)
+
+
+@njit(cache=True, parallel=True, error_model="numpy")
+def _heavy_cables(P, R, L0, cab, frame, ident, heavy, b, start, out):
+    n, m = P.shape[0], cab.A.shape[0]
+    warm = start.shape[0] == n
+    for i in prange(n):
+        st = np.zeros(NSTATE)
+        for c in range(m):
+            Bx = P[i, 0] + R[i, 0, 0] * b[c, 0] + R[i, 0, 1] * b[c, 1] + R[i, 0, 2] * b[c, 2]
+            By = P[i, 1] + R[i, 1, 0] * b[c, 0] + R[i, 1, 1] * b[c, 1] + R[i, 1, 2] * b[c, 2]
+            Bz = P[i, 2] + R[i, 2, 0] * b[c, 0] + R[i, 2, 1] * b[c, 1] + R[i, 2, 2] * b[c, 2]
+            st[_READY] = 0.0
+            if warm:
+                for a in range(NSTATE):
+                    st[a] = start[i, c, a]
+            (H, V, L0f, l_h, l_v, _, _, _, _, _, _, _, _, T_B, _, _, _) = exit_points(
+                Bx, By, Bz, c, L0[i, c], cab, frame, ident, heavy, st, st
+            )
+            wc, EA = heavy.w[c], cab.ES[c]
+            o = out[i, c]
+            o[0], o[1], o[2] = T_B, st[_TD], H
+            o[3] = sag(H, V, L0f, wc, EA, l_h, l_v)
+            o[4] = arc_length(H, V, L0f, wc, EA) - math.hypot(l_h, l_v)
+            o[5] = angle_f_deg(H, V, l_h, l_v)
+            o[6] = st[_CODE]
+            o[7], o[8], o[9] = st[_DX], st[_DY], st[_DZ]
+            o[10] = st[_GAM]
+
+
+def heavy_cables(cab, P, R, L0, start=None):
+    """Compiled ``models.cables.heavy_cables``: what each heavy cable does at the equilibria, each
+    cable solved afresh at (P, R) by ``exit_points`` (from ``start``, or the reference's start),
+    points in parallel.
+
+    Parameters
+    ----------
+    cab : CompiledHeavyCables
+        The robot's cables (``equilibrium.CompiledHeavyCables``: the kernel's records).
+    P : ndarray (N, 3) [m]
+        Platform positions.
+    R : ndarray (N, 3, 3) [-]
+        Platform orientations.
+    L0 : ndarray (N, m) [m]
+        Rest lengths of the whole cables.
+    start : ndarray (N, m, NSTATE), optional
+        The cables' state to start from (``STATE``; the pose kernel's at the result).
+
+    Returns
+    -------
+    dict
+        As ``models.cables.heavy_cables``: t_B, t_D, H [N], sag, arc_minus_chord [m], angle_f_deg
+        [deg], cable_status (str), all (N, m), sag_max (N,) [m], D (N, m, 3) [m], gamma (N, m) [rad].
+
+    References
+    ----------
+    Irvine, H. M. (1981). Cable Structures. MIT Press, ch. 2; Paty et al. 2021, eq. (10)-(13).
+    """
+    f = np.ascontiguousarray
+    n, m = len(P), cab.robot.m
+    out = np.empty((n, m, 11))
+    if n:
+        _heavy_cables(
+            f(P, dtype=float), f(R, dtype=float), f(L0, dtype=float), cab.cables, cab.body.frame,
+            cab.body.ident, cab.heavy, cab.body.b, np.zeros((0, m, NSTATE)) if start is None else f(start), out,
+        )  # fmt: skip
+    code = out[..., 6].astype(np.int8)
+    sag_ = out[..., 3]
+    return {
+        "t_B": out[..., 0],
+        "t_D": out[..., 1],
+        "H": out[..., 2],
+        "sag": sag_,
+        "arc_minus_chord": out[..., 4],
+        "angle_f_deg": out[..., 5],
+        "cable_status": np.asarray(SPAN_STATUSES)[code],
+        "sag_max": sag_.max(axis=1) if m else np.zeros(n),
+        "D": out[..., 7:10],
+        "gamma": out[..., 10],
+    }

@@ -1,0 +1,118 @@
+"""The compiled physical equilibrium with heavy cables (cdpr.compiled.cables in the pose kernel of
+cdpr.compiled.equilibrium, issue 38) equals the numpy reference (cdpr.models.equilibrium with
+cdpr.models.cables.HeavyCables): the same statuses, taut sets and per-cable catenary statuses,
+poses within 1e-9 m and 1e-9 rad, on CDPR4 with a linear density (SR and fixed pulleys) and on
+CoGiRo with its 4 mm cable's, at several poses, with cables lengthened until they hang in a U
+(the heavy model's "slack": a cable that carries little more than its own weight); and
+cdpr.solve routes heavy robots to it (its default engine) in solve and solve_batch."""
+
+import numpy as np
+import pytest
+
+from cdpr import solve as door
+from cdpr.compiled import equilibrium as cequilibrium
+from cdpr.models import equilibrium
+from cdpr.models.inverse import L_TS
+from cdpr.models.platform import pose_arrays
+from cdpr.robot import load_robot, with_pulleys, with_values
+
+RHO = 0.0631  # [kg/m] a 4 mm steel cable (the cube50 robot's, issue 38)
+CDPR4_PTS = np.array(
+    [[0.0, 0.0, 2.5], [1.0, 0.5, 3.0], [-2.0, 1.5, 1.0], [1.2, -1.1, 4.2], [0.3, 0.2, 0.5], [2.2, 2.2, 0.4]]
+)
+COGIRO_POSES = np.array(
+    [
+        [0.0, 0.0, 2.0, 0.0, 0.0, 0.0],
+        [1.0, 1.0, 1.5, 0.0, 0.0, 0.0],
+        [0.0, 0.0, 2.0, np.radians(15.0), 0.0, 0.0],
+        [-3.0, 2.0, 1.0, 0.05, -0.1, 0.2],
+        [4.0, -2.5, 3.0, -0.1, 0.05, -0.3],
+    ]
+)
+KEYS = ("t_B", "t_D", "H", "sag", "arc_minus_chord", "angle_f_deg")
+
+
+def _lengthened(robot, p, rotvec=None, factor=1.003):
+    """L_TS at the desired poses, the first cable of every other pose lengthened by ``factor``
+    (it then hangs in a deeper sag, or a U, and carries little)."""
+    P, R = pose_arrays(p, rotvec)
+    L0 = L_TS(robot, P, R=R)
+    L0[::2, 0] *= factor
+    return L0
+
+
+def _same(a, b, pose=True):
+    np.testing.assert_array_equal(a["status"], b["status"])
+    np.testing.assert_array_equal(a["taut"], b["taut"])
+    np.testing.assert_array_equal(a["cable_status"], b["cable_status"])
+    assert np.abs(a["P_s"] - b["P_s"]).max() <= 1e-9
+    if pose:
+        assert np.abs(a["rotvec_s"] - b["rotvec_s"]).max() <= 1e-9
+        np.testing.assert_array_equal(a["unique"], b["unique"])
+    scale = np.nanmax(a["t_B"])
+    for k in KEYS:  # per-cable outputs: to round-off of the equilibrium (forces relative to the largest)
+        tol = 1e-9 * scale if k in ("t_B", "t_D", "H") else 1e-9
+        np.testing.assert_allclose(b[k], a[k], rtol=0, atol=tol, err_msg=k)
+    np.testing.assert_allclose(b["t"], a["t"], rtol=0, atol=1e-9 * scale)
+
+
+@pytest.mark.parametrize("kind, L0_factor", [("SR", None), ("SR", 1.003), ("fixed", 1.003)])
+def test_compiled_heavy_point_mass_equals_the_reference(cdpr4, kind, L0_factor):
+    r = with_values(with_pulleys(cdpr4, kind=kind), linear_density=RHO * 5)
+    L0 = None if L0_factor is None else _lengthened(r, CDPR4_PTS, factor=L0_factor)
+    a = equilibrium.solve(r, CDPR4_PTS, L0=L0)
+    b = cequilibrium.solve(r, CDPR4_PTS, L0=L0)
+    _same(a, b, pose=False)
+    assert (a["status"] == "ok").all()
+    assert (a["sag_max"] > 1e-3).all()  # the sag is there to see (mm to dm)
+    if L0_factor is not None:  # the lengthened cables sag more and pull less than at L_TS
+        std = equilibrium.solve(r, CDPR4_PTS)
+        assert (a["sag"][::2, 0] > std["sag"][::2, 0]).all()
+        assert (a["t_B"][::2, 0] < std["t_B"][::2, 0]).all()
+
+
+def test_compiled_heavy_point_mass_with_its_density(cdpr4):
+    """CDPR4 with the 4 mm cable's density (0.0631 kg/m): equal statuses and poses, and the sag
+    moves the point by less than a millimetre on a 5 m robot."""
+    r = with_values(cdpr4, linear_density=RHO)
+    a = equilibrium.solve(r, CDPR4_PTS)
+    b = cequilibrium.solve(r, CDPR4_PTS)
+    _same(a, b, pose=False)
+    massless = equilibrium.solve(cdpr4, CDPR4_PTS)
+    moved = np.linalg.norm(a["P_s"] - massless["P_s"], axis=1)
+    assert (moved > 0).all() and moved.max() < 1e-3
+
+
+def test_compiled_heavy_rigid_platform_equals_the_reference_on_cogiro():
+    r = load_robot("config/robots/cogiro.yaml", linear_density=RHO)
+    assert r.heavy and not r.point_mass
+    L0 = _lengthened(r, COGIRO_POSES[:, :3], COGIRO_POSES[:, 3:], factor=1.002)
+    for lengths in (None, L0):
+        a = equilibrium.solve(r, COGIRO_POSES, L0=lengths)
+        b = cequilibrium.solve(r, COGIRO_POSES, L0=lengths)
+        _same(a, b)
+        assert (a["status"] != "not_converged").all()
+        assert (a["sag_max"] > 5e-3).all()  # centimetres of sag on a 15 m robot
+
+
+def test_the_door_routes_heavy_robots_to_the_compiled_kernel(cdpr4):
+    r = with_values(cdpr4, linear_density=RHO)
+    p = CDPR4_PTS[:3]
+    res = door.solve(r, p, redundancy="physical")  # the default engine: compiled
+    comp = door.solve(r, p, redundancy="physical", engine="compiled")
+    ref = door.solve(r, p, redundancy="physical", engine="numpy")
+    assert set(res) == set(ref) and set(door.HEAVY_KEYS) <= set(res)
+    for k in ("P_s", "t", "sag", "t_D"):
+        np.testing.assert_array_equal(res[k], comp[k])
+    np.testing.assert_array_equal(res["status"], ref["status"])
+    assert np.abs(res["P_s"] - ref["P_s"]).max() <= 1e-9
+    # solve_batch: heavy robots one by one, by either engine, equal to their solves
+    r2 = with_values(cdpr4, linear_density=2 * RHO)
+    for engine in ("compiled", "numpy"):
+        batch = door.solve_batch([r, r2], p, engine=engine)
+        for rk, got in zip((r, r2), batch):
+            one = door.solve(rk, p, redundancy="physical", engine=engine)
+            np.testing.assert_array_equal(got["P_s"], one["P_s"])
+            np.testing.assert_array_equal(got["sag_max"], one["sag_max"])
+    assert (batch[1]["sag_max"] < batch[0]["sag_max"] * 2.5).all()
+    assert (batch[1]["sag_max"] > batch[0]["sag_max"]).all()
