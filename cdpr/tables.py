@@ -46,7 +46,8 @@ def to_frame(robot, res, redundancy="paper", rotvec=None):
         [m per unit of θ] (``sensitivity.sensitivity_columns``) and smooth; a 6-DoF result's also
         dphix_d<θ>, dphiy_d<θ>, dphiz_d<θ> [rad per unit] (``sensitivity.pose_sensitivity_columns``). A 6-DoF result of a
         rigid platform (``equilibrium.solve``, key ``rotvec_s``, robot not a point mass):
-        the columns of ``to_frame6``.
+        the columns of ``to_frame6``. A result with heavy cables (key ``sag_max``) adds sag_max_m
+        [m], the largest sag of the point's cables, after status.
     """
     if check_redundancy(redundancy) == "physical" and "rotvec_s" in res and not robot.point_mass:
         return to_frame6(robot, res)
@@ -84,6 +85,8 @@ def _frame(robot, res, redundancy):
         else pd.Categorical(res["status"], categories=statuses).codes
     )
     df["status"] = pd.Categorical.from_codes(codes, categories=statuses)
+    if "sag_max" in res:  # heavy cables (issue 38): the largest sag of the point's cables [m]
+        df["sag_max_m"] = res["sag_max"]
     if "S" in res:
         S = res["S"]
         flat = np.swapaxes(S, 1, 2).reshape(len(S), -1)

@@ -33,17 +33,23 @@ from __future__ import annotations
 import numpy as np
 
 from cdpr.errors import CdprError
-from cdpr.models.inverse import igm_e
+from cdpr.models.cables import HeavyCables, heavy_cables
+from cdpr.models.inverse import pose_state
+from cdpr.models.platform import external_wrench, pose_arrays
+from cdpr.models.platform import wrench_matrix as pose_wrench_matrix
 from cdpr.models.results import STATUSES
 from cdpr.models.statics import tensions
 from cdpr.models.tension_distribution import (
     METHODS,
     T_MIN_DEFAULT,
-    compensated_lengths,
-    distribute,
+    closed_form,
+    closed_form_improved,
+    min_norm,
+    min_norm_rows,
+    rank_rows,
     wrench_matrix,
 )
-from cdpr.solve import check_engine, solve
+from cdpr.solve import HEAVY_KEYS, check_engine, solve
 
 COMP_METHODS = (*METHODS, "subset")
 #: Statuses of a compensated pose: the physical ones, and ``infeasible`` where no tension
@@ -106,24 +112,138 @@ def at_poses(robot, p, rotvec=None):
     return rotvec is not None or p.shape[1] == 6 or not robot.suspended_point_mass
 
 
-def _compensate6(robot, p, rotvec, method, t_min, t_max, options):
-    """``compensate`` at poses: ``tension_distribution.compensated_lengths`` (Paty 2021 eq. (10), (13) with
-    the 6 x m wrench matrix)."""
-    if method not in METHODS:
-        raise CdprError(
-            f"compensation at a pose (rigid platform, poses or rotvec) takes method {', '.join(METHODS)}, "
-            f"got {method!r} (the 3-cable subset is the point-mass rule)"
-        )
-    if options:
-        raise CdprError(f"compensation at a pose takes no distribution options, got {', '.join(options)}")
-    c = compensated_lengths(robot, p, rotvec, t_min, t_max, method)  # poses (N, 6) carry their rotvec
-    return {key: c[key] for key in ("p", "R", "L0", "t", "L_TE", "feasible")}
+#: The sag-consistent distribution's fixed point stops when no tension moves by more than this
+#: fraction of the largest tension (``heavy_distribution``), or after ``HEAVY_MAXITER`` iterations.
+HEAVY_RTOL = 1e-13
+HEAVY_MAXITER = 100
+
+
+def _distribution(W, w, method, t_min, t_max, options):
+    """The tension distribution of wrench matrices W (N, r, m) reduced to their rank
+    (``tension_distribution.rank_rows``) for the wrench w (N, r): Pott's closed forms, or the exact
+    bounded minimum norm (``min_norm`` on 3 rows, a point mass: null space for m = 4, with its
+    options; ``min_norm_rows`` on 6). Returns t (N, m) [N] and feasible (N,)."""
+    if method == "closed_form":
+        return closed_form(W, w, t_min, t_max)
+    if method == "closed_form_improved":
+        return closed_form_improved(W, w, t_min, t_max)
+    if W.shape[1] == 3:
+        opts = dict(options)
+        solver = opts.pop("solver", "auto")
+        return min_norm(W, w, t_min, t_max, method=solver, **opts)
+    return min_norm_rows(W, w, t_min, t_max, **options)
+
+
+def _wrench(robot, R, u, r):
+    """The wrench matrix of unit cable forces u (N, m, 3) at r_i = R b_i and the wrench -w_ext, both
+    reduced to the rows their rank keeps (``rank_rows``: the 3 force rows of a point mass)."""
+    W = pose_wrench_matrix(u, r)
+    w = -external_wrench(robot.platform.mass, robot.platform.g, robot.arrays.com, R, robot.platform.down)
+    return rank_rows(robot, W, w)
+
+
+def heavy_distribution(robot, p, R, t_min=T_MIN_DEFAULT, t_max=None, method="min_norm", t0=None, **options):
+    """The sag-consistent tension distribution of a robot with heavy cables (issue 38): the
+    distribution (``method``, bounds on the tensions at B_i) of the wrench matrix whose columns are
+    the unit end forces at B_i of the catenaries that carry those tensions
+    (``cables.HeavyCables.inverse``), found by the fixed point t_(k+1) = distribution(W(t_k))
+    started from t0 (default: the massless distribution, W of the chords' directions at the exit
+    points of the massless model).
+
+    .. math:: \\mathbf t = \\arg\\min_{\\mathbf W(\\mathbf t)\\,\\mathbf s = -\\mathbf w_{ext},\\;
+        T_{min} \\le \\mathbf s \\le T_{max}} |\\mathbf s|_2
+
+    Parameters
+    ----------
+    robot : Robot
+        With heavy cables (w = 0 is allowed: the massless distribution, the chords' directions).
+    p : ndarray (N, 3) [m]
+        Positions.
+    R : ndarray (N, 3, 3) [-]
+        Orientations.
+    t_min : float or array_like (m,) [N]
+        Least tension at B_i.
+    t_max : float or array_like (m,) [N], optional
+        Largest tension at B_i (default T_a).
+    method : {"min_norm", "closed_form", "closed_form_improved"}
+        The distribution.
+    t0 : ndarray (N, m) [N], optional
+        Start of the fixed point (default the massless distribution).
+    options : passed to ``tension_distribution.min_norm`` (``t_ref``, ``solver``).
+
+    Returns
+    -------
+    dict
+        t (N, m) [N] tensions at B_i (NaN where infeasible); feasible (N,); iterations (N,) of the
+        fixed point (distributions computed after the start); inverse (``HeavyCables.inverse`` at
+        t: D, H, V_B, T_D, L0, ...); L0 (N, m) [m] the rest lengths that hold the platform at
+        (p, R) under t in the heavy direct model.
+
+    References
+    ----------
+    Irvine 1981, ch. 2; Pott 2018, ch. 3; Paty et al. 2021, eq. (11)-(13).
+    """
+    cab = HeavyCables(robot)
+    t_max = robot.T_a if t_max is None else t_max
+    n = len(p)
+    if t0 is None:
+        B, st = pose_state(robot, p, R)
+        u = st.D - B
+        u = u / np.linalg.norm(u, axis=-1, keepdims=True)
+        t0, _ = _distribution(*_wrench(robot, R, u, B - p[:, None, :]), method, t_min, t_max, options)
+    t = np.array(t0, dtype=float)
+    ok = np.isfinite(t).all(axis=1)
+    iters = np.zeros(n, dtype=np.int64)
+    todo = ok.copy()
+    for _ in range(HEAVY_MAXITER):
+        if not todo.any():
+            break
+        idx = np.flatnonzero(todo)
+        inv = cab.inverse(p[idx], R[idx], t[idx])
+        good = inv["converged"].all(axis=1)
+        u = np.where(good[:, None, None], inv["f"], 0.0)
+        W, w = _wrench(robot, R[idx], u, inv["r"])
+        t_new, feas = _distribution(W, w, method, t_min, t_max, options)
+        feas &= good
+        with np.errstate(invalid="ignore"):
+            moved = np.abs(t_new - t[idx]).max(axis=1)
+            scale = np.abs(t_new).max(axis=1)
+        iters[idx] += 1
+        t[idx] = t_new
+        ok[idx] = feas
+        done = ~feas | (moved <= HEAVY_RTOL * scale)
+        todo[idx[done]] = False
+    ok &= ~todo  # no fixed point within HEAVY_MAXITER: infeasible, never a half-converged answer
+    inv = cab.inverse(p, R, np.where(ok[:, None], t, 1.0))
+    ok &= inv["converged"].all(axis=1)
+    t = np.where(ok[:, None], t, np.nan)
+    L0 = np.where(ok[:, None], inv["L0"], np.nan)
+    return {"t": t, "feasible": ok, "iterations": iters, "inverse": inv, "L0": L0}
+
+
+def _planned_cables(robot, p, R, L0, ok):
+    """The heavy cables at the desired poses under the compensated rest lengths
+    (``cables.heavy_cables``), NaN (status ``infeasible``) where no distribution exists."""
+    h = heavy_cables(HeavyCables(robot), p, R, L0)
+    for key, value in h.items():
+        if key == "cable_status":
+            h[key] = np.where(ok[:, None], value, "infeasible")
+        elif value.dtype.kind == "f":
+            h[key] = np.where(ok.reshape((-1,) + (1,) * (value.ndim - 1)), value, np.nan)
+    return h
 
 
 def compensate(
     robot, p, method="min_norm", t_min=T_MIN_DEFAULT, t_max=None, engine=None, rotvec=None, **options
 ):
     """Compensated rest lengths that hold the platform of ``robot`` at p with planned tensions.
+
+    One path for the point mass and the rigid platform (the point mass is the platform with b = 0,
+    its wrench matrix reduced to the 3 force rows, ``tension_distribution.rank_rows``): the
+    distribution of the wrench matrix of the extended model at the pose, and the rest lengths of
+    Hooke's law L0_i = L_TE,i / (1 + t_i / (E_i S_i)). With heavy cables (``Robot.heavy``) the
+    distribution is the sag-consistent one (``heavy_distribution``) and L0_i the rest length that
+    puts B_i on the catenary carrying t_i at B_i (``cables.HeavyCables.inverse``).
 
     Parameters
     ----------
@@ -133,43 +253,61 @@ def compensate(
         Desired positions, or poses of a rigid platform.
     method : {"min_norm", "closed_form", "closed_form_improved", "subset"}
     t_min, t_max : float or array_like (m,) [N]
-        Tension bounds of the distribution (``t_max`` default T_a,i); not used by ``subset``
-        (0 <= t <= T_a there, as in paper mode).
+        Tension bounds of the distribution (``t_max`` default T_a,i; at B_i for heavy cables); not
+        used by ``subset`` (0 <= t <= T_a there, as in paper mode).
     engine : {"compiled", "numpy", None}
         Paper-mode engine for ``subset`` (``solve.check_engine``: None is compiled; another value
         raises CdprError).
     rotvec : array_like (3,) or (N, 3) [rad], optional
-        Desired orientation (default identity). With it, with poses p (N, 6) or on a robot that is
-        not a suspended point mass (``at_poses``) the compensation is the 6-DoF one
-        (``tension_distribution.compensated_lengths``: no ``subset`` method, no options).
-    options : passed to ``cdpr.models.tension_distribution.distribute``.
+        Desired orientation (default identity); poses p (N, 6) carry theirs. ``subset`` is the
+        point-mass rule at positions only (``at_poses`` false).
+    options : passed to ``cdpr.models.tension_distribution.min_norm`` (a point mass) or
+        ``min_norm_rows`` (``t_ref``).
 
     Returns
     -------
     dict
         p (N, 3) [m]; L0 (N, m) [m], NaN where infeasible; t (N, m) [N] planned tensions;
         L_TE (N, m) [m] at p; feasible (N,) bool; subset (N, 3) 0-based for ``subset`` (else
-        absent); at poses also R (N, 3, 3), the desired orientations.
+        absent); at poses also R (N, 3, 3), the desired orientations; with heavy cables also
+        iterations (N,) (``heavy_distribution``'s fixed point) and cables (``cables.heavy_cables``'s
+        dict at the desired poses under L0: t_B, t_D, H, sag, ..., NaN where infeasible).
 
     References
     ----------
-    Paty et al. 2021, eq. (3)-(5), (10)-(13).
+    Paty et al. 2021, eq. (3)-(5), (10)-(13); Irvine 1981, ch. 2.
     """
     p = np.atleast_2d(np.asarray(p, dtype=float))
     engine = check_engine(engine, "newton")
-    if at_poses(robot, p, rotvec):
-        return _compensate6(robot, p, rotvec, method, t_min, t_max, options)
-    L_TE = igm_e(robot, p).L_TE
-    out = {"p": p}
-    if method == "subset":
-        t, ok, out["subset"] = _subset_tensions(robot, p, engine)
-    elif method in METHODS:
-        d = distribute(robot, p, method, t_min=t_min, t_max=t_max, **options)
-        t, ok = d["t"], d["feasible"]
-    else:
+    six = at_poses(robot, p, rotvec)
+    if method not in COMP_METHODS:
         raise ValueError(f"unknown compensation method {method!r}; allowed: {', '.join(COMP_METHODS)}")
-    L0 = np.where(ok[:, None], rest_lengths(L_TE, t, robot.ES), np.nan)
-    out.update(L0=L0, t=t, L_TE=L_TE, feasible=ok)
+    if method == "subset" and (six or robot.heavy):
+        raise CdprError(
+            "the 3-cable subset (compensation method 'subset') is the paper's point-mass rule at positions with "
+            f"massless cables; use {', '.join(METHODS)}"
+        )
+    pp, R = pose_arrays(p, rotvec)
+    B, st = pose_state(robot, pp, R)
+    out = {"p": pp}
+    if six:
+        out["R"] = R
+    if method == "subset":
+        t, ok, out["subset"] = _subset_tensions(robot, pp, engine)
+        L0 = rest_lengths(st.L_TE, t, robot.ES)
+    elif robot.heavy:
+        h = heavy_distribution(robot, pp, R, t_min, t_max, method, **options)
+        t, ok, L0 = h["t"], h["feasible"], h["L0"]
+        out["iterations"] = h["iterations"]
+        out["cables"] = _planned_cables(robot, pp, R, np.where(ok[:, None], L0, st.L_TE), ok)
+    else:
+        u = st.D - B
+        u = u / np.linalg.norm(u, axis=-1, keepdims=True)
+        W, w = _wrench(robot, R, u, B - pp[:, None, :])
+        t_max = robot.T_a if t_max is None else t_max
+        t, ok = _distribution(W, w, method, t_min, t_max, options)
+        L0 = rest_lengths(st.L_TE, t, robot.ES)
+    out.update(L0=np.where(ok[:, None], L0, np.nan), t=t, L_TE=st.L_TE, feasible=ok)
     return out
 
 
@@ -222,13 +360,17 @@ def compensated_pose(
     dict
         As ``solve.solve`` in physical mode, plus L0 (N, m) [m],
         t_planned (N, m) [N] and ``statuses`` (``COMP_STATUSES``): status ``infeasible`` (P_s, dp,
-        t NaN; at poses also rotvec_s and dphi) where no distribution exists.
+        t NaN; at poses also rotvec_s and dphi) where no distribution exists. With heavy cables
+        also ``solve.HEAVY_KEYS`` at the equilibria (NaN, status ``infeasible``, where not solved),
+        planned_cables (``compensate``'s cables, at the desired poses) and iterations_distribution.
     """
     p = np.atleast_2d(np.asarray(p, dtype=float))
     actual = robot if actual is None else actual
     if actual.m != robot.m:
         raise ValueError(f"the actual robot has {actual.m} cables, the model {robot.m}")
     six = at_poses(robot, p, rotvec)
+    if actual.heavy and engine is None:
+        engine = "numpy"  # heavy cables: the numpy reference (``solve.solve``)
     comp = compensate(
         robot, p, method=method, t_min=t_min, t_max=t_max, engine=engine, rotvec=rotvec, **options
     )
@@ -289,6 +431,15 @@ def compensated_pose(
     )
     if "subset" in comp:
         out["subset"] = comp["subset"]
+    if "cables" in comp:
+        out["planned_cables"], out["iterations_distribution"] = comp["cables"], comp["iterations"]
+    if actual.heavy:
+        for key in HEAVY_KEYS:
+            dims = res[key].shape[1:]
+            text = key == "cable_status"
+            arr = np.full((n, *dims), "infeasible" if text else np.nan, dtype="<U10" if text else float)
+            arr[ok] = res[key]
+            out[key] = arr
     if six:
         out["rotvec"] = rv
         alternatives = [[] for _ in range(n)]

@@ -21,10 +21,11 @@ import numpy as np
 
 from cdpr import io
 from cdpr.analyses.workspace import BYTES_PER_POINT
+from cdpr.cli import heavy
 from cdpr.cli.options import MAX_COORDINATE_M
 from cdpr.errors import CdprError
 from cdpr.plausibility import plausibility_warnings
-from cdpr.robot import load_robot, require_massless
+from cdpr.robot import load_robot
 
 #: The columns of a ``--points`` table: the position [m] and, optional, the orientation [rad].
 POINT_COLUMNS = ("x", "y", "z", "rx", "ry", "rz")
@@ -75,7 +76,7 @@ def _load(args):
         ),
         args,
     )
-    require_massless(robot, "cdpr " + getattr(args, "run", ("", "this command"))[1].removeprefix("cmd_"))
+    heavy.check(robot, args)  # heavy cables: refused in one line where not modelled
     if hasattr(args, "redundancy") and args.redundancy is None:
         args.redundancy = robot.default_redundancy
     return robot
@@ -284,6 +285,11 @@ def cmd_inverse(args):
         gamma, alpha = np.where(pulley, st.gamma, np.nan), np.where(pulley, st.alpha, np.nan)
         return lts, st, np.where(pulley, sw, np.nan), over, gamma, alpha
 
+    done = heavy.inverse_heavy(args, robot, points) if args.tensions is not None or robot.heavy else None
+    if done is not None:  # --tensions: the cables under those tensions
+        out, title, table = done
+        emit_json(out, args) if args.json else print(title + "\n" + text_table(*table))
+        return
     if args.points or args.out:
         import pandas as pd  # lazy: a table of points only
 
@@ -563,6 +569,7 @@ def cmd_point(args):
     if "rotvec_s" in res or rv is not None:
         out["solved_rotvec"] = (res["rotvec_s"][0] if "rotvec_s" in res else rv[0]).tolist()
         out["dphi"] = float(res["dphi"][0]) if "dphi" in res else 0.0
+    heavy.point_json(out, res)  # heavy cables: tensions at the exit points D and sags
     if args.redundancy == "physical":
         out["taut"] = [int(i) + 1 for i in np.flatnonzero(res["taut"][0])]
     else:
@@ -605,6 +612,7 @@ def cmd_point(args):
     if "dphi" in out:
         print(f"  rotvec*  [rad] : {fmt(out['solved_rotvec'])}   dphi [rad]: {out['dphi']:.6g}")
     print("  tensions   [N] : " + ", ".join("slack" if v is None else f"{v:.2f}" for v in out["tensions"]))
+    heavy.point_text(out)
     if args.redundancy == "physical":
         print(f"  taut cables    : {'-'.join(map(str, out['taut'])) or '-'}")
         if two is not None:  # the reached equilibrium and the global one (issue 39)
@@ -744,6 +752,7 @@ def cmd_compensate(args):
     }
     if reason is not None:
         out["reason"] = reason
+    heavy.compensate_json(out, res)
     if all(w is not None for w in robot.winches):
         from cdpr.models.drive import drum_angles  # lazy: robots with winches only
 
@@ -768,6 +777,7 @@ def cmd_compensate(args):
         [str(i + 1), f"{L:.6f}", f"{t:.2f}"] for i, (L, t) in enumerate(zip(out["lengths"], out["tensions"]))
     ]
     headers = ["cable", "rest length L0 [m]", "planned tension [N]"]
+    rows, headers = heavy.compensate_columns(out, rows, headers)
     if "q" in out:
         rows = [r + [f"{a:.6f}", f"{b:.6f}"] for r, a, b in zip(rows, out["q"], out["q_no_winch"])]
         headers += ["drum angle q [rad]", "q neglecting the winch [rad]"]
@@ -807,6 +817,7 @@ def _compensate_pose_report(args, robot, res, engine, free, reason=None):
     }
     if reason is not None:
         out["reason"] = reason
+    heavy.compensate_json(out, res)
     if ok and any(p is not None for p in robot.spools):
         from cdpr.models.drive import spool_motor_angles  # lazy: robots with spools only
 
@@ -826,6 +837,7 @@ def _compensate_pose_report(args, robot, res, engine, free, reason=None):
         [str(i + 1), f"{L:.6f}", f"{t:.2f}"] for i, (L, t) in enumerate(zip(out["lengths"], out["tensions"]))
     ]
     headers = ["cable", "rest length L0 [m]", "planned tension [N]"]
+    rows, headers = heavy.compensate_columns(out, rows, headers)
     if "motor_deg" in out:
         rows = [r + [f"{a:.2f}"] for r, a in zip(rows, out["motor_deg"])]
         headers += ["motor angle [deg] (spool)"]

@@ -55,6 +55,14 @@ def build_parser(jobs=True):
     )
     robot_options(sp)
     points_options(sp, "platform position")
+    sp.add_argument(
+        "--tensions",
+        nargs="+",
+        type=positive,
+        metavar="N",
+        help="tensions at the platform per cable [N] (one pose, --at): the heavy cables' catenaries, exit points "
+        "and rest lengths under them (docs/heavy_cables.md)",
+    )
     sp.set_defaults(run=("cdpr.cli.commands", "cmd_inverse"))
     sp = sub.add_parser(
         "point",

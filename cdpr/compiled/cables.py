@@ -33,6 +33,7 @@ from numba import njit, prange
 from cdpr.compiled._kernels import SWIVEL_RHO_MIN, TWO_PI, in_frame, pulley_geometry
 from cdpr.compiled._linalg import add_cable_jacobian
 from cdpr.compiled.catenary import angle_f_deg, arc_length, cable_energy, cable_state, cable_stiffness, sag
+from cdpr.errors import CdprError
 from cdpr.models.catenary import INFEASIBLE, SPAN_STATUSES
 
 __all__ = ["NSTATE", "STATE", "Heavy", "evaluate", "exit_points", "heavy_arrays", "heavy_cables"]
@@ -100,6 +101,14 @@ def heavy_arrays(cab=None, m=0):
     f = np.ascontiguousarray
     if cab is None:
         return Heavy(False, np.zeros(m), f([0.0, 0.0, 1.0]), np.zeros((m, 3)))
+    kind = cab.robot.arrays.kind
+    bad = (kind == 2) | ((kind == 1) & (np.abs(cab.axis @ cab.up) < 1.0 - 1e-12))
+    if bad.any():  # the numpy reference's general pulley coupling has no compiled twin yet
+        raise CdprError(
+            f"{cab.robot.source}: the compiled kernel models heavy cables on fixed pulleys and SR pulleys with swivel "
+            f"axes along gravity only; cable {int(np.flatnonzero(bad)[0]) + 1} has a DR pulley or another axis: "
+            "use the numpy reference (--engine numpy)"
+        )
     return Heavy(True, f(cab.w, dtype=float), f(cab.up, dtype=float), f(cab.axis, dtype=float))
 
 

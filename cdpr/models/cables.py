@@ -21,18 +21,19 @@ from __future__ import annotations
 
 import numpy as np
 
-from cdpr.errors import CdprError
 from cdpr.models.catenary import (
     angle_f_deg,
     arc_minus_chord,
     cable_energy,
     cable_state,
     cable_stiffness,
+    flexibility,
     sag,
+    span_equations,
 )
 from cdpr.models.inverse import pulley_args
 from cdpr.models.platform import skew
-from cdpr.models.pulleys import SWIVEL_RHO_MIN, TWO_PI, pulley_state, total_length_and_direction
+from cdpr.models.pulleys import SWIVEL_RHO_MIN, pulley_state, total_length_and_direction
 from cdpr.models.statics import direction_gradient, length_gradient
 
 #: A point is balanced when |F| <= FTOL_REL |w_ext|.
@@ -110,18 +111,19 @@ class HeavyCables(Cables):
     point D_i (``catenary.cable_state``, H toward D_i horizontally and V_B up, "up" against gravity),
     the dead length and the wrapped arc carrying the tension at D_i (their weight neglected).
 
-    Pulley coupling (``exit_points``): the cable leaves the sheave along the catenary's end tangent
-    at D_i, tangent to the sheave circle in the sheave plane, D_i = H_i + r_p n with n the in-plane
-    normal of that tangent on the cable's side of the sheave; the wrap gamma_i runs from the entry
-    point K_i (the tangent from the winch exit, as in the massless model) to D_i, and the dead part's
-    stretched length is |l_d| + r_p gamma. D_i and the catenary are solved together by a fixed point
-    (its contraction is of the order r_p / |B_i - D_i|). Fixed pulleys (D_i = A_i) and SR pulleys
-    with swivel axes along gravity (up or down: the sheave plane is then the catenary's vertical
-    plane) so far; DR pulleys and other axes are refused in one line. With w = 0 it is the massless
-    model computed through the catenary (``heavy=True`` of ``solve``, for the tests).
+    Pulley coupling (``exit_points``, ``_couple``): the cable leaves the sheave along the catenary's
+    end tangent u_i at D_i, tangent to the sheave circle in the sheave plane. D_i is the tangent point,
+    in the massless pulley model (``pulleys.pulley_state``), of the virtual point
+    P*_i = D_i + |B_i - D_i| u_i on that tangent line: the sheave plane then contains the swivel
+    axis and u_i (the swivel angle that puts the end tangent in the sheave plane, for any axis), and
+    a DR arm bisects the strand to the winch and the direction of P*_i (Paty 2021's rule with P*_i for
+    B_i). The wrap gamma_i and |l_d| are the massless model's at P*_i, and the dead part's stretched
+    length is |l_d| + r_p gamma. A fixed point on P*_i from B_i (its contraction is of the order
+    r_p / |B_i - D_i|). Fixed, SR and DR pulleys, any swivel axis. With w = 0, P*_i = B_i: the
+    massless model computed through the catenary (``heavy=True`` of ``solve``, for the tests).
 
     The Jacobian takes D_i's turn with the swivel (the plane follows B_i) but not its slide on the
-    sheave (of relative size r_p / |B_i - D_i|): Newton's convergence is then linear with that
+    sheave nor a DR arm's turn (of relative size r_p / |B_i - D_i|): Newton's convergence is then linear with that
     factor near the solution; the stop rule is on the force balance itself, so the answer is not
     affected. The merit is the energy (``catenary.cable_energy`` plus the free span's weight at the
     exit point's height above A_i): for fixed pulleys its gradient is minus the wrench exactly;
@@ -134,19 +136,9 @@ class HeavyCables(Cables):
         a = robot.arrays
         down = np.asarray(robot.platform.down, dtype=float)
         self.up = -down / np.linalg.norm(down)
-        along = np.abs(a.axis @ self.up)
-        bad = (a.kind == 2) | ((a.kind == 1) & (along < 1.0 - 1e-12))
-        if bad.any():
-            raise CdprError(
-                f"{robot.source}: heavy cables (cable.linear_density_kg_m > 0) are modelled with fixed pulleys and "
-                "with SR pulleys whose swivel axes lie along gravity only so far; cable "
-                f"{int(np.flatnonzero(bad)[0]) + 1} has a "
-                + ("DR pulley" if a.kind[np.flatnonzero(bad)[0]] == 2 else "swivel axis off the vertical")
-                + " (docs/heavy_cables.md)"
-            )
         self.A, self.w, self.EA = a.A, a.w, a.ES
         self.axis, self.r_p = a.axis, a.r_p
-        self.sr = bool((a.kind == 1).any())
+        self.pulleys = bool((a.kind != 0).any())
 
     def exit_points(self, p, R, L0, maxiter=60):
         """The exit points D_i and the catenaries at poses (p (N, 3), R (N, 3, 3)) under rest
@@ -173,55 +165,128 @@ class HeavyCables(Cables):
         """
         r = np.einsum("nab,mb->nma", R, self.b)
         B = p[:, None, :] + r
-        ps = pulley_state(B, *self.args, per_cable=True)
+        box = {"start": None}
+
+        def span(l_h, l_v, ell):
+            st = cable_state(l_h, l_v, L0, ell, self.w, self.EA, start=box["start"])
+            box["start"] = (st.span.H, st.span.V_B)
+            return st, st.span.H, st.span.V_D, st.span.T_D
+
+        x = self._couple(B, span, maxiter)
+        x.update(r=r)
+        return x
+
+    def _couple(self, B, span, maxiter):
+        """The pulley coupling at the attachment points B (N, m, 3) for the span solver ``span``
+        ((l_h, l_v, l_dead) -> (solved, H, V_D, T_D)): the exit point D_i is the tangent point, on
+        the sheave of the massless pulley model, of the virtual point P*_i = D_i + |B_i - D_i| u_i on
+        the catenary's end tangent u_i at D_i (toward the platform); so the sheave plane contains the
+        swivel axis and u_i (the swivel angle that puts the end tangent in the sheave plane, any axis),
+        u_i touches the sheave circle at D_i, and a DR arm bisects the strand to the winch and the
+        direction of P*_i (Paty 2021's rule, with P*_i for B_i). At w = 0, P*_i = B_i: the massless
+        model. Fixed point on P*_i from B_i, contraction of the order r_p / |B_i - D_i|."""
         k = np.broadcast_to(self.axis, B.shape)
-        e_s = ps.e_s3
-        Hc, D = ps.H, ps.D
-        KH = ps.K - Hc
-        theta_K = np.arctan2(np.einsum("nma,nma->nm", KH, k), np.einsum("nma,nma->nm", KH, e_s))
-        gamma = ps.gamma
-        ell = ps.l_d + self.r_p * gamma
-        start = None
+        Pv = B
         it = 0
         for it in range(1, maxiter + 1):
-            v, l_h, l_v, e_h = self._spans(D, B)
-            st = cable_state(l_h, l_v, L0, ell, self.w, self.EA, start=start)
-            sp = st.span
-            start = (sp.H, sp.V_B)
-            if not self.sr:
+            ps = pulley_state(Pv, *self.args, per_cable=True)
+            ell = ps.l_d + self.r_p * ps.gamma
+            v, l_h, l_v, e_h = self._spans(ps.D, B)
+            st, H, V_D, T_D = span(l_h, l_v, ell)
+            if not self.pulleys:
                 break
             with np.errstate(invalid="ignore", divide="ignore"):
-                u = -(sp.H[..., None] * e_h + sp.V_D[..., None] * self.up) / sp.T_D[..., None]
-            n_s = -np.einsum("nma,nma->nm", u, k)
-            n_w = np.einsum("nma,nma->nm", u, e_s)
-            ok = (sp.T_D > 0.0) & np.isfinite(n_s) & np.isfinite(n_w)
-            D_new = np.where(
-                ok[..., None], Hc + self.r_p[:, None] * (n_s[..., None] * e_s + n_w[..., None] * k), D
-            )
-            gamma = np.where(ok, np.mod(theta_K - np.arctan2(n_w, n_s), TWO_PI), gamma)
-            ell = ps.l_d + self.r_p * gamma
-            moved = np.linalg.norm(D_new - D, axis=-1).max(initial=0.0)
-            D = D_new
+                u = -(H[..., None] * e_h + V_D[..., None] * self.up) / T_D[..., None]
+            ok = (T_D > 0.0) & np.isfinite(u).all(axis=-1)
+            Pv_new = np.where(ok[..., None], ps.D + np.linalg.norm(v, axis=-1)[..., None] * u, B)
+            moved = np.linalg.norm(Pv_new - Pv, axis=-1).max(initial=0.0)
+            Pv = Pv_new
             if moved <= 1e-15 * (1.0 + float(np.abs(v).max(initial=0.0))):
-                v, l_h, l_v, e_h = self._spans(D, B)
-                st = cable_state(l_h, l_v, L0, ell, self.w, self.EA, start=start)
+                ps = pulley_state(Pv, *self.args, per_cable=True)
+                ell = ps.l_d + self.r_p * ps.gamma
+                v, l_h, l_v, e_h = self._spans(ps.D, B)
+                st, H, V_D, T_D = span(l_h, l_v, ell)
                 break
+        e_s = ps.e_s3
         e_perp = np.cross(k, e_s)
-        Ds = np.einsum("nma,nma->nm", D - self.A, e_s)
-        swivel = np.where(ps.rho > SWIVEL_RHO_MIN, Ds / np.where(ps.rho > 0.0, ps.rho, 1.0), 0.0)
+        BA = B - self.A
+        rho = np.linalg.norm(BA - np.einsum("nma,nma->nm", BA, k)[..., None] * k, axis=-1)
+        Ds = np.einsum("nma,nma->nm", ps.D - self.A, e_s)
+        swivel = np.where(rho > SWIVEL_RHO_MIN, Ds / np.where(rho > 0.0, rho, 1.0), 0.0)
         return {
-            "r": r,
-            "D": D,
+            "D": ps.D,
             "v": v,
             "l_h": l_h,
             "l_v": l_v,
             "e_h": e_h,
             "l_dead": ell,
-            "gamma": gamma,
+            "gamma": ps.gamma,
             "state": st,
             "swivel": swivel,
             "e_perp": e_perp,
             "iterations": it,
+            "T_D": T_D,
+            "V_D": V_D,
+        }
+
+    def inverse(self, p, R, t, maxiter=60):
+        """The heavy inverse of every cable at poses: the exit points D_i, the catenaries that carry
+        the tensions t_i at B_i (``span_for_tension``) and the whole cables' rest lengths
+        L0_i = L0_free,i + l_dead,i / (1 + T_D,i/EA_i) (``catenary.cable_state``'s split), with the
+        pulley coupling of ``exit_points`` (D_i where the catenary's end tangent touches the sheave,
+        solved by the same fixed point). ``exit_points`` under these L0 gives back the same D_i and
+        the tensions t_i at B_i.
+
+        Parameters
+        ----------
+        p : ndarray (N, 3) [m]
+            Platform positions.
+        R : ndarray (N, 3, 3) [-]
+            Platform orientations.
+        t : ndarray (N, m) [N]
+            Tensions at B_i (> 0).
+        maxiter : int
+            Cap of the fixed point's iterations (SR pulleys).
+
+        Returns
+        -------
+        dict
+            r (N, m, 3) [m] = R b_i; D (N, m, 3) [m]; l_h, l_v (N, m) [m]; e_h (N, m, 3); H, V_B,
+            V_D, T_D (N, m) [N]; f (N, m, 3) [-] the unit force on the platform at B_i; L0_free, L0
+            (N, m) [m]; l_dead (N, m) [m]; gamma (N, m) [rad]; converged (N, m) bool;
+            iterations (fixed point).
+        """
+        t = np.asarray(t, dtype=float)
+        r = np.einsum("nab,mb->nma", R, self.b)
+        B = p[:, None, :] + r
+
+        def span(l_h, l_v, ell):
+            H, V_B, L0f, conv, _ = span_for_tension(l_h, l_v, t, self.w, self.EA)
+            V_D = V_B + self.w * L0f
+            return (H, V_B, L0f, conv), H, V_D, np.hypot(H, V_D)
+
+        x = self._couple(B, span, maxiter)
+        (H, V_B, L0f, conv), ell, T_D = x["state"], x["l_dead"], x["T_D"]
+        with np.errstate(invalid="ignore"):
+            L0 = L0f + ell * np.where(np.isinf(self.EA), 1.0, self.EA / (self.EA + T_D))
+            f = (H[..., None] * x["e_h"] + V_B[..., None] * self.up) / t[..., None]
+        return {
+            "r": r,
+            "D": x["D"],
+            "l_h": x["l_h"],
+            "l_v": x["l_v"],
+            "e_h": x["e_h"],
+            "H": H,
+            "V_B": V_B,
+            "V_D": x["V_D"],
+            "T_D": T_D,
+            "f": f,
+            "L0_free": L0f,
+            "L0": L0,
+            "l_dead": ell,
+            "gamma": x["gamma"],
+            "converged": conv,
+            "iterations": x["iterations"],
         }
 
     def _spans(self, D, B):
@@ -365,3 +430,102 @@ def heavy_cables(cab, P, R, L0):
         "D": x["D"],
         "gamma": x["gamma"],
     }
+
+
+def span_for_tension(l_h, l_v, T_B, w, EA, rtol=1e-15, maxiter=50):
+    """The elastic catenary of given spans that carries the tension T_B at B (the heavy inverse of
+    one span, issue 38): its end forces H = T_B cos psi, V_B = T_B sin psi and its unstrained
+    length L0, the solution (psi, L0) of ``span_equations``(T_B cos psi, T_B sin psi, L0) =
+    (l_h, l_v) by Newton's method with the analytic Jacobian
+
+    .. math:: \\frac{\\partial(l_h, l_v)}{\\partial \\psi} = F\\,(-V_B, H), \\qquad
+        \\frac{\\partial(l_h, l_v)}{\\partial L_0} = \\left(\\frac{1}{EA} + \\frac{1}{T_D}\\right)(H, V_D)
+
+    (F the ``flexibility``; lengthening the span at D at fixed end forces at B adds an element
+    along the stretched tangent at D), started from the straight Hooke spring along the chord
+    (psi = atan2(l_v, l_h), L0 = chord / (1 + T_B/EA)), which is the answer at w = 0.
+
+    Parameters
+    ----------
+    l_h : array_like (...) [m]
+        Horizontal span from B to D (> 0).
+    l_v : array_like (...) [m]
+        Vertical span z_D - z_B.
+    T_B : array_like (...) [N]
+        Tension at B (> 0).
+    w : array_like (...) [N/m]
+        Weight per unstrained metre (>= 0).
+    EA : array_like (...) [N]
+        Axial stiffness (inf allowed).
+    rtol : float
+        Stop when the span residual is below rtol times the chord.
+    maxiter : int
+        Cap of Newton's iterations.
+
+    Returns
+    -------
+    H, V_B : ndarray (...) [N]
+        End forces on the platform at B (H toward D, V_B up).
+    L0 : ndarray (...) [m]
+        Unstrained length of the span.
+    converged : ndarray (...) bool
+        Newton reached the tolerance (False, and NaN outputs, where T_B <= 0 or l_h <= 0).
+    iterations : ndarray (...) int
+        Newton's iterations (0 at w = 0).
+
+    References
+    ----------
+    Irvine, H. M. (1981). Cable Structures. MIT Press, ch. 2.
+    """
+    l_h, l_v, T, w, EA = (
+        np.array(x)
+        for x in np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (l_h, l_v, T_B, w, EA)))
+    )
+    shape = l_h.shape
+    l_h, l_v, T, w, EA = (x.ravel() for x in (l_h, l_v, T, w, EA))
+    c = np.hypot(l_h, l_v)
+    ok = (T > 0.0) & (l_h > 0.0) & np.isfinite(T)
+    psi = np.arctan2(l_v, l_h)
+    with np.errstate(invalid="ignore"):
+        L0 = c * np.where(np.isinf(EA), 1.0, EA / (EA + np.where(ok, T, 0.0)))
+    it = np.zeros(l_h.size, dtype=np.int64)
+    done = ~ok | (w == 0.0)
+    for _ in range(maxiter):
+        if done.all():
+            break
+        a = ~done
+        H, V = T[a] * np.cos(psi[a]), T[a] * np.sin(psi[a])
+        xh, xv = span_equations(H, V, L0[a], w[a], EA[a])
+        rh, rv = xh - l_h[a], xv - l_v[a]
+        small = np.hypot(rh, rv) <= rtol * c[a]
+        F = flexibility(H, V, L0[a], w[a], EA[a])
+        V_D = V + w[a] * L0[a]
+        T_D = np.hypot(H, V_D)
+        with np.errstate(divide="ignore", invalid="ignore"):  # the stretched tangent at D
+            g = np.where(T_D > 0.0, 1.0 / EA[a] + 1.0 / T_D, 0.0)
+        gh, gv = g * H, g * V_D
+        j11 = -F[:, 0, 0] * V + F[:, 0, 1] * H
+        j21 = -F[:, 1, 0] * V + F[:, 1, 1] * H
+        det = j11 * gv - gh * j21
+        with np.errstate(divide="ignore", invalid="ignore"):
+            dpsi = -(gv * rh - gh * rv) / det
+            dL = -(-j21 * rh + j11 * rv) / det
+        dpsi = np.clip(np.where(np.isfinite(dpsi), dpsi, 0.0), -0.5, 0.5)
+        dL = np.where(np.isfinite(dL), dL, 0.0)
+        dL = np.maximum(dL, -0.5 * L0[a])
+        idx = np.flatnonzero(a)
+        step = ~small
+        psi[idx[step]] += dpsi[step]
+        L0[idx[step]] += dL[step]
+        it[idx[step]] += 1
+        done[idx[small]] = True
+    conv = done & ok
+    nan = np.where(conv, 1.0, np.nan)
+    H, V = T * np.cos(psi) * nan, T * np.sin(psi) * nan
+    return (
+        H.reshape(shape),
+        V.reshape(shape),
+        (L0 * nan).reshape(shape),
+        conv.reshape(shape),
+        it.reshape(shape),
+    )

@@ -3,7 +3,8 @@ pulleys so far) tested by physics: w = 0 through the catenary reproduces today's
 (1e-12 m, 1e-12 rad), the energy's gradient is minus the net force (a point mass hung from fixed
 points, d = 0, and with dead lengths), the solution balances the catenaries' end forces computed
 independently, the analytic Jacobian equals central differences, w -> 0 is continuous, rotating the
-whole robot with its gravity rotates the answer, and SR/DR pulleys are refused in one line."""
+whole robot with its gravity rotates the answer (also with swivel axes off the gravity's line and
+DR pulleys: the general pulley coupling), and the end tangent lies in the sheave plane."""
 
 import dataclasses
 
@@ -157,15 +158,81 @@ def test_rotating_the_whole_robot_and_gravity_rotates_the_heavy_solution(kind):
     assert ra["sag"].max() > 1e-4
 
 
-def test_heavy_cables_on_dr_pulleys_and_tilted_swivel_axes_are_refused_in_one_line(cdpr4):
-    with pytest.raises(CdprError, match=r"cable 1 has a DR pulley") as exc:
-        solve(heavy(with_pulleys(cdpr4, kind="DR")), PTS[:1])
-    assert "\n" not in str(exc.value)
-    r = heavy(with_pulleys(cdpr4, kind="SR"))
-    c0 = r.cables[0]
-    tilted = dataclasses.replace(c0, pulley=dataclasses.replace(c0.pulley, axis=(0.0, 0.6, 0.8)))
-    with pytest.raises(CdprError, match=r"cable 1 has a swivel axis off the vertical"):
-        solve(dataclasses.replace(r, cables=(tilted, *r.cables[1:])), PTS[:1])
+def tilted(kind, Q=np.eye(3), G=np.eye(3)):
+    """``robot8_turned(kind, G Q)`` whose gravity is turned by G only: its swivel axes are off the
+    gravity's line (by Q) wherever Q is not the identity."""
+    r = robot8_turned(kind, G @ Q)
+    return dataclasses.replace(r, platform=dataclasses.replace(r.platform, down=tuple(G @ [0.0, 0.0, -1.0])))
+
+
+Q_TILT = Rotation.from_rotvec([0.25, -0.15, 0.1]).as_matrix()
+P8 = np.array([[0.3, -0.2, 1.4], [-0.5, 0.4, 1.7], [0.0, 0.0, 1.5]])
+RV8 = np.array([[0.05, -0.1, 0.2], [0.2, 0.1, -0.1], [0.0, 0.0, 0.0]])
+
+
+@pytest.mark.parametrize("kind", ["SR", "DR"])
+def test_weightless_cables_on_tilted_axes_and_dr_pulleys_give_todays_answers(cdpr4, kind):
+    r = tilted(kind, Q_TILT)
+    p, rv = P8 @ Q_TILT.T, RV8
+    L0 = pretensioned(r, p, rv)
+    a, b = solve(r, p, rv, L0=L0), solve(r, p, rv, L0=L0, heavy=True)
+    assert (a["status"] == "ok").all() and (a["status"] == b["status"]).all()
+    assert np.abs(a["P_s"] - b["P_s"]).max() < 1e-12
+    # both stop on the force balance (1e-10 of the weight); the heavy Jacobian leaves out the DR arm's
+    # turn, so the two Newton paths end at different iterates inside that rule: 1e-11 rad seen for DR
+    assert np.abs(a["rotvec_s"] - b["rotvec_s"]).max() < (1e-12 if kind == "SR" else 1e-10)
+    np.testing.assert_allclose(b["t"], a["t"], rtol=1e-9)
+    if kind == "DR":  # the point mass: 2.6e-11 m seen, for the same reason (the stop rule
+        # norm^2 < tol * previous norm assumes Newton's quadratic convergence, linear here)
+        d = with_pulleys(cdpr4, kind="DR")
+        a, b = solve(d, PTS), solve(d, PTS, heavy=True)
+        assert (a["status"] == "ok").all() and np.abs(a["P_s"] - b["P_s"]).max() < 1e-10
+
+
+@pytest.mark.parametrize("kind", ["SR", "DR"])
+def test_rotating_a_tilted_robot_and_gravity_rotates_the_heavy_solution(kind):
+    """Swivel axes off the gravity's line (the general path: the swivel angle that puts the
+    catenary's end tangent in the sheave plane), the whole robot and its gravity turned by G."""
+    G = Rotation.from_rotvec([0.4, -0.7, 1.1]).as_matrix()
+    a, b = heavy(tilted(kind, Q_TILT)), heavy(tilted(kind, Q_TILT, G))
+    p = P8 @ Q_TILT.T
+    rv_b = (Rotation.from_matrix(G) * Rotation.from_rotvec(RV8)).as_rotvec()
+    L0 = pretensioned(a, p, RV8, t0=300.0)
+    ra, rb = solve(a, p, RV8, L0=L0), solve(b, p @ G.T, rv_b, L0=L0)
+    assert (ra["status"] == "ok").all() and (ra["status"] == rb["status"]).all()
+    assert np.abs(ra["P_s"] @ G.T - rb["P_s"]).max() < 1e-9
+    assert np.abs(G @ ra["R_s"] - rb["R_s"]).max() < 1e-9
+    assert np.abs(ra["t"] - rb["t"]).max() < 1e-6 and np.abs(ra["sag"] - rb["sag"]).max() < 1e-9
+    assert ra["sag"].max() > 1e-4
+
+
+@pytest.mark.parametrize("kind", ["SR", "DR"])
+def test_end_tangent_lies_in_the_sheave_plane_and_touches_the_circle(kind):
+    """Tilted axes and DR arms: at the equilibrium the catenary's end tangent at D_i lies in the
+    sheave plane (the plane of the swivel axis and the arm) and is perpendicular to the radius."""
+    from cdpr.models.inverse import pose_state
+    from cdpr.models.pulleys import pulley_state
+
+    r = heavy(tilted(kind, Q_TILT), rho=0.5)
+    p = P8 @ Q_TILT.T
+    res = solve(r, p, RV8, L0=pretensioned(r, p, RV8, t0=300.0))
+    assert (res["status"] == "ok").all()
+    cab = HeavyCables(r)
+    R = res["R_s"]
+    x = cab.exit_points(res["P_s"], R, res["L0"])
+    st = x["state"].span
+    tangent = (st.H[..., None] * x["e_h"] + st.V_D[..., None] * cab.up) / st.T_D[..., None]
+    Pv = x["D"] - np.linalg.norm(x["v"], axis=-1)[..., None] * tangent  # on the end tangent
+    ps = pulley_state(Pv, *cab.args, per_cable=True)
+    np.testing.assert_allclose(ps.D, x["D"], rtol=0, atol=1e-12)
+    radius = x["D"] - ps.H
+    np.testing.assert_allclose(np.linalg.norm(radius, axis=-1), r.r_p[0], rtol=1e-12)
+    assert np.abs(np.einsum("nma,nma->nm", tangent, radius)).max() < 1e-12 * r.r_p[0]
+    normal = np.cross(cab.axis, ps.e_s3)  # the sheave plane's normal
+    assert np.abs(np.einsum("nma,nma->nm", tangent, normal)).max() < 1e-12
+    # the heavy cable's plane is not the massless one: the swivel turned
+    _, ps0 = pose_state(r, res["P_s"], R)
+    assert np.abs(ps.alpha - ps0.alpha).max() > 1e-6
 
 
 def test_sr_exit_point_is_where_the_catenary_leaves_the_sheave_tangentially(cdpr4):
@@ -204,3 +271,11 @@ def test_the_one_door_solves_heavy_robots_with_the_numpy_reference_and_refuses_t
         door.solve(r, PTS[:1], redundancy="paper")
     with pytest.raises(CdprError, match="does not model heavy cables yet"):
         door.sensitivities(r, PTS[:1], redundancy="physical")
+
+
+def test_the_compiled_kernel_refuses_dr_pulleys_and_tilted_axes_in_one_line(cdpr4):
+    from cdpr import solve as door
+
+    with pytest.raises(CdprError, match="use the numpy reference") as exc:
+        door.solve(heavy(with_pulleys(cdpr4, kind="DR")), PTS[:1], redundancy="physical", engine="compiled")
+    assert "\n" not in str(exc.value)
