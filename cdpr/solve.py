@@ -26,14 +26,9 @@ from cdpr.compiled import equilibrium as compiled_equilibrium
 from cdpr.compiled import sensitivity as compiled_sensitivity
 from cdpr.compiled import subsets as compiled_subsets
 from cdpr.errors import CdprError
-<<<<<<< HEAD
-from cdpr.models import equilibrium, sensitivity
-from cdpr.models.results import mark_below_floor, mark_out_of_frame, point_keys
-=======
 from cdpr.models import continuation, equilibrium, sensitivity
 from cdpr.models.cables import Cables, HeavyCables, heavy_cables
-from cdpr.models.results import mark_below_floor, point_keys
->>>>>>> reached
+from cdpr.models.results import mark_below_floor, mark_out_of_frame, point_keys
 from cdpr.models.subsets import solve_points
 from cdpr.robot import require_massless, require_point_mass
 
@@ -268,7 +263,7 @@ def reach(robot, p, rotvec=None, *, L0=None, engine=None, threads=None, **start)
     -------
     dict
         ``continuation.reach``'s result (the points below the floor of a suspended robot marked
-        ``inaccessible``).
+        ``inaccessible``, the poses out of the frame box ``out_of_frame``).
 
     Raises
     ------
@@ -279,7 +274,7 @@ def reach(robot, p, rotvec=None, *, L0=None, engine=None, threads=None, **start)
     if robot.heavy:
         if engine == "compiled":
             raise CdprError(
-                f"{robot.source}: heavy cables have no compiled kernel yet; use the numpy reference (--engine numpy)"
+                f"{robot.source}: the continuation of heavy cables runs on the numpy reference (--engine numpy)"
             )
         cab, newton, standard = HeavyCables(robot), equilibrium.local_newton, None
     elif engine == "compiled":
@@ -293,7 +288,7 @@ def reach(robot, p, rotvec=None, *, L0=None, engine=None, threads=None, **start)
     if robot.heavy:
         from_heavy = heavy_cables(cab, res["P_s"], res["R_s"], res["L0"])
         res.update(from_heavy)
-    return mark_below_floor(res, p[:, :3], robot.floor_z) if robot.suspended_point_mass else res
+    return _mark(res, p[:, :3], robot)
 
 
 #: The per-point keys of a physical-mode result that ``reach_where_multiple`` replaces.

@@ -63,7 +63,7 @@ def build_parser(jobs=True):
         help="tensions at the platform per cable [N] (one pose, --at): the heavy cables' catenaries, exit points "
         "and rest lengths under them (docs/heavy_cables.md)",
     )
-    sp.set_defaults(run=("cdpr.cli.commands", "cmd_inverse"))
+    sp.set_defaults(run=("cdpr.cli.inverse", "cmd_inverse"))
     sp = sub.add_parser(
         "point",
         help="DEGM_E at a point (or a table of points): solved pose, |dp|, tensions, subset, status",
