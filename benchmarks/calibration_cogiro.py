@@ -36,7 +36,7 @@ BOX = [-3.0, 3.0, -2.0, 2.0, 1.0, 2.5]
 
 
 def poses(robot, rng, n, tilt=0.1, margin=100.0, command="standard"):
-    """n poses in CoGiRo's workspace (``calibration.random_poses6``); exits when too few admissible."""
+    """n poses in CoGiRo's workspace (``calibration.random_poses``); exits when too few admissible."""
     try:
         return cal.random_poses(robot, rng, n, BOX, tilt, margin, command)
     except CdprError as exc:

@@ -80,7 +80,7 @@ def test_study_rows_obey_the_physics(tiny):
     assert exact["compensated_median_mm"] < 0.2 * nominal["compensated_median_mm"]
 
 
-def test_random_poses6_hold_every_cable_taut(cogiro):
+def test_random_poses_hold_every_cable_taut(cogiro):
     rng = np.random.default_rng(3)
     for command in cal.COMMANDS:
         P = cal.random_poses(cogiro, rng, 10, BOX, tilt=0.1, margin=150.0, command=command)

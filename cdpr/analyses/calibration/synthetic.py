@@ -105,15 +105,11 @@ def simulate(
     ok = (res["status"] == "ok") & res["smooth"] & drum
     n = int(ok.sum())
     y = res["P_s"][ok]
-    orientation = {}
-    if spatial:
-        Rs = res["R_s"][ok]
-    if rng is not None:
+    Rs = res["R_s"][ok] if spatial else None
+    if rng is not None:  # the tracker's noise: position, then the orientation of a rigid platform
         y = y + rng.normal(0.0, sigma, y.shape)
-        if spatial:
-            Rs = rotation_matrix(rng.normal(0.0, sigma_rad, (n, 3))) @ Rs
-    if spatial:
-        orientation = {"rotvec": rotvec_of(Rs), "sigma_rad": np.full(n, float(sigma_rad))}
+        Rs = None if Rs is None else rotation_matrix(rng.normal(0.0, sigma_rad, (n, 3))) @ Rs
+    orientation = {} if Rs is None else {"rotvec": rotvec_of(Rs), "sigma_rad": np.full(n, float(sigma_rad))}
     t = np.full((n, truth.m), np.nan)
     if tensions:
         t = _measured_tensions(res["t"][ok], sigma_t, rng)
