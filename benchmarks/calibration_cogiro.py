@@ -36,9 +36,9 @@ BOX = [-3.0, 3.0, -2.0, 2.0, 1.0, 2.5]
 
 
 def poses(robot, rng, n, tilt=0.1, margin=100.0, command="standard"):
-    """n poses in CoGiRo's workspace (``calibration.random_poses6``); exits when too few admissible."""
+    """n poses in CoGiRo's workspace (``calibration.random_poses``); exits when too few admissible."""
     try:
-        return cal.random_poses6(robot, rng, n, BOX, tilt, margin, command)
+        return cal.random_poses(robot, rng, n, BOX, tilt, margin, command)
     except CdprError as exc:
         raise SystemExit(str(exc)) from None
 
@@ -87,7 +87,7 @@ def main():
         first = fit.calibrated_robot()
         kw["command"] = "compensated"
         train = cal.simulate(truth, first, poses(robot, rng, a.n, command="compensated"), **kw)
-        taut1 = cal.solve6(truth, train.pose, train.L, rotvec=train.rotvec)["taut"].sum(axis=1)
+        taut1 = cal.equilibria(truth, train.pose, train.L, rotvec=train.rotvec)["taut"].sum(axis=1)
         print(
             f"stage 2: {len(train.sample)} samples, truth taut cables: {np.bincount(taut1, minlength=9)[5:]} (5..8)"
         )

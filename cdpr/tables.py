@@ -30,10 +30,10 @@ def to_frame(robot, res, redundancy="paper", rotvec=None):
         The mode that produced ``res``.
     rotvec : array (3,) or (N, 3) [rad], optional
         The orientation the solve was given (``--rotvec`` or a points table's rx, ry, rz), or None.
-        A point-mass robot carries it through: its table then has the orientation columns of
-        ``to_frame6`` too (rx, ry, rz given, rx_s, ry_s, rz_s = the given ones, dphi = 0; unique
-        where ``res`` has it). None (default): the table has no orientation columns (a rigid
-        platform's has them always).
+        A point-mass robot carries it through: its table then has the orientation columns of a
+        rigid platform's too (rx, ry, rz given, rx_s, ry_s, rz_s = the given ones, dphi = 0;
+        unique where ``res`` has it). None (default): the table has no orientation columns (a
+        rigid platform's has them always).
 
     Returns
     -------
@@ -45,14 +45,16 @@ def to_frame(robot, res, redundancy="paper", rotvec=None):
         When ``res`` holds sensitivities (key ``S``): then dx_d<θ>, dy_d<θ>, dz_d<θ> per parameter
         [m per unit of θ] (``sensitivity.sensitivity_columns``) and smooth; a 6-DoF result's also
         dphix_d<θ>, dphiy_d<θ>, dphiz_d<θ> [rad per unit] (``sensitivity.pose_sensitivity_columns``). A 6-DoF result of a
-        rigid platform (``equilibrium.solve``, key ``rotvec_s``, robot not a point mass):
-        the columns of ``to_frame6``. A result with heavy cables (key ``sag_max``) adds sag_max_m
-        [m], the largest sag of the point's cables, after status.
+        rigid platform (``equilibrium.solve``, key ``rotvec_s``, robot not a point mass): the
+        physical mode's columns and rx, ry, rz (desired) and rx_s, ry_s, rz_s (reached) rotation
+        vectors [rad] after dp, dphi [rad], and unique last; then n_folds, reached_is_global where
+        ``res`` has them (``solve.reach_where_multiple``). A result with heavy cables (key
+        ``sag_max``) adds sag_max_m [m], the largest sag of the point's cables, after status.
     """
-    if check_redundancy(redundancy) == "physical" and "rotvec_s" in res and not robot.point_mass:
-        return to_frame6(robot, res)
     df = _frame(robot, res, redundancy)
-    if rotvec is not None:  # a point mass given an orientation: carried through (docs/spatial.md)
+    if check_redundancy(redundancy) == "physical" and "rotvec_s" in res and not robot.point_mass:
+        _orientation_columns(df, res["rotvec"], res["rotvec_s"], res["dphi"], res["unique"])
+    elif rotvec is not None:  # a point mass given an orientation: carried through (docs/spatial.md)
         rv = np.broadcast_to(np.asarray(rotvec, dtype=float), (len(df), 3))
         _orientation_columns(
             df,
@@ -61,6 +63,9 @@ def to_frame(robot, res, redundancy="paper", rotvec=None):
             res.get("dphi", np.zeros(len(df))),
             res.get("unique"),
         )
+    if "n_folds" in res:  # continued where the equilibrium is not unique (solve.reach_where_multiple)
+        df["n_folds"] = res["n_folds"]
+        df["reached_is_global"] = res["reached_is_global"]
     return df
 
 
@@ -99,33 +104,9 @@ def _frame(robot, res, redundancy):
     return df
 
 
-def to_frame6(robot, res):
-    """One row per pose of an ``equilibrium.solve`` result: the physical mode's columns
-    (x, y, z, x_s, y_s, z_s, dp, t1..tm, taut, n_taut, iterations, status) and rx, ry, rz
-    (desired) and rx_s, ry_s, rz_s (reached) rotation vectors [rad], dphi [rad], unique; and
-    n_folds, reached_is_global where ``res`` has them (``solve.reach_where_multiple``).
-
-    Parameters
-    ----------
-    robot : Robot
-    res : dict
-        An ``equilibrium.solve`` result.
-
-    Returns
-    -------
-    DataFrame
-    """
-    df = _frame(robot, res, "physical")
-    _orientation_columns(df, res["rotvec"], res["rotvec_s"], res["dphi"], res["unique"])
-    if "n_folds" in res:  # continued where the equilibrium is not unique (solve.reach_where_multiple)
-        df["n_folds"] = res["n_folds"]
-        df["reached_is_global"] = res["reached_is_global"]
-    return df
-
-
 def _orientation_columns(df, rotvec, rotvec_s, dphi, unique=None):
     """Insert rx, ry, rz (given), rx_s, ry_s, rz_s (reached) [rad] and dphi [rad] after dp, and
-    append unique when given (in place): the orientation columns of ``to_frame6``."""
+    append unique when given (in place): the orientation columns of ``to_frame``."""
     at = list(df.columns).index("dp") + 1
     for k, name in enumerate(("rx", "ry", "rz")):
         df.insert(at + k, name, rotvec[:, k])

@@ -96,7 +96,7 @@ def test_a_rigid_platform_s_table_has_its_orientation_columns():
         "status",
         "unique",
     ]
-    pd.testing.assert_frame_equal(df, tables.to_frame6(cogiro, res))
+    pd.testing.assert_frame_equal(df, tables.to_frame(cogiro, res, "physical"))
     np.testing.assert_array_equal(df[["rx_s", "ry_s", "rz_s"]].to_numpy(), res["rotvec_s"])
     np.testing.assert_array_equal(df["dphi"].to_numpy(), res["dphi"])
     assert (df["status"] == "ok").all() and (df["dphi"] > 0).all()

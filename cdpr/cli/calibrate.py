@@ -340,8 +340,8 @@ def cmd_study(args):
         print(Path(res["summary"]).read_text(encoding="utf-8"))
         print(f"Hangprinter study: {res['elapsed_s']:.1f} s")
         return
-    from cdpr.pipeline.calibration6 import run_study  # lazy: the study only
+    from cdpr.pipeline.calibration import run_calibration_study  # lazy: the study only
 
-    res = run_study(args.study, args.out)
+    res = run_calibration_study(args.study, args.out)
     print(Path(res["summary"]).read_text(encoding="utf-8"))
     print(f"calibration study: {res['elapsed_s']:.1f} s")

@@ -567,12 +567,13 @@ def cmd_compensate(args):
         )
 
     if args.points or args.out:
-        from cdpr.tables import to_frame, to_frame6  # lazy: tables only (pandas)
+        from cdpr.tables import to_frame  # lazy: tables only (pandas)
 
         def table(P, rv):
             n_zero[0] += int(_zero_segment(robot, P, rv).any(axis=1).sum())
             res = solve(P, rv)
-            df = to_frame6(robot, res) if six else to_frame(robot, res, "physical")
+            # at a pose (``six``) the orientation columns, a point mass's too
+            df = to_frame(robot, res, "physical", res["rotvec"] if six else None)
             for i in range(robot.m):
                 df[f"L0_{i + 1}"] = res["L0"][:, i]
             for i in range(robot.m):

@@ -78,7 +78,7 @@ def _wrench_col(dF, col, dt, t, ux, uy, uz, dux, duy, duz, rx, ry, rz, qx, qy, q
 
 
 @njit(cache=True, error_model="numpy")
-def wrench_partials6(P, R, L0, i, cab, body, mass, rows, dF):
+def wrench_partials(P, R, L0, i, cab, body, mass, rows, dF):
     """dF6/dθ (6, 10 m + 4) at the fixed pose (P[i], R[i]) with rest lengths L0[i], columns in the
     order of ``parameter_names(robot, rigid=True)`` (module docstring), into dF; ``rows`` (m, NCOL) the cables'
     ``cable_partials_axis``. Returns the tension margin of ``models.sensitivity.sensitivities_at``
@@ -265,7 +265,7 @@ def wrench_partials6(P, R, L0, i, cab, body, mass, rows, dF):
 
 
 @njit(cache=True, error_model="numpy")
-def scaled_condition6(J, ell, rigid, Js):
+def scaled_condition(J, ell, rigid, Js):
     """``models.sensitivity.scaled_condition`` of one Jacobian: ||J_s||_F ||J_s^-1||_F of
     J_s = D^-1 J D^-1, D = diag(1, 1, 1, ell, ell, ell) (the 3 x 3 translation block unless
     ``rigid``), from its singular values; inf where J is singular or not finite.
@@ -341,7 +341,7 @@ def _sens_pose(i, P, R, L0, ok, cab, body, mass, cols, rcond, S, margin, cond, w
         w,
     )
     J = w.J
-    margin[i] = wrench_partials6(P, R, L0, i, cab, body, mass, rows, dF)
+    margin[i] = wrench_partials(P, R, L0, i, cab, body, mass, rows, dF)
     finite = True
     for a in range(6):
         for c in range(6):
@@ -367,7 +367,7 @@ def _sens_pose(i, P, R, L0, ok, cab, body, mass, cols, rcond, S, margin, cond, w
                 b2 += (Jp[a, c] * da * dc) ** 2
         cond[i] = math.sqrt(a2) * math.sqrt(b2)
     else:
-        cond[i] = scaled_condition6(J, body.size, body.rigid, Js)
+        cond[i] = scaled_condition(J, body.size, body.rigid, Js)
         Jp[:, :] = np.linalg.pinv(J, rcond)
     for k in range(K):
         col = cols[k]

@@ -14,7 +14,7 @@ pulley designs, DOE tests, shards, Young's moduli, ... (``Layout.wildcards``). L
 
 The calibration studies (``config/studies/calibration*.yaml``, ``cdpr calibrate study``) have a
 folder each (``CALIBRATION_FOLDERS``) and their files in ``CALIBRATION_OUTPUTS`` and
-``CALIBRATION_LOGS``: ``cdpr.pipeline.calibration`` and ``calibration6`` write them by these names
+``CALIBRATION_LOGS``: ``cdpr.pipeline.calibration`` writes them by these names
 (``rel_path``) and ``workflow/rules/calibration.smk`` declares them (``calibration_outputs``); so does
 the Hangprinter study (``hangprinter_study``: ``cdpr.pipeline.hangprinter``,
 ``workflow/rules/hangprinter.smk``).
@@ -146,7 +146,7 @@ _EXACT = {
 #: The calibration studies (``cdpr calibrate study``, ``workflow/rules/calibration.smk``): rule ->
 #: output name -> path under the study's results folder (``CALIBRATION_FOLDERS``), as
 #: ``STUDY_OUTPUTS``. ``calibration_study`` is the CDPR4 study (``cdpr.pipeline.calibration``),
-#: ``calibration_cogiro`` the 6-DoF one (``cdpr.pipeline.calibration6``); ``exact/`` holds the fit
+#: ``calibration_cogiro`` the 6-DoF one (the same module); ``exact/`` holds the fit
 #: of the best model (its samples and the three figures of ``calibration_figures``).
 CALIBRATION_OUTPUTS = {
     "calibration_study": {

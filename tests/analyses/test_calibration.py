@@ -146,6 +146,21 @@ def test_encoder_data_with_poses_dead_length_against_offset(cdpr4):
         assert abs((c.estimate[i] + c.estimate[4 + i]) - (th[idx][i] + off[i])) < 5 * np.sqrt(var_sum)
 
 
+def evaluated_problem(robot, data, groups, priors, tol, scale, rng, base=None):
+    """The MAP problem (``calibration.Problem``) of ``data`` on ``base`` (default ``robot``), the
+    groups' parameters with the ``priors`` (``parse_priors``), evaluated at z = scale N(0, I) with
+    every sample ok and smooth. Returns the problem, the parameters' indices, z, the evaluation and
+    the Jacobian at z."""
+    base = robot if base is None else base
+    idx = select_groups(robot, groups)
+    sd = cal.prior_sd(base, idx, cal.parse_priors(priors))
+    prob = cal.Problem(base, data, idx, sd, solver={"tol": tol})
+    z = scale * rng.standard_normal(len(idx))
+    ev = prob.evaluate(z)
+    assert ((ev["status"] == "ok") & ev["smooth"]).all()
+    return prob, idx, z, ev, prob.jacobian(z)
+
+
 @pytest.mark.parametrize("model", ["exact", "standard"])
 def test_analytic_jacobian_equals_central_differences_of_the_full_residual(cdpr4, model):
     """Problem.jacobian (implicit-function sensitivities and the offset column) against central
@@ -156,13 +171,7 @@ def test_analytic_jacobian_equals_central_differences_of_the_full_residual(cdpr4
     rng = np.random.default_rng(4)
     data = cal.simulate(cdpr4, cdpr4, _poses(rng, 8), offsets=np.zeros(4))
     base = cal.model_robot(cdpr4, model)
-    idx = select_groups(cdpr4, groups)
-    sd = cal.prior_sd(base, idx, cal.parse_priors(None))
-    prob = cal.Problem(base, data, idx, sd, solver={"tol": 1e-14})
-    z = 0.3 * rng.standard_normal(len(idx))
-    ev = prob.evaluate(z)
-    assert ((ev["status"] == "ok") & ev["smooth"]).all()
-    J = prob.jacobian(z)
+    prob, idx, z, ev, J = evaluated_problem(cdpr4, data, groups, None, 1e-14, 0.3, rng, base=base)
     step = 1e-5
     fd = np.empty_like(J)
     for j in range(len(idx)):

@@ -11,8 +11,8 @@ import cdpr.models.cables as cables
 from cdpr.analyses import calibration as cal
 from cdpr.parameters import calibration_names, select_groups
 from cdpr.robot import load_robot
-from tests.analyses.test_calibration import _poses, recovered_noise_free
-from tests.analyses.test_calibration6_tensions import assert_columns_match_central_differences
+from tests.analyses.test_calibration import _poses, evaluated_problem, recovered_noise_free
+from tests.analyses.test_calibration_platform_tensions import assert_columns_match_central_differences
 from tests.conftest import ROBOTS
 
 #: Every group a point mass calibrates.
@@ -42,14 +42,15 @@ def test_the_tilted_point_mass_goes_to_the_6dof_problem(tilted, cdpr4):
     assert len(data.sample) == 5 and not np.isfinite(data.rotvec).any()  # a point mass's data
     idx = select_groups(tilted, ["anchors"])
     sd = cal.prior_sd(tilted, idx, cal.parse_priors(None))
-    prob = cal.map_problem(tilted, data, idx, sd)
-    assert isinstance(prob, cal.Problem6) and not prob.spatial and prob.engine == "numpy"
-    assert isinstance(cal.map_problem(cdpr4, data, idx, sd), cal.Problem)
+    prob = cal.Problem(tilted, data, idx, sd)
+    assert isinstance(prob, cal.Problem) and prob.pose_model and not prob.spatial and prob.engine == "numpy"
+    p3 = cal.Problem(cdpr4, data, idx, sd)
+    assert isinstance(p3, cal.Problem) and not p3.pose_model
     assert prob.residual(np.zeros(len(idx))).shape == (3 * 5 + len(idx),)
 
 
 def test_the_6dof_path_equals_the_point_mass_path_on_a_suspended_point_mass(cdpr4, monkeypatch):
-    """Problem6 forced on the suspended CDPR4 (the 6-DoF equilibrium with b = 0, c = 0) against
+    """The pose model (Problem, pose_model=True) forced on the suspended CDPR4 (the 6-DoF equilibrium with b = 0, c = 0) against
     Problem (the point-mass physical solver): same equilibria, residual and exact Jacobian, pose and
     tension rows, to the solvers' tolerance."""
     monkeypatch.setattr(cables, "FTOL_REL", 1e-15)
@@ -60,7 +61,7 @@ def test_the_6dof_path_equals_the_point_mass_path_on_a_suspended_point_mass(cdpr
     sd = cal.prior_sd(cdpr4, idx, cal.parse_priors(None))
     z = 0.3 * rng.standard_normal(len(idx))
     p3 = cal.Problem(cdpr4, data, idx, sd, engine="numpy", solver={"tol": 1e-14})
-    p6 = cal.Problem6(cdpr4, data, idx, sd, solver={"tol": 1e-14})
+    p6 = cal.Problem(cdpr4, data, idx, sd, solver={"tol": 1e-14}, pose_model=True)
     e3, e6 = p3.evaluate(z), p6.evaluate(z)
     assert (e3["status"] == "ok").all() and (e6["status"] == "ok").all()
     np.testing.assert_array_equal(e3["smooth"], e6["smooth"])
@@ -74,7 +75,7 @@ def test_the_6dof_path_equals_the_point_mass_path_on_a_suspended_point_mass(cdpr
 
 
 def test_analytic_jacobian_equals_central_differences_of_the_full_residual(tilted, monkeypatch):
-    """Problem6's point-mass rows (positions, tensions) against central differences of its residual,
+    """The pose model's point-mass rows (positions, tensions) against central differences of its residual,
     which re-solves every equilibrium; every group, encoder offsets, two samples without a pose.
     The tension rows are a small difference of large terms, so the equilibria are re-solved to
     round-off (FTOL_REL 1e-15)."""
@@ -84,13 +85,10 @@ def test_analytic_jacobian_equals_central_differences_of_the_full_residual(tilte
     data = data.subset(np.flatnonzero(data.tension.min(axis=1) > 300.0)[:6])  # every cable taut
     assert len(data.sample) == 6
     data.pose[:2] = np.nan
-    idx = select_groups(tilted, GROUPS)
-    sd = cal.prior_sd(tilted, idx, cal.parse_priors("dead_lengths=5mm,offsets=5mm"))
-    prob = cal.map_problem(tilted, data, idx, sd, solver={"tol": 1e-15})
-    z = 0.1 * rng.standard_normal(len(idx))
-    ev = prob.evaluate(z)
-    assert ((ev["status"] == "ok") & ev["smooth"]).all() and ev["t"].min() > 50.0
-    J = prob.jacobian(z)
+    prob, idx, z, ev, J = evaluated_problem(
+        tilted, data, GROUPS, "dead_lengths=5mm,offsets=5mm", 1e-15, 0.1, rng
+    )
+    assert ev["t"].min() > 50.0
     n_pose, n_t = 3 * 4, 4 * 6
     assert J.shape == (n_pose + n_t + len(idx), len(idx))
     names = [calibration_names(prob.robot)[k] for k in idx]

@@ -134,7 +134,7 @@ def test_standard_model_and_spatial_winches(cdpr4w):
     )
     # a spatial robot with winches maps its commands through the drums (no longer refused): 30 m is
     # more than the drum holds, outside its range, flagged (the drum map of a 6-DoF platform is
-    # tested in test_calibration6_tensions.py)
-    prob = cal.Problem6(cogw, data, np.arange(8), np.ones(8))
+    # tested in test_calibration_platform_tensions.py)
+    prob = cal.Problem(cogw, data, np.arange(8), np.ones(8))
     assert prob.winch and list(prob.evaluate(np.zeros(8))["status"]) == [cal.DRUM_RANGE]
     assert cal.check(cogw, data)["samples"][0]["status"] == cal.DRUM_RANGE

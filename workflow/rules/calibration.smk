@@ -27,18 +27,19 @@ rule calibration_study:
 
 # The 6-DoF part (CoGiRo): a seeded true CoGiRo, synthetic tracker data (position and orientation),
 # the standard / pulley / pulley + elasticity models, validation poses in CoGiRo's workspace
-# (cdpr.pipeline.calibration6). About 40-60 s on the 2-core machine (the rigid models' stiff solves).
-CALIBRATION6_STUDY = "config/studies/calibration_cogiro.yaml"
+# (cdpr.pipeline.calibration, the rigid platform's study). About 40-60 s on the 2-core machine (the
+# rigid models' stiff solves).
+CALIBRATION_COGIRO_STUDY = "config/studies/calibration_cogiro.yaml"
 
 
 rule calibration_cogiro:
     input:
-        study=CALIBRATION6_STUDY,
+        study=CALIBRATION_COGIRO_STUDY,
         robot="config/robots/cogiro.yaml",
     output:
         **calibration_outputs("calibration_cogiro"),
     params:
-        **common(CALIBRATION6_STUDY),
+        **common(CALIBRATION_COGIRO_STUDY),
         out=CALIBRATION_FOLDERS["calibration_cogiro"],
     log:
         calibration_log("calibration_cogiro"),

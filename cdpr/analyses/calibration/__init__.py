@@ -28,8 +28,7 @@ with none left the fit refuses with one line naming the way out (measure poses, 
 standard`` for a rigid self-calibration of a point mass, ``self_calibrate_standard``, whose gauge
 it reports). Measured tensions (``t1_N..tm_N``, point mass and 6-DoF platform alike) add m rows
 (t_meas - t(θ, L0)) / σ_t per sample, which make encoder-only samples equations: the tensions fix
-the pose through the balance, Hooke's law then the rest lengths (``tension_sensitivities``,
-``tension_sensitivities6``).
+the pose through the balance, Hooke's law then the rest lengths (``tension_sensitivities``).
 
 Identifiability (``identifiability``): singular values of the measurement rows scaled by the
 prior (rows / σ, columns × prior sd), the rank (> 1e-9 s_max), the condition number, the weakest
@@ -42,9 +41,9 @@ The package, one module a concept (the names below are re-exported here, ``__all
   table back (``data_frame``); a spool robot's motor-angle samples (``MotorData``,
   ``read_motor_data``, ``is_motor_table``).
 - ``model``: the robot the fit moves (``model_robot``, ``MODELS``), its drums
-  (``realised_lengths``), its commands (``commanded_lengths``) and the 6-DoF solves (``solve6``).
-- ``problem``: the MAP residuals and their exact Jacobians (``Problem``, ``Problem6``,
-  ``map_problem``, ``map_residual``, ``tension_sensitivities``).
+  (``realised_lengths``), its commands (``commanded_lengths``) and the equilibria of every robot (``equilibria``).
+- ``problem``: the MAP residuals and their exact Jacobians (``Problem``,
+  ``map_residual``, ``tension_sensitivities``).
 - ``motor``: the motor-angle model of a spool robot (a Hangprinter: ``SpoolModel``), its MAP
   problem with every position a nuisance (``motor_problem``) and each position solved from its
   readings (``solve_positions``).
@@ -56,7 +55,7 @@ The package, one module a concept (the names below are re-exported here, ``__all
 - ``identify``: identifiability and its words (``identifiability``, ``direction_words``).
 - ``prediction``: a robot against measured samples (``check``, ``check_motor``).
 - ``cv``: the K-fold cross-validation of a motor-angle calibration (``cross_validate``).
-- ``synthetic``: simulated measurements (``simulate``, ``perturbed``, ``random_poses6``,
+- ``synthetic``: simulated measurements (``simulate``, ``perturbed``, ``random_poses``,
   ``simulate_motor``).
 - ``design``: the measurement plan (``plan``, ``d_optimal``).
 
@@ -133,13 +132,12 @@ from cdpr.analyses.calibration.model import (
     MODELS,
     STANDARD_STIFFENING,
     commanded_lengths,
-    engine6,
+    differentiable,
+    equilibria,
+    equilibrium_engine,
     executed_lengths,
     model_robot,
-    point_mass_equilibria,
     realised_lengths,
-    smooth6,
-    solve6,
     without_winches,
 )
 from cdpr.analyses.calibration.motor import (
@@ -154,15 +152,11 @@ from cdpr.analyses.calibration.prediction import (
 )
 from cdpr.analyses.calibration.problem import (
     Problem,
-    Problem6,
     log_right_jacobian_inverse,
-    map_problem,
     map_residual,
-    map_residual6,
     offset_sensitivities,
     orientation_residual,
     tension_sensitivities,
-    tension_sensitivities6,
 )
 from cdpr.analyses.calibration.result import (
     Calibration,
@@ -173,7 +167,7 @@ from cdpr.analyses.calibration.result import (
 from cdpr.analyses.calibration.synthetic import (
     equilibrium_flags,
     perturbed,
-    random_poses6,
+    random_poses,
     simulate,
     simulate_motor,
 )
@@ -197,7 +191,6 @@ __all__ = [
     "PARTLY",
     "POSE",
     "Problem",
-    "Problem6",
     "RANK_TOL",
     "RELATIVE",
     "SIGMA_DEFAULT",
@@ -217,8 +210,10 @@ __all__ = [
     "data_columns",
     "data_frame",
     "default_box",
+    "differentiable",
     "direction_words",
-    "engine6",
+    "equilibria",
+    "equilibrium_engine",
     "equilibrium_flags",
     "ev0_positions",
     "executed_lengths",
@@ -230,9 +225,7 @@ __all__ = [
     "info_rows",
     "is_motor_table",
     "log_right_jacobian_inverse",
-    "map_problem",
     "map_residual",
-    "map_residual6",
     "model_robot",
     "motor_robot_mapping",
     "offset_sensitivities",
@@ -242,10 +235,9 @@ __all__ = [
     "perturbed",
     "plan",
     "plan_sd",
-    "point_mass_equilibria",
     "predict_samples",
     "prior_sd",
-    "random_poses6",
+    "random_poses",
     "read_data",
     "read_motor_data",
     "realised_lengths",
@@ -253,12 +245,9 @@ __all__ = [
     "self_calibrate_standard",
     "simulate",
     "simulate_motor",
-    "smooth6",
-    "solve6",
     "sparse_basis",
     "standard_lengths",
     "tension_sensitivities",
-    "tension_sensitivities6",
     "usable",
     "without_winches",
 ]

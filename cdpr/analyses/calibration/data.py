@@ -169,95 +169,45 @@ def read_data(path, robot):
         raise ConfigError(
             src, c, f"orientation columns are for a 6-DoF platform; robot {robot.name} is a point mass"
         )
-    if spatial:
-        return _read_data6(df, src, robot, enc, cols)
-    need = data_columns(m, enc)
+    need = data_columns(m, enc, spatial)
     missing = [c for c in need if c not in cols]
     if missing:
-        raise ConfigError(src, missing[0], f"missing column; a calibration table needs {', '.join(need)}")
+        platform = f"robot {robot.name} has a 6-DoF platform, " if spatial else ""
+        raise ConfigError(
+            src, missing[0], f"missing column; {platform}a calibration table needs {', '.join(need)}"
+        )
+    sigmas = ["sigma_m", "sigma_rad"] if spatial else ["sigma_m"]
     Tcols = [f"t{i}_N" for i in range(1, m + 1)]
-    allowed = set(need) | {"sigma_m", "sigma_N"} | set(Tcols)
-    extra = [c for c in cols if c not in allowed]
-    if extra:
-        raise ConfigError(
-            src, extra[0], f"unknown column; allowed: {', '.join(need)}, sigma_m, t1_N..t{m}_N, sigma_N"
-        )
-    given = _tension_names(cols, src, m)
-    if len(df) == 0:
-        raise ConfigError(src, None, "no samples")
-    Lcols = [f"{prefix}{i}" for i in range(1, m + 1)]
-    L = _lengths(df, Lcols, src)
-    pose = _numbers(df, POSE, src)
-    half = np.isfinite(pose).any(axis=1) & ~np.isfinite(pose).all(axis=1)
-    if half.any() or np.isinf(pose).any():
-        r = int(np.flatnonzero(half | np.isinf(pose).any(axis=1))[0])
-        raise ConfigError(
-            src, "x_m,y_m,z_m", f"row {r + 1}: a pose needs all three finite coordinates (or none)"
-        )
-    nan_pose = ~np.isfinite(pose).all(axis=1)
-    if nan_pose.any() and not enc and not given:
-        r = int(np.flatnonzero(nan_pose)[0])
-        raise ConfigError(
-            src,
-            "x_m,y_m,z_m",
-            f"row {r + 1}: no pose; only encoder data (L_enc1..) or tension data (t1_N..) may leave the pose empty",
-        )
-    if "sigma_m" in cols:
-        sigma = _numbers(df, ["sigma_m"], src)[:, 0]
-        bad = ~(np.isfinite(sigma) & (sigma > 0))
-        if bad.any():
-            r = int(np.flatnonzero(bad)[0])
-            raise ConfigError(
-                src, "sigma_m", f"row {r + 1}: {float(sigma[r])!r}; sigma_m must be finite and > 0 [m]"
-            )
-    else:
-        sigma = np.full(len(df), SIGMA_DEFAULT)
-    tension, sigma_t = _tensions(df, src, m, given)
-    sample = df["sample"].astype(str).to_numpy()
-    return Data(
-        sample=sample, L=L, pose=pose, sigma=sigma, encoder=enc, source=src, tension=tension, sigma_t=sigma_t
-    )
-
-
-def _read_data6(df, src, robot, enc, cols):
-    """``read_data`` for a 6-DoF platform: positions and orientations (rotation vectors) measured
-    together, optional sigma_m [m] and sigma_rad [rad]."""
-    m = robot.m
-    need = data_columns(m, enc, spatial=True)
-    missing = [c for c in need if c not in cols]
-    if missing:
-        raise ConfigError(
-            src,
-            missing[0],
-            f"missing column; robot {robot.name} has a 6-DoF platform, a calibration table needs {', '.join(need)}",
-        )
-    Tcols = [f"t{i}_N" for i in range(1, m + 1)]
-    extra = [c for c in cols if c not in set(need) | {"sigma_m", "sigma_rad", "sigma_N"} | set(Tcols)]
+    extra = [c for c in cols if c not in set(need) | set(sigmas) | {"sigma_N"} | set(Tcols)]
     if extra:
         raise ConfigError(
             src,
             extra[0],
-            f"unknown column; allowed: {', '.join(need)}, sigma_m, sigma_rad, t1_N..t{m}_N, sigma_N",
+            f"unknown column; allowed: {', '.join(need)}, {', '.join(sigmas)}, t1_N..t{m}_N, sigma_N",
         )
     given = _tension_names(cols, src, m)
     if len(df) == 0:
         raise ConfigError(src, None, "no samples")
-    Lcols = [f"{'L_enc' if enc else 'L'}{i}" for i in range(1, m + 1)]
-    L = _lengths(df, Lcols, src)
-    six = _numbers(df, POSE + ORIENTATION, src)
-    fin = np.isfinite(six)
-    bad = (fin.any(axis=1) & ~fin.all(axis=1)) | np.isinf(six).any(axis=1)
+    L = _lengths(df, [f"{prefix}{i}" for i in range(1, m + 1)], src)
+    pose_cols = POSE + ORIENTATION if spatial else POSE
+    pose = _numbers(df, pose_cols, src)
+    fin = np.isfinite(pose)
+    bad = (fin.any(axis=1) & ~fin.all(axis=1)) | np.isinf(pose).any(axis=1)
     if bad.any():
         r = int(np.flatnonzero(bad)[0])
-        col = (POSE + ORIENTATION)[int(np.flatnonzero(~fin[r])[0])]
+        if spatial:
+            col = pose_cols[int(np.flatnonzero(~fin[r])[0])]
+            raise ConfigError(
+                src, col, f"row {r + 1}: a 6-DoF pose needs all six finite values x_m..rz_rad (or none)"
+            )
         raise ConfigError(
-            src, col, f"row {r + 1}: a 6-DoF pose needs all six finite values x_m..rz_rad (or none)"
+            src, "x_m,y_m,z_m", f"row {r + 1}: a pose needs all three finite coordinates (or none)"
         )
     if not fin.all(axis=1).all() and not enc and not given:
         r = int(np.flatnonzero(~fin.all(axis=1))[0])
         raise ConfigError(
             src,
-            "x_m",
+            "x_m" if spatial else "x_m,y_m,z_m",
             f"row {r + 1}: no pose; only encoder data (L_enc1..) or tension data (t1_N..) may leave the pose empty",
         )
     sig = {}
@@ -274,17 +224,17 @@ def _read_data6(df, src, robot, enc, cols):
         else:
             sig[c] = np.full(len(df), default)
     tension, sigma_t = _tensions(df, src, m, given)
+    orientation = {"rotvec": pose[:, 3:], "sigma_rad": sig["sigma_rad"]} if spatial else {}
     return Data(
         sample=df["sample"].astype(str).to_numpy(),
         L=L,
-        pose=six[:, :3],
+        pose=pose[:, :3],
         sigma=sig["sigma_m"],
         encoder=enc,
         source=src,
         tension=tension,
         sigma_t=sigma_t,
-        rotvec=six[:, 3:],
-        sigma_rad=sig["sigma_rad"],
+        **orientation,
     )
 
 

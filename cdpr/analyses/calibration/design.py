@@ -25,13 +25,12 @@ from cdpr.analyses.calibration.estimator import (
 from cdpr.analyses.calibration.model import (
     check_command,
     commanded_lengths,
+    equilibria,
     model_robot,
-    point_mass_equilibria,
     realised_lengths,
-    solve6,
 )
 from cdpr.analyses.calibration.problem import (
-    map_problem,
+    Problem,
 )
 from cdpr.analyses.workspace import check_box, grid_points
 from cdpr.errors import CdprError
@@ -94,8 +93,8 @@ def candidates(robot, box, n_axis=7, model="exact", engine=None, targets=False, 
     is ``ok`` and smooth there. A 6-DoF platform's candidates are at the identity orientation and
     tilted by ±``TILT_RAD`` about x, y and z (``candidate_orientations``; L_TS,i = |p + R b_i - A_i|
     + d_i, or with ``command="compensated"`` the compensated rest lengths, ``commanded_lengths``),
-    admissible with at least min(6, m) taut cables; a point mass's with at
-    least 3 (``point_mass_equilibria``: the 6-DoF equilibrium when a pulley axis is not +z).
+    admissible with at least min(6, m) taut cables; a point mass's with at least 3 (``equilibria``:
+    the pose model when a pulley axis is not +z).
 
     Returns
     -------
@@ -109,27 +108,28 @@ def candidates(robot, box, n_axis=7, model="exact", engine=None, targets=False, 
 
     base = model_robot(robot, model)
     p = grid_points(box, n_axis)
-    if is_spatial(robot):
+    spatial = is_spatial(robot)
+    rv = None
+    if spatial:
         rv = candidate_orientations(robot)  # every grid point at every orientation, identity first
         rv = np.repeat(rv, len(p), axis=0)
         p = np.tile(p, (len(rv) // len(p), 1))
         L0 = commanded_lengths(robot, p, rotation_matrix(rv), command)
         fin = np.isfinite(L0).all(axis=1)
         p, L0, rv = p[fin], L0[fin], rv[fin]
-        L_real = realised_lengths(base, L0)  # through the drums of a robot with winches
-        drum = np.isfinite(L_real).all(axis=1)
-        res = solve6(base, p, np.where(drum[:, None], L_real, L0), rotvec=rv, engine=engine)
-        ok = (res["status"] == "ok") & res["smooth"] & (res["n_taut"] >= min(6, robot.m)) & drum
-        P6 = np.concatenate([res["P_s"], res["rotvec_s"]], axis=1)
-        return (P6[ok], L0[ok], p[ok]) if targets else (P6[ok], L0[ok])
-    L0 = L_TS(robot, p)
+    else:
+        L0 = L_TS(robot, p)
     L_real = realised_lengths(base, L0)  # through the drums of a robot with winches
     drum = np.isfinite(L_real).all(axis=1)
-    res = point_mass_equilibria(base, p, np.where(drum[:, None], L_real, L0), engine=engine)
-    ok = (res["status"] == "ok") & res["smooth"] & (res["n_taut"] >= 3) & drum
-    if targets:
-        return res["P_s"][ok], L0[ok], p[ok]
-    return res["P_s"][ok], L0[ok]
+    res = equilibria(base, p, np.where(drum[:, None], L_real, L0), rotvec=rv, engine=engine)
+    ok = (
+        (res["status"] == "ok")
+        & res["smooth"]
+        & (res["n_taut"] >= (min(6, robot.m) if spatial else 3))
+        & drum
+    )
+    P = np.concatenate([res["P_s"], res["rotvec_s"]], axis=1) if spatial else res["P_s"]
+    return (P[ok], L0[ok], p[ok]) if targets else (P[ok], L0[ok])
 
 
 def info_rows(robot, P, L0, index, sd, sigma=SIGMA_DEFAULT, model="exact", engine=None):
@@ -147,7 +147,7 @@ def info_rows(robot, P, L0, index, sd, sigma=SIGMA_DEFAULT, model="exact", engin
             source="<plan>",
             rotvec=P[:, 3:],
         )
-        prob = map_problem(base, data, index, sd, engine=engine)
+        prob = Problem(base, data, index, sd, engine=engine)
         return prob.jacobian(np.zeros(len(index)))[: 6 * len(P)].reshape(len(P), 6, len(index))
     data = Data(
         sample=np.arange(len(P)).astype(str),
@@ -157,7 +157,7 @@ def info_rows(robot, P, L0, index, sd, sigma=SIGMA_DEFAULT, model="exact", engin
         encoder=False,
         source="<plan>",
     )
-    prob = map_problem(base, data, index, sd, engine=engine)
+    prob = Problem(base, data, index, sd, engine=engine)
     return prob.jacobian(np.zeros(len(index)))[: 3 * len(P)].reshape(len(P), 3, len(index))
 
 

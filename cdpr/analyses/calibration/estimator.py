@@ -2,7 +2,7 @@
 
 ``fit`` is the maximum a posteriori (MAP) estimate of θ under a Gaussian prior around the nominal
 robot (``parse_priors``, ``prior_sd``): a weakly identified parameter stays near its prior instead
-of running away. ``scipy.optimize.least_squares`` on the residual of ``problem.map_problem`` with
+of running away. ``scipy.optimize.least_squares`` on the residual of ``problem.Problem`` with
 its exact Jacobian; the result is a ``result.Calibration``. ``fit_motor`` is the self-calibration
 from a spool robot's motor angles with every position a nuisance (``cdpr.analyses.calibration.motor``,
 its priors ``parse_motor_priors``); its result is a ``result.MotorCalibration``.
@@ -54,7 +54,7 @@ from cdpr.analyses.calibration.motor import (
     stretch_factors,
 )
 from cdpr.analyses.calibration.problem import (
-    map_problem,
+    Problem,
 )
 from cdpr.analyses.calibration.result import Calibration, MotorCalibration
 from cdpr.errors import CdprError
@@ -256,9 +256,9 @@ def fit(robot, data, groups, priors=None, model="exact", loss="linear", engine=N
     loss : str
         ``least_squares`` loss: "linear" (default) or a robust one ("soft_l1", "huber", "cauchy").
     engine : {"compiled", "numpy"} or None
-        None: ``solve.check_engine``'s default (compiled) on a suspended point mass, the numpy
-        reference on the 6-DoF equilibrium (``Problem6``: a rigid platform, or a point mass under a
-        tilted pulley axis); a named engine is used by either.
+        None: ``equilibrium_engine``'s default, compiled on a suspended point mass, the numpy
+        reference on the pose model (``Problem``: a rigid platform, or a point mass under a tilted
+        pulley axis); a named engine is checked and used by either.
     solver : dict, optional
         tol, maxiter, max_step of the physical solve.
 
@@ -281,7 +281,7 @@ def fit(robot, data, groups, priors=None, model="exact", loss="linear", engine=N
     keep = used
     for _attempt in range(3):
         sub = data.subset(keep)
-        prob = map_problem(base, sub, index, sd, engine=engine, solver=solver)
+        prob = Problem(base, sub, index, sd, engine=engine, solver=solver)
         ev0 = prob.evaluate(np.zeros(len(index)))
         good = (ev0["status"] == "ok") & ev0["smooth"]
         if not good.all():
@@ -292,7 +292,7 @@ def fit(robot, data, groups, priors=None, model="exact", loss="linear", engine=N
     # fewer equations than parameters is no reason to refuse: every estimated parameter has a prior,
     # so the MAP is proper; what the data do not see stays at its prior (identifiability says which)
     sub = data.subset(keep)
-    prob = map_problem(base, sub, index, sd, engine=engine, solver=solver)
+    prob = Problem(base, sub, index, sd, engine=engine, solver=solver)
     lo, hi = _bounds(base, index, sd)
     sol = least_squares(
         prob.residual,

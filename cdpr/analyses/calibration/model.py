@@ -8,8 +8,8 @@ rigid, realised as the physical equilibrium with E multiplied by ``STANDARD_STIF
 Winches: on a robot file with ``winch:`` the commanded lengths go through the drums
 (``realised_lengths``, ``drive.realised_rest_lengths``; NaN, flagged ``DRUM_RANGE``, where a drum
 cannot pay a length out). Commands (``COMMANDS``): the standard lengths L_TS or, for a 6-DoF
-platform, the compensated rest lengths (``commanded_lengths``). The 6-DoF equilibria by
-``solve6`` (engine ``engine6``).
+platform, the compensated rest lengths (``commanded_lengths``). The equilibria of every robot by
+``equilibria`` (engine ``equilibrium_engine``).
 
 References
 ----------
@@ -172,9 +172,21 @@ def commanded_lengths(robot, p, R, command="standard"):
     return compensated_lengths(robot, p, rotvec_of(R))["L0"]
 
 
-def smooth6(hooke, cond):
-    """Where a 6-DoF equilibrium is differentiable: no cable's Hooke tension within ``T_TOL`` of 0
-    (the taut set would change) and a condition number of dF6/dx below ``COND_MAX``."""
+def differentiable(hooke, cond):
+    """Where an equilibrium of the pose model is differentiable: no cable's Hooke tension within
+    ``T_TOL`` of 0 (the taut set would change) and a condition number of dF/dx below ``COND_MAX``.
+
+    Parameters
+    ----------
+    hooke : ndarray, shape (n, m) [N]
+        Hooke tensions (negative on a slack cable).
+    cond : ndarray, shape (n,) [-]
+        Scaled condition numbers of dF/dx.
+
+    Returns
+    -------
+    ndarray, shape (n,) of bool
+    """
     return (np.abs(hooke) > T_TOL).all(axis=1) & (cond < COND_MAX)
 
 
@@ -204,77 +216,64 @@ def drum_or_standard(robot, L0, drum, p, rv):
     return np.where(drum[:, None], L0, L_TS(robot, p, R=rotation_matrix(rv)))
 
 
-def engine6(engine):
-    """The engine of the 6-DoF calibration (fits, plans, checks, simulations): a named engine,
-    checked by ``solve.check_engine``, or for None the numpy reference: the tracked CoGiRo
-    calibration tables were computed with it, and the compiled twin (analytic dF6/dθ) moves the
-    misfit models' fits (the exact model's in the 4th digit).
+def equilibrium_engine(robot, engine=None):
+    """The engine of the calibration's equilibria (fits, plans, checks, simulations): a named engine,
+    checked by ``solve.check_engine``; for None, on the pose model (every robot but a suspended
+    point mass) the numpy reference: the tracked CoGiRo calibration tables were computed with it,
+    and the compiled twin (analytic dF/dθ) moves the misfit models' fits (the exact model's in the
+    4th digit); a suspended point mass keeps None, its solver's default (compiled).
 
     Parameters
     ----------
+    robot : Robot
     engine : {"compiled", "numpy"} or None
 
     Returns
     -------
-    str
+    str or None
     """
-    return "numpy" if engine is None else check_engine(engine, "newton")
+    if engine is None:
+        return None if robot.suspended_point_mass else "numpy"
+    return check_engine(engine, "newton")
 
 
-def solve6(robot, P, L0, rotvec=None, solver=None, engine=None):
-    """The 6-DoF equilibria under commanded rest lengths L0 started at poses (P, rotvec): the
-    ``solve_spatial`` result (``solve.solve`` by ``engine6(engine)``) with ``smooth``
-    added: ``smooth6`` on a rigid platform; on a point mass (a robot the calibration solves here
-    when a pulley axis is not +z), whose 6 × 6 Jacobian has no moment rows, the flag of
-    ``solve.sensitivities_at`` (the point-mass physical mode's rule on the translation
+def equilibria(robot, P, L0, rotvec=None, solver=None, engine=None):
+    """The physical equilibria under commanded rest lengths L0 started at poses (P, rotvec), with
+    the ``smooth`` flag, by ``equilibrium_engine(robot, engine)``: a suspended point mass (pulley
+    axes +z) by the point-mass physical solve (``solve.sensitivities``); every other robot by the
+    pose model (``solve.solve``), smooth where ``differentiable`` says so on a rigid platform and,
+    on a point mass under a tilted pulley axis (whose 6 × 6 Jacobian has no moment rows), where
+    ``solve.sensitivities_at`` says so (the point-mass physical mode's rule on the translation
     block).
 
     Parameters
     ----------
     robot : Robot
     P : ndarray, shape (n, 3) or (n, 6) [m, rad]
-    L0 : ndarray, shape (n, m) [m]
-    rotvec : ndarray, shape (n, 3) [rad], optional
-    solver : dict, optional
-    engine : {"compiled", "numpy"} or None
-        ``engine6``.
-
-    Returns
-    -------
-    dict
-    """
-    rv = np.zeros((len(np.atleast_2d(P)), 3)) if rotvec is None else rotvec  # the pose keys (R_s)
-    res = solve(robot, P, rv, redundancy="physical", engine=engine6(engine), L0=L0, **dict(solver or {}))
-    if robot.point_mass:
-        res["smooth"] = sensitivities_at(robot, res, names=[], engine=engine6(engine))["smooth"]
-        return res
-    _, hooke, cond = rest_length_sensitivities(robot, res["P_s"], res["R_s"], res["L0"])
-    res["smooth"] = smooth6(hooke, cond)
-    return res
-
-
-def point_mass_equilibria(robot, P, L0, engine=None):
-    """The physical equilibria of a point-mass robot under commanded rest lengths L0, started at P,
-    with the ``smooth`` flag: the point-mass physical solve (``solve.sensitivities``) for a
-    suspended point mass, the 6-DoF equilibrium that contains it (``solve6``) when a pulley axis is
-    not +z (the point-mass solver's refusal).
-
-    Parameters
-    ----------
-    robot : Robot
-        A point mass (``Robot.point_mass``).
-    P : ndarray, shape (n, 3) [m]
-        Start points.
+        Start poses.
     L0 : ndarray, shape (n, m) [m]
         Rest lengths.
+    rotvec : ndarray, shape (n, 3) [rad], optional
+        Start orientations (default identity).
+    solver : dict, optional
+        tol, maxiter, max_step of the physical solve.
     engine : {"compiled", "numpy"} or None
-        None: ``solve.check_engine``'s default, or ``engine6``'s on the 6-DoF equilibrium.
+        ``equilibrium_engine``.
 
     Returns
     -------
     dict
-        P_s (n, 3) [m], status, smooth, n_taut (n,), t (n, m) [N] and the rest of the solver's result.
+        P_s (n, 3) [m], status, smooth, n_taut (n,), t (n, m) [N] and the rest of the solver's
+        result (R_s, rotvec_s, taut on the pose model).
     """
+    engine = equilibrium_engine(robot, engine)
     if robot.suspended_point_mass:
-        return sensitivities(robot, P, redundancy="physical", L=L0, engine=engine)
-    return solve6(robot, P, L0, engine=engine)
+        return sensitivities(robot, P, redundancy="physical", L=L0, engine=engine, **dict(solver or {}))
+    rv = np.zeros((len(np.atleast_2d(P)), 3)) if rotvec is None else rotvec  # the pose keys (R_s)
+    res = solve(robot, P, rv, redundancy="physical", engine=engine, L0=L0, **dict(solver or {}))
+    if robot.point_mass:
+        res["smooth"] = sensitivities_at(robot, res, names=[], engine=engine)["smooth"]
+        return res
+    _, hooke, cond = rest_length_sensitivities(robot, res["P_s"], res["R_s"], res["L0"])
+    res["smooth"] = differentiable(hooke, cond)
+    return res

@@ -10,9 +10,8 @@ import numpy as np
 from cdpr.analyses.calibration.model import (
     DRUM_RANGE,
     drum_or_standard,
-    point_mass_equilibria,
+    equilibria,
     realised_lengths,
-    solve6,
 )
 from cdpr.analyses.calibration.motor import (
     SpoolModel,
@@ -33,8 +32,7 @@ from cdpr.parameters import (
 def check(robot, data, engine=None):
     """The robot's prediction (physical equilibrium under the commanded lengths, through the drums
     of a robot with winches, started at the measured pose) against every sample: the 6-DoF
-    equilibrium (``solve6``) of a rigid platform, a point mass's ``point_mass_equilibria`` (the
-    6-DoF equilibrium too when a pulley axis is not +z).
+    equilibrium (``equilibria``) of every robot.
 
     Parameters
     ----------
@@ -43,7 +41,7 @@ def check(robot, data, engine=None):
         Commanded lengths (not encoder readings: their offsets are unknown) and measured poses.
     engine : {"compiled", "numpy"} or None
         Engine of the solves (None: ``solve.check_engine``'s default for a suspended point mass,
-        ``engine6``'s for the 6-DoF equilibrium).
+        the numpy reference on the pose model: ``equilibrium_engine``).
 
     Returns
     -------
@@ -60,9 +58,9 @@ def check(robot, data, engine=None):
     drum = np.isfinite(L0).all(axis=1)
     if spatial:
         L0 = drum_or_standard(robot, L0, drum, data.pose, np.nan_to_num(data.rotvec))
-        res = solve6(robot, data.pose, L0, rotvec=data.rotvec, engine=engine)
     else:
-        res = point_mass_equilibria(robot, data.pose, np.where(drum[:, None], L0, data.L), engine=engine)
+        L0 = np.where(drum[:, None], L0, data.L)
+    res = equilibria(robot, data.pose, L0, rotvec=data.rotvec if spatial else None, engine=engine)
     res["status"] = np.where(drum, res["status"], DRUM_RANGE)
     ok = res["status"] == "ok"
     err = np.linalg.norm(res["P_s"] - data.pose, axis=1)

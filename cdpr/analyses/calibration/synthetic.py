@@ -1,5 +1,5 @@
 """Synthetic calibration data: a true robot measured at commanded poses (``simulate``), robots
-drawn from the prior (``perturbed``), admissible random 6-DoF poses (``random_poses6``) and the
+drawn from the prior (``perturbed``), admissible random 6-DoF poses (``random_poses``) and the
 taut-cable and second-equilibrium flags of samples (``equilibrium_flags``); a spool robot's motor
 angles at given positions (``simulate_motor``).
 
@@ -25,9 +25,8 @@ from cdpr.analyses.calibration.data import (
 from cdpr.analyses.calibration.model import (
     check_command,
     commanded_lengths,
-    point_mass_equilibria,
+    equilibria,
     realised_lengths,
-    solve6,
 )
 from cdpr.analyses.calibration.motor import SpoolModel
 from cdpr.errors import CdprError
@@ -59,8 +58,8 @@ def simulate(
     the pose where the true robot settles under them, plus Gaussian noise. A true robot with
     winches realises the commands through its drums (``realised_lengths``: a controller that
     neglects the exit point's motion, Métillon 2022 eq. 31-32); the data keep the commands. A
-    point mass settles where ``point_mass_equilibria`` says (the 6-DoF equilibrium when a pulley
-    axis is not +z).
+    robot settles where ``equilibria`` says (the pose model on a rigid platform and under a tilted
+    pulley axis).
 
     Parameters
     ----------
@@ -90,84 +89,27 @@ def simulate(
     Data
         With status "ok" samples only (the others are dropped here: this is the simulator, not the fit).
     """
-    if is_spatial(truth):
-        return _simulate6(
-            truth,
-            nominal,
-            P,
-            rotvec,
-            sigma,
-            sigma_rad,
-            rng,
-            offsets,
-            command,
-            tensions=tensions,
-            sigma_t=sigma_t,
-            engine=engine,
-        )
     check_command(command, truth)
-    L0 = L_TS(nominal, P)
+    spatial = is_spatial(truth)
+    if spatial:  # the pose's orientation: commanded, settled and measured
+        p, R = pose_arrays(P, rotvec)
+        rv = rotvec_of(R)
+        L0 = commanded_lengths(nominal, p, R, command)
+        fin = np.isfinite(L0).all(axis=1)
+        p, rv, L0 = p[fin], rv[fin], L0[fin]
+    else:
+        p, rv, L0 = P, None, L_TS(nominal, P)
     L_real = realised_lengths(truth, L0)  # through the true robot's drums when it has winches
     drum = np.isfinite(L_real).all(axis=1)
-    res = point_mass_equilibria(truth, P, np.where(drum[:, None], L_real, L0), engine=engine)
+    res = equilibria(truth, p, np.where(drum[:, None], L_real, L0), rotvec=rv, engine=engine)
     ok = (res["status"] == "ok") & res["smooth"] & drum
-    y = res["P_s"][ok]
-    if rng is not None:
-        y = y + rng.normal(0.0, sigma, y.shape)
-    L = L0[ok] if offsets is None else L0[ok] + np.asarray(offsets)
-    t = np.full(L.shape, np.nan)
-    if tensions:
-        t = _measured_tensions(res["t"][ok], sigma_t, rng)
-    return Data(
-        tension=t,
-        sigma_t=np.full(int(ok.sum()), float(sigma_t)),
-        sample=np.array([f"s{i + 1}" for i in range(int(ok.sum()))]),
-        L=L,
-        pose=y,
-        sigma=np.full(int(ok.sum()), float(sigma)),
-        encoder=offsets is not None,
-        source="<simulated>",
-    )
-
-
-def _measured_tensions(t, sigma_t, rng):
-    """Tension-sensor readings of the equilibrium tensions t (n, m) [N] (NaN on a slack cable, read
-    as 0 N): plus N(0, sigma_t²) noise with ``rng``, clipped at 0 N."""
-    t = np.nan_to_num(t)
-    if rng is not None:
-        t = np.maximum(t + rng.normal(0.0, sigma_t, t.shape), 0.0)
-    return t
-
-
-def _simulate6(
-    truth,
-    nominal,
-    P,
-    rotvec,
-    sigma,
-    sigma_rad,
-    rng,
-    offsets,
-    command="standard",
-    tensions=False,
-    sigma_t=SIGMA_T_DEFAULT,
-    engine=None,
-):
-    """``simulate`` for a 6-DoF platform (its docstring; the solves by ``engine6(engine)``)."""
-    p, R = pose_arrays(P, rotvec)
-    rv = rotvec_of(R)
-    L0 = commanded_lengths(nominal, p, R, command)
-    fin = np.isfinite(L0).all(axis=1)
-    p, R, rv, L0 = p[fin], R[fin], rv[fin], L0[fin]
-    L_real = realised_lengths(truth, L0)  # through the true robot's drums when it has winches
-    drum = np.isfinite(L_real).all(axis=1)
-    res = solve6(truth, p, np.where(drum[:, None], L_real, L0), rotvec=rv, engine=engine)
-    ok = (res["status"] == "ok") & res["smooth"] & drum
-    y, Rs = res["P_s"][ok], res["R_s"][ok]
-    if rng is not None:
-        y = y + rng.normal(0.0, sigma, y.shape)
-        Rs = rotation_matrix(rng.normal(0.0, sigma_rad, (len(y), 3))) @ Rs
     n = int(ok.sum())
+    y = res["P_s"][ok]
+    Rs = res["R_s"][ok] if spatial else None
+    if rng is not None:  # the tracker's noise: position, then the orientation of a rigid platform
+        y = y + rng.normal(0.0, sigma, y.shape)
+        Rs = None if Rs is None else rotation_matrix(rng.normal(0.0, sigma_rad, (n, 3))) @ Rs
+    orientation = {} if Rs is None else {"rotvec": rotvec_of(Rs), "sigma_rad": np.full(n, float(sigma_rad))}
     t = np.full((n, truth.m), np.nan)
     if tensions:
         t = _measured_tensions(res["t"][ok], sigma_t, rng)
@@ -180,9 +122,17 @@ def _simulate6(
         sigma=np.full(n, float(sigma)),
         encoder=offsets is not None,
         source="<simulated>",
-        rotvec=rotvec_of(Rs),
-        sigma_rad=np.full(n, float(sigma_rad)),
+        **orientation,
     )
+
+
+def _measured_tensions(t, sigma_t, rng):
+    """Tension-sensor readings of the equilibrium tensions t (n, m) [N] (NaN on a slack cable, read
+    as 0 N): plus N(0, sigma_t²) noise with ``rng``, clipped at 0 N."""
+    t = np.nan_to_num(t)
+    if rng is not None:
+        t = np.maximum(t + rng.normal(0.0, sigma_t, t.shape), 0.0)
+    return t
 
 
 def perturbed(robot, index, sd, rng):
@@ -192,7 +142,7 @@ def perturbed(robot, index, sd, rng):
     return calibrated_robot(robot, th), th
 
 
-def random_poses6(robot, rng, n, box, tilt=0.1, margin=100.0, command="standard"):
+def random_poses(robot, rng, n, box, tilt=0.1, margin=100.0, command="standard"):
     """n random poses of a 6-DoF platform where the robot under the ``command`` lengths
     (``commanded_lengths``) settles ``ok`` with every cable taut by more than ``margin``.
 
@@ -231,7 +181,7 @@ def random_poses6(robot, rng, n, box, tilt=0.1, margin=100.0, command="standard"
     L = commanded_lengths(robot, P6[:, :3], rotation_matrix(P6[:, 3:]), command)
     fin = np.isfinite(L).all(axis=1)
     P6, L = P6[fin], L[fin]
-    res = solve6(robot, P6[:, :3], L, rotvec=P6[:, 3:])
+    res = equilibria(robot, P6[:, :3], L, rotvec=P6[:, 3:])
     good = (res["status"] == "ok") & (np.nan_to_num(res["t"]) > margin).all(axis=1)
     if good.sum() < n:
         raise CdprError(
@@ -267,7 +217,7 @@ def equilibrium_flags(robot, data, kick=(0.05, 0.05), tol=1e-3):
         0 where the equilibrium is not ``ok``.
     second : ndarray, shape (N,) of bool
     """
-    ref = solve6(robot, data.pose, data.L, rotvec=data.rotvec)
+    ref = equilibria(robot, data.pose, data.L, rotvec=data.rotvec)
     ok_ref = ref["status"] == "ok"
     second = np.zeros(len(data.sample), dtype=bool)
     for k in range(6):
@@ -277,7 +227,7 @@ def equilibrium_flags(robot, data, kick=(0.05, 0.05), tol=1e-3):
                 P[:, k] += s * kick[0]
             else:
                 rv[:, k - 3] += s * kick[1]
-            r = solve6(robot, P, data.L, rotvec=rv)
+            r = equilibria(robot, P, data.L, rotvec=rv)
             ok = (r["status"] == "ok") & ok_ref
             second |= ok & (np.linalg.norm(r["P_s"] - ref["P_s"], axis=1) > tol)
     n_taut = np.where(ok_ref, ref["taut"].sum(axis=1), 0).astype(int)

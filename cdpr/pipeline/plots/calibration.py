@@ -1,5 +1,5 @@
 """The figures of the calibration (issue 18; ``cdpr calibrate fit --report`` and the calibration
-studies of ``cdpr.pipeline.calibration`` and ``cdpr.pipeline.calibration6``): residuals, estimates
+studies of ``cdpr.pipeline.calibration``): residuals, estimates
 and posterior correlation of a fit, the learning curve of the CDPR4 study and the validation errors
 of the 6-DoF study.
 """

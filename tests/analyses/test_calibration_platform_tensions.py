@@ -15,10 +15,11 @@ from cdpr.analyses import calibration as cal
 from cdpr.cli.main import main
 from cdpr.errors import CdprError, ConfigError
 from cdpr.models.drive import has_winches
-from cdpr.parameters import calibration_names, select_groups
+from cdpr.parameters import calibration_names
 from cdpr.pipeline.calibration_files import write_data
 from cdpr.robot import load_robot
-from tests.analyses.test_calibration6 import COGIRO, _poses, _truth
+from tests.analyses.test_calibration import evaluated_problem
+from tests.analyses.test_calibration_platform import COGIRO, _poses, _truth
 from tests.conftest import ROBOTS
 
 #: Drums on every cable of CoGiRo: Table 1 of the winch seed with 4 m more cable on the drum, so
@@ -49,9 +50,9 @@ def _encoder_only(data):
 
 @pytest.mark.parametrize("winch", [False, True], ids=["no winch", "winch"])
 def test_tension_rows_jacobian_equals_central_differences(cogiro, cogiro_winch, monkeypatch, winch):
-    """Problem6.jacobian (tension rows: dt/dθ = ∂t/∂x dx*/dθ + ∂t/∂θ + ∂t/∂L0 dL0/dθ, with the
+    """Problem.jacobian (tension rows: dt/dθ = ∂t/∂x dx*/dθ + ∂t/∂θ + ∂t/∂L0 dL0/dθ, with the
     drums' chain rule on the offsets and dead lengths) against central differences of
-    Problem6.residual, which re-solves every equilibrium; two of the four samples have no pose
+    Problem.residual, which re-solves every equilibrium; two of the four samples have no pose
     (solved from the start pose). Every cable taut by > 50 N: no taut-set change within the steps.
 
     The tension derivative is a small difference of two large terms (the pose term and the
@@ -67,13 +68,10 @@ def test_tension_rows_jacobian_equals_central_differences(cogiro, cogiro_winch, 
     assert len(data.sample) == 4
     data.pose[:2] = np.nan
     data.rotvec[:2] = np.nan
-    idx = select_groups(robot, groups)
-    sd = cal.prior_sd(robot, idx, cal.parse_priors("dead_lengths=5mm,offsets=5mm"))
-    prob = cal.Problem6(robot, data, idx, sd, solver={"tol": 1e-15})
-    z = 0.1 * rng.standard_normal(len(idx))
-    ev = prob.evaluate(z)
-    assert ((ev["status"] == "ok") & ev["smooth"]).all() and ev["t"].min() > 50.0
-    J = prob.jacobian(z)
+    prob, idx, z, ev, J = evaluated_problem(
+        robot, data, groups, "dead_lengths=5mm,offsets=5mm", 1e-15, 0.1, rng
+    )
+    assert ev["t"].min() > 50.0
     n_pose, n_t = 6 * 2, 8 * 4
     assert J.shape == (n_pose + n_t + len(idx), len(idx))
     names = [calibration_names(robot)[k] for k in idx]

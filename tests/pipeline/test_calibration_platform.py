@@ -1,7 +1,7 @@
-"""The 6-DoF part of the calibration study (cdpr.pipeline.calibration6, CoGiRo) at tiny sizes: its
+"""The 6-DoF part of the calibration study (cdpr.pipeline.calibration on a rigid platform, CoGiRo) at tiny sizes: its
 wiring (outputs, rows, flags), the physics its rows must obey (the truth commanding its own
 compensated lengths reaches every target with every cable taut; the calibrated exact model beats the
-nominal one), the new analysis helpers (random_poses6, equilibrium_flags) and bad study files."""
+nominal one), the new analysis helpers (random_poses, equilibrium_flags) and bad study files."""
 
 import numpy as np
 import pandas as pd
@@ -12,7 +12,7 @@ from cdpr.analyses import calibration as cal
 from cdpr.errors import CdprError, ConfigError
 from cdpr.models.inverse import L_TS
 from cdpr.models.platform import rotation_matrix
-from cdpr.pipeline import calibration6 as c6
+from cdpr.pipeline import calibration as study
 from cdpr.pipeline.results import CALIBRATION_OUTPUTS
 from cdpr.robot import load_robot
 from tests.conftest import ROBOTS, ROOT
@@ -35,7 +35,7 @@ def tiny(tmp_path_factory):
     base.update(n_train=12, n_validation=8)
     path = folder / "study.yaml"
     path.write_text(yaml.safe_dump(base))
-    res = c6.run_study(path, folder / "out")
+    res = study.run_calibration_study(path, folder / "out")
     return folder / "out", res
 
 
@@ -49,7 +49,11 @@ def test_study_wiring(tiny):
     assert written == set(CALIBRATION_OUTPUTS["calibration_cogiro"].values())
     assert res["summary"] == out / "summary.md"
     h = pd.read_csv(out / "headline.csv")
-    assert list(h["model"]) == ["nominal (uncalibrated)", *c6.STUDY_MODELS6, "truth robot (noise floor)"]
+    assert list(h["model"]) == [
+        "nominal (uncalibrated)",
+        *study.STUDY_MODELS[study.PLATFORM],
+        "truth robot (noise floor)",
+    ]
     assert list(h["parameters"]) == [0, 56, 56, 64, 0]
     v = pd.read_csv(out / "validation.csv")
     assert len(v) == 8  # every validation pose kept, flagged or not
@@ -64,7 +68,7 @@ def test_study_rows_obey_the_physics(tiny):
     truth, nominal, exact = (
         h.loc["truth robot (noise floor)"],
         h.loc["nominal (uncalibrated)"],
-        h.loc[c6.EXACT6],
+        h.loc[study.EXACT],
     )
     # the truth computing its own compensated lengths reaches every target, every cable taut
     assert truth["compensated_max_mm"] < 1e-3
@@ -76,25 +80,25 @@ def test_study_rows_obey_the_physics(tiny):
     assert exact["compensated_median_mm"] < 0.2 * nominal["compensated_median_mm"]
 
 
-def test_random_poses6_hold_every_cable_taut(cogiro):
+def test_random_poses_hold_every_cable_taut(cogiro):
     rng = np.random.default_rng(3)
     for command in cal.COMMANDS:
-        P = cal.random_poses6(cogiro, rng, 10, BOX, tilt=0.1, margin=150.0, command=command)
+        P = cal.random_poses(cogiro, rng, 10, BOX, tilt=0.1, margin=150.0, command=command)
         assert P.shape == (10, 6)
         lo, hi = np.array(BOX[::2]), np.array(BOX[1::2])
         assert ((P[:, :3] >= lo) & (P[:, :3] <= hi)).all() and (np.abs(P[:, 3:]) <= 0.1).all()
         L = cal.commanded_lengths(cogiro, P[:, :3], rotation_matrix(P[:, 3:]), command)
-        res = cal.solve6(cogiro, P[:, :3], L, rotvec=P[:, 3:])
+        res = cal.equilibria(cogiro, P[:, :3], L, rotvec=P[:, 3:])
         assert (res["status"] == "ok").all() and (res["t"] > 150.0).all()
     with pytest.raises(CdprError, match="admissible poses"):
-        cal.random_poses6(cogiro, rng, 5, BOX, margin=1e5)  # above the cables' 5000 N
+        cal.random_poses(cogiro, rng, 5, BOX, margin=1e5)  # above the cables' 5000 N
 
 
 def test_equilibrium_flags_count_taut_cables(cogiro):
     """On the nominal robot under its own L_TS every cable is taut (8) at the drawn poses; a cable
     made 0.5 m longer leaves 6 or 7 taut (it or a crossed partner goes slack as the platform moves; as
     the solver counts them); no second equilibrium near these well-posed poses."""
-    P = cal.random_poses6(cogiro, np.random.default_rng(4), 6, BOX)
+    P = cal.random_poses(cogiro, np.random.default_rng(4), 6, BOX)
     data = cal.simulate(cogiro, cogiro, P)
     n_taut, second = cal.equilibrium_flags(cogiro, data)
     assert (n_taut == 8).all() and not second.any()
@@ -111,7 +115,7 @@ def test_equilibrium_flags_count_taut_cables(cogiro):
         sigma_rad=data.sigma_rad,
     )
     n_taut, _ = cal.equilibrium_flags(cogiro, data)
-    res = cal.solve6(cogiro, data.pose, L, rotvec=data.rotvec)
+    res = cal.equilibria(cogiro, data.pose, L, rotvec=data.rotvec)
     assert (res["status"] == "ok").all()
     assert (n_taut == res["taut"].sum(axis=1)).all() and (n_taut < 8).all() and (n_taut >= 6).all()
 
@@ -132,7 +136,7 @@ def test_bad_study_files(tmp_path, change, key):
     path = tmp_path / "s.yaml"
     path.write_text(yaml.safe_dump(base))
     with pytest.raises(ConfigError, match=key):
-        c6.load_calibration_study6(path)
+        study.load_calibration_study(path)
 
 
 def test_missing_key_and_point_mass_robot(tmp_path):
@@ -141,8 +145,8 @@ def test_missing_key_and_point_mass_robot(tmp_path):
     path = tmp_path / "s.yaml"
     path.write_text(yaml.safe_dump(base))
     with pytest.raises(ConfigError, match="tilt_rad"):
-        c6.load_calibration_study6(path)
+        study.load_calibration_study(path)
     base = dict(yaml.safe_load(STUDY.read_text()), robot=str(ROBOTS / "cdpr4.yaml"))
     path.write_text(yaml.safe_dump(base))
     with pytest.raises(ConfigError, match="point-mass"):
-        c6.run_calibration_study6(path, tmp_path / "out")
+        study.run_calibration_study(path, tmp_path / "out")

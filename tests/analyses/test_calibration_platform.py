@@ -17,6 +17,7 @@ from cdpr.models.platform import rotation_matrix
 from cdpr.parameters import calibration_names, parameter_names, select_groups
 from cdpr.pipeline.calibration_files import write_data
 from cdpr.robot import load_robot
+from tests.analyses.test_calibration import _truth, evaluated_problem
 from tests.conftest import ROBOTS
 
 COGIRO = str(ROBOTS / "cogiro.yaml")
@@ -30,16 +31,8 @@ def cogiro():
 def _poses(rng, n, tilt=0.1, margin=100.0):
     """n poses inside CoGiRo's workspace with small tilts where, commanded with L_TS, the nominal
     robot holds every cable taut by more than ``margin`` [N] (a perturbed robot stays away from a
-    taut-set change): ``calibration.random_poses6``."""
-    return cal.random_poses6(load_robot(COGIRO), rng, n, [-3, 3, -2, 2, 1.0, 2.5], tilt, margin)
-
-
-def _truth(robot, groups, seed, priors=None):
-    rng = np.random.default_rng(seed)
-    idx = select_groups(robot, groups)
-    sd = cal.prior_sd(robot, idx, priors or cal.parse_priors(None))
-    truth, th = cal.perturbed(robot, idx, sd, rng)
-    return rng, idx, sd, truth, th
+    taut-set change): ``calibration.random_poses``."""
+    return cal.random_poses(load_robot(COGIRO), rng, n, [-3, 3, -2, 2, 1.0, 2.5], tilt, margin)
 
 
 def test_one_naming_of_the_spatial_vector(cogiro):
@@ -75,19 +68,13 @@ def test_noise_free_data_recover_the_truth(cogiro):
 
 
 def test_analytic_jacobian_equals_central_differences_of_the_full_residual(cogiro):
-    """Problem6.jacobian (implicit-function sensitivities, the offsets' dx/dL0 column and the SO(3)
-    log Jacobian of the orientation rows) against central differences of Problem6.residual, which
+    """Problem.jacobian (implicit-function sensitivities, the offsets' dx/dL0 column and the SO(3)
+    log Jacobian of the orientation rows) against central differences of Problem.residual, which
     re-solves every equilibrium; orientation errors of ~0.1 rad so J_r^-1 matters."""
     groups = ["moduli", "dead_lengths", "anchors", "attachments", "offsets", "mass"]
     rng = np.random.default_rng(4)
     data = cal.simulate(cogiro, cogiro, _poses(rng, 4), offsets=np.zeros(8), sigma_rad=0.1, rng=rng)
-    idx = select_groups(cogiro, groups)
-    sd = cal.prior_sd(cogiro, idx, cal.parse_priors(None))
-    prob = cal.Problem6(cogiro, data, idx, sd, solver={"tol": 1e-14})
-    z = 0.3 * rng.standard_normal(len(idx))
-    ev = prob.evaluate(z)
-    assert ((ev["status"] == "ok") & ev["smooth"]).all()
-    J = prob.jacobian(z)
+    prob, idx, z, ev, J = evaluated_problem(cogiro, data, groups, None, 1e-14, 0.3, rng)
     names = [calibration_names(cogiro)[k] for k in idx]
     cols = [names.index(n) for n in ("E_2", "d_3", "A_1_x", "A_6_z", "b_2_y", "b_5_z", "offset_4", "M")]
     step = 1e-5
@@ -110,7 +97,7 @@ def test_analytic_jacobian_equals_central_differences_of_the_full_residual(cogir
 
 def _measure(truth, L, P6):
     """Noise-free poses of ``truth`` under commanded lengths L started at P6 (test helper)."""
-    res = cal.solve6(truth, P6[:, :3], L, rotvec=P6[:, 3:])
+    res = cal.equilibria(truth, P6[:, :3], L, rotvec=P6[:, 3:])
     assert ((res["status"] == "ok") & res["smooth"]).all()
     n = len(L)
     return cal.Data(
@@ -289,7 +276,7 @@ def test_cli_plan_on_cogiro_and_a_fully_constrained_robot(tmp_path, capsys):
 
 def test_a_named_engine_reaches_the_6dof_problem(cogiro):
     """fit, info_rows and the plan build their MAP problem through _problem: a named engine is used
-    on a 6-DoF platform too (it was dropped there), None keeps the numpy reference (Problem6's
+    on a 6-DoF platform too (it was dropped there), None keeps the numpy reference (the pose model's
     default), an unknown engine is refused in one line naming the allowed ones."""
     index, sd = np.arange(3), np.ones(3)
 
@@ -305,14 +292,17 @@ def test_a_named_engine_reaches_the_6dof_problem(cogiro):
         )
 
     d6 = data(cogiro.m, True)
-    assert cal.map_problem(cogiro, d6, index, sd).engine == "numpy"
-    assert cal.map_problem(cogiro, d6, index, sd, engine="compiled").engine == "compiled"
+    assert cal.Problem(cogiro, d6, index, sd).engine == "numpy"
+    assert cal.Problem(cogiro, d6, index, sd, engine="compiled").engine == "compiled"
     point_mass = load_robot(ROBOTS / "cdpr4.yaml")
-    assert cal.map_problem(point_mass, data(4, False), index, sd).engine is None  # check_engine: compiled
+    assert cal.Problem(point_mass, data(4, False), index, sd).engine is None  # check_engine: compiled
     with pytest.raises(CdprError, match="unknown engine 'nope'; allowed: compiled, numpy"):
-        cal.map_problem(cogiro, d6, index, sd, engine="nope")
+        cal.Problem(cogiro, d6, index, sd, engine="nope")
     # the plan, the simulator and the check on a 6-DoF platform check and use a named engine too
-    assert cal.engine6(None) == "numpy" and cal.engine6("compiled") == "compiled"
+    assert (
+        cal.equilibrium_engine(cogiro, None) == "numpy"
+        and cal.equilibrium_engine(cogiro, "compiled") == "compiled"
+    )
     with pytest.raises(CdprError, match="unknown engine 'nope'"):
         cal.candidates(cogiro, [-1, 1, -1, 1, 1.5, 2.5], n_axis=2, engine="nope")
     P, L0 = cal.candidates(cogiro, [-1, 1, -1, 1, 1.5, 2.5], n_axis=2)
