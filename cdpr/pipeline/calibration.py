@@ -25,7 +25,6 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
-import yaml
 
 from cdpr import io, table_io
 from cdpr.analyses import calibration as cal
@@ -33,6 +32,7 @@ from cdpr.analyses.compensation import compensated_pose
 from cdpr.errors import CdprError, ConfigError
 from cdpr.models.platform import rotation_matrix
 from cdpr.parameters import calibration_values, is_spatial, select_groups
+from cdpr.pipeline.calibration_files import read_study_file
 from cdpr.pipeline.plots import calibration as figures
 from cdpr.pipeline.results import rel_path
 from cdpr.robot import TABLE1, load_robot, params_from_mapping
@@ -126,12 +126,7 @@ def load_calibration_study(path):
         The study's keys; truth_deviations as ``calibration.parse_priors`` values, deviation_groups
         the groups given, winch (when given) the drum's parameters, kind the ``study_kind``.
     """
-    try:
-        data = yaml.safe_load(open(path, encoding="utf-8"))
-    except FileNotFoundError:
-        raise ConfigError(path, None, "the study file does not exist") from None
-    if not isinstance(data, dict):
-        raise ConfigError(path, None, "expected a mapping of keys to values")
+    data = read_study_file(path)
     if "robot" not in data:
         raise ConfigError(path, "robot", "missing; a calibration study needs its robot file")
     kind = study_kind(load_robot(data["robot"]))

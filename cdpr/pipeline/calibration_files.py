@@ -8,8 +8,11 @@ from __future__ import annotations
 
 import datetime
 
+import yaml
+
 from cdpr import io
 from cdpr.analyses.calibration import data_frame, robot_file_text
+from cdpr.errors import ConfigError
 
 #: Digits of the data table's floats: every float64 round-trips (the table is an input again).
 DATA_FORMAT = "%.17g"
@@ -56,3 +59,28 @@ def write_robot(path, cal, data_source, when=None):
     if when is None:
         when = datetime.datetime.now(datetime.timezone.utc)
     io.write_text(robot_file_text(cal, data_source, when), path)
+
+
+def read_study_file(path):
+    """The mapping of a calibration study file (``config/studies/calibration*.yaml``,
+    ``hangprinter.yaml``), or ConfigError in one line naming the file: it does not exist, is not
+    YAML, or is not a mapping of keys to values.
+
+    Parameters
+    ----------
+    path : str or Path
+
+    Returns
+    -------
+    dict
+    """
+    try:
+        with open(path, encoding="utf-8") as f:
+            data = yaml.safe_load(f)
+    except FileNotFoundError:
+        raise ConfigError(path, None, "the study file does not exist") from None
+    except yaml.YAMLError as e:
+        raise ConfigError(path, None, f"not valid YAML ({str(e).splitlines()[0]})") from None
+    if not isinstance(data, dict):
+        raise ConfigError(path, None, "expected a mapping of keys to values")
+    return data

@@ -32,6 +32,7 @@ from cdpr import io
 from cdpr.analyses import calibration as cal
 from cdpr.analyses.calibration.motor import BUILDUP_PRIOR_SD
 from cdpr.errors import CdprError, ConfigError
+from cdpr.pipeline.calibration_files import read_study_file
 from cdpr.pipeline.plots import hangprinter as figures
 from cdpr.pipeline.results import rel_path
 from cdpr.robot import load_robot, robot_from_dict
@@ -92,12 +93,7 @@ def load_hangprinter_study(path, check_files=True):
         "leave-one-out"), data_sets (name -> data, tool, source), models (name -> label, model,
         estimate, fixed, buildup [m] or None, priors: the model's own prior sd by group [m]).
     """
-    try:
-        data = yaml.safe_load(open(path, encoding="utf-8"))
-    except FileNotFoundError:
-        raise ConfigError(path, None, "the study file does not exist") from None
-    if not isinstance(data, dict):
-        raise ConfigError(path, None, "expected a mapping of keys to values")
+    data = read_study_file(path)
     missing = sorted(STUDY_KEYS - set(data))
     if missing:
         raise ConfigError(
