@@ -89,7 +89,7 @@ def test_compensation_at_poses_round_trip(cogiro):
         assert res["dp"].max() < 1e-9 and res["dphi"].max() < 1e-9
         assert np.array_equal(res["rotvec"], RV)
     with pytest.raises(
-        CdprError, match="takes method closed_form, closed_form_improved, min_norm, got .subset."
+        CdprError, match="compensation method 'subset'.* use closed_form, closed_form_improved, min_norm"
     ):
         cdpr.compensate(cogiro, P, method="subset")
 

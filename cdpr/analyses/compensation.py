@@ -44,6 +44,7 @@ from cdpr.models.tension_distribution import (
     T_MIN_DEFAULT,
     closed_form,
     closed_form_improved,
+    defined_rows,
     min_norm,
     min_norm_rows,
     rank_rows,
@@ -122,16 +123,22 @@ def _distribution(W, w, method, t_min, t_max, options):
     """The tension distribution of wrench matrices W (N, r, m) reduced to their rank
     (``tension_distribution.rank_rows``) for the wrench w (N, r): Pott's closed forms, or the exact
     bounded minimum norm (``min_norm`` on 3 rows, a point mass: null space for m = 4, with its
-    options; ``min_norm_rows`` on 6). Returns t (N, m) [N] and feasible (N,)."""
+    options; ``min_norm_rows`` on 6). Returns t (N, m) [N] and feasible (N,). A point where W is not
+    finite (a zero-length cable has no direction: ``defined_rows``) is infeasible, its t NaN."""
+    W, defined = defined_rows(W)
     if method == "closed_form":
-        return closed_form(W, w, t_min, t_max)
-    if method == "closed_form_improved":
-        return closed_form_improved(W, w, t_min, t_max)
-    if W.shape[1] == 3:
+        t, ok = closed_form(W, w, t_min, t_max)
+    elif method == "closed_form_improved":
+        t, ok = closed_form_improved(W, w, t_min, t_max)
+    elif W.shape[1] == 3:
         opts = dict(options)
         solver = opts.pop("solver", "auto")
-        return min_norm(W, w, t_min, t_max, method=solver, **opts)
-    return min_norm_rows(W, w, t_min, t_max, **options)
+        t, ok = min_norm(W, w, t_min, t_max, method=solver, **opts)
+    else:
+        t, ok = min_norm_rows(W, w, t_min, t_max, **options)
+    if defined.all():
+        return t, ok
+    return np.where(defined[:, None], t, np.nan), ok & defined
 
 
 def _wrench(robot, R, u, r):

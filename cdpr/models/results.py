@@ -96,7 +96,9 @@ def mark_out_of_frame(res, robot, tol=FRAME_TOL):
     frame box (``frame_bounds``) ``out_of_frame`` in a solver's per-point result: only points that
     are ``ok`` or ``over_tension`` change (a pose was found, but not one the robot can hold inside
     its frame). One rule for every command and engine of physical mode (``cdpr.solve``; paper mode
-    follows the paper, which evaluates every point of its volume).
+    follows the paper, which evaluates every point of its volume). The box is the file's: axes with
+    gravity along -z; a robot whose gravity is turned (``Platform.down`` not -z, e.g. a whole robot
+    rotated to test invariance) has no such box and is not marked.
 
     Parameters
     ----------
@@ -115,6 +117,8 @@ def mark_out_of_frame(res, robot, tol=FRAME_TOL):
     """
     if "P_s" not in res or "status" not in res:
         return res
+    if tuple(robot.platform.down) != (0.0, 0.0, -1.0):
+        return res  # a robot turned with its gravity (an invariance test): no box in the file's axes
     P = np.asarray(res["P_s"], dtype=float).reshape(-1, 3)
     if not len(P):
         return res

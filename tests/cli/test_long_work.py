@@ -264,12 +264,12 @@ def test_ctrl_c_ends_with_one_line_exit_130_and_no_output(tmp_path):
 
 
 def test_ctrl_c_in_any_command_is_one_line(monkeypatch, capsys):
-    from cdpr.cli import commands
+    from cdpr.cli import inverse
 
     def interrupted(args):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(commands, "cmd_inverse", interrupted)
+    monkeypatch.setattr(inverse, "cmd_inverse", interrupted)
     assert main(["inverse", "--robot", CDPR4, "--at", "0", "0", "2"]) == 130
     assert capsys.readouterr().err == INTERRUPTED + "\n"
 
