@@ -317,8 +317,9 @@ def cable_state(l_h, l_v, L0, l_dead, w, EA, H0=np.nan, V0=np.nan, L0f0=np.nan, 
     code, iterations (outer), converged) and L0_free [m], by Newton's method on the split
     L0 = L0_free + l_dead / (1 + T_D/EA), each free span by ``span_state`` warm-started from the
     last. H0, V0 [N] a start of the first span solve and L0f0 [m] one of the split (NaN: the
-    reference's, from Hooke's law on the whole length); the converged answer does not depend on
-    them (a convex span problem, a split function increasing with slope >= 1)."""
+    reference's, from Hooke's law on the whole length; ignored where the split is fixed, l_dead = 0
+    or EA = inf, and replaced by the reference's where its span is infeasible); the converged answer
+    does not depend on them (a convex span problem, a split function increasing with slope >= 1)."""
     c = math.hypot(l_h, l_v)
     T0 = EA * ((c + l_dead) / L0 - 1.0) if c + l_dead > L0 else 0.0
     if not math.isfinite(T0):
@@ -326,9 +327,11 @@ def cable_state(l_h, l_v, L0, l_dead, w, EA, H0=np.nan, V0=np.nan, L0f0=np.nan, 
     L0f = L0 - l_dead * _ratio(EA, T0)
     if not L0f > 0.0:
         return np.nan, np.nan, INFEASIBLE, 0, False, np.nan
-    if L0f0 > 0.0 and L0f0 < L0:
+    fixed = l_dead == 0.0 or math.isinf(EA)  # the split does not depend on the tension: L0f is known
+    cold = L0f
+    warm = not fixed and L0f0 > 0.0 and L0f0 < L0
+    if warm:
         L0f = L0f0
-    fixed = l_dead == 0.0 or math.isinf(EA)
     it = 0
     done = False
     hs, vs = _usable(H0, V0)
@@ -336,6 +339,10 @@ def cable_state(l_h, l_v, L0, l_dead, w, EA, H0=np.nan, V0=np.nan, L0f0=np.nan, 
     code = INFEASIBLE
     for _ in range(maxiter):
         H, V, code, _, _ = span_state(l_h, l_v, L0f, w, EA, hs, vs)
+        if code == INFEASIBLE and warm:  # a warm split too short for the span: the reference's start
+            warm = False
+            L0f = cold
+            continue
         hs, vs = _usable(H, V)
         T_D = math.hypot(H, V + w * L0f)
         phi = L0f + l_dead * _ratio(EA, T_D) - L0

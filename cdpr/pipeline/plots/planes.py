@@ -107,7 +107,9 @@ def category_colours(tables, column, order=None, keep=MAX_CATEGORIES):
     kept = sorted(kept, key=order)
     labels = kept + ([f"other ({len(rare)} sets)"] if rare else [])
     code = {c: i for i, c in enumerate(kept)} | {c: len(kept) for c in rare}
-    palette = [plt.get_cmap("tab10")(i) for i in range(10)]
+    # tab10 without its grey (the colour of "other" and, lighter, of the points not ok), then a
+    # tenth distinct colour for the case of keep + 1 categories
+    palette = [plt.get_cmap("tab10")(i) for i in range(10) if i != 7] + [plt.get_cmap("tab20")(1)]
     colours = palette[: len(kept)] + ([OTHER_COLOUR] if rare else [])
     return labels, code, ListedColormap(colours or ["w"])
 
@@ -154,8 +156,10 @@ def fig9_taut(tables, A, z, robot_name, out, mode="physical"):
     ``MAX_CATEGORIES`` sets get a colour of their own, the rarer ones one "other" colour
     (``category_colours``)."""
     labels, code, cmap = category_colours(tables, "taut", order=lambda s: (-len(s.split("-")), s))
+    # 5.4 in high: at 5.2 the colour bar of ten sets outgrows the square panels and constrained
+    # layout leaves their x labels a pixel below the canvas
     fig, axes = plt.subplots(
-        1, len(tables), figsize=(5.2 * len(tables) + 1.5, 5.2), squeeze=False, layout="constrained"
+        1, len(tables), figsize=(5.2 * len(tables) + 1.5, 5.4), squeeze=False, layout="constrained"
     )
     im = _category_panels(axes[0], tables, "taut", labels, cmap, A, z, robot_name, code)
     if im is not None:
