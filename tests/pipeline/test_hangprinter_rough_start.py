@@ -63,7 +63,10 @@ def test_a_rough_start_goes_through_import_rrf(tmp_path):
     with the machine's spools (M666) of the study's robot."""
     A = np.array([[0.0123, -1.6, -0.1], [1.3, 1.2, -0.2], [-1.4, 0.8, -0.12], [0.05, -0.03, 2.4]])
     robot = load_robot(_script().rough_robot(A, tmp_path, "rough"))
-    sm, ref = cal.SpoolModel.of(robot), cal.SpoolModel.of(load_robot(ROOT / "config/robots/hangprinter_hp4.yaml"))
+    sm, ref = (
+        cal.SpoolModel.of(robot),
+        cal.SpoolModel.of(load_robot(ROOT / "config/robots/hangprinter_hp4.yaml")),
+    )
     assert np.abs(sm.A - A).max() <= 5.1e-6
     assert np.allclose(sm.r0, ref.r0) and np.allclose(sm.Q, ref.Q)
 
@@ -78,6 +81,8 @@ def test_cross_validate_model_is_the_studys_refit():
     res = hp.cross_validate_model(st, "tool_model", robot, data, 5)
     cv = pd.read_csv(ROOT / "results" / "hangprinter" / "cv.csv")
     row = cv[(cv.data_set == "hp4_2021_12_grid") & (cv.model == "tool_model") & (cv.folds == 5)].iloc[0]
-    assert float(f"{1e3 * res['heldout_position_rms_m']:.6g}") == pytest.approx(row.heldout_position_rms_mm, rel=1e-5)
+    assert float(f"{1e3 * res['heldout_position_rms_m']:.6g}") == pytest.approx(
+        row.heldout_position_rms_mm, rel=1e-5
+    )
     with pytest.raises(CdprError, match="fixed model"):
         hp.cross_validate_model(st, "tool", robot, data, 5)
