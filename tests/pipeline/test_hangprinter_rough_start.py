@@ -86,3 +86,20 @@ def test_cross_validate_model_is_the_studys_refit():
     )
     with pytest.raises(CdprError, match="fixed model"):
         hp.cross_validate_model(st, "tool", robot, data, 5)
+
+
+def test_the_docs_finding_holds_for_the_csv():
+    """What docs/hangprinter.md says of the tracked run: every rough start's held-out RMS within
+    0.09 mm of the study's start for cdpr's fits, the fitted anchors within 2.5 mm of their mean over
+    the starts, and cdpr_standard below the tool's model re-fitted from every start."""
+    df, spread = _tables()
+    p = df.pivot_table(
+        index=["data_set", "folds", "start"], columns="method", values="heldout_position_rms_mm"
+    )
+    study = p.xs("study", level="start")
+    rough = p.drop("study", level="start")
+    for m in ("cdpr_standard", "cdpr_exact"):
+        dev = np.abs(rough[m].to_numpy() - study[m].reindex(rough.index.droplevel("start")).to_numpy())
+        assert dev.max() <= 0.09, m
+    assert (spread.fit_spread_mm <= 2.5).all()
+    assert (rough.cdpr_standard / rough.tool_refit).max() <= 0.92
