@@ -5,6 +5,8 @@ elastic catenary from B_i to its exit point D_i, and the large study's corner fi
 computed on its own path (``compensation.compensate``'s planned cables, what ``cdpr compensate``
 reports as ``sag_m``), not against the drawing's own numbers."""
 
+import importlib.util
+
 import matplotlib.pyplot as plt
 import numpy as np
 import pytest
@@ -14,7 +16,7 @@ from cdpr.pipeline.plots import robot as robot_plots
 from cdpr.pipeline.plots import sag as sag_plots
 from cdpr.pipeline.plots import style as style_plots
 from cdpr.robot import load_robot
-from tests.conftest import ROBOTS
+from tests.conftest import ROBOTS, ROOT
 
 CORNER = [-20.0, -20.0, 10.0]  # the large study's corner pose (config/studies/large.yaml)
 
@@ -109,3 +111,27 @@ def test_corner_figure_draws_the_catenaries(tmp_path, monkeypatch):
     sags = [float(np.max(ln.get_ydata())) for ln in a2.get_lines()]
     assert sags == pytest.approx(list(geom["catenary_sag"]), rel=2e-3)
     plt.close(fig)
+
+
+def test_the_docs_build_adds_the_corner_figure_without_writing_into_docs():
+    """docs/hooks/catenary_figure.py's on_files adds figures/catenary_corner.png (PNG bytes) to the
+    site, drawn from the large study's `sag` section; nothing is written under docs/."""
+    from types import SimpleNamespace
+
+    from mkdocs.structure.files import Files
+
+    spec = importlib.util.spec_from_file_location(
+        "catenary_figure_hook", ROOT / "docs" / "hooks" / "catenary_figure.py"
+    )
+    hook = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(hook)
+    assert hook.URI in (ROOT / "docs" / "heavy_cables.md").read_text(encoding="utf-8")
+    before = sorted((ROOT / "docs").rglob("*"))
+    config = SimpleNamespace(
+        site_dir="/nonexistent-site", use_directory_urls=True, plugins=SimpleNamespace(_current_plugin=None)
+    )
+    files = hook.on_files(Files([]), config)
+    f = files.get_file_from_path(hook.URI)
+    assert f is not None and f.generated_by is not None
+    assert f.content_bytes[:8] == b"\x89PNG\r\n\x1a\n"
+    assert sorted((ROOT / "docs").rglob("*")) == before
