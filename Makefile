@@ -73,7 +73,7 @@ REPRODUCE_CALIBRATION := calibration_study calibration_cogiro hangprinter_study
 REPRODUCE_COGIRO := --config study=config/studies/cogiro.yaml results=results/cogiro
 # the large study (issue 38, config/studies/large.yaml): only its `large_study` target (plane maps and
 # the path with and without sag, what sag adds, the catenaries at a corner pose; workflow/rules/large.smk),
-# about 100 s of one core at load 10 (26 s CPU)
+# measured 56 s wall on one core at load 8-11 (17 s user CPU; a first run with cold caches 107 s)
 REPRODUCE_LARGE := large_study --config study=config/studies/large.yaml results=results/large
 reproduce: $(STAMP)
 	( $(BIN)/snakemake --cores 1 --forceall reproduce_paper && \
