@@ -667,6 +667,7 @@ def check_spatial_study(st, robots):
                 "config/comparisons/*.yaml)",
             )
         )
+    out += _sag_problems(st, src, robots)
     params = (st.get("uncertainty") or {}).get("parameters") or {}
     for key in ("attachment_offset_m", "com_offset_m"):
         if key in params and doe_robot is not None and doe_robot.point_mass:  # no b, c in its θ
@@ -848,4 +849,31 @@ def budget_designs(st):
     out.update(
         {f"{st['doe']['robot']}_{dk}": (st["doe"]["robot"], spec) for dk, spec in st["optimal"].items()}
     )
+    return out
+
+
+def _sag_problems(st, src, robots):
+    """The ``sag`` section's checks (issue 38, ``cdpr.pipeline.sag``): its robots are study robots,
+    ``robot`` with heavy cables and ``massless`` without, and each has a path in ``trajectories``."""
+    sg = st.get("sag")
+    if not sg:
+        return []
+    out = []
+    for key, heavy in (("robot", True), ("massless", False)):
+        name = sg[key]
+        if name not in st["robots"]:
+            out.append(
+                ConfigError(src, f"sag.{key}", f"unknown robot {name!r}; allowed: {', '.join(st['robots'])}")
+            )
+            continue
+        r = robots.get(name)
+        if r is not None and bool(r.heavy) != heavy:
+            want = (
+                "heavy cables (cable.linear_density_kg_m > 0)"
+                if heavy
+                else "massless cables (linear_density_kg_m: 0)"
+            )
+            out.append(ConfigError(src, f"sag.{key}", f"robot {name!r} must have {want}"))
+        if not any(path_robot(st, k) == name for k in st["trajectories"]["paths"]):
+            out.append(ConfigError(src, f"sag.{key}", f"robot {name!r} has no path in trajectories.paths"))
     return out
