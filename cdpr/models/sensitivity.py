@@ -747,7 +747,7 @@ def tension_partials(robot, P, R, L0, names=None):
               \frac{\partial t_i}{\partial L0_i} = -a_i k_i \frac{L_{TE,i}}{L0_i}
 
     (dB_i = dp + dφ × r_i, r_i = R b_i, φ a base-frame rotation vector; a_i = 1 on a taut cable,
-    L_TE,i ≥ L0_i); ∂t_i/∂θ at fixed pose and rest lengths exact (the ``wrench_partials`` terms:
+    L_TE,i ≥ L0_i); ∂t_i/∂θ at fixed pose and rest lengths exact (the ``_wrench_partials`` terms:
     a_i k_i ∂L_TE,i/∂θ, t_i/E_i for E_i) for E_i, h_i, r_p_i, d_i, A_i, b_i, and 0 for the centre
     of mass and the mass (they move the tensions only through the pose).
 
