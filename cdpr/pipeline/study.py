@@ -590,6 +590,8 @@ def check_study(st):
     if st.get("budget") is not None:
         with _collect(problems):
             budget_drum(st)
+        with _collect(problems):
+            budget_linear_density(st)
     if "uncertainty" in st and not problems:
         with _collect(problems):
             check_uncertainty(st, robots)
@@ -723,6 +725,38 @@ def budget_drum(st):
     """
     drum = (st.get("budget") or {}).get("drum")
     return TABLE1 if drum is None else params_from_mapping(drum, st.path, "budget.drum")
+
+
+def budget_linear_density(st):
+    """The cables' linear density of the study's error budget (``budget.linear_density_kg_m``
+    [kg/m], mass per unstrained metre; issue 38): set on the budget's designs, so that a value > 0
+    adds the budget's ``sag`` effect (``analyses.budget.effects_of``). None when the study does not
+    give it: the designs keep their robot file's ``cable.linear_density_kg_m``. The other analyses
+    of the study never read it.
+
+    Parameters
+    ----------
+    st : Study
+
+    Returns
+    -------
+    float or None [kg/m]
+
+    Raises
+    ------
+    ConfigError
+        Naming ``budget.linear_density_kg_m`` for a value that is not a finite number >= 0.
+    """
+    rho = (st.get("budget") or {}).get("linear_density_kg_m")
+    if rho is None:
+        return None
+    if isinstance(rho, bool) or not isinstance(rho, (int, float)) or not math.isfinite(rho) or rho < 0:
+        raise ConfigError(
+            st.path,
+            "budget.linear_density_kg_m",
+            f"a mass per metre in kg/m, a finite number >= 0, got {rho!r}",
+        )
+    return float(rho)
 
 
 @contextlib.contextmanager
