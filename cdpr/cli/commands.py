@@ -25,7 +25,7 @@ from cdpr.cli import heavy
 from cdpr.cli.options import MAX_COORDINATE_M
 from cdpr.errors import CdprError
 from cdpr.plausibility import plausibility_warnings
-from cdpr.robot import load_robot
+from cdpr.robot import load_robot, with_wrench
 
 #: The columns of a ``--points`` table: the position [m] and, optional, the orientation [rad].
 POINT_COLUMNS = ("x", "y", "z", "rx", "ry", "rz")
@@ -54,6 +54,8 @@ def emit_json(out, args):
     robot is plausible or the command reads none); a list keeps its shape (its warnings are on
     stderr only)."""
     if isinstance(out, dict):
+        if getattr(args, "wrench", None) is not None:  # --wrench given: echoed [N, N m]
+            out = {**out, "wrench": [float(x) for x in args.wrench]}
         out = {**out, "warnings": list(getattr(args, "warnings", []))}
     print(json.dumps(io.clean_json(out), indent=2, allow_nan=False))
 
@@ -77,6 +79,7 @@ def robot_from_args(args):
         args,
     )
     heavy.check(robot, args)  # heavy cables: refused in one line where not modelled
+    robot = with_wrench(robot, getattr(args, "wrench", None))  # --wrench: beside gravity
     if hasattr(args, "redundancy") and args.redundancy is None:
         args.redundancy = robot.default_redundancy
     return robot
@@ -327,12 +330,12 @@ def cmd_point(args):
     --engine, fewer than ``solve.ONE_SHOT_POSES`` poses are answered by the numpy reference (the
     compiled engine's load would be most of the process), more by the compiled engine."""
     from cdpr.models.interference import interference_free  # lazy: the solver commands only
-    from cdpr.solve import check_engine  # lazy: the solvers, for the solver commands only
     from cdpr.solve import solve as solve_poses  # lazy: the solvers, for the solver commands only
+    from cdpr.solve import wrench_engine  # lazy: the solvers, for the solver commands only
 
     robot = robot_from_args(args)
     points = read_points(args)
-    engine = check_engine(args.engine, args.method, one_shot=points.n)
+    engine = wrench_engine(robot, args.engine, args.method, one_shot=points.n)
     L0 = None
     given = [
         o
@@ -525,11 +528,11 @@ def cmd_compensate(args):
 
     from cdpr.analyses.compensation import at_poses, compensated_pose  # lazy: this command only
     from cdpr.models.interference import interference_free  # lazy: this command only
-    from cdpr.solve import check_engine  # lazy: the solvers, for the solver commands only
+    from cdpr.solve import wrench_engine  # lazy: the solvers, for the solver commands only
 
     robot = robot_from_args(args)
     points = read_points(args)
-    engine = check_engine(args.engine, "newton", one_shot=points.n)
+    engine = wrench_engine(robot, args.engine, "newton", one_shot=points.n)
     actual = None
     if args.actual_E_cables is not None:
         if len(args.actual_E_cables) != robot.m:
@@ -720,7 +723,7 @@ def cmd_grid(args):
     # lazy: the grid, the solvers and pandas, for this command only
     from cdpr.analyses.workspace import check_box, frame_box, grid_points, read_box, shard_range
     from cdpr.models.interference import columns, interference
-    from cdpr.solve import check_engine
+    from cdpr.solve import wrench_engine
     from cdpr.tables import solve_table
 
     robot = robot_from_args(args)
@@ -754,7 +757,7 @@ def cmd_grid(args):
             **_rotvec_option(args),
         )
 
-    if len(P) and check_engine(args.engine, args.method) == "compiled":
+    if len(P) and wrench_engine(robot, args.engine, args.method) == "compiled":
         # numba loads (or, with a cold cache, compiles: announced) its kernels here, outside the rate
         _warm_up(args, lambda: solve(P[:1]))
     t0 = time.perf_counter()

@@ -286,6 +286,7 @@ def _newton(cab, p0, R0, L0, p_ref, tol, maxiter, max_step):
     prev_full = np.zeros(n, dtype=bool)
     active = np.arange(n)
     ell = cab.size if cab.rigid else 0.0
+    moment = cab.rigid and bool(np.any(getattr(cab, "me", 0.0)))
     for _ in range(maxiter):
         F, M = cur["F"][active], cur["M"][active]
         here = (np.einsum("na,na->n", F, F) <= cab.ftol**2) & (
@@ -328,11 +329,17 @@ def _newton(cab, p0, R0, L0, p_ref, tol, maxiter, max_step):
             st = a[:, None] * s[pending]
             pt = p[idx] + st[:, :3]
             Rt = rotation_matrix(st[:, 3:]) @ R[idx] if cab.rigid else R[idx]
-            return cab.evaluate(pt, Rt, L0[idx], p_ref[idx]), (pt, Rt)
+            trial = cab.evaluate(pt, Rt, L0[idx], p_ref[idx])
+            # an external moment's work along the trial step (R_t = exp([st]x) R: the base-frame
+            # angular displacement is st exactly), so that the merit's change matches the slope
+            work = st[:, 3:] @ cab.me if moment else 0.0
+            trial["merit"] = trial["merit"] - work
+            return trial, (pt, Rt, work)
 
         def accept(pending, trial, state, ok):
             idx = active[pending]
-            pt, Rt = state
+            pt, Rt, work = state
+            trial["merit"] = trial["merit"] + work  # the merit kept is the potential (no path work)
             p[idx[ok]] = pt[ok]
             R[idx[ok]] = Rt[ok]
             _take(cur, idx, trial, ok)
