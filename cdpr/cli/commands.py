@@ -60,6 +60,12 @@ def emit_json(out, args):
     print(json.dumps(io.clean_json(out), indent=2, allow_nan=False))
 
 
+def _wrench_text(args):
+    """``, wrench (FX, ..., MZ) [N, N m]`` for a header line when --wrench is given, else ""."""
+    w = getattr(args, "wrench", None)
+    return "" if w is None else ", wrench (" + ", ".join(f"{x:g}" for x in w) + ") [N, N m]"
+
+
 def robot_from_args(args):
     """The robot of --robot with the command line's overrides, checked for plausibility; a
     --redundancy left out becomes the robot's default (``Robot.default_redundancy``: paper mode for
@@ -464,6 +470,7 @@ def cmd_point(args):
     mode = "physical equilibrium" if args.redundancy == "physical" else f"paper mode, solver {args.method}"
     print(
         f"{robot.name} ({robot.pulley_summary()}, {robot.material_summary()}, {robot.dead_length_summary()}), {mode}"
+        f"{_wrench_text(args)}"
     )
     fmt = lambda v: "(" + ", ".join("nan" if v is None or v != v else f"{x:.6f}" for x in v) + ")"  # noqa: E731
     print(f"  desired P  [m] : {fmt(out['desired'])}")
@@ -627,7 +634,7 @@ def cmd_compensate(args):
         emit_json(out, args)
         return
     print(
-        f"{robot.name} ({robot.pulley_summary()}, {robot.material_summary()}, {robot.dead_length_summary()}), distribution {args.distribution}"
+        f"{robot.name} ({robot.pulley_summary()}, {robot.material_summary()}, {robot.dead_length_summary()}), distribution {args.distribution}{_wrench_text(args)}"
     )
     if status == "infeasible":
         print(INFEASIBLE_LINE)
@@ -687,7 +694,7 @@ def _compensate_pose_report(args, robot, res, engine, free, reason=None):
         emit_json(out, args)
         return
     print(
-        f"{robot.name} ({robot.pulley_summary()}, {robot.material_summary()}), distribution {args.distribution} at a pose"
+        f"{robot.name} ({robot.pulley_summary()}, {robot.material_summary()}), distribution {args.distribution} at a pose{_wrench_text(args)}"
     )
     if not ok:
         print(INFEASIBLE_LINE)
