@@ -207,3 +207,28 @@ def test_the_compiled_engine_refuses_a_rigid_platform_wrench():
     # the default engine there is the numpy reference
     assert (solve_any(rw, P, RV, redundancy="physical")["status"] == "ok").all()
     assert pose_arrays(P, RV)[0].shape == (2, 3)
+
+
+@pytest.mark.parametrize("engine", ["numpy", "compiled"])
+def test_heavy_cables_a_vertical_force_equals_more_mass(cdpr4, engine):
+    """Heavy cables (a point mass): -dM g at p is dM more platform mass, same pose to 1e-12 m."""
+    dM = 7.0
+    r = with_values(cdpr4, linear_density=0.0631, pulley="fixed")
+    p = np.array([[0.3, -0.5, 2.0], [-1.0, 0.5, 3.0]])
+    a = solve_any(with_values(r, mass=r.platform.mass + dM), p, redundancy="physical", engine=engine)
+    b = solve_any(
+        with_wrench(r, [0.0, 0.0, -dM * G_STANDARD, 0, 0, 0]), p, redundancy="physical", engine=engine
+    )
+    assert (a["status"] == "ok").all() and (a["status"] == b["status"]).all()
+    assert np.abs(a["P_s"] - b["P_s"]).max() <= 1e-12
+
+
+def test_heavy_cables_balance_with_a_wrench_on_a_rigid_platform():
+    """Heavy cables on a rigid platform with a force and a moment: the solve converges (Newton on the
+    balance, the moment's work in the line search) and the wrench moved the platform."""
+    r = with_values(robot8("fixed", com=(0.02, -0.01, 0.05)), linear_density=0.05)
+    L0 = pretensioned(r, P, RV)
+    res = solve_any(with_wrench(r, WRENCH), P, RV, redundancy="physical", L0=L0)
+    plain = solve_any(r, P, RV, redundancy="physical", engine="numpy", L0=L0)
+    assert (res["status"] == "ok").all() and (res["residual"] < 1e-6).all()
+    assert np.abs(plain["P_s"] - res["P_s"]).max() > 1e-5
