@@ -98,8 +98,10 @@ class Cables:
             none = ~act.any(axis=1)
             act[none] = True  # no cable taut: Hooke extended to compression (as the point-mass mode)
             tc = np.where(none[:, None], k * e, t)
-            Fn = np.einsum("nj,nja->na", tc, g.u) + self.f + self.fe
-            Mn = np.einsum("nj,nja->na", tc, np.cross(r, g.u)) + np.cross(rc, self.f) + self.me
+            Fn = np.einsum("nj,nja->na", tc, g.u) + self.f
+            Mn = np.einsum("nj,nja->na", tc, np.cross(r, g.u)) + np.cross(rc, self.f)
+            if self.wrench:
+                Fn, Mn = Fn + self.fe, Mn + self.me
             out["Fn"] = np.concatenate(
                 [np.where(none[:, None], Fn, F), np.where(none[:, None], Mn, M)], axis=1
             )
@@ -335,7 +337,6 @@ class HeavyCables(Cables):
         rc = R @ self.com
         F = Fi.sum(axis=1) + self.f
         M = np.cross(r, Fi).sum(axis=1) + np.cross(rc, self.f)
-        wrench_merit = 0.0
         if self.wrench:
             F, M, wrench_merit = self._add_wrench(F, M, 0.0, p, p_ref)
         U = cable_energy(st, l_h, l_v, x["l_dead"], self.w, self.EA)
@@ -344,7 +345,9 @@ class HeavyCables(Cables):
         # the merit's gradient is minus the wrench up to w (D - A).up dL0_free/dB (r_p times the
         # dead part's compliance; the slide of D on the sheave alone would leave w L0_free dz_D/dB)
         U = U + self.w * st.L0_free * ((x["D"] - self.A) @ self.up)
-        merit = -(p - p_ref + rc) @ self.f + U.sum(axis=1) + wrench_merit
+        merit = -(p - p_ref + rc) @ self.f + U.sum(axis=1)
+        if self.wrench:
+            merit = merit + wrench_merit
         merit = np.where(np.isfinite(merit), merit, np.inf)
         if self.suspended:
             merit = np.where(p[:, 2] < self.z_top, merit, np.inf)

@@ -338,14 +338,17 @@ def _newton(cab, p0, R0, L0, p_ref, tol, maxiter, max_step):
             trial = cab.evaluate(pt, Rt, L0[idx], p_ref[idx])
             # an external moment's work along the trial step (R_t = exp([st]x) R: the base-frame
             # angular displacement is st exactly), so that the merit's change matches the slope
-            work = st[:, 3:] @ cab.me if moment else 0.0
-            trial["merit"] = trial["merit"] - work
-            return trial, (pt, Rt, work)
+            potential = None
+            if moment:
+                potential = trial["merit"]
+                trial["merit"] = potential - st[:, 3:] @ cab.me
+            return trial, (pt, Rt, potential)
 
         def accept(pending, trial, state, ok):
             idx = active[pending]
-            pt, Rt, work = state
-            trial["merit"] = trial["merit"] + work  # the merit kept is the potential (no path work)
+            pt, Rt, potential = state
+            if potential is not None:  # the merit kept is the potential (no path work)
+                trial["merit"] = potential
             p[idx[ok]] = pt[ok]
             R[idx[ok]] = Rt[ok]
             _take(cur, idx, trial, ok)
