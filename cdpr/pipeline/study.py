@@ -23,7 +23,7 @@ import pandas as pd
 from cdpr.analyses import doe
 from cdpr.analyses.uncertainty import CASES, PARAMETER_KEYS, Distribution
 from cdpr.analyses.workspace import BYTES_PER_POINT, check_box
-from cdpr.errors import ConfigError, raise_problems
+from cdpr.errors import CdprError, ConfigError, raise_problems
 from cdpr.robot import (
     TABLE1,
     check_pulley,
@@ -31,6 +31,7 @@ from cdpr.robot import (
     params_from_mapping,
     robot_from_dict,
     with_values,
+    with_wrench,
 )
 from cdpr.validation import read_yaml, validate
 
@@ -48,6 +49,9 @@ class SolverOptions:
         ``solver``: the DEGM_E solver of every solve (``newton`` or ``fixed_point``).
     rotvec : tuple of float or None
         ``rotvec_rad``: the fixed platform orientation (3,) [rad] of every solve, None: the identity.
+    wrench : tuple of float or None
+        ``wrench``: the external wrench (6,) [N, N m] beside gravity on every robot of the study
+        (``robot.with_wrench``), None: gravity alone.
     uq_redundancy : str
         ``uncertainty.redundancy``: the redundancy mode of the uncertainty study's uncompensated robot.
     """
@@ -56,6 +60,7 @@ class SolverOptions:
     method: str = "newton"
     rotvec: tuple | None = None
     uq_redundancy: str = "paper"
+    wrench: tuple | None = None
 
     @classmethod
     def of(cls, mapping):
@@ -67,6 +72,7 @@ class SolverOptions:
             method=mapping.get("solver", cls.method),
             rotvec=None if rv is None else tuple(float(x) for x in rv),
             uq_redundancy=u.get("redundancy", cls.uq_redundancy),
+            wrench=None if mapping.get("wrench") is None else tuple(float(x) for x in mapping["wrench"]),
         )
 
 
@@ -278,7 +284,7 @@ def robot_of(st, robot_key, **overrides):
     models = st.robot_models or {}
     robot = models.get(robot_key)
     if robot is None:  # a Study built by hand, without load_study's checks
-        robot = load_robot(st["robots"][robot_key])
+        robot = with_wrench(load_robot(st["robots"][robot_key]), st.options.wrench, f"{st.path}: wrench")
     given = {k: v for k, v in overrides.items() if v is not None}
     return with_values(robot, **given) if given else robot
 
@@ -487,6 +493,10 @@ def check_study(st):
                 robots[key] = robot_from_dict(read_yaml(path), source=path)
             except ConfigError as exc:
                 raise ConfigError(src, f"robots.{key}", f"robot file is invalid: {exc}") from None
+            try:
+                robots[key] = with_wrench(robots[key], st.options.wrench, f"robot {key}")
+            except CdprError as exc:
+                raise ConfigError(src, "wrench", str(exc)) from None
     known = list(st["robots"])  # a robot whose file is bad is reported once, above
     with _collect(problems):
         if st["doe"]["robot"] not in known:
