@@ -26,11 +26,11 @@ from cdpr.compiled import equilibrium as compiled_equilibrium
 from cdpr.compiled import sensitivity as compiled_sensitivity
 from cdpr.compiled import subsets as compiled_subsets
 from cdpr.errors import CdprError
-from cdpr.models import continuation, equilibrium, sensitivity
+from cdpr.models import continuation, equilibrium, heavy_sensitivity, sensitivity
 from cdpr.models.cables import Cables, HeavyCables, heavy_cables
 from cdpr.models.results import mark_below_floor, mark_out_of_frame, point_keys
 from cdpr.models.subsets import solve_points
-from cdpr.robot import require_massless, require_point_mass
+from cdpr.robot import require_point_mass
 
 #: The (engine, method) pairs that exist: the compiled kernel implements Newton only.
 ENGINES = {"compiled": ("newton",), "numpy": ("newton", "fixed_point")}
@@ -518,12 +518,18 @@ def sensitivities(
     -------
     dict
         The solve's result with names (n,), S (N, 3, n) or (N, 6, n) and smooth (N,).
+
+    Notes
+    -----
+    Heavy cables (``Robot.heavy``): physical mode by the numpy reference whatever the engine
+    (``heavy_sensitivity``; the compiled heavy kernel has no sensitivities).
     """
-    require_massless(robot, "the sensitivities (cdpr.solve.sensitivities)")
     _no_wrench(robot, "the sensitivities (cdpr.solve.sensitivities)")
     redundancy = check_redundancy(redundancy, robot)
     p = np.atleast_2d(np.asarray(p, dtype=float))
     engine = check_engine(engine, "newton")
+    if robot.heavy:
+        return _heavy_sensitivities(robot, p, rotvec, redundancy, L, t_tol, solver)
     if redundancy == "paper":
         _check_paper(robot)
         p = p[:, :3]
@@ -546,13 +552,33 @@ def sensitivities(
     return _mark(res, p, robot, floor=False, frame=redundancy == "physical")
 
 
+def _heavy_sensitivities(robot, p, rotvec, redundancy, L, t_tol, solver):
+    """``sensitivities`` of a robot with heavy cables: physical mode, numpy only
+    (``heavy_sensitivity.pose_sensitivities``); S (N, 3, n) and the point keys for a suspended point
+    mass at positions, as the massless door."""
+    if redundancy != "physical":
+        raise CdprError(
+            f"{robot.source}: heavy cables (cable.linear_density_kg_m > 0) are modelled in physical mode only "
+            "(--redundancy physical)"
+        )
+    res = heavy_sensitivity.pose_sensitivities(robot, p, rotvec, L0=L, t_tol=t_tol, **solver)
+    if _fast_point(robot, p, rotvec):
+        extra = {k: res[k] for k in ("names", "smooth", "margin_t", "cond")}
+        res = {**point_keys(res), **extra, "S": res["S"][:, :3]}
+    return _mark(res, p, robot, floor=False)
+
+
 def sensitivities_at(robot, res, names=None, t_tol=sensitivity.T_TOL, engine=None, threads=None):
     """dp*/dθ and dφ*/dθ at the equilibria of a physical-mode pose result (``solve`` with all keys:
     P_s, R_s, L0, status) of either engine (``sensitivity.sensitivities_at``, whose docstring gives
     the equations and the result), by the chosen engine: ``"compiled"`` (default:
     ``cdpr.compiled.sensitivity.sensitivities_at``) or ``"numpy"``; another engine raises CdprError
-    naming the allowed values."""
+    naming the allowed values. Heavy cables: always numpy (the compiled heavy kernel has no
+    sensitivities; ``heavy_sensitivity.sensitivities_at``)."""
     _no_wrench(robot, "the sensitivities (cdpr.solve.sensitivities_at)")
+    if robot.heavy:
+        check_engine(engine, "newton")
+        return heavy_sensitivity.sensitivities_at(robot, res, names, t_tol)
     if check_engine(engine, "newton") == "compiled":
         return compiled_sensitivity.sensitivities_at(robot, res, names, t_tol, threads=threads)
     return sensitivity.sensitivities_at(robot, res, names, t_tol)

@@ -85,6 +85,8 @@ def _fit_motor(args, robot):
     print(f"gauge: {s['gauge']}")
     for w in s["unidentified"]:
         print(f"weak: {w}")
+    if "linear_densities" in s:
+        print(s["linear_densities"])
 
 
 def _print_parameters(s):
@@ -119,6 +121,8 @@ def _print_fit(result, s):
     )
     for w in s["unidentified"]:
         print(f"weak: {w}")
+    if "linear_densities" in s:
+        print(s["linear_densities"])
     t = result.table
     if t["outlier"].any():
         print("outliers down-weighted by the robust loss: " + ", ".join(t.loc[t["outlier"], "sample"]))

@@ -254,13 +254,14 @@ def build_parser(jobs=True):
 
 _GROUPS_HELP = (
     "comma-separated groups: anchors (A_i), dead_lengths (d_i), moduli (E_i), pulleys (h_i, r_p_i), "
-    "offsets (encoder offsets), mass (M); attachments (b_i) for 6-DoF platforms; on motor-angle data "
+    "offsets (encoder offsets), mass (M); attachments (b_i) for 6-DoF platforms; linear_densities "
+    "(rho_i) for heavy cables; on motor-angle data "
     "(motor_deg_1..m) anchors and spools (r0_i, Q_i)"
 )
 _PRIOR_HELP = (
     "prior sd per group, e.g. anchors=5mm,dead_lengths=50mm,moduli=20%%,pulleys=1mm,offsets=50mm,mass=5%%,"
-    "attachments=3mm "
-    "(these are the defaults; moduli and mass relative); on motor-angle data anchors=5mm,spools=1mm"
+    "attachments=3mm,linear_densities=20%% "
+    "(these are the defaults; moduli, mass and linear_densities relative); on motor-angle data anchors=5mm,spools=1mm"
 )
 
 

@@ -269,8 +269,10 @@ def test_the_one_door_solves_heavy_robots_with_the_numpy_reference_and_refuses_t
     np.testing.assert_array_equal(res["sag"], ref["sag"])
     with pytest.raises(CdprError, match="physical mode only"):
         door.solve(r, PTS[:1], redundancy="paper")
-    with pytest.raises(CdprError, match="does not model heavy cables yet"):
-        door.sensitivities(r, PTS[:1], redundancy="physical")
+    with pytest.raises(
+        CdprError, match="physical mode only"
+    ):  # the sensitivities: tests/models/test_heavy_sensitivity.py
+        door.sensitivities(r, PTS[:1], redundancy="paper")
 
 
 def test_the_compiled_kernel_refuses_dr_pulleys_and_tilted_axes_in_one_line(cdpr4):

@@ -77,9 +77,10 @@ DEFAULT_PRIORS = {
     "attachments": 3e-3,
     "offsets": 50e-3,
     "mass": 0.05,
+    "linear_densities": 0.20,
 }
 #: Groups whose prior sd is relative to the nominal value.
-RELATIVE = ("moduli", "mass")
+RELATIVE = ("moduli", "mass", "linear_densities")
 #: Normalised residual above which a sample counts as an outlier of the robust loss.
 OUTLIER = 3.0
 

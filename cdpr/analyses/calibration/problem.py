@@ -32,6 +32,8 @@ from cdpr.analyses.calibration.model import (
     drum_or_standard,
     equilibrium_engine,
 )
+from cdpr.errors import CdprError
+from cdpr.models import heavy_sensitivity
 from cdpr.models.drive import has_winches, realised_rest_lengths
 from cdpr.models.platform import rotation_matrix, rotvec_of, skew
 from cdpr.models.pulleys import total_length_and_direction
@@ -141,7 +143,8 @@ class Problem:
     (``solve.sensitivities``, encoder offsets by ``offset_sensitivities``); every other robot (a
     rigid platform, or a point mass whose pulleys are not all at +z axes) by the pose model, the
     exact Jacobian from ``sensitivity.pose_sensitivities`` (implicit function) and
-    ``sensitivity.rest_length_sensitivities`` for the offsets; a point mass's moment rows vanish
+    ``sensitivity.rest_length_sensitivities`` for the offsets (heavy cables: always the pose model,
+    with ``heavy_sensitivity``'s twins; measured tensions refused); a point mass's moment rows vanish
     (its 6 × 6 Jacobian is singular), so its samples are smooth where ``sensitivities_at`` says
     so (the 3 × 3 translation block), a rigid platform's where ``differentiable`` says so. The
     engine is ``equilibrium_engine``'s (the solvers' default, compiled, unless one is named).
@@ -170,7 +173,15 @@ class Problem:
         self.robot, self.data, self.index, self.sd = robot, data, np.asarray(index), np.asarray(sd, float)
         #: the pose model (False: the point-mass physical solver of a suspended point mass)
         self.pose_model = not robot.suspended_point_mass if pose_model is None else bool(pose_model)
-        self.engine = equilibrium_engine(robot, engine)
+        # heavy cables: the pose model (``heavy_sensitivity``), positions and orientations only
+        if robot.heavy:
+            self.pose_model = True
+            if data.has_tension.any():
+                raise CdprError(
+                    f"{data.source}: measured tensions (t1_N..) on heavy cables (cable.linear_density_kg_m > 0) "
+                    "are not modelled yet; calibrate from measured poses"
+                )
+        self.engine = "numpy" if engine is None and robot.heavy else equilibrium_engine(robot, engine)
         self.solver = dict(solver or {})
         self.m = robot.m
         #: a rigid platform (its orientation is measured and fitted)
@@ -274,7 +285,8 @@ class Problem:
         res = sensitivities(
             rob, start, rv, redundancy="physical", L=L0, engine=self.engine, names=self._names, **self.solver
         )
-        SL, hooke, cond = rest_length_sensitivities(rob, res["P_s"], res["R_s"], L0)
+        rls = heavy_sensitivity.rest_length_sensitivities if rob.heavy else rest_length_sensitivities
+        SL, hooke, cond = rls(rob, res["P_s"], res["R_s"], L0)
         # a point mass's 6 x 6 Jacobian is singular (no moment rows): sensitivities_at judges its
         # 3 x 3 translation block as the point-mass physical mode does
         smooth = differentiable(hooke, cond) if self.spatial else res["smooth"]
@@ -444,6 +456,7 @@ def tension_sensitivities(robot, P, L0, S, w_L=None, w_d=None, R=None, cols=None
 
     a = robot.arrays
     m = robot.m
+    nr = robot_size(robot)
     cp = cable_partials(P, a.A, a.kind, a.h, a.r_p, a.d, a.inward)
     k = a.ES / L0
     e = cp.L_TE - L0
@@ -456,9 +469,9 @@ def tension_sensitivities(robot, P, L0, S, w_L=None, w_d=None, R=None, cols=None
         dt[:, c, c] += k[:, c] * e[:, c] / a.E[c]
         dt_dL0 = -(k[:, c] + k[:, c] * e[:, c] / L0[:, c])
         if w_L is None:
-            dt[:, c, 7 * m + 1 + c] -= dt_dL0
+            dt[:, c, nr + c] -= dt_dL0
         else:
-            dt[:, c, 7 * m + 1 + c] -= dt_dL0 * w_L[:, c]
+            dt[:, c, nr + c] -= dt_dL0 * w_L[:, c]
             dt[:, c, 3 * m + c] += dt_dL0 * w_d[:, c]
     return t, dt * taut[..., None]
 

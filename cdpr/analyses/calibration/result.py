@@ -152,13 +152,16 @@ class Calibration(_Posterior):
             ang = self.table.loc[used, "residual_after_rad"].to_numpy()
             ang = ang[np.isfinite(ang)]
             rad = float(np.sqrt(np.mean(ang**2))) if len(ang) else None
-        return {
+        out = {
             **self._summary(pt["group"], [None if pd.isna(c) else int(c) for c in pt["cable"]]),
             "residual_rms_m": float(np.sqrt(np.mean(res**2))) if len(res) else None,
             "residual_rms_rad": rad,
             "samples_used": int(used.sum()),
             "samples_left_out": int((~used).sum()),
         }
+        if "linear_densities" in set(pt["group"]):  # heavy cables: how well the data see rho_i
+            out["linear_densities"] = linear_density_words(out)
+        return out
 
 
 @dataclasses.dataclass
@@ -189,6 +192,35 @@ class MotorCalibration(_Posterior):
             "samples_left_out": 0,
         }
         return out
+
+
+def linear_density_words(summary):
+    """One sentence on how well a fit's data see the linear densities rho_i (heavy cables): their
+    posterior sd against the prior sd, the identifiability labels, the rank and condition of the fit.
+
+    Parameters
+    ----------
+    summary : dict
+        A fit's summary (``Calibration.summary``'s keys parameters, n_parameters, rank, condition).
+
+    Returns
+    -------
+    str
+    """
+    rho = [p for p in summary["parameters"] if p["group"] == "linear_densities"]
+    sd = np.array([p["sd"] for p in rho])
+    ratio = sd / np.array([p["prior_sd"] for p in rho])
+    labels = [p["identified"] for p in rho]
+    worst = float(ratio.max())
+    how = "well" if worst <= 0.3 else ("weakly" if worst <= 0.8 else "hardly (the prior decides)")
+    count = ", ".join(f"{labels.count(lab)} {lab}" for lab in dict.fromkeys(labels))
+    cond = summary["condition"]
+    cond = "inf" if cond is None else f"{cond:.3g}"
+    return (
+        f"linear densities {rho[0]['name']}..{rho[-1]['name']}: the data see them {how}: posterior sd "
+        f"{sd.min():.3g}-{sd.max():.3g} kg/m, {100 * ratio.min():.0f}-{100 * worst:.0f} % of the prior sd "
+        f"({count}); the fit has rank {summary['rank']} of {summary['n_parameters']}, condition {cond}"
+    )
 
 
 def _rms(x):
