@@ -12,6 +12,7 @@ import numpy as np
 import pandas as pd
 
 from cdpr.models import sensitivity
+from cdpr.models.interference import columns, interference
 from cdpr.models.results import STATUSES, TAUT_MIN, pose_columns, subset_codes, taut_labels
 from cdpr.solve import check_engine, check_equilibrium, check_redundancy, reach_where_multiple, solve
 
@@ -213,8 +214,6 @@ def add_interference(robot, df):
     """
     if robot.point_mass:
         return df
-    from cdpr.models.interference import columns, interference  # lazy: a rigid platform's tables only
-
     pose = df[["x_s", "y_s", "z_s", "rx_s", "ry_s", "rz_s"]].to_numpy(dtype=float)
     fin = np.isfinite(pose).all(axis=1)
     n = len(df)

@@ -119,6 +119,13 @@ def test_the_summary_counts_the_interfering_points_it_leaves_out(tmp_path):
     assert "continued at the 2 points" in rows["points whose continuation crossed a fold"]["note"]
 
 
+def _is_segment(line, seg, three_d):
+    """Whether a drawn line is the segment ``seg`` (2, 3) [m] (in plan: its x and y)."""
+    xyz = np.asarray(line.get_data_3d() if three_d else line.get_data(), dtype=float)
+    want = seg.T if three_d else seg[:, :2].T
+    return xyz.shape == want.shape and np.allclose(xyz, want)
+
+
 def test_view_draws_the_interfering_cables_in_their_colour(monkeypatch, tmp_path):
     robot = load_robot(WALL)
     geom = scans.pose_geometry(robot, FLIPPED, FLIPPED_RV)
@@ -136,13 +143,7 @@ def test_view_draws_the_interfering_cables_in_their_colour(monkeypatch, tmp_path
     for ax in fig.axes[:2]:  # the 3-D view and the plan
         for i in range(robot.m):
             seg = np.stack([geom["D"][i], geom["B"][i]])
-            drawn = [
-                ln
-                for ln in ax.lines
-                if len(ln.get_xdata()) == 2
-                and np.allclose(ln.get_xdata(), seg[:, 0])
-                and np.allclose(ln.get_ydata(), seg[:, 1])
-            ]
+            drawn = [ln for ln in ax.lines if _is_segment(ln, seg, three_d=ax.name == "3d")]
             want = robot_plots.INTERFERING_COLOUR if geom["interfering"][i] else robot_plots.CABLE_COLOUR
             assert drawn and all(to_rgba(ln.get_color()) == to_rgba(want) for ln in drawn)
     labels = [t.get_text() for t in fig.legends[0].get_texts()]
