@@ -208,8 +208,8 @@ def shard_range(total, shard, shards):
 def voxel_mask(df, n, value=None):
     """Boolean (n, n, n) array of a grid table in C order (x, y, z); True where status is ok, the
     point is free of interference where the table says (a rigid platform's study tables carry
-    ``interference_free``, ``tables.add_interference``: an interfering point is no workspace) and,
-    if given, ``value`` (a boolean Series/array over rows) holds.
+    ``interference_free``, ``analyses.interference.add_interference``: an interfering point is no
+    workspace) and, if given, ``value`` (a boolean Series/array over rows) holds.
 
     Parameters
     ----------

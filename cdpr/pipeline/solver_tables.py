@@ -7,19 +7,21 @@ length, E), the solver options are the study's (``study.solve_kwargs``: method, 
 orientation ``rotvec_rad``). Nothing travels as command-line text to be parsed back, and the
 Snakemake rules name the study keys each job reads (``uses``), so a change of any of them reruns it.
 The tables are those of ``cdpr plane``, ``cdpr trajectory`` and ``cdpr grid`` with the same options; a
-rigid platform's add the interference columns at the solved poses (``tables.add_interference``: a
-study flags its interfering points; ``cdpr grid --interference`` has them at the grid's poses).
+rigid platform's add the interference columns at the solved poses
+(``analyses.interference.add_interference``: a study flags its interfering points; ``cdpr grid
+--interference`` has them at the grid's poses).
 """
 
 from __future__ import annotations
 
 from cdpr import table_io
 from cdpr.analyses import scans, workspace
+from cdpr.analyses.interference import add_interference
 from cdpr.errors import CdprError
 from cdpr.models.tension_distribution import distribute_pose
 from cdpr.pipeline import study
 from cdpr.pipeline.results import Layout
-from cdpr.tables import add_interference, solve_table
+from cdpr.tables import solve_table
 
 #: Least cable tension [N] of the wrench-feasible test of the DOE's workspace grids (spatial robots),
 #: the default of ``cdpr grid --t-min``.

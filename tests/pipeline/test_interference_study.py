@@ -1,5 +1,5 @@
 """Interference in the studies (issue 39): a rigid platform's study tables carry the interference
-columns at the solved poses (``tables.add_interference``), an interfering point is left out of the
+columns at the solved poses (``analyses.interference.add_interference``), an interfering point is left out of the
 volumes, RW_C and the plane's numbers and counted in the summary (``summary.interference_rows``),
 and ``cdpr view`` draws the interfering cables in their own colour (``plots.robot.cable_colours``)."""
 
@@ -10,13 +10,14 @@ from matplotlib.colors import to_rgba
 
 from cdpr import table_io
 from cdpr.analyses import scans, workspace
+from cdpr.analyses.interference import add_interference
 from cdpr.models.interference import COLUMNS, columns, interference
 from cdpr.pipeline import solver_tables, study, summary
 from cdpr.pipeline.plots import robot as robot_plots
 from cdpr.pipeline.plots import style as style_plots
 from cdpr.pipeline.results import rel_path
 from cdpr.robot import load_robot
-from cdpr.tables import add_interference, interference_free_rows, solve_table
+from cdpr.tables import interference_free_rows, solve_table
 from tests.conftest import ROBOTS, ROOT
 
 WALL = ROOT / "tests" / "data" / "wall_crossed.yaml"
