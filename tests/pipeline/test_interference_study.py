@@ -153,3 +153,36 @@ def test_view_draws_the_interfering_cables_in_their_colour(monkeypatch, tmp_path
     free = scans.pose_geometry(load_robot(ROBOTS / "cogiro.yaml"), [0.0, 0.0, 2.0])
     assert not free["interfering"].any()
     assert robot_plots.cable_colours(free) == [robot_plots.CABLE_COLOUR] * 8
+
+
+def test_the_docs_workspace_figure_draws_the_column_counts(monkeypatch, tmp_path):
+    """``plots.interference.workspace_plan_figure`` (docs/hooks/interference_figure.py): each panel's
+    image is the count of free (and free and feasible) voxels per (x, y) column; the layout passes
+    the audit."""
+    from cdpr.pipeline.plots import interference as interference_plots
+
+    figs = []
+
+    def keep(fig, out):
+        figs.append((fig, style_plots.audit(fig)))
+        return [out]
+
+    monkeypatch.setattr(interference_plots, "save", keep)
+    shape, box = (3, 2, 4), [0.0, 3.0, 0.0, 2.0, 0.0, 4.0]
+    rng = np.random.default_rng(1)
+    free, feasible = rng.random(24) < 0.7, rng.random(24) < 0.5
+    w = {
+        "free": free,
+        "feasible": feasible,
+        "fraction": free.mean(),
+        "volume_m3": 1.0,
+        "free_feasible_m3": 0.5,
+    }
+    interference_plots.workspace_plan_figure(
+        "R", box, shape, [("identity", w), ("15° about z", w)], tmp_path / "f.png"
+    )
+    fig = figs[0][0]
+    images = [ax.get_images()[0].get_array() for ax in fig.axes if ax.get_images()]
+    assert len(images) == 4  # row by row: the free counts, then the free and feasible counts
+    np.testing.assert_array_equal(images[0], free.reshape(shape).sum(axis=2).T)
+    np.testing.assert_array_equal(images[2], (free & feasible).reshape(shape).sum(axis=2).T)
