@@ -59,8 +59,8 @@ test-docs-browser: $(STAMP)
 # results/comparison/; config/comparisons/paper_vs_physical.yaml).
 # The paper and physical studies write disjoint folders and read none of each other's files: they
 # run side by side, one core each (Snakemake scales each solver job's threads down to 1; the tables
-# do not depend on the thread count), the calibration studies and the Hangprinter study (real
-# data, results/hangprinter) after the paper study on its core.
+# do not depend on the thread count), the calibration studies, the Hangprinter study (real
+# data, results/hangprinter) and the large study (results/large) after the paper study on its core.
 # On 2 cores that keeps both cores busy, where one 2-thread solver job at a time left part of them
 # idle (benchmarks/README.md). Both streams finish before the CoGiRo study, whose conclusions read
 # results/physical; a failure in either stops make with its exit status.
@@ -71,9 +71,14 @@ COMPARISON_RULES := budget_design budget comparison
 COMPARISON_THREADS := --set-threads budget_design=1
 REPRODUCE_CALIBRATION := calibration_study calibration_cogiro hangprinter_study
 REPRODUCE_COGIRO := --config study=config/studies/cogiro.yaml results=results/cogiro
+# the large study (issue 38, config/studies/large.yaml): only its `large_study` target (plane maps and
+# the path with and without sag, what sag adds, the catenaries at a corner pose; workflow/rules/large.smk),
+# measured 56 s wall on one core at load 8-11 (17 s user CPU; a first run with cold caches 107 s)
+REPRODUCE_LARGE := large_study --config study=config/studies/large.yaml results=results/large
 reproduce: $(STAMP)
 	( $(BIN)/snakemake --cores 1 --forceall reproduce_paper && \
-	  $(BIN)/snakemake --cores 1 --forceall $(REPRODUCE_CALIBRATION) ) & paper=$$!; \
+	  $(BIN)/snakemake --cores 1 --forceall $(REPRODUCE_CALIBRATION) && \
+	  $(BIN)/snakemake --cores 1 --forceall $(REPRODUCE_LARGE) ) & paper=$$!; \
 	$(BIN)/snakemake --cores 1 --forceall reproduce_paper $(PHYSICAL) & physical=$$!; \
 	wait $$paper; a=$$?; wait $$physical; b=$$?; test $$a -eq 0 && test $$b -eq 0
 	$(BIN)/snakemake --cores all --forceall reproduce_paper $(REPRODUCE_COGIRO)
@@ -87,10 +92,11 @@ report: $(STAMP)
 	$(BIN)/snakemake reproduce_comparison --report results/report/comparison.html
 
 # The studies make reproduce runs beside and after the paper and physical studies and before the
-# comparison (the calibration studies, the Hangprinter study, the CoGiRo study), on their own: to rerun them without the
+# comparison (the calibration studies, the Hangprinter study, the large study, the CoGiRo study), on their own: to rerun them without the
 # two long studies (the CoGiRo study needs a complete results/physical).
 reproduce-extra: $(STAMP)
 	$(BIN)/snakemake --cores all --forceall $(REPRODUCE_CALIBRATION)
+	$(BIN)/snakemake --cores all --forceall $(REPRODUCE_LARGE)
 	$(BIN)/snakemake --cores all --forceall reproduce_paper $(REPRODUCE_COGIRO)
 
 # After an interruption (Ctrl-C, a killed process, a lost machine): release Snakemake's lock and

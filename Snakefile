@@ -28,6 +28,7 @@ include: "workflow/rules/calibration.smk"
 include: "workflow/rules/hangprinter.smk"
 include: "workflow/rules/parity.smk"
 include: "workflow/rules/conclusions.smk"
+include: "workflow/rules/large.smk"
 
 
 rule reproduce_paper:

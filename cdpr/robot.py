@@ -144,18 +144,36 @@ class Platform:
     do not set it: it lets a test turn a whole robot together with its gravity) and centre of mass c
     in the platform frame [m] (0 for a point mass). ``body`` is the solid the cable-platform
     interference test uses (``cdpr.models.interference``): "hull" (the convex hull of the
-    attachments, the default; none when they span no volume), "none", or a ``BoxBody``."""
+    attachments, the default; none when they span no volume), "none", or a ``BoxBody``.
+    ``wrench`` (FX, FY, FZ, MX, MY, MZ) [N, N m] is an external wrench beside gravity (``with_wrench``;
+    robot files do not set it): a constant force in the world frame applied at the reference point p
+    and a constant moment about p in the world frame (0 on a point mass)."""
 
     mass: float
     g: float = G_STANDARD
     com: tuple = (0.0, 0.0, 0.0)
     down: tuple = (0.0, 0.0, -1.0)
     body: object = "hull"
+    wrench: tuple = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+
+    @property
+    def gravity_force(self):
+        """Gravity on the platform, M g ``down`` = (0, 0, -M g) [N], acting at the centre of mass."""
+        return self.mass * self.g * np.asarray(self.down, dtype=float)
 
     @property
     def w_ext(self):
-        """External wrench (force part) on the platform, M g ``down`` = (0, 0, -M g) [N]."""
-        return self.mass * self.g * np.asarray(self.down, dtype=float)
+        """External force on a point-mass platform: gravity plus the external wrench's force,
+        M g ``down`` + (FX, FY, FZ) [N] (both act at p = the centre of mass there; a rigid platform's
+        models take ``gravity_force`` at c and ``wrench`` at p apart)."""
+        if not any(self.wrench[:3]):
+            return self.gravity_force
+        return self.gravity_force + np.asarray(self.wrench[:3], dtype=float)
+
+    @property
+    def has_wrench(self):
+        """True when an external wrench beside gravity is set (``wrench`` not all zero)."""
+        return any(self.wrench)
 
 
 class CableArrays(NamedTuple):
@@ -800,3 +818,68 @@ def with_pulleys(robot, kind=None, h=None, r_p=None, dead_length=None, E=None):
             )
         )
     return dataclasses.replace(robot, cables=tuple(cables))
+
+
+#: The components of an external wrench, in the order of ``--wrench`` and the study key ``wrench``.
+WRENCH_KEYS = ("FX", "FY", "FZ", "MX", "MY", "MZ")
+
+
+def check_wrench(values, where="--wrench"):
+    """An external wrench as 6 finite floats (FX, FY, FZ [N], MX, MY, MZ [N m]), else CdprError in
+    one line naming ``where``.
+
+    Parameters
+    ----------
+    values : sequence of float or str
+        The six components.
+    where : str
+        What the user typed them into (an option or a study file's key), for the message.
+
+    Returns
+    -------
+    tuple of float
+        (FX, FY, FZ, MX, MY, MZ) [N, N m].
+    """
+    try:
+        vals = [float(v) for v in values]
+    except (TypeError, ValueError):
+        raise CdprError(f"{where}: expected 6 numbers FX FY FZ [N] MX MY MZ [N m], got {values!r}") from None
+    if len(vals) != 6:
+        raise CdprError(f"{where}: expected 6 numbers FX FY FZ [N] MX MY MZ [N m], got {len(vals)}: {vals}")
+    bad = [k for k, v in zip(WRENCH_KEYS, vals) if not math.isfinite(v)]
+    if bad:
+        raise CdprError(
+            f"{where}: every component must be finite, got {bad[0]} = {vals[WRENCH_KEYS.index(bad[0])]}"
+        )
+    return tuple(vals)
+
+
+def with_wrench(robot, wrench, where="--wrench"):
+    """A copy of ``robot`` whose platform carries the external wrench ``wrench`` beside gravity
+    (``Platform.wrench``: force in the world frame at the reference point p, moment about p in the
+    world frame). A point mass (``Robot.point_mass``) takes a force only: a moment is refused in one
+    line naming ``where``. A zero wrench (or None) returns ``robot`` itself.
+
+    Parameters
+    ----------
+    robot : Robot
+    wrench : sequence of 6 float or None
+        (FX, FY, FZ) [N], (MX, MY, MZ) [N m].
+    where : str
+        The option or study key the wrench came from, for the messages.
+
+    Returns
+    -------
+    Robot
+    """
+    if wrench is None:
+        return robot
+    w = check_wrench(wrench, where)
+    if not any(w):
+        return robot
+    if robot.point_mass and any(w[3:]):
+        raise CdprError(
+            f"{where}: {robot.source} is a point mass (no attachments, centre of mass at p), which cannot carry "
+            f"a moment; MX MY MZ must be 0, got {list(w[3:])}"
+        )
+    return dataclasses.replace(robot, platform=dataclasses.replace(robot.platform, wrench=w))

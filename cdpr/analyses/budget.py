@@ -40,6 +40,26 @@ The budget of a design at p (``error_budget``):
 * with no effect, δp({}, {}) = 0 (fixed points, rigid cables, exact drum: the standard model is
   exact); both limits are tested.
 
+Heavy cables (issue 38; a design whose cables have a linear density > 0, ``Robot.heavy``: the
+robot's density decides, nothing else turns it on): a fourth effect
+
+* ``sag``: the cables' weight, Irvine's elastic catenary (``cables.HeavyCables``) instead of a
+  straight cable; in the model, the sag-consistent compensated lengths
+  (``compensation.compensate`` on the heavy model: ``heavy_distribution``, at least ``t_min`` at
+  B_i, in every model with ``sag``, with or without ``elasticity``).
+
+joins the variants (``effects_of``): the single effect ``sag`` (fixed exit points, rigid cables,
+exact drum, standard lengths L_TS), ``all`` (all four effects: what the heavy robot has),
+``compensated_sag``, ``neglected_sag`` = δp(EFFECTS + sag, EFFECTS): **what sag adds** when the
+robot is commanded with the massless compensated lengths of the model with every other effect, and
+``compensated_all`` = δp(all four, all four): what compensating with the heavy model leaves, zero
+up to the solver's tolerance (the heavy inverse's round trip, ≤ 1e-9 m). Every variant whose actual
+robot lacks ``sag`` is the massless one (its cables' density set to 0), so the single effects
+pulley, elasticity and winch are those of the massless design. A massless design (w = 0) has the
+three effects only: its budget, table and figures are byte-identical to those without this rule
+(no ``sag`` entry, no new column). A heavy budget's summary adds the 95th percentiles p95_m (and
+p95_rad) over the points ok in every entry.
+
 Norms do not add, so the stacked bars use the exact additive split of the all-effects error along
 its own direction û = δp_all / ‖δp_all‖: ‖δp_all‖ = Σ_k δp_k · û + δp_int · û (``summarise``).
 
@@ -82,16 +102,39 @@ from cdpr.solve import check_engine, solve
 
 #: The effects the standard model neglects, in the order of the budget.
 EFFECTS = ("pulley", "elasticity", "winch")
+#: The heavy cable's effect (issue 38): a budget has it when its design's cables have a linear
+#: density > 0 (``effects_of``).
+SAG = "sag"
 #: Factor on E standing for rigid cables (E -> infinity).
 RIGID = 1e6
 
 
 def _names(effects):
     eff = frozenset(effects)
-    bad = eff - set(EFFECTS)
+    bad = eff - {*EFFECTS, SAG}
     if bad:
-        raise ValueError(f"unknown effect(s) {sorted(bad)}; allowed: {', '.join(EFFECTS)}")
+        raise ValueError(f"unknown effect(s) {sorted(bad)}; allowed: {', '.join((*EFFECTS, SAG))}")
     return eff
+
+
+def effects_of(design):
+    """The effects of the budget of ``design``: ``EFFECTS``, and ``sag`` after them when its cables
+    have a linear density > 0 (``Robot.heavy``, issue 38).
+
+    Parameters
+    ----------
+    design : Robot
+
+    Returns
+    -------
+    tuple of str
+    """
+    return (*EFFECTS, SAG) if design.heavy else EFFECTS
+
+
+def _single(budget):
+    """The single effects an ``error_budget`` result has (``EFFECTS``, and ``sag`` if there)."""
+    return (*EFFECTS, SAG) if SAG in budget else EFFECTS
 
 
 def spatial(design, rotvec=None):
@@ -112,7 +155,7 @@ def spatial(design, rotvec=None):
 
 def effect_robot(design, effects):
     """``design`` with only ``effects`` on: fixed exit points at A_i unless ``pulley``, E x RIGID
-    unless ``elasticity``. Every cable keeps (or gets) a winch: the design's own, else Table 1 of
+    unless ``elasticity``, massless cables (linear density 0) unless ``sag``. Every cable keeps (or gets) a winch: the design's own, else Table 1 of
     Métillon 2022 (whether its exit point moves is decided by the variant, ``realised_lengths``).
 
     Parameters
@@ -133,6 +176,8 @@ def effect_robot(design, effects):
         material = (
             c.material if "elasticity" in eff else dataclasses.replace(c.material, E=c.material.E * RIGID)
         )
+        if SAG not in eff and material.rho:
+            material = dataclasses.replace(material, rho=0.0)
         cables.append(dataclasses.replace(c, pulley=pulley, material=material, winch=c.winch or TABLE1))
     return dataclasses.replace(design, cables=tuple(cables))
 
@@ -161,6 +206,9 @@ def model_lengths(design, p, model, t_min=T_MIN_DEFAULT, rotvec=None):
     .. math:: L_{0,i} = L_{TE,i}(B_i) / (1 + t_i / (E_i S_i)),\\quad B_i = p + R_d b_i
               \\quad (t = 0 without elasticity)
 
+    With ``sag`` in the model, the sag-consistent compensated lengths of the heavy model
+    (``compensation.compensate``: the heavy inverse at the sag-consistent distribution).
+
     Parameters
     ----------
     design : Robot
@@ -185,6 +233,8 @@ def model_lengths(design, p, model, t_min=T_MIN_DEFAULT, rotvec=None):
     Paty et al. 2021, eq. (3)-(5), (10), (13).
     """
     robot = effect_robot(design, model)
+    if SAG in _names(model):
+        return compensate(robot, p, method="min_norm", t_min=t_min, rotvec=rotvec)["L0"]
     if spatial(design, rotvec):
         if "elasticity" in _names(model):
             return compensated_lengths(robot, p, rotvec, t_min=t_min, method="min_norm")["L0"]
@@ -254,7 +304,9 @@ def variant(design, p, actual, model, t_min=T_MIN_DEFAULT, threads=None, engine=
     threads : int, optional
         Threads of the compiled equilibrium.
     engine : {"compiled", "numpy", None}
-        Engine of the physical equilibrium (``solve.check_engine``: None is compiled).
+        Engine of the physical equilibrium (``solve.check_engine``: None is compiled; with heavy
+        cables in ``actual``, None is the numpy reference, as in ``compensation.compensated_pose``:
+        the compiled kernel models heavy cables on fixed and vertical SR pulleys only).
     rotvec : array_like (3,) or (N, 3) [rad], optional
         Desired orientation of a rigid platform (default identity; the 6-DoF path, ``spatial``).
 
@@ -271,6 +323,9 @@ def variant(design, p, actual, model, t_min=T_MIN_DEFAULT, threads=None, engine=
     Paty et al. 2021, eq. (2)-(5), (10)-(14); Métillon et al. 2022, eq. (29)-(32).
     """
     p = np.atleast_2d(np.asarray(p, dtype=float))
+    robot = effect_robot(design, actual)
+    if robot.heavy and engine is None:
+        engine = "numpy"  # heavy cables: the numpy reference (``compensation.compensated_pose``'s rule)
     engine = check_engine(engine, "newton")
     six = spatial(design, rotvec)
     L0 = realised_lengths(design, model_lengths(design, p, model, t_min, rotvec), actual, model)
@@ -283,7 +338,7 @@ def variant(design, p, actual, model, t_min=T_MIN_DEFAULT, threads=None, engine=
         if rotvec is not None:
             rv = np.broadcast_to(np.asarray(rotvec, dtype=float), p.shape)[good]
         res = solve(
-            effect_robot(design, actual),
+            robot,
             p[good],
             engine=engine,
             threads=threads,
@@ -347,24 +402,27 @@ def error_budget(design, p, t_min=T_MIN_DEFAULT, threads=None, rotvec=None, engi
     -------
     dict
         name -> {dp (N, 3) [m], status (N,)} (and dphi (N, 3) [rad] on the 6-DoF path) for every
-        name of ``variants()``, and ``interaction`` -> {dp = δp_all - Σ_k δp_k (dphi likewise),
+        name of ``variants(effects_of(design))`` (with heavy cables also ``sag``,
+        ``compensated_sag`` and ``neglected_sag``), and ``interaction`` -> {dp = δp_all - Σ_k δp_k (dphi likewise),
         status ok where all four are ok}.
 
     References
     ----------
     Paty et al. 2021, eq. (1)-(7), (10)-(15); Métillon et al. 2022, eq. (12)-(32).
     """
+    effects = effects_of(design)
     out = {
-        name: variant(design, p, a, m, t_min, threads, engine, rotvec) for name, (a, m) in variants().items()
+        name: variant(design, p, a, m, t_min, threads, engine, rotvec)
+        for name, (a, m) in variants(effects).items()
     }
-    parts = [out["all"]] + [out[k] for k in EFFECTS]
+    parts = [out["all"]] + [out[k] for k in effects]
     ok = np.logical_and.reduce([r["status"] == "ok" for r in parts])
     out["interaction"] = {
-        "dp": out["all"]["dp"] - sum(out[k]["dp"] for k in EFFECTS),
+        "dp": out["all"]["dp"] - sum(out[k]["dp"] for k in effects),
         "status": np.where(ok, "ok", "not_ok"),
     }
     if "dphi" in out["all"]:
-        out["interaction"]["dphi"] = out["all"]["dphi"] - sum(out[k]["dphi"] for k in EFFECTS)
+        out["interaction"]["dphi"] = out["all"]["dphi"] - sum(out[k]["dphi"] for k in effects)
     return out
 
 
@@ -404,20 +462,22 @@ def summarise(budget):
     DataFrame
         Columns entry, mean_m and max_m (‖δp‖ [m]), share_m (s_k [m], for the single effects, the
         interaction and ``all``), largest_fraction (share of the points where a single effect is
-        the largest of the three), points, ok_points; on the 6-DoF path (entries with ``dphi``)
-        also mean_rad and max_rad (‖δφ‖ [rad]), the last two columns.
+        the largest of the three, of the four with ``sag``), points, ok_points; on the 6-DoF path
+        (entries with ``dphi``) also mean_rad and max_rad (‖δφ‖ [rad]); a heavy budget (a ``sag``
+        entry) then p95_m (and p95_rad on the 6-DoF path), the 95th percentiles, last.
     """
     nm, ok = norms(budget)
+    effects = _single(budget)
     d_all = budget["all"]["dp"][ok]
     n_all = np.linalg.norm(d_all, axis=1)
     u = np.divide(d_all, n_all[:, None], out=np.zeros_like(d_all), where=n_all[:, None] > 0)
-    largest = nm.loc[ok, list(EFFECTS)].to_numpy().argmax(axis=1) if ok.any() else np.array([], int)
+    largest = nm.loc[ok, list(effects)].to_numpy().argmax(axis=1) if ok.any() else np.array([], int)
     rows = []
     for k in budget:
         share = np.nan
-        if k in (*EFFECTS, "interaction", "all"):
+        if k in (*effects, "interaction", "all"):
             share = float(np.einsum("na,na->n", budget[k]["dp"][ok], u).mean()) if ok.any() else np.nan
-        frac = float((largest == EFFECTS.index(k)).mean()) if k in EFFECTS and ok.any() else np.nan
+        frac = float((largest == effects.index(k)).mean()) if k in effects and ok.any() else np.nan
         rows.append(
             {
                 "entry": k,
@@ -433,11 +493,20 @@ def summarise(budget):
             a = np.linalg.norm(budget[k]["dphi"][ok], axis=1)
             rows[-1]["mean_rad"] = float(a.mean()) if ok.any() else np.nan
             rows[-1]["max_rad"] = float(a.max()) if ok.any() else np.nan
+        if SAG in effects:  # a heavy budget: the 95th percentiles too
+            rows[-1]["p95_m"] = float(np.percentile(nm.loc[ok, k], 95)) if ok.any() else np.nan
+            if "dphi" in budget[k]:
+                rows[-1]["p95_rad"] = float(np.percentile(a, 95)) if ok.any() else np.nan
     return pd.DataFrame(rows)
 
 
 #: Words for the effects in sentences.
-LABELS = {"pulley": "pulley geometry", "elasticity": "cable elasticity", "winch": "the winch exit point"}
+LABELS = {
+    "pulley": "pulley geometry",
+    "elasticity": "cable elasticity",
+    "winch": "the winch exit point",
+    "sag": "cable sag",
+}
 
 
 def dominant(summary):
@@ -450,14 +519,15 @@ def dominant(summary):
 
     Returns
     -------
-    str, one of ``EFFECTS``.
+    str, one of ``EFFECTS`` (or ``sag`` in a heavy budget).
     """
     s = summary.set_index("entry")
-    return max(EFFECTS, key=lambda k: s.loc[k, "mean_m"])
+    return max(_single(s.index), key=lambda k: s.loc[k, "mean_m"])
 
 
 def sentence(design_label, summary, path=None):
-    """One sentence on which effect dominates where.
+    """One sentence on which effect dominates where (in a heavy budget, with what sag adds under
+    the massless compensated lengths, ``neglected_sag``, and what the heavy compensation leaves).
 
     Parameters
     ----------
@@ -473,7 +543,7 @@ def sentence(design_label, summary, path=None):
     """
     s = summary.set_index("entry")
     top = dominant(summary)
-    rest = sorted((k for k in EFFECTS if k != top), key=lambda k: -s.loc[k, "mean_m"])
+    rest = sorted((k for k in EFFECTS if k != top), key=lambda k: -s.loc[k, "mean_m"])[:2]
     mm = lambda k: f"{s.loc[k, 'mean_m'] * 1e3:.3g} mm"  # noqa: E731
     text = (
         f"{design_label}: {LABELS[top]} dominates over RW_C (mean ‖δp‖ {mm(top)} alone, the largest "
@@ -482,9 +552,14 @@ def sentence(design_label, summary, path=None):
         f"{mm('all')} with an interaction of {mm('interaction')}; compensating {LABELS[top]} leaves "
         f"{mm('compensated_' + top)}"
     )
+    if SAG in s.index:
+        text += (
+            f"; cable sag adds {mm('neglected_sag')} to the robot commanded with the massless compensated "
+            f"lengths, and compensating with the heavy model leaves {mm('compensated_all')}"
+        )
     if path is not None:
         p = path.set_index("entry")
-        ptop = max(EFFECTS, key=lambda k: p.loc[k, "mean_m"])
+        ptop = max(_single(p.index), key=lambda k: p.loc[k, "mean_m"])
         text += (
             f"; along the section 3.3.1 path {LABELS[ptop]} dominates "
             f"({p.loc[ptop, 'mean_m'] * 1e3:.3g} mm mean, the largest at "

@@ -145,7 +145,8 @@ def _wrench(robot, R, u, r):
     """The wrench matrix of unit cable forces u (N, m, 3) at r_i = R b_i and the wrench -w_ext, both
     reduced to the rows their rank keeps (``rank_rows``: the 3 force rows of a point mass)."""
     W = pose_wrench_matrix(u, r)
-    w = -external_wrench(robot.platform.mass, robot.platform.g, robot.arrays.com, R, robot.platform.down)
+    pl = robot.platform
+    w = -external_wrench(pl.mass, pl.g, robot.arrays.com, R, pl.down, pl.wrench)
     return rank_rows(robot, W, w)
 
 

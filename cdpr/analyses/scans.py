@@ -18,8 +18,10 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
+from cdpr.analyses.compensation import heavy_distribution
 from cdpr.analyses.workspace import cell_centres, frame_box
-from cdpr.models import pulleys, winch
+from cdpr.models import catenary, pulleys, winch
+from cdpr.models.cables import HeavyCables
 from cdpr.models.interference import interference
 from cdpr.models.inverse import pose_state
 from cdpr.models.platform import pose_arrays
@@ -257,6 +259,57 @@ def pose_geometry(robot, p, rotvec=None):
         "point_mass": robot.point_mass,
         "name": robot.name,
         "interfering": interfering_cables(robot, p_[0], None if rotvec is None else rotvec),
+        **(catenary_geometry(robot, p_[0], R[0]) if robot.heavy else {}),
+    }
+
+
+#: Points of each heavy cable's polyline in ``catenary_geometry`` (B to D).
+CATENARY_POINTS = 101
+
+
+def catenary_geometry(robot, p, R, n=CATENARY_POINTS):
+    """The heavy cables (issue 38) at the desired pose, as drawn: the sag-consistent tension
+    distribution that holds the platform there (``compensation.heavy_distribution``, tensions at
+    B_i at least ``compensation``'s default least tension) and each free span's elastic catenary
+    (``catenary.shape``, Irvine 1981 ch. 2) from B_i to its exit point D_i, placed in the vertical
+    plane through B_i and D_i: point = B_i + x e_h,i + z up.
+
+    Parameters
+    ----------
+    robot : Robot
+        A robot with heavy cables (``Robot.heavy``).
+    p : array_like (3,) [m]
+        Platform reference point.
+    R : array_like (3, 3) [-]
+        Platform orientation.
+    n : int
+        Points of each polyline (>= 2).
+
+    Returns
+    -------
+    dict
+        ``catenary`` (m, n, 3) [m] the polylines from B_i to D_i (NaN where no distribution holds
+        the pose); ``catenary_D`` (m, 3) [m] the exit points of the heavy pulley coupling;
+        ``catenary_t`` (m,) [N] the tensions at B_i; ``catenary_sag`` (m,) [m] each cable's sag
+        (``catenary.sag``: the largest deflection from the chord D_i-B_i).
+    """
+    p = np.asarray(p, dtype=float)[None, :]
+    R = np.asarray(R, dtype=float)[None, :, :]
+    h = heavy_distribution(robot, p, R)
+    inv = h["inverse"]
+    cab = HeavyCables(robot)
+    w, EA = cab.w, cab.EA
+    x, z = catenary.shape(inv["H"][0], inv["V_B"][0], inv["L0_free"][0], w, EA, n=n)
+    B = p[0] + np.einsum("ab,mb->ma", R[0], cab.b)
+    poly = B[:, None, :] + x[..., None] * inv["e_h"][0][:, None, :] + z[..., None] * cab.up
+    ok = bool(h["feasible"][0])
+    sag = catenary.sag(inv["H"][0], inv["V_B"][0], inv["L0_free"][0], w, EA, inv["l_h"][0], inv["l_v"][0])
+    nan = np.full(len(B), np.nan)
+    return {
+        "catenary": poly if ok else np.full_like(poly, np.nan),
+        "catenary_D": inv["D"][0] if ok else np.full_like(B, np.nan),
+        "catenary_t": h["t"][0],
+        "catenary_sag": sag if ok else nan,
     }
 
 

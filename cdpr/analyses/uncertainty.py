@@ -700,7 +700,7 @@ class PoseErrorModel:
         mode the equilibrium (``solve.sensitivities``), by the model's engine. A pose: position
         δp(θ) = δp_0 + S_p (τ(θ) - τ(θ_0)); orientation, the rotation vector of R* R_dᵀ,
         φ(θ) = φ_0 + S_φ (τ(θ) - τ(θ_0)) (first order in the base-frame rotation increment, for a
-        small φ_0), δφ = ‖φ‖ (``sensitivity.sensitivities_at``, the numpy reference).
+        small φ_0), δφ = ‖φ‖ (``sensitivity.sensitivities_at``, by the model's engine).
 
         Parameters
         ----------
@@ -769,10 +769,8 @@ class PoseErrorModel:
             N, f = len(self.p), self.feasible
             run = {"engine": self.engine, "threads": self.threads}
             res = solve(self.robot, self.p[f], self.rotvec[f], redundancy="physical", **run, L0=self.L[f])
-            # the numpy reference (central differences of the balance), through the engine switch: the
-            # tracked CoGiRo uncertainty tables were computed with it; the compiled twin's analytic
-            # dF/dθ agrees to 1.4e-6 of a column (benchmarks/README.md) but not to the digits written
-            sens = sensitivities_at(self.robot, res, parameter_names(self.robot), engine="numpy")
+            # the model's engine: the numpy and compiled twins take dF/dθ by the same exact formulas
+            sens = sensitivities_at(self.robot, res, parameter_names(self.robot), **run)
             P_s, R_s = np.full((N, 3), np.nan), np.full((N, 3, 3), np.nan)
             S = np.full((N, 6, sens["S"].shape[2]), np.nan)
             smooth, status = np.zeros(N, dtype=bool), np.full(N, "infeasible", dtype=object)

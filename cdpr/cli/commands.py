@@ -25,7 +25,7 @@ from cdpr.cli import heavy
 from cdpr.cli.options import MAX_COORDINATE_M
 from cdpr.errors import CdprError
 from cdpr.plausibility import plausibility_warnings
-from cdpr.robot import load_robot
+from cdpr.robot import load_robot, with_wrench
 
 #: The columns of a ``--points`` table: the position [m] and, optional, the orientation [rad].
 POINT_COLUMNS = ("x", "y", "z", "rx", "ry", "rz")
@@ -54,8 +54,16 @@ def emit_json(out, args):
     robot is plausible or the command reads none); a list keeps its shape (its warnings are on
     stderr only)."""
     if isinstance(out, dict):
+        if getattr(args, "wrench", None) is not None:  # --wrench given: echoed [N, N m]
+            out = {**out, "wrench": [float(x) for x in args.wrench]}
         out = {**out, "warnings": list(getattr(args, "warnings", []))}
     print(json.dumps(io.clean_json(out), indent=2, allow_nan=False))
+
+
+def _wrench_text(args):
+    """``, wrench (FX, ..., MZ) [N, N m]`` for a header line when --wrench is given, else ""."""
+    w = getattr(args, "wrench", None)
+    return "" if w is None else ", wrench (" + ", ".join(f"{x:g}" for x in w) + ") [N, N m]"
 
 
 def robot_from_args(args):
@@ -77,6 +85,7 @@ def robot_from_args(args):
         args,
     )
     heavy.check(robot, args)  # heavy cables: refused in one line where not modelled
+    robot = with_wrench(robot, getattr(args, "wrench", None))  # --wrench: beside gravity
     if hasattr(args, "redundancy") and args.redundancy is None:
         args.redundancy = robot.default_redundancy
     return robot
@@ -327,12 +336,12 @@ def cmd_point(args):
     --engine, fewer than ``solve.ONE_SHOT_POSES`` poses are answered by the numpy reference (the
     compiled engine's load would be most of the process), more by the compiled engine."""
     from cdpr.models.interference import interference_free  # lazy: the solver commands only
-    from cdpr.solve import check_engine  # lazy: the solvers, for the solver commands only
     from cdpr.solve import solve as solve_poses  # lazy: the solvers, for the solver commands only
+    from cdpr.solve import wrench_engine  # lazy: the solvers, for the solver commands only
 
     robot = robot_from_args(args)
     points = read_points(args)
-    engine = check_engine(args.engine, args.method, one_shot=points.n)
+    engine = wrench_engine(robot, args.engine, args.method, one_shot=points.n)
     L0 = None
     given = [
         o
@@ -461,6 +470,7 @@ def cmd_point(args):
     mode = "physical equilibrium" if args.redundancy == "physical" else f"paper mode, solver {args.method}"
     print(
         f"{robot.name} ({robot.pulley_summary()}, {robot.material_summary()}, {robot.dead_length_summary()}), {mode}"
+        f"{_wrench_text(args)}"
     )
     fmt = lambda v: "(" + ", ".join("nan" if v is None or v != v else f"{x:.6f}" for x in v) + ")"  # noqa: E731
     print(f"  desired P  [m] : {fmt(out['desired'])}")
@@ -525,11 +535,11 @@ def cmd_compensate(args):
 
     from cdpr.analyses.compensation import at_poses, compensated_pose  # lazy: this command only
     from cdpr.models.interference import interference_free  # lazy: this command only
-    from cdpr.solve import check_engine  # lazy: the solvers, for the solver commands only
+    from cdpr.solve import wrench_engine  # lazy: the solvers, for the solver commands only
 
     robot = robot_from_args(args)
     points = read_points(args)
-    engine = check_engine(args.engine, "newton", one_shot=points.n)
+    engine = wrench_engine(robot, args.engine, "newton", one_shot=points.n)
     actual = None
     if args.actual_E_cables is not None:
         if len(args.actual_E_cables) != robot.m:
@@ -624,7 +634,7 @@ def cmd_compensate(args):
         emit_json(out, args)
         return
     print(
-        f"{robot.name} ({robot.pulley_summary()}, {robot.material_summary()}, {robot.dead_length_summary()}), distribution {args.distribution}"
+        f"{robot.name} ({robot.pulley_summary()}, {robot.material_summary()}, {robot.dead_length_summary()}), distribution {args.distribution}{_wrench_text(args)}"
     )
     if status == "infeasible":
         print(INFEASIBLE_LINE)
@@ -684,7 +694,7 @@ def _compensate_pose_report(args, robot, res, engine, free, reason=None):
         emit_json(out, args)
         return
     print(
-        f"{robot.name} ({robot.pulley_summary()}, {robot.material_summary()}), distribution {args.distribution} at a pose"
+        f"{robot.name} ({robot.pulley_summary()}, {robot.material_summary()}), distribution {args.distribution} at a pose{_wrench_text(args)}"
     )
     if not ok:
         print(INFEASIBLE_LINE)
@@ -720,7 +730,7 @@ def cmd_grid(args):
     # lazy: the grid, the solvers and pandas, for this command only
     from cdpr.analyses.workspace import check_box, frame_box, grid_points, read_box, shard_range
     from cdpr.models.interference import columns, interference
-    from cdpr.solve import check_engine
+    from cdpr.solve import wrench_engine
     from cdpr.tables import solve_table
 
     robot = robot_from_args(args)
@@ -754,7 +764,7 @@ def cmd_grid(args):
             **_rotvec_option(args),
         )
 
-    if len(P) and check_engine(args.engine, args.method) == "compiled":
+    if len(P) and wrench_engine(robot, args.engine, args.method) == "compiled":
         # numba loads (or, with a cold cache, compiles: announced) its kernels here, outside the rate
         _warm_up(args, lambda: solve(P[:1]))
     t0 = time.perf_counter()

@@ -20,7 +20,7 @@ from typing import Callable, NamedTuple
 from cdpr import io
 from cdpr.cli.options import non_negative, threads
 from cdpr.errors import CdprError
-from cdpr.pipeline import solver_tables, tasks
+from cdpr.pipeline import sag, solver_tables, tasks
 from cdpr.pipeline.study import load_study
 
 #: Job names that are not the task's name with ``_`` → ``-`` (kept as the rules and users spell them).
@@ -32,9 +32,9 @@ ALIASES = {
 }
 #: Public functions of ``cdpr.pipeline.tasks`` that are helpers of the tasks, not jobs.
 HELPERS = ("concat",)
-#: The modules whose public functions are the jobs: the tasks, and the solver tables of a study's
-#: designs (``cdpr.pipeline.solver_tables``).
-TASK_MODULES = (tasks, solver_tables)
+#: The modules whose public functions are the jobs: the tasks, the solver tables of a study's
+#: designs (``cdpr.pipeline.solver_tables``) and what sag adds (``cdpr.pipeline.sag``).
+TASK_MODULES = (tasks, solver_tables, sag)
 
 
 class Option(NamedTuple):

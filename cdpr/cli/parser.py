@@ -31,6 +31,7 @@ from cdpr.cli.options import (
     sensitivity_options,
     solver_options,
     threads,
+    wrench_option,
 )
 
 #: The exit-code contract, in ``cdpr --help`` and in the commands that report a status.
@@ -95,6 +96,7 @@ def build_parser(jobs=True):
         help="motor angles per cable [deg] from the reference at the origin (robot with spool winches; physical mode): "
         "mapped to rest lengths by the spool model",
     )
+    wrench_option(sp)
     sensitivity_options(sp)
     reached_options(sp)
     sp.set_defaults(run=("cdpr.cli.commands", "cmd_point"))
@@ -114,6 +116,7 @@ def build_parser(jobs=True):
         help="Young's modulus of each cable [Pa] (the model)",
     )
     sp.add_argument("--mass", type=positive, metavar="KG", help="platform mass M [kg]")
+    wrench_option(sp)
     points_options(sp, "desired position")
     sp.add_argument(
         "--distribution",
@@ -170,6 +173,7 @@ def build_parser(jobs=True):
     sp.add_argument(
         "--t-min", type=non_negative, default=100.0, metavar="N", help="least tension of --wrench-feasible"
     )
+    wrench_option(sp)
     sp.add_argument(
         "--interference",
         action="store_true",

@@ -409,3 +409,20 @@ def add_cable_jacobian(J, g00, g01, g02, g10, g11, g12, g20, g21, g22, rx, ry, r
     J[3, 5] += -(ry * s22 - rz * s12) + t * rx * uz
     J[4, 5] += -(rz * s02 - rx * s22) + t * ry * uz
     J[5, 5] += -(rx * s12 - ry * s02) + t * (rz * uz - ur)
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def add_gravity(J, Fx, Fy, Fz, Mx, My, Mz, fx, fy, fz, rcx, rcy, rcz):
+    """Adds the platform's weight f at its centre of mass rc (base frame) to the balance and its
+    Jacobian, the last terms of ``models.cables._jacobian``: F += f, M += rc × f and
+    J[3:, 3:] += rc f^T - (rc . f) I (the weight's moment turns with the platform).
+
+    Returns the updated (Fx, Fy, Fz, Mx, My, Mz) and the weight's moment rc × f (3 floats)."""
+    cfx, cfy, cfz = rcy * fz - rcz * fy, rcz * fx - rcx * fz, rcx * fy - rcy * fx
+    rc3 = (rcx, rcy, rcz)
+    f3 = (fx, fy, fz)
+    rcf = rcx * fx + rcy * fy + rcz * fz
+    for a in range(3):
+        for q in range(3):
+            J[3 + a, 3 + q] += rc3[a] * f3[q] - (rcf if a == q else 0.0)
+    return Fx + fx, Fy + fy, Fz + fz, Mx + cfx, My + cfy, Mz + cfz, cfx, cfy, cfz

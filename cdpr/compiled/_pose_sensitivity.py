@@ -19,9 +19,10 @@ scalar ``cable_partials`` in each pulley's frame). With w_i = t_i (u_i, r_i × u
 
 (the moment rows zero on a point mass), then S = -pinv(dF6/dx) dF6/dθ with the reference's rcond:
 J^-1 by LU where ``_linalg.lu_solve``'s bound shows that the cut keeps every singular value
-(then pinv = J^-1), ``numpy.linalg.pinv`` otherwise (a point mass: the rotation rows are zero). The numpy reference takes dF6/dθ by central differences of the balance
-(steps 1e-7 m, 1e-6 relative): the two agree to its O(δ²) truncation and round-off, tested. Same
-flags (smooth, margin_t, cond) as the reference.
+(then pinv = J^-1), ``numpy.linalg.pinv`` otherwise (a point mass: the rotation rows are zero). The
+numpy reference (``models.sensitivity._wrench_partials``) takes dF6/dθ by the same formulas,
+vectorised: the two agree to round-off, tested. Same flags (smooth, margin_t, cond) as the
+reference.
 
 References
 ----------
@@ -56,9 +57,7 @@ from cdpr.compiled._kernels import (
 from cdpr.compiled._linalg import lu_solve
 from cdpr.compiled.equilibrium import CompiledCables, evaluate, scratch
 from cdpr.compiled.equilibrium import solve as solve_spatial
-from cdpr.errors import CdprError
-from cdpr.models.sensitivity import COND_MAX, T_TOL
-from cdpr.parameters import parameter_names
+from cdpr.models.sensitivity import COND_MAX, T_TOL, pose_columns
 
 __all__ = ["pose_sensitivities", "sensitivities_at"]
 
@@ -408,7 +407,8 @@ def sensitivities_at(robot, res, names=None, t_tol=T_TOL, threads=None):
         A ``solve_spatial`` result (P_s (N, 3) [m], R_s (N, 3, 3), L0 (N, m) [m], status (N,)), from
         either engine.
     names : list of str, optional
-        Parameters (default ``parameter_names(robot, rigid=True)``); another name raises CdprError.
+        Parameters (default ``parameter_names(robot, rigid=True)``); another name raises CdprError
+        (``models.sensitivity.pose_columns``).
     t_tol : float [N]
         Tension margin under which a point is not smooth (``sensitivity.T_TOL``).
     threads : int, optional
@@ -423,15 +423,7 @@ def sensitivities_at(robot, res, names=None, t_tol=T_TOL, threads=None):
     ----------
     Paty et al. 2021 (parameters); implicit-function theorem on Pott 2018's elastic equilibrium.
     """
-    every = parameter_names(robot, rigid=True)
-    names = every if names is None else list(names)
-    index = {nm: k for k, nm in enumerate(every)}
-    bad = [nm for nm in names if nm not in index]
-    if bad:
-        raise CdprError(
-            f"unknown 6-DoF parameter(s) {', '.join(map(repr, bad))}; allowed: parameter_names(robot, rigid=True) "
-            f"({every[0]} ... {every[-1]})"
-        )
+    names, cols = pose_columns(robot, names)
     set_threads(threads)
     f = np.ascontiguousarray
     P = f(res["P_s"], dtype=float)
@@ -450,7 +442,7 @@ def sensitivities_at(robot, res, names=None, t_tol=T_TOL, threads=None):
             cab.cables,
             cab.body,
             float(robot.platform.mass),
-            np.array([index[nm] for nm in names], dtype=np.int64),
+            cols.astype(np.int64),
             PINV_RCOND,
             S,
             margin,

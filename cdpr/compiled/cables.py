@@ -31,7 +31,7 @@ import numpy as np
 from numba import njit, prange
 
 from cdpr.compiled._kernels import SWIVEL_RHO_MIN, TWO_PI, in_frame, pulley_geometry
-from cdpr.compiled._linalg import add_cable_jacobian
+from cdpr.compiled._linalg import add_cable_jacobian, add_gravity
 from cdpr.compiled.catenary import angle_f_deg, arc_length, cable_energy, cable_state, cable_stiffness, sag
 from cdpr.errors import CdprError
 from cdpr.models.catenary import INFEASIBLE, SPAN_STATUSES
@@ -301,19 +301,7 @@ def evaluate(px, py, pz, R, rfx, rfy, rfz, cab, body, heavy, L0, i, t, J, e6, g6
         rr = rx * rx + ry * ry + rz * rz
         kap0 += kc
         kap1 += kc * rr + T_B * math.sqrt(rr)
-    Fx += fx
-    Fy += fy
-    Fz += fz
-    cfx, cfy, cfz = rcy * fz - rcz * fy, rcz * fx - rcx * fz, rcx * fy - rcy * fx
-    Mx += cfx
-    My += cfy
-    Mz += cfz
-    rc3 = (rcx, rcy, rcz)
-    f3 = (fx, fy, fz)
-    rcf = rcx * fx + rcy * fy + rcz * fz
-    for a in range(3):
-        for q in range(3):
-            J[3 + a, 3 + q] += rc3[a] * f3[q] - (rcf if a == q else 0.0)
+    Fx, Fy, Fz, Mx, My, Mz, _, _, _ = add_gravity(J, Fx, Fy, Fz, Mx, My, Mz, fx, fy, fz, rcx, rcy, rcz)
     e6[0], e6[1], e6[2], e6[3], e6[4], e6[5] = Fx, Fy, Fz, Mx, My, Mz
     e6[6], e6[7], e6[8], e6[9], e6[10], e6[11] = Fx, Fy, Fz, Mx, My, Mz
     merit = -((px - rfx + rcx) * fx + (py - rfy + rcy) * fy + (pz - rfz + rcz) * fz) + energy

@@ -43,6 +43,7 @@ from cdpr.compiled._kernels import (
 from cdpr.compiled._kernels import Cables as CableArrays
 from cdpr.compiled._linalg import (
     add_cable_jacobian,
+    add_gravity,
     lu_solve,
     pinv_solve,
     positive_definite,
@@ -328,20 +329,7 @@ def evaluate(px, py, pz, R, rfx, rfy, rfz, cab, body, L0, i, t, J, e6, g6, w):
         w.cab_k[c] = k
         w.cab_inside[c] = ins
         w.cab_gamma[c] = gam
-    # gravity: F += f, M += rc x f, J[3:, 3:] += rc f^T - (rc . f) I
-    Fx += fx
-    Fy += fy
-    Fz += fz
-    cfx, cfy, cfz = rcy * fz - rcz * fy, rcz * fx - rcx * fz, rcx * fy - rcy * fx
-    Mx += cfx
-    My += cfy
-    Mz += cfz
-    rc3 = (rcx, rcy, rcz)
-    f3 = (fx, fy, fz)
-    rcf = rcx * fx + rcy * fy + rcz * fz
-    for a in range(3):
-        for q in range(3):
-            J[3 + a, 3 + q] += rc3[a] * f3[q] - (rcf if a == q else 0.0)
+    Fx, Fy, Fz, Mx, My, Mz, cfx, cfy, cfz = add_gravity(J, Fx, Fy, Fz, Mx, My, Mz, fx, fy, fz, rcx, rcy, rcz)
     if nact == 0:  # no cable taut: Hooke extended to compression (ka = k on every cable)
         for c in range(m):
             k = w.cab_k[c]

@@ -49,10 +49,26 @@ class Cables:
         self.args = pulley_args(robot)
         self.b, self.com = a.b, a.com
         self.ES = a.ES
-        self.f = robot.platform.w_ext
-        self.ftol = FTOL_REL * float(np.linalg.norm(self.f))
+        plat = robot.platform
         size = max(float(np.linalg.norm(a.b, axis=1).max()), float(np.linalg.norm(a.com)))
         self.size = size if size > 0 else 1.0
+        if robot.point_mass:  # gravity and the external force both act at p: one force f
+            self.f, self.fe, self.me = plat.w_ext, np.zeros(3), np.zeros(3)
+        else:  # gravity f at the centre of mass, the external wrench (fe, me) at p
+            self.f = plat.gravity_force
+            self.fe = np.asarray(plat.wrench[:3], dtype=float)
+            self.me = np.asarray(plat.wrench[3:], dtype=float)
+        #: True when the rigid platform carries an external wrench (the compiled kernels refuse it).
+        self.wrench = bool(self.fe.any() or self.me.any())
+        scale = float(np.linalg.norm(self.f))
+        if plat.has_wrench:  # balanced relative to the largest load (gravity may be cancelled)
+            scale = max(
+                scale,
+                float(np.linalg.norm(plat.gravity_force)),
+                float(np.linalg.norm(self.fe)),
+                float(np.linalg.norm(self.me)) / self.size,
+            )
+        self.ftol = FTOL_REL * scale
         self.rigid = not robot.point_mass
         self.suspended = robot.suspended_point_mass
         self.z_top = float(a.A[:, 2].min())
@@ -72,6 +88,8 @@ class Cables:
         F = np.einsum("nj,nja->na", t, g.u) + self.f
         M = np.einsum("nj,nja->na", t, np.cross(r, g.u)) + np.cross(rc, self.f)
         merit = -(p - p_ref + rc) @ self.f + 0.5 * (k * np.where(taut, e, 0.0) ** 2).sum(axis=1)
+        if self.wrench:
+            F, M, merit = self._add_wrench(F, M, merit, p, p_ref)
         if self.suspended:
             merit = np.where(p[:, 2] < self.z_top, merit, np.inf)
         out = {"F": F, "M": M, "t": t, "merit": merit, "g": g}
@@ -82,6 +100,8 @@ class Cables:
             tc = np.where(none[:, None], k * e, t)
             Fn = np.einsum("nj,nja->na", tc, g.u) + self.f
             Mn = np.einsum("nj,nja->na", tc, np.cross(r, g.u)) + np.cross(rc, self.f)
+            if self.wrench:
+                Fn, Mn = Fn + self.fe, Mn + self.me
             out["Fn"] = np.concatenate(
                 [np.where(none[:, None], Fn, F), np.where(none[:, None], Mn, M)], axis=1
             )
@@ -92,6 +112,8 @@ class Cables:
                 [np.einsum("nj,nja->na", t, dL) - self.f, np.einsum("nj,nja->na", t, np.cross(r, dL))], axis=1
             )
             out["grad"][:, 3:] -= np.cross(rc, self.f)
+            if self.wrench:  # minus the generalised force of the external wrench (module docstring)
+                out["grad"] -= np.concatenate([self.fe, self.me])
             stiff = ka + t / g.l_E
             rr = np.einsum("nma,nma->nm", r, r)
             out["kappa"] = np.stack(
@@ -103,6 +125,13 @@ class Cables:
                 axis=1,
             )
         return out
+
+    def _add_wrench(self, F, M, merit, p, p_ref):
+        """The external wrench of a rigid platform at p: F + fe, M + me and the merit with the
+        force's potential -fe . (p - p_ref). A constant world-frame moment has no potential (its
+        work over a rotation depends on the path): the merit leaves it out and the line search adds
+        its work along each trial step (``equilibrium._newton``)."""
+        return F + self.fe, M + self.me, merit - (p - p_ref) @ self.fe
 
 
 class HeavyCables(Cables):
@@ -308,6 +337,8 @@ class HeavyCables(Cables):
         rc = R @ self.com
         F = Fi.sum(axis=1) + self.f
         M = np.cross(r, Fi).sum(axis=1) + np.cross(rc, self.f)
+        if self.wrench:
+            F, M, wrench_merit = self._add_wrench(F, M, 0.0, p, p_ref)
         U = cable_energy(st, l_h, l_v, x["l_dead"], self.w, self.EA)
         # the free span's weight at the exit point's height above A_i (0 for fixed pulleys): the
         # weightless dead part makes the model's forces not exactly conservative, and with this term
@@ -315,6 +346,8 @@ class HeavyCables(Cables):
         # dead part's compliance; the slide of D on the sheave alone would leave w L0_free dz_D/dB)
         U = U + self.w * st.L0_free * ((x["D"] - self.A) @ self.up)
         merit = -(p - p_ref + rc) @ self.f + U.sum(axis=1)
+        if self.wrench:
+            merit = merit + wrench_merit
         merit = np.where(np.isfinite(merit), merit, np.inf)
         if self.suspended:
             merit = np.where(p[:, 2] < self.z_top, merit, np.inf)
@@ -337,6 +370,7 @@ class HeavyCables(Cables):
             out["Fn"] = np.concatenate([F, M], axis=1)
             out["J"] = _jacobian_forces(G, Fi, r, rc, self.f)
             out["grad"] = -out["Fn"]  # fixed and SR pulleys: the energy's gradient is minus the wrench
+            # (with an external wrench: minus the generalised force, the moment's work as in Cables)
             kc = np.abs(K[..., 0, 0]) + np.abs(K[..., 1, 1]) + np.abs(turn)
             rr = np.einsum("nma,nma->nm", r, r)
             out["kappa"] = np.stack(

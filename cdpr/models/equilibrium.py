@@ -10,7 +10,9 @@ pose, as in the paper, eq. 2). The platform settles at the pose (p*, R*) where
 t_i = 0), with W the 6 x m wrench matrix (``platform.wrench_matrix``; column [u_i ; r_i x u_i],
 r_i = R b_i, u_i from B_i toward the exit point D_i of the pulley,
 ``pulleys.total_length_and_direction`` at B_i; L_TE,i the extended total length, eq. 3-5, 12) and
-w_ext the gravity wrench at the centre of mass (``platform.external_wrench``). Every cable may go
+w_ext the gravity wrench at the centre of mass plus an external wrench beside gravity
+(``Platform.wrench``: a constant world-frame force at p and moment about p; on a point mass the
+force joins the weight, ``Platform.w_ext``) (``platform.external_wrench``). Every cable may go
 slack: nothing chooses which cables hold the platform, unlike the paper's 3-cable subsets. On a
 point mass (b_i = 0, c = 0) the rotation plays no part and the moment rows vanish: the solver works
 on the 3 force rows (rank(W) = 3), F(P*) = sum_i t_i u_i(P*) + w_ext = 0.
@@ -32,7 +34,11 @@ backtracking line search (``backtrack``) on the potential energy
 
     V = sum_i E_i S_i / (2 L0_i) max(0, L_TE,i - L0_i)^2 - w_ext . (p - p_d + R c)
 
-with its exact gradient dV/dx.
+with its exact gradient dV/dx. An external force F_e at p adds -F_e . (p - p_d) to V; a constant
+world-frame moment M_e has no potential (its work over a rotation depends on the path), so the
+gradient takes -M_e in its rotation rows and each trial step x + a s of the line search adds the
+moment's work a M_e . s_phi to V (exact: the base-frame angular displacement of exp([a s_phi]x) R
+is a s_phi), and the merit kept (``energy``, the restarts' "lowest energy") leaves the moment out.
 
 * Fixed and SR pulleys: dL_TE/dB = -u, so dV/dx = -F6 exactly: the equilibrium is the minimum of
   V. On a point mass V is convex for fixed pulleys and its Hessian -dF/dP is positive definite as
@@ -286,6 +292,7 @@ def _newton(cab, p0, R0, L0, p_ref, tol, maxiter, max_step):
     prev_full = np.zeros(n, dtype=bool)
     active = np.arange(n)
     ell = cab.size if cab.rigid else 0.0
+    moment = cab.rigid and bool(np.any(getattr(cab, "me", 0.0)))
     for _ in range(maxiter):
         F, M = cur["F"][active], cur["M"][active]
         here = (np.einsum("na,na->n", F, F) <= cab.ftol**2) & (
@@ -328,11 +335,20 @@ def _newton(cab, p0, R0, L0, p_ref, tol, maxiter, max_step):
             st = a[:, None] * s[pending]
             pt = p[idx] + st[:, :3]
             Rt = rotation_matrix(st[:, 3:]) @ R[idx] if cab.rigid else R[idx]
-            return cab.evaluate(pt, Rt, L0[idx], p_ref[idx]), (pt, Rt)
+            trial = cab.evaluate(pt, Rt, L0[idx], p_ref[idx])
+            # an external moment's work along the trial step (R_t = exp([st]x) R: the base-frame
+            # angular displacement is st exactly), so that the merit's change matches the slope
+            potential = None
+            if moment:
+                potential = trial["merit"]
+                trial["merit"] = potential - st[:, 3:] @ cab.me
+            return trial, (pt, Rt, potential)
 
         def accept(pending, trial, state, ok):
             idx = active[pending]
-            pt, Rt = state
+            pt, Rt, potential = state
+            if potential is not None:  # the merit kept is the potential (no path work)
+                trial["merit"] = potential
             p[idx[ok]] = pt[ok]
             R[idx[ok]] = Rt[ok]
             _take(cur, idx, trial, ok)

@@ -152,10 +152,12 @@ def wrench_matrix(u, r):
     return np.swapaxes(col, -1, -2)
 
 
-def external_wrench(mass, g, com, R, down=(0.0, 0.0, -1.0)):
-    """Gravity wrench on the platform about p: [f ; (R c) x f], f = M g ``down`` = (0, 0, -M g).
+def external_wrench(mass, g, com, R, down=(0.0, 0.0, -1.0), wrench=None):
+    """Gravity wrench on the platform about p: [f ; (R c) x f], f = M g ``down`` = (0, 0, -M g),
+    plus an external wrench w_e = [F_e ; M_e] beside gravity (force at p and moment about p, both
+    in the base frame: constant under the platform's rotation).
 
-    .. math:: w_{ext} = \\begin{bmatrix} f \\\\ (R c) \\times f \\end{bmatrix}
+    .. math:: w_{ext} = \\begin{bmatrix} f \\\\ (R c) \\times f \\end{bmatrix} + w_e
 
     Parameters
     ----------
@@ -169,6 +171,8 @@ def external_wrench(mass, g, com, R, down=(0.0, 0.0, -1.0)):
         Orientation.
     down : array_like (3,) [-]
         Unit vector of gravity in the base frame (``Platform.down``, -z).
+    wrench : array_like (6,) [N, N m], optional
+        External wrench beside gravity (``Platform.wrench``); None or zero: gravity alone.
 
     Returns
     -------
@@ -182,7 +186,10 @@ def external_wrench(mass, g, com, R, down=(0.0, 0.0, -1.0)):
     R = np.asarray(R, dtype=float)
     f = np.broadcast_to(mass * g * np.asarray(down, dtype=float), R.shape[:-2] + (3,))
     rc = np.einsum("...ab,b->...a", R, np.asarray(com, dtype=float))
-    return np.concatenate([f, np.cross(rc, f)], axis=-1)
+    w = np.concatenate([f, np.cross(rc, f)], axis=-1)
+    if wrench is not None and np.any(wrench):
+        w = w + np.asarray(wrench, dtype=float)
+    return w
 
 
 def rotation_error(R_s, R_d):

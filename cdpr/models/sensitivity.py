@@ -46,8 +46,9 @@ equilibrium x* = (p*, R*) under fixed commanded rest lengths L0 the force and mo
 
 with dF6/dx the solver's analytic 6 x 6 Jacobian (``cables._jacobian``; dφ a base-frame
 rotation vector) and dF6/dθ the partial derivatives of the balance with respect to each parameter
-at fixed pose, taken by central differences of the balance (the balance is evaluated, not solved,
-so these are exact to O(δ²)). θ is the spatial parameter vector of ``cdpr.parameters``
+at fixed pose, exact (``_wrench_partials``: ``cable_partials`` at each attachment point B_i =
+p + R b_i, the formulas of the compiled twin ``compiled._pose_sensitivity.wrench_partials``, so the
+two agree to round-off). θ is the spatial parameter vector of ``cdpr.parameters``
 (``parameter_names(robot, rigid=True)``: E_i, h_i, r_p,i, d_i, A_i, the attachments b_i (platform frame), the centre
 of mass c and the mass M).
 
@@ -61,7 +62,6 @@ Springer 2006, A.2.
 
 from __future__ import annotations
 
-import copy
 from typing import NamedTuple
 
 import numpy as np
@@ -103,7 +103,7 @@ class CablePartials(NamedTuple):
     du: np.ndarray
 
 
-def cable_partials(P, A, kind, h, r_p, d, inward, frame=None):
+def cable_partials(P, A, kind, h, r_p, d, inward, frame=None, per_cable=False):
     """Partial derivatives of every cable's total length L_TE and direction u at P with respect to
     its own pulley parameters and joint point (module docstring)::
 
@@ -132,6 +132,9 @@ def cable_partials(P, A, kind, h, r_p, d, inward, frame=None):
     frame : ndarray, shape (m, 3, 3), optional
         Pulley frames, rows i_i, j_i, k_i (``Robot.arrays.frame``); None: k = +z with today's
         arithmetic (the suspended robots of the paper).
+    per_cable : bool
+        P is (..., m, 3), one attachment point B_i per cable (a rigid platform); the derivatives
+        by P are then by B_i.
 
     Returns
     -------
@@ -144,8 +147,8 @@ def cable_partials(P, A, kind, h, r_p, d, inward, frame=None):
     Paty et al. 2021, eq. (3)-(5).
     """
     P = np.asarray(P, dtype=float)
-    st = pulley_state(P, A, kind, h, r_p, d, inward, frame)
-    g = total_length_and_direction(P, A, kind, h, r_p, d, inward, frame)
+    st = pulley_state(P, A, kind, h, r_p, d, inward, frame, per_cable)
+    g = total_length_and_direction(P, A, kind, h, r_p, d, inward, frame, per_cable)
     u = g.u
     l_d = np.where(st.l_d > 0, st.l_d, 1.0)
     if frame is None:  # k = +z: the components directly (today's arithmetic, bit for bit)
@@ -593,106 +596,142 @@ def linear_positions(dp0, S, delta):
     return (S.reshape(N * 3, k) @ np.asarray(delta, dtype=float).T).T.reshape(len(delta), N, 3) + dp0
 
 
-def _perturbed(cab, name, delta):
-    """A copy of the cables' evaluator with parameter ``name`` moved by ``delta`` (SI)."""
-    c = copy.copy(cab)
+def pose_columns(robot, names=None):
+    """The columns of ``names`` in ``parameter_names(robot, rigid=True)`` (the pose kernels' dF6/dθ).
+
+    Parameters
+    ----------
+    robot : Robot
+    names : list of str, optional
+        Parameters (default all of ``parameter_names(robot, rigid=True)``).
+
+    Returns
+    -------
+    names : list of str
+    cols : ndarray of int, shape (len(names),)
+
+    Raises
+    ------
+    CdprError
+        A name that is not a 6-DoF parameter of the robot.
+    """
+    every = parameter_names(robot, rigid=True)
+    names = every if names is None else list(names)
+    index = {nm: k for k, nm in enumerate(every)}
+    bad = [nm for nm in names if nm not in index]
+    if bad:
+        raise CdprError(
+            f"unknown 6-DoF parameter(s) {', '.join(map(repr, bad))}; allowed: parameter_names(robot, rigid=True) "
+            f"({every[0]} ... {every[-1]})"
+        )
+    return names, np.array([index[nm] for nm in names], dtype=np.intp)
+
+
+#: Per-cable partials (``_cable_terms``): E, h, r_p, d, A_x, A_y, A_z, b_x, b_y, b_z.
+PER_CABLE = 10
+
+
+def _cable_terms(cab, P, R, L0):
+    """Every cable's tension and its partials at fixed poses (P (n, 3), R (n, 3, 3)) and rest
+    lengths L0 (n, m), exact (``cable_partials`` at B_i = p + R b_i): t (n, m) [N] (0 on a slack
+    cable), u (n, m, 3), r = R b (n, m, 3) [m] and, for cable i's own E_i, h_i, r_p_i, d_i, A_i_xyz,
+    b_i_xyz (``PER_CABLE`` columns, in that order), dt (n, m, 10) [N per unit], du (n, m, 3, 10)
+    [1 per unit] and dr (n, m, 3, 10) [m per unit]::
+
+        dt_i = a_i k_i dL_TE,i (t_i / E_i for E_i),  dL_TE/dA = -dL_TE/dB,  du/dA = -du/dB,
+        dr/db_a = dB/db_a = R e_a,  dL_TE/db_a = dL_TE/dB . R e_a,  du/db_a = du/dB R e_a.
+    """
     A, kind, h, r_p, d, inward, frame = cab.args
-    parts = name.split("_")
-    if name == "M":
-        c.f = cab.f * (1.0 + delta / cab.mass)
-    elif parts[0] == "c":
-        com = cab.com.copy()
-        com["xyz".index(parts[1])] += delta
-        c.com = com
-    elif parts[0] in ("A", "b"):
-        i, a = int(parts[1]) - 1, "xyz".index(parts[2])
-        arr = (A if parts[0] == "A" else cab.b).copy()
-        arr[i, a] += delta
-        if parts[0] == "A":
-            c.args = (arr, kind, h, r_p, d, inward, frame)
-        else:
-            c.b = arr
-    else:
-        key, i = "_".join(parts[:-1]), int(parts[-1]) - 1
-        if key == "E":
-            ES = cab.ES.copy()
-            ES[i] *= 1.0 + delta / cab.E[i]
-            c.ES = ES
-        else:
-            vals = {"h": h, "r_p": r_p, "d": d}
-            arr = vals[key].copy()
-            arr[i] += delta
-            vals[key] = arr
-            c.args = (A, kind, vals["h"], vals["r_p"], vals["d"], inward, frame)
-    return c
+    r = np.einsum("nab,mb->nma", R, cab.b)
+    cp = cable_partials(P[:, None, :] + r, A, kind, h, r_p, d, inward, frame, per_cable=True)
+    k = cab.ES / L0
+    e = cp.L_TE - L0
+    ka = np.where(e > 0.0, k, 0.0)
+    t = ka * e
+    n, m = t.shape
+    dL = np.zeros((n, m, PER_CABLE))
+    du = np.zeros((n, m, 3, PER_CABLE))
+    dr = np.zeros((n, m, 3, PER_CABLE))
+    dL[..., 1:7] = cp.dL
+    du[..., 1:7] = cp.du
+    dL[..., 7:] = np.einsum("nmb,nba->nma", cp.dL_dP, R)
+    du[..., 7:] = np.einsum("nmcb,nba->nmca", cp.du_dP, R)
+    dr[..., 7:] = R[:, None]
+    dt = ka[..., None] * dL
+    dt[..., 0] = t / cab.E
+    return t, cp.u, r, dt, du, dr
 
 
-def _step(name, cab):
-    """Central-difference step for parameter ``name`` (relative for E and M, 1e-7 m otherwise)."""
-    if name == "M":
-        return 1e-6 * cab.mass
-    if name.startswith("E_"):
-        return 1e-6 * cab.E[int(name.split("_")[1]) - 1]
-    return 1e-7
+def _cable_column_index(m):
+    """Column (in ``parameter_names(robot, rigid=True)``) of cable c's j-th ``_cable_terms``
+    partial: an (m, PER_CABLE) int array."""
+    c = np.arange(m)[:, None]
+    a = np.arange(3)[None, :]
+    return np.concatenate([c, m + c, 2 * m + c, 3 * m + c, 4 * m + 3 * c + a, 7 * m + 3 * c + a], axis=1)
 
 
-def _perturbed_tensions(cab, names, P, R, L0):
-    """Every parameter of ``names`` that belongs to one cable (E_i, h_i, r_p_i, d_i, A_i_xyz,
-    b_i_xyz) moved by + and - its step (``_step``), each perturbed cable one column of a single
-    evaluation of the pulley model at fixed poses: tensions t (N, 2K) [N], directions u (N, 2K, 3)
-    and lever arms r = R b (N, 2K, 3) [m] (columns 0..K-1 the + steps, K..2K-1 the - steps), the
-    steps (K,) and the cable of each parameter (K,) (0-based)."""
-    A, kind, h, r_p, d, inward, frame = cab.args
-    ci, steps = [], []
-    for name in names:
-        parts = name.split("_")
-        ci.append(int(parts[1] if parts[0] in ("A", "b") else parts[-1]) - 1)
-        steps.append(_step(name, cab))
-    ci, steps = np.array(ci, dtype=int), np.array(steps)
-    K = len(names)
-    c2 = np.concatenate([ci, ci])
-    A2, b2 = A[c2].copy(), cab.b[c2].copy()
-    h2, r2, d2, ES2 = h[c2].copy(), r_p[c2].copy(), d[c2].copy(), cab.ES[c2].copy()
-    for j, name in enumerate(names):
-        parts = name.split("_")
-        for col, sg in ((j, 1.0), (K + j, -1.0)):
-            delta = sg * steps[j]
-            if parts[0] in ("A", "b"):
-                (A2 if parts[0] == "A" else b2)[col, "xyz".index(parts[2])] += delta
-            elif parts[0] == "E":
-                ES2[col] *= 1.0 + delta / cab.E[ci[j]]
-            else:
-                {"h": h2, "r_p": r2, "d": d2}["_".join(parts[:-1])][col] += delta
-    r = np.einsum("nab,mb->nma", R, b2)
-    g = total_length_and_direction(
-        P[:, None, :] + r,
-        A2,
-        kind[c2],
-        h2,
-        r2,
-        d2,
-        inward[c2],
-        None if frame is None else frame[c2],
-        per_cable=True,
+def _wrench_partials(cab, P, R, L0):
+    r"""dF6/dθ, the partial derivatives of the force and moment balance with respect to every
+    parameter at fixed poses and rest lengths, exact (the numpy twin of the compiled
+    ``_pose_sensitivity.wrench_partials``, same formulas).
+
+    With w_i = t_i (u_i, r_i × u_i), t_i = a_i k_i (L_TE,i - L0_i), k_i = E_i S_i / L0_i, r_i = R b_i:
+
+    .. math:: \frac{\partial w_i}{\partial q} = dt_i \begin{bmatrix} u_i \\ r_i \times u_i
+              \end{bmatrix} + t_i \begin{bmatrix} du_i \\ dr_i \times u_i + r_i \times du_i
+              \end{bmatrix}
+
+    for q = E_i, h_i, r_p,i, d_i, A_i, b_i (``_cable_terms``), and dF6/dc_a = (0, R e_a × f),
+    dF6/dM = (f, R c × f) / M (f the external wrench's force); the moment rows are 0 on a point mass.
+
+    Parameters
+    ----------
+    cab : Cables
+        The robot's cables (``_cables``: with E and M).
+    P : ndarray, shape (n, 3) [m]
+        Platform positions.
+    R : ndarray, shape (n, 3, 3) [-]
+        Orientations.
+    L0 : ndarray, shape (n, m) [m]
+        Rest lengths.
+
+    Returns
+    -------
+    dF : ndarray, shape (n, 6, 10 m + 4)
+        d(F, M)/dθ [N, N m per unit of θ], columns of ``parameter_names(robot, rigid=True)``.
+    t : ndarray, shape (n, m) [N]
+        The tensions (0 on a slack cable).
+
+    References
+    ----------
+    Paty et al. 2021, eq. (3)-(5), (10)-(13).
+    """
+    t, u, r, dt, du, dr = _cable_terms(cab, P, R, L0)
+    n, m = t.shape
+    ue, re = u[..., None], r[..., None]
+    force = dt[:, :, None, :] * ue + t[:, :, None, None] * du
+    moment = dt[:, :, None, :] * np.cross(r, u)[..., None] + t[:, :, None, None] * (
+        np.cross(dr, ue, axis=2) + np.cross(re, du, axis=2)
     )
-    L0c = L0[:, c2]
-    e = g.L_TE - L0c
-    t = np.where(e > 0.0, ES2 / L0c * e, 0.0)
-    return t, g.u, r, steps, ci
+    dF = np.zeros((n, 6, 10 * m + 4))
+    cols = _cable_column_index(m).ravel()
+    dF[:, :3, cols] = np.moveaxis(force, 2, 1).reshape(n, 3, m * PER_CABLE)
+    dF[:, 3:, cols] = np.moveaxis(moment, 2, 1).reshape(n, 3, m * PER_CABLE)
+    f = cab.f
+    dF[:, 3:, 10 * m : 10 * m + 3] = np.swapaxes(np.cross(np.swapaxes(R, 1, 2), f), 1, 2)  # R e_a x f
+    dF[:, :3, 10 * m + 3] = f / cab.mass
+    dF[:, 3:, 10 * m + 3] = np.cross(R @ cab.com, f) / cab.mass
+    if not cab.rigid:
+        dF[:, 3:] = 0.0
+    return dF, t
 
 
-def _cable_partials(cab, names, P, R, L0):
-    """dF6/dθ (N, 6, len(names)) at fixed poses of parameters that belong to one cable (E_i, h_i,
-    r_p_i, d_i, A_i_xyz, b_i_xyz), by central differences of that cable's wrench alone
-    (``_perturbed_tensions``: the other cables' wrenches cancel in the difference)."""
-    t, u, r, steps, _ = _perturbed_tensions(cab, names, P, R, L0)
-    K = len(names)
-    f = t[..., None] * u
-    mom = t[..., None] * np.cross(r, u)
-    out = np.empty((len(P), 6, K))
-    out[:, :3] = np.swapaxes(f[:, :K] - f[:, K:], 1, 2) / (2 * steps)
-    out[:, 3:] = np.swapaxes(mom[:, :K] - mom[:, K:], 1, 2) / (2 * steps)
-    return out
+def _cables(robot):
+    """The robot's ``Cables`` with the moduli E and the mass M the partials need."""
+    cab = Cables(robot)
+    cab.mass = robot.platform.mass
+    cab.E = robot.arrays.E
+    return cab
 
 
 def tension_partials(robot, P, R, L0, names=None):
@@ -708,10 +747,9 @@ def tension_partials(robot, P, R, L0, names=None):
               \frac{\partial t_i}{\partial L0_i} = -a_i k_i \frac{L_{TE,i}}{L0_i}
 
     (dB_i = dp + dφ × r_i, r_i = R b_i, φ a base-frame rotation vector; a_i = 1 on a taut cable,
-    L_TE,i ≥ L0_i); ∂t_i/∂θ at fixed pose and rest lengths by central differences of that cable's
-    tension alone (``_perturbed_tensions``, the steps of the wrench partials: exact to O(δ²)) for
-    E_i, h_i, r_p_i, d_i, A_i, b_i, and 0 for the centre of mass and the mass (they move the
-    tensions only through the pose).
+    L_TE,i ≥ L0_i); ∂t_i/∂θ at fixed pose and rest lengths exact (the ``_wrench_partials`` terms:
+    a_i k_i ∂L_TE,i/∂θ, t_i/E_i for E_i) for E_i, h_i, r_p_i, d_i, A_i, b_i, and 0 for the centre
+    of mass and the mass (they move the tensions only through the pose).
 
     Parameters
     ----------
@@ -735,28 +773,26 @@ def tension_partials(robot, P, R, L0, names=None):
     ----------
     Paty et al. 2021, eq. (5), (10), (13) (the total length and Hooke's law at B_i).
     """
-    names = parameter_names(robot, rigid=True) if names is None else list(names)
-    cab = Cables(robot)
-    cab.mass = robot.platform.mass
-    cab.E = robot.arrays.E
+    names, cols = pose_columns(robot, names)
+    cab = _cables(robot)
     r = np.einsum("nab,mb->nma", R, cab.b)
     g = total_length_and_direction(P[:, None, :] + r, *cab.args, per_cable=True)
     k = cab.ES / L0
     e = g.L_TE - L0
     ka = k * (e >= 0.0)
     dL = length_gradient(g)
-    n = len(P)
+    n, m = len(P), robot.m
     out = {
         "t": ka * e,
         "dt_dx": ka[..., None] * np.concatenate([dL, np.cross(r, dL)], axis=-1),
         "dt_dL0": -ka * g.L_TE / L0,
-        "dt_dtheta": np.zeros((n, robot.m, len(names))),
+        "dt_dtheta": np.zeros((n, m, len(names))),
     }
-    per = [j for j, name in enumerate(names) if name != "M" and not name.startswith("c_")]
-    if per and n:
-        t, _, _, steps, ci = _perturbed_tensions(cab, [names[j] for j in per], P, R, L0)
-        K = len(per)
-        out["dt_dtheta"][:, ci, per] = (t[:, :K] - t[:, K:]) / (2 * steps)
+    if n:
+        dt = _cable_terms(cab, P, R, L0)[3]
+        full = np.zeros((n, m, 10 * m + 4))
+        full[:, np.arange(m)[:, None], _cable_column_index(m)] = dt
+        out["dt_dtheta"] = full[:, :, cols]
     return out
 
 
@@ -824,7 +860,8 @@ def sensitivities_at(robot, res, names=None, t_tol=T_TOL):
         A ``solve_spatial`` result (P_s (N, 3) [m], R_s (N, 3, 3), L0 (N, m) [m], status (N,)), from
         either engine.
     names : list of str, optional
-        Parameters (default ``parameter_names(robot, rigid=True)``).
+        Parameters (default ``parameter_names(robot, rigid=True)``); another name raises CdprError
+        (``pose_columns``).
     t_tol : float [N]
         Tension margin under which a point is not smooth (``sensitivity.T_TOL``).
 
@@ -842,7 +879,7 @@ def sensitivities_at(robot, res, names=None, t_tol=T_TOL):
     ----------
     Paty et al. 2021 (parameters); implicit-function theorem on Pott 2018's elastic equilibrium.
     """
-    names = parameter_names(robot, rigid=True) if names is None else list(names)
+    names, cols = pose_columns(robot, names)
     n = len(res["P_s"])
     S = np.full((n, 6, len(names)), np.nan)
     margin = np.full(n, np.nan)
@@ -850,26 +887,11 @@ def sensitivities_at(robot, res, names=None, t_tol=T_TOL):
     ok = np.asarray(res["status"]) == "ok"
     idx = np.flatnonzero(ok)
     if idx.size:
-        cab = Cables(robot)
-        cab.mass = robot.platform.mass
-        cab.E = robot.arrays.E
+        cab = _cables(robot)
         P, R, L0 = res["P_s"][idx], res["R_s"][idx], np.asarray(res["L0"])[idx]
         ev = cab.evaluate(P, R, L0, P)
         J = ev["J"]
-        dF = np.empty((len(P), 6, len(names)))
-        per = [k for k, name in enumerate(names) if name != "M" and not name.startswith("c_")]
-        if per:  # every per-cable parameter in one evaluation of the pulley model
-            dF[:, :, per] = _cable_partials(cab, [names[k] for k in per], P, R, L0)
-        for k, name in enumerate(names):  # c and M, vectorised over the points
-            if k in per:
-                continue
-            h = _step(name, cab)
-            up = _perturbed(cab, name, h).evaluate(P, R, L0, P, jacobian=False)
-            dn = _perturbed(cab, name, -h).evaluate(P, R, L0, P, jacobian=False)
-            dF[:, :3, k] = (up["F"] - dn["F"]) / (2 * h)
-            dF[:, 3:, k] = (up["M"] - dn["M"]) / (2 * h)
-        if not cab.rigid:
-            dF[:, 3:] = 0.0
+        dF = _wrench_partials(cab, P, R, L0)[0][:, :, cols]
         S[idx] = -np.einsum("nab,nbk->nak", np.linalg.pinv(J, rcond=1e-12), dF)
         hooke = cab.ES / L0 * (ev["g"].L_TE - L0)
         over = np.where(hooke > 0, robot.T_a - hooke, np.inf)

@@ -495,7 +495,8 @@ def pose_wrench(robot, p, R):
     u = st.D - B
     u = u / np.linalg.norm(u, axis=-1, keepdims=True)
     W = pose_wrench_matrix(u, B - p[:, None, :])
-    w = -external_wrench(robot.platform.mass, robot.platform.g, robot.arrays.com, R, robot.platform.down)
+    pl = robot.platform
+    w = -external_wrench(pl.mass, pl.g, robot.arrays.com, R, pl.down, pl.wrench)
     return W, w, st
 
 

@@ -752,11 +752,14 @@ def write_page(cmp, rows, diff_stats, budget_table, sentences, figures, out_md):
                 "pulley",
                 "elasticity",
                 "winch",
+                "sag",  # heavy cables only (``budget.effects_of``), as the two sag entries below
                 "interaction",
                 "all",
                 "compensated_pulley",
                 "compensated_elasticity",
                 "compensated_winch",
+                "compensated_sag",
+                "neglected_sag",
                 "compensated_all",
             )
             if c in wide.columns

@@ -251,15 +251,12 @@ def run_hangprinter_study(study_path, out):
             priors = None if fixed_robot is not None else _priors(st, mod)
             for k in st["folds"]:
                 K = _fold_count(k, len(data.sample))
-                res = cal.cross_validate(
-                    fixed_robot if fixed_robot is not None else robot,
-                    data,
-                    mod["estimate"] or [],
-                    priors,
-                    model=mod["model"],
-                    folds=K,
-                    fixed=fixed_robot is not None,
-                )
+                if fixed_robot is not None:
+                    res = cal.cross_validate(
+                        fixed_robot, data, [], None, model=mod["model"], folds=K, fixed=True
+                    )
+                else:
+                    res = cross_validate_model(st, name, robot, data, K)
                 cv_rows.append(_cv_row(ds, name, mod, K, k, res))
                 sample_rows += _sample_rows(ds, name, K, res, data)
             if fixed_robot is not None:
@@ -308,6 +305,34 @@ def run_hangprinter_study(study_path, out):
         "elapsed_s": time.time() - t0,
         "summary": out / rel_path(RULE, "summary"),
     }
+
+
+def cross_validate_model(st, name, robot, data, folds):
+    """K-fold cross-validation of the study's fitted model ``name`` from ``robot`` (its groups,
+    model and priors: the study's with the model's own), as the study runs it; reused by
+    benchmarks/hangprinter_rough_start.py to re-fit a model from another start.
+
+    Parameters
+    ----------
+    st : dict
+        ``load_hangprinter_study``.
+    name : str
+        A fitted model of ``st["models"]`` (not ``fixed``).
+    robot : Robot
+        The nominal robot: the prior mean and the fit's start.
+    data : MotorData
+    folds : int
+        K.
+
+    Returns
+    -------
+    dict
+        ``cdpr.analyses.calibration.cross_validate``'s.
+    """
+    mod = st["models"][name]
+    if mod["fixed"] is not None:
+        raise CdprError(f"models.{name}: a fixed model ({mod['fixed']}) is scored as given, not re-fitted")
+    return cal.cross_validate(robot, data, mod["estimate"], _priors(st, mod), model=mod["model"], folds=folds)
 
 
 def _priors(st, mod):

@@ -125,6 +125,8 @@ STUDY_OUTPUTS = {
     },
     "study_budget_design": {"table": "budget/{design}.csv"},
     "study_budget": {"table": "budget/budget.csv", "figure": "budget/budget.png", "pdf": "budget/budget.pdf"},
+    "sag_path": {"table": "sag/path.csv", "figure": "sag/path.png", "pdf": "sag/path.pdf"},
+    "sag_corner": {"table": "sag/corner.csv", "figure": "sag/corner.png", "pdf": "sag/corner.pdf"},
     "summary": {"markdown": "summary.md", "table": "summary.csv"},
     "parity": {"figure": "parity.png", "pdf": "parity.pdf"},
     "conclusions": {"markdown": "conclusions.md", "table": "conclusions.csv"},
@@ -250,6 +252,8 @@ STUDY_LOGS = {
     "uncertainty": "logs/uncertainty.log",
     "study_budget_design": "logs/budget_{design}.log",
     "study_budget": "logs/budget.log",
+    "sag_path": "logs/sag_path.log",
+    "sag_corner": "logs/sag_corner.log",
     "summary": "logs/summary.log",
     "parity": "logs/parity.log",
     "conclusions": "logs/conclusions.log",
@@ -371,6 +375,8 @@ class Layout:
             return []  # the error budget of a rigid platform: a spatial study with a `budget` key
         if rule == "volumes_dphi" and not st["volumes"].get("dphi_limits_rad"):
             return []  # the volumes on δφ: a spatial study with volumes.dphi_limits_rad
+        if rule in ("sag_path", "sag_corner") and not st.get("sag"):
+            return []  # what sag adds: a study with a `sag` section (the large study)
         if rule == "parity" and not st.get("paper_comparison"):
             return []  # the parity chart draws the paper's numbers: the paper's study only
         if rule == "conclusions" and not st.get("conclusions"):
@@ -422,6 +428,21 @@ class Layout:
         """Every file the study writes (shards included, logs not): what ``reproduce_paper`` asks for,
         so that any missing one is rebuilt."""
         return [p for rule in self.rules() for p in self.rule_outputs(rule)]
+
+    def large_targets(self):
+        """What ``make reproduce`` asks of a study with a ``sag`` section (the large study,
+        workflow/rules/large.smk): the plane maps and paths of every robot, what sag adds along the
+        path and the cables at the corner pose, not the DOE, maps, volumes, elasticity, winch and
+        dead-length sections."""
+        rules = (
+            "plane_table",
+            "plane_figure",
+            "trajectory_table",
+            "trajectory_figure",
+            "sag_path",
+            "sag_corner",
+        )
+        return [p for rule in rules for p in self.rule_outputs(rule)]
 
     def summary_inputs(self):
         """The tables the summary reads (``cdpr.pipeline.summary``): name -> path or list of paths."""

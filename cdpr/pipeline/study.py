@@ -23,7 +23,7 @@ import pandas as pd
 from cdpr.analyses import doe
 from cdpr.analyses.uncertainty import CASES, PARAMETER_KEYS, Distribution
 from cdpr.analyses.workspace import BYTES_PER_POINT, check_box
-from cdpr.errors import ConfigError, raise_problems
+from cdpr.errors import CdprError, ConfigError, raise_problems
 from cdpr.robot import (
     TABLE1,
     check_pulley,
@@ -31,6 +31,7 @@ from cdpr.robot import (
     params_from_mapping,
     robot_from_dict,
     with_values,
+    with_wrench,
 )
 from cdpr.validation import read_yaml, validate
 
@@ -48,6 +49,9 @@ class SolverOptions:
         ``solver``: the DEGM_E solver of every solve (``newton`` or ``fixed_point``).
     rotvec : tuple of float or None
         ``rotvec_rad``: the fixed platform orientation (3,) [rad] of every solve, None: the identity.
+    wrench : tuple of float or None
+        ``wrench``: the external wrench (6,) [N, N m] beside gravity on every robot of the study
+        (``robot.with_wrench``), None: gravity alone.
     uq_redundancy : str
         ``uncertainty.redundancy``: the redundancy mode of the uncertainty study's uncompensated robot.
     """
@@ -56,6 +60,7 @@ class SolverOptions:
     method: str = "newton"
     rotvec: tuple | None = None
     uq_redundancy: str = "paper"
+    wrench: tuple | None = None
 
     @classmethod
     def of(cls, mapping):
@@ -67,6 +72,7 @@ class SolverOptions:
             method=mapping.get("solver", cls.method),
             rotvec=None if rv is None else tuple(float(x) for x in rv),
             uq_redundancy=u.get("redundancy", cls.uq_redundancy),
+            wrench=None if mapping.get("wrench") is None else tuple(float(x) for x in mapping["wrench"]),
         )
 
 
@@ -278,7 +284,7 @@ def robot_of(st, robot_key, **overrides):
     models = st.robot_models or {}
     robot = models.get(robot_key)
     if robot is None:  # a Study built by hand, without load_study's checks
-        robot = load_robot(st["robots"][robot_key])
+        robot = with_wrench(load_robot(st["robots"][robot_key]), st.options.wrench, f"{st.path}: wrench")
     given = {k: v for k, v in overrides.items() if v is not None}
     return with_values(robot, **given) if given else robot
 
@@ -487,6 +493,10 @@ def check_study(st):
                 robots[key] = robot_from_dict(read_yaml(path), source=path)
             except ConfigError as exc:
                 raise ConfigError(src, f"robots.{key}", f"robot file is invalid: {exc}") from None
+            try:
+                robots[key] = with_wrench(robots[key], st.options.wrench, f"robot {key}")
+            except CdprError as exc:
+                raise ConfigError(src, "wrench", str(exc)) from None
     known = list(st["robots"])  # a robot whose file is bad is reported once, above
     with _collect(problems):
         if st["doe"]["robot"] not in known:
@@ -590,6 +600,8 @@ def check_study(st):
     if st.get("budget") is not None:
         with _collect(problems):
             budget_drum(st)
+        with _collect(problems):
+            budget_linear_density(st)
     if "uncertainty" in st and not problems:
         with _collect(problems):
             check_uncertainty(st, robots)
@@ -667,6 +679,7 @@ def check_spatial_study(st, robots):
                 "config/comparisons/*.yaml)",
             )
         )
+    out += _sag_problems(st, src, robots)
     params = (st.get("uncertainty") or {}).get("parameters") or {}
     for key in ("attachment_offset_m", "com_offset_m"):
         if key in params and doe_robot is not None and doe_robot.point_mass:  # no b, c in its θ
@@ -722,6 +735,38 @@ def budget_drum(st):
     """
     drum = (st.get("budget") or {}).get("drum")
     return TABLE1 if drum is None else params_from_mapping(drum, st.path, "budget.drum")
+
+
+def budget_linear_density(st):
+    """The cables' linear density of the study's error budget (``budget.linear_density_kg_m``
+    [kg/m], mass per unstrained metre; issue 38): set on the budget's designs, so that a value > 0
+    adds the budget's ``sag`` effect (``analyses.budget.effects_of``). None when the study does not
+    give it: the designs keep their robot file's ``cable.linear_density_kg_m``. The other analyses
+    of the study never read it.
+
+    Parameters
+    ----------
+    st : Study
+
+    Returns
+    -------
+    float or None [kg/m]
+
+    Raises
+    ------
+    ConfigError
+        Naming ``budget.linear_density_kg_m`` for a value that is not a finite number >= 0.
+    """
+    rho = (st.get("budget") or {}).get("linear_density_kg_m")
+    if rho is None:
+        return None
+    if isinstance(rho, bool) or not isinstance(rho, (int, float)) or not math.isfinite(rho) or rho < 0:
+        raise ConfigError(
+            st.path,
+            "budget.linear_density_kg_m",
+            f"a mass per metre in kg/m, a finite number >= 0, got {rho!r}",
+        )
+    return float(rho)
 
 
 @contextlib.contextmanager
@@ -848,4 +893,31 @@ def budget_designs(st):
     out.update(
         {f"{st['doe']['robot']}_{dk}": (st["doe"]["robot"], spec) for dk, spec in st["optimal"].items()}
     )
+    return out
+
+
+def _sag_problems(st, src, robots):
+    """The ``sag`` section's checks (issue 38, ``cdpr.pipeline.sag``): its robots are study robots,
+    ``robot`` with heavy cables and ``massless`` without, and each has a path in ``trajectories``."""
+    sg = st.get("sag")
+    if not sg:
+        return []
+    out = []
+    for key, heavy in (("robot", True), ("massless", False)):
+        name = sg[key]
+        if name not in st["robots"]:
+            out.append(
+                ConfigError(src, f"sag.{key}", f"unknown robot {name!r}; allowed: {', '.join(st['robots'])}")
+            )
+            continue
+        r = robots.get(name)
+        if r is not None and bool(r.heavy) != heavy:
+            want = (
+                "heavy cables (cable.linear_density_kg_m > 0)"
+                if heavy
+                else "massless cables (linear_density_kg_m: 0)"
+            )
+            out.append(ConfigError(src, f"sag.{key}", f"robot {name!r} must have {want}"))
+        if not any(path_robot(st, k) == name for k in st["trajectories"]["paths"]):
+            out.append(ConfigError(src, f"sag.{key}", f"robot {name!r} has no path in trajectories.paths"))
     return out

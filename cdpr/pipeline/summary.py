@@ -802,15 +802,18 @@ BUDGET_TERMS = {
 def _budget_rows(res):
     """The study's error budget (``budget/budget.csv``, a spatial study with a ``budget`` key): per
     design the mean ‖δp‖ [mm] of the three terms alone and together, with the mean ‖δφ‖ and the
-    points the means are over (ok in every entry); no rows when the table is absent."""
+    points the means are over (ok in every entry); no rows when the table is absent. A heavy budget
+    (a ``sag`` entry) adds sag alone, all four together and per design what sag adds (``_sag_row``)."""
     t = _read(res, rel_path("study_budget"))
     if t is None:
         return []
     rows = []
-    for r in t[t.entry.isin(list(BUDGET_TERMS))].itertuples():
+    heavy = (t.entry == "sag").any()
+    terms = {**BUDGET_TERMS, "sag": "cable sag alone", "all": "all four"} if heavy else BUDGET_TERMS
+    for r in t[t.entry.isin(list(terms))].itertuples():
         rows.append(
             _headline(
-                f"{r.design} budget: {BUDGET_TERMS[r.entry]}",
+                f"{r.design} budget: {terms[r.entry]}",
                 rel_path("study_budget"),
                 float(r.mean_m) * 1e3,
                 "mm",
@@ -818,7 +821,27 @@ def _budget_rows(res):
                 f"ok in every entry ({int(r.entry_ok_points)} ok in this one)",
             )
         )
+    if heavy:
+        rows += [_sag_row(t[t.design == d]) for d in dict.fromkeys(t.design)]
     return rows
+
+
+def _sag_row(t):
+    """What sag adds over RW_C (a heavy budget, ``analyses.budget``'s ``neglected_sag``: the robot
+    with heavy cables commanded with the massless compensated lengths): mean, 95 % and max of ‖δp‖
+    [mm] and ‖δφ‖ [mrad], and what the heavy compensation leaves (``compensated_all``)."""
+    e = t.set_index("entry")
+    r, c = e.loc["neglected_sag"], e.loc["compensated_all"]
+    return _headline(
+        f"{r.design} budget: what cable sag adds (massless compensated lengths)",
+        rel_path("study_budget"),
+        float(r.mean_m) * 1e3,
+        "mm",
+        f"over RW_C ‖δp‖ mean {r.mean_m * 1e3:.3g}, 95 % {r.p95_m * 1e3:.3g}, max {r.max_m * 1e3:.3g} mm; "
+        f"‖δφ‖ mean {r.mean_rad * 1e3:.3g}, 95 % {r.p95_rad * 1e3:.3g}, max {r.max_rad * 1e3:.3g} mrad; "
+        f"compensating with the heavy model leaves at most {c.max_m * 1e3:.2g} mm, {c.max_rad * 1e3:.2g} mrad "
+        f"(over the {int(r.ok_points)} of {int(r.points)} points ok in every entry)",
+    )
 
 
 def _fmt(v):

@@ -40,7 +40,7 @@ from cdpr.pipeline.plots import winch as winch_plots
 from cdpr.pipeline.plots.style import paper_value
 from cdpr.pipeline.results import ComparisonLayout, rel_path
 from cdpr.pipeline.study import budget_designs
-from cdpr.robot import TABLE1
+from cdpr.robot import TABLE1, with_values
 
 
 def _by_stem(paths, pattern, what):
@@ -619,9 +619,18 @@ def conclusions(st, results, table, markdown):
 
 # ---- error budget and the paper-rule-versus-physics comparison ---------------------------------
 def _budget_rows(label, region, summary):
-    return summary.assign(design=label, region=region)[
-        ["design", "region", "entry", "mean_m", "max_m", "share_m", "largest_fraction", "points", "ok_points"]
+    cols = [
+        "design",
+        "region",
+        "entry",
+        "mean_m",
+        "max_m",
+        "share_m",
+        "largest_fraction",
+        "points",
+        "ok_points",
     ]
+    return summary.assign(design=label, region=region)[cols + [c for c in ("p95_m",) if c in summary]]
 
 
 def budget_design(st, comparison, label, box_file, table, path_table, threads=None):
@@ -639,7 +648,7 @@ def budget_design(st, comparison, label, box_file, table, path_table, threads=No
         _budget_rows(label, "RW_C", budget.summarise(budget.error_budget(robot, P, b["t_min_N"], threads)))
     ]
     path = st["trajectories"]["paths"].get(rk)
-    cols = ["s", *budget.variants(), "interaction"]
+    cols = ["s", *budget.variants(budget.effects_of(robot)), "interaction"]
     out = pd.DataFrame(columns=cols)
     if path is not None:
         Pp, s = scans.trajectory_points(path["start_m"], path["end_m"], st["trajectories"]["points"])
@@ -676,13 +685,17 @@ def study_budget_design(st, design, box_file, table, threads=None):
     row per entry (``budget.summarise``: ‖δp‖ and ‖δφ‖ over the points ok in every entry) with the
     design, the region and entry_ok_points (points ok in that entry alone; the winch entries flag
     points whose drum angle leaves [0, q_max] as infeasible). Every cable without a winch of its own
-    gets the study's drum (``study.budget_drum``: ``budget.drum``, Table 1 by default)."""
+    gets the study's drum (``study.budget_drum``: ``budget.drum``, Table 1 by default), and the
+    cables the study's ``budget.linear_density_kg_m`` when given (``study.budget_linear_density``;
+    > 0: the ``sag`` entries and the p95 columns, ``budget.effects_of``)."""
     if design not in st["optimal"]:
         raise CdprError(f"budget: unknown design {design!r}; allowed: {', '.join(st['optimal'])}")
     b = st["budget"]
-    robot = budget.with_drums(
-        study.design_robot(st, st["doe"]["robot"], st["optimal"][design]), study.budget_drum(st)
-    )
+    robot = study.design_robot(st, st["doe"]["robot"], st["optimal"][design])
+    rho = study.budget_linear_density(st)
+    if rho is not None:
+        robot = with_values(robot, linear_density=rho)
+    robot = budget.with_drums(robot, study.budget_drum(st))
     P = workspace.grid_points(workspace.read_box(box_file), b["index_n"])
     res = budget.error_budget(robot, P, b["t_min_N"], threads, rotvec=study.rotvec(st))
     tab = budget.summarise(res).assign(design=design, region="RW_C")
@@ -698,7 +711,7 @@ def study_budget_design(st, design, box_file, table, threads=None):
         "points",
         "ok_points",
     ]
-    extra = [c for c in ("mean_rad", "max_rad") if c in tab]
+    extra = [c for c in ("mean_rad", "max_rad", "p95_m", "p95_rad") if c in tab]
     table_io.write_table(tab[cols + extra + ["entry_ok_points"]], table)
 
 

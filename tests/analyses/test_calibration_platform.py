@@ -276,8 +276,8 @@ def test_cli_plan_on_cogiro_and_a_fully_constrained_robot(tmp_path, capsys):
 
 def test_a_named_engine_reaches_the_6dof_problem(cogiro):
     """fit, info_rows and the plan build their MAP problem through _problem: a named engine is used
-    on a 6-DoF platform too (it was dropped there), None keeps the numpy reference (the pose model's
-    default), an unknown engine is refused in one line naming the allowed ones."""
+    on a 6-DoF platform too (it was dropped there), None keeps the solvers' default (compiled, on
+    every robot), an unknown engine is refused in one line naming the allowed ones."""
     index, sd = np.arange(3), np.ones(3)
 
     def data(m, spatial):
@@ -292,7 +292,8 @@ def test_a_named_engine_reaches_the_6dof_problem(cogiro):
         )
 
     d6 = data(cogiro.m, True)
-    assert cal.Problem(cogiro, d6, index, sd).engine == "numpy"
+    assert cal.Problem(cogiro, d6, index, sd).engine is None  # check_engine: compiled
+    assert cal.Problem(cogiro, d6, index, sd, engine="numpy").engine == "numpy"
     assert cal.Problem(cogiro, d6, index, sd, engine="compiled").engine == "compiled"
     point_mass = load_robot(ROBOTS / "cdpr4.yaml")
     assert cal.Problem(point_mass, data(4, False), index, sd).engine is None  # check_engine: compiled
@@ -300,7 +301,8 @@ def test_a_named_engine_reaches_the_6dof_problem(cogiro):
         cal.Problem(cogiro, d6, index, sd, engine="nope")
     # the plan, the simulator and the check on a 6-DoF platform check and use a named engine too
     assert (
-        cal.equilibrium_engine(cogiro, None) == "numpy"
+        cal.equilibrium_engine(cogiro, None) is None
+        and cal.equilibrium_engine(cogiro, "numpy") == "numpy"
         and cal.equilibrium_engine(cogiro, "compiled") == "compiled"
     )
     with pytest.raises(CdprError, match="unknown engine 'nope'"):

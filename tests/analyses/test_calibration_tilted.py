@@ -43,7 +43,7 @@ def test_the_tilted_point_mass_goes_to_the_6dof_problem(tilted, cdpr4):
     idx = select_groups(tilted, ["anchors"])
     sd = cal.prior_sd(tilted, idx, cal.parse_priors(None))
     prob = cal.Problem(tilted, data, idx, sd)
-    assert isinstance(prob, cal.Problem) and prob.pose_model and not prob.spatial and prob.engine == "numpy"
+    assert isinstance(prob, cal.Problem) and prob.pose_model and not prob.spatial and prob.engine is None
     p3 = cal.Problem(cdpr4, data, idx, sd)
     assert isinstance(p3, cal.Problem) and not p3.pose_model
     assert prob.residual(np.zeros(len(idx))).shape == (3 * 5 + len(idx),)

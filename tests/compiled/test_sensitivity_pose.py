@@ -1,12 +1,12 @@
 """The compiled 6-DoF sensitivities (cdpr.compiled.sensitivity) equal the numpy reference
 (cdpr.models.sensitivity) on the spatial robots (CoGiRo, wall pulleys with horizontal axes, ...) at
-random tilted poses with slack cables, and on a point-mass robot; the engine registry chooses them.
+random tilted poses with slack cables, and on point-mass robots; the engine registry chooses them.
 
-The compiled dF6/dθ is analytic, the reference's a central difference of the balance (steps 1e-7 m
-and 1e-6 relative): their difference is the reference's round-off, O(eps L / δ) amplified by the
-Jacobian's conditioning, measured up to 3.3e-6 of a column (CoGiRo, wall pulleys; median 5e-8).
-The tests check that it is round-off: it falls about tenfold when the reference's steps are ten
-times longer. The flags, the tension margins and the condition numbers agree to 1e-9."""
+Both take dF6/dθ exactly by the same formulas (the numpy one vectorised): dF6/dθ agrees to 1e-11 of
+a column (measured 1.1e-12), dx*/dθ to ``ROUNDOFF`` (measured 6.3e-11: the Jacobian's conditioning
+on the round-off). CDPR4 and CoGiRo with SR, DR and fixed pulleys: the engines agree, and both
+equal central differences of the full solve of the perturbed robot. The flags, the tension margins
+and the condition numbers agree to 1e-9."""
 
 import numpy as np
 import pytest
@@ -26,20 +26,22 @@ from cdpr.compiled._kernels import (
     NCOL,
     cable_partials_axis,
 )
+from cdpr.compiled._pose_sensitivity import wrench_partials
+from cdpr.compiled.equilibrium import CompiledCables
 from cdpr.compiled.equilibrium import solve as solve_fast
 from cdpr.errors import CdprError
 from cdpr.models import sensitivity as ref
 from cdpr.models.equilibrium import solve as solve_spatial
 from cdpr.models.inverse import L_TS
 from cdpr.models.platform import pose_arrays, rotvec_of
-from cdpr.parameters import parameter_names
+from cdpr.parameters import parameter_names, parameter_values, robot_with_parameters
 from cdpr.robot import load_robot, with_pulleys
 from cdpr.solve import sensitivities, sensitivities_at
 from tests.compiled.test_equilibrium_pose import BOXES, _cables, _poses, _random_pulleys
 from tests.conftest import ROBOTS
 
-#: The reference's central-difference round-off bound, relative to a column of S (measured 3.3e-6).
-FD_ROUNDOFF = 1e-5
+#: The engines' round-off bound, relative to a column of S (measured 6.3e-11).
+ROUNDOFF = 1e-10
 N = 60
 
 
@@ -73,7 +75,7 @@ CASES = _cases()
 
 
 @pytest.mark.parametrize("name", list(CASES))
-def test_compiled_equals_numpy_reference_at_the_same_equilibria(name, monkeypatch):
+def test_compiled_equals_numpy_reference_at_the_same_equilibria(name):
     r, p, rv, L0 = CASES[name]
     res = solve_spatial(r, p, rv, L0=L0)
     a, b = ref.sensitivities_at(r, res), fast.sensitivities_at(r, res)
@@ -86,15 +88,121 @@ def test_compiled_equals_numpy_reference_at_the_same_equilibria(name, monkeypatc
     np.testing.assert_allclose(b["margin_t"], a["margin_t"], rtol=1e-9, atol=1e-9)
     np.testing.assert_allclose(b["cond"], a["cond"], rtol=1e-9)
     if r.point_mass:
-        assert (b["S"][ok][:, 3:] == 0).all()
+        assert (b["S"][ok][:, 3:] == 0).all() and (a["S"][ok][:, 3:] == 0).all()
     sm = a["smooth"]
     assert sm.sum() > N // 2
-    e1 = _errors(b["S"], a["S"], sm, not r.point_mass).max()
-    assert e1 < FD_ROUNDOFF, e1
-    step = ref._step  # the reference with ten times its steps: its round-off falls tenfold
-    monkeypatch.setattr(ref, "_step", lambda nm, cab: 10.0 * step(nm, cab))
-    e10 = _errors(b["S"], ref.sensitivities_at(r, res)["S"], sm, not r.point_mass).max()
-    assert e10 < 0.25 * e1, (e1, e10)
+    e = _errors(b["S"], a["S"], sm, not r.point_mass).max()
+    assert e < ROUNDOFF, e
+
+
+def _compiled_wrench_partials(r, P, R, L0):
+    """The compiled ``wrench_partials`` at every pose: dF6/dθ (n, 6, 10 m + 4)."""
+    cc = CompiledCables(r)
+    rows, dF = np.empty((r.m, NCOL)), np.empty((6, 10 * r.m + 4))
+    out = np.empty((len(P), 6, 10 * r.m + 4))
+    f = np.ascontiguousarray
+    for i in range(len(P)):
+        wrench_partials(f(P), f(R), f(L0), i, cc.cables, cc.body, float(r.platform.mass), rows, dF)
+        out[i] = dF
+    return out
+
+
+@pytest.mark.parametrize("name", list(CASES))
+def test_the_wrench_partials_are_the_same_formulas(name):
+    """dF6/dθ of the numpy reference = the compiled kernel's, column by column, to round-off (both
+    exact; measured 1.1e-12 of a column's largest entry), zeros where the kernel has zeros."""
+    r, p, rv, L0 = CASES[name]
+    res = solve_spatial(r, p, rv, L0=L0)
+    ok = res["status"] == "ok"
+    P, R, L = res["P_s"][ok], res["R_s"][ok], np.asarray(res["L0"])[ok]
+    a, t = ref._wrench_partials(ref._cables(r), P, R, L)
+    b = _compiled_wrench_partials(r, P, R, L)
+    scale = np.abs(b).max(axis=(0, 1))
+    assert (scale > 0).sum() >= 7 * r.m  # every cable's E, h or r_p, d, A and b columns move the balance
+    assert (np.abs(a - b).max(axis=(0, 1)) <= 1e-11 * scale).all()
+    assert (t >= 0).all() and (t == 0).any()  # slack cables: their partials vanish
+    slack = t == 0
+    for c in range(r.m):
+        cols = [c, r.m + c, 2 * r.m + c, 3 * r.m + c]
+        assert (a[slack[:, c]][:, :, cols] == 0).all()
+
+
+KINDS = ("SR", "DR", "fixed")
+
+
+def _kind_case(robot_file, kind, n=20):
+    """The robot with every pulley of ``kind`` (a DR arm twice the sheave radius where it was
+    shorter), n equilibria (tilted on CoGiRo) under rest lengths around L_TS (slack cables,
+    pretension): (robot, solve result)."""
+    r = load_robot(ROBOTS / robot_file)
+    h = max(r.arrays.h.max(), 2.0 * r.arrays.r_p.max()) if kind == "DR" else None
+    r = with_pulleys(r, kind=kind, h=h)
+    if r.point_mass:
+        g = np.random.default_rng(7)
+        p = np.column_stack([g.uniform(-2.0, 2.0, n), g.uniform(-2.0, 2.0, n), g.uniform(0.5, 4.5, n)])
+        L0 = L_TS(r, p) * (1.0 + g.uniform(-1e-3, 3e-3, (n, r.m)))
+        return r, solve_spatial(r, p, L0=L0)
+    p, rv, L0 = _poses(r, BOXES[robot_file], n, seed=7)
+    return r, solve_spatial(r, p, rv, L0=L0)
+
+
+def _fd_of_the_solve(r, res, i, name):
+    """Central difference of the full solve (the numpy reference's, restarts off) of the robot with
+    parameter ``name`` moved (``robot_with_parameters``) at equilibrium i: (dp, dφ) per unit and
+    the step."""
+    every = parameter_names(r)
+    k = every.index(name)
+    theta = parameter_values(r)
+    h = 1e-6 * theta[k] if name.startswith("E_") else 1e-4 if name == "M" else 1e-6
+    out = []
+    for s in (1.0, -1.0):
+        v = theta.copy()
+        v[k] += s * h
+        q = solve_spatial(
+            robot_with_parameters(r, v), res["P_s"][i : i + 1], rotvec_of(res["R_s"][i : i + 1]),
+            L0=res["L0"][i : i + 1], restarts=False,
+        )  # fmt: skip
+        assert q["status"][0] == "ok"
+        out.append((q["P_s"][0], q["R_s"][0]))
+    return np.concatenate(
+        [(out[0][0] - out[1][0]) / (2 * h), rotvec_of(out[0][1] @ out[1][1].T) / (2 * h)]
+    ), h
+
+
+@pytest.mark.parametrize("kind", KINDS)
+@pytest.mark.parametrize("robot_file", ["cdpr4.yaml", "cogiro.yaml"])
+def test_engines_agree_and_equal_finite_differences_of_the_solve(robot_file, kind):
+    """A point mass (CDPR4) and a rigid platform (CoGiRo) with SR, DR and fixed pulleys: the numpy
+    and compiled dp*/dθ, dφ*/dθ agree to ``ROUNDOFF`` at the same equilibria, and at three smooth
+    ones equal central differences of the full solve of the perturbed robot (an independent check:
+    the robot's data perturbed, not the evaluator): within 1e-6 of the largest entry plus the
+    solved pose's round-off, 1e-13 m over the step (measured 4e-7 relative, the round-off)."""
+    r, res = _kind_case(robot_file, kind)
+    a, b = ref.sensitivities_at(r, res), fast.sensitivities_at(r, res)
+    sm = a["smooth"]
+    np.testing.assert_array_equal(sm, b["smooth"])
+    assert sm.sum() >= 10
+    assert _errors(b["S"], a["S"], sm, not r.point_mass).max() < ROUNDOFF
+    names = ["E_1", "d_4", "A_1_x", "A_3_z", "M"]
+    if kind != "fixed":
+        names += ["h_2", "r_p_3"]
+    if not r.point_mass:
+        names += ["b_2_y", "b_5_z", "c_x", "c_z"]
+    every = parameter_names(r, rigid=True)
+    rows = 3 if r.point_mass else 6
+    moved = 0
+    for i in np.flatnonzero(sm)[:3]:
+        for name in names:
+            fd, h = _fd_of_the_solve(r, res, i, name)
+            fd = fd[:rows]
+            for S in (a["S"], b["S"]):
+                x = S[i, :rows, every.index(name)]
+                if not fd.any():  # a slack cable's own parameters do not move the platform
+                    assert not x.any(), (name, x)
+                    continue
+                moved += 1
+                assert np.abs(x - fd).max() <= 1e-6 * np.abs(fd).max() + 1e-13 / h, (name, x, fd)
+    assert moved >= 2 * 3 * (len(names) - 2)
 
 
 def test_names_subset_and_order():
@@ -129,7 +237,7 @@ def test_spatial_sensitivities_compiled_equal_numpy_on_cogiro(pose):
     np.testing.assert_array_equal(a["smooth"], b["smooth"])
     assert a["smooth"].all()
     assert np.abs(a["P_s"] - b["P_s"]).max() < 1e-9
-    assert _errors(b["S"], a["S"], a["smooth"], True).max() < FD_ROUNDOFF
+    assert _errors(b["S"], a["S"], a["smooth"], True).max() < ROUNDOFF
 
 
 def test_compiled_equals_finite_differences_of_the_compiled_solve():

@@ -110,9 +110,11 @@ def test_taut_set_map_groups_rare_sets_as_other_with_distinct_colours(figs, tmp_
     assert planes_plots.category_colours({"SR": few}, "taut")[0] == ["1-2-3", "1-2-3-4"]  # no grouping
 
 
-def test_budget_gives_each_effect_one_colour_in_every_panel(figs, tmp_path):
-    entries = ["pulley", "elasticity", "winch", "interaction", "all"]
-    entries += [f"compensated_{e}" for e in ("pulley", "elasticity", "winch", "all")]
+@pytest.mark.parametrize("heavy", [False, True])
+def test_budget_gives_each_effect_one_colour_in_every_panel(figs, tmp_path, heavy):
+    effects = ("pulley", "elasticity", "winch", "sag") if heavy else ("pulley", "elasticity", "winch")
+    entries = [*effects, "interaction", "all"]
+    entries += [f"compensated_{e}" for e in (*effects, "all")] + (["neglected_sag"] if heavy else [])
     rows = [
         {
             "design": d,
@@ -132,7 +134,7 @@ def test_budget_gives_each_effect_one_colour_in_every_panel(figs, tmp_path):
             effect = label.split()[-1] if label.startswith("compensating") else label.split()[0]
             colour = mcolors.to_hex(patch.get_facecolor(), keep_alpha=False)
             seen.setdefault(effect, set()).add(colour)
-    assert {"pulley", "elasticity", "winch", "all"} <= set(seen)
+    assert {*effects, "all"} <= set(seen)
     assert all(len(c) == 1 for c in seen.values()), seen
     assert len({next(iter(c)) for c in seen.values()}) == len(seen)  # and no two effects share one
 

@@ -116,3 +116,52 @@ def test_the_drum_goes_on_cables_without_a_winch_of_their_own():
     q = np.linspace(0.0, drum.q_max, 5)
     shift = budget.winch_model.l_pm_of_q(drum, q) - budget.winch_model.l_pm_of_q(budget.TABLE1, q)
     assert np.allclose(shift, 12.0 - budget.TABLE1.l_u0, atol=1e-12)
+
+
+def test_the_linear_density_key_adds_the_sag_entries_and_the_summary_line(tmp_path, monkeypatch):
+    """``budget.linear_density_kg_m`` > 0 (heavy cables, issue 38): the job's table gets the sag
+    entries and the 95th percentiles, the heavy compensation leaves <= 1e-9 m, and the summary says
+    what sag adds (mean, 95 %, max in mm and mrad); without the key nothing reads a density."""
+    monkeypatch.setattr(tasks.budget, "error_budget", functools.partial(budget.error_budget, engine="numpy"))
+    assert (
+        study.budget_linear_density(study.load_study(_variant(QUICK_SPATIAL, tmp_path, budget=KEY))) is None
+    )
+    st = study.load_study(_variant(QUICK_SPATIAL, tmp_path, budget={**KEY, "linear_density_kg_m": 0.0631}))
+    assert study.budget_linear_density(st) == 0.0631
+    assert not st.robot_models["CoGiRo"].heavy  # the other analyses: the robot file's massless cables
+    box = tmp_path / "rw_c.json"
+    box.write_text(json.dumps({"box": [-0.4, 0.4, -0.4, 0.4, 2.4, 3.0]}), encoding="utf-8")
+    d = next(iter(st["optimal"]))
+    tasks.study_budget_design(st, d, box, tmp_path / f"{d}.csv")
+    t = table_io.read_table(tmp_path / f"{d}.csv").set_index("entry")
+    assert list(t.index) == [*budget.variants((*budget.EFFECTS, "sag")), "interaction"]
+    assert list(t.columns[-3:]) == ["p95_m", "p95_rad", "entry_ok_points"]
+    assert (t.ok_points == 8).all()
+    assert (
+        0
+        < t.loc["neglected_sag", "mean_m"]
+        <= t.loc["neglected_sag", "p95_m"]
+        <= t.loc["neglected_sag", "max_m"]
+    )
+    assert t.loc["neglected_sag", "mean_rad"] > 0
+    assert t.loc["compensated_all", "max_m"] <= 1e-9 and t.loc["compensated_all", "max_rad"] <= 1e-9
+    out = tmp_path / "budget" / "budget.csv"
+    out.parent.mkdir()
+    tasks.study_budget(st, [tmp_path / f"{d}.csv"], out, out.with_suffix(".png"))
+    rows = {r["quantity"]: r for r in summary._budget_rows(tmp_path)}
+    assert f"{d} budget: all four" in rows and f"{d} budget: cable sag alone" in rows
+    line = rows[f"{d} budget: what cable sag adds (massless compensated lengths)"]
+    assert line["ours"] == pytest.approx(t.loc["neglected_sag", "mean_m"] * 1e3)
+    note = line["note"]
+    for word in ("mean", "95 %", "max", " mm", " mrad", "heavy model leaves"):
+        assert word in note
+    assert f"{t.loc['neglected_sag', 'p95_m'] * 1e3:.3g}" in note
+
+
+@pytest.mark.parametrize("bad", [-0.1, "63 g/m"])
+def test_a_bad_linear_density_is_refused_in_one_line(tmp_path, bad):
+    path = _variant(QUICK_SPATIAL, tmp_path, budget={**KEY, "linear_density_kg_m": bad})
+    with pytest.raises(study.ConfigError) as err:
+        study.load_study(path)
+    message = str(err.value)
+    assert "\n" not in message and str(path) in message and "linear_density_kg_m" in message

@@ -25,4 +25,6 @@ localrules:
     conclusions,
     uncertainty,
     study_budget,
+    sag_path,
+    sag_corner,
 

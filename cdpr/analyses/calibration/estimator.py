@@ -256,9 +256,8 @@ def fit(robot, data, groups, priors=None, model="exact", loss="linear", engine=N
     loss : str
         ``least_squares`` loss: "linear" (default) or a robust one ("soft_l1", "huber", "cauchy").
     engine : {"compiled", "numpy"} or None
-        None: ``equilibrium_engine``'s default, compiled on a suspended point mass, the numpy
-        reference on the pose model (``Problem``: a rigid platform, or a point mass under a tilted
-        pulley axis); a named engine is checked and used by either.
+        None: ``equilibrium_engine``'s default (compiled, on the point-mass solver and on the pose
+        model alike); a named engine is checked and used by either.
     solver : dict, optional
         tol, maxiter, max_step of the physical solve.
 

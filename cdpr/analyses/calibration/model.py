@@ -218,23 +218,21 @@ def drum_or_standard(robot, L0, drum, p, rv):
 
 def equilibrium_engine(robot, engine=None):
     """The engine of the calibration's equilibria (fits, plans, checks, simulations): a named engine,
-    checked by ``solve.check_engine``; for None, on the pose model (every robot but a suspended
-    point mass) the numpy reference: the tracked CoGiRo calibration tables were computed with it,
-    and the compiled twin (analytic dF/dθ) moves the misfit models' fits (the exact model's in the
-    4th digit); a suspended point mass keeps None, its solver's default (compiled).
+    checked by ``solve.check_engine``; None keeps the solvers' default (compiled) for every robot:
+    the numpy and compiled pose sensitivities take dF/dθ by the same exact formulas and agree to
+    round-off (``sensitivity.sensitivities_at``).
 
     Parameters
     ----------
     robot : Robot
+        The robot (every robot has the same default).
     engine : {"compiled", "numpy"} or None
 
     Returns
     -------
     str or None
     """
-    if engine is None:
-        return None if robot.suspended_point_mass else "numpy"
-    return check_engine(engine, "newton")
+    return None if engine is None else check_engine(engine, "newton")
 
 
 def equilibria(robot, P, L0, rotvec=None, solver=None, engine=None):

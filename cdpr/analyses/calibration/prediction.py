@@ -40,8 +40,8 @@ def check(robot, data, engine=None):
     data : Data
         Commanded lengths (not encoder readings: their offsets are unknown) and measured poses.
     engine : {"compiled", "numpy"} or None
-        Engine of the solves (None: ``solve.check_engine``'s default for a suspended point mass,
-        the numpy reference on the pose model: ``equilibrium_engine``).
+        Engine of the solves (None: ``equilibrium_engine``'s default, ``solve.check_engine``'s:
+        compiled).
 
     Returns
     -------

@@ -144,8 +144,7 @@ class Problem:
     ``sensitivity.rest_length_sensitivities`` for the offsets; a point mass's moment rows vanish
     (its 6 × 6 Jacobian is singular), so its samples are smooth where ``sensitivities_at`` says
     so (the 3 × 3 translation block), a rigid platform's where ``differentiable`` says so. The
-    engine is ``equilibrium_engine``'s: on the pose model the numpy reference by default (the
-    compiled twin, analytic dF/dθ, moves the tracked CoGiRo tables in the 4th digit).
+    engine is ``equilibrium_engine``'s (the solvers' default, compiled, unless one is named).
 
     Parameters
     ----------
@@ -171,7 +170,7 @@ class Problem:
         self.robot, self.data, self.index, self.sd = robot, data, np.asarray(index), np.asarray(sd, float)
         #: the pose model (False: the point-mass physical solver of a suspended point mass)
         self.pose_model = not robot.suspended_point_mass if pose_model is None else bool(pose_model)
-        self.engine = "numpy" if engine is None and self.pose_model else equilibrium_engine(robot, engine)
+        self.engine = equilibrium_engine(robot, engine)
         self.solver = dict(solver or {})
         self.m = robot.m
         #: a rigid platform (its orientation is measured and fitted)

@@ -14,6 +14,7 @@ EFFECT_COLOURS = {
     "pulley": OKABE_ITO[0],
     "elasticity": OKABE_ITO[2],
     "winch": OKABE_ITO[1],
+    "sag": OKABE_ITO[3],
     "interaction": "0.6",
     "all": "k",
 }
@@ -27,14 +28,14 @@ def entry_colour(entry):
     Parameters
     ----------
     entry : str
-        A budget entry (``pulley``, ..., ``all``, ``compensated_<effect>``).
+        A budget entry (``pulley``, ..., ``all``, ``compensated_<effect>``, ``neglected_sag``).
 
     Returns
     -------
     str
         A matplotlib colour.
     """
-    return EFFECT_COLOURS[entry.removeprefix("compensated_")]
+    return EFFECT_COLOURS[entry.removeprefix("compensated_").removeprefix("neglected_")]
 
 
 def budget_bars(tab, out, xlabel="design [robot_pulley]"):
@@ -46,10 +47,12 @@ def budget_bars(tab, out, xlabel="design [robot_pulley]"):
     rigid platform), the mean orientation error ‖δφ‖ of each effect alone, all together, the
     interaction and after compensating each. One colour per effect in every panel (``entry_colour``:
     the error left after compensating an effect is that effect's colour, hatched; all effects
-    black). ``tab`` is the budget table (design, region, entry,
+    black). With heavy cables (a ``sag`` entry) sag is a fourth effect in every panel and (b) adds
+    what sag adds under the massless compensated lengths. ``tab`` is the budget table (design, region, entry,
     mean_m, share_m, ...); rows of region RW_C are drawn. Legends sit outside."""
     t = tab[tab.region == "RW_C"]
     designs = list(dict.fromkeys(t.design))
+    effects = _effects(t)
     x = np.arange(len(designs))
     get = lambda d, e, c: float(t[(t.design == d) & (t.entry == e)][c].iloc[0]) * 1e3  # noqa: E731
     if "mean_rad" in t:
@@ -57,7 +60,7 @@ def budget_bars(tab, out, xlabel="design [robot_pulley]"):
     else:
         fig, (a, b) = plt.subplots(1, 2, figsize=(max(11, 2.6 * len(designs)), 5.6), layout="constrained")
     pos, neg = np.zeros(len(designs)), np.zeros(len(designs))
-    for e in ("pulley", "elasticity", "winch", "interaction"):
+    for e in (*effects, "interaction"):
         v = np.array([get(d, e, "share_m") for d in designs])
         base = np.where(v >= 0, pos, neg)
         a.bar(x - 0.2, v, 0.38, bottom=base, color=EFFECT_COLOURS[e], label=f"{e} (share)")
@@ -65,7 +68,7 @@ def budget_bars(tab, out, xlabel="design [robot_pulley]"):
     tot = np.array([get(d, "all", "mean_m") for d in designs])
     a.scatter(x - 0.2, tot, marker="_", s=400, color="k", zorder=3, label="mean ‖δp_all‖")
     bottom = np.zeros(len(designs))
-    for e in ("pulley", "elasticity", "winch"):
+    for e in effects:
         v = np.array([get(d, e, "mean_m") for d in designs])
         a.bar(
             x + 0.2,
@@ -87,7 +90,9 @@ def budget_bars(tab, out, xlabel="design [robot_pulley]"):
     )
     a.title.set_fontsize(9)
     a.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=3, frameon=False)
-    entries = ["all", "compensated_pulley", "compensated_elasticity", "compensated_winch", "compensated_all"]
+    entries = ["all", *(f"compensated_{e}" for e in effects), "compensated_all"]
+    if "sag" in effects:  # what sag adds under the massless compensated lengths
+        entries.insert(-1, "neglected_sag")
     w = 0.8 / len(entries)
     zero_label = False
     for i, e in enumerate(entries):
@@ -101,7 +106,7 @@ def budget_bars(tab, out, xlabel="design [robot_pulley]"):
             color=entry_colour(e),
             hatch=hatch,
             edgecolor="w" if hatch else None,
-            label=e.replace("compensated_", "compensating "),
+            label=_entry_label(e),
         )
         for xx, vv in zip(xe, v):
             if vv == 0.0:
@@ -117,7 +122,7 @@ def budget_bars(tab, out, xlabel="design [robot_pulley]"):
     b.title.set_fontsize(9)
     b.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=3, frameon=False)
     if "mean_rad" in t:
-        phi = ["pulley", "elasticity", "winch", "interaction", "all", *entries[1:]]
+        phi = [*effects, "interaction", "all", *entries[1:]]
         w = 0.8 / len(phi)
         for i, e in enumerate(phi):
             v = np.array([get(d, e, "mean_rad") for d in designs])
@@ -130,7 +135,7 @@ def budget_bars(tab, out, xlabel="design [robot_pulley]"):
                 color=colour,
                 hatch=hatch,
                 edgecolor="w" if hatch else None,
-                label=e.replace("compensated_", "compensating "),
+                label=_entry_label(e),
             )
         c.set_xticks(x, designs, rotation=20)
         c.set_yscale("symlog", linthresh=1e-3)
@@ -138,15 +143,35 @@ def budget_bars(tab, out, xlabel="design [robot_pulley]"):
         c.title.set_fontsize(9)
         c.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=3, frameon=False)
     fig.suptitle(
-        "Error budget over RW_C: pulley geometry, cable elasticity, winch exit point (physical equilibrium)",
+        "Error budget over RW_C: pulley geometry, cable elasticity, winch exit point"
+        + (", cable sag" if "sag" in effects else "")
+        + " (physical equilibrium)",
         fontsize=10,
     )
     return save(fig, out)
 
 
+def _effects(t):
+    """The single effects of a budget table: the three, and ``sag`` when it has that entry (heavy
+    cables, ``analyses.budget.effects_of``)."""
+    return (
+        ("pulley", "elasticity", "winch", "sag")
+        if (t.entry == "sag").any()
+        else ("pulley", "elasticity", "winch")
+    )
+
+
+def _entry_label(e):
+    """The legend label of a budget entry."""
+    if e == "neglected_sag":
+        return "sag added (massless compensation)"
+    return e.replace("compensated_", "compensating ")
+
+
 def budget_paths(paths, out):
     """Error budget along the section 3.3.1 paths: ‖δp‖ of each effect alone, all together, the
-    interaction and the error left after compensating pulley geometry, versus the arc length s; one
+    interaction and the error left after compensating pulley geometry (with heavy cables also sag
+    alone and what sag adds under the massless compensated lengths), versus the arc length s; one
     panel per design, one legend for all under the panels. ``paths`` maps a design label to its
     budget path table (s and one column of ‖δp‖ [m] per budget entry, NaN where a variant is not ok)."""
     labels = list(paths)
@@ -157,9 +182,14 @@ def budget_paths(paths, out):
     )
     for ax, label in zip(axes.ravel(), labels):
         df = paths[label]
-        for e in ("pulley", "elasticity", "winch", "interaction", "all"):
+        cols = ("pulley", "elasticity", "winch", "sag") if "sag" in df else ("pulley", "elasticity", "winch")
+        for e in (*cols, "interaction", "all"):
             ax.plot(df.s, df[e] * 1e3, color=EFFECT_COLOURS[e], lw=1.8 if e == "all" else 1.1, label=e)
         ax.plot(df.s, df["compensated_pulley"] * 1e3, "k:", lw=1, label="after compensating pulleys")
+        if "neglected_sag" in df:
+            ax.plot(
+                df.s, df["neglected_sag"] * 1e3, "--", color=EFFECT_COLOURS["sag"], lw=1, label="sag added"
+            )
         ax.set_yscale("log")
         ax.set(xlabel="position along the path s [m]", ylabel="‖δp‖ [mm]", title=label)
         ax.grid(alpha=0.3, which="both")

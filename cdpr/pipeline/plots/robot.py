@@ -46,6 +46,37 @@ def _box_edges(box):
     return [corners[[c, c | bit]] for c in range(8) for bit in (4, 2, 1) if not c & bit]
 
 
+def cable_line(geom, i):
+    """The points drawn for cable ``i`` of ``geom`` (``scans.pose_geometry``): the heavy cable's
+    catenary from B_i to its exit point (``scans.catenary_geometry``) where the robot's cables have
+    weight, else the straight segment D_i → B_i.
+
+    Parameters
+    ----------
+    geom : dict
+        ``scans.pose_geometry`` of the robot at the pose.
+    i : int
+        Cable index (0-based).
+
+    Returns
+    -------
+    ndarray (k, 3) [m]
+        The polyline.
+    """
+    if "catenary" in geom and np.isfinite(geom["catenary"][i]).all():
+        return geom["catenary"][i]
+    return np.stack([geom["D"][i], geom["B"][i]])
+
+
+def _cable_label(geom):
+    """The legend entry of the cables: catenaries (and at which tensions) or straight lines."""
+    if "catenary" not in geom:
+        return "cables D_i → B_i"
+    if not np.isfinite(geom["catenary_t"]).all():
+        return "cables D_i → B_i (straight: no tensions hold the pose)"
+    return "cables: catenaries B_i → D_i"
+
+
 def _plan_panel(ax, geom, boxes, span):
     """The plan (top) view of ``robot_view``: the same elements seen from +z, x and y to equal scale,
     with every anchor's cable numbers (anchors that coincide from above share one label)."""
@@ -55,7 +86,7 @@ def _plan_panel(ax, geom, boxes, span):
         ax.plot([x0, x1, x1, x0, x0], [y0, y0, y1, y1, y0], color=colour, ls=ls, lw=0.9)
     for i in range(len(A)):
         ax.plot(*np.stack([geom["C"][i], geom["K"][i]])[:, :2].T, color="0.6", lw=0.8)
-        ax.plot(*np.stack([geom["D"][i], B[i]])[:, :2].T, color=colours[i], lw=1.1)
+        ax.plot(*cable_line(geom, i)[:, :2].T, color=colours[i], lw=1.1)
         if np.isfinite(geom["sheave"][i]).all():
             ax.plot(*geom["sheave"][i][:, :2].T, color="tab:orange", lw=0.9)
     ax.scatter(*A[:, :2].T, color="k", marker="^", s=18, zorder=3)
@@ -117,7 +148,7 @@ def robot_view(geom, out, boxes=None, mode=None, plan=False):
     ax.scatter(*A.T, color="k", marker="^", s=18, depthshade=False)
     for i in range(len(A)):
         ax.plot(*np.stack([geom["C"][i], geom["K"][i]]).T, color="0.6", lw=0.8)
-        ax.plot(*np.stack([geom["D"][i], B[i]]).T, color=colours[i], lw=1.1)
+        ax.plot(*cable_line(geom, i).T, color=colours[i], lw=1.1, gid=f"cable {i + 1}")
         ax.plot(*np.stack([A[i], A[i] + 0.06 * span * axis[i]]).T, color="tab:red", lw=1.2)
         if np.isfinite(geom["sheave"][i]).all():
             ax.plot(*geom["sheave"][i].T, color="tab:orange", lw=0.9)
@@ -142,7 +173,7 @@ def robot_view(geom, out, boxes=None, mode=None, plan=False):
         Line2D([], [], color="tab:red", label="swivel axes k_i"),
         Line2D([], [], color="tab:orange", label="sheaves (radius r_p)"),
         Line2D([], [], color="0.6", label="dead length C_i → K_i"),
-        Line2D([], [], color=CABLE_COLOUR, label="cables D_i → B_i"),
+        Line2D([], [], color=CABLE_COLOUR, label=_cable_label(geom)),
     ]
     if INTERFERING_COLOUR in colours:  # only then: a robot free of interference keeps its picture
         handles.append(
