@@ -16,10 +16,11 @@ regular workspace as the largest box of admissible voxels).
 from __future__ import annotations
 
 import numpy as np
+import pandas as pd
 
 from cdpr.analyses.workspace import cell_centres, check_box, largest_box
 from cdpr.errors import CdprError
-from cdpr.models.interference import interference
+from cdpr.models.interference import columns, interference
 from cdpr.models.tension_distribution import T_MIN_DEFAULT, distribute_pose
 
 
@@ -124,3 +125,46 @@ def interference_workspace(robot, box, shape, rotvec=None, wrench_feasible=False
             feasible=feasible,
         )
     return out
+
+
+def add_interference(robot, df):
+    """The interference columns (``models.interference.columns``: interference_free, n_cc, n_cp,
+    dmin_m, cc_pairs, cp_cables) of a rigid platform's point table at each row's solved pose
+    (x_s, y_s, z_s, rx_s, ry_s, rz_s: where the platform settles), appended in place; a study's
+    tables flag their interfering points with them (docs/interference.md).
+
+    A point mass's table is returned unchanged: it never has cable-cable interference and has no
+    platform body, so the columns would say nothing (and its tables keep their bytes). A row whose
+    solved pose is not finite (an unsolved point) gets interference_free and n_cc, n_cp missing
+    (pandas NA), dmin_m NaN and empty strings: there is no pose to test.
+
+    Parameters
+    ----------
+    robot : Robot
+    df : DataFrame
+        A rigid platform's point table (``to_frame``: columns x_s, y_s, z_s, rx_s, ry_s, rz_s [m, rad]).
+
+    Returns
+    -------
+    DataFrame
+        ``df`` (the same object), with the six columns for a rigid platform.
+    """
+    if robot.point_mass:
+        return df
+    pose = df[["x_s", "y_s", "z_s", "rx_s", "ry_s", "rz_s"]].to_numpy(dtype=float)
+    fin = np.isfinite(pose).all(axis=1)
+    n = len(df)
+    free = pd.array(np.zeros(n, dtype=bool), dtype="boolean")
+    n_cc = pd.array(np.zeros(n, dtype=np.int64), dtype="Int64")
+    n_cp = pd.array(np.zeros(n, dtype=np.int64), dtype="Int64")
+    dmin = np.full(n, np.nan)
+    cc_pairs = np.full(n, "", dtype=object)
+    cp_cables = np.full(n, "", dtype=object)
+    if fin.any():
+        c = columns(interference(robot, pose[fin, :3], pose[fin, 3:]))
+        free[fin], n_cc[fin], n_cp[fin] = c["interference_free"], c["n_cc"], c["n_cp"]
+        dmin[fin], cc_pairs[fin], cp_cables[fin] = c["dmin_m"], c["cc_pairs"], c["cp_cables"]
+    free[~fin], n_cc[~fin], n_cp[~fin] = pd.NA, pd.NA, pd.NA
+    df["interference_free"], df["n_cc"], df["n_cp"] = free, n_cc, n_cp
+    df["dmin_m"], df["cc_pairs"], df["cp_cables"] = dmin, cc_pairs, cp_cables
+    return df

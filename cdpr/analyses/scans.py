@@ -22,6 +22,7 @@ from cdpr.analyses.compensation import heavy_distribution
 from cdpr.analyses.workspace import cell_centres, frame_box
 from cdpr.models import catenary, pulleys, winch
 from cdpr.models.cables import HeavyCables
+from cdpr.models.interference import interference
 from cdpr.models.inverse import pose_state
 from cdpr.models.platform import pose_arrays
 from cdpr.robot import TABLE1
@@ -226,7 +227,9 @@ def pose_geometry(robot, p, rotvec=None):
         the tangent points where the cable enters and leaves the sheave; ``B`` (m, 3) [m]
         attachment points; ``sheave`` (m, SHEAVE_POINTS, 3) [m] each sheave's circle (radius r_p
         about H_i, in the plane of k_i and D_i - H_i; empty for a fixed pulley: NaN); ``p`` (3,)
-        [m]; ``R`` (3, 3) [-] and ``rotvec`` (3,) [rad] the orientation; ``com`` (3,) [m] the centre of mass; ``point_mass`` bool; ``name``.
+        [m]; ``R`` (3, 3) [-] and ``rotvec`` (3,) [rad] the orientation; ``com`` (3,) [m] the centre of mass; ``point_mass`` bool; ``name``;
+        ``interfering`` (m,) bool: the cables that interfere at the pose (in an interfering
+        cable-cable pair or through the platform body, ``models.interference``; never on a point mass).
     """
     p_, R = pose_arrays([p], None if rotvec is None else [rotvec])
     B, st = pose_state(robot, p_, R)
@@ -255,6 +258,7 @@ def pose_geometry(robot, p, rotvec=None):
         "com": p_[0] + R[0] @ a.com,
         "point_mass": robot.point_mass,
         "name": robot.name,
+        "interfering": interfering_cables(robot, p_[0], None if rotvec is None else rotvec),
         **(catenary_geometry(robot, p_[0], R[0]) if robot.heavy else {}),
     }
 
@@ -307,6 +311,29 @@ def catenary_geometry(robot, p, R, n=CATENARY_POINTS):
         "catenary_t": h["t"][0],
         "catenary_sag": sag if ok else nan,
     }
+
+
+def interfering_cables(robot, p, rotvec=None):
+    """The cables that interfere at one pose (``models.interference``): those of an interfering
+    cable-cable pair and those that run through the platform body.
+
+    Parameters
+    ----------
+    robot : Robot
+    p : array_like (3,) [m]
+        Platform reference point.
+    rotvec : array_like (3,) [rad], optional
+        Orientation (default identity).
+
+    Returns
+    -------
+    ndarray (m,) bool
+    """
+    res = interference(robot, np.asarray(p, dtype=float).reshape(1, 3), None if rotvec is None else [rotvec])
+    out = res.cp[0].copy()
+    for q in np.flatnonzero(res.cc[0]):
+        out[res.pairs[q]] = True
+    return out
 
 
 #: Points of the sheave circle and of the wrapped arc in ``pulley_plane_geometry``.

@@ -21,6 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from cdpr.errors import CdprError, ConfigError
+from cdpr.tables import interference_free_rows
 
 #: Bytes of memory per grid point while solving and writing (measured peak RSS / points, rounded up):
 #: the bound ``cdpr grid --n`` and the study's size check (``pipeline.study``) apply.
@@ -205,8 +206,10 @@ def shard_range(total, shard, shards):
 
 
 def voxel_mask(df, n, value=None):
-    """Boolean (n, n, n) array of a grid table in C order (x, y, z); True where status is ok and,
-    if given, ``value`` (a boolean Series/array over rows) holds.
+    """Boolean (n, n, n) array of a grid table in C order (x, y, z); True where status is ok, the
+    point is free of interference where the table says (a rigid platform's study tables carry
+    ``interference_free``, ``analyses.interference.add_interference``: an interfering point is no
+    workspace) and, if given, ``value`` (a boolean Series/array over rows) holds.
 
     Parameters
     ----------
@@ -224,7 +227,7 @@ def voxel_mask(df, n, value=None):
     """
     if len(df) != n**3:
         raise CdprError(f"a grid table of n = {n} must have {n**3} rows, got {len(df)}")
-    ok = (df["status"] == "ok").to_numpy().copy()
+    ok = (df["status"] == "ok").to_numpy().copy() & interference_free_rows(df)
     if value is not None:
         ok &= np.asarray(value)
     return ok.reshape(n, n, n)
@@ -240,8 +243,8 @@ def error_limited_volume(df, n, box, limit, envelope_volume, column="dp"):
     Returns dict V_L [m^3], R_V = V_L / V_T, and ``V_L_err`` [m^3]: half the volume of the counted
     voxels that touch an uncounted one, an estimate of the voxel-counting error.
 
-    A voxel counts when its centre is ``ok`` and its pose error |dp| (Paty 2021 eq. 14) is at most
-    ``limit`` (the paper's |dp|_lim, Fig. 13-14); with ``column="dphi"`` when its orientation error
+    A voxel counts when its centre is ``ok`` (and free of interference, ``voxel_mask``) and its
+    pose error |dp| (Paty 2021 eq. 14) is at most ``limit`` (the paper's |dp|_lim, Fig. 13-14); with ``column="dphi"`` when its orientation error
     δφ (the rotation angle between the desired and the reached orientation of a rigid platform, not
     in the paper) is at most ``limit`` [rad].
 

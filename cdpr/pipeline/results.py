@@ -467,7 +467,18 @@ class Layout:
             out["budget"] = self.path("study_budget", "table")
         if self.st["volumes"].get("dphi_limits_rad"):  # R_V on δφ (a spatial study's volumes keys)
             out["volumes_dphi"] = self.path("volumes_dphi", "table")
+        out.update(self._point_table_inputs())
         return out
+
+    def _point_table_inputs(self):
+        """The point tables behind the volumes and RW_C that a study of rigid platforms' summary also
+        reads (``summary.interference_rows``, ``summary.reached_rows``): none for point masses."""
+        if not any(not r.point_mass for r in (self.st.robot_models or {}).values()):
+            return {}
+        return {
+            "volume_shards": self.paths("volume_shard", "table"),
+            "workspace_grids": self.paths("workspace_grid", "table"),
+        }
 
     def comparison_inputs(self):
         """The tables of this folder that the comparison of the two redundancy modes reads

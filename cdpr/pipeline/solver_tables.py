@@ -6,13 +6,17 @@ study's Robot with the design set on it (``study.design_robot``: pulley kind, h,
 length, E), the solver options are the study's (``study.solve_kwargs``: method, redundancy, the fixed
 orientation ``rotvec_rad``). Nothing travels as command-line text to be parsed back, and the
 Snakemake rules name the study keys each job reads (``uses``), so a change of any of them reruns it.
-The tables are those of ``cdpr plane``, ``cdpr trajectory`` and ``cdpr grid`` with the same options.
+The tables are those of ``cdpr plane``, ``cdpr trajectory`` and ``cdpr grid`` with the same options; a
+rigid platform's add the interference columns at the solved poses
+(``analyses.interference.add_interference``: a study flags its interfering points; ``cdpr grid
+--interference`` has them at the grid's poses).
 """
 
 from __future__ import annotations
 
 from cdpr import table_io
 from cdpr.analyses import scans, workspace
+from cdpr.analyses.interference import add_interference
 from cdpr.errors import CdprError
 from cdpr.models.tension_distribution import distribute_pose
 from cdpr.pipeline import study
@@ -29,7 +33,8 @@ def plane_table(st, robot_key, pulley, table, threads=None):
     ``pulley`` (a key of ``pulleys``): ``cdpr plane``'s table (Paty 2021 section 3.3.2, Fig. 9, 12)."""
     robot = study.design_robot(st, robot_key, _pulley(st, pulley))
     p = st["plane"]
-    table_io.write_table(scans.plane(robot, p["z_m"], p["n"], **study.solve_kwargs(st, threads)), table)
+    df = scans.plane(robot, p["z_m"], p["n"], **study.solve_kwargs(st, threads))
+    table_io.write_table(add_interference(robot, df), table)
 
 
 def trajectory_table(st, path_label, pulley, table, threads=None):
@@ -44,7 +49,7 @@ def trajectory_table(st, path_label, pulley, table, threads=None):
     df = scans.trajectory(
         robot, path["start_m"], path["end_m"], st["trajectories"]["points"], **study.solve_kwargs(st, threads)
     )
-    table_io.write_table(df, table)
+    table_io.write_table(add_interference(robot, df), table)
 
 
 def elasticity_path(st, design, modulus, table, threads=None):
@@ -61,7 +66,7 @@ def elasticity_path(st, design, modulus, table, threads=None):
     df = scans.trajectory(
         robot, path["start_m"], path["end_m"], path["points"], **study.solve_kwargs(st, threads)
     )
-    table_io.write_table(df, table)
+    table_io.write_table(add_interference(robot, df), table)
 
 
 def volume_shard(st, robot_key, pulley, shard, table, threads=None):
@@ -94,7 +99,7 @@ def _grid(st, robot, n, shard, shards, threads):
     box = workspace.check_box(workspace.frame_box(robot))
     start, stop = workspace.shard_range(n**3, shard, shards)
     P = workspace.grid_points(box, n, start, stop)
-    return solve_table(robot, P, **study.solve_kwargs(st, threads)), P
+    return add_interference(robot, solve_table(robot, P, **study.solve_kwargs(st, threads))), P
 
 
 def _pulley(st, key):

@@ -26,6 +26,7 @@ from cdpr.models import winch
 from cdpr.pipeline.results import Layout, check_complete, rel_path
 from cdpr.pipeline.study import robot_of, spatial_robots
 from cdpr.robot import TABLE1
+from cdpr.tables import interference_free_rows
 
 #: The papers' numbers (package data of the library).
 PAPER_VALUES = importlib.resources.files("cdpr") / "data" / "paper_values.yaml"
@@ -466,11 +467,12 @@ def headline_rows(st, res):
                 continue
             dof = 3 if robot_of(st, rk).point_mass else 6
             src = f"plane z = {st['plane']['z_m']:g} m"
-            lo, hi = _ok_range(df, "dp", 1e3)
+            counted = df[interference_free_rows(df)]  # a rigid platform's: interfering points left out
+            lo, hi = _ok_range(counted, "dp", 1e3)
             rows.append(_headline(f"{rk} {pk} plane ‖δp‖ min", src, lo, "mm", hold_note(df, dof)))
             rows.append(_headline(f"{rk} {pk} plane ‖δp‖ max", src, hi, "mm"))
             if "dphi" in df:
-                lo, hi = _ok_range(df, "dphi", 1e3)
+                lo, hi = _ok_range(counted, "dphi", 1e3)
                 rows.append(_headline(f"{rk} {pk} plane δφ min", src, lo, "mrad"))
                 rows.append(_headline(f"{rk} {pk} plane δφ max", src, hi, "mrad"))
     for path in st["trajectories"]["paths"]:
@@ -609,7 +611,138 @@ def headline_rows(st, res):
                 )
     rows += _budget_rows(res)
     rows += _uq_spatial_rows(st, res)
+    rows += interference_rows(st, res)
+    rows += reached_rows(st, res)
     return pd.DataFrame(rows, columns=COLUMNS)
+
+
+def _point_tables(st, res):
+    """The study's point tables a rigid platform's summary counts in (``interference_rows``,
+    ``reached_rows``): (what, label, table) for each plane, path, volume grid (its shards joined) and
+    DOE workspace grid that exists under ``res``."""
+    lay = Layout(st, res)
+    out = []
+    for rk in st["robots"]:
+        for pk in st["pulleys"]:
+            df = _read(res, rel_path("plane_table", robot=rk, pulley=pk))
+            if df is not None:
+                out.append(("plane", f"{rk} {pk}", df))
+    for path in st["trajectories"]["paths"]:
+        for pk in st["pulleys"]:
+            df = _read(res, rel_path("trajectory_table", path=path, pulley=pk))
+            if df is not None:
+                out.append(("path", f"{path} {pk}", df))
+    for rk in st["robots"]:
+        for pk in st["pulleys"]:
+            shards = [p for p in lay.volume_shards(f"{rk}_{pk}") if Path(p).exists()]
+            if shards:
+                frame = pd.concat([table_io.read_table(p) for p in shards], ignore_index=True)
+                out.append(("volume grid", f"{rk} {pk}", frame))
+    for t in lay.tests():
+        p = Path(lay.path("workspace_grid", "table", test=t))
+        if p.exists():
+            out.append(("DOE workspace grid", f"test {t}", table_io.read_table(p)))
+    return out
+
+
+def interference_rows(st, res):
+    """The interference rows of a study of rigid platforms (issue 39, docs/interference.md): per
+    plane and volume grid, and over the DOE's workspace grids (RW_max, RW_C), how many ok points
+    interfere at their solved pose and so are left out of the plane's numbers, the volumes and RW_C;
+    the paths' interfering ok points are counted (flagged in their tables, not left out). No rows
+    when no table has the ``interference_free`` column (point masses).
+
+    Parameters
+    ----------
+    st : Study
+    res : str or Path
+        The results folder.
+
+    Returns
+    -------
+    list of dict
+        Rows of ``COLUMNS``.
+    """
+    rows, doe = [], []
+    for what, label, df in _point_tables(st, res):
+        if "interference_free" not in df:
+            continue
+        ok = (df["status"].astype(str) == "ok").to_numpy()
+        bad = ok & ~interference_free_rows(df)
+        cc = int((bad & (df["n_cc"].fillna(0).to_numpy() > 0)).sum())
+        cp = int((bad & (df["n_cp"].fillna(0).to_numpy() > 0)).sum())
+        note = f"{int(bad.sum())} of {int(ok.sum())} ok points; cable-cable at {cc}, cable-platform at {cp}"
+        if what == "DOE workspace grid":
+            doe.append((label, int(bad.sum()), int(ok.sum())))
+            continue
+        verb = "flagged" if what == "path" else "left out"
+        rows.append(
+            _headline(f"{label} {what}: interfering points {verb}", what, int(bad.sum()), "points", note)
+        )
+    if doe:
+        rows.append(
+            _headline(
+                "DOE workspace grids: interfering points left out of RW_max and RW_C",
+                rel_path("regular_workspace"),
+                sum(b for _, b, _ in doe),
+                "points",
+                "; ".join(f"{lab}: {b} of {n} ok" for lab, b, n in doe),
+            )
+        )
+    return rows
+
+
+def reached_rows(st, res):
+    """The reached-equilibrium rows of a study (issue 39): over every point table the summary counts
+    in (planes, paths, volume grids, DOE workspace grids), the points where the equilibrium reached
+    by continuation is not the lowest-energy one (``reached_is_global`` false) and those whose
+    continuation crossed a fold (``n_folds`` > 0). The columns exist only where the restarts found
+    more than one equilibrium (``solve.reach_where_multiple``); elsewhere the equilibrium is unique,
+    so the reached one is the global one. No rows for a study without rigid platforms.
+
+    Parameters
+    ----------
+    st : Study
+    res : str or Path
+        The results folder.
+
+    Returns
+    -------
+    list of dict
+        Rows of ``COLUMNS``.
+    """
+    tables = _point_tables(st, res)
+    if not tables or not any("interference_free" in df for _, _, df in tables):
+        return []
+    total = sum(len(df) for _, _, df in tables)
+    continued = differ = folds = 0
+    where = []
+    for what, label, df in tables:
+        if "reached_is_global" not in df:
+            continue
+        g = df["reached_is_global"].astype("boolean").fillna(True).to_numpy(dtype=bool)
+        f = df["n_folds"].fillna(0).to_numpy() > 0
+        if "unique" in df:
+            continued += int((~df["unique"].astype("boolean").fillna(True).to_numpy(dtype=bool)).sum())
+        differ += int((~g).sum())
+        folds += int(f.sum())
+        if (~g).any() or f.any():
+            where.append(f"{label} {what}: {int((~g).sum())} / {int(f.sum())}")
+    note = (
+        f"of {total} points in the planes, paths, volume and workspace grids; continued at the "
+        f"{continued} points where the restarts find more than one equilibrium (elsewhere it is unique)"
+        + (f"; reached ≠ global / folds by table: {', '.join(where)}" if where else "")
+    )
+    return [
+        _headline(
+            "points where the reached equilibrium is not the global one",
+            "point tables",
+            differ,
+            "points",
+            note,
+        ),
+        _headline("points whose continuation crossed a fold", "point tables", folds, "points", note),
+    ]
 
 
 def _uq_spatial_rows(st, res):

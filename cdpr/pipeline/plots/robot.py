@@ -12,6 +12,28 @@ from scipy.spatial import ConvexHull
 from cdpr.pipeline.plots.style import anchor_groups, mode_suffix, save
 
 # ---- the robot in 3-D (``cdpr view``, the study's robot figure) --------------------------------
+#: The colour of a cable D_i → B_i, and of one that interferes at the pose (``geom["interfering"]``).
+CABLE_COLOUR, INTERFERING_COLOUR = "tab:blue", "tab:pink"
+
+
+def cable_colours(geom):
+    """The colour of each cable D_i → B_i in ``robot_view``: ``INTERFERING_COLOUR`` for the cables
+    that interfere at the pose (``scans.pose_geometry``'s ``interfering``), ``CABLE_COLOUR`` else.
+
+    Parameters
+    ----------
+    geom : dict
+        ``scans.pose_geometry`` of the robot at the pose.
+
+    Returns
+    -------
+    list of str
+        One colour per cable.
+    """
+    bad = geom.get("interfering", np.zeros(len(geom["A"]), dtype=bool))
+    return [INTERFERING_COLOUR if b else CABLE_COLOUR for b in bad]
+
+
 #: Colours and line styles of the boxes ``robot_view`` draws, in the order given.
 BOX_STYLES = [("0.45", "--"), ("tab:purple", "-"), ("tab:brown", "-."), ("tab:olive", ":")]
 
@@ -58,13 +80,13 @@ def _cable_label(geom):
 def _plan_panel(ax, geom, boxes, span):
     """The plan (top) view of ``robot_view``: the same elements seen from +z, x and y to equal scale,
     with every anchor's cable numbers (anchors that coincide from above share one label)."""
-    A, B = geom["A"], geom["B"]
+    A, B, colours = geom["A"], geom["B"], cable_colours(geom)
     for (label, box), (colour, ls) in zip(boxes.items(), BOX_STYLES * 4):
         x0, x1, y0, y1 = box[:4]
         ax.plot([x0, x1, x1, x0, x0], [y0, y0, y1, y1, y0], color=colour, ls=ls, lw=0.9)
     for i in range(len(A)):
         ax.plot(*np.stack([geom["C"][i], geom["K"][i]])[:, :2].T, color="0.6", lw=0.8)
-        ax.plot(*cable_line(geom, i)[:, :2].T, color="tab:blue", lw=1.1)
+        ax.plot(*cable_line(geom, i)[:, :2].T, color=colours[i], lw=1.1)
         if np.isfinite(geom["sheave"][i]).all():
             ax.plot(*geom["sheave"][i][:, :2].T, color="tab:orange", lw=0.9)
     ax.scatter(*A[:, :2].T, color="k", marker="^", s=18, zorder=3)
@@ -89,7 +111,8 @@ def robot_view(geom, out, boxes=None, mode=None, plan=False):
     """A 3-D picture of a robot at a pose: the joint points A_i with their cable numbers, the swivel
     axes k_i, the sheaves, the dead lengths C_i → K_i, the cables D_i → B_i, the platform (the
     attachment points' hull, its centre of mass and reference point) and the given boxes as
-    wireframes. Nothing is solved: ``geom`` is ``cdpr.analyses.scans.pose_geometry`` (the desired
+    wireframes; the cables that interfere at the pose (another cable or the platform body,
+    ``cable_colours``) in ``INTERFERING_COLOUR``. Nothing is solved: ``geom`` is ``cdpr.analyses.scans.pose_geometry`` (the desired
     pose). Drawn to equal scale on every axis.
 
     Parameters
@@ -108,6 +131,7 @@ def robot_view(geom, out, boxes=None, mode=None, plan=False):
     """
     boxes = dict(boxes or {})
     A, B, axis = geom["A"], geom["B"], geom["axis"]
+    colours = cable_colours(geom)
     allp = np.vstack([A, B, geom["C"], geom["H"]] + [e for b in boxes.values() for e in _box_edges(b)])
     lo, hi = allp.min(axis=0), allp.max(axis=0)
     span = float((hi - lo).max())
@@ -124,7 +148,7 @@ def robot_view(geom, out, boxes=None, mode=None, plan=False):
     ax.scatter(*A.T, color="k", marker="^", s=18, depthshade=False)
     for i in range(len(A)):
         ax.plot(*np.stack([geom["C"][i], geom["K"][i]]).T, color="0.6", lw=0.8)
-        ax.plot(*cable_line(geom, i).T, color="tab:blue", lw=1.1, gid=f"cable {i + 1}")
+        ax.plot(*cable_line(geom, i).T, color=colours[i], lw=1.1, gid=f"cable {i + 1}")
         ax.plot(*np.stack([A[i], A[i] + 0.06 * span * axis[i]]).T, color="tab:red", lw=1.2)
         if np.isfinite(geom["sheave"][i]).all():
             ax.plot(*geom["sheave"][i].T, color="tab:orange", lw=0.9)
@@ -149,8 +173,12 @@ def robot_view(geom, out, boxes=None, mode=None, plan=False):
         Line2D([], [], color="tab:red", label="swivel axes k_i"),
         Line2D([], [], color="tab:orange", label="sheaves (radius r_p)"),
         Line2D([], [], color="0.6", label="dead length C_i → K_i"),
-        Line2D([], [], color="tab:blue", label=_cable_label(geom)),
+        Line2D([], [], color=CABLE_COLOUR, label=_cable_label(geom)),
     ]
+    if INTERFERING_COLOUR in colours:  # only then: a robot free of interference keeps its picture
+        handles.append(
+            Line2D([], [], color=INTERFERING_COLOUR, label="interfering cables (cable or platform)")
+        )
     ax.set(xlim=(lo[0], hi[0]), ylim=(lo[1], hi[1]), zlim=(lo[2], hi[2]))
     ax.set_box_aspect(hi - lo, zoom=0.9)
     ax.set_xlabel("x [m]", labelpad=4)
