@@ -32,9 +32,18 @@ from numba import njit, prange
 
 from cdpr.compiled._kernels import SWIVEL_RHO_MIN, TWO_PI, in_frame, pulley_geometry
 from cdpr.compiled._linalg import add_cable_jacobian
-from cdpr.compiled.catenary import angle_f_deg, arc_length, cable_energy, cable_state, cable_stiffness, sag
+from cdpr.compiled.catenary import (
+    _start,
+    _terms,
+    angle_f_deg,
+    arc_length,
+    cable_energy,
+    cable_state,
+    cable_stiffness,
+    sag,
+)
 from cdpr.errors import CdprError
-from cdpr.models.catenary import INFEASIBLE, SPAN_STATUSES
+from cdpr.models.catenary import CATENARY, INFEASIBLE, SPAN_STATUSES, U_SHAPED
 
 __all__ = ["NSTATE", "STATE", "Heavy", "evaluate", "exit_points", "heavy_arrays", "heavy_cables"]
 
@@ -112,6 +121,154 @@ def heavy_arrays(cab=None, m=0):
     return Heavy(True, f(cab.w, dtype=float), f(cab.up, dtype=float), f(cab.axis, dtype=float))
 
 
+#: Cap of the joint Newton iteration of one cable (``_joint``); past it, the nested iterations.
+JOINT_MAXITER = 12
+#: The joint iteration stops after the step taken from residuals below this fraction of the
+#: lengths (the span iteration's ``rtol``: the step's own error is of its square).
+JOINT_RTOL = 1e-13
+#: Damped steps (a force or length kept positive) after which the joint iteration gives up.
+JOINT_DAMPED = 1
+
+
+@njit(cache=True, error_model="numpy")
+def _joint(
+    Bx, By, Bz, Hx, Hy, Hz, esx, esy, esz, kx, ky, kz, ux, uy, uz, rp, ld, thK, sr, L0c, w, EA, H, V, L0f, th
+):
+    """One heavy cable at its attachment point B by one Newton iteration on all its unknowns at
+    once, (H, V_B [N], L0f [m], theta [rad]) (theta fixed where ``sr`` is False), from a start near
+    the answer (the cable's state at a nearby pose): the span equations (``catenary.span_equations``
+    = the spans from B to D(theta)), the split L0f + l_dead(theta) / (1 + T_D/EA) = L0c and, on an
+    SR pulley, the tangency of the catenary's end direction to the sheave at D(theta),
+    (H e_h + V_D up) . r(theta) = 0 with r the sheave's radius direction. The answer is the one of
+    the nested iterations of ``exit_points`` (each equation is theirs; the tangency root is
+    checked to be the fixed point's, not the opposite tangent point). Each step eliminates (dH, dV)
+    by the 2 x 2 flexibility and solves the 2 x 2 left in (dL0f, dtheta) in closed form.
+
+    Returns
+    -------
+    tuple
+        (ok, H, V_B, L0f, theta, iterations); ok False (no convergence in ``JOINT_MAXITER``, a
+        non-positive force or length, a vertical span, the other tangent point): use the nested
+        iterations.
+    """
+    iEA = 1.0 / EA
+    c_scale = L0c
+    damped = 0
+    for it in range(1, JOINT_MAXITER + 1):
+        ct, st = math.cos(th), math.sin(th)
+        rx, ry, rz = ct * esx + st * kx, ct * esy + st * ky, ct * esz + st * kz
+        vx, vy, vz = Hx + rp * rx - Bx, Hy + rp * ry - By, Hz + rp * rz - Bz
+        l_v = vx * ux + vy * uy + vz * uz
+        hx, hy, hz = vx - l_v * ux, vy - l_v * uy, vz - l_v * uz
+        l_h = math.sqrt(hx * hx + hy * hy + hz * hz)
+        if not (l_h > 0.0 and H > 0.0 and L0f > 0.0):
+            return False, H, V, L0f, th, it
+        ehx, ehy, ehz = hx / l_h, hy / l_h, hz / l_h
+        ell = ld + rp * ((thK - th) % TWO_PI)
+        V_D, _, T_D, S, Qh, Qv, Qd, Qx, _ = _terms(H, V, L0f, w)
+        e = L0f * iEA
+        E1 = H * L0f * (iEA + Qh) - l_h
+        E2 = L0f * (0.5 * S * iEA + Qv) - l_v
+        f11, f12, f22 = e + L0f * (Qh - Qd), L0f * Qx, e + L0f * Qd
+        det = f11 * f22 - f12 * f12
+        kk = iEA + 1.0 / T_D
+        gh, gv = kk * H, kk * V_D
+        if math.isinf(EA):
+            rho, drho = 1.0, 0.0
+        else:
+            rho = EA / (EA + T_D)
+            drho = -rho / (EA + T_D)
+        E3 = L0f + ell * rho - L0c
+        q = ell * drho / T_D
+        c3H, c3V, c3L = q * H, q * V_D, 1.0 + q * w * V_D
+        # (dH, dV) = p0 + pL dL0f + pt dtheta from the span equations
+        p0H, p0V = -(f22 * E1 - f12 * E2) / det, -(f11 * E2 - f12 * E1) / det
+        pLH, pLV = -(f22 * gh - f12 * gv) / det, -(f11 * gv - f12 * gh) / det
+        A11 = c3H * pLH + c3V * pLV + c3L
+        b1 = -E3 - c3H * p0H - c3V * p0V
+        small = math.hypot(E1, E2) <= JOINT_RTOL * (L0f + l_h + abs(l_v)) and abs(E3) <= JOINT_RTOL * c_scale
+        if sr:
+            dx, dy, dz = -st * esx + ct * kx, -st * esy + ct * ky, -st * esz + ct * kz  # dr/dtheta
+            dlv = rp * (dx * ux + dy * uy + dz * uz)
+            dlh = rp * (dx * ehx + dy * ehy + dz * ehz)
+            ptH, ptV = (f22 * dlh - f12 * dlv) / det, (f11 * dlv - f12 * dlh) / det
+            ehr = ehx * rx + ehy * ry + ehz * rz
+            ur = ux * rx + uy * ry + uz * rz
+            E4 = H * ehr + V_D * ur
+            # d(e_h . r)/dtheta = (de_h/dtheta) . r + e_h . dr/dtheta
+            drr = rp * (dx * rx + dy * ry + dz * rz)
+            dehr = (drr - dlv * ur - dlh * ehr) / l_h + ehx * dx + ehy * dy + ehz * dz
+            c4H, c4V, c4L, c4t = ehr, ur, w * ur, H * dehr + V_D * (ux * dx + uy * dy + uz * dz)
+            A12 = c3H * ptH + c3V * ptV - rp * rho
+            A21 = c4H * pLH + c4V * pLV + c4L
+            A22 = c4H * ptH + c4V * ptV + c4t
+            b2 = -E4 - c4H * p0H - c4V * p0V
+            dd = A11 * A22 - A12 * A21
+            dL = (b1 * A22 - A12 * b2) / dd
+            dt = (A11 * b2 - A21 * b1) / dd
+            small = small and abs(E4) <= JOINT_RTOL * T_D
+        else:
+            dL = b1 / A11
+            dt = ptH = ptV = 0.0
+        dH = p0H + pLH * dL + ptH * dt
+        dV = p0V + pLV * dL + ptV * dt
+        if not (math.isfinite(dH) and math.isfinite(dV) and math.isfinite(dL) and math.isfinite(dt)):
+            return False, H, V, L0f, th, it
+        alpha = 1.0
+        if H + dH <= 0.0:
+            alpha = 0.5 * H / -dH
+        if L0f + alpha * dL <= 0.0:
+            alpha = 0.5 * L0f / -dL
+        if alpha * abs(dt) > 0.5:
+            alpha = 0.5 / abs(dt)
+        if alpha < 1.0:
+            damped += 1
+            if damped > JOINT_DAMPED:  # far from the answer: the nested iterations' line searches
+                return False, H, V, L0f, th, it
+        H += alpha * dH
+        V += alpha * dV
+        L0f += alpha * dL
+        th += alpha * dt
+        if alpha == 1.0 and (
+            small or (abs(dH) + abs(dV) <= 1e-15 * T_D and abs(dL) + rp * abs(dt) <= 1e-15 * c_scale)
+        ):
+            if sr:  # the fixed point's root: the end direction toward the sheave gives back theta
+                V_D = V + w * L0f
+                ct, st = math.cos(th), math.sin(th)
+                n_s = H * (ehx * kx + ehy * ky + ehz * kz) + V_D * (ux * kx + uy * ky + uz * kz)
+                n_w = -(H * (ehx * esx + ehy * esy + ehz * esz) + V_D * (ux * esx + uy * esy + uz * esz))
+                if n_s * ct + n_w * st <= 0.0:
+                    return False, H, V, L0f, th, it
+            return True, H, V, L0f, th, it
+    return False, H, V, L0f, th, JOINT_MAXITER
+
+
+@njit(cache=True, error_model="numpy")
+def _cold_start(
+    Bx, By, Bz, Hx, Hy, Hz, esx, esy, esz, kx, ky, kz, ux, uy, uz, rp, ld, thK, sr, L0c, w, EA, th
+):
+    """A start of ``_joint`` with D at theta (the massless exit point): the split of Hooke's law on
+    the whole length (``catenary.cable_state``'s) and the span's start (``catenary._start``);
+    (H, V_B [N], L0f [m]), H NaN where there is none (a vertical span, an infeasible one)."""
+    ct, st = math.cos(th), math.sin(th)
+    vx = Hx + rp * (ct * esx + st * kx) - Bx
+    vy = Hy + rp * (ct * esy + st * ky) - By
+    vz = Hz + rp * (ct * esz + st * kz) - Bz
+    l_v = vx * ux + vy * uy + vz * uz
+    hx, hy, hz = vx - l_v * ux, vy - l_v * uy, vz - l_v * uz
+    l_h = math.sqrt(hx * hx + hy * hy + hz * hz)
+    ell = ld + rp * ((thK - th) % TWO_PI)
+    c = math.hypot(l_h, l_v)
+    T0 = EA * ((c + ell) / L0c - 1.0) if c + ell > L0c else 0.0
+    if not math.isfinite(T0):
+        T0 = 0.0
+    L0f = L0c - ell * (1.0 if math.isinf(EA) else EA / (EA + T0))
+    if not (l_h > 0.0 and L0f > 0.0) or (math.isinf(EA) and c >= L0f):
+        return np.nan, np.nan, np.nan
+    H, V = _start(l_h, l_v, L0f, w, EA)
+    return H, V, L0f
+
+
 @njit(cache=True, error_model="numpy")
 def exit_points(Bx, By, Bz, c, L0c, cab, frame, ident, heavy, start, out):
     """``HeavyCables.exit_points`` of cable c at its attachment point B (base frame) with rest
@@ -160,47 +317,72 @@ def exit_points(Bx, By, Bz, c, L0c, cab, frame, ident, heavy, start, out):
     it = 0
     last = not sr
     th_prev = f_prev = np.nan
-    for it in range(1, EXIT_MAXITER + 2):
-        ct, st = math.cos(th), math.sin(th)
-        Dx = Hx + rp * (ct * esx + st * kx)
-        Dy = Hy + rp * (ct * esy + st * ky)
-        Dz = Hz + rp * (ct * esz + st * kz)
-        vx, vy, vz = Dx - Bx, Dy - By, Dz - Bz
-        l_v = vx * ux + vy * uy + vz * uz
-        hx, hy, hz = vx - l_v * ux, vy - l_v * uy, vz - l_v * uz
-        l_h = math.sqrt(hx * hx + hy * hy + hz * hz)
-        il = 1.0 / l_h if l_h > 0.0 else 1.0
-        ehx, ehy, ehz = hx * il, hy * il, hz * il
-        H, V, code, _, _, L0f = cable_state(l_h, l_v, L0c, ell, w, EA, H0, V0, L0f)
-        H0, V0 = H, V
-        if last or it > EXIT_MAXITER or code == INFEASIBLE:
-            break
-        V_D = V + w * L0f
-        T_D = math.hypot(H, V_D)
-        # the cable's direction at D toward the sheave, in the sheave plane: (n_s, n_w)
-        cx = -(H * ehx + V_D * ux) / T_D
-        cy = -(H * ehy + V_D * uy) / T_D
-        cz = -(H * ehz + V_D * uz) / T_D
-        n_s = -(cx * kx + cy * ky + cz * kz)
-        n_w = cx * esx + cy * esy + cz * esz
-        if not (T_D > 0.0 and math.isfinite(n_s) and math.isfinite(n_w)):
-            break
-        g_th = math.atan2(n_w, n_s)  # the fixed point's map: theta <- g(theta)
-        f = (g_th - th + math.pi) % TWO_PI - math.pi
-        vmax = max(abs(vx), abs(vy), abs(vz))
-        # converged: one more pass solves the whole cable at D = g(theta) (the loop's last)
-        last = rp * abs(f) <= 1e-15 * (1.0 + vmax)
-        th_new = g_th
-        if not last and f_prev == f_prev and th != th_prev:
-            # the secant step on f(theta) = g(theta) - theta where its slope is that of a
-            # contraction (g' = slope + 1 in (-0.5, 0.5)); else the plain fixed-point step
-            slope = (f - f_prev) / (th - th_prev)
-            if -1.5 < slope < -0.5:
-                th_new = th - f / slope
-        th_prev, f_prev = th, f
-        th = th_new
-        gamma = (thK - th) % TWO_PI
-        ell = g.ld + rp * gamma
+    joint = False
+    if w > 0.0:  # all the cable's unknowns at once: from the start given, else from a cold one
+        args = (Bx, By, Bz, Hx, Hy, Hz, esx, esy, esz, kx, ky, kz, ux, uy, uz, rp, g.ld, thK, sr, L0c, w, EA)
+        if start[_READY] > 0.0:
+            joint, Hj, Vj, Lj, tj, it = _joint(*args, H0, V0, L0f, th)
+        if not joint:
+            tc = math.atan2(g.sD, g.cD)
+            Hc, Vc, Lc = _cold_start(*args, tc)
+            if Hc > 0.0:
+                joint, Hj, Vj, Lj, tj, it = _joint(*args, Hc, Vc, Lc, tc)
+        if joint:
+            H, V, L0f, th = Hj, Vj, Lj, tj
+            ct, st = math.cos(th), math.sin(th)
+            Dx = Hx + rp * (ct * esx + st * kx)
+            Dy = Hy + rp * (ct * esy + st * ky)
+            Dz = Hz + rp * (ct * esz + st * kz)
+            vx, vy, vz = Dx - Bx, Dy - By, Dz - Bz
+            l_v = vx * ux + vy * uy + vz * uz
+            hx, hy, hz = vx - l_v * ux, vy - l_v * uy, vz - l_v * uz
+            l_h = math.sqrt(hx * hx + hy * hy + hz * hz)
+            ehx, ehy, ehz = hx / l_h, hy / l_h, hz / l_h
+            gamma = (thK - th) % TWO_PI
+            ell = g.ld + rp * gamma
+            code = U_SHAPED if (V < 0.0 and V + w * L0f > 0.0) else CATENARY
+    if not joint:  # the nested iterations, from the given start (or the reference's)
+        for it in range(1, EXIT_MAXITER + 2):
+            ct, st = math.cos(th), math.sin(th)
+            Dx = Hx + rp * (ct * esx + st * kx)
+            Dy = Hy + rp * (ct * esy + st * ky)
+            Dz = Hz + rp * (ct * esz + st * kz)
+            vx, vy, vz = Dx - Bx, Dy - By, Dz - Bz
+            l_v = vx * ux + vy * uy + vz * uz
+            hx, hy, hz = vx - l_v * ux, vy - l_v * uy, vz - l_v * uz
+            l_h = math.sqrt(hx * hx + hy * hy + hz * hz)
+            il = 1.0 / l_h if l_h > 0.0 else 1.0
+            ehx, ehy, ehz = hx * il, hy * il, hz * il
+            H, V, code, _, _, L0f = cable_state(l_h, l_v, L0c, ell, w, EA, H0, V0, L0f)
+            H0, V0 = H, V
+            if last or it > EXIT_MAXITER or code == INFEASIBLE:
+                break
+            V_D = V + w * L0f
+            T_D = math.hypot(H, V_D)
+            # the cable's direction at D toward the sheave, in the sheave plane: (n_s, n_w)
+            cx = -(H * ehx + V_D * ux) / T_D
+            cy = -(H * ehy + V_D * uy) / T_D
+            cz = -(H * ehz + V_D * uz) / T_D
+            n_s = -(cx * kx + cy * ky + cz * kz)
+            n_w = cx * esx + cy * esy + cz * esz
+            if not (T_D > 0.0 and math.isfinite(n_s) and math.isfinite(n_w)):
+                break
+            g_th = math.atan2(n_w, n_s)  # the fixed point's map: theta <- g(theta)
+            f = (g_th - th + math.pi) % TWO_PI - math.pi
+            vmax = max(abs(vx), abs(vy), abs(vz))
+            # converged: one more pass solves the whole cable at D = g(theta) (the loop's last)
+            last = rp * abs(f) <= 1e-15 * (1.0 + vmax)
+            th_new = g_th
+            if not last and f_prev == f_prev and th != th_prev:
+                # the secant step on f(theta) = g(theta) - theta where its slope is that of a
+                # contraction (g' = slope + 1 in (-0.5, 0.5)); else the plain fixed-point step
+                slope = (f - f_prev) / (th - th_prev)
+                if -1.5 < slope < -0.5:
+                    th_new = th - f / slope
+            th_prev, f_prev = th, f
+            th = th_new
+            gamma = (thK - th) % TWO_PI
+            ell = g.ld + rp * gamma
     T_B = math.hypot(H, V)
     out[_H], out[_V], out[_L0F], out[_TH], out[_READY] = H, V, L0f, th, 1.0
     out[_TB], out[_TD], out[_LH], out[_LV] = T_B, math.hypot(H, V + w * L0f), l_h, l_v
