@@ -33,12 +33,12 @@ from numba import njit, prange
 from cdpr.compiled._kernels import SWIVEL_RHO_MIN, TWO_PI, pulley_geometry
 from cdpr.compiled._linalg import add_cable_jacobian
 from cdpr.compiled.catenary import (
-    _terms_fast,
     angle_f_deg,
     arc_length,
     cable_energy_stiffness,
     cable_state,
     sag,
+    terms_fast,
 )
 from cdpr.errors import CdprError
 from cdpr.models.catenary import CATENARY, INFEASIBLE, SPAN_STATUSES, U_SHAPED
@@ -167,7 +167,7 @@ def _joint(
             return False, H, V, L0f, th, it, ct, st, gam
         ehx, ehy, ehz = hx / l_h, hy / l_h, hz / l_h
         ell = ld + rp * gam
-        V_D, _, T_D, S, Qh, Qv, Qd, Qx, _ = _terms_fast(H, V, L0f, w)
+        V_D, _, T_D, S, Qh, Qv, Qd, Qx, _ = terms_fast(H, V, L0f, w)
         e = L0f * iEA
         E1 = H * L0f * (iEA + Qh) - l_h
         E2 = L0f * (0.5 * S * iEA + Qv) - l_v

@@ -96,7 +96,7 @@ def _asinh(x):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def _terms_fast(H, V_B, L0, w):
+def terms_fast(H, V_B, L0, w):
     """``_terms`` with sqrt(a^2 + b^2) for hypot and ``_asinh`` for asinh (asinh(x)/x by its series
     for |x| < 0.1, the usual sag): the same forms, a few ulp apart and a third of the time, for the pose kernel's joint iteration of a cable (``cables._joint``) and
     its energy and stiffness (``cable_energy_stiffness``); the twin functions above keep the
@@ -486,9 +486,9 @@ def _whole_energy(phi, l_dead, EA, T_D):
 @njit(cache=True, error_model="numpy")
 def cable_energy_stiffness(H, V_B, L0f, l_h, l_v, l_dead, w, EA):
     """``cable_energy`` [J] and ``cable_stiffness`` (k11, k12, k21, k22) [N/m] of a whole cable from
-    one ``_terms_fast`` (the pose kernel needs both at every cable; the two's forms, a few ulp
+    one ``terms_fast`` (the pose kernel needs both at every cable; the two's forms, a few ulp
     apart)."""
-    V_D, _, T_D, _, Qh, _, Qd, Qx, Qe = _terms_fast(H, V_B, L0f, w)
+    V_D, _, T_D, _, Qh, _, Qd, Qx, Qe = terms_fast(H, V_B, L0f, w)
     energy = _whole_energy(_phi(H, V_B, L0f, EA, l_h, l_v, V_D, Qh, Qe), l_dead, EA, T_D)
     if w == 0.0 and H == 0.0 and V_B == 0.0:
         k11 = k12 = k22 = 0.0
