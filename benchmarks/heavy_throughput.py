@@ -13,7 +13,9 @@ massless kernels, measured in one run on this machine, and the cost of one caten
     the floating-point operations of one Newton iteration (README, "Heavy cables").
 
 Each figure is the best of --repeat runs after one warm-up (numba compiled and loaded), both
-cores; the load average is printed before and after (the machine is shared).
+cores, in wall time and in CPU time (equilibria per CPU-second: less sensitive to the other
+processes on a shared machine); the load average is printed before and after. The catenary's
+cost is set against the hand count of the flops of one Newton iteration and the machine's peak.
 
     .venv/bin/python benchmarks/heavy_throughput.py [--n 20] [--repeat 3]
 """
@@ -40,22 +42,50 @@ COGIRO_BOX = [-4.0, 4.0, -3.0, 3.0, 1.0, 3.5]
 RHO = 0.0631  # [kg/m]
 
 
+#: Hand count of one Newton iteration of ``catenary.span_state`` (end_forces), in flop-equivalents:
+#: ``_terms`` about 31 additions, multiplications and divisions, 2 hypot and 1 asinh; spans and
+#: flexibility 15; the 2 x 2 step, its Armijo slope and the stop tests about 30 with 3 hypot; a hypot
+#: counted as 5, an asinh (a logarithm and a square root) as 25 (README, "Heavy cables").
+FLOPS_PER_ITERATION = 31 + 15 + 30 + 5 * 5 + 25
+#: Peak double-precision rate of one core of this machine's CPU class: 2 AVX-512 FMA units, 8 doubles
+#: each, 2 flops per FMA, at the clock /proc/cpuinfo reports (flops per cycle).
+PEAK_FLOPS_PER_CYCLE = 32
+CPU_TIME = {}
+
+
 def best_of(fn, repeat):
     fn()  # warm-up: numba compiled (or loaded from its cache) and its threads started
     times = []
+    cpu = []
     out = None
     for _ in range(repeat):
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.process_time()
         out = fn()
         times.append(time.perf_counter() - t0)
+        cpu.append(time.process_time() - c0)
+    CPU_TIME["last"] = min(cpu)
     return min(times), out
 
 
 def row(name, n, seconds, res):
     ok = float(np.mean(res["status"] == "ok")) if res is not None else float("nan")
     it = float(np.mean(res["iterations"])) if res is not None and "iterations" in res else float("nan")
-    print(f"{name:<44} {n:>7} {n / seconds:>12,.0f} {1e6 * seconds / n:>9.1f} {it:>6.2f} {ok:>6.3f}")
+    cpu = CPU_TIME.get("last", float("nan"))
+    print(
+        f"{name:<44} {n:>7} {n / seconds:>12,.0f} {1e6 * seconds / n:>9.1f} {n / cpu:>12,.0f} {it:>6.2f} {ok:>6.3f}"
+    )
     return n / seconds
+
+
+def _mhz():
+    """The clock [MHz] /proc/cpuinfo reports (NaN where there is none)."""
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("cpu MHz"):
+                return float(line.split(":")[1])
+    except OSError:
+        pass
+    return float("nan")
 
 
 def spans(n, seed=3):
@@ -80,7 +110,9 @@ def main():
         f"numba threads {numba.get_num_threads()}, Python {platform.python_version()}"
     )
     print("load average before: {:.2f} {:.2f} {:.2f}".format(*os.getloadavg()))
-    print(f"{'solver':<44} {'poses':>7} {'equilibria/s':>12} {'us/pose':>9} {'iters':>6} {'ok':>6}")
+    print(
+        f"{'solver':<44} {'poses':>7} {'equilibria/s':>12} {'us/pose':>9} {'per CPU-s':>12} {'iters':>6} {'ok':>6}"
+    )
 
     cdpr4 = load_robot(ROOT / "config" / "robots" / "cdpr4.yaml")
     heavy4 = with_values(cdpr4, linear_density=RHO)
@@ -129,6 +161,14 @@ def main():
         f"catenary span_state (cold start), {n} taut CoGiRo-size spans: {n / t:,.0f} solves/s, "
         f"{1e9 * t * threads / n:.0f} ns per solve per core, {iters:.2f} Newton iterations, "
         f"{1e9 * t * threads / n / iters:.0f} ns per iteration per core"
+    )
+    ns_cpu = 1e9 * CPU_TIME["last"] / n / iters
+    mhz = _mhz()
+    peak = PEAK_FLOPS_PER_CYCLE * mhz / 1e3  # [GFLOP/s per core]
+    print(
+        f"  by CPU time {ns_cpu:.0f} ns per iteration; {FLOPS_PER_ITERATION} flop-equivalents per iteration "
+        f"(hand count): {FLOPS_PER_ITERATION / ns_cpu:.2f} GFLOP/s per core against a peak of {peak:.0f} "
+        f"({PEAK_FLOPS_PER_CYCLE} flops/cycle at {mhz:.0f} MHz): {FLOPS_PER_ITERATION / ns_cpu / peak:.1%}"
     )
     print(
         "load average after: {:.2f} {:.2f} {:.2f}; targets: CDPR4 heavy >= 100,000/s ({:.1%} of it), "

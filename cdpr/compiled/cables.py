@@ -30,11 +30,18 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit, prange
 
-from cdpr.compiled._kernels import SWIVEL_RHO_MIN, TWO_PI, in_frame, pulley_geometry
+from cdpr.compiled._kernels import SWIVEL_RHO_MIN, TWO_PI, pulley_geometry
 from cdpr.compiled._linalg import add_cable_jacobian, add_gravity
-from cdpr.compiled.catenary import angle_f_deg, arc_length, cable_energy, cable_state, cable_stiffness, sag
+from cdpr.compiled.catenary import (
+    angle_f_deg,
+    arc_length,
+    cable_energy_stiffness,
+    cable_state,
+    sag,
+    terms_fast,
+)
 from cdpr.errors import CdprError
-from cdpr.models.catenary import INFEASIBLE, SPAN_STATUSES
+from cdpr.models.catenary import CATENARY, INFEASIBLE, SPAN_STATUSES, U_SHAPED
 
 __all__ = ["NSTATE", "STATE", "Heavy", "evaluate", "exit_points", "heavy_arrays", "heavy_cables"]
 
@@ -112,6 +119,324 @@ def heavy_arrays(cab=None, m=0):
     return Heavy(True, f(cab.w, dtype=float), f(cab.up, dtype=float), f(cab.axis, dtype=float))
 
 
+#: Cap of the joint Newton iteration of one cable (``_joint``); past it, the nested iterations.
+JOINT_MAXITER = 12
+#: The joint iteration stops after the step taken from residuals below this fraction of the
+#: lengths (the span iteration's ``rtol``: the step's own error is of its square).
+JOINT_RTOL = 1e-13
+#: ... or after a whole step of at most this fraction of the forces and lengths (Newton's error after
+#: it is of its square, relative, below the round-off of the spans' residuals).
+JOINT_STEP = 1e-8
+#: Damped steps (a force or length kept positive) after which the joint iteration gives up.
+JOINT_DAMPED = 1
+
+
+@njit(cache=True, error_model="numpy")
+def _joint(
+    Bx, By, Bz, Hx, Hy, Hz, esx, esy, esz, kx, ky, kz, ux, uy, uz, rp, ld, thK, sr, L0c, w, EA, H, V, L0f, th
+):
+    """One heavy cable at its attachment point B by one Newton iteration on all its unknowns at
+    once, (H, V_B [N], L0f [m], theta [rad]) (theta fixed where ``sr`` is False), from a start near
+    the answer (the cable's state at a nearby pose): the span equations (``catenary.span_equations``
+    = the spans from B to D(theta)), the split L0f + l_dead(theta) / (1 + T_D/EA) = L0c and, on an
+    SR pulley, the tangency of the catenary's end direction to the sheave at D(theta),
+    (H e_h + V_D up) . r(theta) = 0 with r the sheave's radius direction. The answer is the one of
+    the nested iterations of ``exit_points`` (each equation is theirs; the tangency root is
+    checked to be the fixed point's, not the opposite tangent point). Each step eliminates (dH, dV)
+    by the 2 x 2 flexibility and solves the 2 x 2 left in (dL0f, dtheta) in closed form.
+
+    Returns
+    -------
+    tuple
+        (ok, H, V_B, L0f, theta, iterations, cos theta, sin theta, gamma); ok False (no convergence in ``JOINT_MAXITER``, a
+        non-positive force or length, a vertical span, the other tangent point): use the nested
+        iterations.
+    """
+    iEA = 1.0 / EA
+    c_scale = L0c
+    damped = 0
+    ct, st = math.cos(th), math.sin(th)
+    gam = (thK - th) % TWO_PI
+    for it in range(1, JOINT_MAXITER + 1):
+        rx, ry, rz = ct * esx + st * kx, ct * esy + st * ky, ct * esz + st * kz
+        vx, vy, vz = Hx + rp * rx - Bx, Hy + rp * ry - By, Hz + rp * rz - Bz
+        l_v = vx * ux + vy * uy + vz * uz
+        hx, hy, hz = vx - l_v * ux, vy - l_v * uy, vz - l_v * uz
+        l_h = math.sqrt(hx * hx + hy * hy + hz * hz)
+        if not (l_h > 0.0 and H > 0.0 and L0f > 0.0):
+            return False, H, V, L0f, th, it, ct, st, gam
+        ehx, ehy, ehz = hx / l_h, hy / l_h, hz / l_h
+        ell = ld + rp * gam
+        V_D, _, T_D, S, Qh, Qv, Qd, Qx, _ = terms_fast(H, V, L0f, w)
+        e = L0f * iEA
+        E1 = H * L0f * (iEA + Qh) - l_h
+        E2 = L0f * (0.5 * S * iEA + Qv) - l_v
+        f11, f12, f22 = e + L0f * (Qh - Qd), L0f * Qx, e + L0f * Qd
+        det = f11 * f22 - f12 * f12
+        kk = iEA + 1.0 / T_D
+        gh, gv = kk * H, kk * V_D
+        if math.isinf(EA):
+            rho, drho = 1.0, 0.0
+        else:
+            rho = EA / (EA + T_D)
+            drho = -rho / (EA + T_D)
+        E3 = L0f + ell * rho - L0c
+        q = ell * drho / T_D
+        c3H, c3V, c3L = q * H, q * V_D, 1.0 + q * w * V_D
+        # (dH, dV) = p0 + pL dL0f + pt dtheta from the span equations
+        p0H, p0V = -(f22 * E1 - f12 * E2) / det, -(f11 * E2 - f12 * E1) / det
+        pLH, pLV = -(f22 * gh - f12 * gv) / det, -(f11 * gv - f12 * gh) / det
+        A11 = c3H * pLH + c3V * pLV + c3L
+        b1 = -E3 - c3H * p0H - c3V * p0V
+        small = (
+            math.sqrt(E1 * E1 + E2 * E2) <= JOINT_RTOL * (L0f + l_h + abs(l_v))
+            and abs(E3) <= JOINT_RTOL * c_scale
+        )
+        if sr:
+            dx, dy, dz = -st * esx + ct * kx, -st * esy + ct * ky, -st * esz + ct * kz  # dr/dtheta
+            dlv = rp * (dx * ux + dy * uy + dz * uz)
+            dlh = rp * (dx * ehx + dy * ehy + dz * ehz)
+            ptH, ptV = (f22 * dlh - f12 * dlv) / det, (f11 * dlv - f12 * dlh) / det
+            ehr = ehx * rx + ehy * ry + ehz * rz
+            ur = ux * rx + uy * ry + uz * rz
+            E4 = H * ehr + V_D * ur
+            # d(e_h . r)/dtheta = (de_h/dtheta) . r + e_h . dr/dtheta
+            drr = rp * (dx * rx + dy * ry + dz * rz)
+            dehr = (drr - dlv * ur - dlh * ehr) / l_h + ehx * dx + ehy * dy + ehz * dz
+            c4H, c4V, c4L, c4t = ehr, ur, w * ur, H * dehr + V_D * (ux * dx + uy * dy + uz * dz)
+            A12 = c3H * ptH + c3V * ptV - rp * rho
+            A21 = c4H * pLH + c4V * pLV + c4L
+            A22 = c4H * ptH + c4V * ptV + c4t
+            b2 = -E4 - c4H * p0H - c4V * p0V
+            dd = A11 * A22 - A12 * A21
+            dL = (b1 * A22 - A12 * b2) / dd
+            dt = (A11 * b2 - A21 * b1) / dd
+            small = small and abs(E4) <= JOINT_RTOL * T_D
+        else:
+            dL = b1 / A11
+            dt = ptH = ptV = 0.0
+        dH = p0H + pLH * dL + ptH * dt
+        dV = p0V + pLV * dL + ptV * dt
+        if not (math.isfinite(dH) and math.isfinite(dV) and math.isfinite(dL) and math.isfinite(dt)):
+            return False, H, V, L0f, th, it, ct, st, gam
+        alpha = 1.0
+        if H + dH <= 0.0:
+            alpha = 0.5 * H / -dH
+        if L0f + alpha * dL <= 0.0:
+            alpha = 0.5 * L0f / -dL
+        if alpha * abs(dt) > 0.5:
+            alpha = 0.5 / abs(dt)
+        if alpha < 1.0:
+            damped += 1
+            if damped > JOINT_DAMPED:  # far from the answer: the nested iterations' line searches
+                return False, H, V, L0f, th, it, ct, st, gam
+        H += alpha * dH
+        V += alpha * dV
+        L0f += alpha * dL
+        da = alpha * dt
+        th += da
+        gam -= da
+        if not 0.0 <= gam < TWO_PI:
+            gam = (thK - th) % TWO_PI
+        if abs(da) < 1e-3:  # cos and sin of theta turned by da (Taylor's series: to round-off)
+            a2 = da * da
+            cd = 1.0 - a2 * (0.5 - a2 * (1.0 / 24.0 - a2 / 720.0))
+            sd = da * (1.0 - a2 * (1.0 / 6.0 - a2 * (1.0 / 120.0 - a2 / 5040.0)))
+            ct, st = ct * cd - st * sd, st * cd + ct * sd
+        else:
+            ct, st = math.cos(th), math.sin(th)
+        step = max(abs(dH) + abs(dV), T_D * (abs(dL) + rp * abs(dt)) / c_scale)
+        if alpha == 1.0 and (small or step <= JOINT_STEP * T_D):
+            if sr:  # the fixed point's root: the end direction toward the sheave gives back theta
+                V_D = V + w * L0f
+                n_s = H * (ehx * kx + ehy * ky + ehz * kz) + V_D * (ux * kx + uy * ky + uz * kz)
+                n_w = -(H * (ehx * esx + ehy * esy + ehz * esz) + V_D * (ux * esx + uy * esy + uz * esz))
+                if n_s * ct + n_w * st <= 0.0:
+                    return False, H, V, L0f, th, it, ct, st, gam
+            return True, H, V, L0f, th, it, ct, st, gam
+    return False, H, V, L0f, th, JOINT_MAXITER, ct, st, gam
+
+
+@njit(cache=True, error_model="numpy")
+def _cold_start(
+    Bx, By, Bz, Hx, Hy, Hz, esx, esy, esz, kx, ky, kz, ux, uy, uz, rp, ld, thK, sr, L0c, w, EA, th
+):
+    """A start of ``_joint`` with D at theta (the massless exit point): the split of Hooke's law on
+    the whole length (``catenary.cable_state``'s) and the span's start (``catenary._start``'s
+    first guess);
+    (H, V_B [N], L0f [m]), H NaN where there is none (a vertical span, an infeasible one)."""
+    ct, st = math.cos(th), math.sin(th)
+    vx = Hx + rp * (ct * esx + st * kx) - Bx
+    vy = Hy + rp * (ct * esy + st * ky) - By
+    vz = Hz + rp * (ct * esz + st * kz) - Bz
+    l_v = vx * ux + vy * uy + vz * uz
+    hx, hy, hz = vx - l_v * ux, vy - l_v * uy, vz - l_v * uz
+    l_h = math.sqrt(hx * hx + hy * hy + hz * hz)
+    ell = ld + rp * ((thK - th) % TWO_PI)
+    c = math.hypot(l_h, l_v)
+    T0 = EA * ((c + ell) / L0c - 1.0) if c + ell > L0c else 0.0
+    if not math.isfinite(T0):
+        T0 = 0.0
+    L0f = L0c - ell * (1.0 if math.isinf(EA) else EA / (EA + T0))
+    if not (l_h > 0.0 and L0f > 0.0) or (math.isinf(EA) and c >= L0f):
+        return np.nan, np.nan, np.nan
+    # catenary._start without its refinement of lambda (a start only: the joint iteration solves)
+    Le = max(L0f, 1.001 * c)
+    rho = math.sqrt(Le * Le - l_v * l_v) / l_h
+    lam = (
+        math.sqrt(6.0 * (rho - 1.0))
+        if rho < 3.0
+        else math.log(2.0 * rho) + math.log(math.log(2.0 * rho) + 1.0)
+    )
+    H_cat = w * l_h / (2.0 * lam)
+    T = EA * (c / L0f - 1.0) if c > L0f else 0.0
+    if not math.isfinite(T):
+        T = 0.0
+    H_h = T * l_h / c
+    if H_h > H_cat:
+        return H_h, T * l_v / c - 0.5 * w * L0f, L0f
+    return H_cat, 0.5 * w * (l_v / math.tanh(lam) - Le), L0f
+
+
+@njit(cache=True, error_model="numpy")
+def _cable_at(
+    Bx, By, Bz, Ax, Ay, Az, ident, F00, F01, F02, F10, F11, F12, F20, F21, F22, kind, h, rp, d, inx, iny, EA, w,
+    ux, uy, uz, kx, ky, kz, L0c, ready, H0, V0, L0f, th0,
+):  # fmt: skip
+    """``exit_points`` of one cable on scalars only (no arrays: no reference counts in the pose
+    kernel's loop over cables): the attachment point B, the joint A, the pulley frame F (``ident``:
+    the identity) and the cable's data (``_kernels.Cables``, ``Heavy``), rest length L0c [m] and the
+    start (ready > 0: H0, V0 [N], L0f [m], theta [rad]; else the reference's start).
+
+    Returns
+    -------
+    tuple
+        (H, V_B [N], L0f [m], theta [rad], T_B, T_D [N], l_h, l_v [m], D (3) [m], gamma [rad], code,
+        l_dead [m], iterations, e_h (3) [-], swivel [-], e_perp (3) [-], (D - A) . up [m], inside,
+        gamma of the massless model [rad]).
+    """
+    if ident:
+        qx, qy, qz, ax, ay, az = Bx, By, Bz, Ax, Ay, Az
+    else:
+        wx, wy, wz = Bx - Ax, By - Ay, Bz - Az
+        qx, qy, qz = (
+            F00 * wx + F01 * wy + F02 * wz,
+            F10 * wx + F11 * wy + F12 * wz,
+            F20 * wx + F21 * wy + F22 * wz,
+        )
+        ax = ay = az = 0.0
+    g = pulley_geometry(qx, qy, qz, ax, ay, az, kind, h, rp, d, inx, iny)
+    if ident:
+        esx, esy, esz = g.esx, g.esy, 0.0
+    else:
+        esx = g.esx * F00 + g.esy * F10
+        esy = g.esx * F01 + g.esy * F11
+        esz = g.esx * F02 + g.esy * F12
+    Hx, Hy, Hz = Ax + g.Hs * esx + g.Hw * kx, Ay + g.Hs * esy + g.Hw * ky, Az + g.Hs * esz + g.Hw * kz
+    thK = math.atan2(g.sK, g.cK) if rp > 0.0 else 0.0
+    if ready > 0.0:
+        th = th0
+        gamma = (thK - th) % TWO_PI
+    else:
+        th, H0, V0, L0f = math.atan2(g.sD, g.cD), np.nan, np.nan, np.nan
+        gamma = g.gamma
+    sr = kind == 1 and rp > 0.0
+    ell = g.ld + rp * gamma
+    H = V = np.nan
+    code = 0
+    l_h = l_v = 0.0
+    ehx = ehy = ehz = 0.0
+    Dx = Dy = Dz = 0.0
+    it = 0
+    last = not sr
+    th_prev = f_prev = np.nan
+    joint = False
+    if w > 0.0:  # all the cable's unknowns at once: from the start given, else from a cold one
+        args = (Bx, By, Bz, Hx, Hy, Hz, esx, esy, esz, kx, ky, kz, ux, uy, uz, rp, g.ld, thK, sr, L0c, w, EA)
+        if ready > 0.0:
+            joint, Hj, Vj, Lj, tj, it, ct, st, gamma_j = _joint(*args, H0, V0, L0f, th)
+        if not joint:
+            tc = math.atan2(g.sD, g.cD) if ready > 0.0 else th
+            Hc, Vc, Lc = _cold_start(*args, tc)
+            if Hc > 0.0:
+                joint, Hj, Vj, Lj, tj, it, ct, st, gamma_j = _joint(*args, Hc, Vc, Lc, tc)
+        if joint:
+            H, V, L0f, th, gamma = Hj, Vj, Lj, tj, gamma_j
+            Dx = Hx + rp * (ct * esx + st * kx)
+            Dy = Hy + rp * (ct * esy + st * ky)
+            Dz = Hz + rp * (ct * esz + st * kz)
+            vx, vy, vz = Dx - Bx, Dy - By, Dz - Bz
+            l_v = vx * ux + vy * uy + vz * uz
+            hx, hy, hz = vx - l_v * ux, vy - l_v * uy, vz - l_v * uz
+            l_h = math.sqrt(hx * hx + hy * hy + hz * hz)
+            ehx, ehy, ehz = hx / l_h, hy / l_h, hz / l_h
+            ell = g.ld + rp * gamma
+            code = U_SHAPED if (V < 0.0 and V + w * L0f > 0.0) else CATENARY
+    if not joint:  # the nested iterations, from the given start (or the reference's)
+        for it in range(1, EXIT_MAXITER + 2):
+            ct, st = math.cos(th), math.sin(th)
+            Dx = Hx + rp * (ct * esx + st * kx)
+            Dy = Hy + rp * (ct * esy + st * ky)
+            Dz = Hz + rp * (ct * esz + st * kz)
+            vx, vy, vz = Dx - Bx, Dy - By, Dz - Bz
+            l_v = vx * ux + vy * uy + vz * uz
+            hx, hy, hz = vx - l_v * ux, vy - l_v * uy, vz - l_v * uz
+            l_h = math.sqrt(hx * hx + hy * hy + hz * hz)
+            il = 1.0 / l_h if l_h > 0.0 else 1.0
+            ehx, ehy, ehz = hx * il, hy * il, hz * il
+            H, V, code, _, _, L0f = cable_state(l_h, l_v, L0c, ell, w, EA, H0, V0, L0f)
+            H0, V0 = H, V
+            if last or it > EXIT_MAXITER or code == INFEASIBLE:
+                break
+            V_D = V + w * L0f
+            T_D = math.hypot(H, V_D)
+            # the cable's direction at D toward the sheave, in the sheave plane: (n_s, n_w)
+            cx = -(H * ehx + V_D * ux) / T_D
+            cy = -(H * ehy + V_D * uy) / T_D
+            cz = -(H * ehz + V_D * uz) / T_D
+            n_s = -(cx * kx + cy * ky + cz * kz)
+            n_w = cx * esx + cy * esy + cz * esz
+            if not (T_D > 0.0 and math.isfinite(n_s) and math.isfinite(n_w)):
+                break
+            g_th = math.atan2(n_w, n_s)  # the fixed point's map: theta <- g(theta)
+            f = (g_th - th + math.pi) % TWO_PI - math.pi
+            vmax = max(abs(vx), abs(vy), abs(vz))
+            # converged: one more pass solves the whole cable at D = g(theta) (the loop's last)
+            last = rp * abs(f) <= 1e-15 * (1.0 + vmax)
+            th_new = g_th
+            if not last and f_prev == f_prev and th != th_prev:
+                # the secant step on f(theta) = g(theta) - theta where its slope is that of a
+                # contraction (g' = slope + 1 in (-0.5, 0.5)); else the plain fixed-point step
+                slope = (f - f_prev) / (th - th_prev)
+                if -1.5 < slope < -0.5:
+                    th_new = th - f / slope
+            th_prev, f_prev = th, f
+            th = th_new
+            gamma = (thK - th) % TWO_PI
+            ell = g.ld + rp * gamma
+    T_B = math.sqrt(H * H + V * V)
+    V_D = V + w * L0f
+    T_D = math.sqrt(H * H + V_D * V_D)
+    Ds = g.Hs + rp * (ct if joint else math.cos(th))
+    swivel = Ds / g.rho if g.rho > SWIVEL_RHO_MIN else 0.0
+    epx, epy, epz = ky * esz - kz * esy, kz * esx - kx * esz, kx * esy - ky * esx
+    zD = (Dx - Ax) * ux + (Dy - Ay) * uy + (Dz - Az) * uz
+    return (
+        H, V, L0f, th, T_B, T_D, l_h, l_v, Dx, Dy, Dz, gamma, code, ell, it, ehx, ehy, ehz, swivel, epx, epy, epz,
+        zD, g.inside, g.gamma,
+    )  # fmt: skip
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _store(out, c, H, V, L0f, th, T_B, T_D, l_h, l_v, Dx, Dy, Dz, gamma, code, ell, it):
+    """Row c of a cables' state (``STATE``) from ``_cable_at``'s results."""
+    out[c, _H], out[c, _V], out[c, _L0F], out[c, _TH] = H, V, L0f, th
+    out[c, _READY] = 1.0 if math.isfinite(H) else 0.0
+    out[c, _TB], out[c, _TD], out[c, _LH], out[c, _LV] = T_B, T_D, l_h, l_v
+    out[c, _DX], out[c, _DY], out[c, _DZ], out[c, _GAM] = Dx, Dy, Dz, gamma
+    out[c, _CODE], out[c, _ELL], out[c, _IT] = code, ell, it
+
+
 @njit(cache=True, error_model="numpy")
 def exit_points(Bx, By, Bz, c, L0c, cab, frame, ident, heavy, start, out):
     """``HeavyCables.exit_points`` of cable c at its attachment point B (base frame) with rest
@@ -127,99 +452,16 @@ def exit_points(Bx, By, Bz, c, L0c, cab, frame, ident, heavy, start, out):
         (H, V_B [N], L0f [m], l_h, l_v [m], e_h (3) [-], l_dead [m], swivel [-], e_perp (3) [-],
         T_B [N], (D - A) . up [m], inside, gamma of the massless model [rad]).
     """
-    A = cab.A
-    kind, h, rp, d, EA = cab.kind[c], cab.h[c], cab.rp[c], cab.d[c], cab.ES[c]
-    w = heavy.w[c]
-    ux, uy, uz = heavy.up[0], heavy.up[1], heavy.up[2]
-    Ax, Ay, Az = A[c, 0], A[c, 1], A[c, 2]
-    qx, qy, qz, ax, ay, az = in_frame(Bx, By, Bz, Ax, Ay, Az, ident[c], frame[c])
-    g = pulley_geometry(qx, qy, qz, ax, ay, az, kind, h, rp, d, cab.inward[c, 0], cab.inward[c, 1])
-    kx, ky, kz = heavy.axis[c, 0], heavy.axis[c, 1], heavy.axis[c, 2]
-    if ident[c]:
-        esx, esy, esz = g.esx, g.esy, 0.0
-    else:
-        F = frame[c]
-        esx = g.esx * F[0, 0] + g.esy * F[1, 0]
-        esy = g.esx * F[0, 1] + g.esy * F[1, 1]
-        esz = g.esx * F[0, 2] + g.esy * F[1, 2]
-    Hx, Hy, Hz = Ax + g.Hs * esx + g.Hw * kx, Ay + g.Hs * esy + g.Hw * ky, Az + g.Hs * esz + g.Hw * kz
-    thK = math.atan2(g.sK, g.cK) if rp > 0.0 else 0.0
-    if start[_READY] > 0.0:
-        th, H0, V0, L0f = start[_TH], start[_H], start[_V], start[_L0F]
-        gamma = (thK - th) % TWO_PI
-    else:
-        th, H0, V0, L0f = math.atan2(g.sD, g.cD), np.nan, np.nan, np.nan
-        gamma = g.gamma
-    sr = kind == 1 and rp > 0.0
-    ell = g.ld + rp * gamma
-    H = V = np.nan
-    code = 0
-    l_h = l_v = 0.0
-    ehx = ehy = ehz = 0.0
-    Dx = Dy = Dz = 0.0
-    it = 0
-    last = not sr
-    th_prev = f_prev = np.nan
-    for it in range(1, EXIT_MAXITER + 2):
-        ct, st = math.cos(th), math.sin(th)
-        Dx = Hx + rp * (ct * esx + st * kx)
-        Dy = Hy + rp * (ct * esy + st * ky)
-        Dz = Hz + rp * (ct * esz + st * kz)
-        vx, vy, vz = Dx - Bx, Dy - By, Dz - Bz
-        l_v = vx * ux + vy * uy + vz * uz
-        hx, hy, hz = vx - l_v * ux, vy - l_v * uy, vz - l_v * uz
-        l_h = math.sqrt(hx * hx + hy * hy + hz * hz)
-        il = 1.0 / l_h if l_h > 0.0 else 1.0
-        ehx, ehy, ehz = hx * il, hy * il, hz * il
-        H, V, code, _, _, L0f = cable_state(l_h, l_v, L0c, ell, w, EA, H0, V0, L0f)
-        H0, V0 = H, V
-        if last or it > EXIT_MAXITER or code == INFEASIBLE:
-            break
-        V_D = V + w * L0f
-        T_D = math.hypot(H, V_D)
-        # the cable's direction at D toward the sheave, in the sheave plane: (n_s, n_w)
-        cx = -(H * ehx + V_D * ux) / T_D
-        cy = -(H * ehy + V_D * uy) / T_D
-        cz = -(H * ehz + V_D * uz) / T_D
-        n_s = -(cx * kx + cy * ky + cz * kz)
-        n_w = cx * esx + cy * esy + cz * esz
-        if not (T_D > 0.0 and math.isfinite(n_s) and math.isfinite(n_w)):
-            break
-        g_th = math.atan2(n_w, n_s)  # the fixed point's map: theta <- g(theta)
-        f = (g_th - th + math.pi) % TWO_PI - math.pi
-        vmax = max(abs(vx), abs(vy), abs(vz))
-        # converged: one more pass solves the whole cable at D = g(theta) (the loop's last)
-        last = rp * abs(f) <= 1e-15 * (1.0 + vmax)
-        th_new = g_th
-        if not last and f_prev == f_prev and th != th_prev:
-            # the secant step on f(theta) = g(theta) - theta where its slope is that of a
-            # contraction (g' = slope + 1 in (-0.5, 0.5)); else the plain fixed-point step
-            slope = (f - f_prev) / (th - th_prev)
-            if -1.5 < slope < -0.5:
-                th_new = th - f / slope
-        th_prev, f_prev = th, f
-        th = th_new
-        gamma = (thK - th) % TWO_PI
-        ell = g.ld + rp * gamma
-    T_B = math.hypot(H, V)
-    out[_H], out[_V], out[_L0F], out[_TH], out[_READY] = H, V, L0f, th, 1.0
-    out[_TB], out[_TD], out[_LH], out[_LV] = T_B, math.hypot(H, V + w * L0f), l_h, l_v
-    out[_DX], out[_DY], out[_DZ], out[_GAM], out[_CODE], out[_ELL], out[_IT] = (
-        Dx,
-        Dy,
-        Dz,
-        gamma,
-        code,
-        ell,
-        it,
-    )
-    if not math.isfinite(H):
-        out[_READY] = 0.0
-    Ds = g.Hs + rp * math.cos(th)
-    swivel = Ds / g.rho if g.rho > SWIVEL_RHO_MIN else 0.0
-    epx, epy, epz = ky * esz - kz * esy, kz * esx - kx * esz, kx * esy - ky * esx
-    zD = (Dx - Ax) * ux + (Dy - Ay) * uy + (Dz - Az) * uz
-    return H, V, L0f, l_h, l_v, ehx, ehy, ehz, ell, swivel, epx, epy, epz, T_B, zD, g.inside, g.gamma
+    A, F, k = cab.A, frame[c], heavy.axis
+    (H, V, L0f, th, T_B, T_D, l_h, l_v, Dx, Dy, Dz, gamma, code, ell, it, ehx, ehy, ehz, sw, epx, epy, epz, zD, ins,
+     gam) = _cable_at(
+        Bx, By, Bz, A[c, 0], A[c, 1], A[c, 2], ident[c], F[0, 0], F[0, 1], F[0, 2], F[1, 0], F[1, 1], F[1, 2],
+        F[2, 0], F[2, 1], F[2, 2], cab.kind[c], cab.h[c], cab.rp[c], cab.d[c], cab.inward[c, 0], cab.inward[c, 1],
+        cab.ES[c], heavy.w[c], heavy.up[0], heavy.up[1], heavy.up[2], k[c, 0], k[c, 1], k[c, 2], L0c, start[_READY],
+        start[_H], start[_V], start[_L0F], start[_TH],
+    )  # fmt: skip
+    _store(out.reshape((1, NSTATE)), 0, H, V, L0f, th, T_B, T_D, l_h, l_v, Dx, Dy, Dz, gamma, code, ell, it)
+    return H, V, L0f, l_h, l_v, ehx, ehy, ehz, ell, sw, epx, epy, epz, T_B, zD, ins, gam
 
 
 @njit(cache=True, error_model="numpy")
@@ -244,18 +486,34 @@ def evaluate(px, py, pz, R, rfx, rfy, rfz, cab, body, heavy, L0, i, t, J, e6, g6
     for a in range(6):
         for q in range(6):
             J[a, q] = 0.0
+    A, kind, h, rp, d, inward, ES, k, wd = (
+        cab.A,
+        cab.kind,
+        cab.h,
+        cab.rp,
+        cab.d,
+        cab.inward,
+        cab.ES,
+        heavy.axis,
+        heavy.w,
+    )
     for c in range(m):
         rx = R[0, 0] * b[c, 0] + R[0, 1] * b[c, 1] + R[0, 2] * b[c, 2]
         ry = R[1, 0] * b[c, 0] + R[1, 1] * b[c, 1] + R[1, 2] * b[c, 2]
         rz = R[2, 0] * b[c, 0] + R[2, 1] * b[c, 1] + R[2, 2] * b[c, 2]
-        (H, V, L0f, l_h, l_v, ehx, ehy, ehz, ell, sw, epx, epy, epz, T_B, zD, ins, gam) = exit_points(
-            px + rx, py + ry, pz + rz, c, L0[i, c], cab, frame, ident, heavy, start[c], state[c]
-        )
+        (H, V, L0f, th, T_B, T_D, l_h, l_v, Dx, Dy, Dz, gamma, code, ell, it, ehx, ehy, ehz, sw, epx, epy, epz, zD, ins,
+         gam) = _cable_at(
+            px + rx, py + ry, pz + rz, A[c, 0], A[c, 1], A[c, 2], ident[c], frame[c, 0, 0], frame[c, 0, 1],
+            frame[c, 0, 2], frame[c, 1, 0], frame[c, 1, 1], frame[c, 1, 2], frame[c, 2, 0], frame[c, 2, 1],
+            frame[c, 2, 2], kind[c], h[c], rp[c], d[c], inward[c, 0], inward[c, 1], ES[c], wd[c], ux, uy, uz, k[c, 0],
+            k[c, 1], k[c, 2], L0[i, c], start[c, _READY], start[c, _H], start[c, _V], start[c, _L0F], start[c, _TH],
+        )  # fmt: skip
+        _store(state, c, H, V, L0f, th, T_B, T_D, l_h, l_v, Dx, Dy, Dz, gamma, code, ell, it)
         inside = inside or ins
         w.cab_inside[c] = ins
         w.cab_gamma[c] = gam
         t[c] = T_B
-        wc, EA = heavy.w[c], cab.ES[c]
+        wc, EA = wd[c], ES[c]
         Fix, Fiy, Fiz = H * ehx + V * ux, H * ehy + V * uy, H * ehz + V * uz
         Fx += Fix
         Fy += Fiy
@@ -263,8 +521,8 @@ def evaluate(px, py, pz, R, rfx, rfy, rfz, cab, body, heavy, L0, i, t, J, e6, g6
         Mx += ry * Fiz - rz * Fiy
         My += rz * Fix - rx * Fiz
         Mz += rx * Fiy - ry * Fix
-        energy += cable_energy(H, V, L0f, l_h, l_v, ell, wc, EA) + wc * L0f * zD
-        k11, k12, k21, k22 = cable_stiffness(H, V, L0f, ell, wc, EA)
+        energy_c, k11, k12, k21, k22 = cable_energy_stiffness(H, V, L0f, l_h, l_v, ell, wc, EA)
+        energy += energy_c + wc * L0f * zD
         turn = H / l_h if l_h > 1e-12 * (1.0 + abs(l_v)) else k11
         # dF/dv = e_h (k11 e_h + k12 up)^T + up (k21 e_h + k22 up)^T + turn (I - e_h e_h^T - up up^T)
         ah = (k11 * ehx + k12 * ux, k11 * ehy + k12 * uy, k11 * ehz + k12 * uz)
