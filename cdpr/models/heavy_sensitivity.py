@@ -37,6 +37,7 @@ import numpy as np
 from cdpr.models.cables import HeavyCables
 from cdpr.models.equilibrium import solve as solve_equilibrium
 from cdpr.models.platform import rotation_matrix
+from cdpr.models.results import ok_point_sensitivities
 from cdpr.models.sensitivity import COND_MAX, T_TOL, scaled_condition
 from cdpr.parameters import parameter_names
 
@@ -250,6 +251,14 @@ def _solve_linear(J, dF, rigid):
     return -np.einsum("nab,nbk->nak", np.linalg.pinv(J, rcond=1e-12), dF)
 
 
+def _linear_response(robot, P, R, L0, cab, dF):
+    """∂F6/∂x (``pose_jacobian``), the response -(∂F6/∂x)^+ dF (``_solve_linear``) and the tensions
+    at B_i of the heavy balance at fixed poses, for the partials dF (N, 6, k) of F6."""
+    J = pose_jacobian(robot, P, R, L0, cab)
+    S = _solve_linear(J, dF, cab.rigid)
+    return J, S, cab.evaluate(P, R, L0, P, jacobian=False)["t"]
+
+
 def sensitivities_at(robot, res, names=None, t_tol=T_TOL):
     """dp*/dθ and dφ*/dθ at the equilibria of a heavy-cable ``solve`` result (module docstring):
     the heavy twin of ``sensitivity.sensitivities_at``, same keys.
@@ -274,24 +283,16 @@ def sensitivities_at(robot, res, names=None, t_tol=T_TOL):
         and ``scaled_condition`` below ``sensitivity.COND_MAX``; margin_t (N,) [N]; cond (N,).
     """
     names = parameter_names(robot, rigid=True) if names is None else list(names)
-    n = len(res["P_s"])
-    S = np.full((n, 6, len(names)), np.nan)
-    margin = np.full(n, np.nan)
-    cond = np.full(n, np.inf)
-    ok = np.asarray(res["status"]) == "ok"
-    idx = np.flatnonzero(ok)
-    if idx.size:
+
+    def at(idx):
         cab = HeavyCables(robot)
         P, R, L0 = res["P_s"][idx], res["R_s"][idx], np.asarray(res["L0"], dtype=float)[idx]
-        J = pose_jacobian(robot, P, R, L0, cab)
-        dF = parameter_partials(robot, P, R, L0, names)
-        S[idx] = _solve_linear(J, dF, cab.rigid)
-        t = cab.evaluate(P, R, L0, P, jacobian=False)["t"]
+        J, S, t = _linear_response(robot, P, R, L0, cab, parameter_partials(robot, P, R, L0, names))
         low = np.where(robot.arrays.w > 0, np.inf, np.abs(t))
-        margin[idx] = np.minimum(low.min(axis=1), (robot.T_a - t).min(axis=1))
-        cond[idx] = scaled_condition(J, cab.size, cab.rigid)
-    smooth = ok & (margin > t_tol) & (cond < COND_MAX)
-    return {"names": names, "S": S, "smooth": smooth, "margin_t": margin, "cond": cond}
+        margin = np.minimum(low.min(axis=1), (robot.T_a - t).min(axis=1))
+        return S, margin, scaled_condition(J, cab.size, cab.rigid)
+
+    return ok_point_sensitivities(res, names, at, t_tol, COND_MAX)
 
 
 def pose_sensitivities(robot, p, rotvec=None, L0=None, names=None, t_tol=T_TOL, **solver):
@@ -342,9 +343,7 @@ def rest_length_sensitivities(robot, P, R, L0):
     """
     cab = HeavyCables(robot)
     L0 = np.asarray(L0, dtype=float)
-    J = pose_jacobian(robot, P, R, L0, cab)
-    S = _solve_linear(J, rest_length_partials(robot, P, R, L0, cab), cab.rigid)
-    t = cab.evaluate(P, R, L0, P, jacobian=False)["t"]
+    J, S, t = _linear_response(robot, P, R, L0, cab, rest_length_partials(robot, P, R, L0, cab))
     with np.errstate(all="ignore"):
         cond = np.linalg.cond(J if cab.rigid else J[:, :3, :3])
     return S, t, np.where(np.isfinite(cond), cond, np.inf)

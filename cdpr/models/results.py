@@ -529,3 +529,38 @@ def point_keys(res):
         The same arrays under ``POINT_KEYS``.
     """
     return {k: res[k] for k in POINT_KEYS}
+
+
+def ok_point_sensitivities(res, names, at, t_tol, cond_max):
+    """The dict of a ``sensitivities_at`` (massless or heavy): S, margin_t and cond computed by
+    ``at`` on the ok points of ``res`` only (NaN, NaN and inf elsewhere), and where they are smooth.
+
+    Parameters
+    ----------
+    res : dict
+        A physical-mode result (P_s (N, 3) [m], status (N,)).
+    names : list of str
+        The parameters, one column of S each.
+    at : callable
+        ``at(idx)`` -> S (n, 6, len(names)), margin_t (n,) [N], cond (n,) at the ok points idx (n,).
+    t_tol : float [N]
+        Tension margin under which a point is not smooth.
+    cond_max : float
+        Scaled condition number at and above which a point is not smooth.
+
+    Returns
+    -------
+    dict
+        names; S (N, 6, len(names)); smooth (N,) bool: ok, margin_t > ``t_tol`` and cond <
+        ``cond_max``; margin_t (N,) [N]; cond (N,).
+    """
+    n = len(res["P_s"])
+    S = np.full((n, 6, len(names)), np.nan)
+    margin = np.full(n, np.nan)
+    cond = np.full(n, np.inf)
+    ok = np.asarray(res["status"]) == "ok"
+    idx = np.flatnonzero(ok)
+    if idx.size:
+        S[idx], margin[idx], cond[idx] = at(idx)
+    smooth = ok & (margin > t_tol) & (cond < cond_max)
+    return {"names": names, "S": S, "smooth": smooth, "margin_t": margin, "cond": cond}

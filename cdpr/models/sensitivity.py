@@ -72,7 +72,7 @@ from cdpr.models.direct import degm_e
 from cdpr.models.equilibrium import solve as solve_equilibrium
 from cdpr.models.inverse import L_TS
 from cdpr.models.pulleys import pulley_state, total_length_and_direction
-from cdpr.models.results import point_keys
+from cdpr.models.results import ok_point_sensitivities, point_keys
 from cdpr.models.statics import direction_gradient, inverse3, length_gradient, tensions
 from cdpr.models.subsets import solve_points
 from cdpr.parameters import GROUPS, UNITS, parameter_names  # noqa: F401  (re-exported)
@@ -880,25 +880,20 @@ def sensitivities_at(robot, res, names=None, t_tol=T_TOL):
     Paty et al. 2021 (parameters); implicit-function theorem on Pott 2018's elastic equilibrium.
     """
     names, cols = pose_columns(robot, names)
-    n = len(res["P_s"])
-    S = np.full((n, 6, len(names)), np.nan)
-    margin = np.full(n, np.nan)
-    cond = np.full(n, np.inf)
-    ok = np.asarray(res["status"]) == "ok"
-    idx = np.flatnonzero(ok)
-    if idx.size:
+
+    def at(idx):
         cab = _cables(robot)
         P, R, L0 = res["P_s"][idx], res["R_s"][idx], np.asarray(res["L0"])[idx]
         ev = cab.evaluate(P, R, L0, P)
         J = ev["J"]
         dF = _wrench_partials(cab, P, R, L0)[0][:, :, cols]
-        S[idx] = -np.einsum("nab,nbk->nak", np.linalg.pinv(J, rcond=1e-12), dF)
+        S = -np.einsum("nab,nbk->nak", np.linalg.pinv(J, rcond=1e-12), dF)
         hooke = cab.ES / L0 * (ev["g"].L_TE - L0)
         over = np.where(hooke > 0, robot.T_a - hooke, np.inf)
-        margin[idx] = np.minimum(np.abs(hooke).min(axis=1), over.min(axis=1))
-        cond[idx] = scaled_condition(J, cab.size, cab.rigid)
-    smooth = ok & (margin > t_tol) & (cond < COND_MAX)
-    return {"names": names, "S": S, "smooth": smooth, "margin_t": margin, "cond": cond}
+        margin = np.minimum(np.abs(hooke).min(axis=1), over.min(axis=1))
+        return S, margin, scaled_condition(J, cab.size, cab.rigid)
+
+    return ok_point_sensitivities(res, names, at, t_tol, COND_MAX)
 
 
 def pose_sensitivities(robot, p, rotvec=None, L0=None, names=None, t_tol=T_TOL, **solver):

@@ -618,19 +618,23 @@ def conclusions(st, results, table, markdown):
 
 
 # ---- error budget and the paper-rule-versus-physics comparison ---------------------------------
+#: The leading columns of a budget table, before the optional p95 (and orientation) ones.
+_BUDGET_COLUMNS = [
+    "design",
+    "region",
+    "entry",
+    "mean_m",
+    "max_m",
+    "share_m",
+    "largest_fraction",
+    "points",
+    "ok_points",
+]
+
+
 def _budget_rows(label, region, summary):
-    cols = [
-        "design",
-        "region",
-        "entry",
-        "mean_m",
-        "max_m",
-        "share_m",
-        "largest_fraction",
-        "points",
-        "ok_points",
-    ]
-    return summary.assign(design=label, region=region)[cols + [c for c in ("p95_m",) if c in summary]]
+    cols = _BUDGET_COLUMNS + [c for c in ("p95_m",) if c in summary]
+    return summary.assign(design=label, region=region)[cols]
 
 
 def budget_design(st, comparison, label, box_file, table, path_table, threads=None):
@@ -700,19 +704,8 @@ def study_budget_design(st, design, box_file, table, threads=None):
     res = budget.error_budget(robot, P, b["t_min_N"], threads, rotvec=study.rotvec(st))
     tab = budget.summarise(res).assign(design=design, region="RW_C")
     tab["entry_ok_points"] = [int((res[k]["status"] == "ok").sum()) for k in tab.entry]
-    cols = [
-        "design",
-        "region",
-        "entry",
-        "mean_m",
-        "max_m",
-        "share_m",
-        "largest_fraction",
-        "points",
-        "ok_points",
-    ]
     extra = [c for c in ("mean_rad", "max_rad", "p95_m", "p95_rad") if c in tab]
-    table_io.write_table(tab[cols + extra + ["entry_ok_points"]], table)
+    table_io.write_table(tab[_BUDGET_COLUMNS + extra + ["entry_ok_points"]], table)
 
 
 def study_budget(st, tables, table, figure):
