@@ -187,22 +187,3 @@ def solve_table(
         to_frame(robot, solve(robot, p[i : i + chunk], engine=engine, **run, **options)) for i in starts
     ]
     return pd.concat(frames, ignore_index=True)
-
-
-def interference_free_rows(df):
-    """Boolean mask (N,) of the rows free of interference: the ``interference_free`` column (a
-    missing value, an unsolved point, counts as not free), or every row of a table without it (a
-    point mass's).
-
-    Parameters
-    ----------
-    df : DataFrame
-        A point table.
-
-    Returns
-    -------
-    ndarray (N,) bool
-    """
-    if "interference_free" not in df:
-        return np.ones(len(df), dtype=bool)
-    return df["interference_free"].astype("boolean").fillna(False).to_numpy(dtype=bool)

@@ -21,7 +21,6 @@ from pathlib import Path
 import numpy as np
 
 from cdpr.errors import CdprError, ConfigError
-from cdpr.tables import interference_free_rows
 
 #: Bytes of memory per grid point while solving and writing (measured peak RSS / points, rounded up):
 #: the bound ``cdpr grid --n`` and the study's size check (``pipeline.study``) apply.
@@ -449,3 +448,22 @@ def box_volume(box):
     """
     b = np.asarray(box, dtype=float)
     return float(np.prod(np.maximum(b[1::2] - b[0::2], 0.0)))
+
+
+def interference_free_rows(df):
+    """Boolean mask (N,) of the rows free of interference: the ``interference_free`` column (a
+    missing value, an unsolved point, counts as not free), or every row of a table without it (a
+    point mass's).
+
+    Parameters
+    ----------
+    df : DataFrame
+        A point table.
+
+    Returns
+    -------
+    ndarray (N,) bool
+    """
+    if "interference_free" not in df:
+        return np.ones(len(df), dtype=bool)
+    return df["interference_free"].astype("boolean").fillna(False).to_numpy(dtype=bool)

@@ -22,11 +22,11 @@ import yaml
 
 from cdpr import io, table_io
 from cdpr.analyses import scans
+from cdpr.analyses.workspace import interference_free_rows
 from cdpr.models import winch
 from cdpr.pipeline.results import Layout, check_complete, rel_path
 from cdpr.pipeline.study import robot_of, spatial_robots
 from cdpr.robot import TABLE1
-from cdpr.tables import interference_free_rows
 
 #: The papers' numbers (package data of the library).
 PAPER_VALUES = importlib.resources.files("cdpr") / "data" / "paper_values.yaml"

@@ -11,13 +11,14 @@ from matplotlib.colors import to_rgba
 from cdpr import table_io
 from cdpr.analyses import scans, workspace
 from cdpr.analyses.interference import add_interference
+from cdpr.analyses.workspace import interference_free_rows
 from cdpr.models.interference import COLUMNS, columns, interference
 from cdpr.pipeline import solver_tables, study, summary
 from cdpr.pipeline.plots import robot as robot_plots
 from cdpr.pipeline.plots import style as style_plots
 from cdpr.pipeline.results import rel_path
 from cdpr.robot import load_robot
-from cdpr.tables import interference_free_rows, solve_table
+from cdpr.tables import solve_table
 from tests.conftest import ROBOTS, ROOT
 
 WALL = ROOT / "tests" / "data" / "wall_crossed.yaml"
