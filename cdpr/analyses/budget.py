@@ -304,9 +304,9 @@ def variant(design, p, actual, model, t_min=T_MIN_DEFAULT, threads=None, engine=
     threads : int, optional
         Threads of the compiled equilibrium.
     engine : {"compiled", "numpy", None}
-        Engine of the physical equilibrium (``solve.check_engine``: None is compiled; with heavy
-        cables in ``actual``, None is the numpy reference, as in ``compensation.compensated_pose``:
-        the compiled kernel models heavy cables on fixed and vertical SR pulleys only).
+        Engine of the physical equilibrium (``solve.check_engine``: None is the solver's default,
+        compiled; with heavy cables in ``actual`` ``solve.heavy_engine``'s choice: the compiled
+        kernel where it models the pulleys, else the numpy reference).
     rotvec : array_like (3,) or (N, 3) [rad], optional
         Desired orientation of a rigid platform (default identity; the 6-DoF path, ``spatial``).
 
@@ -324,9 +324,8 @@ def variant(design, p, actual, model, t_min=T_MIN_DEFAULT, threads=None, engine=
     """
     p = np.atleast_2d(np.asarray(p, dtype=float))
     robot = effect_robot(design, actual)
-    if robot.heavy and engine is None:
-        engine = "numpy"  # heavy cables: the numpy reference (``compensation.compensated_pose``'s rule)
-    engine = check_engine(engine, "newton")
+    if engine is not None:
+        check_engine(engine, "newton")
     six = spatial(design, rotvec)
     L0 = realised_lengths(design, model_lengths(design, p, model, t_min, rotvec), actual, model)
     good = np.isfinite(L0).all(axis=1)

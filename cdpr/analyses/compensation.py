@@ -350,7 +350,8 @@ def compensated_pose(
         The robot that executes the lengths (same anchors, pulleys and cables, other values).
     method, t_min, t_max, options : as ``compensate``.
     engine : {"compiled", "numpy", None}
-        ``solve.check_engine``: None is compiled; another value raises CdprError.
+        ``solve.check_engine``: None is compiled (heavy cables: ``solve.heavy_engine``'s choice);
+        another value raises CdprError.
     solver : dict, optional
         Options of the physical solve (tol, maxiter, max_step).
     realise : callable, optional
@@ -377,8 +378,6 @@ def compensated_pose(
     if actual.m != robot.m:
         raise ValueError(f"the actual robot has {actual.m} cables, the model {robot.m}")
     six = at_poses(robot, p, rotvec)
-    if actual.heavy and engine is None:
-        engine = "numpy"  # heavy cables: the numpy reference (``solve.solve``)
     comp = compensate(
         robot, p, method=method, t_min=t_min, t_max=t_max, engine=engine, rotvec=rotvec, **options
     )

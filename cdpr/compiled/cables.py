@@ -43,7 +43,16 @@ from cdpr.compiled.catenary import (
 from cdpr.errors import CdprError
 from cdpr.models.catenary import CATENARY, INFEASIBLE, SPAN_STATUSES, U_SHAPED
 
-__all__ = ["NSTATE", "STATE", "Heavy", "evaluate", "exit_points", "heavy_arrays", "heavy_cables"]
+__all__ = [
+    "NSTATE",
+    "STATE",
+    "Heavy",
+    "evaluate",
+    "exit_points",
+    "heavy_arrays",
+    "heavy_cables",
+    "unmodelled",
+]
 
 #: Columns of one cable's state (``exit_points``): what the next evaluation starts from and what the
 #: outputs read. H, V_B [N]; L0f [m] the free span's unstrained length; theta [rad] the angle of D on
@@ -108,8 +117,7 @@ def heavy_arrays(cab=None, m=0):
     f = np.ascontiguousarray
     if cab is None:
         return Heavy(False, np.zeros(m), f([0.0, 0.0, 1.0]), np.zeros((m, 3)))
-    kind = cab.robot.arrays.kind
-    bad = (kind == 2) | ((kind == 1) & (np.abs(cab.axis @ cab.up) < 1.0 - 1e-12))
+    bad = unmodelled(cab)
     if bad.any():  # the numpy reference's general pulley coupling has no compiled twin yet
         raise CdprError(
             f"{cab.robot.source}: the compiled kernel models heavy cables on fixed pulleys and SR pulleys with swivel "
@@ -117,6 +125,24 @@ def heavy_arrays(cab=None, m=0):
             "use the numpy reference (--engine numpy)"
         )
     return Heavy(True, f(cab.w, dtype=float), f(cab.up, dtype=float), f(cab.axis, dtype=float))
+
+
+def unmodelled(cab):
+    """The heavy cables whose pulleys the compiled kernel does not model: a DR pulley, or an SR
+    pulley whose swivel axis is not along gravity (the numpy reference ``models.cables.HeavyCables``
+    models them).
+
+    Parameters
+    ----------
+    cab : HeavyCables
+
+    Returns
+    -------
+    ndarray (m,) bool
+        True for a cable the compiled kernel refuses (``heavy_arrays``).
+    """
+    kind = cab.robot.arrays.kind
+    return (kind == 2) | ((kind == 1) & (np.abs(cab.axis @ cab.up) < 1.0 - 1e-12))
 
 
 #: Cap of the joint Newton iteration of one cable (``_joint``); past it, the nested iterations.
