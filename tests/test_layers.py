@@ -61,7 +61,8 @@ def test_no_import_cycle_between_modules():
 #: The command line's start-up path: the only places where an import may sit inside a function, each
 #: marked ``# lazy: <reason>`` (``cdpr --help`` must not load numpy; ``cdpr.__version__`` is read
 #: from the installed metadata only when asked for; scipy's ``Rotation`` is imported where it is used,
-#: issue 17, and so is the anchors' ``ConvexHull`` of the physical mode and of the envelope volume, so
+#: issue 17, and so is the anchors' ``ConvexHull`` of the physical mode, of the envelope volume and
+#: of the platform's body (interference), so
 #: that scipy.spatial, 0.2 s, stays off the start-up of every command that does not need it; SALib and
 #: scipy.stats, 0.4 s, are imported by the Sobol analysis and the truncated normal that use them, not
 #: by every job that reads a study).
@@ -70,6 +71,7 @@ STARTUP = {
     "cdpr/__main__.py",
     "cdpr/models/platform.py",
     "cdpr/models/results.py",
+    "cdpr/models/interference.py",
     "cdpr/analyses/workspace.py",
     "cdpr/analyses/uncertainty.py",
 }

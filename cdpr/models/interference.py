@@ -41,7 +41,6 @@ import itertools
 from typing import NamedTuple
 
 import numpy as np
-from scipy.spatial import ConvexHull
 
 from cdpr.errors import CdprError
 from cdpr.models.inverse import pose_state
@@ -152,6 +151,8 @@ def platform_faces(robot):
     b = robot.arrays.b
     if np.linalg.matrix_rank(b - b.mean(axis=0), tol=1e-9) < 3:
         return None
+    from scipy.spatial import ConvexHull  # lazy: scipy.spatial is 0.2-0.4 s of every command's start-up
+
     eq = ConvexHull(b).equations
     eq = eq / np.linalg.norm(eq[:, :3], axis=1, keepdims=True)
     _, first = np.unique(np.round(eq, 12), axis=0, return_index=True)

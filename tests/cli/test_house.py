@@ -134,12 +134,14 @@ def test_help_and_usage_errors_load_no_numpy():
         assert not {"numpy", "pandas", "numba", "tqdm", "cdpr.robot", "importlib.metadata"} & mods, argv
 
 
-def test_one_point_loads_no_pandas():
+def test_one_point_loads_no_pandas_and_no_scipy_spatial():
     code, mods = imported(
         "point", "--robot", str(ROBOTS / "cdpr4.yaml"), "--at", "0.5", "0.2", "2.5", "--json"
     )
     assert code == 0 and "cdpr.compiled.subsets" in mods
     assert not {m for m in mods if m == "pandas" or m.startswith("pandas.")}
+    # scipy.spatial (0.2-0.4 s with scipy.sparse) is imported where a hull or a rotation is built
+    assert "scipy.spatial" not in mods and "scipy.sparse" not in mods
     # the engine switch (cdpr.solve) imports every compiled twin; numba loads a kernel's cached
     # machine code on its first call only, so the other twins cost their module's import (~20 ms)
     assert "cdpr.pipeline.tasks" not in mods and "cdpr.tables" not in mods and "cdpr.table_io" not in mods
