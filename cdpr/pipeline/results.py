@@ -372,7 +372,7 @@ class Layout:
         if rule in ("uq_shard", "uq_design", "uncertainty") and not u:
             return []
         if rule in ("study_budget_design", "study_budget") and not st.get("budget"):
-            return []  # the error budget of a rigid platform: a spatial study with a `budget` key
+            return []  # the error budget: a study with a `budget` key (rigid platform, or physical mode)
         if rule == "volumes_dphi" and not st["volumes"].get("dphi_limits_rad"):
             return []  # the volumes on δφ: a spatial study with volumes.dphi_limits_rad
         if rule in ("sag_path", "sag_corner") and not st.get("sag"):
@@ -432,8 +432,9 @@ class Layout:
     def large_targets(self):
         """What ``make reproduce`` asks of a study with a ``sag`` section (the large study,
         workflow/rules/large.smk): the plane maps and paths of every robot, what sag adds along the
-        path and the cables at the corner pose, not the DOE, maps, volumes, elasticity, winch and
-        dead-length sections."""
+        path, the cables at the corner pose and the error budget when the study has a ``budget`` key
+        (its RW_C box needs the DOE's workspace grids), not the DOE's index, maps, volumes, elasticity,
+        winch and dead-length sections."""
         rules = (
             "plane_table",
             "plane_figure",
@@ -441,6 +442,7 @@ class Layout:
             "trajectory_figure",
             "sag_path",
             "sag_corner",
+            "study_budget",
         )
         return [p for rule in rules for p in self.rule_outputs(rule)]
 

@@ -669,14 +669,20 @@ def check_spatial_study(st, robots):
                 )
             )
     doe_robot = robots.get(st["doe"]["robot"])
-    if st.get("budget") is not None and doe_robot is not None and doe_robot.suspended_point_mass:
+    budget_paper = st.get("redundancy", SolverOptions.redundancy) == "paper"
+    if (
+        st.get("budget") is not None
+        and doe_robot is not None
+        and doe_robot.suspended_point_mass
+        and budget_paper
+    ):
         out.append(
             ConfigError(
                 src,
                 "budget",
-                f"the study's error budget is for a rigid platform; robot {st['doe']['robot']} (doe.robot) is "
-                "a point mass: remove the key (a point-mass study has the comparison's budget, "
-                "config/comparisons/*.yaml)",
+                f"the study's error budget solves the physical equilibrium; robot {st['doe']['robot']} (doe.robot) "
+                "is a point mass in a paper-mode study: set redundancy: physical, or remove the key (a paper-mode "
+                "point-mass study has the comparison's budget, config/comparisons/*.yaml)",
             )
         )
     out += _sag_problems(st, src, robots)

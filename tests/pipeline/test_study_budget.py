@@ -1,5 +1,6 @@
 """The error budget of a spatial study (study key ``budget``; rules study_budget_design, study_budget):
-the key is refused for a point-mass study in one line, gates the rules' jobs, and its two jobs write
+the key is refused for a paper-mode point-mass study in one line (a physical-mode point-mass study,
+e.g. the large study, has it), gates the rules' jobs, and its two jobs write
 the per-design table (position and orientation, every entry) and the stacked bars."""
 
 import functools
@@ -17,6 +18,8 @@ from tests.conftest import ROOT
 
 QUICK = ROOT / "config" / "studies" / "quick.yaml"
 QUICK_SPATIAL = ROOT / "config" / "studies" / "quick_spatial.yaml"
+QUICK_PHYSICAL = ROOT / "config" / "studies" / "quick_physical.yaml"
+LARGE = ROOT / "config" / "studies" / "large.yaml"
 KEY = {"index_n": 2, "t_min_N": 100.0}
 
 
@@ -36,6 +39,31 @@ def test_a_point_mass_study_refuses_the_key_in_one_line(tmp_path):
     message = str(err.value)
     assert "\n" not in message and str(path) in message and "key 'budget'" in message
     assert "point mass" in message and "comparison" in message
+
+
+def test_a_physical_point_mass_study_has_the_budget_in_position_only(tmp_path):
+    """A point mass in physical mode (the large study's case): the key is accepted, and the job
+    writes every entry in position only (no orientation columns); the compensation of all the
+    effects leaves the physical equilibrium's round trip (<= 1e-9 m)."""
+    st = study.load_study(_variant(QUICK_PHYSICAL, tmp_path, budget=KEY))
+    assert st.robot_models[st["doe"]["robot"]].suspended_point_mass
+    box = tmp_path / "rw_c.json"
+    box.write_text(json.dumps({"box": [-0.5, 0.5, -0.5, 0.5, 1.5, 2.5]}), encoding="utf-8")
+    d = next(iter(st["optimal"]))
+    tasks.study_budget_design(st, d, box, tmp_path / f"{d}.csv")
+    t = table_io.read_table(tmp_path / f"{d}.csv").set_index("entry")
+    assert list(t.index) == [*budget.variants(), "interaction"]
+    assert not any(c.endswith("_rad") for c in t.columns)
+    assert (t.ok_points == 8).all() and t.loc["compensated_all", "max_m"] < 1e-9
+    assert t.loc["pulley", "mean_m"] > 0 and t.loc["elasticity", "mean_m"] > 0
+
+
+def test_the_large_study_asks_for_its_budget():
+    """config/studies/large.yaml (heavy point mass, physical mode): make reproduce's target
+    ``large_study`` includes the budget's table and figure."""
+    lay = Layout(study.load_study(LARGE), "r")
+    assert {"r/budget/budget.csv", "r/budget/budget.png"} <= set(lay.large_targets())
+    assert lay.wildcards("study_budget_design") == [{"design": "SR"}]
 
 
 def test_the_key_is_checked_by_the_schema(tmp_path):

@@ -33,7 +33,7 @@ def test_large_study_validates(at_root):
     for key in (st["sag"]["robot"], st["sag"]["massless"]):
         assert st["trajectories"]["paths"][key] == {"start_m": [-25.0, 0.0, 0.0], "end_m": [25.0, 0.0, 50.0]}
     rules = {Path(p).parent.name for p in Layout(st, "results/large").large_targets()}
-    assert rules == {"plane", "trajectories", "sag"}
+    assert rules == {"plane", "trajectories", "sag", "budget"}
 
 
 def test_massless_twin_differs_only_in_the_cable_weight():
@@ -85,4 +85,6 @@ def test_dry_run_lists_the_large_rules(tmp_path):
     assert jobs == {
         "plane_table": 2, "plane_figure": 2, "trajectory_table": 2, "trajectory_figure": 1,
         "sag_path": 1, "sag_corner": 1, "large_study": 1,
+        # the error budget on RW_C (doe.rw_c: paper) and the DOE workspace grids its box job reads
+        "study_budget_design": 1, "study_budget": 1, "regular_workspace": 1, "workspace_grid": 8,
     }  # fmt: skip
