@@ -183,3 +183,66 @@ def add_interference(robot, df, L0=None):
     df["interference_free"], df["n_cc"], df["n_cp"] = free, n_cc, n_cp
     df["dmin_m"], df["cc_pairs"], df["cp_cables"] = dmin, cc_pairs, cp_cables
     return df
+
+
+def interfering_at(robot, P_s, rotvec_s=None, R_s=None, desired=None, L0=None):
+    """Mask (N,) of the points whose cables interfere at their solved poses (``models.interference``):
+    what a study's global index, budget and dead-length runs leave out, as the volumes and RW_C
+    leave out the rows ``add_interference`` flags (docs/interference.md).
+
+    False where the solved pose is not finite (an unsolved point: no pose to test, and never ok)
+    and everywhere on a point mass (no cable-cable interference, no body). Heavy cables are tested
+    as their catenaries' polylines under ``L0``, else under ``L_TS`` at the desired poses (the rest
+    lengths ``solve`` commands when it is given none).
+
+    Parameters
+    ----------
+    robot : Robot
+    P_s : array_like (N, 3) [m]
+        Solved reference points.
+    rotvec_s : array_like (N, 3) [rad], optional
+        Solved orientations (rotation vectors).
+    R_s : array_like (N, 3, 3) [-], optional
+        Solved orientations as matrices, in place of ``rotvec_s``.
+    desired : array_like (N, 6) [m, rad], optional
+        The desired poses (x, y, z, rx, ry, rz): heavy cables' default rest lengths.
+    L0 : array_like (N, m) [m], optional
+        The rest lengths commanded (heavy cables only).
+
+    Returns
+    -------
+    ndarray (N,) bool
+    """
+    P_s = np.atleast_2d(np.asarray(P_s, dtype=float))
+    n = len(P_s)
+    out = np.zeros(n, dtype=bool)
+    if robot.point_mass:
+        return out
+    if R_s is None:
+        rv = (
+            np.zeros((n, 3))
+            if rotvec_s is None
+            else np.broadcast_to(np.asarray(rotvec_s, dtype=float), (n, 3))
+        )
+        fin = np.isfinite(P_s).all(axis=1) & np.isfinite(rv).all(axis=1)
+    else:
+        R_s = np.asarray(R_s, dtype=float).reshape(n, 3, 3)
+        fin = np.isfinite(P_s).all(axis=1) & np.isfinite(R_s).all(axis=(1, 2))
+    lengths = None
+    if robot.heavy:
+        if L0 is None:
+            if desired is None:
+                raise CdprError(
+                    f"{robot.source}: heavy cables: interference at solved poses needs the rest lengths or the desired poses"
+                )
+            L0 = L_TS(robot, np.asarray(desired, dtype=float))
+        lengths = np.broadcast_to(np.asarray(L0, dtype=float), (n, robot.m))
+        fin &= np.isfinite(lengths).all(axis=1)
+        lengths = lengths[fin]
+    if fin.any():
+        if R_s is None:
+            res = interference(robot, P_s[fin], rv[fin], L0=lengths)
+        else:
+            res = interference(robot, P_s[fin], R=R_s[fin], L0=lengths)
+        out[fin] = ~res.free
+    return out
