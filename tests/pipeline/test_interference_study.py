@@ -328,3 +328,40 @@ def test_the_plane_figures_draw_interfering_points_pink_and_leave_them_out(monke
             assert "pink, ok but interfering (left out): 3" in texts
             levels = [lv for c in ax.collections if hasattr(c, "levels") for lv in c.levels]
             assert not levels or max(levels) < 100.0  # mm or mrad or N: the 1 m points are not drawn
+
+
+def test_the_dead_length_sweep_leaves_out_and_counts_the_interfering_points(tmp_path, monkeypatch):
+    """``tasks.dead_length_point`` of the quick spatial study, its plane solved at four poses of
+    CoGiRo at 15° about z (two of them interfere; the largest ‖δp‖ is set on one of those) and its
+    indices stubbed: the plane extremes leave the interfering points out and the row counts them."""
+    import json
+
+    from cdpr.pipeline import tasks
+
+    st = study.load_study(ROOT / "config" / "studies" / "quick_spatial.yaml")
+    P = np.array([[0.0, 0.0, 1.5], [6.45, 4.69, 2.71], [-6.39, -4.75, 1.94], [2.0, 1.0, 2.5]])
+    rv = [0.0, 0.0, np.radians(15)]
+
+    def plane(robot, z, n, **solver):
+        df = solve_table(robot, P, rotvec=rv)
+        df.loc[1, "dp"] = 9.0  # an interfering point: must not be the plane's maximum
+        return df
+
+    monkeypatch.setattr(tasks.scans, "plane", plane)
+    monkeypatch.setattr(
+        tasks,
+        "_grid_index",
+        lambda *a, **k: {"index_m": 0.1, "index_phi_rad": 0.01, "not_ok_points": 0, "interfering_points": 2},
+    )
+    box = tmp_path / "rw_c.json"
+    box.write_text(json.dumps({"box": [-0.4, 0.4, -0.4, 0.4, 2.4, 3.0]}), encoding="utf-8")
+    tasks.dead_length_point(st, box, tmp_path / "d.csv", d=1.0)
+    row = table_io.read_table(tmp_path / "d.csv").iloc[0]
+    free = solve_table(load_robot(ROBOTS / "cogiro.yaml"), P[[0, 3]], rotvec=rv)
+    assert free.dp.max() < 1.0
+    for pk in st["pulleys"]:
+        assert row[f"interfering_points_plane_{pk}"] == 2
+        assert row[f"plane_{pk}_max_m"] < 1.0  # the 9 m point is left out
+    designs = [f"interfering_points_{dk}_{tag}" for dk in st["optimal"] for tag in ("Emin", "Emean", "Emax")]
+    assert all(row[c] == 2 for c in designs)
+    assert not any(c.startswith("plane_") and "interfering" in c for c in row.index)  # the figure's columns
