@@ -21,6 +21,7 @@ import pandas as pd
 from cdpr.analyses.workspace import cell_centres, check_box, largest_box
 from cdpr.errors import CdprError
 from cdpr.models.interference import columns, interference
+from cdpr.models.inverse import L_TS
 from cdpr.models.tension_distribution import T_MIN_DEFAULT, distribute_pose
 
 
@@ -127,22 +128,30 @@ def interference_workspace(robot, box, shape, rotvec=None, wrench_feasible=False
     return out
 
 
-def add_interference(robot, df):
+def add_interference(robot, df, L0=None):
     """The interference columns (``models.interference.columns``: interference_free, n_cc, n_cp,
     dmin_m, cc_pairs, cp_cables) of a rigid platform's point table at each row's solved pose
     (x_s, y_s, z_s, rx_s, ry_s, rz_s: where the platform settles), appended in place; a study's
-    tables flag their interfering points with them (docs/interference.md).
+    tables, and ``cdpr point`` and ``cdpr compensate``'s, flag their interfering points with them
+    (docs/interference.md).
+
+    Heavy cables (``Robot.heavy``) are tested as their catenaries' polylines under the rest lengths
+    the row was solved with: ``L0`` when given, else ``L_TS`` at the row's desired pose (x, y, z,
+    rx, ry, rz), the rest lengths ``solve`` commands when it is given none (a study's tables).
 
     A point mass's table is returned unchanged: it never has cable-cable interference and has no
     platform body, so the columns would say nothing (and its tables keep their bytes). A row whose
-    solved pose is not finite (an unsolved point) gets interference_free and n_cc, n_cp missing
-    (pandas NA), dmin_m NaN and empty strings: there is no pose to test.
+    solved pose (or, with heavy cables, a rest length) is not finite (an unsolved point) gets
+    interference_free and n_cc, n_cp missing (pandas NA), dmin_m NaN and empty strings: there is no
+    pose to test.
 
     Parameters
     ----------
     robot : Robot
     df : DataFrame
         A rigid platform's point table (``to_frame``: columns x_s, y_s, z_s, rx_s, ry_s, rz_s [m, rad]).
+    L0 : array_like (N, m) [m], optional
+        The rest lengths of the rows' cables (heavy cables only; ignored for massless ones).
 
     Returns
     -------
@@ -153,6 +162,11 @@ def add_interference(robot, df):
         return df
     pose = df[["x_s", "y_s", "z_s", "rx_s", "ry_s", "rz_s"]].to_numpy(dtype=float)
     fin = np.isfinite(pose).all(axis=1)
+    if robot.heavy:
+        if L0 is None:
+            L0 = L_TS(robot, df[["x", "y", "z", "rx", "ry", "rz"]].to_numpy(dtype=float))
+        L0 = np.broadcast_to(np.asarray(L0, dtype=float), (len(df), robot.m))
+        fin &= np.isfinite(L0).all(axis=1)
     n = len(df)
     free = pd.array(np.zeros(n, dtype=bool), dtype="boolean")
     n_cc = pd.array(np.zeros(n, dtype=np.int64), dtype="Int64")
@@ -161,10 +175,74 @@ def add_interference(robot, df):
     cc_pairs = np.full(n, "", dtype=object)
     cp_cables = np.full(n, "", dtype=object)
     if fin.any():
-        c = columns(interference(robot, pose[fin, :3], pose[fin, 3:]))
+        lengths = L0[fin] if robot.heavy else None
+        c = columns(interference(robot, pose[fin, :3], pose[fin, 3:], L0=lengths))
         free[fin], n_cc[fin], n_cp[fin] = c["interference_free"], c["n_cc"], c["n_cp"]
         dmin[fin], cc_pairs[fin], cp_cables[fin] = c["dmin_m"], c["cc_pairs"], c["cp_cables"]
     free[~fin], n_cc[~fin], n_cp[~fin] = pd.NA, pd.NA, pd.NA
     df["interference_free"], df["n_cc"], df["n_cp"] = free, n_cc, n_cp
     df["dmin_m"], df["cc_pairs"], df["cp_cables"] = dmin, cc_pairs, cp_cables
     return df
+
+
+def interfering_at(robot, P_s, rotvec_s=None, R_s=None, desired=None, L0=None):
+    """Mask (N,) of the points whose cables interfere at their solved poses (``models.interference``):
+    what a study's global index, budget and dead-length runs leave out, as the volumes and RW_C
+    leave out the rows ``add_interference`` flags (docs/interference.md).
+
+    False where the solved pose is not finite (an unsolved point: no pose to test, and never ok)
+    and everywhere on a point mass (no cable-cable interference, no body). Heavy cables are tested
+    as their catenaries' polylines under ``L0``, else under ``L_TS`` at the desired poses (the rest
+    lengths ``solve`` commands when it is given none).
+
+    Parameters
+    ----------
+    robot : Robot
+    P_s : array_like (N, 3) [m]
+        Solved reference points.
+    rotvec_s : array_like (N, 3) [rad], optional
+        Solved orientations (rotation vectors).
+    R_s : array_like (N, 3, 3) [-], optional
+        Solved orientations as matrices, in place of ``rotvec_s``.
+    desired : array_like (N, 6) [m, rad], optional
+        The desired poses (x, y, z, rx, ry, rz): heavy cables' default rest lengths.
+    L0 : array_like (N, m) [m], optional
+        The rest lengths commanded (heavy cables only).
+
+    Returns
+    -------
+    ndarray (N,) bool
+    """
+    P_s = np.atleast_2d(np.asarray(P_s, dtype=float))
+    n = len(P_s)
+    out = np.zeros(n, dtype=bool)
+    if robot.point_mass:
+        return out
+    if R_s is None:
+        rv = (
+            np.zeros((n, 3))
+            if rotvec_s is None
+            else np.broadcast_to(np.asarray(rotvec_s, dtype=float), (n, 3))
+        )
+        fin = np.isfinite(P_s).all(axis=1) & np.isfinite(rv).all(axis=1)
+    else:
+        R_s = np.asarray(R_s, dtype=float).reshape(n, 3, 3)
+        fin = np.isfinite(P_s).all(axis=1) & np.isfinite(R_s).all(axis=(1, 2))
+    lengths = None
+    if robot.heavy:
+        if L0 is None:
+            if desired is None:
+                raise CdprError(
+                    f"{robot.source}: heavy cables: interference at solved poses needs the rest lengths or the desired poses"
+                )
+            L0 = L_TS(robot, np.asarray(desired, dtype=float))
+        lengths = np.broadcast_to(np.asarray(L0, dtype=float), (n, robot.m))
+        fin &= np.isfinite(lengths).all(axis=1)
+        lengths = lengths[fin]
+    if fin.any():
+        if R_s is None:
+            res = interference(robot, P_s[fin], rv[fin], L0=lengths)
+        else:
+            res = interference(robot, P_s[fin], R=R_s[fin], L0=lengths)
+        out[fin] = ~res.free
+    return out

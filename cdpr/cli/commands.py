@@ -396,6 +396,7 @@ def cmd_point(args):
         )
 
     if args.points or args.out:
+        from cdpr.analyses.interference import add_interference  # lazy: a table of points only (pandas)
         from cdpr.cli import reached  # lazy: a table of points only
         from cdpr.tables import to_frame  # lazy: a table of points only (pandas)
 
@@ -408,7 +409,9 @@ def cmd_point(args):
         def chunk(P, rv):
             n_zero[0] += int(_zero_length(robot, P, rv, L0, args.redundancy).any(axis=1).sum())
             res = reached.table_answer(robot, args, solve(P, rv), engine)  # issue 39
-            return tally.add(to_frame(robot, res, args.redundancy, rotvec=rv))
+            df = to_frame(robot, res, args.redundancy, rotvec=rv)
+            # a rigid platform's interference columns at the solved poses (docs/interference.md)
+            return tally.add(add_interference(robot, df, L0=res.get("L0", L0)))
 
         write_chunks(args, points, chunk, "point")
         _report(tally, args.out, args, float("nan"))
@@ -441,7 +444,9 @@ def cmd_point(args):
     else:
         out["subset"] = [int(i) + 1 for i in res["subset"][0] if i >= 0]
     out.update(status=str(res["status"][0]), iterations=int(res["iterations"][0]), engine=engine)
-    out["interference_free"] = interference_free(robot, out["solved"], out.get("solved_rotvec"))
+    out["interference_free"] = interference_free(
+        robot, out["solved"], out.get("solved_rotvec"), L0=res["L0"][0] if "L0" in res else L0
+    )
     if "unique" in res:
         out.update(unique=bool(res["unique"][0]), alternatives=res["alternatives"][0])
     if two is not None:
@@ -577,6 +582,7 @@ def cmd_compensate(args):
         )
 
     if args.points or args.out:
+        from cdpr.analyses.interference import add_interference  # lazy: tables only (pandas)
         from cdpr.tables import to_frame  # lazy: tables only (pandas)
 
         def table(P, rv):
@@ -588,7 +594,9 @@ def cmd_compensate(args):
                 df[f"L0_{i + 1}"] = res["L0"][:, i]
             for i in range(robot.m):
                 df[f"t_planned{i + 1}"] = res["t_planned"][:, i]
-            return tally.add(df)
+            # a rigid platform's interference columns at the solved poses (the robot they were
+            # solved on, under the compensated lengths: docs/interference.md)
+            return tally.add(add_interference(robot if actual is None else actual, df, L0=res["L0"]))
 
         tally = Tally()
         n_zero = [0]
@@ -603,7 +611,8 @@ def cmd_compensate(args):
             _report(tally, args.out, args, float("nan"))
         return
     res = solve(P, rv)
-    free = interference_free(robot, args.at, None if rv is None else rv[0])  # at the desired pose
+    # at the desired pose (heavy cables: the planned catenaries, under the compensated lengths)
+    free = interference_free(robot, args.at, None if rv is None else rv[0], L0=res["L0"][0])
     reason = _zero_length_reason(_zero_segment(robot, P, rv)[0], "length")
     if six:
         return _compensate_pose_report(args, robot, res, engine, free, reason)

@@ -66,7 +66,9 @@ def _object(robot, res, rigid, reference):
         energy_J=float(res["energy"][0] if "energy" in res else _energy(robot, res, reference)),
         taut=[int(i) + 1 for i in np.flatnonzero(res["taut"][0])],
         tensions=[None if np.isnan(v) else float(v) for v in t],
-        interference_free=interference_free(robot, out["solved"], rv),
+        interference_free=interference_free(
+            robot, out["solved"], rv, L0=(res if "L0" in res else reference)["L0"][0]
+        ),
         status=str(res["status"][0]),
     )
     return out

@@ -18,7 +18,17 @@ attachment point B_i = p + R b_i (s = 0) to its sheave exit point D_i (s = 1; th
   inside is [s_in, s_out], its length (s_out - s_in) |D_i - B_i| and its depth the largest distance
   of a chord point to the body's boundary.
 
-Heavy (sagging) cables are not modelled here: the span is the straight line of the massless cable.
+Heavy cables (``cable.linear_density_kg_m`` > 0, issue 38) sag: the span is then the polyline of
+``POLYLINE_PIECES`` straight pieces through the points of Irvine's elastic catenary at equal steps of
+unstrained arc length (``catenary.shape``) from B_i to the exit point D_i of the heavy pulley
+coupling (``cables.HeavyCables.exit_points``), under the cable's rest length L0_i (given with the
+pose: the catenary depends on the tension, not on the pose alone). The tests run on its pieces: the
+pair distance is the smallest segment-segment distance over the pieces' pairs, the chord inside the
+body the union of the pieces' clipped chords; s is then the fraction of the free span's unstrained
+length (the pieces' junctions are at s = k / K). A straight cable is the polyline of one piece (the
+same code), and w -> 0 is continuous: the catenary's points then lie on the chord. The polyline is
+within about f / K^2 of the curve (f the cable's sag, K the pieces: the sagitta of a parabola's
+piece).
 
 References
 ----------
@@ -43,6 +53,8 @@ from typing import NamedTuple
 import numpy as np
 
 from cdpr.errors import CdprError
+from cdpr.models.cables import HeavyCables
+from cdpr.models.catenary import shape
 from cdpr.models.inverse import pose_state
 from cdpr.models.platform import pose_arrays
 from cdpr.robot import BoxBody
@@ -58,6 +70,11 @@ POSE_BLOCK = 4096
 #: Distance [m] under which two attachments b_i, b_j or two fixed anchors A_i, A_j are the same point
 #: (the robot file's duplicate check uses the same tolerance).
 SAME_POINT_M = 1e-9
+#: Straight pieces of a heavy cable's polyline (``cable_polylines``): within about sag / K^2 of the
+#: catenary (0.24 mm for a 1 m sag).
+POLYLINE_PIECES = 64
+#: Piece pairs whose distances are computed at a time (bounds the memory of ``polyline_distance``).
+PIECE_PAIR_BLOCK = 1 << 16
 
 
 def _dot(u, v):
@@ -259,6 +276,138 @@ def cable_segments(robot, p, R):
     return B, st.D
 
 
+def cable_polylines(robot, p, R, L0, pieces=POLYLINE_PIECES):
+    """Every heavy cable's free span at poses as a polyline: the points of Irvine's elastic catenary
+    (``catenary.shape``) at s = L0_free k / K, k = 0..K, from B_i to the exit point D_i of the heavy
+    pulley coupling (``cables.HeavyCables.exit_points``) under the rest lengths L0,
+
+    .. math:: X_{ik} = B_i + x_i(s_k)\\, e_{h,i} + z_i(s_k)\\, u
+
+    (e_h the horizontal unit vector from B_i toward D_i, u up). The first point is B_i and the last
+    D_i exactly; a weightless cable (w_i = 0) is its straight chord cut in K equal pieces, and so is a
+    cable whose catenary has no solution there (``catenary.SPAN_STATUSES`` infeasible).
+
+    Parameters
+    ----------
+    robot : Robot
+    p : ndarray (N, 3) [m]
+        Reference points.
+    R : ndarray (N, 3, 3) [-]
+        Orientations.
+    L0 : ndarray (N, m) [m]
+        Rest lengths of the whole cables (as commanded at those poses).
+    pieces : int
+        K, the straight pieces per cable (>= 1).
+
+    Returns
+    -------
+    X : ndarray (N, m, K + 1, 3) [m]
+        The polylines' points, from B_i (k = 0) to D_i (k = K).
+
+    References
+    ----------
+    Irvine, H. M. (1981). Cable Structures. MIT Press, ch. 2.
+    """
+    cab = HeavyCables(robot)
+    x = cab.exit_points(p, R, np.asarray(L0, dtype=float))
+    sp, L0f = x["state"].span, x["state"].L0_free
+    xs, zs = shape(sp.H, sp.V_B, L0f, cab.w, cab.EA, n=pieces + 1)
+    B, D = p[:, None, :] + x["r"], x["D"]
+    X = B[:, :, None, :] + xs[..., None] * x["e_h"][:, :, None, :] + zs[..., None] * cab.up
+    X[:, :, 0, :], X[:, :, -1, :] = B, D
+    frac = np.linspace(0.0, 1.0, pieces + 1)[:, None]
+    chord = B[:, :, None, :] + frac * (D - B)[:, :, None, :]
+    straight = (cab.w == 0.0)[None, :] | ~np.isfinite(X).all(axis=(-1, -2))
+    return np.where(straight[..., None, None], chord, X)
+
+
+def polyline_distance(X, Y):
+    """Exact distance between two polylines and the parameters of their closest points: the
+    smallest ``segment_distance`` over the pairs of their straight pieces.
+
+    .. math:: d = \\min_{k, l} d(X_k X_{k+1}, Y_l Y_{l+1})
+
+    Parameters
+    ----------
+    X : array_like (..., Ka + 1, 3) [m]
+        Points of the first polylines (Ka pieces).
+    Y : array_like (..., Kb + 1, 3) [m]
+        Points of the second polylines (broadcast against the first).
+
+    Returns
+    -------
+    d : ndarray (...) [m]
+        Distance between the polylines.
+    s : ndarray (...) [-]
+        Parameter of the closest point on X, (k + s_k) / Ka: piece k, at s_k in it.
+    t : ndarray (...) [-]
+        Parameter of the closest point on Y, (l + t_l) / Kb.
+
+    References
+    ----------
+    Ericson, C. (2005). Real-Time Collision Detection, section 5.1.9 (per piece pair).
+    """
+    X, Y = np.asarray(X, dtype=float), np.asarray(Y, dtype=float)
+    Ka, Kb = X.shape[-2] - 1, Y.shape[-2] - 1
+    if Ka == 1 and Kb == 1:  # two segments: no search over pieces
+        return segment_distance(X[..., 0, :], X[..., 1, :], Y[..., 0, :], Y[..., 1, :])
+    lead = np.broadcast_shapes(X.shape[:-2], Y.shape[:-2])
+    X = np.broadcast_to(X, lead + X.shape[-2:]).reshape(-1, Ka + 1, 3)
+    Y = np.broadcast_to(Y, lead + Y.shape[-2:]).reshape(-1, Kb + 1, 3)
+    M = len(X)
+    d, s, t = np.empty(M), np.empty(M), np.empty(M)
+    step = max(1, PIECE_PAIR_BLOCK // (Ka * Kb))
+    for a in range(0, M, step):
+        x, y = X[a : a + step], Y[a : a + step]
+        dd, ss, tt = segment_distance(
+            x[:, :-1, None, :], x[:, 1:, None, :], y[:, None, :-1, :], y[:, None, 1:, :]
+        )
+        n = len(x)
+        dd, ss, tt = dd.reshape(n, -1), ss.reshape(n, -1), tt.reshape(n, -1)
+        k = np.argmin(dd, axis=1)
+        rows = np.arange(n)
+        ka, kb = np.divmod(k, Kb)
+        d[a : a + n] = dd[rows, k]
+        s[a : a + n] = (ka + ss[rows, k]) / Ka
+        t[a : a + n] = (kb + tt[rows, k]) / Kb
+    return d.reshape(lead), s.reshape(lead), t.reshape(lead)
+
+
+def clip_polylines(X, faces):
+    """The chords of polylines inside a convex body: every straight piece clipped exactly
+    (``clip_segments``) and the pieces' chords joined.
+
+    Parameters
+    ----------
+    X : ndarray (..., K + 1, 3) [m]
+        Points of the polylines in the frame of ``faces`` (K pieces; K = 1: a segment).
+    faces : ndarray (F, 4)
+        Half-spaces n . x + o <= 0 with unit normals (``platform_faces``).
+
+    Returns
+    -------
+    s_in, s_out : ndarray (...) [-]
+        First entry and last exit of the polyline, (k + s) / K on piece k; NaN where it misses
+        the body (a convex body and a curved cable may meet in more than one chord: they lie between).
+    length : ndarray (...) [m]
+        Length of the polyline inside the body (the sum of the pieces' chords; 0 where none).
+    depth : ndarray (...) [m]
+        Largest depth of a point of the polyline inside the body (0 where none or touching).
+    """
+    K = X.shape[-2] - 1
+    si, so, dep = clip_segments(X[..., :-1, :], X[..., 1:, :], faces)
+    hit = ~np.isnan(si)
+    piece = np.linalg.norm(X[..., 1:, :] - X[..., :-1, :], axis=-1)
+    length = np.where(hit, (so - si) * piece, 0.0).sum(axis=-1)
+    if K == 1:
+        return si[..., 0], so[..., 0], length, dep[..., 0]
+    k = np.arange(K)
+    met = hit.any(axis=-1)
+    lo = np.min(np.where(hit, (k + si) / K, np.inf), axis=-1)
+    hi = np.max(np.where(hit, (k + so) / K, -np.inf), axis=-1)
+    return np.where(met, lo, np.nan), np.where(met, hi, np.nan), length, dep.max(axis=-1)
+
+
 class Interference(NamedTuple):
     """Interference of the cables at N poses (``interference``); cables and pairs 0-based here.
 
@@ -267,7 +416,8 @@ class Interference(NamedTuple):
     (i, j, at) (``shared_pairs``); cp (N, m) cables through the body; s_in, s_out (N, m) [-] and
     length, depth (N, m) [m] of the chord inside (NaN, 0 where none); free (N,) no interference;
     dmin (N,) [m] the smallest tested distance and dmin_pair (N,) its index in pairs (-1: no pair
-    tested); has_body: a platform body was tested.
+    tested); has_body: a platform body was tested; pieces: the straight pieces per cable (1: the
+    straight spans of massless cables, ``POLYLINE_PIECES``: the catenaries' polylines).
     """
 
     pairs: np.ndarray
@@ -284,9 +434,10 @@ class Interference(NamedTuple):
     dmin: np.ndarray
     dmin_pair: np.ndarray
     has_body: bool
+    pieces: int = 1
 
 
-def interference(robot, p, rotvec=None, R=None):
+def interference(robot, p, rotvec=None, R=None, L0=None, pieces=POLYLINE_PIECES):
     """Cable-cable and cable-platform interference at poses (p, R) (the module's conventions).
 
     Parameters
@@ -298,10 +449,21 @@ def interference(robot, p, rotvec=None, R=None):
         Orientations (default identity).
     R : array_like (N, 3, 3) [-], optional
         Orientation matrices, in place of ``rotvec``.
+    L0 : array_like (N, m) or (m,) [m], optional
+        Rest lengths of the whole cables at the poses: needed by heavy cables (``Robot.heavy``),
+        whose spans are then the catenaries' polylines (``cable_polylines``), wherever something is
+        tested (a pair or a platform body); ignored for massless cables.
+    pieces : int
+        Straight pieces of a heavy cable's polyline.
 
     Returns
     -------
     Interference
+
+    Raises
+    ------
+    CdprError
+        A pose that is not finite; heavy cables without their rest lengths.
     """
     if R is None:
         p, R = pose_arrays(p, rotvec)
@@ -317,26 +479,67 @@ def interference(robot, p, rotvec=None, R=None):
     ).reshape(-1, 2)
     radius = np.array([c.material.diameter for c in robot.cables]) / 2.0
     faces = platform_faces(robot)
+    heavy = robot.heavy and (len(pairs) > 0 or faces is not None)
+    if heavy:
+        if L0 is None:
+            raise CdprError(
+                f"{robot.source}: heavy cables (cable.linear_density_kg_m > 0) sag under their tensions: "
+                "their interference at a pose needs the cables' rest lengths (cdpr point and cdpr compensate "
+                "test their solved poses)"
+            )
+        L0 = np.broadcast_to(np.asarray(L0, dtype=float), (len(p), m))
+        if int(pieces) < 1:
+            raise CdprError(f"interference: a polyline needs at least one piece, got {pieces}")
+    K = int(pieces) if heavy else 1
+    block = max(1, POSE_BLOCK // K)
     blocks = [
-        _block(robot, p[k : k + POSE_BLOCK], R[k : k + POSE_BLOCK], pairs, radius, faces)
-        for k in range(0, max(len(p), 1), POSE_BLOCK)
+        _block(
+            robot,
+            p[k : k + block],
+            R[k : k + block],
+            None if not heavy else L0[k : k + block],
+            K,
+            pairs,
+            radius,
+            faces,
+        )
+        for k in range(0, max(len(p), 1), block)
     ]
     cat = [np.concatenate([b[f] for b in blocks], axis=0) for f in range(len(blocks[0]))]
     dist, s, cc, cp, s_in, s_out, length, depth, dmin, dmin_pair = cat
     free = ~cc.any(axis=1) & ~cp.any(axis=1)
     return Interference(
-        pairs, dist, s, cc, shared, cp, s_in, s_out, length, depth, free, dmin, dmin_pair, faces is not None
+        pairs,
+        dist,
+        s,
+        cc,
+        shared,
+        cp,
+        s_in,
+        s_out,
+        length,
+        depth,
+        free,
+        dmin,
+        dmin_pair,
+        faces is not None,
+        K,
     )
 
 
-def _block(robot, p, R, pairs, radius, faces):
+def _block(robot, p, R, L0, K, pairs, radius, faces):
     """``interference`` of one block of poses: the arrays of ``Interference`` but pairs, shared,
-    free and has_body."""
+    free, has_body and pieces. L0 None: straight spans (one piece each), else the catenaries'
+    polylines of K pieces."""
     N, m = len(p), robot.m
-    B, D = cable_segments(robot, p, R)
+    if L0 is None:
+        B, D = cable_segments(robot, p, R)
+        X = np.stack([B, D], axis=2)
+    else:
+        X = cable_polylines(robot, p, R, L0, K)
     if len(pairs):
         i, j = pairs[:, 0], pairs[:, 1]
-        dist, si, sj = segment_distance(B[:, i], D[:, i], B[:, j], D[:, j])
+        dist, si, sj = polyline_distance(X[:, i], X[:, j])
         s = np.stack([si, sj], axis=-1)
         cc = dist < radius[i] + radius[j]
         k = np.argmin(dist, axis=1)
@@ -352,12 +555,9 @@ def _block(robot, p, R, pairs, radius, faces):
             np.zeros((N, m)),
         )
     else:
-        # the segments in the platform frame: x = R^T (X - p)
-        Rt = np.swapaxes(R, -1, -2)
-        x0 = np.einsum("nab,nmb->nma", Rt, B - p[:, None, :])
-        x1 = np.einsum("nab,nmb->nma", Rt, D - p[:, None, :])
-        s_in, s_out, depth = clip_segments(x0, x1, faces)
-        length = np.where(np.isnan(s_in), 0.0, (s_out - s_in) * np.linalg.norm(D - B, axis=-1))
+        # the polylines in the platform frame: x = R^T (X - p)
+        x = np.einsum("nba,nmkb->nmka", R, X - p[:, None, None, :])
+        s_in, s_out, length, depth = clip_polylines(x, faces)
     cp = depth > DEPTH_TOL
     return dist, s, cc, cp, s_in, s_out, length, depth, dmin, dmin_pair
 
@@ -436,9 +636,9 @@ def columns(res):
     }
 
 
-def interference_free(robot, p, rotvec=None):
-    """Whether one pose is free of interference (``interference``); None when the pose is not finite
-    (an unsolved point).
+def interference_free(robot, p, rotvec=None, L0=None):
+    """Whether one pose is free of interference (``interference``); None when the pose (or, with
+    heavy cables, a rest length) is not finite (an unsolved point).
 
     Parameters
     ----------
@@ -447,6 +647,8 @@ def interference_free(robot, p, rotvec=None):
         Reference point.
     rotvec : array_like (3,) [rad], optional
         Orientation (default identity).
+    L0 : array_like (m,) [m], optional
+        Rest lengths of the whole cables: heavy cables' catenaries (``interference``).
 
     Returns
     -------
@@ -456,4 +658,8 @@ def interference_free(robot, p, rotvec=None):
     rv = np.zeros((1, 3)) if rotvec is None else np.asarray(rotvec, dtype=float).reshape(1, 3)
     if not (np.isfinite(p).all() and np.isfinite(rv).all()):
         return None
-    return bool(interference(robot, p, rv).free[0])
+    if L0 is not None:
+        L0 = np.asarray(L0, dtype=float).reshape(1, -1)
+        if robot.heavy and not np.isfinite(L0).all():
+            return None
+    return bool(interference(robot, p, rv, L0=L0).free[0])

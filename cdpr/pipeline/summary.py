@@ -689,6 +689,74 @@ def interference_rows(st, res):
                 "; ".join(f"{lab}: {b} of {n} ok" for lab, b, n in doe),
             )
         )
+    return rows + left_out_rows(res)
+
+
+def left_out_rows(res):
+    """The ok points a rigid platform's runs over RW_C leave out because their cables interfere at
+    the solved pose (issue 39): the DOE's global indices (``doe/doe.csv``), the h-r_p maps, the
+    index versus E, the dead-length sweep and the error budget, each one row with the total and,
+    in the note, where they are; none for tables without the ``interfering_points`` columns (point
+    masses, or results written before them).
+
+    Parameters
+    ----------
+    res : str or Path
+        The results folder.
+
+    Returns
+    -------
+    list of dict
+        Rows of ``COLUMNS``.
+    """
+    rows = []
+    for rule, name, what, label in (
+        ("doe", "table", "DOE global index over RW_C", lambda r: f"test {int(r.test)}"),
+        (
+            "maps",
+            "map",
+            "h-r_p maps' index over RW_C",
+            lambda r: f"{r.kind} h {r.h_m * 1e3:g} r_p {r.r_p_m * 1e3:g} mm",
+        ),
+        ("elasticity", "table", "index versus E over RW_C", lambda r: f"{r.design} E {r.E_Pa:.4g} Pa"),
+    ):
+        t = _read(res, rel_path(rule, name))
+        if t is None or "interfering_points" not in t:
+            continue
+        n = t["interfering_points"].fillna(0).astype(int)
+        where = "; ".join(f"{label(r)}: {k}" for r, k in zip(t.itertuples(), n) if k)
+        note = f"over {len(t)} runs; " + (where or "none in any run")
+        rows.append(
+            _headline(
+                f"{what}: interfering points left out", rel_path(rule, name), int(n.sum()), "points", note
+            )
+        )
+    t = _read(res, rel_path("dead_length"))
+    cols = [] if t is None else [c for c in t.columns if c.startswith("interfering_points_")]
+    if cols:
+        per = {c.removeprefix("interfering_points_"): int(t[c].fillna(0).sum()) for c in cols}
+        note = f"over {len(t)} dead lengths; " + "; ".join(f"{k}: {v}" for k, v in per.items())
+        rows.append(
+            _headline(
+                "dead-length sweep: interfering points left out",
+                rel_path("dead_length"),
+                sum(per.values()),
+                "points",
+                note,
+            )
+        )
+    t = _read(res, rel_path("study_budget"))
+    if t is not None and "interfering_points" in t:
+        per = t.drop_duplicates("design").set_index("design")["interfering_points"].astype(int)
+        rows.append(
+            _headline(
+                "error budget over RW_C: interfering points left out",
+                rel_path("study_budget"),
+                int(per.sum()),
+                "points",
+                "; ".join(f"{d}: {k} of {int(t[t.design == d].points.iloc[0])}" for d, k in per.items()),
+            )
+        )
     return rows
 
 

@@ -16,10 +16,13 @@ import pandas as pd
 
 from cdpr import io, table_io
 from cdpr.analyses import budget, doe, scans, workspace
+from cdpr.analyses.interference import add_interference, interfering_at
 from cdpr.analyses.symmetry import solve_grid_columns
 from cdpr.analyses.uncertainty import RESPONSES
+from cdpr.analyses.workspace import interference_free_rows
 from cdpr.errors import CdprError
 from cdpr.models import winch
+from cdpr.models.platform import rotation_matrix
 from cdpr.pipeline import comparison as cm
 from cdpr.pipeline import conclusions as robot_conclusions
 from cdpr.pipeline import study, uq
@@ -69,28 +72,47 @@ def _shards(paths, pattern, what, key):
     return {k: [p for _, p in sorted(v)] for k, v in groups.items()}
 
 
-def _grid_index(st, robot, box, n, threads=None, dphi=False):
+def _grid_index(st, robot, box, n, threads=None):
     """Global index (eq. 15) of ``robot`` over the n^3 grid of ``box`` in the study's redundancy
-    mode, one solve per orbit of the symmetries robot and grid share (``symmetry.solve_grid_columns``);
-    with ``dphi`` also the orientation index [rad] (``doe.orientation_index``, NaN for a point mass)."""
-    c, _ = solve_grid_columns(robot, box, n, ("dp", "status", "dphi"), **study.solve_kwargs(st, threads))
+    mode, one solve per orbit of the symmetries robot and grid share (``symmetry.solve_grid_columns``):
+    a dict with index_m [m], not_ok_points, index_phi_rad (the orientation index [rad],
+    ``doe.orientation_index``; NaN for a point mass) and, for a rigid platform, interfering_points:
+    the ok points whose cables interfere at their solved pose (``interference.interfering_at``),
+    left out of both indices as the volumes and RW_C leave them out (docs/interference.md)."""
+    rigid = not robot.point_mass
+    keys = ("dp", "status", "dphi") + (("P_s", "rotvec_s") if rigid else ())
+    c, _ = solve_grid_columns(robot, box, n, keys, **study.solve_kwargs(st, threads))
     status = c["status"].astype(str)
-    ix = doe.global_index(c["dp"], status)
-    if not dphi:
-        return ix
-    phi = doe.orientation_index(c["dphi"], status)[0] if not robot.suspended_point_mass else float("nan")
-    return ix, phi
+    out = {"not_ok_points": int((status != "ok").sum())}
+    if rigid:
+        P = workspace.grid_points(box, n)
+        rv = study.rotvec(st)
+        desired = np.column_stack(
+            [P, np.broadcast_to(np.zeros(3) if rv is None else np.asarray(rv), P.shape)]
+        )
+        bad = (status == "ok") & interfering_at(robot, c["P_s"], c["rotvec_s"], desired=desired)
+        status = np.where(bad, "interfering", status)
+        out["interfering_points"] = int(bad.sum())
+    out["index_m"] = doe.global_index(c["dp"], status)[0]
+    out["index_phi_rad"] = (
+        doe.orientation_index(c["dphi"], status)[0] if not robot.suspended_point_mass else float("nan")
+    )
+    return out
 
 
 def _index_row(st, robot, box, n, threads=None):
     """The columns of one design in an index table (``index_shard``, ``elasticity_shard``): index_m
     (eq. 15) over the n^3 grid of ``box``, index_phi_rad (the orientation index, a rigid platform
-    only) and not_ok_points, one solve per orbit of the grid's symmetries (``_grid_index``)."""
-    (ix, bad), phi = _grid_index(st, robot, box, n, threads, dphi=True)
-    row = {"index_m": ix}
+    only), not_ok_points and, for a rigid platform, interfering_points (ok points left out of both
+    indices: their cables interfere), one solve per orbit of the grid's symmetries (``_grid_index``)."""
+    g = _grid_index(st, robot, box, n, threads)
+    row = {"index_m": g["index_m"]}
     if not robot.suspended_point_mass:
-        row["index_phi_rad"] = phi
-    return {**row, "not_ok_points": bad}
+        row["index_phi_rad"] = g["index_phi_rad"]
+    row["not_ok_points"] = g["not_ok_points"]
+    if "interfering_points" in g:
+        row["interfering_points"] = g["interfering_points"]
+    return row
 
 
 # ---- winch (Métillon Fig. 7) -------------------------------------------------------------------
@@ -401,6 +423,8 @@ def doe_results(st, tables, table, effects, figure, effects_figure):
     if spatial:  # a rigid platform: the orientation index beside the position index
         tests["index_phi_rad"] = rows.index_phi_rad.to_numpy()
     tests["not_ok_points"] = rows.not_ok_points.to_numpy()
+    if "interfering_points" in rows:  # a rigid platform: ok points left out of the indices
+        tests["interfering_points"] = rows.interfering_points.to_numpy()
     tests["N"] = st["doe"]["index_n"] ** 3
     table_io.write_table(tests, table)
     X = tests[["joint_c", "h_c", "r_p_c"]].to_numpy()
@@ -423,14 +447,19 @@ def map_rows(st, kind, box_file, table, threads=None):
     rows = []
     for h, r_p in study.map_cells(st):
         robot = study.design_robot(st, st["doe"]["robot"], {"kind": kind, "h_m": h, "r_p_m": r_p})
-        (ix, bad), phi = _grid_index(st, robot, box, n, threads, dphi=True)
-        row = {"kind": kind, "h_m": h, "r_p_m": r_p, "index_m": ix}
+        g = _grid_index(st, robot, box, n, threads)
+        row = {"kind": kind, "h_m": h, "r_p_m": r_p, "index_m": g["index_m"]}
         if not robot.suspended_point_mass:  # a rigid platform: the orientation index beside it
-            row["index_phi_rad"] = phi
-        rows.append({**row, "not_ok_points": bad, "N": n**3})
+            row["index_phi_rad"] = g["index_phi_rad"]
+        row.update(not_ok_points=g["not_ok_points"], N=n**3)
+        if "interfering_points" in g:  # a rigid platform: ok points left out of the index
+            row["interfering_points"] = g["interfering_points"]
+        rows.append(row)
     cols = ["kind", "h_m", "r_p_m", "index_m", "not_ok_points", "N"]
     if rows and "index_phi_rad" in rows[0]:
         cols.insert(4, "index_phi_rad")
+    if rows and "interfering_points" in rows[0]:
+        cols.append("interfering_points")
     table_io.write_table(pd.DataFrame(rows, columns=cols), table)
 
 
@@ -453,7 +482,7 @@ def maps(st, tables, box_file, map, lines, figure, threads=None):
         ix = float("nan")
         if pt is not None:
             robot = study.design_robot(st, st["doe"]["robot"], {"kind": kind, "h_m": pt[1], "r_p_m": pt[0]})
-            ix, _ = _grid_index(st, robot, box, n, threads)
+            ix = _grid_index(st, robot, box, n, threads)["index_m"]
         out.append(
             {
                 "kind": kind,
@@ -569,24 +598,35 @@ def elasticity(st, tables, paths, table, bands, crossings, figure, paths_figure)
 def dead_length_point(st, box_file, table, d=None, threads=None):
     """Paper-comparable numbers at dead length ``d`` [m] (default: every value of
     ``dead_length.values_m``, one row each, in one process): the plane extremes of each pulley design
-    on the DOE robot, and each optimal design's index at E_min, E_mean, E_max."""
+    on the DOE robot, and each optimal design's index at E_min, E_mean, E_max. A rigid platform's
+    ok points whose cables interfere at the solved pose are left out of both (``_grid_index``,
+    ``add_interference``) and counted, last, in interfering_points_plane_<pulley> and
+    interfering_points_<design>_<Emin|Emean|Emax>."""
     box, n = workspace.read_box(box_file), st["dead_length"]["index_n"]
     rows = []
     for dv in st["dead_length"]["values_m"] if d is None else [d]:
-        row = {"d_m": dv}
+        row, left = {"d_m": dv}, {}
         for pk in st["pulleys"]:
             robot = study.design_robot(st, st["doe"]["robot"], st["pulleys"][pk], dead_length=dv)
-            lo, hi = scans.ok_extremes(
-                scans.plane(
-                    robot, st["plane"]["z_m"], st["dead_length"]["plane_n"], **study.solve_kwargs(st, threads)
-                )
+            plane = scans.plane(
+                robot, st["plane"]["z_m"], st["dead_length"]["plane_n"], **study.solve_kwargs(st, threads)
             )
+            if not robot.point_mass:  # a rigid platform: its interfering points left out (issue 39)
+                plane = add_interference(robot, plane)
+                left[f"interfering_points_plane_{pk}"] = int(
+                    ((plane.status == "ok").to_numpy() & ~interference_free_rows(plane)).sum()
+                )
+                plane = plane[interference_free_rows(plane)]
+            lo, hi = scans.ok_extremes(plane)
             row[f"plane_{pk}_min_m"], row[f"plane_{pk}_max_m"] = lo, hi
         for dk, spec in st["optimal"].items():
             for tag, E in zip(("Emin", "Emean", "Emax"), st["elasticity"]["E_path_Pa"]):
                 robot = study.design_robot(st, st["doe"]["robot"], spec, E=E, dead_length=dv)
-                row[f"{dk}_{tag}_index_m"], _ = _grid_index(st, robot, box, n, threads)
-        rows.append(row)
+                g = _grid_index(st, robot, box, n, threads)
+                row[f"{dk}_{tag}_index_m"] = g["index_m"]
+                if "interfering_points" in g:
+                    left[f"interfering_points_{dk}_{tag}"] = g["interfering_points"]
+        rows.append({**row, **left})
     table_io.write_table(pd.DataFrame(rows), table)
 
 
@@ -691,7 +731,9 @@ def study_budget_design(st, design, box_file, table, threads=None):
     points whose drum angle leaves [0, q_max] as infeasible). Every cable without a winch of its own
     gets the study's drum (``study.budget_drum``: ``budget.drum``, Table 1 by default), and the
     cables the study's ``budget.linear_density_kg_m`` when given (``study.budget_linear_density``;
-    > 0: the ``sag`` entries and the p95 columns, ``budget.effects_of``)."""
+    > 0: the ``sag`` entries and the p95 columns, ``budget.effects_of``). A rigid platform's points
+    whose cables interfere at the robot's solved pose (``_budget_interfering``) are left out of every
+    entry and counted in interfering_points, last (docs/interference.md)."""
     if design not in st["optimal"]:
         raise CdprError(f"budget: unknown design {design!r}; allowed: {', '.join(st['optimal'])}")
     b = st["budget"]
@@ -702,10 +744,31 @@ def study_budget_design(st, design, box_file, table, threads=None):
     robot = budget.with_drums(robot, study.budget_drum(st))
     P = workspace.grid_points(workspace.read_box(box_file), b["index_n"])
     res = budget.error_budget(robot, P, b["t_min_N"], threads, rotvec=study.rotvec(st))
+    last = []
+    if not robot.point_mass:  # the points where the robot's cables interfere are left out (issue 39)
+        bad = _budget_interfering(robot, P, res["all"], study.rotvec(st))
+        res = {k: {**r, "status": np.where(bad, "interfering", r["status"])} for k, r in res.items()}
+        last = ["interfering_points"]
     tab = budget.summarise(res).assign(design=design, region="RW_C")
     tab["entry_ok_points"] = [int((res[k]["status"] == "ok").sum()) for k in tab.entry]
+    if last:
+        tab["interfering_points"] = int(bad.sum())
     extra = [c for c in ("mean_rad", "max_rad", "p95_m", "p95_rad") if c in tab]
-    table_io.write_table(tab[_BUDGET_COLUMNS + extra + ["entry_ok_points"]], table)
+    table_io.write_table(tab[_BUDGET_COLUMNS + extra + ["entry_ok_points"] + last], table)
+
+
+def _budget_interfering(robot, P, all_effects, rotvec):
+    """Mask (N,) of the budget's points where the robot itself (the ``all`` entry: every effect, the
+    study's robot) has interfering cables at its solved pose P + δp, R = exp([δφ]) R_d
+    (``interference.interfering_at``; heavy cables under L_TS at the desired pose); only points ok
+    in that entry are tested."""
+    ok = np.asarray(all_effects["status"]) == "ok"
+    rv = (
+        np.zeros((len(P), 3)) if rotvec is None else np.broadcast_to(np.asarray(rotvec, dtype=float), P.shape)
+    )
+    P_s = np.where(ok[:, None], P + np.asarray(all_effects["dp"]), np.nan)
+    R_s = rotation_matrix(np.asarray(all_effects["dphi"])) @ rotation_matrix(rv)
+    return ok & interfering_at(robot, P_s, R_s=R_s, desired=np.column_stack([P, rv]))
 
 
 def study_budget(st, tables, table, figure):

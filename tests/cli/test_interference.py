@@ -159,3 +159,113 @@ def test_every_shipped_robot(capsys, name):
 def test_unsolved_point_has_no_interference_answer(capsys):
     out = run_json(capsys, "point", "--robot", R4, "--at", "0", "0", "9")  # above the pulleys
     assert out["status"] == "inaccessible" and out["interference_free"] is None
+
+
+def _points(tmp_path, rows):
+    path = tmp_path / "p.csv"
+    pd.DataFrame(rows, columns=["x", "y", "z", "rx", "ry", "rz"]).to_csv(path, index=False)
+    return str(path)
+
+
+def _check_at_solved_poses(capsys, robot, df, *extra):
+    """Each row's interference columns are ``cdpr interference``'s at the row's solved pose."""
+    assert list(df.columns[-6:]) == list(COLUMNS)
+    for _, row in df.iterrows():
+        at = [
+            "--at",
+            *(repr(float(v)) for v in row[["x_s", "y_s", "z_s"]]),
+            "--rotvec",
+            *(repr(float(v)) for v in row[["rx_s", "ry_s", "rz_s"]]),
+        ]
+        one = run_json(capsys, "interference", "--robot", robot, *extra, *at)
+        assert one["interference_free"] == bool(row["interference_free"])
+        assert row["n_cc"] == len(one["cable_cable"]) and row["n_cp"] == len(one["cable_platform"])
+        assert row["cc_pairs"] == ";".join(f"{i}-{j}" for i, j in (c["cables"] for c in one["cable_cable"]))
+        assert row["cp_cables"] == ";".join(str(c["cable"]) for c in one["cable_platform"])
+        assert row["dmin_m"] == pytest.approx(one["dmin_m"], rel=1e-12, abs=1e-15)
+
+
+def test_point_table_has_the_columns_at_the_solved_poses(tmp_path, capsys):
+    """The wall robot at home (crossing pairs) and at the issue's tilted pose (cable 6 through the
+    platform): ``point --points`` carries the columns of ``interference`` at the solved poses."""
+    pts = _points(
+        tmp_path, [[0, 0, 1.5, 0, 0, 0], [0.3, 0.3, 0.7, 0.12, 0.12, 0], [0.5, -0.4, 1.2, 0, 0, 0.2]]
+    )
+    out = tmp_path / "o.parquet"
+    assert main(["point", "--robot", WALL, "--pulley", "fixed", "--points", pts, "--out", str(out)]) == 0
+    capsys.readouterr()
+    df = pd.read_parquet(out)
+    assert (df["status"] == "ok").all()
+    assert (df[["x_s", "y_s", "z_s"]].to_numpy() != df[["x", "y", "z"]].to_numpy()).any(axis=1).all()
+    _check_at_solved_poses(capsys, WALL, df, "--pulley", "fixed")
+    assert not df["interference_free"][0] and df["n_cc"][0] > 0
+
+
+def test_point_table_tests_the_equilibrium_it_reports(tmp_path, capsys):
+    """The issue's example in a table: the reached equilibrium interferes nowhere, the global one
+    (the flipped platform) has cables 5-6 and 7-8 closer than their diameter."""
+    lengths = "6.52907908125 6.14882031715 5.85918529262 6.26397544351 6.06888687927 5.63634727396 5.23674973794 5.70862689323"
+    pts = _points(tmp_path, [[0.3, 0.3, 0.7, 0.12, 0.12, 0]])
+    got = {}
+    for eq in ("reached", "global"):
+        out = tmp_path / f"{eq}.parquet"
+        args = ["point", "--robot", WALL, "--points", pts, "--out", str(out), "--lengths", *lengths.split()]
+        assert main([*args, "--equilibrium", eq]) == 0
+        got[eq] = pd.read_parquet(out).iloc[0]
+    assert bool(got["reached"]["interference_free"]) is True and got["reached"]["cc_pairs"] == ""
+    assert bool(got["global"]["interference_free"]) is False
+    assert {"5-6", "7-8"} <= set(got["global"]["cc_pairs"].split(";"))
+
+
+def test_compensate_table_has_the_columns_and_no_answer_where_infeasible(tmp_path, capsys):
+    """CoGiRo: two feasible poses (one rotated 0.5 rad about z, where a cable runs through the platform) and
+    one far outside the frame (infeasible: no pose solved, the columns empty)."""
+    pts = _points(tmp_path, [[0, 0, 2, 0, 0, 0], [-3, 2, 1.5, 0, 0, 0.5], [40, 0, 2, 0, 0, 0]])
+    out = tmp_path / "c.parquet"
+    assert main(["compensate", "--robot", COGIRO, "--points", pts, "--out", str(out)]) == 0
+    capsys.readouterr()
+    df = pd.read_parquet(out)
+    assert df["status"].tolist()[2] == "infeasible" and df["status"].tolist()[:2] == ["ok", "ok"]
+    assert pd.isna(df["interference_free"][2]) and pd.isna(df["n_cc"][2]) and pd.isna(df["dmin_m"][2])
+    assert df["cc_pairs"][2] == "" and not df["interference_free"][1]
+    _check_at_solved_poses(capsys, COGIRO, df.iloc[:2])
+
+
+def _heavy_wall(tmp_path):
+    import yaml
+
+    data = yaml.safe_load(Path(WALL).read_text())
+    data["cable"]["linear_density_kg_m"] = 0.5
+    path = tmp_path / "wall_heavy.yaml"
+    path.write_text(yaml.safe_dump(data))
+    return str(path)
+
+
+def test_heavy_compensate_table_tests_the_catenaries(tmp_path, capsys):
+    """Heavy cables: the columns are the catenaries' polylines' under the compensated lengths at the
+    solved poses; ``cdpr interference`` (no rest lengths) refuses the heavy rigid robot in one line."""
+    from cdpr.models.interference import columns, interference
+    from cdpr.robot import load_robot
+
+    heavy = _heavy_wall(tmp_path)
+    pts = _points(tmp_path, [[0, 0, 1.5, 0, 0, 0], [0.3, 0.3, 0.7, 0.12, 0.12, 0]])
+    out = tmp_path / "c.parquet"
+    assert main(["compensate", "--robot", heavy, "--points", pts, "--out", str(out)]) == 0
+    df = pd.read_parquet(out)
+    assert list(df.columns[-6:]) == list(COLUMNS) and (df["status"] == "ok").all()
+    robot = load_robot(heavy)
+    L0 = df[[f"L0_{i + 1}" for i in range(robot.m)]].to_numpy()
+    res = interference(
+        robot, df[["x_s", "y_s", "z_s"]].to_numpy(), df[["rx_s", "ry_s", "rz_s"]].to_numpy(), L0=L0
+    )
+    assert res.pieces > 1
+    want = columns(res)
+    assert df["interference_free"].tolist() == want["interference_free"].tolist() == [False, False]
+    assert df["cc_pairs"].tolist() == list(want["cc_pairs"]) and df["cp_cables"].tolist() == list(
+        want["cp_cables"]
+    )
+    np.testing.assert_allclose(df["dmin_m"], want["dmin_m"], rtol=1e-12, atol=1e-15)
+    capsys.readouterr()
+    assert main(["interference", "--robot", heavy, "--at", "0", "0", "1.5"]) == 2
+    err = capsys.readouterr().err
+    assert "rest lengths" in err and len(err.strip().splitlines()) == 1

@@ -187,3 +187,181 @@ def test_the_docs_workspace_figure_draws_the_column_counts(monkeypatch, tmp_path
     assert len(images) == 4  # row by row: the free counts, then the free and feasible counts
     np.testing.assert_array_equal(images[0], free.reshape(shape).sum(axis=2).T)
     np.testing.assert_array_equal(images[2], (free & feasible).reshape(shape).sum(axis=2).T)
+
+
+# ---- the plane figures, the global index, the budget and the summary (issue 39) ----------------
+def _rotated_study(tmp_path, rz=np.radians(15)):
+    """quick_spatial.yaml with the platform turned ``rz`` about z (CoGiRo's corners then interfere)."""
+    import yaml
+
+    data = yaml.safe_load((ROOT / "config" / "studies" / "quick_spatial.yaml").read_text())
+    data["rotvec_rad"] = [0.0, 0.0, float(rz)]
+    path = tmp_path / "rotated.yaml"
+    path.write_text(yaml.safe_dump(data, sort_keys=False))
+    return study.load_study(path)
+
+
+def test_the_global_index_leaves_out_the_interfering_points(tmp_path):
+    """``tasks._grid_index`` of CoGiRo at 15° about z over its frame: the index is the mean ‖δp‖
+    over the points that are ok and free of interference in the study's own table of the same grid
+    (``add_interference``), and interfering_points counts the others."""
+    from cdpr.pipeline import tasks
+
+    st = _rotated_study(tmp_path)
+    robot = study.design_robot(st, "CoGiRo", st["pulleys"]["SR"])
+    box, n = workspace.check_box(workspace.frame_box(robot)), 3
+    g = tasks._grid_index(st, robot, box, n, threads=1)
+    P = workspace.grid_points(box, n)
+    df = add_interference(robot, solve_table(robot, P, **study.solve_kwargs(st, 1)))
+    ok = (df.status == "ok").to_numpy()
+    free = interference_free_rows(df)
+    assert g["interfering_points"] == int((ok & ~free).sum()) > 0
+    assert g["not_ok_points"] == int((~ok).sum())
+    assert g["index_m"] == pytest.approx(df.dp[ok & free].mean(), rel=1e-12)
+    assert g["index_m"] != pytest.approx(df.dp[ok].mean(), rel=1e-6)  # leaving them out matters
+    assert g["index_phi_rad"] == pytest.approx(df.dphi[ok & free].mean(), rel=1e-12)
+    row = tasks._index_row(st, robot, box, n, threads=1)
+    assert list(row) == ["index_m", "index_phi_rad", "not_ok_points", "interfering_points"]
+
+
+def test_the_budget_tests_the_robots_own_solved_pose():
+    """``tasks._budget_interfering``: from the budget's ``all`` entry (δp, δφ = rotvec of R* R_dᵀ)
+    the solved poses are rebuilt and tested; the mask is ``add_interference``'s on a solved table."""
+    from scipy.spatial.transform import Rotation
+
+    from cdpr.pipeline import tasks
+
+    robot = load_robot(ROBOTS / "cogiro.yaml")
+    P = np.array([[0.0, 0.0, 1.5], [6.45, 4.69, 2.71], [-6.39, -4.75, 1.94], [2.0, 1.0, 2.5]])
+    rv = np.array([0.0, 0.0, np.radians(15)])
+    df = add_interference(robot, solve_table(robot, P, rotvec=rv))
+    R_s = Rotation.from_rotvec(df[["rx_s", "ry_s", "rz_s"]].to_numpy())
+    dphi = (R_s * Rotation.from_rotvec(np.tile(rv, (4, 1))).inv()).as_rotvec()
+    status = np.array(["ok", "ok", "ok", "slack"])
+    all_effects = {"dp": df[["x_s", "y_s", "z_s"]].to_numpy() - P, "dphi": dphi, "status": status}
+    bad = tasks._budget_interfering(robot, P, all_effects, rv)
+    want = ~interference_free_rows(df) & (status == "ok")
+    assert bad.tolist() == want.tolist() == [False, True, True, False]
+
+
+def test_the_summary_says_what_the_index_budget_and_dead_length_runs_left_out(tmp_path):
+    for rule, name, t in (
+        ("doe", "table", pd.DataFrame({"test": [1, 2], "index_m": [0.1, 0.2], "interfering_points": [3, 0]})),
+        (
+            "dead_length",
+            "table",
+            pd.DataFrame(
+                {"d_m": [1.0, 2.0], "plane_SR_min_m": [0.1, 0.1], "interfering_points_plane_SR": [2, 1]}
+                | {"interfering_points_SRopt_Emean": [4, 0]}
+            ),
+        ),
+        (
+            "study_budget",
+            "table",
+            pd.DataFrame(
+                {"design": ["SRopt", "SRopt", "DRopt"], "points": [64] * 3, "interfering_points": [5, 5, 7]}
+            ),
+        ),
+    ):
+        p = tmp_path / rel_path(rule, name)
+        p.parent.mkdir(parents=True, exist_ok=True)
+        table_io.write_table(t, p)
+    rows = {r["quantity"]: r for r in summary.left_out_rows(tmp_path)}
+    r = rows["DOE global index over RW_C: interfering points left out"]
+    assert r["ours"] == 3 and r["note"] == "over 2 runs; test 1: 3"
+    r = rows["dead-length sweep: interfering points left out"]
+    assert r["ours"] == 7 and r["note"] == "over 2 dead lengths; plane_SR: 3; SRopt_Emean: 4"
+    r = rows["error budget over RW_C: interfering points left out"]
+    assert r["ours"] == 12 and r["note"] == "SRopt: 5 of 64; DRopt: 7 of 64"
+    assert summary.left_out_rows(tmp_path / "none") == []
+
+
+def _plane_tables(bad):
+    """A 5 x 5 plane of a rigid platform: ‖δp‖ 1-3 mm, 1 m where ``bad`` (interfering) rows are."""
+    x, y = np.meshgrid(np.arange(5.0), np.arange(5.0), indexing="ij")
+    n = 25
+    df = pd.DataFrame({"x": x.ravel(), "y": y.ravel(), "status": ["ok"] * n})
+    df["dp"] = 1e-3 + 2e-3 * df.x / 4
+    df["dphi"] = 1e-3 + 1e-3 * df.y / 4
+    df["t1"], df["t2"] = 50.0 + df.x, 60.0 + df.y
+    df["taut"] = "1-2"
+    free = np.ones(n, dtype=bool)
+    free[list(bad)] = False
+    df.loc[list(bad), "dp"] = 1.0
+    df["interference_free"] = pd.array(free, dtype="boolean")
+    df.loc[24, "status"] = "slack"
+    return {"SR": df}
+
+
+def test_the_plane_figures_draw_interfering_points_pink_and_leave_them_out(monkeypatch, tmp_path):
+    """Fig. 12 (‖δp‖ and δφ), the tension map and the taut-set map: the interfering ok points are
+    one pink cell each, counted under the panel and in the title, and no contour level reaches
+    their 1 m (they are left out of the maps)."""
+    from matplotlib.collections import QuadMesh
+    from matplotlib.colors import to_rgba
+
+    from cdpr.pipeline.plots import planes
+
+    figs = []
+
+    def keep(fig, out):
+        figs.append(fig)
+        style_plots.audit(fig)
+        return [out]
+
+    monkeypatch.setattr(planes, "save", keep)
+    bad = (6, 12, 18)
+    tables = _plane_tables(bad)
+    assert planes.interfering_points(tables["SR"]).sum() == 3
+    A = np.array([[-1.0, -1, 5], [6, -1, 5], [6, 6, 5], [-1, 6, 5]])
+    planes.fig12_plane(tables, A, 2.0, "R", tmp_path / "p.png", mode="physical")
+    planes.fig12_tension(tables, A, 2.0, "R", 55.0, tmp_path / "t.png", mode="physical")
+    planes.fig9_taut(tables, A, 2.0, "R", tmp_path / "s.png", mode="physical")
+    pink = to_rgba(robot_plots.INTERFERING_COLOUR)
+    for fig in figs:
+        assert "pink: 3 ok points with interfering cables, left out" in fig._suptitle.get_text()
+        panels = [ax for ax in fig.axes if ax.get_xlabel() == "x [m]"]
+        for ax in panels:
+            meshes = [c for c in ax.collections if isinstance(c, QuadMesh) and to_rgba(c.cmap(0.0)) == pink]
+            assert len(meshes) == 1 and int(np.isfinite(meshes[0].get_array()).sum()) == 3
+            texts = [t.get_text() for t in ax.get_legend().get_texts()]
+            assert "pink, ok but interfering (left out): 3" in texts
+            levels = [lv for c in ax.collections if hasattr(c, "levels") for lv in c.levels]
+            assert not levels or max(levels) < 100.0  # mm or mrad or N: the 1 m points are not drawn
+
+
+def test_the_dead_length_sweep_leaves_out_and_counts_the_interfering_points(tmp_path, monkeypatch):
+    """``tasks.dead_length_point`` of the quick spatial study, its plane solved at four poses of
+    CoGiRo at 15° about z (two of them interfere; the largest ‖δp‖ is set on one of those) and its
+    indices stubbed: the plane extremes leave the interfering points out and the row counts them."""
+    import json
+
+    from cdpr.pipeline import tasks
+
+    st = study.load_study(ROOT / "config" / "studies" / "quick_spatial.yaml")
+    P = np.array([[0.0, 0.0, 1.5], [6.45, 4.69, 2.71], [-6.39, -4.75, 1.94], [2.0, 1.0, 2.5]])
+    rv = [0.0, 0.0, np.radians(15)]
+
+    def plane(robot, z, n, **solver):
+        df = solve_table(robot, P, rotvec=rv)
+        df.loc[1, "dp"] = 9.0  # an interfering point: must not be the plane's maximum
+        return df
+
+    monkeypatch.setattr(tasks.scans, "plane", plane)
+    monkeypatch.setattr(
+        tasks,
+        "_grid_index",
+        lambda *a, **k: {"index_m": 0.1, "index_phi_rad": 0.01, "not_ok_points": 0, "interfering_points": 2},
+    )
+    box = tmp_path / "rw_c.json"
+    box.write_text(json.dumps({"box": [-0.4, 0.4, -0.4, 0.4, 2.4, 3.0]}), encoding="utf-8")
+    tasks.dead_length_point(st, box, tmp_path / "d.csv", d=1.0)
+    row = table_io.read_table(tmp_path / "d.csv").iloc[0]
+    free = solve_table(load_robot(ROBOTS / "cogiro.yaml"), P[[0, 3]], rotvec=rv)
+    assert free.dp.max() < 1.0
+    for pk in st["pulleys"]:
+        assert row[f"interfering_points_plane_{pk}"] == 2
+        assert row[f"plane_{pk}_max_m"] < 1.0  # the 9 m point is left out
+    designs = [f"interfering_points_{dk}_{tag}" for dk in st["optimal"] for tag in ("Emin", "Emean", "Emax")]
+    assert all(row[c] == 2 for c in designs)
+    assert not any(c.startswith("plane_") and "interfering" in c for c in row.index)  # the figure's columns

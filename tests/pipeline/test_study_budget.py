@@ -100,6 +100,7 @@ def test_the_jobs_write_the_budget_of_every_design(tmp_path, monkeypatch):
     t = table_io.read_table(tables[0]).set_index("entry")
     assert list(t.index) == [*budget.variants(), "interaction"]
     assert (t.points == 8).all() and (t.ok_points == 8).all() and (t.entry_ok_points == 8).all()
+    assert (t.interfering_points == 0).all()  # RW_C at the identity: no cable interferes
     assert t.loc["compensated_all", "mean_m"] < 1e-9 and t.loc["compensated_all", "mean_rad"] < 1e-9
     assert t.loc["pulley", "mean_m"] > t.loc["winch", "mean_m"] > 0 and t.loc["pulley", "mean_rad"] > 0
     shares = t.loc[[*budget.EFFECTS, "interaction"], "share_m"].sum()
@@ -163,7 +164,7 @@ def test_the_linear_density_key_adds_the_sag_entries_and_the_summary_line(tmp_pa
     tasks.study_budget_design(st, d, box, tmp_path / f"{d}.csv")
     t = table_io.read_table(tmp_path / f"{d}.csv").set_index("entry")
     assert list(t.index) == [*budget.variants((*budget.EFFECTS, "sag")), "interaction"]
-    assert list(t.columns[-3:]) == ["p95_m", "p95_rad", "entry_ok_points"]
+    assert list(t.columns[-4:]) == ["p95_m", "p95_rad", "entry_ok_points", "interfering_points"]
     assert (t.ok_points == 8).all()
     assert (
         0

@@ -1,6 +1,11 @@
 """The figures of the horizontal plane (Paty 2021 section 3.3.2, the study's ``plane`` part): the
 3-cable subset or taut set at each point (Fig. 9), ‖δp‖ (and δφ) over the plane (Fig. 12), and the
 minimum cable tension over it (beyond the paper).
+
+A rigid platform's plane tables carry the interference columns (``analyses.interference
+.add_interference``): an ok point whose cables interfere at its solved pose is left out of every
+map, as of the study's numbers, and drawn in ``INTERFERING_COLOUR`` (pink), counted under the panel
+(docs/interference.md).
 """
 
 from __future__ import annotations
@@ -12,6 +17,8 @@ import numpy as np
 from matplotlib.colors import ListedColormap
 from matplotlib.patches import Patch
 
+from cdpr.analyses.workspace import interference_free_rows
+from cdpr.pipeline.plots.robot import INTERFERING_COLOUR
 from cdpr.pipeline.plots.style import (
     DPHI_LABEL,
     DPHI_SCALE,
@@ -24,6 +31,41 @@ from cdpr.pipeline.plots.style import (
     round_levels,
     save,
 )
+
+
+def interfering_points(df):
+    """Mask (N,) of the ok points whose cables interfere at their solved pose (a rigid platform's
+    plane table, column ``interference_free``); none for a table without the column (a point mass).
+
+    Parameters
+    ----------
+    df : DataFrame
+        A plane table (status, and interference_free when the robot is a rigid platform).
+
+    Returns
+    -------
+    ndarray (N,) bool
+    """
+    return (df.status == "ok").to_numpy() & ~interference_free_rows(df)
+
+
+def _drawn(df):
+    """Mask (N,) of the points a map draws: ok and free of interference."""
+    return (df.status == "ok").to_numpy() & ~interfering_points(df)
+
+
+def _draw_interfering(ax, df):
+    """The interfering ok points of ``df`` (``interfering_points``) as cells of ``INTERFERING_COLOUR``."""
+    bad = interfering_points(df)
+    if bad.any():
+        xs, ys, Z = plane_grid(df, np.where(bad, 1.0, np.nan))
+        ax.pcolormesh(xs, ys, Z, cmap=ListedColormap([INTERFERING_COLOUR]), shading="nearest")
+
+
+def _interference_note(tables):
+    """The suptitle's words on the interfering points when some table has them, else ""."""
+    n = sum(int(interfering_points(df).sum()) for df in tables.values())
+    return f"; pink: {n} ok points with interfering cables, left out" if n else ""
 
 
 def _not_ok_counts(df, A=None):
@@ -47,14 +89,19 @@ def _not_ok_legend(ax, df, A=None):
     outside the anchors' footprint counted apart when ``A`` is given."""
 
     counts = _not_ok_counts(df, A)
+    handles = []
     if counts:
+        handles.append(
+            Patch(
+                color=NOT_OK_COLOUR, label="grey, not ok: " + ", ".join(f"{k} {v}" for k, v in counts.items())
+            )
+        )
+    n_bad = int(interfering_points(df).sum())
+    if n_bad:
+        handles.append(Patch(color=INTERFERING_COLOUR, label=f"pink, ok but interfering (left out): {n_bad}"))
+    if handles:
         ax.legend(
-            handles=[
-                Patch(
-                    color=NOT_OK_COLOUR,
-                    label="grey, not ok: " + ", ".join(f"{k} {v}" for k, v in counts.items()),
-                )
-            ],
+            handles=handles,
             fontsize=7,
             loc="upper center",
             bbox_to_anchor=(0.5, -0.14),
@@ -95,7 +142,7 @@ def category_colours(tables, column, order=None, keep=MAX_CATEGORIES):
     """
     counts = {}
     for df in tables.values():
-        ok = (df.status == "ok").to_numpy()
+        ok = _drawn(df)
         for cat, n in df.loc[ok, column].astype(str).value_counts().items():
             if cat:
                 counts[cat] = counts.get(cat, 0) + int(n)
@@ -123,10 +170,11 @@ def _category_panels(axes, tables, column, labels, cmap, A, z, robot_name, code=
     code = code or {s: i for i, s in enumerate(labels)}
     for ax, (label, df) in zip(axes, tables.items()):
         c = df[column].astype(str).map(code).astype(float)
-        c[(df.status != "ok").to_numpy()] = np.nan
+        c[~_drawn(df)] = np.nan
         xs, ys, Z = plane_grid(df, c.to_numpy())
         ax.set_facecolor(NOT_OK_COLOUR)
         im = ax.pcolormesh(xs, ys, Z, cmap=cmap, vmin=-0.5, vmax=len(labels) - 0.5, shading="nearest")
+        _draw_interfering(ax, df)
         draw_anchors(ax, A)
         ax.set(xlabel="x [m]", ylabel="y [m]", title=f"{robot_name} {label} at z = {z:g} m", aspect="equal")
         _not_ok_legend(ax, df, A)
@@ -144,7 +192,10 @@ def fig9_subsets(tables, A, z, robot_name, out, mode=None):
     cb = fig.colorbar(im, ax=axes[0].tolist(), ticks=range(len(labels)))
     cb.ax.set_yticklabels([s if s.startswith("other") else f"cables {s}" for s in labels])
     cb.set_label("subset kept [cable numbers]")
-    fig.suptitle(f"Subset of 3 cables that minimises ‖δp‖ (Fig. 9){mode_suffix(mode)}", fontsize=10)
+    fig.suptitle(
+        f"Subset of 3 cables that minimises ‖δp‖ (Fig. 9){_interference_note(tables)}{mode_suffix(mode)}",
+        fontsize=10,
+    )
     return save(fig, out)
 
 
@@ -166,7 +217,10 @@ def fig9_taut(tables, A, z, robot_name, out, mode="physical"):
         cb = fig.colorbar(im, ax=axes[0].tolist(), ticks=range(len(labels)))
         cb.ax.set_yticklabels([s if s.startswith("other") else f"taut {s}" for s in labels])
         cb.set_label("taut-set map [cable numbers]")
-    fig.suptitle(f"Taut cables at each point (Fig. 9 as a taut-set map){mode_suffix(mode)}", fontsize=10)
+    fig.suptitle(
+        f"Taut cables at each point (Fig. 9 as a taut-set map){_interference_note(tables)}{mode_suffix(mode)}",
+        fontsize=10,
+    )
     return save(fig, out)
 
 
@@ -194,7 +248,9 @@ def fig12_plane(tables, A, z, robot_name, out, mode=None, paper=None):
     scale per panel", the designs' errors differ by up to an order of magnitude). ``paper`` maps a design
     label to the paper's iso-values [m] (e.g. the min and max it quotes), drawn as red dashed
     labelled contours. Cells that are not ok are grey, counted by status under the panel with the
-    points outside the anchors' footprint counted apart; the dashed line is the footprint.
+    points outside the anchors' footprint counted apart; the dashed line is the footprint. A rigid
+    platform's ok points whose cables interfere at the solved pose are left out of the contours and
+    drawn pink (``interfering_points``), counted under the panel and in the title.
 
     The small closed contour at the centre of CDPR4 with DR pulleys is in the data, not the
     contouring: the paper's rule takes the least ‖δp‖ of the four 3-cable subsets, which are equal
@@ -212,9 +268,10 @@ def fig12_plane(tables, A, z, robot_name, out, mode=None, paper=None):
         for ax, (label, df) in zip(axes[1], tables.items()):
             _plane_dphi_panel(fig, ax, df, A, f"{robot_name} {label} at z = {z:g} m: δφ")
     for ax, (label, df) in zip(axes[0], tables.items()):
-        ok = (df.status == "ok").to_numpy()
+        ok = _drawn(df)
         xs, ys, Z = plane_grid(df, np.where(ok, df.dp * 1e3, np.nan))
         ax.set_facecolor(NOT_OK_COLOUR)
+        _draw_interfering(ax, df)
         if np.isfinite(Z).any():
             iso = [v * 1e3 for v in paper.get(label, []) if v is not None]
             _labelled_contours(fig, ax, xs, ys, Z, "viridis", "‖δp‖ [mm]", skip=iso)  # paper's own label wins
@@ -234,7 +291,9 @@ def fig12_plane(tables, A, z, robot_name, out, mode=None, paper=None):
         _not_ok_legend(ax, df, A)
     what = "‖δp‖ and δφ" if spatial else "‖δp‖"
     scale = ", colour scale per panel" if len(tables) > 1 else ""
-    fig.suptitle(f"{what} over the plane (Fig. 12{scale}){mode_suffix(mode)}", fontsize=10)
+    fig.suptitle(
+        f"{what} over the plane (Fig. 12{scale}){_interference_note(tables)}{mode_suffix(mode)}", fontsize=10
+    )
     return save(fig, out)
 
 
@@ -248,9 +307,10 @@ def _plane_dphi_panel(fig, ax, df, A, title):
     the largest values (near the frame's edges, where the platform hangs on few taut cables) exceed
     DPHI_TAIL times the 75th percentile, the levels stop at that percentile and the title says so:
     else the interior, where the platform works, is one colour."""
-    ok = (df.status == "ok").to_numpy()
+    ok = _drawn(df)
     xs, ys, Z = plane_grid(df, np.where(ok, df["dphi"] * DPHI_SCALE, np.nan))
     ax.set_facecolor(NOT_OK_COLOUR)
+    _draw_interfering(ax, df)
     if np.isfinite(Z).any():
         q75 = float(np.nanpercentile(Z, 75))
         top = q75 if np.nanmax(Z) > DPHI_TAIL * q75 else None
@@ -276,13 +336,14 @@ def fig12_tension(tables, A, z, robot_name, t_min, out, mode=None):
     drawn = False  # the red line of t_min, in some panel
     for ax, (label, df) in zip(axes[0], tables.items()):
         tcols = sorted((c for c in df.columns if re.fullmatch(r"t\d+", c)), key=lambda c: int(c[1:]))
-        ok = (df.status == "ok").to_numpy()
+        ok = _drawn(df)
         tt = df[tcols]
         if "taut" in df.columns:  # physical mode: a slack cable's tension is written NaN, and is 0 N
             tt = tt.fillna(0.0)
         tmin = tt.min(axis=1).to_numpy() if tcols else np.full(len(df), np.nan)
         xs, ys, Z = plane_grid(df, np.where(ok, tmin, np.nan))
         ax.set_facecolor(NOT_OK_COLOUR)
+        _draw_interfering(ax, df)
         if np.isfinite(Z).any():
             _labelled_contours(fig, ax, xs, ys, Z, "cividis", "minimum cable tension min t_i [N]")
             if t_min is not None and np.nanmin(Z) < t_min < np.nanmax(Z):
@@ -293,5 +354,8 @@ def fig12_tension(tables, A, z, robot_name, t_min, out, mode=None):
         _not_ok_legend(ax, df, A)
     lim = f"; red: min t_i = {t_min:g} N" if drawn else ""  # promised only where the plane crosses it
     over = "slack cables count as 0 N" if mode == "physical" else "over the 3 cables the rule keeps"
-    fig.suptitle(f"Minimum cable tension over the plane ({over}){lim}{mode_suffix(mode)}", fontsize=10)
+    fig.suptitle(
+        f"Minimum cable tension over the plane ({over}){lim}{_interference_note(tables)}{mode_suffix(mode)}",
+        fontsize=10,
+    )
     return save(fig, out)
