@@ -22,8 +22,8 @@ RHO_STEP = 1e-4
 
 
 def _steps(robot, name, rel_step=REL_STEP):
-    """(+ step, - step) of ``name``: relative for E_i, M (``REL_STEP``) and rho_i (``RHO_STEP``);
-    STEP otherwise; a zero rho_i forward only, by 1e-6 kg/m (a negative density means nothing)."""
+    """(+ step, - step) of ``name``: relative for E_i, M (``rel_step``) and rho_i (``RHO_STEP``);
+    STEP otherwise; a zero rho_i one-sided (step 1e-6 kg/m; 0 returned as the - step), a zero r_p_i too."""
     if name == "M":
         h = rel_step * robot.platform.mass
         return h, -h
@@ -34,6 +34,8 @@ def _steps(robot, name, rel_step=REL_STEP):
     if key == "rho":
         rho = robot.cables[int(i) - 1].material.rho
         return (RHO_STEP * rho, -RHO_STEP * rho) if rho > 0 else (1e-6, 0.0)
+    if key == "r_p" and robot.cables[int(i) - 1].pulley.r_p == 0.0:
+        return STEP, 0.0  # a fixed pulley's zero radius: forward only (a negative radius means nothing)
     return STEP, -STEP
 
 
@@ -124,15 +126,18 @@ def parameter_partials(robot, P, R, L0, names, rel_step=REL_STEP):
     if per and n:
         pn = [names[k] for k in per]
         hp, hm = np.array([_steps(robot, nm, rel_step) for nm in pn]).T
+        zero = hm == 0.0  # one-sided (a zero density or radius): f(h), f(2 h) and the nominal cable
+        hm = np.where(zero, 2.0 * hp, hm)
         big, ci = _expanded(robot, pn + pn, np.concatenate([hp, hm]))
         W = _cable_wrenches(HeavyCables(big), P, R, L0[:, np.concatenate([ci[: len(pn)], ci[: len(pn)]])])
         K = len(pn)
         up, dn = W[:, :K], W[:, K:]
-        zero = hm == 0.0  # forward differences from the nominal cable (a zero density)
-        if zero.any():
-            W0 = _cable_wrenches(HeavyCables(robot), P, R, L0)
-            dn = np.where(zero[None, :, None], W0[:, ci[:K]], dn)
-        dF[:, :, per] = np.swapaxes((up - dn) / (hp - hm)[None, :, None], 1, 2)
+        d = (up - dn) / (hp - hm)[None, :, None]
+        if zero.any():  # second-order one-sided: (4 f(h) - f(2 h) - 3 f(0)) / (2 h)
+            W0 = _cable_wrenches(HeavyCables(robot), P, R, L0)[:, ci[:K]]
+            one = (4.0 * up - dn - 3.0 * W0) / (2.0 * hp)[None, :, None]
+            d = np.where(zero[None, :, None], one, d)
+        dF[:, :, per] = np.swapaxes(d, 1, 2)
     for k, name in enumerate(names):
         if name == "M":
             rc = R @ np.asarray(robot.platform.com, dtype=float)
