@@ -10,7 +10,7 @@ With the span equations (l_h, l_v) = s(H, V_B, L0, w, EA) (``catenary.span_equat
     s_w = (-∫ H V s/T^3 ds,  L0^2/(2 EA) + ∫ s H^2/T^3 ds),   s_EA = -(H L0, L0 (V_B + V_D)/2)/EA^2,
 
 and at fixed spans d(H, V_B) = K (d(l_h, l_v) - g dL0 - s_w dw - s_EA dEA), K = F^-1 (``stiffness``).
-The two integrals of s_w have closed forms (``_span_w_derivative``) written, like ``catenary._terms``,
+The two integrals of s_w have closed forms (``_span_w_derivative``) written, like the span equations,
 free of cancellation as w -> 0 (the horizontal one by Gauss-Legendre quadrature of its smooth
 integrand where w L0 <= ``QUAD_MAX`` H, where the closed form would cancel).
 
@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from cdpr.models.catenary import _arrays, _terms, flexibility
+from cdpr.models.catenary import flexibility, span_equations
 
 #: Where w L0 <= QUAD_MAX H the horizontal span's w-derivative is integrated by Gauss-Legendre
 #: (its integrand's singularities are then >= 1/QUAD_MAX span lengths off the interval).
@@ -32,18 +32,25 @@ QUAD_MAX = 0.1
 _NODES, _WEIGHTS = np.polynomial.legendre.leggauss(10)
 
 
+def _broadcast(*xs):
+    return np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in xs))
+
+
 def _span_w_derivative(H, V_B, L0, w, EA):
     """d(l_h, l_v)/dw at fixed (H, V_B, L0, EA), cancellation-free (module docstring)::
 
-    dl_h/dw = -(H L0/w)(Qh - 1/T_D) = -∫_0^L0 H V(s) s / T(s)^3 ds,
+    dl_h/dw = -(l_h,cat - H L0/T_D)/w = -∫_0^L0 H V(s) s / T(s)^3 ds,
     dl_v/dw = L0^2/(2 EA) + H^2 L0^2 / (T_D (T_B T_D + H^2 + V_B V_D))
 
-    (the second from T_B T_D - H^2 - V_B V_D = H^2 w^2 L0^2 / (T_B T_D + H^2 + V_B V_D))."""
-    V_D, T_B, T_D, _, _, Qh, _, _, _, _ = _terms(H, V_B, L0, w)
+    (l_h,cat = (H/w)(asinh(V_D/H) - asinh(V_B/H)), the inextensible part of l_h; the second from
+    T_B T_D - H^2 - V_B V_D = H^2 w^2 L0^2 / (T_B T_D + H^2 + V_B V_D))."""
+    V_D = V_B + w * L0
+    T_B, T_D = np.hypot(H, V_B), np.hypot(H, V_D)
+    l_cat = span_equations(H, V_B, L0, w, np.inf)[0]  # the catenary's part of l_h, H L0 Qh
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         den = T_D * (T_B * T_D + H * H + V_B * V_D)
         dlv = L0 * L0 / (2.0 * EA) + np.where(den > 0.0, H * H * L0 * L0 / den, 0.0)
-        closed = -(H * L0 / w) * (Qh - 1.0 / T_D)
+        closed = -(l_cat - H * L0 / T_D) / w
         s = 0.5 * L0[..., None] * (1.0 + _NODES)
         V = V_B[..., None] + w[..., None] * s
         T = np.hypot(H[..., None], V)
@@ -90,7 +97,7 @@ def span_partials(H, V_B, L0, w, EA):
     ----------
     Irvine, H. M. (1981). Cable Structures. MIT Press, ch. 2.
     """
-    H, V_B, L0, w, EA = (np.array(x) for x in _arrays(H, V_B, L0, w, EA))
+    H, V_B, L0, w, EA = (np.array(x) for x in _broadcast(H, V_B, L0, w, EA))
     F = flexibility(H, V_B, L0, w, EA)
     V_D = V_B + w * L0
     T_D = np.hypot(H, V_D)
@@ -140,7 +147,7 @@ def end_force_partials(H, V_B, L0, w, EA):
     ----------
     Irvine, H. M. (1981). Cable Structures. MIT Press, ch. 2.
     """
-    H, V_B, L0, w, EA = (np.array(x) for x in _arrays(H, V_B, L0, w, EA))
+    H, V_B, L0, w, EA = (np.array(x) for x in _broadcast(H, V_B, L0, w, EA))
     P = span_partials(H, V_B, L0, w, EA)
     rhs = np.concatenate([np.broadcast_to(np.eye(2), H.shape + (2, 2)), -P[..., 2:]], axis=-1)
     slack = (w == 0.0) & (H == 0.0) & (V_B == 0.0)

@@ -225,7 +225,8 @@ def cable_force_partials(cab, P, R, L0):
     n = np.linalg.norm(v, axis=-1)
     with np.errstate(divide="ignore", invalid="ignore"):
         u = -(H[..., None] * e_h + V_D[..., None] * up) / T_D[..., None]
-    Pv = x["D"] + n[..., None] * u
+    # the virtual point: on the end tangent (the coupling's fixed point), or B itself without it
+    Pv = x["D"] + n[..., None] * u if cab.pulleys else P[:, None, :] + x["r"]
     A, kind, h, r_p, d, _, frame = cab.args
     _, dD, _, dell = _pulley_jets(Pv, A, kind, h, r_p, d, frame)
     sh = H.shape

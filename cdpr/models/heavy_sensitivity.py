@@ -36,7 +36,7 @@ import dataclasses
 
 import numpy as np
 
-from cdpr.models.cables import HeavyCables, _jacobian_forces
+from cdpr.models.cables import HeavyCables, balance_jacobian
 from cdpr.models.equilibrium import solve as solve_equilibrium
 from cdpr.models.heavy_partials import cable_force_partials
 from cdpr.models.results import ok_point_sensitivities
@@ -100,7 +100,7 @@ def balance_partials(robot, P, R, L0, names=None, cab=None):
 
     With F_i the end force at B_i = p + R b_i, r_i = R b_i and G_i = dF_i/dB_i::
 
-        ∂F6/∂x: ``cables._jacobian_forces`` (dB_i = dp - [r_i]x dφ),
+        ∂F6/∂x: ``cables.balance_jacobian`` (dB_i = dp - [r_i]x dφ),
         ∂F6/∂q_i = (dF_i/dq_i, r_i x dF_i/dq_i)  for q_i = L0_i, E_i (dEA = S_i dE), rho_i
             (dw = g U_i drho, U_i strands), h_i, r_p_i, d_i, A_i,
         ∂F6/∂b_i,a = (G_i R e_a, R e_a x F_i + r_i x G_i R e_a),
@@ -140,7 +140,7 @@ def balance_partials(robot, P, R, L0, names=None, cab=None):
     f = cab.f
     rc = R @ np.asarray(a.com, dtype=float)
     G = cp.dF[..., :3]
-    J = _jacobian_forces(G, cp.F, cp.r, rc, f)
+    J = balance_jacobian(G, cp.F, cp.r, rc, f)
 
     def wrench(dFi, r):  # (..., 3) -> (..., 6): the force and its moment r_i x dF_i
         return np.concatenate([dFi, np.cross(r, dFi)], axis=-1)
