@@ -40,7 +40,7 @@ from cdpr.models.cables import HeavyCables, balance_jacobian
 from cdpr.models.equilibrium import solve as solve_equilibrium
 from cdpr.models.heavy_partials import cable_force_partials
 from cdpr.models.results import ok_point_sensitivities
-from cdpr.models.sensitivity import COND_MAX, T_TOL, scaled_condition
+from cdpr.models.sensitivity import COND_MAX, T_TOL, pose_columns, scaled_condition
 from cdpr.parameters import parameter_names
 
 
@@ -116,7 +116,8 @@ def balance_partials(robot, P, R, L0, names=None, cab=None):
     L0 : ndarray (N, m) [m]
         Rest lengths of the whole cables.
     names : list of str, optional
-        Parameters (``parameter_names(robot, rigid=True)`` or a subset; default all).
+        Parameters (``parameter_names(robot, rigid=True)`` or a subset; default all); another name
+        raises CdprError (``sensitivity.pose_columns``).
     cab : HeavyCables, optional
         The robot's cables (default built from ``robot``).
 
@@ -132,7 +133,7 @@ def balance_partials(robot, P, R, L0, names=None, cab=None):
     Irvine, H. M. (1981). Cable Structures. MIT Press, ch. 2; Paty et al. 2021, eq. (3)-(7).
     """
     cab = HeavyCables(robot) if cab is None else cab
-    names = parameter_names(robot, rigid=True) if names is None else list(names)
+    names = pose_columns(robot, names)[0]  # an unknown name: one CdprError line
     P, R, L0 = (np.asarray(x, dtype=float) for x in (P, R, L0))
     cp = cable_force_partials(cab, P, R, L0)
     n, m = cp.t.shape

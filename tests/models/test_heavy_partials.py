@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
+from cdpr.errors import CdprError
 from cdpr.models import catenary as cat
 from cdpr.models import heavy_sensitivity as hs
 from cdpr.models import sensitivity as ms
@@ -261,3 +262,14 @@ def test_zero_weight_gives_the_massless_partials_and_sensitivities(request, name
     scale = np.abs(S_light).max(axis=(0, 1))
     err = np.abs(S_heavy - S_light).max(axis=(0, 1))
     assert (err <= 1e-9 * scale).all(), [names[k] for k in np.flatnonzero(err > 1e-9 * scale)]
+
+
+def test_an_unknown_parameter_is_one_error_line(cdpr4):
+    with pytest.raises(CdprError, match="unknown 6-DoF parameter"):
+        hs.balance_partials(
+            _cdpr4(cdpr4, "SR"),
+            np.zeros((1, 3)) + [0, 0, 1.5],
+            np.eye(3)[None],
+            np.full((1, 4), 4.0),
+            ["rho_9"],
+        )
