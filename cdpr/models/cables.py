@@ -563,3 +563,37 @@ def span_for_tension(l_h, l_v, T_B, w, EA, rtol=1e-15, maxiter=50):
         conv.reshape(shape),
         it.reshape(shape),
     )
+
+
+def balance_jacobian(G, Fi, r, rc, f):
+    """d(F, M)/d(dp, dφ) of the force and moment balance from each cable's force F_i at B_i and its
+    derivative G_i = dF_i/dB_i (any cable model; the heavy sensitivities' exact G_i,
+    ``heavy_sensitivity``).
+
+    .. math:: dF = \\sum_i G_i\\,dB_i, \\quad dM = \\sum_i \\left(r_i \\times G_i\\,dB_i
+        + (d\\varphi \\times r_i) \\times F_i\\right) + (d\\varphi \\times r_c) \\times f,
+        \\quad dB_i = dp + d\\varphi \\times r_i
+
+    Parameters
+    ----------
+    G : ndarray (N, m, 3, 3) [N/m]
+        dF_i/dB_i.
+    Fi : ndarray (N, m, 3) [N]
+        Each cable's force on the platform at B_i.
+    r : ndarray (N, m, 3) [m]
+        r_i = R b_i.
+    rc : ndarray (N, 3) [m]
+        R c, the centre of mass from p.
+    f : ndarray (3,) [N]
+        The force acting at the centre of mass (the platform's weight).
+
+    Returns
+    -------
+    J : ndarray (N, 6, 6) [N/m, N/rad, N m/m, N m/rad]
+        Rows F, M; columns dp, dφ (φ a base-frame rotation vector).
+
+    References
+    ----------
+    Paty et al. 2021, eq. (10)-(13) (the balance).
+    """
+    return _jacobian_forces(G, Fi, r, rc, f)

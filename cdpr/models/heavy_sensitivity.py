@@ -7,14 +7,16 @@ exit point D_i, with the pulley coupling) and the platform's weight vanishes, F6
 
     dx*/dθ = -(∂F6/∂x)^-1 ∂F6/∂θ,      dx*/dL0_i = -(∂F6/∂x)^-1 ∂F6/∂L0_i,
 
-x = (p, φ), φ a base-frame rotation vector. Both partials are taken at fixed pose by central
-differences of the *balance* (``HeavyCables.evaluate``: each catenary solved by Newton on its two
-span equations with the analytic flexibility matrix, to the last digits; the balance is evaluated,
-not solved, so the partials are exact to O(δ²) as in the massless reference's ∂F6/∂θ,
-``sensitivity.sensitivities_at``). ∂F6/∂x is differenced too: ``HeavyCables``' analytic Jacobian
-leaves out the exit point's slide on the sheave (``HeavyCables`` docstring), which is right for
-Newton's steps but not for a sensitivity. θ is ``parameter_names(robot, rigid=True)``: E_i, h_i,
-r_p_i, d_i, A_i, b_i, c, the linear densities rho_i [kg/m] and M.
+x = (p, φ), φ a base-frame rotation vector. Both partials are exact (``balance_partials``): each
+cable's end force and its derivatives by B_i, its rest length and its own parameters come from the
+implicit-function theorem on that cable's coupled system, the one ``HeavyCables`` solves by a fixed
+point (the catenary's two span equations with the analytic flexibility matrix, the split of the rest
+length between the free span and the dead part, and the exit point D_i on the sheave where the
+catenary's end tangent touches it: ``heavy_partials``). So the exit point's slide on the sheave, the
+swivel (any axis) and a DR arm's turn are all in ∂F6/∂x, which ``HeavyCables``' own Jacobian (for
+Newton's steps) leaves out. θ is ``parameter_names(robot, rigid=True)``: E_i, h_i, r_p_i, d_i,
+A_i, b_i, c, the linear densities rho_i [kg/m] and M. The central differences of the balance that
+this module used before are the tests' reference (tests/models/heavy_fd_reference.py).
 
 The compiled engine's heavy kernel solves the equilibrium but has no sensitivities: ``cdpr.solve``
 routes every heavy-cable sensitivity here (numpy).
@@ -34,20 +36,12 @@ import dataclasses
 
 import numpy as np
 
-from cdpr.models.cables import HeavyCables
+from cdpr.models.cables import HeavyCables, balance_jacobian
 from cdpr.models.equilibrium import solve as solve_equilibrium
-from cdpr.models.platform import rotation_matrix
+from cdpr.models.heavy_partials import cable_force_partials
 from cdpr.models.results import ok_point_sensitivities
-from cdpr.models.sensitivity import COND_MAX, T_TOL, scaled_condition
+from cdpr.models.sensitivity import COND_MAX, T_TOL, pose_columns, scaled_condition
 from cdpr.parameters import parameter_names
-
-#: Central-difference step of a position or rotation [m, rad] (rest lengths and lengths too).
-STEP = 1e-7
-#: Relative step of E_i and M.
-REL_STEP = 1e-6
-#: Relative step of rho_i: its force change (w L δ) must stand well above the balance's last digits
-#: (the pulley coupling's fixed point stops at 1e-15 m, times a cable stiffness of ~1e5 N/m).
-RHO_STEP = 1e-4
 
 
 def perturbed_robot(robot, name, delta):
@@ -98,41 +92,97 @@ def perturbed_robot(robot, name, delta):
     return dataclasses.replace(robot, cables=cables)
 
 
-def _steps(robot, name):
-    """(+ step, - step) of ``name``: relative for E_i, M (``REL_STEP``) and rho_i (``RHO_STEP``);
-    STEP otherwise; a zero rho_i forward only, by 1e-6 kg/m (a negative density means nothing)."""
-    if name == "M":
-        h = REL_STEP * robot.platform.mass
-        return h, -h
-    key, i = name.rsplit("_", 1)[0], name.rsplit("_", 1)[-1]
-    if key == "E":
-        h = REL_STEP * robot.cables[int(i) - 1].material.E
-        return h, -h
-    if key == "rho":
-        rho = robot.cables[int(i) - 1].material.rho
-        return (RHO_STEP * rho, -RHO_STEP * rho) if rho > 0 else (1e-6, 0.0)
-    return STEP, -STEP
+def balance_partials(robot, P, R, L0, names=None, cab=None):
+    """The partial derivatives of the heavy balance F6 = (F, M) at fixed poses, exact: by the pose
+    ∂F6/∂x, by the rest lengths ∂F6/∂L0_i and by the parameters ∂F6/∂θ (``heavy_partials``:
+    the implicit-function theorem on each cable's coupled catenary, split and pulley coupling, the
+    exit point's slide on the sheave included).
 
+    With F_i the end force at B_i = p + R b_i, r_i = R b_i and G_i = dF_i/dB_i::
 
-def _wrench(cab, P, R, L0):
-    """The balance F6 = (F, M) (N, 6) [N, N m] of ``HeavyCables`` ``cab`` at fixed poses."""
-    ev = cab.evaluate(P, R, L0, P, jacobian=False)
-    return np.concatenate([ev["F"], ev["M"]], axis=1)
+        ∂F6/∂x: ``cables.balance_jacobian`` (dB_i = dp - [r_i]x dφ),
+        ∂F6/∂q_i = (dF_i/dq_i, r_i x dF_i/dq_i)  for q_i = L0_i, E_i (dEA = S_i dE), rho_i
+            (dw = g U_i drho, U_i strands), h_i, r_p_i, d_i, A_i,
+        ∂F6/∂b_i,a = (G_i R e_a, R e_a x F_i + r_i x G_i R e_a),
+        ∂F6/∂c_a = (0, R e_a x f),  ∂F6/∂M = (f, R c x f) / M   (f the platform's weight).
 
+    Parameters
+    ----------
+    robot : Robot
+    P : ndarray (N, 3) [m]
+        Platform positions.
+    R : ndarray (N, 3, 3) [-]
+        Orientations.
+    L0 : ndarray (N, m) [m]
+        Rest lengths of the whole cables.
+    names : list of str, optional
+        Parameters (``parameter_names(robot, rigid=True)`` or a subset; default all); another name
+        raises CdprError (``sensitivity.pose_columns``).
+    cab : HeavyCables, optional
+        The robot's cables (default built from ``robot``).
 
-def _cable_wrenches(cab, P, R, L0):
-    """Each cable's wrench on the platform (N, m, 6) [N, N m]: the catenary's end force F_i at B_i
-    and its moment r_i x F_i (``HeavyCables.exit_points``)."""
-    x = cab.exit_points(P, R, L0)
-    sp = x["state"].span
-    Fi = sp.H[..., None] * x["e_h"] + sp.V_B[..., None] * cab.up
-    return np.concatenate([Fi, np.cross(x["r"], Fi)], axis=-1)
+    Returns
+    -------
+    dict
+        J (N, 6, 6) [N/m, N/rad, N m/m, N m/rad]: ∂F6/∂x, x = (p, φ), φ a base-frame rotation
+        vector; dL0 (N, 6, m) [N/m, N m/m]: ∂F6/∂L0_i; dtheta (N, 6, len(names)) [N, N m per unit of
+        θ]; t (N, m) [N]: the tensions at B_i; names.
+
+    References
+    ----------
+    Irvine, H. M. (1981). Cable Structures. MIT Press, ch. 2; Paty et al. 2021, eq. (3)-(7).
+    """
+    cab = HeavyCables(robot) if cab is None else cab
+    names = pose_columns(robot, names)[0]  # an unknown name: one CdprError line
+    P, R, L0 = (np.asarray(x, dtype=float) for x in (P, R, L0))
+    cp = cable_force_partials(cab, P, R, L0)
+    n, m = cp.t.shape
+    a = robot.arrays
+    f = cab.f
+    rc = R @ np.asarray(a.com, dtype=float)
+    G = cp.dF[..., :3]
+    J = balance_jacobian(G, cp.F, cp.r, rc, f)
+
+    def wrench(dFi, r):  # (..., 3) -> (..., 6): the force and its moment r_i x dF_i
+        return np.concatenate([dFi, np.cross(r, dFi)], axis=-1)
+
+    dL0 = np.swapaxes(wrench(cp.dF[..., 3], cp.r), 1, 2)
+    strands = np.array([c.strands for c in robot.cables], dtype=float)
+    per = {
+        "E": (4, a.ES / a.E),
+        "rho": (5, robot.platform.g * strands),
+        "h": (6, 1.0),
+        "r_p": (7, 1.0),
+        "d": (8, 1.0),
+    }
+    dth = np.zeros((n, 6, len(names)))
+    for k, name in enumerate(names):
+        parts = name.split("_")
+        if name == "M":
+            dth[:, :3, k] = f / robot.platform.mass
+            dth[:, 3:, k] = np.cross(rc, f) / robot.platform.mass
+        elif parts[0] == "c":
+            dth[:, 3:, k] = np.cross(R[:, :, "xyz".index(parts[1])], f)
+        elif parts[0] in ("A", "b"):
+            i, ax = int(parts[1]) - 1, "xyz".index(parts[2])
+            if parts[0] == "A":
+                dth[:, :, k] = wrench(cp.dF[:, i, :, 9 + ax], cp.r[:, i])
+            else:
+                e = R[:, :, ax]
+                dFi = np.einsum("nab,nb->na", G[:, i], e)
+                dth[:, :3, k] = dFi
+                dth[:, 3:, k] = np.cross(e, cp.F[:, i]) + np.cross(cp.r[:, i], dFi)
+        else:
+            key, i = "_".join(parts[:-1]), int(parts[-1]) - 1
+            col, scale = per[key]
+            dFi = cp.dF[:, i, :, col] * np.broadcast_to(scale, (m,))[i]
+            dth[:, :, k] = wrench(dFi, cp.r[:, i])
+    return {"J": J, "dL0": dL0, "dtheta": dth, "t": cp.t, "names": names}
 
 
 def pose_jacobian(robot, P, R, L0, cab=None):
-    """∂F6/∂x (N, 6, 6) of the heavy balance at fixed rest lengths, x = (p, φ) (φ a base-frame
-    rotation vector: R ← exp([dφ]) R), by central differences of the balance (``STEP``), the 12
-    perturbed poses of every point in one evaluation.
+    """∂F6/∂x (N, 6, 6) of the heavy balance at fixed rest lengths, exact (``balance_partials``),
+    x = (p, φ) (φ a base-frame rotation vector: R <- exp([dφ]) R).
 
     Parameters
     ----------
@@ -147,39 +197,12 @@ def pose_jacobian(robot, P, R, L0, cab=None):
     -------
     J : ndarray (N, 6, 6) [N/m, N/rad, N m/m, N m/rad]
     """
-    cab = HeavyCables(robot) if cab is None else cab
-    n = len(P)
-    Ps, Rs = [], []
-    for sg in (1.0, -1.0):
-        for a in range(6):
-            e = np.zeros(3)
-            e[a % 3] = sg * STEP
-            Ps.append(P + e if a < 3 else P)
-            Rs.append(R if a < 3 else rotation_matrix(e) @ R)
-    W = _wrench(cab, np.concatenate(Ps), np.concatenate(Rs), np.tile(L0, (12, 1))).reshape(2, 6, n, 6)
-    return np.transpose(W[0] - W[1], (1, 2, 0)) / (2 * STEP)
-
-
-def _expanded(robot, names, steps):
-    """A robot whose cables are cable c_k of ``robot`` with parameter ``names[k]`` moved by
-    ``steps[k]``, one per (name, step), and the cable index c_k of each."""
-    cables, ci = [], []
-    for name, h in zip(names, steps):
-        parts = name.split("_")
-        i = int(parts[1] if parts[0] in ("A", "b") else parts[-1]) - 1
-        cables.append(perturbed_robot(robot, name, h).cables[i])
-        ci.append(i)
-    return dataclasses.replace(robot, cables=tuple(cables)), np.array(ci, dtype=np.intp)
+    return balance_partials(robot, P, R, L0, names=[], cab=cab)["J"]
 
 
 def parameter_partials(robot, P, R, L0, names):
-    """∂F6/∂θ (N, 6, len(names)) of the heavy balance at fixed poses and rest lengths.
-
-    Parameters of one cable (E_i, h_i, r_p_i, d_i, A_i, b_i, rho_i): central differences of that
-    cable's wrench alone (the others cancel), every perturbed cable one column of a single
-    evaluation of the catenaries and pulleys (``_expanded``; steps ``_steps``). The centre of mass
-    and the mass enter the balance in closed form: ∂M/∂c = (R e_a) x f, ∂(F, M)/∂M = (f, (R c) x f) / M
-    with f the platform's weight.
+    """∂F6/∂θ (N, 6, len(names)) of the heavy balance at fixed poses and rest lengths, exact
+    (``balance_partials``).
 
     Parameters
     ----------
@@ -194,35 +217,11 @@ def parameter_partials(robot, P, R, L0, names):
     -------
     dF : ndarray (N, 6, len(names)) [N, N m per unit of θ]
     """
-    n = len(P)
-    dF = np.zeros((n, 6, len(names)))
-    f = robot.platform.w_ext
-    per = [k for k, name in enumerate(names) if name != "M" and not name.startswith("c_")]
-    if per and n:
-        pn = [names[k] for k in per]
-        hp, hm = np.array([_steps(robot, nm) for nm in pn]).T
-        big, ci = _expanded(robot, pn + pn, np.concatenate([hp, hm]))
-        W = _cable_wrenches(HeavyCables(big), P, R, L0[:, np.concatenate([ci[: len(pn)], ci[: len(pn)]])])
-        K = len(pn)
-        up, dn = W[:, :K], W[:, K:]
-        zero = hm == 0.0  # forward differences from the nominal cable (a zero density)
-        if zero.any():
-            W0 = _cable_wrenches(HeavyCables(robot), P, R, L0)
-            dn = np.where(zero[None, :, None], W0[:, ci[:K]], dn)
-        dF[:, :, per] = np.swapaxes((up - dn) / (hp - hm)[None, :, None], 1, 2)
-    for k, name in enumerate(names):
-        if name == "M":
-            rc = R @ np.asarray(robot.platform.com, dtype=float)
-            dF[:, :3, k] = f / robot.platform.mass
-            dF[:, 3:, k] = np.cross(rc, f) / robot.platform.mass
-        elif name.startswith("c_"):
-            dF[:, 3:, k] = np.cross(R[:, :, "xyz".index(name[2])], f)
-    return dF
+    return balance_partials(robot, P, R, L0, names=names)["dtheta"]
 
 
 def rest_length_partials(robot, P, R, L0, cab=None):
-    """∂F6/∂L0_i (N, 6, m) of the heavy balance at fixed poses: central differences (``STEP``) of
-    each cable's own wrench (every cable's rest length moved at once, each wrench depending on its own).
+    """∂F6/∂L0_i (N, 6, m) of the heavy balance at fixed poses, exact (``balance_partials``).
 
     Parameters
     ----------
@@ -236,10 +235,7 @@ def rest_length_partials(robot, P, R, L0, cab=None):
     -------
     dF : ndarray (N, 6, m) [N/m, N m/m]
     """
-    cab = HeavyCables(robot) if cab is None else cab
-    up = _cable_wrenches(cab, P, R, L0 + STEP)
-    dn = _cable_wrenches(cab, P, R, L0 - STEP)
-    return np.swapaxes(up - dn, 1, 2) / (2 * STEP)
+    return balance_partials(robot, P, R, L0, names=[], cab=cab)["dL0"]
 
 
 def _solve_linear(J, dF, rigid):
@@ -249,14 +245,6 @@ def _solve_linear(J, dF, rigid):
         S[:, :3] = -np.linalg.solve(J[:, :3, :3], dF[:, :3])
         return S
     return -np.einsum("nab,nbk->nak", np.linalg.pinv(J, rcond=1e-12), dF)
-
-
-def _linear_response(robot, P, R, L0, cab, dF):
-    """∂F6/∂x (``pose_jacobian``), the response -(∂F6/∂x)^+ dF (``_solve_linear``) and the tensions
-    at B_i of the heavy balance at fixed poses, for the partials dF (N, 6, k) of F6."""
-    J = pose_jacobian(robot, P, R, L0, cab)
-    S = _solve_linear(J, dF, cab.rigid)
-    return J, S, cab.evaluate(P, R, L0, P, jacobian=False)["t"]
 
 
 def sensitivities_at(robot, res, names=None, t_tol=T_TOL):
@@ -287,7 +275,9 @@ def sensitivities_at(robot, res, names=None, t_tol=T_TOL):
     def at(idx):
         cab = HeavyCables(robot)
         P, R, L0 = res["P_s"][idx], res["R_s"][idx], np.asarray(res["L0"], dtype=float)[idx]
-        J, S, t = _linear_response(robot, P, R, L0, cab, parameter_partials(robot, P, R, L0, names))
+        bp = balance_partials(robot, P, R, L0, names, cab)
+        J, t = bp["J"], bp["t"]
+        S = _solve_linear(J, bp["dtheta"], cab.rigid)
         low = np.where(robot.arrays.w > 0, np.inf, np.abs(t))
         margin = np.minimum(low.min(axis=1), (robot.T_a - t).min(axis=1))
         return S, margin, scaled_condition(J, cab.size, cab.rigid)
@@ -342,8 +332,9 @@ def rest_length_sensitivities(robot, P, R, L0):
         Condition number of ∂F6/∂x (inf where singular; of its 3 x 3 block on a point mass).
     """
     cab = HeavyCables(robot)
-    L0 = np.asarray(L0, dtype=float)
-    J, S, t = _linear_response(robot, P, R, L0, cab, rest_length_partials(robot, P, R, L0, cab))
+    bp = balance_partials(robot, P, R, L0, names=[], cab=cab)
+    J, t = bp["J"], bp["t"]
+    S = _solve_linear(J, bp["dL0"], cab.rigid)
     with np.errstate(all="ignore"):
         cond = np.linalg.cond(J if cab.rigid else J[:, :3, :3])
     return S, t, np.where(np.isfinite(cond), cond, np.inf)

@@ -22,7 +22,7 @@ from cdpr.parameters import (
     robot_with_parameters,
     select_groups,
 )
-from cdpr.robot import load_robot, with_values
+from cdpr.robot import load_robot, with_pulleys, with_values
 
 ROBOTS = Path(__file__).resolve().parents[2] / "config" / "robots"
 
@@ -133,3 +133,19 @@ def test_heavy_rest_length_sensitivities_match_central_differences():
 def test_heavy_sensitivities_refuse_paper_mode():
     with pytest.raises(CdprError, match="physical mode only"):
         door.sensitivities(_robot("cdpr4", 0.5), [[0.0, 0.0, 1.5]], redundancy="paper")
+
+
+@pytest.mark.slow
+def test_heavy_sensitivities_on_dr_pulleys_match_full_solves():
+    """DR pulleys (the arm turns with the strand's direction, the exit point slides on the sheave):
+    the exact partials give dp*/dθ equal to central differences of full heavy direct solves."""
+    robot = with_pulleys(_robot("cdpr4", 0.5), kind="DR")
+    p, rv = np.array([[0.6, -0.4, 1.2]]), np.zeros((1, 3))
+    names = ["r_p_1", "h_2", "A_3_z", "d_4", "rho_2"]
+    L0 = door.solve(robot, p, rv, redundancy="physical", engine="numpy")["L0"]
+    res = door.sensitivities(robot, p, rv, redundancy="physical", L=L0, names=names)
+    assert res["status"][0] == "ok" and res["smooth"][0]
+    for k, nm in enumerate(names):
+        fd = _central(robot, p, rv, L0, nm, _fd_step(robot, nm))
+        an = res["S"][0, :, k]
+        np.testing.assert_allclose(an, fd, rtol=0, atol=2e-6 * np.abs(an).max(), err_msg=nm)
