@@ -196,7 +196,7 @@ def parameter_partials(robot, P, R, L0, names):
     """
     n = len(P)
     dF = np.zeros((n, 6, len(names)))
-    f = robot.platform.w_ext
+    f = robot.platform.gravity_force  # the weight: an external wrench (Platform.wrench) has no parameter
     per = [k for k, name in enumerate(names) if name != "M" and not name.startswith("c_")]
     if per and n:
         pn = [names[k] for k in per]
