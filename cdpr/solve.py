@@ -65,48 +65,6 @@ def check_engine(engine, method, one_shot=None):
     return engine
 
 
-def rigid_wrench(robot):
-    """True when ``robot`` is a rigid platform carrying an external wrench (``Platform.wrench``):
-    the numpy reference models it; the compiled kernels take a point mass's external force (folded
-    into its ``w_ext``) but not a rigid platform's wrench at p."""
-    return (not robot.point_mass) and robot.platform.has_wrench
-
-
-def wrench_engine(robots, engine, method="newton", one_shot=None):
-    """``check_engine`` for robots that may carry an external wrench: a rigid platform with a wrench
-    is solved by the numpy reference (the default there), and ``engine="compiled"`` is refused in
-    one line (never a silent fall-back).
-
-    Parameters
-    ----------
-    robots : Robot or sequence of Robot
-    engine : {"compiled", "numpy"} or None
-    method : str
-    one_shot : int, optional
-        As ``check_engine``.
-
-    Returns
-    -------
-    str
-        The engine.
-    """
-    robots = [robots] if not isinstance(robots, (list, tuple)) else robots
-    if any(rigid_wrench(r) for r in robots):
-        if engine == "compiled":
-            raise CdprError(
-                "the external wrench (--wrench) on a rigid platform is modelled by the numpy engine only "
-                "(--engine numpy, the default with a wrench)"
-            )
-        return check_engine("numpy", method)
-    return check_engine(engine, method, one_shot)
-
-
-def _no_wrench(robot, what):
-    """Sensitivities of a robot under an external wrench are not derived: CdprError in one line."""
-    if robot.platform.has_wrench:
-        raise CdprError(f"{what} with an external wrench (--wrench) are not modelled; leave the wrench at 0")
-
-
 #: How a robot with more cables than needed is held: the paper's best 3-cable subset, or physics.
 REDUNDANCY = ("paper", "physical")
 
@@ -176,7 +134,7 @@ def _solve_heavy(robot, p, rotvec, redundancy, engine, L0, L, threads, options):
             "(--redundancy physical)"
         )
     _check_physical("newton", L)
-    if wrench_engine(robot, heavy_engine(robot, engine)) == "compiled":
+    if check_engine(heavy_engine(robot, engine), "newton") == "compiled":
         res = compiled_equilibrium.solve(robot, p, rotvec, L0=L0, threads=threads, **options)
     else:
         res = equilibrium.solve(robot, p, rotvec, L0=L0, **options)
@@ -270,7 +228,7 @@ def solve(
             res = solve_points(robot, p, method=method, **options)
         return _mark(res, p, robot, frame=False)
     _check_physical(method, L)
-    engine = wrench_engine(robot, engine)
+    engine = check_engine(engine, "newton")
     if _fast_point(robot, p, rotvec):
         if L0 is not None:
             L0 = np.broadcast_to(np.asarray(L0, dtype=float), (len(p), robot.m))
@@ -334,7 +292,7 @@ def reach(robot, p, rotvec=None, *, L0=None, engine=None, threads=None, **start)
     CdprError
         An unknown engine, the compiled engine on heavy cables, a start that does not exist.
     """
-    engine = wrench_engine(robot, "numpy" if engine is None else engine)
+    engine = check_engine("numpy" if engine is None else engine, "newton")
     if robot.heavy:
         if engine == "compiled":
             raise CdprError(
@@ -463,7 +421,7 @@ def solve_batch(
             solve(r, p, rotvec, redundancy=redundancy, engine=engine, threads=threads, L0=L0, P0=P, **options)
             for r, P in zip(robots, starts)
         ]
-    compiled = wrench_engine(robots, engine) == "compiled"
+    compiled = check_engine(engine, "newton") == "compiled"
     if not all(_fast_point(r, p, rotvec) for r in robots):
         if redundancy != "physical" or P0 is not None or L is not None:
             raise CdprError(
@@ -546,7 +504,6 @@ def sensitivities(
     Heavy cables (``Robot.heavy``): physical mode by the numpy reference whatever the engine
     (``heavy_sensitivity``; the compiled heavy kernel has no sensitivities).
     """
-    _no_wrench(robot, "the sensitivities (cdpr.solve.sensitivities)")
     redundancy = check_redundancy(redundancy, robot)
     p = np.atleast_2d(np.asarray(p, dtype=float))
     engine = check_engine(engine, "newton")
@@ -597,7 +554,6 @@ def sensitivities_at(robot, res, names=None, t_tol=sensitivity.T_TOL, engine=Non
     ``cdpr.compiled.sensitivity.sensitivities_at``) or ``"numpy"``; another engine raises CdprError
     naming the allowed values. Heavy cables: always numpy (the compiled heavy kernel has no
     sensitivities; ``heavy_sensitivity.sensitivities_at``)."""
-    _no_wrench(robot, "the sensitivities (cdpr.solve.sensitivities_at)")
     if robot.heavy:
         check_engine(engine, "newton")
         return heavy_sensitivity.sensitivities_at(robot, res, names, t_tol)
@@ -617,7 +573,6 @@ def subset_sensitivities(robot, p, L=None, columns=None, engine=None, threads=No
         "cdpr.solve.sensitivities (redundancy: physical, the pose equilibrium)",
         P=p,
     )
-    _no_wrench(robot, "the subset sensitivities (cdpr.solve.subset_sensitivities)")
     if check_engine(engine, "newton") == "compiled":
         return compiled_sensitivity.subset_sensitivities(
             robot, p, L=L, columns=columns, threads=threads, **solver

@@ -13,7 +13,7 @@ import pandas as pd
 
 from cdpr.models import sensitivity
 from cdpr.models.results import STATUSES, TAUT_MIN, pose_columns, subset_codes, taut_labels
-from cdpr.solve import check_equilibrium, check_redundancy, reach_where_multiple, solve, wrench_engine
+from cdpr.solve import check_engine, check_equilibrium, check_redundancy, reach_where_multiple, solve
 
 
 def to_frame(robot, res, redundancy="paper", rotvec=None):
@@ -176,10 +176,10 @@ def solve_table(
         res = solve(robot, p, engine=engine, L0=L0, **run, **options)
         multiple = redundancy == "physical" and "unique" in res and not np.all(res["unique"])
         if multiple and check_equilibrium(equilibrium) == "reached":  # issue 39
-            engine = None if robot.heavy else wrench_engine(robot, engine)
+            engine = None if robot.heavy else check_engine(engine, "newton")
             res = reach_where_multiple(robot, res, engine=engine, threads=threads)
         return to_frame(robot, res, redundancy, options.get("rotvec"))
-    engine = wrench_engine(robot, engine, method)
+    engine = check_engine(engine, method)
     if engine == "compiled":
         return to_frame(robot, solve(robot, p, engine=engine, **run, **options))
     starts = range(0, len(p), chunk) if len(p) else [0]

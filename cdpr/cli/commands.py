@@ -336,12 +336,12 @@ def cmd_point(args):
     --engine, fewer than ``solve.ONE_SHOT_POSES`` poses are answered by the numpy reference (the
     compiled engine's load would be most of the process), more by the compiled engine."""
     from cdpr.models.interference import interference_free  # lazy: the solver commands only
+    from cdpr.solve import check_engine  # lazy: the solvers, for the solver commands only
     from cdpr.solve import solve as solve_poses  # lazy: the solvers, for the solver commands only
-    from cdpr.solve import wrench_engine  # lazy: the solvers, for the solver commands only
 
     robot = robot_from_args(args)
     points = read_points(args)
-    engine = wrench_engine(robot, args.engine, args.method, one_shot=points.n)
+    engine = check_engine(args.engine, args.method, one_shot=points.n)
     L0 = None
     given = [
         o
@@ -540,11 +540,11 @@ def cmd_compensate(args):
 
     from cdpr.analyses.compensation import at_poses, compensated_pose  # lazy: this command only
     from cdpr.models.interference import interference_free  # lazy: this command only
-    from cdpr.solve import wrench_engine  # lazy: the solvers, for the solver commands only
+    from cdpr.solve import check_engine  # lazy: the solvers, for the solver commands only
 
     robot = robot_from_args(args)
     points = read_points(args)
-    engine = wrench_engine(robot, args.engine, "newton", one_shot=points.n)
+    engine = check_engine(args.engine, "newton", one_shot=points.n)
     actual = None
     if args.actual_E_cables is not None:
         if len(args.actual_E_cables) != robot.m:
@@ -739,7 +739,7 @@ def cmd_grid(args):
     # lazy: the grid, the solvers and pandas, for this command only
     from cdpr.analyses.workspace import check_box, frame_box, grid_points, read_box, shard_range
     from cdpr.models.interference import columns, interference
-    from cdpr.solve import wrench_engine
+    from cdpr.solve import check_engine
     from cdpr.tables import solve_table
 
     robot = robot_from_args(args)
@@ -773,7 +773,7 @@ def cmd_grid(args):
             **_rotvec_option(args),
         )
 
-    if len(P) and wrench_engine(robot, args.engine, args.method) == "compiled":
+    if len(P) and check_engine(args.engine, args.method) == "compiled":
         # numba loads (or, with a cold cache, compiles: announced) its kernels here, outside the rate
         _warm_up(args, lambda: solve(P[:1]))
     t0 = time.perf_counter()
@@ -858,7 +858,7 @@ def _report(df, out, args, dt, extra=None):
         emit_json(summary, args)
     else:
         timing = f" in {dt:.2f} s ({rate:.0f} points/s)" if rate else ""
-        print(f"wrote {n} points to {out}{timing}")
+        print(f"wrote {n} points to {out}{timing}{_wrench_text(args)}")
         print(
             "status: "
             + ", ".join(f"{k} {v}" for k, v in counts.items())

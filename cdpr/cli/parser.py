@@ -211,6 +211,7 @@ def build_parser(jobs=True):
     sp.add_argument("--out", required=True, metavar="FILE")
     rotvec_option(sp)
     physics_options(sp)
+    wrench_option(sp)
     sp.set_defaults(run=("cdpr.cli.commands", "cmd_plane"))
     sp = sub.add_parser(
         "trajectory", help="DEGM_E along a straight path (Fig. 10, 19); writes a table with arc length s"
@@ -223,6 +224,7 @@ def build_parser(jobs=True):
     sp.add_argument("--out", required=True, metavar="FILE")
     rotvec_option(sp)
     physics_options(sp)
+    wrench_option(sp)
     sp.set_defaults(run=("cdpr.cli.commands", "cmd_trajectory"))
     sp = sub.add_parser(
         "interference",

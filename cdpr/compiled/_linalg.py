@@ -426,3 +426,72 @@ def add_gravity(J, Fx, Fy, Fz, Mx, My, Mz, fx, fy, fz, rcx, rcy, rcz):
         for q in range(3):
             J[3 + a, 3 + q] += rc3[a] * f3[q] - (rcf if a == q else 0.0)
     return Fx + fx, Fy + fy, Fz + fz, Mx + cfx, My + cfy, Mz + cfz, cfx, cfy, cfz
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def add_wrench(e6, g6, px, py, pz, rfx, rfy, rfz, wrench):
+    """Adds a rigid platform's external wrench (``Platform.wrench``: a constant world-frame force fe
+    at p and moment me about p) to one evaluation of the pose kernel, as ``models.cables.Cables``
+    does: F += fe, M += me (also in the Newton residual Fn), the merit gains the force's potential
+    -fe . (p - p_ref) and its gradient minus the generalised force (fe, me). The Jacobian does not
+    change (a constant world wrench does not depend on the pose); a constant moment has no
+    potential, its work along a line-search step is ``moment_work``'s. Nothing is added when the
+    wrench is zero (the default path stays bit for bit what it was).
+
+    .. math:: F \\mathrel{+}= f_e,\\quad M \\mathrel{+}= m_e,\\quad V \\mathrel{-}= f_e \\cdot (p - p_{ref}),
+        \\quad \\nabla V \\mathrel{-}= (f_e, m_e)
+
+    Parameters
+    ----------
+    e6 : ndarray (14,)
+        The evaluation: F (3) [N], M (3) [N m], Fn (6), merit [J], inside; updated.
+    g6 : ndarray (8,)
+        The merit's gradient (6) [N, N m] and the stiffness bounds (2); updated.
+    px, py, pz : float [m]
+        The pose's reference point p.
+    rfx, rfy, rfz : float [m]
+        The energy's origin p_ref.
+    wrench : ndarray (6,) [N, N m]
+        (fe, me); zeros on a point mass (its force is folded into gravity's).
+
+    References
+    ----------
+    Pott, A. (2018). Cable-Driven Parallel Robots: Theory and Application. Springer, section 3.3.
+    """
+    if not (
+        wrench[0] != 0.0
+        or wrench[1] != 0.0
+        or wrench[2] != 0.0
+        or wrench[3] != 0.0
+        or wrench[4] != 0.0
+        or wrench[5] != 0.0
+    ):
+        return
+    for a in range(6):
+        e6[a] += wrench[a]
+        e6[6 + a] += wrench[a]
+        g6[a] -= wrench[a]
+    e6[12] -= (px - rfx) * wrench[0] + (py - rfy) * wrench[1] + (pz - rfz) * wrench[2]
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def moment_work(sx, sy, sz, wrench):
+    """The work of a constant world-frame moment me (``wrench[3:]``) along a rotation step s [rad]
+    (base frame: R_t = exp([s]x) R, whose base-frame angular displacement is s exactly): me . s [J].
+    The line search of the pose kernel subtracts it from the trial merit, as
+    ``models.equilibrium._newton`` does.
+
+    .. math:: W = m_e \\cdot s
+
+    Parameters
+    ----------
+    sx, sy, sz : float [rad]
+        The step's rotation vector.
+    wrench : ndarray (6,) [N, N m]
+        (fe, me).
+
+    Returns
+    -------
+    work : float [J]
+    """
+    return sx * wrench[3] + sy * wrench[4] + sz * wrench[5]

@@ -434,13 +434,17 @@ def sensitivities_at(robot, res, names=None, t_tol=T_TOL, threads=None):
     cond = np.empty(n)
     if n:
         cab = CompiledCables(robot)
+        # the load whose partials by c and M are taken: the weight (a point mass's body.f adds an
+        # external force, ``Platform.wrench``, which depends on no parameter; the Jacobian is the
+        # same, its weight term vanishing there with c = 0)
+        body = cab.body._replace(f=f(robot.platform.gravity_force, dtype=float))
         _sens_poses(
             P,
             f(res["R_s"], dtype=float),
             f(np.broadcast_to(np.asarray(res["L0"], dtype=float), (n, robot.m))),
             ok,
             cab.cables,
-            cab.body,
+            body,
             float(robot.platform.mass),
             cols.astype(np.int64),
             PINV_RCOND,

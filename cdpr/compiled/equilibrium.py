@@ -11,6 +11,13 @@ and the result are the reference's own functions (``models.equilibrium.solve_wit
 compiled Newton. A test checks that both give the same statuses, taut sets, ``unique``, poses
 (1e-9 m, 1e-9 rad).
 
+An external wrench on a rigid platform (``Platform.wrench``: a constant world-frame force fe at p and
+moment me about p; ``Body.wrench``) enters as in the reference (``models.cables.Cables``): F += fe,
+M += me, the merit gains -fe . (p - p_d) and its gradient -(fe, me) (``_linalg.add_wrench``, after
+each evaluation, massless or heavy), the Jacobian is unchanged, and the line search's test adds the
+moment's work me . (alpha s_phi) along each trial step while the merit kept leaves it out
+(``_linalg.moment_work``). A point mass's force is in its weight (``Platform.w_ext``).
+
 ``solve_points`` and ``solve_points_batch`` are the fast path of a suspended point mass (a 3-DoF
 kernel, ``_point_mass``), which ``cdpr.solve`` chooses for such robots; they return the point-mass
 keys (``results.physical_result``).
@@ -44,7 +51,9 @@ from cdpr.compiled._kernels import Cables as CableArrays
 from cdpr.compiled._linalg import (
     add_cable_jacobian,
     add_gravity,
+    add_wrench,
     lu_solve,
+    moment_work,
     pinv_solve,
     positive_definite,
     rodrigues,
@@ -77,14 +86,17 @@ READY = STATE["ready"]
 class Body(NamedTuple):
     """The platform and pulley frames for the 6-DoF kernel (``body_arrays``): b (m, 3) [m]
     attachments in the platform frame; frame (m, 3, 3) [-] pulley frames (rows i, j, k); ident (m,)
-    bool (frame is the identity); com (3,) [m]; f (3,) [N] gravity force; ftol [N]; size [m] the
-    platform's size l; ztop [m] the lowest joint height; rigid, suspended (``Cables``)."""
+    bool (frame is the identity); com (3,) [m]; f (3,) [N] gravity force; wrench (6,) [N, N m] a
+    rigid platform's external wrench (fe at p, me about p, world frame; ``Cables.fe``, ``Cables.me``;
+    zeros on a point mass, whose force is in f); ftol [N]; size [m] the platform's size l; ztop [m]
+    the lowest joint height; rigid, suspended (``Cables``)."""
 
     b: np.ndarray
     frame: np.ndarray
     ident: np.ndarray
     com: np.ndarray
     f: np.ndarray
+    wrench: np.ndarray
     ftol: float
     size: float
     ztop: float
@@ -129,6 +141,7 @@ def body_arrays(cab):
         ident,
         np.ascontiguousarray(a.com, dtype=float),
         np.ascontiguousarray(cab.f, dtype=float),
+        np.ascontiguousarray(np.concatenate([cab.fe, cab.me]), dtype=float),
         float(cab.ftol),
         float(cab.size),
         float(cab.z_top),
@@ -446,6 +459,7 @@ def solve_pose(i, p_ref, P0, R0, L0, cab, body, opts, out, w, heavy):
     rigid = body.rigid
     ell = body.size if rigid else 0.0
     ftol2, mtol2 = body.ftol * body.ftol, (body.ftol * body.size) ** 2
+    moment = rigid and (body.wrench[3] != 0.0 or body.wrench[4] != 0.0 or body.wrench[5] != 0.0)
     rfx, rfy, rfz = p_ref[i, 0], p_ref[i, 1], p_ref[i, 2]
     px, py, pz = P0[i, 0], P0[i, 1], P0[i, 2]
     R, Rt, Q, s, x = w.R, w.Rt, w.Q, w.s6, w.w6
@@ -459,6 +473,7 @@ def solve_pose(i, p_ref, P0, R0, L0, cab, body, opts, out, w, heavy):
         evaluate_heavy(px, py, pz, R, rfx, rfy, rfz, cab, body, heavy, L0, i, t, J, e6, g6, w, w.hc, w.hc)
     else:
         evaluate(px, py, pz, R, rfx, rfy, rfz, cab, body, L0, i, t, J, e6, g6, w)
+    add_wrench(e6, g6, px, py, pz, rfx, rfy, rfz, body.wrench)
     conv = False
     it = 0
     prev = 0.0
@@ -553,7 +568,13 @@ def solve_pose(i, p_ref, P0, R0, L0, cab, body, opts, out, w, heavy):
                 )
             else:
                 evaluate(qx, qy, qz, Rt, rfx, rfy, rfz, cab, body, L0, i, w.tt, w.Jt, w.et, w.gt, w)
-            if whole or w.et[12] <= merit + ARMIJO_C * alpha * slope or hv == MAX_HALVINGS:
+            add_wrench(w.et, w.gt, qx, qy, qz, rfx, rfy, rfz, body.wrench)
+            # an external moment's work along the trial step (``models.equilibrium._newton``): the
+            # test's merit adds it, the merit kept is the potential
+            trial = w.et[12]
+            if moment:
+                trial -= moment_work(alpha * s[3], alpha * s[4], alpha * s[5], body.wrench)
+            if whole or trial <= merit + ARMIJO_C * alpha * slope or hv == MAX_HALVINGS:
                 px, py, pz = qx, qy, qz
                 for a in range(3):
                     for c in range(3):
@@ -771,7 +792,29 @@ def solve(
 
 @njit(cache=True, parallel=True, error_model="numpy")
 def _solve_poses_batch(
-    p_ref, P0, R0, L0, A, kind, h, rp, d, inward, ES, E, T_a, b, frame, ident, com, f, scal, flags, opts, out
+    p_ref,
+    P0,
+    R0,
+    L0,
+    A,
+    kind,
+    h,
+    rp,
+    d,
+    inward,
+    ES,
+    E,
+    T_a,
+    b,
+    frame,
+    ident,
+    com,
+    f,
+    wrench,
+    scal,
+    flags,
+    opts,
+    out,
 ):
     # robot k's solve_pose over the chunks of poses: every (robot, chunk) pair is one parallel job
     K, n = P0.shape[0], P0.shape[1]
@@ -786,6 +829,7 @@ def _solve_poses_batch(
             ident[k],
             com[k],
             f[k],
+            wrench[k],
             scal[k, 0],
             scal[k, 1],
             scal[k, 2],
@@ -819,13 +863,13 @@ BATCH_POSES = 1 << 16
 
 
 def _stack(records, n, m):
-    """The kernel's arrays of K robots: Cables and Body fields stacked (K, ...), their scalars as
+    """The kernel's arrays of K robots: Cables and Body arrays (b to wrench) stacked (K, ...), their scalars as
     (K, 3) floats (ftol, size, ztop) and (K, 2) flags (rigid, suspended), and an ``Out`` (K, n, ...)."""
     cabs = [
         np.ascontiguousarray(np.stack([r.cables[j] for r in records]))
         for j in range(len(CableArrays._fields))
     ]
-    bodies = [np.ascontiguousarray(np.stack([r.body[j] for r in records])) for j in range(5)]
+    bodies = [np.ascontiguousarray(np.stack([r.body[j] for r in records])) for j in range(6)]
     scal = np.array([(r.body.ftol, r.body.size, r.body.ztop) for r in records], dtype=float)
     flags = np.array([(r.body.rigid, r.body.suspended) for r in records], dtype=np.bool_)
     one = outputs(n, m)

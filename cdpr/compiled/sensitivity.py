@@ -132,12 +132,13 @@ def _put_t(St, S, i, col, T, pt):
 
 
 @njit(cache=True, error_model="numpy")
-def _paper_sens(i, Px, Py, Pz, cs, Lc, cables, subs, b, mass, rows, S, w, St, want_t):
+def _paper_sens(i, Px, Py, Pz, cs, Lc, cables, subs, b, bg, mass, rows, S, w, St, want_t):
     """dP*/dθ of paper mode at P* for the subset cs (3 cables) with commanded lengths Lc (3), written
     to S[i] (``sensitivity.paper_jacobian_terms`` and ``implicit_solve``); returns the subset's
     tensions at P* and the condition number of J (inf where singular). ``cables`` the ``Cables``
     record, ``subs`` the ``Subsets`` record (a robot that is not suspended has each cable evaluated
-    in its pulley frame, ``cable_partials_axis``), b (3,) [N] = -w_ext, ``rows`` (3, NCOL) and ``w``
+    in its pulley frame, ``cable_partials_axis``), b (3,) [N] = -w_ext, bg (3,) [N] = -M g the weight
+    alone (the mass's column: an external force does not scale with M), ``rows`` (3, NCOL) and ``w``
     (8, 3, 3): scratch. With ``want_t``, also the total dt/dθ = dt/dP dP*/dθ + dt/dθ|_P into St[i]."""
     ES, E = cables.ES, cables.E
     m = cables.A.shape[0]
@@ -169,6 +170,10 @@ def _paper_sens(i, Px, Py, Pz, cs, Lc, cables, subs, b, mass, rows, S, w, St, wa
     for j in range(3):
         t[j] = (r[j, 0] * b[0] + r[j, 1] * b[1] + r[j, 2] * b[2]) * idet
         kL[j] = Lc[j] / ES[cs[j]]
+    # the weight's share of the tensions (t itself without an external force: the same bits)
+    tg0 = (r[0, 0] * bg[0] + r[0, 1] * bg[1] + r[0, 2] * bg[2]) * idet
+    tg1 = (r[1, 0] * bg[0] + r[1, 1] * bg[1] + r[1, 2] * bg[2]) * idet
+    tg2 = (r[2, 0] * bg[0] + r[2, 1] * bg[1] + r[2, 2] * bg[2]) * idet
     for a in range(3):
         for b in range(3):
             G[a, b] = 0.0
@@ -200,9 +205,9 @@ def _paper_sens(i, Px, Py, Pz, cs, Lc, cables, subs, b, mass, rows, S, w, St, wa
             _put(S, i, col, Jinv, f[0], f[1], f[2])
             if want_t:
                 _put_t(St, S, i, col, T, pt)
-    for k in range(3):
-        f[k] = -kL[k] * t[k] / mass
-        pt[k] = t[k] / mass
+    for k, tg in enumerate((tg0, tg1, tg2)):
+        f[k] = -kL[k] * tg / mass
+        pt[k] = tg / mass
     _put(S, i, 7 * m, Jinv, f[0], f[1], f[2])
     if want_t:
         _put_t(St, S, i, 7 * m, T, pt)
@@ -210,7 +215,7 @@ def _paper_sens(i, Px, Py, Pz, cs, Lc, cables, subs, b, mass, rows, S, w, St, wa
 
 
 @njit(cache=True, parallel=True, error_model="numpy")
-def _paper_points(p, Lin, cables, subs, b, mass, opts, gap_tol, out, S, gap_out, tm_out, cond_out):
+def _paper_points(p, Lin, cables, subs, b, bg, mass, opts, gap_tol, out, S, gap_out, tm_out, cond_out):
     n = p.shape[0]
     subsets = subs.idx
     ns = subsets.shape[0]
@@ -274,6 +279,7 @@ def _paper_points(p, Lin, cables, subs, b, mass, opts, gap_tol, out, S, gap_out,
                 cables,
                 subs,
                 b,
+                bg,
                 mass,
                 rows,
                 S,
@@ -293,11 +299,10 @@ def _paper_points(p, Lin, cables, subs, b, mass, opts, gap_tol, out, S, gap_out,
 
 
 @njit(cache=True, parallel=True, error_model="numpy")
-def _physical_points(p, P0, L0, cables, load, mass, opts, out, S, tm_out, cond_out):
+def _physical_points(p, P0, L0, cables, load, gravity, mass, opts, out, S, tm_out, cond_out):
     n = p.shape[0]
     m = cables.A.shape[0]
     ES, E, T_a = cables.ES, cables.E, cables.T_a
-    wx, wy, wz = load.wx, load.wy, load.wz
     P_out, conv_out = out.P, out.conv
     nchunks = (n + CHUNK - 1) // CHUNK
     for ch in prange(nchunks):
@@ -358,7 +363,8 @@ def _physical_points(p, P0, L0, cables, load, mass, opts, out, S, tm_out, cond_o
                         ka * dL * rows[c, C_U + 1] + t * du[1],
                         ka * dL * rows[c, C_U + 2] + t * du[2],
                     )
-            _put(S, i, 7 * m, Jinv, wx / mass, wy / mass, wz / mass)
+            # the mass moves the weight only (not an external force): M g / M
+            _put(S, i, 7 * m, Jinv, gravity[0] / mass, gravity[1] / mass, gravity[2] / mass)
 
 
 def sensitivities_fast(
@@ -414,6 +420,7 @@ def sensitivities_fast(
                 cables,
                 subset_arrays(robot),
                 b,
+                -robot.platform.gravity_force,
                 robot.platform.mass,
                 opts,
                 gap_tol,
@@ -445,7 +452,18 @@ def sensitivities_fast(
         out = physical_outputs(n, m)
         if n:
             _physical_points(
-                p, P0, L0, cables, physical_load(robot), robot.platform.mass, opts, out, S, tm, cond
+                p,
+                P0,
+                L0,
+                cables,
+                physical_load(robot),
+                robot.platform.gravity_force,
+                robot.platform.mass,
+                opts,
+                out,
+                S,
+                tm,
+                cond,
             )
         P, t, resid, it, conv, ins = out
         res = physical_result(
@@ -461,7 +479,7 @@ def sensitivities_fast(
 
 
 @njit(cache=True, parallel=True, error_model="numpy")
-def _subsets_points(p, Lin, cables, subs, b, mass, opts, cols, P_out, t_out, conv_out, S_out, St_out):
+def _subsets_points(p, Lin, cables, subs, b, bg, mass, opts, cols, P_out, t_out, conv_out, S_out, St_out):
     subsets = subs.idx
     n = p.shape[0]
     ns = subsets.shape[0]
@@ -498,7 +516,7 @@ def _subsets_points(p, Lin, cables, subs, b, mass, opts, cols, P_out, t_out, con
                         S1[0, a, q] = 0.0
                         St1[0, a, q] = 0.0
                 t0, t1, t2, cond = _paper_sens(
-                    0, Ps[k, 0], Ps[k, 1], Ps[k, 2], cs, Lc, cables, subs, b, mass, rows, S1, w, St1, True
+                    0, Ps[k, 0], Ps[k, 1], Ps[k, 2], cs, Lc, cables, subs, b, bg, mass, rows, S1, w, St1, True
                 )
                 if not cond < np.inf:
                     continue
@@ -548,7 +566,8 @@ def subset_sensitivities(robot, p, L=None, columns=None, threads=None, **solver)
     St = np.empty((n, ns, 3, len(cols)))
     if n:
         _subsets_points(
-            p, Lin, cable_arrays(robot), subset_arrays(robot), -robot.platform.w_ext, robot.platform.mass,
+            p, Lin, cable_arrays(robot), subset_arrays(robot), -robot.platform.w_ext,
+            -robot.platform.gravity_force, robot.platform.mass,
             opts, cols.astype(np.int64), P, t, conv, S, St,
         )  # fmt: skip
     T_a = robot.T_a[robot.subsets]

@@ -139,6 +139,9 @@ def balance_partials(robot, P, R, L0, names=None, cab=None):
     n, m = cp.t.shape
     a = robot.arrays
     f = cab.f
+    weight = (
+        robot.platform.gravity_force
+    )  # M and c move the weight, not an external wrench (cab.f on a point mass)
     rc = R @ np.asarray(a.com, dtype=float)
     G = cp.dF[..., :3]
     J = balance_jacobian(G, cp.F, cp.r, rc, f)
@@ -159,10 +162,10 @@ def balance_partials(robot, P, R, L0, names=None, cab=None):
     for k, name in enumerate(names):
         parts = name.split("_")
         if name == "M":
-            dth[:, :3, k] = f / robot.platform.mass
-            dth[:, 3:, k] = np.cross(rc, f) / robot.platform.mass
+            dth[:, :3, k] = weight / robot.platform.mass
+            dth[:, 3:, k] = np.cross(rc, weight) / robot.platform.mass
         elif parts[0] == "c":
-            dth[:, 3:, k] = np.cross(R[:, :, "xyz".index(parts[1])], f)
+            dth[:, 3:, k] = np.cross(R[:, :, "xyz".index(parts[1])], weight)
         elif parts[0] in ("A", "b"):
             i, ax = int(parts[1]) - 1, "xyz".index(parts[2])
             if parts[0] == "A":

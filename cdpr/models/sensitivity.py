@@ -257,8 +257,10 @@ def paper_jacobian_terms(robot, P, subset, L):
         block[:, j, :] += cp.dL[:, j]
         dF[:, :, _geo_columns(m, c)] = block
         dt_part[:, :, _geo_columns(m, c)] = dt
-    dF[:, :, 7 * m] = -kL * t / robot.platform.mass
-    dt_part[:, :, 7 * m] = t / robot.platform.mass
+    # the mass moves the weight only, not an external force (``Platform.wrench``): dt/dM = M_u^-1 (-M g) / M
+    t_g = tensions(cp.u, robot.platform.gravity_force)[0] if robot.platform.has_wrench else t
+    dF[:, :, 7 * m] = -kL * t_g / robot.platform.mass
+    dt_part[:, :, 7 * m] = t_g / robot.platform.mass
     return J, dF, t, dt_dP, dt_part
 
 
@@ -305,7 +307,7 @@ def physical_jacobian_terms(robot, P, L0):
             ka[:, c, None, None] * cp.u[:, c, :, None] * cp.dL[:, c, None, :]
             + t[:, c, None, None] * cp.du[:, c]
         )
-    dF[:, :, 7 * m] = robot.platform.w_ext / robot.platform.mass
+    dF[:, :, 7 * m] = robot.platform.gravity_force / robot.platform.mass  # the weight, not the wrench
     return J, dF, hooke
 
 
@@ -682,7 +684,8 @@ def _wrench_partials(cab, P, R, L0):
               \end{bmatrix}
 
     for q = E_i, h_i, r_p,i, d_i, A_i, b_i (``_cable_terms``), and dF6/dc_a = (0, R e_a × f),
-    dF6/dM = (f, R c × f) / M (f the external wrench's force); the moment rows are 0 on a point mass.
+    dF6/dM = (f, R c × f) / M (f = M g the weight: an external wrench, ``Platform.wrench``, is constant
+    in the world frame and depends on no parameter); the moment rows are 0 on a point mass.
 
     Parameters
     ----------
@@ -717,7 +720,7 @@ def _wrench_partials(cab, P, R, L0):
     cols = _cable_column_index(m).ravel()
     dF[:, :3, cols] = np.moveaxis(force, 2, 1).reshape(n, 3, m * PER_CABLE)
     dF[:, 3:, cols] = np.moveaxis(moment, 2, 1).reshape(n, 3, m * PER_CABLE)
-    f = cab.f
+    f = cab.robot.platform.gravity_force  # the weight (a point mass's cab.f adds the wrench's force)
     dF[:, 3:, 10 * m : 10 * m + 3] = np.swapaxes(np.cross(np.swapaxes(R, 1, 2), f), 1, 2)  # R e_a x f
     dF[:, :3, 10 * m + 3] = f / cab.mass
     dF[:, 3:, 10 * m + 3] = np.cross(R @ cab.com, f) / cab.mass

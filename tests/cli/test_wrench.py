@@ -5,6 +5,7 @@ reaching the study's robots as a typed value; bad input in one line."""
 import json
 
 import numpy as np
+import pandas as pd
 import pytest
 import yaml
 
@@ -106,27 +107,19 @@ def test_bad_wrenches_are_one_line(capsys, wrench, words):
         assert err.startswith("cdpr: error: ") and words in err and "--wrench" in err
 
 
-def test_the_compiled_engine_refuses_a_rigid_wrench_in_one_line(capsys):
-    code, out, err = run(
-        capsys,
-        "point",
-        "--robot",
-        RC,
-        "--at",
-        "0",
-        "0",
-        "2",
-        "--engine",
-        "compiled",
-        "--wrench",
-        1,
-        0,
-        0,
-        0,
-        0,
-        0,
-    )
-    assert code == 2 and len(err.splitlines()) == 1 and "--engine numpy" in err
+def test_both_engines_take_a_rigid_wrench(capsys):
+    """CoGiRo with a force and a moment: ``--engine compiled`` solves it (no refusal) and agrees with
+    the numpy reference to 1e-9 m and 1e-9 rad, same status and taut set; the wrench moved it."""
+    at = ["--robot", RC, "--at", "0.5", "-0.3", "2.5", "--rotvec", "0.05", "-0.02", "0.1"]
+    w = [60.0, -40.0, 25.0, 8.0, -5.0, 3.0]
+    a = run_json(capsys, "point", *at, "--engine", "compiled", "--wrench", *w)
+    b = run_json(capsys, "point", *at, "--engine", "numpy", "--wrench", *w)
+    assert a["engine"] == "compiled" and b["engine"] == "numpy"
+    assert a["status"] == b["status"] == "ok" and a["taut"] == b["taut"]
+    assert np.abs(np.subtract(a["solved"], b["solved"])).max() <= 1e-9
+    assert np.abs(np.subtract(a["solved_rotvec"], b["solved_rotvec"])).max() <= 1e-9
+    plain = run_json(capsys, "point", *at, "--engine", "compiled")
+    assert np.abs(np.subtract(a["solved"], plain["solved"])).max() > 1e-4
 
 
 def study_with(tmp_path, text, wrench):
@@ -156,3 +149,32 @@ def test_bad_study_wrenches_name_the_key(tmp_path):
     assert "wrench" in str(exc.value)
     st = load_study(study_with(tmp_path, quick, [0, 0, -5, 0, 0, 0]))  # a force is fine
     assert all(r.platform.wrench[2] == -5.0 for r in st.robot_models.values())
+
+
+def test_plane_and_trajectory_take_the_wrench(capsys, tmp_path):
+    """``plane`` and ``trajectory`` with --wrench: the JSON echoes it and the text's first line names
+    it; on CDPR4 (a point mass) a vertical force -dM g is dM more mass along the path (the table of a
+    robot file with that mass, 1e-12 m); on CoGiRo a force and a moment move the plane's poses."""
+    d = yaml.safe_load(open(R4).read())
+    dM = 12.0
+    d["platform"]["mass_kg"] = float(d["platform"]["mass_kg"]) + dM
+    heavier = tmp_path / "heavier.yaml"
+    heavier.write_text(yaml.safe_dump(d))
+    w = [0.0, 0.0, -dM * G_STANDARD, 0.0, 0.0, 0.0]
+    path = ["--start", "-1", "-1", "1", "--end", "1", "1", "3", "--n", "7", "--redundancy", "physical"]
+    a = run_json(capsys, "trajectory", "--robot", R4, *path, "--out", tmp_path / "a.parquet", "--wrench", *w)
+    b = run_json(capsys, "trajectory", "--robot", heavier, *path, "--out", tmp_path / "b.parquet")
+    assert a["wrench"] == w and "wrench" not in b
+    ta, tb = (pd.read_parquet(tmp_path / f) for f in ("a.parquet", "b.parquet"))
+    assert (ta["status"] == "ok").all() and (ta["status"] == tb["status"]).all()
+    assert np.abs(ta[["x_s", "y_s", "z_s"]].to_numpy() - tb[["x_s", "y_s", "z_s"]].to_numpy()).max() <= 1e-12
+    wc = [60.0, -40.0, 25.0, 8.0, -5.0, 3.0]
+    plane = ["plane", "--robot", RC, "--z", "2", "--n", "3"]
+    code, out, err = run(capsys, *plane, "--out", tmp_path / "c.parquet", "--wrench", *wc)
+    assert code == 0, err
+    assert "wrench (60, -40, 25, 8, -5, 3) [N, N m]" in out.splitlines()[0]
+    c = run_json(capsys, *plane, "--out", tmp_path / "d.parquet")
+    assert "wrench" not in c
+    tc, td = (pd.read_parquet(tmp_path / f) for f in ("c.parquet", "d.parquet"))
+    assert (tc["status"] == "ok").all()
+    assert np.abs(tc[["x_s", "y_s", "z_s"]].to_numpy() - td[["x_s", "y_s", "z_s"]].to_numpy()).max() > 1e-4
