@@ -157,6 +157,22 @@ JOINT_STEP = 1e-8
 JOINT_DAMPED = 1
 
 
+@njit(cache=True, inline="always", error_model="numpy")
+def _spans_at(Bx, By, Bz, Hx, Hy, Hz, esx, esy, esz, kx, ky, kz, ux, uy, uz, rp, ct, st):
+    """The exit point D = H + r_p (cos theta e_s + sin theta k) on the sheave (centre H, plane
+    (e_s, k)) and the spans from B: (r (3) [-] the sheave's radius direction at D, D (3) [m],
+    v = D - B (3) [m], l_v, l_h [m], e_h (3) [-] the horizontal unit vector from B toward D; e_h is
+    the horizontal part of v unscaled where l_h = 0, a vertical cable)."""
+    rx, ry, rz = ct * esx + st * kx, ct * esy + st * ky, ct * esz + st * kz
+    Dx, Dy, Dz = Hx + rp * rx, Hy + rp * ry, Hz + rp * rz
+    vx, vy, vz = Dx - Bx, Dy - By, Dz - Bz
+    l_v = vx * ux + vy * uy + vz * uz
+    hx, hy, hz = vx - l_v * ux, vy - l_v * uy, vz - l_v * uz
+    l_h = math.sqrt(hx * hx + hy * hy + hz * hz)
+    n = l_h if l_h > 0.0 else 1.0
+    return rx, ry, rz, Dx, Dy, Dz, vx, vy, vz, l_v, l_h, hx / n, hy / n, hz / n
+
+
 @njit(cache=True, error_model="numpy")
 def _joint(
     Bx, By, Bz, Hx, Hy, Hz, esx, esy, esz, kx, ky, kz, ux, uy, uz, rp, ld, thK, sr, L0c, w, EA, H, V, L0f, th
@@ -184,14 +200,11 @@ def _joint(
     ct, st = math.cos(th), math.sin(th)
     gam = (thK - th) % TWO_PI
     for it in range(1, JOINT_MAXITER + 1):
-        rx, ry, rz = ct * esx + st * kx, ct * esy + st * ky, ct * esz + st * kz
-        vx, vy, vz = Hx + rp * rx - Bx, Hy + rp * ry - By, Hz + rp * rz - Bz
-        l_v = vx * ux + vy * uy + vz * uz
-        hx, hy, hz = vx - l_v * ux, vy - l_v * uy, vz - l_v * uz
-        l_h = math.sqrt(hx * hx + hy * hy + hz * hz)
+        rx, ry, rz, _, _, _, _, _, _, l_v, l_h, ehx, ehy, ehz = _spans_at(
+            Bx, By, Bz, Hx, Hy, Hz, esx, esy, esz, kx, ky, kz, ux, uy, uz, rp, ct, st
+        )
         if not (l_h > 0.0 and H > 0.0 and L0f > 0.0):
             return False, H, V, L0f, th, it, ct, st, gam
-        ehx, ehy, ehz = hx / l_h, hy / l_h, hz / l_h
         ell = ld + rp * gam
         V_D, _, T_D, S, Qh, Qv, Qd, Qx, _ = terms_fast(H, V, L0f, w)
         e = L0f * iEA
@@ -292,12 +305,9 @@ def _cold_start(
     first guess);
     (H, V_B [N], L0f [m]), H NaN where there is none (a vertical span, an infeasible one)."""
     ct, st = math.cos(th), math.sin(th)
-    vx = Hx + rp * (ct * esx + st * kx) - Bx
-    vy = Hy + rp * (ct * esy + st * ky) - By
-    vz = Hz + rp * (ct * esz + st * kz) - Bz
-    l_v = vx * ux + vy * uy + vz * uz
-    hx, hy, hz = vx - l_v * ux, vy - l_v * uy, vz - l_v * uz
-    l_h = math.sqrt(hx * hx + hy * hy + hz * hz)
+    _, _, _, _, _, _, _, _, _, l_v, l_h, _, _, _ = _spans_at(
+        Bx, By, Bz, Hx, Hy, Hz, esx, esy, esz, kx, ky, kz, ux, uy, uz, rp, ct, st
+    )
     ell = ld + rp * ((thK - th) % TWO_PI)
     c = math.hypot(l_h, l_v)
     T0 = EA * ((c + ell) / L0c - 1.0) if c + ell > L0c else 0.0
@@ -388,28 +398,17 @@ def _cable_at(
                 joint, Hj, Vj, Lj, tj, it, ct, st, gamma_j = _joint(*args, Hc, Vc, Lc, tc)
         if joint:
             H, V, L0f, th, gamma = Hj, Vj, Lj, tj, gamma_j
-            Dx = Hx + rp * (ct * esx + st * kx)
-            Dy = Hy + rp * (ct * esy + st * ky)
-            Dz = Hz + rp * (ct * esz + st * kz)
-            vx, vy, vz = Dx - Bx, Dy - By, Dz - Bz
-            l_v = vx * ux + vy * uy + vz * uz
-            hx, hy, hz = vx - l_v * ux, vy - l_v * uy, vz - l_v * uz
-            l_h = math.sqrt(hx * hx + hy * hy + hz * hz)
-            ehx, ehy, ehz = hx / l_h, hy / l_h, hz / l_h
+            _, _, _, Dx, Dy, Dz, _, _, _, l_v, l_h, ehx, ehy, ehz = _spans_at(
+                Bx, By, Bz, Hx, Hy, Hz, esx, esy, esz, kx, ky, kz, ux, uy, uz, rp, ct, st
+            )
             ell = g.ld + rp * gamma
             code = U_SHAPED if (V < 0.0 and V + w * L0f > 0.0) else CATENARY
     if not joint:  # the nested iterations, from the given start (or the reference's)
         for it in range(1, EXIT_MAXITER + 2):
             ct, st = math.cos(th), math.sin(th)
-            Dx = Hx + rp * (ct * esx + st * kx)
-            Dy = Hy + rp * (ct * esy + st * ky)
-            Dz = Hz + rp * (ct * esz + st * kz)
-            vx, vy, vz = Dx - Bx, Dy - By, Dz - Bz
-            l_v = vx * ux + vy * uy + vz * uz
-            hx, hy, hz = vx - l_v * ux, vy - l_v * uy, vz - l_v * uz
-            l_h = math.sqrt(hx * hx + hy * hy + hz * hz)
-            il = 1.0 / l_h if l_h > 0.0 else 1.0
-            ehx, ehy, ehz = hx * il, hy * il, hz * il
+            _, _, _, Dx, Dy, Dz, vx, vy, vz, l_v, l_h, ehx, ehy, ehz = _spans_at(
+                Bx, By, Bz, Hx, Hy, Hz, esx, esy, esz, kx, ky, kz, ux, uy, uz, rp, ct, st
+            )
             H, V, code, _, _, L0f = cable_state(l_h, l_v, L0c, ell, w, EA, H0, V0, L0f)
             H0, V0 = H, V
             if last or it > EXIT_MAXITER or code == INFEASIBLE:
