@@ -362,19 +362,23 @@ def _sheave(
 @njit(cache=True, error_model="numpy")
 def _general_at(
     Bx, By, Bz, Ax, Ay, Az, ident, F00, F01, F02, F10, F11, F12, F20, F21, F22, kind, h, rp, d, inx, iny, EA, w,
-    ux, uy, uz, kx, ky, kz, L0c, ready, H0, V0, L0f, D0x, D0y, D0z, gB,
+    ux, uy, uz, kx, ky, kz, L0c, ready, H0, V0, L0f, th0, D0x, D0y, D0z, gB,
 ):  # fmt: skip
     """``_cable_at`` for any pulley (a DR pulley, an SR swivel axis off gravity): the numpy
     reference's coupling (``models.cables.HeavyCables._couple``), the fixed point on the virtual
     point P* = D + |B - D| u (u the catenary's unit end tangent at D toward the platform), D the
     tangent point of the massless pulley model at P* (so the sheave plane contains the swivel axis
     and u, and a DR arm bisects the strand to the winch and the direction of P*), the catenary from
-    B to D (``catenary.cable_state``, warm-started from the last iterate). Its contraction is of the
-    order r_p / |B - D|. It starts from P* = B (ready 0: the reference's start) or from the stored
+    B to D. Each pass holds the sheave (plane, centre, entry point K) of the last P* and solves D's
+    angle on it with the catenary at once (``_joint``: its tangency (H e_h + V_D up) . r = 0 in that
+    plane), warm-started from the last pass, else D the tangent point from P* and the nested
+    ``catenary.cable_state``; at the fixed point both are the reference's D. Its contraction is of
+    the order r_p / |B - D|. It starts from P* = B (ready 0: the reference's start) or from the stored
     state's D0 and end forces (the P* they give at this B). Stops when P* moves by at most 1e-15
     (1 + max |v|) (the reference's rule) or, within 1e-12 (1 + max |v|), stops shrinking (round-off),
     then solves the cable once more at the last P*. ``gB`` the massless geometry at B (its inside,
-    gamma and distance to the axis). Returns ``_cable_at``'s tuple (theta: D's angle on the sheave)."""
+    gamma and distance to the axis); th0 [rad] D's angle on the sheave in the stored state. Returns
+    ``_cable_at``'s tuple (theta: D's angle on the sheave)."""
     Px, Py, Pz = Bx, By, Bz
     L0f0 = L0f
     if ready > 0.0:
@@ -396,41 +400,64 @@ def _general_at(
     H = V = L0f = np.nan
     code = INFEASIBLE
     it = 0
+    th = th0 if ready > 0.0 else np.nan
     for it in range(1, EXIT_MAXITER + 2):
         g, esx, esy, esz = _sheave(
-            Px,
-            Py,
-            Pz,
-            Ax,
-            Ay,
-            Az,
-            ident,
-            F00,
-            F01,
-            F02,
-            F10,
-            F11,
-            F12,
-            F20,
-            F21,
-            F22,
-            kind,
-            h,
-            rp,
-            d,
-            inx,
-            iny,
-        )
-        Dw = g.Hw + rp * g.sD
-        Dx, Dy, Dz = Ax + g.Ds * esx + Dw * kx, Ay + g.Ds * esy + Dw * ky, Az + g.Ds * esz + Dw * kz
-        vx, vy, vz = Dx - Bx, Dy - By, Dz - Bz
-        l_v = vx * ux + vy * uy + vz * uz
-        hx, hy, hz = vx - l_v * ux, vy - l_v * uy, vz - l_v * uz
-        l_h = math.sqrt(hx * hx + hy * hy + hz * hz)
-        nh = l_h if l_h > 0.0 else 1.0
-        ehx, ehy, ehz = hx / nh, hy / nh, hz / nh
-        ell = g.ld + rp * g.gamma
-        H, V, code, _, _, L0f = cable_state(l_h, l_v, L0c, ell, w, EA, H0, V0, L0f0)
+            Px, Py, Pz, Ax, Ay, Az, ident, F00, F01, F02, F10, F11, F12, F20, F21, F22, kind, h, rp, d, inx, iny
+        )  # fmt: skip
+        joint = False
+        if w > 0.0:  # in this pass's sheave plane, D's angle with the catenary at once (``_joint``)
+            Hx, Hy, Hz = Ax + g.Hs * esx + g.Hw * kx, Ay + g.Hs * esy + g.Hw * ky, Az + g.Hs * esz + g.Hw * kz
+            thK = math.atan2(g.sK, g.cK)
+            tj = th if th == th else math.atan2(g.sD, g.cD)
+            args = (
+                Bx,
+                By,
+                Bz,
+                Hx,
+                Hy,
+                Hz,
+                esx,
+                esy,
+                esz,
+                kx,
+                ky,
+                kz,
+                ux,
+                uy,
+                uz,
+                rp,
+                g.ld,
+                thK,
+                True,
+                L0c,
+                w,
+                EA,
+            )
+            if H0 > 0.0 and L0f0 > 0.0 and math.isfinite(V0):
+                joint, Hj, Vj, Lj, tj2, _, ct, st, gam = _joint(*args, H0, V0, L0f0, tj)
+            if not joint:
+                Hc, Vc, Lc = _cold_start(*args, tj)
+                if Hc > 0.0:
+                    joint, Hj, Vj, Lj, tj2, _, ct, st, gam = _joint(*args, Hc, Vc, Lc, tj)
+        if joint:
+            H, V, L0f, th, gamma = Hj, Vj, Lj, tj2, gam
+            _, _, _, Dx, Dy, Dz, vx, vy, vz, l_v, l_h, ehx, ehy, ehz = _spans_at(
+                Bx, By, Bz, Hx, Hy, Hz, esx, esy, esz, kx, ky, kz, ux, uy, uz, rp, ct, st
+            )
+            code = U_SHAPED if (V < 0.0 and V + w * L0f > 0.0) else CATENARY
+        else:  # D the tangent point from P* and the whole cable by the nested iterations
+            th, gamma = math.atan2(g.sD, g.cD), g.gamma
+            Dw = g.Hw + rp * g.sD
+            Dx, Dy, Dz = Ax + g.Ds * esx + Dw * kx, Ay + g.Ds * esy + Dw * ky, Az + g.Ds * esz + Dw * kz
+            vx, vy, vz = Dx - Bx, Dy - By, Dz - Bz
+            l_v = vx * ux + vy * uy + vz * uz
+            hx, hy, hz = vx - l_v * ux, vy - l_v * uy, vz - l_v * uz
+            l_h = math.sqrt(hx * hx + hy * hy + hz * hz)
+            nh = l_h if l_h > 0.0 else 1.0
+            ehx, ehy, ehz = hx / nh, hy / nh, hz / nh
+            H, V, code, _, _, L0f = cable_state(l_h, l_v, L0c, g.ld + rp * gamma, w, EA, H0, V0, L0f0)
+        ell = g.ld + rp * gamma
         H0, V0, L0f0 = H, V, L0f
         if last or rp == 0.0 or it > EXIT_MAXITER:
             break
@@ -450,12 +477,12 @@ def _general_at(
     T_B = math.sqrt(H * H + V * V)
     V_D = V + w * L0f
     T_D = math.sqrt(H * H + V_D * V_D)
-    swivel = g.Ds / gB.rho if gB.rho > SWIVEL_RHO_MIN else 0.0
+    Ds = (Dx - Ax) * esx + (Dy - Ay) * esy + (Dz - Az) * esz
+    swivel = Ds / gB.rho if gB.rho > SWIVEL_RHO_MIN else 0.0
     epx, epy, epz = ky * esz - kz * esy, kz * esx - kx * esz, kx * esy - ky * esx
     zD = (Dx - Ax) * ux + (Dy - Ay) * uy + (Dz - Az) * uz
-    th = math.atan2(g.sD, g.cD)
     return (
-        H, V, L0f, th, T_B, T_D, l_h, l_v, Dx, Dy, Dz, g.gamma, code, ell, it, ehx, ehy, ehz, swivel, epx, epy, epz,
+        H, V, L0f, th, T_B, T_D, l_h, l_v, Dx, Dy, Dz, gamma, code, ell, it, ehx, ehy, ehz, swivel, epx, epy, epz,
         zD, gB.inside, gB.gamma,
     )  # fmt: skip
 
@@ -487,7 +514,7 @@ def _cable_at(
     if general:  # the swivel angle (any axis) and a DR arm follow the catenary's end tangent
         return _general_at(
             Bx, By, Bz, Ax, Ay, Az, ident, F00, F01, F02, F10, F11, F12, F20, F21, F22, kind, h, rp, d, inx, iny,
-            EA, w, ux, uy, uz, kx, ky, kz, L0c, ready, H0, V0, L0f, D0x, D0y, D0z, g,
+            EA, w, ux, uy, uz, kx, ky, kz, L0c, ready, H0, V0, L0f, th0, D0x, D0y, D0z, g,
         )  # fmt: skip
     Hx, Hy, Hz = Ax + g.Hs * esx + g.Hw * kx, Ay + g.Hs * esy + g.Hw * ky, Az + g.Hs * esz + g.Hw * kz
     thK = math.atan2(g.sK, g.cK) if rp > 0.0 else 0.0
