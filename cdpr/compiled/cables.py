@@ -337,6 +337,45 @@ def _cold_start(
 
 
 @njit(cache=True, inline="always", error_model="numpy")
+def _joint_or_cold(
+    Bx, By, Bz, Hx, Hy, Hz, esx, esy, esz, kx, ky, kz, ux, uy, uz, rp, ld, thK, sr, L0c, w, EA, warm, H0, V0, L0f, th,
+    tc,
+):  # fmt: skip
+    """``_joint`` from the start (H0, V0 [N], L0f [m], theta th [rad]) where ``warm``, else, or where
+    it fails, from ``_cold_start`` at the angle tc [rad]: ``_joint``'s tuple (ok False, NaN forces,
+    where neither converges)."""
+    args = (Bx, By, Bz, Hx, Hy, Hz, esx, esy, esz, kx, ky, kz, ux, uy, uz, rp, ld, thK, sr, L0c, w, EA)
+    ok, H, V, L, t, it, ct, st, gam = False, np.nan, np.nan, np.nan, np.nan, 0, 1.0, 0.0, 0.0
+    if warm:
+        ok, H, V, L, t, it, ct, st, gam = _joint(*args, H0, V0, L0f, th)
+    if not ok:
+        Hc, Vc, Lc = _cold_start(*args, tc)
+        if Hc > 0.0:
+            ok, H, V, L, t, it, ct, st, gam = _joint(*args, Hc, Vc, Lc, tc)
+    return ok, H, V, L, t, it, ct, st, gam
+
+
+@njit(cache=True, error_model="numpy")
+def _result(
+    H, V, L0f, th, l_h, l_v, Dx, Dy, Dz, gamma, code, ell, it, ehx, ehy, ehz, Ds, rho, esx, esy, esz, kx, ky, kz, Ax,
+    Ay, Az, ux, uy, uz, w, inside, gam0,
+):  # fmt: skip
+    """``_cable_at``'s tuple from one cable's solution: T_B, T_D [N], the swivel term D_s / rho (D_s
+    [m] D's in-plane s, rho [m] B's distance to the axis; 0 on the axis), e_perp = k x e_s and
+    (D - A) . up [m] added."""
+    T_B = math.sqrt(H * H + V * V)
+    V_D = V + w * L0f
+    T_D = math.sqrt(H * H + V_D * V_D)
+    swivel = Ds / rho if rho > SWIVEL_RHO_MIN else 0.0
+    epx, epy, epz = ky * esz - kz * esy, kz * esx - kx * esz, kx * esy - ky * esx
+    zD = (Dx - Ax) * ux + (Dy - Ay) * uy + (Dz - Az) * uz
+    return (
+        H, V, L0f, th, T_B, T_D, l_h, l_v, Dx, Dy, Dz, gamma, code, ell, it, ehx, ehy, ehz, swivel, epx, epy, epz,
+        zD, inside, gam0,
+    )  # fmt: skip
+
+
+@njit(cache=True, inline="always", error_model="numpy")
 def _sheave(
     Px, Py, Pz, Ax, Ay, Az, ident, F00, F01, F02, F10, F11, F12, F20, F21, F22, kind, h, rp, d, inx, iny
 ):
@@ -410,36 +449,11 @@ def _general_at(
             Hx, Hy, Hz = Ax + g.Hs * esx + g.Hw * kx, Ay + g.Hs * esy + g.Hw * ky, Az + g.Hs * esz + g.Hw * kz
             thK = math.atan2(g.sK, g.cK)
             tj = th if th == th else math.atan2(g.sD, g.cD)
-            args = (
-                Bx,
-                By,
-                Bz,
-                Hx,
-                Hy,
-                Hz,
-                esx,
-                esy,
-                esz,
-                kx,
-                ky,
-                kz,
-                ux,
-                uy,
-                uz,
-                rp,
-                g.ld,
-                thK,
-                True,
-                L0c,
-                w,
-                EA,
-            )
-            if H0 > 0.0 and L0f0 > 0.0 and math.isfinite(V0):
-                joint, Hj, Vj, Lj, tj2, _, ct, st, gam = _joint(*args, H0, V0, L0f0, tj)
-            if not joint:
-                Hc, Vc, Lc = _cold_start(*args, tj)
-                if Hc > 0.0:
-                    joint, Hj, Vj, Lj, tj2, _, ct, st, gam = _joint(*args, Hc, Vc, Lc, tj)
+            warm = H0 > 0.0 and L0f0 > 0.0 and math.isfinite(V0)
+            joint, Hj, Vj, Lj, tj2, _, ct, st, gam = _joint_or_cold(
+                Bx, By, Bz, Hx, Hy, Hz, esx, esy, esz, kx, ky, kz, ux, uy, uz, rp, g.ld, thK, True, L0c, w, EA, warm,
+                H0, V0, L0f0, tj, tj,
+            )  # fmt: skip
         if joint:
             H, V, L0f, th, gamma = Hj, Vj, Lj, tj2, gam
             _, _, _, Dx, Dy, Dz, vx, vy, vz, l_v, l_h, ehx, ehy, ehz = _spans_at(
@@ -474,16 +488,10 @@ def _general_at(
         scale = 1.0 + max(abs(vx), abs(vy), abs(vz))
         last = moved <= 1e-15 * scale or (moved >= moved_prev and moved <= 1e-12 * scale)
         moved_prev = moved
-    T_B = math.sqrt(H * H + V * V)
-    V_D = V + w * L0f
-    T_D = math.sqrt(H * H + V_D * V_D)
     Ds = (Dx - Ax) * esx + (Dy - Ay) * esy + (Dz - Az) * esz
-    swivel = Ds / gB.rho if gB.rho > SWIVEL_RHO_MIN else 0.0
-    epx, epy, epz = ky * esz - kz * esy, kz * esx - kx * esz, kx * esy - ky * esx
-    zD = (Dx - Ax) * ux + (Dy - Ay) * uy + (Dz - Az) * uz
-    return (
-        H, V, L0f, th, T_B, T_D, l_h, l_v, Dx, Dy, Dz, gamma, code, ell, it, ehx, ehy, ehz, swivel, epx, epy, epz,
-        zD, gB.inside, gB.gamma,
+    return _result(
+        H, V, L0f, th, l_h, l_v, Dx, Dy, Dz, gamma, code, ell, it, ehx, ehy, ehz, Ds, gB.rho, esx, esy, esz, kx, ky,
+        kz, Ax, Ay, Az, ux, uy, uz, w, gB.inside, gB.gamma,
     )  # fmt: skip
 
 
@@ -536,14 +544,11 @@ def _cable_at(
     th_prev = f_prev = np.nan
     joint = False
     if w > 0.0:  # all the cable's unknowns at once: from the start given, else from a cold one
-        args = (Bx, By, Bz, Hx, Hy, Hz, esx, esy, esz, kx, ky, kz, ux, uy, uz, rp, g.ld, thK, sr, L0c, w, EA)
-        if ready > 0.0:
-            joint, Hj, Vj, Lj, tj, it, ct, st, gamma_j = _joint(*args, H0, V0, L0f, th)
-        if not joint:
-            tc = math.atan2(g.sD, g.cD) if ready > 0.0 else th
-            Hc, Vc, Lc = _cold_start(*args, tc)
-            if Hc > 0.0:
-                joint, Hj, Vj, Lj, tj, it, ct, st, gamma_j = _joint(*args, Hc, Vc, Lc, tc)
+        tc = math.atan2(g.sD, g.cD) if ready > 0.0 else th
+        joint, Hj, Vj, Lj, tj, it, ct, st, gamma_j = _joint_or_cold(
+            Bx, By, Bz, Hx, Hy, Hz, esx, esy, esz, kx, ky, kz, ux, uy, uz, rp, g.ld, thK, sr, L0c, w, EA, ready > 0.0,
+            H0, V0, L0f, th, tc,
+        )  # fmt: skip
         if joint:
             H, V, L0f, th, gamma = Hj, Vj, Lj, tj, gamma_j
             _, _, _, Dx, Dy, Dz, _, _, _, l_v, l_h, ehx, ehy, ehz = _spans_at(
@@ -587,16 +592,10 @@ def _cable_at(
             th = th_new
             gamma = (thK - th) % TWO_PI
             ell = g.ld + rp * gamma
-    T_B = math.sqrt(H * H + V * V)
-    V_D = V + w * L0f
-    T_D = math.sqrt(H * H + V_D * V_D)
     Ds = g.Hs + rp * (ct if joint else math.cos(th))
-    swivel = Ds / g.rho if g.rho > SWIVEL_RHO_MIN else 0.0
-    epx, epy, epz = ky * esz - kz * esy, kz * esx - kx * esz, kx * esy - ky * esx
-    zD = (Dx - Ax) * ux + (Dy - Ay) * uy + (Dz - Az) * uz
-    return (
-        H, V, L0f, th, T_B, T_D, l_h, l_v, Dx, Dy, Dz, gamma, code, ell, it, ehx, ehy, ehz, swivel, epx, epy, epz,
-        zD, g.inside, g.gamma,
+    return _result(
+        H, V, L0f, th, l_h, l_v, Dx, Dy, Dz, gamma, code, ell, it, ehx, ehy, ehz, Ds, g.rho, esx, esy, esz, kx, ky,
+        kz, Ax, Ay, Az, ux, uy, uz, w, g.inside, g.gamma,
     )  # fmt: skip
 
 
