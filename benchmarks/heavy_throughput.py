@@ -7,7 +7,8 @@ massless kernels, measured in one run on this machine, and the cost of one caten
     kernel (0.0631 kg/m, the 4 mm steel cable; cdpr.compiled.equilibrium.solve with
     cdpr.compiled.cables) and the heavy numpy reference on a slice;
   * CoGiRo, rigid 6-DoF platform, over an n^3 grid of its central box at the identity orientation:
-    the massless pose kernel, the heavy kernel (0.0631 kg/m) and the heavy numpy reference;
+    the massless pose kernel, the heavy kernel (0.0631 kg/m) and the heavy numpy reference, with its
+    SR pulleys and with the study's DR design (h 75 mm, r_p 50 mm: the general pulley coupling);
   * one catenary (cdpr.compiled.catenary.span_states over random taut spans of CoGiRo's size, and
     cable_state, the whole cable with its dead part): the time per solve beside the hand count of
     the floating-point operations of one Newton iteration (README, "Heavy cables").
@@ -34,7 +35,7 @@ from cdpr.analyses.workspace import grid_points
 from cdpr.compiled import catenary as ccat
 from cdpr.compiled import equilibrium as cequilibrium
 from cdpr.models import equilibrium
-from cdpr.robot import load_robot, with_values
+from cdpr.robot import load_robot, with_pulleys, with_values
 
 ROOT = Path(__file__).resolve().parents[1]
 RW_C = [-2.32, 2.32, -2.32, 2.32, 0.0, 3.73]
@@ -145,6 +146,24 @@ def main():
     t, ref = best_of(lambda: equilibrium.solve(heavyc, slq), 1)
     row("CoGiRo heavy 0.0631 kg/m, numpy reference", len(slq), t, ref)
     sub = cequilibrium.solve(heavyc, slq)
+    print(
+        f"  compiled vs numpy on the slice: same statuses {bool((sub['status'] == ref['status']).all())}, "
+        f"max |dP*| {np.abs(sub['P_s'] - ref['P_s']).max():.1e} m, "
+        f"max |dphi*| {np.abs(sub['rotvec_s'] - ref['rotvec_s']).max():.1e} rad, largest sag "
+        f"{1e3 * sub['sag_max'].max():.1f} mm"
+    )
+
+    # CoGiRo's DR design (the study's DRopt: h 75 mm, r_p 50 mm): the general pulley coupling
+    # (compiled.cables._general_at, the reference's fixed point on P*) beside the numpy reference
+    dr = with_pulleys(cogiro, kind="DR", h=0.075, r_p=0.05)
+    heavyd = with_values(dr, linear_density=RHO)
+    t, res = best_of(lambda: cequilibrium.solve(dr, Q), args.repeat)
+    figures["cogiro dr massless pose"] = row("CoGiRo DR massless, pose kernel", len(Q), t, res)
+    t, res = best_of(lambda: cequilibrium.solve(heavyd, Q), args.repeat)
+    figures["cogiro dr heavy"] = row("CoGiRo DR heavy 0.0631 kg/m, compiled", len(Q), t, res)
+    t, ref = best_of(lambda: equilibrium.solve(heavyd, slq), 1)
+    row("CoGiRo DR heavy 0.0631 kg/m, numpy reference", len(slq), t, ref)
+    sub = cequilibrium.solve(heavyd, slq)
     print(
         f"  compiled vs numpy on the slice: same statuses {bool((sub['status'] == ref['status']).all())}, "
         f"max |dP*| {np.abs(sub['P_s'] - ref['P_s']).max():.1e} m, "

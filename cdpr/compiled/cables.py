@@ -40,7 +40,6 @@ from cdpr.compiled.catenary import (
     sag,
     terms_fast,
 )
-from cdpr.errors import CdprError
 from cdpr.models.catenary import CATENARY, INFEASIBLE, SPAN_STATUSES, U_SHAPED
 
 __all__ = [
@@ -92,12 +91,15 @@ class Heavy(NamedTuple):
     """What the pose kernel needs of heavy cables (``heavy_arrays``): on (the robot's cables are
     heavy: ``HeavyCables.evaluate``, else the massless ``Cables.evaluate``); w (m,) [N/m] the weight
     per unstrained metre; up (3,) [-] the unit vector against gravity; axis (m, 3) [-] the swivel
-    axes k_i (base frame)."""
+    axes k_i (base frame); general (m,) bool: the cable's sheave plane follows the catenary's end
+    tangent (a DR pulley, an SR swivel axis off gravity: ``_general_at``), else it is the plane
+    through B (fixed pulleys, SR pulleys with axes along gravity: ``_joint``)."""
 
     on: bool
     w: np.ndarray
     up: np.ndarray
     axis: np.ndarray
+    general: np.ndarray
 
 
 def heavy_arrays(cab=None, m=0):
@@ -116,21 +118,22 @@ def heavy_arrays(cab=None, m=0):
     """
     f = np.ascontiguousarray
     if cab is None:
-        return Heavy(False, np.zeros(m), f([0.0, 0.0, 1.0]), np.zeros((m, 3)))
-    bad = unmodelled(cab)
-    if bad.any():  # the numpy reference's general pulley coupling has no compiled twin yet
-        raise CdprError(
-            f"{cab.robot.source}: the compiled kernel models heavy cables on fixed pulleys and SR pulleys with swivel "
-            f"axes along gravity only; cable {int(np.flatnonzero(bad)[0]) + 1} has a DR pulley or another axis: "
-            "use the numpy reference (--engine numpy)"
-        )
-    return Heavy(True, f(cab.w, dtype=float), f(cab.up, dtype=float), f(cab.axis, dtype=float))
+        return Heavy(False, np.zeros(m), f([0.0, 0.0, 1.0]), np.zeros((m, 3)), np.zeros(m, dtype=np.bool_))
+    kind, r_p = cab.robot.arrays.kind, cab.robot.arrays.r_p
+    general = (r_p > 0.0) & ((kind == 2) | ((kind == 1) & (np.abs(cab.axis @ cab.up) < 1.0 - 1e-12)))
+    return Heavy(
+        True,
+        f(cab.w, dtype=float),
+        f(cab.up, dtype=float),
+        f(cab.axis, dtype=float),
+        f(general, dtype=np.bool_),
+    )
 
 
 def unmodelled(cab):
-    """The heavy cables whose pulleys the compiled kernel does not model: a DR pulley, or an SR
-    pulley whose swivel axis is not along gravity (the numpy reference ``models.cables.HeavyCables``
-    models them).
+    """The heavy cables whose pulleys the compiled kernel does not model: none (fixed, SR with any
+    swivel axis and DR pulleys are all the numpy reference's coupling, ``models.cables.HeavyCables``;
+    DR and tilted axes through ``_general_at``). Kept for ``solve.heavy_engine``, which asks it.
 
     Parameters
     ----------
@@ -139,10 +142,9 @@ def unmodelled(cab):
     Returns
     -------
     ndarray (m,) bool
-        True for a cable the compiled kernel refuses (``heavy_arrays``).
+        True for a cable the compiled kernel would refuse: all False.
     """
-    kind = cab.robot.arrays.kind
-    return (kind == 2) | ((kind == 1) & (np.abs(cab.axis @ cab.up) < 1.0 - 1e-12))
+    return np.zeros(cab.robot.m, dtype=bool)
 
 
 #: Cap of the joint Newton iteration of one cable (``_joint``); past it, the nested iterations.
@@ -155,6 +157,22 @@ JOINT_RTOL = 1e-13
 JOINT_STEP = 1e-8
 #: Damped steps (a force or length kept positive) after which the joint iteration gives up.
 JOINT_DAMPED = 1
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _spans_at(Bx, By, Bz, Hx, Hy, Hz, esx, esy, esz, kx, ky, kz, ux, uy, uz, rp, ct, st):
+    """The exit point D = H + r_p (cos theta e_s + sin theta k) on the sheave (centre H, plane
+    (e_s, k)) and the spans from B: (r (3) [-] the sheave's radius direction at D, D (3) [m],
+    v = D - B (3) [m], l_v, l_h [m], e_h (3) [-] the horizontal unit vector from B toward D; e_h is
+    the horizontal part of v unscaled where l_h = 0, a vertical cable)."""
+    rx, ry, rz = ct * esx + st * kx, ct * esy + st * ky, ct * esz + st * kz
+    Dx, Dy, Dz = Hx + rp * rx, Hy + rp * ry, Hz + rp * rz
+    vx, vy, vz = Dx - Bx, Dy - By, Dz - Bz
+    l_v = vx * ux + vy * uy + vz * uz
+    hx, hy, hz = vx - l_v * ux, vy - l_v * uy, vz - l_v * uz
+    l_h = math.sqrt(hx * hx + hy * hy + hz * hz)
+    n = l_h if l_h > 0.0 else 1.0
+    return rx, ry, rz, Dx, Dy, Dz, vx, vy, vz, l_v, l_h, hx / n, hy / n, hz / n
 
 
 @njit(cache=True, error_model="numpy")
@@ -184,14 +202,11 @@ def _joint(
     ct, st = math.cos(th), math.sin(th)
     gam = (thK - th) % TWO_PI
     for it in range(1, JOINT_MAXITER + 1):
-        rx, ry, rz = ct * esx + st * kx, ct * esy + st * ky, ct * esz + st * kz
-        vx, vy, vz = Hx + rp * rx - Bx, Hy + rp * ry - By, Hz + rp * rz - Bz
-        l_v = vx * ux + vy * uy + vz * uz
-        hx, hy, hz = vx - l_v * ux, vy - l_v * uy, vz - l_v * uz
-        l_h = math.sqrt(hx * hx + hy * hy + hz * hz)
+        rx, ry, rz, _, _, _, _, _, _, l_v, l_h, ehx, ehy, ehz = _spans_at(
+            Bx, By, Bz, Hx, Hy, Hz, esx, esy, esz, kx, ky, kz, ux, uy, uz, rp, ct, st
+        )
         if not (l_h > 0.0 and H > 0.0 and L0f > 0.0):
             return False, H, V, L0f, th, it, ct, st, gam
-        ehx, ehy, ehz = hx / l_h, hy / l_h, hz / l_h
         ell = ld + rp * gam
         V_D, _, T_D, S, Qh, Qv, Qd, Qx, _ = terms_fast(H, V, L0f, w)
         e = L0f * iEA
@@ -292,12 +307,9 @@ def _cold_start(
     first guess);
     (H, V_B [N], L0f [m]), H NaN where there is none (a vertical span, an infeasible one)."""
     ct, st = math.cos(th), math.sin(th)
-    vx = Hx + rp * (ct * esx + st * kx) - Bx
-    vy = Hy + rp * (ct * esy + st * ky) - By
-    vz = Hz + rp * (ct * esz + st * kz) - Bz
-    l_v = vx * ux + vy * uy + vz * uz
-    hx, hy, hz = vx - l_v * ux, vy - l_v * uy, vz - l_v * uz
-    l_h = math.sqrt(hx * hx + hy * hy + hz * hz)
+    _, _, _, _, _, _, _, _, _, l_v, l_h, _, _, _ = _spans_at(
+        Bx, By, Bz, Hx, Hy, Hz, esx, esy, esz, kx, ky, kz, ux, uy, uz, rp, ct, st
+    )
     ell = ld + rp * ((thK - th) % TWO_PI)
     c = math.hypot(l_h, l_v)
     T0 = EA * ((c + ell) / L0c - 1.0) if c + ell > L0c else 0.0
@@ -324,27 +336,56 @@ def _cold_start(
     return H_cat, 0.5 * w * (l_v / math.tanh(lam) - Le), L0f
 
 
-@njit(cache=True, error_model="numpy")
-def _cable_at(
-    Bx, By, Bz, Ax, Ay, Az, ident, F00, F01, F02, F10, F11, F12, F20, F21, F22, kind, h, rp, d, inx, iny, EA, w,
-    ux, uy, uz, kx, ky, kz, L0c, ready, H0, V0, L0f, th0,
+@njit(cache=True, inline="always", error_model="numpy")
+def _joint_or_cold(
+    Bx, By, Bz, Hx, Hy, Hz, esx, esy, esz, kx, ky, kz, ux, uy, uz, rp, ld, thK, sr, L0c, w, EA, warm, H0, V0, L0f, th,
+    tc,
 ):  # fmt: skip
-    """``exit_points`` of one cable on scalars only (no arrays: no reference counts in the pose
-    kernel's loop over cables): the attachment point B, the joint A, the pulley frame F (``ident``:
-    the identity) and the cable's data (``_kernels.Cables``, ``Heavy``), rest length L0c [m] and the
-    start (ready > 0: H0, V0 [N], L0f [m], theta [rad]; else the reference's start).
+    """``_joint`` from the start (H0, V0 [N], L0f [m], theta th [rad]) where ``warm``, else, or where
+    it fails, from ``_cold_start`` at the angle tc [rad]: ``_joint``'s tuple (ok False, NaN forces,
+    where neither converges)."""
+    args = (Bx, By, Bz, Hx, Hy, Hz, esx, esy, esz, kx, ky, kz, ux, uy, uz, rp, ld, thK, sr, L0c, w, EA)
+    ok, H, V, L, t, it, ct, st, gam = False, np.nan, np.nan, np.nan, np.nan, 0, 1.0, 0.0, 0.0
+    if warm:
+        ok, H, V, L, t, it, ct, st, gam = _joint(*args, H0, V0, L0f, th)
+    if not ok:
+        Hc, Vc, Lc = _cold_start(*args, tc)
+        if Hc > 0.0:
+            ok, H, V, L, t, it, ct, st, gam = _joint(*args, Hc, Vc, Lc, tc)
+    return ok, H, V, L, t, it, ct, st, gam
 
-    Returns
-    -------
-    tuple
-        (H, V_B [N], L0f [m], theta [rad], T_B, T_D [N], l_h, l_v [m], D (3) [m], gamma [rad], code,
-        l_dead [m], iterations, e_h (3) [-], swivel [-], e_perp (3) [-], (D - A) . up [m], inside,
-        gamma of the massless model [rad]).
-    """
+
+@njit(cache=True, error_model="numpy")
+def _result(
+    H, V, L0f, th, l_h, l_v, Dx, Dy, Dz, gamma, code, ell, it, ehx, ehy, ehz, Ds, rho, esx, esy, esz, kx, ky, kz, Ax,
+    Ay, Az, ux, uy, uz, w, inside, gam0,
+):  # fmt: skip
+    """``_cable_at``'s tuple from one cable's solution: T_B, T_D [N], the swivel term D_s / rho (D_s
+    [m] D's in-plane s, rho [m] B's distance to the axis; 0 on the axis), e_perp = k x e_s and
+    (D - A) . up [m] added."""
+    T_B = math.sqrt(H * H + V * V)
+    V_D = V + w * L0f
+    T_D = math.sqrt(H * H + V_D * V_D)
+    swivel = Ds / rho if rho > SWIVEL_RHO_MIN else 0.0
+    epx, epy, epz = ky * esz - kz * esy, kz * esx - kx * esz, kx * esy - ky * esx
+    zD = (Dx - Ax) * ux + (Dy - Ay) * uy + (Dz - Az) * uz
+    return (
+        H, V, L0f, th, T_B, T_D, l_h, l_v, Dx, Dy, Dz, gamma, code, ell, it, ehx, ehy, ehz, swivel, epx, epy, epz,
+        zD, inside, gam0,
+    )  # fmt: skip
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _sheave(
+    Px, Py, Pz, Ax, Ay, Az, ident, F00, F01, F02, F10, F11, F12, F20, F21, F22, kind, h, rp, d, inx, iny
+):
+    """The massless pulley geometry of one cable at the point P (``_kernels.pulley_geometry`` in the
+    pulley frame F, ``ident``: the identity) and its plane's horizontal unit vector e_s in the base
+    frame: (geometry, e_s (3) [-])."""
     if ident:
-        qx, qy, qz, ax, ay, az = Bx, By, Bz, Ax, Ay, Az
+        qx, qy, qz, ax, ay, az = Px, Py, Pz, Ax, Ay, Az
     else:
-        wx, wy, wz = Bx - Ax, By - Ay, Bz - Az
+        wx, wy, wz = Px - Ax, Py - Ay, Pz - Az
         qx, qy, qz = (
             F00 * wx + F01 * wy + F02 * wz,
             F10 * wx + F11 * wy + F12 * wz,
@@ -353,11 +394,136 @@ def _cable_at(
         ax = ay = az = 0.0
     g = pulley_geometry(qx, qy, qz, ax, ay, az, kind, h, rp, d, inx, iny)
     if ident:
-        esx, esy, esz = g.esx, g.esy, 0.0
+        return g, g.esx, g.esy, 0.0
+    return g, g.esx * F00 + g.esy * F10, g.esx * F01 + g.esy * F11, g.esx * F02 + g.esy * F12
+
+
+@njit(cache=True, error_model="numpy")
+def _general_at(
+    Bx, By, Bz, Ax, Ay, Az, ident, F00, F01, F02, F10, F11, F12, F20, F21, F22, kind, h, rp, d, inx, iny, EA, w,
+    ux, uy, uz, kx, ky, kz, L0c, ready, H0, V0, L0f, th0, D0x, D0y, D0z, gB,
+):  # fmt: skip
+    """``_cable_at`` for any pulley (a DR pulley, an SR swivel axis off gravity): the numpy
+    reference's coupling (``models.cables.HeavyCables._couple``), the fixed point on the virtual
+    point P* = D + |B - D| u (u the catenary's unit end tangent at D toward the platform), D the
+    tangent point of the massless pulley model at P* (so the sheave plane contains the swivel axis
+    and u, and a DR arm bisects the strand to the winch and the direction of P*), the catenary from
+    B to D. Each pass holds the sheave (plane, centre, entry point K) of the last P* and solves D's
+    angle on it with the catenary at once (``_joint``: its tangency (H e_h + V_D up) . r = 0 in that
+    plane), warm-started from the last pass, else D the tangent point from P* and the nested
+    ``catenary.cable_state``; at the fixed point both are the reference's D. Its contraction is of
+    the order r_p / |B - D|. It starts from P* = B (ready 0: the reference's start) or from the stored
+    state's D0 and end forces (the P* they give at this B). Stops when P* moves by at most 1e-15
+    (1 + max |v|) (the reference's rule) or, within 1e-12 (1 + max |v|), stops shrinking (round-off),
+    then solves the cable once more at the last P*. ``gB`` the massless geometry at B (its inside,
+    gamma and distance to the axis); th0 [rad] D's angle on the sheave in the stored state. Returns
+    ``_cable_at``'s tuple (theta: D's angle on the sheave)."""
+    Px, Py, Pz = Bx, By, Bz
+    L0f0 = L0f
+    if ready > 0.0:
+        vx, vy, vz = D0x - Bx, D0y - By, D0z - Bz
+        l_v = vx * ux + vy * uy + vz * uz
+        hx, hy, hz = vx - l_v * ux, vy - l_v * uy, vz - l_v * uz
+        l_h = math.sqrt(hx * hx + hy * hy + hz * hz)
+        V_D = V0 + w * L0f
+        T_D = math.sqrt(H0 * H0 + V_D * V_D)
+        if l_h > 0.0 and T_D > 0.0 and math.isfinite(T_D):
+            n = math.sqrt(vx * vx + vy * vy + vz * vz) / T_D
+            Px = D0x - n * (H0 * hx / l_h + V_D * ux)
+            Py = D0y - n * (H0 * hy / l_h + V_D * uy)
+            Pz = D0z - n * (H0 * hz / l_h + V_D * uz)
     else:
-        esx = g.esx * F00 + g.esy * F10
-        esy = g.esx * F01 + g.esy * F11
-        esz = g.esx * F02 + g.esy * F12
+        H0 = V0 = L0f0 = np.nan
+    moved_prev = np.inf
+    last = False
+    H = V = L0f = np.nan
+    code = INFEASIBLE
+    it = 0
+    th = th0 if ready > 0.0 else np.nan
+    for it in range(1, EXIT_MAXITER + 2):
+        g, esx, esy, esz = _sheave(
+            Px, Py, Pz, Ax, Ay, Az, ident, F00, F01, F02, F10, F11, F12, F20, F21, F22, kind, h, rp, d, inx, iny
+        )  # fmt: skip
+        joint = False
+        if w > 0.0:  # in this pass's sheave plane, D's angle with the catenary at once (``_joint``)
+            Hx, Hy, Hz = Ax + g.Hs * esx + g.Hw * kx, Ay + g.Hs * esy + g.Hw * ky, Az + g.Hs * esz + g.Hw * kz
+            thK = math.atan2(g.sK, g.cK)
+            tj = th if th == th else math.atan2(g.sD, g.cD)
+            warm = H0 > 0.0 and L0f0 > 0.0 and math.isfinite(V0)
+            joint, Hj, Vj, Lj, tj2, _, ct, st, gam = _joint_or_cold(
+                Bx, By, Bz, Hx, Hy, Hz, esx, esy, esz, kx, ky, kz, ux, uy, uz, rp, g.ld, thK, True, L0c, w, EA, warm,
+                H0, V0, L0f0, tj, tj,
+            )  # fmt: skip
+        if joint:
+            H, V, L0f, th, gamma = Hj, Vj, Lj, tj2, gam
+            _, _, _, Dx, Dy, Dz, vx, vy, vz, l_v, l_h, ehx, ehy, ehz = _spans_at(
+                Bx, By, Bz, Hx, Hy, Hz, esx, esy, esz, kx, ky, kz, ux, uy, uz, rp, ct, st
+            )
+            code = U_SHAPED if (V < 0.0 and V + w * L0f > 0.0) else CATENARY
+        else:  # D the tangent point from P* and the whole cable by the nested iterations
+            th, gamma = math.atan2(g.sD, g.cD), g.gamma
+            Dw = g.Hw + rp * g.sD
+            Dx, Dy, Dz = Ax + g.Ds * esx + Dw * kx, Ay + g.Ds * esy + Dw * ky, Az + g.Ds * esz + Dw * kz
+            vx, vy, vz = Dx - Bx, Dy - By, Dz - Bz
+            l_v = vx * ux + vy * uy + vz * uz
+            hx, hy, hz = vx - l_v * ux, vy - l_v * uy, vz - l_v * uz
+            l_h = math.sqrt(hx * hx + hy * hy + hz * hz)
+            nh = l_h if l_h > 0.0 else 1.0
+            ehx, ehy, ehz = hx / nh, hy / nh, hz / nh
+            H, V, code, _, _, L0f = cable_state(l_h, l_v, L0c, g.ld + rp * gamma, w, EA, H0, V0, L0f0)
+        ell = g.ld + rp * gamma
+        H0, V0, L0f0 = H, V, L0f
+        if last or rp == 0.0 or it > EXIT_MAXITER:
+            break
+        V_D = V + w * L0f
+        T_D = math.sqrt(H * H + V_D * V_D)
+        n = math.sqrt(vx * vx + vy * vy + vz * vz) / T_D
+        Qx = Dx - n * (H * ehx + V_D * ux)
+        Qy = Dy - n * (H * ehy + V_D * uy)
+        Qz = Dz - n * (H * ehz + V_D * uz)
+        if not (T_D > 0.0 and math.isfinite(Qx) and math.isfinite(Qy) and math.isfinite(Qz)):
+            Qx, Qy, Qz = Bx, By, Bz
+        moved = math.sqrt((Qx - Px) ** 2 + (Qy - Py) ** 2 + (Qz - Pz) ** 2)
+        Px, Py, Pz = Qx, Qy, Qz
+        scale = 1.0 + max(abs(vx), abs(vy), abs(vz))
+        last = moved <= 1e-15 * scale or (moved >= moved_prev and moved <= 1e-12 * scale)
+        moved_prev = moved
+    Ds = (Dx - Ax) * esx + (Dy - Ay) * esy + (Dz - Az) * esz
+    return _result(
+        H, V, L0f, th, l_h, l_v, Dx, Dy, Dz, gamma, code, ell, it, ehx, ehy, ehz, Ds, gB.rho, esx, esy, esz, kx, ky,
+        kz, Ax, Ay, Az, ux, uy, uz, w, gB.inside, gB.gamma,
+    )  # fmt: skip
+
+
+@njit(cache=True, error_model="numpy")
+def _cable_at(
+    Bx, By, Bz, Ax, Ay, Az, ident, F00, F01, F02, F10, F11, F12, F20, F21, F22, kind, h, rp, d, inx, iny, EA, w,
+    ux, uy, uz, kx, ky, kz, L0c, ready, H0, V0, L0f, th0, D0x, D0y, D0z, general,
+):  # fmt: skip
+    """``exit_points`` of one cable on scalars only (no arrays: no reference counts in the pose
+    kernel's loop over cables): the attachment point B, the joint A, the pulley frame F (``ident``:
+    the identity) and the cable's data (``_kernels.Cables``, ``Heavy``), rest length L0c [m] and the
+    start (ready > 0: H0, V0 [N], L0f [m], theta [rad], the exit point D0 [m]; else the reference's
+    start). ``general`` (``Heavy.general``): a DR pulley or an SR swivel axis off gravity, solved by
+    ``_general_at``; else the sheave plane is the one through B (a vertical axis: the catenary's
+    vertical plane contains the axis) and D's angle theta on it is solved with the catenary
+    (``_joint``, else the nested iterations).
+
+    Returns
+    -------
+    tuple
+        (H, V_B [N], L0f [m], theta [rad], T_B, T_D [N], l_h, l_v [m], D (3) [m], gamma [rad], code,
+        l_dead [m], iterations, e_h (3) [-], swivel [-], e_perp (3) [-], (D - A) . up [m], inside,
+        gamma of the massless model [rad]).
+    """
+    g, esx, esy, esz = _sheave(
+        Bx, By, Bz, Ax, Ay, Az, ident, F00, F01, F02, F10, F11, F12, F20, F21, F22, kind, h, rp, d, inx, iny
+    )
+    if general:  # the swivel angle (any axis) and a DR arm follow the catenary's end tangent
+        return _general_at(
+            Bx, By, Bz, Ax, Ay, Az, ident, F00, F01, F02, F10, F11, F12, F20, F21, F22, kind, h, rp, d, inx, iny,
+            EA, w, ux, uy, uz, kx, ky, kz, L0c, ready, H0, V0, L0f, th0, D0x, D0y, D0z, g,
+        )  # fmt: skip
     Hx, Hy, Hz = Ax + g.Hs * esx + g.Hw * kx, Ay + g.Hs * esy + g.Hw * ky, Az + g.Hs * esz + g.Hw * kz
     thK = math.atan2(g.sK, g.cK) if rp > 0.0 else 0.0
     if ready > 0.0:
@@ -378,38 +544,24 @@ def _cable_at(
     th_prev = f_prev = np.nan
     joint = False
     if w > 0.0:  # all the cable's unknowns at once: from the start given, else from a cold one
-        args = (Bx, By, Bz, Hx, Hy, Hz, esx, esy, esz, kx, ky, kz, ux, uy, uz, rp, g.ld, thK, sr, L0c, w, EA)
-        if ready > 0.0:
-            joint, Hj, Vj, Lj, tj, it, ct, st, gamma_j = _joint(*args, H0, V0, L0f, th)
-        if not joint:
-            tc = math.atan2(g.sD, g.cD) if ready > 0.0 else th
-            Hc, Vc, Lc = _cold_start(*args, tc)
-            if Hc > 0.0:
-                joint, Hj, Vj, Lj, tj, it, ct, st, gamma_j = _joint(*args, Hc, Vc, Lc, tc)
+        tc = math.atan2(g.sD, g.cD) if ready > 0.0 else th
+        joint, Hj, Vj, Lj, tj, it, ct, st, gamma_j = _joint_or_cold(
+            Bx, By, Bz, Hx, Hy, Hz, esx, esy, esz, kx, ky, kz, ux, uy, uz, rp, g.ld, thK, sr, L0c, w, EA, ready > 0.0,
+            H0, V0, L0f, th, tc,
+        )  # fmt: skip
         if joint:
             H, V, L0f, th, gamma = Hj, Vj, Lj, tj, gamma_j
-            Dx = Hx + rp * (ct * esx + st * kx)
-            Dy = Hy + rp * (ct * esy + st * ky)
-            Dz = Hz + rp * (ct * esz + st * kz)
-            vx, vy, vz = Dx - Bx, Dy - By, Dz - Bz
-            l_v = vx * ux + vy * uy + vz * uz
-            hx, hy, hz = vx - l_v * ux, vy - l_v * uy, vz - l_v * uz
-            l_h = math.sqrt(hx * hx + hy * hy + hz * hz)
-            ehx, ehy, ehz = hx / l_h, hy / l_h, hz / l_h
+            _, _, _, Dx, Dy, Dz, _, _, _, l_v, l_h, ehx, ehy, ehz = _spans_at(
+                Bx, By, Bz, Hx, Hy, Hz, esx, esy, esz, kx, ky, kz, ux, uy, uz, rp, ct, st
+            )
             ell = g.ld + rp * gamma
             code = U_SHAPED if (V < 0.0 and V + w * L0f > 0.0) else CATENARY
     if not joint:  # the nested iterations, from the given start (or the reference's)
         for it in range(1, EXIT_MAXITER + 2):
             ct, st = math.cos(th), math.sin(th)
-            Dx = Hx + rp * (ct * esx + st * kx)
-            Dy = Hy + rp * (ct * esy + st * ky)
-            Dz = Hz + rp * (ct * esz + st * kz)
-            vx, vy, vz = Dx - Bx, Dy - By, Dz - Bz
-            l_v = vx * ux + vy * uy + vz * uz
-            hx, hy, hz = vx - l_v * ux, vy - l_v * uy, vz - l_v * uz
-            l_h = math.sqrt(hx * hx + hy * hy + hz * hz)
-            il = 1.0 / l_h if l_h > 0.0 else 1.0
-            ehx, ehy, ehz = hx * il, hy * il, hz * il
+            _, _, _, Dx, Dy, Dz, vx, vy, vz, l_v, l_h, ehx, ehy, ehz = _spans_at(
+                Bx, By, Bz, Hx, Hy, Hz, esx, esy, esz, kx, ky, kz, ux, uy, uz, rp, ct, st
+            )
             H, V, code, _, _, L0f = cable_state(l_h, l_v, L0c, ell, w, EA, H0, V0, L0f)
             H0, V0 = H, V
             if last or it > EXIT_MAXITER or code == INFEASIBLE:
@@ -440,16 +592,10 @@ def _cable_at(
             th = th_new
             gamma = (thK - th) % TWO_PI
             ell = g.ld + rp * gamma
-    T_B = math.sqrt(H * H + V * V)
-    V_D = V + w * L0f
-    T_D = math.sqrt(H * H + V_D * V_D)
     Ds = g.Hs + rp * (ct if joint else math.cos(th))
-    swivel = Ds / g.rho if g.rho > SWIVEL_RHO_MIN else 0.0
-    epx, epy, epz = ky * esz - kz * esy, kz * esx - kx * esz, kx * esy - ky * esx
-    zD = (Dx - Ax) * ux + (Dy - Ay) * uy + (Dz - Az) * uz
-    return (
-        H, V, L0f, th, T_B, T_D, l_h, l_v, Dx, Dy, Dz, gamma, code, ell, it, ehx, ehy, ehz, swivel, epx, epy, epz,
-        zD, g.inside, g.gamma,
+    return _result(
+        H, V, L0f, th, l_h, l_v, Dx, Dy, Dz, gamma, code, ell, it, ehx, ehy, ehz, Ds, g.rho, esx, esy, esz, kx, ky,
+        kz, Ax, Ay, Az, ux, uy, uz, w, g.inside, g.gamma,
     )  # fmt: skip
 
 
@@ -484,7 +630,7 @@ def exit_points(Bx, By, Bz, c, L0c, cab, frame, ident, heavy, start, out):
         Bx, By, Bz, A[c, 0], A[c, 1], A[c, 2], ident[c], F[0, 0], F[0, 1], F[0, 2], F[1, 0], F[1, 1], F[1, 2],
         F[2, 0], F[2, 1], F[2, 2], cab.kind[c], cab.h[c], cab.rp[c], cab.d[c], cab.inward[c, 0], cab.inward[c, 1],
         cab.ES[c], heavy.w[c], heavy.up[0], heavy.up[1], heavy.up[2], k[c, 0], k[c, 1], k[c, 2], L0c, start[_READY],
-        start[_H], start[_V], start[_L0F], start[_TH],
+        start[_H], start[_V], start[_L0F], start[_TH], start[_DX], start[_DY], start[_DZ], heavy.general[c],
     )  # fmt: skip
     _store(out.reshape((1, NSTATE)), 0, H, V, L0f, th, T_B, T_D, l_h, l_v, Dx, Dy, Dz, gamma, code, ell, it)
     return H, V, L0f, l_h, l_v, ehx, ehy, ehz, ell, sw, epx, epy, epz, T_B, zD, ins, gam
@@ -512,7 +658,7 @@ def evaluate(px, py, pz, R, rfx, rfy, rfz, cab, body, heavy, L0, i, t, J, e6, g6
     for a in range(6):
         for q in range(6):
             J[a, q] = 0.0
-    A, kind, h, rp, d, inward, ES, k, wd = (
+    A, kind, h, rp, d, inward, ES, k, wd, gen = (
         cab.A,
         cab.kind,
         cab.h,
@@ -522,6 +668,7 @@ def evaluate(px, py, pz, R, rfx, rfy, rfz, cab, body, heavy, L0, i, t, J, e6, g6
         cab.ES,
         heavy.axis,
         heavy.w,
+        heavy.general,
     )
     for c in range(m):
         rx = R[0, 0] * b[c, 0] + R[0, 1] * b[c, 1] + R[0, 2] * b[c, 2]
@@ -533,6 +680,7 @@ def evaluate(px, py, pz, R, rfx, rfy, rfz, cab, body, heavy, L0, i, t, J, e6, g6
             frame[c, 0, 2], frame[c, 1, 0], frame[c, 1, 1], frame[c, 1, 2], frame[c, 2, 0], frame[c, 2, 1],
             frame[c, 2, 2], kind[c], h[c], rp[c], d[c], inward[c, 0], inward[c, 1], ES[c], wd[c], ux, uy, uz, k[c, 0],
             k[c, 1], k[c, 2], L0[i, c], start[c, _READY], start[c, _H], start[c, _V], start[c, _L0F], start[c, _TH],
+            start[c, _DX], start[c, _DY], start[c, _DZ], gen[c],
         )  # fmt: skip
         _store(state, c, H, V, L0f, th, T_B, T_D, l_h, l_v, Dx, Dy, Dz, gamma, code, ell, it)
         inside = inside or ins

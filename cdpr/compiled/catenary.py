@@ -55,38 +55,6 @@ _MAXITER = CATENARY_DEFAULTS["maxiter"]
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def _terms(H, V_B, L0, w):
-    """(V_D, T_B, T_D, S, Qh, Qv, Qd, Qx, Qe) of ``models.catenary._terms``, one cable."""
-    aH = abs(H)
-    V_D = V_B + w * L0
-    T_B = math.hypot(H, V_B)
-    T_D = math.hypot(H, V_D)
-    S = V_B + V_D
-    wL = w * L0
-    if V_B < 0.0 and V_D > 0.0:
-        Qh = (math.asinh(V_D / aH) - math.asinh(V_B / aH)) / wL
-        Qd = (V_D / T_D - V_B / T_B) / wL
-        Qe = (V_D * T_D - V_B * T_B) / wL
-    else:
-        P = V_D * T_B + V_B * T_D
-        r = S / P if P != 0.0 else 1.0 / aH
-        x = wL * r
-        asinhc = math.asinh(x) / x if x != 0.0 else 1.0
-        Qh = r * asinhc
-        Qd = H * H * r / (T_B * T_D)
-        PE = V_D * T_D + V_B * T_B
-        Qe = S * (H * H + V_D * V_D + V_B * V_B) / PE if PE != 0.0 else aH
-    TT = T_B + T_D
-    if TT > 0.0:
-        Qv = S / TT
-        Qx = -H * S / (TT * T_B * T_D)
-    else:
-        Qv = 0.0
-        Qx = 0.0
-    return V_D, T_B, T_D, S, Qh, Qv, Qd, Qx, Qe
-
-
-@njit(cache=True, inline="always", error_model="numpy")
 def _asinh(x):
     """asinh(x) as log1p(|x| + x^2 / (1 + sqrt(1 + x^2))) with x's sign: within an ulp of
     ``math.asinh`` and a third of its time (no cancellation for either sign)."""
@@ -96,45 +64,54 @@ def _asinh(x):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def terms_fast(H, V_B, L0, w):
-    """``_terms`` with sqrt(a^2 + b^2) for hypot and ``_asinh`` for asinh (asinh(x)/x by its series
-    for |x| < 0.1, the usual sag): the same forms, a few ulp apart and a third of the time, for the pose kernel's joint iteration of a cable (``cables._joint``) and
-    its energy and stiffness (``cable_energy_stiffness``); the twin functions above keep the
-    reference's arithmetic."""
+def _asinhc_series(y):
+    """asinh(x) / x from y = x^2 by its series (to x^14: the next term is below 2e-18 for y < 0.01)."""
+    return 1.0 - y * (
+        1.0 / 6.0
+        - y
+        * (
+            3.0 / 40.0
+            - y
+            * (
+                5.0 / 112.0
+                - y * (35.0 / 1152.0 - y * (63.0 / 2816.0 - y * (231.0 / 13312.0 - y * (143.0 / 10240.0))))
+            )
+        )
+    )
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _terms_of(H, V_B, L0, w, fast):
+    """(V_D, T_B, T_D, S, Qh, Qv, Qd, Qx, Qe) of ``models.catenary._terms``, one cable: the forms
+    written once for ``_terms`` (``fast`` False: the reference's arithmetic, hypot and asinh) and
+    ``terms_fast`` (True: sqrt(a^2 + b^2), ``_asinh`` and asinh(x)/x by its series for |x| < 0.1).
+    Both callers pass a constant ``fast``, so the inlined branch folds away."""
     aH = abs(H)
     V_D = V_B + w * L0
-    T_B = math.sqrt(H * H + V_B * V_B)
-    T_D = math.sqrt(H * H + V_D * V_D)
+    if fast:
+        T_B = math.sqrt(H * H + V_B * V_B)
+        T_D = math.sqrt(H * H + V_D * V_D)
+    else:
+        T_B = math.hypot(H, V_B)
+        T_D = math.hypot(H, V_D)
     S = V_B + V_D
     wL = w * L0
     if V_B < 0.0 and V_D > 0.0:
-        Qh = (_asinh(V_D / aH) - _asinh(V_B / aH)) / wL
+        if fast:
+            Qh = (_asinh(V_D / aH) - _asinh(V_B / aH)) / wL
+        else:
+            Qh = (math.asinh(V_D / aH) - math.asinh(V_B / aH)) / wL
         Qd = (V_D / T_D - V_B / T_B) / wL
         Qe = (V_D * T_D - V_B * T_B) / wL
     else:
         P = V_D * T_B + V_B * T_D
         r = S / P if P != 0.0 else 1.0 / aH
         x = wL * r
-        y = x * x
-        if y < 0.01:  # asinh(x) / x by its series (to x^14: the next term is below 2e-18)
-            asinhc = 1.0 - y * (
-                1.0 / 6.0
-                - y
-                * (
-                    3.0 / 40.0
-                    - y
-                    * (
-                        5.0 / 112.0
-                        - y
-                        * (
-                            35.0 / 1152.0
-                            - y * (63.0 / 2816.0 - y * (231.0 / 13312.0 - y * (143.0 / 10240.0)))
-                        )
-                    )
-                )
-            )
+        if fast:
+            y = x * x
+            asinhc = _asinhc_series(y) if y < 0.01 else _asinh(x) / x
         else:
-            asinhc = _asinh(x) / x
+            asinhc = math.asinh(x) / x if x != 0.0 else 1.0
         Qh = r * asinhc
         Qd = H * H * r / (T_B * T_D)
         PE = V_D * T_D + V_B * T_B
@@ -147,6 +124,22 @@ def terms_fast(H, V_B, L0, w):
         Qv = 0.0
         Qx = 0.0
     return V_D, T_B, T_D, S, Qh, Qv, Qd, Qx, Qe
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _terms(H, V_B, L0, w):
+    """(V_D, T_B, T_D, S, Qh, Qv, Qd, Qx, Qe) of ``models.catenary._terms``, one cable (the
+    reference's arithmetic: ``_terms_of``)."""
+    return _terms_of(H, V_B, L0, w, False)
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def terms_fast(H, V_B, L0, w):
+    """``_terms`` with sqrt(a^2 + b^2) for hypot and ``_asinh`` for asinh (asinh(x)/x by its series
+    for |x| < 0.1, the usual sag): the same forms (``_terms_of``), a few ulp apart and a third of the
+    time, for the pose kernel's joint iteration of a cable (``cables._joint``) and its energy and
+    stiffness (``cable_energy_stiffness``); the twin functions keep the reference's arithmetic."""
+    return _terms_of(H, V_B, L0, w, True)
 
 
 @njit(cache=True, error_model="numpy")

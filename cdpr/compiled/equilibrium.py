@@ -651,8 +651,8 @@ class CompiledCables(Cables):
 
 
 class CompiledHeavyCables(HeavyCables):
-    """The reference's heavy-cable record (``models.cables.HeavyCables``: it refuses the pulleys it
-    does not model, in one line) with the kernel's ``CableArrays``, ``Body`` and ``cables.Heavy``."""
+    """The reference's heavy-cable record (``models.cables.HeavyCables``) with the kernel's
+    ``CableArrays``, ``Body`` and ``cables.Heavy`` (every pulley: fixed, SR with any axis, DR)."""
 
     def __init__(self, robot):
         super().__init__(robot)
@@ -853,7 +853,7 @@ def _solve_poses_batch(
             out.cat[k],
         )
         w = scratch(m)
-        massless = Heavy(False, np.zeros(m), np.zeros(3), np.zeros((m, 3)))
+        massless = Heavy(False, np.zeros(m), np.zeros(3), np.zeros((m, 3)), np.zeros(m, dtype=np.bool_))
         for i in range(ch * CHUNK, min(n, (ch + 1) * CHUNK)):
             solve_pose(i, p_ref[k], P0[k], R0[k], L0[k], cab, body, opts, o, w, massless)
 

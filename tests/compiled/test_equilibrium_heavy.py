@@ -1,20 +1,29 @@
 """The compiled physical equilibrium with heavy cables (cdpr.compiled.cables in the pose kernel of
 cdpr.compiled.equilibrium, issue 38) equals the numpy reference (cdpr.models.equilibrium with
 cdpr.models.cables.HeavyCables): the same statuses, taut sets and per-cable catenary statuses,
-poses within 1e-9 m and 1e-9 rad, on CDPR4 with a linear density (SR and fixed pulleys) and on
-CoGiRo with its 4 mm cable's, at several poses, with cables lengthened until they hang in a U
+poses within 1e-9 m and 1e-9 rad, on CDPR4 with a linear density (fixed, SR, DR pulleys, swivel axes
+off the gravity's line), on the 8-cable rigid platform with tilted axes and on CoGiRo (SR, and its
+DR design) with its 4 mm cable's, at several poses, with cables lengthened until they hang in a U
 (the heavy model's "slack": a cable that carries little more than its own weight); and
 cdpr.solve routes heavy robots to it (its default engine) in solve and solve_batch."""
 
+import dataclasses
+
 import numpy as np
 import pytest
+from scipy.spatial.transform import Rotation
 
 from cdpr import solve as door
+from cdpr.compiled import cables
 from cdpr.compiled import equilibrium as cequilibrium
 from cdpr.models import equilibrium
+from cdpr.models.cables import HeavyCables
 from cdpr.models.inverse import L_TS
 from cdpr.models.platform import pose_arrays
 from cdpr.robot import load_robot, with_pulleys, with_values
+from tests.models.test_equilibrium_heavy import P8, Q_TILT, RV8, tilted
+from tests.models.test_equilibrium_heavy import heavy as heavy_robot
+from tests.models.test_equilibrium_pose import pretensioned
 
 RHO = 0.0631  # [kg/m] a 4 mm steel cable (the cube50 robot's, issue 38)
 CDPR4_PTS = np.array(
@@ -116,3 +125,93 @@ def test_the_door_routes_heavy_robots_to_the_compiled_kernel(cdpr4):
             np.testing.assert_array_equal(got["sag_max"], one["sag_max"])
     assert (batch[1]["sag_max"] < batch[0]["sag_max"] * 2.5).all()
     assert (batch[1]["sag_max"] > batch[0]["sag_max"]).all()
+
+
+# --- every pulley: DR pulleys and SR swivel axes off gravity (compiled.cables._general_at) ---------
+
+#: A small tilt of every swivel axis (and its zero) off the vertical.
+TILT = Rotation.from_rotvec([0.2, -0.1, 0.05]).as_matrix()
+
+
+def _tilted_axes(robot, Q=TILT):
+    """``robot`` with every pulley's swivel axis and zero turned by Q (gravity kept along -z)."""
+    cables = []
+    for c in robot.cables:
+        axis = tuple(float(v) for v in Q @ np.asarray(c.pulley.axis, dtype=float))
+        zero = tuple(float(v) for v in Q @ [1.0, 0.0, 0.0])
+        cables.append(dataclasses.replace(c, pulley=dataclasses.replace(c.pulley, axis=axis, zero=zero)))
+    return dataclasses.replace(robot, cables=tuple(cables))
+
+
+def _same_heavy_keys(a, b):
+    """The twins' per-cable outputs (``solve.HEAVY_KEYS``) to 1e-9 relative to each key's largest."""
+    np.testing.assert_array_equal(a["cable_status"], b["cable_status"])
+    for k in door.HEAVY_KEYS:
+        if k != "cable_status":
+            x, y = np.asarray(a[k], dtype=float), np.asarray(b[k], dtype=float)
+            np.testing.assert_allclose(y, x, rtol=0, atol=1e-9 * np.nanmax(np.abs(x)), err_msg=k)
+
+
+@pytest.mark.parametrize("kind, tilt", [("DR", False), ("SR", True), ("DR", True)])
+def test_compiled_heavy_point_mass_on_dr_and_tilted_pulleys_equals_the_reference(cdpr4, kind, tilt):
+    r = with_pulleys(cdpr4, kind=kind)
+    r = with_values(_tilted_axes(r) if tilt else r, linear_density=RHO * 5)
+    heavy = cequilibrium.CompiledHeavyCables(r).heavy
+    assert heavy.general.all() and not cables.unmodelled(HeavyCables(r)).any()
+    for L0 in (None, _lengthened(r, CDPR4_PTS, factor=1.003)):
+        a = equilibrium.solve(r, CDPR4_PTS, L0=L0)
+        b = cequilibrium.solve(r, CDPR4_PTS, L0=L0)
+        _same(a, b, pose=False)
+        _same_heavy_keys(a, b)
+        assert (a["status"] == "ok").all() and (a["sag_max"] > 1e-3).all()
+
+
+@pytest.mark.parametrize("kind", ["SR", "DR"])
+def test_compiled_heavy_rigid_platform_on_tilted_axes_equals_the_reference(kind):
+    """The 8-cable rigid platform of tests/models with swivel axes off the gravity's line, and the
+    same robot with its gravity turned too (``tilted``): rotvec and pose to 1e-9, same statuses."""
+    G = Rotation.from_rotvec([0.4, -0.7, 1.1]).as_matrix()
+    for g in (np.eye(3), G):
+        r = heavy_robot(tilted(kind, Q_TILT, g))
+        p = P8 @ Q_TILT.T @ g.T
+        rv = (Rotation.from_matrix(g) * Rotation.from_rotvec(RV8)).as_rotvec()
+        assert cequilibrium.CompiledHeavyCables(r).heavy.general.all()
+        L0 = pretensioned(r, p, rv, t0=300.0)
+        a = equilibrium.solve(r, p, rv, L0=L0)
+        b = cequilibrium.solve(r, p, rv, L0=L0)
+        _same(a, b)
+        _same_heavy_keys(a, b)
+        assert (a["status"] == "ok").all() and a["sag_max"].max() > 1e-4
+
+
+def test_compiled_heavy_rigid_platform_equals_the_reference_on_cogiro_dr():
+    """CoGiRo's DR design (the study's DRopt: h 75 mm, r_p 50 mm) with its 4 mm cable's density, at
+    the poses above, at L_TS and with cables lengthened into deep sags."""
+    r = with_values(
+        with_pulleys(load_robot("config/robots/cogiro.yaml"), kind="DR", h=0.075, r_p=0.05),
+        linear_density=RHO,
+    )
+    assert door.heavy_engine(r) is None  # the default engine, compiled, models it
+    L0 = _lengthened(r, COGIRO_POSES[:, :3], COGIRO_POSES[:, 3:], factor=1.002)
+    for lengths in (None, L0):
+        a = equilibrium.solve(r, COGIRO_POSES, L0=lengths)
+        b = cequilibrium.solve(r, COGIRO_POSES, L0=lengths)
+        _same(a, b)
+        _same_heavy_keys(a, b)
+        assert (a["status"] != "not_converged").all() and (a["sag_max"] > 5e-3).all()
+
+
+@pytest.mark.parametrize("kind", ["DR", "SR_tilted"])
+def test_weightless_heavy_dr_and_tilted_cables_give_the_massless_answer(cdpr4, kind):
+    """w = 0 through the general coupling: the compiled heavy kernel (P* = B to round-off) gives the
+    compiled massless kernel's equilibrium. Both stop on the force balance (1e-10 of the weight) but
+    along different Newton paths (the heavy Jacobian leaves out a DR arm's turn and D's slide on the
+    sheave), so they agree to that rule's size, not to the bit; the numpy twins likewise
+    (tests/models/test_equilibrium_heavy.py)."""
+    r = with_pulleys(cdpr4, kind="DR") if kind == "DR" else _tilted_axes(with_pulleys(cdpr4, kind="SR"))
+    a = cequilibrium.solve(r, CDPR4_PTS)
+    b = cequilibrium.solve(r, CDPR4_PTS, heavy=True)
+    assert (a["status"] == "ok").all() and (b["status"] == a["status"]).all()
+    assert np.abs(a["P_s"] - b["P_s"]).max() < 1e-10
+    np.testing.assert_allclose(b["t"], a["t"], rtol=1e-9)
+    assert (b["sag"] == 0).all()
