@@ -213,10 +213,13 @@ class HeavyCables(Cables):
         swivel axis and u_i (the swivel angle that puts the end tangent in the sheave plane, any axis),
         u_i touches the sheave circle at D_i, and a DR arm bisects the strand to the winch and the
         direction of P*_i (Paty 2021's rule, with P*_i for B_i). At w = 0, P*_i = B_i: the massless
-        model. Fixed point on P*_i from B_i, contraction of the order r_p / |B_i - D_i|."""
+        model. Fixed point on P*_i from B_i, contraction of the order r_p / |B_i - D_i|; it stops when
+        P* moves by at most 1e-15 (1 + max |v|), or when its moves stop shrinking within 1e-12
+        (1 + max |v|) (round-off of the catenary's Newton), as the compiled twin."""
         k = np.broadcast_to(self.axis, B.shape)
         Pv = B
         it = 0
+        moved_prev = np.inf
         for it in range(1, maxiter + 1):
             ps = pulley_state(Pv, *self.args, per_cable=True)
             ell = ps.l_d + self.r_p * ps.gamma
@@ -230,12 +233,16 @@ class HeavyCables(Cables):
             Pv_new = np.where(ok[..., None], ps.D + np.linalg.norm(v, axis=-1)[..., None] * u, B)
             moved = np.linalg.norm(Pv_new - Pv, axis=-1).max(initial=0.0)
             Pv = Pv_new
-            if moved <= 1e-15 * (1.0 + float(np.abs(v).max(initial=0.0))):
+            scale = 1.0 + float(np.abs(v).max(initial=0.0))
+            # converged, or at round-off: within 1e-12 of the lengths the catenary's own Newton leaves
+            # ~1e-12 m of noise in P*, so the moves stop shrinking there (the compiled twin's rule)
+            if moved <= 1e-15 * scale or (moved >= moved_prev and moved <= 1e-12 * scale):
                 ps = pulley_state(Pv, *self.args, per_cable=True)
                 ell = ps.l_d + self.r_p * ps.gamma
                 v, l_h, l_v, e_h = self._spans(ps.D, B)
                 st, H, V_D, T_D = span(l_h, l_v, ell)
                 break
+            moved_prev = moved
         e_s = ps.e_s3
         e_perp = np.cross(k, e_s)
         BA = B - self.A

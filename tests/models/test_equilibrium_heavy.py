@@ -275,9 +275,14 @@ def test_the_one_door_solves_heavy_robots_with_the_numpy_reference_and_refuses_t
         door.sensitivities(r, PTS[:1], redundancy="paper")
 
 
-def test_the_compiled_kernel_refuses_dr_pulleys_and_tilted_axes_in_one_line(cdpr4):
+def test_dr_pulleys_take_the_compiled_kernel_by_default(cdpr4):
+    """The compiled kernel models every pulley (issue 38): ``heavy_engine`` keeps the default and a
+    DR robot's default solve is the compiled one, equal to the numpy reference to 1e-9 m."""
     from cdpr import solve as door
 
-    with pytest.raises(CdprError, match="use the numpy reference") as exc:
-        door.solve(heavy(with_pulleys(cdpr4, kind="DR")), PTS[:1], redundancy="physical", engine="compiled")
-    assert "\n" not in str(exc.value)
+    r = heavy(with_pulleys(cdpr4, kind="DR"))
+    assert door.heavy_engine(r) is None
+    got = door.solve(r, PTS[:2], redundancy="physical")
+    ref = door.solve(r, PTS[:2], redundancy="physical", engine="numpy")
+    assert (got["status"] == ref["status"]).all()
+    np.testing.assert_allclose(got["P_s"], ref["P_s"], rtol=0, atol=1e-9)
