@@ -261,8 +261,8 @@ def check_equilibrium(choice):
 def reach(robot, p, rotvec=None, *, L0=None, engine=None, threads=None, **start):
     """The equilibrium reached by continuation (``models.continuation.reach``, whose docstring gives
     the path, the steps, the folds and the starts), by the chosen engine's local Newton solver:
-    numpy (``equilibrium.local_newton``, the default) or compiled (``compiled.equilibrium.newton``);
-    heavy cables by the numpy reference only.
+    numpy (``equilibrium.local_newton``, the default) or compiled (``compiled.equilibrium.newton``),
+    heavy cables too (``compiled.equilibrium.CompiledHeavyCables``: every pulley).
 
     Parameters
     ----------
@@ -290,19 +290,18 @@ def reach(robot, p, rotvec=None, *, L0=None, engine=None, threads=None, **start)
     Raises
     ------
     CdprError
-        An unknown engine, the compiled engine on heavy cables, a start that does not exist.
+        An unknown engine, a start that does not exist.
     """
     engine = check_engine("numpy" if engine is None else engine, "newton")
-    if robot.heavy:
-        if engine == "compiled":
-            raise CdprError(
-                f"{robot.source}: the continuation of heavy cables runs on the numpy reference (--engine numpy)"
-            )
-        cab, newton, standard = HeavyCables(robot), equilibrium.local_newton, None
-    elif engine == "compiled":
+    if engine == "compiled":
         compiled_equilibrium.set_threads(threads)
-        cab, newton = compiled_equilibrium.CompiledCables(robot), compiled_equilibrium.newton
-        standard = compiled_equilibrium.L_TS
+        kind = (
+            compiled_equilibrium.CompiledHeavyCables if robot.heavy else compiled_equilibrium.CompiledCables
+        )
+        cab, newton = kind(robot), compiled_equilibrium.newton
+        standard = None if robot.heavy else compiled_equilibrium.L_TS
+    elif robot.heavy:
+        cab, newton, standard = HeavyCables(robot), equilibrium.local_newton, None
     else:
         cab, newton, standard = Cables(robot), equilibrium.local_newton, None
     p = np.atleast_2d(np.asarray(p, dtype=float))

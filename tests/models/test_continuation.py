@@ -11,7 +11,7 @@ from cdpr.errors import CdprError
 from cdpr.models.interference import interference_free
 from cdpr.models.platform import rotation_error
 from cdpr.models.tension_distribution import compensated_lengths
-from cdpr.robot import load_robot
+from cdpr.robot import load_robot, with_values
 from cdpr.solve import reach, solve
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -152,3 +152,18 @@ def test_a_fold_is_reported_and_the_point_stays_ok(wall):
     # the global solve knows the equilibrium the platform snapped to or a lower one
     g = solve(wall, p, rv, L0=L, engine="numpy")
     assert g["energy"][0] <= a["energy"][0] + 1e-9
+
+
+def test_heavy_cables_are_continued_by_either_engine():
+    """The compiled kernel continues heavy cables (every pulley, issue 38): the same reached
+    equilibria, statuses and starts as the numpy reference, to 1e-9 m and rad."""
+    robot = with_values(load_robot(ROOT / "config" / "robots" / "hang4_6dof.yaml"), linear_density=0.3)
+    assert robot.heavy
+    p = np.array([[0.2, -0.3, 1.5], [0.5, 0.5, 2.5]])
+    ref = reach(robot, p, rotvec=[0.05, 0.0, 0.1], engine="numpy")
+    got = reach(robot, p, rotvec=[0.05, 0.0, 0.1], engine="compiled")
+    assert list(got["status"]) == list(ref["status"]) == ["ok", "ok"]
+    assert list(got["start"]) == list(ref["start"])
+    np.testing.assert_allclose(got["P_s"], ref["P_s"], rtol=0, atol=1e-9)
+    np.testing.assert_allclose(got["R_s"], ref["R_s"], rtol=0, atol=1e-9)
+    np.testing.assert_allclose(got["sag"], ref["sag"], rtol=1e-9, atol=1e-12)
