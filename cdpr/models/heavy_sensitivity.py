@@ -32,8 +32,6 @@ Springer 2006, A.2.
 
 from __future__ import annotations
 
-import dataclasses
-
 import numpy as np
 
 from cdpr.models.cables import HeavyCables, balance_jacobian
@@ -42,54 +40,6 @@ from cdpr.models.heavy_partials import cable_force_partials
 from cdpr.models.results import ok_point_sensitivities
 from cdpr.models.sensitivity import COND_MAX, T_TOL, pose_columns, scaled_condition
 from cdpr.parameters import parameter_names
-
-
-def perturbed_robot(robot, name, delta):
-    """``robot`` with the parameter ``name`` (``parameter_names(robot, rigid=True)``, plus rho_i)
-    moved by ``delta`` (SI); the attachments b_i and the centre of mass c on a point mass too.
-
-    Parameters
-    ----------
-    robot : Robot
-    name : str
-        E_i, h_i, r_p_i, d_i, A_i_x .. A_i_z, b_i_x .. b_i_z, c_x .. c_z, rho_i or M (cables from 1).
-    delta : float
-        The change [Pa, m, kg/m, kg].
-
-    Returns
-    -------
-    Robot
-    """
-    parts = name.split("_")
-    if name == "M":
-        return dataclasses.replace(
-            robot, platform=dataclasses.replace(robot.platform, mass=robot.platform.mass + delta)
-        )
-    if parts[0] == "c":
-        com = list(robot.platform.com)
-        com["xyz".index(parts[1])] += delta
-        return dataclasses.replace(robot, platform=dataclasses.replace(robot.platform, com=tuple(com)))
-    i = int(parts[1] if parts[0] in ("A", "b") else parts[-1]) - 1
-    c = robot.cables[i]
-    if parts[0] in ("A", "b"):
-        key = "A" if parts[0] == "A" else "B"
-        v = list(getattr(c, key))
-        v["xyz".index(parts[2])] += delta
-        c = dataclasses.replace(c, **{key: tuple(v)})
-    else:
-        key = "_".join(parts[:-1])
-        if key == "E":
-            c = dataclasses.replace(c, material=dataclasses.replace(c.material, E=c.material.E + delta))
-        elif key == "rho":
-            c = dataclasses.replace(c, material=dataclasses.replace(c.material, rho=c.material.rho + delta))
-        elif key == "d":
-            c = dataclasses.replace(c, dead_length=c.dead_length + delta)
-        else:
-            c = dataclasses.replace(
-                c, pulley=dataclasses.replace(c.pulley, **{key: getattr(c.pulley, key) + delta})
-            )
-    cables = robot.cables[:i] + (c,) + robot.cables[i + 1 :]
-    return dataclasses.replace(robot, cables=cables)
 
 
 def balance_partials(robot, P, R, L0, names=None, cab=None):

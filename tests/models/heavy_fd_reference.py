@@ -1,7 +1,7 @@
 """The central-difference partials of the heavy balance that ``cdpr.models.heavy_sensitivity`` used
 before its partials were analytic (issue 38): kept as the test reference of the analytic ones
 (``heavy_partials``). Each is a central difference of the *balance* at fixed pose (``HeavyCables``,
-each catenary solved by Newton to the last digits, the pulley coupling's fixed point to 1e-15 m), so
+each catenary solved by Newton to the last digits, the pulley coupling's fixed point to round-off), so
 O(δ²) plus the balance's last digits over the step."""
 
 import dataclasses
@@ -9,7 +9,6 @@ import dataclasses
 import numpy as np
 
 from cdpr.models.cables import HeavyCables
-from cdpr.models.heavy_sensitivity import perturbed_robot
 from cdpr.models.platform import rotation_matrix
 
 #: Central-difference step of a position or rotation [m, rad] (rest lengths and lengths too).
@@ -19,6 +18,54 @@ REL_STEP = 1e-6
 #: Relative step of rho_i: its force change (w L δ) must stand well above the balance's last digits
 #: (the pulley coupling's fixed point stops at 1e-15 m, times a cable stiffness of ~1e5 N/m).
 RHO_STEP = 1e-4
+
+
+def perturbed_robot(robot, name, delta):
+    """``robot`` with the parameter ``name`` (``parameter_names(robot, rigid=True)``, plus rho_i)
+    moved by ``delta`` (SI); the attachments b_i and the centre of mass c on a point mass too.
+
+    Parameters
+    ----------
+    robot : Robot
+    name : str
+        E_i, h_i, r_p_i, d_i, A_i_x .. A_i_z, b_i_x .. b_i_z, c_x .. c_z, rho_i or M (cables from 1).
+    delta : float
+        The change [Pa, m, kg/m, kg].
+
+    Returns
+    -------
+    Robot
+    """
+    parts = name.split("_")
+    if name == "M":
+        return dataclasses.replace(
+            robot, platform=dataclasses.replace(robot.platform, mass=robot.platform.mass + delta)
+        )
+    if parts[0] == "c":
+        com = list(robot.platform.com)
+        com["xyz".index(parts[1])] += delta
+        return dataclasses.replace(robot, platform=dataclasses.replace(robot.platform, com=tuple(com)))
+    i = int(parts[1] if parts[0] in ("A", "b") else parts[-1]) - 1
+    c = robot.cables[i]
+    if parts[0] in ("A", "b"):
+        key = "A" if parts[0] == "A" else "B"
+        v = list(getattr(c, key))
+        v["xyz".index(parts[2])] += delta
+        c = dataclasses.replace(c, **{key: tuple(v)})
+    else:
+        key = "_".join(parts[:-1])
+        if key == "E":
+            c = dataclasses.replace(c, material=dataclasses.replace(c.material, E=c.material.E + delta))
+        elif key == "rho":
+            c = dataclasses.replace(c, material=dataclasses.replace(c.material, rho=c.material.rho + delta))
+        elif key == "d":
+            c = dataclasses.replace(c, dead_length=c.dead_length + delta)
+        else:
+            c = dataclasses.replace(
+                c, pulley=dataclasses.replace(c.pulley, **{key: getattr(c.pulley, key) + delta})
+            )
+    cables = robot.cables[:i] + (c,) + robot.cables[i + 1 :]
+    return dataclasses.replace(robot, cables=cables)
 
 
 def _steps(robot, name, rel_step=REL_STEP):

@@ -23,6 +23,7 @@ from cdpr.parameters import (
     select_groups,
 )
 from cdpr.robot import load_robot, with_pulleys, with_values
+from tests.models import heavy_fd_reference as fdr
 
 ROBOTS = Path(__file__).resolve().parents[2] / "config" / "robots"
 
@@ -59,7 +60,13 @@ def _central(robot, p, rv, L0, name, h):
     out = []
     for s in (h, -h):
         q = door.solve(
-            hs.perturbed_robot(robot, name, s), p, rv, redundancy="physical", engine="numpy", L0=L0, tol=1e-14
+            fdr.perturbed_robot(robot, name, s),
+            p,
+            rv,
+            redundancy="physical",
+            engine="numpy",
+            L0=L0,
+            tol=1e-14,
         )
         out.append(q)
     dp = (out[0]["P_s"][0] - out[1]["P_s"][0]) / (2 * h)
