@@ -22,7 +22,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from cdpr.compiled import cables as compiled_cables
 from cdpr.compiled import equilibrium as compiled_equilibrium
 from cdpr.compiled import sensitivity as compiled_sensitivity
 from cdpr.compiled import subsets as compiled_subsets
@@ -103,38 +102,18 @@ def _check_paper(robot):
 HEAVY_KEYS = ("t_B", "t_D", "H", "sag", "arc_minus_chord", "angle_f_deg", "cable_status", "sag_max")
 
 
-def heavy_engine(robot, engine=None):
-    """The engine that solves a robot with heavy cables when none is asked: the compiled kernel
-    where it models every cable's pulley, else the numpy reference (a DR pulley or an SR swivel
-    axis off gravity: ``compiled.cables.unmodelled``). An asked engine is kept (the compiled kernel
-    then refuses what it does not model in one line: never a silent fall-back).
-
-    Parameters
-    ----------
-    robot : Robot
-    engine : {"compiled", "numpy"} or None
-
-    Returns
-    -------
-    str or None
-        ``engine``, or "numpy" where None would ask the compiled kernel for what it does not model.
-    """
-    if engine is None and robot.heavy and compiled_cables.unmodelled(HeavyCables(robot)).any():
-        return "numpy"
-    return engine
-
-
 def _solve_heavy(robot, p, rotvec, redundancy, engine, L0, L, threads, options):
     """A robot with heavy cables (issue 38): physical mode, by the compiled kernel
     (``cdpr.compiled.equilibrium.solve`` with ``cdpr.compiled.cables``) or the numpy reference
-    (``cables.HeavyCables``), ``heavy_engine``'s choice; CdprError in one line for anything else."""
+    (``cables.HeavyCables``), ``check_engine``'s default (compiled: it models every pulley); CdprError in one
+    line for anything else."""
     if redundancy != "physical":
         raise CdprError(
             f"{robot.source}: heavy cables (cable.linear_density_kg_m > 0) are modelled in physical mode only "
             "(--redundancy physical)"
         )
     _check_physical("newton", L)
-    if check_engine(heavy_engine(robot, engine), "newton") == "compiled":
+    if check_engine(engine, "newton") == "compiled":
         res = compiled_equilibrium.solve(robot, p, rotvec, L0=L0, threads=threads, **options)
     else:
         res = equilibrium.solve(robot, p, rotvec, L0=L0, **options)

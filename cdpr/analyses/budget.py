@@ -305,8 +305,7 @@ def variant(design, p, actual, model, t_min=T_MIN_DEFAULT, threads=None, engine=
         Threads of the compiled equilibrium.
     engine : {"compiled", "numpy", None}
         Engine of the physical equilibrium (``solve.check_engine``: None is the solver's default,
-        compiled; with heavy cables in ``actual`` ``solve.heavy_engine``'s choice: the compiled
-        kernel where it models the pulleys, else the numpy reference).
+        compiled, heavy cables in ``actual`` too: it models every pulley).
     rotvec : array_like (3,) or (N, 3) [rad], optional
         Desired orientation of a rigid platform (default identity; the 6-DoF path, ``spatial``).
 
@@ -324,8 +323,7 @@ def variant(design, p, actual, model, t_min=T_MIN_DEFAULT, threads=None, engine=
     """
     p = np.atleast_2d(np.asarray(p, dtype=float))
     robot = effect_robot(design, actual)
-    if engine is not None:
-        check_engine(engine, "newton")
+    engine = check_engine(engine, "newton")
     six = spatial(design, rotvec)
     L0 = realised_lengths(design, model_lengths(design, p, model, t_min, rotvec), actual, model)
     good = np.isfinite(L0).all(axis=1)

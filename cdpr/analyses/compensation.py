@@ -350,7 +350,7 @@ def compensated_pose(
         The robot that executes the lengths (same anchors, pulleys and cables, other values).
     method, t_min, t_max, options : as ``compensate``.
     engine : {"compiled", "numpy", None}
-        ``solve.check_engine``: None is compiled (heavy cables: ``solve.heavy_engine``'s choice);
+        ``solve.check_engine``: None is compiled (heavy cables too: it models every pulley);
         another value raises CdprError.
     solver : dict, optional
         Options of the physical solve (tol, maxiter, max_step).

@@ -50,7 +50,6 @@ __all__ = [
     "exit_points",
     "heavy_arrays",
     "heavy_cables",
-    "unmodelled",
 ]
 
 #: Columns of one cable's state (``exit_points``): what the next evaluation starts from and what the
@@ -128,23 +127,6 @@ def heavy_arrays(cab=None, m=0):
         f(cab.axis, dtype=float),
         f(general, dtype=np.bool_),
     )
-
-
-def unmodelled(cab):
-    """The heavy cables whose pulleys the compiled kernel does not model: none (fixed, SR with any
-    swivel axis and DR pulleys are all the numpy reference's coupling, ``models.cables.HeavyCables``;
-    DR and tilted axes through ``_general_at``). Kept for ``solve.heavy_engine``, which asks it.
-
-    Parameters
-    ----------
-    cab : HeavyCables
-
-    Returns
-    -------
-    ndarray (m,) bool
-        True for a cable the compiled kernel would refuse: all False.
-    """
-    return np.zeros(cab.robot.m, dtype=bool)
 
 
 #: Cap of the joint Newton iteration of one cable (``_joint``); past it, the nested iterations.

@@ -10,7 +10,6 @@ import pytest
 
 from cdpr.analyses import budget
 from cdpr.robot import TABLE1, load_robot, with_pulleys, with_values
-from cdpr.solve import heavy_engine
 from tests.conftest import ROBOTS
 
 #: CoGiRo's 4 mm steel cable (config/robots/cogiro.yaml).
@@ -113,15 +112,14 @@ def cogiro():
 
 
 def test_heavy_variants_take_the_compiled_kernel_where_it_models_the_pulleys(heavy4, heavy_budget, points4):
-    """``solve.heavy_engine``: SR and DR designs are solved by the compiled kernel by default (it
-    models every pulley), and agree with the numpy reference to 1e-9 m (same statuses); an asked
-    engine is kept."""
-    assert heavy_engine(heavy4) is None  # the solvers' default: compiled
+    """SR and DR designs are solved by the compiled kernel by default (it models every pulley):
+    the default is the compiled engine's answer to the bit, and agrees with the numpy reference to
+    1e-9 m (same statuses)."""
     dr = with_values(with_pulleys(heavy4, kind="DR", h=0.1, r_p=0.0665), linear_density=RHO)
-    assert heavy_engine(dr) is None
-    assert heavy_engine(dr, "numpy") == "numpy"
     for design in (heavy4, dr):
         ref = budget.variant(design, points4, budget.effects_of(design), (), engine="numpy")
         got = budget.variant(design, points4, budget.effects_of(design), ())
+        asked = budget.variant(design, points4, budget.effects_of(design), (), engine="compiled")
+        np.testing.assert_array_equal(got["dp"], asked["dp"])
         np.testing.assert_array_equal(got["status"], ref["status"])
         np.testing.assert_allclose(got["dp"], ref["dp"], rtol=0, atol=1e-9)

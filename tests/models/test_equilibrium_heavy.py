@@ -276,13 +276,15 @@ def test_the_one_door_solves_heavy_robots_with_the_numpy_reference_and_refuses_t
 
 
 def test_dr_pulleys_take_the_compiled_kernel_by_default(cdpr4):
-    """The compiled kernel models every pulley (issue 38): ``heavy_engine`` keeps the default and a
-    DR robot's default solve is the compiled one, equal to the numpy reference to 1e-9 m."""
+    """The compiled kernel models every pulley (issue 38): a DR robot's default solve is the
+    compiled one (to the bit), equal to the numpy reference to 1e-9 m."""
     from cdpr import solve as door
 
     r = heavy(with_pulleys(cdpr4, kind="DR"))
-    assert door.heavy_engine(r) is None
     got = door.solve(r, PTS[:2], redundancy="physical")
+    np.testing.assert_array_equal(
+        got["P_s"], door.solve(r, PTS[:2], redundancy="physical", engine="compiled")["P_s"]
+    )
     ref = door.solve(r, PTS[:2], redundancy="physical", engine="numpy")
     assert (got["status"] == ref["status"]).all()
     np.testing.assert_allclose(got["P_s"], ref["P_s"], rtol=0, atol=1e-9)
