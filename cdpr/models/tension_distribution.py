@@ -38,10 +38,10 @@ the centre of mass. A tension distribution satisfies
 
     W t = w,   w = -w_ext,   T_min,i <= t_i <= T_max,i.
 
-``min_norm_rows`` is ``tension_distribution.min_norm`` generalised from 3 rows to any number r of
-rows: the exact minimum of |t - t_ref|_2 over that set, found by enumerating every active set of
-at most m - r cables pinned at a bound (the optimum of this strictly convex quadratic programme is
-one of them: at most m - rank(W) constraints are active beyond the r equalities). For b_i = 0 the
+``min_norm_rows`` is ``tension_distribution.min_norm`` for any number r of rows: the exact minimum
+of |t - t_ref|_2 over that set, found in the null space of W (t = t* + Z lambda, t* the solution
+closest to t_ref) by enumerating every active set of at most m - rank(W) cables pinned at a bound
+(the optimum of this strictly convex quadratic programme is one of them). For b_i = 0 the
 6 x m matrix has rank 3: its moment rows are zero and are dropped (the point-mass case, where the
 enumeration is ``tension_distribution``'s). A robot with m < rank rows (an under-constrained robot at an
 arbitrary orientation) has, in general, no solution: ``infeasible``, never solved by force.
@@ -308,14 +308,17 @@ def _min_norm_m4(W, w, lo, hi, t_ref):
     return np.where(feasible[:, None], t, np.nan), feasible
 
 
-def active_set_candidates(m):
-    """Candidate active sets of ``min_norm``: (pinned (k, m) bool, upper (k, m) bool), every set of
-    at most m - 3 cables pinned at the lower or upper bound, the empty set first.
+def active_set_candidates(m, most=None):
+    """Candidate active sets of ``min_norm`` and ``min_norm_rows``: (pinned (k, m) bool, upper
+    (k, m) bool), every set of at most ``most`` (default m - 3) cables pinned at the lower or upper
+    bound, the empty set first, then by size.
 
     Parameters
     ----------
     m : int
         Number of cables.
+    most : int, optional
+        Largest number of pinned cables (default m - 3: a point mass's null space).
 
     Returns
     -------
@@ -325,7 +328,7 @@ def active_set_candidates(m):
         Pinned at the upper bound (else the lower), False for free cables.
     """
     pinned, upper = [], []
-    for k in range(m - 2):
+    for k in range((m - 3 if most is None else most) + 1):
         for cab in itertools.combinations(range(m), k):
             for side in itertools.product((False, True), repeat=k):
                 p = np.zeros(m, dtype=bool)
@@ -503,6 +506,23 @@ def pose_wrench(robot, p, R):
 def min_norm_rows(W, w, t_min, t_max, t_ref=0.0):
     """Exact minimum of |t - t_ref|_2 subject to W t = w and T_min <= t <= T_max, any row count r.
 
+    In the null space of W: with W = U S V^T (rank k), the solutions of W t = w are
+    t = t* + Z lambda, t* = t_ref + W^+ (w - W t_ref) the one closest to t_ref and Z (m x (m - k))
+    the orthonormal basis of the null space (V's last m - k columns). As t* - t_ref is orthogonal
+    to Z, the programme is the projection of lambda = 0 onto the polytope
+    T_min <= t* + Z lambda <= T_max:
+
+    .. math:: \\min_{\\lambda} |\\lambda|^2 \\quad\\text{s.t.}\\quad
+        \\mathbf T_{min} \\le \\mathbf t^* + \\mathbf Z \\lambda \\le \\mathbf T_{max}
+
+    whose optimum lies on a face fixed by an independent active set of at most m - k bounds. Every
+    set S of at most m - k cables pinned at a bound v_S (``active_set_candidates``, each side) is
+    solved at once for all points of that rank, lambda = Z_S^T (Z_S Z_S^T)^-1 (v_S - t*_S) (sets
+    with dependent rows skipped: their face is also fixed by a smaller set); the feasible candidate
+    of least |t - t_ref| is the optimum (exact, vectorised over points and sets; one SVD per point
+    instead of one pseudo-inverse per candidate set). A point where W t = w has no solution (w
+    outside the range of a rank-deficient W) is infeasible.
+
     Parameters
     ----------
     W : ndarray (N, r, m) [-]
@@ -522,7 +542,8 @@ def min_norm_rows(W, w, t_min, t_max, t_ref=0.0):
 
     References
     ----------
-    Pott 2018, ch. 3 (force distribution as a quadratic programme).
+    Pott 2018, ch. 3 (force distribution as a quadratic programme); Nocedal & Wright 2006, ch. 16
+    (active sets of a convex quadratic programme).
     """
     n, r, m = W.shape
     if m > MAX_CABLES:
@@ -530,30 +551,79 @@ def min_norm_rows(W, w, t_min, t_max, t_ref=0.0):
     lo = np.broadcast_to(np.asarray(t_min, dtype=float), (n, m))
     hi = np.broadcast_to(np.asarray(t_max, dtype=float), (n, m))
     t_ref = np.broadcast_to(np.asarray(t_ref, dtype=float), (n, m))
-    best = np.full(n, np.inf)
+    w = np.broadcast_to(np.asarray(w, dtype=float), (n, r))
     t_best = np.full((n, m), np.nan)
+    if n == 0:
+        return t_best, np.zeros(0, dtype=bool)
+    U, s, Vt = np.linalg.svd(W)
+    rank = (s > 1e-12 * s[:, :1]).sum(axis=1)
+    for k in np.unique(rank):  # one group at regular poses
+        pins, ups = active_set_candidates(m, m - k)
+        g = np.flatnonzero(rank == k)
+        step = max(1, _CANDIDATE_BUDGET // len(pins))
+        for a in range(0, len(g), step):
+            i = g[a : a + step]
+            t_best[i] = _null_space_optimum(
+                W[i], w[i], lo[i], hi[i], t_ref[i], U[i], s[i], Vt[i], k, pins, ups
+            )
+    return t_best, np.isfinite(t_best).all(axis=1)
+
+
+#: Points x candidate sets solved at once by ``min_norm_rows`` (bounds its memory).
+_CANDIDATE_BUDGET = 100_000
+
+
+def _null_space_optimum(W, w, lo, hi, t_ref, U, s, Vt, k, pins, ups):
+    """``min_norm_rows`` at points where W (n, r, m) = U diag(s) Vt has rank k, over the candidate
+    active sets (pins, ups) (``active_set_candidates`` of at most m - k pinned cables): the optimum
+    t (n, m), NaN where infeasible."""
+    m = W.shape[2]
     scale = np.maximum(1.0, np.abs(w).max(axis=1))
-    for k in range(max(m - r, 0) + 1):
-        for cab in itertools.combinations(range(m), k):
-            for side in itertools.product((False, True), repeat=k):
-                pin = np.zeros(m, dtype=bool)
-                up = np.zeros(m, dtype=bool)
-                pin[list(cab)] = True
-                up[[c for c, s in zip(cab, side) if s]] = True
-                val = np.where(up, hi, lo)
-                Wf = W * ~pin
-                tr = np.where(pin, 0.0, t_ref)
-                rhs = (
-                    w - np.einsum("nam,nm->na", W, np.where(pin, val, 0.0)) - np.einsum("nam,nm->na", Wf, tr)
-                )
-                t = np.where(pin, val, tr + np.einsum("nma,na->nm", np.linalg.pinv(Wf, rcond=1e-12), rhs))
-                resid = np.abs(np.einsum("nam,nm->na", W, t) - w).max(axis=1)
-                obj = ((t - t_ref) ** 2).sum(axis=1)
-                inside = (t >= lo - FEAS_TOL).all(axis=1) & (t <= hi + FEAS_TOL).all(axis=1)
-                good = np.isfinite(t).all(axis=1) & inside & (resid <= 1e-9 * scale) & (obj < best)
-                best = np.where(good, obj, best)
-                t_best[good] = t[good]
-    return t_best, np.isfinite(best)
+    # t* = t_ref + V_k S_k^-1 U_k^T (w - W t_ref), the solution closest to t_ref
+    coef = np.einsum("nak,na->nk", U[:, :, :k], w - np.einsum("nam,nm->na", W, t_ref)) / s[:, :k]
+    t_star = t_ref + np.einsum("nkm,nk->nm", Vt[:, :k, :], coef)
+    Z = np.swapaxes(Vt[:, k:, :], 1, 2)  # (n, m, d) null-space basis
+    val = np.where(ups[None], hi[:, None], lo[:, None])  # (n, c, m) the pinned values
+    size = pins.sum(axis=1)
+    lam = np.zeros((len(W), len(pins), m - k))
+    for q in range(1, size.max() + 1):
+        c = np.flatnonzero(size == q)
+        cols = np.nonzero(pins[c])[1].reshape(len(c), q)  # the pinned cables of each set
+        b = np.take_along_axis(val[:, c], cols[None], axis=2) - t_star[:, cols]
+        lam[:, c] = _least_norm_solution(Z[:, cols, :], b)
+    t = np.where(pins[None], val, t_star[:, None] + np.einsum("nmd,ncd->ncm", Z, lam))
+    resid = np.abs(np.einsum("nam,ncm->nca", W, t) - w[:, None]).max(axis=2)
+    inside = (t >= lo[:, None] - FEAS_TOL).all(axis=2) & (t <= hi[:, None] + FEAS_TOL).all(axis=2)
+    good = np.isfinite(t).all(axis=2) & inside & (resid <= 1e-9 * scale[:, None])
+    obj = np.where(good, ((t - t_ref[:, None]) ** 2).sum(axis=2), np.inf)
+    best = obj.argmin(axis=1)
+    out = np.full((len(W), m), np.nan)
+    found = np.isfinite(obj[np.arange(len(W)), best])
+    out[found] = t[found, best[found]]
+    return out
+
+
+def _least_norm_solution(A, b):
+    """The least-norm x of A x = b for stacked k x d matrices A (..., k, d) of full row rank k <= d
+    and b (..., k): x = A^T (A A^T)^-1 b, the k x k system in closed form for k <= 2; NaN where
+    the rows of A are dependent (Gram determinant below 1e-12 of the product of its diagonal, or
+    smallest eigenvalue below 1e-12 of the largest)."""
+    k = A.shape[-2]
+    G = np.einsum("...kd,...jd->...kj", A, A)
+    if k == 1:
+        g = G[..., 0, 0]
+        y = (b[..., 0] / np.where(g > 1e-24, g, np.nan))[..., None]
+    elif k == 2:
+        a, c, e = G[..., 0, 0], G[..., 0, 1], G[..., 1, 1]
+        det = a * e - c * c
+        det = np.where(det > 1e-12 * a * e, det, np.nan)
+        y = np.stack([(e * b[..., 0] - c * b[..., 1]) / det, (a * b[..., 1] - c * b[..., 0]) / det], axis=-1)
+    else:
+        ev = np.linalg.eigvalsh(G)
+        regular = ev[..., 0] > 1e-12 * ev[..., -1]
+        Gs = np.where(regular[..., None, None], G, np.eye(k))
+        y = np.where(regular[..., None], np.linalg.solve(Gs, b[..., None])[..., 0], np.nan)
+    return np.einsum("...kd,...k->...d", A, y)
 
 
 def rank_rows(robot, W, w):

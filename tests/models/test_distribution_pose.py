@@ -163,3 +163,43 @@ def test_compensation_round_trip_with_the_improved_closed_form(cogiro):
     assert (chk["status"] == "ok").all() and (chk["n_taut"] == 8).all()
     assert chk["dp"].max() < 1e-9 and chk["dphi"].max() < 1e-9
     assert np.abs(chk["t"] - c["t"]).max() < 1e-5
+
+
+def _kkt_residual(W, t, t_ref, lo, hi, tol=1e-6):
+    """The first-order optimality of t for min |t - t_ref|^2, W t = w, lo <= t <= hi: t - t_ref =
+    -W^T mu + nu_lo - nu_hi with nu >= 0 on the active bounds only (least squares for the
+    multipliers); returns (stationarity residual [N], most negative bound multiplier [N])."""
+    m = len(t)
+    at_lo, at_hi = np.abs(t - lo) <= tol, np.abs(t - hi) <= tol
+    A = np.column_stack([-W.T, np.eye(m)[:, at_lo], -np.eye(m)[:, at_hi]])
+    x, *_ = np.linalg.lstsq(A, t - t_ref, rcond=None)
+    nu = x[W.shape[0] :]
+    return np.abs(A @ x - (t - t_ref)).max(), nu.min(initial=0.0)
+
+
+@pytest.mark.parametrize("rows,m", [(6, 8), (6, 7), (3, 5), (3, 6), (6, 6)])
+def test_min_norm_rows_meets_kkt_and_linprog_feasibility(rows, m):
+    """On random wrench matrices (one in ten of rank rows - 1, with a consistent right-hand side)
+    and a reference t_ref: every returned t is optimal by the KKT conditions (stationarity with
+    nonnegative multipliers of the active bounds, to 1e-6 of the tensions' scale), and a point is
+    feasible exactly where scipy's linprog finds a t with W t = w in the bounds."""
+    from scipy.optimize import linprog
+
+    rng = np.random.default_rng(rows * 10 + m)
+    n = 120
+    W = rng.normal(size=(n, rows, m))
+    W[::10, -1] = W[::10, 0]  # rank-deficient rows
+    t_true = rng.uniform(50.0, 450.0, (n, m))
+    w = np.einsum("nam,nm->na", W, t_true)
+    t_ref = rng.uniform(0.0, 300.0, m)
+    t, ok = min_norm_rows(W, w, 100.0, 400.0, t_ref=t_ref)
+    assert 0 < ok.sum() < n  # both outcomes occur
+    assert np.isnan(t[~ok]).all()
+    for i in range(n):
+        lp = linprog(np.zeros(m), A_eq=W[i], b_eq=w[i], bounds=[(100.0, 400.0)] * m, method="highs")
+        assert ok[i] == (lp.status == 0), i
+        if ok[i]:
+            assert np.abs(W[i] @ t[i] - w[i]).max() < 1e-8 * max(1.0, np.abs(w[i]).max())
+            assert (t[i] >= 100.0 - 1e-6).all() and (t[i] <= 400.0 + 1e-6).all()
+            stat, nu_min = _kkt_residual(W[i], t[i], t_ref, 100.0, 400.0)
+            assert stat < 1e-6 * 400.0 and nu_min > -1e-6 * 400.0, (i, stat, nu_min)
