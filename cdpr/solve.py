@@ -521,7 +521,7 @@ def _heavy_sensitivities(robot, p, rotvec, redundancy, L, t_tol, solver):
         )
     res = heavy_sensitivity.pose_sensitivities(robot, p, rotvec, L0=L, t_tol=t_tol, **solver)
     if _fast_point(robot, p, rotvec):
-        extra = {k: res[k] for k in ("names", "smooth", "margin_t", "cond")}
+        extra = {k: res[k] for k in ("names", "smooth", "margin_t", "cond", "sag_max")}
         res = {**point_keys(res), **extra, "S": res["S"][:, :3]}
     return _mark(res, p, robot, floor=False)
 

@@ -783,9 +783,7 @@ def cmd_grid(args):
     _zero_length_note(int(_zero_length(robot, P, rv, None, args.redundancy).any(axis=1).sum()))
     if args.wrench_feasible:
         _zero_length_note(int(_zero_segment(robot, P, rv).any(axis=1).sum()), "length", "not wrench-feasible")
-        from cdpr.models.tension_distribution import distribute_pose  # lazy: --wrench-feasible only
-
-        df["feasible"] = distribute_pose(robot, P, args.rotvec, t_min=args.t_min)["feasible"]
+        df["feasible"] = heavy.feasible(robot, P, args.rotvec, args.t_min)  # heavy: sag-consistent
         extra = _wrench_feasible_summary(df, box, args)
     if args.interference:  # the interference columns at the grid's poses (docs/interference.md)
         df = df.assign(**columns(interference(robot, P, rv)))

@@ -151,6 +151,22 @@ def one_shot(robot, n):
     return None if robot.heavy else n
 
 
+def feasible(robot, P, rotvec, t_min):
+    """``grid --wrench-feasible``: a tension distribution in [t_min, T_a] holds the platform at each
+    pose. Massless cables: ``tension_distribution.distribute_pose``; heavy cables: the sag-consistent
+    distribution (``compensation.heavy_distribution``, the bounds on the tensions at B_i, as
+    ``compensate``'s), whose W has the catenaries' end forces for columns."""
+    if not robot.heavy:
+        from cdpr.models.tension_distribution import distribute_pose  # lazy: --wrench-feasible only
+
+        return distribute_pose(robot, P, rotvec, t_min=t_min)["feasible"]
+    from cdpr.analyses.compensation import heavy_distribution  # lazy: --wrench-feasible, heavy only
+    from cdpr.models.platform import pose_arrays  # lazy: --wrench-feasible, heavy only
+
+    p, R = pose_arrays(P, rotvec)
+    return heavy_distribution(robot, p, R, t_min=t_min)["feasible"]
+
+
 def _nan_none(x):
     return [None if np.isnan(v) else float(v) for v in x]
 
