@@ -343,6 +343,8 @@ def cmd_point(args):
     robot = robot_from_args(args)
     points = read_points(args)
     engine = check_engine(args.engine, args.method, one_shot=heavy.one_shot(robot, points.n))
+    if robot.heavy and args.sensitivities and args.engine is None:
+        engine = "numpy"  # heavy sensitivities: the numpy reference whatever the engine (solve.sensitivities)
     L0 = None
     given = [
         o

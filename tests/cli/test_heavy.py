@@ -94,6 +94,9 @@ def test_heavy_cables_default_to_the_compiled_engine(capsys):
     np.testing.assert_allclose(got["sag_m"], ref["sag_m"], rtol=1e-8)
     comp = run_json(capsys, "compensate", "--robot", RC, *HEAVY, "--at", "1", "1", "1.5")
     assert comp["engine"] == "compiled" and comp["dp_norm"] <= 1e-9
+    # heavy sensitivities are the numpy reference's whatever the engine: the JSON says so
+    sens = run_json(capsys, *args, "--sensitivities")
+    assert sens["engine"] == "numpy" and "rho_1" in sens["sensitivities"]
 
 
 def test_point_table_has_sag_max(tmp_path, capsys):
