@@ -240,8 +240,9 @@ def check_equilibrium(choice):
 def reach(robot, p, rotvec=None, *, L0=None, engine=None, threads=None, **start):
     """The equilibrium reached by continuation (``models.continuation.reach``, whose docstring gives
     the path, the steps, the folds and the starts), by the chosen engine's local Newton solver:
-    numpy (``equilibrium.local_newton``, the default) or compiled (``compiled.equilibrium.newton``),
-    heavy cables too (``compiled.equilibrium.CompiledHeavyCables``: every pulley).
+    compiled (``compiled.equilibrium.newton``, the default as for ``solve``; heavy cables too,
+    ``compiled.equilibrium.CompiledHeavyCables``: every pulley) or numpy (``equilibrium.local_newton``);
+    the two reach the same equilibria, statuses and starts to 1e-9 m and rad (tests/models/test_continuation.py).
 
     Parameters
     ----------
@@ -253,7 +254,7 @@ def reach(robot, p, rotvec=None, *, L0=None, engine=None, threads=None, **start)
     L0 : array_like (N, m) or (m,) [m], optional
         Target rest lengths, default L_TS at the desired pose.
     engine : {"compiled", "numpy"}, optional
-        Default numpy.
+        ``check_engine``'s default for Newton (compiled) when None.
     threads : int, optional
         Caps the compiled engine's threads.
     **start
@@ -271,7 +272,7 @@ def reach(robot, p, rotvec=None, *, L0=None, engine=None, threads=None, **start)
     CdprError
         An unknown engine, a start that does not exist.
     """
-    engine = check_engine("numpy" if engine is None else engine, "newton")
+    engine = check_engine(engine, "newton")
     if engine == "compiled":
         compiled_equilibrium.set_threads(threads)
         kind = (
@@ -520,7 +521,7 @@ def _heavy_sensitivities(robot, p, rotvec, redundancy, L, t_tol, solver):
         )
     res = heavy_sensitivity.pose_sensitivities(robot, p, rotvec, L0=L, t_tol=t_tol, **solver)
     if _fast_point(robot, p, rotvec):
-        extra = {k: res[k] for k in ("names", "smooth", "margin_t", "cond")}
+        extra = {k: res[k] for k in ("names", "smooth", "margin_t", "cond", "sag_max")}
         res = {**point_keys(res), **extra, "S": res["S"][:, :3]}
     return _mark(res, p, robot, floor=False)
 

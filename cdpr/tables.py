@@ -176,7 +176,7 @@ def solve_table(
         res = solve(robot, p, engine=engine, L0=L0, **run, **options)
         multiple = redundancy == "physical" and "unique" in res and not np.all(res["unique"])
         if multiple and check_equilibrium(equilibrium) == "reached":  # issue 39
-            engine = None if robot.heavy else check_engine(engine, "newton")
+            engine = check_engine(engine, "newton")
             res = reach_where_multiple(robot, res, engine=engine, threads=threads)
         return to_frame(robot, res, redundancy, options.get("rotvec"))
     engine = check_engine(engine, method)

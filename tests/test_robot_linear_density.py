@@ -127,6 +127,7 @@ def test_linear_density_zero_gives_byte_identical_output(capsys, args):
                 "2",
                 "--out",
                 "x.parquet",
+                "--interference",
             ],
             None,
         ),

@@ -334,14 +334,17 @@ def _zero_length_note(n, what="rest length", status="status as solved (not ok)")
 def cmd_point(args):
     """One pose (--at) or a table of poses (--points): the solved pose, tensions and status. Without
     --engine, fewer than ``solve.ONE_SHOT_POSES`` poses are answered by the numpy reference (the
-    compiled engine's load would be most of the process), more by the compiled engine."""
+    compiled engine's load would be most of the process), more by the compiled engine; heavy cables
+    by the compiled engine (``heavy.one_shot``)."""
     from cdpr.models.interference import interference_free  # lazy: the solver commands only
     from cdpr.solve import check_engine  # lazy: the solvers, for the solver commands only
     from cdpr.solve import solve as solve_poses  # lazy: the solvers, for the solver commands only
 
     robot = robot_from_args(args)
     points = read_points(args)
-    engine = check_engine(args.engine, args.method, one_shot=points.n)
+    engine = check_engine(args.engine, args.method, one_shot=heavy.one_shot(robot, points.n))
+    if robot.heavy and args.sensitivities and args.engine is None:
+        engine = "numpy"  # heavy sensitivities: the numpy reference whatever the engine (solve.sensitivities)
     L0 = None
     given = [
         o
@@ -535,7 +538,7 @@ def cmd_point(args):
 def cmd_compensate(args):
     """Compensated rest lengths (inverse elasto-geometric model) and, as a check, the pose the
     platform takes when they are commanded (to the same robot, or to one with --actual-E-cables).
-    The engine's default is ``point``'s (``solve.check_engine`` with ``one_shot``)."""
+    The engine's default is ``point``'s (``solve.check_engine`` with ``heavy.one_shot``)."""
     import dataclasses  # lazy: --actual-E-cables only
 
     from cdpr.analyses.compensation import at_poses, compensated_pose  # lazy: this command only
@@ -544,7 +547,7 @@ def cmd_compensate(args):
 
     robot = robot_from_args(args)
     points = read_points(args)
-    engine = check_engine(args.engine, "newton", one_shot=points.n)
+    engine = check_engine(args.engine, "newton", one_shot=heavy.one_shot(robot, points.n))
     actual = None
     if args.actual_E_cables is not None:
         if len(args.actual_E_cables) != robot.m:
@@ -782,9 +785,7 @@ def cmd_grid(args):
     _zero_length_note(int(_zero_length(robot, P, rv, None, args.redundancy).any(axis=1).sum()))
     if args.wrench_feasible:
         _zero_length_note(int(_zero_segment(robot, P, rv).any(axis=1).sum()), "length", "not wrench-feasible")
-        from cdpr.models.tension_distribution import distribute_pose  # lazy: --wrench-feasible only
-
-        df["feasible"] = distribute_pose(robot, P, args.rotvec, t_min=args.t_min)["feasible"]
+        df["feasible"] = heavy.feasible(robot, P, args.rotvec, args.t_min)  # heavy: sag-consistent
         extra = _wrench_feasible_summary(df, box, args)
     if args.interference:  # the interference columns at the grid's poses (docs/interference.md)
         df = df.assign(**columns(interference(robot, P, rv)))

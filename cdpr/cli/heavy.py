@@ -122,18 +122,49 @@ def inverse_heavy(args, robot, points):
     return None
 
 
-#: The commands that model heavy cables (docs/heavy_cables.md); the others refuse them in one line.
-HEAVY_COMMANDS = ("cmd_inverse", "cmd_point", "cmd_compensate")
+#: The commands that model heavy cables (docs/heavy_cables.md); another command given a robot with
+#: heavy cables refuses it in one line (``robot.require_massless``). ``grid``, ``plane`` and
+#: ``trajectory`` solve their points through the library's one door (``tables.solve_table``, as the
+#: studies' plane, path and grid tables): physical mode, the heavy robot under L_TS at each desired
+#: pose, with the table's ``sag_max_m``.
+HEAVY_COMMANDS = ("cmd_inverse", "cmd_point", "cmd_compensate", "cmd_grid", "cmd_plane", "cmd_trajectory")
 
 
 def check(robot, args):
     """Refuse heavy cables in one line (``robot.require_massless``) in the commands that do not
-    model them; in those that do, take the numpy reference when no --engine is given."""
+    model them, and the options of those that do which do not (``grid --interference``). The engine's
+    default is left to ``solve.check_engine`` (see ``one_shot``)."""
     command = getattr(args, "run", ("", "this command"))[1]
     if command not in HEAVY_COMMANDS:
         require_massless(robot, "cdpr " + command.removeprefix("cmd_"))
-    elif robot.heavy and hasattr(args, "engine") and args.engine is None:
-        args.engine = "numpy"  # heavy cables: the numpy reference (no compiled kernel here yet)
+    elif robot.heavy and command == "cmd_grid" and getattr(args, "interference", False):
+        require_massless(robot, "cdpr grid --interference (straight cables at the grid's poses)")
+
+
+def one_shot(robot, n):
+    """``solve.check_engine``'s ``one_shot`` for a process that solves ``n`` poses and exits
+    (``point``, ``compensate``): ``n`` for massless cables (below ``solve.ONE_SHOT_POSES`` the numpy
+    reference is cheaper than loading the compiled engine), None with heavy cables: the compiled
+    engine for any number of poses, as in the library. The heavy numpy reference costs seconds per
+    pose (CoGiRo at 0.0631 kg/m, ``point --at 1 1 1.5``: 14.5 s CPU numpy, 2.2 s compiled with the
+    kernels' load; docs/heavy_cables.md)."""
+    return None if robot.heavy else n
+
+
+def feasible(robot, P, rotvec, t_min):
+    """``grid --wrench-feasible``: a tension distribution in [t_min, T_a] holds the platform at each
+    pose. Massless cables: ``tension_distribution.distribute_pose``; heavy cables: the sag-consistent
+    distribution (``compensation.heavy_distribution``, the bounds on the tensions at B_i, as
+    ``compensate``'s), whose W has the catenaries' end forces for columns."""
+    if not robot.heavy:
+        from cdpr.models.tension_distribution import distribute_pose  # lazy: --wrench-feasible only
+
+        return distribute_pose(robot, P, rotvec, t_min=t_min)["feasible"]
+    from cdpr.analyses.compensation import heavy_distribution  # lazy: --wrench-feasible, heavy only
+    from cdpr.models.platform import pose_arrays  # lazy: --wrench-feasible, heavy only
+
+    p, R = pose_arrays(P, rotvec)
+    return heavy_distribution(robot, p, R, t_min=t_min)["feasible"]
 
 
 def _nan_none(x):

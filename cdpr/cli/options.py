@@ -189,7 +189,7 @@ def solver_options(sp):
         "--engine",
         choices=ENGINES,
         default=None,
-        help="compiled numba kernel (default for newton; Newton only) or the numpy reference (default for fixed_point, and for `point` below 500 poses)",
+        help="compiled numba kernel (default for newton; Newton only) or the numpy reference (default for fixed_point, and for `point` below 500 poses of massless cables)",
     )
     sp.add_argument(
         "--threads",

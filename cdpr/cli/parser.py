@@ -145,7 +145,7 @@ def build_parser(jobs=True):
         "--engine",
         choices=ENGINES,
         default=None,
-        help="engine of the check solve (default: numpy below 500 poses, else compiled; cdpr.solve.check_engine)",
+        help="engine of the check solve (default: numpy below 500 poses of massless cables, else compiled; cdpr.solve.check_engine)",
     )
     sp.add_argument("--threads", type=threads, help="threads of the compiled engine")
     sp.set_defaults(run=("cdpr.cli.commands", "cmd_compensate"))

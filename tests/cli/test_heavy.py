@@ -78,6 +78,27 @@ def test_compensate_json_keys_rigid_platform_cogiro(capsys):
     assert np.abs(np.array(out["lengths"]) - massless["lengths"]).max() > 1e-6
 
 
+def test_heavy_cables_default_to_the_compiled_engine(capsys):
+    """One heavy pose is solved by the compiled engine unless --engine names one (the numpy
+    reference costs seconds per heavy pose: ``cli.heavy.one_shot``); the numpy reference gives the
+    same equilibrium, reached and global, to 1e-9 m and rad."""
+    args = ["point", "--robot", RC, *HEAVY, "--at", "1", "1", "1.5"]
+    got = run_json(capsys, *args)
+    ref = run_json(capsys, *args, "--engine", "numpy")
+    assert (got["engine"], ref["engine"]) == ("compiled", "numpy")
+    assert got["status"] == ref["status"] == "ok" and got["taut"] == ref["taut"]
+    for key in ("solved", "solved_rotvec"):
+        np.testing.assert_allclose(got[key], ref[key], rtol=0, atol=1e-9)
+        np.testing.assert_allclose(got["reached"][key], ref["reached"][key], rtol=0, atol=1e-9)
+    np.testing.assert_allclose(got["tensions"], ref["tensions"], rtol=1e-8)
+    np.testing.assert_allclose(got["sag_m"], ref["sag_m"], rtol=1e-8)
+    comp = run_json(capsys, "compensate", "--robot", RC, *HEAVY, "--at", "1", "1", "1.5")
+    assert comp["engine"] == "compiled" and comp["dp_norm"] <= 1e-9
+    # heavy sensitivities are the numpy reference's whatever the engine: the JSON says so
+    sens = run_json(capsys, *args, "--sensitivities")
+    assert sens["engine"] == "numpy" and "rho_1" in sens["sensitivities"]
+
+
 def test_point_table_has_sag_max(tmp_path, capsys):
     pts = tmp_path / "p.csv"
     pd.DataFrame({"x": [0.3, 1.0], "y": [-0.5, 0.5], "z": [2.0, 3.0]}).to_csv(pts, index=False)

@@ -167,3 +167,16 @@ def test_heavy_cables_are_continued_by_either_engine():
     np.testing.assert_allclose(got["P_s"], ref["P_s"], rtol=0, atol=1e-9)
     np.testing.assert_allclose(got["R_s"], ref["R_s"], rtol=0, atol=1e-9)
     np.testing.assert_allclose(got["sag"], ref["sag"], rtol=1e-9, atol=1e-12)
+
+
+def test_the_default_engine_is_the_compiled_one(wall, example):
+    """reach's default engine is solve's (compiled for Newton): the default answer is the compiled
+    engine's, and the numpy reference reaches the same equilibrium, status and start to 1e-9."""
+    a, _ = example
+    got = reach(wall, P, RV, L0=L0, engine="compiled")
+    ref = reach(wall, P, RV, L0=L0, engine="numpy")
+    assert np.array_equal(a["P_s"], got["P_s"]) and np.array_equal(a["R_s"], got["R_s"])
+    assert list(ref["status"]) == list(a["status"]) and list(ref["start"]) == list(a["start"])
+    assert ref["n_folds"].tolist() == a["n_folds"].tolist()
+    np.testing.assert_allclose(ref["P_s"], a["P_s"], rtol=0, atol=1e-9)
+    np.testing.assert_allclose(ref["R_s"], a["R_s"], rtol=0, atol=1e-9)
