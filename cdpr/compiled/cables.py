@@ -40,9 +40,8 @@ from cdpr.compiled.catenary import (
     arc_length,
     cable_energy_stiffness,
     cable_state,
-    flexibility,
     sag,
-    span_equations,
+    spans_and_flexibility,
     terms_fast,
 )
 from cdpr.models.catenary import CATENARY, INFEASIBLE, SPAN_STATUSES, U_SHAPED
@@ -836,8 +835,7 @@ def span_for_tension(l_h, l_v, T_B, w, EA, rtol=1e-15, maxiter=50):
         if done:
             break
         H, V = T_B * math.cos(psi), T_B * math.sin(psi)
-        xh, xv = span_equations(H, V, L0, w, EA)
-        f11, f12, f22 = flexibility(H, V, L0, w, EA)
+        xh, xv, f11, f12, f22 = spans_and_flexibility(H, V, L0, w, EA)
         rh, rv = xh - l_h, xv - l_v
         if math.hypot(rh, rv) <= rtol * c:
             done = True
