@@ -9,6 +9,10 @@ massless kernels, measured in one run on this machine, and the cost of one caten
   * CoGiRo, rigid 6-DoF platform, over an n^3 grid of its central box at the identity orientation:
     the massless pose kernel, the heavy kernel (0.0631 kg/m) and the heavy numpy reference, with its
     SR pulleys and with the study's DR design (h 75 mm, r_p 50 mm: the general pulley coupling);
+  * the heavy inverse on CoGiRo (SR and DR): the catenaries that carry given tensions at B_i and
+    their rest lengths (the inner step of the sag-consistent compensation), compiled
+    (cdpr.compiled.cables.inverse) over the grid and the numpy reference
+    (cdpr.models.cables.HeavyCables.inverse) on a slice: inverses/s and their ratio;
   * one catenary (cdpr.compiled.catenary.span_states over random taut spans of CoGiRo's size, and
     cable_state, the whole cable with its dead part): the time per solve beside the hand count of
     the floating-point operations of one Newton iteration (README, "Heavy cables").
@@ -32,9 +36,12 @@ import numpy as np
 
 from cdpr import solve as door
 from cdpr.analyses.workspace import grid_points
+from cdpr.compiled import cables as ccables
 from cdpr.compiled import catenary as ccat
 from cdpr.compiled import equilibrium as cequilibrium
 from cdpr.models import equilibrium
+from cdpr.models.cables import HeavyCables
+from cdpr.models.platform import pose_arrays
 from cdpr.robot import load_robot, with_pulleys, with_values
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -100,6 +107,67 @@ def spans(n, seed=3):
     return l_h, l_v, L0, w, EA
 
 
+def cogiro_rows(label, massless, Q, slq, repeat):
+    """The massless pose kernel, the heavy kernel (0.0631 kg/m) over the grid Q and the heavy numpy
+    reference on the slice slq of one CoGiRo design, and the compiled-vs-numpy check on the slice;
+    returns the equilibria/s of the two kernels."""
+    heavy = with_values(massless, linear_density=RHO)
+    key = label.lower()
+    figures = {}
+    t, res = best_of(lambda: cequilibrium.solve(massless, Q), repeat)
+    figures[f"{key} massless pose"] = row(f"{label} massless, pose kernel", len(Q), t, res)
+    t, res = best_of(lambda: cequilibrium.solve(heavy, Q), repeat)
+    figures[f"{key} heavy"] = row(f"{label} heavy 0.0631 kg/m, compiled", len(Q), t, res)
+    t, ref = best_of(lambda: equilibrium.solve(heavy, slq), 1)
+    row(f"{label} heavy 0.0631 kg/m, numpy reference", len(slq), t, ref)
+    sub = cequilibrium.solve(heavy, slq)
+    print(
+        f"  compiled vs numpy on the slice: same statuses {bool((sub['status'] == ref['status']).all())}, "
+        f"max |dP*| {np.abs(sub['P_s'] - ref['P_s']).max():.1e} m, "
+        f"max |dphi*| {np.abs(sub['rotvec_s'] - ref['rotvec_s']).max():.1e} rad, largest sag "
+        f"{1e3 * sub['sag_max'].max():.1f} mm"
+    )
+    return figures
+
+
+def inverse_rows(label, heavy, Q, slq, repeat):
+    """The heavy inverse (``HeavyCables.inverse``: the catenaries that carry given tensions at B_i
+    and their rest lengths, the inner step of the sag-consistent compensation) at the identity
+    orientation over the grid Q, compiled (``compiled.cables.inverse``), and the numpy reference on
+    the slice slq: inverses/s (poses; each is m cables), the ratio of the two per pose and their
+    largest difference on the slice. Tensions at B: 200-3000 N, seeded."""
+    rng = np.random.default_rng(7)
+    t = rng.uniform(200.0, 3000.0, (len(Q), heavy.m))
+    ts = t[:: max(1, len(Q) // len(slq))][: len(slq)]
+    p, R = pose_arrays(Q)
+    ps, Rs = pose_arrays(slq)
+    cab, ref = cequilibrium.CompiledHeavyCables(heavy), HeavyCables(heavy)
+    tc, _ = best_of(lambda: ccables.inverse(cab, p, R, t), repeat)
+    cpu_c = CPU_TIME["last"]
+    tn, a = best_of(lambda: ref.inverse(ps, Rs, ts), 1)
+    cpu_n = CPU_TIME["last"]
+    b = ccables.inverse(cab, ps, Rs, ts)
+    diff = max(float(np.nanmax(np.abs(a[k] - b[k]))) for k in ("D", "L0", "L0_free", "l_dead"))
+    print(
+        f"{label} heavy inverse, compiled: {len(Q) / tc:,.0f} inverses/s ({len(Q) * heavy.m / tc:,.0f} "
+        f"cables/s, {len(Q) / cpu_c:,.0f} per CPU-s); numpy reference: {len(slq) / tn:,.0f} inverses/s "
+        f"({len(slq) / cpu_n:,.0f} per CPU-s); ratio {len(Q) / tc / (len(slq) / tn):.0f} (wall), "
+        f"{len(Q) / cpu_c / (len(slq) / cpu_n):.0f} (CPU); same converged "
+        f"{bool((a['converged'] == b['converged']).all())}, max |dD|, |dL0| {diff:.1e} m"
+    )
+
+
+def cpu_name():
+    """The CPU's model name (/proc/cpuinfo), else ``platform.processor()`` or the machine."""
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or platform.machine()
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--n", type=int, default=20, help="points per axis of the grids (n^3 poses)")
@@ -107,7 +175,7 @@ def main():
     ap.add_argument("--numpy", type=int, default=500, help="poses of the numpy reference's slice")
     args = ap.parse_args()
     print(
-        f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
+        f"machine: {cpu_name()}, {os.cpu_count()} cores, "
         f"numba threads {numba.get_num_threads()}, Python {platform.python_version()}"
     )
     print("load average before: {:.2f} {:.2f} {:.2f}".format(*os.getloadavg()))
@@ -136,40 +204,15 @@ def main():
     )
 
     cogiro = load_robot(ROOT / "config" / "robots" / "cogiro.yaml")
-    heavyc = with_values(cogiro, linear_density=RHO)
     Q = grid_points(COGIRO_BOX, args.n)
     slq = Q[:: max(1, len(Q) // args.numpy)][: args.numpy]
-    t, res = best_of(lambda: cequilibrium.solve(cogiro, Q), args.repeat)
-    figures["cogiro massless pose"] = row("CoGiRo massless, pose kernel", len(Q), t, res)
-    t, res = best_of(lambda: cequilibrium.solve(heavyc, Q), args.repeat)
-    figures["cogiro heavy"] = row("CoGiRo heavy 0.0631 kg/m, compiled", len(Q), t, res)
-    t, ref = best_of(lambda: equilibrium.solve(heavyc, slq), 1)
-    row("CoGiRo heavy 0.0631 kg/m, numpy reference", len(slq), t, ref)
-    sub = cequilibrium.solve(heavyc, slq)
-    print(
-        f"  compiled vs numpy on the slice: same statuses {bool((sub['status'] == ref['status']).all())}, "
-        f"max |dP*| {np.abs(sub['P_s'] - ref['P_s']).max():.1e} m, "
-        f"max |dphi*| {np.abs(sub['rotvec_s'] - ref['rotvec_s']).max():.1e} rad, largest sag "
-        f"{1e3 * sub['sag_max'].max():.1f} mm"
-    )
-
-    # CoGiRo's DR design (the study's DRopt: h 75 mm, r_p 50 mm): the general pulley coupling
-    # (compiled.cables._general_at, the reference's fixed point on P*) beside the numpy reference
+    # CoGiRo's SR pulleys, and its DR design (the study's DRopt: h 75 mm, r_p 50 mm): the general
+    # pulley coupling (compiled.cables._general_at, the reference's fixed point on P*)
     dr = with_pulleys(cogiro, kind="DR", h=0.075, r_p=0.05)
-    heavyd = with_values(dr, linear_density=RHO)
-    t, res = best_of(lambda: cequilibrium.solve(dr, Q), args.repeat)
-    figures["cogiro dr massless pose"] = row("CoGiRo DR massless, pose kernel", len(Q), t, res)
-    t, res = best_of(lambda: cequilibrium.solve(heavyd, Q), args.repeat)
-    figures["cogiro dr heavy"] = row("CoGiRo DR heavy 0.0631 kg/m, compiled", len(Q), t, res)
-    t, ref = best_of(lambda: equilibrium.solve(heavyd, slq), 1)
-    row("CoGiRo DR heavy 0.0631 kg/m, numpy reference", len(slq), t, ref)
-    sub = cequilibrium.solve(heavyd, slq)
-    print(
-        f"  compiled vs numpy on the slice: same statuses {bool((sub['status'] == ref['status']).all())}, "
-        f"max |dP*| {np.abs(sub['P_s'] - ref['P_s']).max():.1e} m, "
-        f"max |dphi*| {np.abs(sub['rotvec_s'] - ref['rotvec_s']).max():.1e} rad, largest sag "
-        f"{1e3 * sub['sag_max'].max():.1f} mm"
-    )
+    for label, massless in (("CoGiRo", cogiro), ("CoGiRo DR", dr)):
+        figures.update(cogiro_rows(label, massless, Q, slq, args.repeat))
+    for label, massless in (("CoGiRo", cogiro), ("CoGiRo DR", dr)):
+        inverse_rows(label, with_values(massless, linear_density=RHO), Q, slq, args.repeat)
 
     n = 200_000
     l_h, l_v, L0, w, EA = spans(n)

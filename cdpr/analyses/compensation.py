@@ -32,6 +32,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from cdpr.compiled import cables as compiled_cables
+from cdpr.compiled.equilibrium import CompiledHeavyCables
 from cdpr.errors import CdprError
 from cdpr.models.cables import HeavyCables, heavy_cables
 from cdpr.models.inverse import pose_state
@@ -150,7 +152,9 @@ def _wrench(robot, R, u, r):
     return rank_rows(robot, W, w)
 
 
-def heavy_distribution(robot, p, R, t_min=T_MIN_DEFAULT, t_max=None, method="min_norm", t0=None, **options):
+def heavy_distribution(
+    robot, p, R, t_min=T_MIN_DEFAULT, t_max=None, method="min_norm", t0=None, engine=None, **options
+):
     """The sag-consistent tension distribution of a robot with heavy cables (issue 38): the
     distribution (``method``, bounds on the tensions at B_i) of the wrench matrix whose columns are
     the unit end forces at B_i of the catenaries that carry those tensions
@@ -177,6 +181,10 @@ def heavy_distribution(robot, p, R, t_min=T_MIN_DEFAULT, t_max=None, method="min
         The distribution.
     t0 : ndarray (N, m) [N], optional
         Start of the fixed point (default the massless distribution).
+    engine : {"compiled", "numpy", None}
+        The heavy inverse's engine (``solve.check_engine``: None is compiled,
+        ``compiled.cables.inverse``; numpy: ``cables.HeavyCables.inverse``); another value raises
+        CdprError.
     options : passed to ``tension_distribution.min_norm`` (``t_ref``, ``solver``).
 
     Returns
@@ -191,7 +199,7 @@ def heavy_distribution(robot, p, R, t_min=T_MIN_DEFAULT, t_max=None, method="min
     ----------
     Irvine 1981, ch. 2; Pott 2018, ch. 3; Paty et al. 2021, eq. (11)-(13).
     """
-    cab = HeavyCables(robot)
+    inverse = _heavy_inverse(robot, engine)
     t_max = robot.T_a if t_max is None else t_max
     n = len(p)
     if t0 is None:
@@ -207,7 +215,7 @@ def heavy_distribution(robot, p, R, t_min=T_MIN_DEFAULT, t_max=None, method="min
         if not todo.any():
             break
         idx = np.flatnonzero(todo)
-        inv = cab.inverse(p[idx], R[idx], t[idx])
+        inv = inverse(p[idx], R[idx], t[idx])
         good = inv["converged"].all(axis=1)
         u = np.where(good[:, None, None], inv["f"], 0.0)
         W, w = _wrench(robot, R[idx], u, inv["r"])
@@ -222,17 +230,30 @@ def heavy_distribution(robot, p, R, t_min=T_MIN_DEFAULT, t_max=None, method="min
         done = ~feas | (moved <= HEAVY_RTOL * scale)
         todo[idx[done]] = False
     ok &= ~todo  # no fixed point within HEAVY_MAXITER: infeasible, never a half-converged answer
-    inv = cab.inverse(p, R, np.where(ok[:, None], t, 1.0))
+    inv = inverse(p, R, np.where(ok[:, None], t, 1.0))
     ok &= inv["converged"].all(axis=1)
     t = np.where(ok[:, None], t, np.nan)
     L0 = np.where(ok[:, None], inv["L0"], np.nan)
     return {"t": t, "feasible": ok, "iterations": iters, "inverse": inv, "L0": L0}
 
 
-def _planned_cables(robot, p, R, L0, ok):
+def _heavy_inverse(robot, engine):
+    """``HeavyCables.inverse`` of ``robot`` (p, R, t) -> dict by the engine ``engine``
+    (``solve.check_engine``: None is compiled, ``compiled.cables.inverse``)."""
+    if check_engine(engine, "newton") == "compiled":
+        cab = CompiledHeavyCables(robot)
+        return lambda p, R, t: compiled_cables.inverse(cab, p, R, t)
+    return HeavyCables(robot).inverse
+
+
+def _planned_cables(robot, p, R, L0, ok, engine=None):
     """The heavy cables at the desired poses under the compensated rest lengths
-    (``cables.heavy_cables``), NaN (status ``infeasible``) where no distribution exists."""
-    h = heavy_cables(HeavyCables(robot), p, R, L0)
+    (``cables.heavy_cables``, by ``engine``: ``solve.check_engine``, None is compiled,
+    ``compiled.cables.heavy_cables``), NaN (status ``infeasible``) where no distribution exists."""
+    if check_engine(engine, "newton") == "compiled":
+        h = compiled_cables.heavy_cables(CompiledHeavyCables(robot), p, R, L0)
+    else:
+        h = heavy_cables(HeavyCables(robot), p, R, L0)
     for key, value in h.items():
         if key == "cable_status":
             h[key] = np.where(ok[:, None], value, "infeasible")
@@ -264,8 +285,9 @@ def compensate(
         Tension bounds of the distribution (``t_max`` default T_a,i; at B_i for heavy cables); not
         used by ``subset`` (0 <= t <= T_a there, as in paper mode).
     engine : {"compiled", "numpy", None}
-        Paper-mode engine for ``subset`` (``solve.check_engine``: None is compiled; another value
-        raises CdprError).
+        Paper-mode engine for ``subset`` and the heavy cables' inverse and cables
+        (``heavy_distribution``) (``solve.check_engine``: None is compiled; another value raises
+        CdprError).
     rotvec : array_like (3,) or (N, 3) [rad], optional
         Desired orientation (default identity); poses p (N, 6) carry theirs. ``subset`` is the
         point-mass rule at positions only (``at_poses`` false).
@@ -304,10 +326,10 @@ def compensate(
         t, ok, out["subset"] = _subset_tensions(robot, pp, engine)
         L0 = rest_lengths(st.L_TE, t, robot.ES)
     elif robot.heavy:
-        h = heavy_distribution(robot, pp, R, t_min, t_max, method, **options)
+        h = heavy_distribution(robot, pp, R, t_min, t_max, method, engine=engine, **options)
         t, ok, L0 = h["t"], h["feasible"], h["L0"]
         out["iterations"] = h["iterations"]
-        out["cables"] = _planned_cables(robot, pp, R, np.where(ok[:, None], L0, st.L_TE), ok)
+        out["cables"] = _planned_cables(robot, pp, R, np.where(ok[:, None], L0, st.L_TE), ok, engine)
     else:
         u = st.D - B
         u = u / np.linalg.norm(u, axis=-1, keepdims=True)

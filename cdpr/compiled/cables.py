@@ -2,7 +2,10 @@
 (one cable: the sheave exit point D_i and the elastic catenary from B_i to D_i solved together),
 ``HeavyCables.evaluate`` (a pose: force and moment balance, energy, Jacobian, written in the
 compiled pose kernel's layout, ``equilibrium.evaluate``) and ``heavy_cables`` (the per-cable
-outputs at the equilibria), as numba kernels run inside ``cdpr.compiled.equilibrium``'s Newton.
+outputs at the equilibria), as numba kernels run inside ``cdpr.compiled.equilibrium``'s Newton;
+and ``HeavyCables.inverse`` (``inverse``, with ``span_for_tension``: the catenaries that carry given
+tensions at B_i, the inner step of ``analyses.compensation.heavy_distribution``), which follows the
+reference's algorithm step by step, in parallel over poses.
 
 Same equations, pulley coupling, energy and Jacobian as the numpy reference (whose docstrings give
 them), cable by cable: the fixed point on the exit point, the Newton iteration on the split of the
@@ -30,7 +33,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit, prange
 
-from cdpr.compiled._kernels import SWIVEL_RHO_MIN, TWO_PI, pulley_geometry
+from cdpr.compiled._kernels import SWIVEL_RHO_MIN, TWO_PI, pulley_geometry, set_threads
 from cdpr.compiled._linalg import add_cable_jacobian, add_gravity
 from cdpr.compiled.catenary import (
     angle_f_deg,
@@ -38,6 +41,7 @@ from cdpr.compiled.catenary import (
     cable_energy_stiffness,
     cable_state,
     sag,
+    spans_and_flexibility,
     terms_fast,
 )
 from cdpr.models.catenary import CATENARY, INFEASIBLE, SPAN_STATUSES, U_SHAPED
@@ -45,11 +49,14 @@ from cdpr.models.catenary import CATENARY, INFEASIBLE, SPAN_STATUSES, U_SHAPED
 __all__ = [
     "NSTATE",
     "STATE",
+    "INVERSE",
     "Heavy",
     "evaluate",
     "exit_points",
     "heavy_arrays",
     "heavy_cables",
+    "inverse",
+    "span_for_tension",
 ]
 
 #: Columns of one cable's state (``exit_points``): what the next evaluation starts from and what the
@@ -809,3 +816,174 @@ def heavy_cables(cab, P, R, L0, start=None):
         "D": out[..., 7:10],
         "gamma": out[..., 10],
     }
+
+
+@njit(cache=True, error_model="numpy")
+def span_for_tension(l_h, l_v, T_B, w, EA, rtol=1e-15, maxiter=50):
+    """One span of ``models.cables.span_for_tension`` (its defaults): the elastic catenary of spans
+    l_h, l_v [m] that carries the tension T_B [N] at B, by the reference's Newton iteration on
+    (psi, L0) from the straight Hooke spring along the chord, step by step (the same Jacobian,
+    clips and stop rule). Returns (H, V_B [N], L0 [m], converged, iterations), NaN forces and length
+    where not converged (T_B <= 0, l_h <= 0, no convergence in maxiter)."""
+    c = math.hypot(l_h, l_v)
+    ok = T_B > 0.0 and l_h > 0.0 and math.isfinite(T_B)
+    psi = math.atan2(l_v, l_h)
+    L0 = c * (1.0 if math.isinf(EA) else EA / (EA + (T_B if ok else 0.0)))
+    it = 0
+    done = (not ok) or w == 0.0
+    for _ in range(maxiter):
+        if done:
+            break
+        H, V = T_B * math.cos(psi), T_B * math.sin(psi)
+        xh, xv, f11, f12, f22 = spans_and_flexibility(H, V, L0, w, EA)
+        rh, rv = xh - l_h, xv - l_v
+        if math.hypot(rh, rv) <= rtol * c:
+            done = True
+            break
+        V_D = V + w * L0
+        T_D = math.hypot(H, V_D)
+        g = 1.0 / EA + 1.0 / T_D if T_D > 0.0 else 0.0  # the stretched tangent at D
+        gh, gv = g * H, g * V_D
+        j11 = -f11 * V + f12 * H
+        j21 = -f12 * V + f22 * H
+        det = j11 * gv - gh * j21
+        dpsi = -(gv * rh - gh * rv) / det
+        dL = -(-j21 * rh + j11 * rv) / det
+        psi += min(max(dpsi if math.isfinite(dpsi) else 0.0, -0.5), 0.5)
+        L0 += max(dL if math.isfinite(dL) else 0.0, -0.5 * L0)
+        it += 1
+    if not (done and ok):
+        return np.nan, np.nan, np.nan, False, it
+    return T_B * math.cos(psi), T_B * math.sin(psi), L0, True, it
+
+
+#: Columns of one cable's result of ``inverse`` (``_inverse_cable``).
+INVERSE = ("Dx", "Dy", "Dz", "l_h", "l_v", "ehx", "ehy", "ehz", "H", "V_B", "V_D", "T_D", "L0_free", "L0")
+INVERSE += ("l_dead", "gamma", "converged", "iterations")
+
+
+@njit(cache=True, error_model="numpy")
+def _inverse_cable(Bx, By, Bz, c, t, cab, frame, ident, heavy, pulleys, maxiter, o):
+    """``models.cables.HeavyCables.inverse`` of cable c at its attachment point B (base frame) under
+    the tension t [N] at B, the reference's algorithm (``HeavyCables._couple``): the fixed point on
+    the virtual point P* = D + |B - D| u from P* = B, D the tangent point of the massless pulley
+    model at P* (``_sheave``), the catenary from B to D that carries t (``span_for_tension``), u its
+    unit end tangent at D toward the platform; one pass without pulleys, else until P* moves by at
+    most 1e-15 (1 + max |v|) or, within 1e-12 (1 + max |v|), stops shrinking (then the cable solved
+    once more at the last P*), or ``maxiter`` passes. Writes ``INVERSE``'s columns into o."""
+    A, F, rp, EA, w = cab.A[c], frame[c], cab.rp[c], cab.ES[c], heavy.w[c]
+    ux, uy, uz = heavy.up[0], heavy.up[1], heavy.up[2]
+    kx, ky, kz = heavy.axis[c, 0], heavy.axis[c, 1], heavy.axis[c, 2]
+    Px, Py, Pz = Bx, By, Bz
+    moved_prev = np.inf
+    it = 0
+    final = False
+    while True:
+        it += 1
+        g, esx, esy, esz = _sheave(
+            Px, Py, Pz, A[0], A[1], A[2], ident[c], F[0, 0], F[0, 1], F[0, 2], F[1, 0], F[1, 1], F[1, 2], F[2, 0],
+            F[2, 1], F[2, 2], cab.kind[c], cab.h[c], rp, cab.d[c], cab.inward[c, 0], cab.inward[c, 1],
+        )  # fmt: skip
+        Dw = g.Hw + rp * g.sD
+        Dx, Dy, Dz = A[0] + g.Ds * esx + Dw * kx, A[1] + g.Ds * esy + Dw * ky, A[2] + g.Ds * esz + Dw * kz
+        ell = g.ld + rp * g.gamma
+        vx, vy, vz = Dx - Bx, Dy - By, Dz - Bz
+        l_v = vx * ux + vy * uy + vz * uz
+        hx, hy, hz = vx - l_v * ux, vy - l_v * uy, vz - l_v * uz
+        l_h = math.sqrt(hx * hx + hy * hy + hz * hz)
+        nh = l_h if l_h > 0.0 else 1.0
+        ehx, ehy, ehz = hx / nh, hy / nh, hz / nh
+        H, V, L0f, conv, _ = span_for_tension(l_h, l_v, t, w, EA)
+        V_D = V + w * L0f
+        T_D = math.hypot(H, V_D)
+        if final or not pulleys:
+            break
+        cx, cy, cz = -(H * ehx + V_D * ux) / T_D, -(H * ehy + V_D * uy) / T_D, -(H * ehz + V_D * uz) / T_D
+        Qx, Qy, Qz = Bx, By, Bz
+        if T_D > 0.0 and math.isfinite(cx) and math.isfinite(cy) and math.isfinite(cz):
+            n = math.sqrt(vx * vx + vy * vy + vz * vz)
+            Qx, Qy, Qz = Dx + n * cx, Dy + n * cy, Dz + n * cz
+        moved = math.sqrt((Qx - Px) ** 2 + (Qy - Py) ** 2 + (Qz - Pz) ** 2)
+        Px, Py, Pz = Qx, Qy, Qz
+        scale = 1.0 + max(abs(vx), abs(vy), abs(vz))
+        final = moved <= 1e-15 * scale or (moved >= moved_prev and moved <= 1e-12 * scale)
+        if not final and it >= maxiter:
+            break
+        moved_prev = moved
+    o[0], o[1], o[2], o[3], o[4], o[5], o[6], o[7] = Dx, Dy, Dz, l_h, l_v, ehx, ehy, ehz
+    o[8], o[9], o[10], o[11], o[12] = H, V, V_D, T_D, L0f
+    o[13] = L0f + ell * (1.0 if math.isinf(EA) else EA / (EA + T_D))
+    o[14], o[15], o[16], o[17] = ell, g.gamma, 1.0 if conv else 0.0, it - 1 if final else it
+
+
+@njit(cache=True, parallel=True, error_model="numpy")
+def _inverse(B, t, cab, frame, ident, heavy, pulleys, maxiter, out):
+    for i in prange(B.shape[0]):
+        for c in range(B.shape[1]):
+            _inverse_cable(
+                B[i, c, 0],
+                B[i, c, 1],
+                B[i, c, 2],
+                c,
+                t[i, c],
+                cab,
+                frame,
+                ident,
+                heavy,
+                pulleys,
+                maxiter,
+                out[i, c],
+            )
+
+
+def inverse(cab, p, R, t, maxiter=EXIT_MAXITER, threads=None):
+    """Compiled ``models.cables.HeavyCables.inverse``: the heavy inverse of every cable at poses (the
+    exit points D_i, the catenaries that carry the tensions t_i at B_i, the whole cables' rest
+    lengths), each cable by the reference's algorithm (``_inverse_cable``), points in parallel.
+    The fixed point on P* stops cable by cable (the reference's when the largest move of all the
+    cables of all the poses is small): the two agree to round-off; ``iterations`` is the largest
+    number of passes of a cable.
+
+    Parameters
+    ----------
+    cab : CompiledHeavyCables
+        The robot's cables (``equilibrium.CompiledHeavyCables``: the kernel's records).
+    p : ndarray (N, 3) [m]
+        Platform positions.
+    R : ndarray (N, 3, 3) [-]
+        Platform orientations.
+    t : ndarray (N, m) [N]
+        Tensions at B_i (> 0).
+    maxiter : int
+        Cap of the fixed point's passes (pulleys).
+    threads : int, optional
+        Caps numba's threads.
+
+    Returns
+    -------
+    dict
+        As ``models.cables.HeavyCables.inverse``: r (N, m, 3) [m] = R b_i; D (N, m, 3) [m]; l_h,
+        l_v (N, m) [m]; e_h (N, m, 3); H, V_B, V_D, T_D (N, m) [N]; f (N, m, 3) [-] the unit force
+        on the platform at B_i; L0_free, L0, l_dead (N, m) [m]; gamma (N, m) [rad]; converged
+        (N, m) bool; iterations (int).
+
+    References
+    ----------
+    Irvine, H. M. (1981). Cable Structures. MIT Press, ch. 2; Paty et al. 2021, eq. (3)-(5).
+    """
+    set_threads(threads)
+    t = np.asarray(t, dtype=float)
+    r = np.einsum("nab,mb->nma", np.asarray(R, dtype=float), cab.b)
+    B = np.asarray(p, dtype=float)[:, None, :] + r
+    out = np.zeros(B.shape[:2] + (len(INVERSE),))
+    if out.size:
+        tt = np.ascontiguousarray(np.broadcast_to(t, B.shape[:2]))
+        _inverse(
+            B, tt, cab.cables, cab.body.frame, cab.body.ident, cab.heavy, bool(cab.pulleys), int(maxiter), out
+        )
+    res = {k: out[..., i] for i, k in enumerate(INVERSE) if k not in ("Dx", "Dy", "Dz", "ehx", "ehy", "ehz")}
+    res.update(r=r, D=out[..., 0:3], e_h=out[..., 5:8], converged=res["converged"] > 0.0)
+    res["iterations"] = int(res["iterations"].max(initial=0))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        res["f"] = (res["H"][..., None] * res["e_h"] + res["V_B"][..., None] * cab.up) / t[..., None]
+    return res

@@ -45,6 +45,7 @@ __all__ = [
     "sag",
     "span_equations",
     "span_state",
+    "spans_and_flexibility",
     "span_states",
     "stiffness",
     "tension_at",
@@ -161,9 +162,10 @@ def flexibility(H, V_B, L0, w, EA):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def _spans_and_flexibility(H, V_B, L0, w, EA):
+def spans_and_flexibility(H, V_B, L0, w, EA):
     """``span_equations`` and ``flexibility`` of one cable from one ``_terms`` (the same arithmetic
-    as the two: Newton's iteration needs both at every step)."""
+    as the two: the Newton iterations of ``span_state`` and ``cables.span_for_tension`` need both
+    at every step): (l_h, l_v [m], f11, f12, f22 [m/N])."""
     _, _, _, S, Qh, Qv, Qd, Qx, _ = _terms(H, V_B, L0, w)
     l_h = 0.0 if (H == 0.0 or L0 == 0.0) else H * L0 * (1.0 / EA + Qh)
     e = L0 / EA
@@ -298,7 +300,7 @@ def span_state(l_h, l_v, L0, w, EA, H0=np.nan, V0=np.nan, rtol=_RTOL, maxiter=_M
     it = 0
     conv = False
     for _ in range(maxiter):
-        lh, lv, f11, f12, f22 = _spans_and_flexibility(H, V, L0, w, EA)
+        lh, lv, f11, f12, f22 = spans_and_flexibility(H, V, L0, w, EA)
         r1 = lh - l_h
         r2 = lv - l_v
         small = math.hypot(r1, r2) <= tol
