@@ -29,26 +29,27 @@ def _poses(robot, rng, n):
 
 
 def test_a_tool_wrench_is_recovered_with_it_and_biases_the_fit_without_it(cogiro):
-    groups = ["anchors", "dead_lengths"]
+    groups = ["anchors", "attachments", "dead_lengths"]
     rng, idx, sd, truth, th = _truth(cogiro, groups, 1)
     data = cal.simulate(
-        with_wrench(truth, WRENCH), cogiro, _poses(cogiro, rng, 20), sigma=1e-9, sigma_rad=1e-9
+        with_wrench(truth, WRENCH), cogiro, _poses(cogiro, rng, 30), sigma=1e-9, sigma_rad=1e-9
     )
-    assert len(data.sample) == 20
+    n = len(data.sample)
+    assert n == 30  # every pose reached by the loaded truth
     scale = np.maximum(np.abs(th[idx]), sd)
     fits = {}
     for label, nominal in (("with", with_wrench(cogiro, WRENCH)), ("without", cogiro)):
         c = cal.fit(nominal, data, groups, solver={"tol": 1e-13})
         fits[label] = (c, c.summary(), np.abs(c.estimate - th[idx]) / scale)
     c, s, rel = fits["with"]
-    assert s["samples_used"] == 20 and s["residual_rms_m"] < 1e-9 and s["residual_rms_rad"] < 1e-9
+    assert s["samples_used"] == n and s["residual_rms_m"] < 1e-9 and s["residual_rms_rad"] < 1e-9
     assert rel.max() < 1e-6
     # the fitted robot carries the load of the data (it predicts under it); the file written from it
     # does not (tests/cli/test_calibrate_wrench.py)
     assert c.calibrated_robot().platform.wrench == with_wrench(cogiro, WRENCH).platform.wrench
     _, s0, rel0 = fits["without"]
     # the load the fit does not know of: millimetres of residual, parameters off by more than their tolerance
-    assert s0["samples_used"] == 20 and s0["residual_rms_m"] > 1e-4 and s0["residual_rms_rad"] > 1e-4
+    assert s0["samples_used"] == n and s0["residual_rms_m"] > 1e-4 and s0["residual_rms_rad"] > 1e-4
     assert rel0.max() > 1.0
 
 
