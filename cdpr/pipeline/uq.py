@@ -357,7 +357,7 @@ def sobol(st, design, case, box, threads=None):
         median_phi_rad, p95_phi_rad for a pose); for a rigid platform, last, interfering_points
         (grid points left out of every row: the nominal robot's cables interfere at its solved
         pose) and interfering_full (of the points kept and ok, those where the row's robot
-        interferes at its solved pose: flagged, kept).
+        interferes at its solved pose: flagged, kept; these rows are solved again for it).
 
     Notes
     -----
@@ -387,12 +387,9 @@ def sobol(st, design, case, box, threads=None):
             if k not in seen and k not in todo:
                 todo[k] = i
         if todo:
-            values, ok, hit = m_.solve(theta[list(todo.values())], interference=True)
+            values, ok = m_.solve(theta[list(todo.values())])
             parts = [_stats(values[r][:, :n], ok[:, :n], r, keep=keep[:n]) for r in m_.responses]
             s = parts[0] if len(parts) == 1 else pd.concat(parts, axis=1)
-            if _rigid(m_):
-                s["interfering_points"] = int((~keep[:n]).sum())
-                s["interfering_full"] = (hit[:, :n] & keep[:n]).sum(axis=1)
             done_stats.append(s)
             done_Y.append(
                 np.column_stack(
@@ -406,15 +403,23 @@ def sobol(st, design, case, box, threads=None):
         stats.append(pd.concat(done_stats, ignore_index=True).iloc[at].reset_index(drop=True))
         return np.vstack(done_Y)[at]
 
-    per, _, _ = sobol_analysis(evaluate, dr, m_.robot, so["base_samples"], u["seed"], outputs, source=st.path)
+    per, _, theta = sobol_analysis(
+        evaluate, dr, m_.robot, so["base_samples"], u["seed"], outputs, source=st.path
+    )
     D = len(dr)
-    rows = stats[0].iloc[np.r_[0 : len(stats[0]) : D + 2, D + 1 : len(stats[0]) : D + 2]]  # A and B rows
+    ab = np.r_[0 : len(stats[0]) : D + 2, D + 1 : len(stats[0]) : D + 2]  # the A and B rows
+    rows = stats[0].iloc[ab].reset_index(drop=True)
+    if _rigid(m_):  # the A and B rows' own interference (flagged): tested on these rows only, whose
+        # few solves are repeated; every row of Saltelli's scheme would cost ~10 ms each
+        _, ok_ab, hit = m_.solve(theta[ab], interference=True)
+        rows["interfering_points"] = int((~keep[:n]).sum())
+        rows["interfering_full"] = (hit[:, :n] & keep[:n] & ok_ab[:, :n]).sum(axis=1)
     grp, _, _ = sobol_analysis(
         evaluate, dr, m_.robot, so["base_samples"], u["seed"], outputs, groups=True, source=st.path
     )
     indices = pd.concat([per, grp], ignore_index=True)
     indices["base_samples"] = int(so["base_samples"])  # N of Saltelli's scheme: what the intervals rest on
-    return indices, rows.reset_index(drop=True)
+    return indices, rows
 
 
 def _dominant(lin, dr, projected):
