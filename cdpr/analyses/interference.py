@@ -18,6 +18,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
+from cdpr.analyses.compensation import compensate
 from cdpr.analyses.workspace import cell_centres, check_box, largest_box
 from cdpr.errors import CdprError
 from cdpr.models.interference import COLUMNS, columns, interference
@@ -269,8 +270,6 @@ def desired_lengths(robot, P, rotvec=None, t_min=T_MIN_DEFAULT):
     L0 : ndarray (N, m) [m]
         NaN where no distribution exists (the pose has no rest lengths to test).
     """
-    from cdpr.analyses.compensation import compensate  # lazy: heavy cables only
-
     P = np.atleast_2d(np.asarray(P, dtype=float))
     rv = (
         np.zeros((len(P), 3)) if rotvec is None else np.broadcast_to(np.asarray(rotvec, dtype=float), P.shape)

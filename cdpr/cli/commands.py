@@ -737,8 +737,8 @@ def _check_size(n_points, what):
 
 def cmd_grid(args):
     # lazy: the grid, the solvers and pandas, for this command only
-    from cdpr.analyses.workspace import check_box, frame_box, grid_points, read_box, shard_range
     from cdpr.analyses.interference import desired_columns
+    from cdpr.analyses.workspace import check_box, frame_box, grid_points, read_box, shard_range
     from cdpr.solve import check_engine
     from cdpr.tables import solve_table
 

@@ -154,3 +154,18 @@ def test_grid_columns_of_a_heavy_robot(tmp_path):
     np.testing.assert_array_equal(
         m["interference_free"], interference(massless, P[:1]).free
     )  # the straight spans, the columns grid wrote before
+
+
+def test_given_lengths_give_the_reached_equilibrium_not_the_flipped_one(capsys):
+    """The issue's wall robot example: under these lengths the restarts find the platform flipped by
+    2.56 rad (cables 5-6 and 7-8 touching) and the reached equilibrium at δφ = 0.13 rad; the test is
+    made at the reached one, as ``cdpr point`` answers, and nothing interferes there."""
+    L = "6.52907908125 6.14882031715 5.85918529262 6.26397544351 6.06888687927 5.63634727396 5.23674973794 5.70862689323"
+    at = ["--at", "0.3", "0.3", "0.7", "--rotvec", "0.12", "0.12", "0"]
+    out = run_json(capsys, "interference", "--robot", str(WALL), *at, "--lengths", *L.split())
+    pt = run_json(capsys, "point", "--robot", str(WALL), *at, "--lengths", *L.split())
+    assert pt["reached_is_global"] is False
+    np.testing.assert_allclose(out["solved"], pt["reached"]["solved"], atol=1e-9)
+    np.testing.assert_allclose(out["solved_rotvec"], pt["reached"]["solved_rotvec"], atol=1e-9)
+    assert out["interference_free"] is pt["reached"]["interference_free"] is True
+    assert pt["global"]["interference_free"] is False
