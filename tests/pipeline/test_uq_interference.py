@@ -147,3 +147,30 @@ def test_a_point_mass_has_no_interference_to_test():
     assert robot.point_mass
     m_ = PoseErrorModel(robot, grid_points([-1.0, 1.0, -1.0, 1.0, 0.5, 1.5], 2), "uncompensated")
     assert not m_.interfering().any() and not uq._rigid(m_)
+
+
+def test_the_summary_counts_what_the_uncertainty_study_left_out(tmp_path):
+    from cdpr import table_io
+    from cdpr.pipeline import summary
+    from cdpr.pipeline.results import rel_path
+
+    b = pd.DataFrame(
+        {
+            "design": ["SRopt"] * 3,
+            "case": ["uncompensated"] * 3,
+            "method": ["linearised", "full", "all_parameters"],
+            "interfering_points": [6, 6, 1],
+            "interfering_full": pd.array([pd.NA, 2, 3], dtype="Int64"),
+            "index_n": [3, 3, 2],
+        }
+    )
+    p = tmp_path / rel_path("uncertainty", "bands")
+    p.parent.mkdir(parents=True)
+    table_io.write_table(b, p)
+    rows = {r["quantity"]: r for r in summary.left_out_rows(tmp_path)}
+    r = rows["uncertainty over RW_C: interfering points left out"]
+    assert r["ours"] == 7
+    assert r["note"] == (
+        "SRopt uncompensated Monte Carlo: 6 of 27; SRopt uncompensated Sobol: 1 of 8; "
+        "sample points where the sample's robot interferes (flagged, kept): 5"
+    )
