@@ -232,6 +232,16 @@ def build_parser(jobs=True):
     )
     robot_options(sp)
     points_options(sp, "platform position (reference point)")
+    linear_density_option(sp)
+    sp.add_argument(
+        "--lengths",
+        nargs="+",
+        type=positive,
+        metavar="M",
+        help="rest lengths L0 per cable [m] (with --at): test the pose the platform settles at under them "
+        "(heavy cables: their catenaries); default: the desired pose itself, heavy cables under their "
+        "sag-consistent compensated lengths",
+    )
     sp.set_defaults(run=("cdpr.cli.interference", "cmd_interference"))
     sp = sub.add_parser("job", help="a pipeline task: tables in, tables and figures out (run by Snakemake)")
     if jobs:

@@ -695,9 +695,10 @@ def interference_rows(st, res):
 def left_out_rows(res):
     """The ok points a rigid platform's runs over RW_C leave out because their cables interfere at
     the solved pose (issue 39): the DOE's global indices (``doe/doe.csv``), the h-r_p maps, the
-    index versus E, the dead-length sweep and the error budget, each one row with the total and,
-    in the note, where they are; none for tables without the ``interfering_points`` columns (point
-    masses, or results written before them).
+    index versus E, the dead-length sweep, the error budget and the uncertainty study (its Monte
+    Carlo and Sobol grids; the note adds the sample points flagged because the sample's own robot
+    interferes), each one row with the total and, in the note, where they are; none for tables
+    without the ``interfering_points`` columns (point masses, or results written before them).
 
     Parameters
     ----------
@@ -757,7 +758,34 @@ def left_out_rows(res):
                 "; ".join(f"{d}: {k} of {int(t[t.design == d].points.iloc[0])}" for d, k in per.items()),
             )
         )
-    return rows
+    return rows + _uq_left_out(res)
+
+
+def _uq_left_out(res):
+    """``left_out_rows``'s row of the uncertainty study (``uncertainty/bands.csv``): the points its
+    Monte Carlo (the linearised row's grid) and Sobol (all_parameters) grids leave out, and the
+    sample points flagged (full solves)."""
+    t = _read(res, rel_path("uncertainty", "bands"))
+    if t is None or "interfering_points" not in t:
+        return []
+    g = t[t.method.isin(["linearised", "all_parameters"])]
+    n = g["interfering_points"].fillna(0).astype(int)
+    grid = {"linearised": "Monte Carlo", "all_parameters": "Sobol"}
+    where = "; ".join(
+        f"{r.design} {r.case} {grid[r.method]}: {k} of {int(r.index_n) ** 3}"
+        for r, k in zip(g.itertuples(), n)
+    )
+    flagged = int(t["interfering_full"].fillna(0).astype(int).sum())
+    note = f"{where}; sample points where the sample's robot interferes (flagged, kept): {flagged}"
+    return [
+        _headline(
+            "uncertainty over RW_C: interfering points left out",
+            rel_path("uncertainty", "bands"),
+            int(n.sum()),
+            "points",
+            note,
+        )
+    ]
 
 
 def reached_rows(st, res):
