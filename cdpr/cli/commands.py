@@ -84,7 +84,6 @@ def robot_from_args(args):
         ),
         args,
     )
-    heavy.check(robot, args)  # heavy cables: refused in one line where not modelled
     robot = with_wrench(robot, getattr(args, "wrench", None))  # --wrench: beside gravity
     if hasattr(args, "redundancy") and args.redundancy is None:
         args.redundancy = robot.default_redundancy
