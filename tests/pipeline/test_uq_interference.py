@@ -151,7 +151,7 @@ def test_a_point_mass_has_no_interference_to_test():
 
 def test_the_summary_counts_what_the_uncertainty_study_left_out(tmp_path):
     from cdpr import table_io
-    from cdpr.pipeline import summary
+    from cdpr.pipeline import summary_rows
     from cdpr.pipeline.results import rel_path
 
     b = pd.DataFrame(
@@ -167,7 +167,7 @@ def test_the_summary_counts_what_the_uncertainty_study_left_out(tmp_path):
     p = tmp_path / rel_path("uncertainty", "bands")
     p.parent.mkdir(parents=True)
     table_io.write_table(b, p)
-    rows = {r["quantity"]: r for r in summary.left_out_rows(tmp_path)}
+    rows = {r["quantity"]: r for r in summary_rows.left_out_rows(tmp_path)}
     r = rows["uncertainty over RW_C: interfering points left out"]
     assert r["ours"] == 7
     assert r["note"] == (
