@@ -247,28 +247,6 @@ def require_point_mass(robot, what, instead, suspended=False, P=None):
         )
 
 
-def require_massless(robot, what):
-    """Refuse, in one line, heavy cables (``cable.linear_density_kg_m`` > 0) where ``what`` does not
-    model them yet (docs/heavy_cables.md: what is done so far), rather than drop their weight silently.
-
-    Parameters
-    ----------
-    robot : Robot
-    what : str
-        The refusing command or function.
-
-    Raises
-    ------
-    CdprError
-    """
-    if robot.heavy:
-        rho = "/".join(f"{x:g}" for x in robot.arrays.rho)
-        raise CdprError(
-            f"{robot.source}: {what} does not model heavy cables yet (cable.linear_density_kg_m = {rho} kg/m); "
-            "set it to 0 (--linear-density 0) for the massless model, see docs/heavy_cables.md"
-        )
-
-
 @dataclasses.dataclass(frozen=True)
 class Robot:
     """A CDPR: m cables from pulleys to a platform (a suspended point mass when every b_i = 0, c = 0

@@ -18,9 +18,10 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
+from cdpr.analyses.compensation import compensate
 from cdpr.analyses.workspace import cell_centres, check_box, largest_box
 from cdpr.errors import CdprError
-from cdpr.models.interference import columns, interference
+from cdpr.models.interference import COLUMNS, columns, interference
 from cdpr.models.inverse import L_TS
 from cdpr.models.tension_distribution import T_MIN_DEFAULT, distribute_pose
 
@@ -246,3 +247,66 @@ def interfering_at(robot, P_s, rotvec_s=None, R_s=None, desired=None, L0=None):
             res = interference(robot, P_s[fin], R=R_s[fin], L0=lengths)
         out[fin] = ~res.free
     return out
+
+
+def desired_lengths(robot, P, rotvec=None, t_min=T_MIN_DEFAULT):
+    """The rest lengths a heavy robot's interference at its desired poses is tested under: the
+    sag-consistent compensated lengths (``compensation.compensate``, min-norm distribution of the
+    tensions at the attachments in [t_min, T_a], ``compensation.heavy_distribution``), under which
+    the heavy direct model holds the platform at the pose, as ``cdpr compensate`` plans it.
+
+    Parameters
+    ----------
+    robot : Robot
+    P : array_like (N, 3) [m]
+        Desired positions.
+    rotvec : array_like (3,) or (N, 3) [rad], optional
+        Desired orientations (default identity).
+    t_min : float [N]
+        Least tension of the distribution.
+
+    Returns
+    -------
+    L0 : ndarray (N, m) [m]
+        NaN where no distribution exists (the pose has no rest lengths to test).
+    """
+    P = np.atleast_2d(np.asarray(P, dtype=float))
+    rv = (
+        np.zeros((len(P), 3)) if rotvec is None else np.broadcast_to(np.asarray(rotvec, dtype=float), P.shape)
+    )
+    return compensate(robot, P, t_min=t_min, rotvec=rv)["L0"]
+
+
+def desired_columns(robot, P, rotvec=None, t_min=T_MIN_DEFAULT):
+    """The interference columns (``models.interference.columns``: interference_free, n_cc, n_cp,
+    dmin_m, cc_pairs, cp_cables) at desired poses, as ``cdpr grid --interference`` and
+    ``cdpr interference --points`` write them. A rigid platform with heavy cables is tested under
+    its sag-consistent compensated lengths (``desired_lengths``: the planned catenaries at the
+    pose, as ``cdpr compensate`` tests them); where none exist the row has no answer
+    (``add_interference``'s missing values). Massless cables, and a point mass, as
+    ``models.interference.interference`` gives them (the straight spans).
+
+    Parameters
+    ----------
+    robot : Robot
+    P : array_like (N, 3) [m]
+        Desired positions.
+    rotvec : array_like (3,) or (N, 3) [rad], optional
+        Desired orientations (default identity).
+    t_min : float [N]
+        Least tension of the heavy cables' distribution.
+
+    Returns
+    -------
+    dict
+        Column name -> array (N,).
+    """
+    P = np.atleast_2d(np.asarray(P, dtype=float))
+    if not robot.heavy or robot.point_mass:
+        return columns(interference(robot, P, rotvec))
+    rv = (
+        np.zeros((len(P), 3)) if rotvec is None else np.broadcast_to(np.asarray(rotvec, dtype=float), P.shape)
+    )
+    pose = pd.DataFrame(np.column_stack([P, rv]), columns=["x_s", "y_s", "z_s", "rx_s", "ry_s", "rz_s"])
+    df = add_interference(robot, pose, L0=desired_lengths(robot, P, rv, t_min))
+    return {c: df[c].array for c in COLUMNS}

@@ -63,6 +63,7 @@ import numpy as np
 import pandas as pd
 
 from cdpr.analyses.compensation import compensate
+from cdpr.analyses.interference import interfering_at
 from cdpr.errors import CdprError, ConfigError
 from cdpr.models.inverse import L_TS
 from cdpr.models.platform import pose_arrays, rotvec_of
@@ -461,7 +462,7 @@ class Linearisation:
         return self.dp0[idx, self.best], self.S[idx, self.best] / self._scale
 
 
-def linear_stats(lin, theta, batch=64, threads=None):
+def linear_stats(lin, theta, batch=64, threads=None, keep=None):
     """``sample_stats`` of the linearised ‖dp‖ for every row of θ, ``batch`` samples at a time (the
     (samples, points) array of 1,000 samples over 63^3 points would take 2 GB).
 
@@ -471,6 +472,10 @@ def linear_stats(lin, theta, batch=64, threads=None):
     theta : array_like, shape (n, len(parameter_names(robot)))
     batch : int
     threads : int, optional
+    keep : array_like (N,) bool, optional
+        The points the statistics are over (default all; the others, e.g. where the nominal
+        robot's cables interfere, ``PoseErrorModel.interfering``, are left out and not counted in
+        not_ok).
 
     Returns
     -------
@@ -481,6 +486,8 @@ def linear_stats(lin, theta, batch=64, threads=None):
     parts = []
     for i in range(0, len(theta), batch):
         dp = lin.dp(theta[i : i + batch], threads=threads)
+        if keep is not None and not np.all(keep):  # C order: the sums over the points as without keep
+            dp = np.ascontiguousarray(dp[:, np.asarray(keep, dtype=bool)])
         parts.append(sample_stats(dp, np.isfinite(dp)))
     return (
         pd.concat(parts, ignore_index=True)
@@ -555,7 +562,7 @@ class PoseErrorModel:
             raise ValueError(f"unknown case {case!r}; allowed: {', '.join(CASES)}")
         self.robot = robot
         self.start = start
-        self._nominal_sens = self._pose_lin = None
+        self._nominal_sens = self._pose_lin = self._interfering = None
         self._linearisations, self._start_slots = {}, {}
         self.case = case
         self.threads = threads
@@ -632,12 +639,16 @@ class PoseErrorModel:
         P0 = linear_positions(base, S, lin._delta(theta), engine=self.engine, threads=self.threads)
         return P0.reshape(len(P0), -1, 3) if self.mode == "physical" else P0.reshape(len(P0), -1, C, 3)
 
-    def solve(self, theta):
+    def solve(self, theta, interference=False):
         """Full solves for parameter vectors θ (n, len(parameter_names(robot))).
 
         Parameters
         ----------
         theta : array_like, shape (n, len(parameter_names(robot))) [Pa, m, kg]
+        interference : bool
+            Also say where each sample's robot (its own attachments, anchors, ...) has cables that
+            interfere at its solved pose (``analyses.interference.interfering_at``, under the
+            commanded lengths for heavy cables): a third array.
 
         Returns
         -------
@@ -645,11 +656,15 @@ class PoseErrorModel:
             Response (``responses``) -> (n, N): ‖δp‖ [m] under "dp", δφ [rad] under "dphi"; NaN
             where the point is infeasible.
         ok : ndarray, shape (n, N), bool
+        interfering : ndarray, shape (n, N), bool
+            With ``interference`` only: ok points whose cables interfere at the sample's solved
+            pose (all False for a robot not solved as a pose, or a point mass: no interference).
         """
         th = np.atleast_2d(theta)
         n, N = len(th), len(self.p)
         values = {r: np.full((n, N), np.nan) for r in self.responses}
         ok = np.zeros((n, N), dtype=bool)
+        hit = np.zeros((n, N), dtype=bool)
         f = self.feasible
         if self.pose:
             robots = [robot_with_parameters(self.robot, t) for t in th]
@@ -659,7 +674,10 @@ class PoseErrorModel:
             for i, res in enumerate(results):
                 ok[i, f] = res["status"] == "ok"
                 values["dp"][i, f], values["dphi"][i, f] = res["dp"], res["dphi"]
-            return values, ok
+                if interference and not self.robot.point_mass:
+                    P_s = np.where(ok[i, f][:, None], res["P_s"], np.nan)
+                    hit[i, f] = ok[i, f] & interfering_at(robots[i], P_s, res["rotvec_s"], L0=self.L[f])
+            return (values, ok, hit) if interference else (values, ok)
         # a suspended point mass: BATCH_POINTS (sample, point) pairs per batched solve (the same
         # results as one by one)
         dp = values["dp"]
@@ -675,7 +693,24 @@ class PoseErrorModel:
             for j, res in enumerate(solve_batch(robots, self._pv, **lengths, **run, P0=P0)):
                 dp[i + j, f] = res["dp"]
                 ok[i + j, f] = res["status"] == "ok"
-        return values, ok
+        return (values, ok, hit) if interference else (values, ok)
+
+    def interfering(self):
+        """The points left out of the statistics (docs/interference.md): where the nominal robot,
+        commanded with ``L``, settles at a pose at which its cables interfere (``solve`` of the
+        nominal θ with ``interference``; the pose the robot is designed to reach there is not one it
+        can be at). Computed once; all False for a robot not solved as a pose or a point mass.
+
+        Returns
+        -------
+        ndarray, shape (N,), bool
+        """
+        if self._interfering is None:
+            if self.pose and not self.robot.point_mass:
+                self._interfering = self.solve(parameter_values(self.robot)[None], interference=True)[2][0]
+            else:
+                self._interfering = np.zeros(len(self.p), dtype=bool)
+        return self._interfering
 
     def linearise(self, columns=None):
         """The ``Linearisation`` of ‖δp‖ at the nominal parameters for the θ columns ``columns``

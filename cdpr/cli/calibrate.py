@@ -6,6 +6,12 @@ writes the calibrated robot file; ``check`` compares a robot's prediction with m
 (a spool robot such as the Hangprinter; ``fit`` and ``check`` take those data too). JSON with ``--json`` (SI units), a readable table
 without; every bad input is one line on stderr and exit code 2 (``cdpr.cli.main.main``).
 
+``--wrench`` (fit, check, plan) is the external wrench on the platform while the data were taken (a
+tool's weight): it acts on the nominal and on the fitted robot, is echoed under ``wrench`` in the
+JSON and named in the text and in the written robot file's header, and is not written into that
+file (a calibrated robot is the robot without its temporary load). Motor-angle data refuse it: their
+model takes the measured line forces, not the platform's balance.
+
 Its options are defined in ``cdpr.cli.parser`` (``calibrate_parser``), which loads this module only
 to run a command.
 """
@@ -23,7 +29,7 @@ from cdpr.analyses import calibration as cal
 from cdpr.cli.commands import checked, emit_json
 from cdpr.errors import CdprError
 from cdpr.pipeline.calibration_files import write_robot
-from cdpr.robot import load_robot
+from cdpr.robot import load_robot, with_wrench
 
 
 def _table(rows, headers):
@@ -34,11 +40,35 @@ def _table(rows, headers):
     return "\n".join(lines)
 
 
+def nominal_robot(args, motor=False):
+    """The nominal robot of ``--robot``, checked for plausibility (``checked``), with ``--wrench`` on
+    its platform (``robot.with_wrench``: a moment on a point mass refused in one line); on
+    motor-angle data (``motor``) a wrench is refused in one line: that model takes the measured line
+    forces, not the platform's balance, so a wrench would change nothing."""
+    robot = checked(load_robot(args.robot), args)
+    wrench = getattr(args, "wrench", None)
+    if motor and wrench is not None:
+        raise CdprError(
+            f"--wrench: {args.data} holds motor angles (motor_deg_1..); their model takes the measured line "
+            "forces, not the platform's balance, so it takes no wrench; leave --wrench out"
+        )
+    return with_wrench(robot, wrench)
+
+
+def _wrench_line(args, when="while the data were taken"):
+    """The text line naming ``--wrench`` and ``when`` it acts (None when not given)."""
+    if getattr(args, "wrench", None) is None:
+        return None
+    w = ", ".join(f"{x:g}" for x in args.wrench)
+    return f"external wrench ({w}) [N, N m] on the platform {when}"
+
+
 def cmd_fit(args):
     """``cdpr calibrate fit``: estimate, report, write the calibrated robot."""
     io.check_output(args.out, (".yaml", ".yml"))
-    robot = checked(load_robot(args.robot), args)
-    if cal.is_motor_table(args.data):
+    motor = cal.is_motor_table(args.data)
+    robot = nominal_robot(args, motor)
+    if motor:
         _fit_motor(args, robot)
         return
     priors = cal.parse_priors(args.prior, estimate=args.estimate)
@@ -57,6 +87,8 @@ def cmd_fit(args):
         emit_json(summary, args)
         return
     _print_fit(result, summary)
+    if _wrench_line(args):
+        print(f"{_wrench_line(args)}: on the nominal and the fitted robot; not written into {args.out}")
 
 
 def _fit_motor(args, robot):
@@ -153,8 +185,9 @@ def write_report(result, folder):
 
 def cmd_check(args):
     """``cdpr calibrate check``: the robot's prediction against every measured sample."""
-    robot = checked(load_robot(args.robot), args)
-    if cal.is_motor_table(args.data):
+    motor = cal.is_motor_table(args.data)
+    robot = nominal_robot(args, motor)
+    if motor:
         _check_motor(args, robot)
         return
     if args.model != "exact":
@@ -167,6 +200,8 @@ def cmd_check(args):
     if args.json:
         emit_json(out, args)
         return
+    if _wrench_line(args):
+        print(_wrench_line(args))
     if out["n"] == 0:
         counts = Counter(s["status"] for s in out["samples"])
         what = ", ".join(f"{k} {v}" for k, v in sorted(counts.items()))
@@ -271,7 +306,7 @@ def cmd_plan(args):
     """``cdpr calibrate plan``: D-optimal poses and their expected standard errors versus random ones."""
     if args.out:
         io.check_output(args.out, (".csv",))
-    robot = checked(load_robot(args.robot), args)
+    robot = nominal_robot(args)
     priors = cal.parse_priors(args.prior, estimate=args.estimate)
     res = cal.plan(
         robot,
@@ -332,6 +367,8 @@ def cmd_plan(args):
         f"{res['logdet_d_optimal']:.4g} (random plans: median {res['logdet_random_median']:.4g})"
         + (f"; written to {args.out}" if args.out else "")
     )
+    if _wrench_line(args):
+        print(_wrench_line(args, "while the plan is measured"))
 
 
 def cmd_study(args):

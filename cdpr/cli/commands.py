@@ -84,7 +84,6 @@ def robot_from_args(args):
         ),
         args,
     )
-    heavy.check(robot, args)  # heavy cables: refused in one line where not modelled
     robot = with_wrench(robot, getattr(args, "wrench", None))  # --wrench: beside gravity
     if hasattr(args, "redundancy") and args.redundancy is None:
         args.redundancy = robot.default_redundancy
@@ -740,8 +739,8 @@ def _check_size(n_points, what):
 
 def cmd_grid(args):
     # lazy: the grid, the solvers and pandas, for this command only
+    from cdpr.analyses.interference import desired_columns
     from cdpr.analyses.workspace import check_box, frame_box, grid_points, read_box, shard_range
-    from cdpr.models.interference import columns, interference
     from cdpr.solve import check_engine
     from cdpr.tables import solve_table
 
@@ -787,8 +786,9 @@ def cmd_grid(args):
         _zero_length_note(int(_zero_segment(robot, P, rv).any(axis=1).sum()), "length", "not wrench-feasible")
         df["feasible"] = heavy.feasible(robot, P, args.rotvec, args.t_min)  # heavy: sag-consistent
         extra = _wrench_feasible_summary(df, box, args)
-    if args.interference:  # the interference columns at the grid's poses (docs/interference.md)
-        df = df.assign(**columns(interference(robot, P, rv)))
+    if args.interference:  # the interference columns at the grid's poses (docs/interference.md;
+        # heavy cables: under the sag-consistent compensated lengths of each pose)
+        df = df.assign(**desired_columns(robot, P, rv))
         extra["interference_free_points"] = int(df["interference_free"].sum())
         if not args.json:
             print(f"interference-free: {extra['interference_free_points']} of {len(df)} grid points")

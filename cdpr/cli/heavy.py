@@ -8,7 +8,6 @@ import sys
 import numpy as np
 
 from cdpr.errors import CdprError
-from cdpr.robot import require_massless
 
 #: ``compensate --json``'s per-cable keys with heavy cables and the keys of ``cables.heavy_cables``.
 HEAVY_CABLE_JSON = (
@@ -120,25 +119,6 @@ def inverse_heavy(args, robot, points):
             file=sys.stderr,
         )
     return None
-
-
-#: The commands that model heavy cables (docs/heavy_cables.md); another command given a robot with
-#: heavy cables refuses it in one line (``robot.require_massless``). ``grid``, ``plane`` and
-#: ``trajectory`` solve their points through the library's one door (``tables.solve_table``, as the
-#: studies' plane, path and grid tables): physical mode, the heavy robot under L_TS at each desired
-#: pose, with the table's ``sag_max_m``.
-HEAVY_COMMANDS = ("cmd_inverse", "cmd_point", "cmd_compensate", "cmd_grid", "cmd_plane", "cmd_trajectory")
-
-
-def check(robot, args):
-    """Refuse heavy cables in one line (``robot.require_massless``) in the commands that do not
-    model them, and the options of those that do which do not (``grid --interference``). The engine's
-    default is left to ``solve.check_engine`` (see ``one_shot``)."""
-    command = getattr(args, "run", ("", "this command"))[1]
-    if command not in HEAVY_COMMANDS:
-        require_massless(robot, "cdpr " + command.removeprefix("cmd_"))
-    elif robot.heavy and command == "cmd_grid" and getattr(args, "interference", False):
-        require_massless(robot, "cdpr grid --interference (straight cables at the grid's poses)")
 
 
 def one_shot(robot, n):

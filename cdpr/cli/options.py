@@ -107,16 +107,18 @@ def box_option(parser, help=None):
     )
 
 
-def wrench_option(sp):
+def wrench_option(sp, help=None):
     """Adds ``--wrench FX FY FZ MX MY MZ``: an external wrench beside gravity, force [N] in the world
     frame at the platform's reference point and moment [N m] about it in the world frame (six finite
-    numbers; a moment on a point mass is refused by ``robot.with_wrench``)."""
+    numbers; a moment on a point mass is refused by ``robot.with_wrench``); ``help`` replaces the
+    default help text."""
     sp.add_argument(
         "--wrench",
         nargs=6,
         type=finite,
         metavar=("FX", "FY", "FZ", "MX", "MY", "MZ"),
-        help="external wrench beside gravity: force [N] (world frame, at the platform's reference point) and "
+        help=help
+        or "external wrench beside gravity: force [N] (world frame, at the platform's reference point) and "
         "moment [N m] about that point (world frame; 0 on a point mass); default none",
     )
 

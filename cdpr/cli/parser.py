@@ -232,6 +232,16 @@ def build_parser(jobs=True):
     )
     robot_options(sp)
     points_options(sp, "platform position (reference point)")
+    linear_density_option(sp)
+    sp.add_argument(
+        "--lengths",
+        nargs="+",
+        type=positive,
+        metavar="M",
+        help="rest lengths L0 per cable [m] (with --at): test the pose the platform settles at under them "
+        "(heavy cables: their catenaries); default: the desired pose itself, heavy cables under their "
+        "sag-consistent compensated lengths",
+    )
     sp.set_defaults(run=("cdpr.cli.interference", "cmd_interference"))
     sp = sub.add_parser("job", help="a pipeline task: tables in, tables and figures out (run by Snakemake)")
     if jobs:
@@ -267,6 +277,18 @@ _PRIOR_HELP = (
 )
 
 
+def calibration_wrench_option(sp):
+    """Adds ``--wrench`` to a ``calibrate`` command: the external wrench on the platform while the data
+    were taken (a tool's weight), on the nominal and the fitted robot alike, not written into the robot."""
+    wrench_option(
+        sp,
+        "external wrench on the platform while the data were taken (e.g. a tool's weight), beside gravity: "
+        "force [N] (world frame, at the platform's reference point) and moment [N m] about that point (world "
+        "frame; 0 on a point mass); acts on the nominal and the fitted robot, not written into a robot file; "
+        "default none",
+    )
+
+
 def calibrate_parser(subparsers):
     """Add ``calibrate`` with its commands ``fit``, ``check``, ``cv``, ``plan`` and ``study`` (``cdpr.cli.calibrate``)."""
     cp = subparsers.add_parser("calibrate", help="identify a robot's parameters from measurements")
@@ -295,6 +317,7 @@ def calibrate_parser(subparsers):
     sp.add_argument(
         "--report", metavar="DIR", help="write per-sample and per-parameter tables and figures here"
     )
+    calibration_wrench_option(sp)
     sp.add_argument("--json", action="store_true", help="print JSON")
     sp.set_defaults(run=("cdpr.cli.calibrate", "cmd_fit"))
 
@@ -312,6 +335,7 @@ def calibrate_parser(subparsers):
         default="exact",
         help="motor-angle data: exact (line stretch from force_N_i where given, default) or standard (rigid lines)",
     )
+    calibration_wrench_option(sp)
     sp.add_argument("--json", action="store_true", help="print JSON")
     sp.set_defaults(run=("cdpr.cli.calibrate", "cmd_check"))
 
@@ -375,6 +399,7 @@ def calibrate_parser(subparsers):
         "compensated (minimum-norm tensions; a fully constrained robot needs them)",
     )
     sp.add_argument("--out", metavar="FILE", help="write the plan (CSV: sample, L1..Lm, expected pose)")
+    calibration_wrench_option(sp)
     sp.add_argument("--json", action="store_true", help="print JSON")
     sp.set_defaults(run=("cdpr.cli.calibrate", "cmd_plan"))
 

@@ -35,7 +35,7 @@ from cdpr.parameters import calibration_values, is_spatial, select_groups
 from cdpr.pipeline.calibration_files import read_study_file
 from cdpr.pipeline.plots import calibration as figures
 from cdpr.pipeline.results import rel_path
-from cdpr.robot import TABLE1, load_robot, params_from_mapping
+from cdpr.robot import TABLE1, check_wrench, load_robot, params_from_mapping, with_wrench
 
 #: The kinds of robot a calibration study knows (``study_kind``).
 POINT_MASS, PLATFORM = "point-mass robot", "rigid platform"
@@ -83,8 +83,10 @@ STUDY_KEYS = {
 }
 #: Optional keys by kind: ``winch``, the drum on every cable of a point mass's true robot (Métillon
 #: 2022 Table 1 keys, ``{}`` is Table 1; without it the true robot has no winch and the study has
-#: no winch model).
-STUDY_OPTIONAL = {POINT_MASS: {"winch"}, PLATFORM: set()}
+#: no winch model); ``wrench``, the external wrench [FX, FY, FZ, MX, MY, MZ] [N, N m] on the
+#: platform during every measurement (``robot.with_wrench``; a moment refused on a point mass),
+#: on the true robot and known to every model (``study_robot``).
+STUDY_OPTIONAL = {POINT_MASS: {"winch", "wrench"}, PLATFORM: {"wrench"}}
 #: Groups the true robot may deviate in, by kind.
 DEVIATION_GROUPS = {
     POINT_MASS: ("anchors", "dead_lengths", "pulleys", "moduli"),
@@ -129,7 +131,8 @@ def load_calibration_study(path):
     data = read_study_file(path)
     if "robot" not in data:
         raise ConfigError(path, "robot", "missing; a calibration study needs its robot file")
-    kind = study_kind(load_robot(data["robot"]))
+    nominal = load_robot(data["robot"])
+    kind = study_kind(nominal)
     keys, optional = STUDY_KEYS[kind], STUDY_OPTIONAL[kind]
     missing = sorted(keys - set(data))
     if missing:
@@ -179,7 +182,29 @@ def load_calibration_study(path):
         )
     if "command" in keys and data["command"] not in cal.COMMANDS:
         raise ConfigError(path, "command", f"{data['command']!r}; allowed: {', '.join(cal.COMMANDS)}")
+    if "wrench" in data:
+        try:
+            out["wrench"] = None if data["wrench"] is None else check_wrench(data["wrench"], "wrench")
+            with_wrench(nominal, out["wrench"], "wrench")  # a moment on a point mass: refused
+        except CdprError as exc:
+            raise ConfigError(path, "wrench", str(exc).removeprefix("wrench: ")) from None
     return out
+
+
+def study_robot(st):
+    """The nominal robot of a loaded calibration study (``load_calibration_study``) with the study's
+    ``wrench`` on its platform (``robot.with_wrench``): the true robot drawn from it carries the wrench
+    during every measurement, and every model fitted to the data knows it.
+
+    Parameters
+    ----------
+    st : dict
+
+    Returns
+    -------
+    Robot
+    """
+    return with_wrench(load_robot(st["robot"]), st.get("wrench"), "wrench")
 
 
 def error_stats(err):
@@ -231,7 +256,7 @@ def run_calibration_study(study_path, out):
     st = load_calibration_study(study_path)
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    robot = load_robot(st["robot"])
+    robot = study_robot(st)
     rng = np.random.default_rng(st["seed"])
     study = _platform_study if st["kind"] == PLATFORM else _point_mass_study
     headline, text = study(st, robot, rng, out)
@@ -554,7 +579,14 @@ def _truth_words(st):
     return (
         f"True robot: {st['robot']} with deviations drawn (seed {st['seed']}) from "
         + ", ".join(f"{g} {v:g}" for g, v in st["truth_deviations"].items() if g in st["deviation_groups"])
-        + f" (lengths in m, moduli relative); tracker sigma {st['tracker_sigma_m'] * 1e3:g} mm"
+        + (
+            " (lengths in m, moduli relative), carrying the external wrench ("
+            + ", ".join(f"{x:g}" for x in st["wrench"])
+            + ") [N, N m] during every measurement, known to every model"
+            if st.get("wrench") is not None and any(st["wrench"])
+            else " (lengths in m, moduli relative)"
+        )
+        + f"; tracker sigma {st['tracker_sigma_m'] * 1e3:g} mm"
     )
 
 

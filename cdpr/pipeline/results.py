@@ -474,7 +474,7 @@ class Layout:
 
     def _point_table_inputs(self):
         """The point tables behind the volumes and RW_C that a study of rigid platforms' summary also
-        reads (``summary.interference_rows``, ``summary.reached_rows``): none for point masses."""
+        reads (``summary_rows.interference_rows``, ``summary_rows.reached_rows``): none for point masses."""
         if not any(not r.point_mass for r in (self.st.robot_models or {}).values()):
             return {}
         return {

@@ -26,6 +26,7 @@ from cdpr.analyses.workspace import interference_free_rows
 from cdpr.models import winch
 from cdpr.pipeline.results import Layout, check_complete, rel_path
 from cdpr.pipeline.study import robot_of, spatial_robots
+from cdpr.pipeline.summary_rows import headline, interference_rows, reached_rows, read_result
 from cdpr.robot import TABLE1
 
 #: The papers' numbers (package data of the library).
@@ -38,11 +39,6 @@ def paper_values(path=PAPER_VALUES):
     return yaml.safe_load(Path(path).read_text(encoding="utf-8"))
 
 
-def _read(res, rel):
-    p = Path(res) / rel
-    return table_io.read_table(p) if p.exists() else None
-
-
 # Each extractor returns (our value in SI units or a count, note) or None when its table is absent.
 def _path_length(st, res, robot):
     path = st["trajectories"]["paths"].get(robot)
@@ -50,12 +46,12 @@ def _path_length(st, res, robot):
 
 
 def _path(st, res, robot, pulley, stat):
-    df = _read(res, rel_path("trajectory_table", path=robot, pulley=pulley))
+    df = read_result(res, rel_path("trajectory_table", path=robot, pulley=pulley))
     return None if df is None else (scans.ok_extremes(df)[stat == "max"], "")
 
 
 def _path_reach(st, res, robot, pulley):
-    mm = _read(res, rel_path("trajectory_figure"))
+    mm = read_result(res, rel_path("trajectory_figure"))
     r = None if mm is None else mm[mm.design == f"{robot}_{pulley}"]
     return (
         None
@@ -74,7 +70,7 @@ def _path_reach_order(st, res, robot, first, second):
 
 
 def _plane(st, res, robot, pulley, stat):
-    df = _read(res, rel_path("plane_table", robot=robot, pulley=pulley))
+    df = read_result(res, rel_path("plane_table", robot=robot, pulley=pulley))
     if df is None:
         return None
     if stat == "centre":
@@ -84,7 +80,7 @@ def _plane(st, res, robot, pulley, stat):
 
 
 def _volumes_row(res, robot, pulley=None, limit_m=None):
-    vol = _read(res, rel_path("volumes"))
+    vol = read_result(res, rel_path("volumes"))
     if vol is None:
         return None
     sel = vol.robot == robot
@@ -129,7 +125,7 @@ def _smallest_rw_max_test(st, res):
 
 
 def _doe_index(st, res, stat):
-    d = _read(res, rel_path("doe"))
+    d = read_result(res, rel_path("doe"))
     if d is None:
         return None
     i = d.index_m.idxmin() if stat == "min" else d.index_m.idxmax()
@@ -137,7 +133,7 @@ def _doe_index(st, res, stat):
 
 
 def _doe_test(st, res, stat):
-    d = _read(res, rel_path("doe"))
+    d = read_result(res, rel_path("doe"))
     return (
         None
         if d is None
@@ -146,7 +142,7 @@ def _doe_test(st, res, stat):
 
 
 def _doe_two_best(st, res, tests):
-    d = _read(res, rel_path("doe"))
+    d = read_result(res, rel_path("doe"))
     if d is None:
         return None
     two = sorted(d.nsmallest(2, "index_m").test.astype(int).tolist())
@@ -154,7 +150,7 @@ def _doe_two_best(st, res, tests):
 
 
 def _doe_worst(st, res, joint):
-    d = _read(res, rel_path("doe"))
+    d = read_result(res, rel_path("doe"))
     return (
         None
         if d is None or not (d.kind == joint).any()
@@ -164,7 +160,7 @@ def _doe_worst(st, res, joint):
 
 def _effects(res, response="index_m"):
     """The effects of one response (``index_m``, or ``index_phi_rad`` of a spatial study) without the mean."""
-    e = _read(res, rel_path("doe", "effects"))
+    e = read_result(res, rel_path("doe", "effects"))
     if e is None:
         return None
     if "response" in e:
@@ -188,7 +184,7 @@ def _third_order_smallest(st, res):
 
 
 def _line(st, res, pulley, column, scale=1.0):
-    lines = _read(res, rel_path("maps", "lines"))
+    lines = read_result(res, rel_path("maps", "lines"))
     r = None if lines is None else lines[lines.kind == pulley]
     if r is None or r.empty:
         return None
@@ -201,7 +197,7 @@ def _line(st, res, pulley, column, scale=1.0):
 
 
 def _band(st, res, design, column, scale=1.0):
-    b = _read(res, rel_path("elasticity", "bands"))
+    b = read_result(res, rel_path("elasticity", "bands"))
     r = None if b is None else b[b.design == design]
     if r is None or r.empty:
         return None
@@ -211,7 +207,7 @@ def _band(st, res, design, column, scale=1.0):
 
 
 def _crossing(st, res, design, near=None):
-    cr = _read(res, rel_path("elasticity", "crossings"))
+    cr = read_result(res, rel_path("elasticity", "crossings"))
     if cr is None:
         return None
     c = cr[cr.design == design].s_m.tolist()
@@ -223,7 +219,7 @@ def _crossing(st, res, design, near=None):
 def _uq_band(st, res, design, case, column, method="linearised", scale=1.0):
     """A column of uncertainty/bands.csv (one design, case and method); the note gives the 5-95 %
     range of the index, the sample count and grid, and our common-E band for comparison."""
-    b = _read(res, rel_path("uncertainty", "bands"))
+    b = read_result(res, rel_path("uncertainty", "bands"))
     r = None if b is None else b[(b.design == design) & (b.case == case) & (b.method == method)]
     if r is None or r.empty:
         return None
@@ -232,7 +228,7 @@ def _uq_band(st, res, design, case, column, method="linearised", scale=1.0):
         f"{method}, n = {int(r.n)} samples on {int(r.index_n)}^3 RW_C points; index 5-95 %: "
         f"{r.index_q05_m * 1e3:.2f}-{r.index_q95_m * 1e3:.2f} mm"
     )
-    common = _read(res, rel_path("elasticity", "bands"))
+    common = read_result(res, rel_path("elasticity", "bands"))
     c = None if common is None else common[common.design == design]
     if case == "uncompensated" and c is not None and not c.empty:
         c = c.iloc[0]
@@ -245,7 +241,7 @@ def _uq_band(st, res, design, case, column, method="linearised", scale=1.0):
 def _uq_sobol_top(st, res, design, case, rank=1, output="index"):
     """The rank-th largest Sobol total index of one output (parameters, not groups); the note names
     the three largest with their 95 % confidence half-widths."""
-    t = _read(res, rel_path("uncertainty", "sobol"))
+    t = read_result(res, rel_path("uncertainty", "sobol"))
     if t is None:
         return None
     g = t[(t.design == design) & (t.case == case) & (t.level == "parameter") & (t.output == output)]
@@ -286,7 +282,7 @@ def sobol_caveat(st, res):
     -------
     str or None
     """
-    t = _read(res, rel_path("uncertainty", "sobol"))
+    t = read_result(res, rel_path("uncertainty", "sobol"))
     so = (st.get("uncertainty") or {}).get("sobol") or {}
     if t is None or t.empty or "base_samples" not in so:
         return None
@@ -305,7 +301,7 @@ def sobol_caveat(st, res):
 
 
 def _winch_dl(st, res, l_pm_m, scale=1000.0):
-    w = _read(res, rel_path("winch_table"))
+    w = read_result(res, rel_path("winch_table"))
     return None if w is None else (float(np.interp(l_pm_m, w.l_pm, w.dl)) * scale, "")
 
 
@@ -384,19 +380,6 @@ def build_rows(st, res, values=None):
     return pd.DataFrame(rows, columns=COLUMNS)
 
 
-def _headline(quantity, source, ours, unit, note=""):
-    return {
-        "quantity": quantity,
-        "source": source,
-        "paper": None,
-        "ours": ours,
-        "unit": unit,
-        "tolerance": None,
-        "verdict": "not scored (no paper value)",
-        "note": note,
-    }
-
-
 def _line_note(r):
     """The note of a ``line D_<kind>`` headline row: its slope and optimum, or in words what is
     missing (no valley point on the fixed-h line: no slope, no optimum), never ``nan``."""
@@ -462,40 +445,40 @@ def headline_rows(st, res):
     rows = []
     for rk in st["robots"]:
         for pk in st["pulleys"]:
-            df = _read(res, rel_path("plane_table", robot=rk, pulley=pk))
+            df = read_result(res, rel_path("plane_table", robot=rk, pulley=pk))
             if df is None:
                 continue
             dof = 3 if robot_of(st, rk).point_mass else 6
             src = f"plane z = {st['plane']['z_m']:g} m"
             counted = df[interference_free_rows(df)]  # a rigid platform's: interfering points left out
             lo, hi = _ok_range(counted, "dp", 1e3)
-            rows.append(_headline(f"{rk} {pk} plane ‖δp‖ min", src, lo, "mm", hold_note(df, dof)))
-            rows.append(_headline(f"{rk} {pk} plane ‖δp‖ max", src, hi, "mm"))
+            rows.append(headline(f"{rk} {pk} plane ‖δp‖ min", src, lo, "mm", hold_note(df, dof)))
+            rows.append(headline(f"{rk} {pk} plane ‖δp‖ max", src, hi, "mm"))
             if "dphi" in df:
                 lo, hi = _ok_range(counted, "dphi", 1e3)
-                rows.append(_headline(f"{rk} {pk} plane δφ min", src, lo, "mrad"))
-                rows.append(_headline(f"{rk} {pk} plane δφ max", src, hi, "mrad"))
+                rows.append(headline(f"{rk} {pk} plane δφ min", src, lo, "mrad"))
+                rows.append(headline(f"{rk} {pk} plane δφ max", src, hi, "mrad"))
     for path in st["trajectories"]["paths"]:
         for pk in st["pulleys"]:
-            df = _read(res, rel_path("trajectory_table", path=path, pulley=pk))
+            df = read_result(res, rel_path("trajectory_table", path=path, pulley=pk))
             if df is None:
                 continue
             src = f"path {path}"
             lo, hi = _ok_range(df, "dp", 1e3)
-            rows.append(_headline(f"{path} {pk} ‖δp‖ min / max", src, lo, "mm", f"max {hi:.4g} mm"))
+            rows.append(headline(f"{path} {pk} ‖δp‖ min / max", src, lo, "mm", f"max {hi:.4g} mm"))
             if "dphi" in df:
                 lo, hi = _ok_range(df, "dphi", 1e3)
-                rows.append(_headline(f"{path} {pk} δφ max", src, hi, "mrad", f"min {lo:.4g} mrad"))
+                rows.append(headline(f"{path} {pk} δφ max", src, hi, "mrad", f"min {lo:.4g} mrad"))
             t = df.loc[df.status == "ok", [c for c in df.columns if c[:1] == "t" and c[1:].isdigit()]]
             if len(t):
                 rows.append(
-                    _headline(f"{path} {pk} largest tension", src, float(np.nanmax(t.to_numpy())), "N")
+                    headline(f"{path} {pk} largest tension", src, float(np.nanmax(t.to_numpy())), "N")
                 )
-    vol = _read(res, rel_path("volumes"))
+    vol = read_result(res, rel_path("volumes"))
     if vol is not None:
         for r in vol[vol.paper_limit].itertuples():
             rows.append(
-                _headline(
+                headline(
                     f"{r.robot} {r.pulley} R_V at ‖δp‖ < {r.limit_m * 1e3:g} mm",
                     "volumes",
                     float(r.R_V),
@@ -503,11 +486,11 @@ def headline_rows(st, res):
                     f"V_L = {r.V_L_m3:.4g} m^3 of V_T = {r.V_T_m3:.4g} m^3",
                 )
             )
-    vol = _read(res, rel_path("volumes_dphi")) if st["volumes"].get("dphi_limits_rad") else None
+    vol = read_result(res, rel_path("volumes_dphi")) if st["volumes"].get("dphi_limits_rad") else None
     if vol is not None:
         for r in vol[vol.study_limit].itertuples():
             rows.append(
-                _headline(
+                headline(
                     f"{r.robot} {r.pulley} R_V at δφ < {r.limit_rad * 1e3:g} mrad",
                     "volumes",
                     float(r.R_V),
@@ -518,7 +501,7 @@ def headline_rows(st, res):
     rw = _rw_c(res)
     if rw is not None:
         rows.append(
-            _headline(
+            headline(
                 "RW_C volume",
                 rel_path("regular_workspace", "json"),
                 float(rw["computed_volume_m3"]),
@@ -527,11 +510,11 @@ def headline_rows(st, res):
                 + ("study's doe.paper_rw_c_m box" if rw["use"] == "paper" else "computed box"),
             )
         )
-    rwm = _read(res, rel_path("regular_workspace"))
+    rwm = read_result(res, rel_path("regular_workspace"))
     if rwm is not None and "wrench_feasible_m3" in rwm:
         for r in rwm.itertuples():
             rows.append(
-                _headline(
+                headline(
                     f"DOE test {int(r.test)} wrench-feasible workspace",
                     rel_path("regular_workspace"),
                     float(r.wrench_feasible_m3),
@@ -539,14 +522,14 @@ def headline_rows(st, res):
                     f"{r.kind}, h = {r.h_m * 1e3:g} mm, r_p = {r.r_p_m * 1e3:g} mm; RW_max {r.volume_m3:.4g} m^3",
                 )
             )
-    d = _read(res, rel_path("doe"))
+    d = read_result(res, rel_path("doe"))
     if d is not None:
         for col, unit, scale, what in (("index_m", "mm", 1e3, "I"), ("index_phi_rad", "mrad", 1e3, "I_φ")):
             if col not in d:
                 continue
             lo, hi = d[col].idxmin(), d[col].idxmax()
             rows.append(
-                _headline(
+                headline(
                     f"DOE lowest {what}",
                     rel_path("doe"),
                     float(d[col][lo]) * scale,
@@ -555,7 +538,7 @@ def headline_rows(st, res):
                 )
             )
             rows.append(
-                _headline(
+                headline(
                     f"DOE highest {what}",
                     rel_path("doe"),
                     float(d[col][hi]) * scale,
@@ -567,7 +550,7 @@ def headline_rows(st, res):
             if e is not None and len(e):
                 top = e.effect.abs().idxmax()
                 rows.append(
-                    _headline(
+                    headline(
                         f"DOE largest effect on {what}",
                         rel_path("doe", "effects"),
                         float(e.effect[top]) * scale,
@@ -575,11 +558,11 @@ def headline_rows(st, res):
                         f"term {top}",
                     )
                 )
-    lines = _read(res, rel_path("maps", "lines"))
+    lines = read_result(res, rel_path("maps", "lines"))
     if lines is not None:
         for r in lines.itertuples():
             rows.append(
-                _headline(
+                headline(
                     f"line D_{r.kind}: optimal index",
                     rel_path("maps", "lines"),
                     float(r.index_opt_m) * 1e3,
@@ -587,11 +570,11 @@ def headline_rows(st, res):
                     _line_note(r),
                 )
             )
-    b = _read(res, rel_path("elasticity", "bands"))
+    b = read_result(res, rel_path("elasticity", "bands"))
     if b is not None:
         for r in b.itertuples():
             rows.append(
-                _headline(
+                headline(
                     f"{r.design} index at E_mean",
                     rel_path("elasticity", "bands"),
                     float(r.index_mean_m) * 1e3,
@@ -601,7 +584,7 @@ def headline_rows(st, res):
             )
             if "index_phi_mean_rad" in b:
                 rows.append(
-                    _headline(
+                    headline(
                         f"{r.design} orientation index at E_mean",
                         rel_path("elasticity", "bands"),
                         float(r.index_phi_mean_rad) * 1e3,
@@ -616,203 +599,6 @@ def headline_rows(st, res):
     return pd.DataFrame(rows, columns=COLUMNS)
 
 
-def _point_tables(st, res):
-    """The study's point tables a rigid platform's summary counts in (``interference_rows``,
-    ``reached_rows``): (what, label, table) for each plane, path, volume grid (its shards joined) and
-    DOE workspace grid that exists under ``res``."""
-    lay = Layout(st, res)
-    out = []
-    for rk in st["robots"]:
-        for pk in st["pulleys"]:
-            df = _read(res, rel_path("plane_table", robot=rk, pulley=pk))
-            if df is not None:
-                out.append(("plane", f"{rk} {pk}", df))
-    for path in st["trajectories"]["paths"]:
-        for pk in st["pulleys"]:
-            df = _read(res, rel_path("trajectory_table", path=path, pulley=pk))
-            if df is not None:
-                out.append(("path", f"{path} {pk}", df))
-    for rk in st["robots"]:
-        for pk in st["pulleys"]:
-            shards = [p for p in lay.volume_shards(f"{rk}_{pk}") if Path(p).exists()]
-            if shards:
-                frame = pd.concat([table_io.read_table(p) for p in shards], ignore_index=True)
-                out.append(("volume grid", f"{rk} {pk}", frame))
-    for t in lay.tests():
-        p = Path(lay.path("workspace_grid", "table", test=t))
-        if p.exists():
-            out.append(("DOE workspace grid", f"test {t}", table_io.read_table(p)))
-    return out
-
-
-def interference_rows(st, res):
-    """The interference rows of a study of rigid platforms (issue 39, docs/interference.md): per
-    plane and volume grid, and over the DOE's workspace grids (RW_max, RW_C), how many ok points
-    interfere at their solved pose and so are left out of the plane's numbers, the volumes and RW_C;
-    the paths' interfering ok points are counted (flagged in their tables, not left out). No rows
-    when no table has the ``interference_free`` column (point masses).
-
-    Parameters
-    ----------
-    st : Study
-    res : str or Path
-        The results folder.
-
-    Returns
-    -------
-    list of dict
-        Rows of ``COLUMNS``.
-    """
-    rows, doe = [], []
-    for what, label, df in _point_tables(st, res):
-        if "interference_free" not in df:
-            continue
-        ok = (df["status"].astype(str) == "ok").to_numpy()
-        bad = ok & ~interference_free_rows(df)
-        cc = int((bad & (df["n_cc"].fillna(0).to_numpy() > 0)).sum())
-        cp = int((bad & (df["n_cp"].fillna(0).to_numpy() > 0)).sum())
-        note = f"{int(bad.sum())} of {int(ok.sum())} ok points; cable-cable at {cc}, cable-platform at {cp}"
-        if what == "DOE workspace grid":
-            doe.append((label, int(bad.sum()), int(ok.sum())))
-            continue
-        verb = "flagged" if what == "path" else "left out"
-        rows.append(
-            _headline(f"{label} {what}: interfering points {verb}", what, int(bad.sum()), "points", note)
-        )
-    if doe:
-        rows.append(
-            _headline(
-                "DOE workspace grids: interfering points left out of RW_max and RW_C",
-                rel_path("regular_workspace"),
-                sum(b for _, b, _ in doe),
-                "points",
-                "; ".join(f"{lab}: {b} of {n} ok" for lab, b, n in doe),
-            )
-        )
-    return rows + left_out_rows(res)
-
-
-def left_out_rows(res):
-    """The ok points a rigid platform's runs over RW_C leave out because their cables interfere at
-    the solved pose (issue 39): the DOE's global indices (``doe/doe.csv``), the h-r_p maps, the
-    index versus E, the dead-length sweep and the error budget, each one row with the total and,
-    in the note, where they are; none for tables without the ``interfering_points`` columns (point
-    masses, or results written before them).
-
-    Parameters
-    ----------
-    res : str or Path
-        The results folder.
-
-    Returns
-    -------
-    list of dict
-        Rows of ``COLUMNS``.
-    """
-    rows = []
-    for rule, name, what, label in (
-        ("doe", "table", "DOE global index over RW_C", lambda r: f"test {int(r.test)}"),
-        (
-            "maps",
-            "map",
-            "h-r_p maps' index over RW_C",
-            lambda r: f"{r.kind} h {r.h_m * 1e3:g} r_p {r.r_p_m * 1e3:g} mm",
-        ),
-        ("elasticity", "table", "index versus E over RW_C", lambda r: f"{r.design} E {r.E_Pa:.4g} Pa"),
-    ):
-        t = _read(res, rel_path(rule, name))
-        if t is None or "interfering_points" not in t:
-            continue
-        n = t["interfering_points"].fillna(0).astype(int)
-        where = "; ".join(f"{label(r)}: {k}" for r, k in zip(t.itertuples(), n) if k)
-        note = f"over {len(t)} runs; " + (where or "none in any run")
-        rows.append(
-            _headline(
-                f"{what}: interfering points left out", rel_path(rule, name), int(n.sum()), "points", note
-            )
-        )
-    t = _read(res, rel_path("dead_length"))
-    cols = [] if t is None else [c for c in t.columns if c.startswith("interfering_points_")]
-    if cols:
-        per = {c.removeprefix("interfering_points_"): int(t[c].fillna(0).sum()) for c in cols}
-        note = f"over {len(t)} dead lengths; " + "; ".join(f"{k}: {v}" for k, v in per.items())
-        rows.append(
-            _headline(
-                "dead-length sweep: interfering points left out",
-                rel_path("dead_length"),
-                sum(per.values()),
-                "points",
-                note,
-            )
-        )
-    t = _read(res, rel_path("study_budget"))
-    if t is not None and "interfering_points" in t:
-        per = t.drop_duplicates("design").set_index("design")["interfering_points"].astype(int)
-        rows.append(
-            _headline(
-                "error budget over RW_C: interfering points left out",
-                rel_path("study_budget"),
-                int(per.sum()),
-                "points",
-                "; ".join(f"{d}: {k} of {int(t[t.design == d].points.iloc[0])}" for d, k in per.items()),
-            )
-        )
-    return rows
-
-
-def reached_rows(st, res):
-    """The reached-equilibrium rows of a study (issue 39): over every point table the summary counts
-    in (planes, paths, volume grids, DOE workspace grids), the points where the equilibrium reached
-    by continuation is not the lowest-energy one (``reached_is_global`` false) and those whose
-    continuation crossed a fold (``n_folds`` > 0). The columns exist only where the restarts found
-    more than one equilibrium (``solve.reach_where_multiple``); elsewhere the equilibrium is unique,
-    so the reached one is the global one. No rows for a study without rigid platforms.
-
-    Parameters
-    ----------
-    st : Study
-    res : str or Path
-        The results folder.
-
-    Returns
-    -------
-    list of dict
-        Rows of ``COLUMNS``.
-    """
-    tables = _point_tables(st, res)
-    if not tables or not any("interference_free" in df for _, _, df in tables):
-        return []
-    total = sum(len(df) for _, _, df in tables)
-    continued = differ = folds = 0
-    where = []
-    for what, label, df in tables:
-        if "reached_is_global" not in df:
-            continue
-        g = df["reached_is_global"].astype("boolean").fillna(True).to_numpy(dtype=bool)
-        f = df["n_folds"].fillna(0).to_numpy() > 0
-        if "unique" in df:
-            continued += int((~df["unique"].astype("boolean").fillna(True).to_numpy(dtype=bool)).sum())
-        differ += int((~g).sum())
-        folds += int(f.sum())
-        if (~g).any() or f.any():
-            where.append(f"{label} {what}: {int((~g).sum())} / {int(f.sum())}")
-    note = (
-        f"of {total} points in the planes, paths, volume and workspace grids; continued at the "
-        f"{continued} points where the restarts find more than one equilibrium (elsewhere it is unique)"
-        + (f"; reached ≠ global / folds by table: {', '.join(where)}" if where else "")
-    )
-    return [
-        _headline(
-            "points where the reached equilibrium is not the global one",
-            "point tables",
-            differ,
-            "points",
-            note,
-        ),
-        _headline("points whose continuation crossed a fold", "point tables", folds, "points", note),
-    ]
-
-
 def _uq_spatial_rows(st, res):
     """The uncertainty study of a spatial robot (``uncertainty/bands.csv`` and ``sobol.csv``, written by
     ``pipeline.uq``): per design and case the per-cable-E Monte Carlo median of the global index of
@@ -820,7 +606,10 @@ def _uq_spatial_rows(st, res):
     median), and the largest total Sobol index of each response per parameter group and per
     parameter (the note names the three largest with their 95 % half-widths); no rows when the
     tables are absent."""
-    b, t = _read(res, rel_path("uncertainty", "bands")), _read(res, rel_path("uncertainty", "sobol"))
+    b, t = (
+        read_result(res, rel_path("uncertainty", "bands")),
+        read_result(res, rel_path("uncertainty", "sobol")),
+    )
     rows = []
     if b is not None and "index_phi_q50_rad" in b:
         for (design, case), g in b.groupby(["design", "case"], sort=False):
@@ -828,7 +617,7 @@ def _uq_spatial_rows(st, res):
             for what, col, unit in (("‖δp‖", "index", "mm"), ("δφ", "index_phi", "mrad")):
                 u = "_m" if col == "index" else "_rad"
                 rows.append(
-                    _headline(
+                    headline(
                         f"{design} {case} index of {what} under per-cable E (median)",
                         rel_path("uncertainty", "bands"),
                         float(lin[f"{col}_q50{u}"]) * 1e3,
@@ -847,7 +636,7 @@ def _uq_spatial_rows(st, res):
                         continue
                     top = ", ".join(f"{r.name} {r.ST:.2f}±{r.ST_conf:.2f}" for r in h.head(3).itertuples())
                     rows.append(
-                        _headline(
+                        headline(
                             f"{design} {case} largest total Sobol index on the index of {what} ({word})",
                             rel_path("uncertainty", "sobol"),
                             float(h.ST.iloc[0]),
@@ -872,7 +661,7 @@ def _budget_rows(res):
     design the mean ‖δp‖ [mm] of the three terms alone and together, with the mean ‖δφ‖ and the
     points the means are over (ok in every entry); no rows when the table is absent. A heavy budget
     (a ``sag`` entry) adds sag alone, all four together and per design what sag adds (``_sag_row``)."""
-    t = _read(res, rel_path("study_budget"))
+    t = read_result(res, rel_path("study_budget"))
     if t is None:
         return []
     rows = []
@@ -880,7 +669,7 @@ def _budget_rows(res):
     terms = {**BUDGET_TERMS, "sag": "cable sag alone", "all": "all four"} if heavy else BUDGET_TERMS
     for r in t[t.entry.isin(list(terms))].itertuples():
         rows.append(
-            _headline(
+            headline(
                 f"{r.design} budget: {terms[r.entry]}",
                 rel_path("study_budget"),
                 float(r.mean_m) * 1e3,
@@ -900,7 +689,7 @@ def _sag_row(t):
     [mm] and ‖δφ‖ [mrad], and what the heavy compensation leaves (``compensated_all``)."""
     e = t.set_index("entry")
     r, c = e.loc["neglected_sag"], e.loc["compensated_all"]
-    return _headline(
+    return headline(
         f"{r.design} budget: what cable sag adds (massless compensated lengths)",
         rel_path("study_budget"),
         float(r.mean_m) * 1e3,

@@ -72,12 +72,26 @@ def _nominal(response):
     return f"{response}_nominal{_TAGS[response][1]}"
 
 
-def _stats(values, ok, response, kind=""):
-    """``sample_stats`` of a response with its columns named (``column``); not_ok for ‖δp‖ only."""
+def _stats(values, ok, response, kind="", keep=None):
+    """``sample_stats`` of a response over the points ``keep`` (default all: the points not left
+    out, ``_left_out``) with its columns named (``column``); not_ok for ‖δp‖ only."""
+    if keep is not None and not keep.all():  # C order: the sums over the points as without keep
+        values, ok = np.ascontiguousarray(values[:, keep]), np.ascontiguousarray(ok[:, keep])
     s = sample_stats(values, ok)
     if response != "dp":
         s = s.drop(columns="not_ok")
     return s.rename(columns={f"{k}_m": column(response, k, kind) for k in _STATS})
+
+
+def _rigid(m_):
+    """A model whose robot can interfere (not a point mass): its tables get the interference counts."""
+    return not m_.robot.point_mass
+
+
+def _left_out(m_):
+    """The points kept (N,) bool: all but those where the nominal robot's cables interfere at its
+    solved pose (``PoseErrorModel.interfering``), which every statistic leaves out."""
+    return ~m_.interfering()
 
 
 def study_drivers(st, robot):
@@ -186,28 +200,35 @@ def mc_shard(st, design, case, box, shard, threads=None):
     samples : DataFrame
         sample, index/median/p95 of ‖δp‖ [m] by full solves and linearised, not-ok points, the
         largest point difference [m], the share of points differing by more than ``agree_tol_m``;
-        for a pose the same of δφ [rad] after them (index_phi_full_rad, ..., max_diff_phi_rad).
+        for a pose the same of δφ [rad] after them (index_phi_full_rad, ..., max_diff_phi_rad);
+        for a rigid platform, last, interfering_points (the points left out of every statistic:
+        the nominal robot's cables interfere at its solved pose, ``PoseErrorModel.interfering``)
+        and interfering_full (of the points kept and ok, those where the sample's own robot
+        interferes at its solved pose: flagged, kept in the statistics).
     points : DataFrame
         x, y, z, smooth (the nominal answer's flag), dp_nominal_m, max_diff_m over the shard's
         samples, n_disagree (samples where the difference exceeds ``agree_tol_m``); for a pose
-        dphi_nominal_rad and max_diff_phi_rad [rad].
+        dphi_nominal_rad and max_diff_phi_rad [rad]; for a rigid platform, last, interfering (the
+        point is left out; its max_diff NaN, n_disagree 0) and n_interfering (the shard's samples
+        whose solved pose interferes there).
     """
     mc = st["uncertainty"]["monte_carlo"]
     start, stop = shard_range(mc["full_samples"], shard, mc["shards"])
     m_ = model(st, design, case, grid_points(box, mc["index_n"]), threads)
     th = mc_parameters(st, m_.robot, start, stop)
-    full, ok_f = m_.solve(th)
+    full, ok_f, hit = m_.solve(th, interference=True)
+    keep = _left_out(m_)
     lins = m_.linearisations(_active_columns(st, m_.robot))
     lin = {r: lins[r].dp(th) for r in m_.responses}
     ok_l = np.isfinite(lin["dp"])
-    both = ok_f & ok_l
+    both = ok_f & ok_l & keep
     tol = mc["agree_tol_m"]
     samples = {"sample": np.arange(start, stop)}
     points = {"x": m_.p[:, 0], "y": m_.p[:, 1], "z": m_.p[:, 2], "smooth": lins["dp"].smooth}
     for r in m_.responses:
         diff, max_s = _max_diff(full[r], lin[r], both, 1)
         _, max_p = _max_diff(full[r], lin[r], both, 0)
-        sf, sl = _stats(full[r], ok_f, r, "full"), _stats(lin[r], ok_l, r, "lin")
+        sf, sl = _stats(full[r], ok_f, r, "full", keep), _stats(lin[r], ok_l, r, "lin", keep)
         for k in _STATS:
             samples[column(r, k, "full")] = sf[column(r, k, "full")]
             samples[column(r, k, "lin")] = sl[column(r, k, "lin")]
@@ -220,6 +241,10 @@ def mc_shard(st, design, case, box, shard, threads=None):
         if r == "dp":  # the tolerance is in metres: the points and samples where ‖δp‖ disagrees
             samples["share_disagree"] = (diff > tol).sum(axis=1) / np.maximum(both.sum(axis=1), 1)
             points["n_disagree"] = (diff > tol).sum(axis=0)
+    if _rigid(m_):  # the interference counts (docs/interference.md), last
+        samples["interfering_points"] = np.full(len(th), int((~keep).sum()))
+        samples["interfering_full"] = (hit & keep & ok_f).sum(axis=1)
+        points.update(interfering=~keep, n_interfering=hit.sum(axis=0))
     return pd.DataFrame(samples), pd.DataFrame(points)
 
 
@@ -239,17 +264,22 @@ def linear_samples(st, design, case, box, threads=None):
     -------
     DataFrame
         sample, index_m, median_m, p95_m [m], not_ok; for a pose index_phi_rad, median_phi_rad,
-        p95_phi_rad [rad].
+        p95_phi_rad [rad]; for a rigid platform, last, interfering_points (the points left out of
+        every row: the nominal robot's cables interfere at its solved pose; a linearised sample's
+        own interference is not tested).
     """
     mc = st["uncertainty"]["monte_carlo"]
     m_ = model(st, design, case, grid_points(box, mc["index_n"]), threads)
+    keep = _left_out(m_)
     lins = m_.linearisations(_active_columns(st, m_.robot))
     th = np.vstack([parameter_values(m_.robot), mc_parameters(st, m_.robot, 0, mc["samples"])])
-    out = linear_stats(lins["dp"], th, threads=threads)
+    out = linear_stats(lins["dp"], th, threads=threads, keep=keep)
     for r in m_.responses[1:]:
-        s = linear_stats(lins[r], th, threads=threads).drop(columns="not_ok")
+        s = linear_stats(lins[r], th, threads=threads, keep=keep).drop(columns="not_ok")
         out = pd.concat([out, s.rename(columns={f"{k}_m": column(r, k) for k in _STATS})], axis=1)
     out.insert(0, "sample", np.arange(-1, mc["samples"]))
+    if _rigid(m_):
+        out["interfering_points"] = int((~keep).sum())
     return out
 
 
@@ -274,7 +304,10 @@ def path_bands(st, design, case, threads=None):
     -------
     DataFrame
         s, x, y, z [m], dp_nominal_m, q05_m, q50_m, q95_m [m], ok_share (share of samples where the
-        point is ok); for a pose dphi_nominal_rad, q05_phi_rad, q50_phi_rad, q95_phi_rad [rad].
+        point is ok); for a pose dphi_nominal_rad, q05_phi_rad, q50_phi_rad, q95_phi_rad [rad]; for
+        a rigid platform, last, interfering (the nominal robot's cables interfere at its solved pose)
+        and interfering_share (share of samples whose solved pose interferes): a path's points are
+        flagged, not left out (as the study's paths).
 
     References
     ----------
@@ -285,8 +318,8 @@ def path_bands(st, design, case, threads=None):
     m_ = model(st, design, case, P, threads)
     mc = st["uncertainty"]["monte_carlo"]
     th = mc_parameters(st, m_.robot, 0, mc["samples"])
-    values, ok = m_.solve(th)
-    nominal, ok0 = m_.solve(parameter_values(m_.robot)[None])
+    values, ok, hit = m_.solve(th, interference=True)
+    nominal, ok0, hit0 = m_.solve(parameter_values(m_.robot)[None], interference=True)
     out = {"s": s, "x": P[:, 0], "y": P[:, 1], "z": P[:, 2]}
     for r in m_.responses:
         q = _quantiles(values[r], ok)
@@ -294,6 +327,8 @@ def path_bands(st, design, case, threads=None):
         out.update({column(r, f"q{k:02d}"): q[j] for j, k in enumerate((5, 50, 95))})
         if r == "dp":
             out["ok_share"] = ok.mean(axis=0)
+    if _rigid(m_):
+        out.update(interfering=hit0[0], interfering_share=hit.mean(axis=0))
     return pd.DataFrame(out)
 
 
@@ -319,13 +354,22 @@ def sobol(st, design, case, box, threads=None):
     rows : DataFrame
         The evaluations of the independent rows A and B of Saltelli's scheme (2 base_samples draws
         of every parameter): index_m, median_m, p95_m, not_ok over the RW_C grid (and index_phi_rad,
-        median_phi_rad, p95_phi_rad for a pose).
+        median_phi_rad, p95_phi_rad for a pose); for a rigid platform, last, interfering_points
+        (grid points left out of every row: the nominal robot's cables interfere at its solved
+        pose) and interfering_full (of the points kept and ok, those where the row's robot
+        interferes at its solved pose: flagged, kept; these rows are solved again for it).
+
+    Notes
+    -----
+    A point of ``points_m`` where the nominal robot interferes is left out too: its outputs are
+    NaN, as at a point that is not ok.
     """
     u = st["uncertainty"]
     so = u["sobol"]
     grid = grid_points(box, so["index_n"])
     pts = np.asarray(so["points_m"], dtype=float).reshape(-1, 3)
     m_ = model(st, design, case, np.vstack([grid, pts]), threads)
+    keep = _left_out(m_)
     dr, _ = study_drivers(st, m_.robot)
     n = len(grid)
     at = [f"({x:g}, {y:g}, {z:g})" for x, y, z in pts]
@@ -344,13 +388,13 @@ def sobol(st, design, case, box, threads=None):
                 todo[k] = i
         if todo:
             values, ok = m_.solve(theta[list(todo.values())])
-            parts = [_stats(values[r][:, :n], ok[:, :n], r) for r in m_.responses]
+            parts = [_stats(values[r][:, :n], ok[:, :n], r, keep=keep[:n]) for r in m_.responses]
             s = parts[0] if len(parts) == 1 else pd.concat(parts, axis=1)
             done_stats.append(s)
             done_Y.append(
                 np.column_stack(
                     [s[column(r, "index")].to_numpy() for r in m_.responses]
-                    + [np.where(ok[:, n:], values[r][:, n:], np.nan) for r in m_.responses]
+                    + [np.where(ok[:, n:] & keep[n:], values[r][:, n:], np.nan) for r in m_.responses]
                 )
             )
             base = len(seen)
@@ -359,15 +403,23 @@ def sobol(st, design, case, box, threads=None):
         stats.append(pd.concat(done_stats, ignore_index=True).iloc[at].reset_index(drop=True))
         return np.vstack(done_Y)[at]
 
-    per, _, _ = sobol_analysis(evaluate, dr, m_.robot, so["base_samples"], u["seed"], outputs, source=st.path)
+    per, _, theta = sobol_analysis(
+        evaluate, dr, m_.robot, so["base_samples"], u["seed"], outputs, source=st.path
+    )
     D = len(dr)
-    rows = stats[0].iloc[np.r_[0 : len(stats[0]) : D + 2, D + 1 : len(stats[0]) : D + 2]]  # A and B rows
+    ab = np.r_[0 : len(stats[0]) : D + 2, D + 1 : len(stats[0]) : D + 2]  # the A and B rows
+    rows = stats[0].iloc[ab].reset_index(drop=True)
+    if _rigid(m_):  # the A and B rows' own interference (flagged): tested on these rows only, whose
+        # few solves are repeated; every row of Saltelli's scheme would cost ~10 ms each
+        _, ok_ab, hit = m_.solve(theta[ab], interference=True)
+        rows["interfering_points"] = int((~keep[:n]).sum())
+        rows["interfering_full"] = (hit[:, :n] & keep[:n] & ok_ab[:, :n]).sum(axis=1)
     grp, _, _ = sobol_analysis(
         evaluate, dr, m_.robot, so["base_samples"], u["seed"], outputs, groups=True, source=st.path
     )
     indices = pd.concat([per, grp], ignore_index=True)
     indices["base_samples"] = int(so["base_samples"])  # N of Saltelli's scheme: what the intervals rest on
-    return indices, rows.reset_index(drop=True)
+    return indices, rows
 
 
 def _dominant(lin, dr, projected):
@@ -406,7 +458,9 @@ def dominant_map(st, design, case, threads=None):
     DataFrame
         x, y, z [m], dp_nominal_m, dominant (driver name), group, share (its part of the sum of
         contributions), rms_m (the square root of that sum) [m]; for a pose dphi_nominal_rad,
-        dominant_phi, group_phi, share_phi and rms_phi_rad [rad].
+        dominant_phi, group_phi, share_phi and rms_phi_rad [rad]; for a rigid platform, last,
+        interfering: the nominal robot's cables interfere at its solved pose, and the point is left
+        out (NaN values and empty names, as a point that is not ok).
     """
     u = st["uncertainty"]
     robot = design_robot(st, st["doe"]["robot"], st["optimal"][design])
@@ -415,10 +469,15 @@ def dominant_map(st, design, case, threads=None):
     dr, _ = study_drivers(st, robot)
     lins = m_.linearisations(driver_columns(dr))
     out = {"x": P[:, 0], "y": P[:, 1], "z": P[:, 2]}
+    keep = _left_out(m_)
     for r in m_.responses:
         keys = (_nominal(r), column(r, "dominant", unit=False), column(r, "group", unit=False))
         keys += (column(r, "share", unit=False), column(r, "rms"))
-        out.update(zip(keys, _dominant(lins[r], dr, projected=case == "uncompensated"), strict=True))
+        cols = _dominant(lins[r], dr, projected=case == "uncompensated")
+        cols = [np.where(keep, c, "" if c.dtype == object else np.nan) for c in cols]
+        out.update(zip(keys, cols, strict=True))
+    if _rigid(m_):
+        out["interfering"] = ~keep
     return pd.DataFrame(out)
 
 
@@ -445,7 +504,12 @@ def bands(linear, full, nominal_common=None, rows=None):
         paper's band definition), median_q50_m / p95_q50_m (median over samples of each sample's
         median and 95 % of ‖δp‖ over the points) and p95_q95_m [m]; for a pose (``index_phi_rad``
         in ``linear``; needs ``rows``) δφ's band beside: index_phi_nominal_rad, index_phi_q05_rad,
-        index_phi_q50_rad, index_phi_q95_rad, index_phi_min_rad, index_phi_max_rad [rad].
+        index_phi_q50_rad, index_phi_q95_rad, index_phi_min_rad, index_phi_max_rad [rad]; for a
+        rigid platform (``interfering_points`` in ``linear``), last, interfering_points (the grid's
+        points left out of the row's statistics: the nominal robot's cables interfere at its
+        solved pose; the Saltelli rows' grid for all_parameters) and interfering_full (over the
+        row's samples, the sample points kept whose own robot interferes at its solved pose;
+        missing for the linearised row, whose samples are not solved).
 
     References
     ----------
@@ -478,7 +542,7 @@ def bands(linear, full, nominal_common=None, rows=None):
         )
     b = pd.DataFrame(out)
     if rows is None:
-        return b
+        return _interference_counts(b, linear, full, None)
     q = np.quantile(rows.index_m, QUANTILES)
     nom = float(b.index_nominal_m.iloc[0])
     every = {
@@ -499,6 +563,26 @@ def bands(linear, full, nominal_common=None, rows=None):
     b = pd.concat([b, pd.DataFrame([every])], ignore_index=True)
     if "index_phi_rad" in linear:  # a pose: δφ's band beside
         b = pd.concat([b, _phi_bands(linear, full, rows)], axis=1)
+    return _interference_counts(b, linear, full, rows)
+
+
+def _interference_counts(b, linear, full, rows):
+    """``bands``'s interference columns (a rigid platform: ``interfering_points`` in ``linear``):
+    the points each row leaves out and the flagged sample points of its full solves."""
+    if "interfering_points" not in linear:
+        return b
+    tables = [linear, full] + ([] if rows is None else [rows])
+    b["interfering_points"] = pd.array(
+        [
+            int(t["interfering_points"].max()) if "interfering_points" in t and len(t) else pd.NA
+            for t in tables
+        ],
+        dtype="Int64",
+    )
+    flagged = [pd.NA] + [
+        int(t["interfering_full"].sum()) if "interfering_full" in t else pd.NA for t in tables[1:]
+    ]
+    b["interfering_full"] = pd.array(flagged, dtype="Int64")
     return b
 
 
@@ -548,6 +632,8 @@ def agreement(full, points, agree_tol):
         of the δφ global index) and max_point_phi_diff_rad (of δφ at a point) [rad].
     """
     d = (full["index_lin_m"] - full["index_full_m"]).abs()
+    if "interfering" in points:  # a rigid platform: the points left out of every statistic
+        points = points[~points["interfering"].astype(bool)]
     # one row per point: the shards' tables repeat every point (its samples split between them),
     # so a point disagrees when some shard's samples do, whatever the shard count
     phi = float(points["max_diff_phi_rad"].max()) if "max_diff_phi_rad" in points else np.nan

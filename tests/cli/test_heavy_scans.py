@@ -152,7 +152,6 @@ def test_heavy_wrench_feasible_is_the_sag_consistent_distribution(tmp_path, caps
 @pytest.mark.parametrize(
     "args, words",
     [
-        (["grid", "--robot", RC, "--frame", "--n", "2", "--interference"], "does not model heavy cables yet"),
         (["grid", "--robot", CUBE, "--frame", "--n", "2"], "physical mode only"),
         (["plane", "--robot", CUBE, "--z", "25", "--n", "2"], "physical mode only"),
         (
@@ -162,8 +161,8 @@ def test_heavy_wrench_feasible_is_the_sag_consistent_distribution(tmp_path, caps
     ],
 )
 def test_what_is_not_modelled_is_refused_in_one_line(tmp_path, capsys, args, words):
-    """grid --interference (straight cables at the grid's poses) and paper mode (the point-mass
-    default) refuse heavy cables in one line, before writing anything."""
+    """Paper mode (the point-mass default) refuses heavy cables in one line, before writing anything
+    (``grid --interference`` takes them: tests/cli/test_interference_heavy.py)."""
     out = tmp_path / "x.csv"
     assert main([*args, *RHO, "--out", str(out)]) == 2
     err = capsys.readouterr().err.strip()

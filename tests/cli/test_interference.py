@@ -243,7 +243,8 @@ def _heavy_wall(tmp_path):
 
 def test_heavy_compensate_table_tests_the_catenaries(tmp_path, capsys):
     """Heavy cables: the columns are the catenaries' polylines' under the compensated lengths at the
-    solved poses; ``cdpr interference`` (no rest lengths) refuses the heavy rigid robot in one line."""
+    solved poses; ``cdpr interference`` tests the desired pose under the same compensated lengths
+    (tests/cli/test_interference_heavy.py)."""
     from cdpr.models.interference import columns, interference
     from cdpr.robot import load_robot
 
@@ -266,6 +267,5 @@ def test_heavy_compensate_table_tests_the_catenaries(tmp_path, capsys):
     )
     np.testing.assert_allclose(df["dmin_m"], want["dmin_m"], rtol=1e-12, atol=1e-15)
     capsys.readouterr()
-    assert main(["interference", "--robot", heavy, "--at", "0", "0", "1.5"]) == 2
-    err = capsys.readouterr().err
-    assert "rest lengths" in err and len(err.strip().splitlines()) == 1
+    out = run_json(capsys, "interference", "--robot", heavy, "--at", "0", "0", "1.5")
+    assert out["lengths_from"] == "compensated" and out["lengths"] == L0[0].tolist()

@@ -81,3 +81,38 @@ def test_md_table_writes_floats_with_the_format_and_the_rest_as_text():
         "| standard | 12.5 | 4 |",
     ]
     assert md_table(df, ["rms_mm"], fmt="{:.1f}").splitlines()[2:] == ["| 0.1 |", "| 12.5 |"]
+
+
+def test_study_wrench_key_is_checked_and_reaches_the_study_robot(tmp_path):
+    """``wrench`` (optional, both kinds): the load on the platform during every measurement, on the
+    study's nominal robot (so on the true robot drawn from it, and on every model); bad values are one
+    line naming the key, a moment on a point mass too."""
+    import yaml
+
+    from cdpr.pipeline.calibration import load_calibration_study, study_robot
+    from tests.conftest import ROOT
+
+    path = ROOT / "config" / "studies" / "calibration.yaml"
+    base = yaml.safe_load(path.read_text())
+    assert (
+        "wrench" not in load_calibration_study(path)
+        and not study_robot(load_calibration_study(path)).platform.has_wrench
+    )
+    f = tmp_path / "s.yaml"
+    f.write_text(yaml.safe_dump(dict(base, wrench=[10, 0, -50, 0, 0, 0])))
+    st = load_calibration_study(f)
+    assert st["wrench"] == (10.0, 0.0, -50.0, 0.0, 0.0, 0.0)
+    assert study_robot(st).platform.wrench == st["wrench"]
+    for value, words in (
+        ([0, 0, -50], "expected 6 numbers"),
+        ([0, 0, ".nan", 0, 0, 0], "must be finite"),
+        ([0, 0, -50, 1, 0, 0], "cannot carry a moment"),
+    ):
+        f.write_text(yaml.safe_dump(dict(base, wrench=value)).replace("'.nan'", ".nan"))
+        with pytest.raises(ConfigError, match=words) as exc:
+            load_calibration_study(f)
+        assert "\n" not in str(exc.value) and "'wrench'" in str(exc.value)
+    cog = yaml.safe_load((ROOT / "config" / "studies" / "calibration_cogiro.yaml").read_text())
+    cog["robot"] = str(ROOT / cog["robot"])
+    f.write_text(yaml.safe_dump(dict(cog, wrench=[0, 0, -196.2, -19.62, 39.24, 0])))
+    assert study_robot(load_calibration_study(f)).platform.wrench[3:] == (-19.62, 39.24, 0.0)

@@ -1,6 +1,6 @@
 """Interference in the studies (issue 39): a rigid platform's study tables carry the interference
 columns at the solved poses (``analyses.interference.add_interference``), an interfering point is left out of the
-volumes, RW_C and the plane's numbers and counted in the summary (``summary.interference_rows``),
+volumes, RW_C and the plane's numbers and counted in the summary (``summary_rows.interference_rows``),
 and ``cdpr view`` draws the interfering cables in their own colour (``plots.robot.cable_colours``)."""
 
 import numpy as np
@@ -13,7 +13,7 @@ from cdpr.analyses import scans, workspace
 from cdpr.analyses.interference import add_interference
 from cdpr.analyses.workspace import interference_free_rows
 from cdpr.models.interference import COLUMNS, columns, interference
-from cdpr.pipeline import solver_tables, study, summary
+from cdpr.pipeline import solver_tables, study, summary, summary_rows
 from cdpr.pipeline.plots import robot as robot_plots
 from cdpr.pipeline.plots import style as style_plots
 from cdpr.pipeline.results import rel_path
@@ -102,7 +102,7 @@ def test_the_summary_counts_the_interfering_points_it_leaves_out(tmp_path):
         p = tmp_path / rel_path("plane_table", robot="CoGiRo", pulley=pk)
         p.parent.mkdir(parents=True, exist_ok=True)
         table_io.write_table(plane, p)
-    rows = {r["quantity"]: r for r in summary.interference_rows(st, tmp_path)}
+    rows = {r["quantity"]: r for r in summary_rows.interference_rows(st, tmp_path)}
     r = rows["CoGiRo SR plane: interfering points left out"]
     assert r["ours"] == 2 and r["note"] == "2 of 7 ok points; cable-cable at 1, cable-platform at 1"
     head = summary.headline_rows(st, tmp_path).set_index("quantity")
@@ -115,7 +115,7 @@ def test_the_summary_counts_the_interfering_points_it_leaves_out(tmp_path):
         reached_is_global=[True, False, True, True, True, True, True, True],
     )
     table_io.write_table(plane, tmp_path / rel_path("plane_table", robot="CoGiRo", pulley="SR"))
-    rows = {r["quantity"]: r for r in summary.reached_rows(st, tmp_path)}
+    rows = {r["quantity"]: r for r in summary_rows.reached_rows(st, tmp_path)}
     assert rows["points where the reached equilibrium is not the global one"]["ours"] == 1
     assert rows["points whose continuation crossed a fold"]["ours"] == 1
     assert "continued at the 2 points" in rows["points whose continuation crossed a fold"]["note"]
@@ -266,14 +266,14 @@ def test_the_summary_says_what_the_index_budget_and_dead_length_runs_left_out(tm
         p = tmp_path / rel_path(rule, name)
         p.parent.mkdir(parents=True, exist_ok=True)
         table_io.write_table(t, p)
-    rows = {r["quantity"]: r for r in summary.left_out_rows(tmp_path)}
+    rows = {r["quantity"]: r for r in summary_rows.left_out_rows(tmp_path)}
     r = rows["DOE global index over RW_C: interfering points left out"]
     assert r["ours"] == 3 and r["note"] == "over 2 runs; test 1: 3"
     r = rows["dead-length sweep: interfering points left out"]
     assert r["ours"] == 7 and r["note"] == "over 2 dead lengths; plane_SR: 3; SRopt_Emean: 4"
     r = rows["error budget over RW_C: interfering points left out"]
     assert r["ours"] == 12 and r["note"] == "SRopt: 5 of 64; DRopt: 7 of 64"
-    assert summary.left_out_rows(tmp_path / "none") == []
+    assert summary_rows.left_out_rows(tmp_path / "none") == []
 
 
 def _plane_tables(bad):

@@ -18,7 +18,7 @@ rule study_budget_design:
         design="|".join(OPT),
     params:
         **COMMON,
-        study=uses("budget", "optimal", "doe", "dead_length_m", "rotvec_rad"),
+        study=uses("budget", "optimal", "doe", "dead_length_m", "rotvec_rad", "wrench"),
     log:
         LAYOUT.log("study_budget_design"),
     threads: SOLVER_THREADS

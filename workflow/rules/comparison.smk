@@ -41,7 +41,7 @@ if CMP_FILE:
         params:
             **CMP_COMMON,
             budget=CMP["budget"],
-            study={k: CMP.paper_study.get(k) for k in ("robots", "pulleys", "optimal", "trajectories", "dead_length_m")},
+            study={k: CMP.paper_study.get(k) for k in ("robots", "pulleys", "optimal", "trajectories", "dead_length_m", "wrench")},
         log:
             CMP_LAYOUT.log("budget_design"),
         threads: SOLVER_THREADS

@@ -7,7 +7,7 @@ rule workspace_grid:
     params:
         **COMMON,
         # a spatial robot's workspace is the wrench-feasible one (tensions in [t_min, T_a] hold the pose)
-        study=uses("doe.robot", "doe.levels", "doe.workspace_n", "dead_length_m", "solver", "redundancy", "rotvec_rad"),
+        study=uses("doe.robot", "doe.levels", "doe.workspace_n", "dead_length_m", "solver", "redundancy", "rotvec_rad", "wrench"),
     log:
         LAYOUT.log("workspace_grid"),
     threads: SOLVER_THREADS
@@ -24,7 +24,7 @@ rule regular_workspace:
         **outputs("regular_workspace"),
     params:
         **COMMON,
-        study=uses("doe", "dead_length_m"),
+        study=uses("doe", "dead_length_m", "wrench"),
     log:
         LAYOUT.log("regular_workspace"),
     shell:
@@ -40,7 +40,7 @@ rule index_shard:
         **outputs("index_shard"),
     params:
         **COMMON,
-        study=uses("doe", "dead_length_m", "solver", "redundancy", "rotvec_rad"),
+        study=uses("doe", "dead_length_m", "solver", "redundancy", "rotvec_rad", "wrench"),
     log:
         LAYOUT.log("index_shard"),
     threads: SOLVER_THREADS

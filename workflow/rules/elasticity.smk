@@ -9,7 +9,7 @@ rule elasticity_shard:
         **outputs("elasticity_shard"),
     params:
         **COMMON,
-        study=uses("elasticity.path", "elasticity.E_path_Pa", "optimal", "doe.robot", "dead_length_m", "solver", "redundancy", "rotvec_rad"),
+        study=uses("elasticity.path", "elasticity.E_path_Pa", "optimal", "doe.robot", "dead_length_m", "solver", "redundancy", "rotvec_rad", "wrench"),
     log:
         LAYOUT.log("elasticity_shard"),
     threads: SOLVER_THREADS
@@ -25,7 +25,7 @@ rule elasticity_path:
         **outputs("elasticity_path"),
     params:
         **COMMON,
-        study=uses("elasticity", "optimal", "doe", "dead_length_m", "solver", "redundancy", "rotvec_rad"),
+        study=uses("elasticity", "optimal", "doe", "dead_length_m", "solver", "redundancy", "rotvec_rad", "wrench"),
     log:
         LAYOUT.log("elasticity_path"),
     threads: SOLVER_THREADS
@@ -63,7 +63,7 @@ rule dead_length_point:
         **outputs("dead_length_point"),
     params:
         **COMMON,
-        study=uses("dead_length", "pulleys", "plane", "optimal", "elasticity", "doe", "solver", "redundancy", "rotvec_rad"),
+        study=uses("dead_length", "pulleys", "plane", "optimal", "elasticity", "doe", "solver", "redundancy", "rotvec_rad", "wrench"),
     log:
         LAYOUT.log("dead_length_point"),
     threads: SOLVER_THREADS

@@ -26,7 +26,7 @@ rule sag_corner:
         **outputs("sag_corner", figure=("../report/sag.rst", "Sag")),
     params:
         **COMMON,
-        study=uses("sag", "robots", "dead_length_m", "rotvec_rad", "redundancy"),
+        study=uses("sag", "robots", "dead_length_m", "rotvec_rad", "redundancy", "wrench"),
     log:
         LAYOUT.log("sag_corner"),
     shell:

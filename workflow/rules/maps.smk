@@ -9,7 +9,7 @@ rule map_kind:
         **outputs("map_kind"),
     params:
         **COMMON,
-        study=uses("maps", "doe", "dead_length_m", "solver", "redundancy"),
+        study=uses("maps", "doe", "dead_length_m", "solver", "redundancy", "wrench"),
     log:
         LAYOUT.log("map_kind"),
     threads: SOLVER_THREADS
@@ -27,7 +27,7 @@ rule maps:
         **outputs("maps", figure=("../report/maps.rst", "Maps")),
     params:
         **COMMON,
-        study=uses("maps", "doe", "dead_length_m", "solver", "redundancy"),
+        study=uses("maps", "doe", "dead_length_m", "solver", "redundancy", "wrench"),
     log:
         LAYOUT.log("maps"),
     threads: SOLVER_THREADS

@@ -8,7 +8,7 @@ rule plane_table:
         **outputs("plane_table"),
     params:
         **COMMON,
-        study=uses("plane.z_m", "plane.n", "pulleys", "dead_length_m", "solver", "redundancy", "rotvec_rad"),
+        study=uses("plane.z_m", "plane.n", "pulleys", "dead_length_m", "solver", "redundancy", "rotvec_rad", "wrench"),
     log:
         LAYOUT.log("plane_table"),
     threads: SOLVER_THREADS

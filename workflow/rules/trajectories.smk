@@ -8,7 +8,7 @@ rule trajectory_table:
         **outputs("trajectory_table"),
     params:
         **COMMON,
-        study=uses("trajectories.paths", "trajectories.points", "pulleys", "dead_length_m", "solver", "redundancy", "rotvec_rad"),
+        study=uses("trajectories.paths", "trajectories.points", "pulleys", "dead_length_m", "solver", "redundancy", "rotvec_rad", "wrench"),
     log:
         LAYOUT.log("trajectory_table"),
     threads: SOLVER_THREADS

@@ -22,7 +22,7 @@ if UQ:
             shard=r"\d+",
         params:
             **COMMON,
-            study=uses("optimal", "doe", "dead_length_m"),
+            study=uses("optimal", "doe", "dead_length_m", "wrench"),
             uq=uq_uses("seed", "redundancy", "parameters", "monte_carlo", "compensation"),
         log:
             LAYOUT.log("uq_shard"),
@@ -43,7 +43,7 @@ if UQ:
             case="|".join(UQ_CASES),
         params:
             **COMMON,
-            study=uses("optimal", "doe", "dead_length_m", "elasticity", "plane"),
+            study=uses("optimal", "doe", "dead_length_m", "elasticity", "plane", "wrench"),
             uq=UQ,
         log:
             LAYOUT.log("uq_design"),

@@ -8,7 +8,7 @@ rule volume_shard:
         **outputs("volume_shard"),
     params:
         **COMMON,
-        study=uses("volumes.n", "volumes.shards", "pulleys", "dead_length_m", "solver", "redundancy", "rotvec_rad"),
+        study=uses("volumes.n", "volumes.shards", "pulleys", "dead_length_m", "solver", "redundancy", "rotvec_rad", "wrench"),
     log:
         LAYOUT.log("volume_shard"),
     threads: SOLVER_THREADS

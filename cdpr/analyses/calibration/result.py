@@ -241,7 +241,9 @@ def _json_float(x):
 def robot_file_text(cal, data_source, when):
     """The calibrated robot as robot-file text (``cdpr.pipeline.calibration_files.write_robot``
     writes it): the input's schema, per-cable plain SI values, and a header saying from which
-    data, with which model, and when (offsets, which are not robot parameters, in the header). A
+    data, with which model, and when (offsets, which are not robot parameters, in the header; so is
+    an external wrench the data were taken under, ``Platform.wrench``, which the file does not carry:
+    a calibrated robot is the robot without its temporary load). A
     motor-angle fit's is the nominal robot file with the estimated anchors and spools per cable
     (``motor_robot_mapping``), its header naming the gauge too.
 
@@ -265,6 +267,12 @@ def robot_file_text(cal, data_source, when):
     spatial = is_spatial(rob)
     if "offsets" in {calibration_groups(rob)[0][k] for k in cal.index}:
         header.append("# encoder offsets [m]: " + ", ".join(f"{o:.9g}" for o in cal.offsets))
+    if rob.platform.has_wrench:  # the load of the measurements (--wrench): named, not part of the robot
+        header.append(
+            "# fitted under the external wrench (FX, FY, FZ, MX, MY, MZ) = ("
+            + ", ".join(f"{x:.9g}" for x in rob.platform.wrench)
+            + ") [N, N m] on the platform while the data were taken; not part of this robot (--wrench)"
+        )
     cables = []
     for c in rob.cables:
         pul = {"kind": c.pulley.kind, "h_m": float(c.pulley.h), "r_p_m": float(c.pulley.r_p)}
