@@ -350,3 +350,32 @@ def test_close_anchors_share_one_label_that_covers_no_marker():
             )
             assert not inside.any(), (name, t.get_text())
         plt.close(fig)
+
+
+def test_uq_maps_draw_and_count_the_interfering_points(tmp_path, monkeypatch):
+    """Issue 39: the dominant-parameter and residual maps draw the points left out because the
+    nominal robot's cables interfere (column ``interfering``) pink, crossed, and count them in the
+    panel's title; without such points the titles say nothing of them."""
+    import pandas as pd
+
+    from tests.conftest import ROOT
+
+    ref = ROOT / "tests" / "reference" / "quick_spatial" / "uncertainty"
+    A = np.array([[-7.0, -5.0, 5.4], [7.0, -5.0, 5.4], [7.0, 5.0, 5.4], [-7.0, 5.0, 5.4]])
+    clean = pd.read_csv(ref / "SRopt_compensated_map.csv")
+    assert not clean["interfering"].any()
+    bad = clean.copy()
+    left = bad.index[:3]
+    bad.loc[left, "interfering"] = True
+    for c in ("dominant", "group", "dominant_phi", "group_phi"):
+        bad.loc[left, c] = ""
+    for c in ("share", "rms_m", "dp_nominal_m", "share_phi", "rms_phi_rad", "dphi_nominal_rad"):
+        bad.loc[left, c] = np.nan
+    for maps, n in (({("SRopt", "compensated"): clean}, 0), ({("SRopt", "compensated"): bad}, 3)):
+        figs, _ = _captured(monkeypatch)
+        uq_plots.uq_dominant_map(maps, A, 2.0, tmp_path / "dominant.png", mode="physical", responses=POSE)
+        uq_plots.uq_residual_map(maps, A, 2.0, tmp_path / "residual.png", mode="physical", responses=POSE)
+        panels = [ax for f in figs for ax in f.axes if ax.get_title()]
+        counted = [ax.get_title() for ax in panels if f"pink crossed: {n} points" in ax.get_title()]
+        assert len(counted) == (0 if n == 0 else len(panels)), [ax.get_title() for ax in panels]
+        assert not any("pink crossed" in ax.get_title() for ax in panels) or n

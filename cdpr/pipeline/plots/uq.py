@@ -10,10 +10,12 @@ from __future__ import annotations
 
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.colors import ListedColormap
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
 from cdpr.analyses.uncertainty import CASES
+from cdpr.pipeline.plots.robot import INTERFERING_COLOUR
 from cdpr.pipeline.plots.style import (
     MODE_TITLES,
     NOT_OK_COLOUR,
@@ -27,6 +29,21 @@ from cdpr.pipeline.plots.style import (
 
 # ---- uncertainty and sensitivity (beyond the paper: cdpr.analyses.uncertainty) ---------------------------
 UQ_CASES = CASES  # the compensated case only where the study ran it (``study.uq_cases``)
+
+
+def _interfering_cells(ax, df):
+    """Draw the points of a ``uq.dominant_map`` table whose nominal robot interferes at its solved
+    pose (column ``interfering``: left out of the map) as ``INTERFERING_COLOUR`` cells crossed by a
+    hatch (tab20's own pink stays distinct); returns the panel title's words on them, "" when none."""
+    if "interfering" not in df:
+        return ""
+    bad = df["interfering"].astype("boolean").fillna(False).to_numpy(dtype=bool)
+    if not bad.any():
+        return ""
+    xs, ys, Z = plane_grid(df, np.where(bad, 1.0, np.nan))
+    ax.pcolormesh(xs, ys, Z, cmap=ListedColormap([INTERFERING_COLOUR]), shading="nearest")
+    ax.contourf(xs, ys, Z, levels=[0.5, 1.5], colors="none", hatches=["xx"])
+    return f"\npink crossed: {int(bad.sum())} points with interfering cables, left out"
 
 
 def _uq_designs(tables):
@@ -346,7 +363,9 @@ def uq_sobol(tab, out, mode=None, responses=("dp",)):
 def uq_dominant_map(maps, A, z, out, mode=None, responses=("dp",)):
     """The parameter whose first-order contribution to the spread of each response is the largest,
     on the plane z (columns: designs; rows: case x response); hatched where it explains less than
-    half of the spread. ``maps``: {(design, case): ``uq.dominant_map`` table}."""
+    half of the spread; points whose nominal robot's cables interfere at its solved pose (left out
+    of the map, column ``interfering``) pink and crossed, counted in the panel's title.
+    ``maps``: {(design, case): ``uq.dominant_map`` table}."""
     designs, cases = _uq_designs(maps), _uq_cases(maps)
     one = len(responses) == 1
     rows = [(case, key) for case in cases for key in responses]
@@ -390,11 +409,12 @@ def uq_dominant_map(maps, A, z, out, mode=None, responses=("dp",)):
                     colors="none",
                     hatches=["///"],
                 )
+            bad = _interfering_cells(ax, df)
             draw_anchors(ax, A)
             if one:
-                ax.set(xlabel="x [m]", ylabel="y [m]", title=f"{dk} {case}", aspect="equal")
+                ax.set(xlabel="x [m]", ylabel="y [m]", title=f"{dk} {case}{bad}", aspect="equal")
             else:
-                title = f"{dk} {case}: spread of {r['label']}"
+                title = f"{dk} {case}: spread of {r['label']}{bad}"
                 ax.set(xlabel="x [m]", ylabel="y [m]", title=title, aspect="equal")
                 ax.title.set_fontsize(9)
     handles = [Patch(color=cmap(code[n]), label=n) for n in names]
@@ -410,8 +430,9 @@ def uq_residual_map(maps, A, z, out, mode=None, responses=("dp",)):
     compensated: the round-trip residual of the compensated lengths, 0 up to rounding) and the
     first-order spread of ‖δp‖ under the declared parameters (RMS of the per-parameter
     contributions, ``uq.dominant_map``'s ``rms_m``), and the same of δφ for a pose. Rows: nominal
-    then spread, per case and response; grey: not ok. ``maps``: {(design, case):
-    ``uq.dominant_map`` table}."""
+    then spread, per case and response; grey: not ok; pink and crossed, counted in the panel's
+    title: left out because the nominal robot's cables interfere at its solved pose. ``maps``:
+    {(design, case): ``uq.dominant_map`` table}."""
     designs, cases = _uq_designs(maps), _uq_cases(maps)
     one = len(responses) == 1
     rows = [(case, key, c) for case in cases for key in responses for c in ("nominal", "rms")]
@@ -455,8 +476,9 @@ def uq_residual_map(maps, A, z, out, mode=None, responses=("dp",)):
                 cf = ax.contourf(xs, ys, Z, levels=levels, cmap="viridis")
                 fig.colorbar(cf, ax=ax, label=bar, shrink=0.8)
                 label = f"{finite.min():.3g} to {finite.max():.3g} {r['unit']}"
+            bad = _interfering_cells(ax, df)
             draw_anchors(ax, A)
-            ax.set(xlabel="x [m]", ylabel="y [m]", title=f"{dk} {case}: {what}\n{label}", aspect="equal")
+            ax.set(xlabel="x [m]", ylabel="y [m]", title=f"{dk} {case}: {what}\n{label}{bad}", aspect="equal")
             ax.title.set_fontsize(8)
     if one:
         title = f"What compensation leaves at z = {z:g} m (beyond the paper){mode_suffix(mode)}"
