@@ -19,6 +19,7 @@ from cdpr import table_io
 from cdpr.pipeline import study, tasks
 from cdpr.pipeline.results import Layout
 from tests.conftest import ROOT
+from tests.pipeline.test_shell import _scheduled
 from tests.quick_runs import make_workdir, snakemake
 
 QUICK_SPATIAL = ROOT / "config" / "studies" / "quick_spatial.yaml"
@@ -159,13 +160,7 @@ def _dry_run_rules(work, config):
     p = snakemake(
         "reproduce_paper", *config, cwd=work, quiet=False, force=False, extra=["-n", "--quiet", "rules"]
     )
-    assert p.returncode == 0, p.stderr[-2000:]
-    rules = set()
-    for line in (p.stdout + p.stderr).splitlines():
-        parts = line.split()
-        if len(parts) == 2 and parts[1].isdigit() and parts[0] not in ("total", "job"):
-            rules.add(parts[0])
-    return rules
+    return _scheduled(p)
 
 
 def test_snakemake_reruns_every_solving_job_when_the_wrench_changes(tmp_path):
