@@ -270,11 +270,7 @@ def desired_lengths(robot, P, rotvec=None, t_min=T_MIN_DEFAULT):
     L0 : ndarray (N, m) [m]
         NaN where no distribution exists (the pose has no rest lengths to test).
     """
-    P = np.atleast_2d(np.asarray(P, dtype=float))
-    rv = (
-        np.zeros((len(P), 3)) if rotvec is None else np.broadcast_to(np.asarray(rotvec, dtype=float), P.shape)
-    )
-    return compensate(robot, P, t_min=t_min, rotvec=rv)["L0"]
+    return compensate(robot, np.atleast_2d(np.asarray(P, dtype=float)), t_min=t_min, rotvec=rotvec)["L0"]
 
 
 def desired_columns(robot, P, rotvec=None, t_min=T_MIN_DEFAULT):
