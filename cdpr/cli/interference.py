@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from cdpr.cli import heavy
 from cdpr.cli.commands import checked, emit_json, read_points
 from cdpr.errors import CdprError
 from cdpr.models import interference as itf
@@ -40,7 +41,7 @@ def _settled(robot, P, rv, L0):
     rotvec_s (1, 3) or None, status); CdprError in one line where the platform finds none."""
     from cdpr.solve import check_engine, reach_where_multiple, solve  # lazy: --lengths only
 
-    engine = check_engine(None, "newton", one_shot=1)
+    engine = check_engine(None, "newton", one_shot=heavy.one_shot(robot, 1))
     res = solve(robot, P, rv, engine=engine, redundancy="physical", L0=L0)
     if "unique" in res and "rotvec" in res and not np.all(res["unique"]):
         res = reach_where_multiple(robot, res, engine=engine)
