@@ -75,11 +75,18 @@ REPRODUCE_COGIRO := --config study=config/studies/cogiro.yaml results=results/co
 # the large study (issue 38, config/studies/large.yaml): only its `large_study` target (plane maps and
 # the path with and without sag, what sag adds, the catenaries at a corner pose; workflow/rules/large.smk),
 # measured 56 s wall on one core at load 8-11 (17 s user CPU; a first run with cold caches 107 s)
+# numba compiles a kernel the first time a process calls it (cached in cdpr/compiled/__pycache__
+# afterwards): on a fresh clone the two streams compiled the same point-mass kernels at once and the
+# CoGiRo study's two budget jobs the same rigid-platform ones. `cdpr compile` compiles each family
+# once, on the stream that needs it first: paper-mode kernels on one core while the physical ones
+# compile on the other, the rigid-platform and heavy-cable ones before the calibration studies (and
+# so before the CoGiRo study). With a warm cache each takes a second.
+COMPILE := $(BIN)/python -m cdpr compile --part
 REPRODUCE_LARGE := large_study --config study=config/studies/large.yaml results=results/large
 reproduce: $(STAMP)
-	( $(BIN)/snakemake --cores 1 --forceall reproduce_paper && \
-	  $(BIN)/snakemake --cores 1 --forceall $(REPRODUCE_CALIBRATION) ) & paper=$$!; \
-	( $(BIN)/snakemake --cores 1 --forceall reproduce_paper $(PHYSICAL) && \
+	( $(COMPILE) paper && $(BIN)/snakemake --cores 1 --forceall reproduce_paper && \
+	  $(COMPILE) platform heavy && $(BIN)/snakemake --cores 1 --forceall $(REPRODUCE_CALIBRATION) ) & paper=$$!; \
+	( $(COMPILE) physical && $(BIN)/snakemake --cores 1 --forceall reproduce_paper $(PHYSICAL) && \
 	  $(BIN)/snakemake --cores 1 --forceall $(REPRODUCE_LARGE) ) & physical=$$!; \
 	wait $$paper; a=$$?; wait $$physical; b=$$?; test $$a -eq 0 && test $$b -eq 0
 	$(BIN)/snakemake --cores all --forceall reproduce_paper $(REPRODUCE_COGIRO)

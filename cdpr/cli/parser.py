@@ -258,6 +258,24 @@ def build_parser(jobs=True):
     c.add_argument("file", metavar="FILE", help="study YAML file (config/studies/*.yaml)")
     c.add_argument("--results", metavar="DIR", help="also check the results folder the study would write")
     c.set_defaults(run=("cdpr.cli.robot_files", "cmd_study_check"))
+    sp = sub.add_parser(
+        "compile",
+        help="compile the numba kernels into their cache now (once, before studies run side by side)",
+    )
+    sp.add_argument(
+        "--part",
+        nargs="+",
+        choices=("paper", "physical", "platform", "heavy"),
+        default=["paper", "physical", "platform", "heavy"],
+        help="kernel families (default: every one); split them over processes to compile in parallel",
+    )
+    sp.add_argument(
+        "--robots",
+        metavar="DIR",
+        default="config/robots",
+        help="the shipped robot files (default config/robots)",
+    )
+    sp.set_defaults(run=("cdpr.cli.robot_files", "cmd_compile"))
     calibrate_parser(sub)
     caspr.add_parser(sub)
     view.add_parser(sub)

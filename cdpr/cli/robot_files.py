@@ -1,10 +1,13 @@
 """The commands that read and write robot files rather than solve: ``cdpr import caspr | rrf``,
-``cdpr export rrf | klipper``, ``cdpr view`` (a picture of a robot) and ``cdpr study check``."""
+``cdpr export rrf | klipper``, ``cdpr view`` (a picture of a robot), ``cdpr study check`` and
+``cdpr compile`` (the kernels into numba's cache)."""
 
 from __future__ import annotations
 
 import os
 import sys
+import time
+from pathlib import Path
 
 import numpy as np
 
@@ -145,6 +148,25 @@ def cmd_view(args):
     p = scans.view_position(robot) if args.at is None else np.asarray(args.at, dtype=float)
     robot_plots.robot_view(scans.pose_geometry(robot, p, args.rotvec), args.out, boxes=boxes, plan=args.plan)
     print(f"wrote {args.out}")
+
+
+def cmd_compile(args):
+    """``cdpr compile [--part ...]``: compile (or load from numba's cache) the kernels of the
+    families asked for on a few poses of the shipped robots (``cdpr.pipeline.kernels.warm``), and
+    say how long it took on stderr. ``make reproduce`` runs two of these side by side before its
+    two studies, so that the kernels are compiled once, not by both studies at once."""
+    from cdpr.pipeline import kernels  # lazy: the pipeline (pandas), for this command only
+
+    folder = Path(args.robots)
+    for name in ("cdpr4.yaml", "cogiro.yaml", "cube50.yaml"):
+        if not (folder / name).is_file():
+            raise CdprError(
+                f"--robots {folder}: no {name} there (the shipped config/robots folder is needed)"
+            )
+    t = time.perf_counter()
+    done = kernels.warm(folder, args.part, threads=1)
+    print(f"cdpr: compiled {', '.join(done)} in {time.perf_counter() - t:.0f} s", file=sys.stderr)
+    return 0
 
 
 def cmd_study_check(args):

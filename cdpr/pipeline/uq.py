@@ -31,6 +31,7 @@ from cdpr.analyses.uncertainty import (
     linear_stats,
     local_contributions,
     mc_uniforms,
+    nanquantile,
     parameter_samples,
     sample_stats,
     sobol_analysis,
@@ -286,7 +287,7 @@ def linear_samples(st, design, case, box, threads=None):
 def _quantiles(values, ok):
     with np.errstate(all="ignore"), warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
-        return np.nanquantile(np.where(ok, values, np.nan), QUANTILES, axis=0)
+        return nanquantile(np.where(ok, values, np.nan), QUANTILES, axis=0)
 
 
 def path_bands(st, design, case, threads=None):

@@ -288,3 +288,22 @@ def test_a_study_without_uncertainty_section_is_valid(quick):
     st = Study({k: v for k, v in quick.items() if k != "uncertainty"})
     st.path = quick.path
     check_study(st)
+
+
+@pytest.mark.parametrize("shape,axis", [((300, 40), 1), ((300, 40), 0), ((7, 9, 11), 1), ((60, 3), 0)])
+def test_nanquantile_is_numpys_to_the_bit(shape, axis):
+    """Grouping the slices by where their NaN are gives numpy's nanquantile bit for bit, also for
+    slices of NaN only, several NaN patterns shared by many slices, and a 3-D array."""
+    rng = np.random.default_rng(7)
+    a = rng.random(shape) ** 3
+    a[rng.random(shape) < 0.15] = np.nan
+    a[..., :2][rng.random(a[..., :2].shape) < 0.9] = np.nan  # many slices share their first NaN
+    a.reshape(-1)[:5] = np.nan
+    np.moveaxis(a, axis, -1)[0] = np.nan  # a slice of NaN only
+    q = [0.025, 0.5, 0.95]
+    with np.errstate(all="ignore"), pytest.warns(RuntimeWarning):
+        ref = np.nanquantile(a, q, axis=axis)
+    got = uq.nanquantile(a, q, axis)
+    assert got.shape == ref.shape and np.isnan(got).any()
+    assert np.array_equal(got, ref, equal_nan=True)
+    assert uq.nanquantile(np.zeros((0, 4)), q, 1).shape == (3, 0)  # sample_stats' empty table

@@ -21,6 +21,7 @@ COMMANDS = {
     "trajectory",
     "interference",
     "job",
+    "compile",
     "calibrate",
     "import",
     "export",
