@@ -31,6 +31,7 @@ from cdpr.models.catenary import (
     sag,
     span_equations,
 )
+from cdpr.models.heavy_partials import cable_force_partials
 from cdpr.models.inverse import pulley_args
 from cdpr.models.platform import skew
 from cdpr.models.pulleys import SWIVEL_RHO_MIN, pulley_state, total_length_and_direction
@@ -373,7 +374,11 @@ class HeavyCables(Cables):
             )
             ep = x["e_perp"]
             dvdB = -np.eye(3) + x["swivel"][..., None, None] * ep[..., :, None] * ep[..., None, :]
-            G = dFdv @ dvdB  # dF_i/dB_i: v = D - B, D turning with the swivel
+            G = dFdv @ dvdB  # dF_i/dB_i with D turning with the swivel only (fixed pulleys: exact)
+            if self.pulleys:  # exact: D's slide on the sheave and a DR arm's turn (``heavy_partials``)
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    Gx = cable_force_partials(self, p, R, L0, x=x).dF[..., :3]
+                G = np.where(np.isfinite(Gx).all(axis=(-2, -1))[..., None, None], Gx, G)
             out["Fn"] = np.concatenate([F, M], axis=1)
             out["J"] = _jacobian_forces(G, Fi, r, rc, self.f)
             out["grad"] = -out["Fn"]  # fixed and SR pulleys: the energy's gradient is minus the wrench
