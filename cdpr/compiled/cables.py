@@ -790,13 +790,15 @@ def exit_points(Bx, By, Bz, c, L0c, cab, frame, ident, heavy, start, out):
 
 
 @njit(cache=True, error_model="numpy")
-def evaluate(px, py, pz, R, rfx, rfy, rfz, cab, body, heavy, L0, i, t, J, e6, g6, w, start, state):
+def evaluate(px, py, pz, R, rfx, rfy, rfz, cab, body, heavy, L0, i, t, J, e6, g6, w, start, state, exact):
     """``HeavyCables.evaluate`` at one pose (p, R) with rest lengths L0[i], merit relative to p_ref =
     (rfx, rfy, rfz), in the layout of ``equilibrium.evaluate``: writes the tensions at B t (m,),
     J (6, 6), e6 = (F (3), M (3), Fn = (F, M) (6), merit, inside), g6 = (grad = -Fn (6), kappa (2))
     and the cables' state (m, NSTATE) (``exit_points``, started from ``start``, which may be the
     same array); ``w`` the pose kernel's scratch (its cab_inside, cab_gamma: the massless pulley
-    state at B, which the result reports)."""
+    state at B, which the result reports; its hg: the exact dF/dB's scratch); ``exact``: each pulley
+    cable's dF/dB exact (``exact_force_gradient``, ``models.cables.HeavyCables.evaluate``'s
+    ``exact``), else without D's slide on the sheave and a DR arm's turn."""
     b, frame, ident, f = body.b, body.frame, body.ident, body.f
     m = cab.A.shape[0]
     ux, uy, uz = heavy.up[0], heavy.up[1], heavy.up[2]
@@ -811,8 +813,8 @@ def evaluate(px, py, pz, R, rfx, rfy, rfz, cab, body, heavy, L0, i, t, J, e6, g6
     for a in range(6):
         for q in range(6):
             J[a, q] = 0.0
-    G = np.empty((3, 3))  # one cable's dF/dB and the exact one's scratch (``exact_force_gradient``)
-    scr = np.empty((13, 9))
+    scr = w.hg  # the exact dF/dB's scratch (``exact_force_gradient``) and one cable's dF/dB
+    G = scr[13:16, 0:3]
     A, kind, h, rp, d, inward, ES, k, wd, gen = (
         cab.A,
         cab.kind,
@@ -874,7 +876,7 @@ def evaluate(px, py, pz, R, rfx, rfy, rfz, cab, body, heavy, L0, i, t, J, e6, g6
         G[0, 0], G[0, 1], G[0, 2] = de0 * epx - d00, de0 * epy - d01, de0 * epz - d02
         G[1, 0], G[1, 1], G[1, 2] = de1 * epx - d10, de1 * epy - d11, de1 * epz - d12
         G[2, 0], G[2, 1], G[2, 2] = de2 * epx - d20, de2 * epy - d21, de2 * epz - d22
-        if kind[c] != 0 and rp[c] > 0.0:  # exact: D's slide on the sheave and a DR arm's turn too
+        if exact and kind[c] != 0 and rp[c] > 0.0:  # exact: D's slide on the sheave, a DR arm's turn
             exact_force_gradient(
                 px + rx, py + ry, pz + rz, Dx, Dy, Dz, H, V, L0f, ell, ehx, ehy, ehz, l_h, A[c, 0], A[c, 1], A[c, 2],
                 ident[c], frame[c, 0, 0], frame[c, 0, 1], frame[c, 0, 2], frame[c, 1, 0], frame[c, 1, 1],

@@ -335,9 +335,13 @@ class HeavyCables(Cables):
         e_h = hv / np.where(l_h > 0.0, l_h, 1.0)[..., None]
         return v, l_h, l_v, e_h
 
-    def evaluate(self, p, R, L0, p_ref, jacobian=True):
+    def evaluate(self, p, R, L0, p_ref, jacobian=True, exact=True):
         """As ``Cables.evaluate``, with each cable's force the catenary's end force at B_i and t_i its
-        tension at B_i."""
+        tension at B_i. ``exact`` (bool, or (N,) bool per pose): each pulley cable's dF_i/dB_i in the
+        Jacobian is exact (``heavy_partials.cable_force_partials``: the exit point's slide on the
+        sheave, the swivel and a DR arm's turn), else it takes D's turn with the swivel only (of
+        relative error r_p / |B_i - D_i|, half the cost: ``equilibrium._newton`` uses it for its
+        steps longer than ``LS_SKIP``, the exact one near the answer)."""
         x = self.exit_points(p, R, L0)
         r, l_h, l_v, e_h, st = x["r"], x["l_h"], x["l_v"], x["e_h"], x["state"]
         sp = st.span
@@ -375,10 +379,12 @@ class HeavyCables(Cables):
             ep = x["e_perp"]
             dvdB = -np.eye(3) + x["swivel"][..., None, None] * ep[..., :, None] * ep[..., None, :]
             G = dFdv @ dvdB  # dF_i/dB_i with D turning with the swivel only (fixed pulleys: exact)
-            if self.pulleys:  # exact: D's slide on the sheave and a DR arm's turn (``heavy_partials``)
+            ex = np.broadcast_to(np.asarray(exact, dtype=bool), p.shape[:1])
+            if self.pulleys and ex.any():  # exact: D's slide on the sheave, a DR arm's turn
+                xs = x if ex.all() else {k: _rows(v, ex) for k, v in x.items()}
                 with np.errstate(divide="ignore", invalid="ignore"):
-                    Gx = cable_force_partials(self, p, R, L0, x=x).dF[..., :3]
-                G = np.where(np.isfinite(Gx).all(axis=(-2, -1))[..., None, None], Gx, G)
+                    Gx = cable_force_partials(self, p[ex], R[ex], L0[ex], x=xs).dF[..., :3]
+                G[ex] = np.where(np.isfinite(Gx).all(axis=(-2, -1))[..., None, None], Gx, G[ex])
             out["Fn"] = np.concatenate([F, M], axis=1)
             out["J"] = _jacobian_forces(G, Fi, r, rc, self.f)
             out["grad"] = -out["Fn"]  # fixed and SR pulleys: the energy's gradient is minus the wrench
@@ -394,6 +400,16 @@ class HeavyCables(Cables):
                 axis=1,
             )
         return out
+
+
+def _rows(v, sel):
+    """The poses ``sel`` (N,) bool of ``exit_points``' value v: arrays with N rows, and the fields
+    of its NamedTuples, taken; anything else kept."""
+    if isinstance(v, tuple) and hasattr(v, "_fields"):
+        return type(v)(*(_rows(f, sel) for f in v))
+    if isinstance(v, np.ndarray) and v.shape[:1] == sel.shape:
+        return v[sel]
+    return v
 
 
 def _jacobian_forces(G, Fi, r, rc, f):
