@@ -152,10 +152,11 @@ class HeavyCables(Cables):
     r_p / |B_i - D_i|). Fixed, SR and DR pulleys, any swivel axis. With w = 0, P*_i = B_i: the
     massless model computed through the catenary (``heavy=True`` of ``solve``, for the tests).
 
-    The Jacobian takes D_i's turn with the swivel (the plane follows B_i) but not its slide on the
-    sheave nor a DR arm's turn (of relative size r_p / |B_i - D_i|): Newton's convergence is then linear with that
-    factor near the solution; the stop rule is on the force balance itself, so the answer is not
-    affected. The merit is the energy (``catenary.cable_energy`` plus the free span's weight at the
+    The Jacobian (``evaluate``'s ``exact``) is exact near the answer: each cable's dF_i/dB_i from
+    ``heavy_partials.cable_force_partials`` (the implicit-function theorem on the cable's coupled
+    system: D_i's slide on the sheave, the swivel and a DR arm's turn), so Newton converges
+    quadratically there; for its longer steps ``equilibrium._newton`` takes the cheaper form with
+    D_i's turn with the swivel only (relative error r_p / |B_i - D_i|). The merit is the energy (``catenary.cable_energy`` plus the free span's weight at the
     exit point's height above A_i): for fixed pulleys its gradient is minus the wrench exactly;
     with SR pulleys the weightless dead part makes the model's forces not exactly conservative and
     the difference is of order w r_p times the dead part's compliance (the merit serves the line
