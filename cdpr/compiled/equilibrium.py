@@ -198,6 +198,7 @@ class _Scratch(NamedTuple):
     piv: np.ndarray  # (6,) int64 LU pivots
     hc: np.ndarray  # (m, NSTATE) heavy cables: the state of the current pose (``cables.STATE``)
     ht: np.ndarray  # (m, NSTATE) heavy cables: the state of the trial pose
+    hg: np.ndarray  # (16, 9) heavy cables: one cable's dF/dB (rows 13-15) and its exact scratch
 
 
 @njit(cache=True)
@@ -228,6 +229,7 @@ def scratch(m):
         np.empty(6, dtype=np.int64),
         np.zeros((m, NSTATE)),
         np.zeros((m, NSTATE)),
+        np.empty((16, 9)),
     )
 
 
@@ -470,7 +472,9 @@ def solve_pose(i, p_ref, P0, R0, L0, cab, body, opts, out, w, heavy):
     if heavy.on:
         for c in range(m):
             w.hc[c, READY] = 0.0
-        evaluate_heavy(px, py, pz, R, rfx, rfy, rfz, cab, body, heavy, L0, i, t, J, e6, g6, w, w.hc, w.hc)
+        evaluate_heavy(
+            px, py, pz, R, rfx, rfy, rfz, cab, body, heavy, L0, i, t, J, e6, g6, w, w.hc, w.hc, False
+        )
     else:
         evaluate(px, py, pz, R, rfx, rfy, rfz, cab, body, L0, i, t, J, e6, g6, w)
     add_wrench(e6, g6, px, py, pz, rfx, rfy, rfz, body.wrench)
@@ -531,6 +535,8 @@ def solve_pose(i, p_ref, P0, R0, L0, cab, body, opts, out, w, heavy):
             s[a] *= scale
         slope *= scale
         whole = done or norm * scale <= LS_SKIP
+        # heavy cables: the exact Jacobian at the trial of a whole step (near the answer, where the
+        # approximate one would make Newton's convergence linear), the cheaper one before
         alpha = 1.0
         merit = e6[12]
         for hv in range(MAX_HALVINGS + 1):
@@ -565,6 +571,7 @@ def solve_pose(i, p_ref, P0, R0, L0, cab, body, opts, out, w, heavy):
                     w,
                     w.hc,
                     w.ht,
+                    whole,
                 )
             else:
                 evaluate(qx, qy, qz, Rt, rfx, rfy, rfz, cab, body, L0, i, w.tt, w.Jt, w.et, w.gt, w)

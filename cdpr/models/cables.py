@@ -31,6 +31,7 @@ from cdpr.models.catenary import (
     sag,
     span_equations,
 )
+from cdpr.models.heavy_partials import cable_force_partials
 from cdpr.models.inverse import pulley_args
 from cdpr.models.platform import skew
 from cdpr.models.pulleys import SWIVEL_RHO_MIN, pulley_state, total_length_and_direction
@@ -151,10 +152,11 @@ class HeavyCables(Cables):
     r_p / |B_i - D_i|). Fixed, SR and DR pulleys, any swivel axis. With w = 0, P*_i = B_i: the
     massless model computed through the catenary (``heavy=True`` of ``solve``, for the tests).
 
-    The Jacobian takes D_i's turn with the swivel (the plane follows B_i) but not its slide on the
-    sheave nor a DR arm's turn (of relative size r_p / |B_i - D_i|): Newton's convergence is then linear with that
-    factor near the solution; the stop rule is on the force balance itself, so the answer is not
-    affected. The merit is the energy (``catenary.cable_energy`` plus the free span's weight at the
+    The Jacobian (``evaluate``'s ``exact``) is exact near the answer: each cable's dF_i/dB_i from
+    ``heavy_partials.cable_force_partials`` (the implicit-function theorem on the cable's coupled
+    system: D_i's slide on the sheave, the swivel and a DR arm's turn), so Newton converges
+    quadratically there; for its longer steps ``equilibrium._newton`` takes the cheaper form with
+    D_i's turn with the swivel only (relative error r_p / |B_i - D_i|). The merit is the energy (``catenary.cable_energy`` plus the free span's weight at the
     exit point's height above A_i): for fixed pulleys its gradient is minus the wrench exactly;
     with SR pulleys the weightless dead part makes the model's forces not exactly conservative and
     the difference is of order w r_p times the dead part's compliance (the merit serves the line
@@ -334,9 +336,13 @@ class HeavyCables(Cables):
         e_h = hv / np.where(l_h > 0.0, l_h, 1.0)[..., None]
         return v, l_h, l_v, e_h
 
-    def evaluate(self, p, R, L0, p_ref, jacobian=True):
+    def evaluate(self, p, R, L0, p_ref, jacobian=True, exact=True):
         """As ``Cables.evaluate``, with each cable's force the catenary's end force at B_i and t_i its
-        tension at B_i."""
+        tension at B_i. ``exact`` (bool, or (N,) bool per pose): each pulley cable's dF_i/dB_i in the
+        Jacobian is exact (``heavy_partials.cable_force_partials``: the exit point's slide on the
+        sheave, the swivel and a DR arm's turn), else it takes D's turn with the swivel only (of
+        relative error r_p / |B_i - D_i|, half the cost: ``equilibrium._newton`` uses it for its
+        steps longer than ``LS_SKIP``, the exact one near the answer)."""
         x = self.exit_points(p, R, L0)
         r, l_h, l_v, e_h, st = x["r"], x["l_h"], x["l_v"], x["e_h"], x["state"]
         sp = st.span
@@ -373,7 +379,13 @@ class HeavyCables(Cables):
             )
             ep = x["e_perp"]
             dvdB = -np.eye(3) + x["swivel"][..., None, None] * ep[..., :, None] * ep[..., None, :]
-            G = dFdv @ dvdB  # dF_i/dB_i: v = D - B, D turning with the swivel
+            G = dFdv @ dvdB  # dF_i/dB_i with D turning with the swivel only (fixed pulleys: exact)
+            ex = np.broadcast_to(np.asarray(exact, dtype=bool), p.shape[:1])
+            if self.pulleys and ex.any():  # exact: D's slide on the sheave, a DR arm's turn
+                xs = x if ex.all() else {k: _rows(v, ex) for k, v in x.items()}
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    Gx = cable_force_partials(self, p[ex], R[ex], L0[ex], x=xs).dF[..., :3]
+                G[ex] = np.where(np.isfinite(Gx).all(axis=(-2, -1))[..., None, None], Gx, G[ex])
             out["Fn"] = np.concatenate([F, M], axis=1)
             out["J"] = _jacobian_forces(G, Fi, r, rc, self.f)
             out["grad"] = -out["Fn"]  # fixed and SR pulleys: the energy's gradient is minus the wrench
@@ -389,6 +401,16 @@ class HeavyCables(Cables):
                 axis=1,
             )
         return out
+
+
+def _rows(v, sel):
+    """The poses ``sel`` (N,) bool of ``exit_points``' value v: arrays with N rows, and the fields
+    of its NamedTuples, taken; anything else kept."""
+    if isinstance(v, tuple) and hasattr(v, "_fields"):
+        return type(v)(*(_rows(f, sel) for f in v))
+    if isinstance(v, np.ndarray) and v.shape[:1] == sel.shape:
+        return v[sel]
+    return v
 
 
 def _jacobian_forces(G, Fi, r, rc, f):

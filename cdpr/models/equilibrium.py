@@ -284,7 +284,10 @@ def _newton(cab, p0, R0, L0, p_ref, tol, maxiter, max_step):
     """Line-searched semismooth Newton over N poses; returns p, R, evaluation, iterations, converged."""
     n = p0.shape[0]
     p, R = p0.copy(), R0.copy()
-    cur = cab.evaluate(p, R, L0, p_ref)
+    heavy = isinstance(cab, HeavyCables)
+    # heavy cables: the exact Jacobian at the trials of whole steps (near the answer), the cheaper
+    # one before (``HeavyCables.evaluate``'s ``exact``; the compiled engine's rule)
+    cur = cab.evaluate(p, R, L0, p_ref, exact=False) if heavy else cab.evaluate(p, R, L0, p_ref)
     cur.pop("g")
     iters = np.zeros(n, dtype=np.int32)
     conv = np.zeros(n, dtype=bool)
@@ -335,7 +338,10 @@ def _newton(cab, p0, R0, L0, p_ref, tol, maxiter, max_step):
             st = a[:, None] * s[pending]
             pt = p[idx] + st[:, :3]
             Rt = rotation_matrix(st[:, 3:]) @ R[idx] if cab.rigid else R[idx]
-            trial = cab.evaluate(pt, Rt, L0[idx], p_ref[idx])
+            if heavy:
+                trial = cab.evaluate(pt, Rt, L0[idx], p_ref[idx], exact=whole[pending])
+            else:
+                trial = cab.evaluate(pt, Rt, L0[idx], p_ref[idx])
             # an external moment's work along the trial step (R_t = exp([st]x) R: the base-frame
             # angular displacement is st exactly), so that the merit's change matches the slope
             potential = None

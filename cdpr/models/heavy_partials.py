@@ -189,7 +189,7 @@ class CablePartialsHeavy(NamedTuple):
     r: np.ndarray
 
 
-def cable_force_partials(cab, P, R, L0):
+def cable_force_partials(cab, P, R, L0, x=None):
     """The end force F_i = H e_h + V_B up of every heavy cable at fixed poses and its derivatives by
     B_i, the rest length, EA, w and the cable's pulley parameters, exact: the implicit-function
     theorem on the per-cable coupled system (module docstring) that ``HeavyCables.exit_points``
@@ -205,6 +205,8 @@ def cable_force_partials(cab, P, R, L0):
         Orientations.
     L0 : ndarray (N, m) [m]
         Rest lengths of the whole cables.
+    x : dict, optional
+        ``cab.exit_points(P, R, L0)`` when already computed (``HeavyCables.evaluate``'s Jacobian).
 
     Returns
     -------
@@ -215,7 +217,7 @@ def cable_force_partials(cab, P, R, L0):
     ----------
     Irvine, H. M. (1981). Cable Structures. MIT Press, ch. 2; Paty et al. 2021, eq. (3)-(7).
     """
-    x = cab.exit_points(P, R, L0)
+    x = cab.exit_points(P, R, L0) if x is None else x
     st, sp = x["state"], x["state"].span
     H, V_B, V_D, T_D, L0f = sp.H, sp.V_B, sp.V_D, sp.T_D, st.L0_free
     v, l_h, e_h, ell = x["v"], x["l_h"], x["e_h"], x["l_dead"]
@@ -315,7 +317,11 @@ def cable_force_partials(cab, P, R, L0):
         Rz[..., :3, :] = eyeP_z
         Rq[..., :3, :] = 0.0
         Rq[..., :3, :3] = -np.eye(3)
-    dz = -np.linalg.solve(Rz, Rq)
+    # cables where the system is not finite (a slack weightless cable: T_D = 0) get NaN derivatives
+    bad = ~(np.isfinite(Rz).all(axis=(-2, -1)) & np.isfinite(Rq).all(axis=(-2, -1)))
+    Rz[bad] = np.eye(6)
+    dz = -np.linalg.solve(Rz, np.where(bad[..., None, None], 0.0, Rq))
+    dz[bad] = np.nan
     dF = Fz @ dz + Fq
     F = H[..., None] * e_h + V_B[..., None] * up
     return CablePartialsHeavy(F=F, t=sp.T_B, dF=dF, r=x["r"])

@@ -13,8 +13,8 @@ implicit-function theorem on that cable's coupled system, the one ``HeavyCables`
 point (the catenary's two span equations with the analytic flexibility matrix, the split of the rest
 length between the free span and the dead part, and the exit point D_i on the sheave where the
 catenary's end tangent touches it: ``heavy_partials``). So the exit point's slide on the sheave, the
-swivel (any axis) and a DR arm's turn are all in ∂F6/∂x, which ``HeavyCables``' own Jacobian (for
-Newton's steps) leaves out. θ is ``parameter_names(robot, rigid=True)``: E_i, h_i, r_p_i, d_i,
+swivel (any axis) and a DR arm's turn are all in ∂F6/∂x, the Jacobian of ``HeavyCables``' Newton
+steps near the answer. θ is ``parameter_names(robot, rigid=True)``: E_i, h_i, r_p_i, d_i,
 A_i, b_i, c, the linear densities rho_i [kg/m] and M. The central differences of the balance that
 this module used before are the tests' reference (tests/models/heavy_fd_reference.py).
 

@@ -14,12 +14,14 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from cdpr import solve as door
+from cdpr.compiled import cables as ccables
 from cdpr.compiled import equilibrium as cequilibrium
 from cdpr.models import equilibrium
+from cdpr.models.cables import HeavyCables
 from cdpr.models.inverse import L_TS
 from cdpr.models.platform import pose_arrays
 from cdpr.robot import load_robot, with_pulleys, with_values
-from tests.models.test_equilibrium_heavy import P8, Q_TILT, RV8, tilted
+from tests.models.test_equilibrium_heavy import P8, Q_TILT, RV8, massless_equilibrium, tilted
 from tests.models.test_equilibrium_heavy import heavy as heavy_robot
 from tests.models.test_equilibrium_pose import pretensioned
 
@@ -204,15 +206,48 @@ def test_compiled_heavy_rigid_platform_equals_the_reference_on_cogiro_dr():
 
 @pytest.mark.parametrize("kind", ["DR", "SR_tilted"])
 def test_weightless_heavy_dr_and_tilted_cables_give_the_massless_answer(cdpr4, kind):
-    """w = 0 through the general coupling: the compiled heavy kernel (P* = B to round-off) gives the
-    compiled massless kernel's equilibrium. Both stop on the force balance (1e-10 of the weight) but
-    along different Newton paths (the heavy Jacobian leaves out a DR arm's turn and D's slide on the
-    sheave), so they agree to that rule's size, not to the bit; the numpy twins likewise
-    (tests/models/test_equilibrium_heavy.py)."""
+    """w = 0 through the general coupling: the compiled heavy kernel (P* = B to round-off) lands on
+    the massless equilibrium to 1e-12 m (its Jacobian is exact: a DR arm's turn and D's slide on the
+    sheave; 2.6e-11 m without them). The compiled massless kernel's answer is that equilibrium to
+    its force-balance stop (1e-10 of the weight: 1.8e-12 m on DR), along another Newton path (the
+    massless one starts from Hooke extended to compression, the heavy one from slack cables); the
+    numpy twins likewise (tests/models/test_equilibrium_heavy.py)."""
     r = with_pulleys(cdpr4, kind="DR") if kind == "DR" else _tilted_axes(with_pulleys(cdpr4, kind="SR"))
     a = cequilibrium.solve(r, CDPR4_PTS)
     b = cequilibrium.solve(r, CDPR4_PTS, heavy=True)
     assert (a["status"] == "ok").all() and (b["status"] == a["status"]).all()
-    assert np.abs(a["P_s"] - b["P_s"]).max() < 1e-10
+    P, _ = massless_equilibrium(r, a)
+    assert np.abs(b["P_s"] - P).max() < 1e-12
+    assert np.abs(a["P_s"] - P).max() < 1e-11
     np.testing.assert_allclose(b["t"], a["t"], rtol=1e-9)
     assert (b["sag"] == 0).all()
+
+
+@pytest.mark.parametrize("case", ["point mass DR", "tilted SR", "tilted DR"])
+def test_compiled_heavy_jacobian_equals_the_reference(cdpr4, case):
+    """The kernel's exact Jacobian (``cables.exact_force_gradient``: the slide of D on the sheave,
+    the swivel and a DR arm's turn) equals the numpy reference's (``heavy_partials``, itself checked
+    against central differences) to 1e-11 of its largest entry, at a pose off the equilibrium."""
+    if case == "point mass DR":
+        r = heavy_robot(with_pulleys(cdpr4, kind="DR"), rho=0.5)
+        p, rv = np.array([[0.4, -0.3, 2.0]]), np.zeros((1, 3))
+        L0 = equilibrium.solve(r, p)["L0"] * 1.001
+    else:
+        r = heavy_robot(tilted(case[-2:], Q_TILT), rho=0.5)
+        p, rv = np.array([[0.3, -0.2, 1.4]]) @ Q_TILT.T, np.array([[0.05, -0.1, 0.2]])
+        L0 = pretensioned(r, p, rv, t0=200.0)
+    _, R = pose_arrays(p, rv)
+    cab = cequilibrium.CompiledHeavyCables(r)
+    n = 6 if cab.rigid else 3
+    x, q = p[0], np.ascontiguousarray(R[0])
+    Js = {}
+    for exact in (True, False):  # the exact one, and the cheaper one of Newton's longer steps
+        J = HeavyCables(r).evaluate(p, R, L0, p, exact=exact)["J"][0]
+        w = cequilibrium.scratch(r.m)
+        Jc, t, e6, g6 = np.empty((6, 6)), np.empty(r.m), np.empty(14), np.empty(8)
+        ccables.evaluate(
+            *x, q, *x, cab.cables, cab.body, cab.heavy, L0, 0, t, Jc, e6, g6, w, w.hc, w.hc, exact
+        )
+        assert np.abs(Jc - J)[:n, :n].max() < 1e-11 * np.abs(J).max()
+        Js[exact] = Jc
+    assert np.abs(Js[True] - Js[False])[:n, :n].max() > 1e-4 * np.abs(J).max()  # the slide and the arm matter
