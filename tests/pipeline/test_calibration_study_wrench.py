@@ -62,7 +62,9 @@ def test_the_load_reaches_every_output(runs):
     for n in _files(runs["none"]):
         assert (runs["load"] / n).read_bytes() != (runs["none"] / n).read_bytes(), n
     summary = (runs["load"] / "summary.md").read_text(encoding="utf-8")
-    assert "carrying the external wrench (60, -40, -300, 0, 0, 0) [N, N m] during every measurement" in summary
+    assert (
+        "carrying the external wrench (60, -40, -300, 0, 0, 0) [N, N m] during every measurement" in summary
+    )
     assert "external wrench" not in (runs["none"] / "summary.md").read_text(encoding="utf-8")
 
 
