@@ -323,5 +323,8 @@ def cable_force_partials(cab, P, R, L0, x=None):
     dz = -np.linalg.solve(Rz, np.where(bad[..., None, None], 0.0, Rq))
     dz[bad] = np.nan
     dF = Fz @ dz + Fq
+    # a slack weightless cable (w = 0 in a robot with heavy cables, chord < L0): no force, and none
+    # under a small change (its partials, divided by T_D = 0 above, are NaN there)
+    dF = np.where((T_D > 0.0)[..., None, None], dF, 0.0)
     F = H[..., None] * e_h + V_B[..., None] * up
     return CablePartialsHeavy(F=F, t=sp.T_B, dF=dF, r=x["r"])
