@@ -298,7 +298,9 @@ def solve_stiff(robot, p, factor, rotvec=None, *, L0=None, engine=None, threads=
     p = np.atleast_2d(np.asarray(p, dtype=float))
     if engine == "compiled":
         compiled_equilibrium.set_threads(threads)
-        kind = compiled_equilibrium.CompiledHeavyCables if robot.heavy else compiled_equilibrium.CompiledCables
+        kind = (
+            compiled_equilibrium.CompiledHeavyCables if robot.heavy else compiled_equilibrium.CompiledCables
+        )
         newton, standard = compiled_equilibrium.newton, compiled_equilibrium.L_TS
     else:
         kind, newton, standard = (HeavyCables if robot.heavy else Cables), equilibrium.local_newton, None

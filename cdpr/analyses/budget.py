@@ -26,7 +26,13 @@ physical equilibrium P* (``equilibrium``, all cables, slack allowed); the error 
    drum without exit-point motion commands q1(L0 - d) and gets d + l_pm,nw(q1);
 3. the actual robot: ``pulley`` on: the design's pulleys, else fixed exit points at A_i;
    ``elasticity`` on: the cables' E, else E x ``RIGID`` (E -> infinity; the stretch left is
-   1e-6 of the elastic one, ~1e-8 m); ``winch``: the drum of step 2.
+   1e-6 of the elastic one, ~1e-8 m); ``winch``: the drum of step 2. Rigid cables make Newton's
+   problem stiff: where it stops ``not_converged`` from the desired pose, the point is solved again
+   by the continuation in stiffness ``solve.solve_stiff`` (the cables' own E, then x 10, x 100, ...
+   x ``RIGID``, each stage from the previous pose; the same Newton, tolerance and statuses at the
+   last stage); every other point keeps its answer bit for bit. A point still not converged after it
+   stays flagged, and ``over_tension`` is an answer, not a failure: the rigid robot needs more than
+   T_a there, or has no inextensible equilibrium at all (its tensions grow with E).
 
 The budget of a design at p (``error_budget``):
 
