@@ -6,8 +6,9 @@
 DataFrame) and ``solve_batch`` the same poses for many robots (the uncertainty samples);
 ``sensitivities`` adds dp*/dθ (and dφ*/dθ on a rigid platform), ``sensitivities_at`` at the
 equilibria of a result, ``subset_sensitivities`` every 3-cable subset of paper mode;
-``linear_dp`` and ``linear_positions`` propagate them. A point mass is the rigid platform with
-b = 0 and c = 0: physical mode solves both with ``models.equilibrium``; a suspended point mass
+``linear_dp`` and ``linear_positions`` propagate them; ``solve_stiff`` solves a robot with
+stiffened cables (E x factor, the error budget's rigid cables) by a continuation in E from the
+cables' own E. A point mass is the rigid platform with b = 0 and c = 0: physical mode solves both with ``models.equilibrium``; a suspended point mass
 (pulley axes +z) solved without an orientation takes the 3-DoF fast path of the compiled engine
 and answers with the point-mass keys (``results.POINT_KEYS``) from either engine. Paper mode is the
 point-mass rule (refused in one line on a rigid platform).
