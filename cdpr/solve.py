@@ -6,8 +6,9 @@
 DataFrame) and ``solve_batch`` the same poses for many robots (the uncertainty samples);
 ``sensitivities`` adds dp*/dθ (and dφ*/dθ on a rigid platform), ``sensitivities_at`` at the
 equilibria of a result, ``subset_sensitivities`` every 3-cable subset of paper mode;
-``linear_dp`` and ``linear_positions`` propagate them. A point mass is the rigid platform with
-b = 0 and c = 0: physical mode solves both with ``models.equilibrium``; a suspended point mass
+``linear_dp`` and ``linear_positions`` propagate them; ``solve_stiff`` solves a robot with
+stiffened cables (E x factor, the error budget's rigid cables) by a continuation in E from the
+cables' own E. A point mass is the rigid platform with b = 0 and c = 0: physical mode solves both with ``models.equilibrium``; a suspended point mass
 (pulley axes +z) solved without an orientation takes the 3-DoF fast path of the compiled engine
 and answers with the point-mass keys (``results.POINT_KEYS``) from either engine. Paper mode is the
 point-mass rule (refused in one line on a rigid platform).
@@ -19,6 +20,8 @@ point without it.
 """
 
 from __future__ import annotations
+
+import dataclasses
 
 import numpy as np
 
@@ -221,6 +224,107 @@ def solve(
     else:
         res = equilibrium.solve(robot, p, rotvec, L0=L0, **options)
     return _mark(res, p, robot)
+
+
+#: Ratio of E between two stages of the continuation in stiffness (``solve_stiff``).
+STIFF_RATIO = 10.0
+
+
+def stiffened(robot, factor):
+    """``robot`` with every cable's Young's modulus E multiplied by ``factor`` (the rest unchanged).
+
+    Parameters
+    ----------
+    robot : Robot
+    factor : float [-]
+
+    Returns
+    -------
+    Robot
+    """
+    cables = tuple(
+        dataclasses.replace(c, material=dataclasses.replace(c.material, E=c.material.E * factor))
+        for c in robot.cables
+    )
+    return dataclasses.replace(robot, cables=cables)
+
+
+def solve_stiff(robot, p, factor, rotvec=None, *, L0=None, engine=None, threads=None, ratio=STIFF_RATIO):
+    """The physical equilibrium of ``stiffened(robot, factor)`` (nearly inextensible cables for a
+    large ``factor``, the error budget's ``RIGID``) by a continuation in stiffness: the robot with
+    its own cables' E first (from the desired pose, as ``solve``), then E x ratio, E x ratio^2, ...
+    and last E x ``factor`` exactly, each Newton pass (the chosen engine's local solver) started
+    from the pose (position and orientation) where the previous one stopped; the last stage alone
+    also gets ``solve``'s restarts and statuses. Newton on the stiff problem from the desired pose
+    can stall (its line search follows an energy whose curvature grows with E while cables go slack
+    and taut); each stage here starts within the basin of the stiffer one. The answer is an
+    equilibrium of the stiff robot in the same sense as ``solve``'s (the same Newton, tolerance and
+    statuses: ``not_converged`` where the last stage did not converge), only its start differs, and
+    ``iterations`` counts every stage. Every robot (a point mass is the rigid platform with b = 0),
+    massless or heavy cables, physical mode.
+
+    Parameters
+    ----------
+    robot : Robot
+        The robot with its cables' own E (the continuation's first stage).
+    p : array_like (N, 3) or (N, 6) [m, rad]
+        Desired positions, or poses.
+    factor : float [-]
+        The factor on E of the robot solved (>= 1).
+    rotvec : array_like (3,) or (N, 3) [rad], optional
+        Desired orientations.
+    L0 : array_like (N, m) [m], optional
+        Commanded rest lengths, default L_TS at the desired pose.
+    engine : {"compiled", "numpy"}, optional
+        ``check_engine``'s default for Newton (compiled) when None.
+    threads : int, optional
+        Caps the compiled engine's threads.
+    ratio : float [-]
+        Factor on E between two stages (> 1).
+
+    Returns
+    -------
+    dict
+        ``solve``'s result for ``stiffened(robot, factor)`` in physical mode (the point-mass keys
+        for a suspended point mass solved without an orientation).
+
+    Raises
+    ------
+    CdprError
+        An unknown engine, factor < 1 or ratio <= 1.
+    """
+    if not (factor >= 1.0 and ratio > 1.0):
+        raise CdprError(f"solve_stiff: factor must be >= 1 and ratio > 1; got factor={factor}, ratio={ratio}")
+    engine = check_engine(engine, "newton")
+    p = np.atleast_2d(np.asarray(p, dtype=float))
+    if engine == "compiled":
+        compiled_equilibrium.set_threads(threads)
+        kind = (
+            compiled_equilibrium.CompiledHeavyCables if robot.heavy else compiled_equilibrium.CompiledCables
+        )
+        newton, standard = compiled_equilibrium.newton, compiled_equilibrium.L_TS
+    else:
+        kind, newton, standard = (HeavyCables if robot.heavy else Cables), equilibrium.local_newton, None
+    tol, maxiter, max_step = equilibrium.stop_rules()
+    pose = equilibrium.set_up(robot, p, rotvec, L0, None, standard)
+    stages = [1.0]
+    while stages[-1] * ratio < factor:
+        stages.append(stages[-1] * ratio)
+    if factor > 1.0:
+        stages.append(factor)
+    P, R, iters = pose.p0, pose.R_d.copy(), np.zeros(len(p), dtype=np.int32)
+    for f in stages:
+        stiff = robot if f == 1.0 else stiffened(robot, f)
+        cab = kind(stiff)
+        P, R, cur, it, conv = newton(cab, P, R, pose.L0, pose.p, tol, maxiter, max_step)
+        iters = iters + it
+        P, R = np.array(P), np.array(R)
+    res = equilibrium.finish(stiff, cab, newton, pose, (P, R, cur, iters, conv), tol, maxiter, max_step, True)
+    if stiff.heavy:
+        res.update(heavy_cables(cab, res["P_s"], res["R_s"], res["L0"]))
+    if _fast_point(stiff, p, rotvec):
+        res = point_keys(res) if not stiff.heavy else {**point_keys(res), **{k: res[k] for k in HEAVY_KEYS}}
+    return _mark(res, p[:, :3], stiff)
 
 
 #: Which equilibrium physical mode answers with: the one reached by continuation (the default), or

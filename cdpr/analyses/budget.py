@@ -26,7 +26,13 @@ physical equilibrium P* (``equilibrium``, all cables, slack allowed); the error 
    drum without exit-point motion commands q1(L0 - d) and gets d + l_pm,nw(q1);
 3. the actual robot: ``pulley`` on: the design's pulleys, else fixed exit points at A_i;
    ``elasticity`` on: the cables' E, else E x ``RIGID`` (E -> infinity; the stretch left is
-   1e-6 of the elastic one, ~1e-8 m); ``winch``: the drum of step 2.
+   1e-6 of the elastic one, ~1e-8 m); ``winch``: the drum of step 2. Rigid cables make Newton's
+   problem stiff: where it stops ``not_converged`` from the desired pose, the point is solved again
+   by the continuation in stiffness ``solve.solve_stiff`` (the cables' own E, then x 10, x 100, ...
+   x ``RIGID``, each stage from the previous pose; the same Newton, tolerance and statuses at the
+   last stage); every other point keeps its answer bit for bit. A point still not converged after it
+   stays flagged, and ``over_tension`` is an answer, not a failure: the rigid robot needs more than
+   T_a there, or has no inextensible equilibrium at all (its tensions grow with E).
 
 The budget of a design at p (``error_budget``):
 
@@ -98,7 +104,7 @@ from cdpr.models.inverse import igm_e, pose_state
 from cdpr.models.platform import pose_arrays, rotvec_of
 from cdpr.models.tension_distribution import T_MIN_DEFAULT, compensated_lengths
 from cdpr.robot import TABLE1
-from cdpr.solve import check_engine, solve
+from cdpr.solve import check_engine, solve, solve_stiff
 
 #: The effects the standard model neglects, in the order of the budget.
 EFFECTS = ("pulley", "elasticity", "winch")
@@ -286,6 +292,24 @@ def realised_lengths(design, L0, actual, model):
     return out
 
 
+def _rigid_where_not_converged(design, actual, p, rotvec, L0, res, engine, threads):
+    """``res`` (the solve of ``effect_robot(design, actual)``, cables E x ``RIGID``) with its
+    ``not_converged`` points solved again by the continuation in stiffness from the cables' own E
+    (``solve.solve_stiff``); the other points are kept as they are (module docstring, rigid cables)."""
+    redo = np.flatnonzero(res["status"] == "not_converged")
+    if redo.size == 0:
+        return res
+    elastic = effect_robot(design, (*_names(actual), "elasticity"))
+    rv = None if rotvec is None else rotvec[redo]
+    again = solve_stiff(elastic, p[redo], RIGID, rv, L0=L0[redo], engine=engine, threads=threads)
+    out = dict(res)
+    for key in ("P_s", "R_s", "status"):
+        if key in res:
+            out[key] = np.array(res[key], copy=True)
+            out[key][redo] = again[key]
+    return out
+
+
 def variant(design, p, actual, model, t_min=T_MIN_DEFAULT, threads=None, engine=None, rotvec=None):
     """The platform of the robot with effects ``actual`` commanded by the model with effects
     ``model`` (module docstring).
@@ -343,6 +367,8 @@ def variant(design, p, actual, model, t_min=T_MIN_DEFAULT, threads=None, engine=
             L0=L0[good],
             rotvec=rv,
         )
+        if "elasticity" not in _names(actual):  # rigid cables: the points Newton did not solve
+            res = _rigid_where_not_converged(design, actual, p[good], rv, L0[good], res, engine, threads)
         dp[good] = res["P_s"] - p[good]
         status[good] = res["status"]
         if six:
