@@ -705,3 +705,26 @@ def cable_partials_axis(px, py, pz, Ax, Ay, Az, kind, h, rp, d, inx, iny, ident,
                 for q in range(3):
                     s += f[k, a] * dp[3 * k + q] * f[q, b]
             out[o + 3 * a + b] = s
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def sheave(
+    Px, Py, Pz, Ax, Ay, Az, ident, F00, F01, F02, F10, F11, F12, F20, F21, F22, kind, h, rp, d, inx, iny
+):
+    """The massless pulley geometry of one cable at the point P (``pulley_geometry`` in the
+    pulley frame F, ``ident``: the identity) and its plane's horizontal unit vector e_s in the base
+    frame: (geometry, e_s (3) [-])."""
+    if ident:
+        qx, qy, qz, ax, ay, az = Px, Py, Pz, Ax, Ay, Az
+    else:
+        wx, wy, wz = Px - Ax, Py - Ay, Pz - Az
+        qx, qy, qz = (
+            F00 * wx + F01 * wy + F02 * wz,
+            F10 * wx + F11 * wy + F12 * wz,
+            F20 * wx + F21 * wy + F22 * wz,
+        )
+        ax = ay = az = 0.0
+    g = pulley_geometry(qx, qy, qz, ax, ay, az, kind, h, rp, d, inx, iny)
+    if ident:
+        return g, g.esx, g.esy, 0.0
+    return g, g.esx * F00 + g.esy * F10, g.esx * F01 + g.esy * F11, g.esx * F02 + g.esy * F12

@@ -225,7 +225,7 @@ def test_weightless_heavy_dr_and_tilted_cables_give_the_massless_answer(cdpr4, k
 
 @pytest.mark.parametrize("case", ["point mass DR", "tilted SR", "tilted DR"])
 def test_compiled_heavy_jacobian_equals_the_reference(cdpr4, case):
-    """The kernel's exact Jacobian (``cables.exact_force_gradient``: the slide of D on the sheave,
+    """The kernel's exact Jacobian (``heavy_partials.exact_force_gradient``: the slide of D on the sheave,
     the swivel and a DR arm's turn) equals the numpy reference's (``heavy_partials``, itself checked
     against central differences) to 1e-11 of its largest entry, at a pose off the equilibrium."""
     if case == "point mass DR":

@@ -94,6 +94,30 @@ def test_subset_sensitivities_with_a_force_agree_across_engines(cdpr4):
         assert (np.abs(a[key][ok] - b[key][ok]) <= 1e-9 * np.where(scale > 0, scale, 1.0)).all(), key
 
 
+def pose_central_difference(r, p, rv, L0, name, relative=()):
+    """(dp*/dθ, dφ*/dθ) of parameter ``name`` at the first pose by central differences of full
+    numpy re-solves (tolerance 1e-14) of the perturbed robot under the same rest lengths ``L0``:
+    step 1e-4 θ for the names in ``relative``, else 1e-5 (m)."""
+    every, theta = parameter_names(r), parameter_values(r)
+    i = every.index(name)
+    h = 1e-4 * theta[i] if name in relative else 1e-5
+    out = []
+    for s in (h, -h):
+        v = theta.copy()
+        v[i] += s
+        out.append(
+            solve_any(
+                robot_with_parameters(r, v), p, rv, redundancy="physical", engine="numpy", L0=L0, tol=1e-14
+            )
+        )
+    return np.concatenate(
+        [
+            (out[0]["P_s"][0] - out[1]["P_s"][0]) / (2 * h),
+            rotvec_of(out[0]["R_s"][:1] @ np.swapaxes(out[1]["R_s"][:1], 1, 2))[0] / (2 * h),
+        ]
+    )
+
+
 def test_heavy_cable_sensitivities_with_a_wrench_equal_finite_differences():
     """CoGiRo with heavy cables under a force and a moment (``heavy_sensitivity``, numpy): the
     closed-form columns of the centre of mass and the mass take the weight alone, the differenced
@@ -105,31 +129,8 @@ def test_heavy_cable_sensitivities_with_a_wrench_equal_finite_differences():
     names = ["E_1", "b_2_z", "c_x", "c_z", "M"]
     res = sensitivities(r, p, rv, redundancy="physical", L=L0, names=names)
     assert res["status"][0] == "ok" and res["smooth"][0]
-    every, theta = parameter_names(r), parameter_values(r)
     for k, name in enumerate(names):
-        i = every.index(name)
-        h = 1e-4 * theta[i] if name in ("E_1", "M") else 1e-5
-        out = []
-        for s in (h, -h):
-            v = theta.copy()
-            v[i] += s
-            out.append(
-                solve_any(
-                    robot_with_parameters(r, v),
-                    p,
-                    rv,
-                    redundancy="physical",
-                    engine="numpy",
-                    L0=L0,
-                    tol=1e-14,
-                )
-            )
-        fd = np.concatenate(
-            [
-                (out[0]["P_s"][0] - out[1]["P_s"][0]) / (2 * h),
-                rotvec_of(out[0]["R_s"][:1] @ np.swapaxes(out[1]["R_s"][:1], 1, 2))[0] / (2 * h),
-            ]
-        )
+        fd = pose_central_difference(r, p, rv, L0, name, relative=("E_1", "M"))
         an = res["S"][0, :, k]
         assert np.abs(an).max() > 0, name
         np.testing.assert_allclose(an, fd, rtol=0, atol=2e-6 * np.abs(an).max(), err_msg=name)
