@@ -421,6 +421,8 @@ def cmd_point(args):
         return
     P, rv = points.first()
     zero = _zero_length(robot, P, rv, L0, args.redundancy)
+    if engine == "compiled":  # one pose on the compiled engine (heavy cables): a compile is announced
+        _warm_up(args, lambda: solve(P, rv))
     res = solve(P, rv)
     two = None
     if args.redundancy == "physical" and not args.sensitivities and not zero.any():  # issue 39: reached
@@ -612,6 +614,8 @@ def cmd_compensate(args):
         else:
             _report(tally, args.out, args, float("nan"))
         return
+    if engine == "compiled":  # one pose on the compiled engine (heavy cables): a compile is announced
+        _warm_up(args, lambda: solve(P, rv))
     res = solve(P, rv)
     # at the desired pose (heavy cables: the planned catenaries, under the compensated lengths)
     free = interference_free(robot, args.at, None if rv is None else rv[0], L0=res["L0"][0])
