@@ -222,6 +222,20 @@ def _warm_up(args, solve):
     return warm_up(solve, quiet=getattr(args, "quiet", False))
 
 
+def _solve_announced(args, solve):
+    """``solve()`` (one pose on the compiled engine: heavy cables take it at one pose) run as
+    ``_warm_up``'s call, so that a cold numba cache's compile is announced, and its result kept (the
+    pose is solved once)."""
+    got = []
+
+    def run():
+        got.append(solve())
+        return got[-1]
+
+    _warm_up(args, run)
+    return got[0]
+
+
 class Tally:
     """The summary of a table written chunk by chunk: points, status counts, the |dp| range of the
     ok points (what ``_report`` prints)."""
@@ -421,9 +435,7 @@ def cmd_point(args):
         return
     P, rv = points.first()
     zero = _zero_length(robot, P, rv, L0, args.redundancy)
-    if engine == "compiled":  # one pose on the compiled engine (heavy cables): a compile is announced
-        _warm_up(args, lambda: solve(P, rv))
-    res = solve(P, rv)
+    res = _solve_announced(args, lambda: solve(P, rv)) if engine == "compiled" else solve(P, rv)
     two = None
     if args.redundancy == "physical" and not args.sensitivities and not zero.any():  # issue 39: reached
         from cdpr.cli import reached  # lazy: physical mode at one pose only
@@ -614,9 +626,7 @@ def cmd_compensate(args):
         else:
             _report(tally, args.out, args, float("nan"))
         return
-    if engine == "compiled":  # one pose on the compiled engine (heavy cables): a compile is announced
-        _warm_up(args, lambda: solve(P, rv))
-    res = solve(P, rv)
+    res = _solve_announced(args, lambda: solve(P, rv)) if engine == "compiled" else solve(P, rv)
     # at the desired pose (heavy cables: the planned catenaries, under the compensated lengths)
     free = interference_free(robot, args.at, None if rv is None else rv[0], L0=res["L0"][0])
     reason = _zero_length_reason(_zero_segment(robot, P, rv)[0], "length")

@@ -28,29 +28,25 @@ from cdpr.solve import sensitivities, solve
 
 #: The kernel families, in the order ``warm`` runs them (``part`` picks some).
 PARTS = ("paper", "physical", "platform", "heavy")
-#: Poses of the warm-up: inside CDPR4's and CoGiRo's frames (scaled by the frame's size).
+#: Poses of the warm-up, as fractions of the anchors' box less 0.5 (``_poses``): near the top of the
+#: frame; the kernels compile whatever the status of the pose.
 _UNIT = np.array([[0.1, -0.1, 0.45], [-0.2, 0.15, 0.5]])
 
 
-def _robots(path):
-    """The shipped robot files of each family (the studies' robots): CDPR4 (point mass), CoGiRo
+def _robots(path, name):
+    """The shipped robot files of family ``name`` (the studies' robots): CDPR4 (point mass), CoGiRo
     (rigid platform), and both with heavy cables (cube50, CoGiRo at 0.0631 kg/m)."""
-    return {
-        "paper": load_robot(path / "cdpr4.yaml"),
-        "physical": load_robot(path / "cdpr4.yaml"),
-        "platform": load_robot(path / "cogiro.yaml"),
-        "heavy": [load_robot(path / "cube50.yaml"), load_robot(path / "cogiro.yaml", linear_density=0.0631)],
-    }
+    if name in ("paper", "physical"):
+        return load_robot(path / "cdpr4.yaml")
+    if name == "platform":
+        return load_robot(path / "cogiro.yaml")
+    return [load_robot(path / "cube50.yaml"), load_robot(path / "cogiro.yaml", linear_density=0.0631)]
 
 
 def _poses(robot):
-    lo = robot.arrays.A.min(axis=0)
-    hi = robot.arrays.A.max(axis=0)
-    return (
-        lo
-        + (hi - lo) * (0.5 + _UNIT * np.array([1.0, 1.0, 0.0]))
-        + np.array([0.0, 0.0, 1.0]) * ((hi[2] - lo[2]) * _UNIT[:, 2:])
-    )
+    """Two poses from the anchors' bounding box (fractions ``0.5 + _UNIT`` of it per axis)."""
+    lo, hi = robot.arrays.A.min(axis=0), robot.arrays.A.max(axis=0)
+    return lo + (hi - lo) * (0.5 + _UNIT)
 
 
 def _each_pulley(robot):
@@ -121,7 +117,6 @@ def warm(robots, part=PARTS, threads=None):
     list of str
         The families warmed, in order.
     """
-    robots = _robots(robots)
     run = {
         "paper": _point_mass("paper"),
         "physical": _point_mass("physical"),
@@ -131,6 +126,6 @@ def warm(robots, part=PARTS, threads=None):
     done = []
     for name in PARTS:
         if name in part:
-            run[name](robots[name], threads)
+            run[name](_robots(robots, name), threads)
             done.append(name)
     return done

@@ -9,10 +9,10 @@ import numpy as np
 import pytest
 
 from cdpr.analyses import calibration as cal
-from cdpr.cli.main import main
 from cdpr.parameters import select_groups
 from cdpr.pipeline.calibration_files import write_data
 from cdpr.robot import load_robot, with_wrench
+from tests.cli.test_wrench import run
 from tests.conftest import ROBOTS
 
 R4 = str(ROBOTS / "cdpr4.yaml")
@@ -37,17 +37,8 @@ def loaded(tmp_path_factory):
     return d, th[idx]
 
 
-def _run(capsys, *argv):
-    try:
-        code = main([str(a) for a in argv])
-    except SystemExit as exc:  # the parser's one-line refusals
-        code = exc.code
-    cap = capsys.readouterr()
-    return code, cap.out, cap.err
-
-
 def _fit(capsys, d, out, *extra):
-    code, text, err = _run(
+    code, text, err = run(
         capsys,
         *("calibrate", "fit", "--robot", R4, "--data", d / "m.csv", "--estimate", ",".join(GROUPS)),
         *("--out", out, "--json", *extra),
@@ -76,7 +67,7 @@ def test_fit_with_the_wrench_recovers_the_truth_and_without_it_is_biased(loaded,
     # file itself is the robot without the load (check needs --wrench again)
     checks = {}
     for name, extra in (("with", ["--wrench", *w]), ("without", [])):
-        code, text, err = _run(
+        code, text, err = run(
             capsys, "calibrate", "check", "--robot", d / "with.yaml", "--data", d / "v.csv", "--json", *extra
         )
         assert code == 0, err
@@ -92,7 +83,7 @@ def test_fit_with_the_wrench_recovers_the_truth_and_without_it_is_biased(loaded,
 def test_the_written_robot_names_the_wrench_and_does_not_carry_it(loaded, capsys):
     d, _ = loaded
     out = d / "text.yaml"
-    code, text, err = _run(
+    code, text, err = run(
         capsys,
         *("calibrate", "fit", "--robot", R4, "--data", d / "m.csv", "--estimate", "dead_lengths"),
         *("--out", out, "--wrench", *WRENCH),
@@ -107,7 +98,7 @@ def test_the_written_robot_names_the_wrench_and_does_not_carry_it(loaded, capsys
     back = load_robot(out)
     assert not back.platform.has_wrench and back.platform.mass == load_robot(R4).platform.mass
     # without --wrench the header says nothing of one
-    _run(
+    run(
         capsys,
         "calibrate",
         "fit",
@@ -139,10 +130,10 @@ def test_plan_solves_its_candidates_under_the_wrench(capsys):
         "--json",
     ]
     argv += ["--box", "-0.5", "0.5", "-0.5", "0.5", "1.5", "2.5"]
-    code, text, err = _run(capsys, *argv)
+    code, text, err = run(capsys, *argv)
     assert code == 0, err
     free = json.loads(text)
-    code, text, err = _run(capsys, *argv, "--wrench", "200", "0", "0", "0", "0", "0")
+    code, text, err = run(capsys, *argv, "--wrench", "200", "0", "0", "0", "0", "0")
     assert code == 0, err
     pushed = json.loads(text)
     assert pushed["wrench"] == [200.0, 0, 0, 0, 0, 0] and "wrench" not in free
@@ -174,7 +165,7 @@ def test_bad_wrenches_are_one_line(loaded, capsys, cmd, wrench, words):
     argv = ["calibrate", cmd[0], "--robot", R4, *[a.format(d=d) for a in cmd[1:]]]
     if cmd[0] != "plan":
         argv += ["--data", str(d / "m.csv")]
-    code, out, err = _run(capsys, *argv, "--wrench", *wrench)
+    code, out, err = run(capsys, *argv, "--wrench", *wrench)
     assert code == 2 and out == "" and len(err.splitlines()) == 1, err
     assert err.startswith("cdpr: error: ") and words in err and "--wrench" in err
 
@@ -189,7 +180,7 @@ def test_motor_angle_data_refuse_a_wrench(tmp_path, capsys):
         ["fit", "--estimate", "anchors", "--out", str(tmp_path / "x.yaml")],
         ["check"],
     ):
-        code, out, err = _run(
+        code, out, err = run(
             capsys,
             "calibrate",
             *argv,
@@ -207,7 +198,7 @@ def test_motor_angle_data_refuse_a_wrench(tmp_path, capsys):
         )
         assert code == 2 and out == "" and len(err.splitlines()) == 1, err
         assert "--wrench" in err and str(data) in err and "motor angles" in err
-    code, out, err = _run(
+    code, out, err = run(
         capsys,
         "calibrate",
         "cv",
