@@ -73,6 +73,8 @@ SAME_POINT_M = 1e-9
 #: Straight pieces of a heavy cable's polyline (``cable_polylines``): within about sag / K^2 of the
 #: catenary (0.24 mm for a 1 m sag).
 POLYLINE_PIECES = 64
+#: Pieces per chunk of ``polyline_distance``'s pruned search (capsule bounds per chunk pair first).
+CHUNK_PIECES = 8
 #: Piece pairs whose distances are computed at a time (bounds the memory of ``polyline_distance``).
 PIECE_PAIR_BLOCK = 1 << 16
 
@@ -323,7 +325,10 @@ def cable_polylines(robot, p, R, L0, pieces=POLYLINE_PIECES):
 
 def polyline_distance(X, Y):
     """Exact distance between two polylines and the parameters of their closest points: the
-    smallest ``segment_distance`` over the pairs of their straight pieces.
+    smallest ``segment_distance`` over the pairs of their straight pieces. Polylines of a multiple
+    of CHUNK_PIECES pieces are searched chunk pair by chunk pair, skipping the chunk pairs whose
+    capsule bound (``chord_capsules``) is above a distance already found: the same answer, to the
+    bit, as measuring every piece pair.
 
     .. math:: d = \\min_{k, l} d(X_k X_{k+1}, Y_l Y_{l+1})
 
@@ -354,6 +359,9 @@ def polyline_distance(X, Y):
     lead = np.broadcast_shapes(X.shape[:-2], Y.shape[:-2])
     X = np.broadcast_to(X, lead + X.shape[-2:]).reshape(-1, Ka + 1, 3)
     Y = np.broadcast_to(Y, lead + Y.shape[-2:]).reshape(-1, Kb + 1, 3)
+    if Ka % CHUNK_PIECES == 0 and Kb % CHUNK_PIECES == 0 and Ka * Kb > CHUNK_PIECES**2:
+        d, s, t = _chunked_distance(X, Y)
+        return d.reshape(lead), s.reshape(lead), t.reshape(lead)
     M = len(X)
     d, s, t = np.empty(M), np.empty(M), np.empty(M)
     step = max(1, PIECE_PAIR_BLOCK // (Ka * Kb))
@@ -371,6 +379,107 @@ def polyline_distance(X, Y):
         s[a : a + n] = (ka + ss[rows, k]) / Ka
         t[a : a + n] = (kb + tt[rows, k]) / Kb
     return d.reshape(lead), s.reshape(lead), t.reshape(lead)
+
+
+def chord_capsules(X):
+    """Each polyline's capsule about its chord: the chord X_0 X_K and the largest distance of a
+    vertex from it. Every straight piece lies inside (a capsule is convex and holds both ends of
+    each piece), so the distance between two polylines is at least that of their chords minus both
+    radii.
+
+    .. math:: \\rho = \\max_k d(X_k, X_0 X_K), \\qquad
+              d(X, Y) \\ge d(X_0 X_K, Y_0 Y_K) - \\rho_X - \\rho_Y
+
+    Parameters
+    ----------
+    X : array_like (..., K + 1, 3) [m]
+        Points of the polylines.
+
+    Returns
+    -------
+    rho : ndarray (...) [m]
+        Capsule radius of each polyline about its chord.
+    """
+    X = np.asarray(X, dtype=float)
+    A, d = X[..., :1, :], X[..., -1:, :] - X[..., :1, :]
+    dd = _dot(d, d)
+    u = np.clip(_dot(X - A, d) / np.where(dd > POINT_EPS, dd, 1.0), 0.0, 1.0)
+    gap = X - A - u[..., None] * d
+    return np.sqrt(_dot(gap, gap)).max(axis=-1)
+
+
+def pairs_to_measure(X, pairs, radius):
+    """The pose-pair entries whose polyline distance ``_block`` must compute exactly: those whose
+    lower bound (``chord_capsules``: chord distance minus both capsule radii) is below the pair's
+    contact distance r_i + r_j (the pair may interfere) or not above the smallest upper bound of the
+    pose (the pair may be the closest: an upper bound is the distance between two actual vertices,
+    those nearest the chords' closest points). Every other pair neither interferes nor is the
+    closest, exactly: ``interference`` leaves its distance NaN.
+
+    Parameters
+    ----------
+    X : ndarray (N, m, K + 1, 3) [m]
+        The cables' polylines at N poses.
+    pairs : ndarray (P, 2)
+        Cable pairs i < j (0-based).
+    radius : ndarray (m,) [m]
+        Cable radii.
+
+    Returns
+    -------
+    need : ndarray (N, P) of bool
+        At least one entry per pose (the pair of the smallest upper bound).
+    """
+    K = X.shape[-2] - 1
+    i, j = pairs[:, 0], pairs[:, 1]
+    rho = chord_capsules(X)
+    c, sc, tc = segment_distance(X[:, i, 0], X[:, i, -1], X[:, j, 0], X[:, j, -1])
+    lower = c - rho[:, i] - rho[:, j]
+    n = np.arange(len(X))[:, None]
+    gap = X[n, i, np.rint(sc * K).astype(int)] - X[n, j, np.rint(tc * K).astype(int)]
+    upper = np.sqrt(_dot(gap, gap))
+    return (lower < radius[i] + radius[j]) | (lower <= upper.min(axis=1, keepdims=True))
+
+
+def _chunked_distance(X, Y):
+    """``polyline_distance`` of (M, Ka + 1, 3) and (M, Kb + 1, 3) polylines, Ka and Kb multiples of
+    CHUNK_PIECES, exactly: the pieces are measured only in the chunk pairs whose capsule bound
+    (``chord_capsules`` of the chunks) is not above the smallest distance between two of their
+    vertices; the nearest piece pair (the first in (k, l) order among equals) is that of the
+    exhaustive search."""
+    c = CHUNK_PIECES
+    Ka, Kb = X.shape[1] - 1, Y.shape[1] - 1
+    ia = np.arange(Ka // c)[:, None] * c + np.arange(c + 1)
+    ib = np.arange(Kb // c)[:, None] * c + np.arange(c + 1)
+    Xc, Yc = X[:, ia], Y[:, ib]  # (M, Ca, c + 1, 3), (M, Cb, c + 1, 3)
+    ra, rb = chord_capsules(Xc), chord_capsules(Yc)
+    cd, cs, ct = segment_distance(
+        Xc[:, :, None, 0], Xc[:, :, None, -1], Yc[:, None, :, 0], Yc[:, None, :, -1]
+    )  # (M, Ca, Cb)
+    lower = cd - ra[:, :, None] - rb[:, None, :]
+    M, Ca, Cb = lower.shape
+    n = np.arange(M)[:, None, None]
+    va = np.arange(Ca)[None, :, None] * c + np.rint(cs * c).astype(int)
+    vb = np.arange(Cb)[None, None, :] * c + np.rint(ct * c).astype(int)
+    gap = X[n, va] - Y[n, vb]
+    upper = np.sqrt(_dot(gap, gap)).reshape(M, -1).min(axis=1)
+    m, ka, kb = (lower <= upper[:, None, None]).nonzero()  # at least one chunk pair per polyline pair
+    x, y = Xc[m, ka], Yc[m, kb]
+    dd, ss, tt = segment_distance(
+        x[:, :-1, None, :], x[:, 1:, None, :], y[:, None, :-1, :], y[:, None, 1:, :]
+    )
+    pa = ka[:, None, None] * c + np.arange(c)[None, :, None]  # the pieces' indices in X and Y
+    pb = kb[:, None, None] * c + np.arange(c)[None, None, :]
+    g = np.broadcast_to(pa * Kb + pb, dd.shape).ravel()
+    rows = np.broadcast_to(m[:, None, None], dd.shape).ravel()
+    order = np.lexsort((g, dd.ravel(), rows))
+    first = order[np.r_[True, rows[order][1:] != rows[order][:-1]]]
+    d, s, t = np.empty(M), np.empty(M), np.empty(M)
+    at = rows[first]
+    d[at] = dd.ravel()[first]
+    s[at] = (g[first] // Kb + ss.ravel()[first]) / Ka
+    t[at] = (g[first] % Kb + tt.ravel()[first]) / Kb
+    return d, s, t
 
 
 def clip_polylines(X, faces):
@@ -412,7 +521,8 @@ class Interference(NamedTuple):
     """Interference of the cables at N poses (``interference``); cables and pairs 0-based here.
 
     pairs (K, 2) the tested pairs i < j; distance (N, K) [m]; s (N, K, 2) [-] parameters of the
-    closest points; cc (N, K) the interfering pairs (distance < r_i + r_j); shared: list of
+    closest points (heavy cables: NaN for a pair that provably neither interferes nor is the
+    closest, ``pairs_to_measure``); cc (N, K) the interfering pairs (distance < r_i + r_j); shared: list of
     (i, j, at) (``shared_pairs``); cp (N, m) cables through the body; s_in, s_out (N, m) [-] and
     length, depth (N, m) [m] of the chord inside (NaN, 0 where none); free (N,) no interference;
     dmin (N,) [m] the smallest tested distance and dmin_pair (N,) its index in pairs (-1: no pair
@@ -539,10 +649,16 @@ def _block(robot, p, R, L0, K, pairs, radius, faces):
         X = cable_polylines(robot, p, R, L0, K)
     if len(pairs):
         i, j = pairs[:, 0], pairs[:, 1]
-        dist, si, sj = polyline_distance(X[:, i], X[:, j])
+        if K == 1:
+            dist, si, sj = polyline_distance(X[:, i], X[:, j])
+        else:  # exact where a pair may interfere or be the closest; NaN where its bound proves neither
+            dist, si, sj = np.full((3, N, len(pairs)), np.nan)
+            need = pairs_to_measure(X, pairs, radius)
+            n, q = need.nonzero()
+            dist[need], si[need], sj[need] = polyline_distance(X[n, i[q]], X[n, j[q]])
         s = np.stack([si, sj], axis=-1)
         cc = dist < radius[i] + radius[j]
-        k = np.argmin(dist, axis=1)
+        k = np.argmin(np.where(np.isnan(dist), np.inf, dist), axis=1)
         dmin, dmin_pair = dist[np.arange(N), k], k
     else:
         dist, s, cc = np.zeros((N, 0)), np.zeros((N, 0, 2)), np.zeros((N, 0), dtype=bool)
