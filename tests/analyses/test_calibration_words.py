@@ -53,3 +53,13 @@ def test_direction_words_tie_goes_to_the_first_parameter():
         )
         w = np.array([0.6 - eps, -0.6 + eps, 0.1])  # A_1_z and A_2_z tie for the lead
         assert cal.direction_words(w, names, 0.5, False).startswith("A_1_z against A_2_z")
+
+
+def test_a_weak_singular_value_reads_below_one():
+    """'weak: s = ... < 1' never prints s = 1 (two digits round 0.996 up): the digits go down to
+    the first that is not a 9, and what is printed is below 1 and within its last digit of s."""
+    for s in (0.5, 0.123, 2.7e-5, 0.9949, 0.995, 0.996, 0.9996, 0.999999):
+        text = cal.below_one(s)
+        assert float(text) < 1.0 and abs(float(text) - s) < 0.05 * s
+    assert cal.below_one(0.996) == "0.996" and cal.below_one(0.9996) == "0.9996"
+    assert "s = 0.996 < 1" in cal.direction_words(np.array([1.0, 0.5]), ["a", "b"], 0.996, False)

@@ -52,7 +52,7 @@ The package, one module a concept (the names below are re-exported here, ``__all
   (``fit_motor``).
 - ``result``: the ``Calibration`` a fit returns (``MotorCalibration`` from motor angles) and the
   calibrated robot file's text (``robot_file_text``, both kinds).
-- ``identify``: identifiability and its words (``identifiability``, ``direction_words``).
+- ``identify``: identifiability and its words (``identifiability``, ``direction_words``, ``below_one``).
 - ``prediction``: a robot against measured samples (``check``, ``check_motor``).
 - ``cv``: the K-fold cross-validation of a motor-angle calibration (``cross_validate``).
 - ``synthetic``: simulated measurements (``simulate``, ``perturbed``, ``random_poses``,
@@ -120,6 +120,7 @@ from cdpr.analyses.calibration.identify import (
     PARTLY,
     RANK_TOL,
     TIE_DIGITS,
+    below_one,
     direction_words,
     identifiability,
     identifiability_without,
@@ -202,6 +203,7 @@ __all__ = [
     "TIE_DIGITS",
     "candidates",
     "check",
+    "below_one",
     "check_model_groups",
     "check_motor",
     "commanded_lengths",

@@ -192,5 +192,25 @@ def direction_words(v, names, s, null):
         text += (";" if against else "") + " with " + " and ".join(withs)
     if not big:
         text += " alone"
-    tail = "not seen by the data" if null else f"weak: s = {s:.2g} < 1, the prior decides"
+    tail = "not seen by the data" if null else f"weak: s = {below_one(s)} < 1, the prior decides"
     return f"{text} ({tail})"
+
+
+def below_one(s):
+    """A singular value below 1 written so that it reads below 1: two significant digits, or, where
+    those round up to 1 (s = 0.996), the digits down to the first that differs from 9 (0.996).
+
+    Parameters
+    ----------
+    s : float
+        A singular value in [0, 1).
+
+    Returns
+    -------
+    str
+    """
+    text = f"{s:.2g}"
+    if float(text) < 1.0 or s >= 1.0:
+        return text
+    digits = max(2, -math.floor(math.log10(1.0 - s)))
+    return f"{math.floor(s * 10**digits) / 10**digits:.{digits}f}"
