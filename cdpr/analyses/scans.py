@@ -229,10 +229,13 @@ def pose_geometry(robot, p, rotvec=None):
         about H_i, in the plane of k_i and D_i - H_i; empty for a fixed pulley: NaN); ``p`` (3,)
         [m]; ``R`` (3, 3) [-] and ``rotvec`` (3,) [rad] the orientation; ``com`` (3,) [m] the centre of mass; ``point_mass`` bool; ``name``;
         ``interfering`` (m,) bool: the cables that interfere at the pose (in an interfering
-        cable-cable pair or through the platform body, ``models.interference``; never on a point mass).
+        cable-cable pair or through the platform body, ``models.interference``; never on a point mass;
+        heavy cables: their catenaries under the drawn distribution's rest lengths); heavy cables
+        add ``catenary_geometry``'s keys.
     """
     p_, R = pose_arrays([p], None if rotvec is None else [rotvec])
     B, st = pose_state(robot, p_, R)
+    heavy = catenary_geometry(robot, p_[0], R[0]) if robot.heavy else {}
     a = robot.arrays
     B, H, K, D = B[0], st.H[0], st.K[0], st.D[0]
     r_p = np.asarray(robot.r_p, dtype=float)
@@ -258,8 +261,10 @@ def pose_geometry(robot, p, rotvec=None):
         "com": p_[0] + R[0] @ a.com,
         "point_mass": robot.point_mass,
         "name": robot.name,
-        "interfering": interfering_cables(robot, p_[0], None if rotvec is None else rotvec),
-        **(catenary_geometry(robot, p_[0], R[0]) if robot.heavy else {}),
+        "interfering": interfering_cables(
+            robot, p_[0], None if rotvec is None else rotvec, heavy.get("catenary_L0")
+        ),
+        **heavy,
     }
 
 
@@ -291,7 +296,8 @@ def catenary_geometry(robot, p, R, n=CATENARY_POINTS):
         ``catenary`` (m, n, 3) [m] the polylines from B_i to D_i (NaN where no distribution holds
         the pose); ``catenary_D`` (m, 3) [m] the exit points of the heavy pulley coupling;
         ``catenary_t`` (m,) [N] the tensions at B_i; ``catenary_sag`` (m,) [m] each cable's sag
-        (``catenary.sag``: the largest deflection from the chord D_i-B_i).
+        (``catenary.sag``: the largest deflection from the chord D_i-B_i); ``catenary_L0`` (m,) [m]
+        the whole cables' rest lengths of that distribution (NaN where none holds the pose).
     """
     p = np.asarray(p, dtype=float)[None, :]
     R = np.asarray(R, dtype=float)[None, :, :]
@@ -310,10 +316,11 @@ def catenary_geometry(robot, p, R, n=CATENARY_POINTS):
         "catenary_D": inv["D"][0] if ok else np.full_like(B, np.nan),
         "catenary_t": h["t"][0],
         "catenary_sag": sag if ok else nan,
+        "catenary_L0": inv["L0"][0] if ok else nan,
     }
 
 
-def interfering_cables(robot, p, rotvec=None):
+def interfering_cables(robot, p, rotvec=None, L0=None):
     """The cables that interfere at one pose (``models.interference``): those of an interfering
     cable-cable pair and those that run through the platform body.
 
@@ -324,12 +331,17 @@ def interfering_cables(robot, p, rotvec=None):
         Platform reference point.
     rotvec : array_like (3,) [rad], optional
         Orientation (default identity).
+    L0 : array_like (m,) [m], optional
+        Rest lengths of heavy cables (their catenaries' polylines are tested; required when the
+        robot's cables are heavy and a pair or a platform body is tested).
 
     Returns
     -------
     ndarray (m,) bool
     """
-    res = interference(robot, np.asarray(p, dtype=float).reshape(1, 3), None if rotvec is None else [rotvec])
+    res = interference(
+        robot, np.asarray(p, dtype=float).reshape(1, 3), None if rotvec is None else [rotvec], L0=L0
+    )
     out = res.cp[0].copy()
     for q in np.flatnonzero(res.cc[0]):
         out[res.pairs[q]] = True

@@ -1,9 +1,14 @@
 """``cdpr view`` (cdpr.cli.view, drawn by cdpr.pipeline.plots.robot.robot_view) on a point-mass and a
-spatial robot, with a box; a bad box is refused in one line."""
+spatial robot, with a box, and on heavy cables; a bad box is refused in one line."""
 
+import numpy as np
 import pytest
+import yaml
 
+from cdpr.analyses import scans
 from cdpr.cli.main import main
+from cdpr.models.interference import interference
+from cdpr.robot import load_robot
 from tests.conftest import ROBOTS
 
 PNG = b"\x89PNG\r\n\x1a\n"
@@ -44,3 +49,27 @@ def test_a_bad_box_is_refused_in_one_line(tmp_path, capsys):
     err = capsys.readouterr().err.strip()
     assert "\n" not in err and err.startswith("cdpr: error: view: argument --box:") and "XMIN < XMAX" in err
     assert not (tmp_path / "r.png").exists()
+
+
+def test_view_of_a_heavy_rigid_platform(tmp_path, capsys):
+    """A rigid platform on heavy cables (CoGiRo at 0.0631 kg/m) is drawn with its catenaries, and
+    its interfering cables (1 and 7 at this turned pose near the frame's edge) are those of
+    ``interference`` under the drawn distribution's rest lengths (the view failed: heavy cables'
+    interference needs their rest lengths)."""
+    data = yaml.safe_load((ROBOTS / "cogiro.yaml").read_text())
+    data["cable"]["linear_density_kg_m"] = 0.0631
+    path = tmp_path / "heavy.yaml"
+    path.write_text(yaml.safe_dump(data))
+    out = tmp_path / "heavy.png"
+    args = ["view", "--robot", str(path), "--at", "5.5", "0", "4.2", "--rotvec", "0", "0", "0.6"]
+    assert main(args + ["--out", str(out)]) == 0, capsys.readouterr().err
+    assert out.read_bytes()[:8] == PNG
+    robot = load_robot(path)
+    geom = scans.pose_geometry(robot, [5.5, 0.0, 4.2], [0.0, 0.0, 0.6])
+    assert np.isfinite(geom["catenary_L0"]).all() and (geom["catenary_sag"] > 0).all()
+    res = interference(robot, [[5.5, 0.0, 4.2]], [[0.0, 0.0, 0.6]], L0=geom["catenary_L0"])
+    want = res.cp[0].copy()
+    for q in np.flatnonzero(res.cc[0]):
+        want[res.pairs[q]] = True
+    np.testing.assert_array_equal(geom["interfering"], want)
+    assert np.flatnonzero(want).tolist() == [0, 6]
