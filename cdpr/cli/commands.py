@@ -874,11 +874,8 @@ def _report(df, out, args, dt, extra=None):
     else:
         timing = f" in {dt:.2f} s ({rate:.0f} points/s)" if rate else ""
         print(f"wrote {n} points to {out}{timing}{_wrench_text(args)}")
-        print(
-            "status: "
-            + ", ".join(f"{k} {v}" for k, v in counts.items())
-            + f"; |dp| over ok points: min {lo:.6f} m, max {hi:.6f} m"
-        )
+        dp = f"min {lo:.6f} m, max {hi:.6f} m" if np.isfinite(lo) else "none (no point is ok)"
+        print("status: " + ", ".join(f"{k} {v}" for k, v in counts.items()) + f"; |dp| over ok points: {dp}")
 
 
 def cmd_plane(args):

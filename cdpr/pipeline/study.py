@@ -118,9 +118,34 @@ def load_study(path):
     validate(data, "study", path)
     st = Study(data)
     st.path = str(path)
+    _physical_by_default(st)
     st.setdefault("redundancy", SolverOptions.redundancy)
     check_study(st)
     return st
+
+
+def _physical_by_default(st):
+    """A study of a robot that is not a suspended point mass (a rigid platform, pulley axes other
+    than +z, anchors not above the floor) takes physical mode, that robot's only mode, when it names
+    none: ``redundancy`` and ``uncertainty.redundancy`` (when the section is there) left out become
+    ``physical``, as the command line's default (``Robot.default_redundancy``). Paper mode asked for
+    explicitly is refused by ``check_study`` as before. A robot file that is missing or invalid is
+    left to ``check_study``, which reports it."""
+    u = st.get("uncertainty")
+    if "redundancy" in st and (not u or "redundancy" in u):
+        return
+    spatial = False
+    for path in st["robots"].values():
+        if not Path(path).is_file():
+            continue
+        try:
+            spatial = spatial or not robot_from_dict(read_yaml(path), source=path).suspended_point_mass
+        except CdprError:
+            continue
+    if spatial:
+        st.setdefault("redundancy", "physical")
+        if u:
+            u.setdefault("redundancy", "physical")
 
 
 def check_results_folder(path, source="--config results", key="results"):

@@ -132,7 +132,7 @@ def _plane_tables(st, tables, robot_key):
 
 
 def plane_figure(st, robot_key, tables, figure):
-    """Fig. 12 for one robot: one panel per pulley design, shared colour scale."""
+    """Fig. 12 for one robot: one panel per pulley design, each on its own colour scale."""
     robot = study.robot_of(st, robot_key)
     data, z, mode = _plane_tables(st, tables, robot_key), st["plane"]["z_m"], study.redundancy(st)
     paper = {

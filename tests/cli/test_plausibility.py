@@ -105,3 +105,24 @@ def test_the_library_names_each_cable_when_they_differ(tmp_path):
 
     w = plausibility_warnings(load_robot(edited(tmp_path, R4, edit)))
     assert len(w) == 1 and w[0].startswith("cables[2].cable.diameter_m = 0.5 m")
+
+
+def test_an_import_with_a_unit_slip_warns_and_still_writes(tmp_path, capsys):
+    """The issue's import cases: ``cdpr import caspr --diameter 4`` (mm meant) and a CASPR
+    ``pulley_radius`` of 45 (mm typed as m) each give their warning line; the file is written."""
+    from tests.test_robot_import import files
+
+    b, c = files(tmp_path)
+    base = ["import", "caspr", "--bodies", b, "--cables", c]
+    code, _, err = run([*base, "--diameter", "4", "--out", tmp_path / "d.yaml"], capsys)
+    warned = [line for line in err.splitlines() if line.startswith("cdpr: warning: ")]
+    assert code == 0 and (tmp_path / "d.yaml").is_file()
+    assert len(warned) == 1 and "cable.diameter_m = 4 m" in warned[0] and "(4 mm = 0.004 m)" in warned[0]
+    c.write_text(
+        c.read_text().replace("<pulley_radius>0.05</pulley_radius>", "<pulley_radius>45</pulley_radius>")
+    )
+    code, _, err = run([*base, "--out", tmp_path / "r.yaml"], capsys)
+    warned = [line for line in err.splitlines() if line.startswith("cdpr: warning: ")]
+    assert code == 0 and (tmp_path / "r.yaml").is_file()
+    assert warned and all("= 45 m" in w and "(45 mm = 0.045 m)" in w for w in warned)
+    assert any("pulley.r_p_m = 45 m" in w for w in warned)

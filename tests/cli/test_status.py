@@ -65,3 +65,17 @@ def test_a_zero_length_cable_is_flagged_with_a_reason_and_no_numpy_warning(capsy
     cap = capsys.readouterr()
     assert "reason         : cable 1 has zero rest length" in cap.out and "not unique" not in cap.out
     assert cap.err == ""
+
+
+def test_a_table_with_no_ok_point_says_so_in_words(tmp_path, capsys):
+    """Issue 41 'no nan': the summary line of a --points command whose points are all not ok said
+    '|dp| over ok points: min nan m, max nan m'; it says there is none (JSON: null)."""
+    points = tmp_path / "below.csv"
+    points.write_text("x,y,z\n0,0,-1\n0.5,0,-2\n")  # below CDPR4's floor: inaccessible
+    argv = ["point", "--robot", R4, "--points", str(points), "--out", str(tmp_path / "o.csv")]
+    assert main(argv) == 0
+    out = capsys.readouterr().out
+    assert "status: inaccessible 2; |dp| over ok points: none (no point is ok)" in out and "nan" not in out
+    assert main([*argv, "--json"]) == 0
+    got = json.loads(capsys.readouterr().out)
+    assert got["status"] == {"inaccessible": 2} and got["dp_min"] is None and got["dp_max"] is None

@@ -1,6 +1,7 @@
 """The ``out_of_frame`` status (issue 41): a solved pose whose reference point P* lies more than
 ``FRAME_TOL`` outside the frame box (the anchors' bounding box extended down to the floor) is not
-``ok``, in every mode, engine, table and JSON output."""
+``ok``, in physical mode (paper mode follows the paper, which has no frame: docs/models.md), every
+engine, table and JSON output."""
 
 import json
 import subprocess

@@ -13,6 +13,7 @@ import pytest
 from cdpr.pipeline.plots import budget as budget_plots
 from cdpr.pipeline.plots import dead_length as dead_length_plots
 from cdpr.pipeline.plots import planes as planes_plots
+from tests.conftest import ROOT
 
 A = np.array([[-2.5, -2.5, 5], [2.5, -2.5, 5], [2.5, 2.5, 5], [-2.5, 2.5, 5]])
 
@@ -74,6 +75,8 @@ def test_plane_figure_says_its_colour_scale_is_per_panel(figs, tmp_path):
     assert len(bars) == 2 and bars[0].get_ylim() != bars[1].get_ylim()  # the scales do differ
     planes_plots.fig12_plane({"SR": _plane(1.0)}, A, 2.5, "R", tmp_path / "q.png")
     assert "per panel" not in figs[1]._suptitle.get_text()  # one panel: nothing to say
+    for page in [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]:  # nor do the docs promise one
+        assert "shared colour scale" not in " ".join(page.read_text().split()), page
 
 
 def _red_contours(fig):

@@ -86,9 +86,11 @@ def test_paper_mode_on_a_spatial_robot_is_refused_naming_redundancy_physical(tmp
     assert "key 'redundancy'" in message and "redundancy: physical" in message and "3 of m" in message
 
 
-def test_the_default_redundancy_paper_is_refused_for_a_spatial_robot(tmp_path):
-    message = _refusal(_spatial_variant(tmp_path, redundancy=None))
-    assert "key 'redundancy'" in message and "redundancy: physical" in message
+def test_a_spatial_study_without_redundancy_is_physical(tmp_path):
+    """Issue 41 'Defaults': left out, the mode of a spatial robot's study is physical (its only
+    mode), not a refusal of the point-mass default paper; paper given is refused (test above)."""
+    st = study.load_study(_spatial_variant(tmp_path, redundancy=None))
+    assert study.redundancy(st) == "physical"
 
 
 def test_paper_comparison_on_a_spatial_robot_is_refused(tmp_path):

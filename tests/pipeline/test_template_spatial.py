@@ -54,3 +54,36 @@ def test_snakemake_plans_the_templates_dag_on_another_robot(tmp_path):
     )
     assert p.returncode == 0, p.stderr[-2000:]
     assert "plane_table" in p.stdout and "Job stats" in p.stdout
+
+
+def test_a_spatial_study_that_names_no_mode_is_physical(tmp_path, capsys):
+    """Issue 41 'Defaults': a rigid platform has only physical mode, so a study of one that names no
+    redundancy mode (nor uncertainty.redundancy) runs in physical mode instead of being refused;
+    paper mode asked for explicitly is still refused with the sentence naming ``redundancy:
+    physical``; a point-mass study that names none keeps paper mode."""
+    from cdpr.errors import ConfigError
+    from cdpr.pipeline import study
+
+    path = _on_ipanema(tmp_path)
+    st = yaml.safe_load(path.read_text())
+    del st["redundancy"], st["uncertainty"]["redundancy"]
+    path.write_text(yaml.safe_dump(st, sort_keys=False))
+    got = study.load_study(path)
+    assert (study.redundancy(got), study.uq_redundancy(got)) == ("physical", "physical")
+    assert got["redundancy"] == "physical"  # in the mapping too: the rules' params see the mode
+    st["redundancy"] = "paper"
+    path.write_text(yaml.safe_dump(st, sort_keys=False))
+    try:
+        study.load_study(path)
+    except ConfigError as exc:
+        assert "key 'redundancy'" in str(exc) and "use redundancy: physical, got 'paper'" in str(exc)
+    else:
+        raise AssertionError("paper mode asked for on a rigid platform was accepted")
+    quick = yaml.safe_load((ROOT / "config/studies/quick.yaml").read_text())
+    del quick["redundancy"], quick["uncertainty"]["redundancy"]
+    quick["robots"] = {k: str(ROOT / v) for k, v in quick["robots"].items()}
+    if quick.get("conclusions"):
+        del quick["conclusions"]
+    (tmp_path / "quick.yaml").write_text(yaml.safe_dump(quick, sort_keys=False))
+    q = study.load_study(tmp_path / "quick.yaml")
+    assert (study.redundancy(q), study.uq_redundancy(q)) == ("paper", "paper")
