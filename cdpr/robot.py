@@ -24,8 +24,9 @@ frame (default [0, 0, 0]), ``platform.com_m`` the centre of mass c in the platfo
 [0, 0, 0]), ``pulley.zero`` (perpendicular to ``axis``) the zero of the reported swivel angle. A
 robot with every b_i = 0, c = 0, every axis +z and every anchor above the floor is a *suspended
 point-mass* robot, today's model: only there are anchors required not collinear seen from above.
-The floor is ``frame: {floor_z_m: ...}`` (default: 0 when every anchor lies above z = 0, else the
-lowest anchor's height); a point mass with anchors at or below it (a Hangprinter: three low
+The floor is ``frame: {floor_z_m: ...}`` (default: 0 when every anchor lies above z = 0, the
+lowest anchor's height when only some do, and with no anchor above z = 0 the lowest anchor's height
+less the anchors' horizontal extent, ``Robot.floor_z``); a point mass with anchors at or below it (a Hangprinter: three low
 anchors, one on the ceiling) is solved as the rigid platforms are.
 
 Winches: ``winch:`` (per robot, or per cable over the robot's keys) is the Métillon drum (Table 1
@@ -262,11 +263,22 @@ class Robot:
 
     @cached_property
     def floor_z(self):
-        """Height of the floor [m]: the robot file's ``frame.floor_z_m``, by default 0 when every
-        anchor lies above z = 0, else the lowest anchor's height (the bottom of the frame box)."""
+        """Height of the floor [m]: the robot file's ``frame.floor_z_m``; by default 0 when every
+        anchor lies above z = 0; the lowest anchor's height when some anchors lie above z = 0 and
+        some not (a Hangprinter: low anchors at the bed, one on the ceiling); and when no anchor
+        lies above z = 0 (the frame's origin in the anchors' plane, the platform hanging below
+        them, as cdpyr writes its robots) the lowest anchor's height less the anchors' largest
+        horizontal extent (a frame as tall as it is wide: set ``frame.floor_z_m`` for the real one).
+        """
         if self.floor_z_m is not None:
             return float(self.floor_z_m)
-        return float(min(0.0, min(c.A[2] for c in self.cables)))
+        A = np.array([c.A for c in self.cables], dtype=float)
+        if (A[:, 2] > 0.0).all():
+            return 0.0
+        if (A[:, 2] > 0.0).any():
+            return float(A[:, 2].min())
+        extent = float((A[:, :2].max(axis=0) - A[:, :2].min(axis=0)).max())
+        return float(A[:, 2].min()) - extent
 
     @property
     def m(self):

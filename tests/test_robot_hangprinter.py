@@ -56,14 +56,15 @@ def test_a_pose_above_the_low_anchors_is_solved_not_inaccessible():
 
 
 def test_floor_key_makes_a_suspended_robot_with_anchors_at_z0():
-    """cdpyr's convention: anchors at z = 0, the platform below. Without a floor the anchors are
-    not above the default floor 0: the robot loads and is solved as a rigid platform would be;
-    with ``frame.floor_z_m: -3`` it is a suspended robot whose points below -3 m are inaccessible."""
+    """cdpyr's convention: anchors at z = 0, the platform below. Without a floor the default floor
+    lies the anchors' horizontal extent (5 m) below them: a suspended robot (its frame box had no
+    height before, and every hanging pose was out_of_frame); with ``frame.floor_z_m: -3`` it is a
+    suspended robot whose points below -3 m are inaccessible."""
     d = yaml.safe_load((ROBOTS / "cdpr4.yaml").read_text())
     for c in d["cables"]:
         c["A_m"][2] = 0.0
     r = robot_from_dict(copy.deepcopy(d), "flat.yaml")
-    assert r.floor_z == 0.0 and not r.suspended_point_mass
+    assert r.floor_z == -5.0 and r.suspended_point_mass and frame_box(r)[4:] == [-5.0, 0.0]
     d["frame"] = {"floor_z_m": "-3000 mm"}
     r = robot_from_dict(d, "flat.yaml")
     assert r.floor_z == -3.0 and r.suspended_point_mass

@@ -96,3 +96,31 @@ def test_point_json_says_out_of_frame(three, tmp_path):
     )
     assert json.loads(out.stdout)["status"] == "out_of_frame"
     assert "RuntimeWarning" not in out.stderr
+
+
+@pytest.mark.parametrize("engine", ["numpy", "compiled"])
+def test_anchors_in_the_origin_plane_hang_the_platform_below(engine):
+    """A frame written with its origin in the anchors' plane (every anchor at z = 0, the platform
+    hanging at negative z, as cdpyr writes robots) without ``frame.floor_z_m``: the default floor
+    lies the anchors' horizontal extent below them, so the robot is the suspended point mass it is,
+    and physical mode gives CDPR4's answer shifted down, ``ok`` (it was ``out_of_frame`` at every
+    hanging pose: a frame box of no height)."""
+    data = yaml.safe_load((ROOT / "config" / "robots" / "cdpr4.yaml").read_text())
+    shifted = yaml.safe_load((ROOT / "config" / "robots" / "cdpr4.yaml").read_text())
+    top = max(c["A_m"][2] for c in data["cables"])
+    for c in shifted["cables"]:
+        c["A_m"][2] -= top
+    assert all(c["A_m"][2] == 0.0 for c in shifted["cables"])
+    a, b = robot_from_dict(data), robot_from_dict(shifted)
+    A = b.A
+    assert b.floor_z == -float((A[:, :2].max(axis=0) - A[:, :2].min(axis=0)).max())
+    assert b.suspended_point_mass
+    P = np.array([[0.5, -0.3, 1.2], [-1.0, 0.8, 2.5], [0.0, 0.0, 0.6]])
+    ra = solve.solve(a, P, redundancy="physical", engine=engine)
+    rb = solve.solve(b, P - [0.0, 0.0, top], redundancy="physical", engine=engine)
+    assert list(rb["status"]) == ["ok"] * 3 == list(ra["status"])
+    np.testing.assert_allclose(rb["P_s"], ra["P_s"] - [0.0, 0.0, top], atol=1e-9)
+    # a Hangprinter-like frame (some anchors above z = 0, some not) keeps the lowest anchor's height
+    mixed = yaml.safe_load((ROOT / "config" / "robots" / "cdpr4.yaml").read_text())
+    mixed["cables"][0]["A_m"][2] = -0.1
+    assert robot_from_dict(mixed).floor_z == -0.1
