@@ -92,8 +92,52 @@ KEYS = ("P_s", "dp", "rotvec_s", "R_s", "dphi", "t", "taut", "n_taut", "status",
 
 
 def answer(res, reached):
-    """``res`` (the global solve) with the pose, tensions and status of the reached equilibrium."""
-    return {**res, **{k: reached[k] for k in KEYS if k in res}}
+    """``res`` (the global solve) with the pose, tensions and status of the reached equilibrium;
+    its ``unique`` and ``alternatives`` (the other equilibria the restarts know, ``others``) are
+    those of the reached equilibrium, not of the global one."""
+    out = {**res, **{k: reached[k] for k in KEYS if k in res}}
+    if "alternatives" in res:
+        out["alternatives"] = [others(res, reached, i) for i in range(len(res["P_s"]))]
+        out["unique"] = np.array([not a for a in out["alternatives"]])
+    return out
+
+
+def others(res, reached, i):
+    """The equilibria other than the reached one at pose i: the global one (``res``, the solve with
+    restarts) and its ``alternatives``, less any within ``equilibrium.DISTINCT`` in m and rad of the
+    reached equilibrium, in ascending energy; the entries as ``alternatives``' (P_s, rotvec_s,
+    energy, taut).
+
+    Parameters
+    ----------
+    res : dict
+        The global solve (``solve.solve``'s keys with ``alternatives`` and ``rotvec_s``).
+    reached : dict
+        The reached equilibrium (``solve.reach``'s keys).
+    i : int
+        The pose.
+
+    Returns
+    -------
+    list of dict
+    """
+    from cdpr.models.equilibrium import DISTINCT  # lazy: the solver commands only
+    from cdpr.models.platform import rotation_error, rotation_matrix  # lazy: the solver commands only
+
+    glob = {
+        "P_s": res["P_s"][i].tolist(),
+        "rotvec_s": res["rotvec_s"][i].tolist(),
+        "energy": float(res["energy"][i]),
+        "taut": [int(k) + 1 for k in np.flatnonzero(res["taut"][i])],
+    }
+    P, R = reached["P_s"][i], reached["R_s"][i]
+
+    def distinct(a):
+        Ra = rotation_matrix(np.asarray(a["rotvec_s"], dtype=float))
+        far = np.linalg.norm(np.subtract(a["P_s"], P)) > DISTINCT
+        return far or rotation_error(Ra[None], R[None])[0] > DISTINCT
+
+    return sorted((a for a in [glob, *res["alternatives"][i]] if distinct(a)), key=lambda a: a["energy"])
 
 
 def both(robot, reached, glob, rigid):

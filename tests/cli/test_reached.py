@@ -56,10 +56,30 @@ def test_reached_and_global_objects(capsys):
     )
 
 
+def test_alternatives_are_the_equilibria_other_than_the_answer(capsys):
+    """With the reached answer, ``alternatives`` lists the global (flipped) equilibrium and not the
+    answer itself; with --equilibrium global it lists the reached one. Each entry is another
+    equilibrium under the same lengths: the other answer's pose, rotation and energy."""
+    out = run_json(capsys, *EXAMPLE)
+    glob = run_json(capsys, *EXAMPLE, "--equilibrium", "global")
+    for ans, other in ((out, "global"), (glob, "reached")):
+        assert ans["unique"] is False and len(ans["alternatives"]) == 1
+        (alt,) = ans["alternatives"]
+        assert alt["P_s"] == pytest.approx(ans[other]["solved"], abs=1e-9)
+        assert alt["rotvec_s"] == pytest.approx(ans[other]["solved_rotvec"], abs=1e-9)
+        assert alt["energy"] == pytest.approx(ans[other]["energy_J"], abs=1e-9)
+        assert alt["taut"] == ans[other]["taut"]
+        assert alt["P_s"] != pytest.approx(ans["solved"], abs=1e-3)
+    assert main(EXAMPLE) == 0
+    text = capsys.readouterr().out
+    assert "not unique (1 alternative; --json lists them)" in text
+
+
 def test_unique_equilibrium_reached_is_global(capsys):
     out = run_json(capsys, "point", "--robot", str(ROBOTS / "cogiro.yaml"), "--at", "0.5", "0.3", "1.5")
     assert out["reached_is_global"] is True and out["unique"] is True
     assert out["reached"]["solved"] == pytest.approx(out["global"]["solved"], abs=1e-9)
+    assert out["alternatives"] == []
 
 
 def test_given_start_and_text(capsys):
