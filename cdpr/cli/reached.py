@@ -102,6 +102,20 @@ def answer(res, reached):
     return out
 
 
+def with_sensitivities(robot, res, reached, engine, threads=None):
+    """``res`` (``answer``: the reached equilibrium's pose in the global solve's result, with its
+    sensitivities) with ``S``, ``smooth``, ``margin_t`` and ``cond`` taken at the reached
+    equilibrium (``solve.sensitivities_at``: the implicit-function theorem at its pose under the
+    same rest lengths); a point mass's S keeps its three rows dp*/dθ."""
+    from cdpr.solve import sensitivities_at  # lazy: --sensitivities only
+
+    sens = sensitivities_at(robot, reached, names=list(res["names"]), engine=engine, threads=threads)
+    rows = np.asarray(res["S"]).shape[1]
+    out = {**res, "S": sens["S"][:, :rows]}
+    out.update({k: sens[k] for k in ("smooth", "margin_t", "cond") if k in sens})
+    return out
+
+
 def others(res, reached, i):
     """The equilibria other than the reached one at pose i: the global one (``res``, the solve with
     restarts) and its ``alternatives``, less any within ``equilibrium.DISTINCT`` in m and rad of the

@@ -135,3 +135,39 @@ def test_points_table_answers_with_the_reached_equilibrium(tmp_path, capsys):
     df = pd.read_csv(out)
     assert "n_folds" not in df and df["dphi"][0] == pytest.approx(2.56, abs=0.01)
     capsys.readouterr()
+
+
+def test_sensitivities_are_those_of_the_reached_equilibrium(capsys):
+    """--sensitivities answers at the reached equilibrium (0.13 rad), not at the flipped global
+    one: dP*/dθ and dφ*/dθ of the mass M and of cable 1's modulus E_1 equal central differences of
+    the reached equilibrium itself (``solve.reach`` of the changed robot under the same lengths)."""
+    import numpy as np
+
+    from cdpr.models.platform import rotation_matrix, rotvec_of
+    from cdpr.robot import load_robot, with_values
+    from cdpr.solve import reach
+
+    out = run_json(capsys, *EXAMPLE, "--sensitivities")
+    glob = run_json(capsys, *EXAMPLE, "--sensitivities", "--equilibrium", "global")
+    assert out["dphi"] == pytest.approx(0.13, abs=0.01) and glob["dphi"] == pytest.approx(2.56, abs=0.01)
+    robot = load_robot(WALL)
+    P, RV, L = np.array([[0.3, 0.3, 0.7]]), np.array([0.12, 0.12, 0.0]), np.array([float(x) for x in L0])
+    E = np.array([c.material.E for c in robot.cables])
+    R0 = rotation_matrix(np.asarray(out["solved_rotvec"]))
+
+    def pose(r):
+        a = reach(r, P, RV, L0=L)
+        assert a["status"][0] == "ok" and a["n_folds"][0] == 0
+        # position, and the rotation from the answer's orientation as a base-frame rotation vector
+        return np.concatenate([a["P_s"][0], rotvec_of(a["R_s"][:1] @ R0.T)[0]])
+
+    for name, changed, step in (
+        ("M", lambda d: with_values(robot, mass=robot.platform.mass + d), 1e-2),
+        ("E_1", lambda d: with_values(robot, E_cables=E + d * (np.arange(robot.m) == 0)), 1e8),
+    ):
+        fd = (pose(changed(step)) - pose(changed(-step))) / (2 * step)
+        got = np.array(out["sensitivities"][name] + out["sensitivities_phi"][name])
+        scale = np.abs(fd).max()
+        assert np.abs(got - fd).max() < 1e-5 * scale, (name, got, fd)
+        other = np.array(glob["sensitivities"][name] + glob["sensitivities_phi"][name])
+        assert np.abs(other - fd).max() > 1e-2 * scale  # the flipped equilibrium's are not these
