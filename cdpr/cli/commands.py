@@ -446,7 +446,7 @@ def cmd_point(args):
             # (--sensitivities where the two are one equilibrium: the solve's pose they are taken at)
             res = reached.answer(res, res_reached)
             if args.sensitivities:  # dP*/dθ where the robot is
-                res = reached.with_sensitivities(robot, res, res_reached, engine, args.threads)
+                res = reached.with_sensitivities(robot, res, res_reached, [0], engine, args.threads)
     t = res["t"][0]
     out = {
         "desired": list(map(float, args.at)),

@@ -76,15 +76,20 @@ def _object(robot, res, rigid, reference):
 
 def table_answer(robot, args, res, engine):
     """``point --points``: a physical-mode chunk's result answered with the reached equilibrium
-    where the restarts found more than one (``solve.reach_where_multiple``, the studies' rule);
-    unchanged with --equilibrium global, --sensitivities, in paper mode or where all are unique."""
+    where the restarts found more than one (``solve.reach_where_multiple``, the studies' rule), with
+    --sensitivities taken there (``with_sensitivities``); unchanged with --equilibrium global, in
+    paper mode or where all are unique."""
     from cdpr.solve import reach_where_multiple  # lazy: the solvers, for the solver commands only
 
-    if args.redundancy != "physical" or args.sensitivities or args.equilibrium == "global":
+    if args.redundancy != "physical" or args.equilibrium == "global":
         return res
     if "unique" not in res or np.all(res["unique"]):
         return res
-    return reach_where_multiple(robot, res, engine=engine, threads=args.threads, **start_options(args, robot))
+    out = reach_where_multiple(robot, res, engine=engine, threads=args.threads, **start_options(args, robot))
+    moved = np.flatnonzero(~out["reached_is_global"])
+    if args.sensitivities and moved.size:  # dP*/dθ where the robot is
+        out = with_sensitivities(robot, out, out, moved, engine, args.threads)
+    return out
 
 
 #: The keys of a solve result that the reached equilibrium replaces in ``point``'s answer.
@@ -102,17 +107,38 @@ def answer(res, reached):
     return out
 
 
-def with_sensitivities(robot, res, reached, engine, threads=None):
-    """``res`` (``answer``: the reached equilibrium's pose in the global solve's result, with its
-    sensitivities) with ``S``, ``smooth``, ``margin_t`` and ``cond`` taken at the reached
-    equilibrium (``solve.sensitivities_at``: the implicit-function theorem at its pose under the
-    same rest lengths); a point mass's S keeps its three rows dp*/dθ."""
+def with_sensitivities(robot, res, at, rows, engine, threads=None):
+    """``res`` (a result with sensitivities whose pose at ``rows`` is the reached equilibrium) with
+    ``S``, ``smooth``, ``margin_t`` and ``cond`` at ``rows`` taken at the equilibria of ``at`` there
+    (``solve.sensitivities_at``: the implicit-function theorem at that pose under its rest lengths
+    ``L0``); a point mass's S keeps its three rows dp*/dθ.
+
+    Parameters
+    ----------
+    robot : Robot
+    res : dict
+        A result with names, S (N, 3 or 6, n), smooth and the reached pose at ``rows``.
+    at : dict
+        The equilibria the sensitivities are taken at: P_s, R_s, L0 and status (N, ...).
+    rows : array_like of int
+        The poses to replace.
+    engine : {"compiled", "numpy"}
+    threads : int, optional
+
+    Returns
+    -------
+    dict
+    """
     from cdpr.solve import sensitivities_at  # lazy: --sensitivities only
 
-    sens = sensitivities_at(robot, reached, names=list(res["names"]), engine=engine, threads=threads)
-    rows = np.asarray(res["S"]).shape[1]
-    out = {**res, "S": sens["S"][:, :rows]}
-    out.update({k: sens[k] for k in ("smooth", "margin_t", "cond") if k in sens})
+    rows = np.asarray(rows, dtype=int)
+    sub = {k: np.asarray(at[k])[rows] for k in ("P_s", "R_s", "L0", "status")}
+    sens = sensitivities_at(robot, sub, names=list(res["names"]), engine=engine, threads=threads)
+    out = dict(res)
+    for k in ("S", "smooth", "margin_t", "cond"):
+        if k in res and k in sens:
+            out[k] = np.array(res[k], copy=True)
+            out[k][rows] = sens[k][:, : out[k].shape[1]] if k == "S" else sens[k]
     return out
 
 

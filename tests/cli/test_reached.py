@@ -171,3 +171,31 @@ def test_sensitivities_are_those_of_the_reached_equilibrium(capsys):
         assert np.abs(got - fd).max() < 1e-5 * scale, (name, got, fd)
         other = np.array(glob["sensitivities"][name] + glob["sensitivities_phi"][name])
         assert np.abs(other - fd).max() > 1e-2 * scale  # the flipped equilibrium's are not these
+
+
+def test_points_table_sensitivities_are_those_of_the_reached_equilibrium(tmp_path, capsys):
+    """``point --points --sensitivities``: a row whose restarts find several equilibria answers at
+    the reached one with its sensitivities, those ``point --at --sensitivities`` gives (checked
+    against central differences above); --equilibrium global keeps the flipped one's."""
+    import numpy as np
+    import pandas as pd
+
+    pts = tmp_path / "p.csv"
+    pts.write_text("x,y,z,rx,ry,rz\n0.3,0.3,0.7,0.12,0.12,0\n")
+    out = tmp_path / "o.csv"
+    base = ["point", "--robot", WALL, "--points", str(pts), "--out", str(out), "--lengths", *L0]
+    base += ["--sensitivities", "--quiet"]
+    one = run_json(capsys, *EXAMPLE, "--sensitivities")
+    assert main(base) == 0
+    df = pd.read_csv(out)
+    assert df["reached_is_global"].tolist() == [False] and df["dphi"][0] == pytest.approx(0.13, abs=0.01)
+    for name in ("M", "E_1", "A_5_z"):
+        got = [df[f"d{c}_d{name}"][0] for c in ("x", "y", "z", "phix", "phiy", "phiz")]
+        want = one["sensitivities"][name] + one["sensitivities_phi"][name]
+        np.testing.assert_allclose(got, want, rtol=1e-9, atol=1e-12 * np.abs(want).max())
+    assert bool(df["smooth"][0]) is one["sensitivities_smooth"]
+    assert main(base + ["--equilibrium", "global"]) == 0
+    glob = pd.read_csv(out)
+    assert glob["dphi"][0] == pytest.approx(2.56, abs=0.01)
+    assert abs(glob["dz_dM"][0] - df["dz_dM"][0]) > 1e-2 * abs(df["dz_dM"][0])
+    capsys.readouterr()
