@@ -1,7 +1,8 @@
 """The cost of a reached equilibrium (issue 39): one continued point (``cdpr.solve.reach``, the
 adaptive continuation from the compensated start) against a plain solve of the same point
-(``cdpr.solve.solve``, the local Newton solve with the restarts, numpy reference), on the issue's
-wall robot example (tests/data/wall_crossed.yaml) and on CoGiRo at a unique equilibrium.
+(``cdpr.solve.solve``, the local Newton solve with the restarts), both on the same engine (the
+compiled one, the default of both, and the numpy reference), on the issue's wall robot example
+(tests/data/wall_crossed.yaml) and on CoGiRo at a unique equilibrium.
 Each figure is the median and the minimum of ``--runs`` runs, in one process after a warm-up.
 Run from the project root:
 
@@ -45,20 +46,22 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--runs", type=int, default=5)
     args = ap.parse_args()
-    print(f"{'case':38s} {'plain solve [ms]':>18s} {'continued [ms]':>16s} {'ratio':>6s} {'steps':>6s}")
+    head = f"{'case':38s} {'engine':8s} {'plain solve [ms]':>18s} {'continued [ms]':>16s} {'ratio':>6s} {'steps':>6s}"
+    print(head)
     for name, path, p, rv, L in CASES:
         robot = load_robot(path)
         P, RV = np.array([p]), np.array(rv)
-        plain = lambda: solve(robot, P, RV, L0=L, engine="numpy")  # noqa: E731
-        cont = lambda: reach(robot, P, RV, L0=L)  # noqa: E731
-        plain(), cont()  # warm-up
-        m0, n0, _ = timed(plain, args.runs)
-        m1, n1, res = timed(cont, args.runs)
-        steps = len(res["lambdas"][0]) - 1
-        print(
-            f"{name:38s} {1e3 * m0:8.1f} (min {1e3 * n0:5.1f}) {1e3 * m1:7.1f} (min {1e3 * n1:5.1f}) "
-            f"{m1 / m0:6.1f} {steps:6d}"
-        )
+        for engine in ("compiled", "numpy"):
+            plain = lambda: solve(robot, P, RV, L0=L, engine=engine)  # noqa: E731
+            cont = lambda: reach(robot, P, RV, L0=L, engine=engine)  # noqa: E731
+            plain(), cont()  # warm-up (and the compiled kernels' first compile)
+            m0, n0, _ = timed(plain, args.runs)
+            m1, n1, res = timed(cont, args.runs)
+            steps = len(res["lambdas"][0]) - 1
+            print(
+                f"{name:38s} {engine:8s} {1e3 * m0:8.1f} (min {1e3 * n0:5.1f}) "
+                f"{1e3 * m1:7.1f} (min {1e3 * n1:5.1f}) {m1 / m0:6.1f} {steps:6d}"
+            )
 
 
 if __name__ == "__main__":

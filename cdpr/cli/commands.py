@@ -437,13 +437,16 @@ def cmd_point(args):
     zero = _zero_length(robot, P, rv, L0, args.redundancy)
     res = _solve_announced(args, lambda: solve(P, rv)) if engine == "compiled" else solve(P, rv)
     two = None
-    if args.redundancy == "physical" and not args.sensitivities and not zero.any():  # issue 39: reached
+    if args.redundancy == "physical" and not zero.any():  # issue 39: reached
         from cdpr.cli import reached  # lazy: physical mode at one pose only
 
         res_reached = reached.reach_point(robot, args, P, rv, L0, engine)
         two = reached.both(robot, res_reached, res, rigid="rotvec_s" in res)
-        if args.equilibrium == "reached":
+        if args.equilibrium == "reached" and not (args.sensitivities and two["reached_is_global"]):
+            # (--sensitivities where the two are one equilibrium: the solve's pose they are taken at)
             res = reached.answer(res, res_reached)
+            if args.sensitivities:  # dP*/dθ where the robot is
+                res = reached.with_sensitivities(robot, res, res_reached, [0], engine, args.threads)
     t = res["t"][0]
     out = {
         "desired": list(map(float, args.at)),

@@ -76,15 +76,20 @@ def _object(robot, res, rigid, reference):
 
 def table_answer(robot, args, res, engine):
     """``point --points``: a physical-mode chunk's result answered with the reached equilibrium
-    where the restarts found more than one (``solve.reach_where_multiple``, the studies' rule);
-    unchanged with --equilibrium global, --sensitivities, in paper mode or where all are unique."""
+    where the restarts found more than one (``solve.reach_where_multiple``, the studies' rule), with
+    --sensitivities taken there (``with_sensitivities``); unchanged with --equilibrium global, in
+    paper mode or where all are unique."""
     from cdpr.solve import reach_where_multiple  # lazy: the solvers, for the solver commands only
 
-    if args.redundancy != "physical" or args.sensitivities or args.equilibrium == "global":
+    if args.redundancy != "physical" or args.equilibrium == "global":
         return res
     if "unique" not in res or np.all(res["unique"]):
         return res
-    return reach_where_multiple(robot, res, engine=engine, threads=args.threads, **start_options(args, robot))
+    out = reach_where_multiple(robot, res, engine=engine, threads=args.threads, **start_options(args, robot))
+    moved = np.flatnonzero(~out["reached_is_global"])
+    if args.sensitivities and moved.size:  # dP*/dθ where the robot is
+        out = with_sensitivities(robot, out, out, moved, engine, args.threads)
+    return out
 
 
 #: The keys of a solve result that the reached equilibrium replaces in ``point``'s answer.
@@ -92,8 +97,87 @@ KEYS = ("P_s", "dp", "rotvec_s", "R_s", "dphi", "t", "taut", "n_taut", "status",
 
 
 def answer(res, reached):
-    """``res`` (the global solve) with the pose, tensions and status of the reached equilibrium."""
-    return {**res, **{k: reached[k] for k in KEYS if k in res}}
+    """``res`` (the global solve) with the pose, tensions and status of the reached equilibrium;
+    its ``unique`` and ``alternatives`` (the other equilibria the restarts know, ``others``) are
+    those of the reached equilibrium, not of the global one."""
+    out = {**res, **{k: reached[k] for k in KEYS if k in res}}
+    if "alternatives" in res:
+        out["alternatives"] = [others(res, reached, i) for i in range(len(res["P_s"]))]
+        out["unique"] = np.array([not a for a in out["alternatives"]])
+    return out
+
+
+def with_sensitivities(robot, res, at, rows, engine, threads=None):
+    """``res`` (a result with sensitivities whose pose at ``rows`` is the reached equilibrium) with
+    ``S``, ``smooth``, ``margin_t`` and ``cond`` at ``rows`` taken at the equilibria of ``at`` there
+    (``solve.sensitivities_at``: the implicit-function theorem at that pose under its rest lengths
+    ``L0``); a point mass's S keeps its three rows dp*/dθ.
+
+    Parameters
+    ----------
+    robot : Robot
+    res : dict
+        A result with names, S (N, 3 or 6, n), smooth and the reached pose at ``rows``.
+    at : dict
+        The equilibria the sensitivities are taken at: P_s, R_s, L0 and status (N, ...).
+    rows : array_like of int
+        The poses to replace.
+    engine : {"compiled", "numpy"}
+    threads : int, optional
+
+    Returns
+    -------
+    dict
+    """
+    from cdpr.solve import sensitivities_at  # lazy: --sensitivities only
+
+    rows = np.asarray(rows, dtype=int)
+    sub = {k: np.asarray(at[k])[rows] for k in ("P_s", "R_s", "L0", "status")}
+    sens = sensitivities_at(robot, sub, names=list(res["names"]), engine=engine, threads=threads)
+    out = dict(res)
+    for k in ("S", "smooth", "margin_t", "cond"):
+        if k in res and k in sens:
+            out[k] = np.array(res[k], copy=True)
+            out[k][rows] = sens[k][:, : out[k].shape[1]] if k == "S" else sens[k]
+    return out
+
+
+def others(res, reached, i):
+    """The equilibria other than the reached one at pose i: the global one (``res``, the solve with
+    restarts) and its ``alternatives``, less any within ``equilibrium.DISTINCT`` in m and rad of the
+    reached equilibrium, in ascending energy; the entries as ``alternatives``' (P_s, rotvec_s,
+    energy, taut).
+
+    Parameters
+    ----------
+    res : dict
+        The global solve (``solve.solve``'s keys with ``alternatives`` and ``rotvec_s``).
+    reached : dict
+        The reached equilibrium (``solve.reach``'s keys).
+    i : int
+        The pose.
+
+    Returns
+    -------
+    list of dict
+    """
+    from cdpr.models.equilibrium import DISTINCT  # lazy: the solver commands only
+    from cdpr.models.platform import rotation_error, rotation_matrix  # lazy: the solver commands only
+
+    glob = {
+        "P_s": res["P_s"][i].tolist(),
+        "rotvec_s": res["rotvec_s"][i].tolist(),
+        "energy": float(res["energy"][i]),
+        "taut": [int(k) + 1 for k in np.flatnonzero(res["taut"][i])],
+    }
+    P, R = reached["P_s"][i], reached["R_s"][i]
+
+    def distinct(a):
+        Ra = rotation_matrix(np.asarray(a["rotvec_s"], dtype=float))
+        far = np.linalg.norm(np.subtract(a["P_s"], P)) > DISTINCT
+        return far or rotation_error(Ra[None], R[None])[0] > DISTINCT
+
+    return sorted((a for a in [glob, *res["alternatives"][i]] if distinct(a)), key=lambda a: a["energy"])
 
 
 def both(robot, reached, glob, rigid):

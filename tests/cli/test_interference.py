@@ -156,6 +156,34 @@ def test_every_shipped_robot(capsys, name):
         assert out["dmin_m"] >= 0 and out["dmin_pair"][0] < out["dmin_pair"][1]
 
 
+@pytest.mark.parametrize("name", sorted(p.name for p in ROBOTS.glob("*.yaml")))
+def test_point_compensate_and_grid_on_every_shipped_robot(tmp_path, capsys, name):
+    """Issue 39's Done-when, "the commands work on every shipped robot": at its view position,
+    physical mode's ``point --json`` answers with the reached equilibrium beside the global one
+    (the issue's keys), ``compensate --json`` says ``interference_free``, and ``grid --interference``
+    ends with the six columns, each an answer (no blank) where the pose is solved."""
+    from cdpr.analyses.scans import view_position
+    from cdpr.robot import load_robot
+
+    path = str(ROBOTS / name)
+    robot = load_robot(path)
+    at = [str(float(v)) for v in view_position(robot)]
+    pt = run_json(capsys, "point", "--robot", path, "--at", *at, "--redundancy", "physical", "--quiet")
+    obj = {"solved", "energy_J", "taut", "tensions", "interference_free", "status"}
+    obj |= set() if robot.point_mass else {"solved_rotvec"}
+    assert obj <= set(pt["global"]) and obj | {"folds", "start"} <= set(pt["reached"])
+    assert pt["equilibrium"] == "reached" and pt["solved"] == pt["reached"]["solved"]
+    assert isinstance(pt["reached_is_global"], bool) and isinstance(pt["interference_free"], bool)
+    comp = run_json(capsys, "compensate", "--robot", path, "--at", *at, "--quiet")
+    assert isinstance(comp["interference_free"], bool)
+    out = tmp_path / "g.csv"
+    grid = ["grid", "--robot", path, "--frame", "--n", "2", "--interference", "--out", str(out), "--quiet"]
+    assert main(grid + ["--redundancy", "physical"]) == 0
+    df = pd.read_csv(out, keep_default_na=False)
+    assert list(df.columns[-6:]) == list(COLUMNS) and len(df) == 8
+    assert (df["interference_free"].astype(str) != "").all()
+
+
 def test_unsolved_point_has_no_interference_answer(capsys):
     out = run_json(capsys, "point", "--robot", R4, "--at", "0", "0", "9")  # above the pulleys
     assert out["status"] == "inaccessible" and out["interference_free"] is None

@@ -56,10 +56,30 @@ def test_reached_and_global_objects(capsys):
     )
 
 
+def test_alternatives_are_the_equilibria_other_than_the_answer(capsys):
+    """With the reached answer, ``alternatives`` lists the global (flipped) equilibrium and not the
+    answer itself; with --equilibrium global it lists the reached one. Each entry is another
+    equilibrium under the same lengths: the other answer's pose, rotation and energy."""
+    out = run_json(capsys, *EXAMPLE)
+    glob = run_json(capsys, *EXAMPLE, "--equilibrium", "global")
+    for ans, other in ((out, "global"), (glob, "reached")):
+        assert ans["unique"] is False and len(ans["alternatives"]) == 1
+        (alt,) = ans["alternatives"]
+        assert alt["P_s"] == pytest.approx(ans[other]["solved"], abs=1e-9)
+        assert alt["rotvec_s"] == pytest.approx(ans[other]["solved_rotvec"], abs=1e-9)
+        assert alt["energy"] == pytest.approx(ans[other]["energy_J"], abs=1e-9)
+        assert alt["taut"] == ans[other]["taut"]
+        assert alt["P_s"] != pytest.approx(ans["solved"], abs=1e-3)
+    assert main(EXAMPLE) == 0
+    text = capsys.readouterr().out
+    assert "not unique (1 alternative; --json lists them)" in text
+
+
 def test_unique_equilibrium_reached_is_global(capsys):
     out = run_json(capsys, "point", "--robot", str(ROBOTS / "cogiro.yaml"), "--at", "0.5", "0.3", "1.5")
     assert out["reached_is_global"] is True and out["unique"] is True
     assert out["reached"]["solved"] == pytest.approx(out["global"]["solved"], abs=1e-9)
+    assert out["alternatives"] == []
 
 
 def test_given_start_and_text(capsys):
@@ -114,4 +134,68 @@ def test_points_table_answers_with_the_reached_equilibrium(tmp_path, capsys):
     assert main(base + ["--equilibrium", "global"]) == 0
     df = pd.read_csv(out)
     assert "n_folds" not in df and df["dphi"][0] == pytest.approx(2.56, abs=0.01)
+    capsys.readouterr()
+
+
+def test_sensitivities_are_those_of_the_reached_equilibrium(capsys):
+    """--sensitivities answers at the reached equilibrium (0.13 rad), not at the flipped global
+    one: dP*/dθ and dφ*/dθ of the mass M and of cable 1's modulus E_1 equal central differences of
+    the reached equilibrium itself (``solve.reach`` of the changed robot under the same lengths)."""
+    import numpy as np
+
+    from cdpr.models.platform import rotation_matrix, rotvec_of
+    from cdpr.robot import load_robot, with_values
+    from cdpr.solve import reach
+
+    out = run_json(capsys, *EXAMPLE, "--sensitivities")
+    glob = run_json(capsys, *EXAMPLE, "--sensitivities", "--equilibrium", "global")
+    assert out["dphi"] == pytest.approx(0.13, abs=0.01) and glob["dphi"] == pytest.approx(2.56, abs=0.01)
+    robot = load_robot(WALL)
+    P, RV, L = np.array([[0.3, 0.3, 0.7]]), np.array([0.12, 0.12, 0.0]), np.array([float(x) for x in L0])
+    E = np.array([c.material.E for c in robot.cables])
+    R0 = rotation_matrix(np.asarray(out["solved_rotvec"]))
+
+    def pose(r):
+        a = reach(r, P, RV, L0=L)
+        assert a["status"][0] == "ok" and a["n_folds"][0] == 0
+        # position, and the rotation from the answer's orientation as a base-frame rotation vector
+        return np.concatenate([a["P_s"][0], rotvec_of(a["R_s"][:1] @ R0.T)[0]])
+
+    for name, changed, step in (
+        ("M", lambda d: with_values(robot, mass=robot.platform.mass + d), 1e-2),
+        ("E_1", lambda d: with_values(robot, E_cables=E + d * (np.arange(robot.m) == 0)), 1e8),
+    ):
+        fd = (pose(changed(step)) - pose(changed(-step))) / (2 * step)
+        got = np.array(out["sensitivities"][name] + out["sensitivities_phi"][name])
+        scale = np.abs(fd).max()
+        assert np.abs(got - fd).max() < 1e-5 * scale, (name, got, fd)
+        other = np.array(glob["sensitivities"][name] + glob["sensitivities_phi"][name])
+        assert np.abs(other - fd).max() > 1e-2 * scale  # the flipped equilibrium's are not these
+
+
+def test_points_table_sensitivities_are_those_of_the_reached_equilibrium(tmp_path, capsys):
+    """``point --points --sensitivities``: a row whose restarts find several equilibria answers at
+    the reached one with its sensitivities, those ``point --at --sensitivities`` gives (checked
+    against central differences above); --equilibrium global keeps the flipped one's."""
+    import numpy as np
+    import pandas as pd
+
+    pts = tmp_path / "p.csv"
+    pts.write_text("x,y,z,rx,ry,rz\n0.3,0.3,0.7,0.12,0.12,0\n")
+    out = tmp_path / "o.csv"
+    base = ["point", "--robot", WALL, "--points", str(pts), "--out", str(out), "--lengths", *L0]
+    base += ["--sensitivities", "--quiet"]
+    one = run_json(capsys, *EXAMPLE, "--sensitivities")
+    assert main(base) == 0
+    df = pd.read_csv(out)
+    assert df["reached_is_global"].tolist() == [False] and df["dphi"][0] == pytest.approx(0.13, abs=0.01)
+    for name in ("M", "E_1", "A_5_z"):
+        got = [df[f"d{c}_d{name}"][0] for c in ("x", "y", "z", "phix", "phiy", "phiz")]
+        want = one["sensitivities"][name] + one["sensitivities_phi"][name]
+        np.testing.assert_allclose(got, want, rtol=1e-9, atol=1e-12 * np.abs(want).max())
+    assert bool(df["smooth"][0]) is one["sensitivities_smooth"]
+    assert main(base + ["--equilibrium", "global"]) == 0
+    glob = pd.read_csv(out)
+    assert glob["dphi"][0] == pytest.approx(2.56, abs=0.01)
+    assert abs(glob["dz_dM"][0] - df["dz_dM"][0]) > 1e-2 * abs(df["dz_dM"][0])
     capsys.readouterr()

@@ -336,12 +336,16 @@ def test_point_sensitivities_table_on_cogiro(capsys):
 def test_point_mass_sensitivities_json_is_unchanged(capsys, mode):
     """CDPR4's --sensitivities output, byte for byte as before the spatial sensitivities (files written
     by the previous version of the command with the compiled engine, its default then; the JSON has
-    gained the keys "engine", "warnings" and "interference_free"); with --rotvec the orientation is carried through. One pose now defaults
+    gained the keys "engine", "warnings" and "interference_free", and in physical mode the reached
+    equilibrium's "equilibrium", "reached", "global" and "reached_is_global"); with --rotvec the orientation is carried through. One pose now defaults
     to the numpy reference: the same subset or taut set, pose to 1e-9 m, sensitivities to 1e-6."""
     args = ["point", "--robot", R4, "--pulley", "DR", "--at", "0.5", "0.2", "2.5", "--redundancy", mode]
     ref = json.loads((DATA / f"point_sensitivities_cdpr4_{mode}.json").read_text())
     fast = run_json(capsys, *args, "--sensitivities", "--engine", "compiled")
     assert fast.pop("engine") == "compiled" and fast.pop("warnings") == [] and fast.pop("interference_free")
+    if mode == "physical":  # issue 39: the reached equilibrium beside the global one, the same here
+        assert fast.pop("equilibrium") == "reached" and fast.pop("reached_is_global") is True
+        assert fast.pop("reached")["solved"] == pytest.approx(fast.pop("global")["solved"], abs=1e-9)
     assert fast == ref
     default = run_json(capsys, *args, "--sensitivities")
     assert default.pop("engine") == "numpy"

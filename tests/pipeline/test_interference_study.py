@@ -189,6 +189,29 @@ def test_the_docs_workspace_figure_draws_the_column_counts(monkeypatch, tmp_path
     np.testing.assert_array_equal(images[2], (free & feasible).reshape(shape).sum(axis=2).T)
 
 
+def test_the_docs_page_is_named_as_the_issue_names_it_and_shows_the_cogiro_figure():
+    """Issue 39's Done-when: a docs page "Interference and reached equilibria" with the CoGiRo
+    figure (the hook draws it at the identity and at 15 degrees about x, y and z)."""
+    import importlib.util
+
+    page = (ROOT / "docs" / "interference.md").read_text()
+    assert page.splitlines()[0] == "# Interference and reached equilibria"
+    assert "## The reached equilibrium" in page and "(figures/interference_workspace.png)" in page
+    mkdocs = (ROOT / "mkdocs.yml").read_text()
+    assert "  - Interference and reached equilibria: interference.md\n" in mkdocs
+    assert "  - docs/hooks/interference_figure.py\n" in mkdocs
+    spec = importlib.util.spec_from_file_location("hook", ROOT / "docs" / "hooks" / "interference_figure.py")
+    hook = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(hook)
+    assert hook.URI == "figures/interference_workspace.png" and hook.ROBOT.name == "cogiro.yaml"
+    assert dict(hook.ORIENTATIONS) == {
+        "identity": (0.0, 0.0, 0.0),
+        "15° about x": (15.0, 0.0, 0.0),
+        "15° about y": (0.0, 15.0, 0.0),
+        "15° about z": (0.0, 0.0, 15.0),
+    }
+
+
 # ---- the plane figures, the global index, the budget and the summary (issue 39) ----------------
 def _rotated_study(tmp_path, rz=np.radians(15)):
     """quick_spatial.yaml with the platform turned ``rz`` about z (CoGiRo's corners then interfere)."""
