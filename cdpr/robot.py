@@ -345,8 +345,8 @@ class Robot:
     @property
     def default_redundancy(self):
         """The redundancy mode when none is given: "paper" (the paper's 3-cable subsets) for a point
-        mass, "physical" for a rigid platform (its only mode)."""
-        return "paper" if self.point_mass else "physical"
+        mass on massless cables, "physical" for a rigid platform or heavy cables (their only mode)."""
+        return "paper" if self.point_mass and not self.heavy else "physical"
 
     @cached_property
     def suspended_point_mass(self):

@@ -73,8 +73,9 @@ REDUNDANCY = ("paper", "physical")
 
 def check_redundancy(redundancy, robot=None):
     """``redundancy`` if it is one of ``REDUNDANCY``, else CdprError naming the allowed values. None
-    with a ``robot``: the robot's default, paper mode for a point mass and physical mode for a
-    rigid platform (its only mode)."""
+    with a ``robot``: the robot's default (``Robot.default_redundancy``), paper mode for a point
+    mass on massless cables and physical mode for a rigid platform or heavy cables (their only
+    mode)."""
     if redundancy is None and robot is not None:
         return robot.default_redundancy
     if redundancy not in REDUNDANCY:

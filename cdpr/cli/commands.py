@@ -69,7 +69,8 @@ def _wrench_text(args):
 def robot_from_args(args):
     """The robot of --robot with the command line's overrides, checked for plausibility; a
     --redundancy left out becomes the robot's default (``Robot.default_redundancy``: paper mode for
-    a point mass, physical mode for a rigid platform, its only mode)."""
+    a point mass on massless cables, physical mode for a rigid platform or heavy cables, their only
+    mode)."""
     robot = checked(
         load_robot(
             args.robot,

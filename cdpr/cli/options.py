@@ -206,9 +206,9 @@ def physics_options(sp):
         "--redundancy",
         choices=REDUNDANCY,
         default=None,
-        help="paper: the best admissible 3-cable subset (the paper's rule; the default for a point mass); physical: the "
-        "platform settles where the forces of all cables balance, each free to go slack (the default, and the only "
-        "mode, for a rigid platform)",
+        help="paper: the best admissible 3-cable subset (the paper's rule; the default for a point mass on massless "
+        "cables); physical: the platform settles where the forces of all cables balance, each free to go slack (the "
+        "default, and the only mode, for a rigid platform or heavy cables)",
     )
     sp.add_argument(
         "--E-cables",

@@ -126,8 +126,8 @@ def load_study(path):
 
 def _physical_by_default(st):
     """A study of a robot that is not a suspended point mass (a rigid platform, pulley axes other
-    than +z, anchors not above the floor) takes physical mode, that robot's only mode, when it names
-    none: ``redundancy`` and ``uncertainty.redundancy`` (when the section is there) left out become
+    than +z, anchors not above the floor) or has heavy cables takes physical mode, that robot's only
+    mode in a study, when it names none: ``redundancy`` and ``uncertainty.redundancy`` (when the section is there) left out become
     ``physical``, as the command line's default (``Robot.default_redundancy``). Paper mode asked for
     explicitly is refused by ``check_study`` as before. A robot file that is missing or invalid is
     left to ``check_study``, which reports it."""
@@ -139,7 +139,8 @@ def _physical_by_default(st):
         if not Path(path).is_file():
             continue
         try:
-            spatial = spatial or not robot_from_dict(read_yaml(path), source=path).suspended_point_mass
+            robot = robot_from_dict(read_yaml(path), source=path)
+            spatial = spatial or not robot.suspended_point_mass or robot.heavy
         except CdprError:
             continue
     if spatial:

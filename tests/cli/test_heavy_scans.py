@@ -161,9 +161,12 @@ def test_heavy_wrench_feasible_is_the_sag_consistent_distribution(tmp_path, caps
     ],
 )
 def test_what_is_not_modelled_is_refused_in_one_line(tmp_path, capsys, args, words):
-    """Paper mode (the point-mass default) refuses heavy cables in one line, before writing anything
-    (``grid --interference`` takes them: tests/cli/test_interference_heavy.py)."""
+    """Paper mode asked for refuses heavy cables in one line, before writing anything; left out,
+    a heavy robot's mode is physical (``Robot.default_redundancy``), and the command runs."""
     out = tmp_path / "x.csv"
-    assert main([*args, *RHO, "--out", str(out)]) == 2
+    assert main([*args, *RHO, "--redundancy", "paper", "--out", str(out)]) == 2
     err = capsys.readouterr().err.strip()
     assert "\n" not in err and words in err and not out.exists()
+    assert main([*args, *RHO, "--out", str(out)]) == 0
+    df = pd.read_csv(out)
+    assert len(df) > 0 and "sag_max_m" in df.columns and (df["sag_max_m"] > 0).any()  # heavy, physical
