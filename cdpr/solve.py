@@ -456,6 +456,35 @@ def reach_where_multiple(robot, res, engine=None, threads=None, **start):
     return out
 
 
+def reached_answer(robot, res, equilibrium="reached", engine=None, threads=None):
+    """Physical mode's answer (issue 39): where the restarts found more than one equilibrium
+    (``unique`` False) the one reached by continuation (``reach_where_multiple``), unless
+    ``equilibrium`` is "global"; ``res`` itself, unchanged, where every equilibrium is unique or the
+    result has no ``unique`` (paper mode, a suspended point mass solved without an orientation).
+    The door of every table and study solve (the point tables, the global index, the error budget,
+    the uncertainty study).
+
+    Parameters
+    ----------
+    robot : Robot
+    res : dict
+        ``solve``'s result (not modified).
+    equilibrium : {"reached", "global"}
+        Where the equilibrium is not unique: the reached one or the lowest energy found.
+    engine : {"compiled", "numpy"}, optional
+        The continuation's engine (``check_engine``'s default for Newton when None).
+    threads : int, optional
+
+    Returns
+    -------
+    dict
+        ``res``, or ``reach_where_multiple``'s result.
+    """
+    if check_equilibrium(equilibrium) != "reached" or "unique" not in res or np.all(res["unique"]):
+        return res
+    return reach_where_multiple(robot, res, engine=check_engine(engine, "newton"), threads=threads)
+
+
 def solve_batch(
     robots, p, rotvec=None, *, redundancy="physical", L0=None, L=None, engine=None, threads=None, P0=None, **options
 ):  # fmt: skip

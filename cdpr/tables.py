@@ -13,7 +13,7 @@ import pandas as pd
 
 from cdpr.models import sensitivity
 from cdpr.models.results import STATUSES, TAUT_MIN, pose_columns, subset_codes, taut_labels
-from cdpr.solve import check_engine, check_equilibrium, check_redundancy, reach_where_multiple, solve
+from cdpr.solve import check_engine, check_redundancy, reached_answer, solve
 
 
 def to_frame(robot, res, redundancy="paper", rotvec=None):
@@ -174,10 +174,8 @@ def solve_table(
     run = {"method": method, "threads": threads, "redundancy": redundancy}
     if redundancy != "paper" or L0 is not None or not robot.suspended_point_mass or "rotvec" in options:
         res = solve(robot, p, engine=engine, L0=L0, **run, **options)
-        multiple = redundancy == "physical" and "unique" in res and not np.all(res["unique"])
-        if multiple and check_equilibrium(equilibrium) == "reached":  # issue 39
-            engine = check_engine(engine, "newton")
-            res = reach_where_multiple(robot, res, engine=engine, threads=threads)
+        if redundancy == "physical":  # issue 39: the reached equilibrium where it is not unique
+            res = reached_answer(robot, res, equilibrium, engine, threads)
         return to_frame(robot, res, redundancy, options.get("rotvec"))
     engine = check_engine(engine, method)
     if engine == "compiled":

@@ -104,7 +104,7 @@ from cdpr.models.inverse import igm_e, pose_state
 from cdpr.models.platform import pose_arrays, rotvec_of
 from cdpr.models.tension_distribution import T_MIN_DEFAULT, compensated_lengths
 from cdpr.robot import TABLE1
-from cdpr.solve import check_engine, solve, solve_stiff
+from cdpr.solve import check_engine, reached_answer, solve, solve_stiff
 
 #: The effects the standard model neglects, in the order of the budget.
 EFFECTS = ("pulley", "elasticity", "winch")
@@ -367,6 +367,7 @@ def variant(design, p, actual, model, t_min=T_MIN_DEFAULT, threads=None, engine=
             L0=L0[good],
             rotvec=rv,
         )
+        res = reached_answer(robot, res, engine=engine, threads=threads)  # issue 39
         if "elasticity" not in _names(actual):  # rigid cables: the points Newton did not solve
             res = _rigid_where_not_converged(design, actual, p[good], rv, L0[good], res, engine, threads)
         dp[good] = res["P_s"] - p[good]

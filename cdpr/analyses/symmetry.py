@@ -39,7 +39,7 @@ from functools import lru_cache
 import numpy as np
 
 from cdpr.analyses.workspace import check_box, grid_points
-from cdpr.solve import solve
+from cdpr.solve import reached_answer, solve
 
 #: The eight elements of D4 as 2 x 2 integer matrices acting on centred (x, y).
 D4 = tuple(
@@ -209,7 +209,9 @@ def solve_grid_columns(robot, box, n, keys, symmetric=True, **solver):
         symmetric = False  # an orientation breaks the horizontal symmetries of the frame
     transforms = grid_symmetries(robot, box) if symmetric else [D4[0]]
     P, inverse = _orbit_points(tuple(check_box(box).tolist()), int(n), tuple(T.tobytes() for T in transforms))
-    res = solve(robot, P, **solver)
+    res = reached_answer(
+        robot, solve(robot, P, **solver), engine=solver.get("engine"), threads=solver.get("threads")
+    )
     out = {}
     for k in keys:
         v = np.asarray(res[k]) if k in res or k != "dphi" else np.zeros(len(P))

@@ -79,6 +79,7 @@ from cdpr.solve import (
     check_engine,
     linear_dp,
     linear_positions,
+    reached_answer,
     sensitivities,
     sensitivities_at,
     solve,
@@ -706,6 +707,7 @@ class PoseErrorModel:
                 robots, self.p[f], self.rotvec[f], engine=self.engine, threads=self.threads, L0=self.L[f]
             )  # every sample in one parallel pass (the same results as one solve per sample)
             for i, res in enumerate(results):
+                res = reached_answer(robots[i], res, engine=self.engine, threads=self.threads)  # issue 39
                 ok[i, f] = res["status"] == "ok"
                 values["dp"][i, f], values["dphi"][i, f] = res["dp"], res["dphi"]
                 if interference and not self.robot.point_mass:
