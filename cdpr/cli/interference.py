@@ -58,7 +58,8 @@ def _lengths(args, robot, P, rv):
     """The rest lengths the cables are tested under and where the test is made: (P, rv, L0 (m,) or
     None, the JSON's extra keys). --lengths: at the settled pose; heavy cables of a rigid platform
     without: the desired pose under the sag-consistent compensated lengths; else the desired pose
-    with straight spans (no extra keys)."""
+    with straight spans. The extra keys always hold ``status``: the settled pose's with --lengths,
+    else ``ok`` (the desired pose is tested as given: nothing is solved that could fail)."""
     if args.lengths is not None:
         if len(args.lengths) != robot.m:
             raise CdprError(f"--lengths needs one rest length per cable ({robot.m}), got {len(args.lengths)}")
@@ -77,8 +78,8 @@ def _lengths(args, robot, P, rv):
                 "heavy cables: no sag-consistent tension distribution in [100 N, T_a] holds the platform at this "
                 "pose, so it has no rest lengths to test the catenaries under; give them with --lengths L1 ... Lm"
             )
-        return P, rv, L0, {"lengths": L0.tolist(), "lengths_from": "compensated"}
-    return P, rv, None, {}
+        return P, rv, L0, {"lengths": L0.tolist(), "lengths_from": "compensated", "status": "ok"}
+    return P, rv, None, {"status": "ok"}
 
 
 def cmd_interference(args):
@@ -86,7 +87,8 @@ def cmd_interference(args):
     report) at --at [--rotvec]; with --points, a table of the interference columns per pose
     (``analyses.interference.desired_columns``) written to --out. Heavy cables of a rigid platform
     are tested under rest lengths (``_lengths``): the JSON then adds lengths and lengths_from
-    (``compensated`` or ``given``), and with --lengths solved, solved_rotvec and status."""
+    (``compensated`` or ``given``), and with --lengths solved and solved_rotvec; every JSON object
+    has ``status`` (issue 41: scripts read it)."""
     robot = checked(
         load_robot(
             args.robot,

@@ -27,6 +27,9 @@ COGIRO = str(ROBOTS / "cogiro.yaml")
         (["compensate", "--robot", R4, "--at", "0", "0", "2", "--t-min", "5000"], "infeasible"),
         (["compensate", "--robot", COGIRO, "--at", "0", "0", "2"], "ok"),
         (["compensate", "--robot", COGIRO, "--at", "0", "0", "2", "--t-min", "5000"], "infeasible"),
+        (["interference", "--robot", COGIRO, "--at", "0", "0", "2"], "ok"),
+        (["interference", "--robot", R4, "--at", "0", "0", "2"], "ok"),
+        (["interference", "--robot", COGIRO, "--at", "0", "0", "2", "--linear-density", "0.0631"], "ok"),
     ],
 )
 def test_single_pose_json_has_status_and_exit_code_0(capsys, argv, status):
