@@ -17,7 +17,16 @@ ROOT = Path(__file__).resolve().parents[2]
 WALL = str(ROOT / "tests" / "data" / "wall_crossed.yaml")
 COGIRO = str(ROBOTS / "cogiro.yaml")
 R4 = str(ROBOTS / "cdpr4.yaml")
-KEYS = {"interference_free", "cable_cable", "shared", "cable_platform", "dmin_m", "dmin_pair", "warnings", "status"}
+KEYS = {
+    "interference_free",
+    "cable_cable",
+    "shared",
+    "cable_platform",
+    "dmin_m",
+    "dmin_pair",
+    "warnings",
+    "status",
+}
 
 
 def run_json(capsys, *args):
