@@ -115,16 +115,7 @@ class Cables:
             out["grad"][:, 3:] -= np.cross(rc, self.f)
             if self.wrench:  # minus the generalised force of the external wrench (module docstring)
                 out["grad"] -= np.concatenate([self.fe, self.me])
-            stiff = ka + t / g.l_E
-            rr = np.einsum("nma,nma->nm", r, r)
-            out["kappa"] = np.stack(
-                [
-                    stiff.sum(axis=1),
-                    (stiff * rr + t * np.sqrt(rr)).sum(axis=1)
-                    + np.linalg.norm(self.f) * np.linalg.norm(rc, axis=1),
-                ],
-                axis=1,
-            )
+            out["kappa"] = _kappa(ka + t / g.l_E, t, r, rc, self.f)
         return out
 
     def _add_wrench(self, F, M, merit, p, p_ref):
@@ -390,17 +381,25 @@ class HeavyCables(Cables):
             out["J"] = _jacobian_forces(G, Fi, r, rc, self.f)
             out["grad"] = -out["Fn"]  # fixed and SR pulleys: the energy's gradient is minus the wrench
             # (with an external wrench: minus the generalised force, the moment's work as in Cables)
-            kc = np.abs(K[..., 0, 0]) + np.abs(K[..., 1, 1]) + np.abs(turn)
-            rr = np.einsum("nma,nma->nm", r, r)
-            out["kappa"] = np.stack(
-                [
-                    kc.sum(axis=1),
-                    (kc * rr + t * np.sqrt(rr)).sum(axis=1)
-                    + np.linalg.norm(self.f) * np.linalg.norm(rc, axis=1),
-                ],
-                axis=1,
+            out["kappa"] = _kappa(
+                np.abs(K[..., 0, 0]) + np.abs(K[..., 1, 1]) + np.abs(turn), t, r, rc, self.f
             )
         return out
+
+
+def _kappa(stiff, t, r, rc, f):
+    """The stiffness bounds kappa (N, 2) of ``evaluate``: translation sum_i k_i and rotation
+    sum_i (k_i |r_i|^2 + t_i |r_i|) + |f| |rc|, from each cable's stiffness bound k_i (N, m) [N/m],
+    tension t (N, m) [N] and arm r (N, m, 3) [m]; rc (N, 3) [m] the centre of mass's arm, f (3,) [N]
+    the platform's weight."""
+    rr = np.einsum("nma,nma->nm", r, r)
+    return np.stack(
+        [
+            stiff.sum(axis=1),
+            (stiff * rr + t * np.sqrt(rr)).sum(axis=1) + np.linalg.norm(f) * np.linalg.norm(rc, axis=1),
+        ],
+        axis=1,
+    )
 
 
 def _rows(v, sel):
