@@ -16,9 +16,9 @@ from cdpr.errors import CdprError
 from cdpr.models import catenary as cat
 from cdpr.models.cables import Cables, HeavyCables
 from cdpr.models.equilibrium import local_newton, solve
-from cdpr.models.platform import pose_arrays, rotation_matrix
+from cdpr.models.platform import pose_arrays
 from cdpr.robot import with_pulleys
-from tests.models.test_equilibrium_pose import pretensioned, robot8_turned
+from tests.models.test_equilibrium_pose import central_jacobian, pretensioned, robot8_turned
 
 RHO = 0.0631  # [kg/m] a 4 mm steel cable
 PTS = np.array([[0.0, 0.0, 2.5], [1.0, 0.5, 3.0], [-2.0, 1.5, 1.0], [1.2, -1.1, 4.2], [0.3, 0.2, 0.5]])
@@ -133,18 +133,7 @@ def test_analytic_jacobian_equals_finite_differences(cdpr4, case):
     _, R = pose_arrays(p, rv)
     J = cab.evaluate(p, R, L0, p)["J"][0]
     n = 6 if cab.rigid else 3
-    h = 1e-6
-    fd = np.empty((6, 6))
-    for k in range(6):
-        dx = np.zeros(6)
-        dx[k] = h
-        ev = [
-            cab.evaluate(p + s * dx[:3], rotation_matrix(s * dx[3:]) @ R, L0, p, jacobian=False)
-            for s in (1, -1)
-        ]
-        fd[:, k] = (
-            np.concatenate([ev[0]["F"], ev[0]["M"]], 1) - np.concatenate([ev[1]["F"], ev[1]["M"]], 1)
-        )[0] / (2 * h)
+    fd = central_jacobian(cab, p, R, L0, 1e-6)
     assert np.abs(J - fd)[:n, :n].max() < 1e-7 * np.abs(J).max()
 
 
