@@ -34,6 +34,18 @@ def snakemake(target, *config, cwd, quiet=True, force=True, extra=()):
     )
 
 
+def rule_jobs(p):
+    """Jobs per rule {rule: count} of a finished Snakemake dry run ``p`` (``-n --quiet rules``: its
+    table of rule and count), which must have succeeded."""
+    assert p.returncode == 0, p.stderr[-2000:]
+    jobs = {}
+    for line in (p.stdout + p.stderr).splitlines():
+        parts = line.split()
+        if len(parts) == 2 and parts[1].isdigit() and parts[0] not in ("total", "job"):
+            jobs[parts[0]] = int(parts[1])
+    return jobs
+
+
 #: The study files a working folder gets by default (``make_workdir``): the quick study in both
 #: modes (their comparison file names them) and the example of a user's own design.
 QUICK_STUDIES = ("quick", "quick_physical", "example")

@@ -8,24 +8,14 @@ import json
 
 import numpy as np
 import pytest
-import yaml
 
 from cdpr.cli.main import main
 from cdpr.errors import ConfigError
 from cdpr.robot import load_robot
 from tests.conftest import ROBOTS
+from tests.test_robot import base, write  # the cdpr4 mapping and its writer
 
 R4 = str(ROBOTS / "cdpr4.yaml")
-
-
-def base():
-    return yaml.safe_load((ROBOTS / "cdpr4.yaml").read_text())
-
-
-def write(tmp_path, data, name="robot.yaml"):
-    p = tmp_path / name
-    p.write_text(yaml.safe_dump(data))
-    return p
 
 
 def test_default_is_massless_and_an_explicit_zero_changes_nothing(tmp_path, cdpr4):

@@ -157,12 +157,21 @@ def _spans_at(Bx, By, Bz, Hx, Hy, Hz, esx, esy, esz, kx, ky, kz, ux, uy, uz, rp,
     the horizontal part of v unscaled where l_h = 0, a vertical cable)."""
     rx, ry, rz = ct * esx + st * kx, ct * esy + st * ky, ct * esz + st * kz
     Dx, Dy, Dz = Hx + rp * rx, Hy + rp * ry, Hz + rp * rz
+    vx, vy, vz, l_v, l_h, ehx, ehy, ehz = _span(Dx, Dy, Dz, Bx, By, Bz, ux, uy, uz)
+    return rx, ry, rz, Dx, Dy, Dz, vx, vy, vz, l_v, l_h, ehx, ehy, ehz
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _span(Dx, Dy, Dz, Bx, By, Bz, ux, uy, uz):
+    """The span from B to D along the unit up (u_x, u_y, u_z): v = D - B (3) [m], l_v = v . up,
+    l_h = |v - l_v up| [m] and e_h (3) [-] the horizontal unit vector from B toward D (the
+    horizontal part of v unscaled where l_h = 0, a vertical cable)."""
     vx, vy, vz = Dx - Bx, Dy - By, Dz - Bz
     l_v = vx * ux + vy * uy + vz * uz
     hx, hy, hz = vx - l_v * ux, vy - l_v * uy, vz - l_v * uz
     l_h = math.sqrt(hx * hx + hy * hy + hz * hz)
     n = l_h if l_h > 0.0 else 1.0
-    return rx, ry, rz, Dx, Dy, Dz, vx, vy, vz, l_v, l_h, hx / n, hy / n, hz / n
+    return vx, vy, vz, l_v, l_h, hx / n, hy / n, hz / n
 
 
 @njit(cache=True, error_model="numpy")
@@ -431,12 +440,7 @@ def _general_at(
             th, gamma = math.atan2(g.sD, g.cD), g.gamma
             Dw = g.Hw + rp * g.sD
             Dx, Dy, Dz = Ax + g.Ds * esx + Dw * kx, Ay + g.Ds * esy + Dw * ky, Az + g.Ds * esz + Dw * kz
-            vx, vy, vz = Dx - Bx, Dy - By, Dz - Bz
-            l_v = vx * ux + vy * uy + vz * uz
-            hx, hy, hz = vx - l_v * ux, vy - l_v * uy, vz - l_v * uz
-            l_h = math.sqrt(hx * hx + hy * hy + hz * hz)
-            nh = l_h if l_h > 0.0 else 1.0
-            ehx, ehy, ehz = hx / nh, hy / nh, hz / nh
+            vx, vy, vz, l_v, l_h, ehx, ehy, ehz = _span(Dx, Dy, Dz, Bx, By, Bz, ux, uy, uz)
             H, V, code, _, _, L0f = cable_state(l_h, l_v, L0c, g.ld + rp * gamma, w, EA, H0, V0, L0f0)
         ell = g.ld + rp * gamma
         H0, V0, L0f0 = H, V, L0f
@@ -870,12 +874,7 @@ def _inverse_cable(Bx, By, Bz, c, t, cab, frame, ident, heavy, pulleys, maxiter,
         Dw = g.Hw + rp * g.sD
         Dx, Dy, Dz = A[0] + g.Ds * esx + Dw * kx, A[1] + g.Ds * esy + Dw * ky, A[2] + g.Ds * esz + Dw * kz
         ell = g.ld + rp * g.gamma
-        vx, vy, vz = Dx - Bx, Dy - By, Dz - Bz
-        l_v = vx * ux + vy * uy + vz * uz
-        hx, hy, hz = vx - l_v * ux, vy - l_v * uy, vz - l_v * uz
-        l_h = math.sqrt(hx * hx + hy * hy + hz * hz)
-        nh = l_h if l_h > 0.0 else 1.0
-        ehx, ehy, ehz = hx / nh, hy / nh, hz / nh
+        vx, vy, vz, l_v, l_h, ehx, ehy, ehz = _span(Dx, Dy, Dz, Bx, By, Bz, ux, uy, uz)
         H, V, L0f, conv, _ = span_for_tension(l_h, l_v, t, w, EA)
         V_D = V + w * L0f
         T_D = math.hypot(H, V_D)

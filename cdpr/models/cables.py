@@ -115,16 +115,7 @@ class Cables:
             out["grad"][:, 3:] -= np.cross(rc, self.f)
             if self.wrench:  # minus the generalised force of the external wrench (module docstring)
                 out["grad"] -= np.concatenate([self.fe, self.me])
-            stiff = ka + t / g.l_E
-            rr = np.einsum("nma,nma->nm", r, r)
-            out["kappa"] = np.stack(
-                [
-                    stiff.sum(axis=1),
-                    (stiff * rr + t * np.sqrt(rr)).sum(axis=1)
-                    + np.linalg.norm(self.f) * np.linalg.norm(rc, axis=1),
-                ],
-                axis=1,
-            )
+            out["kappa"] = _kappa(ka + t / g.l_E, t, r, rc, self.f)
         return out
 
     def _add_wrench(self, F, M, merit, p, p_ref):
@@ -390,17 +381,25 @@ class HeavyCables(Cables):
             out["J"] = _jacobian_forces(G, Fi, r, rc, self.f)
             out["grad"] = -out["Fn"]  # fixed and SR pulleys: the energy's gradient is minus the wrench
             # (with an external wrench: minus the generalised force, the moment's work as in Cables)
-            kc = np.abs(K[..., 0, 0]) + np.abs(K[..., 1, 1]) + np.abs(turn)
-            rr = np.einsum("nma,nma->nm", r, r)
-            out["kappa"] = np.stack(
-                [
-                    kc.sum(axis=1),
-                    (kc * rr + t * np.sqrt(rr)).sum(axis=1)
-                    + np.linalg.norm(self.f) * np.linalg.norm(rc, axis=1),
-                ],
-                axis=1,
+            out["kappa"] = _kappa(
+                np.abs(K[..., 0, 0]) + np.abs(K[..., 1, 1]) + np.abs(turn), t, r, rc, self.f
             )
         return out
+
+
+def _kappa(stiff, t, r, rc, f):
+    """The stiffness bounds kappa (N, 2) of ``evaluate``: translation sum_i k_i and rotation
+    sum_i (k_i |r_i|^2 + t_i |r_i|) + |f| |rc|, from each cable's stiffness bound k_i (N, m) [N/m],
+    tension t (N, m) [N] and arm r (N, m, 3) [m]; rc (N, 3) [m] the centre of mass's arm, f (3,) [N]
+    the platform's weight."""
+    rr = np.einsum("nma,nma->nm", r, r)
+    return np.stack(
+        [
+            stiff.sum(axis=1),
+            (stiff * rr + t * np.sqrt(rr)).sum(axis=1) + np.linalg.norm(f) * np.linalg.norm(rc, axis=1),
+        ],
+        axis=1,
+    )
 
 
 def _rows(v, sel):
@@ -416,17 +415,8 @@ def _rows(v, sel):
 def _jacobian_forces(G, Fi, r, rc, f):
     """d(F, M)/d(dp, dphi) (N, 6, 6) from each cable's force Fi (N, m, 3) at B_i and its derivative
     G_i = dF_i/dB_i (N, m, 3, 3) (``_jacobian`` with G_i given and t_i u_i = F_i)."""
-    Sr = skew(r)
-    eye = np.eye(3)
-    J = np.zeros(Fi.shape[:1] + (6, 6))
-    J[:, :3, :3] = G.sum(axis=1)
-    J[:, :3, 3:] = -np.einsum("nmab,nmbc->nac", G, Sr)
-    RG = np.einsum("nmab,nmbc->nmac", Sr, G)
-    J[:, 3:, :3] = RG.sum(axis=1)
-    turn = r[..., :, None] * Fi[..., None, :] - np.einsum("nma,nma->nm", Fi, r)[..., None, None] * eye
-    J[:, 3:, 3:] = -np.einsum("nmab,nmbc->nac", RG, Sr) + turn.sum(axis=1)
-    J[:, 3:, 3:] += rc[:, :, None] * f[None, None, :] - (rc @ f)[:, None, None] * eye
-    return J
+    turn = r[..., :, None] * Fi[..., None, :] - np.einsum("nma,nma->nm", Fi, r)[..., None, None] * np.eye(3)
+    return _assemble_jacobian(G, turn, r, rc, f)
 
 
 def _jacobian(t, du, ka, u, dL, r, rc, f):
@@ -436,16 +426,23 @@ def _jacobian(t, du, ka, u, dL, r, rc, f):
     dF = sum G_i dB_i; dM = sum [r_i]x G_i dB_i + sum t_i (dphi x r_i) x u_i + (dphi x rc) x f, and
     (dphi x r) x u = (r u^T - (u . r) I) dphi."""
     G = t[..., None, None] * du + ka[..., None, None] * u[..., :, None] * dL[..., None, :]
+    turn = t[..., None, None] * (
+        r[..., :, None] * u[..., None, :] - np.einsum("nma,nma->nm", u, r)[..., None, None] * np.eye(3)
+    )
+    return _assemble_jacobian(G, turn, r, rc, f)
+
+
+def _assemble_jacobian(G, turn, r, rc, f):
+    """d(F, M)/d(dp, dphi) (N, 6, 6) from each cable's G_i = dF_i/dB_i (N, m, 3, 3) and its moment
+    turn (dphi x r_i) x F_i = turn_i dphi (N, m, 3, 3) (``_jacobian``, ``_jacobian_forces``), with
+    dB_i = dp - [r_i]x dphi and the weight f (3,) at rc (N, 3)."""
     Sr = skew(r)
     eye = np.eye(3)
-    J = np.zeros(t.shape[:1] + (6, 6))
+    J = np.zeros(G.shape[:1] + (6, 6))
     J[:, :3, :3] = G.sum(axis=1)
     J[:, :3, 3:] = -np.einsum("nmab,nmbc->nac", G, Sr)
     RG = np.einsum("nmab,nmbc->nmac", Sr, G)
     J[:, 3:, :3] = RG.sum(axis=1)
-    turn = t[..., None, None] * (
-        r[..., :, None] * u[..., None, :] - np.einsum("nma,nma->nm", u, r)[..., None, None] * eye
-    )
     J[:, 3:, 3:] = -np.einsum("nmab,nmbc->nac", RG, Sr) + turn.sum(axis=1)
     J[:, 3:, 3:] += rc[:, :, None] * f[None, None, :] - (rc @ f)[:, None, None] * eye
     return J

@@ -82,6 +82,7 @@ pp. 139-146 (the improved closed form).
 
 from __future__ import annotations
 
+import functools
 import itertools
 
 import numpy as np
@@ -431,6 +432,18 @@ def distribute(robot, P, method="min_norm", t_min=T_MIN_DEFAULT, t_max=None, **o
     P = np.atleast_2d(np.asarray(P, dtype=float))
     W = wrench_matrix(robot, P)
     w = -robot.platform.w_ext
+    solver = options.pop("solver", "auto")
+    t, ok = _distribute_rows(
+        robot, W, w, t_min, t_max, method, functools.partial(min_norm, method=solver, **options)
+    )
+    return {"t": t, "feasible": ok, "status": np.where(ok, "ok", "infeasible"), "W": W}
+
+
+def _distribute_rows(robot, W, w, t_min, t_max, method, minimum_norm):
+    """The tensions t (N, m) [N] and feasible (N,) of ``distribute`` and ``distribute_pose`` from
+    the wrench matrices W and the wrench w: t_max defaults to each cable's T_a, the points where W
+    is not finite are infeasible (``defined_rows``), and ``method`` picks closed_form,
+    closed_form_improved or min_norm (the callable ``minimum_norm(W, w, t_min, t_max)``)."""
     t_max = robot.T_a if t_max is None else t_max
     Ws, defined = defined_rows(W)
     if method == "closed_form":
@@ -438,12 +451,10 @@ def distribute(robot, P, method="min_norm", t_min=T_MIN_DEFAULT, t_max=None, **o
     elif method == "closed_form_improved":
         t, ok = closed_form_improved(Ws, w, t_min, t_max)
     elif method == "min_norm":
-        solver = options.pop("solver", "auto")
-        t, ok = min_norm(Ws, w, t_min, t_max, method=solver, **options)
+        t, ok = minimum_norm(Ws, w, t_min, t_max)
     else:
         raise ValueError(f"unknown distribution method {method!r}; allowed: {', '.join(METHODS)}")
-    t, ok = np.where(defined[:, None], t, np.nan), ok & defined
-    return {"t": t, "feasible": ok, "status": np.where(ok, "ok", "infeasible"), "W": W}
+    return np.where(defined[:, None], t, np.nan), ok & defined
 
 
 def defined_rows(W):
@@ -689,15 +700,7 @@ def distribute_pose(robot, p, rotvec=None, t_min=T_MIN_DEFAULT, t_max=None, meth
     p, R = pose_arrays(p, rotvec)
     W, w, st = pose_wrench(robot, p, R)
     W, w = rank_rows(robot, W, w)
-    t_max = robot.T_a if t_max is None else t_max
-    Ws, defined = defined_rows(W)
-    if method == "closed_form":
-        t, ok = closed_form(Ws, w, t_min, t_max)
-    elif method == "closed_form_improved":
-        t, ok = closed_form_improved(Ws, w, t_min, t_max)
-    else:
-        t, ok = min_norm_rows(Ws, w, t_min, t_max)
-    t, ok = np.where(defined[:, None], t, np.nan), ok & defined
+    t, ok = _distribute_rows(robot, W, w, t_min, t_max, method, min_norm_rows)
     return {
         "t": t,
         "feasible": ok,

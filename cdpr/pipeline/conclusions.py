@@ -327,6 +327,19 @@ def _cell(v, unit, c=None):
     return _fmt(v, unit) + (f" ({t})" if t else "")
 
 
+def _statement_cells(r):
+    """A row's cells from its statement to its verdict against the paper (both tables of
+    ``conclusions_page``): statement, paper, reference, robot, verdict, verdict_paper."""
+    return [
+        r.statement,
+        _fmt(r.paper, r.unit) if _text(r.paper) else "",
+        _cell(r.reference, r.unit, r.claim_reference),
+        _cell(r.robot, r.unit, r.claim_robot),
+        r.verdict,
+        _text(r.verdict_paper),
+    ]
+
+
 def conclusions_page(ref_st, st, rows):
     """The page: what is compared, the headline table and every row (Markdown)."""
     ref_name, name = ref_st["doe"]["robot"], st["doe"]["robot"]
@@ -360,18 +373,7 @@ def conclusions_page(ref_st, st, rows):
         "|---|---|---|---|---|---|",
     ]
     for r in rows[rows.headline].itertuples():
-        lines.append(
-            io.md_row(
-                [
-                    r.statement,
-                    _fmt(r.paper, r.unit) if _text(r.paper) else "",
-                    _cell(r.reference, r.unit, r.claim_reference),
-                    _cell(r.robot, r.unit, r.claim_robot),
-                    r.verdict,
-                    _text(r.verdict_paper),
-                ]
-            )
-        )
+        lines.append(io.md_row(_statement_cells(r)))
     lines += [
         "",
         "## Every row",
@@ -380,21 +382,7 @@ def conclusions_page(ref_st, st, rows):
         "|---|---|---|---|---|---|---|---|---|",
     ]
     for r in rows.itertuples():
-        lines.append(
-            io.md_row(
-                [
-                    r.group,
-                    r.quantity,
-                    r.statement,
-                    _fmt(r.paper, r.unit) if _text(r.paper) else "",
-                    _cell(r.reference, r.unit, r.claim_reference),
-                    _cell(r.robot, r.unit, r.claim_robot),
-                    r.verdict,
-                    _text(r.verdict_paper),
-                    r.note,
-                ]
-            )
-        )
+        lines.append(io.md_row([r.group, r.quantity, *_statement_cells(r), r.note]))
     return "\n".join(lines) + "\n"
 
 

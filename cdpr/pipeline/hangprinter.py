@@ -70,10 +70,10 @@ def is_hangprinter_study(path):
     bool
     """
     try:
-        data = yaml.safe_load(open(path, encoding="utf-8"))
-    except (OSError, yaml.YAMLError):
+        data = read_study_file(path)  # a mapping, or ConfigError
+    except (OSError, ConfigError):
         return False
-    return isinstance(data, dict) and "data_sets" in data
+    return "data_sets" in data
 
 
 def load_hangprinter_study(path, check_files=True):

@@ -520,17 +520,11 @@ def bands(linear, full, nominal_common=None, rows=None):
         ("linearised", *(linear.loc[linear["sample"] >= 0, c] for c in ("index_m", "median_m", "p95_m"))),
         ("full", full["index_full_m"], full["median_full_m"], full["p95_full_m"]),
     ):
-        q = np.quantile(idx, QUANTILES) if len(idx) else [np.nan] * 3
         out.append(
             {
                 "method": method,
                 "n": int(len(idx)),
-                "index_nominal_m": nom,
-                "index_q05_m": q[0],
-                "index_q50_m": q[1],
-                "index_q95_m": q[2],
-                "index_min_m": float(np.min(idx)) if len(idx) else np.nan,
-                "index_max_m": float(np.max(idx)) if len(idx) else np.nan,
+                **_spread(idx, nom, "index", "m"),
                 "plus_m": float(np.max(idx)) - nom if len(idx) else np.nan,
                 "minus_m": nom - float(np.min(idx)) if len(idx) else np.nan,
                 "median_q50_m": float(np.median(med)) if len(med) else np.nan,
@@ -593,19 +587,23 @@ def _phi_bands(linear, full, rows):
         full["index_phi_full_rad"],
         rows["index_phi_rad"],
     ):
-        idx = idx.to_numpy(dtype=float)
-        q = np.quantile(idx, QUANTILES) if len(idx) else [np.nan] * 3
-        out.append(
-            {
-                "index_phi_nominal_rad": nom,
-                "index_phi_q05_rad": q[0],
-                "index_phi_q50_rad": q[1],
-                "index_phi_q95_rad": q[2],
-                "index_phi_min_rad": float(np.min(idx)) if len(idx) else np.nan,
-                "index_phi_max_rad": float(np.max(idx)) if len(idx) else np.nan,
-            }
-        )
+        out.append(_spread(idx.to_numpy(dtype=float), nom, "index_phi", "rad"))
     return pd.DataFrame(out)
+
+
+def _spread(idx, nom, stem, unit):
+    """One band's global-index spread (``bands``, ``_phi_bands``): the columns
+    {stem}_nominal_{unit}, the QUANTILES q05, q50, q95, min and max of the samples ``idx`` (NaN
+    when there are none), with ``nom`` the nominal robot's index [unit]."""
+    q = np.quantile(idx, QUANTILES) if len(idx) else [np.nan] * 3
+    return {
+        f"{stem}_nominal_{unit}": nom,
+        f"{stem}_q05_{unit}": q[0],
+        f"{stem}_q50_{unit}": q[1],
+        f"{stem}_q95_{unit}": q[2],
+        f"{stem}_min_{unit}": float(np.min(idx)) if len(idx) else np.nan,
+        f"{stem}_max_{unit}": float(np.max(idx)) if len(idx) else np.nan,
+    }
 
 
 def agreement(full, points, agree_tol):

@@ -185,18 +185,25 @@ def test_analytic_jacobian_equals_central_differences_of_the_full_residual(cdpr4
     assert err.max() < 1e-5, (names[int(np.argmax(err))], err.max())
 
 
+def assert_d_optimal_beats_random_plans(rows, n, k):
+    """The D-optimal plan of k of the n candidate poses' information ``rows`` has a larger log det
+    than 40 random plans of k (seed 0), a smaller median expected sd than theirs, and ``plan_sd``
+    gives it the log det ``d_optimal`` says."""
+    chosen, logdet = cal.d_optimal(rows, k)
+    rng = np.random.default_rng(0)
+    rand = [cal.plan_sd(rows, rng.choice(n, k, replace=False)) for _ in range(40)]
+    assert logdet > max(r[1] for r in rand)
+    assert np.median(cal.plan_sd(rows, chosen)[0]) < np.median([np.median(r[0]) for r in rand])
+    assert cal.plan_sd(rows, chosen)[1] == pytest.approx(logdet)
+
+
 def test_d_optimal_plan_beats_random_plans(cdpr4):
     groups = ["anchors", "dead_lengths", "pulleys"]
     idx = select_groups(cdpr4, groups)
     sd = cal.prior_sd(cdpr4, idx, cal.parse_priors(None))
     P, L0 = cal.candidates(cdpr4, cal.default_box(cdpr4), n_axis=6)
     rows = cal.info_rows(cdpr4, P, L0, idx, sd)
-    chosen, logdet = cal.d_optimal(rows, 15)
-    rng = np.random.default_rng(0)
-    rand = [cal.plan_sd(rows, rng.choice(len(P), 15, replace=False)) for _ in range(40)]
-    assert logdet > max(r[1] for r in rand)
-    assert np.median(cal.plan_sd(rows, chosen)[0]) < np.median([np.median(r[0]) for r in rand])
-    assert cal.plan_sd(rows, chosen)[1] == pytest.approx(logdet)
+    assert_d_optimal_beats_random_plans(rows, len(P), 15)
 
 
 def test_calibrated_robot_reaches_the_noise_floor_on_held_out_poses(cdpr4):

@@ -17,7 +17,7 @@ from cdpr.models.platform import rotation_matrix
 from cdpr.parameters import calibration_names, parameter_names, select_groups
 from cdpr.pipeline.calibration_files import write_data
 from cdpr.robot import load_robot
-from tests.analyses.test_calibration import _truth, evaluated_problem
+from tests.analyses.test_calibration import _truth, assert_d_optimal_beats_random_plans, evaluated_problem
 from tests.conftest import ROBOTS
 
 COGIRO = str(ROBOTS / "cogiro.yaml")
@@ -174,12 +174,7 @@ def test_d_optimal_plan_beats_random_plans(cogiro):
     assert P.shape[1] == 6 and len(P) >= 40
     rows = cal.info_rows(cogiro, P, L0, idx, sd)
     assert rows.shape == (len(P), 6, 48)
-    chosen, logdet = cal.d_optimal(rows, 12)
-    rng = np.random.default_rng(0)
-    rand = [cal.plan_sd(rows, rng.choice(len(P), 12, replace=False)) for _ in range(40)]
-    assert logdet > max(r[1] for r in rand)
-    assert np.median(cal.plan_sd(rows, chosen)[0]) < np.median([np.median(r[0]) for r in rand])
-    assert cal.plan_sd(rows, chosen)[1] == pytest.approx(logdet)
+    assert_d_optimal_beats_random_plans(rows, len(P), 12)
 
 
 @pytest.mark.parametrize(

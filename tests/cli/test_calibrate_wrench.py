@@ -176,6 +176,7 @@ def test_motor_angle_data_refuse_a_wrench(tmp_path, capsys):
     hp = ROBOTS / "hangprinter_hp4.yaml"
     data = tmp_path / "motor.csv"
     data.write_text("sample,motor_deg_1,motor_deg_2,motor_deg_3,motor_deg_4\ns1,0,0,0,0\ns2,10,-5,3,2\n")
+    hanging = ["--wrench", "0", "0", "-5", "0", "0", "0"]
     for argv in (
         ["fit", "--estimate", "anchors", "--out", str(tmp_path / "x.yaml")],
         ["check"],
@@ -188,13 +189,7 @@ def test_motor_angle_data_refuse_a_wrench(tmp_path, capsys):
             hp,
             "--data",
             data,
-            "--wrench",
-            "0",
-            "0",
-            "-5",
-            "0",
-            "0",
-            "0",
+            *hanging,
         )
         assert code == 2 and out == "" and len(err.splitlines()) == 1, err
         assert "--wrench" in err and str(data) in err and "motor angles" in err
@@ -209,12 +204,6 @@ def test_motor_angle_data_refuse_a_wrench(tmp_path, capsys):
         "--fixed",
         "--folds",
         "2",
-        "--wrench",
-        "0",
-        "0",
-        "-5",
-        "0",
-        "0",
-        "0",
+        *hanging,
     )
     assert code == 2 and "unrecognized arguments: --wrench" in err

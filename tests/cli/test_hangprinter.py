@@ -33,6 +33,28 @@ def run(argv, capsys):
     return code, cap.out, cap.err
 
 
+def _point_at_motor_deg(at, deg, capsys):
+    """``point --json`` on HP4 at ``at`` in physical mode with the motor angles ``deg`` [deg]: its
+    parsed answer (the command must succeed)."""
+    code, out, err = run(
+        [
+            "point",
+            "--robot",
+            HP4,
+            "--at",
+            *at,
+            "--redundancy",
+            "physical",
+            "--motor-deg",
+            *map(str, deg),
+            "--json",
+        ],
+        capsys,
+    )
+    assert code == 0, err
+    return json.loads(out)
+
+
 def test_import_reads_every_word_and_assumes_only_the_diameter(tmp_path, capsys):
     cfg = tmp_path / "config.g"
     cfg.write_text(CONFIG)
@@ -194,23 +216,7 @@ def test_inverse_and_point_on_the_hangprinter(capsys):
         s = p.U * (np.linalg.norm(r.A[i] - P) - np.linalg.norm(r.A[i]))
         phi = 2 * (p.r0 - np.sqrt(p.r0**2 - p.Q * s)) / p.Q
         assert deg[i] == pytest.approx(np.degrees(phi) * 255 / 20, rel=1e-9)
-    code, out, err = run(
-        [
-            "point",
-            "--robot",
-            HP4,
-            "--at",
-            *at,
-            "--redundancy",
-            "physical",
-            "--motor-deg",
-            *map(str, deg),
-            "--json",
-        ],
-        capsys,
-    )
-    assert code == 0, err
-    res = json.loads(out)
+    res = _point_at_motor_deg(at, deg, capsys)
     assert res["status"] == "ok" and res["dp_norm"] < 5e-3
     code, out, _ = run(["point", "--robot", HP4, "--at", *at, "--redundancy", "physical", "--json"], capsys)
     assert json.loads(out)["solved"] == pytest.approx(res["solved"], abs=1e-9)  # L_TS either way
@@ -268,22 +274,6 @@ def test_compensate_motor_angles_put_the_mover_at_the_point(capsys):
     assert code == 0, err
     plan = json.loads(out)
     assert plan["status"] == "ok" and len(plan["motor_deg"]) == 4
-    code, out, err = run(
-        [
-            "point",
-            "--robot",
-            HP4,
-            "--at",
-            *at,
-            "--redundancy",
-            "physical",
-            "--motor-deg",
-            *map(str, plan["motor_deg"]),
-            "--json",
-        ],
-        capsys,
-    )
-    assert code == 0, err
-    got = json.loads(out)
+    got = _point_at_motor_deg(at, plan["motor_deg"], capsys)
     assert got["status"] == "ok" and got["dp_norm"] < 1e-9
     assert got["tensions"] == pytest.approx(plan["tensions"], abs=1e-6)

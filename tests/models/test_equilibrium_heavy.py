@@ -16,9 +16,9 @@ from cdpr.errors import CdprError
 from cdpr.models import catenary as cat
 from cdpr.models.cables import Cables, HeavyCables
 from cdpr.models.equilibrium import local_newton, solve
-from cdpr.models.platform import pose_arrays, rotation_matrix
+from cdpr.models.platform import pose_arrays
 from cdpr.robot import with_pulleys
-from tests.models.test_equilibrium_pose import pretensioned, robot8_turned
+from tests.models.test_equilibrium_pose import central_jacobian, pretensioned, robot8_turned
 
 RHO = 0.0631  # [kg/m] a 4 mm steel cable
 PTS = np.array([[0.0, 0.0, 2.5], [1.0, 0.5, 3.0], [-2.0, 1.5, 1.0], [1.2, -1.1, 4.2], [0.3, 0.2, 0.5]])
@@ -47,17 +47,24 @@ def test_weightless_cables_through_the_catenary_give_todays_point_mass(cdpr4, ki
     assert (b["sag"] == 0).all() and np.abs(b["angle_f_deg"]).max() < 1e-6
 
 
-@pytest.mark.parametrize("kind", ["fixed", "SR"])
-def test_weightless_cables_through_the_catenary_give_todays_rigid_platform(kind):
-    r = robot8_turned(kind, np.eye(3))
-    p = np.array([[0.3, -0.2, 1.4], [-0.5, 0.4, 1.7], [0.0, 0.0, 1.5]])
-    rv = np.array([[0.05, -0.1, 0.2], [0.2, 0.1, -0.1], [0.0, 0.0, 0.0]])
+def assert_weightless_is_massless(r, p, rv):
+    """The rigid platform of ``r`` (weightless cables) at the pretensioned rest lengths of poses
+    (p, rv): the heavy solve through the catenary gives the massless one's status, pose (1e-12 m,
+    1e-12 rad) and tensions (1e-9 relative)."""
     L0 = pretensioned(r, p, rv)
     a, b = solve(r, p, rv, L0=L0), solve(r, p, rv, L0=L0, heavy=True)
     assert (a["status"] == "ok").all() and (a["status"] == b["status"]).all()
     assert np.abs(a["P_s"] - b["P_s"]).max() < 1e-12
     assert np.abs(a["rotvec_s"] - b["rotvec_s"]).max() < 1e-12
     np.testing.assert_allclose(b["t"], a["t"], rtol=1e-9)
+
+
+@pytest.mark.parametrize("kind", ["fixed", "SR"])
+def test_weightless_cables_through_the_catenary_give_todays_rigid_platform(kind):
+    r = robot8_turned(kind, np.eye(3))
+    p = np.array([[0.3, -0.2, 1.4], [-0.5, 0.4, 1.7], [0.0, 0.0, 1.5]])
+    rv = np.array([[0.05, -0.1, 0.2], [0.2, 0.1, -0.1], [0.0, 0.0, 0.0]])
+    assert_weightless_is_massless(r, p, rv)
 
 
 @pytest.mark.parametrize("kind, dead_length", [("fixed", 0.0), ("fixed", 4.0), ("SR", 4.0)])
@@ -133,18 +140,7 @@ def test_analytic_jacobian_equals_finite_differences(cdpr4, case):
     _, R = pose_arrays(p, rv)
     J = cab.evaluate(p, R, L0, p)["J"][0]
     n = 6 if cab.rigid else 3
-    h = 1e-6
-    fd = np.empty((6, 6))
-    for k in range(6):
-        dx = np.zeros(6)
-        dx[k] = h
-        ev = [
-            cab.evaluate(p + s * dx[:3], rotation_matrix(s * dx[3:]) @ R, L0, p, jacobian=False)
-            for s in (1, -1)
-        ]
-        fd[:, k] = (
-            np.concatenate([ev[0]["F"], ev[0]["M"]], 1) - np.concatenate([ev[1]["F"], ev[1]["M"]], 1)
-        )[0] / (2 * h)
+    fd = central_jacobian(cab, p, R, L0, 1e-6)
     assert np.abs(J - fd)[:n, :n].max() < 1e-7 * np.abs(J).max()
 
 
@@ -193,13 +189,8 @@ def massless_equilibrium(robot, res):
 def test_weightless_cables_on_tilted_axes_and_dr_pulleys_give_todays_answers(cdpr4, kind):
     r = tilted(kind, Q_TILT)
     p, rv = P8 @ Q_TILT.T, RV8
-    L0 = pretensioned(r, p, rv)
-    a, b = solve(r, p, rv, L0=L0), solve(r, p, rv, L0=L0, heavy=True)
-    assert (a["status"] == "ok").all() and (a["status"] == b["status"]).all()
-    assert np.abs(a["P_s"] - b["P_s"]).max() < 1e-12
     # the heavy Jacobian is exact (the DR arm's turn, D's slide on the sheave): Newton's paths agree
-    assert np.abs(a["rotvec_s"] - b["rotvec_s"]).max() < 1e-12
-    np.testing.assert_allclose(b["t"], a["t"], rtol=1e-9)
+    assert_weightless_is_massless(r, p, rv)
     if kind == "DR":  # the point mass: the heavy Newton starts from slack cables (the massless one
         # from Hooke extended to compression), so the two paths differ; both converge quadratically
         # and the heavy one lands on the massless equilibrium (2.6e-11 m off with the old Jacobian)

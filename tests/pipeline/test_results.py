@@ -23,7 +23,7 @@ from cdpr.pipeline.results import (
 )
 from cdpr.pipeline.study import MAX_SHARDS, load_study
 from tests.conftest import ROOT
-from tests.quick_runs import make_workdir
+from tests.quick_runs import make_workdir, rule_jobs
 
 QUICK = ROOT / "config" / "studies" / "quick.yaml"
 
@@ -61,13 +61,7 @@ def _dry_run_jobs(work, *config, target="reproduce_paper"):
     """Jobs per rule of a Snakemake dry run (``-n --quiet rules``) on an empty results folder, in the
     working folder ``work``."""
     p = _snakemake(work, target, "-n", "--quiet", "rules", "--cores", "1", "--config", *config)
-    assert p.returncode == 0, p.stderr[-2000:]
-    jobs = {}
-    for line in (p.stdout + p.stderr).splitlines():
-        parts = line.split()
-        if len(parts) == 2 and parts[1].isdigit() and parts[0] not in ("total", "job"):
-            jobs[parts[0]] = int(parts[1])
-    return jobs
+    return rule_jobs(p)
 
 
 def test_every_rule_has_its_outputs_and_log():

@@ -10,6 +10,7 @@ import sys
 import pytest
 
 from tests.conftest import copy_sources
+from tests.quick_runs import rule_jobs
 
 TARGET = "winch_figure"  # two jobs: winch_table (cdpr winch) and winch_figure (cdpr job winch-figure)
 
@@ -49,13 +50,7 @@ def _runner(src, py, res):
 
 
 def _scheduled(p):
-    assert p.returncode == 0, p.stderr[-2000:]
-    rules = set()
-    for line in (p.stdout + p.stderr).splitlines():
-        parts = line.split()
-        if len(parts) == 2 and parts[1].isdigit() and parts[0] not in ("total", "job"):
-            rules.add(parts[0])
-    return rules
+    return set(rule_jobs(p))
 
 
 def test_jobs_run_from_paths_with_spaces_and_accents(repo):

@@ -14,7 +14,7 @@ from cdpr.errors import ConfigError
 from cdpr.pipeline.results import Layout
 from cdpr.pipeline.study import load_study
 from tests.conftest import ROOT
-from tests.quick_runs import make_workdir
+from tests.quick_runs import make_workdir, rule_jobs
 
 LARGE = ROOT / "config" / "studies" / "large.yaml"
 
@@ -76,12 +76,7 @@ def test_dry_run_lists_the_large_rules(tmp_path):
          "--config", "study=studies/large.yaml", "results=results/large"],
         cwd=work, capture_output=True, text=True,
     )  # fmt: skip
-    assert p.returncode == 0, p.stderr[-2000:]
-    jobs = {}
-    for line in (p.stdout + p.stderr).splitlines():
-        parts = line.split()
-        if len(parts) == 2 and parts[1].isdigit() and parts[0] not in ("total", "job"):
-            jobs[parts[0]] = int(parts[1])
+    jobs = rule_jobs(p)
     assert jobs == {
         "plane_table": 2, "plane_figure": 2, "trajectory_table": 2, "trajectory_figure": 1,
         "sag_path": 1, "sag_corner": 1, "large_study": 1,

@@ -50,6 +50,21 @@ def _uq_designs(tables):
     return list(dict.fromkeys(d for d, _ in tables))
 
 
+def _panels(axes, designs, rows, tables):
+    """The panels of a designs x rows figure (``uq_path_bands``, ``uq_dominant_map``): column j a
+    design, row i a (case, response key); yields (design, case, key, RESPONSES[key], ax, table) for
+    each panel with a table in ``tables`` {(design, case): table}, column by column, and hides the
+    others."""
+    for j, dk in enumerate(designs):
+        for i, (case, key) in enumerate(rows):
+            ax = axes[i, j]
+            table = tables.get((dk, case))
+            if table is None:
+                ax.set_visible(False)
+                continue
+            yield dk, case, key, RESPONSES[key], ax, table
+
+
 def _uq_cases(tables):
     """The cases present among {(design, case): table}, in ``UQ_CASES`` order (a paper-mode study
     has no compensated case: ``study.uq_cases``)."""
@@ -225,48 +240,42 @@ def uq_path_bands(bands, common, out, mode=None, common_mode=None, responses=("d
     Es = sorted({c[1] for c in common.get("dp", [])})
     styles = dict(zip(Es, [":", "-", "--"] if len(Es) == 3 else ["-"] * len(Es)))
     other = f" ({MODE_TITLES[common_mode].split(' (')[0]})" if common_mode and common_mode != mode else ""
-    for j, dk in enumerate(designs):
-        for i, (case, key) in enumerate(rows):
-            r, ax = RESPONSES[key], axes[i, j]
-            b = bands.get((dk, case))
-            if b is None:
-                ax.set_visible(False)
-                continue
-            k, q = r["scale"], r["q"]
-            ax.fill_between(
-                b.s,
-                b[f"q05{q}"] * k,
-                b[f"q95{q}"] * k,
-                color=OKABE_ITO[0],
-                alpha=0.3,
-                label="5-95 % per-cable E",
-            )
-            ax.plot(b.s, b[f"q50{q}"] * k, color=OKABE_ITO[0], label="median per-cable E")
-            ax.plot(b.s, b[r["nominal"]] * k, "k", lw=0.8, alpha=0.6, label="nominal")
-            if case == "uncompensated":
-                for d, E, s, v in common.get(key, []):
-                    if d == dk:
-                        ax.plot(
-                            s,
-                            v * k,
-                            styles.get(E, "-"),
-                            color=OKABE_ITO[1],
-                            lw=1,
-                            label=f"common E = {E / 1e9:g} GPa{other}",
-                        )
-            ax.set(
-                xlabel="position along the path s [m]",
-                ylabel=f"{r['label']} [{r['unit']}]",
-                title=f"{dk} {case}" if one else f"{dk} {case}: {r['label']}",
-            )
-            ax.grid(alpha=0.3)
-            ax.legend(
-                fontsize=6,
-                loc="upper center",
-                bbox_to_anchor=(0.5, -0.2 if one else -0.25),
-                ncol=2,
-                frameon=False,
-            )
+    for dk, case, key, r, ax, b in _panels(axes, designs, rows, bands):
+        k, q = r["scale"], r["q"]
+        ax.fill_between(
+            b.s,
+            b[f"q05{q}"] * k,
+            b[f"q95{q}"] * k,
+            color=OKABE_ITO[0],
+            alpha=0.3,
+            label="5-95 % per-cable E",
+        )
+        ax.plot(b.s, b[f"q50{q}"] * k, color=OKABE_ITO[0], label="median per-cable E")
+        ax.plot(b.s, b[r["nominal"]] * k, "k", lw=0.8, alpha=0.6, label="nominal")
+        if case == "uncompensated":
+            for d, E, s, v in common.get(key, []):
+                if d == dk:
+                    ax.plot(
+                        s,
+                        v * k,
+                        styles.get(E, "-"),
+                        color=OKABE_ITO[1],
+                        lw=1,
+                        label=f"common E = {E / 1e9:g} GPa{other}",
+                    )
+        ax.set(
+            xlabel="position along the path s [m]",
+            ylabel=f"{r['label']} [{r['unit']}]",
+            title=f"{dk} {case}" if one else f"{dk} {case}: {r['label']}",
+        )
+        ax.grid(alpha=0.3)
+        ax.legend(
+            fontsize=6,
+            loc="upper center",
+            bbox_to_anchor=(0.5, -0.2 if one else -0.25),
+            ncol=2,
+            frameon=False,
+        )
     if one:
         title = (
             f"‖δp‖ along the section 5.2 path under per-cable moduli (Fig. 19 extended){mode_suffix(mode)}"
@@ -387,36 +396,30 @@ def uq_dominant_map(maps, A, z, out, mode=None, responses=("dp",)):
         squeeze=False,
         layout="constrained",
     )
-    for j, dk in enumerate(designs):
-        for i, (case, key) in enumerate(rows):
-            r, ax = RESPONSES[key], axes[i, j]
-            df = maps.get((dk, case))
-            if df is None:
-                ax.set_visible(False)
-                continue
-            if not one:
-                ax.set_facecolor(NOT_OK_COLOUR)
-            val = df[r["dominant"]].map(lambda n: code.get(n, np.nan)).astype(float)
-            xs, ys, Z = plane_grid(df, val.to_numpy())
-            _, _, share = plane_grid(df, df[r["share"]].to_numpy())
-            ax.pcolormesh(xs, ys, Z, cmap=cmap, vmin=-0.5, vmax=len(names) - 0.5, shading="nearest")
-            if one or np.nanmin(np.where(np.isfinite(share), share, 1.0)) < 0.5:
-                ax.contourf(
-                    xs,
-                    ys,
-                    np.where(share < 0.5, 1.0, np.nan),
-                    levels=[0.5, 1.5],
-                    colors="none",
-                    hatches=["///"],
-                )
-            bad = _interfering_cells(ax, df)
-            draw_anchors(ax, A)
-            if one:
-                ax.set(xlabel="x [m]", ylabel="y [m]", title=f"{dk} {case}{bad}", aspect="equal")
-            else:
-                title = f"{dk} {case}: spread of {r['label']}{bad}"
-                ax.set(xlabel="x [m]", ylabel="y [m]", title=title, aspect="equal")
-                ax.title.set_fontsize(9)
+    for dk, case, key, r, ax, df in _panels(axes, designs, rows, maps):
+        if not one:
+            ax.set_facecolor(NOT_OK_COLOUR)
+        val = df[r["dominant"]].map(lambda n: code.get(n, np.nan)).astype(float)
+        xs, ys, Z = plane_grid(df, val.to_numpy())
+        _, _, share = plane_grid(df, df[r["share"]].to_numpy())
+        ax.pcolormesh(xs, ys, Z, cmap=cmap, vmin=-0.5, vmax=len(names) - 0.5, shading="nearest")
+        if one or np.nanmin(np.where(np.isfinite(share), share, 1.0)) < 0.5:
+            ax.contourf(
+                xs,
+                ys,
+                np.where(share < 0.5, 1.0, np.nan),
+                levels=[0.5, 1.5],
+                colors="none",
+                hatches=["///"],
+            )
+        bad = _interfering_cells(ax, df)
+        draw_anchors(ax, A)
+        if one:
+            ax.set(xlabel="x [m]", ylabel="y [m]", title=f"{dk} {case}{bad}", aspect="equal")
+        else:
+            title = f"{dk} {case}: spread of {r['label']}{bad}"
+            ax.set(xlabel="x [m]", ylabel="y [m]", title=title, aspect="equal")
+            ax.title.set_fontsize(9)
     handles = [Patch(color=cmap(code[n]), label=n) for n in names]
     fig.legend(handles=handles, loc="outside right center", fontsize=7, title="dominant")
     title = f"Dominant uncertain parameter at z = {z:g} m (hatched: < 50 %)"
