@@ -705,17 +705,16 @@ class PoseErrorModel:
             robots = [robot_with_parameters(self.robot, t) for t in th]
             results = solve_batch(
                 robots, self.p[f], self.rotvec[f], engine=self.engine, threads=self.threads, L0=self.L[f]
-            )  # every sample in one parallel pass (the same results as one solve per sample)
+            )  # every sample in one parallel pass; the reached equilibrium where it is not unique
             for i, res in enumerate(results):
-                res = reached_answer(robots[i], res, engine=self.engine, threads=self.threads)  # issue 39
+                res = reached_answer(robots[i], res, engine=self.engine, threads=self.threads)
                 ok[i, f] = res["status"] == "ok"
                 values["dp"][i, f], values["dphi"][i, f] = res["dp"], res["dphi"]
                 if interference and not self.robot.point_mass:
                     P_s = np.where(ok[i, f][:, None], res["P_s"], np.nan)
                     hit[i, f] = ok[i, f] & interfering_at(robots[i], P_s, res["rotvec_s"], L0=self.L[f])
             return (values, ok, hit) if interference else (values, ok)
-        # a suspended point mass: BATCH_POINTS (sample, point) pairs per batched solve (the same
-        # results as one by one)
+        # a suspended point mass: BATCH_POINTS (sample, point) pairs per batched solve (= one by one)
         dp = values["dp"]
         k = max(1, BATCH_POINTS // max(len(self._pv), 1))
         run = {"engine": self.engine, "threads": self.threads, "redundancy": self.mode}
