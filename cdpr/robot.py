@@ -272,7 +272,7 @@ class Robot:
         """
         if self.floor_z_m is not None:
             return float(self.floor_z_m)
-        A = np.array([c.A for c in self.cables], dtype=float)
+        A = self.A
         if (A[:, 2] > 0.0).all():
             return 0.0
         if (A[:, 2] > 0.0).any():
