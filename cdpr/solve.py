@@ -25,6 +25,7 @@ import dataclasses
 
 import numpy as np
 
+from cdpr.compiled import cables as compiled_cables
 from cdpr.compiled import equilibrium as compiled_equilibrium
 from cdpr.compiled import sensitivity as compiled_sensitivity
 from cdpr.compiled import subsets as compiled_subsets
@@ -104,6 +105,33 @@ def _check_paper(robot):
 
 #: The per-cable and per-point keys a heavy-cable solve adds (``cables.heavy_cables``).
 HEAVY_KEYS = ("t_B", "t_D", "H", "sag", "arc_minus_chord", "angle_f_deg", "cable_status", "sag_max")
+
+
+def heavy_cables_at(robot, P, R, L0, engine=None):
+    """What each heavy cable does at poses (P, R) under rest lengths L0 (``cables.heavy_cables``:
+    the pulley coupling and each catenary solved afresh), by the chosen engine (``check_engine``'s
+    Newton default, compiled: ``cdpr.compiled.cables.heavy_cables``).
+
+    Parameters
+    ----------
+    robot : Robot
+    P : ndarray (N, 3) [m]
+        Platform positions.
+    R : ndarray (N, 3, 3) [-]
+        Platform orientations.
+    L0 : ndarray (N, m) [m]
+        Rest lengths of the whole cables.
+    engine : {"compiled", "numpy"}, optional
+
+    Returns
+    -------
+    dict
+        As ``models.cables.heavy_cables``.
+    """
+    P, R, L0 = (np.ascontiguousarray(a, dtype=float) for a in (P, R, L0))
+    if check_engine(engine, "newton") == "compiled":
+        return compiled_cables.heavy_cables(compiled_equilibrium.CompiledHeavyCables(robot), P, R, L0)
+    return heavy_cables(HeavyCables(robot), P, R, L0)
 
 
 def _solve_heavy(robot, p, rotvec, redundancy, engine, L0, L, threads, options):

@@ -35,7 +35,7 @@ import numpy as np
 from cdpr.compiled import cables as compiled_cables
 from cdpr.compiled.equilibrium import CompiledHeavyCables
 from cdpr.errors import CdprError
-from cdpr.models.cables import HeavyCables, heavy_cables
+from cdpr.models.cables import HeavyCables
 from cdpr.models.inverse import pose_state
 from cdpr.models.platform import external_wrench, pose_arrays
 from cdpr.models.platform import wrench_matrix as pose_wrench_matrix
@@ -52,7 +52,7 @@ from cdpr.models.tension_distribution import (
     rank_rows,
     wrench_matrix,
 )
-from cdpr.solve import HEAVY_KEYS, check_engine, solve
+from cdpr.solve import HEAVY_KEYS, check_engine, heavy_cables_at, solve
 
 COMP_METHODS = (*METHODS, "subset")
 #: Statuses of a compensated pose: the physical ones, and ``infeasible`` where no tension
@@ -248,12 +248,8 @@ def _heavy_inverse(robot, engine):
 
 def _planned_cables(robot, p, R, L0, ok, engine=None):
     """The heavy cables at the desired poses under the compensated rest lengths
-    (``cables.heavy_cables``, by ``engine``: ``solve.check_engine``, None is compiled,
-    ``compiled.cables.heavy_cables``), NaN (status ``infeasible``) where no distribution exists."""
-    if check_engine(engine, "newton") == "compiled":
-        h = compiled_cables.heavy_cables(CompiledHeavyCables(robot), p, R, L0)
-    else:
-        h = heavy_cables(HeavyCables(robot), p, R, L0)
+    (``solve.heavy_cables_at`` by ``engine``), NaN (status ``infeasible``) where no distribution exists."""
+    h = heavy_cables_at(robot, p, R, L0, engine)
     for key, value in h.items():
         if key == "cable_status":
             h[key] = np.where(ok[:, None], value, "infeasible")

@@ -23,7 +23,9 @@ from cdpr.analyses.workspace import cell_centres, check_box, largest_box
 from cdpr.errors import CdprError
 from cdpr.models.interference import COLUMNS, columns, interference
 from cdpr.models.inverse import L_TS
+from cdpr.models.platform import pose_arrays
 from cdpr.models.tension_distribution import T_MIN_DEFAULT, distribute_pose
+from cdpr.solve import check_engine, heavy_cables_at
 
 
 def grid_of(box, shape):
@@ -129,7 +131,7 @@ def interference_workspace(robot, box, shape, rotvec=None, wrench_feasible=False
     return out
 
 
-def add_interference(robot, df, L0=None):
+def add_interference(robot, df, L0=None, engine=None):
     """The interference columns (``models.interference.columns``: interference_free, n_cc, n_cp,
     dmin_m, cc_pairs, cp_cables) of a rigid platform's point table at each row's solved pose
     (x_s, y_s, z_s, rx_s, ry_s, rz_s: where the platform settles), appended in place; a study's
@@ -153,6 +155,8 @@ def add_interference(robot, df, L0=None):
         A rigid platform's point table (``to_frame``: columns x_s, y_s, z_s, rx_s, ry_s, rz_s [m, rad]).
     L0 : array_like (N, m) [m], optional
         The rest lengths of the rows' cables (heavy cables only; ignored for massless ones).
+    engine : {"compiled", "numpy"}, optional
+        The engine of the heavy cables' catenaries (``cable_interference``).
 
     Returns
     -------
@@ -177,7 +181,8 @@ def add_interference(robot, df, L0=None):
     cp_cables = np.full(n, "", dtype=object)
     if fin.any():
         lengths = L0[fin] if robot.heavy else None
-        c = columns(interference(robot, pose[fin, :3], pose[fin, 3:], L0=lengths))
+        P, R = pose_arrays(pose[fin, :3], pose[fin, 3:])
+        c = columns(cable_interference(robot, P, R, lengths, engine))
         free[fin], n_cc[fin], n_cp[fin] = c["interference_free"], c["n_cc"], c["n_cp"]
         dmin[fin], cc_pairs[fin], cp_cables[fin] = c["dmin_m"], c["cc_pairs"], c["cp_cables"]
     free[~fin], n_cc[~fin], n_cp[~fin] = pd.NA, pd.NA, pd.NA
@@ -186,7 +191,7 @@ def add_interference(robot, df, L0=None):
     return df
 
 
-def interfering_at(robot, P_s, rotvec_s=None, R_s=None, desired=None, L0=None):
+def interfering_at(robot, P_s, rotvec_s=None, R_s=None, desired=None, L0=None, engine=None):
     """Mask (N,) of the points whose cables interfere at their solved poses (``models.interference``):
     what a study's global index, budget and dead-length runs leave out, as the volumes and RW_C
     leave out the rows ``add_interference`` flags (docs/interference.md).
@@ -209,6 +214,8 @@ def interfering_at(robot, P_s, rotvec_s=None, R_s=None, desired=None, L0=None):
         The desired poses (x, y, z, rx, ry, rz): heavy cables' default rest lengths.
     L0 : array_like (N, m) [m], optional
         The rest lengths commanded (heavy cables only).
+    engine : {"compiled", "numpy"}, optional
+        The engine of the heavy cables' catenaries (``cable_interference``).
 
     Returns
     -------
@@ -241,12 +248,37 @@ def interfering_at(robot, P_s, rotvec_s=None, R_s=None, desired=None, L0=None):
         fin &= np.isfinite(lengths).all(axis=1)
         lengths = lengths[fin]
     if fin.any():
-        if R_s is None:
-            res = interference(robot, P_s[fin], rv[fin], L0=lengths)
-        else:
-            res = interference(robot, P_s[fin], R=R_s[fin], L0=lengths)
-        out[fin] = ~res.free
+        R = pose_arrays(P_s[fin], rv[fin])[1] if R_s is None else R_s[fin]
+        out[fin] = ~cable_interference(robot, P_s[fin], R, lengths, engine, closest=False).free
     return out
+
+
+def cable_interference(robot, P, R, L0=None, engine=None, closest=True):
+    """``models.interference.interference`` at poses (P, R), heavy cables as the catenaries under
+    ``L0`` solved by the chosen engine (``solve.heavy_cables_at``; the numpy reference's coupling
+    when ``engine`` is "numpy").
+
+    Parameters
+    ----------
+    robot : Robot
+    P : ndarray (N, 3) [m]
+        Platform positions (finite).
+    R : ndarray (N, 3, 3) [-]
+        Orientations (finite).
+    L0 : ndarray (N, m) [m], optional
+        Rest lengths (heavy cables only).
+    engine : {"compiled", "numpy"}, optional
+    closest : bool
+        As ``models.interference.interference``'s (False: the flags only).
+
+    Returns
+    -------
+    Interference
+    """
+    cables = None
+    if robot.heavy and L0 is not None and check_engine(engine, "newton") == "compiled":
+        cables = heavy_cables_at(robot, P, R, L0, "compiled")
+    return interference(robot, P, R=R, L0=L0, cables=cables, closest=closest)
 
 
 def desired_lengths(robot, P, rotvec=None, t_min=T_MIN_DEFAULT):

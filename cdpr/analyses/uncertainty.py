@@ -712,15 +712,15 @@ class PoseErrorModel:
                 values["dp"][i, f], values["dphi"][i, f] = res["dp"], res["dphi"]
                 if interference and not self.robot.point_mass:
                     P_s = np.where(ok[i, f][:, None], res["P_s"], np.nan)
-                    hit[i, f] = ok[i, f] & interfering_at(robots[i], P_s, res["rotvec_s"], L0=self.L[f])
+                    bad = interfering_at(robots[i], P_s, res["rotvec_s"], L0=self.L[f], engine=self.engine)
+                    hit[i, f] = ok[i, f] & bad
             return (values, ok, hit) if interference else (values, ok)
         # a suspended point mass: BATCH_POINTS (sample, point) pairs per batched solve (= one by one)
         dp = values["dp"]
         k = max(1, BATCH_POINTS // max(len(self._pv), 1))
         run = {"engine": self.engine, "threads": self.threads, "redundancy": self.mode}
         lengths = {"L": self._Lv} if self.mode == "paper" else {"L0": self._Lv}
-        # the linear start covers the columns that vary over θ (a Monte Carlo of the moduli: 4
-        # columns; Saltelli's rows: every declared parameter), linearised once per set
+        # the linear start covers the columns that vary over θ (Saltelli's rows: all), linearised once per set
         varying = np.flatnonzero((th != parameter_values(self.robot)).any(axis=0))
         for i in range(0, n, k):
             robots = [robot_with_parameters(self.robot, t) for t in th[i : i + k]]

@@ -751,6 +751,7 @@ def _heavy_cables(P, R, L0, cab, frame, ident, heavy, b, start, out):
             o[6] = st[_CODE]
             o[7], o[8], o[9] = st[_DX], st[_DY], st[_DZ]
             o[10] = st[_GAM]
+            o[11], o[12] = V, L0f
 
 
 def heavy_cables(cab, P, R, L0, start=None):
@@ -775,7 +776,8 @@ def heavy_cables(cab, P, R, L0, start=None):
     -------
     dict
         As ``models.cables.heavy_cables``: t_B, t_D, H [N], sag, arc_minus_chord [m], angle_f_deg
-        [deg], cable_status (str), all (N, m), sag_max (N,) [m], D (N, m, 3) [m], gamma (N, m) [rad].
+        [deg], cable_status (str), all (N, m), sag_max (N,) [m], D (N, m, 3) [m], gamma (N, m) [rad],
+        V_B (N, m) [N] and L0_free (N, m) [m].
 
     References
     ----------
@@ -783,7 +785,7 @@ def heavy_cables(cab, P, R, L0, start=None):
     """
     f = np.ascontiguousarray
     n, m = len(P), cab.robot.m
-    out = np.empty((n, m, 11))
+    out = np.empty((n, m, 13))
     if n:
         _heavy_cables(
             f(P, dtype=float), f(R, dtype=float), f(L0, dtype=float), cab.cables, cab.body.frame,
@@ -802,6 +804,8 @@ def heavy_cables(cab, P, R, L0, start=None):
         "sag_max": sag_.max(axis=1) if m else np.zeros(n),
         "D": out[..., 7:10],
         "gamma": out[..., 10],
+        "V_B": out[..., 11],
+        "L0_free": out[..., 12],
     }
 
 

@@ -216,7 +216,7 @@ class HeavyCables(Cables):
         for it in range(1, maxiter + 1):
             ps = pulley_state(Pv, *self.args, per_cable=True)
             ell = ps.l_d + self.r_p * ps.gamma
-            v, l_h, l_v, e_h = self._spans(ps.D, B)
+            v, l_h, l_v, e_h = self.spans(ps.D, B)
             st, H, V_D, T_D = span(l_h, l_v, ell)
             if not self.pulleys:
                 break
@@ -232,7 +232,7 @@ class HeavyCables(Cables):
             if moved <= 1e-15 * scale or (moved >= moved_prev and moved <= 1e-12 * scale):
                 ps = pulley_state(Pv, *self.args, per_cable=True)
                 ell = ps.l_d + self.r_p * ps.gamma
-                v, l_h, l_v, e_h = self._spans(ps.D, B)
+                v, l_h, l_v, e_h = self.spans(ps.D, B)
                 st, H, V_D, T_D = span(l_h, l_v, ell)
                 break
             moved_prev = moved
@@ -318,7 +318,7 @@ class HeavyCables(Cables):
             "iterations": x["iterations"],
         }
 
-    def _spans(self, D, B):
+    def spans(self, D, B):
         """v = D - B, l_h, l_v [m] and e_h, the horizontal unit vector from B toward D."""
         v = D - B
         l_v = v @ self.up
@@ -468,7 +468,9 @@ def heavy_cables(cab, P, R, L0):
     -------
     dict
         t_B, t_D, H [N], sag, arc_minus_chord [m], angle_f_deg [deg], cable_status (str), all
-        (N, m), sag_max (N,) [m] and the exit points D (N, m, 3) [m] and wraps gamma (N, m) [rad].
+        (N, m), sag_max (N,) [m], the exit points D (N, m, 3) [m], the wraps gamma (N, m) [rad],
+        and the free span's V_B (N, m) [N] (the vertical force on the platform at B, up) and
+        unstrained length L0_free (N, m) [m]: with H, what ``catenary.shape`` draws.
 
     References
     ----------
@@ -489,6 +491,8 @@ def heavy_cables(cab, P, R, L0):
         "sag_max": sag_.max(axis=1),
         "D": x["D"],
         "gamma": x["gamma"],
+        "V_B": sp.V_B,
+        "L0_free": st.L0_free,
     }
 
 

@@ -73,6 +73,8 @@ SAME_POINT_M = 1e-9
 #: Straight pieces of a heavy cable's polyline (``cable_polylines``): within about sag / K^2 of the
 #: catenary (0.24 mm for a 1 m sag).
 POLYLINE_PIECES = 64
+#: The heavy cables' state ``cable_polylines`` draws from (``cables.heavy_cables``' keys).
+CABLE_STATE = ("D", "H", "V_B", "L0_free")
 #: Pieces per chunk of ``polyline_distance``'s pruned search (capsule bounds per chunk pair first).
 CHUNK_PIECES = 8
 #: Piece pairs whose distances are computed at a time (bounds the memory of ``polyline_distance``).
@@ -234,6 +236,58 @@ def clip_segments(X0, X1, faces):
     return s_in, s_out, depth
 
 
+def body_sphere(robot, faces):
+    """A ball that holds the platform body of ``platform_faces``: centred at the mean of the body's
+    vertices (a ``BoxBody``'s eight corners, else the attachments b_i, whose convex hull the faces
+    bound), its radius their largest distance from the centre.
+
+    Parameters
+    ----------
+    robot : Robot
+    faces : ndarray (F, 4) or None
+        ``platform_faces(robot)``.
+
+    Returns
+    -------
+    (ndarray (3,) [m], float [m]) or None
+        None where there is no body.
+    """
+    if faces is None:
+        return None
+    body = robot.platform.body
+    if isinstance(body, BoxBody):
+        c, h = np.asarray(body.centre, dtype=float), np.asarray(body.half, dtype=float)
+        signs = np.array(list(itertools.product((-1.0, 1.0), repeat=3)))
+        v = c + signs * h
+    else:
+        v = np.asarray(robot.arrays.b, dtype=float)
+    centre = v.mean(axis=0)
+    return centre, float(np.sqrt(_dot(v - centre, v - centre)).max())
+
+
+def far_pieces(X0, X1, centre, radius):
+    """The segments X0 X1 that provably miss a ball (centre, radius): their midpoint is farther
+    from the centre than the radius plus half their length, with a margin of 1e-9 (1 + radius) m
+    far above round-off (so a segment ``clip_segments`` finds touching a body inside the ball is
+    never among them).
+
+    .. math:: |M - c| - |X_1 - X_0| / 2 > \\rho + 10^{-9} (1 + \\rho), \\qquad M = (X_0 + X_1) / 2
+
+    Parameters
+    ----------
+    X0, X1 : ndarray (..., 3) [m]
+        Segment end points.
+    centre : ndarray (3,) [m]
+    radius : float [m]
+
+    Returns
+    -------
+    ndarray (...) of bool
+    """
+    mid, half = (X0 + X1) / 2.0 - centre, (X1 - X0) / 2.0
+    return np.sqrt(_dot(mid, mid)) - np.sqrt(_dot(half, half)) > radius + 1e-9 * (1.0 + radius)
+
+
 def shared_pairs(robot):
     """The cable pairs that share an end point by construction, not tested for interference: the
     same attachment b_i = b_j (``at`` "B"; every pair of a point mass) or two fixed pulleys at the
@@ -278,7 +332,7 @@ def cable_segments(robot, p, R):
     return B, st.D
 
 
-def cable_polylines(robot, p, R, L0, pieces=POLYLINE_PIECES):
+def cable_polylines(robot, p, R, L0, pieces=POLYLINE_PIECES, cables=None):
     """Every heavy cable's free span at poses as a polyline: the points of Irvine's elastic catenary
     (``catenary.shape``) at s = L0_free k / K, k = 0..K, from B_i to the exit point D_i of the heavy
     pulley coupling (``cables.HeavyCables.exit_points``) under the rest lengths L0,
@@ -300,6 +354,10 @@ def cable_polylines(robot, p, R, L0, pieces=POLYLINE_PIECES):
         Rest lengths of the whole cables (as commanded at those poses).
     pieces : int
         K, the straight pieces per cable (>= 1).
+    cables : mapping, optional
+        The heavy cables already solved at these poses under L0 (``cables.heavy_cables``' D
+        (N, m, 3) [m], H, V_B (N, m) [N] and L0_free (N, m) [m], e.g. from its compiled twin), used
+        in place of solving the coupling again.
 
     Returns
     -------
@@ -311,11 +369,16 @@ def cable_polylines(robot, p, R, L0, pieces=POLYLINE_PIECES):
     Irvine, H. M. (1981). Cable Structures. MIT Press, ch. 2.
     """
     cab = HeavyCables(robot)
-    x = cab.exit_points(p, R, np.asarray(L0, dtype=float))
-    sp, L0f = x["state"].span, x["state"].L0_free
-    xs, zs = shape(sp.H, sp.V_B, L0f, cab.w, cab.EA, n=pieces + 1)
-    B, D = p[:, None, :] + x["r"], x["D"]
-    X = B[:, :, None, :] + xs[..., None] * x["e_h"][:, :, None, :] + zs[..., None] * cab.up
+    if cables is None:
+        x = cab.exit_points(p, R, np.asarray(L0, dtype=float))
+        sp, L0f = x["state"].span, x["state"].L0_free
+        H, V_B, B, D, e_h = sp.H, sp.V_B, p[:, None, :] + x["r"], x["D"], x["e_h"]
+    else:
+        H, V_B, L0f, D = (np.asarray(cables[k], dtype=float) for k in ("H", "V_B", "L0_free", "D"))
+        B = p[:, None, :] + np.einsum("nab,mb->nma", R, cab.b)
+        e_h = cab.spans(D, B)[3]
+    xs, zs = shape(H, V_B, L0f, cab.w, cab.EA, n=pieces + 1)
+    X = B[:, :, None, :] + xs[..., None] * e_h[:, :, None, :] + zs[..., None] * cab.up
     X[:, :, 0, :], X[:, :, -1, :] = B, D
     frac = np.linspace(0.0, 1.0, pieces + 1)[:, None]
     chord = B[:, :, None, :] + frac * (D - B)[:, :, None, :]
@@ -408,7 +471,7 @@ def chord_capsules(X):
     return np.sqrt(_dot(gap, gap)).max(axis=-1)
 
 
-def pairs_to_measure(X, pairs, radius):
+def pairs_to_measure(X, pairs, radius, closest=True):
     """The pose-pair entries whose polyline distance ``_block`` must compute exactly: those whose
     lower bound (``chord_capsules``: chord distance minus both capsule radii) is below the pair's
     contact distance r_i + r_j (the pair may interfere) or not above the smallest upper bound of the
@@ -424,17 +487,21 @@ def pairs_to_measure(X, pairs, radius):
         Cable pairs i < j (0-based).
     radius : ndarray (m,) [m]
         Cable radii.
+    closest : bool
+        Also the pairs that may be the closest (False: only those that may interfere).
 
     Returns
     -------
     need : ndarray (N, P) of bool
-        At least one entry per pose (the pair of the smallest upper bound).
+        With ``closest``, at least one entry per pose (the pair of the smallest upper bound).
     """
     K = X.shape[-2] - 1
     i, j = pairs[:, 0], pairs[:, 1]
     rho = chord_capsules(X)
     c, sc, tc = segment_distance(X[:, i, 0], X[:, i, -1], X[:, j, 0], X[:, j, -1])
     lower = c - rho[:, i] - rho[:, j]
+    if not closest:
+        return lower < radius[i] + radius[j]
     n = np.arange(len(X))[:, None]
     gap = X[n, i, np.rint(sc * K).astype(int)] - X[n, j, np.rint(tc * K).astype(int)]
     upper = np.sqrt(_dot(gap, gap))
@@ -482,9 +549,11 @@ def _chunked_distance(X, Y):
     return d, s, t
 
 
-def clip_polylines(X, faces):
+def clip_polylines(X, faces, sphere=None):
     """The chords of polylines inside a convex body: every straight piece clipped exactly
-    (``clip_segments``) and the pieces' chords joined.
+    (``clip_segments``) and the pieces' chords joined. With the body's bounding ``sphere``, the
+    pieces that provably miss it (``far_pieces``) are not clipped: they miss the body, as
+    ``clip_segments`` would find; the others are clipped as without it (the same result, to the bit).
 
     Parameters
     ----------
@@ -492,6 +561,8 @@ def clip_polylines(X, faces):
         Points of the polylines in the frame of ``faces`` (K pieces; K = 1: a segment).
     faces : ndarray (F, 4)
         Half-spaces n . x + o <= 0 with unit normals (``platform_faces``).
+    sphere : tuple (ndarray (3,) [m], float [m]), optional
+        A ball (centre, radius) that holds the body (``body_sphere``).
 
     Returns
     -------
@@ -504,7 +575,13 @@ def clip_polylines(X, faces):
         Largest depth of a point of the polyline inside the body (0 where none or touching).
     """
     K = X.shape[-2] - 1
-    si, so, dep = clip_segments(X[..., :-1, :], X[..., 1:, :], faces)
+    X0, X1 = X[..., :-1, :], X[..., 1:, :]
+    if sphere is None:
+        si, so, dep = clip_segments(X0, X1, faces)
+    else:  # clip only the pieces that may meet the body; the others miss it (NaN, depth 0)
+        near = ~far_pieces(X0, X1, *sphere)
+        si, so, dep = np.full(near.shape, np.nan), np.full(near.shape, np.nan), np.zeros(near.shape)
+        si[near], so[near], dep[near] = clip_segments(X0[near], X1[near], faces)
     hit = ~np.isnan(si)
     piece = np.linalg.norm(X[..., 1:, :] - X[..., :-1, :], axis=-1)
     length = np.where(hit, (so - si) * piece, 0.0).sum(axis=-1)
@@ -547,7 +624,7 @@ class Interference(NamedTuple):
     pieces: int = 1
 
 
-def interference(robot, p, rotvec=None, R=None, L0=None, pieces=POLYLINE_PIECES):
+def interference(robot, p, rotvec=None, R=None, L0=None, pieces=POLYLINE_PIECES, cables=None, closest=True):
     """Cable-cable and cable-platform interference at poses (p, R) (the module's conventions).
 
     Parameters
@@ -565,6 +642,13 @@ def interference(robot, p, rotvec=None, R=None, L0=None, pieces=POLYLINE_PIECES)
         tested (a pair or a platform body); ignored for massless cables.
     pieces : int
         Straight pieces of a heavy cable's polyline.
+    cables : mapping, optional
+        Heavy cables: their state at the poses under ``L0`` (``cable_polylines``' ``cables``: D,
+        H, V_B, L0_free, each (N, m, ...)), in place of solving the pulley coupling again.
+    closest : bool
+        Find each pose's closest pair (``dmin``, ``dmin_pair``). False (heavy cables): only the pairs
+        that may interfere are measured (``pairs_to_measure``), so ``free``, ``cc`` and ``cp`` are
+        exact and ``dmin`` is NaN, ``dmin_pair`` -1 (what a test of interference alone needs).
 
     Returns
     -------
@@ -591,6 +675,8 @@ def interference(robot, p, rotvec=None, R=None, L0=None, pieces=POLYLINE_PIECES)
     faces = platform_faces(robot)
     heavy = robot.heavy and (len(pairs) > 0 or faces is not None)
     if heavy:
+        if L0 is None and cables is not None:
+            L0 = np.asarray(cables["L0_free"], dtype=float)  # unused: the polylines come from cables
         if L0 is None:
             raise CdprError(
                 f"{robot.source}: heavy cables (cable.linear_density_kg_m > 0) sag under their tensions: "
@@ -612,6 +698,8 @@ def interference(robot, p, rotvec=None, R=None, L0=None, pieces=POLYLINE_PIECES)
             pairs,
             radius,
             faces,
+            None if not heavy or cables is None else {c: cables[c][k : k + block] for c in CABLE_STATE},
+            closest,
         )
         for k in range(0, max(len(p), 1), block)
     ]
@@ -637,29 +725,32 @@ def interference(robot, p, rotvec=None, R=None, L0=None, pieces=POLYLINE_PIECES)
     )
 
 
-def _block(robot, p, R, L0, K, pairs, radius, faces):
+def _block(robot, p, R, L0, K, pairs, radius, faces, cables=None, closest=True):
     """``interference`` of one block of poses: the arrays of ``Interference`` but pairs, shared,
     free, has_body and pieces. L0 None: straight spans (one piece each), else the catenaries'
-    polylines of K pieces."""
+    polylines of K pieces (from ``cables`` where given)."""
     N, m = len(p), robot.m
     if L0 is None:
         B, D = cable_segments(robot, p, R)
         X = np.stack([B, D], axis=2)
     else:
-        X = cable_polylines(robot, p, R, L0, K)
+        X = cable_polylines(robot, p, R, L0, K, cables)
     if len(pairs):
         i, j = pairs[:, 0], pairs[:, 1]
         if K == 1:
             dist, si, sj = polyline_distance(X[:, i], X[:, j])
         else:  # exact where a pair may interfere or be the closest; NaN where its bound proves neither
             dist, si, sj = np.full((3, N, len(pairs)), np.nan)
-            need = pairs_to_measure(X, pairs, radius)
+            need = pairs_to_measure(X, pairs, radius, closest)
             n, q = need.nonzero()
-            dist[need], si[need], sj[need] = polyline_distance(X[n, i[q]], X[n, j[q]])
+            if len(n):  # (none without ``closest`` where no pair can interfere)
+                dist[need], si[need], sj[need] = polyline_distance(X[n, i[q]], X[n, j[q]])
         s = np.stack([si, sj], axis=-1)
         cc = dist < radius[i] + radius[j]
         k = np.argmin(np.where(np.isnan(dist), np.inf, dist), axis=1)
         dmin, dmin_pair = dist[np.arange(N), k], k
+        if not closest and K > 1:
+            dmin, dmin_pair = np.full(N, np.nan), np.full(N, -1)
     else:
         dist, s, cc = np.zeros((N, 0)), np.zeros((N, 0, 2)), np.zeros((N, 0), dtype=bool)
         dmin, dmin_pair = np.full(N, np.nan), np.full(N, -1)
@@ -673,7 +764,7 @@ def _block(robot, p, R, L0, K, pairs, radius, faces):
     else:
         # the polylines in the platform frame: x = R^T (X - p)
         x = np.einsum("nba,nmkb->nmka", R, X - p[:, None, None, :])
-        s_in, s_out, length, depth = clip_polylines(x, faces)
+        s_in, s_out, length, depth = clip_polylines(x, faces, None if K == 1 else body_sphere(robot, faces))
     cp = depth > DEPTH_TOL
     return dist, s, cc, cp, s_in, s_out, length, depth, dmin, dmin_pair
 

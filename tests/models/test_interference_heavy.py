@@ -16,8 +16,13 @@ from cdpr.errors import CdprError
 from cdpr.models.cables import HeavyCables
 from cdpr.models.catenary import shape
 from cdpr.models.interference import (
+    DEPTH_TOL,
     POLYLINE_PIECES,
+    body_sphere,
     cable_polylines,
+    clip_polylines,
+    clip_segments,
+    far_pieces,
     interference,
     interference_free,
     platform_faces,
@@ -254,3 +259,29 @@ def test_pruned_pairs_give_the_exhaustive_answer():
         assert (full[~kept] >= (radius[i] + radius[j])[None, :].repeat(len(p), 0)[~kept]).all()
         assert (full[~kept] >= full.min(axis=1, keepdims=True).repeat(len(i), 1)[~kept]).all()
     assert seen_pruned > 0  # the bound prunes (else this test tests nothing)
+
+
+def test_pieces_far_from_the_body_are_not_clipped_and_change_nothing():
+    """``clip_polylines`` with the body's bounding sphere clips only the pieces that may meet it:
+    on CoGiRo at 0.5 kg/m over random, strongly tilted poses (cables through the platform among
+    them) the chords, lengths and depths equal the clipping of every piece to the bit; most pieces
+    are skipped, and every skipped piece truly misses the ball."""
+    data = yaml.safe_load((ROOT / "config" / "robots" / "cogiro.yaml").read_text())
+    data["cable"]["linear_density_kg_m"] = 0.5
+    robot = robot_from_dict(data, "cogiro")
+    rng = np.random.default_rng(11)
+    p = np.column_stack([rng.uniform(-4, 4, 80), rng.uniform(-3, 3, 80), rng.uniform(0.8, 3.5, 80)])
+    rv = rng.uniform(-0.9, 0.9, (80, 3))
+    P, R = pose_arrays(p, rv)
+    X = cable_polylines(robot, P, R, _lengths(robot, p, rv, t=800.0))
+    faces = platform_faces(robot)
+    x = np.einsum("nba,nmkb->nmka", R, X - P[:, None, None, :])
+    ball = body_sphere(robot, faces)
+    pruned, full = clip_polylines(x, faces, ball), clip_polylines(x, faces)
+    for a, b in zip(pruned, full):
+        np.testing.assert_array_equal(a, b)
+    assert (full[3] > DEPTH_TOL).any()  # some cables pass through the body
+    far = far_pieces(x[..., :-1, :], x[..., 1:, :], *ball)
+    assert far.mean() > 0.5
+    s_in = clip_segments(x[..., :-1, :], x[..., 1:, :], faces)[0]
+    assert np.isnan(s_in[far]).all()
