@@ -668,7 +668,7 @@ class PoseErrorModel:
             else:
                 dp0, S = lin.dp0[f], lin.S[f]
             N, C, _, k = S.shape
-            base = (self._pv[:, None] + dp0).reshape(N * C, 3)
+            base = (self.p[f][:, None] + dp0).reshape(N * C, 3)
             self._start_slots[key] = (lin, base, np.ascontiguousarray(S.reshape(N * C, 3, k)), C)
         lin, base, S, C = self._start_slots[key]
         P0 = linear_positions(base, S, lin._delta(theta), engine=self.engine, threads=self.threads)
@@ -701,11 +701,12 @@ class PoseErrorModel:
         ok = np.zeros((n, N), dtype=bool)
         hit = np.zeros((n, N), dtype=bool)
         f = self.feasible
-        if self.pose:
+        varying = np.flatnonzero((th != parameter_values(self.robot)).any(axis=0))
+        if self.pose:  # heavy cables from the linear shift (fewer Newton steps: benchmarks/README.md)
             robots = [robot_with_parameters(self.robot, t) for t in th]
-            results = solve_batch(
-                robots, self.p[f], self.rotvec[f], engine=self.engine, threads=self.threads, L0=self.L[f]
-            )  # every sample in one parallel pass; the reached equilibrium where it is not unique
+            P0 = self._starts(th, varying) if self.robot.heavy else None
+            run = {"engine": self.engine, "threads": self.threads, "L0": self.L[f], "P0": P0}
+            results = solve_batch(robots, self.p[f], self.rotvec[f], **run)
             for i, res in enumerate(results):
                 res = reached_answer(robots[i], res, engine=self.engine, threads=self.threads)
                 ok[i, f] = res["status"] == "ok"
@@ -721,7 +722,6 @@ class PoseErrorModel:
         run = {"engine": self.engine, "threads": self.threads, "redundancy": self.mode}
         lengths = {"L": self._Lv} if self.mode == "paper" else {"L0": self._Lv}
         # the linear start covers the columns that vary over θ (Saltelli's rows: all), linearised once per set
-        varying = np.flatnonzero((th != parameter_values(self.robot)).any(axis=0))
         for i in range(0, n, k):
             robots = [robot_with_parameters(self.robot, t) for t in th[i : i + k]]
             P0 = self._starts(th[i : i + k], varying)

@@ -18,7 +18,7 @@ from cdpr.errors import CdprError
 from cdpr.models.equilibrium import solve as solve_spatial
 from cdpr.models.platform import rotation_error
 from cdpr.parameters import group_columns, parameter_names, parameter_values, robot_with_parameters
-from cdpr.robot import load_robot
+from cdpr.robot import load_robot, with_pulleys, with_values
 from tests.conftest import ROBOTS
 
 P = np.array([[0.0, 0.0, 2.0], [0.5, -0.5, 2.5]])
@@ -279,3 +279,25 @@ def test_com_offset_alone_tilts_the_platform_and_has_sobol_weight(cogiro):
     phi = idx[idx.output == "dphi"]
     assert set(phi.name) == {"c_x", "c_y", "c_z"}
     assert phi[phi.name.isin(["c_x", "c_y"])]["ST"].sum() > 0.5  # horizontal offsets tilt it
+
+
+def test_heavy_samples_from_the_linear_start_reach_the_desired_starts_answers():
+    """A heavy CoGiRo (0.0631 kg/m) with DR pulleys (the general coupling): the full solves of
+    perturbed samples started from the linear shift of the nominal equilibria (the default) give
+    the answers of the solves started at the desired poses, to the solver's tolerance, and the
+    same statuses."""
+    robot = with_pulleys(
+        with_values(load_robot(ROBOTS / "cogiro.yaml"), linear_density=0.0631), "DR", 0.075, 0.05
+    )
+    n = parameter_names(robot)
+    th = np.repeat(parameter_values(robot)[None], 3, axis=0)
+    th[:, n.index("M")] *= [0.97, 1.0, 1.04]
+    th[:, n.index("E_1")] *= [1.2, 0.8, 1.0]
+    th[:, n.index("d_3")] += [0.004, -0.003, 0.0]
+    lin, desired = PoseErrorModel(robot, P), PoseErrorModel(robot, P, start="desired")
+    a, ok_a = lin.solve(th)
+    b, ok_b = desired.solve(th)
+    np.testing.assert_array_equal(ok_a, ok_b)
+    assert ok_a.all()
+    np.testing.assert_allclose(a["dp"], b["dp"], rtol=0, atol=1e-9)
+    np.testing.assert_allclose(a["dphi"], b["dphi"], rtol=0, atol=1e-9)
