@@ -642,14 +642,15 @@ def sensitivities(
 
     Notes
     -----
-    Heavy cables (``Robot.heavy``): physical mode by the numpy reference whatever the engine
-    (``heavy_sensitivity``; the compiled heavy kernel has no sensitivities).
+    Heavy cables (``Robot.heavy``): physical mode; the equilibria by the chosen engine, dp*/dθ and
+    dφ*/dθ by the numpy reference whatever the engine (``heavy_sensitivity.sensitivities_at``: the
+    compiled heavy kernel has no sensitivities).
     """
     redundancy = check_redundancy(redundancy, robot)
     p = np.atleast_2d(np.asarray(p, dtype=float))
     engine = check_engine(engine, "newton")
     if robot.heavy:
-        return _heavy_sensitivities(robot, p, rotvec, redundancy, L, t_tol, solver)
+        return _heavy_sensitivities(robot, p, rotvec, redundancy, L, t_tol, solver, engine, threads)
     if redundancy == "paper":
         _check_paper(robot)
         p = p[:, :3]
@@ -672,16 +673,23 @@ def sensitivities(
     return _mark(res, p, robot, floor=False, frame=redundancy == "physical")
 
 
-def _heavy_sensitivities(robot, p, rotvec, redundancy, L, t_tol, solver):
-    """``sensitivities`` of a robot with heavy cables: physical mode, numpy only
-    (``heavy_sensitivity.pose_sensitivities``); S (N, 3, n) and the point keys for a suspended point
-    mass at positions, as the massless door."""
+def _heavy_sensitivities(robot, p, rotvec, redundancy, L, t_tol, solver, engine, threads):
+    """``sensitivities`` of a robot with heavy cables: physical mode; the equilibria by ``engine``
+    (the compiled kernel, or the numpy reference), then ``heavy_sensitivity.sensitivities_at`` (the
+    numpy reference: ``heavy_sensitivity.pose_sensitivities`` with the solve by either engine); S
+    (N, 3, n) and the point keys for a suspended point mass at positions, as the massless door."""
     if redundancy != "physical":
         raise CdprError(
             f"{robot.source}: heavy cables (cable.linear_density_kg_m > 0) are modelled in physical mode only "
             "(--redundancy physical)"
         )
-    res = heavy_sensitivity.pose_sensitivities(robot, p, rotvec, L0=L, t_tol=t_tol, **solver)
+    if engine == "compiled":
+        options = dict(solver)
+        names = options.pop("names", None)
+        res = compiled_equilibrium.solve(robot, p, rotvec, L0=L, threads=threads, **options)
+        res.update(heavy_sensitivity.sensitivities_at(robot, res, names, t_tol))
+    else:
+        res = heavy_sensitivity.pose_sensitivities(robot, p, rotvec, L0=L, t_tol=t_tol, **solver)
     if _fast_point(robot, p, rotvec):
         extra = {k: res[k] for k in ("names", "smooth", "margin_t", "cond", "sag_max")}
         res = {**point_keys(res), **extra, "S": res["S"][:, :3]}

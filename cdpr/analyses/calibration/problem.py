@@ -181,7 +181,7 @@ class Problem:
                     f"{data.source}: measured tensions (t1_N..) on heavy cables (cable.linear_density_kg_m > 0) "
                     "are not modelled yet; calibrate from measured poses"
                 )
-        self.engine = "numpy" if engine is None and robot.heavy else equilibrium_engine(robot, engine)
+        self.engine = equilibrium_engine(robot, engine)
         self.solver = dict(solver or {})
         self.m = robot.m
         #: a rigid platform (its orientation is measured and fitted)
