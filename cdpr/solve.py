@@ -128,8 +128,8 @@ def heavy_cables_at(robot, P, R, L0, engine=None):
     dict
         As ``models.cables.heavy_cables``.
     """
-    P, R, L0 = (np.ascontiguousarray(a, dtype=float) for a in (P, R, L0))
-    if check_engine(engine, "newton") == "compiled":
+    P, R, L0 = (np.asarray(a, dtype=float) for a in (P, R, L0))
+    if check_engine(engine, "newton") == "compiled":  # (its kernel makes its arrays contiguous)
         return compiled_cables.heavy_cables(compiled_equilibrium.CompiledHeavyCables(robot), P, R, L0)
     return heavy_cables(HeavyCables(robot), P, R, L0)
 

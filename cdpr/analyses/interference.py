@@ -25,7 +25,7 @@ from cdpr.models.interference import COLUMNS, columns, interference
 from cdpr.models.inverse import L_TS
 from cdpr.models.platform import pose_arrays
 from cdpr.models.tension_distribution import T_MIN_DEFAULT, distribute_pose
-from cdpr.solve import check_engine, heavy_cables_at
+from cdpr.solve import heavy_cables_at
 
 
 def grid_of(box, shape):
@@ -255,8 +255,7 @@ def interfering_at(robot, P_s, rotvec_s=None, R_s=None, desired=None, L0=None, e
 
 def cable_interference(robot, P, R, L0=None, engine=None, closest=True):
     """``models.interference.interference`` at poses (P, R), heavy cables as the catenaries under
-    ``L0`` solved by the chosen engine (``solve.heavy_cables_at``; the numpy reference's coupling
-    when ``engine`` is "numpy").
+    ``L0`` solved by the chosen engine (``solve.heavy_cables_at``).
 
     Parameters
     ----------
@@ -275,9 +274,7 @@ def cable_interference(robot, P, R, L0=None, engine=None, closest=True):
     -------
     Interference
     """
-    cables = None
-    if robot.heavy and L0 is not None and check_engine(engine, "newton") == "compiled":
-        cables = heavy_cables_at(robot, P, R, L0, "compiled")
+    cables = heavy_cables_at(robot, P, R, L0, engine) if robot.heavy and L0 is not None else None
     return interference(robot, P, R=R, L0=L0, cables=cables, closest=closest)
 
 

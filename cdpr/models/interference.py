@@ -675,8 +675,6 @@ def interference(robot, p, rotvec=None, R=None, L0=None, pieces=POLYLINE_PIECES,
     faces = platform_faces(robot)
     heavy = robot.heavy and (len(pairs) > 0 or faces is not None)
     if heavy:
-        if L0 is None and cables is not None:
-            L0 = np.asarray(cables["L0_free"], dtype=float)  # unused: the polylines come from cables
         if L0 is None:
             raise CdprError(
                 f"{robot.source}: heavy cables (cable.linear_density_kg_m > 0) sag under their tensions: "
@@ -687,6 +685,7 @@ def interference(robot, p, rotvec=None, R=None, L0=None, pieces=POLYLINE_PIECES,
         if int(pieces) < 1:
             raise CdprError(f"interference: a polyline needs at least one piece, got {pieces}")
     K = int(pieces) if heavy else 1
+    sphere = body_sphere(robot, faces) if K > 1 else None  # pieces far from the body: not clipped
     block = max(1, POSE_BLOCK // K)
     blocks = [
         _block(
@@ -698,6 +697,7 @@ def interference(robot, p, rotvec=None, R=None, L0=None, pieces=POLYLINE_PIECES,
             pairs,
             radius,
             faces,
+            sphere,
             None if not heavy or cables is None else {c: cables[c][k : k + block] for c in CABLE_STATE},
             closest,
         )
@@ -725,10 +725,11 @@ def interference(robot, p, rotvec=None, R=None, L0=None, pieces=POLYLINE_PIECES,
     )
 
 
-def _block(robot, p, R, L0, K, pairs, radius, faces, cables=None, closest=True):
+def _block(robot, p, R, L0, K, pairs, radius, faces, sphere, cables=None, closest=True):
     """``interference`` of one block of poses: the arrays of ``Interference`` but pairs, shared,
     free, has_body and pieces. L0 None: straight spans (one piece each), else the catenaries'
-    polylines of K pieces (from ``cables`` where given)."""
+    polylines of K pieces (from ``cables`` where given); ``sphere`` the body's bounding ball
+    (``clip_polylines``), None to clip every piece."""
     N, m = len(p), robot.m
     if L0 is None:
         B, D = cable_segments(robot, p, R)
@@ -764,7 +765,7 @@ def _block(robot, p, R, L0, K, pairs, radius, faces, cables=None, closest=True):
     else:
         # the polylines in the platform frame: x = R^T (X - p)
         x = np.einsum("nba,nmkb->nmka", R, X - p[:, None, None, :])
-        s_in, s_out, length, depth = clip_polylines(x, faces, None if K == 1 else body_sphere(robot, faces))
+        s_in, s_out, length, depth = clip_polylines(x, faces, sphere)
     cp = depth > DEPTH_TOL
     return dist, s, cc, cp, s_in, s_out, length, depth, dmin, dmin_pair
 
