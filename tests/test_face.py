@@ -21,7 +21,7 @@ RV = np.array([[0.1, 0.0, 0.0], [0.0, 0.2, 0.1]])
 
 @pytest.fixture(scope="module")
 def cogiro():
-    return cdpr.load_robot(ROBOTS / "cogiro.yaml")
+    return cdpr.load_robot(ROBOTS / "cogiro_massless.yaml")
 
 
 def _takes_robot_and_points(name):

@@ -34,7 +34,7 @@ def test_a_spatial_robot_rebuilt_from_its_parameters_keeps_its_pulleys():
     assert moved.cables[0].pulley.axis == robot.cables[0].pulley.axis
 
 
-@pytest.mark.parametrize("name, rigid", [("cdpr4.yaml", False), ("cogiro.yaml", True)])
+@pytest.mark.parametrize("name, rigid", [("cdpr4.yaml", False), ("cogiro_massless.yaml", True)])
 def test_one_vector_built_from_the_robot(name, rigid):
     """A point mass has E, h, r_p, d, A, M (7 m + 1); a rigid platform adds b and c before M
     (10 m + 4); names, groups, units, values and the columns of each group agree."""
@@ -68,7 +68,7 @@ def test_one_vector_built_from_the_robot(name, rigid):
 
 
 def test_a_changed_parameter_reaches_the_robot_and_a_wrong_length_is_refused():
-    robot = load_robot(ROBOTS / "cogiro.yaml")
+    robot = load_robot(ROBOTS / "cogiro_massless.yaml")
     names, theta = parameter_names(robot), parameter_values(robot).copy()
     theta[names.index("b_2_y")] += 0.01
     theta[names.index("c_z")] = 0.05

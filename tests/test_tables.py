@@ -81,7 +81,7 @@ def test_a_point_mass_given_an_orientation_carries_it_through(robot):
 
 
 def test_a_rigid_platform_s_table_has_its_orientation_columns():
-    cogiro = load_robot(ROBOTS / "cogiro.yaml")
+    cogiro = load_robot(ROBOTS / "cogiro_massless.yaml")
     P, rv = np.array([[0.5, -0.3, 2.0], [0.0, 0.0, 2.5]]), np.array([0.05, 0.0, 0.1])
     res = solve.solve(cogiro, P, engine="numpy", redundancy="physical", rotvec=rv)
     df = tables.to_frame(cogiro, res, "physical")

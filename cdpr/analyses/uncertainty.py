@@ -67,7 +67,6 @@ from cdpr.analyses.interference import interfering_at
 from cdpr.errors import CdprError, ConfigError
 from cdpr.models.inverse import L_TS
 from cdpr.models.platform import pose_arrays, rotvec_of
-from cdpr.models.tension_distribution import compensated_lengths
 from cdpr.parameters import (
     RIGID_GROUPS,
     group_columns,
@@ -551,8 +550,8 @@ class PoseErrorModel:
         Model of the uncompensated suspended point mass (paper: DEGM_E on the best subset); the
         compensated robot, and every robot solved as a pose, is the physical equilibrium.
     compensation : dict, optional
-        ``method`` and ``t_min_N`` of ``compensation.compensate`` (of
-        ``tension_distribution.compensated_lengths`` for a pose; default min_norm, 100 N).
+        ``method`` and ``t_min_N`` of ``compensation.compensate`` (sag-consistent with heavy cables;
+        default min_norm, 100 N).
     threads : int, optional
     engine : {"compiled", "numpy", None}
         Engine of every solve (``solve.check_engine``: None is compiled; another value raises
@@ -613,10 +612,10 @@ class PoseErrorModel:
             if case == "uncompensated":
                 self.L, self.feasible = L_TS(robot, self.p, R=self.R), np.ones(n, dtype=bool)
             else:
-                comp = compensated_lengths(
+                comp = compensate(  # sag-consistent with heavy cables
                     robot,
                     self.p,
-                    self.rotvec,
+                    rotvec=self.rotvec,
                     t_min=c.get("t_min_N", 100.0),
                     method=c.get("method", "min_norm"),
                 )

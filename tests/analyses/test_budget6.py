@@ -25,7 +25,7 @@ ENGINE = "numpy"
 @pytest.fixture(scope="module", params=["SR", "DR"])
 def design(request):
     h = 0.05 if request.param == "SR" else 0.075
-    return with_pulleys(load_robot(ROBOTS / "cogiro.yaml"), kind=request.param, h=h, r_p=0.05)
+    return with_pulleys(load_robot(ROBOTS / "cogiro_massless.yaml"), kind=request.param, h=h, r_p=0.05)
 
 
 @pytest.fixture(scope="module")

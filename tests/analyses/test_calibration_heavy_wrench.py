@@ -25,7 +25,7 @@ GROUPS = ["anchors", "attachments", "dead_lengths", "moduli", "mass", "offsets"]
 
 @pytest.fixture(scope="module")
 def cogiro():
-    return load_robot(ROBOTS / "cogiro.yaml")
+    return load_robot(ROBOTS / "cogiro_massless.yaml")
 
 
 def _data(robot, seed, n):

@@ -20,7 +20,7 @@ from cdpr.robot import load_robot
 from tests.analyses.test_calibration import _truth, assert_d_optimal_beats_random_plans, evaluated_problem
 from tests.conftest import ROBOTS
 
-COGIRO = str(ROBOTS / "cogiro.yaml")
+COGIRO = str(ROBOTS / "cogiro_massless.yaml")
 
 
 @pytest.fixture(scope="module")

@@ -35,7 +35,7 @@ def cogiro():
 @pytest.fixture(scope="module")
 def cogiro_winch(tmp_path_factory):
     path = tmp_path_factory.mktemp("cogw") / "cogiro_winch.yaml"
-    path.write_text((ROBOTS / "cogiro.yaml").read_text(encoding="utf-8") + WINCH, encoding="utf-8")
+    path.write_text((ROBOTS / "cogiro_massless.yaml").read_text(encoding="utf-8") + WINCH, encoding="utf-8")
     robot = load_robot(path)
     assert has_winches(robot)
     return robot
@@ -144,7 +144,9 @@ def test_without_tensions_pose_less_samples_give_no_equation(cogiro):
     with pytest.raises(CdprError, match="no sample has a measured pose or tensions") as info:
         cal.fit(cogiro, none, groups)
     assert "\n" not in str(info.value)
-    with pytest.raises(CdprError, match="rigid self-calibration .* is for point-mass robots; robot CoGiRo"):
+    with pytest.raises(
+        CdprError, match="rigid self-calibration .* is for point-mass robots; robot cogiro_massless"
+    ):
         cal.fit(cogiro, none, ["dead_lengths"], model="standard")
     data.pose[::6] = np.nan
     data.rotvec[::6] = np.nan

@@ -28,7 +28,7 @@ def cdpr4_heavy():
 
 @pytest.fixture(scope="module")
 def cogiro_heavy():
-    return load_robot("config/robots/cogiro.yaml", linear_density=RHO)
+    return load_robot("config/robots/cogiro_massless.yaml", linear_density=RHO)
 
 
 @pytest.mark.parametrize("kind", ["SR", "DR", "fixed"])
@@ -54,7 +54,7 @@ def test_rigid_platform_round_trip_from_away(cogiro_heavy):
 
 
 def test_sag_changes_the_distribution_and_lengths(cogiro_heavy):
-    massless = load_robot("config/robots/cogiro.yaml")
+    massless = load_robot("config/robots/cogiro_massless.yaml")
     a, b = compensate(massless, PC, rotvec=RC), compensate(cogiro_heavy, PC, rotvec=RC)
     # the cables' weight is carried: the tensions at B differ from the massless ones by newtons
     assert np.abs(b["t"] - a["t"]).max() > 1.0

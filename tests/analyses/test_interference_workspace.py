@@ -15,7 +15,7 @@ from cdpr.models.platform import rotation_matrix
 from cdpr.robot import load_robot
 from tests.conftest import ROBOTS
 
-COGIRO = ROBOTS / "cogiro.yaml"
+COGIRO = ROBOTS / "cogiro_massless.yaml"
 
 
 def test_grid_of_is_the_cell_centred_grid_in_c_order():

@@ -26,7 +26,7 @@ P = np.array([[0.0, 0.0, 2.0], [0.5, -0.5, 2.5]])
 
 @pytest.fixture(scope="module")
 def cogiro():
-    return load_robot(ROBOTS / "cogiro.yaml")
+    return load_robot(ROBOTS / "cogiro_massless.yaml")
 
 
 def test_pulleyless_error_is_elastic_and_vanishes_as_E_grows(cogiro):
@@ -287,7 +287,7 @@ def test_heavy_samples_from_the_linear_start_reach_the_desired_starts_answers():
     the answers of the solves started at the desired poses, to the solver's tolerance, and the
     same statuses."""
     robot = with_pulleys(
-        with_values(load_robot(ROBOTS / "cogiro.yaml"), linear_density=0.0631), "DR", 0.075, 0.05
+        with_values(load_robot(ROBOTS / "cogiro_massless.yaml"), linear_density=0.0631), "DR", 0.075, 0.05
     )
     n = parameter_names(robot)
     th = np.repeat(parameter_values(robot)[None], 3, axis=0)

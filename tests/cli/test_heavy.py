@@ -17,7 +17,7 @@ from cdpr.cli.main import main
 from tests.conftest import ROBOTS
 
 R4 = str(ROBOTS / "cdpr4.yaml")
-RC = str(ROBOTS / "cogiro.yaml")
+RC = str(ROBOTS / "cogiro_massless.yaml")
 HEAVY = ["--linear-density", "0.0631"]
 CABLE_KEYS = ["tension_B_N", "tension_D_N", "H_N", "sag_m", "arc_minus_chord_m", "angle_f_deg", "status"]
 AT = ["0.3", "-0.5", "2.0"]

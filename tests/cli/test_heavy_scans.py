@@ -19,7 +19,7 @@ from cdpr.solve import solve
 from tests.conftest import ROBOTS
 
 CUBE = str(ROBOTS / "cube50.yaml")  # heavy 4 mm cables, 0.0631 kg/m
-RC = str(ROBOTS / "cogiro.yaml")  # massless in its file; heavy with --linear-density
+RC = str(ROBOTS / "cogiro_massless.yaml")  # massless in its file; heavy with --linear-density
 R4 = str(ROBOTS / "cdpr4.yaml")
 RHO = ["--linear-density", "0.0631"]
 PHYS = ["--redundancy", "physical"]

@@ -21,7 +21,7 @@ from tests.conftest import ROBOTS
 
 ROOT = Path(__file__).resolve().parents[2]
 WALL = ROOT / "tests" / "data" / "wall_crossed.yaml"
-COGIRO = str(ROBOTS / "cogiro.yaml")
+COGIRO = str(ROBOTS / "cogiro_massless.yaml")
 RHO = "0.0631"  # kg/m: CoGiRo's cables with their weight
 HOME = [0.0, 0.0, 1.5]
 

@@ -10,7 +10,7 @@ import pytest
 from cdpr.cli.main import main
 from tests.conftest import ROBOTS
 
-COGIRO = str(ROBOTS / "cogiro.yaml")
+COGIRO = str(ROBOTS / "cogiro_massless.yaml")
 R4 = str(ROBOTS / "cdpr4.yaml")
 TILT = str(np.radians(15))
 

@@ -16,7 +16,7 @@ from cdpr.robot import G_STANDARD
 from tests.conftest import ROBOTS, ROOT
 
 R4 = str(ROBOTS / "cdpr4.yaml")
-RC = str(ROBOTS / "cogiro.yaml")
+RC = str(ROBOTS / "cogiro_massless.yaml")
 
 
 def run(capsys, *args):

@@ -26,7 +26,7 @@ from tests.conftest import ROBOTS
 
 #: Per robot: the box [x0, x1, y0, y1, z0, z1] [m] of the random desired positions.
 BOXES = {
-    "cogiro.yaml": (-3.0, 3.0, -2.0, 2.0, 1.0, 3.0),
+    "cogiro_massless.yaml": (-3.0, 3.0, -2.0, 2.0, 1.0, 3.0),
     "ipanema_like.yaml": (-1.0, 1.0, -0.7, 0.7, 1.0, 2.0),
     "wall_pulleys.yaml": (-1.5, 1.5, -1.0, 1.0, 1.0, 2.5),
     "hang4_6dof.yaml": (-1.0, 1.0, -1.0, 1.0, 1.5, 3.5),
@@ -252,7 +252,7 @@ def test_general_axis_cable_derivatives_equal_finite_differences():
 def test_identity_frame_is_bit_identical_to_the_point_mass_kernel(cdpr4):
     """For an identity frame the general-axis kernel runs the scalar kernel on B and A themselves:
     every output bit for bit (e_perp's z is 0)."""
-    r = load_robot(ROBOTS / "cogiro.yaml")
+    r = load_robot(ROBOTS / "cogiro_massless.yaml")
     for robot in (r, with_pulleys(cdpr4, kind="DR")):
         a = robot.arrays
         g = np.random.default_rng(3)
@@ -322,7 +322,7 @@ def _equal_results(a, b):
             np.testing.assert_array_equal(np.asarray(a[key]), np.asarray(b[key]), err_msg=key)
 
 
-@pytest.mark.parametrize("name, scale", [("cogiro.yaml", 1.0), ("wall_pulleys.yaml", 1.01)])
+@pytest.mark.parametrize("name, scale", [("cogiro_massless.yaml", 1.0), ("wall_pulleys.yaml", 1.01)])
 def test_the_batched_solve_equals_one_solve_per_robot(name, scale, monkeypatch):
     """``solve_spatial_batch`` (the uncertainty samples' solver) of robots with perturbed anchors,
     dead lengths, moduli and mass gives each robot's ``solve_spatial`` exactly, restarts and several

@@ -170,7 +170,7 @@ def _fd_of_the_solve(r, res, i, name):
 
 
 @pytest.mark.parametrize("kind", KINDS)
-@pytest.mark.parametrize("robot_file", ["cdpr4.yaml", "cogiro.yaml"])
+@pytest.mark.parametrize("robot_file", ["cdpr4.yaml", "cogiro_massless.yaml"])
 def test_engines_agree_and_equal_finite_differences_of_the_solve(robot_file, kind):
     """A point mass (CDPR4) and a rigid platform (CoGiRo) with SR, DR and fixed pulleys: the numpy
     and compiled dp*/dθ, dφ*/dθ agree to ``ROUNDOFF`` at the same equilibria, and at three smooth
@@ -206,7 +206,7 @@ def test_engines_agree_and_equal_finite_differences_of_the_solve(robot_file, kin
 
 
 def test_names_subset_and_order():
-    r, p, rv, L0 = CASES["cogiro.yaml"]
+    r, p, rv, L0 = CASES["cogiro_massless.yaml"]
     res = solve_fast(r, p[:10], rv[:10], L0=L0[:10])
     names = ["M", "b_3_y", "E_1", "c_z", "A_8_x"]
     full = fast.sensitivities_at(r, res)
@@ -230,7 +230,7 @@ def test_names_subset_and_order():
 def test_spatial_sensitivities_compiled_equal_numpy_on_cogiro(pose):
     """End to end (each engine its own solve): same statuses and flags, S within the reference's
     round-off, poses within 1e-9."""
-    r = load_robot(ROBOTS / "cogiro.yaml")
+    r = load_robot(ROBOTS / "cogiro_massless.yaml")
     a = sensitivities(r, [pose], redundancy="physical", engine="numpy")
     b = sensitivities(r, [pose], redundancy="physical")  # the default: compiled
     np.testing.assert_array_equal(a["status"], b["status"])
@@ -245,7 +245,7 @@ def test_compiled_equals_finite_differences_of_the_compiled_solve():
     robot (attachments, anchors, mass, centre of mass) on a tilted CoGiRo pose."""
     from tests.models.test_sensitivity_pose import changed
 
-    r = load_robot(ROBOTS / "cogiro.yaml")
+    r = load_robot(ROBOTS / "cogiro_massless.yaml")
     pose = [[0.3, -0.2, 2.0, 0.1, -0.05, 0.2]]
     res = fast.pose_sensitivities(r, pose, names=["b_1_x", "b_4_z", "A_2_y", "h_3", "c_z", "M"])
     assert res["smooth"][0]
@@ -262,7 +262,7 @@ def test_compiled_equals_finite_differences_of_the_compiled_solve():
 
 
 def test_engine_registry():
-    r = load_robot(ROBOTS / "cogiro.yaml")
+    r = load_robot(ROBOTS / "cogiro_massless.yaml")
     res = solve_fast(r, [[0, 0, 2.0]])
     a = sensitivities_at(r, res, ["E_1", "M"])
     b = fast.sensitivities_at(r, res, ["E_1", "M"])

@@ -15,7 +15,7 @@ POSES = np.array([[0, 0, 2.0, 0, 0, 0], [1, 1, 1.5, 0, 0, 0], [0, 0, 2.0, np.rad
 
 @pytest.fixture(scope="module")
 def cogiro():
-    return load_robot(ROBOTS / "cogiro.yaml", E_cables=E_COGIRO)
+    return load_robot(ROBOTS / "cogiro_massless.yaml", E_cables=E_COGIRO)
 
 
 def test_cogiro_holds_caspr_data(cogiro):

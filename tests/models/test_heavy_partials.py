@@ -35,7 +35,7 @@ ROBOTS = Path(__file__).resolve().parents[2] / "config" / "robots"
 
 @pytest.fixture(scope="module")
 def cogiro():
-    return load_robot(ROBOTS / "cogiro.yaml")
+    return load_robot(ROBOTS / "cogiro_massless.yaml")
 
 
 #: (H, V_B, L0, w, EA): ordinary, U-shaped, hanging, nearly weightless, weightless, inextensible,

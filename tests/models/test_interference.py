@@ -29,7 +29,7 @@ from cdpr.robot import BoxBody, load_robot, robot_from_dict, with_pulleys
 
 ROOT = Path(__file__).resolve().parents[2]
 WALL = ROOT / "tests" / "data" / "wall_crossed.yaml"
-COGIRO = ROOT / "config" / "robots" / "cogiro.yaml"
+COGIRO = ROOT / "config" / "robots" / "cogiro_massless.yaml"
 CDPR4 = ROOT / "config" / "robots" / "cdpr4.yaml"
 N_SAMPLE = 401
 

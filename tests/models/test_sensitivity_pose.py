@@ -50,7 +50,7 @@ STEPS = {"E_3": 1e5, "M": 1e-4}
     "pose", [[0, 0, 2.0, 0, 0, 0], [1, 1, 1.5, 0, 0, 0], [0, 0, 2.0, np.radians(15), 0, 0]]
 )
 def test_sensitivities_equal_finite_differences_on_cogiro(pose):
-    r = load_robot(ROBOTS / "cogiro.yaml")
+    r = load_robot(ROBOTS / "cogiro_massless.yaml")
     res = pose_sensitivities(r, [pose], names=NAMES)
     L0 = res["L0"]
     for k, name in enumerate(NAMES):
@@ -74,7 +74,7 @@ def test_sensitivities_under_compensated_lengths_at_a_tilted_pose():
     cable taut at >= 100 N); the point is smooth and its tension margin is the least of t_i, T_a - t_i."""
     from cdpr.models.tension_distribution import compensated_lengths
 
-    r = load_robot(ROBOTS / "cogiro.yaml")
+    r = load_robot(ROBOTS / "cogiro_massless.yaml")
     pose = [[0.3, -0.2, 2.1, 0.04, -0.03, 0.05]]
     comp = compensated_lengths(r, pose, t_min=100.0, t_max=5000.0)
     assert comp["feasible"].all()
@@ -117,7 +117,7 @@ def test_scaled_condition_flags_a_singular_jacobian():
 
 
 def test_failed_points_get_nan_and_are_not_smooth():
-    r = load_robot(ROBOTS / "cogiro.yaml")
+    r = load_robot(ROBOTS / "cogiro_massless.yaml")
     res = pose_sensitivities(r, [[0, 0, 2.0, 0, 0, 0], [0, 0, 20.0, 0, 0, 0]], names=["c_z"])
     bad = res["status"] != "ok"
     assert list(bad) == [False, True] and res["smooth"][0]  # 20 m is above the frame: not converged

@@ -27,7 +27,7 @@ from tests.models.test_sensitivity import _finite_differences, _robot
 WRENCH = (60.0, -40.0, 25.0, 8.0, -5.0, 3.0)  # N, N m
 
 
-@pytest.mark.parametrize("robot_file", ["cogiro.yaml", "hang4_6dof.yaml"])
+@pytest.mark.parametrize("robot_file", ["cogiro_massless.yaml", "hang4_6dof.yaml"])
 def test_rigid_platform_sensitivities_with_a_wrench_equal_finite_differences(robot_file):
     """Both engines agree to ``ROUNDOFF`` at the same equilibria under the wrench, and at three smooth
     ones equal central differences of the full solve of the perturbed robot with the same wrench
@@ -123,7 +123,7 @@ def test_heavy_cable_sensitivities_with_a_wrench_equal_finite_differences():
     closed-form columns of the centre of mass and the mass take the weight alone, the differenced
     ones the balance with the wrench; each equals central differences of full heavy re-solves of
     the perturbed robot with the same wrench (the bound of ``test_heavy_sensitivity``)."""
-    r = with_wrench(with_values(load_robot(ROBOTS / "cogiro.yaml"), linear_density=0.063), WRENCH)
+    r = with_wrench(with_values(load_robot(ROBOTS / "cogiro_massless.yaml"), linear_density=0.063), WRENCH)
     p, rv = np.array([[0.4, -0.3, 2.0]]), np.array([[0.02, -0.01, 0.03]])
     L0 = solve_any(r, p, rv, redundancy="physical", engine="numpy")["L0"]
     names = ["E_1", "b_2_z", "c_x", "c_z", "M"]
@@ -144,6 +144,6 @@ def test_the_pose_uncertainty_model_takes_the_wrench():
     solve's (``test_uncertainty_pose``). (The uncompensated case's rule, 5 % of the change from the
     nominal, fails at one sample whose δφ change nearly cancels under the wrench, 1.5e-5 rad, while
     the second-order term is 1.7e-6 rad with and without the wrench.)"""
-    r = with_wrench(load_robot(ROBOTS / "cogiro.yaml"), WRENCH)
+    r = with_wrench(load_robot(ROBOTS / "cogiro_massless.yaml"), WRENCH)
     dp0, phi0 = linearised_against_full(r, SMALL, 11, "compensated", min_change=0.0)
     assert np.all(dp0 < 1e-8) and np.all(phi0 < 1e-8)

@@ -23,7 +23,7 @@ BOX = [-3.0, 3.0, -2.0, 2.0, 1.0, 2.5]
 
 @pytest.fixture(scope="module")
 def cogiro():
-    return load_robot(ROBOTS / "cogiro.yaml")
+    return load_robot(ROBOTS / "cogiro_massless.yaml")
 
 
 @pytest.fixture(scope="module")

@@ -28,7 +28,7 @@ FLIPPED_RV = [-2.439405217117418, 0.0010651427941656395, -0.008637515319062455]
 
 
 def test_a_rigid_platform_table_gets_the_columns_at_its_solved_poses():
-    robot = load_robot(ROBOTS / "cogiro.yaml")
+    robot = load_robot(ROBOTS / "cogiro_massless.yaml")
     P = np.array([[0.0, 0.0, 1.5], [6.45, 4.69, 2.71], [-6.39, -4.75, 1.94], [2.0, 1.0, 2.5]])
     rv = [0.0, 0.0, np.radians(15)]
     df = add_interference(robot, solve_table(robot, P, rotvec=rv))
@@ -44,7 +44,7 @@ def test_a_rigid_platform_table_gets_the_columns_at_its_solved_poses():
 
 
 def test_an_unsolved_row_has_no_interference_answer_and_a_point_mass_no_columns():
-    robot = load_robot(ROBOTS / "cogiro.yaml")
+    robot = load_robot(ROBOTS / "cogiro_massless.yaml")
     df = solve_table(robot, [[0.0, 0.0, 1.5], [0.5, 0.0, 2.0]])
     df.loc[1, ["x_s", "y_s", "z_s"]] = np.nan  # as an unsolved point's
     df = add_interference(robot, df)
@@ -151,7 +151,7 @@ def test_view_draws_the_interfering_cables_in_their_colour(monkeypatch, tmp_path
     labels = [t.get_text() for t in fig.legends[0].get_texts()]
     assert "interfering cables (cable or platform)" in labels
     # a pose free of interference: every cable in the cable colour, no legend entry
-    free = scans.pose_geometry(load_robot(ROBOTS / "cogiro.yaml"), [0.0, 0.0, 2.0])
+    free = scans.pose_geometry(load_robot(ROBOTS / "cogiro_massless.yaml"), [0.0, 0.0, 2.0])
     assert not free["interfering"].any()
     assert robot_plots.cable_colours(free) == [robot_plots.CABLE_COLOUR] * 8
 
@@ -254,7 +254,7 @@ def test_the_budget_tests_the_robots_own_solved_pose():
 
     from cdpr.pipeline import tasks
 
-    robot = load_robot(ROBOTS / "cogiro.yaml")
+    robot = load_robot(ROBOTS / "cogiro_massless.yaml")
     P = np.array([[0.0, 0.0, 1.5], [6.45, 4.69, 2.71], [-6.39, -4.75, 1.94], [2.0, 1.0, 2.5]])
     rv = np.array([0.0, 0.0, np.radians(15)])
     df = add_interference(robot, solve_table(robot, P, rotvec=rv))
@@ -380,7 +380,7 @@ def test_the_dead_length_sweep_leaves_out_and_counts_the_interfering_points(tmp_
     box.write_text(json.dumps({"box": [-0.4, 0.4, -0.4, 0.4, 2.4, 3.0]}), encoding="utf-8")
     tasks.dead_length_point(st, box, tmp_path / "d.csv", d=1.0)
     row = table_io.read_table(tmp_path / "d.csv").iloc[0]
-    free = solve_table(load_robot(ROBOTS / "cogiro.yaml"), P[[0, 3]], rotvec=rv)
+    free = solve_table(load_robot(ROBOTS / "cogiro_massless.yaml"), P[[0, 3]], rotvec=rv)
     assert free.dp.max() < 1.0
     for pk in st["pulleys"]:
         assert row[f"interfering_points_plane_{pk}"] == 2

@@ -24,6 +24,7 @@ import dataclasses
 
 import numpy as np
 
+from cdpr.analyses.compensation import compensate
 from cdpr.errors import CdprError
 from cdpr.models.drive import commanded_for, has_winches, realised_rest_lengths
 from cdpr.models.inverse import L_TS
@@ -33,7 +34,6 @@ from cdpr.models.sensitivity import (
     T_TOL,
     rest_length_sensitivities,
 )
-from cdpr.models.tension_distribution import compensated_lengths
 from cdpr.parameters import (
     is_spatial,
     parameter_values,
@@ -44,7 +44,7 @@ from cdpr.solve import check_engine, sensitivities, sensitivities_at, solve
 
 #: How the candidate and simulated poses are commanded: standard lengths L_TS (the point mass's only
 #: choice) or, for a 6-DoF platform, the compensated rest lengths of the minimum-norm tension
-#: distribution (``tension_distribution.compensated_lengths``; a fully constrained robot needs them).
+#: distribution (``compensation.compensate``, sag-consistent with heavy cables; a fully constrained robot needs them).
 COMMANDS = ("standard", "compensated")
 #: Model of the robot during the fit (the command line's choices).
 MODELS = ("exact", "standard")
@@ -152,8 +152,9 @@ def check_command(command, robot):
 
 def commanded_lengths(robot, p, R, command="standard"):
     """Rest lengths commanded at 6-DoF poses: ``inverse.L_TS`` (standard) or the compensated rest
-    lengths of the minimum-norm tensions (``tension_distribution.compensated_lengths``, NaN where no
-    admissible distribution exists).
+    lengths of the minimum-norm tensions (``compensation.compensate``, NaN where no admissible
+    distribution exists; with heavy cables the sag-consistent distribution and rest lengths, so that
+    a model computing its own commands reaches its targets).
 
     Parameters
     ----------
@@ -169,7 +170,7 @@ def commanded_lengths(robot, p, R, command="standard"):
     check_command(command, robot)
     if command == "standard":
         return L_TS(robot, p, R=R)
-    return compensated_lengths(robot, p, rotvec_of(R))["L0"]
+    return compensate(robot, p, rotvec=rotvec_of(R))["L0"]
 
 
 def differentiable(hooke, cond):
