@@ -8,6 +8,7 @@ import json
 
 import numpy as np
 import pytest
+import yaml
 
 from cdpr.cli.main import main
 from cdpr.errors import ConfigError
@@ -153,3 +154,20 @@ def test_import_caspr_writes_the_given_linear_density(tmp_path, capsys):
     text = (tmp_path / "g.yaml").read_text()
     assert "cable.linear_density_kg_m = 0.0631 kg/m (given on the command line" in text
     assert (load_robot(tmp_path / "g.yaml").arrays.rho == 0.0631).all()
+
+
+@pytest.mark.parametrize(
+    "heavy_file, twin", [("cube50.yaml", "cube50_massless.yaml"), ("cogiro.yaml", "cogiro_massless.yaml")]
+)
+def test_massless_twin_differs_only_in_the_cable_weight(heavy_file, twin):
+    """A shipped heavy robot and its w = 0 twin (the studies and tests of massless behaviour use
+    the twin) are the same file but for name, description and the linear density."""
+    heavy, light = (yaml.safe_load((ROBOTS / f).read_text()) for f in (heavy_file, twin))
+    assert (
+        heavy["cable"].pop("linear_density_kg_m") == 0.0631
+        and light["cable"].pop("linear_density_kg_m") == 0.0
+    )
+    for d in (heavy, light):
+        del d["name"], d["description"]
+    assert heavy == light
+    assert load_robot(ROBOTS / heavy_file).heavy and not load_robot(ROBOTS / twin).heavy
