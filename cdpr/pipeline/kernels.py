@@ -35,12 +35,13 @@ _UNIT = np.array([[0.1, -0.1, 0.45], [-0.2, 0.15, 0.5]])
 
 def _robots(path, name):
     """The shipped robot files of family ``name`` (the studies' robots): CDPR4 (point mass), CoGiRo
-    (rigid platform), and both with heavy cables (cube50, CoGiRo at 0.0631 kg/m)."""
+    with massless cables (rigid platform, ``cogiro_massless.yaml``), and both with heavy cables
+    (cube50, CoGiRo's own file at 0.0631 kg/m)."""
     if name in ("paper", "physical"):
         return load_robot(path / "cdpr4.yaml")
     if name == "platform":
-        return load_robot(path / "cogiro.yaml")
-    return [load_robot(path / "cube50.yaml"), load_robot(path / "cogiro.yaml", linear_density=0.0631)]
+        return load_robot(path / "cogiro_massless.yaml")
+    return [load_robot(path / "cube50.yaml"), load_robot(path / "cogiro.yaml")]
 
 
 def _poses(robot):
