@@ -68,7 +68,10 @@ step s_(k-1), is below ``tol`` (``direct._newton``'s rule).
 
 Several equilibria: a robot with slack cables can hang in more than one pose. Where the converged
 Hessian -dF6/dx is not positive definite or fewer than 6 cables are taut (rigid platforms only),
-the point is solved again from ``RESTARTS`` (the desired pose turned by +-``RESTART_ANGLE`` about
+the point is solved again from ``RESTARTS``. A heavy cable always pulls, so for this rule it counts
+as taut only while its sag leaves it at least ``SLACK_STIFFNESS`` of its elastic stiffness
+(``hanging_cables``: Ernst's equivalent modulus); one that hangs with about its own weight holds the
+platform no more than a slack massless cable does (the desired pose turned by +-``RESTART_ANGLE`` about
 x, y, z); the lowest-energy equilibrium found is returned, ``unique`` is False where another one
 (more than ``DISTINCT`` apart) exists, and the others are listed under ``alternatives``.
 
@@ -133,6 +136,9 @@ RESTART_ANGLE = np.radians(20.0)
 RESTARTS = np.array([[s * RESTART_ANGLE * (i == a) for i in range(3)] for a in range(3) for s in (1, -1)])
 #: Two equilibria are distinct when their poses differ by more than this [m] or [rad].
 DISTINCT = 1e-6
+#: A heavy cable whose equivalent modulus (Ernst) is below this share of E counts as slack for the
+#: restart rule (``hanging_cables``).
+SLACK_STIFFNESS = 0.01
 #: Relative singular-value cut of the least-squares Newton step.
 RCOND = 1e-12
 
@@ -622,10 +628,50 @@ def solve_batch(
     return [solve(r, p, rotvec, L0, P, tol, maxiter, max_step, restarts) for r, P in zip(robots, starts)]
 
 
-def _needs_restart(cab, cur, conv):
-    """Points whose equilibrium may not be unique: fewer than 6 taut cables, or a converged
-    Hessian -dF6/dx (symmetric part) that is not positive definite."""
-    n_taut = (cur["t"] > TAUT_MIN).sum(axis=1)
+def hanging_cables(t, w, EA, L0):
+    """Heavy cables that hang rather than hold: Ernst's equivalent modulus of a sagging cable,
+
+    .. math:: E_{eq} = \\frac{E}{1 + \\frac{(w \\ell)^2 E A}{12 T^3}},
+
+    below ``SLACK_STIFFNESS`` E, i.e. (w ℓ)² EA / (12 T³) > 1 / SLACK_STIFFNESS − 1, with ℓ the
+    cable's whole rest length L0 (an upper bound of its free span, so the test errs towards
+    "hanging"). For CoGiRo's 4 mm cable (w ℓ ≈ 10 N, EA = 1.28 MN) the threshold is about 47 N.
+
+    Parameters
+    ----------
+    t : ndarray, shape (N, m) [N]
+        Tensions at B.
+    w : ndarray, shape (m,) [N/m]
+        Weights per unstrained metre (0: massless, never hanging).
+    EA : ndarray, shape (m,) [N]
+        Axial stiffnesses.
+    L0 : ndarray, shape (N, m) [m]
+        Rest lengths.
+
+    Returns
+    -------
+    ndarray, shape (N, m) of bool
+
+    References
+    ----------
+    Ernst, H. J. (1965). Der E-Modul von Seilen unter Berücksichtigung des Durchhanges. Der
+    Bauingenieur 40(2), 52-55; Irvine 1981, ch. 2.
+    """
+    wl = w * L0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = wl**2 * EA / (12.0 * np.asarray(t, dtype=float) ** 3)
+    return (w > 0) & ~(ratio <= 1.0 / SLACK_STIFFNESS - 1.0)
+
+
+def _needs_restart(cab, cur, conv, L0=None):
+    """Points whose equilibrium may not be unique: fewer than 6 taut cables (heavy cables that hang,
+    ``hanging_cables``, do not count), or a converged Hessian -dF6/dx (symmetric part) that is not
+    positive definite."""
+    taut = cur["t"] > TAUT_MIN
+    w = getattr(cab, "w", None)
+    if w is not None and L0 is not None and np.any(w > 0):
+        taut &= ~hanging_cables(cur["t"], w, cab.EA, L0)
+    n_taut = taut.sum(axis=1)
     # the points a solver has shown positive definite (the compiled engine's Cholesky) are not redone
     todo = ~cur["stable"] if "stable" in cur else np.ones(len(conv), dtype=bool)
     lam = np.full(len(conv), np.inf)
@@ -646,7 +692,7 @@ def _restart(cab, p, R_d, L0, P, R, cur, iters, conv, tol, maxiter, max_step, ne
     n = len(p)
     unique = np.ones(n, dtype=bool)
     alternatives = [[] for _ in range(n)]
-    idx = np.flatnonzero(_needs_restart(cab, cur, conv))
+    idx = np.flatnonzero(_needs_restart(cab, cur, conv, L0))
     if idx.size == 0:
         return P, R, cur, iters, conv, unique, alternatives
     k = len(RESTARTS)

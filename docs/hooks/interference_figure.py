@@ -1,7 +1,8 @@
 """MkDocs hook: the interference-free workspace of CoGiRo (interference.md) computed and drawn from
 the model at build time.
 
-``cdpr.analyses.interference.interference_workspace`` of config/robots/cogiro.yaml over the
+``cdpr.analyses.interference.interference_workspace`` of config/robots/cogiro_massless.yaml (CoGiRo
+with straight, massless cables: the grid's desired poses are geometry, not solved equilibria) over the
 cell-centred 21 x 21 x 11 grid of its frame box at the identity and at 15 degrees about x, y and z,
 with its intersection with the wrench-feasible workspace (tensions in [100 N, T_a]), drawn by
 ``cdpr.pipeline.plots.interference.workspace_plan_figure``. It is added to the site as
@@ -20,7 +21,7 @@ from mkdocs.structure.files import File
 ROOT = Path(__file__).resolve().parents[2]
 #: The site path of the figure (interference.md links it).
 URI = "figures/interference_workspace.png"
-ROBOT = ROOT / "config" / "robots" / "cogiro.yaml"
+ROBOT = ROOT / "config" / "robots" / "cogiro_massless.yaml"
 #: The grid (cells per axis) and the orientations drawn: (label, rotation vector [deg]).
 SHAPE = (21, 21, 11)
 ORIENTATIONS = (

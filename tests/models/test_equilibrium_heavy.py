@@ -15,9 +15,11 @@ from scipy.spatial.transform import Rotation
 from cdpr.errors import CdprError
 from cdpr.models import catenary as cat
 from cdpr.models.cables import Cables, HeavyCables
-from cdpr.models.equilibrium import local_newton, solve
+from cdpr.models.equilibrium import SLACK_STIFFNESS, hanging_cables, local_newton, solve
 from cdpr.models.platform import pose_arrays
-from cdpr.robot import with_pulleys
+from cdpr.robot import load_robot, with_pulleys, with_values
+from cdpr.solve import solve as door
+from tests.conftest import ROBOTS
 from tests.models.test_equilibrium_pose import central_jacobian, pretensioned, robot8_turned
 
 RHO = 0.0631  # [kg/m] a 4 mm steel cable
@@ -301,3 +303,36 @@ def test_dr_pulleys_take_the_compiled_kernel_by_default(cdpr4):
     ref = door.solve(r, PTS[:2], redundancy="physical", engine="numpy")
     assert (got["status"] == ref["status"]).all()
     np.testing.assert_allclose(got["P_s"], ref["P_s"], rtol=0, atol=1e-9)
+
+
+def test_hanging_cables_is_ernsts_equivalent_modulus():
+    """``hanging_cables``: a heavy cable hangs when Ernst's E_eq / E = 1 / (1 + (w l)^2 EA / (12 T^3))
+    is below SLACK_STIFFNESS; at the threshold tension T* = ((w l)^2 EA / (12 (1/s - 1)))^(1/3) it
+    switches; a massless cable never hangs, whatever its tension."""
+    w, EA, L0 = np.array([0.619, 0.0]), np.array([1.284e6, 1.284e6]), np.array([[16.0, 16.0]])
+    T_star = ((w[0] * L0[0, 0]) ** 2 * EA[0] / (12.0 * (1.0 / SLACK_STIFFNESS - 1.0))) ** (1.0 / 3.0)
+    assert 40.0 < T_star < 55.0  # CoGiRo's 4 mm cable: about 47 N
+    for T, want in ((0.99 * T_star, True), (1.01 * T_star, False), (1e-3, True), (5000.0, False)):
+        e_ratio = 1.0 / (1.0 + (w[0] * L0[0, 0]) ** 2 * EA[0] / (12.0 * T**3))
+        assert (e_ratio < SLACK_STIFFNESS) == want
+        np.testing.assert_array_equal(hanging_cables(np.array([[T, T]]), w, EA, L0), [[want, False]])
+
+
+@pytest.mark.parametrize("engine", ["compiled", "numpy"])
+def test_heavy_cables_hanging_at_their_own_weight_trigger_the_restarts(engine):
+    """CoGiRo at the plane's edge (z = 2 m), where the massless model leaves cables slack and finds
+    two equilibria: with heavy cables every cable pulls (7-19 N on the hanging ones), but those hang
+    (``hanging_cables``), so the restarts run and find the second, higher-energy equilibrium; the
+    answer is the lowest-energy one, as the restarts forced everywhere give it."""
+    robot = load_robot(ROBOTS / "cogiro.yaml")
+    p = np.array([[-2.466, -5.5342, 2.0], [1.903225, 5.4753, 2.0]])
+    res = door(robot, p, redundancy="physical", rotvec=np.zeros(3), engine=engine)
+    assert (res["status"] == "ok").all() and (res["n_taut"] == 8).all()  # every heavy cable pulls
+    assert not res["unique"].any()
+    for alts, e in zip(res["alternatives"], res["energy"]):
+        assert alts and all(a["energy"] > e + 1.0 for a in alts)
+    massless = door(with_values(robot, linear_density=0.0), p, redundancy="physical", rotvec=np.zeros(3))
+    assert not massless["unique"].any() and (massless["n_taut"] < 8).all()
+    hanging = hanging_cables(res["t"], robot.arrays.w, robot.arrays.ES, res["L0"])
+    # the massless model's slack cables hang (one taut there at 4 N hangs too with its weight)
+    assert hanging[~massless["taut"]].all() and (8 - hanging.sum(axis=1) < 6).all()  # fewer than 6 hold it

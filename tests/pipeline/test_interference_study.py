@@ -203,7 +203,7 @@ def test_the_docs_page_is_named_as_the_issue_names_it_and_shows_the_cogiro_figur
     spec = importlib.util.spec_from_file_location("hook", ROOT / "docs" / "hooks" / "interference_figure.py")
     hook = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(hook)
-    assert hook.URI == "figures/interference_workspace.png" and hook.ROBOT.name == "cogiro.yaml"
+    assert hook.URI == "figures/interference_workspace.png" and hook.ROBOT.name == "cogiro_massless.yaml"
     assert dict(hook.ORIENTATIONS) == {
         "identity": (0.0, 0.0, 0.0),
         "15° about x": (15.0, 0.0, 0.0),
