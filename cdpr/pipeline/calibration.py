@@ -490,7 +490,7 @@ def _platform_study(st, robot, rng, out):
     val = cal.simulate(truth, robot, P_val, **kw)
     n_taut, second = cal.equilibrium_flags(truth, val)
     flagged = (n_taut < 6) | second
-    truth_taut = cal.equilibria(truth, val.pose, val.L, rotvec=val.rotvec)["taut"]
+    truth_taut = cal.equilibria(truth, val.pose, val.L, rotvec=val.rotvec)["holding"]
 
     vt = pd.DataFrame(
         {"sample": val.sample, "truth_taut_cables": n_taut, "second_equilibrium": second, "flagged": flagged}
@@ -499,7 +499,9 @@ def _platform_study(st, robot, rng, out):
     def row(label, rob, n_par=0, rank=None):
         pos, ang, status = _errors(rob, val)
         # the model's taut set against the truth's at the measured pose
-        differs = (cal.equilibria(rob, val.pose, val.L, rotvec=val.rotvec)["taut"] != truth_taut).any(axis=1)
+        differs = (cal.equilibria(rob, val.pose, val.L, rotvec=val.rotvec)["holding"] != truth_taut).any(
+            axis=1
+        )
         key = _key(label)
         vt[f"{key}_taut_set_differs"] = differs
         vt[f"{key}_status"] = status
@@ -657,6 +659,8 @@ def _platform_summary(st, robot, headline, ident_lines, vt, n_train, pretensione
     poses."""
     fl = vt[vt["flagged"]]
     counts = vt["truth_taut_cables"].value_counts().sort_index()
+    # heavy cables all pull: those hanging at about their own weight are not counted (equilibria's holding)
+    held = "holding (taut, not hanging at about their own weight)" if robot.heavy else "taut"
     return [
         f"# Calibration study of a 6-DoF platform, {robot.name}: its parameters from simulated measurements",
         "",
@@ -724,9 +728,9 @@ def _platform_summary(st, robot, headline, ident_lines, vt, n_train, pretensione
         "",
         "## Flagged validation poses",
         "",
-        "True robot's taut cables under the validation commands: "
+        f"True robot's {held} cables under the validation commands: "
         + ", ".join(f"{k}: {v}" for k, v in counts.items())
-        + f"; second equilibrium found: {int(vt['second_equilibrium'].sum())}. Flagged (fewer than 6 taut or a "
+        + f"; second equilibrium found: {int(vt['second_equilibrium'].sum())}. Flagged (fewer than 6 {held} or a "
         f"second equilibrium): {len(fl)}"
         + (f" ({', '.join(fl['sample'])})" if len(fl) else "")
         + "; kept in every "

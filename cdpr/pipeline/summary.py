@@ -412,7 +412,8 @@ def hold_note(df, dof):
     Parameters
     ----------
     df : DataFrame
-        A point table (``status``; ``n_taut`` and ``dphi`` [rad] when it has them).
+        A point table (``status``; ``n_taut`` or, heavy cables, ``n_holding``, and ``dphi`` [rad]
+        when it has them).
     dof : int
         Degrees of freedom of the platform: 6 for a rigid platform, 3 for a point mass.
 
@@ -422,7 +423,13 @@ def hold_note(df, dof):
     """
     ok = df["status"].astype(str) == "ok"
     parts = [f"{int(ok.sum())} of {len(df)} points ok"]
-    if "n_taut" in df:
+    if "n_holding" in df:  # heavy cables: every one pulls; count those that hold (tables.to_frame)
+        few = int((ok & (df["n_holding"] < dof)).sum())
+        parts.append(
+            f"{few} of the ok points hang on fewer than {dof} holding cables (the platform's degrees of "
+            "freedom; a heavy cable hanging at about its own weight does not hold)"
+        )
+    elif "n_taut" in df:
         few = int((ok & (df["n_taut"] < dof)).sum())
         parts.append(
             f"{few} of the ok points hang on fewer than {dof} cables (the platform's degrees of freedom)"

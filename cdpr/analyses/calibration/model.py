@@ -27,6 +27,7 @@ import numpy as np
 from cdpr.analyses.compensation import compensate
 from cdpr.errors import CdprError
 from cdpr.models.drive import commanded_for, has_winches, realised_rest_lengths
+from cdpr.models.equilibrium import hanging_cables
 from cdpr.models.inverse import L_TS
 from cdpr.models.platform import rotation_matrix, rotvec_of
 from cdpr.models.sensitivity import (
@@ -263,7 +264,9 @@ def equilibria(robot, P, L0, rotvec=None, solver=None, engine=None):
     -------
     dict
         P_s (n, 3) [m], status, smooth, n_taut (n,), t (n, m) [N] and the rest of the solver's
-        result (R_s, rotvec_s, taut on the pose model).
+        result (R_s, rotvec_s, taut on the pose model); on the pose model also holding (n, m) bool,
+        the taut cables less the heavy ones that hang at about their own weight
+        (``equilibrium.hanging_cables``; = taut with massless cables).
     """
     engine = equilibrium_engine(robot, engine)
     if robot.suspended_point_mass:
@@ -275,4 +278,7 @@ def equilibria(robot, P, L0, rotvec=None, solver=None, engine=None):
         return res
     _, hooke, cond = rest_length_sensitivities(robot, res["P_s"], res["R_s"], res["L0"])
     res["smooth"] = differentiable(hooke, cond)
+    res["holding"] = res["taut"].copy()  # heavy cables hanging at about their own weight do not hold
+    if robot.heavy:
+        res["holding"] &= ~hanging_cables(res["t"], robot.arrays.w, robot.arrays.ES, res["L0"])
     return res

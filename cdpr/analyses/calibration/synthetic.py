@@ -214,7 +214,8 @@ def equilibrium_flags(robot, data, kick=(0.05, 0.05), tol=1e-3):
     Returns
     -------
     n_taut : ndarray, shape (N,) of int
-        0 where the equilibrium is not ``ok``.
+        Taut cables that hold the platform (``equilibria``'s holding: a heavy cable hanging at
+        about its own weight does not), 0 where the equilibrium is not ``ok``.
     second : ndarray, shape (N,) of bool
     """
     ref = equilibria(robot, data.pose, data.L, rotvec=data.rotvec)
@@ -230,7 +231,7 @@ def equilibrium_flags(robot, data, kick=(0.05, 0.05), tol=1e-3):
             r = equilibria(robot, P, data.L, rotvec=rv)
             ok = (r["status"] == "ok") & ok_ref
             second |= ok & (np.linalg.norm(r["P_s"] - ref["P_s"], axis=1) > tol)
-    n_taut = np.where(ok_ref, ref["taut"].sum(axis=1), 0).astype(int)
+    n_taut = np.where(ok_ref, ref["holding"].sum(axis=1), 0).astype(int)
     return n_taut, second
 
 
