@@ -50,9 +50,9 @@ def to_frame(robot, res, redundancy="paper", rotvec=None):
         physical mode's columns and rx, ry, rz (desired) and rx_s, ry_s, rz_s (reached) rotation
         vectors [rad] after dp, dphi [rad], and unique last; then n_folds, reached_is_global where
         ``res`` has them (``solve.reach_where_multiple``). A result with heavy cables (key
-        ``sag_max``) adds sag_max_m [m], the largest sag of the point's cables, after status, and
-        n_holding, the taut cables less those that hang at about their own weight
-        (``equilibrium.hanging_cables``: every heavy cable pulls, so n_taut is m).
+        ``sag_max``) adds sag_max_m [m], the largest sag of the point's cables, after status; a
+        rigid platform's also n_holding, the taut cables less those that hang at about their own
+        weight (``equilibrium.hanging_cables``: every heavy cable pulls, so n_taut is m).
     """
     df = _frame(robot, res, redundancy)
     if check_redundancy(redundancy) == "physical" and "rotvec_s" in res and not robot.point_mass:
@@ -95,7 +95,8 @@ def _frame(robot, res, redundancy):
     df["status"] = pd.Categorical.from_codes(codes, categories=statuses)
     if "sag_max" in res:  # heavy cables (issue 38): the largest sag of the point's cables [m]
         df["sag_max_m"] = res["sag_max"]
-        # the taut cables that hold it: a heavy cable hanging at about its own weight does not
+    if "sag_max" in res and "L0" in res:  # a rigid platform's: the taut cables that hold it, not
+        # those hanging at about their own weight (a point mass's result does not carry its L0)
         hanging = hanging_cables(res["t"], robot.arrays.w, robot.arrays.ES, res["L0"])
         df["n_holding"] = (np.asarray(res["taut"], dtype=bool) & ~hanging).sum(axis=1).astype(np.int8)
     if "S" in res:

@@ -122,3 +122,23 @@ def test_solve_table_of_no_point_has_the_columns_and_no_row(robot):
 def test_solve_table_refuses_an_engine_pair_that_does_not_exist(robot):
     with pytest.raises(CdprError, match="allowed"):
         tables.solve_table(robot, PTS, method="fixed_point", engine="compiled")
+
+
+def test_a_heavy_rigid_platform_s_table_counts_the_cables_that_hold():
+    """Heavy CoGiRo at two plane-edge points where the massless robot leaves cables slack: every
+    heavy cable pulls (n_taut 8), n_holding leaves out those hanging at about their own weight, and
+    the summary's plane note counts both points as hanging on fewer than 6 holding cables."""
+    from cdpr.pipeline.summary import hold_note
+
+    robot = load_robot(ROBOTS / "cogiro.yaml")
+    P = np.array([[-2.466, -5.5342, 2.0], [1.903225, 5.4753, 2.0], [0.0, 0.0, 2.0]])
+    df = tables.solve_table(robot, P, redundancy="physical", rotvec=np.zeros(3))
+    assert (df["n_taut"] == 8).all()
+    assert (df["n_holding"].iloc[:2] < 6).all() and df["n_holding"].iloc[2] == 8
+    assert "2 of the ok points hang on fewer than 6 holding cables" in hold_note(df, 6)
+    massless = tables.solve_table(
+        load_robot(ROBOTS / "cogiro_massless.yaml"), P, redundancy="physical", rotvec=np.zeros(3)
+    )
+    assert "n_holding" not in massless and "2 of the ok points hang on fewer than 6 cables" in hold_note(
+        massless, 6
+    )
