@@ -660,7 +660,11 @@ def _platform_summary(st, robot, headline, ident_lines, vt, n_train, pretensione
     fl = vt[vt["flagged"]]
     counts = vt["truth_taut_cables"].value_counts().sort_index()
     # heavy cables all pull: those hanging at about their own weight are not counted (equilibria's holding)
-    held = "holding (taut, not hanging at about their own weight)" if robot.heavy else "taut"
+    held, short = (
+        ("holding cables (taut, not hanging at about their own weight)", "holding")
+        if robot.heavy
+        else ("taut cables", "taut")
+    )
     return [
         f"# Calibration study of a 6-DoF platform, {robot.name}: its parameters from simulated measurements",
         "",
@@ -728,9 +732,9 @@ def _platform_summary(st, robot, headline, ident_lines, vt, n_train, pretensione
         "",
         "## Flagged validation poses",
         "",
-        f"True robot's {held} cables under the validation commands: "
+        f"True robot's {held} under the validation commands: "
         + ", ".join(f"{k}: {v}" for k, v in counts.items())
-        + f"; second equilibrium found: {int(vt['second_equilibrium'].sum())}. Flagged (fewer than 6 {held} or a "
+        + f"; second equilibrium found: {int(vt['second_equilibrium'].sum())}. Flagged (fewer than 6 {short} or a "
         f"second equilibrium): {len(fl)}"
         + (f" ({', '.join(fl['sample'])})" if len(fl) else "")
         + "; kept in every "
