@@ -66,7 +66,7 @@ def main():
         "calibrated one (its compensated lengths: pretension that keeps the truth's cables taut)",
     )
     a = ap.parse_args()
-    robot = load_robot("config/robots/cogiro.yaml")
+    robot = load_robot("config/robots/cogiro_massless.yaml")
     rng = np.random.default_rng(a.seed)
     idx = select_groups(robot, GROUPS)
     sd = cal.prior_sd(robot, idx, cal.parse_priors(None))

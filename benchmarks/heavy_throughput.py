@@ -203,7 +203,7 @@ def main():
         f"{1e3 * sub['sag_max'].max():.1f} mm"
     )
 
-    cogiro = load_robot(ROOT / "config" / "robots" / "cogiro.yaml")
+    cogiro = load_robot(ROOT / "config" / "robots" / "cogiro_massless.yaml")
     Q = grid_points(COGIRO_BOX, args.n)
     slq = Q[:: max(1, len(Q) // args.numpy)][: args.numpy]
     # CoGiRo's SR pulleys, and its DR design (the study's DRopt: h 75 mm, r_p 50 mm): the general

@@ -28,7 +28,7 @@ ROOT = Path(__file__).resolve().parents[1]
 L0 = [6.52907908125, 6.14882031715, 5.85918529262, 6.26397544351, 6.06888687927, 5.63634727396, 5.23674973794, 5.70862689323]  # fmt: skip
 CASES = [
     ("wall_crossed, the issue's example", ROOT / "tests/data/wall_crossed.yaml", [0.3, 0.3, 0.7], [0.12, 0.12, 0.0], L0),
-    ("CoGiRo, unique equilibrium", ROOT / "config/robots/cogiro.yaml", [0.5, 0.3, 1.5], [0.0, 0.0, 0.1], None),
+    ("CoGiRo, unique equilibrium", ROOT / "config/robots/cogiro_massless.yaml", [0.5, 0.3, 1.5], [0.0, 0.0, 0.1], None),
 ]  # fmt: skip
 
 

@@ -52,7 +52,7 @@ def main():
     args = ap.parse_args()
     n, nn = args.n, args.n_numpy
     g = np.random.default_rng(0)
-    cog = load_robot(ROOT / "config/robots/cogiro.yaml")
+    cog = load_robot(ROOT / "config/robots/cogiro_massless.yaml")
     p = np.column_stack([g.uniform(-3, 3, n), g.uniform(-2, 2, n), g.uniform(1.0, 3.0, n)])
     rv = g.normal(size=(n, 3))
     rv *= (np.radians(10) * g.uniform(0, 1, (n, 1))) / np.linalg.norm(rv, axis=1, keepdims=True)

@@ -1,7 +1,7 @@
 """Spatial (6-DoF) equilibria per second, compiled and numpy, beside the point-mass compiled kernel,
 in one run.
 
-CoGiRo (config/robots/cogiro.yaml) commanded with L_TS at N random poses in a box round the centre
+CoGiRo (config/robots/cogiro_massless.yaml) commanded with L_TS at N random poses in a box round the centre
 (|rotation| up to 10 deg), solved by the compiled engine ``cdpr.compiled.equilibrium.solve``
 (warm: compiled before the clock starts) and by the numpy reference ``models.equilibrium.solve``
 (on the first ``--n-numpy`` of them, it is slow), both with the restarts; the ratio; the compiled
@@ -99,7 +99,7 @@ def main():
     args = ap.parse_args()
     n, nn = args.n, min(args.n_numpy, args.n)
     g = np.random.default_rng(0)
-    cog = load_robot(ROOT / "config/robots/cogiro.yaml")
+    cog = load_robot(ROOT / "config/robots/cogiro_massless.yaml")
     p = np.column_stack([g.uniform(-3, 3, n), g.uniform(-2, 2, n), g.uniform(1.0, 3.0, n)])
     rv = g.normal(size=(n, 3))
     rv *= (np.radians(10) * g.uniform(0, 1, (n, 1))) / np.linalg.norm(rv, axis=1, keepdims=True)

@@ -158,7 +158,7 @@ def cmd_compile(args):
     from cdpr.pipeline import kernels  # lazy: the pipeline (pandas), for this command only
 
     folder = Path(args.robots)
-    for name in ("cdpr4.yaml", "cogiro.yaml", "cube50.yaml"):
+    for name in ("cdpr4.yaml", "cogiro.yaml", "cogiro_massless.yaml", "cube50.yaml"):
         if not (folder / name).is_file():
             raise CdprError(
                 f"--robots {folder}: no {name} there (the shipped config/robots folder is needed)"
