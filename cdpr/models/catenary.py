@@ -414,7 +414,8 @@ def _newton(H, V, args, tgt, c, rtol, maxiter):
         dV = -(-F[:, 1, 0] * r1 + F[:, 0, 0] * r2) / det
         slope = r1 * dH + r2 * dV  # dPhi along the step (< 0)
         h0, v0 = H[act], V[act]
-        alpha = np.where(h0 + dH > 0.0, 1.0, 0.5 * h0 / np.maximum(-dH, 1e-300))
+        keep = h0 + dH > 0.0  # else halve the way to H = 0 (the divisor only where it is used)
+        alpha = np.where(keep, 1.0, 0.5 * h0 / np.maximum(np.where(keep, 1.0, -dH), 1e-300))
         scale = np.hypot(h0, v0 + 0.5 * a[1] * a[0]) * a[0]
         whole = small | (-slope <= WHOLE_STEP * scale)
         phi0 = complementary_energy(h0, v0, *a, tgt[0][act], tgt[1][act])
