@@ -4,6 +4,7 @@ import time
 
 import matplotlib.pyplot as plt
 import numpy as np
+import pytest
 
 from cdpr import table_io
 from cdpr.pipeline import figure_checks
@@ -29,6 +30,14 @@ def test_same_figure_gives_same_bytes(tmp_path):
         blobs.append([p.read_bytes() for p in paths])
         time.sleep(1.1)  # a creation date in seconds would differ
     assert blobs[0] == blobs[1]
+
+
+@pytest.fixture(autouse=True)
+def _close_kept_figures():
+    """``_captured`` keeps figures open for inspection: close them after each test (pyplot warned
+    once more than 20 were open)."""
+    yield
+    plt.close("all")
 
 
 def _captured(monkeypatch):
