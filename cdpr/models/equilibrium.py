@@ -68,12 +68,12 @@ step s_(k-1), is below ``tol`` (``direct._newton``'s rule).
 
 Several equilibria: a robot with slack cables can hang in more than one pose. Where the converged
 Hessian -dF6/dx is not positive definite or fewer than 6 cables are taut (rigid platforms only),
-the point is solved again from ``RESTARTS``. A heavy cable always pulls, so for this rule it counts
-as taut only while its sag leaves it at least ``SLACK_STIFFNESS`` of its elastic stiffness
-(``hanging_cables``: Ernst's equivalent modulus); one that hangs with about its own weight holds the
-platform no more than a slack massless cable does (the desired pose turned by +-``RESTART_ANGLE`` about
+the point is solved again from ``RESTARTS`` (the desired pose turned by +-``RESTART_ANGLE`` about
 x, y, z); the lowest-energy equilibrium found is returned, ``unique`` is False where another one
-(more than ``DISTINCT`` apart) exists, and the others are listed under ``alternatives``.
+(more than ``DISTINCT`` apart) exists, and the others are listed under ``alternatives``. A heavy
+cable always pulls, so for this rule it counts as taut only while its sag leaves it at least
+``SLACK_STIFFNESS`` of its elastic stiffness (``hanging_cables``: Ernst's equivalent modulus); one
+that hangs with about its own weight holds the platform no more than a slack massless cable does.
 
 Edge cases (choices)
 --------------------
