@@ -95,10 +95,10 @@ def _frame(robot, res, redundancy):
     df["status"] = pd.Categorical.from_codes(codes, categories=statuses)
     if "sag_max" in res:  # heavy cables (issue 38): the largest sag of the point's cables [m]
         df["sag_max_m"] = res["sag_max"]
-    if "sag_max" in res and "L0" in res:  # a rigid platform's: the taut cables that hold it, not
-        # those hanging at about their own weight (a point mass's result does not carry its L0)
-        hanging = hanging_cables(res["t"], robot.arrays.w, robot.arrays.ES, res["L0"])
-        df["n_holding"] = (np.asarray(res["taut"], dtype=bool) & ~hanging).sum(axis=1).astype(np.int8)
+        if "L0" in res:  # a rigid platform's: the taut cables that hold it, not those hanging at
+            # about their own weight (a point mass's result does not carry its L0)
+            hanging = hanging_cables(res["t"], robot.arrays.w, robot.arrays.ES, res["L0"])
+            df["n_holding"] = (np.asarray(res["taut"], dtype=bool) & ~hanging).sum(axis=1).astype(np.int8)
     if "S" in res:
         S = res["S"]
         flat = np.swapaxes(S, 1, 2).reshape(len(S), -1)
