@@ -33,7 +33,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit, prange
 
-from cdpr.compiled._kernels import SWIVEL_RHO_MIN, TWO_PI, set_threads, sheave
+from cdpr.compiled._kernels import SWIVEL_RHO_MIN, TWO_PI, pulley_geometry, set_threads, sheave
 from cdpr.compiled._linalg import add_cable_jacobian, add_gravity
 from cdpr.compiled.catenary import (
     angle_f_deg,
@@ -100,13 +100,17 @@ class Heavy(NamedTuple):
     per unstrained metre; up (3,) [-] the unit vector against gravity; axis (m, 3) [-] the swivel
     axes k_i (base frame); general (m,) bool: the cable's sheave plane follows the catenary's end
     tangent (a DR pulley, an SR swivel axis off gravity: ``_general_at``), else it is the plane
-    through B (fixed pulleys, SR pulleys with axes along gravity: ``_joint``)."""
+    through B (fixed pulleys, SR pulleys with axes along gravity: ``_joint``); thK (m,) [rad] the
+    angle on the sheave of the entry point K (toward the winch) of the cables that are not general,
+    which the sheave's fixed centre makes constant (``_entry_angle``; 0 without a sheave, NaN for
+    general cables, whose K moves)."""
 
     on: bool
     w: np.ndarray
     up: np.ndarray
     axis: np.ndarray
     general: np.ndarray
+    thK: np.ndarray
 
 
 def heavy_arrays(cab=None, m=0):
@@ -125,16 +129,47 @@ def heavy_arrays(cab=None, m=0):
     """
     f = np.ascontiguousarray
     if cab is None:
-        return Heavy(False, np.zeros(m), f([0.0, 0.0, 1.0]), np.zeros((m, 3)), np.zeros(m, dtype=np.bool_))
-    kind, r_p = cab.robot.arrays.kind, cab.robot.arrays.r_p
+        z = np.zeros(m)
+        return Heavy(False, z, f([0.0, 0.0, 1.0]), np.zeros((m, 3)), np.zeros(m, dtype=np.bool_), z)
+    a = cab.robot.arrays
+    kind, r_p = a.kind, a.r_p
     general = (r_p > 0.0) & ((kind == 2) | ((kind == 1) & (np.abs(cab.axis @ cab.up) < 1.0 - 1e-12)))
+    thK = np.array(
+        [_entry_angle(int(k), float(hh), float(r), float(dd)) for k, hh, r, dd in zip(kind, a.h, r_p, a.d)]
+    )
     return Heavy(
         True,
         f(cab.w, dtype=float),
         f(cab.up, dtype=float),
         f(cab.axis, dtype=float),
         f(general, dtype=np.bool_),
+        f(np.where(general, np.nan, thK)),
     )
+
+
+@njit(cache=True, error_model="numpy")
+def _entry_angle(kind, h, rp, d):
+    """The angle [rad] on the sheave (in its plane, from e_s toward the axis) of the entry point K,
+    where the cable from the winch exit C = (0, -d) meets the sheave of centre (h, 0): the massless
+    pulley geometry's (``_kernels.pulley_geometry``, whose arithmetic this is) atan2(sin, cos) of
+    theta_K, the same wherever the platform is for a fixed or SR pulley (a DR arm moves the centre);
+    0 without a sheave (r_p = 0)."""
+    if not rp > 0.0:
+        return 0.0
+    g = pulley_geometry(1.0, 0.0, -1.0, 0.0, 0.0, 0.0, kind, h, rp, d, 1.0, 0.0)
+    return math.atan2(g.sK, g.cK)
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _mod_two_pi(x):
+    """x % (2 pi), Python's modulo into [0, 2 pi), without the library's fmod where x lies within a
+    turn of that range (an angle on the sheave moved by a step): the same floating-point result,
+    fmod being exact there (a zero goes to ``%``, whose signed zero is +0)."""
+    if 0.0 < x < TWO_PI:
+        return x
+    if -TWO_PI < x < 0.0:
+        return x + TWO_PI
+    return x % TWO_PI
 
 
 #: Cap of the joint Newton iteration of one cable (``_joint``); past it, the nested iterations.
@@ -199,7 +234,7 @@ def _joint(
     c_scale = L0c
     damped = 0
     ct, st = math.cos(th), math.sin(th)
-    gam = (thK - th) % TWO_PI
+    gam = _mod_two_pi(thK - th)
     for it in range(1, JOINT_MAXITER + 1):
         rx, ry, rz, _, _, _, _, _, _, l_v, l_h, ehx, ehy, ehz = _spans_at(
             Bx, By, Bz, Hx, Hy, Hz, esx, esy, esz, kx, ky, kz, ux, uy, uz, rp, ct, st
@@ -277,7 +312,7 @@ def _joint(
         th += da
         gam -= da
         if not 0.0 <= gam < TWO_PI:
-            gam = (thK - th) % TWO_PI
+            gam = _mod_two_pi(thK - th)
         if abs(da) < 1e-3:  # cos and sin of theta turned by da (Taylor's series: to round-off)
             a2 = da * da
             cd = 1.0 - a2 * (0.5 - a2 * (1.0 / 24.0 - a2 / 720.0))
@@ -309,7 +344,7 @@ def _cold_start(
     _, _, _, _, _, _, _, _, _, l_v, l_h, _, _, _ = _spans_at(
         Bx, By, Bz, Hx, Hy, Hz, esx, esy, esz, kx, ky, kz, ux, uy, uz, rp, ct, st
     )
-    ell = ld + rp * ((thK - th) % TWO_PI)
+    ell = ld + rp * _mod_two_pi(thK - th)
     c = math.hypot(l_h, l_v)
     T0 = EA * ((c + ell) / L0c - 1.0) if c + ell > L0c else 0.0
     if not math.isfinite(T0):
@@ -338,16 +373,19 @@ def _cold_start(
 @njit(cache=True, inline="always", error_model="numpy")
 def _joint_or_cold(
     Bx, By, Bz, Hx, Hy, Hz, esx, esy, esz, kx, ky, kz, ux, uy, uz, rp, ld, thK, sr, L0c, w, EA, warm, H0, V0, L0f, th,
-    tc,
+    tc, sD, cD,
 ):  # fmt: skip
     """``_joint`` from the start (H0, V0 [N], L0f [m], theta th [rad]) where ``warm``, else, or where
-    it fails, from ``_cold_start`` at the angle tc [rad]: ``_joint``'s tuple (ok False, NaN forces,
-    where neither converges)."""
+    it fails, from ``_cold_start`` at the angle tc [rad] (NaN: atan2(sD, cD), the massless exit
+    point's angle, computed only where the cold start is needed): ``_joint``'s tuple (ok False, NaN
+    forces, where neither converges)."""
     args = (Bx, By, Bz, Hx, Hy, Hz, esx, esy, esz, kx, ky, kz, ux, uy, uz, rp, ld, thK, sr, L0c, w, EA)
     ok, H, V, L, t, it, ct, st, gam = False, np.nan, np.nan, np.nan, np.nan, 0, 1.0, 0.0, 0.0
     if warm:
         ok, H, V, L, t, it, ct, st, gam = _joint(*args, H0, V0, L0f, th)
     if not ok:
+        if tc != tc:
+            tc = math.atan2(sD, cD)
         Hc, Vc, Lc = _cold_start(*args, tc)
         if Hc > 0.0:
             ok, H, V, L, t, it, ct, st, gam = _joint(*args, Hc, Vc, Lc, tc)
@@ -428,7 +466,7 @@ def _general_at(
             warm = H0 > 0.0 and L0f0 > 0.0 and math.isfinite(V0)
             joint, Hj, Vj, Lj, tj2, _, ct, st, gam = _joint_or_cold(
                 Bx, By, Bz, Hx, Hy, Hz, esx, esy, esz, kx, ky, kz, ux, uy, uz, rp, g.ld, thK, True, L0c, w, EA, warm,
-                H0, V0, L0f0, tj, tj,
+                H0, V0, L0f0, tj, tj, g.sD, g.cD,
             )  # fmt: skip
         if joint:
             H, V, L0f, th, gamma = Hj, Vj, Lj, tj2, gam
@@ -469,7 +507,7 @@ def _general_at(
 @njit(cache=True, error_model="numpy")
 def _cable_at(
     Bx, By, Bz, Ax, Ay, Az, ident, F00, F01, F02, F10, F11, F12, F20, F21, F22, kind, h, rp, d, inx, iny, EA, w,
-    ux, uy, uz, kx, ky, kz, L0c, ready, H0, V0, L0f, th0, D0x, D0y, D0z, general,
+    ux, uy, uz, kx, ky, kz, L0c, ready, H0, V0, L0f, th0, D0x, D0y, D0z, general, thK,
 ):  # fmt: skip
     """``exit_points`` of one cable on scalars only (no arrays: no reference counts in the pose
     kernel's loop over cables): the attachment point B, the joint A, the pulley frame F (``ident``:
@@ -478,7 +516,8 @@ def _cable_at(
     start). ``general`` (``Heavy.general``): a DR pulley or an SR swivel axis off gravity, solved by
     ``_general_at``; else the sheave plane is the one through B (a vertical axis: the catenary's
     vertical plane contains the axis) and D's angle theta on it is solved with the catenary
-    (``_joint``, else the nested iterations).
+    (``_joint``, else the nested iterations); thK [rad] the angle of its entry point K on the sheave
+    (``Heavy.thK``: fixed on such a sheave, so computed once).
 
     Returns
     -------
@@ -496,15 +535,12 @@ def _cable_at(
             EA, w, ux, uy, uz, kx, ky, kz, L0c, ready, H0, V0, L0f, th0, D0x, D0y, D0z, g,
         )  # fmt: skip
     Hx, Hy, Hz = Ax + g.Hs * esx + g.Hw * kx, Ay + g.Hs * esy + g.Hw * ky, Az + g.Hs * esz + g.Hw * kz
-    thK = math.atan2(g.sK, g.cK) if rp > 0.0 else 0.0
     if ready > 0.0:
         th = th0
-        gamma = (thK - th) % TWO_PI
     else:
         th, H0, V0, L0f = math.atan2(g.sD, g.cD), np.nan, np.nan, np.nan
-        gamma = g.gamma
     sr = kind == 1 and rp > 0.0
-    ell = g.ld + rp * gamma
+    gamma = ell = np.nan
     H = V = np.nan
     code = 0
     l_h = l_v = 0.0
@@ -515,10 +551,9 @@ def _cable_at(
     th_prev = f_prev = np.nan
     joint = False
     if w > 0.0:  # all the cable's unknowns at once: from the start given, else from a cold one
-        tc = math.atan2(g.sD, g.cD) if ready > 0.0 else th
         joint, Hj, Vj, Lj, tj, it, ct, st, gamma_j = _joint_or_cold(
             Bx, By, Bz, Hx, Hy, Hz, esx, esy, esz, kx, ky, kz, ux, uy, uz, rp, g.ld, thK, sr, L0c, w, EA, ready > 0.0,
-            H0, V0, L0f, th, tc,
+            H0, V0, L0f, th, np.nan if ready > 0.0 else th, g.sD, g.cD,
         )  # fmt: skip
         if joint:
             H, V, L0f, th, gamma = Hj, Vj, Lj, tj, gamma_j
@@ -528,6 +563,8 @@ def _cable_at(
             ell = g.ld + rp * gamma
             code = U_SHAPED if (V < 0.0 and V + w * L0f > 0.0) else CATENARY
     if not joint:  # the nested iterations, from the given start (or the reference's)
+        gamma = _mod_two_pi(thK - th) if ready > 0.0 else g.gamma
+        ell = g.ld + rp * gamma
         for it in range(1, EXIT_MAXITER + 2):
             ct, st = math.cos(th), math.sin(th)
             _, _, _, Dx, Dy, Dz, vx, vy, vz, l_v, l_h, ehx, ehy, ehz = _spans_at(
@@ -548,7 +585,7 @@ def _cable_at(
             if not (T_D > 0.0 and math.isfinite(n_s) and math.isfinite(n_w)):
                 break
             g_th = math.atan2(n_w, n_s)  # the fixed point's map: theta <- g(theta)
-            f = (g_th - th + math.pi) % TWO_PI - math.pi
+            f = _mod_two_pi(g_th - th + math.pi) - math.pi
             vmax = max(abs(vx), abs(vy), abs(vz))
             # converged: one more pass solves the whole cable at D = g(theta) (the loop's last)
             last = rp * abs(f) <= 1e-15 * (1.0 + vmax)
@@ -561,7 +598,7 @@ def _cable_at(
                     th_new = th - f / slope
             th_prev, f_prev = th, f
             th = th_new
-            gamma = (thK - th) % TWO_PI
+            gamma = _mod_two_pi(thK - th)
             ell = g.ld + rp * gamma
     Ds = g.Hs + rp * (ct if joint else math.cos(th))
     return _result(
@@ -602,19 +639,45 @@ def exit_points(Bx, By, Bz, c, L0c, cab, frame, ident, heavy, start, out):
         F[2, 0], F[2, 1], F[2, 2], cab.kind[c], cab.h[c], cab.rp[c], cab.d[c], cab.inward[c, 0], cab.inward[c, 1],
         cab.ES[c], heavy.w[c], heavy.up[0], heavy.up[1], heavy.up[2], k[c, 0], k[c, 1], k[c, 2], L0c, start[_READY],
         start[_H], start[_V], start[_L0F], start[_TH], start[_DX], start[_DY], start[_DZ], heavy.general[c],
+        heavy.thK[c],
     )  # fmt: skip
     _store(out.reshape((1, NSTATE)), 0, H, V, L0f, th, T_B, T_D, l_h, l_v, Dx, Dy, Dz, gamma, code, ell, it)
     return H, V, L0f, l_h, l_v, ehx, ehy, ehz, ell, sw, epx, epy, epz, T_B, zD, ins, gam
 
 
 @njit(cache=True, error_model="numpy")
-def evaluate(px, py, pz, R, rfx, rfy, rfz, cab, body, heavy, L0, i, t, J, e6, g6, w, start, state, exact):
+def evaluate(
+    px,
+    py,
+    pz,
+    R,
+    rfx,
+    rfy,
+    rfz,
+    cab,
+    body,
+    heavy,
+    L0,
+    i,
+    t,
+    J,
+    e6,
+    g6,
+    G,
+    ins_out,
+    gam_out,
+    start,
+    state,
+    exact,
+):
     """``HeavyCables.evaluate`` at one pose (p, R) with rest lengths L0[i], merit relative to p_ref =
     (rfx, rfy, rfz), in the layout of ``equilibrium.evaluate``: writes the tensions at B t (m,),
     J (6, 6), e6 = (F (3), M (3), Fn = (F, M) (6), merit, inside), g6 = (grad = -Fn (6), kappa (2))
     and the cables' state (m, NSTATE) (``exit_points``, started from ``start``, which may be the
-    same array); ``w`` the pose kernel's scratch (its cab_inside, cab_gamma: the massless pulley
-    state at B, which the result reports; its hg: the exact dF/dB's scratch); ``exact``: each pulley
+    same array); G (3, 3) scratch (one cable's dF/dB); ins_out (m,) bool, gam_out (m,) [rad] written:
+    the massless pulley state at B, which the result reports (the pose kernel's scratch arrays,
+    passed alone: the whole scratch record would cost a reference count per member and call);
+    ``exact``: each pulley
     cable's dF/dB exact (``exact_force_gradient``, ``models.cables.HeavyCables.evaluate``'s
     ``exact``), else without D's slide on the sheave and a DR arm's turn."""
     b, frame, ident, f = body.b, body.frame, body.ident, body.f
@@ -631,8 +694,6 @@ def evaluate(px, py, pz, R, rfx, rfy, rfz, cab, body, heavy, L0, i, t, J, e6, g6
     for a in range(6):
         for q in range(6):
             J[a, q] = 0.0
-    scr = w.hg  # the exact dF/dB's scratch (``exact_force_gradient``) and one cable's dF/dB
-    G = scr[13:16, 0:3]
     A, kind, h, rp, d, inward, ES, k, wd, gen = (
         cab.A,
         cab.kind,
@@ -645,6 +706,7 @@ def evaluate(px, py, pz, R, rfx, rfy, rfz, cab, body, heavy, L0, i, t, J, e6, g6
         heavy.w,
         heavy.general,
     )
+    thk = heavy.thK
     for c in range(m):
         rx = R[0, 0] * b[c, 0] + R[0, 1] * b[c, 1] + R[0, 2] * b[c, 2]
         ry = R[1, 0] * b[c, 0] + R[1, 1] * b[c, 1] + R[1, 2] * b[c, 2]
@@ -655,12 +717,12 @@ def evaluate(px, py, pz, R, rfx, rfy, rfz, cab, body, heavy, L0, i, t, J, e6, g6
             frame[c, 0, 2], frame[c, 1, 0], frame[c, 1, 1], frame[c, 1, 2], frame[c, 2, 0], frame[c, 2, 1],
             frame[c, 2, 2], kind[c], h[c], rp[c], d[c], inward[c, 0], inward[c, 1], ES[c], wd[c], ux, uy, uz, k[c, 0],
             k[c, 1], k[c, 2], L0[i, c], start[c, _READY], start[c, _H], start[c, _V], start[c, _L0F], start[c, _TH],
-            start[c, _DX], start[c, _DY], start[c, _DZ], gen[c],
+            start[c, _DX], start[c, _DY], start[c, _DZ], gen[c], thk[c],
         )  # fmt: skip
         _store(state, c, H, V, L0f, th, T_B, T_D, l_h, l_v, Dx, Dy, Dz, gamma, code, ell, it)
         inside = inside or ins
-        w.cab_inside[c] = ins
-        w.cab_gamma[c] = gam
+        ins_out[c] = ins
+        gam_out[c] = gam
         t[c] = T_B
         wc, EA = wd[c], ES[c]
         Fix, Fiy, Fiz = H * ehx + V * ux, H * ehy + V * uy, H * ehz + V * uz
@@ -699,7 +761,7 @@ def evaluate(px, py, pz, R, rfx, rfy, rfz, cab, body, heavy, L0, i, t, J, e6, g6
                 px + rx, py + ry, pz + rz, Dx, Dy, Dz, H, V, L0f, ell, ehx, ehy, ehz, l_h, A[c, 0], A[c, 1], A[c, 2],
                 ident[c], frame[c, 0, 0], frame[c, 0, 1], frame[c, 0, 2], frame[c, 1, 0], frame[c, 1, 1],
                 frame[c, 1, 2], frame[c, 2, 0], frame[c, 2, 1], frame[c, 2, 2], kind[c], h[c], rp[c], d[c],
-                inward[c, 0], inward[c, 1], EA, wc, ux, uy, uz, k[c, 0], k[c, 1], k[c, 2], G, scr,
+                inward[c, 0], inward[c, 1], EA, wc, ux, uy, uz, k[c, 0], k[c, 1], k[c, 2], G,
             )  # fmt: skip
         add_cable_jacobian(
             J, G[0, 0], G[0, 1], G[0, 2], G[1, 0], G[1, 1], G[1, 2], G[2, 0], G[2, 1], G[2, 2],

@@ -198,7 +198,7 @@ class _Scratch(NamedTuple):
     piv: np.ndarray  # (6,) int64 LU pivots
     hc: np.ndarray  # (m, NSTATE) heavy cables: the state of the current pose (``cables.STATE``)
     ht: np.ndarray  # (m, NSTATE) heavy cables: the state of the trial pose
-    hg: np.ndarray  # (16, 9) heavy cables: one cable's dF/dB (rows 13-15) and its exact scratch
+    hg: np.ndarray  # (3, 3) heavy cables: one cable's dF/dB
 
 
 @njit(cache=True)
@@ -229,7 +229,7 @@ def scratch(m):
         np.empty(6, dtype=np.int64),
         np.zeros((m, NSTATE)),
         np.zeros((m, NSTATE)),
-        np.empty((16, 9)),
+        np.empty((3, 3)),
     )
 
 
@@ -473,8 +473,9 @@ def solve_pose(i, p_ref, P0, R0, L0, cab, body, opts, out, w, heavy):
         for c in range(m):
             w.hc[c, READY] = 0.0
         evaluate_heavy(
-            px, py, pz, R, rfx, rfy, rfz, cab, body, heavy, L0, i, t, J, e6, g6, w, w.hc, w.hc, False
-        )
+            px, py, pz, R, rfx, rfy, rfz, cab, body, heavy, L0, i, t, J, e6, g6, w.hg, w.cab_inside, w.cab_gamma,
+            w.hc, w.hc, False,
+        )  # fmt: skip
     else:
         evaluate(px, py, pz, R, rfx, rfy, rfz, cab, body, L0, i, t, J, e6, g6, w)
     add_wrench(e6, g6, px, py, pz, rfx, rfy, rfz, body.wrench)
@@ -568,7 +569,9 @@ def solve_pose(i, p_ref, P0, R0, L0, cab, body, opts, out, w, heavy):
                     w.Jt,
                     w.et,
                     w.gt,
-                    w,
+                    w.hg,
+                    w.cab_inside,
+                    w.cab_gamma,
                     w.hc,
                     w.ht,
                     whole,
@@ -860,7 +863,9 @@ def _solve_poses_batch(
             out.cat[k],
         )
         w = scratch(m)
-        massless = Heavy(False, np.zeros(m), np.zeros(3), np.zeros((m, 3)), np.zeros(m, dtype=np.bool_))
+        massless = Heavy(
+            False, np.zeros(m), np.zeros(3), np.zeros((m, 3)), np.zeros(m, dtype=np.bool_), np.zeros(m)
+        )
         for i in range(ch * CHUNK, min(n, (ch + 1) * CHUNK)):
             solve_pose(i, p_ref[k], P0[k], R0[k], L0[k], cab, body, opts, o, w, massless)
 

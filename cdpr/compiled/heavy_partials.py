@@ -9,13 +9,13 @@ import math
 from numba import njit
 
 from cdpr.compiled._kernels import SWIVEL_RHO_MIN, sheave
-from cdpr.compiled.catenary import flexibility
+from cdpr.compiled.catenary import terms_fast
 
 
 @njit(cache=True, error_model="numpy")
 def exact_force_gradient(
     Bx, By, Bz, Dx, Dy, Dz, H, V, L0f, ell, ehx, ehy, ehz, l_h, Ax, Ay, Az, ident, F00, F01, F02, F10, F11, F12,
-    F20, F21, F22, kind, h, rp, d, inx, iny, EA, w, ux, uy, uz, kx, ky, kz, G, M,
+    F20, F21, F22, kind, h, rp, d, inx, iny, EA, w, ux, uy, uz, kx, ky, kz, G,
 ):  # fmt: skip
     """The exact dF/dB (3 x 3, written into G) [N/m] of one heavy cable's end force F = H e_h + V_B up
     at its solution (``_cable_at``'s D, H, V_B, L0f, l_dead, e_h, l_h), the exit point's slide on the
@@ -25,8 +25,10 @@ def exact_force_gradient(
     tangent, the span equations, the split of the rest length), with D(P*) and l_dead(P*)
     differentiated in closed form in the sheave plane (Paty 2021 eq. 3-7: the tangent points
     theta_D = atan2(r) + acos(r_p/|r|), theta_K, the DR arm's centre h times the unit bisector, the
-    plane's turn about the axis (D_s/rho) e_perp e_perp^T). ``M`` (13, 9) scratch (rows 0-5 the
-    system, 6-12 D's and l_dead's derivatives and the result). Returns False
+    plane's turn about the axis (D_s/rho) e_perp e_perp^T). The 6 x 6 system [A B; C E] in
+    (P*, H, V_B, L0f) is solved by blocks in scalars: A (the end-tangent rows in P*, I minus D's
+    small slide) by its cofactors, then the Schur complement E - C A^-1 B; the span equations'
+    flexibility from ``catenary.terms_fast`` (the pose kernel's arithmetic). Returns False
     (G untouched) where the system is not finite or singular (a slack weightless cable, a vertical
     span, a point on the swivel axis): the caller keeps its approximate G there."""
     V_D = V + w * L0f
@@ -35,7 +37,8 @@ def exact_force_gradient(
     n = math.sqrt(vx * vx + vy * vy + vz * vz)
     if not (T_D > 0.0 and l_h > 0.0 and n > 0.0 and rp > 0.0 and kind != 0):
         return False
-    uvx, uvy, uvz = -(H * ehx + V_D * ux) / T_D, -(H * ehy + V_D * uy) / T_D, -(H * ehz + V_D * uz) / T_D
+    iT = 1.0 / T_D
+    uvx, uvy, uvz = -(H * ehx + V_D * ux) * iT, -(H * ehy + V_D * uy) * iT, -(H * ehz + V_D * uz) * iT
     Px, Py, Pz = Dx + n * uvx, Dy + n * uvy, Dz + n * uvz  # the virtual point P*
     g, esx, esy, esz = sheave(
         Px, Py, Pz, Ax, Ay, Az, ident, F00, F01, F02, F10, F11, F12, F20, F21, F22, kind, h, rp, d, inx, iny
@@ -44,7 +47,6 @@ def exact_force_gradient(
     if not rho > SWIVEL_RHO_MIN:
         return False
     wP = (Px - Ax) * kx + (Py - Ay) * ky + (Pz - Az) * kz
-    # in the sheave plane, q = (rho, w_P): the centre's derivative Hq (DR: h times the bisector)
     q00 = q01 = q10 = q11 = 0.0
     if kind == 2:
         nP = math.sqrt(rho * rho + wP * wP)
@@ -53,123 +55,212 @@ def exact_force_gradient(
         nb = math.sqrt(b0 * b0 + b1 * b1)
         c0, c1 = b0 / nb, b1 / nb
         f = h / (nb * nP)
-        m00, m01, m11 = 1.0 - c0 * c0, -c0 * c1, 1.0 - c1 * c1  # (I - bh bh^T)
-        n00, n01, n11 = 1.0 - a0 * a0, -a0 * a1, 1.0 - a1 * a1  # (I - a a^T)
+        m00, m01, m11 = 1.0 - c0 * c0, -c0 * c1, 1.0 - c1 * c1
+        n00, n01, n11 = 1.0 - a0 * a0, -a0 * a1, 1.0 - a1 * a1
         q00, q01 = f * (m00 * n00 + m01 * n01), f * (m00 * n01 + m01 * n11)
         q10, q11 = f * (m01 * n00 + m11 * n01), f * (m01 * n01 + m11 * n11)
     rs, rw = rho - g.Hs, wP - g.Hw
     R2 = rs * rs + rw * rw
     lE = math.sqrt(max(R2 - rp * rp, 0.0))
-    gD0, gD1 = (-rw + rp * rs / lE) / R2, (rs + rp * rw / lE) / R2  # dtheta_D/dr
-    tD0 = gD0 * (1.0 - q00) - gD1 * q10  # dtheta_D/dq, r = q - Hc
+    gD0, gD1 = (-rw + rp * rs / lE) / R2, (rs + rp * rw / lE) / R2
+    tD0 = gD0 * (1.0 - q00) - gD1 * q10
     tD1 = -gD0 * q01 + gD1 * (1.0 - q11)
-    cs, cw = -g.Hs, -d - g.Hw
-    RC2 = cs * cs + cw * cw
-    ld = g.ld
     tK0 = tK1 = dl0 = dl1 = 0.0
-    if kind == 2:  # the entry side moves with the arm: c = C - Hc
+    if kind == 2:
+        cs, cw = -g.Hs, -d - g.Hw
+        RC2 = cs * cs + cw * cw
+        ld = g.ld
         gK0, gK1 = (-cw - rp * cs / ld) / RC2, (cs - rp * cw / ld) / RC2
         tK0, tK1 = -(gK0 * q00 + gK1 * q10), -(gK0 * q01 + gK1 * q11)
         dl0, dl1 = -(cs * q00 + cw * q10) / ld, -(cs * q01 + cw * q11) / ld
-    # D's in-plane coordinates (D_s, D_w) = Hc + r_p (cos, sin) theta_D and l_dead = l_d + r_p gamma
     i00, i01 = q00 - rp * g.sD * tD0, q01 - rp * g.sD * tD1
     i10, i11 = q10 + rp * g.cD * tD0, q11 + rp * g.cD * tD1
     e0, e1 = dl0 + rp * (tK0 - tD0), dl1 + rp * (tK1 - tD1)
-    Ds = g.Hs + rp * g.cD
-    sw = Ds / rho
-    es = (esx, esy, esz)
-    kk = (kx, ky, kz)
-    ep = (ky * esz - kz * esy, kz * esx - kx * esz, kx * esy - ky * esx)
-    eh = (ehx, ehy, ehz)
-    up = (ux, uy, uz)
-    uv = (uvx, uvy, uvz)
-    nv = (vx / n, vy / n, vz / n)
-    Dp, flat, lp = M[6:9, 0:3], M[6:9, 3:6], M[9, 0:3]
-    for a in range(3):
-        for b in range(3):
-            Dp[a, b] = (
-                es[a] * (i00 * es[b] + i01 * kk[b]) + kk[a] * (i10 * es[b] + i11 * kk[b]) + sw * ep[a] * ep[b]
-            )
-        lp[a] = e0 * es[a] + e1 * kk[a]
-    for a in range(3):
-        if not (math.isfinite(lp[a]) and math.isfinite(Dp[a, 0] + Dp[a, 1] + Dp[a, 2])):
-            return False
-    for a in range(3):
-        for b in range(3):
-            flat[a, b] = ((1.0 if a == b else 0.0) - eh[a] * eh[b] - up[a] * up[b]) / l_h
-    f11, f12, f22 = flexibility(H, V, L0f, w, EA)
-    kq = 1.0 / EA + 1.0 / T_D
+    sw = (g.Hs + rp * g.cD) / rho
+    epx, epy, epz = ky * esz - kz * esy, kz * esx - kx * esz, kx * esy - ky * esx
+    # Dp = dD/dP* = es (i00 es + i01 k)^T + k (i10 es + i11 k)^T + sw ep ep^T; a = i00 es + i01 k, b = i10 es + i11 k
+    ax_, ay_, az_ = i00 * esx + i01 * kx, i00 * esy + i01 * ky, i00 * esz + i01 * kz
+    bx_, by_, bz_ = i10 * esx + i11 * kx, i10 * esy + i11 * ky, i10 * esz + i11 * kz
+    D00 = esx * ax_ + kx * bx_ + sw * epx * epx
+    D01 = esx * ay_ + kx * by_ + sw * epx * epy
+    D02 = esx * az_ + kx * bz_ + sw * epx * epz
+    D10 = esy * ax_ + ky * bx_ + sw * epy * epx
+    D11 = esy * ay_ + ky * by_ + sw * epy * epy
+    D12 = esy * az_ + ky * bz_ + sw * epy * epz
+    D20 = esz * ax_ + kz * bx_ + sw * epz * epx
+    D21 = esz * ay_ + kz * by_ + sw * epz * epy
+    D22 = esz * az_ + kz * bz_ + sw * epz * epz
+    lp0, lp1, lp2 = e0 * esx + e1 * kx, e0 * esy + e1 * ky, e0 * esz + e1 * kz
+    if not (
+        math.isfinite(D00 + D01 + D02 + D10 + D11 + D12 + D20 + D21 + D22) and math.isfinite(lp0 + lp1 + lp2)
+    ):
+        return False
+    # flat = (I - eh eh^T - up up^T) / l_h = q q^T / l_h, q = up x eh (eh horizontal: q unit)
+    qx, qy, qz = uy * ehz - uz * ehy, uz * ehx - ux * ehz, ux * ehy - uy * ehx
+    il = 1.0 / l_h
+    nvx, nvy, nvz = vx / n, vy / n, vz / n
+    # row vectors over P* columns: nv^T Dp, q^T Dp, eh^T Dp, up^T Dp
+    nD0, nD1, nD2 = (
+        nvx * D00 + nvy * D10 + nvz * D20,
+        nvx * D01 + nvy * D11 + nvz * D21,
+        nvx * D02 + nvy * D12 + nvz * D22,
+    )
+    qD0, qD1, qD2 = (
+        qx * D00 + qy * D10 + qz * D20,
+        qx * D01 + qy * D11 + qz * D21,
+        qx * D02 + qy * D12 + qz * D22,
+    )
+    hD0, hD1, hD2 = (
+        ehx * D00 + ehy * D10 + ehz * D20,
+        ehx * D01 + ehy * D11 + ehz * D21,
+        ehx * D02 + ehy * D12 + ehz * D22,
+    )
+    uD0, uD1, uD2 = (
+        ux * D00 + uy * D10 + uz * D20,
+        ux * D01 + uy * D11 + uz * D21,
+        ux * D02 + uy * D12 + uz * D22,
+    )
+    c = n * H * iT
+    cl = c * il
+    # A (R1 rows, P* cols): I - Dp - uv nD^T + cl q qD^T
+    A00 = 1.0 - D00 - uvx * nD0 + cl * qx * qD0
+    A01 = -D01 - uvx * nD1 + cl * qx * qD1
+    A02 = -D02 - uvx * nD2 + cl * qx * qD2
+    A10 = -D10 - uvy * nD0 + cl * qy * qD0
+    A11 = 1.0 - D11 - uvy * nD1 + cl * qy * qD1
+    A12 = -D12 - uvy * nD2 + cl * qy * qD2
+    A20 = -D20 - uvz * nD0 + cl * qz * qD0
+    A21 = -D21 - uvz * nD1 + cl * qz * qD1
+    A22 = 1.0 - D22 - uvz * nD2 + cl * qz * qD2
+    # Bm (R1 rows; cols H T_D, V_B T_D, L0f): n (eh + uv H/T_D), n (up + uv V_D/T_D), w n/T_D (...)
+    hT, vT = H * iT, V_D * iT
+    B00, B10, B20 = n * (ehx + uvx * hT), n * (ehy + uvy * hT), n * (ehz + uvz * hT)
+    B01, B11, B21 = n * (ux + uvx * vT), n * (uy + uvy * vT), n * (uz + uvz * vT)
+    wi = w * iT
+    B02, B12, B22 = wi * B01, wi * B11, wi * B21
+    # right-hand side of R1: -(uv nv^T - cl q q^T)
+    r00, r01, r02 = -(uvx * nvx - cl * qx * qx), -(uvx * nvy - cl * qx * qy), -(uvx * nvz - cl * qx * qz)
+    r10, r11, r12 = -(uvy * nvx - cl * qy * qx), -(uvy * nvy - cl * qy * qy), -(uvy * nvz - cl * qy * qz)
+    r20, r21, r22 = -(uvz * nvx - cl * qz * qx), -(uvz * nvy - cl * qz * qy), -(uvz * nvz - cl * qz * qz)
+    # Cm (R2, R3 rows; P* cols) and Dm (cols H T_D, V_B T_D, L0f), their right-hand side s
+    _, _, _, _, Qh, _, Qd, Qx, _ = terms_fast(H, V, L0f, w)
+    e = L0f / EA
+    f11, f12, f22 = e + L0f * (Qh - Qd), L0f * Qx, e + L0f * Qd
+    kq = 1.0 / EA + iT
     if math.isinf(EA):
         rs_, rT = 1.0, 0.0
     else:
         rs_ = EA / (EA + T_D)
         rT = -rs_ / (EA + T_D)
-    c = n * H / T_D
-    # rows: R1 (3), R2 (2), R3; columns: P* (3), H, V_B, L0f | the right-hand side -dR/dB (3)
-    for a in range(3):
-        for b in range(3):
-            nD = nv[0] * Dp[0, b] + nv[1] * Dp[1, b] + nv[2] * Dp[2, b]
-            fD = flat[a, 0] * Dp[0, b] + flat[a, 1] * Dp[1, b] + flat[a, 2] * Dp[2, b]
-            M[a, b] = (1.0 if a == b else 0.0) - Dp[a, b] - uv[a] * nD + c * fD
-            M[a, 6 + b] = -(uv[a] * nv[b] - c * flat[a, b])
-        M[a, 3] = n / T_D * (eh[a] + uv[a] * H / T_D)
-        M[a, 4] = n / T_D * (up[a] + uv[a] * V_D / T_D)
-        M[a, 5] = w * M[a, 4]
-    for b in range(3):
-        M[3, b] = -(eh[0] * Dp[0, b] + eh[1] * Dp[1, b] + eh[2] * Dp[2, b])
-        M[4, b] = -(up[0] * Dp[0, b] + up[1] * Dp[1, b] + up[2] * Dp[2, b])
-        M[5, b] = rs_ * lp[b]
-        M[3, 6 + b] = -eh[b]
-        M[4, 6 + b] = -up[b]
-        M[5, 6 + b] = 0.0
-    M[3, 3], M[3, 4], M[3, 5] = f11, f12, kq * H
-    M[4, 3], M[4, 4], M[4, 5] = f12, f22, kq * V_D
-    M[5, 3] = ell * rT * H / T_D
-    M[5, 4] = ell * rT * V_D / T_D
-    M[5, 5] = 1.0 + w * M[5, 4]
-    # Gaussian elimination with partial pivoting, columns scaled to comparable sizes by T_D
-    for r in range(6):
-        M[r, 3] *= T_D
-        M[r, 4] *= T_D
-    for col in range(6):
-        piv = col
-        for r in range(col + 1, 6):
-            if abs(M[r, col]) > abs(M[piv, col]):
-                piv = r
-        if not abs(M[piv, col]) > 0.0:
-            return False
-        if piv != col:
-            for b in range(9):
-                M[col, b], M[piv, b] = M[piv, b], M[col, b]
-        for r in range(col + 1, 6):
-            fr = M[r, col] / M[col, col]
-            for b in range(col, 9):
-                M[r, b] -= fr * M[col, b]
-    for col in range(5, -1, -1):
-        for b in range(6, 9):
-            acc = M[col, b]
-            for k in range(col + 1, 6):
-                acc -= M[col, k] * M[k, b]
-            M[col, b] = acc / M[col, col]
-    # dz/dB in M[:6, 6:9] (H, V_B scaled by T_D); dF/dB = e_h dH + H flat (Dp dP* - I) + up dV_B
-    dv = M[10:13, 0:3]
-    for a in range(3):
-        for b in range(3):
-            dv[a, b] = (
-                -(1.0 if a == b else 0.0)
-                + Dp[a, 0] * M[0, 6 + b]
-                + Dp[a, 1] * M[1, 6 + b]
-                + Dp[a, 2] * M[2, 6 + b]
-            )
-    ok = True
-    out = M[10:13, 3:6]
-    for a in range(3):
-        for b in range(3):
-            fdv = flat[a, 0] * dv[0, b] + flat[a, 1] * dv[1, b] + flat[a, 2] * dv[2, b]
-            out[a, b] = eh[a] * T_D * M[3, 6 + b] + H * fdv + up[a] * T_D * M[4, 6 + b]
-            ok = ok and math.isfinite(out[a, b])
-    if ok:
-        for a in range(3):
-            for b in range(3):
-                G[a, b] = out[a, b]
-    return ok
+    C00, C01, C02 = -hD0, -hD1, -hD2
+    C10, C11, C12 = -uD0, -uD1, -uD2
+    C20, C21, C22 = rs_ * lp0, rs_ * lp1, rs_ * lp2
+    E00, E01, E02 = f11 * T_D, f12 * T_D, kq * H
+    E10, E11, E12 = f12 * T_D, f22 * T_D, kq * V_D
+    m53 = ell * rT * H * iT
+    m54 = ell * rT * V_D * iT
+    E20, E21, E22 = m53 * T_D, m54 * T_D, 1.0 + w * m54
+    s00, s01, s02 = -ehx, -ehy, -ehz
+    s10, s11, s12 = -ux, -uy, -uz
+    # A^-1 by cofactors
+    a00, a01, a02 = A11 * A22 - A12 * A21, A02 * A21 - A01 * A22, A01 * A12 - A02 * A11
+    a10, a11, a12 = A12 * A20 - A10 * A22, A00 * A22 - A02 * A20, A02 * A10 - A00 * A12
+    a20, a21, a22 = A10 * A21 - A11 * A20, A01 * A20 - A00 * A21, A00 * A11 - A01 * A10
+    det = A00 * a00 + A01 * a10 + A02 * a20
+    if not (abs(det) > 0.0 and math.isfinite(det)):
+        return False
+    idt = 1.0 / det
+    a00 *= idt
+    a01 *= idt
+    a02 *= idt
+    a10 *= idt
+    a11 *= idt
+    a12 *= idt
+    a20 *= idt
+    a21 *= idt
+    a22 *= idt
+    # X = A^-1 Bm, Y = A^-1 r
+    X00 = a00 * B00 + a01 * B10 + a02 * B20
+    X01 = a00 * B01 + a01 * B11 + a02 * B21
+    X02 = a00 * B02 + a01 * B12 + a02 * B22
+    X10 = a10 * B00 + a11 * B10 + a12 * B20
+    X11 = a10 * B01 + a11 * B11 + a12 * B21
+    X12 = a10 * B02 + a11 * B12 + a12 * B22
+    X20 = a20 * B00 + a21 * B10 + a22 * B20
+    X21 = a20 * B01 + a21 * B11 + a22 * B21
+    X22 = a20 * B02 + a21 * B12 + a22 * B22
+    Y00 = a00 * r00 + a01 * r10 + a02 * r20
+    Y01 = a00 * r01 + a01 * r11 + a02 * r21
+    Y02 = a00 * r02 + a01 * r12 + a02 * r22
+    Y10 = a10 * r00 + a11 * r10 + a12 * r20
+    Y11 = a10 * r01 + a11 * r11 + a12 * r21
+    Y12 = a10 * r02 + a11 * r12 + a12 * r22
+    Y20 = a20 * r00 + a21 * r10 + a22 * r20
+    Y21 = a20 * r01 + a21 * r11 + a22 * r21
+    Y22 = a20 * r02 + a21 * r12 + a22 * r22
+    # Schur complement S = Dm - Cm X, right-hand side t = s - Cm Y (s's third row 0)
+    S00 = E00 - (C00 * X00 + C01 * X10 + C02 * X20)
+    S01 = E01 - (C00 * X01 + C01 * X11 + C02 * X21)
+    S02 = E02 - (C00 * X02 + C01 * X12 + C02 * X22)
+    S10 = E10 - (C10 * X00 + C11 * X10 + C12 * X20)
+    S11 = E11 - (C10 * X01 + C11 * X11 + C12 * X21)
+    S12 = E12 - (C10 * X02 + C11 * X12 + C12 * X22)
+    S20 = E20 - (C20 * X00 + C21 * X10 + C22 * X20)
+    S21 = E21 - (C20 * X01 + C21 * X11 + C22 * X21)
+    S22 = E22 - (C20 * X02 + C21 * X12 + C22 * X22)
+    t00 = s00 - (C00 * Y00 + C01 * Y10 + C02 * Y20)
+    t01 = s01 - (C00 * Y01 + C01 * Y11 + C02 * Y21)
+    t02 = s02 - (C00 * Y02 + C01 * Y12 + C02 * Y22)
+    t10 = s10 - (C10 * Y00 + C11 * Y10 + C12 * Y20)
+    t11 = s11 - (C10 * Y01 + C11 * Y11 + C12 * Y21)
+    t12 = s12 - (C10 * Y02 + C11 * Y12 + C12 * Y22)
+    t20 = -(C20 * Y00 + C21 * Y10 + C22 * Y20)
+    t21 = -(C20 * Y01 + C21 * Y11 + C22 * Y21)
+    t22 = -(C20 * Y02 + C21 * Y12 + C22 * Y22)
+    # S^-1 by cofactors; only rows H and V_B of Z = S^-1 t are needed with those of P*: all three rows
+    b00, b01, b02 = S11 * S22 - S12 * S21, S02 * S21 - S01 * S22, S01 * S12 - S02 * S11
+    b10, b11, b12 = S12 * S20 - S10 * S22, S00 * S22 - S02 * S20, S02 * S10 - S00 * S12
+    b20, b21, b22 = S10 * S21 - S11 * S20, S01 * S20 - S00 * S21, S00 * S11 - S01 * S10
+    ds = S00 * b00 + S01 * b10 + S02 * b20
+    if not (abs(ds) > 0.0 and math.isfinite(ds)):
+        return False
+    ids = 1.0 / ds
+    Z00 = (b00 * t00 + b01 * t10 + b02 * t20) * ids
+    Z01 = (b00 * t01 + b01 * t11 + b02 * t21) * ids
+    Z02 = (b00 * t02 + b01 * t12 + b02 * t22) * ids
+    Z10 = (b10 * t00 + b11 * t10 + b12 * t20) * ids
+    Z11 = (b10 * t01 + b11 * t11 + b12 * t21) * ids
+    Z12 = (b10 * t02 + b11 * t12 + b12 * t22) * ids
+    Z20 = (b20 * t00 + b21 * t10 + b22 * t20) * ids
+    Z21 = (b20 * t01 + b21 * t11 + b22 * t21) * ids
+    Z22 = (b20 * t02 + b21 * t12 + b22 * t22) * ids
+    # dP*/dB = Y - X Z
+    P00 = Y00 - (X00 * Z00 + X01 * Z10 + X02 * Z20)
+    P01 = Y01 - (X00 * Z01 + X01 * Z11 + X02 * Z21)
+    P02 = Y02 - (X00 * Z02 + X01 * Z12 + X02 * Z22)
+    P10 = Y10 - (X10 * Z00 + X11 * Z10 + X12 * Z20)
+    P11 = Y11 - (X10 * Z01 + X11 * Z11 + X12 * Z21)
+    P12 = Y12 - (X10 * Z02 + X11 * Z12 + X12 * Z22)
+    P20 = Y20 - (X20 * Z00 + X21 * Z10 + X22 * Z20)
+    P21 = Y21 - (X20 * Z01 + X21 * Z11 + X22 * Z21)
+    P22 = Y22 - (X20 * Z02 + X21 * Z12 + X22 * Z22)
+    # dv = Dp dP*/dB - I; dF/dB = eh (T_D dH) + H flat dv + up (T_D dV_B), flat dv = q (q^T dv) / l_h
+    qv0 = qD0 * P00 + qD1 * P10 + qD2 * P20 - qx
+    qv1 = qD0 * P01 + qD1 * P11 + qD2 * P21 - qy
+    qv2 = qD0 * P02 + qD1 * P12 + qD2 * P22 - qz
+    hl = H * il
+    g00 = ehx * T_D * Z00 + hl * qx * qv0 + ux * T_D * Z10
+    g01 = ehx * T_D * Z01 + hl * qx * qv1 + ux * T_D * Z11
+    g02 = ehx * T_D * Z02 + hl * qx * qv2 + ux * T_D * Z12
+    g10 = ehy * T_D * Z00 + hl * qy * qv0 + uy * T_D * Z10
+    g11 = ehy * T_D * Z01 + hl * qy * qv1 + uy * T_D * Z11
+    g12 = ehy * T_D * Z02 + hl * qy * qv2 + uy * T_D * Z12
+    g20 = ehz * T_D * Z00 + hl * qz * qv0 + uz * T_D * Z10
+    g21 = ehz * T_D * Z01 + hl * qz * qv1 + uz * T_D * Z11
+    g22 = ehz * T_D * Z02 + hl * qz * qv2 + uz * T_D * Z12
+    if not math.isfinite(g00 + g01 + g02 + g10 + g11 + g12 + g20 + g21 + g22):
+        return False
+    G[0, 0], G[0, 1], G[0, 2] = g00, g01, g02
+    G[1, 0], G[1, 1], G[1, 2] = g10, g11, g12
+    G[2, 0], G[2, 1], G[2, 2] = g20, g21, g22
+    return True
