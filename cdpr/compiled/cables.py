@@ -647,29 +647,8 @@ def exit_points(Bx, By, Bz, c, L0c, cab, frame, ident, heavy, start, out):
 
 @njit(cache=True, error_model="numpy")
 def evaluate(
-    px,
-    py,
-    pz,
-    R,
-    rfx,
-    rfy,
-    rfz,
-    cab,
-    body,
-    heavy,
-    L0,
-    i,
-    t,
-    J,
-    e6,
-    g6,
-    G,
-    ins_out,
-    gam_out,
-    start,
-    state,
-    exact,
-):
+    px, py, pz, R, rfx, rfy, rfz, cab, body, heavy, L0, i, t, J, e6, g6, G, ins_out, gam_out, start, state, exact
+):  # fmt: skip
     """``HeavyCables.evaluate`` at one pose (p, R) with rest lengths L0[i], merit relative to p_ref =
     (rfx, rfy, rfz), in the layout of ``equilibrium.evaluate``: writes the tensions at B t (m,),
     J (6, 6), e6 = (F (3), M (3), Fn = (F, M) (6), merit, inside), g6 = (grad = -Fn (6), kappa (2))

@@ -13,6 +13,25 @@ from cdpr.compiled.catenary import terms_fast
 
 
 @njit(cache=True, error_model="numpy")
+def _left(ax, ay, az, D00, D01, D02, D10, D11, D12, D20, D21, D22):
+    """a^T D of a 3-vector a and a 3 x 3 matrix D given as scalars (row-major): 3 floats."""
+    return (
+        ax * D00 + ay * D10 + az * D20,
+        ax * D01 + ay * D11 + az * D21,
+        ax * D02 + ay * D12 + az * D22,
+    )
+
+
+@njit(cache=True, error_model="numpy")
+def _adjugate(M00, M01, M02, M10, M11, M12, M20, M21, M22):
+    """The adjugate (row-major, 9 floats) and the determinant of a 3 x 3 matrix given as scalars."""
+    a00, a01, a02 = M11 * M22 - M12 * M21, M02 * M21 - M01 * M22, M01 * M12 - M02 * M11
+    a10, a11, a12 = M12 * M20 - M10 * M22, M00 * M22 - M02 * M20, M02 * M10 - M00 * M12
+    a20, a21, a22 = M10 * M21 - M11 * M20, M01 * M20 - M00 * M21, M00 * M11 - M01 * M10
+    return a00, a01, a02, a10, a11, a12, a20, a21, a22, M00 * a00 + M01 * a10 + M02 * a20
+
+
+@njit(cache=True, error_model="numpy")
 def exact_force_gradient(
     Bx, By, Bz, Dx, Dy, Dz, H, V, L0f, ell, ehx, ehy, ehz, l_h, Ax, Ay, Az, ident, F00, F01, F02, F10, F11, F12,
     F20, F21, F22, kind, h, rp, d, inx, iny, EA, w, ux, uy, uz, kx, ky, kz, G,
@@ -100,26 +119,11 @@ def exact_force_gradient(
     il = 1.0 / l_h
     nvx, nvy, nvz = vx / n, vy / n, vz / n
     # row vectors over P* columns: nv^T Dp, q^T Dp, eh^T Dp, up^T Dp
-    nD0, nD1, nD2 = (
-        nvx * D00 + nvy * D10 + nvz * D20,
-        nvx * D01 + nvy * D11 + nvz * D21,
-        nvx * D02 + nvy * D12 + nvz * D22,
-    )
-    qD0, qD1, qD2 = (
-        qx * D00 + qy * D10 + qz * D20,
-        qx * D01 + qy * D11 + qz * D21,
-        qx * D02 + qy * D12 + qz * D22,
-    )
-    hD0, hD1, hD2 = (
-        ehx * D00 + ehy * D10 + ehz * D20,
-        ehx * D01 + ehy * D11 + ehz * D21,
-        ehx * D02 + ehy * D12 + ehz * D22,
-    )
-    uD0, uD1, uD2 = (
-        ux * D00 + uy * D10 + uz * D20,
-        ux * D01 + uy * D11 + uz * D21,
-        ux * D02 + uy * D12 + uz * D22,
-    )
+    Dp = (D00, D01, D02, D10, D11, D12, D20, D21, D22)
+    nD0, nD1, nD2 = _left(nvx, nvy, nvz, *Dp)
+    qD0, qD1, qD2 = _left(qx, qy, qz, *Dp)
+    hD0, hD1, hD2 = _left(ehx, ehy, ehz, *Dp)
+    uD0, uD1, uD2 = _left(ux, uy, uz, *Dp)
     c = n * H * iT
     cl = c * il
     # A (R1 rows, P* cols): I - Dp - uv nD^T + cl q qD^T
@@ -162,11 +166,8 @@ def exact_force_gradient(
     E20, E21, E22 = m53 * T_D, m54 * T_D, 1.0 + w * m54
     s00, s01, s02 = -ehx, -ehy, -ehz
     s10, s11, s12 = -ux, -uy, -uz
-    # A^-1 by cofactors
-    a00, a01, a02 = A11 * A22 - A12 * A21, A02 * A21 - A01 * A22, A01 * A12 - A02 * A11
-    a10, a11, a12 = A12 * A20 - A10 * A22, A00 * A22 - A02 * A20, A02 * A10 - A00 * A12
-    a20, a21, a22 = A10 * A21 - A11 * A20, A01 * A20 - A00 * A21, A00 * A11 - A01 * A10
-    det = A00 * a00 + A01 * a10 + A02 * a20
+    # A^-1 by its adjugate
+    a00, a01, a02, a10, a11, a12, a20, a21, a22, det = _adjugate(A00, A01, A02, A10, A11, A12, A20, A21, A22)
     if not (abs(det) > 0.0 and math.isfinite(det)):
         return False
     idt = 1.0 / det
@@ -217,11 +218,8 @@ def exact_force_gradient(
     t20 = -(C20 * Y00 + C21 * Y10 + C22 * Y20)
     t21 = -(C20 * Y01 + C21 * Y11 + C22 * Y21)
     t22 = -(C20 * Y02 + C21 * Y12 + C22 * Y22)
-    # S^-1 by cofactors; only rows H and V_B of Z = S^-1 t are needed with those of P*: all three rows
-    b00, b01, b02 = S11 * S22 - S12 * S21, S02 * S21 - S01 * S22, S01 * S12 - S02 * S11
-    b10, b11, b12 = S12 * S20 - S10 * S22, S00 * S22 - S02 * S20, S02 * S10 - S00 * S12
-    b20, b21, b22 = S10 * S21 - S11 * S20, S01 * S20 - S00 * S21, S00 * S11 - S01 * S10
-    ds = S00 * b00 + S01 * b10 + S02 * b20
+    # Z = S^-1 t (rows H T_D, V_B T_D, L0f) by S's adjugate
+    b00, b01, b02, b10, b11, b12, b20, b21, b22, ds = _adjugate(S00, S01, S02, S10, S11, S12, S20, S21, S22)
     if not (abs(ds) > 0.0 and math.isfinite(ds)):
         return False
     ids = 1.0 / ds
