@@ -656,9 +656,9 @@ def evaluate(
     same array); G (3, 3) scratch (one cable's dF/dB); ins_out (m,) bool, gam_out (m,) [rad] written:
     the massless pulley state at B, which the result reports (the pose kernel's scratch arrays,
     passed alone: the whole scratch record would cost a reference count per member and call);
-    ``exact``: each pulley
-    cable's dF/dB exact (``exact_force_gradient``, ``models.cables.HeavyCables.evaluate``'s
-    ``exact``), else without D's slide on the sheave and a DR arm's turn."""
+    ``exact``: each pulley cable's dF/dB exact (``exact_force_gradient``,
+    ``models.cables.HeavyCables.evaluate``'s ``exact``), else without D's slide on the sheave and a
+    DR arm's turn."""
     b, frame, ident, f = body.b, body.frame, body.ident, body.f
     m = cab.A.shape[0]
     ux, uy, uz = heavy.up[0], heavy.up[1], heavy.up[2]
