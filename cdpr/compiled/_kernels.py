@@ -59,7 +59,9 @@ __all__ = [
     "cable_partials_at",
     "cable_partials_axis",
     "commanded_input",
+    "entry_angle",
     "in_frame",
+    "mod_two_pi",
     "newton_options",
     "pulley_frames",
     "pulley_geometry",
@@ -728,3 +730,28 @@ def sheave(
     if ident:
         return g, g.esx, g.esy, 0.0
     return g, g.esx * F00 + g.esy * F10, g.esx * F01 + g.esy * F11, g.esx * F02 + g.esy * F12
+
+
+@njit(cache=True, error_model="numpy")
+def entry_angle(kind, h, rp, d):
+    """The angle [rad] on the sheave (in its plane, from e_s toward the axis) of the entry point K,
+    where the cable from the winch exit C = (0, -d) meets the sheave of centre (h, 0): the massless
+    pulley geometry's (``pulley_geometry``, whose arithmetic this is) atan2(sin, cos) of
+    theta_K, the same wherever the platform is for a fixed or SR pulley (a DR arm moves the centre);
+    0 without a sheave (r_p = 0)."""
+    if not rp > 0.0:
+        return 0.0
+    g = pulley_geometry(1.0, 0.0, -1.0, 0.0, 0.0, 0.0, kind, h, rp, d, 1.0, 0.0)
+    return math.atan2(g.sK, g.cK)
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def mod_two_pi(x):
+    """x % (2 pi), Python's modulo into [0, 2 pi), without the library's fmod where x lies within a
+    turn of that range (an angle on the sheave moved by a step): the same floating-point result,
+    fmod being exact there (a zero goes to ``%``, whose signed zero is +0)."""
+    if 0.0 < x < TWO_PI:
+        return x
+    if -TWO_PI < x < 0.0:
+        return x + TWO_PI
+    return x % TWO_PI

@@ -33,7 +33,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit, prange
 
-from cdpr.compiled._kernels import SWIVEL_RHO_MIN, TWO_PI, pulley_geometry, set_threads, sheave
+from cdpr.compiled._kernels import SWIVEL_RHO_MIN, TWO_PI, entry_angle, mod_two_pi, set_threads, sheave
 from cdpr.compiled._linalg import add_cable_jacobian, add_gravity
 from cdpr.compiled.catenary import (
     angle_f_deg,
@@ -102,7 +102,7 @@ class Heavy(NamedTuple):
     tangent (a DR pulley, an SR swivel axis off gravity: ``_general_at``), else it is the plane
     through B (fixed pulleys, SR pulleys with axes along gravity: ``_joint``); thK (m,) [rad] the
     angle on the sheave of the entry point K (toward the winch) of the cables that are not general,
-    which the sheave's fixed centre makes constant (``_entry_angle``; 0 without a sheave, NaN for
+    which the sheave's fixed centre makes constant (``entry_angle``; 0 without a sheave, NaN for
     general cables, whose K moves)."""
 
     on: bool
@@ -135,7 +135,7 @@ def heavy_arrays(cab=None, m=0):
     kind, r_p = a.kind, a.r_p
     general = (r_p > 0.0) & ((kind == 2) | ((kind == 1) & (np.abs(cab.axis @ cab.up) < 1.0 - 1e-12)))
     thK = np.array(
-        [_entry_angle(int(k), float(hh), float(r), float(dd)) for k, hh, r, dd in zip(kind, a.h, r_p, a.d)]
+        [entry_angle(int(k), float(hh), float(r), float(dd)) for k, hh, r, dd in zip(kind, a.h, r_p, a.d)]
     )
     return Heavy(
         True,
@@ -145,31 +145,6 @@ def heavy_arrays(cab=None, m=0):
         f(general, dtype=np.bool_),
         f(np.where(general, np.nan, thK)),
     )
-
-
-@njit(cache=True, error_model="numpy")
-def _entry_angle(kind, h, rp, d):
-    """The angle [rad] on the sheave (in its plane, from e_s toward the axis) of the entry point K,
-    where the cable from the winch exit C = (0, -d) meets the sheave of centre (h, 0): the massless
-    pulley geometry's (``_kernels.pulley_geometry``, whose arithmetic this is) atan2(sin, cos) of
-    theta_K, the same wherever the platform is for a fixed or SR pulley (a DR arm moves the centre);
-    0 without a sheave (r_p = 0)."""
-    if not rp > 0.0:
-        return 0.0
-    g = pulley_geometry(1.0, 0.0, -1.0, 0.0, 0.0, 0.0, kind, h, rp, d, 1.0, 0.0)
-    return math.atan2(g.sK, g.cK)
-
-
-@njit(cache=True, inline="always", error_model="numpy")
-def _mod_two_pi(x):
-    """x % (2 pi), Python's modulo into [0, 2 pi), without the library's fmod where x lies within a
-    turn of that range (an angle on the sheave moved by a step): the same floating-point result,
-    fmod being exact there (a zero goes to ``%``, whose signed zero is +0)."""
-    if 0.0 < x < TWO_PI:
-        return x
-    if -TWO_PI < x < 0.0:
-        return x + TWO_PI
-    return x % TWO_PI
 
 
 #: Cap of the joint Newton iteration of one cable (``_joint``); past it, the nested iterations.
@@ -234,7 +209,7 @@ def _joint(
     c_scale = L0c
     damped = 0
     ct, st = math.cos(th), math.sin(th)
-    gam = _mod_two_pi(thK - th)
+    gam = mod_two_pi(thK - th)
     for it in range(1, JOINT_MAXITER + 1):
         rx, ry, rz, _, _, _, _, _, _, l_v, l_h, ehx, ehy, ehz = _spans_at(
             Bx, By, Bz, Hx, Hy, Hz, esx, esy, esz, kx, ky, kz, ux, uy, uz, rp, ct, st
@@ -312,7 +287,7 @@ def _joint(
         th += da
         gam -= da
         if not 0.0 <= gam < TWO_PI:
-            gam = _mod_two_pi(thK - th)
+            gam = mod_two_pi(thK - th)
         if abs(da) < 1e-3:  # cos and sin of theta turned by da (Taylor's series: to round-off)
             a2 = da * da
             cd = 1.0 - a2 * (0.5 - a2 * (1.0 / 24.0 - a2 / 720.0))
@@ -344,7 +319,7 @@ def _cold_start(
     _, _, _, _, _, _, _, _, _, l_v, l_h, _, _, _ = _spans_at(
         Bx, By, Bz, Hx, Hy, Hz, esx, esy, esz, kx, ky, kz, ux, uy, uz, rp, ct, st
     )
-    ell = ld + rp * _mod_two_pi(thK - th)
+    ell = ld + rp * mod_two_pi(thK - th)
     c = math.hypot(l_h, l_v)
     T0 = EA * ((c + ell) / L0c - 1.0) if c + ell > L0c else 0.0
     if not math.isfinite(T0):
@@ -563,7 +538,7 @@ def _cable_at(
             ell = g.ld + rp * gamma
             code = U_SHAPED if (V < 0.0 and V + w * L0f > 0.0) else CATENARY
     if not joint:  # the nested iterations, from the given start (or the reference's)
-        gamma = _mod_two_pi(thK - th) if ready > 0.0 else g.gamma
+        gamma = mod_two_pi(thK - th) if ready > 0.0 else g.gamma
         ell = g.ld + rp * gamma
         for it in range(1, EXIT_MAXITER + 2):
             ct, st = math.cos(th), math.sin(th)
@@ -585,7 +560,7 @@ def _cable_at(
             if not (T_D > 0.0 and math.isfinite(n_s) and math.isfinite(n_w)):
                 break
             g_th = math.atan2(n_w, n_s)  # the fixed point's map: theta <- g(theta)
-            f = _mod_two_pi(g_th - th + math.pi) - math.pi
+            f = mod_two_pi(g_th - th + math.pi) - math.pi
             vmax = max(abs(vx), abs(vy), abs(vz))
             # converged: one more pass solves the whole cable at D = g(theta) (the loop's last)
             last = rp * abs(f) <= 1e-15 * (1.0 + vmax)
@@ -598,7 +573,7 @@ def _cable_at(
                     th_new = th - f / slope
             th_prev, f_prev = th, f
             th = th_new
-            gamma = _mod_two_pi(thK - th)
+            gamma = mod_two_pi(thK - th)
             ell = g.ld + rp * gamma
     Ds = g.Hs + rp * (ct if joint else math.cos(th))
     return _result(
