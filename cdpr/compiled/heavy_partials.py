@@ -23,6 +23,22 @@ def _left(ax, ay, az, D00, D01, D02, D10, D11, D12, D20, D21, D22):
 
 
 @njit(cache=True, error_model="numpy")
+def _mul(a00, a01, a02, a10, a11, a12, a20, a21, a22, b00, b01, b02, b10, b11, b12, b20, b21, b22):
+    """The product a b of two 3 x 3 matrices given as scalars (row-major): 9 floats."""
+    return (
+        a00 * b00 + a01 * b10 + a02 * b20,
+        a00 * b01 + a01 * b11 + a02 * b21,
+        a00 * b02 + a01 * b12 + a02 * b22,
+        a10 * b00 + a11 * b10 + a12 * b20,
+        a10 * b01 + a11 * b11 + a12 * b21,
+        a10 * b02 + a11 * b12 + a12 * b22,
+        a20 * b00 + a21 * b10 + a22 * b20,
+        a20 * b01 + a21 * b11 + a22 * b21,
+        a20 * b02 + a21 * b12 + a22 * b22,
+    )
+
+
+@njit(cache=True, error_model="numpy")
 def _adjugate(M00, M01, M02, M10, M11, M12, M20, M21, M22):
     """The adjugate (row-major, 9 floats) and the determinant of a 3 x 3 matrix given as scalars."""
     a00, a01, a02 = M11 * M22 - M12 * M21, M02 * M21 - M01 * M22, M01 * M12 - M02 * M11
@@ -66,6 +82,7 @@ def exact_force_gradient(
     if not rho > SWIVEL_RHO_MIN:
         return False
     wP = (Px - Ax) * kx + (Py - Ay) * ky + (Pz - Az) * kz
+    # in the sheave plane, q = (rho, w_P): the centre's derivative Hq (DR: h times the bisector)
     q00 = q01 = q10 = q11 = 0.0
     if kind == 2:
         nP = math.sqrt(rho * rho + wP * wP)
@@ -74,24 +91,25 @@ def exact_force_gradient(
         nb = math.sqrt(b0 * b0 + b1 * b1)
         c0, c1 = b0 / nb, b1 / nb
         f = h / (nb * nP)
-        m00, m01, m11 = 1.0 - c0 * c0, -c0 * c1, 1.0 - c1 * c1
-        n00, n01, n11 = 1.0 - a0 * a0, -a0 * a1, 1.0 - a1 * a1
+        m00, m01, m11 = 1.0 - c0 * c0, -c0 * c1, 1.0 - c1 * c1  # (I - bh bh^T)
+        n00, n01, n11 = 1.0 - a0 * a0, -a0 * a1, 1.0 - a1 * a1  # (I - a a^T)
         q00, q01 = f * (m00 * n00 + m01 * n01), f * (m00 * n01 + m01 * n11)
         q10, q11 = f * (m01 * n00 + m11 * n01), f * (m01 * n01 + m11 * n11)
     rs, rw = rho - g.Hs, wP - g.Hw
     R2 = rs * rs + rw * rw
     lE = math.sqrt(max(R2 - rp * rp, 0.0))
-    gD0, gD1 = (-rw + rp * rs / lE) / R2, (rs + rp * rw / lE) / R2
-    tD0 = gD0 * (1.0 - q00) - gD1 * q10
+    gD0, gD1 = (-rw + rp * rs / lE) / R2, (rs + rp * rw / lE) / R2  # dtheta_D/dr
+    tD0 = gD0 * (1.0 - q00) - gD1 * q10  # dtheta_D/dq, r = q - Hc
     tD1 = -gD0 * q01 + gD1 * (1.0 - q11)
     tK0 = tK1 = dl0 = dl1 = 0.0
-    if kind == 2:
+    if kind == 2:  # the entry side moves with the arm: c = C - Hc
         cs, cw = -g.Hs, -d - g.Hw
         RC2 = cs * cs + cw * cw
         ld = g.ld
         gK0, gK1 = (-cw - rp * cs / ld) / RC2, (cs - rp * cw / ld) / RC2
         tK0, tK1 = -(gK0 * q00 + gK1 * q10), -(gK0 * q01 + gK1 * q11)
         dl0, dl1 = -(cs * q00 + cw * q10) / ld, -(cs * q01 + cw * q11) / ld
+    # D's in-plane coordinates (D_s, D_w) = Hc + r_p (cos, sin) theta_D and l_dead = l_d + r_p gamma
     i00, i01 = q00 - rp * g.sD * tD0, q01 - rp * g.sD * tD1
     i10, i11 = q10 + rp * g.cD * tD0, q11 + rp * g.cD * tD1
     e0, e1 = dl0 + rp * (tK0 - tD0), dl1 + rp * (tK1 - tD1)
@@ -181,67 +199,36 @@ def exact_force_gradient(
     a21 *= idt
     a22 *= idt
     # X = A^-1 Bm, Y = A^-1 r
-    X00 = a00 * B00 + a01 * B10 + a02 * B20
-    X01 = a00 * B01 + a01 * B11 + a02 * B21
-    X02 = a00 * B02 + a01 * B12 + a02 * B22
-    X10 = a10 * B00 + a11 * B10 + a12 * B20
-    X11 = a10 * B01 + a11 * B11 + a12 * B21
-    X12 = a10 * B02 + a11 * B12 + a12 * B22
-    X20 = a20 * B00 + a21 * B10 + a22 * B20
-    X21 = a20 * B01 + a21 * B11 + a22 * B21
-    X22 = a20 * B02 + a21 * B12 + a22 * B22
-    Y00 = a00 * r00 + a01 * r10 + a02 * r20
-    Y01 = a00 * r01 + a01 * r11 + a02 * r21
-    Y02 = a00 * r02 + a01 * r12 + a02 * r22
-    Y10 = a10 * r00 + a11 * r10 + a12 * r20
-    Y11 = a10 * r01 + a11 * r11 + a12 * r21
-    Y12 = a10 * r02 + a11 * r12 + a12 * r22
-    Y20 = a20 * r00 + a21 * r10 + a22 * r20
-    Y21 = a20 * r01 + a21 * r11 + a22 * r21
-    Y22 = a20 * r02 + a21 * r12 + a22 * r22
+    Ai = (a00, a01, a02, a10, a11, a12, a20, a21, a22)
+    X = _mul(*Ai, B00, B01, B02, B10, B11, B12, B20, B21, B22)
+    Y = _mul(*Ai, r00, r01, r02, r10, r11, r12, r20, r21, r22)
     # Schur complement S = Dm - Cm X, right-hand side t = s - Cm Y (s's third row 0)
-    S00 = E00 - (C00 * X00 + C01 * X10 + C02 * X20)
-    S01 = E01 - (C00 * X01 + C01 * X11 + C02 * X21)
-    S02 = E02 - (C00 * X02 + C01 * X12 + C02 * X22)
-    S10 = E10 - (C10 * X00 + C11 * X10 + C12 * X20)
-    S11 = E11 - (C10 * X01 + C11 * X11 + C12 * X21)
-    S12 = E12 - (C10 * X02 + C11 * X12 + C12 * X22)
-    S20 = E20 - (C20 * X00 + C21 * X10 + C22 * X20)
-    S21 = E21 - (C20 * X01 + C21 * X11 + C22 * X21)
-    S22 = E22 - (C20 * X02 + C21 * X12 + C22 * X22)
-    t00 = s00 - (C00 * Y00 + C01 * Y10 + C02 * Y20)
-    t01 = s01 - (C00 * Y01 + C01 * Y11 + C02 * Y21)
-    t02 = s02 - (C00 * Y02 + C01 * Y12 + C02 * Y22)
-    t10 = s10 - (C10 * Y00 + C11 * Y10 + C12 * Y20)
-    t11 = s11 - (C10 * Y01 + C11 * Y11 + C12 * Y21)
-    t12 = s12 - (C10 * Y02 + C11 * Y12 + C12 * Y22)
-    t20 = -(C20 * Y00 + C21 * Y10 + C22 * Y20)
-    t21 = -(C20 * Y01 + C21 * Y11 + C22 * Y21)
-    t22 = -(C20 * Y02 + C21 * Y12 + C22 * Y22)
+    Cm = (C00, C01, C02, C10, C11, C12, C20, C21, C22)
+    CX00, CX01, CX02, CX10, CX11, CX12, CX20, CX21, CX22 = _mul(*Cm, *X)
+    CY00, CY01, CY02, CY10, CY11, CY12, CY20, CY21, CY22 = _mul(*Cm, *Y)
+    S = (
+        E00 - CX00, E01 - CX01, E02 - CX02, E10 - CX10, E11 - CX11, E12 - CX12, E20 - CX20, E21 - CX21, E22 - CX22,
+    )  # fmt: skip
+    t = (s00 - CY00, s01 - CY01, s02 - CY02, s10 - CY10, s11 - CY11, s12 - CY12, -CY20, -CY21, -CY22)
     # Z = S^-1 t (rows H T_D, V_B T_D, L0f) by S's adjugate
-    b00, b01, b02, b10, b11, b12, b20, b21, b22, ds = _adjugate(S00, S01, S02, S10, S11, S12, S20, S21, S22)
+    b00, b01, b02, b10, b11, b12, b20, b21, b22, ds = _adjugate(*S)
     if not (abs(ds) > 0.0 and math.isfinite(ds)):
         return False
     ids = 1.0 / ds
-    Z00 = (b00 * t00 + b01 * t10 + b02 * t20) * ids
-    Z01 = (b00 * t01 + b01 * t11 + b02 * t21) * ids
-    Z02 = (b00 * t02 + b01 * t12 + b02 * t22) * ids
-    Z10 = (b10 * t00 + b11 * t10 + b12 * t20) * ids
-    Z11 = (b10 * t01 + b11 * t11 + b12 * t21) * ids
-    Z12 = (b10 * t02 + b11 * t12 + b12 * t22) * ids
-    Z20 = (b20 * t00 + b21 * t10 + b22 * t20) * ids
-    Z21 = (b20 * t01 + b21 * t11 + b22 * t21) * ids
-    Z22 = (b20 * t02 + b21 * t12 + b22 * t22) * ids
+    bt00, bt01, bt02, bt10, bt11, bt12, bt20, bt21, bt22 = _mul(
+        b00, b01, b02, b10, b11, b12, b20, b21, b22, *t
+    )
+    Z00, Z01, Z02 = bt00 * ids, bt01 * ids, bt02 * ids
+    Z10, Z11, Z12 = bt10 * ids, bt11 * ids, bt12 * ids
+    Z20, Z21, Z22 = bt20 * ids, bt21 * ids, bt22 * ids
     # dP*/dB = Y - X Z
-    P00 = Y00 - (X00 * Z00 + X01 * Z10 + X02 * Z20)
-    P01 = Y01 - (X00 * Z01 + X01 * Z11 + X02 * Z21)
-    P02 = Y02 - (X00 * Z02 + X01 * Z12 + X02 * Z22)
-    P10 = Y10 - (X10 * Z00 + X11 * Z10 + X12 * Z20)
-    P11 = Y11 - (X10 * Z01 + X11 * Z11 + X12 * Z21)
-    P12 = Y12 - (X10 * Z02 + X11 * Z12 + X12 * Z22)
-    P20 = Y20 - (X20 * Z00 + X21 * Z10 + X22 * Z20)
-    P21 = Y21 - (X20 * Z01 + X21 * Z11 + X22 * Z21)
-    P22 = Y22 - (X20 * Z02 + X21 * Z12 + X22 * Z22)
+    XZ00, XZ01, XZ02, XZ10, XZ11, XZ12, XZ20, XZ21, XZ22 = _mul(
+        *X, Z00, Z01, Z02, Z10, Z11, Z12, Z20, Z21, Z22
+    )
+    Y00, Y01, Y02, Y10, Y11, Y12, Y20, Y21, Y22 = Y
+    P00, P01, P02 = Y00 - XZ00, Y01 - XZ01, Y02 - XZ02
+    P10, P11, P12 = Y10 - XZ10, Y11 - XZ11, Y12 - XZ12
+    P20, P21, P22 = Y20 - XZ20, Y21 - XZ21, Y22 - XZ22
     # dv = Dp dP*/dB - I; dF/dB = eh (T_D dH) + H flat dv + up (T_D dV_B), flat dv = q (q^T dv) / l_h
     qv0 = qD0 * P00 + qD1 * P10 + qD2 * P20 - qx
     qv1 = qD0 * P01 + qD1 * P11 + qD2 * P21 - qy

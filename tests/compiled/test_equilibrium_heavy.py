@@ -246,25 +246,9 @@ def test_compiled_heavy_jacobian_equals_the_reference(cdpr4, case):
         w = cequilibrium.scratch(r.m)
         Jc, t, e6, g6 = np.empty((6, 6)), np.empty(r.m), np.empty(14), np.empty(8)
         ccables.evaluate(
-            *x,
-            q,
-            *x,
-            cab.cables,
-            cab.body,
-            cab.heavy,
-            L0,
-            0,
-            t,
-            Jc,
-            e6,
-            g6,
-            w.hg,
-            w.cab_inside,
-            w.cab_gamma,
-            w.hc,
-            w.hc,
-            exact,
-        )
+            *x, q, *x, cab.cables, cab.body, cab.heavy, L0, 0, t, Jc, e6, g6, w.hg, w.cab_inside, w.cab_gamma,
+            w.hc, w.hc, exact,
+        )  # fmt: skip
         assert np.abs(Jc - J)[:n, :n].max() < 1e-11 * np.abs(J).max()
         Js[exact] = Jc
     slide = np.abs(Js[True] - Js[False])[:n, :n].max() / np.abs(J).max()
